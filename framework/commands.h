@@ -1,0 +1,21 @@
+/* The rigflow command's subcommands. Each takes the loaded registry and its own argv (argv[0] is
+ * the subcommand's name) and returns an exit code from enum rf_exit. */
+#ifndef RIGFLOW_COMMANDS_H
+#define RIGFLOW_COMMANDS_H
+
+#include "rigflow-host.h"
+
+typedef int (*rf_command_fn)(rf_registry *reg, int argc, char **argv);
+
+/* Prints diagnostics to stderr as "rigflow: <severity>: <diag>" lines. */
+void rf_print_diags(const GPtrArray *diags, const char *severity);
+
+/* Parses a subcommand's options; on failure prints the error and a usage hint to stderr. Returns
+ * false then (the caller exits with RF_EXIT_USAGE). */
+bool rf_parse_options(const char *name, const char *args, const char *summary,
+                      const GOptionEntry *entries, int *argc, char ***argv);
+
+int rf_cmd_plugins(rf_registry *reg, int argc, char **argv);
+int rf_cmd_describe(rf_registry *reg, int argc, char **argv);
+
+#endif

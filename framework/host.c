@@ -1,0 +1,174 @@
+/* The rf_host table: the services a plugin reaches while one of its nodes is created or run. */
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "pipeline-internal.h"
+
+static const char *const level_names[] = {"error", "warning", "info", "debug"};
+
+static bool level_shown(rf_node *node, rf_log_level level)
+{
+    if (level <= RF_LOG_WARNING)
+        return true;
+    if (level == RF_LOG_DEBUG)
+        return g_getenv("RIGFLOW_DEBUG") != NULL;
+    return !(node && node->pipeline->opts && node->pipeline->opts->quiet);
+}
+
+static void host_log(rf_node *node, rf_log_level level, const char *fmt, ...)
+{
+    if (level > RF_LOG_DEBUG)
+        level = RF_LOG_DEBUG;
+    if (!level_shown(node, level))
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    g_autofree char *msg = g_strdup_vprintf(fmt, ap);
+    va_end(ap);
+    if (node)
+        fprintf(stderr, "rigflow: node '%s': %s: %s\n", node->id, level_names[level], msg);
+    else
+        fprintf(stderr, "rigflow: %s: %s\n", level_names[level], msg);
+}
+
+static void host_error(rf_node *node, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    g_free(node->error);
+    node->error = g_strdup_vprintf(fmt, ap);
+    va_end(ap);
+}
+
+static void host_progress(rf_node *node, double fraction)
+{
+    const rf_run_options *o = node->pipeline->opts;
+    if (!o || !o->progress || o->quiet)
+        return;
+    gint64 now = g_get_monotonic_time();
+    if (now - node->last_progress < 100000 && fraction < 1.0) /* redraw at most 10 times a second */
+        return;
+    node->last_progress = now;
+    fraction = fraction < 0 ? 0 : fraction > 1 ? 1 : fraction;
+    fprintf(stderr, "\r%s: %3.0f%%\033[K", node->id, fraction * 100.0);
+    if (fraction >= 1.0)
+        fputs("\r\033[K", stderr);
+    fflush(stderr);
+}
+
+static bool host_cancelled(rf_node *node)
+{
+    const rf_run_options *o = node->pipeline->opts;
+    return o && o->cancel_flag && *o->cancel_flag;
+}
+
+static const char *host_node_id(rf_node *node) { return node->id; }
+
+/* The value of a declared parameter, or NULL (logged) for a name or type the node never declared:
+ * a plugin bug, not a user error. */
+static const rf_pvalue *param_value(rf_node *node, const char *name, bool want_string)
+{
+    int i = rf_desc_param_index(node->desc, name);
+    if (i < 0 || !node->params) {
+        host_log(node, RF_LOG_ERROR, "plugin bug: node type %s asked for undeclared parameter '%s'",
+                 node->type, name);
+        return NULL;
+    }
+    bool is_string = node->desc->params[i].type >= RF_PARAM_STRING;
+    if (is_string != want_string) {
+        host_log(node, RF_LOG_ERROR, "plugin bug: parameter '%s' read with the wrong type", name);
+        return NULL;
+    }
+    return &node->params[i];
+}
+
+static bool host_param_bool(rf_node *node, const char *name)
+{
+    const rf_pvalue *v = param_value(node, name, false);
+    return v ? v->b : false;
+}
+static int64_t host_param_int(rf_node *node, const char *name)
+{
+    const rf_pvalue *v = param_value(node, name, false);
+    return v ? v->i : 0;
+}
+static double host_param_float(rf_node *node, const char *name)
+{
+    const rf_pvalue *v = param_value(node, name, false);
+    if (!v)
+        return 0;
+    int i = rf_desc_param_index(node->desc, name);
+    return node->desc->params[i].type == RF_PARAM_INT ? (double)v->i : v->f;
+}
+static const char *host_param_string(rf_node *node, const char *name)
+{
+    const rf_pvalue *v = param_value(node, name, true);
+    return v && v->s ? v->s : "";
+}
+static const char *host_param_output_target(rf_node *node, const char *name)
+{
+    const rf_pvalue *v = param_value(node, name, true);
+    return v && v->target ? v->target : "";
+}
+
+static GPtrArray *input_conns(rf_node *node, const char *port)
+{
+    int i = rf_desc_input_index(node->desc, port);
+    if (i < 0) {
+        host_log(node, RF_LOG_ERROR, "plugin bug: node type %s asked for undeclared input '%s'",
+                 node->type, port);
+        return NULL;
+    }
+    return node->inputs[i];
+}
+
+static uint32_t host_input_count(rf_node *node, const char *port)
+{
+    GPtrArray *c = input_conns(node, port);
+    return c ? c->len : 0;
+}
+
+static const void *host_input(rf_node *node, const char *port, uint32_t index)
+{
+    GPtrArray *c = input_conns(node, port);
+    if (!c || index >= c->len)
+        return NULL;
+    rf_conn *conn = g_ptr_array_index(c, index);
+    return conn->src->outputs[conn->src_port].data;
+}
+
+static bool host_set_output(rf_node *node, const char *port, void *data, rf_destroy_fn destroy)
+{
+    int i = rf_desc_output_index(node->desc, port);
+    if (i < 0 || node->outputs[i].set) {
+        host_log(node, RF_LOG_ERROR, "plugin bug: output '%s' is %s", port,
+                 i < 0 ? "not declared" : "set twice");
+        if (destroy && data)
+            destroy(data);
+        return false;
+    }
+    node->outputs[i] = (rf_output){data, destroy, true};
+    return true;
+}
+
+static const rf_host host_table = {
+    .size = sizeof(rf_host),
+    .abi = RF_ABI_VERSION_INIT,
+    .log = host_log,
+    .error = host_error,
+    .progress = host_progress,
+    .cancelled = host_cancelled,
+    .node_id = host_node_id,
+    .param_bool = host_param_bool,
+    .param_int = host_param_int,
+    .param_float = host_param_float,
+    .param_string = host_param_string,
+    .param_output_target = host_param_output_target,
+    .input_count = host_input_count,
+    .input = host_input,
+    .set_output = host_set_output,
+};
+
+const rf_host *rf_host_table(void) { return &host_table; }

@@ -1,0 +1,20 @@
+# librigflow (the host library) and the rigflow command.
+noinst_LTLIBRARIES += framework/librigflow.la
+framework_librigflow_la_SOURCES = \
+	framework/rigflow-host.h \
+	framework/diag.c \
+	framework/registry.c \
+	framework/host.c \
+	framework/pipeline.c \
+	framework/validate.c \
+	framework/run.c \
+	framework/pipeline-internal.h
+framework_librigflow_la_CPPFLAGS = $(AM_CPPFLAGS) -DRF_PLUGINSDIR='"$(pluginsdir)"'
+framework_librigflow_la_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS)
+framework_librigflow_la_LIBADD = $(GLIB_LIBS) $(JANSSON_LIBS) $(LTDL_LIBS) -lm
+
+bin_PROGRAMS += rigflow
+rigflow_SOURCES = framework/rigflow.c framework/commands.h framework/cmd-info.c
+rigflow_CPPFLAGS = $(AM_CPPFLAGS) -DRF_PLUGINSDIR='"$(pluginsdir)"'
+rigflow_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS)
+rigflow_LDADD = framework/librigflow.la $(GLIB_LIBS)

@@ -1,0 +1,83 @@
+/* The pipeline engine's internal data: shared by pipeline.c (loading), validate.c (checks),
+ * run.c (execution) and host.c (the services plugins call while a node runs). */
+#ifndef RIGFLOW_PIPELINE_INTERNAL_H
+#define RIGFLOW_PIPELINE_INTERNAL_H
+
+#include <jansson.h>
+
+#include "rigflow-host.h"
+
+/* The format this host reads: "format": RF_PIPELINE_FORMAT, "version": RF_PIPELINE_VERSION. */
+#define RF_PIPELINE_FORMAT "rigflow.pipeline"
+#define RF_PIPELINE_VERSION 1
+
+/* One edge into an input port: "node.port". */
+typedef struct rf_conn {
+    char *node;          /* upstream node id */
+    char *port;          /* upstream output port */
+    struct rf_node *src; /* resolved at validation */
+    uint32_t src_port;   /* index into src's outputs */
+    char *pointer;       /* JSON pointer of the edge, for messages */
+} rf_conn;
+
+/* A parameter's value after validation, defaults filled in. */
+typedef struct rf_pvalue {
+    bool b;
+    int64_t i;
+    double f;
+    char *s;      /* strings, enums, resolved paths (for outputs: the temporary file) */
+    char *target; /* OUTPUT_PATH: the final path */
+} rf_pvalue;
+
+typedef struct rf_output {
+    void *data;
+    rf_destroy_fn destroy;
+    bool set;
+} rf_output;
+
+struct rf_node {
+    char *id;
+    char *type;
+    char *pointer;        /* "/nodes/N" */
+    json_t *json;         /* the node's object (borrowed from the pipeline's root) */
+    bool malformed;       /* failed the structural checks at load */
+    bool bad;             /* failed a stage: later stages do not pile errors onto it */
+    const rf_node_desc *desc;
+    const rf_plugin *plugin;
+    GPtrArray **inputs;   /* [desc->input_count] arrays of rf_conn* */
+    rf_pvalue *params;    /* [desc->param_count] */
+    rf_output *outputs;   /* [desc->output_count] */
+    void *self;           /* what desc->create made */
+    bool created;
+    char *error;          /* set through host->error */
+    struct rf_pipeline *pipeline;
+    gint64 last_progress; /* monotonic µs of the last progress line drawn */
+};
+typedef struct rf_node rf_node;
+
+struct rf_pipeline {
+    char *name;              /* file name used in messages */
+    char *dir;               /* folder relative paths resolve against */
+    json_t *root;
+    GPtrArray *nodes;        /* rf_node*, in file order */
+    GHashTable *by_id;       /* id -> rf_node* */
+    GHashTable *overrides;   /* "node.param" -> folder its relative path resolves against */
+    GPtrArray *load_diags;   /* structural problems found at load, reported by validate */
+    GArray *order;           /* node indices in dependency order, after validation */
+    bool valid;
+    const rf_run_options *opts;
+    GPtrArray *temp_files;   /* outputs written during a run, removed unless it succeeds */
+};
+
+/* Index of a declared param / input / output port by name, or -1. */
+int rf_desc_param_index(const rf_node_desc *d, const char *name);
+int rf_desc_input_index(const rf_node_desc *d, const char *name);
+int rf_desc_output_index(const rf_node_desc *d, const char *name);
+
+/* Frees what validation bound to a node (edges and parameter values). */
+void rf_node_clear_bindings(rf_node *n);
+
+/* Releases everything a run produced (outputs, node state, parameter values). */
+void rf_pipeline_reset_run(rf_pipeline *p);
+
+#endif

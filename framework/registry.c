@@ -1,0 +1,363 @@
+/* Plugin loading and the registry of node types.
+ *
+ * A plugin is opened with every symbol resolved at once, so an unresolved symbol refuses the
+ * plugin at load instead of crashing a run later: libltdl's dlopen loader binds lazily and offers
+ * no advice for eager binding, so the file is first probed with dlopen(RTLD_NOW | RTLD_LOCAL),
+ * which binds it, and then opened through libltdl, which shares that loaded object.
+ */
+#include <dlfcn.h>
+#include <errno.h>
+#include <ltdl.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "rigflow-host.h"
+
+struct rf_plugin {
+    char *path;
+    lt_dlhandle handle;
+    const rf_plugin_entry *entry;
+};
+
+struct rf_registry {
+    GPtrArray *plugins; /* rf_plugin*, in load order */
+    GHashTable *types;  /* node type id -> rf_plugin* (borrowed) */
+};
+
+/* libltdl keeps process-wide state and is not thread-safe: this lock and its init count are the
+ * only globals of the host. */
+static GMutex ltdl_lock;
+static int ltdl_users;
+
+rf_registry *rf_registry_new(void)
+{
+    g_mutex_lock(&ltdl_lock);
+    if (ltdl_users++ == 0)
+        lt_dlinit();
+    g_mutex_unlock(&ltdl_lock);
+    rf_registry *reg = g_new0(rf_registry, 1);
+    reg->plugins = g_ptr_array_new();
+    reg->types = g_hash_table_new(g_str_hash, g_str_equal);
+    return reg;
+}
+
+static void plugin_unload(rf_plugin *p, bool deinit)
+{
+    if (deinit && p->entry && p->entry->deinit)
+        p->entry->deinit();
+    if (p->handle) {
+        g_mutex_lock(&ltdl_lock);
+        lt_dlclose(p->handle);
+        g_mutex_unlock(&ltdl_lock);
+    }
+    g_free(p->path);
+    g_free(p);
+}
+
+void rf_registry_free(rf_registry *reg)
+{
+    if (!reg)
+        return;
+    for (guint i = reg->plugins->len; i-- > 0;)
+        plugin_unload(g_ptr_array_index(reg->plugins, i), true);
+    g_ptr_array_free(reg->plugins, TRUE);
+    g_hash_table_destroy(reg->types);
+    g_free(reg);
+    g_mutex_lock(&ltdl_lock);
+    if (--ltdl_users == 0)
+        lt_dlexit();
+    g_mutex_unlock(&ltdl_lock);
+}
+
+/* Opens the file with every symbol bound. Returns NULL and sets *why on failure. */
+static lt_dlhandle open_bound(const char *path, char **why)
+{
+    void *probe = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (!probe) {
+        const char *e = dlerror();
+        *why = g_strdup(e ? e : "unknown dlopen error");
+        return NULL;
+    }
+    g_mutex_lock(&ltdl_lock);
+    lt_dladvise advise;
+    lt_dladvise_init(&advise);
+    lt_dladvise_local(&advise);
+    lt_dlhandle h = lt_dlopenadvise(path, advise);
+    if (!h) {
+        const char *e = lt_dlerror(); /* copied at once: the next libltdl call overwrites it */
+        *why = g_strdup(e ? e : "unknown libltdl error");
+    }
+    lt_dladvise_destroy(&advise);
+    g_mutex_unlock(&ltdl_lock);
+    dlclose(probe);
+    return h;
+}
+
+static bool port_ok(const rf_port_desc *p, GString *why)
+{
+    if (p->size < sizeof(rf_port_desc) || !p->name || !p->type) {
+        g_string_append_printf(why, "a port lacks its size, name or type");
+        return false;
+    }
+    return true;
+}
+
+static bool param_ok(const rf_param_desc *p, GString *why)
+{
+    if (p->size < sizeof(rf_param_desc) || !p->name) {
+        g_string_append(why, "a parameter lacks its size or name");
+        return false;
+    }
+    if (p->type < RF_PARAM_BOOL || p->type > RF_PARAM_OUTPUT_PATH) {
+        g_string_append_printf(why, "parameter '%s' has unknown type %d", p->name, (int)p->type);
+        return false;
+    }
+    if (p->type == RF_PARAM_ENUM && !p->choices) {
+        g_string_append_printf(why, "enum parameter '%s' lists no choices", p->name);
+        return false;
+    }
+    return true;
+}
+
+/* Checks one node descriptor is complete enough to be driven; says why not in `why`. */
+static bool node_desc_ok(const rf_node_desc *d, GString *why)
+{
+    if (!d || d->size < sizeof(rf_node_desc) || !d->type || !d->process) {
+        g_string_append(why, "a node type lacks its size, type id or process function");
+        return false;
+    }
+    if ((d->input_count && !d->inputs) || (d->output_count && !d->outputs) ||
+        (d->param_count && !d->params)) {
+        g_string_append_printf(why, "node type '%s' counts ports or params it does not list",
+                               d->type);
+        return false;
+    }
+    for (uint32_t i = 0; i < d->input_count; i++)
+        if (!port_ok(&d->inputs[i], why))
+            return false;
+    for (uint32_t i = 0; i < d->output_count; i++)
+        if (!port_ok(&d->outputs[i], why))
+            return false;
+    for (uint32_t i = 0; i < d->param_count; i++)
+        if (!param_ok(&d->params[i], why))
+            return false;
+    return true;
+}
+
+static bool entry_ok(const rf_plugin_entry *e, GString *why)
+{
+    if (e->size < sizeof(rf_plugin_entry) || !e->id || !e->name) {
+        g_string_append(why, "its entry lacks its size, id or name");
+        return false;
+    }
+    if (e->node_count && !e->nodes) {
+        g_string_append(why, "its entry counts node types it does not list");
+        return false;
+    }
+    for (uint32_t i = 0; i < e->node_count; i++)
+        if (!node_desc_ok(e->nodes[i], why))
+            return false;
+    return true;
+}
+
+/* The already loaded plugin providing one of `e`'s node types, or NULL. */
+static rf_plugin *type_clash(rf_registry *reg, const rf_plugin_entry *e, const char **type)
+{
+    for (uint32_t i = 0; i < e->node_count; i++) {
+        rf_plugin *other = g_hash_table_lookup(reg->types, e->nodes[i]->type);
+        if (other) {
+            *type = e->nodes[i]->type;
+            return other;
+        }
+    }
+    return NULL;
+}
+
+static bool already_loaded(rf_registry *reg, const rf_plugin_entry *e)
+{
+    for (guint i = 0; i < reg->plugins->len; i++) {
+        rf_plugin *p = g_ptr_array_index(reg->plugins, i);
+        if (p->entry == e || strcmp(p->entry->id, e->id) == 0)
+            return true;
+    }
+    return false;
+}
+
+/* The ABI, descriptor and init checks on an opened plugin. Returns false with a diag. */
+static bool admit(rf_registry *reg, rf_plugin *p, GPtrArray *diags)
+{
+    const rf_plugin_entry *e = p->entry;
+    rf_version host = RF_ABI_VERSION_INIT;
+    if (!rf_version_compatible(host, e->abi)) {
+        rf_diags_add(diags, p->path, 0, 0, NULL, NULL,
+                     "incompatible plugin ABI: the plugin was built for ABI %u.%u.%u, this host "
+                     "implements %u.%u.%u (a plugin needs the same major and a minor no greater "
+                     "than the host's)",
+                     e->abi.major, e->abi.minor, e->abi.patch, host.major, host.minor, host.patch);
+        return false;
+    }
+    g_autoptr(GString) why = g_string_new(NULL);
+    if (!entry_ok(e, why)) {
+        rf_diags_add(diags, p->path, 0, 0, NULL, NULL, "malformed rigflow plugin: %s", why->str);
+        return false;
+    }
+    const char *type = NULL;
+    rf_plugin *other = type_clash(reg, e, &type);
+    if (other) {
+        rf_diags_add(diags, p->path, 0, 0, NULL, NULL,
+                     "duplicate node type '%s': already provided by %s", type, other->path);
+        return false;
+    }
+    char err[512] = "";
+    if (e->init && !e->init(rf_host_table(), err, sizeof err)) {
+        err[sizeof err - 1] = '\0';
+        rf_diags_add(diags, p->path, 0, 0, NULL, NULL, "plugin failed to initialise: %s",
+                     err[0] ? err : "(the plugin gave no reason)");
+        return false;
+    }
+    return true;
+}
+
+bool rf_registry_load_file(rf_registry *reg, const char *path, GPtrArray *diags)
+{
+    char *why = NULL;
+    lt_dlhandle h = open_bound(path, &why);
+    if (!h) {
+        rf_diags_add(diags, path, 0, 0, NULL, NULL, "cannot load plugin: %s", why);
+        g_free(why);
+        return false;
+    }
+    rf_plugin *p = g_new0(rf_plugin, 1);
+    p->path = g_strdup(path);
+    p->handle = h;
+    g_mutex_lock(&ltdl_lock);
+    p->entry = lt_dlsym(h, "rigflow_plugin_entry");
+    g_mutex_unlock(&ltdl_lock);
+    if (!p->entry) {
+        rf_diags_add(diags, path, 0, 0, NULL, NULL,
+                     "not a rigflow plugin: it does not export the symbol %s",
+                     RF_PLUGIN_ENTRY_SYMBOL);
+        plugin_unload(p, false);
+        return false;
+    }
+    if (already_loaded(reg, p->entry)) { /* the same plugin later on the search path: shadowed */
+        plugin_unload(p, false);
+        return true;
+    }
+    if (!admit(reg, p, diags)) {
+        plugin_unload(p, false);
+        return false;
+    }
+    for (uint32_t i = 0; i < p->entry->node_count; i++)
+        g_hash_table_insert(reg->types, (gpointer)p->entry->nodes[i]->type, p);
+    g_ptr_array_add(reg->plugins, p);
+    return true;
+}
+
+/* A folder or file others may write to could plant code in this process: refuse it. */
+static bool writable_by_others(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && (st.st_mode & S_IWOTH) != 0;
+}
+
+static gint compare_names(gconstpointer a, gconstpointer b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* The *.so files of a folder, sorted so that loading order (and shadowing) is deterministic. */
+static GPtrArray *list_modules(const char *dir)
+{
+    GPtrArray *files = g_ptr_array_new_with_free_func(g_free);
+    GDir *d = g_dir_open(dir, 0, NULL);
+    if (!d)
+        return files;
+    const char *name;
+    while ((name = g_dir_read_name(d)))
+        if (g_str_has_suffix(name, ".so"))
+            g_ptr_array_add(files, g_build_filename(dir, name, NULL));
+    g_dir_close(d);
+    g_ptr_array_sort(files, compare_names);
+    return files;
+}
+
+int rf_registry_load_dir(rf_registry *reg, const char *dir, GPtrArray *diags)
+{
+    if (!g_file_test(dir, G_FILE_TEST_IS_DIR))
+        return 0;
+    if (writable_by_others(dir)) {
+        rf_diags_add(diags, dir, 0, 0, NULL, NULL,
+                     "plugin folder refused: it is writable by other users (chmod o-w it)");
+        return 0;
+    }
+    g_autoptr(GPtrArray) files = list_modules(dir);
+    /* In a libtool build tree the modules sit in .libs/ beside their .la files. */
+    g_autofree char *libs = g_build_filename(dir, ".libs", NULL);
+    if (files->len == 0 && g_file_test(libs, G_FILE_TEST_IS_DIR))
+        return rf_registry_load_dir(reg, libs, diags);
+    int loaded = 0;
+    for (guint i = 0; i < files->len; i++) {
+        const char *f = g_ptr_array_index(files, i);
+        if (writable_by_others(f)) {
+            rf_diags_add(diags, f, 0, 0, NULL, NULL,
+                         "plugin refused: the file is writable by other users");
+            continue;
+        }
+        loaded += rf_registry_load_file(reg, f, diags);
+    }
+    return loaded;
+}
+
+void rf_registry_load_search_path(rf_registry *reg, const char *const *extra, GPtrArray *diags)
+{
+    for (const char *const *d = extra; d && *d; d++)
+        rf_registry_load_dir(reg, *d, diags);
+    const char *env = g_getenv("RIGFLOW_PLUGIN_PATH");
+    if (env && *env) {
+        g_auto(GStrv) dirs = g_strsplit(env, ":", -1);
+        for (char **d = dirs; *d; d++)
+            if (**d)
+                rf_registry_load_dir(reg, *d, diags);
+    }
+    rf_registry_load_dir(reg, RF_PLUGINSDIR, diags);
+}
+
+guint rf_registry_plugin_count(const rf_registry *reg) { return reg->plugins->len; }
+
+const rf_plugin *rf_registry_plugin(const rf_registry *reg, guint index)
+{
+    return index < reg->plugins->len ? g_ptr_array_index(reg->plugins, index) : NULL;
+}
+
+const rf_plugin_entry *rf_plugin_entry_of(const rf_plugin *p) { return p->entry; }
+const char *rf_plugin_path(const rf_plugin *p) { return p->path; }
+
+const rf_node_desc *rf_registry_find(const rf_registry *reg, const char *type,
+                                     const rf_plugin **plugin)
+{
+    rf_plugin *p = g_hash_table_lookup(reg->types, type);
+    if (plugin)
+        *plugin = p;
+    if (!p)
+        return NULL;
+    for (uint32_t i = 0; i < p->entry->node_count; i++)
+        if (strcmp(p->entry->nodes[i]->type, type) == 0)
+            return p->entry->nodes[i];
+    return NULL;
+}
+
+const char *rf_kind_name(rf_node_kind kind)
+{
+    static const char *const names[] = {"unknown",    "importer", "exporter", "matcher",
+                                        "retargeter", "ik",       "rigger",   "filter",
+                                        "report"};
+    return kind >= RF_KIND_IMPORTER && kind <= RF_KIND_REPORT ? names[kind] : names[0];
+}
+
+const char *rf_param_type_name(rf_param_type type)
+{
+    static const char *const names[] = {"unknown", "bool", "int",         "float",
+                                        "string",  "enum", "input path", "output path"};
+    return type >= RF_PARAM_BOOL && type <= RF_PARAM_OUTPUT_PATH ? names[type] : names[0];
+}

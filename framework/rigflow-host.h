@@ -1,0 +1,112 @@
+/* librigflow: the host side. Plugin loading and the registry of node types, pipeline loading,
+ * validation and execution. Used by the rigflow command, the tests and the benchmarks; not part
+ * of the plugin SDK (plugins see only sdk/include/rigflow).
+ *
+ * No global state: every function works on the objects passed in, so batch runs and several
+ * pipelines in one process need no rewrite. libltdl itself is process-global; the loader guards
+ * it with a lock.
+ */
+#ifndef RIGFLOW_HOST_H
+#define RIGFLOW_HOST_H
+
+#include <glib.h>
+#include <rigflow/rigflow.h>
+
+/* Exit codes of the rigflow command (doc/cli.md). */
+enum rf_exit {
+    RF_EXIT_OK = 0,
+    RF_EXIT_RUN = 1,        /* a node failed while running, or a file could not be written */
+    RF_EXIT_USAGE = 2,      /* bad command line */
+    RF_EXIT_VALIDATION = 3, /* the pipeline is invalid (syntax, types, params, graph) */
+    RF_EXIT_PLUGIN = 4,     /* a requested plugin could not be loaded */
+    RF_EXIT_CANCELLED = 130 /* interrupted by SIGINT */
+};
+
+/* ---- diagnostics ---- */
+
+/* One problem found while loading plugins or validating a pipeline. */
+typedef struct rf_diag {
+    char *file;    /* the file concerned, or NULL */
+    int line;      /* 1-based, or 0 */
+    int column;    /* 1-based, or 0 */
+    char *node;    /* node id, or NULL */
+    char *pointer; /* JSON pointer into the pipeline, or NULL */
+    char *message; /* what is wrong and what was expected */
+} rf_diag;
+
+/* A list of rf_diag; free with g_ptr_array_unref. */
+GPtrArray *rf_diags_new(void);
+void rf_diags_add(GPtrArray *diags, const char *file, int line, int column, const char *node,
+                  const char *pointer, const char *fmt, ...) G_GNUC_PRINTF(7, 8);
+/* "file:line:col: node 'id' at /pointer: message" with the parts that are present. */
+char *rf_diag_format(const rf_diag *d);
+
+/* ---- plugins and the registry ---- */
+
+typedef struct rf_plugin rf_plugin; /* one loaded shared object */
+typedef struct rf_registry rf_registry;
+
+rf_registry *rf_registry_new(void);
+/* Unloads every plugin (calling deinit) and frees the registry. NULL allowed. */
+void rf_registry_free(rf_registry *reg);
+
+/* Loads one plugin file (.so, or a libtool .la). On refusal returns false and adds a diag naming
+ * the file: not a plugin, incompatible ABI, failed init, or duplicate node type. */
+bool rf_registry_load_file(rf_registry *reg, const char *path, GPtrArray *diags);
+/* Loads every plugin in a folder (a .la wins over the .so it describes). Returns the number
+ * loaded; refusals go to diags. */
+int rf_registry_load_dir(rf_registry *reg, const char *dir, GPtrArray *diags);
+/* Loads from the search path, in order: `extra` folders (--plugin-path, may be NULL), then the
+ * colon-separated RIGFLOW_PLUGIN_PATH, then the installed pluginsdir. A node type found in an
+ * earlier folder shadows the same type later on the path. */
+void rf_registry_load_search_path(rf_registry *reg, const char *const *extra, GPtrArray *diags);
+
+guint rf_registry_plugin_count(const rf_registry *reg);
+const rf_plugin *rf_registry_plugin(const rf_registry *reg, guint index);
+const rf_plugin_entry *rf_plugin_entry_of(const rf_plugin *p);
+const char *rf_plugin_path(const rf_plugin *p);
+
+/* The node type registered under `type`, or NULL; *plugin (may be NULL) gets its plugin. */
+const rf_node_desc *rf_registry_find(const rf_registry *reg, const char *type,
+                                     const rf_plugin **plugin);
+
+/* "importer", "exporter", ... or "unknown". */
+const char *rf_kind_name(rf_node_kind kind);
+const char *rf_param_type_name(rf_param_type type);
+
+/* ---- pipelines ---- */
+
+typedef struct rf_pipeline rf_pipeline;
+
+/* Options for a run. Zero-initialise: every zero is a sensible default. */
+typedef struct rf_run_options {
+    bool profile;              /* print per-node wall time to stderr */
+    bool quiet;                /* no progress, no info logs */
+    bool progress;             /* draw progress on stderr (the command sets it for a terminal) */
+    volatile int *cancel_flag; /* set non-zero (from a signal handler) to stop the run */
+} rf_run_options;
+
+/* Parses a pipeline file. Returns NULL with diags on a syntax or structure error. */
+rf_pipeline *rf_pipeline_load(const char *path, GPtrArray *diags);
+/* Parses pipeline JSON text; `dir` is the folder relative paths resolve against, `name` the
+ * file name used in messages. */
+rf_pipeline *rf_pipeline_load_string(const char *text, const char *name, const char *dir,
+                                     GPtrArray *diags);
+void rf_pipeline_free(rf_pipeline *p);
+/* Applies "node.param=value" (value parsed as JSON when it parses, else taken as a string).
+ * Returns false with a diag for a malformed override or an unknown node. */
+bool rf_pipeline_override(rf_pipeline *p, const char *assignment, GPtrArray *diags);
+/* Staged validation against the registry. Adds every problem found to diags; true when none. */
+bool rf_pipeline_validate(rf_pipeline *p, const rf_registry *reg, GPtrArray *diags);
+/* Runs a validated pipeline. On failure returns false with a diag naming the failing node; no
+ * output file is left behind. */
+bool rf_pipeline_run(rf_pipeline *p, const rf_registry *reg, const rf_run_options *opts,
+                     GPtrArray *diags);
+/* The output value of `node.port` after a successful run (borrowed, valid until the pipeline is
+ * freed), or NULL. For tests and embedding. */
+const void *rf_pipeline_result(const rf_pipeline *p, const char *node, const char *port);
+
+/* The rf_host table the engine hands to plugins. */
+const rf_host *rf_host_table(void);
+
+#endif

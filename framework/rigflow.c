@@ -1,0 +1,216 @@
+/* rigflow: the command. Loads plugins from the search path, then runs one subcommand. */
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "commands.h"
+#include "config.h"
+
+static volatile int interrupted;
+
+static void on_sigint(int sig)
+{
+    (void)sig;
+    interrupted = 1;
+    signal(SIGINT, SIG_DFL); /* a second Ctrl-C stops at once */
+}
+
+void rf_print_diags(const GPtrArray *diags, const char *severity)
+{
+    for (guint i = 0; i < diags->len; i++) {
+        g_autofree char *line = rf_diag_format(g_ptr_array_index((GPtrArray *)diags, i));
+        fprintf(stderr, "rigflow: %s: %s\n", severity, line);
+    }
+}
+
+bool rf_parse_options(const char *name, const char *args, const char *summary,
+                      const GOptionEntry *entries, int *argc, char ***argv)
+{
+    g_autofree char *usage = g_strdup_printf("%s %s", name, args);
+    g_autoptr(GOptionContext) ctx = g_option_context_new(usage);
+    g_option_context_set_summary(ctx, summary);
+    if (entries)
+        g_option_context_add_main_entries(ctx, entries, NULL);
+    g_autoptr(GError) error = NULL;
+    if (!g_option_context_parse(ctx, argc, argv, &error)) {
+        fprintf(stderr, "rigflow %s: %s (see rigflow %s --help)\n", name, error->message, name);
+        return false;
+    }
+    return true;
+}
+
+/* Loads, overrides and validates a pipeline; prints what is wrong. Returns NULL with *code set. */
+static rf_pipeline *prepare(rf_registry *reg, const char *path, char **params, int *code)
+{
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    rf_pipeline *p = rf_pipeline_load(path, diags);
+    for (char **kv = params; p && kv && *kv; kv++)
+        rf_pipeline_override(p, *kv, diags);
+    if (p) /* validated even after a bad override, so every problem is listed at once */
+        rf_pipeline_validate(p, reg, diags);
+    if (p && diags->len == 0)
+        return p;
+    rf_print_diags(diags, "error");
+    fprintf(stderr, "rigflow: %s: %u problem%s found\n", path, diags->len,
+            diags->len == 1 ? "" : "s");
+    rf_pipeline_free(p);
+    *code = RF_EXIT_VALIDATION;
+    return NULL;
+}
+
+static int cmd_validate(rf_registry *reg, int argc, char **argv)
+{
+    g_auto(GStrv) params = NULL;
+    const GOptionEntry entries[] = {
+        {"param", 'p', 0, G_OPTION_ARG_STRING_ARRAY, &params, "Override a parameter",
+         "NODE.PARAM=VALUE"},
+        {NULL, 0, 0, 0, NULL, NULL, NULL}};
+    if (!rf_parse_options("validate", "PIPELINE", "Check a pipeline without running it.", entries,
+                          &argc, &argv) ||
+        argc != 2) {
+        if (argc != 2)
+            fprintf(stderr, "rigflow validate: expected one PIPELINE file\n");
+        return RF_EXIT_USAGE;
+    }
+    int code = RF_EXIT_OK;
+    rf_pipeline *p = prepare(reg, argv[1], params, &code);
+    if (p)
+        printf("%s: valid\n", argv[1]);
+    rf_pipeline_free(p);
+    return code;
+}
+
+static int cmd_run(rf_registry *reg, int argc, char **argv)
+{
+    g_auto(GStrv) params = NULL;
+    gboolean profile = FALSE, quiet = FALSE;
+    const GOptionEntry entries[] = {
+        {"param", 'p', 0, G_OPTION_ARG_STRING_ARRAY, &params,
+         "Override a parameter (repeatable; relative paths are relative to the current folder)",
+         "NODE.PARAM=VALUE"},
+        {"profile", 0, 0, G_OPTION_ARG_NONE, &profile, "Print each node's run time", NULL},
+        {"quiet", 'q', 0, G_OPTION_ARG_NONE, &quiet, "Print errors only", NULL},
+        {NULL, 0, 0, 0, NULL, NULL, NULL}};
+    if (!rf_parse_options("run", "PIPELINE", "Validate and run a pipeline.", entries, &argc, &argv))
+        return RF_EXIT_USAGE;
+    if (argc != 2) {
+        fprintf(stderr, "rigflow run: expected one PIPELINE file (see rigflow run --help)\n");
+        return RF_EXIT_USAGE;
+    }
+    int code = RF_EXIT_OK;
+    rf_pipeline *p = prepare(reg, argv[1], params, &code);
+    if (!p)
+        return code;
+    quiet = quiet || g_getenv("RIGFLOW_QUIET") != NULL;
+    rf_run_options opts = {.profile = profile, .quiet = quiet, .progress = isatty(2) != 0,
+                           .cancel_flag = &interrupted};
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    signal(SIGINT, on_sigint);
+    bool ok = rf_pipeline_run(p, reg, &opts, diags);
+    signal(SIGINT, SIG_DFL);
+    rf_print_diags(diags, "error");
+    rf_pipeline_free(p);
+    return ok ? RF_EXIT_OK : interrupted ? RF_EXIT_CANCELLED : RF_EXIT_RUN;
+}
+
+typedef struct command {
+    const char *name;
+    rf_command_fn fn;
+    const char *summary;
+} command;
+
+static const command commands[] = {
+    {"run", cmd_run, "validate and run a pipeline"},
+    {"validate", cmd_validate, "check a pipeline without running it"},
+    {"plugins", rf_cmd_plugins, "list the plugins found and their node types"},
+    {"describe", rf_cmd_describe, "show a node type's ports and parameters"},
+};
+
+static void print_help(void)
+{
+    printf("Usage: rigflow [--plugin-path DIR]... [--quiet] COMMAND [ARGS]...\n\n"
+           "Run character animation pipelines built from plugins.\n\nCommands:\n");
+    for (size_t i = 0; i < G_N_ELEMENTS(commands); i++)
+        printf("  %-10s %s\n", commands[i].name, commands[i].summary);
+    printf("\nOptions:\n"
+           "  --plugin-path DIR  look for plugins in DIR first (repeatable); then\n"
+           "                     $RIGFLOW_PLUGIN_PATH (colon-separated), then %s\n"
+           "  -q, --quiet        print errors only\n"
+           "  -h, --help         show this help (COMMAND --help for a command's)\n"
+           "  --version          show the version\n\n"
+           "Exit status: 0 ok, 1 run failed, 2 usage error, 3 invalid pipeline,\n"
+           "4 plugin could not be loaded, 130 interrupted.\n",
+           RF_PLUGINSDIR);
+}
+
+static const command *find_command(const char *name)
+{
+    for (size_t i = 0; i < G_N_ELEMENTS(commands); i++)
+        if (strcmp(commands[i].name, name) == 0)
+            return &commands[i];
+    return NULL;
+}
+
+/* Global options come before the command; returns the index of the command, or -1 to exit with
+ * *code. */
+static int parse_globals(int argc, char **argv, GPtrArray *plugin_path, bool *quiet, int *code)
+{
+    int i = 1;
+    for (; i < argc && argv[i][0] == '-'; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            print_help();
+            return *code = RF_EXIT_OK, -1;
+        } else if (!strcmp(a, "--version")) {
+            printf("rigflow %s (plugin ABI %d.%d.%d)\n", PACKAGE_VERSION, RF_ABI_VERSION_MAJOR,
+                   RF_ABI_VERSION_MINOR, RF_ABI_VERSION_PATCH);
+            return *code = RF_EXIT_OK, -1;
+        } else if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
+            *quiet = true;
+        } else if (!strcmp(a, "--plugin-path") && i + 1 < argc) {
+            g_ptr_array_add(plugin_path, argv[++i]);
+        } else if (g_str_has_prefix(a, "--plugin-path=")) {
+            g_ptr_array_add(plugin_path, (char *)a + strlen("--plugin-path="));
+        } else {
+            fprintf(stderr, "rigflow: unknown option %s (see rigflow --help)\n", a);
+            return *code = RF_EXIT_USAGE, -1;
+        }
+    }
+    if (i >= argc) {
+        fprintf(stderr, "rigflow: no command given (see rigflow --help)\n");
+        return *code = RF_EXIT_USAGE, -1;
+    }
+    return i;
+}
+
+int main(int argc, char **argv)
+{
+    g_autoptr(GPtrArray) plugin_path = g_ptr_array_new();
+    bool quiet = false;
+    int code = RF_EXIT_OK;
+    int first = parse_globals(argc, argv, plugin_path, &quiet, &code);
+    if (first < 0)
+        return code;
+    const command *cmd = find_command(argv[first]);
+    if (!cmd) {
+        fprintf(stderr, "rigflow: unknown command '%s' (see rigflow --help)\n", argv[first]);
+        return RF_EXIT_USAGE;
+    }
+    g_ptr_array_add(plugin_path, NULL);
+    rf_registry *reg = rf_registry_new();
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    rf_registry_load_search_path(reg, (const char *const *)plugin_path->pdata, diags);
+    if (quiet) /* --quiet also applies to the command's own logging */
+        g_setenv("RIGFLOW_QUIET", "1", TRUE);
+    bool listing = strcmp(cmd->name, "plugins") == 0;
+    if (!quiet && !listing)
+        rf_print_diags(diags, "warning");
+    code = cmd->fn(reg, argc - first, argv + first);
+    if (listing && diags->len) { /* refusals are part of what `plugins` reports */
+        rf_print_diags(diags, "refused");
+        code = code == RF_EXIT_OK ? RF_EXIT_PLUGIN : code;
+    }
+    rf_registry_free(reg);
+    return code;
+}

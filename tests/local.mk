@@ -1,0 +1,1 @@
+# Host tests: plugin loading and refusals, pipeline validation and runs.
