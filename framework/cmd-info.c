@@ -64,8 +64,8 @@ static void describe_params(const rf_node_desc *d)
 
 int rf_cmd_describe(rf_registry *reg, int argc, char **argv)
 {
-    if (!rf_parse_options("describe", "NODE_TYPE", "Show a node type's ports and parameters.",
-                          NULL, &argc, &argv))
+    if (!rf_parse_options("describe", "NODE_TYPE", "Show a node type's ports and parameters.", NULL,
+                          &argc, &argv))
         return RF_EXIT_USAGE;
     if (argc != 2) {
         fprintf(stderr, "rigflow describe: expected one NODE_TYPE (see rigflow plugins)\n");

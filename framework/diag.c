@@ -12,7 +12,10 @@ static void diag_free(gpointer data)
     g_free(d);
 }
 
-GPtrArray *rf_diags_new(void) { return g_ptr_array_new_with_free_func(diag_free); }
+GPtrArray *rf_diags_new(void)
+{
+    return g_ptr_array_new_with_free_func(diag_free);
+}
 
 void rf_diags_add(GPtrArray *diags, const char *file, int line, int column, const char *node,
                   const char *pointer, const char *fmt, ...)

@@ -64,7 +64,10 @@ static bool host_cancelled(rf_node *node)
     return o && o->cancel_flag && *o->cancel_flag;
 }
 
-static const char *host_node_id(rf_node *node) { return node->id; }
+static const char *host_node_id(rf_node *node)
+{
+    return node->id;
+}
 
 /* The value of a declared parameter, or NULL (logged) for a name or type the node never declared:
  * a plugin bug, not a user error. */
@@ -171,4 +174,7 @@ static const rf_host host_table = {
     .set_output = host_set_output,
 };
 
-const rf_host *rf_host_table(void) { return &host_table; }
+const rf_host *rf_host_table(void)
+{
+    return &host_table;
+}

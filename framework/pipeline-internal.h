@@ -38,35 +38,35 @@ typedef struct rf_output {
 struct rf_node {
     char *id;
     char *type;
-    char *pointer;        /* "/nodes/N" */
-    json_t *json;         /* the node's object (borrowed from the pipeline's root) */
-    bool malformed;       /* failed the structural checks at load */
-    bool bad;             /* failed a stage: later stages do not pile errors onto it */
+    char *pointer;  /* "/nodes/N" */
+    json_t *json;   /* the node's object (borrowed from the pipeline's root) */
+    bool malformed; /* failed the structural checks at load */
+    bool bad;       /* failed a stage: later stages do not pile errors onto it */
     const rf_node_desc *desc;
     const rf_plugin *plugin;
-    GPtrArray **inputs;   /* [desc->input_count] arrays of rf_conn* */
-    rf_pvalue *params;    /* [desc->param_count] */
-    rf_output *outputs;   /* [desc->output_count] */
-    void *self;           /* what desc->create made */
+    GPtrArray **inputs; /* [desc->input_count] arrays of rf_conn* */
+    rf_pvalue *params;  /* [desc->param_count] */
+    rf_output *outputs; /* [desc->output_count] */
+    void *self;         /* what desc->create made */
     bool created;
-    char *error;          /* set through host->error */
+    char *error; /* set through host->error */
     struct rf_pipeline *pipeline;
     gint64 last_progress; /* monotonic µs of the last progress line drawn */
 };
 typedef struct rf_node rf_node;
 
 struct rf_pipeline {
-    char *name;              /* file name used in messages */
-    char *dir;               /* folder relative paths resolve against */
+    char *name; /* file name used in messages */
+    char *dir;  /* folder relative paths resolve against */
     json_t *root;
-    GPtrArray *nodes;        /* rf_node*, in file order */
-    GHashTable *by_id;       /* id -> rf_node* */
-    GHashTable *overrides;   /* "node.param" -> folder its relative path resolves against */
-    GPtrArray *load_diags;   /* structural problems found at load, reported by validate */
-    GArray *order;           /* node indices in dependency order, after validation */
+    GPtrArray *nodes;      /* rf_node*, in file order */
+    GHashTable *by_id;     /* id -> rf_node* */
+    GHashTable *overrides; /* "node.param" -> folder its relative path resolves against */
+    GPtrArray *load_diags; /* structural problems found at load, reported by validate */
+    GArray *order;         /* node indices in dependency order, after validation */
     bool valid;
     const rf_run_options *opts;
-    GPtrArray *temp_files;   /* outputs written during a run, removed unless it succeeds */
+    GPtrArray *temp_files; /* outputs written during a run, removed unless it succeeds */
 };
 
 /* Index of a declared param / input / output port by name, or -1. */

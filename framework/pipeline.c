@@ -3,7 +3,8 @@
  *   { "format": "rigflow.pipeline", "version": 1, "description": "...",
  *     "nodes": [ { "id": "source", "type": "bvh.import", "params": { "path": "walk.bvh" } },
  *                { "id": "export", "type": "bvh.export", "params": { "path": "out.bvh" },
- *                  "inputs": { "skeleton": "source.skeleton", "animation": "source.animation" } } ] }
+ *                  "inputs": { "skeleton": "source.skeleton", "animation": "source.animation" } } ]
+ * }
  *
  * Structural problems are collected, not fatal, so that validation can report them together with
  * every later problem of the nodes that are well-formed. See doc/pipeline-format.md.
@@ -77,8 +78,8 @@ static void check_node_keys(rf_pipeline *p, rf_node *n)
         if (strcmp(key, "id") && strcmp(key, "type") && strcmp(key, "params") &&
             strcmp(key, "inputs") && strcmp(key, "comment")) {
             g_autofree char *ptr = g_strdup_printf("%s/%s", n->pointer, key);
-            LOAD_ERR(p, n->id, ptr, "unknown key '%s' (a node has id, type, params, inputs, comment)",
-                     key);
+            LOAD_ERR(p, n->id, ptr,
+                     "unknown key '%s' (a node has id, type, params, inputs, comment)", key);
             n->malformed = true;
         }
     }
@@ -123,8 +124,9 @@ static rf_node *parse_node(rf_pipeline *p, json_t *obj, size_t index)
     if (json_is_string(id) && id_ok(json_string_value(id)))
         n->id = g_strdup(json_string_value(id));
     else {
-        LOAD_ERR(p, NULL, n->pointer, "every node needs an \"id\": a string of letters, digits, "
-                                      "'_' or '-'");
+        LOAD_ERR(p, NULL, n->pointer,
+                 "every node needs an \"id\": a string of letters, digits, "
+                 "'_' or '-'");
         n->malformed = true;
     }
     if (json_is_string(type))
@@ -183,8 +185,8 @@ static void check_header(rf_pipeline *p)
         if (strcmp(key, "format") && strcmp(key, "version") && strcmp(key, "nodes") &&
             strcmp(key, "description")) {
             g_autofree char *ptr = g_strdup_printf("/%s", key);
-            LOAD_ERR(p, NULL, ptr, "unknown key '%s' (expected format, version, description, nodes)",
-                     key);
+            LOAD_ERR(p, NULL, ptr,
+                     "unknown key '%s' (expected format, version, description, nodes)", key);
         }
     }
 }
@@ -241,8 +243,8 @@ bool rf_pipeline_override(rf_pipeline *p, const char *assignment, GPtrArray *dia
 {
     const char *eq = strchr(assignment, '='), *dot = strchr(assignment, '.');
     if (!eq || !dot || dot > eq || dot == assignment || eq == dot + 1) {
-        rf_diags_add(diags, NULL, 0, 0, NULL, NULL,
-                     "override '%s': expected node.param=value", assignment);
+        rf_diags_add(diags, NULL, 0, 0, NULL, NULL, "override '%s': expected node.param=value",
+                     assignment);
         return false;
     }
     g_autofree char *node_id = g_strndup(assignment, (gsize)(dot - assignment));
@@ -263,7 +265,8 @@ bool rf_pipeline_override(rf_pipeline *p, const char *assignment, GPtrArray *dia
     /* Kept as text: validation types it by the parameter's declaration. */
     json_object_set_new(params, param, json_string(eq + 1));
     /* A path given on the command line is relative to where the user is, not to the pipeline. */
-    g_hash_table_insert(p->overrides, g_strdup_printf("%s.%s", node_id, param), g_get_current_dir());
+    g_hash_table_insert(p->overrides, g_strdup_printf("%s.%s", node_id, param),
+                        g_get_current_dir());
     return true;
 }
 

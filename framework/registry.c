@@ -323,15 +323,24 @@ void rf_registry_load_search_path(rf_registry *reg, const char *const *extra, GP
     rf_registry_load_dir(reg, RF_PLUGINSDIR, diags);
 }
 
-guint rf_registry_plugin_count(const rf_registry *reg) { return reg->plugins->len; }
+guint rf_registry_plugin_count(const rf_registry *reg)
+{
+    return reg->plugins->len;
+}
 
 const rf_plugin *rf_registry_plugin(const rf_registry *reg, guint index)
 {
     return index < reg->plugins->len ? g_ptr_array_index(reg->plugins, index) : NULL;
 }
 
-const rf_plugin_entry *rf_plugin_entry_of(const rf_plugin *p) { return p->entry; }
-const char *rf_plugin_path(const rf_plugin *p) { return p->path; }
+const rf_plugin_entry *rf_plugin_entry_of(const rf_plugin *p)
+{
+    return p->entry;
+}
+const char *rf_plugin_path(const rf_plugin *p)
+{
+    return p->path;
+}
 
 const rf_node_desc *rf_registry_find(const rf_registry *reg, const char *type,
                                      const rf_plugin **plugin)
@@ -349,15 +358,14 @@ const rf_node_desc *rf_registry_find(const rf_registry *reg, const char *type,
 
 const char *rf_kind_name(rf_node_kind kind)
 {
-    static const char *const names[] = {"unknown",    "importer", "exporter", "matcher",
-                                        "retargeter", "ik",       "rigger",   "filter",
-                                        "report"};
+    static const char *const names[] = {"unknown", "importer", "exporter", "matcher", "retargeter",
+                                        "ik",      "rigger",   "filter",   "report"};
     return kind >= RF_KIND_IMPORTER && kind <= RF_KIND_REPORT ? names[kind] : names[0];
 }
 
 const char *rf_param_type_name(rf_param_type type)
 {
-    static const char *const names[] = {"unknown", "bool", "int",         "float",
+    static const char *const names[] = {"unknown", "bool", "int",        "float",
                                         "string",  "enum", "input path", "output path"};
     return type >= RF_PARAM_BOOL && type <= RF_PARAM_OUTPUT_PATH ? names[type] : names[0];
 }

@@ -62,10 +62,9 @@ static rf_pipeline *prepare(rf_registry *reg, const char *path, char **params, i
 static int cmd_validate(rf_registry *reg, int argc, char **argv)
 {
     g_auto(GStrv) params = NULL;
-    const GOptionEntry entries[] = {
-        {"param", 'p', 0, G_OPTION_ARG_STRING_ARRAY, &params, "Override a parameter",
-         "NODE.PARAM=VALUE"},
-        {NULL, 0, 0, 0, NULL, NULL, NULL}};
+    const GOptionEntry entries[] = {{"param", 'p', 0, G_OPTION_ARG_STRING_ARRAY, &params,
+                                     "Override a parameter", "NODE.PARAM=VALUE"},
+                                    {NULL, 0, 0, 0, NULL, NULL, NULL}};
     if (!rf_parse_options("validate", "PIPELINE", "Check a pipeline without running it.", entries,
                           &argc, &argv) ||
         argc != 2) {
@@ -103,7 +102,9 @@ static int cmd_run(rf_registry *reg, int argc, char **argv)
     if (!p)
         return code;
     quiet = quiet || g_getenv("RIGFLOW_QUIET") != NULL;
-    rf_run_options opts = {.profile = profile, .quiet = quiet, .progress = isatty(2) != 0,
+    rf_run_options opts = {.profile = profile,
+                           .quiet = quiet,
+                           .progress = isatty(2) != 0,
                            .cancel_flag = &interrupted};
     g_autoptr(GPtrArray) diags = rf_diags_new();
     signal(SIGINT, on_sigint);

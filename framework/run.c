@@ -52,8 +52,8 @@ static char *make_temp(const char *target, GError **error)
     int fd = g_mkstemp(tmpl);
     if (fd < 0) {
         int e = errno;
-        g_set_error(error, G_FILE_ERROR, g_file_error_from_errno(e), "cannot write in folder %s: %s",
-                    dir, g_strerror(e));
+        g_set_error(error, G_FILE_ERROR, g_file_error_from_errno(e),
+                    "cannot write in folder %s: %s", dir, g_strerror(e));
         g_free(tmpl);
         return NULL;
     }
@@ -107,7 +107,9 @@ static bool process_node(rf_node *n, GPtrArray *diags)
                 (double)(g_get_monotonic_time() - t0) / 1000.0);
     if (!ok) {
         RUN_ERR(n, "%s failed: %s", n->type,
-                cancelled(n->pipeline) ? "interrupted" : n->error ? n->error : "no reason given");
+                cancelled(n->pipeline) ? "interrupted"
+                : n->error             ? n->error
+                                       : "no reason given");
         return false;
     }
     for (uint32_t k = 0; k < n->desc->output_count; k++)
@@ -125,8 +127,7 @@ static bool finish_file(const char *path, GError **error)
 {
     int fd = g_open(path, O_RDWR, 0);
     if (fd < 0 || fsync(fd) != 0) {
-        g_set_error(error, G_FILE_ERROR, g_file_error_from_errno(errno), "%s",
-                    g_strerror(errno));
+        g_set_error(error, G_FILE_ERROR, g_file_error_from_errno(errno), "%s", g_strerror(errno));
         if (fd >= 0)
             close(fd);
         return false;

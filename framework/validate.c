@@ -103,7 +103,10 @@ static json_t *type_override(const rf_param_desc *d, const char *text)
     }
 }
 
-static bool is_path(rf_param_type t) { return t == RF_PARAM_INPUT_PATH || t == RF_PARAM_OUTPUT_PATH; }
+static bool is_path(rf_param_type t)
+{
+    return t == RF_PARAM_INPUT_PATH || t == RF_PARAM_OUTPUT_PATH;
+}
 
 /* A path resolved against `base` unless absolute. */
 static char *resolve(const char *base, const char *path)
@@ -134,8 +137,8 @@ static bool bind_param(rf_node *n, int idx, json_t *v, const char *base, const c
               (d->type == RF_PARAM_FLOAT && json_is_number(v)) ||
               (d->type >= RF_PARAM_STRING && json_is_string(v));
     if (!ok) {
-        ERR(n, ptr, "parameter '%s' expects %s%s", d->name,
-            d->type == RF_PARAM_INT ? "an " : "a ", rf_param_type_name(d->type));
+        ERR(n, ptr, "parameter '%s' expects %s%s", d->name, d->type == RF_PARAM_INT ? "an " : "a ",
+            rf_param_type_name(d->type));
         return false;
     }
     if (d->type == RF_PARAM_BOOL)
@@ -181,7 +184,8 @@ static bool param_given(rf_node *n, uint32_t idx)
 {
     json_t *params = json_object_get(n->json, "params");
     json_t *v = params ? json_object_get(params, n->desc->params[idx].name) : NULL;
-    return v && !(json_is_string(v) && !*json_string_value(v) && is_path(n->desc->params[idx].type));
+    return v &&
+           !(json_is_string(v) && !*json_string_value(v) && is_path(n->desc->params[idx].type));
 }
 
 static bool node_params(rf_node *n, GPtrArray *diags)
@@ -212,7 +216,8 @@ static bool node_params(rf_node *n, GPtrArray *diags)
         }
         g_autofree char *key = g_strdup_printf("%s.%s", n->id, name);
         const char *cwd = g_hash_table_lookup(n->pipeline->overrides, key);
-        json_t *typed = cwd ? type_override(&n->desc->params[idx], json_string_value(v)) : json_incref(v);
+        json_t *typed =
+            cwd ? type_override(&n->desc->params[idx], json_string_value(v)) : json_incref(v);
         if (!typed) {
             ERR(n, ptr, "parameter '%s' = \"%s\": expected %s", name, json_string_value(v),
                 rf_param_type_name(n->desc->params[idx].type));

@@ -1,1 +1,43 @@
-# Host tests: plugin loading and refusals, pipeline validation and runs.
+# Host tests: plugin loading and its refusals, pipeline validation, runs.
+
+# One fixture source built as a good plugin and as plugins that each break one loading rule.
+FIXTURE_SRC = tests/fixtures/fixture.c
+check_LTLIBRARIES += tests/fixtures/fx_good.la tests/fixtures/fx_major.la \
+	tests/fixtures/fx_minor.la tests/fixtures/fx_noentry.la tests/fixtures/fx_initfail.la \
+	tests/fixtures/fx_dup.la tests/fixtures/fx_unresolved.la
+tests_fixtures_fx_good_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_good_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+tests_fixtures_fx_major_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_major_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_MAJOR=2 -DFX_ID='"org.rigflow.test.major"'
+tests_fixtures_fx_major_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+tests_fixtures_fx_minor_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_minor_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_MINOR=RF_ABI_VERSION_MINOR+1 \
+	-DFX_ID='"org.rigflow.test.minor"'
+tests_fixtures_fx_minor_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+tests_fixtures_fx_noentry_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_noentry_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_NO_ENTRY
+tests_fixtures_fx_noentry_la_LDFLAGS = -module -avoid-version -shared -rpath /nowhere
+tests_fixtures_fx_initfail_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_initfail_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_INIT_FAILS -DFX_ID='"org.rigflow.test.init"'
+tests_fixtures_fx_initfail_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+tests_fixtures_fx_dup_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_dup_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_ID='"org.rigflow.test.dup"'
+tests_fixtures_fx_dup_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+tests_fixtures_fx_unresolved_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_unresolved_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_UNRESOLVED -DFX_ID='"org.rigflow.test.unresolved"'
+tests_fixtures_fx_unresolved_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+
+HOST_TEST_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS) $(CMOCKA_CFLAGS)
+HOST_TEST_LIBS = framework/librigflow.la $(GLIB_LIBS) $(JANSSON_LIBS) $(CMOCKA_LIBS)
+
+check_PROGRAMS += tests/test_plugins tests/test_pipeline tests/test_math
+TESTS += tests/test_plugins tests/test_pipeline tests/test_math
+tests_test_plugins_SOURCES = tests/test_plugins.c tests/testutil.h
+tests_test_plugins_CFLAGS = $(HOST_TEST_CFLAGS)
+tests_test_plugins_LDADD = $(HOST_TEST_LIBS)
+tests_test_pipeline_SOURCES = tests/test_pipeline.c tests/testutil.h
+tests_test_pipeline_CFLAGS = $(HOST_TEST_CFLAGS)
+tests_test_pipeline_LDADD = $(HOST_TEST_LIBS)
+tests_test_math_SOURCES = tests/test_math.c
+tests_test_math_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_test_math_LDADD = $(CMOCKA_LIBS) -lm

@@ -1,0 +1,164 @@
+/* Plugin loading: a good plugin loads; each broken rule is refused with its own message naming
+ * the file. */
+#include "testutil.h"
+
+typedef struct fixture {
+    rf_registry *reg;
+    GPtrArray *diags;
+} fixture;
+
+static int setup(void **state)
+{
+    fixture *f = g_new0(fixture, 1);
+    f->reg = rf_registry_new();
+    f->diags = rf_diags_new();
+    *state = f;
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    fixture *f = *state;
+    rf_registry_free(f->reg);
+    g_ptr_array_unref(f->diags);
+    g_free(f);
+    return 0;
+}
+
+static bool load(fixture *f, const char *name)
+{
+    g_autofree char *path = fixture_path(name);
+    return rf_registry_load_file(f->reg, path, f->diags);
+}
+
+static void good_plugin_loads(void **state)
+{
+    fixture *f = *state;
+    assert_true(load(f, "fx_good"));
+    assert_int_equal(f->diags->len, 0);
+    assert_int_equal(rf_registry_plugin_count(f->reg), 1);
+    const rf_plugin *p = NULL;
+    const rf_node_desc *d = rf_registry_find(f->reg, "test.source", &p);
+    assert_non_null(d);
+    assert_int_equal(d->kind, RF_KIND_IMPORTER);
+    assert_non_null(strstr(rf_plugin_path(p), "fx_good.so"));
+    assert_null(rf_registry_find(f->reg, "no.such", NULL));
+}
+
+static void other_major_refused(void **state)
+{
+    fixture *f = *state;
+    assert_false(load(f, "fx_major"));
+    g_autofree char *host =
+        g_strdup_printf("host implements %d.%d.0", RF_ABI_VERSION_MAJOR, RF_ABI_VERSION_MINOR);
+    assert_non_null(find_diag(f->diags, "fx_major.so", "incompatible plugin ABI",
+                              "built for ABI 2.", host, NULL));
+    assert_int_equal(rf_registry_plugin_count(f->reg), 0);
+}
+
+static void newer_minor_refused(void **state)
+{
+    fixture *f = *state;
+    assert_false(load(f, "fx_minor"));
+    g_autofree char *plugin =
+        g_strdup_printf("built for ABI %d.%d.0", RF_ABI_VERSION_MAJOR, RF_ABI_VERSION_MINOR + 1);
+    assert_non_null(find_diag(f->diags, "fx_minor.so", "incompatible plugin ABI", plugin,
+                              "minor no greater", NULL));
+}
+
+static void missing_entry_refused(void **state)
+{
+    fixture *f = *state;
+    assert_false(load(f, "fx_noentry"));
+    assert_non_null(
+        find_diag(f->diags, "fx_noentry.so", "not a rigflow plugin", "rigflow_plugin_entry", NULL));
+}
+
+static void failed_init_refused(void **state)
+{
+    fixture *f = *state;
+    assert_false(load(f, "fx_initfail"));
+    assert_non_null(find_diag(f->diags, "fx_initfail.so", "failed to initialise",
+                              "licence file is missing", NULL));
+    assert_null(rf_registry_find(f->reg, "test.source", NULL));
+}
+
+static void duplicate_type_refused(void **state)
+{
+    fixture *f = *state;
+    assert_true(load(f, "fx_good"));
+    assert_false(load(f, "fx_dup"));
+    assert_non_null(
+        find_diag(f->diags, "fx_dup.so", "duplicate node type 'test.source'", "fx_good.so", NULL));
+    assert_int_equal(rf_registry_plugin_count(f->reg), 1);
+}
+
+static void unresolved_symbol_refused_at_load(void **state)
+{
+    fixture *f = *state;
+    assert_false(load(f, "fx_unresolved"));
+    assert_non_null(find_diag(f->diags, "fx_unresolved.so", "cannot load plugin",
+                              "rf_fixture_symbol_nobody_defines", NULL));
+}
+
+static void not_a_shared_object_refused(void **state)
+{
+    fixture *f = *state;
+    g_autofree char *dir = g_dir_make_tmp("rf-test-XXXXXX", NULL);
+    g_autofree char *path = g_build_filename(dir, "junk.so", NULL);
+    assert_true(g_file_set_contents(path, "not an ELF file", -1, NULL));
+    assert_false(rf_registry_load_file(f->reg, path, f->diags));
+    assert_non_null(find_diag(f->diags, "junk.so", "cannot load plugin", NULL));
+    g_unlink(path);
+    g_rmdir(dir);
+}
+
+static void same_plugin_twice_is_shadowed(void **state)
+{
+    fixture *f = *state;
+    assert_true(load(f, "fx_good"));
+    assert_true(load(f, "fx_good"));
+    assert_int_equal(f->diags->len, 0);
+    assert_int_equal(rf_registry_plugin_count(f->reg), 1);
+}
+
+static void world_writable_folder_refused(void **state)
+{
+    fixture *f = *state;
+    g_autofree char *dir = g_dir_make_tmp("rf-test-XXXXXX", NULL);
+    assert_int_equal(chmod(dir, 0777), 0);
+    assert_int_equal(rf_registry_load_dir(f->reg, dir, f->diags), 0);
+    assert_non_null(find_diag(f->diags, dir, "writable by other users", NULL));
+    g_rmdir(dir);
+}
+
+static void search_path_finds_build_tree(void **state)
+{
+    fixture *f = *state;
+    g_autofree char *path = fixture_path("fx_good");
+    g_autofree char *dir = g_path_get_dirname(path);
+    const char *extra[] = {dir, NULL};
+    rf_registry_load_search_path(f->reg, extra, f->diags);
+    assert_non_null(rf_registry_find(f->reg, "test.sink", NULL));
+    /* the broken fixtures in the same folder are refused, each with its reason */
+    assert_non_null(find_diag(f->diags, "fx_major.so", "incompatible", NULL));
+    assert_non_null(find_diag(f->diags, "fx_dup.so", "duplicate node type", NULL));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(good_plugin_loads, setup, teardown),
+        cmocka_unit_test_setup_teardown(other_major_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(newer_minor_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(missing_entry_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(failed_init_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(duplicate_type_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(unresolved_symbol_refused_at_load, setup, teardown),
+        cmocka_unit_test_setup_teardown(not_a_shared_object_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(same_plugin_twice_is_shadowed, setup, teardown),
+        cmocka_unit_test_setup_teardown(world_writable_folder_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(search_path_finds_build_tree, setup, teardown),
+    };
+    return cmocka_run_group_tests_name("plugins", tests, NULL, NULL);
+}
