@@ -67,14 +67,14 @@ enum rf_ik_limit_flags {
 /* Limits of one joint. A zeroed struct (with size set) is a free ball joint. HINGE excludes CONE
  * and TWIST (a hinge has one degree of freedom). */
 typedef struct rf_ik_constraint {
-    uint32_t size;      /* sizeof(rf_ik_constraint) */
-    uint32_t flags;     /* rf_ik_limit_flags */
-    rf_vec3 axis;       /* HINGE: axis in the joint's reference frame (need not be unit) */
-    double min_angle;   /* HINGE: radians, min_angle <= max_angle, within [-pi, pi] */
+    uint32_t size;    /* sizeof(rf_ik_constraint) */
+    uint32_t flags;   /* rf_ik_limit_flags */
+    rf_vec3 axis;     /* HINGE: axis in the joint's reference frame (need not be unit) */
+    double min_angle; /* HINGE: radians, min_angle <= max_angle, within [-pi, pi] */
     double max_angle;
-    rf_vec3 bone_axis;  /* CONE, TWIST: bone axis in the reference frame; zero: first child */
-    double cone_angle;  /* CONE: largest swing of the bone axis, radians in [0, pi] */
-    double twist_min;   /* TWIST: radians, twist_min <= twist_max, within [-pi, pi] */
+    rf_vec3 bone_axis; /* CONE, TWIST: bone axis in the reference frame; zero: first child */
+    double cone_angle; /* CONE: largest swing of the bone axis, radians in [0, pi] */
+    double twist_min;  /* TWIST: radians, twist_min <= twist_max, within [-pi, pi] */
     double twist_max;
 } rf_ik_constraint;
 
@@ -101,17 +101,17 @@ typedef struct rf_ik_goal {
 /* ---- problem and result ---- */
 
 typedef struct rf_ik_problem {
-    uint32_t size;            /* sizeof(rf_ik_problem) */
+    uint32_t size; /* sizeof(rf_ik_problem) */
     uint32_t joint_count;
-    const int32_t *parents;   /* [joint_count], parents[i] < i, or -1 for a root */
-    const rf_xform *pose;     /* [joint_count] start pose, local to the parent */
+    const int32_t *parents;    /* [joint_count], parents[i] < i, or -1 for a root */
+    const rf_xform *pose;      /* [joint_count] start pose, local to the parent */
     const rf_xform *reference; /* [joint_count] rotations constraints are measured from, or NULL
                                 * for the start pose; only .r is read */
     const rf_ik_constraint *constraints; /* [joint_count], or NULL for all free */
     uint32_t goal_count;
-    const rf_ik_goal *goals;  /* [goal_count] */
-    double tolerance;         /* > 0: a goal is reached when its position error is at most this */
-    uint32_t max_iterations;  /* cap; 0 makes iterative solvers only evaluate the start pose */
+    const rf_ik_goal *goals; /* [goal_count] */
+    double tolerance;        /* > 0: a goal is reached when its position error is at most this */
+    uint32_t max_iterations; /* cap; 0 makes iterative solvers only evaluate the start pose */
 } rf_ik_problem;
 
 enum rf_ik_goal_status {
@@ -122,17 +122,17 @@ enum rf_ik_goal_status {
 };
 
 typedef struct rf_ik_result {
-    uint32_t size;         /* sizeof(rf_ik_result) */
-    rf_xform *pose;        /* [joint_count] the caller's: the solved local pose; may be the same
-                            * array as problem->pose to solve in place */
-    double *errors;        /* [goal_count] the caller's, or NULL: position error per goal */
-    double *angle_errors;  /* [goal_count] the caller's, or NULL: radians, 0 without an
-                            * orientation goal */
-    uint32_t *status;      /* [goal_count] the caller's, or NULL: rf_ik_goal_status */
-    uint32_t iterations;   /* out: iterations used (solver-defined: one sweep or one step) */
-    double max_error;      /* out: largest position error */
-    bool reached;          /* out: every goal reached */
-    char message[160];     /* out: why solve refused the problem */
+    uint32_t size;        /* sizeof(rf_ik_result) */
+    rf_xform *pose;       /* [joint_count] the caller's: the solved local pose; may be the same
+                           * array as problem->pose to solve in place */
+    double *errors;       /* [goal_count] the caller's, or NULL: position error per goal */
+    double *angle_errors; /* [goal_count] the caller's, or NULL: radians, 0 without an
+                           * orientation goal */
+    uint32_t *status;     /* [goal_count] the caller's, or NULL: rf_ik_goal_status */
+    uint32_t iterations;  /* out: iterations used (solver-defined: one sweep or one step) */
+    double max_error;     /* out: largest position error */
+    bool reached;         /* out: every goal reached */
+    char message[160];    /* out: why solve refused the problem */
 } rf_ik_result;
 
 /* ---- solvers ---- */
@@ -146,20 +146,20 @@ enum rf_ik_capabilities {
 
 /* Options for a solver state. Zero fields mean the defaults. */
 typedef struct rf_ik_config {
-    uint32_t size;        /* sizeof(rf_ik_config) */
-    uint32_t max_joints;  /* scratch sized for this many joints (default 256) */
-    uint32_t max_goals;   /* and this many goals (default 8) */
-    double damping;       /* damped least squares lambda, in length units (default 0.1 x the mean
-                           * bone length) */
-    double max_step;      /* Jacobian methods: largest target displacement per step, length units
-                           * (default: the mean bone length of the problem) */
+    uint32_t size;       /* sizeof(rf_ik_config) */
+    uint32_t max_joints; /* scratch sized for this many joints (default 256) */
+    uint32_t max_goals;  /* and this many goals (default 8) */
+    double damping;      /* damped least squares lambda, in length units (default 0.1 x the mean
+                          * bone length) */
+    double max_step;     /* Jacobian methods: largest target displacement per step, length units
+                          * (default: the mean bone length of the problem) */
 } rf_ik_config;
 
 typedef struct rf_ik_solver_api {
-    uint32_t size;        /* sizeof(rf_ik_solver_api) */
-    const char *name;     /* short name, e.g. "fabrik" */
-    const char *doc;      /* one line */
-    uint32_t limits;      /* rf_ik_limit_flags the solver honours: joints it moves stay in them */
+    uint32_t size;         /* sizeof(rf_ik_solver_api) */
+    const char *name;      /* short name, e.g. "fabrik" */
+    const char *doc;       /* one line */
+    uint32_t limits;       /* rf_ik_limit_flags the solver honours: joints it moves stay in them */
     uint32_t capabilities; /* rf_ik_capabilities */
     /* A state for `config` (NULL: defaults), or NULL with a message in err. (transfer full) */
     void *(*create)(const rf_ik_config *config, char *err, size_t err_size);
@@ -172,10 +172,10 @@ typedef struct rf_ik_solver_api {
 
 /* The value on a RF_TYPE_IK_SOLVER port: a configured solver. */
 typedef struct rf_ik_solver {
-    uint32_t size;                /* sizeof(rf_ik_solver) */
-    const rf_ik_solver_api *api;  /* (static while the plugin is loaded) */
-    void *state;                  /* owned: api->destroy frees it */
-    char *label;                  /* owned, may be NULL: the id of the node that made it */
+    uint32_t size;               /* sizeof(rf_ik_solver) */
+    const rf_ik_solver_api *api; /* (static while the plugin is loaded) */
+    void *state;                 /* owned: api->destroy frees it */
+    char *label;                 /* owned, may be NULL: the id of the node that made it */
 } rf_ik_solver;
 
 /* A solver value owning `state`, or NULL when out of memory (state is then destroyed).

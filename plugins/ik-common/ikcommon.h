@@ -1,0 +1,152 @@
+/* Shared code of the IK solver plugins: problem checking, the per-solve work area (forward
+ * kinematics, the joints each goal moves, reach), constraint projection, small dense linear
+ * algebra, result filling and the node type boilerplate. Linked statically into each solver
+ * module (libikcommon.la), so it is not part of any ABI: names use the rf_ikc_ prefix.
+ */
+#ifndef RIGFLOW_IKCOMMON_H
+#define RIGFLOW_IKCOMMON_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <rigflow/ik.h>
+#include <rigflow/plugin.h>
+
+/* Goals per problem: each joint carries a bit mask of the goals whose chain holds it. */
+#define RF_IKC_MAX_GOALS 64
+
+enum rf_ikc_joint_flags {
+    RF_IKC_ON_PATH = 1u << 0,  /* between some goal's pivot and its effector (both included) */
+    RF_IKC_MOVABLE = 1u << 1,  /* on a path, above an effector, not locked: a solver rotates it */
+    RF_IKC_PIVOT = 1u << 2,    /* top of a path: its origin does not move */
+    RF_IKC_EFFECTOR = 1u << 3, /* some goal's effector */
+};
+
+/* Scratch that grows to the largest problem seen; solve itself then allocates nothing. */
+typedef struct rf_ikc_work {
+    uint32_t cap_joints, cap_goals;
+    rf_xform *world;    /* [J] world (problem space) transforms of the current pose */
+    rf_vec3 *pos;       /* [J] positions a solver proposes (FABRIK's forward pass) */
+    rf_quat *ref;       /* [J] reference rotations (copied: the pose may be solved in place) */
+    rf_vec3 *bone_axis; /* [J] unit bone axis in the reference frame, for cone and twist */
+    double *bone_len;   /* [J] distance from the parent's origin (rigid) */
+    double *weight;     /* [J] sum of goal weights at and below the joint, on paths */
+    int32_t *driver;    /* [J] nearest movable proper ancestor on a path, or -1 */
+    rf_xform *rel;      /* [J] transform relative to the driver (constant: locked between) */
+    int32_t *first;     /* [J] first path joint this joint drives, or -1 (list by `next`) */
+    int32_t *next;      /* [J] next path joint with the same driver, or -1 */
+    uint32_t *chain;    /* [J] a solver's own ordering (e.g. one chain, pivot first) */
+    rf_vec3 *acc;       /* [J] a solver's accumulators */
+    double *acc_w;      /* [J] */
+    uint64_t *goals;    /* [J] mask of goals whose path holds the joint */
+    uint8_t *flags;     /* [J] rf_ikc_joint_flags */
+    uint32_t *pivot;    /* [G] the goal's pivot joint */
+    double *reach;      /* [G] total bone length from pivot to effector */
+    double *err;        /* [G] current position errors */
+} rf_ikc_work;
+
+bool rf_ikc_work_reserve(rf_ikc_work *w, uint32_t joints, uint32_t goals);
+void rf_ikc_work_free(rf_ikc_work *w);
+
+/* One solve in progress. */
+typedef struct rf_ikc_solve {
+    const rf_ik_problem *pb;
+    rf_ik_result *res;
+    rf_xform *local; /* = res->pose */
+    rf_ikc_work *w;
+    uint32_t n; /* joint count */
+    uint32_t goal_count;
+    bool constrained; /* some movable joint has limits */
+    bool branched;    /* some path joint drives two or more path joints */
+} rf_ikc_solve;
+
+/* Sized-array access: arrays of size-prefixed structs are read with the stride of the first
+ * element's size, so a caller built against an older header still works. */
+const rf_ik_goal *rf_ikc_goal(const rf_ik_problem *pb, uint32_t i);
+const rf_ik_constraint *rf_ikc_constraint(const rf_ik_problem *pb, uint32_t j);
+
+/* Checks the problem (message in res->message on refusal), grows the work area, copies the start
+ * pose into res->pose and prepares paths, weights, reach and world transforms. */
+bool rf_ikc_begin(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, rf_ikc_work *w);
+/* Applies orientation goals, recomputes world transforms and fills errors, status, max_error,
+ * reached. */
+void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations);
+
+/* World transforms of every joint from res->pose. */
+void rf_ikc_fk(rf_ikc_solve *s);
+/* World transform of joint j from its parent's (already current) world transform. */
+static inline void rf_ikc_fk_joint(rf_ikc_solve *s, uint32_t j)
+{
+    int32_t p = s->pb->parents[j];
+    s->w->world[j] = p < 0 ? s->local[j] : rf_xform_mul(s->w->world[p], s->local[j]);
+}
+/* Position errors of every goal from the current world transforms into w->err; returns the
+ * largest. */
+double rf_ikc_errors(rf_ikc_solve *s);
+
+/* World rotation of j's parent (identity for a root). */
+static inline rf_quat rf_ikc_parent_rot(const rf_ikc_solve *s, uint32_t j)
+{
+    int32_t p = s->pb->parents[j];
+    return p < 0 ? rf_quat_identity() : s->w->world[p].r;
+}
+/* Sets joint j's world rotation to `world_rot` (its parent's world transform current), projects
+ * it into j's limits and updates world[j]. Returns the world rotation actually applied. */
+rf_quat rf_ikc_set_world_rot(rf_ikc_solve *s, uint32_t j, rf_quat world_rot);
+
+/* ---- constraints ---- */
+
+/* Projects a relative rotation (reference^-1 * local) into the limits of `c` (NULL: free).
+ * `bone_axis` is the unit bone axis in the reference frame. */
+rf_quat rf_ikc_project(const rf_ik_constraint *c, rf_vec3 bone_axis, rf_quat q);
+/* Signed angle of the twist of q about unit axis a, in (-pi, pi]. */
+double rf_ikc_twist_angle(rf_quat q, rf_vec3 a);
+/* Signed angle about unit axis a that turns u towards v, both projected on the plane normal to a
+ * (0 when either projection vanishes). */
+double rf_ikc_angle_about(rf_vec3 a, rf_vec3 u, rf_vec3 v);
+/* Hinge axis of joint j in problem space (unit), with its parent's world transform current. */
+rf_vec3 rf_ikc_hinge_axis_world(const rf_ikc_solve *s, uint32_t j);
+
+/* ---- small dense linear algebra (row-major) ---- */
+
+/* Singular values of the m x n matrix A (m <= n, m <= RF_IKC_SVD_MAX_M) by one-sided Jacobi
+ * rotations on the columns of A^T. On return B (n x m, column k = sigma_k v_k, column-major: B[k *
+ * n + i]) and U (m x m, column k = u_k: U[k * m + i]) with A = sum_k u_k sigma_k v_k^T, and
+ * sigma[k]. Returns the sweeps used. */
+#define RF_IKC_SVD_MAX_M 24
+int rf_ikc_svd(const double *A, int m, int n, double *B, double *U, double *sigma);
+/* Solves S x = b in place for a symmetric positive definite m x m S (overwritten by its Cholesky
+ * factor). Returns false when S is not positive definite. */
+bool rf_ikc_cholesky_solve(double *S, double *b, int m);
+
+/* ---- plugin boilerplate ---- */
+
+/* The output port and parameters every solver node type shares: "solver" of RF_TYPE_IK_SOLVER;
+ * max-joints, max-goals. */
+extern const rf_port_desc rf_ikc_solver_output;
+#define RF_IKC_COMMON_PARAMS                                                                       \
+    {sizeof(rf_param_desc),                                                                        \
+     "max-joints",                                                                                 \
+     RF_PARAM_INT,                                                                                 \
+     RF_PARAM_HAS_RANGE,                                                                           \
+     256,                                                                                          \
+     NULL,                                                                                         \
+     1,                                                                                            \
+     65536,                                                                                        \
+     NULL,                                                                                         \
+     "joints the solver preallocates for (larger problems grow it once)"},                         \
+    {                                                                                              \
+        sizeof(rf_param_desc), "max-goals", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 8, NULL, 1,          \
+            RF_IKC_MAX_GOALS, NULL, "goals the solver preallocates for"                            \
+    }
+
+/* create/process/destroy for a solver node whose configuration is only the shared params plus,
+ * optionally, "damping" and "max-step" floats. process makes an rf_ik_solver for `api` on the
+ * "solver" port. */
+bool rf_ikc_node_create(const rf_host *host, rf_node *node, void **self);
+bool rf_ikc_node_process(const rf_ik_solver_api *api, void *self, const rf_host *host,
+                         rf_node *node);
+void rf_ikc_node_destroy(void *self);
+
+#endif

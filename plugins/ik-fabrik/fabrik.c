@@ -1,0 +1,245 @@
+/* FABRIK: Forward And Backward Reaching Inverse Kinematics (Aristidou & Lasenby 2011), with
+ * several end effectors and joint limits (Aristidou, Chrysanthou & Lasenby 2016).
+ *
+ * Each iteration moves joint positions, not angles. The forward pass places every effector on
+ * its target and walks towards the pivots, putting each joint on the line to the joint below it
+ * at the bone's length. Where branches meet (a sub-base), each branch proposes a position and the
+ * joint goes to their centroid, weighted by the goals below each branch. The backward pass starts
+ * again from the fixed pivots and walks out to the effectors.
+ *
+ * Two forms of the backward pass:
+ *   - a single unconstrained chain is pure positions, as in the 2011 paper (including its
+ *     closed-form straight chain for an unreachable target), turned into rotations once at the
+ *     end;
+ *   - otherwise the backward pass works on rotations: each joint turns (minimal swing, keeping
+ *     its roll) so the path joints it drives point at their forward-pass positions, then the
+ *     rotation is projected into its limits (hinge, cone, twist) and the next joints follow by
+ *     forward kinematics. So limits hold exactly after every iteration, and rigid parts (locked
+ *     joints, two arms fixed to one chest) stay rigid. The paper re-positions joints inside
+ *     each limit's cone in both passes; projecting only in the backward pass is enough for the
+ *     final pose to respect the limits, and the forward pass stays the unconstrained pull.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fabrik.h"
+
+typedef struct fabrik_state {
+    rf_ikc_work w;
+} fabrik_state;
+
+/* ---- a single unconstrained chain: positions only ---- */
+
+/* Path of the only goal, pivot first, into w->chain; returns its bone count. */
+static uint32_t collect_chain(rf_ikc_solve *s)
+{
+    rf_ikc_work *w = s->w;
+    uint32_t m = 0;
+    for (int32_t j = (int32_t)rf_ikc_goal(s->pb, 0)->effector; j != (int32_t)w->pivot[0];
+         j = s->pb->parents[j])
+        w->chain[m++] = (uint32_t)j;
+    w->chain[m] = w->pivot[0];
+    for (uint32_t a = 0, b = m; a < b; a++, b--) { /* reverse: pivot first */
+        uint32_t t = w->chain[a];
+        w->chain[a] = w->chain[b], w->chain[b] = t;
+    }
+    return m;
+}
+
+/* Puts p[k+1] on the line from p[k] towards `toward` at the bone's length. */
+static inline rf_vec3 place(rf_vec3 from, rf_vec3 toward, double len)
+{
+    return rf_v3_add(from, rf_v3_scale(rf_v3_normalize(rf_v3_sub(toward, from)), len));
+}
+
+static uint32_t chain_iterate(rf_ikc_solve *s, uint32_t m)
+{
+    rf_ikc_work *w = s->w;
+    const uint32_t *c = w->chain;
+    rf_vec3 *p = w->pos, t = rf_ikc_goal(s->pb, 0)->target, base;
+    for (uint32_t k = 0; k <= m; k++)
+        p[c[k]] = w->world[c[k]].t;
+    base = p[c[0]];
+    double tol2 = s->pb->tolerance * s->pb->tolerance;
+    if (rf_v3_len2(rf_v3_sub(p[c[m]], t)) <= tol2 || s->pb->max_iterations == 0)
+        return 0;
+    if (rf_v3_dist(base, t) >= w->reach[0]) { /* unreachable: the straight line, at once */
+        for (uint32_t k = 0; k < m; k++)
+            p[c[k + 1]] = place(p[c[k]], t, w->bone_len[c[k + 1]]);
+        return 1;
+    }
+    uint32_t it = 0;
+    while (it < s->pb->max_iterations) {
+        p[c[m]] = t; /* forward: effector on the target, towards the pivot */
+        for (uint32_t k = m; k-- > 0;)
+            p[c[k]] = place(p[c[k + 1]], p[c[k]], w->bone_len[c[k + 1]]);
+        p[c[0]] = base; /* backward: pivot back in place, out to the effector */
+        for (uint32_t k = 0; k < m; k++)
+            p[c[k + 1]] = place(p[c[k]], p[c[k + 1]], w->bone_len[c[k + 1]]);
+        it++;
+        if (rf_v3_len2(rf_v3_sub(p[c[m]], t)) <= tol2)
+            break;
+    }
+    return it;
+}
+
+/* Turns each chain joint, pivot first, so the next joint lands on its solved position. */
+static void chain_to_rotations(rf_ikc_solve *s, uint32_t m)
+{
+    rf_ikc_work *w = s->w;
+    for (uint32_t k = 0; k < m; k++) {
+        uint32_t j = w->chain[k], c = w->chain[k + 1];
+        rf_ikc_fk_joint(s, j);
+        rf_ikc_fk_joint(s, c);
+        rf_vec3 u = rf_v3_sub(w->world[c].t, w->world[j].t);
+        rf_vec3 v = rf_v3_sub(w->pos[c], w->world[j].t);
+        rf_ikc_set_world_rot(s, j, rf_quat_mul(rf_quat_from_two_vectors(u, v), w->world[j].r));
+    }
+}
+
+/* ---- the general form: trees, limits, rigid parts ---- */
+
+/* Forward pass: positions from the effectors towards the pivots, centroids at sub-bases. Each
+ * path joint pushes its proposal for its parent into acc once its own position is final. */
+static void forward_pass(rf_ikc_solve *s)
+{
+    rf_ikc_work *w = s->w;
+    for (uint32_t j = 0; j < s->n; j++)
+        w->acc[j] = rf_v3(0, 0, 0), w->acc_w[j] = 0;
+    for (uint32_t i = 0; i < s->goal_count; i++) {
+        const rf_ik_goal *g = rf_ikc_goal(s->pb, i);
+        w->acc[g->effector] = rf_v3_add(w->acc[g->effector], rf_v3_scale(g->target, g->weight));
+        w->acc_w[g->effector] += g->weight;
+    }
+    for (uint32_t j = s->n; j-- > 0;) {
+        if (!(w->flags[j] & RF_IKC_ON_PATH))
+            continue;
+        if (w->driver[j] < 0 || !(w->acc_w[j] > 0)) {
+            w->pos[j] = w->world[j].t; /* a pivot stays where it is */
+            continue;
+        }
+        w->pos[j] = rf_v3_scale(w->acc[j], 1.0 / w->acc_w[j]);
+        int32_t p = s->pb->parents[j];
+        rf_vec3 proposal = place(w->pos[j], w->world[p].t, w->bone_len[j]);
+        w->acc[p] = rf_v3_add(w->acc[p], rf_v3_scale(proposal, w->weight[j]));
+        w->acc_w[p] += w->weight[j];
+    }
+}
+
+/* The rotation of movable joint j (world transform current) that best points the path joints it
+ * drives at their forward-pass positions: the weighted mean of each one's minimal swing (or
+ * hinge turn), which is exact for the usual single driven joint. */
+static rf_quat aim_rotation(rf_ikc_solve *s, uint32_t j)
+{
+    rf_ikc_work *w = s->w;
+    const rf_ik_constraint *con = rf_ikc_constraint(s->pb, j);
+    bool hinge = con && (con->flags & RF_IK_LIMIT_HINGE);
+    rf_vec3 axis = hinge ? rf_ikc_hinge_axis_world(s, j) : rf_v3(0, 0, 0);
+    rf_xform x = w->world[j];
+    rf_quat sum = rf_quat_make(0, 0, 0, 0);
+    double angle = 0, wsum = 0;
+    for (int32_t c = w->first[j]; c >= 0; c = w->next[c]) {
+        rf_vec3 u = rf_v3_sub(rf_xform_point(x, w->rel[c].t), x.t);
+        rf_vec3 v = rf_v3_sub(w->pos[c], x.t);
+        double wc = w->weight[c];
+        wsum += wc;
+        if (hinge) {
+            angle += wc * rf_ikc_angle_about(axis, u, v);
+            continue;
+        }
+        rf_quat q = rf_quat_from_two_vectors(u, v);
+        if (rf_quat_dot(q, sum) < 0)
+            q = rf_quat_neg(q);
+        sum = rf_quat_make(sum.x + wc * q.x, sum.y + wc * q.y, sum.z + wc * q.z, sum.w + wc * q.w);
+    }
+    rf_quat turn =
+        hinge ? rf_quat_from_axis_angle(axis, wsum > 0 ? angle / wsum : 0) : rf_quat_normalize(sum);
+    return rf_quat_mul(turn, x.r);
+}
+
+/* Backward pass: from the pivots outwards, rotations projected into the limits. Leaves every
+ * world transform current. */
+static void backward_pass(rf_ikc_solve *s)
+{
+    for (uint32_t j = 0; j < s->n; j++) {
+        rf_ikc_fk_joint(s, j);
+        if ((s->w->flags[j] & RF_IKC_MOVABLE) && s->w->first[j] >= 0)
+            rf_ikc_set_world_rot(s, j, aim_rotation(s, j));
+    }
+}
+
+static uint32_t tree_iterate(rf_ikc_solve *s)
+{
+    double tol = s->pb->tolerance, err = rf_ikc_errors(s), best = err;
+    uint32_t it = 0, stalled = 0;
+    while (err > tol && it < s->pb->max_iterations) {
+        forward_pass(s);
+        backward_pass(s);
+        it++;
+        err = rf_ikc_errors(s);
+        /* Unreachable or limit-bound goals stop improving: no point in spending the cap. */
+        stalled = err < best - 1e-9 * (1 + best) ? 0 : stalled + 1;
+        if (err < best)
+            best = err;
+        if (stalled >= 4)
+            break;
+    }
+    return it;
+}
+
+/* ---- the solver table ---- */
+
+static void *fabrik_create(const rf_ik_config *cfg, char *err, size_t err_size)
+{
+    fabrik_state *st = calloc(1, sizeof *st);
+    uint32_t joints = cfg && cfg->max_joints ? cfg->max_joints : 256;
+    uint32_t goals = cfg && cfg->max_goals ? cfg->max_goals : 8;
+    if (!st || !rf_ikc_work_reserve(&st->w, joints, goals)) {
+        if (st)
+            rf_ikc_work_free(&st->w);
+        free(st);
+        snprintf(err, err_size, "out of memory");
+        return NULL;
+    }
+    return st;
+}
+
+static bool fabrik_solve(void *state, const rf_ik_problem *pb, rf_ik_result *res)
+{
+    fabrik_state *st = state;
+    rf_ikc_solve s;
+    if (!rf_ikc_begin(&s, pb, res, &st->w))
+        return false;
+    uint32_t it = 0;
+    if (s.goal_count == 1 && !s.constrained && !s.branched) {
+        uint32_t m = collect_chain(&s);
+        it = chain_iterate(&s, m);
+        if (it > 0)
+            chain_to_rotations(&s, m);
+    } else if (s.goal_count > 0) {
+        it = tree_iterate(&s);
+    }
+    rf_ikc_finish(&s, it);
+    return true;
+}
+
+static void fabrik_destroy(void *state)
+{
+    fabrik_state *st = state;
+    if (!st)
+        return;
+    rf_ikc_work_free(&st->w);
+    free(st);
+}
+
+const rf_ik_solver_api rf_ik_fabrik_api = {
+    sizeof(rf_ik_solver_api),
+    "fabrik",
+    "FABRIK (Aristidou & Lasenby 2011): several effectors via sub-base centroids, limits",
+    RF_IK_LIMIT_HINGE | RF_IK_LIMIT_CONE | RF_IK_LIMIT_TWIST | RF_IK_LOCKED,
+    RF_IK_CAP_MULTI_GOAL | RF_IK_CAP_ORIENTATION,
+    fabrik_create,
+    fabrik_solve,
+    fabrik_destroy,
+};

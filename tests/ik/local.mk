@@ -1,0 +1,12 @@
+# IK tests: the solvers against geometry (linked from their convenience libraries).
+IK_TEST_CPPFLAGS = $(IK_CPPFLAGS) -I$(top_srcdir)/plugins/ik-fabrik
+IK_TEST_LDADD = plugins/ik-fabrik/libikfabrik.la \
+	plugins/ik-common/libikcommon.la $(CMOCKA_LIBS) -lm
+
+check_PROGRAMS += tests/ik/test_ik_solvers
+TESTS += tests/ik/test_ik_solvers
+tests_ik_test_ik_solvers_SOURCES = tests/ik/test_ik_solvers.c tests/ik/solvers.h \
+	tests/ik/ik-fixtures.c tests/ik/ik-fixtures.h
+tests_ik_test_ik_solvers_CPPFLAGS = $(IK_TEST_CPPFLAGS)
+tests_ik_test_ik_solvers_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_ik_test_ik_solvers_LDADD = $(IK_TEST_LDADD)

@@ -1,0 +1,316 @@
+/* Every IK solver against geometry: reachable targets are reached, unreachable ones give the
+ * straight chain pointing at the target, limits hold, trees with two effectors, agreement between
+ * solvers, bad goals refused. Expected values come from lengths and the law of cosines, never
+ * from a solver's own output. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "ik-fixtures.h"
+#include "solvers.h"
+
+#define DEG (RF_PI / 180.0)
+
+static void *make_state(const rf_ik_solver_api *api)
+{
+    char err[160] = "";
+    void *st = api->create(NULL, err, sizeof err);
+    if (!st)
+        fail_msg("%s: create failed: %s", api->name, err);
+    return st;
+}
+
+static bool handles_links(const rf_ik_solver_api *api, uint32_t links)
+{
+    return !(api->capabilities & RF_IK_CAP_TWO_BONE) || links == 2;
+}
+
+static void solve_ok(const rf_ik_solver_api *api, void *st, fx_problem *f)
+{
+    if (!api->solve(st, &f->pb, &f->res))
+        fail_msg("%s refused a good problem: %s", api->name, f->res.message);
+}
+
+/* Distances between consecutive chain joints stay the link lengths. */
+static void assert_rigid(const fx_problem *f, const char *name)
+{
+    rf_vec3 p[FX_MAX_JOINTS];
+    fx_world(f, p, NULL);
+    for (uint32_t j = 1; j < f->n; j++) {
+        double want = rf_v3_len(f->pose[j].t), got = rf_v3_dist(p[j], p[f->parents[j]]);
+        if (fabs(got - want) > 1e-9)
+            fail_msg("%s: joint %u moved off its bone: %g instead of %g", name, j, got, want);
+    }
+}
+
+static void test_reaches_reachable_targets(void **unused)
+{
+    (void)unused;
+    static const uint32_t links[] = {2, 5, 10};
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        void *st = make_state(api);
+        for (size_t l = 0; l < 3; l++) {
+            if (!handles_links(api, links[l]))
+                continue;
+            fx_lcg g = {99};
+            for (int k = 0; k < 40; k++) {
+                fx_problem f;
+                fx_chain(&f, links[l]);
+                /* Any distance in [0, n] is reachable with n >= 2 unit links. */
+                f.goals[0].target = fx_target(&g, links[l]);
+                fx_wire(&f, 1, 1e-4, 2000);
+                solve_ok(api, st, &f);
+                if (!(f.status[0] & RF_IK_REACHED) || !(f.errors[0] <= 1e-4) || !f.res.reached)
+                    fail_msg("%s: %u links, target %d: error %g after %u iterations", api->name,
+                             links[l], k, f.errors[0], f.res.iterations);
+                assert_rigid(&f, api->name);
+            }
+        }
+        api->destroy(st);
+    }
+}
+
+static void test_unreachable_gives_stretched_pose(void **unused)
+{
+    (void)unused;
+    /* 3 unit links, target 5 away: the best pose is the straight chain towards it, 2 short. */
+    rf_vec3 dir = rf_v3(2.0 / 7, 3.0 / 7, 6.0 / 7);
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        uint32_t links = handles_links(api, 3) ? 3 : 2;
+        void *st = make_state(api);
+        fx_problem f;
+        fx_chain(&f, links);
+        f.goals[0].target = rf_v3_scale(dir, 5);
+        fx_wire(&f, 1, 1e-3, 2000);
+        solve_ok(api, st, &f);
+        assert_true(f.status[0] & RF_IK_UNREACHABLE);
+        assert_false(f.status[0] & RF_IK_REACHED);
+        assert_false(f.res.reached);
+        if (fabs(f.errors[0] - (5.0 - links)) > 1e-3)
+            fail_msg("%s: error %g, the stretched chain is %g short", api->name, f.errors[0],
+                     5.0 - links);
+        rf_vec3 p[FX_MAX_JOINTS];
+        fx_world(&f, p, NULL);
+        for (uint32_t j = 1; j <= links; j++)
+            if (rf_v3_dist(p[j], rf_v3_scale(dir, j)) > 2e-2)
+                fail_msg("%s: joint %u at (%g %g %g), not on the line to the target", api->name, j,
+                         p[j].x, p[j].y, p[j].z);
+        api->destroy(st);
+    }
+}
+
+/* A 5-link chain with every kind of limit. */
+static void limited_chain(fx_problem *f)
+{
+    fx_chain(f, 5);
+    rf_ik_constraint *c = f->limits;
+    c[0].flags = RF_IK_LIMIT_CONE | RF_IK_LIMIT_TWIST;
+    c[0].cone_angle = 100 * DEG, c[0].twist_min = -60 * DEG, c[0].twist_max = 60 * DEG;
+    c[1].flags = RF_IK_LIMIT_HINGE, c[1].axis = rf_v3(1, 0, 0);
+    c[1].min_angle = 0, c[1].max_angle = 120 * DEG;
+    c[2].flags = RF_IK_LIMIT_CONE | RF_IK_LIMIT_TWIST;
+    c[2].cone_angle = 45 * DEG, c[2].twist_min = -30 * DEG, c[2].twist_max = 30 * DEG;
+    c[3].flags = RF_IK_LIMIT_HINGE, c[3].axis = rf_v3(0, 0, 1);
+    c[3].min_angle = -90 * DEG, c[3].max_angle = 30 * DEG;
+    c[4].flags = RF_IK_LIMIT_CONE, c[4].cone_angle = 60 * DEG;
+}
+
+static void assert_limits_hold(const fx_problem *f, const rf_ik_solver_api *api, uint32_t only)
+{
+    for (uint32_t j = 0; j < f->n; j++) {
+        rf_ik_constraint c = f->limits[j];
+        c.flags &= only;
+        double v = fx_limit_violation(&c, rf_v3(0, 1, 0), f->pose[j].r, f->out[j].r);
+        if (v > 1e-6)
+            fail_msg("%s: joint %u is %g rad outside its limits", api->name, j, v);
+    }
+}
+
+static void test_limits_hold_after_solves(void **unused)
+{
+    (void)unused;
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        void *st = make_state(api);
+        fx_lcg g = {7};
+        for (int k = 0; k < 40; k++) {
+            fx_problem f;
+            if (handles_links(api, 5)) {
+                limited_chain(&f);
+                f.goals[0].target = fx_target(&g, 5);
+            } else { /* two-bone: a hinged elbow */
+                fx_chain(&f, 2);
+                f.limits[1].flags = RF_IK_LIMIT_HINGE, f.limits[1].axis = rf_v3(1, 0, 0);
+                f.limits[1].min_angle = 10 * DEG, f.limits[1].max_angle = 120 * DEG;
+                f.goals[0].target = fx_target(&g, 2);
+            }
+            fx_wire(&f, 1, 1e-3, 200);
+            solve_ok(api, st, &f);
+            assert_limits_hold(&f, api, api->limits);
+            assert_rigid(&f, api->name);
+        }
+        api->destroy(st);
+    }
+}
+
+static void test_tree_with_two_effectors(void **unused)
+{
+    (void)unused;
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        if (!(api->capabilities & RF_IK_CAP_MULTI_GOAL))
+            continue;
+        void *st = make_state(api);
+        fx_lcg g = {99};
+        int reached = 0;
+        for (int k = 0; k < 40; k++) {
+            fx_problem f;
+            fx_tree(&f);
+            /* within 0.9 x 3 of each arm's base: reachable by the arms alone */
+            f.goals[0].target = rf_v3_add(rf_v3(1, 3, 0), fx_target(&g, 3));
+            f.goals[1].target = rf_v3_add(rf_v3(-1, 3, 0), fx_target(&g, 3));
+            fx_wire(&f, 2, 1e-3, 500);
+            solve_ok(api, st, &f);
+            reached += f.res.reached;
+            assert_limits_hold(&f, api, RF_IK_LOCKED); /* the chest stays rigid */
+            assert_rigid(&f, api->name);
+            assert_true(f.res.max_error >= f.errors[0] && f.res.max_error >= f.errors[1]);
+        }
+        if (reached < 38)
+            fail_msg("%s: both arms reached in only %d of 40 trees", api->name, reached);
+        api->destroy(st);
+    }
+}
+
+static void test_solvers_agree_on_reachable_targets(void **unused)
+{
+    (void)unused;
+    fx_lcg g = {3};
+    for (int k = 0; k < 20; k++) {
+        rf_vec3 target = fx_target(&g, 2), first = {0, 0, 0};
+        for (size_t s = 0; s < SOLVER_COUNT; s++) {
+            void *st = make_state(SOLVERS[s]);
+            fx_problem f;
+            fx_chain(&f, 2);
+            f.goals[0].target = target;
+            fx_wire(&f, 1, 1e-5, 2000);
+            solve_ok(SOLVERS[s], st, &f);
+            rf_vec3 p[FX_MAX_JOINTS];
+            fx_world(&f, p, NULL);
+            if (s == 0)
+                first = p[2];
+            if (rf_v3_dist(p[2], first) > 2e-5 || rf_v3_dist(p[2], target) > 1e-5)
+                fail_msg("%s disagrees on target %d", SOLVERS[s]->name, k);
+            /* Two unit links: the elbow is 1 from the root and 1 from the target, so it sits
+             * on the circle at half the distance (isosceles triangle). */
+            double d = rf_v3_len(target);
+            assert_float_equal(rf_v3_dot(p[1], rf_v3_scale(target, 1 / d)), d / 2, 1e-4);
+            SOLVERS[s]->destroy(st);
+        }
+    }
+}
+
+static void expect_refusal(const rf_ik_solver_api *api, void *st, fx_problem *f, const char *what)
+{
+    memset(f->out, 0x5a, sizeof f->out);
+    unsigned char before[sizeof f->out];
+    memcpy(before, f->out, sizeof before);
+    if (api->solve(st, &f->pb, &f->res))
+        fail_msg("%s accepted %s", api->name, what);
+    if (!strstr(f->res.message, what))
+        fail_msg("%s: message '%s' does not say '%s'", api->name, f->res.message, what);
+    assert_memory_equal(before, f->out, sizeof before);
+}
+
+static void test_bad_goals_are_refused(void **unused)
+{
+    (void)unused;
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        void *st = make_state(api);
+        fx_problem f;
+        fx_chain(&f, 2);
+        f.goals[0].target = rf_v3(NAN, 0, 0);
+        fx_wire(&f, 1, 1e-3, 10);
+        expect_refusal(api, st, &f, "not finite");
+        fx_chain(&f, 2);
+        f.goals[0].effector = 99;
+        fx_wire(&f, 1, 1e-3, 10);
+        expect_refusal(api, st, &f, "does not exist");
+        fx_chain(&f, 2);
+        f.goals[0].weight = 0;
+        fx_wire(&f, 1, 1e-3, 10);
+        expect_refusal(api, st, &f, "weight");
+        fx_chain(&f, 2);
+        f.goals[0].target = rf_v3(0.5, 0.5, 0);
+        fx_wire(&f, 1, NAN, 10);
+        expect_refusal(api, st, &f, "tolerance");
+        api->destroy(st);
+    }
+}
+
+static void test_orientation_goal_turns_the_effector(void **unused)
+{
+    (void)unused;
+    rf_quat want = rf_quat_from_axis_angle(rf_v3(1, 1, 0), 0.7);
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        if (!(api->capabilities & RF_IK_CAP_ORIENTATION))
+            continue;
+        void *st = make_state(api);
+        fx_problem f;
+        fx_chain(&f, 2);
+        f.goals[0].target = rf_v3(0.8, 1.1, 0.3);
+        f.goals[0].flags = RF_IK_GOAL_ORIENTATION;
+        f.goals[0].orientation = want;
+        fx_wire(&f, 1, 1e-4, 500);
+        solve_ok(api, st, &f);
+        rf_quat r[FX_MAX_JOINTS];
+        fx_world(&f, NULL, r);
+        assert_true(rf_quat_angle(r[2], want) < 1e-9);
+        assert_true(f.angle_errors[0] < 1e-9);
+        assert_true(f.status[0] & RF_IK_REACHED);
+        api->destroy(st);
+    }
+}
+
+static void test_solves_in_place(void **unused)
+{
+    (void)unused;
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        void *st = make_state(api);
+        fx_problem f;
+        fx_chain(&f, 2);
+        f.goals[0].target = rf_v3(1.2, 0.4, -0.3);
+        fx_wire(&f, 1, 1e-4, 500);
+        f.res.pose = f.pose; /* the start pose array is also the output */
+        solve_ok(api, st, &f);
+        memcpy(f.out, f.pose, sizeof f.out);
+        rf_vec3 p[FX_MAX_JOINTS];
+        fx_world(&f, p, NULL);
+        assert_true(rf_v3_dist(p[2], f.goals[0].target) <= 1e-4);
+        api->destroy(st);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_reaches_reachable_targets),
+        cmocka_unit_test(test_unreachable_gives_stretched_pose),
+        cmocka_unit_test(test_limits_hold_after_solves),
+        cmocka_unit_test(test_tree_with_two_effectors),
+        cmocka_unit_test(test_solvers_agree_on_reachable_targets),
+        cmocka_unit_test(test_bad_goals_are_refused),
+        cmocka_unit_test(test_orientation_goal_turns_the_effector),
+        cmocka_unit_test(test_solves_in_place),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
