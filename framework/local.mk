@@ -18,3 +18,5 @@ rigflow_SOURCES = framework/rigflow.c framework/commands.h framework/cmd-info.c
 rigflow_CPPFLAGS = $(AM_CPPFLAGS) -DRF_PLUGINSDIR='"$(pluginsdir)"'
 rigflow_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS)
 rigflow_LDADD = framework/librigflow.la $(GLIB_LIBS)
+
+dist_pipelines_DATA += pipelines/bvh-roundtrip.json
