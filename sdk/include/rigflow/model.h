@@ -3,6 +3,7 @@
  * Port type ids (checked when a pipeline is validated, never by C type identity):
  *   "rigflow.skeleton"  rf_skeleton      "rigflow.animation" rf_animation
  *   "rigflow.mesh"      rf_mesh          "rigflow.mapping"   rf_mapping
+ *   "rigflow.clips"     rf_clip_list
  *
  * Every struct starts with its size (sizeof at the producer's build) so that fields can be appended
  * in later minor versions: a consumer reads a field only when `size` covers it (RF_HAS_FIELD).
@@ -285,6 +286,56 @@ static inline void rf_mesh_free(void *mesh)
         free(m->parts);
     }
     free(m);
+}
+
+/* ---- clip list ---- */
+
+#define RF_TYPE_CLIPS "rigflow.clips"
+
+/* One animation clip a file holds, whether or not it was the one imported. */
+typedef struct rf_clip_info {
+    char *name;      /* never NULL; owned by the list */
+    double duration; /* seconds */
+    double fps;      /* the rate the importer resamples the clip at */
+    uint32_t frames; /* frames at that rate, both ends included */
+} rf_clip_info;
+
+/* The clips of a multi-clip file (glTF, FBX, .x, Ogre), so a user can pick one by name or index. */
+typedef struct rf_clip_list {
+    uint32_t size;
+    uint32_t count;
+    rf_clip_info *clips; /* [count], owned */
+    int32_t selected;    /* index of the clip the importer output, or -1 */
+} rf_clip_list;
+
+/* A list of `count` clips with NULL names (the producer fills them in), or NULL when out of memory.
+ * (transfer full: free with rf_clip_list_free) */
+static inline rf_clip_list *rf_clip_list_new(uint32_t count)
+{
+    rf_clip_list *l = (rf_clip_list *)calloc(1, sizeof *l);
+    if (!l)
+        return NULL;
+    l->size = sizeof *l;
+    l->count = count;
+    l->selected = -1;
+    l->clips = (rf_clip_info *)calloc(count ? count : 1, sizeof *l->clips);
+    if (!l->clips) {
+        free(l);
+        return NULL;
+    }
+    return l;
+}
+
+/* Frees a clip list and its names. NULL is allowed. Usable as a set_output destroy. */
+static inline void rf_clip_list_free(void *list)
+{
+    rf_clip_list *l = (rf_clip_list *)list;
+    if (!l)
+        return;
+    for (uint32_t i = 0; i < l->count; i++)
+        free(l->clips[i].name);
+    free(l->clips);
+    free(l);
 }
 
 /* ---- mapping ---- */

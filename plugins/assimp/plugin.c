@@ -1,0 +1,37 @@
+/* The Assimp importer plugin: node type assimp.import. The work is in librfassimp (aimport.c). */
+#include <rigflow/rigflow.h>
+
+#include "aimport-node.h"
+
+static bool rf_assimp_process(void *self, const rf_host *host, rf_node *node)
+{
+    (void)self;
+    return rf_ai_node_import(host, node);
+}
+
+static const rf_node_desc rf_assimp_import = {
+    .size = sizeof(rf_node_desc),
+    .type = "assimp.import",
+    .kind = RF_KIND_IMPORTER,
+    .doc = "Imports a rigged model through Assimp: skeleton (skin bones, their ancestors and "
+           "animated helpers, flagged unweighted), one clip resampled to a fixed rate, every mesh "
+           "merged and skinned to that skeleton, and the list of clips. See doc/import.md.",
+    .output_count = RF_AI_NODE_OUTPUT_COUNT,
+    .outputs = rf_ai_node_outputs,
+    .param_count = RF_AI_NODE_PARAM_COUNT,
+    .params = rf_ai_node_params,
+    .process = rf_assimp_process,
+};
+
+static const rf_node_desc *const rf_assimp_nodes[] = {&rf_assimp_import};
+
+RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
+    .abi = RF_ABI_VERSION_INIT,
+    .size = sizeof(rf_plugin_entry),
+    .id = "org.rigflow.assimp",
+    .name = "Assimp importer",
+    .version = "0.1.0",
+    .description = "glTF/GLB, FBX, DirectX .x, Collada, B3D, Ogre, MD5 and more through Assimp",
+    .node_count = 1,
+    .nodes = rf_assimp_nodes,
+};
