@@ -41,3 +41,7 @@ tests_test_pipeline_LDADD = $(HOST_TEST_LIBS)
 tests_test_math_SOURCES = tests/test_math.c
 tests_test_math_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_test_math_LDADD = $(CMOCKA_LIBS) -lm
+
+# The command end to end, with the bundled plugins.
+TESTS += tests/test_cli.sh
+dist_noinst_SCRIPTS += tests/test_cli.sh
