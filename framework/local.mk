@@ -1,5 +1,6 @@
 # librigflow (the host library) and the rigflow command.
-noinst_LTLIBRARIES += framework/librigflow.la
+# Installed for hosts that embed the engine (batch runners, tools); plugins never link it.
+lib_LTLIBRARIES = framework/librigflow.la
 framework_librigflow_la_SOURCES = \
 	framework/rigflow-host.h \
 	framework/diag.c \
@@ -12,6 +13,9 @@ framework_librigflow_la_SOURCES = \
 framework_librigflow_la_CPPFLAGS = $(AM_CPPFLAGS) -DRF_PLUGINSDIR='"$(pluginsdir)"'
 framework_librigflow_la_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS)
 framework_librigflow_la_LIBADD = $(GLIB_LIBS) $(JANSSON_LIBS) $(LTDL_LIBS) -lm
+framework_librigflow_la_LDFLAGS = -version-info 0:0:0 -no-undefined
+rigflowinclude_HEADERS += framework/rigflow-host.h
+pkgconfig_DATA += framework/rigflow.pc
 
 bin_PROGRAMS += rigflow
 rigflow_SOURCES = framework/rigflow.c framework/commands.h framework/cmd-info.c

@@ -12,6 +12,9 @@
 #include <glib.h>
 #include <rigflow/rigflow.h>
 
+/* librigflow is built with hidden visibility; this marks its public functions. */
+#define RF_HOST_API __attribute__((visibility("default")))
+
 /* Exit codes of the rigflow command (doc/cli.md). */
 enum rf_exit {
     RF_EXIT_OK = 0,
@@ -35,44 +38,46 @@ typedef struct rf_diag {
 } rf_diag;
 
 /* A list of rf_diag; free with g_ptr_array_unref. */
-GPtrArray *rf_diags_new(void);
-void rf_diags_add(GPtrArray *diags, const char *file, int line, int column, const char *node,
-                  const char *pointer, const char *fmt, ...) G_GNUC_PRINTF(7, 8);
+RF_HOST_API GPtrArray *rf_diags_new(void);
+RF_HOST_API void rf_diags_add(GPtrArray *diags, const char *file, int line, int column,
+                              const char *node, const char *pointer, const char *fmt, ...)
+    G_GNUC_PRINTF(7, 8);
 /* "file:line:col: node 'id' at /pointer: message" with the parts that are present. */
-char *rf_diag_format(const rf_diag *d);
+RF_HOST_API char *rf_diag_format(const rf_diag *d);
 
 /* ---- plugins and the registry ---- */
 
 typedef struct rf_plugin rf_plugin; /* one loaded shared object */
 typedef struct rf_registry rf_registry;
 
-rf_registry *rf_registry_new(void);
+RF_HOST_API rf_registry *rf_registry_new(void);
 /* Unloads every plugin (calling deinit) and frees the registry. NULL allowed. */
-void rf_registry_free(rf_registry *reg);
+RF_HOST_API void rf_registry_free(rf_registry *reg);
 
 /* Loads one plugin file (.so, or a libtool .la). On refusal returns false and adds a diag naming
  * the file: not a plugin, incompatible ABI, failed init, or duplicate node type. */
-bool rf_registry_load_file(rf_registry *reg, const char *path, GPtrArray *diags);
+RF_HOST_API bool rf_registry_load_file(rf_registry *reg, const char *path, GPtrArray *diags);
 /* Loads every plugin in a folder (a .la wins over the .so it describes). Returns the number
  * loaded; refusals go to diags. */
-int rf_registry_load_dir(rf_registry *reg, const char *dir, GPtrArray *diags);
+RF_HOST_API int rf_registry_load_dir(rf_registry *reg, const char *dir, GPtrArray *diags);
 /* Loads from the search path, in order: `extra` folders (--plugin-path, may be NULL), then the
  * colon-separated RIGFLOW_PLUGIN_PATH, then the installed pluginsdir. A node type found in an
  * earlier folder shadows the same type later on the path. */
-void rf_registry_load_search_path(rf_registry *reg, const char *const *extra, GPtrArray *diags);
+RF_HOST_API void rf_registry_load_search_path(rf_registry *reg, const char *const *extra,
+                                              GPtrArray *diags);
 
-guint rf_registry_plugin_count(const rf_registry *reg);
-const rf_plugin *rf_registry_plugin(const rf_registry *reg, guint index);
-const rf_plugin_entry *rf_plugin_entry_of(const rf_plugin *p);
-const char *rf_plugin_path(const rf_plugin *p);
+RF_HOST_API guint rf_registry_plugin_count(const rf_registry *reg);
+RF_HOST_API const rf_plugin *rf_registry_plugin(const rf_registry *reg, guint index);
+RF_HOST_API const rf_plugin_entry *rf_plugin_entry_of(const rf_plugin *p);
+RF_HOST_API const char *rf_plugin_path(const rf_plugin *p);
 
 /* The node type registered under `type`, or NULL; *plugin (may be NULL) gets its plugin. */
-const rf_node_desc *rf_registry_find(const rf_registry *reg, const char *type,
-                                     const rf_plugin **plugin);
+RF_HOST_API const rf_node_desc *rf_registry_find(const rf_registry *reg, const char *type,
+                                                 const rf_plugin **plugin);
 
 /* "importer", "exporter", ... or "unknown". */
-const char *rf_kind_name(rf_node_kind kind);
-const char *rf_param_type_name(rf_param_type type);
+RF_HOST_API const char *rf_kind_name(rf_node_kind kind);
+RF_HOST_API const char *rf_param_type_name(rf_param_type type);
 
 /* ---- pipelines ---- */
 
@@ -87,26 +92,27 @@ typedef struct rf_run_options {
 } rf_run_options;
 
 /* Parses a pipeline file. Returns NULL with diags on a syntax or structure error. */
-rf_pipeline *rf_pipeline_load(const char *path, GPtrArray *diags);
+RF_HOST_API rf_pipeline *rf_pipeline_load(const char *path, GPtrArray *diags);
 /* Parses pipeline JSON text; `dir` is the folder relative paths resolve against, `name` the
  * file name used in messages. */
-rf_pipeline *rf_pipeline_load_string(const char *text, const char *name, const char *dir,
-                                     GPtrArray *diags);
-void rf_pipeline_free(rf_pipeline *p);
+RF_HOST_API rf_pipeline *rf_pipeline_load_string(const char *text, const char *name,
+                                                 const char *dir, GPtrArray *diags);
+RF_HOST_API void rf_pipeline_free(rf_pipeline *p);
 /* Applies "node.param=value" (value parsed as JSON when it parses, else taken as a string).
  * Returns false with a diag for a malformed override or an unknown node. */
-bool rf_pipeline_override(rf_pipeline *p, const char *assignment, GPtrArray *diags);
+RF_HOST_API bool rf_pipeline_override(rf_pipeline *p, const char *assignment, GPtrArray *diags);
 /* Staged validation against the registry. Adds every problem found to diags; true when none. */
-bool rf_pipeline_validate(rf_pipeline *p, const rf_registry *reg, GPtrArray *diags);
+RF_HOST_API bool rf_pipeline_validate(rf_pipeline *p, const rf_registry *reg, GPtrArray *diags);
 /* Runs a validated pipeline. On failure returns false with a diag naming the failing node; no
  * output file is left behind. */
-bool rf_pipeline_run(rf_pipeline *p, const rf_registry *reg, const rf_run_options *opts,
-                     GPtrArray *diags);
+RF_HOST_API bool rf_pipeline_run(rf_pipeline *p, const rf_registry *reg, const rf_run_options *opts,
+                                 GPtrArray *diags);
 /* The output value of `node.port` after a successful run (borrowed, valid until the pipeline is
  * freed), or NULL. For tests and embedding. */
-const void *rf_pipeline_result(const rf_pipeline *p, const char *node, const char *port);
+RF_HOST_API const void *rf_pipeline_result(const rf_pipeline *p, const char *node,
+                                           const char *port);
 
 /* The rf_host table the engine hands to plugins. */
-const rf_host *rf_host_table(void);
+RF_HOST_API const rf_host *rf_host_table(void);
 
 #endif
