@@ -17,5 +17,6 @@ bool rf_parse_options(const char *name, const char *args, const char *summary,
 
 int rf_cmd_plugins(rf_registry *reg, int argc, char **argv);
 int rf_cmd_describe(rf_registry *reg, int argc, char **argv);
+int rf_cmd_plugin_check(rf_registry *reg, int argc, char **argv);
 
 #endif

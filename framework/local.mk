@@ -18,9 +18,13 @@ rigflowinclude_HEADERS += framework/rigflow-host.h
 pkgconfig_DATA += framework/rigflow.pc
 
 bin_PROGRAMS += rigflow
-rigflow_SOURCES = framework/rigflow.c framework/commands.h framework/cmd-info.c
+rigflow_SOURCES = framework/rigflow.c framework/commands.h framework/cmd-info.c framework/cmd-check.c
 rigflow_CPPFLAGS = $(AM_CPPFLAGS) -DRF_PLUGINSDIR='"$(pluginsdir)"'
 rigflow_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS)
 rigflow_LDADD = framework/librigflow.la $(GLIB_LIBS)
 
 dist_pipelines_DATA += pipelines/bvh-roundtrip.json
+
+# rigflow inspect FILE (issue 3): prints what an importer makes of a file.
+rigflow_SOURCES += framework/inspect.c framework/inspect.h
+rigflow_LDADD += $(JANSSON_LIBS)

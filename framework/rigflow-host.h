@@ -112,6 +112,11 @@ RF_HOST_API bool rf_pipeline_run(rf_pipeline *p, const rf_registry *reg, const r
 RF_HOST_API const void *rf_pipeline_result(const rf_pipeline *p, const char *node,
                                            const char *port);
 
+/* Creates and destroys one node of `type` with default parameters (a plugin's self-check).
+ * Returns false with a diag when create fails. */
+RF_HOST_API bool rf_node_type_try_create(const rf_registry *reg, const char *type,
+                                         GPtrArray *diags);
+
 /* The rf_host table the engine hands to plugins. */
 RF_HOST_API const rf_host *rf_host_table(void);
 

@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "config.h"
+#include "inspect.h"
 
 static volatile int interrupted;
 
@@ -126,6 +127,8 @@ static const command commands[] = {
     {"validate", cmd_validate, "check a pipeline without running it"},
     {"plugins", rf_cmd_plugins, "list the plugins found and their node types"},
     {"describe", rf_cmd_describe, "show a node type's ports and parameters"},
+    {"inspect", rf_cmd_inspect, "show what a model or motion file imports as"},
+    {"plugin-check", rf_cmd_plugin_check, "check plugin files, each check in its own process"},
 };
 
 static void print_help(void)

@@ -211,3 +211,24 @@ bool rf_pipeline_run(rf_pipeline *p, const rf_registry *reg, const rf_run_option
     }
     return ok;
 }
+
+bool rf_node_type_try_create(const rf_registry *reg, const char *type, GPtrArray *diags)
+{
+    g_autofree char *text = g_strdup_printf(
+        "{\"format\": \"%s\", \"version\": %d, \"nodes\": [{\"id\": \"n\", \"type\": \"%s\"}]}",
+        RF_PIPELINE_FORMAT, RF_PIPELINE_VERSION, type);
+    g_autoptr(GPtrArray) ignored = rf_diags_new(); /* unconnected inputs are expected here */
+    rf_pipeline *p = rf_pipeline_load_string(text, type, ".", diags);
+    if (!p)
+        return false;
+    rf_pipeline_validate(p, reg, ignored);
+    rf_node *n = g_ptr_array_index(p->nodes, 0);
+    bool ok = n->desc && n->params;
+    if (!ok)
+        rf_diags_add(diags, NULL, 0, 0, "n", NULL, "node type %s is not registered", type);
+    p->temp_files = g_ptr_array_new_with_free_func(g_free);
+    ok = ok && create_node(n, diags);
+    discard_outputs(p);
+    rf_pipeline_free(p); /* destroys what create made */
+    return ok;
+}

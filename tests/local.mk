@@ -4,7 +4,8 @@
 FIXTURE_SRC = tests/fixtures/fixture.c
 check_LTLIBRARIES += tests/fixtures/fx_good.la tests/fixtures/fx_major.la \
 	tests/fixtures/fx_minor.la tests/fixtures/fx_noentry.la tests/fixtures/fx_initfail.la \
-	tests/fixtures/fx_dup.la tests/fixtures/fx_unresolved.la
+	tests/fixtures/fx_dup.la tests/fixtures/fx_unresolved.la tests/fixtures/fx_baddefault.la \
+	tests/fixtures/fx_crash.la tests/fixtures/fx_selftest.la
 tests_fixtures_fx_good_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_good_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_major_la_SOURCES = $(FIXTURE_SRC)
@@ -27,6 +28,16 @@ tests_fixtures_fx_unresolved_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_unresolved_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_UNRESOLVED -DFX_ID='"org.rigflow.test.unresolved"'
 tests_fixtures_fx_unresolved_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 
+tests_fixtures_fx_baddefault_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_baddefault_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_VALUE_DEFAULT=250
+tests_fixtures_fx_baddefault_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+tests_fixtures_fx_crash_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_crash_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_CRASH_CREATE
+tests_fixtures_fx_crash_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+tests_fixtures_fx_selftest_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_selftest_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_SELFTEST_FAILS
+tests_fixtures_fx_selftest_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+
 HOST_TEST_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS) $(CMOCKA_CFLAGS)
 HOST_TEST_LIBS = framework/librigflow.la $(GLIB_LIBS) $(JANSSON_LIBS) $(CMOCKA_LIBS)
 
@@ -43,5 +54,5 @@ tests_test_math_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_test_math_LDADD = $(CMOCKA_LIBS) -lm
 
 # The command end to end, with the bundled plugins.
-TESTS += tests/test_cli.sh
-dist_noinst_SCRIPTS += tests/test_cli.sh
+TESTS += tests/test_cli.sh tests/test_plugin_check.sh
+dist_noinst_SCRIPTS += tests/test_cli.sh tests/test_plugin_check.sh

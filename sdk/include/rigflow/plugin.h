@@ -178,6 +178,15 @@ typedef struct rf_node_desc {
     const void *(*get_extension)(const char *id);
 } rf_node_desc;
 
+/* A self-test a node type may offer through get_extension(RF_SELFTEST_EXTENSION). `rigflow
+ * plugin-check` runs it in a separate process: it should exercise the node's core on data it
+ * makes itself and return false with a message in err (err_size bytes) when something is wrong. */
+#define RF_SELFTEST_EXTENSION "rigflow.selftest/1"
+typedef struct rf_selftest {
+    uint32_t size; /* sizeof(rf_selftest) */
+    bool (*run)(const rf_host *host, char *err, size_t err_size);
+} rf_selftest;
+
 /* The one exported symbol: `RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry`. */
 typedef struct rf_plugin_entry {
     rf_version abi;          /* RF_ABI_VERSION_INIT: always the first field */
