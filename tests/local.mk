@@ -54,5 +54,8 @@ tests_test_math_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_test_math_LDADD = $(CMOCKA_LIBS) -lm
 
 # The command end to end, with the bundled plugins.
-TESTS += tests/test_cli.sh tests/test_plugin_check.sh
-dist_noinst_SCRIPTS += tests/test_cli.sh tests/test_plugin_check.sh
+TESTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_sdk.sh
+dist_noinst_SCRIPTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh \
+	tests/test_sdk.sh
+EXTRA_DIST += sdk/examples/smooth/smooth.c sdk/examples/smooth/Makefile \
+	sdk/examples/match-nearest/match_nearest.c sdk/examples/match-nearest/Makefile
