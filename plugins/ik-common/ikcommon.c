@@ -19,7 +19,8 @@ bool rf_ikc_work_reserve(rf_ikc_work *w, uint32_t joints, uint32_t goals)
         w->cap_joints = joints;
     }
     if (goals > w->cap_goals) {
-        if (!GROW(w->pivot, goals) || !GROW(w->reach, goals) || !GROW(w->err, goals))
+        if (!GROW(w->pivot, goals) || !GROW(w->reach, goals) || !GROW(w->err, goals) ||
+            !GROW(w->eff, goals))
             return false;
         w->cap_goals = goals;
     }
@@ -31,8 +32,37 @@ void rf_ikc_work_free(rf_ikc_work *w)
     free(w->world), free(w->pos), free(w->ref), free(w->bone_axis), free(w->bone_len);
     free(w->weight), free(w->driver), free(w->rel), free(w->first), free(w->next);
     free(w->chain), free(w->acc), free(w->acc_w), free(w->goals), free(w->flags);
-    free(w->pivot), free(w->reach), free(w->err);
+    free(w->pivot), free(w->reach), free(w->err), free(w->eff);
     memset(w, 0, sizeof *w);
+}
+
+uint32_t rf_ikc_config_joints(const rf_ik_config *cfg)
+{
+    return cfg && cfg->max_joints ? cfg->max_joints : 256;
+}
+
+uint32_t rf_ikc_config_goals(const rf_ik_config *cfg)
+{
+    return cfg && cfg->max_goals ? cfg->max_goals : 8;
+}
+
+void *rf_ikc_state_new(size_t size, const rf_ik_config *cfg, char *err, size_t err_size)
+{
+    rf_ikc_work *w = calloc(1, size);
+    if (!w || !rf_ikc_work_reserve(w, rf_ikc_config_joints(cfg), rf_ikc_config_goals(cfg))) {
+        rf_ikc_state_free(w);
+        snprintf(err, err_size, "out of memory");
+        return NULL;
+    }
+    return w;
+}
+
+void rf_ikc_state_free(void *state)
+{
+    if (!state)
+        return;
+    rf_ikc_work_free(state);
+    free(state);
 }
 
 const rf_ik_goal *rf_ikc_goal(const rf_ik_problem *pb, uint32_t i)
@@ -125,8 +155,11 @@ static bool check_goal(const rf_ik_problem *pb, const rf_ik_goal *g, uint32_t i,
     return true;
 }
 
-static bool check_problem(const rf_ik_problem *pb, rf_ik_result *res)
+bool rf_ikc_check(const rf_ik_problem *pb, rf_ik_result *res)
 {
+    if (!res || res->size < sizeof(rf_ik_result))
+        return false; /* nowhere to say why */
+    res->message[0] = '\0';
     if (!pb || pb->size < sizeof(rf_ik_problem))
         return REFUSE(res, "problem missing or its size is too small");
     if (pb->joint_count == 0 || !pb->parents || !pb->pose)
@@ -245,10 +278,7 @@ static void count_branches(rf_ikc_solve *s)
 bool rf_ikc_begin(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, rf_ikc_work *w)
 {
     memset(s, 0, sizeof *s);
-    if (!res || res->size < sizeof(rf_ik_result))
-        return false; /* nowhere to say why */
-    res->message[0] = '\0';
-    if (!check_problem(pb, res))
+    if (!rf_ikc_check(pb, res))
         return false;
     if (!rf_ikc_work_reserve(w, pb->joint_count, pb->goal_count ? pb->goal_count : 1))
         return REFUSE(res, "out of memory for %u joints", pb->joint_count);
@@ -292,17 +322,21 @@ double rf_ikc_errors(rf_ikc_solve *s)
     return worst;
 }
 
+rf_quat rf_ikc_constrain_local(const rf_ikc_solve *s, uint32_t j, rf_quat local)
+{
+    const rf_ik_constraint *c = rf_ikc_constraint(s->pb, j);
+    if (!c)
+        return local;
+    rf_quat ref = s->w->ref[j];
+    rf_quat q = rf_ikc_project(c, s->w->bone_axis[j], rf_quat_mul(rf_quat_conj(ref), local));
+    return rf_quat_normalize(rf_quat_mul(ref, q));
+}
+
 rf_quat rf_ikc_set_world_rot(rf_ikc_solve *s, uint32_t j, rf_quat world_rot)
 {
     rf_quat pr = rf_ikc_parent_rot(s, j);
     rf_quat local = rf_quat_normalize(rf_quat_mul(rf_quat_conj(pr), world_rot));
-    const rf_ik_constraint *c = rf_ikc_constraint(s->pb, j);
-    if (c) {
-        rf_quat ref = s->w->ref[j];
-        rf_quat q = rf_ikc_project(c, s->w->bone_axis[j], rf_quat_mul(rf_quat_conj(ref), local));
-        local = rf_quat_normalize(rf_quat_mul(ref, q));
-    }
-    s->local[j].r = local;
+    s->local[j].r = rf_ikc_constrain_local(s, j, local);
     rf_ikc_fk_joint(s, j);
     return s->w->world[j].r;
 }

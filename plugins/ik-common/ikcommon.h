@@ -44,10 +44,20 @@ typedef struct rf_ikc_work {
     uint32_t *pivot;    /* [G] the goal's pivot joint */
     double *reach;      /* [G] total bone length from pivot to effector */
     double *err;        /* [G] current position errors */
+    rf_vec3 *eff;       /* [G] a solver's running effector positions */
 } rf_ikc_work;
 
 bool rf_ikc_work_reserve(rf_ikc_work *w, uint32_t joints, uint32_t goals);
 void rf_ikc_work_free(rf_ikc_work *w);
+
+/* A zeroed solver state of `size` bytes whose first member is an rf_ikc_work, reserved for the
+ * config's joint and goal counts (defaults 256 and 8); NULL with a message when out of memory. */
+void *rf_ikc_state_new(size_t size, const rf_ik_config *cfg, char *err, size_t err_size);
+/* Frees such a state (its work area too). NULL allowed. */
+void rf_ikc_state_free(void *state);
+/* The config's counts with defaults applied. */
+uint32_t rf_ikc_config_joints(const rf_ik_config *cfg);
+uint32_t rf_ikc_config_goals(const rf_ik_config *cfg);
 
 /* One solve in progress. */
 typedef struct rf_ikc_solve {
@@ -66,6 +76,8 @@ typedef struct rf_ikc_solve {
 const rf_ik_goal *rf_ikc_goal(const rf_ik_problem *pb, uint32_t i);
 const rf_ik_constraint *rf_ikc_constraint(const rf_ik_problem *pb, uint32_t j);
 
+/* Checks a problem without touching res->pose; false with res->message on refusal. */
+bool rf_ikc_check(const rf_ik_problem *pb, rf_ik_result *res);
 /* Checks the problem (message in res->message on refusal), grows the work area, copies the start
  * pose into res->pose and prepares paths, weights, reach and world transforms. */
 bool rf_ikc_begin(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, rf_ikc_work *w);
@@ -91,6 +103,8 @@ static inline rf_quat rf_ikc_parent_rot(const rf_ikc_solve *s, uint32_t j)
     int32_t p = s->pb->parents[j];
     return p < 0 ? rf_quat_identity() : s->w->world[p].r;
 }
+/* `local` projected into joint j's limits (unchanged for a free joint). */
+rf_quat rf_ikc_constrain_local(const rf_ikc_solve *s, uint32_t j, rf_quat local);
 /* Sets joint j's world rotation to `world_rot` (its parent's world transform current), projects
  * it into j's limits and updates world[j]. Returns the world rotation actually applied. */
 rf_quat rf_ikc_set_world_rot(rf_ikc_solve *s, uint32_t j, rf_quat world_rot);
@@ -110,11 +124,10 @@ rf_vec3 rf_ikc_hinge_axis_world(const rf_ikc_solve *s, uint32_t j);
 
 /* ---- small dense linear algebra (row-major) ---- */
 
-/* Singular values of the m x n matrix A (m <= n, m <= RF_IKC_SVD_MAX_M) by one-sided Jacobi
+/* Singular values of the m x n matrix A (m <= n) by one-sided Jacobi
  * rotations on the columns of A^T. On return B (n x m, column k = sigma_k v_k, column-major: B[k *
  * n + i]) and U (m x m, column k = u_k: U[k * m + i]) with A = sum_k u_k sigma_k v_k^T, and
  * sigma[k]. Returns the sweeps used. */
-#define RF_IKC_SVD_MAX_M 24
 int rf_ikc_svd(const double *A, int m, int n, double *B, double *U, double *sigma);
 /* Solves S x = b in place for a symmetric positive definite m x m S (overwritten by its Cholesky
  * factor). Returns false when S is not positive definite. */

@@ -192,17 +192,7 @@ static uint32_t tree_iterate(rf_ikc_solve *s)
 
 static void *fabrik_create(const rf_ik_config *cfg, char *err, size_t err_size)
 {
-    fabrik_state *st = calloc(1, sizeof *st);
-    uint32_t joints = cfg && cfg->max_joints ? cfg->max_joints : 256;
-    uint32_t goals = cfg && cfg->max_goals ? cfg->max_goals : 8;
-    if (!st || !rf_ikc_work_reserve(&st->w, joints, goals)) {
-        if (st)
-            rf_ikc_work_free(&st->w);
-        free(st);
-        snprintf(err, err_size, "out of memory");
-        return NULL;
-    }
-    return st;
+    return rf_ikc_state_new(sizeof(fabrik_state), cfg, err, err_size);
 }
 
 static bool fabrik_solve(void *state, const rf_ik_problem *pb, rf_ik_result *res)
@@ -224,15 +214,6 @@ static bool fabrik_solve(void *state, const rf_ik_problem *pb, rf_ik_result *res
     return true;
 }
 
-static void fabrik_destroy(void *state)
-{
-    fabrik_state *st = state;
-    if (!st)
-        return;
-    rf_ikc_work_free(&st->w);
-    free(st);
-}
-
 const rf_ik_solver_api rf_ik_fabrik_api = {
     sizeof(rf_ik_solver_api),
     "fabrik",
@@ -241,5 +222,5 @@ const rf_ik_solver_api rf_ik_fabrik_api = {
     RF_IK_CAP_MULTI_GOAL | RF_IK_CAP_ORIENTATION,
     fabrik_create,
     fabrik_solve,
-    fabrik_destroy,
+    rf_ikc_state_free,
 };

@@ -1,6 +1,9 @@
 # IK tests: the solvers against geometry (linked from their convenience libraries).
-IK_TEST_CPPFLAGS = $(IK_CPPFLAGS) -I$(top_srcdir)/plugins/ik-fabrik
-IK_TEST_LDADD = plugins/ik-fabrik/libikfabrik.la \
+IK_TEST_CPPFLAGS = $(IK_CPPFLAGS) -I$(top_srcdir)/plugins/ik-fabrik \
+	-I$(top_srcdir)/plugins/ik-ccd -I$(top_srcdir)/plugins/ik-twobone \
+	-I$(top_srcdir)/plugins/ik-jacobian
+IK_TEST_LDADD = plugins/ik-fabrik/libikfabrik.la plugins/ik-ccd/libikccd.la \
+	plugins/ik-twobone/libiktwobone.la plugins/ik-jacobian/libikjacobian.la \
 	plugins/ik-common/libikcommon.la $(CMOCKA_LIBS) -lm
 
 check_PROGRAMS += tests/ik/test_ik_solvers

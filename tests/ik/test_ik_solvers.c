@@ -95,10 +95,14 @@ static void test_unreachable_gives_stretched_pose(void **unused)
         if (fabs(f.errors[0] - (5.0 - links)) > 1e-3)
             fail_msg("%s: error %g, the stretched chain is %g short", api->name, f.errors[0],
                      5.0 - links);
+        /* A chain of length L whose joints stray h from the line is at least 2 h^2 / L
+         * shorter end to end: the shortfall bounds how far off the line any joint can be. */
+        double shortfall = fmax(0, f.errors[0] - (5.0 - links));
+        double h = sqrt(shortfall * links / 2) + 1e-6;
         rf_vec3 p[FX_MAX_JOINTS];
         fx_world(&f, p, NULL);
         for (uint32_t j = 1; j <= links; j++)
-            if (rf_v3_dist(p[j], rf_v3_scale(dir, j)) > 2e-2)
+            if (rf_v3_dist(p[j], rf_v3_scale(dir, j)) > h)
                 fail_msg("%s: joint %u at (%g %g %g), not on the line to the target", api->name, j,
                          p[j].x, p[j].y, p[j].z);
         api->destroy(st);
@@ -169,9 +173,16 @@ static void test_tree_with_two_effectors(void **unused)
         void *st = make_state(api);
         fx_lcg g = {99};
         int reached = 0;
+        /* Slightly bent, as the DLS peer starts: a straight arm with its target right behind
+         * it is a stationary point of the Jacobian methods' error (the transpose stalls there). */
+        rf_quat bent = rf_quat_mul(rf_quat_from_axis_angle(rf_v3(0, 0, 1), 0.1),
+                                   rf_quat_from_axis_angle(rf_v3(1, 0, 0), 0.15));
         for (int k = 0; k < 40; k++) {
             fx_problem f;
             fx_tree(&f);
+            for (uint32_t j = 0; j < f.n; j++)
+                if (j != 3)
+                    f.pose[j].r = bent;
             /* within 0.9 x 3 of each arm's base: reachable by the arms alone */
             f.goals[0].target = rf_v3_add(rf_v3(1, 3, 0), fx_target(&g, 3));
             f.goals[1].target = rf_v3_add(rf_v3(-1, 3, 0), fx_target(&g, 3));
@@ -300,6 +311,63 @@ static void test_solves_in_place(void **unused)
     }
 }
 
+/* Upper arm 3, forearm 2, target 4 from the shoulder along +y, pole towards +z. */
+static void test_twobone_follows_the_law_of_cosines(void **unused)
+{
+    (void)unused;
+    const double a = 3, b = 2, d = 4, lengths[2] = {3, 2};
+    void *st = make_state(&rf_ik_twobone_api);
+    fx_problem f;
+    fx_chain_lengths(&f, lengths, 2);
+    f.goals[0].target = rf_v3(0, d, 0);
+    f.goals[0].flags = RF_IK_GOAL_POLE;
+    f.goals[0].pole = rf_v3(0, 0, 5);
+    fx_wire(&f, 1, 1e-9, 1);
+    solve_ok(&rf_ik_twobone_api, st, &f);
+    rf_vec3 p[FX_MAX_JOINTS];
+    fx_world(&f, p, NULL);
+    /* The elbow is a from the shoulder and b from the target: along the target line at
+     * x = (a^2 - b^2 + d^2) / 2d, off it by sqrt(a^2 - x^2), on the pole's side. */
+    double x = (a * a - b * b + d * d) / (2 * d), h = sqrt(a * a - x * x);
+    assert_float_equal(p[1].x, 0, 1e-9);
+    assert_float_equal(p[1].y, x, 1e-9);
+    assert_float_equal(p[1].z, h, 1e-9);
+    assert_true(rf_v3_dist(p[2], f.goals[0].target) < 1e-9);
+    /* the elbow's inner angle, by the law of cosines */
+    double inner = rf_v3_angle(rf_v3_sub(p[0], p[1]), rf_v3_sub(p[2], p[1]));
+    assert_float_equal(inner, acos((a * a + b * b - d * d) / (2 * a * b)), 1e-9);
+    assert_int_equal(f.res.iterations, 1);
+    /* Pole on the other side: the mirror image. */
+    f.goals[0].pole = rf_v3(0, 1, -5);
+    fx_wire(&f, 1, 1e-9, 1);
+    solve_ok(&rf_ik_twobone_api, st, &f);
+    fx_world(&f, p, NULL);
+    assert_float_equal(p[1].z, -h, 1e-9);
+    /* Too short a chain for the target: straight towards it, flagged. */
+    f.goals[0].target = rf_v3(0, 7, 0);
+    fx_wire(&f, 1, 1e-9, 1);
+    solve_ok(&rf_ik_twobone_api, st, &f);
+    fx_world(&f, p, NULL);
+    assert_true(rf_v3_dist(p[2], rf_v3(0, 5, 0)) < 1e-9);
+    assert_true(f.status[0] & RF_IK_UNREACHABLE);
+    rf_ik_twobone_api.destroy(st);
+}
+
+static void test_twobone_refuses_other_chains(void **unused)
+{
+    (void)unused;
+    void *st = make_state(&rf_ik_twobone_api);
+    fx_problem f;
+    fx_chain(&f, 3);
+    f.goals[0].target = rf_v3(1, 1, 0);
+    fx_wire(&f, 1, 1e-3, 1);
+    expect_refusal(&rf_ik_twobone_api, st, &f, "chain of 2 bones");
+    f.goals[0].chain_root = 1; /* the last two bones of the three */
+    fx_wire(&f, 1, 1e-3, 1);
+    solve_ok(&rf_ik_twobone_api, st, &f);
+    rf_ik_twobone_api.destroy(st);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -311,6 +379,8 @@ int main(void)
         cmocka_unit_test(test_bad_goals_are_refused),
         cmocka_unit_test(test_orientation_goal_turns_the_effector),
         cmocka_unit_test(test_solves_in_place),
+        cmocka_unit_test(test_twobone_follows_the_law_of_cosines),
+        cmocka_unit_test(test_twobone_refuses_other_chains),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

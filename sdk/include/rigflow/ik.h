@@ -33,7 +33,9 @@
  * Threading: one state serves one thread at a time; make one state per thread.
  *
  * Growth: every struct starts with a size field (sizeof at the producer's build); fields are only
- * appended. Readers check RF_HAS_FIELD (model.h) before using a later field.
+ * appended. Readers check RF_HAS_FIELD (model.h) before using a later field. Arrays of such
+ * structs (goals, constraints) are read with the stride of their first element's size, so a
+ * caller built against an older header still works.
  */
 #ifndef RIGFLOW_IK_H
 #define RIGFLOW_IK_H

@@ -1,0 +1,9 @@
+/* The CCD solver table, for the plugin and for tests that link the solver directly. */
+#ifndef RIGFLOW_IK_CCD_H
+#define RIGFLOW_IK_CCD_H
+
+#include "ikcommon.h"
+
+extern const rf_ik_solver_api rf_ik_ccd_api;
+
+#endif
