@@ -5,7 +5,7 @@ FIXTURE_SRC = tests/fixtures/fixture.c
 check_LTLIBRARIES += tests/fixtures/fx_good.la tests/fixtures/fx_major.la \
 	tests/fixtures/fx_minor.la tests/fixtures/fx_noentry.la tests/fixtures/fx_initfail.la \
 	tests/fixtures/fx_dup.la tests/fixtures/fx_unresolved.la tests/fixtures/fx_baddefault.la \
-	tests/fixtures/fx_crash.la tests/fixtures/fx_selftest.la
+	tests/fixtures/fx_crash.la tests/fixtures/fx_selftest.la tests/fixtures/fx_old.la
 tests_fixtures_fx_good_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_good_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_major_la_SOURCES = $(FIXTURE_SRC)
@@ -28,6 +28,9 @@ tests_fixtures_fx_unresolved_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_unresolved_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_UNRESOLVED -DFX_ID='"org.rigflow.test.unresolved"'
 tests_fixtures_fx_unresolved_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 
+tests_fixtures_fx_old_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_old_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_MINOR=0 -DFX_ID='"org.rigflow.test.old"'
+tests_fixtures_fx_old_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_baddefault_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_baddefault_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_VALUE_DEFAULT=250
 tests_fixtures_fx_baddefault_la_LDFLAGS = $(FIXTURE_LDFLAGS)

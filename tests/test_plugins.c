@@ -66,6 +66,33 @@ static void newer_minor_refused(void **state)
                               "minor no greater", NULL));
 }
 
+static void older_minor_loads(void **state)
+{
+    fixture *f = *state;
+    assert_true(RF_ABI_VERSION_MINOR > 0); /* the fixture below is built for minor 0 */
+    assert_true(load(f, "fx_old"));
+    assert_int_equal(f->diags->len, 0);
+    const rf_plugin_entry *e = rf_plugin_entry_of(rf_registry_plugin(f->reg, 0));
+    assert_int_equal(e->abi.minor, 0);
+    assert_non_null(rf_registry_find(f->reg, "test.sink", NULL));
+}
+
+/* A skeleton made by a 1.0 plugin ends before the 1.1 fields: code built against 1.1 must not
+ * touch them (here: the destructor must not free a bind pose the struct does not have). */
+static void older_struct_read_safely(void **state)
+{
+    (void)state;
+    rf_skeleton *s = rf_skeleton_new(2);
+    assert_non_null(s);
+    s->size = offsetof(rf_skeleton, bind);
+    s->bind = (rf_xform *)(uintptr_t)1; /* what lies past a 1.0 struct: not ours to read */
+    assert_false(RF_HAS_FIELD(s, rf_skeleton, bind));
+    rf_skeleton_free(s); /* crashes if it frees the garbage pointer */
+    rf_skeleton *n = rf_skeleton_new(1);
+    assert_true(RF_HAS_FIELD(n, rf_skeleton, rest_source));
+    rf_skeleton_free(n);
+}
+
 static void missing_entry_refused(void **state)
 {
     fixture *f = *state;
@@ -151,6 +178,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(good_plugin_loads, setup, teardown),
         cmocka_unit_test_setup_teardown(other_major_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(newer_minor_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(older_minor_loads, setup, teardown),
+        cmocka_unit_test_setup_teardown(older_struct_read_safely, setup, teardown),
         cmocka_unit_test_setup_teardown(missing_entry_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(failed_init_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(duplicate_type_refused, setup, teardown),
