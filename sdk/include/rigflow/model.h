@@ -58,7 +58,7 @@ typedef struct rf_skeleton {
     char *name;       /* where the skeleton came from (file name), may be NULL; owned */
     rf_vec3 up;       /* up axis as found in the source, or zero when unknown */
     rf_vec3 forward;  /* facing as found in the source, or zero when unknown */
-    /* Appended in 1.0 (check with RF_HAS_FIELD before reading): */
+    /* Appended in 1.1 (check with RF_HAS_FIELD before reading): */
     rf_xform *bind;       /* [joint_count] local bind pose, the pose the mesh was skinned in (world
                            * bind = inverse of the mesh's inverse_bind), or NULL when the source has
                            * none; owned */
@@ -245,7 +245,7 @@ typedef struct rf_mesh {
     float *skin_weights;     /* [vertex][4] weights summing to 1, or NULL */
     uint32_t bind_count;     /* entries in inverse_bind (the skeleton's joint count), or 0 */
     rf_mat4 *inverse_bind;   /* [joint] model space to joint space at bind time, or NULL */
-    /* Appended in 1.0 (check with RF_HAS_FIELD before reading): */
+    /* Appended in 1.1 (check with RF_HAS_FIELD before reading): */
     uint32_t part_count;     /* source meshes merged into this one, or 0 */
     struct rf_mesh_part *parts; /* [part_count], or NULL; owned */
 } rf_mesh;
