@@ -253,7 +253,9 @@ static enum verdict check_node_desc(const char *file, const rf_node_desc *d)
     return v;
 }
 
-static enum verdict check_descriptors(const char *file)
+/* Loads the plugin alone and applies `fn` to each of its node types; the worst verdict. */
+typedef enum verdict (*node_check_fn)(const char *file, rf_registry *reg, const rf_node_desc *d);
+static enum verdict for_each_node(const char *file, node_check_fn fn)
 {
     enum verdict v;
     rf_registry *reg = load_alone(file, &v);
@@ -261,10 +263,22 @@ static enum verdict check_descriptors(const char *file)
         return v;
     const rf_plugin_entry *e = rf_plugin_entry_of(rf_registry_plugin(reg, 0));
     for (uint32_t i = 0; i < e->node_count; i++)
-        v = worst(v, check_node_desc(file, e->nodes[i]));
+        v = worst(v, fn(file, reg, e->nodes[i]));
+    rf_registry_free(reg);
+    return v;
+}
+
+static enum verdict describe_one(const char *file, rf_registry *reg, const rf_node_desc *d)
+{
+    (void)reg;
+    return check_node_desc(file, d);
+}
+
+static enum verdict check_descriptors(const char *file)
+{
+    enum verdict v = for_each_node(file, describe_one);
     if (v == PASS)
         report(PASS, file, "descriptors", "ids, kinds, port types, defaults and docs");
-    rf_registry_free(reg);
     return v;
 }
 
@@ -278,62 +292,53 @@ static const rf_param_desc *required_param(const rf_node_desc *d)
     return NULL;
 }
 
+static enum verdict create_one(const char *file, rf_registry *reg, const rf_node_desc *d)
+{
+    const rf_param_desc *req = required_param(d);
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    if (req) {
+        report(PASS, file, "create", "%s: not created (parameter '%s' has no default)", d->type,
+               req->name);
+        return PASS;
+    }
+    if (rf_node_type_try_create(reg, d->type, diags)) {
+        report(PASS, file, "create", "%s: created and destroyed with defaults", d->type);
+        return PASS;
+    }
+    g_autofree char *why =
+        diags->len ? rf_diag_format(g_ptr_array_index(diags, 0)) : g_strdup("create failed");
+    report(FAIL, file, "create", "%s: %s", d->type, why);
+    return FAIL;
+}
+
 static enum verdict check_create(const char *file)
 {
-    enum verdict v;
-    rf_registry *reg = load_alone(file, &v);
-    if (!reg)
-        return v;
-    const rf_plugin_entry *e = rf_plugin_entry_of(rf_registry_plugin(reg, 0));
-    for (uint32_t i = 0; i < e->node_count; i++) {
-        const rf_node_desc *d = e->nodes[i];
-        const rf_param_desc *req = required_param(d);
-        g_autoptr(GPtrArray) diags = rf_diags_new();
-        if (req)
-            report(PASS, file, "create", "%s: not created (parameter '%s' has no default)", d->type,
-                   req->name);
-        else if (rf_node_type_try_create(reg, d->type, diags))
-            report(PASS, file, "create", "%s: created and destroyed with defaults", d->type);
-        else {
-            g_autofree char *why = diags->len ? rf_diag_format(g_ptr_array_index(diags, 0))
-                                              : g_strdup("create failed");
-            report(FAIL, file, "create", "%s: %s", d->type, why);
-            v = FAIL;
-        }
-    }
-    rf_registry_free(reg);
-    return v;
+    return for_each_node(file, create_one);
 }
 
 /* ---- self-tests the node types declare ---- */
 
+static enum verdict selftest_one(const char *file, rf_registry *reg, const rf_node_desc *d)
+{
+    (void)reg;
+    const rf_selftest *t = d->get_extension ? d->get_extension(RF_SELFTEST_EXTENSION) : NULL;
+    if (!t || t->size < sizeof(rf_selftest) || !t->run) {
+        report(PASS, file, "selftest", "%s: declares no self-test", d->type);
+        return PASS;
+    }
+    char err[512] = "";
+    if (t->run(rf_host_table(), err, sizeof err)) {
+        report(PASS, file, "selftest", "%s: passed", d->type);
+        return PASS;
+    }
+    err[sizeof err - 1] = '\0';
+    report(FAIL, file, "selftest", "%s: %s", d->type, err[0] ? err : "failed");
+    return FAIL;
+}
+
 static enum verdict check_selftest(const char *file)
 {
-    enum verdict v;
-    rf_registry *reg = load_alone(file, &v);
-    if (!reg)
-        return v;
-    const rf_plugin_entry *e = rf_plugin_entry_of(rf_registry_plugin(reg, 0));
-    int ran = 0;
-    for (uint32_t i = 0; i < e->node_count; i++) {
-        const rf_node_desc *d = e->nodes[i];
-        const rf_selftest *t = d->get_extension ? d->get_extension(RF_SELFTEST_EXTENSION) : NULL;
-        if (!t || t->size < sizeof(rf_selftest) || !t->run)
-            continue;
-        char err[512] = "";
-        ran++;
-        if (t->run(rf_host_table(), err, sizeof err))
-            report(PASS, file, "selftest", "%s: passed", d->type);
-        else {
-            err[sizeof err - 1] = '\0';
-            report(FAIL, file, "selftest", "%s: %s", d->type, err[0] ? err : "failed");
-            v = FAIL;
-        }
-    }
-    if (!ran)
-        report(PASS, file, "selftest", "no node type declares a self-test");
-    rf_registry_free(reg);
-    return v;
+    return for_each_node(file, selftest_one);
 }
 
 /* ---- running checks in child processes ---- */
