@@ -138,56 +138,75 @@ static void rf_ai_flatten(rf_ai_ctx *c, const struct aiNode *n, int parent)
         rf_ai_flatten(c, n->mChildren[i], self);
 }
 
-/* The bone nearest the scene root (the skeleton's top bone), or -1. */
-static int rf_ai_top_bone(const rf_ai_ctx *c, const struct aiMesh *only)
+static double rf_ai_mat_diff(rf_mat4 a, rf_mat4 b)
 {
-    int best = -1, best_depth = 0;
-    for (unsigned m = 0; m < c->scene->mNumMeshes; m++) {
-        const struct aiMesh *mesh = c->scene->mMeshes[m];
-        for (unsigned b = 0; b < mesh->mNumBones && (!only || mesh == only); b++) {
-            int n = rf_ai_find_node(c, mesh->mBones[b]->mName.data), d = 0;
-            for (int k = n; k >= 0 && (k = c->node_parent[k]) >= 0;)
-                d++;
-            if (n >= 0 && (best < 0 || d < best_depth || (d == best_depth && n < best)))
-                best = n, best_depth = d;
-        }
+    double d = 0, scale = 1;
+    for (int i = 0; i < 16; i++) {
+        d = fmax(d, fabs(a.m[i] - b.m[i]));
+        scale = fmax(scale, fabs(a.m[i]));
     }
+    return d / scale;
+}
+
+static rf_mat4 rf_ai_mesh_node_global(const rf_ai_ctx *c, unsigned mesh)
+{
+    for (unsigned i = 0; i < c->node_count; i++)
+        for (unsigned k = 0; k < c->nodes[i]->mNumMeshes; k++)
+            if (c->nodes[i]->mMeshes[k] == mesh)
+                return c->node_global[i];
+    return rf_mat4_identity();
+}
+
+/* How many of the mesh's bones put their bind pose at their node pose through `space`. */
+static unsigned rf_ai_space_votes(const rf_mat4 *cand, unsigned n, rf_mat4 space)
+{
+    unsigned votes = 0;
+    for (unsigned i = 0; i < n; i++)
+        votes += rf_ai_mat_diff(cand[i], space) < 1e-3;
+    return votes;
+}
+
+/* Model space. Assimp skins as world = joint global * offset * vertex, and where the offsets
+ * lead depends on the format: glTF's inverse binds and .x offsets are relative to the model,
+ * FBX folds the mesh node's transform in, some glTF files bind relative to the mesh node. A bone
+ * whose node rest equals its bind pose tells the mesh space G exactly: G = node global * offset.
+ * The identity or the mesh node's global transform, whichever more bones agree with (the
+ * identity on a tie), unless a majority of the bones agree on another space. Files whose node
+ * rest differs from the bind pose for most bones (girl) thus keep the identity rather than a
+ * space a few bones agree on by chance. Vertices become G * v and inverse binds offset * G^-1:
+ * that skins identically, puts the bind pose in the scene's space beside the animation, and
+ * brings meshes bound in different spaces (BCN_Epileptic's three) together. */
+static rf_mat4 rf_ai_mesh_space(rf_ai_ctx *c, unsigned m)
+{
+    const struct aiMesh *mesh = c->scene->mMeshes[m];
+    rf_mat4 *cand = calloc(mesh->mNumBones + 2, sizeof *cand), best = rf_mat4_identity();
+    if (!cand)
+        return best;
+    unsigned n = 0;
+    for (unsigned b = 0; b < mesh->mNumBones; b++) {
+        int node = rf_ai_find_node(c, mesh->mBones[b]->mName.data);
+        if (node >= 0)
+            cand[n++] =
+                rf_mat4_mul(c->node_global[node], rf_ai_mat4(&mesh->mBones[b]->mOffsetMatrix));
+    }
+    unsigned best_votes = rf_ai_space_votes(cand, n, best);
+    rf_mat4 mg = rf_ai_mesh_node_global(c, m), inv;
+    unsigned v = rf_ai_space_votes(cand, n, mg);
+    if (v > best_votes)
+        best = mg, best_votes = v;
+    for (unsigned i = 0; i < n; i++)
+        if ((v = rf_ai_space_votes(cand, n, cand[i])) > best_votes && v * 2 > n &&
+            rf_mat4_invert(cand[i], &inv))
+            best = cand[i], best_votes = v;
+    free(cand);
     return best;
 }
 
-static const struct aiBone *rf_ai_mesh_bone(const struct aiMesh *mesh, const char *name)
-{
-    for (unsigned b = 0; b < mesh->mNumBones; b++)
-        if (strcmp(mesh->mBones[b]->mName.data, name) == 0)
-            return mesh->mBones[b];
-    return NULL;
-}
-
-/* Model space. Assimp skins as world = joint global * offset * vertex, the offset folding in
- * wherever the mesh was bound (FBX folds the mesh node's transform in, glTF's inverse binds are
- * relative to the skeleton's model space), so offsets alone leave the bind pose in some mesh
- * space. Each mesh's space is mapped so that the skeleton's top bone binds where its node is:
- * G = node global * offset of that bone. Vertices become G * v and inverse binds offset * G^-1,
- * which skins identically, puts the bind pose in the scene's space beside the animation, and
- * brings meshes bound in different spaces (BCN_Epileptic's three) into one. */
 static void rf_ai_mesh_spaces(rf_ai_ctx *c)
 {
-    int top = rf_ai_top_bone(c, NULL);
-    for (unsigned m = 0; m < c->scene->mNumMeshes; m++) {
-        const struct aiMesh *mesh = c->scene->mMeshes[m];
-        c->mesh_space[m] = rf_mat4_identity();
-        if (!mesh->mNumBones || top < 0)
-            continue;
-        const struct aiBone *bone = rf_ai_mesh_bone(mesh, c->nodes[top]->mName.data);
-        int n = top;
-        if (!bone) {
-            n = rf_ai_top_bone(c, mesh);
-            bone = rf_ai_mesh_bone(mesh, c->nodes[n]->mName.data);
-        }
-        rf_mat4 g = rf_mat4_mul(c->node_global[n], rf_ai_mat4(&bone->mOffsetMatrix)), inv;
-        if (rf_mat4_invert(g, &inv))
-            c->mesh_space[m] = g;
-    }
+    for (unsigned m = 0; m < c->scene->mNumMeshes; m++)
+        c->mesh_space[m] =
+            c->scene->mMeshes[m]->mNumBones ? rf_ai_mesh_space(c, m) : rf_mat4_identity();
 }
 
 static void rf_ai_mark_bones(rf_ai_ctx *c)

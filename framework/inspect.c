@@ -1,0 +1,176 @@
+/* `rigflow inspect FILE`. Runs a one-node pipeline with the importer the file needs (bvh.import
+ * for .bvh, assimp.import for everything else, with require_skeleton off so unrigged files still
+ * show their meshes) and prints its outputs. Going through the pipeline engine rather than
+ * linking the importers keeps the command free of Assimp and shows exactly what a pipeline gets.
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include <jansson.h>
+
+#include "commands.h"
+#include "inspect.h"
+
+typedef struct rf_inspect_opts {
+    char *clip;
+    char *rest;
+} rf_inspect_opts;
+
+static const char *rf_inspect_node_type(const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    return dot && g_ascii_strcasecmp(dot, ".bvh") == 0 ? "bvh.import" : "assimp.import";
+}
+
+static char *rf_inspect_pipeline_json(const char *type, const char *path, const rf_inspect_opts *o)
+{
+    json_t *params = json_pack("{s:s}", "path", path);
+    if (strcmp(type, "assimp.import") == 0) {
+        json_object_set_new(params, "require_skeleton", json_false());
+        if (o->clip)
+            json_object_set_new(params, "clip", json_string(o->clip));
+        if (o->rest)
+            json_object_set_new(params, "rest_pose", json_string(o->rest));
+    }
+    json_t *doc = json_pack("{s:s, s:i, s:[{s:s, s:s, s:o}]}", "format", "rigflow.pipeline",
+                            "version", 1, "nodes", "id", "source", "type", type, "params", params);
+    char *text = json_dumps(doc, JSON_COMPACT);
+    json_decref(doc);
+    return text;
+}
+
+/* ---- printing ---- */
+
+static const char *rf_inspect_rest_name(const rf_skeleton *s)
+{
+    if (!RF_HAS_FIELD(s, rf_skeleton, rest_source))
+        return "as in the file";
+    switch (s->rest_source) {
+    case RF_REST_NODE:
+        return "node transforms";
+    case RF_REST_BIND:
+        return "bind pose (the mesh's)";
+    default:
+        return "as in the file";
+    }
+}
+
+static void rf_inspect_axis(const char *label, rf_vec3 v)
+{
+    if (rf_v3_len2(v) == 0)
+        printf("  %s: unknown\n", label);
+    else
+        printf("  %s: (%g %g %g)\n", label, v.x, v.y, v.z);
+}
+
+static void rf_inspect_skeleton(const rf_skeleton *s)
+{
+    printf("skeleton: %u joints, rest pose: %s\n", s->joint_count, rf_inspect_rest_name(s));
+    rf_inspect_axis("up", s->up);
+    rf_inspect_axis("forward", s->forward);
+    if (!s->joint_count)
+        return;
+    g_autofree rf_xform *world = g_new(rf_xform, s->joint_count);
+    g_autofree int *depth = g_new0(int, s->joint_count);
+    rf_skeleton_world_rest(s, world);
+    printf("  %-4s %-32s %-24s %-30s %s\n", "#", "joint (tree)", "parent", "rest (local)",
+           "rest (world)");
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        const rf_joint *jt = &s->joints[j];
+        depth[j] = jt->parent >= 0 ? depth[jt->parent] + 1 : 0;
+        g_autofree char *tree = g_strdup_printf("%*s%s", depth[j] * 2, "", jt->name);
+        g_autofree char *local =
+            g_strdup_printf("(%.4f %.4f %.4f)", jt->rest.t.x, jt->rest.t.y, jt->rest.t.z);
+        printf("  %-4u %-32s %-24s %-30s (%.4f %.4f %.4f)%s\n", j, tree,
+               jt->parent >= 0 ? s->joints[jt->parent].name : "-", local, world[j].t.x,
+               world[j].t.y, world[j].t.z, jt->flags & RF_JOINT_UNWEIGHTED ? " unweighted" : "");
+    }
+}
+
+static void rf_inspect_clips(const rf_clip_list *clips, const rf_animation *a)
+{
+    if (!clips) { /* importers without a clip list (BVH) have one clip: the animation */
+        if (a)
+            printf("clips: 1\n  0 %-24s %u frames at %g fps (%.3f s)\n",
+                   a->name ? a->name : "motion", a->frame_count, a->fps,
+                   a->frame_count > 1 ? (a->frame_count - 1) / a->fps : 0.0);
+        return;
+    }
+    printf("clips: %u%s\n", clips->count, clips->count ? "" : " (none: the rest pose only)");
+    for (uint32_t i = 0; i < clips->count; i++)
+        printf("  %-2u %-24s %u frames at %g fps (%.3f s)%s\n", i, clips->clips[i].name,
+               clips->clips[i].frames, clips->clips[i].fps, clips->clips[i].duration,
+               (int32_t)i == clips->selected ? "  [imported]" : "");
+}
+
+static void rf_inspect_mesh(const rf_mesh *m)
+{
+    if (!m || !m->vertex_count) {
+        printf("meshes: none\n");
+        return;
+    }
+    uint32_t parts = RF_HAS_FIELD(m, rf_mesh, parts) ? m->part_count : 0;
+    printf("meshes: %u merged, %u vertices, %u triangles, %s\n", parts ? parts : 1, m->vertex_count,
+           m->triangle_count, m->skin_joints ? "skinned (4 weights per vertex)" : "not skinned");
+    for (uint32_t i = 0; i < parts; i++)
+        printf("  %-2u %-32s %u vertices, %u triangles\n", i,
+               m->parts[i].name ? m->parts[i].name : "", m->parts[i].vertex_count,
+               m->parts[i].triangle_count);
+}
+
+/* ---- the command ---- */
+
+static int rf_inspect_run(rf_registry *reg, const char *file, const rf_inspect_opts *o)
+{
+    const char *type = rf_inspect_node_type(file);
+    if (!rf_registry_find(reg, type, NULL)) {
+        fprintf(stderr, "rigflow inspect: %s: node type %s not found (plugin not installed?)\n",
+                file, type);
+        return RF_EXIT_RUN;
+    }
+    g_autofree char *cwd = g_get_current_dir();
+    char *text = rf_inspect_pipeline_json(type, file, o);
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    rf_pipeline *p = text ? rf_pipeline_load_string(text, "inspect", cwd, diags) : NULL;
+    free(text);
+    rf_run_options run = {.quiet = true};
+    bool ok = p && rf_pipeline_validate(p, reg, diags) && rf_pipeline_run(p, reg, &run, diags);
+    if (!ok) {
+        rf_print_diags(diags, "error");
+        rf_pipeline_free(p);
+        return RF_EXIT_RUN;
+    }
+    printf("%s (read by %s)\n", file, type);
+    const rf_skeleton *s = rf_pipeline_result(p, "source", "skeleton");
+    if (s)
+        rf_inspect_skeleton(s);
+    rf_inspect_clips(rf_pipeline_result(p, "source", "clips"),
+                     rf_pipeline_result(p, "source", "animation"));
+    rf_inspect_mesh(rf_pipeline_result(p, "source", "mesh"));
+    rf_pipeline_free(p);
+    return RF_EXIT_OK;
+}
+
+int rf_cmd_inspect(rf_registry *reg, int argc, char **argv)
+{
+    rf_inspect_opts o = {0};
+    const GOptionEntry entries[] = {
+        {"clip", 'c', 0, G_OPTION_ARG_STRING, &o.clip, "Clip to import (name or index)", "CLIP"},
+        {"rest", 'r', 0, G_OPTION_ARG_STRING, &o.rest, "Rest pose: bind (default) or node", "POSE"},
+        {NULL, 0, 0, 0, NULL, NULL, NULL}};
+    int code = RF_EXIT_USAGE;
+    if (!rf_parse_options("inspect", "FILE",
+                          "Show what rigflow imports from a file: the skeleton tree (names, "
+                          "parents, rest positions), the clips and the meshes.",
+                          entries, &argc, &argv))
+        goto out;
+    if (argc != 2) {
+        fprintf(stderr, "rigflow inspect: expected one FILE (see rigflow inspect --help)\n");
+        goto out;
+    }
+    code = rf_inspect_run(reg, argv[1], &o);
+out:
+    g_free(o.clip);
+    g_free(o.rest);
+    return code;
+}
