@@ -9,3 +9,7 @@ tests_import_test_import_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_import_test_import_LDADD = plugins/assimp/librfassimp.la plugins/gltf/librfgltf.la \
 	$(CMOCKA_LIBS) -lm
 EXTRA_DIST += tests/gltf/validate.js tests/import/expected.py
+
+# rigflow inspect: output and exit codes.
+TESTS += tests/import/test_inspect.sh
+EXTRA_DIST += tests/import/test_inspect.sh
