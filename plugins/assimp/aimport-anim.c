@@ -24,12 +24,6 @@ static double rf_ai_tps(const struct aiAnimation *a)
     return a->mTicksPerSecond > 0 ? a->mTicksPerSecond : 25.0;
 }
 
-static int rf_ai_cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 typedef struct rf_ai_times {
     double *v;
     size_t n, cap;
@@ -47,47 +41,59 @@ static void rf_ai_times_push(rf_ai_times *t, double x)
     t->v[t->n++] = x;
 }
 
-static void rf_ai_collect(rf_ai_times *gaps, rf_ai_times *keys, const double *times, size_t n,
-                          size_t stride, double tps)
+static void rf_ai_collect(rf_ai_times *keys, const double *times, size_t n, size_t stride,
+                          double tps)
 {
-    for (size_t k = 0; k < n; k++) {
-        double t = *(const double *)((const char *)times + k * stride) / tps;
-        rf_ai_times_push(keys, t);
-        if (k == 0)
-            continue;
-        double prev = *(const double *)((const char *)times + (k - 1) * stride) / tps;
-        if (t - prev > 1e-6)
-            rf_ai_times_push(gaps, t - prev);
-    }
+    for (size_t k = 0; k < n; k++)
+        rf_ai_times_push(keys, *(const double *)((const char *)times + k * stride) / tps);
 }
 
-/* The clip's key rate if its keys lie on a regular grid, else 0. */
+/* True when every key lies within `tol` frames of the grid t0 + k / rate. */
+static bool rf_ai_on_grid(const rf_ai_times *keys, double t0, double rate, double tol)
+{
+    for (size_t k = 0; k < keys->n; k++) {
+        double f = (keys->v[k] - t0) * rate;
+        if (fabs(f - round(f)) > tol)
+            return false;
+    }
+    return true;
+}
+
+/* The clip's key rate if its keys lie on a regular grid, else 0. The rate comes from the span of
+ * the channel with the most keys (gaps between neighbours are too noisy: key times went through
+ * float32 in most files), and is snapped to a whole number only when the snapped grid still holds
+ * every key within a thousandth of a frame (a BVH "Frame Time: 0.0083333" is 120.0005 fps, and
+ * snapping it would drift by a hundredth of a frame over a long clip). */
 static double rf_ai_key_rate(const struct aiAnimation *a)
 {
-    rf_ai_times gaps = {0}, keys = {0};
-    double tps = rf_ai_tps(a), rate = 0;
+    rf_ai_times keys = {0};
+    double tps = rf_ai_tps(a), rate = 0, t0 = 0;
+    unsigned most = 0;
     for (unsigned ch = 0; ch < a->mNumChannels; ch++) {
         const struct aiNodeAnim *na = a->mChannels[ch];
         if (na->mNumPositionKeys)
-            rf_ai_collect(&gaps, &keys, &na->mPositionKeys[0].mTime, na->mNumPositionKeys,
+            rf_ai_collect(&keys, &na->mPositionKeys[0].mTime, na->mNumPositionKeys,
                           sizeof *na->mPositionKeys, tps);
         if (na->mNumRotationKeys)
-            rf_ai_collect(&gaps, &keys, &na->mRotationKeys[0].mTime, na->mNumRotationKeys,
+            rf_ai_collect(&keys, &na->mRotationKeys[0].mTime, na->mNumRotationKeys,
                           sizeof *na->mRotationKeys, tps);
-    }
-    if (gaps.n) {
-        qsort(gaps.v, gaps.n, sizeof *gaps.v, rf_ai_cmp_double);
-        rate = 1.0 / gaps.v[gaps.n / 2];
-        /* Stored key times are floats: 1/24 s comes back as 24.0000x per second. */
-        if (fabs(rate - round(rate)) < 0.01 * rate)
-            rate = round(rate);
-        for (size_t k = 0; k < keys.n && rate > 0; k++) {
-            double f = keys.v[k] * rate;
-            if (fabs(f - round(f)) > 1e-2)
-                rate = 0;
+        unsigned n = na->mNumRotationKeys > na->mNumPositionKeys ? na->mNumRotationKeys
+                                                                 : na->mNumPositionKeys;
+        if (n > most && n >= 2) {
+            const struct aiVectorKey *pk = na->mPositionKeys;
+            const struct aiQuatKey *rk = na->mRotationKeys;
+            bool rot = na->mNumRotationKeys >= na->mNumPositionKeys;
+            double first = (rot ? rk[0].mTime : pk[0].mTime) / tps;
+            double last = (rot ? rk[n - 1].mTime : pk[n - 1].mTime) / tps;
+            if (last > first)
+                most = n, t0 = first, rate = (n - 1) / (last - first);
         }
     }
-    free(gaps.v), free(keys.v);
+    if (rate > 0 && !rf_ai_on_grid(&keys, t0, rate, 1e-2))
+        rate = 0;
+    if (rate > 0 && rf_ai_on_grid(&keys, t0, round(rate), 1e-3))
+        rate = round(rate);
+    free(keys.v);
     return rate;
 }
 

@@ -412,13 +412,20 @@ static int rf_validate(const char *file)
     return WIFEXITED(st) ? WEXITSTATUS(st) : 1;
 }
 
+/* Angle between two rotations, accurate near zero (2 acos of a dot product near 1 is not). */
+static double rf_rot_diff(rf_quat a, rf_quat b)
+{
+    rf_quat d = rf_quat_mul(rf_quat_conj(rf_quat_normalize(a)), rf_quat_normalize(b));
+    return 2.0 * atan2(sqrt(d.x * d.x + d.y * d.y + d.z * d.z), fabs(d.w));
+}
+
 static double rf_max_motion_error(const rf_animation *a, const rf_animation *b)
 {
     double worst = 0;
     for (uint32_t f = 0; f < a->frame_count; f++)
         for (uint32_t j = 0; j < a->joint_count; j++) {
-            double ang = rf_quat_angle(rf_quat_normalize(rf_animation_rotation(a, f, j)),
-                                       rf_quat_normalize(rf_animation_rotation(b, f, j)));
+            double ang =
+                rf_rot_diff(rf_animation_rotation(a, f, j), rf_animation_rotation(b, f, j));
             worst = fmax(worst, ang);
         }
     return worst;
