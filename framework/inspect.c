@@ -16,16 +16,21 @@ typedef struct rf_inspect_opts {
     char *rest;
 } rf_inspect_opts;
 
-static const char *rf_inspect_node_type(const char *path)
+/* bvh.import for .bvh, assimp.import for the rest; the generic import node (plugins/convert)
+ * when the specific one is not installed. */
+static const char *rf_inspect_node_type(const rf_registry *reg, const char *path)
 {
     const char *dot = strrchr(path, '.');
-    return dot && g_ascii_strcasecmp(dot, ".bvh") == 0 ? "bvh.import" : "assimp.import";
+    const char *type = dot && g_ascii_strcasecmp(dot, ".bvh") == 0 ? "bvh.import" : "assimp.import";
+    if (!rf_registry_find(reg, type, NULL) && rf_registry_find(reg, "import", NULL))
+        return "import";
+    return type;
 }
 
 static char *rf_inspect_pipeline_json(const char *type, const char *path, const rf_inspect_opts *o)
 {
     json_t *params = json_pack("{s:s}", "path", path);
-    if (strcmp(type, "assimp.import") == 0) {
+    if (strcmp(type, "bvh.import") != 0) { /* assimp.import and import share these params */
         json_object_set_new(params, "require_skeleton", json_false());
         if (o->clip)
             json_object_set_new(params, "clip", json_string(o->clip));
@@ -122,7 +127,7 @@ static void rf_inspect_mesh(const rf_mesh *m)
 
 static int rf_inspect_run(rf_registry *reg, const char *file, const rf_inspect_opts *o)
 {
-    const char *type = rf_inspect_node_type(file);
+    const char *type = rf_inspect_node_type(reg, file);
     if (!rf_registry_find(reg, type, NULL)) {
         fprintf(stderr, "rigflow inspect: %s: node type %s not found (plugin not installed?)\n",
                 file, type);

@@ -1,0 +1,177 @@
+/* Format-dispatching import and export nodes, so one pipeline converts between any formats.
+ *
+ *   import: .bvh through libbvh (the native reader), everything else through Assimp
+ *           (librfassimp); the same outputs either way: skeleton, animation, mesh (empty for
+ *           BVH), clips (one for BVH).
+ *   export: by the output's extension: .glb / .gltf through our glTF writer (librfgltf), .bvh
+ *           through libbvh's writer (rest rotations baked in, so the zero-rotation pose is the
+ *           rest pose).
+ *
+ * The format-specific nodes (bvh.import, assimp.import, bvh.export) stay for pipelines that want
+ * one format's options; these two only choose. doc/import.md and doc/formats/gltf.md describe
+ * what each format keeps.
+ */
+#include <stdio.h>
+#include <string.h>
+#include <strings.h>
+
+#include <rigflow/rigflow.h>
+
+#include "../assimp/aimport-node.h"
+#include "../bvh/bvh.h"
+#include "../gltf/gltf-write.h"
+
+static const char *rf_cv_ext(const char *path)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    return dot && (!slash || dot > slash) ? dot : "";
+}
+
+/* ---- import ---- */
+
+static void rf_cv_bvh_warning(void *user, const char *message)
+{
+    void **ctx = user;
+    const rf_host *host = ctx[0];
+    host->log(ctx[1], RF_LOG_WARNING, "%s", message);
+}
+
+static bool rf_cv_import_bvh(const rf_host *host, rf_node *node, const char *path)
+{
+    void *ctx[2] = {(void *)host, node};
+    rf_bvh_read_opts opts = {.warning = rf_cv_bvh_warning, .user = ctx};
+    rf_ai_result r = {.selected_clip = -1};
+    char err[1024];
+    if (!rf_bvh_read_file(path, &opts, &r.skeleton, &r.animation, err, sizeof err)) {
+        host->error(node, "%s", err);
+        return false;
+    }
+    rf_ai_clip clip = {.name = NULL, .fps = r.animation->fps, .frames = r.animation->frame_count};
+    clip.duration = r.animation->frame_count > 1 ? (r.animation->frame_count - 1) / clip.fps : 0;
+    const char *name = r.animation->name ? r.animation->name : "motion";
+    clip.name = malloc(strlen(name) + 1);
+    if (clip.name) {
+        memcpy(clip.name, name, strlen(name) + 1);
+        r.clips = malloc(sizeof *r.clips);
+    }
+    if (!clip.name || !r.clips) {
+        free(clip.name);
+        rf_ai_result_clear(&r);
+        host->error(node, "out of memory");
+        return false;
+    }
+    r.clips[0] = clip, r.clip_count = 1, r.selected_clip = 0;
+    return rf_ai_node_outputs_set(host, node, &r);
+}
+
+static bool rf_cv_import(void *self, const rf_host *host, rf_node *node)
+{
+    (void)self;
+    const char *path = host->param_string(node, "path");
+    if (strcasecmp(rf_cv_ext(path), ".bvh") == 0)
+        return rf_cv_import_bvh(host, node, path);
+    return rf_ai_node_import(host, node);
+}
+
+static const rf_node_desc rf_cv_import_desc = {
+    .size = sizeof(rf_node_desc),
+    .type = "import",
+    .kind = RF_KIND_IMPORTER,
+    .doc = "Imports any supported file, choosing by extension: .bvh with the native BVH reader "
+           "(clip, rest_pose and require_skeleton do not apply), everything else through Assimp "
+           "as assimp.import does. Outputs are the same for every format.",
+    .output_count = RF_AI_NODE_OUTPUT_COUNT,
+    .outputs = rf_ai_node_outputs,
+    .param_count = RF_AI_NODE_PARAM_COUNT,
+    .params = rf_ai_node_params,
+    .process = rf_cv_import,
+};
+
+/* ---- export ---- */
+
+static const rf_port_desc rf_cv_export_inputs[] = {
+    {sizeof(rf_port_desc), "skeleton", RF_TYPE_SKELETON, 0, "the skeleton to write"},
+    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
+     "its motion (without it: the rest pose)"},
+    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
+     "a mesh skinned to the skeleton (glTF only; BVH has no meshes)"},
+};
+
+static const rf_param_desc rf_cv_export_params[] = {
+    {sizeof(rf_param_desc), "path", RF_PARAM_OUTPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
+     "the file to write; its extension picks the format: .glb, .gltf or .bvh"},
+};
+
+/* Refuses an unknown extension when the pipeline is set up, before any import runs. */
+static bool rf_cv_export_create(const rf_host *host, rf_node *node, void **self)
+{
+    const char *target = host->param_output_target(node, "path");
+    const char *ext = rf_cv_ext(target);
+    *self = NULL;
+    if (strcasecmp(ext, ".glb") == 0 || strcasecmp(ext, ".gltf") == 0 ||
+        strcasecmp(ext, ".bvh") == 0)
+        return true;
+    host->error(node, "%s: unknown output format '%s': expected .glb, .gltf or .bvh", target, ext);
+    return false;
+}
+
+static bool rf_cv_export(void *self, const rf_host *host, rf_node *node)
+{
+    (void)self;
+    const char *path = host->param_string(node, "path");
+    const char *target = host->param_output_target(node, "path");
+    const char *ext = rf_cv_ext(target && *target ? target : path);
+    const rf_skeleton *s = host->input(node, "skeleton", 0);
+    const rf_animation *a =
+        host->input_count(node, "animation") ? host->input(node, "animation", 0) : NULL;
+    const rf_mesh *m = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
+    char err[1024];
+    bool ok;
+    if (!s) {
+        host->error(node, "no skeleton on input 'skeleton'");
+        return false;
+    }
+    if (strcasecmp(ext, ".glb") == 0 || strcasecmp(ext, ".gltf") == 0) {
+        rf_gltf_write_opts o = {.binary = strcasecmp(ext, ".glb") == 0};
+        ok = rf_gltf_write_file(path, target, s, a, m, &o, err, sizeof err);
+    } else if (strcasecmp(ext, ".bvh") == 0) {
+        if (m && m->vertex_count)
+            host->log(node, RF_LOG_INFO, "%s: BVH keeps no mesh; the mesh is left out", target);
+        ok = rf_bvh_write_file(path, target, s, a, NULL, err, sizeof err);
+    } else {
+        host->error(node, "%s: unknown output format '%s': expected .glb, .gltf or .bvh", target,
+                    ext);
+        return false;
+    }
+    if (!ok)
+        host->error(node, "%s", err);
+    return ok;
+}
+
+static const rf_node_desc rf_cv_export_desc = {
+    .size = sizeof(rf_node_desc),
+    .type = "export",
+    .kind = RF_KIND_EXPORTER,
+    .doc = "Writes a skeleton with its motion (and mesh, for glTF) in the format the output's "
+           "extension names: .glb or .gltf (glTF 2.0: nodes, skin, skinned mesh, animation) or "
+           ".bvh (rest rotations baked in: the zero-rotation pose is the rest pose).",
+    .input_count = 3,
+    .inputs = rf_cv_export_inputs,
+    .param_count = 1,
+    .params = rf_cv_export_params,
+    .create = rf_cv_export_create,
+    .process = rf_cv_export,
+};
+
+static const rf_node_desc *const rf_cv_nodes[] = {&rf_cv_import_desc, &rf_cv_export_desc};
+
+RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
+    .abi = RF_ABI_VERSION_INIT,
+    .size = sizeof(rf_plugin_entry),
+    .id = "org.rigflow.convert",
+    .name = "Format conversion",
+    .version = "0.1.0",
+    .description = "import and export nodes that pick the format by the file's extension",
+    .node_count = 2,
+    .nodes = rf_cv_nodes,
+};
