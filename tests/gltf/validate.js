@@ -1,7 +1,8 @@
 // Runs the Khronos glTF-Validator (npm package gltf-validator) on each file given and prints its
 // errors and warnings. Exit status: 0 when no file has an error, 1 when one has, 77 (automake's
 // "skip") when the package cannot be found. The package is looked up in $RF_NPM_DIR (a
-// node_modules folder, as ./quickstart.sh deps installs it), then on node's usual paths.
+// node_modules folder), then in $RF_BUILDDIR/npm/node_modules (where ./quickstart.sh deps installs
+// it), then on node's usual paths.
 'use strict';
 const fs = require('fs');
 const path = require('path');
@@ -9,6 +10,9 @@ const path = require('path');
 function loadValidator() {
     const dirs = [];
     if (process.env.RF_NPM_DIR) dirs.push(path.join(process.env.RF_NPM_DIR, 'gltf-validator'));
+    // where ./quickstart.sh deps installs npm tools: BUILDDIR/npm/node_modules
+    if (process.env.RF_BUILDDIR)
+        dirs.push(path.join(process.env.RF_BUILDDIR, 'npm', 'node_modules', 'gltf-validator'));
     dirs.push('gltf-validator');
     for (const d of dirs) {
         try {
