@@ -28,3 +28,8 @@ dist_pipelines_DATA += pipelines/bvh-roundtrip.json
 # rigflow inspect FILE (issue 3): prints what an importer makes of a file.
 rigflow_SOURCES += framework/inspect.c framework/inspect.h
 rigflow_LDADD += $(JANSSON_LIBS)
+
+# rigflow ik-bench (issue 6): the IK solvers on the standard workloads.
+rigflow_SOURCES += framework/ik-bench.c framework/ik-bench.h
+rigflow_CPPFLAGS += -I$(top_srcdir)/plugins/ik-common
+rigflow_LDADD += plugins/ik-common/libikworkload.la

@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "config.h"
+#include "ik-bench.h"
 #include "inspect.h"
 
 static volatile int interrupted;
@@ -129,6 +130,7 @@ static const command commands[] = {
     {"describe", rf_cmd_describe, "show a node type's ports and parameters"},
     {"inspect", rf_cmd_inspect, "show what a model or motion file imports as"},
     {"plugin-check", rf_cmd_plugin_check, "check plugin files, each check in its own process"},
+    {"ik-bench", rf_cmd_ik_bench, "compare the IK solver plugins on standard workloads (CSV)"},
 };
 
 static void print_help(void)

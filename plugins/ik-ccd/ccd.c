@@ -23,7 +23,7 @@ static rf_quat wanted_turn(rf_ikc_solve *s, uint32_t j, uint32_t i, const rf_vec
     rf_vec3 u = rf_v3_sub(s->w->eff[i], x), v = rf_v3_sub(rf_ikc_goal(s->pb, i)->target, x);
     if (axis)
         return rf_quat_from_axis_angle(*axis, rf_ikc_angle_about(*axis, u, v));
-    return rf_quat_from_two_vectors(u, v);
+    return rf_ikc_turn(u, v);
 }
 
 /* Weighted mean of the turns the goals below j ask for (a single goal: its turn). */
@@ -51,7 +51,8 @@ static rf_quat mean_turn(rf_ikc_solve *s, uint32_t j)
     return count == 1 ? only : rf_quat_normalize(sum);
 }
 
-/* Turns joint j; moves the running effectors below it. Returns the angle turned. */
+/* Turns joint j; moves the running effectors below it. Returns sin^2 of half the angle turned
+ * (a cheap monotonic measure of it). */
 static double turn_joint(rf_ikc_solve *s, uint32_t j)
 {
     rf_ikc_work *w = s->w;
@@ -62,7 +63,7 @@ static double turn_joint(rf_ikc_solve *s, uint32_t j)
     for (uint32_t i = 0; i < s->goal_count; i++)
         if ((w->goals[j] & (1ull << i)) && rf_ikc_goal(s->pb, i)->effector != j)
             w->eff[i] = rf_v3_add(x, rf_quat_rotate(delta, rf_v3_sub(w->eff[i], x)));
-    return 2.0 * acos(fmin(1.0, fabs(delta.w)));
+    return delta.x * delta.x + delta.y * delta.y + delta.z * delta.z; /* sin^2(angle / 2) */
 }
 
 static bool within_tolerance(const rf_ikc_solve *s)
@@ -100,7 +101,80 @@ static uint32_t ccd_iterate(rf_ikc_solve *s)
         }
         rf_ikc_fk(s); /* descendants of the turned joints */
         load_effectors(s);
-        if (done || largest < 1e-10) /* reached, or nothing moves any more (unreachable) */
+        if (done || largest < 1e-20) /* reached, or nothing turns by 2e-10 rad any more */
+            break;
+    }
+    return it;
+}
+
+/* ---- a single unconstrained chain: the same sweeps, in world space ---- */
+
+/* One backward sweep over the chain (world transforms current). Turning joint k by the shortest
+ * rotation from u = E - X to v = T - X puts the effector on the ray towards the target at its
+ * old distance, E = X + v |u| / |v|, so the sweep needs no rotation of E; each turn is kept
+ * unnormalised, (u x v, |u||v| + u.v), and normalised once when committed. Returns true, with
+ * *first the last chain index turned, as soon as E is within tolerance; *moved tells whether
+ * any joint turned by more than about 1e-10 rad. */
+static bool chain_sweep(rf_ikc_solve *s, uint32_t m, rf_vec3 *E, bool *moved, uint32_t *first)
+{
+    rf_ikc_work *w = s->w;
+    rf_vec3 T = rf_ikc_goal(s->pb, 0)->target;
+    double tol2 = s->pb->tolerance * s->pb->tolerance;
+    for (uint32_t k = m; k-- > 0;) {
+        rf_vec3 X = w->world[w->chain[k]].t, u = rf_v3_sub(*E, X), v = rf_v3_sub(T, X);
+        double lv = rf_v3_len2(v), uv = sqrt(rf_v3_len2(u) * lv), d = rf_v3_dot(u, v);
+        rf_quat q = rf_quat_identity();
+        if (uv > 1e-300) {
+            rf_vec3 c = rf_v3_cross(u, v);
+            q = d > -uv * (1 - 1e-12) ? rf_quat_make(c.x, c.y, c.z, uv + d)
+                                      : rf_quat_from_two_vectors(u, v); /* opposite */
+            *E = rf_v3_add(X, rf_v3_scale(v, uv / lv));
+            *moved = *moved || uv - d > 1e-20 * uv;
+        }
+        w->turn[k] = q;
+        if (rf_v3_len2(rf_v3_sub(*E, T)) <= tol2) {
+            *first = k;
+            return true;
+        }
+    }
+    *first = 0;
+    return false;
+}
+
+/* Folds the sweep's world turns into the local rotations and recomputes the chain's world
+ * transforms. A joint's final world rotation is q_0 ... q_k R_k (every turn above it came later
+ * and carried it along), so its local one is R_parent^-1 q_k R_k with the transforms from before
+ * the sweep. */
+static void chain_commit(rf_ikc_solve *s, uint32_t m, uint32_t first)
+{
+    rf_ikc_work *w = s->w;
+    rf_quat parent_before = rf_ikc_parent_rot(s, w->chain[first]);
+    for (uint32_t k = first; k < m; k++) {
+        uint32_t j = w->chain[k];
+        rf_quat before = w->world[j].r;
+        rf_quat l = rf_quat_mul(rf_quat_conj(parent_before), rf_quat_mul(w->turn[k], before));
+        double inv = 1.0 / sqrt(rf_quat_dot(l, l));
+        s->local[j].r = rf_quat_make(l.x * inv, l.y * inv, l.z * inv, l.w * inv);
+        parent_before = before;
+    }
+    for (uint32_t k = first; k <= m; k++)
+        rf_ikc_fk_joint(s, w->chain[k]);
+}
+
+static uint32_t chain_iterate(rf_ikc_solve *s)
+{
+    uint32_t m = rf_ikc_collect_chain(s, 0), it = 0, first;
+    rf_vec3 T = rf_ikc_goal(s->pb, 0)->target;
+    rf_vec3 E = s->w->world[s->w->chain[m]].t;
+    if (rf_v3_len2(rf_v3_sub(E, T)) <= s->pb->tolerance * s->pb->tolerance)
+        return 0;
+    while (it < s->pb->max_iterations) {
+        bool moved = false;
+        it++;
+        bool done = chain_sweep(s, m, &E, &moved, &first);
+        chain_commit(s, m, first);
+        E = s->w->world[s->w->chain[m]].t;
+        if (done || !moved) /* reached, or nothing turns any more (unreachable) */
             break;
     }
     return it;
@@ -117,7 +191,11 @@ static bool ccd_solve(void *state, const rf_ik_problem *pb, rf_ik_result *res)
     rf_ikc_solve s;
     if (!rf_ikc_begin(&s, pb, res, &st->w))
         return false;
-    uint32_t it = s.goal_count ? ccd_iterate(&s) : 0;
+    uint32_t it = 0;
+    if (s.goal_count == 1 && !s.constrained && !s.branched)
+        it = chain_iterate(&s);
+    else if (s.goal_count > 0)
+        it = ccd_iterate(&s);
     rf_ikc_finish(&s, it);
     return true;
 }

@@ -14,7 +14,8 @@ bool rf_ikc_work_reserve(rf_ikc_work *w, uint32_t joints, uint32_t goals)
             !GROW(w->bone_axis, joints) || !GROW(w->bone_len, joints) || !GROW(w->weight, joints) ||
             !GROW(w->driver, joints) || !GROW(w->rel, joints) || !GROW(w->first, joints) ||
             !GROW(w->next, joints) || !GROW(w->chain, joints) || !GROW(w->acc, joints) ||
-            !GROW(w->acc_w, joints) || !GROW(w->goals, joints) || !GROW(w->flags, joints))
+            !GROW(w->turn, joints) || !GROW(w->acc_w, joints) || !GROW(w->goals, joints) ||
+            !GROW(w->flags, joints))
             return false; /* what did grow stays owned by w and is freed with it */
         w->cap_joints = joints;
     }
@@ -31,7 +32,7 @@ void rf_ikc_work_free(rf_ikc_work *w)
 {
     free(w->world), free(w->pos), free(w->ref), free(w->bone_axis), free(w->bone_len);
     free(w->weight), free(w->driver), free(w->rel), free(w->first), free(w->next);
-    free(w->chain), free(w->acc), free(w->acc_w), free(w->goals), free(w->flags);
+    free(w->chain), free(w->acc), free(w->turn), free(w->acc_w), free(w->goals), free(w->flags);
     free(w->pivot), free(w->reach), free(w->err), free(w->eff);
     memset(w, 0, sizeof *w);
 }
@@ -187,6 +188,13 @@ bool rf_ikc_check(const rf_ik_problem *pb, rf_ik_result *res)
 
 /* ---- preparation ---- */
 
+/* q normalised, skipping the square root when it already is unit (the usual case). */
+static rf_quat unit(rf_quat q)
+{
+    double n = rf_quat_dot(q, q);
+    return fabs(n - 1) < 1e-14 ? q : rf_quat_normalize(q);
+}
+
 /* Unit bone axis of j in its reference frame: the constraint's, else the first child's offset
  * (children have higher indices), else +y. */
 static rf_vec3 bone_axis_of(const rf_ikc_solve *s, uint32_t j, const rf_ik_constraint *c)
@@ -229,10 +237,10 @@ static void prepare_paths(rf_ikc_solve *s)
     for (uint32_t j = 0; j < s->n; j++) {
         int32_t p = par[j];
         bool on = w->flags[j] & RF_IKC_ON_PATH;
-        w->bone_len[j] = p < 0 ? 0 : rf_v3_dist(w->world[j].t, w->world[p].t);
         w->driver[j] = -1;
         if (!on)
             continue;
+        w->bone_len[j] = p < 0 ? 0 : rf_v3_dist(w->world[j].t, w->world[p].t);
         if (p < 0 || !(w->flags[p] & RF_IKC_ON_PATH) || (w->goals[p] & w->goals[j]) == 0) {
             w->flags[j] |= RF_IKC_PIVOT;
             continue;
@@ -287,12 +295,13 @@ bool rf_ikc_begin(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, r
     if (res->pose != pb->pose)
         memcpy(res->pose, pb->pose, s->n * sizeof *res->pose);
     for (uint32_t j = 0; j < s->n; j++) {
-        w->ref[j] = rf_quat_normalize(pb->reference ? pb->reference[j].r : pb->pose[j].r);
-        s->local[j].r = rf_quat_normalize(s->local[j].r);
+        w->ref[j] = unit(pb->reference ? pb->reference[j].r : pb->pose[j].r);
+        s->local[j].r = unit(s->local[j].r);
         w->flags[j] = 0, w->goals[j] = 0, w->weight[j] = 0;
+        const rf_ik_constraint *c = rf_ikc_constraint(pb, j);
+        if (c && (c->flags & (RF_IK_LIMIT_CONE | RF_IK_LIMIT_TWIST)))
+            w->bone_axis[j] = bone_axis_of(s, j, c); /* only cone and twist use it */
     }
-    for (uint32_t j = 0; j < s->n; j++)
-        w->bone_axis[j] = bone_axis_of(s, j, rf_ikc_constraint(pb, j));
     for (uint32_t i = 0; i < s->goal_count; i++)
         mark_path(s, i);
     rf_ikc_fk(s);
@@ -302,6 +311,21 @@ bool rf_ikc_begin(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, r
 }
 
 /* ---- kinematics ---- */
+
+uint32_t rf_ikc_collect_chain(rf_ikc_solve *s, uint32_t i)
+{
+    rf_ikc_work *w = s->w;
+    uint32_t m = 0;
+    for (int32_t j = (int32_t)rf_ikc_goal(s->pb, i)->effector; j != (int32_t)w->pivot[i];
+         j = s->pb->parents[j])
+        w->chain[m++] = (uint32_t)j;
+    w->chain[m] = w->pivot[i];
+    for (uint32_t a = 0, b = m; a < b; a++, b--) { /* reverse: pivot first */
+        uint32_t t = w->chain[a];
+        w->chain[a] = w->chain[b], w->chain[b] = t;
+    }
+    return m;
+}
 
 void rf_ikc_fk(rf_ikc_solve *s)
 {
@@ -337,7 +361,7 @@ rf_quat rf_ikc_set_world_rot(rf_ikc_solve *s, uint32_t j, rf_quat world_rot)
     rf_quat pr = rf_ikc_parent_rot(s, j);
     rf_quat local = rf_quat_normalize(rf_quat_mul(rf_quat_conj(pr), world_rot));
     s->local[j].r = rf_ikc_constrain_local(s, j, local);
-    rf_ikc_fk_joint(s, j);
+    rf_ikc_fk_rot(s, j);
     return s->w->world[j].r;
 }
 
@@ -352,8 +376,9 @@ rf_vec3 rf_ikc_hinge_axis_world(const rf_ikc_solve *s, uint32_t j)
 
 /* The effector's own rotation carries an orientation goal: the chain above places it, the
  * effector turns to the asked rotation, within its own limits. */
-static void apply_orientations(rf_ikc_solve *s)
+static bool apply_orientations(rf_ikc_solve *s)
 {
+    bool any = false;
     for (uint32_t i = 0; i < s->goal_count; i++) {
         const rf_ik_goal *g = rf_ikc_goal(s->pb, i);
         if (!(g->flags & RF_IK_GOAL_ORIENTATION))
@@ -362,15 +387,17 @@ static void apply_orientations(rf_ikc_solve *s)
         if (c && (c->flags & RF_IK_LOCKED))
             continue;
         rf_ikc_set_world_rot(s, g->effector, rf_quat_normalize(g->orientation));
+        any = true;
     }
+    return any;
 }
 
 void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations)
 {
     rf_ik_result *res = s->res;
     rf_ikc_fk(s);
-    apply_orientations(s);
-    rf_ikc_fk(s);
+    if (apply_orientations(s))
+        rf_ikc_fk(s); /* the turned effectors' descendants */
     res->max_error = rf_ikc_errors(s);
     res->iterations = iterations;
     res->reached = true;

@@ -38,6 +38,7 @@ typedef struct rf_ikc_work {
     int32_t *next;      /* [J] next path joint with the same driver, or -1 */
     uint32_t *chain;    /* [J] a solver's own ordering (e.g. one chain, pivot first) */
     rf_vec3 *acc;       /* [J] a solver's accumulators */
+    rf_quat *turn;      /* [J] a solver's per-joint rotations */
     double *acc_w;      /* [J] */
     uint64_t *goals;    /* [J] mask of goals whose path holds the joint */
     uint8_t *flags;     /* [J] rf_ikc_joint_flags */
@@ -85,13 +86,47 @@ bool rf_ikc_begin(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, r
  * reached. */
 void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations);
 
+/* The path of goal i, pivot first, into w->chain; returns its bone count (chain[count] is the
+ * effector). */
+uint32_t rf_ikc_collect_chain(rf_ikc_solve *s, uint32_t i);
+
 /* World transforms of every joint from res->pose. */
 void rf_ikc_fk(rf_ikc_solve *s);
 /* World transform of joint j from its parent's (already current) world transform. */
 static inline void rf_ikc_fk_joint(rf_ikc_solve *s, uint32_t j)
 {
     int32_t p = s->pb->parents[j];
-    s->w->world[j] = p < 0 ? s->local[j] : rf_xform_mul(s->w->world[p], s->local[j]);
+    if (p < 0) {
+        s->w->world[j] = s->local[j];
+        return;
+    }
+    /* rf_xform_mul without its renormalisation: local rotations are unit (begin and every
+     * update normalise them), and a product of a few hundred unit quaternions stays unit to
+     * rounding. FK runs once per joint per iteration, so the saved sqrt counts. */
+    const rf_xform *a = &s->w->world[p], *b = &s->local[j];
+    rf_xform *out = &s->w->world[j];
+    out->t = rf_v3_add(a->t, rf_quat_rotate(a->r, rf_v3_mul(a->s, b->t)));
+    out->r = rf_quat_mul(a->r, b->r);
+    out->s = rf_v3_mul(a->s, b->s);
+}
+/* After joint j's local rotation changed: its world rotation (its origin does not move). */
+static inline void rf_ikc_fk_rot(rf_ikc_solve *s, uint32_t j)
+{
+    int32_t p = s->pb->parents[j];
+    s->w->world[j].r = p < 0 ? s->local[j].r : rf_quat_mul(s->w->world[p].r, s->local[j].r);
+}
+/* The shortest rotation taking direction u onto v (neither need be unit), with two square roots
+ * instead of rf_quat_from_two_vectors' three: the solvers' inner loops call it per joint. */
+static inline rf_quat rf_ikc_turn(rf_vec3 u, rf_vec3 v)
+{
+    double uv = sqrt(rf_v3_len2(u) * rf_v3_len2(v));
+    double d = rf_v3_dot(u, v);
+    if (!(uv > 1e-300) || d < -uv * (1 - 1e-12))
+        return rf_quat_from_two_vectors(u, v); /* zero or opposite: its special cases */
+    rf_vec3 c = rf_v3_cross(u, v);
+    rf_quat q = rf_quat_make(c.x, c.y, c.z, uv + d);
+    double k = 1.0 / sqrt(rf_quat_dot(q, q));
+    return rf_quat_make(q.x * k, q.y * k, q.z * k, q.w * k);
 }
 /* Position errors of every goal from the current world transforms into w->err; returns the
  * largest. */

@@ -31,22 +31,6 @@ typedef struct fabrik_state {
 
 /* ---- a single unconstrained chain: positions only ---- */
 
-/* Path of the only goal, pivot first, into w->chain; returns its bone count. */
-static uint32_t collect_chain(rf_ikc_solve *s)
-{
-    rf_ikc_work *w = s->w;
-    uint32_t m = 0;
-    for (int32_t j = (int32_t)rf_ikc_goal(s->pb, 0)->effector; j != (int32_t)w->pivot[0];
-         j = s->pb->parents[j])
-        w->chain[m++] = (uint32_t)j;
-    w->chain[m] = w->pivot[0];
-    for (uint32_t a = 0, b = m; a < b; a++, b--) { /* reverse: pivot first */
-        uint32_t t = w->chain[a];
-        w->chain[a] = w->chain[b], w->chain[b] = t;
-    }
-    return m;
-}
-
 /* Puts p[k+1] on the line from p[k] towards `toward` at the bone's length. */
 static inline rf_vec3 place(rf_vec3 from, rf_vec3 toward, double len)
 {
@@ -94,7 +78,7 @@ static void chain_to_rotations(rf_ikc_solve *s, uint32_t m)
         rf_ikc_fk_joint(s, c);
         rf_vec3 u = rf_v3_sub(w->world[c].t, w->world[j].t);
         rf_vec3 v = rf_v3_sub(w->pos[c], w->world[j].t);
-        rf_ikc_set_world_rot(s, j, rf_quat_mul(rf_quat_from_two_vectors(u, v), w->world[j].r));
+        rf_ikc_set_world_rot(s, j, rf_quat_mul(rf_ikc_turn(u, v), w->world[j].r));
     }
 }
 
@@ -148,7 +132,7 @@ static rf_quat aim_rotation(rf_ikc_solve *s, uint32_t j)
             angle += wc * rf_ikc_angle_about(axis, u, v);
             continue;
         }
-        rf_quat q = rf_quat_from_two_vectors(u, v);
+        rf_quat q = rf_ikc_turn(u, v);
         if (rf_quat_dot(q, sum) < 0)
             q = rf_quat_neg(q);
         sum = rf_quat_make(sum.x + wc * q.x, sum.y + wc * q.y, sum.z + wc * q.z, sum.w + wc * q.w);
@@ -203,7 +187,7 @@ static bool fabrik_solve(void *state, const rf_ik_problem *pb, rf_ik_result *res
         return false;
     uint32_t it = 0;
     if (s.goal_count == 1 && !s.constrained && !s.branched) {
-        uint32_t m = collect_chain(&s);
+        uint32_t m = rf_ikc_collect_chain(&s, 0);
         it = chain_iterate(&s, m);
         if (it > 0)
             chain_to_rotations(&s, m);
