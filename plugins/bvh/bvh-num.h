@@ -1,0 +1,227 @@
+/* Exact, locale-independent decimal number parsing for the BVH reader's hot loop.
+ *
+ * Most BVH numbers have at most 19 significant digits and a small exponent: the digits then fit
+ * a uint64_t mantissa m and, when m <= 2^53 and |exp10| <= 22, both m and 10^|exp10| are exact
+ * doubles, so one IEEE multiplication or division gives the correctly rounded result (Clinger's
+ * fast path). Everything else goes to rf_bvh_parse_slow, which hands strtod a rewritten token. */
+#ifndef RIGFLOW_PLUGINS_BVH_NUM_H
+#define RIGFLOW_PLUGINS_BVH_NUM_H
+
+#include <float.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
+
+/* The slow path for the token [s, end) already checked by bvh_number: exact via strtod. */
+const char *rf_bvh_parse_slow(const char *s, const char *end, double *out);
+
+/* The fast path is exact only when double arithmetic is not carried out in wider registers. */
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
+#define BVH_FAST_PATH 1
+#else
+#define BVH_FAST_PATH 0
+
+#endif
+
+/* The number parsers are called from a few places; inlining them into the per-frame loop lets
+ * the processor overlap consecutive numbers. */
+#if defined(__GNUC__)
+#define BVH_INLINE static inline __attribute__((always_inline))
+#else
+#define BVH_INLINE static inline
+#endif
+
+static inline bool bvh_is_digit(char c)
+{
+    return (unsigned)(c - '0') < 10u;
+}
+
+/* See rf_bvh_parse_double in bvh.h. */
+static inline const char *bvh_number(const char *s, double *out)
+{
+    static const double pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    const char *p = s;
+    bool neg = *p == '-';
+    if (*p == '-' || *p == '+')
+        p++;
+    uint64_t m = 0;
+    int digits = 0, exp10 = 0;
+    bool any = false, dropped = false;
+    /* Leading zeros are not significant; once m is non-zero every digit is. */
+    for (; bvh_is_digit(*p); p++, any = true) {
+        unsigned d = (unsigned)(*p - '0');
+        if (digits < 19 && (m || d))
+            m = m * 10 + d, digits++;
+        else if (m || d)
+            dropped = true, exp10++;
+    }
+    if (*p == '.') {
+        for (p++; bvh_is_digit(*p); p++, any = true) {
+            unsigned d = (unsigned)(*p - '0');
+            if (digits < 19 && (m || d))
+                m = m * 10 + d, digits++, exp10--;
+            else if (m || d)
+                dropped = true;
+            else
+                exp10--;
+        }
+    }
+    if (!any)
+        return 0;
+    if (*p == 'e' || *p == 'E') {
+        const char *q = p + 1;
+        bool eneg = *q == '-';
+        if (*q == '-' || *q == '+')
+            q++;
+        if (!bvh_is_digit(*q))
+            return 0;
+        int e = 0;
+        for (; bvh_is_digit(*q); q++)
+            if (e < 100000000)
+                e = e * 10 + (*q - '0');
+        exp10 += eneg ? -e : e;
+        p = q;
+    }
+    if (BVH_FAST_PATH && !dropped && m <= (UINT64_C(1) << 53)) {
+        double v = (double)m;
+        if (m == 0) {
+            *out = neg ? -0.0 : 0.0;
+            return p;
+        }
+        if (exp10 >= -22 && exp10 <= 22) {
+            v = exp10 < 0 ? v / pow10[-exp10] : v * pow10[exp10];
+            *out = neg ? -v : v;
+            return p;
+        }
+    }
+    return rf_bvh_parse_slow(s, p, out);
+}
+
+#if defined(__GNUC__) && defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+#define BVH_SWAR 1
+#else
+#define BVH_SWAR 0
+#endif
+
+/* Bytes readable past the end of the text handed to bvh_number_padded. */
+#define BVH_PAD 32
+
+#if BVH_SWAR
+/* The value of up to 8 decimal digits held one per byte (0..9, the first digit in the lowest
+ * byte, leading bytes 0): adjacent digits pair into 2-digit lanes, then 4, then 8. Each step
+ * stays inside its lane, so one 64-bit multiply does all lanes. */
+static inline uint64_t bvh_swar8(uint64_t d)
+{
+    d = ((d * 10) + (d >> 8)) & 0x00FF00FF00FF00FFull;
+    d = ((d * 100) + (d >> 16)) & 0x0000FFFF0000FFFFull;
+    return ((d * 10000) + (d >> 32)) & 0xFFFFFFFFull;
+}
+
+/* The number of leading decimal digits among the 8 bytes at p (8 when all are), and their
+ * values per byte in *digits. A byte below '0' borrows from the next byte up, but only bytes
+ * after the first non-digit are affected, and those are not counted. */
+static inline unsigned bvh_digits8(const char *p, uint64_t *digits)
+{
+    uint64_t w;
+    memcpy(&w, p, 8);
+    uint64_t d = w - 0x3030303030303030ull;
+    uint64_t nondigit = (d | (w + 0x4646464646464646ull)) & 0x8080808080808080ull;
+    *digits = d;
+    return nondigit ? (unsigned)__builtin_ctzll(nondigit) >> 3 : 8;
+}
+
+/* The value of the first n (1..7) digits from bvh_digits8. */
+static inline uint64_t bvh_digits_value(uint64_t digits, unsigned n)
+{
+    return bvh_swar8(digits << (64 - 8 * n));
+}
+#endif
+
+/* bvh_number for text with BVH_PAD readable bytes after its end: the common shape
+ * [-]d{0,7}[.d{0,7}] is read 8 bytes at a time; anything else goes to bvh_number. */
+BVH_INLINE const char *bvh_number_padded(const char *s, double *out)
+{
+#if BVH_SWAR && BVH_FAST_PATH
+    static const double pow10[8] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7};
+    static const uint64_t ipow10[8] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000};
+    const char *p = s + (*s == '-');
+    uint64_t digits, m = 0;
+    unsigned ni = bvh_digits8(p, &digits), nf = 0;
+    if (ni == 8)
+        return bvh_number(s, out);
+    if (ni)
+        m = bvh_digits_value(digits, ni);
+    p += ni;
+    if (*p == '.') {
+        nf = bvh_digits8(++p, &digits);
+        if (nf == 8)
+            return bvh_number(s, out);
+        if (nf)
+            m = m * ipow10[nf] + bvh_digits_value(digits, nf);
+        p += nf;
+    }
+    if (ni + nf == 0 || *p == 'e' || *p == 'E')
+        return bvh_number(s, out);
+    /* at most 14 digits: m < 2^53 and 10^nf exact, so one division rounds correctly */
+    double v = (double)m / pow10[nf];
+    *out = *s == '-' ? -v : v;
+    return p;
+#else
+    return bvh_number(s, out);
+#endif
+}
+
+#if BVH_SWAR && BVH_FAST_PATH && defined(__SSE2__)
+#include <emmintrin.h>
+#define BVH_TOKEN 1
+
+/* A number of at most 8 digits, with an optional '-' and '.', that ends within 16 bytes at a
+ * space, tab, CR or LF (BVH_PAD readable bytes after the text): its value and end, or NULL to
+ * leave anything else to bvh_number_padded. The whole token is classified at once (16 bytes
+ * compared in SSE2), the '.' squeezed out of an 8-byte word, and all digits converted by one
+ * bvh_swar8: about half the work of reading the integer and fraction digits separately. */
+BVH_INLINE const char *bvh_token_number(const char *s, double *out)
+{
+    static const double pow10[9] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8};
+    static const uint64_t bytes[9] = {0,
+                                      0xFFull,
+                                      0xFFFFull,
+                                      0xFFFFFFull,
+                                      0xFFFFFFFFull,
+                                      0xFFFFFFFFFFull,
+                                      0xFFFFFFFFFFFFull,
+                                      0xFFFFFFFFFFFFFFull,
+                                      0xFFFFFFFFFFFFFFFFull}; /* the low n bytes */
+    __m128i b = _mm_loadu_si128((const __m128i *)(const void *)s);
+    __m128i sep = _mm_or_si128(
+        _mm_or_si128(_mm_cmpeq_epi8(b, _mm_set1_epi8(' ')), _mm_cmpeq_epi8(b, _mm_set1_epi8('\t'))),
+        _mm_or_si128(_mm_cmpeq_epi8(b, _mm_set1_epi8('\n')),
+                     _mm_cmpeq_epi8(b, _mm_set1_epi8('\r'))));
+    unsigned sepm = (unsigned)_mm_movemask_epi8(sep) | 0x10000u;
+    unsigned len = (unsigned)__builtin_ctz(sepm), neg = *s == '-';
+    unsigned dots = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(b, _mm_set1_epi8('.')));
+    dots &= (1u << len) - 1;
+    unsigned n = len - neg - (dots != 0); /* digits, if the token is a number */
+    if (n - 1 >= 8 || (dots & (dots - 1)))
+        return 0;
+    uint64_t w;
+    memcpy(&w, s + neg, 8);
+    unsigned dp = dots ? (unsigned)__builtin_ctz(dots) - neg : n; /* digits before the '.' */
+    /* move the bytes after the '.' down one, and the 9th byte into the top (no-op without '.') */
+    uint64_t high = (w >> 8) | ((uint64_t)(unsigned char)s[neg + 8] << 56);
+    w = (w & bytes[dp]) | (high & ~bytes[dp]);
+    uint64_t d = w - 0x3030303030303030ull;
+    if ((d | (w + 0x4646464646464646ull)) & 0x8080808080808080ull & bytes[n])
+        return 0; /* not all digits: an exponent, a '+', a stray character */
+    /* m < 10^8: exact, and so is 10^(digits after the '.'): one correctly rounded division */
+    double v = (double)bvh_swar8(d << (64 - 8 * n)) / pow10[n - dp];
+    *out = neg ? -v : v;
+    return s + len;
+}
+#else
+#define BVH_TOKEN 0
+#endif
+
+#endif
