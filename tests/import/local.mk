@@ -13,3 +13,16 @@ EXTRA_DIST += tests/gltf/validate.js tests/import/expected.py
 # rigflow inspect: output and exit codes.
 TESTS += tests/import/test_inspect.sh
 EXTRA_DIST += tests/import/test_inspect.sh
+
+# A BVH clip (libbvh) out as GLB, validated and read back through Assimp.
+check_PROGRAMS += tests/import/test_bvh_gltf
+TESTS += tests/import/test_bvh_gltf
+tests_import_test_bvh_gltf_SOURCES = tests/import/test_bvh_gltf.c
+tests_import_test_bvh_gltf_CPPFLAGS = $(tests_import_test_import_CPPFLAGS) -I$(top_srcdir)/plugins/bvh
+tests_import_test_bvh_gltf_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_import_test_bvh_gltf_LDADD = plugins/assimp/librfassimp.la plugins/gltf/librfgltf.la \
+	plugins/bvh/libbvh.la $(CMOCKA_LIBS) -lm
+
+# pipelines/convert.json end to end (import and export nodes of plugins/convert).
+TESTS += tests/import/test_convert.sh
+EXTRA_DIST += tests/import/test_convert.sh
