@@ -17,15 +17,17 @@ else bad "make install into a staging folder"; echo "$pass passed, $fail failed"
 
 prefix_dir=$(find "$stage" -name rigflow-plugin.pc -printf '%h\n' | head -1)
 [ -n "$prefix_dir" ] && ok "rigflow-plugin.pc installed" || bad "rigflow-plugin.pc installed"
-export PKG_CONFIG_PATH="$prefix_dir" PKG_CONFIG_SYSROOT_DIR="$stage"
-pluginsdir="$stage$(pkg-config --variable=pluginsdir rigflow-plugin)"
-[ -d "$pluginsdir" ] && ok "bundled plugins in pluginsdir" || bad "bundled plugins in pluginsdir ($pluginsdir)"
-ls "$stage"/*/*/include/rigflow/plugin.h "$stage"/*/include/rigflow/plugin.h >/dev/null 2>&1 &&
-    ok "SDK headers installed" || bad "SDK headers installed"
+# --define-prefix: the staged .pc's prefix becomes the folder it was found in, as for a relocated
+# install, so --cflags and pluginsdir point into the staging folder.
+export PKG_CONFIG_PATH="$prefix_dir"
+pkgconfig="pkg-config --define-prefix"
+pluginsdir=$($pkgconfig --variable=pluginsdir rigflow-plugin)
+[ -f "$pluginsdir/bvh.so" ] && ok "bundled plugins in pluginsdir" || bad "bundled plugins in pluginsdir ($pluginsdir)"
+[ -n "$(find "$stage" -path '*/include/rigflow/plugin.h')" ] && ok "SDK headers installed" || bad "SDK headers installed"
 
 for ex in smooth match-nearest; do
     cp -r "$src/sdk/examples/$ex" "$tmp/$ex" && chmod -R u+w "$tmp/$ex"
-    if ${MAKE:-make} -C "$tmp/$ex" install DESTDIR="$stage" >"$tmp/log" 2>&1; then ok "example $ex builds and installs out of tree"
+    if ${MAKE:-make} -C "$tmp/$ex" install PKG_CONFIG="$pkgconfig" >"$tmp/log" 2>&1; then ok "example $ex builds and installs out of tree"
     else bad "example $ex builds and installs out of tree"; fi
 done
 
