@@ -1,1 +1,3 @@
 # Benchmarks (run with `make bench`).
+# IK solvers beside three.js and closed-chain-ik: bench/ik/run.sh [BUILDDIR] [--quick] (issue 6).
+EXTRA_DIST += bench/ik/run.sh bench/ik/ratios.mjs

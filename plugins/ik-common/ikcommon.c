@@ -392,6 +392,14 @@ static bool apply_orientations(rf_ikc_solve *s)
     return any;
 }
 
+/* Rotation angle between two unit quaternions. atan2 of the difference's parts, not acos of the
+ * dot product, which loses half the digits near zero. */
+static double angle_between(rf_quat a, rf_quat b)
+{
+    rf_quat d = rf_quat_mul(rf_quat_conj(a), b);
+    return 2 * atan2(sqrt(d.x * d.x + d.y * d.y + d.z * d.z), fabs(d.w));
+}
+
 void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations)
 {
     rf_ik_result *res = s->res;
@@ -417,7 +425,7 @@ void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations)
         if (res->angle_errors)
             res->angle_errors[i] =
                 (g->flags & RF_IK_GOAL_ORIENTATION)
-                    ? rf_quat_angle(s->w->world[g->effector].r, rf_quat_normalize(g->orientation))
+                    ? angle_between(s->w->world[g->effector].r, rf_quat_normalize(g->orientation))
                     : 0.0;
     }
 }

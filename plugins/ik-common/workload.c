@@ -32,6 +32,9 @@ bool rf_ikw_matches(const char *name, const char *workload)
     size_t n = strlen(name);
     if (n == 0 || strncmp(name, workload, n) != 0)
         return false;
+    for (const char *const *w = workload_names; *w; w++)
+        if (!strcmp(*w, name)) /* a full name selects that workload only */
+            return workload[n] == '\0';
     char next = workload[n], last = name[n - 1];
     /* "chain" selects every chain, "chain1" none of chain10's */
     return next == '\0' || next == '-' ||

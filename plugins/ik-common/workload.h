@@ -37,7 +37,8 @@ typedef struct rf_ikw {
 
 /* Every workload name, in a fixed order (NULL-terminated, static). */
 const char *const *rf_ikw_names(void);
-/* True when `name` selects workload `workload`: equal, or a prefix ending at a '-' boundary
+/* True when `name` selects workload `workload`: equal (a full name selects only itself), or a
+ * prefix ending at a '-' boundary
  * ("chain10" selects chain10-it10, chain10-it50, and their -lim forms), or a family name
  * ("chain" selects every chain). */
 bool rf_ikw_matches(const char *name, const char *workload);

@@ -84,6 +84,30 @@ static void chain_to_rotations(rf_ikc_solve *s, uint32_t m)
 
 /* ---- the general form: trees, limits, rigid parts ---- */
 
+/* The forward pass's limits (Aristidou et al. 2016 constrain both passes): bone vector `bone`
+ * from joint p to the joint it drives, turned into p's cone or hinge plane and range as seen from
+ * p's parent's frame of the last backward pass (the only frame known this early). Twist has no
+ * position to act on here; the backward pass keeps it. */
+static rf_vec3 forward_limit(rf_ikc_solve *s, uint32_t p, rf_vec3 bone)
+{
+    const rf_ik_constraint *c = rf_ikc_constraint(s->pb, p);
+    if (!c || (c->flags & RF_IK_LOCKED))
+        return bone;
+    double len = rf_v3_len(bone);
+    rf_quat frame = rf_quat_mul(rf_ikc_parent_rot(s, p), s->w->ref[p]);
+    rf_vec3 rest = rf_quat_rotate(frame, rf_v3_normalize(s->w->rel[s->w->first[p]].t));
+    if (c->flags & RF_IK_LIMIT_HINGE) {
+        rf_vec3 a = rf_v3_normalize(rf_quat_rotate(frame, c->axis));
+        double angle = rf_ikc_angle_about(a, rest, bone);
+        angle = fmax(c->min_angle, fmin(c->max_angle, angle));
+        return rf_v3_scale(rf_quat_rotate(rf_quat_from_axis_angle(a, angle), rest), len);
+    }
+    if (!(c->flags & RF_IK_LIMIT_CONE) || rf_v3_angle(rest, bone) <= c->cone_angle)
+        return bone;
+    rf_vec3 axis = rf_v3_cross(rest, bone);
+    return rf_v3_scale(rf_quat_rotate(rf_quat_from_axis_angle(axis, c->cone_angle), rest), len);
+}
+
 /* Forward pass: positions from the effectors towards the pivots, centroids at sub-bases. Each
  * path joint pushes its proposal for its parent into acc once its own position is final. */
 static void forward_pass(rf_ikc_solve *s)
@@ -106,6 +130,9 @@ static void forward_pass(rf_ikc_solve *s)
         w->pos[j] = rf_v3_scale(w->acc[j], 1.0 / w->acc_w[j]);
         int32_t p = s->pb->parents[j];
         rf_vec3 proposal = place(w->pos[j], w->world[p].t, w->bone_len[j]);
+        if (s->constrained && w->driver[j] == p && w->first[p] == (int32_t)j && w->next[j] < 0)
+            proposal =
+                rf_v3_sub(w->pos[j], forward_limit(s, (uint32_t)p, rf_v3_sub(w->pos[j], proposal)));
         w->acc[p] = rf_v3_add(w->acc[p], rf_v3_scale(proposal, w->weight[j]));
         w->acc_w[p] += w->weight[j];
     }
@@ -142,14 +169,78 @@ static rf_quat aim_rotation(rf_ikc_solve *s, uint32_t j)
     return rf_quat_mul(turn, x.r);
 }
 
+/* How far hinge angle `a` is outside [lo, hi] (0 inside). */
+static double outside(double a, double lo, double hi)
+{
+    return a < lo ? lo - a : a > hi ? a - hi : 0;
+}
+
+/* The roll of j about its bone d, of the (up to) two that let c's bone (u, now) reach the
+ * direction `want` by bending about c's hinge axis a, that leaves c's bend most within its range.
+ * A bend keeps the bone's angle to the axis, so the roll must give a . want = |want| (a . u/|u|)
+ * (0 for the usual axis normal to the bone: the bend plane then holds `want`). */
+static double best_roll(rf_ikc_solve *s, uint32_t c, rf_vec3 d, rf_vec3 a, rf_vec3 u, rf_vec3 want)
+{
+    const rf_ik_constraint *hc = rf_ikc_constraint(s->pb, c);
+    /* a rolled by phi about d: a_par + cos(phi) a_perp + sin(phi) d x a_perp */
+    rf_vec3 a_par = rf_v3_scale(d, rf_v3_dot(a, d)), a_perp = rf_v3_sub(a, a_par);
+    double A = rf_v3_dot(a_perp, want), B = rf_v3_dot(rf_v3_cross(d, a_perp), want);
+    double C = rf_v3_dot(a_par, want) - rf_v3_len(want) * rf_v3_dot(a, rf_v3_normalize(u));
+    double amp = hypot(A, B);
+    if (amp < 1e-12)
+        return 0;
+    double phi = atan2(B, A), delta = acos(fmax(-1.0, fmin(1.0, -C / amp)));
+    rf_quat q = rf_quat_normalize(rf_quat_mul(rf_quat_conj(s->w->ref[c]), s->local[c].r));
+    double now = rf_ikc_twist_angle(q, rf_v3_normalize(hc->axis)), best = 0, cost = INFINITY;
+    for (int k = 0; k < 2; k++) {
+        double roll = remainder(phi + (k ? -delta : delta), 2 * RF_PI);
+        rf_quat r = rf_quat_from_axis_angle(d, roll);
+        double bend = now + rf_ikc_angle_about(rf_quat_rotate(r, a), rf_quat_rotate(r, u), want);
+        double miss = outside(remainder(bend, 2 * RF_PI), hc->min_angle, hc->max_angle);
+        if (miss < cost - 1e-12 || (fabs(miss - cost) <= 1e-12 && fabs(roll) < fabs(best)))
+            cost = miss, best = roll;
+    }
+    return best;
+}
+
+/* A hinge bends only in its plane, and the joint above it decides where that plane lies by its
+ * roll about its own bone, which aiming alone (a minimal swing) never changes. So when the one
+ * joint j drives is a hinge, j also rolls (within its own limits) until the hinge's plane holds
+ * the direction the hinge's bone should take. Aristidou et al. 2016 reorient joint frames for
+ * hinges in the same spirit. j's world transform must be current. */
+static void hinge_roll(rf_ikc_solve *s, uint32_t j)
+{
+    rf_ikc_work *w = s->w;
+    int32_t c = w->first[j];
+    if (c < 0 || w->next[c] >= 0 || s->pb->parents[c] != (int32_t)j || w->first[c] < 0 ||
+        w->next[w->first[c]] >= 0 || !(w->flags[c] & RF_IKC_MOVABLE))
+        return;
+    const rf_ik_constraint *hc = rf_ikc_constraint(s->pb, (uint32_t)c);
+    if (!hc || !(hc->flags & RF_IK_LIMIT_HINGE))
+        return;
+    rf_xform x = w->world[j];
+    rf_vec3 Xc = rf_xform_point(x, w->rel[c].t), d = rf_v3_normalize(rf_v3_sub(Xc, x.t));
+    rf_vec3 want = rf_v3_sub(w->pos[w->first[c]], Xc);
+    if (rf_v3_len2(d) == 0 || rf_v3_len2(want) < 1e-24)
+        return;
+    rf_vec3 a = rf_v3_normalize(rf_quat_rotate(rf_quat_mul(x.r, w->ref[c]), hc->axis));
+    rf_vec3 u = rf_quat_rotate(rf_quat_mul(x.r, s->local[c].r), w->rel[w->first[c]].t);
+    double roll = best_roll(s, (uint32_t)c, d, a, u, want);
+    if (roll != 0)
+        rf_ikc_set_world_rot(s, j, rf_quat_mul(rf_quat_from_axis_angle(d, roll), x.r));
+}
+
 /* Backward pass: from the pivots outwards, rotations projected into the limits. Leaves every
  * world transform current. */
 static void backward_pass(rf_ikc_solve *s)
 {
     for (uint32_t j = 0; j < s->n; j++) {
         rf_ikc_fk_joint(s, j);
-        if ((s->w->flags[j] & RF_IKC_MOVABLE) && s->w->first[j] >= 0)
+        if ((s->w->flags[j] & RF_IKC_MOVABLE) && s->w->first[j] >= 0) {
             rf_ikc_set_world_rot(s, j, aim_rotation(s, j));
+            if (s->constrained)
+                hinge_roll(s, j);
+        }
     }
 }
 
