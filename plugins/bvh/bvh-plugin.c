@@ -113,7 +113,7 @@ static bool import_process(void *self, const rf_host *host, rf_node *node)
 {
     (void)self;
     host_ctx ctx = {host, node};
-    rf_bvh_read_opts opts = {on_progress, on_warning, &ctx};
+    rf_bvh_read_opts opts = {.progress = on_progress, .warning = on_warning, .user = &ctx};
     rf_skeleton *s;
     rf_animation *a;
     char err[ERR_SIZE];

@@ -20,6 +20,7 @@
 #include <string.h>
 #include <strings.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 
@@ -29,6 +30,18 @@
 
 #define CHUNK (1u << 18)
 #define PROGRESS_FRAMES 1024u
+#define BATCH_LINES 512             /* frame lines taken from the buffer at a time */
+#define MIN_SPLIT 16                /* fewer lines than twice this are not split between threads */
+#define THREAD_MIN_BYTES (1u << 20) /* a helper thread only for this much motion data or more */
+
+/* A helper thread needs POSIX threads; without them everything runs on the caller's thread. */
+#if defined(__unix__) && !defined(BVH_NO_THREADS)
+#define BVH_THREADS 1
+#include <pthread.h>
+#include <unistd.h>
+#else
+#define BVH_THREADS 0
+#endif
 
 /* ---- input: complete lines from a file or memory ---- */
 
@@ -147,6 +160,12 @@ typedef struct jplan {
     int32_t pos[3];  /* value index of the X, Y, Z position channels, or -1 for the OFFSET */
 } jplan;
 
+/* Work space for turning one frame line into poses; one per thread. */
+typedef struct scratch {
+    double *vals, *sn, *cs; /* the frame's values and their half-angle sines and cosines */
+    bool huge;              /* vals may hold angles too large for bvh_sincos_half */
+} scratch;
+
 typedef struct parser {
     source src;
     const char *name; /* for messages */
@@ -162,10 +181,9 @@ typedef struct parser {
     int32_t *names; /* hash table of joint index + 1, 0 for empty */
     size_t names_cap;
     size_t channels; /* total channels, the values per frame */
-    /* per-frame work space: allocated once, reused by every frame */
+    /* per-frame work: the joints' plans, and this thread's work space (allocated once) */
     jplan *plan;
-    double *vals, *sn, *cs; /* a frame's values and their half-angle sines and cosines */
-    bool huge;              /* vals may hold angles too large for bvh_sincos_half */
+    scratch main;
     /* tokenizer: the rest of the current line */
     char *cur, *end;
 } parser;
@@ -697,17 +715,18 @@ static bool is_separator(char c)
     return c == ' ' || c == '\t' || c == '\r' || c == '\n' || !c;
 }
 
-/* Reads the values of one frame line into ps->vals. */
 #if BVH_TOKEN
-/* The fast way through a well-formed frame line: bvh_token_number classifies each number's 16
- * bytes at once, so finding the next number (the chain the processor must follow) takes a few
- * operations while the digits convert alongside. False for anything unusual (wrong count, a
- * character that ends a number early, a value too large for bvh_sincos_half): read_values then
- * reads the line again, one number at a time, to say what is wrong. */
-static bool read_values_fast(parser *ps, const char *line, const char *end)
+/* The fast way through a well-formed frame line, into sc->vals: bvh_token_number classifies each
+ * number's 16 bytes at once, so finding the next number (the chain the processor must follow)
+ * takes a few operations while the digits convert alongside. False for anything unusual (wrong
+ * count, a character that ends a number early, a value too large for bvh_sincos_half):
+ * read_values then reads the line again, one number at a time, to say what is wrong. Reads only
+ * the parser's shared, unchanging state, so two threads may run it at once. */
+static bool read_values_fast(const parser *ps, scratch *sc, const char *line, const char *end)
 {
-    double *v = ps->vals, *vend = v + ps->channels;
+    double *v = sc->vals, *vend = v + ps->channels;
     const char *p = line;
+    sc->huge = false;
     for (;;) {
         while (*p == ' ' || *p == '\t')
             p++;
@@ -724,18 +743,22 @@ static bool read_values_fast(parser *ps, const char *line, const char *end)
     }
     return v == vend && skip_spaces((char *)p, end) == end;
 }
+#else
+static bool read_values_fast(const parser *ps, scratch *sc, const char *line, const char *end)
+{
+    (void)ps, (void)sc, (void)line, (void)end;
+    return false;
+}
 #endif
 
+/* Reads frame f's line into ps->main.vals, or says what is wrong with it (at ps->src.line). */
 static bool read_values(parser *ps, char *line, char *end, uint32_t f)
 {
-#if BVH_TOKEN
-    ps->huge = false;
-    if (read_values_fast(ps, line, end))
+    if (read_values_fast(ps, &ps->main, line, end))
         return true;
-#endif
     char *p = line;
-    double *v = ps->vals;
-    ps->huge = true; /* rare: let convert_frame check every angle */
+    double *v = ps->main.vals;
+    ps->main.huge = true; /* rare: let convert_frame check every angle */
     for (size_t ji = 0; ji < ps->count; ji++) {
         const pjoint *j = &ps->joints[ji];
         for (int c = 0; c < j->nch; c++) {
@@ -754,14 +777,16 @@ static bool read_values(parser *ps, char *line, char *end, uint32_t f)
     return true;
 }
 
-/* Turns the frame's values into local rotations and translations. */
-static void convert_frame(parser *ps, float *rot, float *tr)
+/* Turns the values in sc into frame f's local rotations and translations. */
+static void convert_frame(const parser *ps, scratch *sc, rf_animation *a, uint32_t f)
 {
     size_t n = ps->channels + 1; /* with the padding value */
-    bvh_sincos_half(ps->vals, ps->sn, ps->cs, n);
-    if (ps->huge)
-        bvh_sincos_half_fix(ps->vals, ps->sn, ps->cs, n);
-    const double *sn = ps->sn, *cs = ps->cs, *v = ps->vals;
+    float *rot = a->rotations + (size_t)f * ps->count * 4;
+    float *tr = a->translations + (size_t)f * ps->count * 3;
+    bvh_sincos_half(sc->vals, sc->sn, sc->cs, n);
+    if (sc->huge)
+        bvh_sincos_half_fix(sc->vals, sc->sn, sc->cs, n);
+    const double *sn = sc->sn, *cs = sc->cs, *v = sc->vals;
     for (size_t ji = 0; ji < ps->count; ji++, rot += 4, tr += 3) {
         const jplan *pl = &ps->plan[ji];
         const double *off = ps->joints[ji].offset;
@@ -772,16 +797,29 @@ static void convert_frame(parser *ps, float *rot, float *tr)
     }
 }
 
+static bool scratch_init(scratch *sc, size_t channels)
+{
+    size_t n = channels + 1;
+    sc->vals = malloc(n * sizeof *sc->vals);
+    sc->sn = malloc(n * sizeof *sc->sn);
+    sc->cs = malloc(n * sizeof *sc->cs);
+    if (sc->vals)
+        sc->vals[channels] = 0; /* the padding angle of joints with fewer than 3 rotations */
+    return sc->vals && sc->sn && sc->cs;
+}
+
+static void scratch_free(scratch *sc)
+{
+    free(sc->vals);
+    free(sc->sn);
+    free(sc->cs);
+}
+
 static bool make_plan(parser *ps)
 {
-    size_t n = ps->channels + 1;
     ps->plan = malloc((ps->count ? ps->count : 1) * sizeof *ps->plan);
-    ps->vals = malloc(n * sizeof *ps->vals);
-    ps->sn = malloc(n * sizeof *ps->sn);
-    ps->cs = malloc(n * sizeof *ps->cs);
-    if (!ps->plan || !ps->vals || !ps->sn || !ps->cs)
+    if (!ps->plan || !scratch_init(&ps->main, ps->channels))
         return fail(ps, ps->src.line, "out of memory");
-    ps->vals[ps->channels] = 0; /* the padding angle */
     uint32_t index = 0;
     for (size_t ji = 0; ji < ps->count; ji++) {
         const pjoint *j = &ps->joints[ji];
@@ -838,35 +876,255 @@ static void check_trailing(parser *ps, uint32_t frames)
     ps->opts->warning(ps->opts->user, msg);
 }
 
+/* ---- frames, in batches, on two threads for large files ---- */
+
+typedef struct frame_line {
+    const char *line, *end;
+    unsigned long number; /* line number, for messages */
+} frame_line;
+
+/* A run of frames for one thread: frame `first` + i is lines[i]. */
+typedef struct batch {
+    const parser *ps;
+    scratch *sc;
+    rf_animation *a;
+    const frame_line *lines;
+    size_t count;
+    uint32_t first;
+    size_t done; /* frames converted before the first the fast path declined */
+} batch;
+
+static void run_batch(batch *b)
+{
+    for (b->done = 0; b->done < b->count; b->done++) {
+        const frame_line *l = &b->lines[b->done];
+        if (!read_values_fast(b->ps, b->sc, l->line, l->end))
+            return;
+        convert_frame(b->ps, b->sc, b->a, b->first + (uint32_t)b->done);
+    }
+}
+
+#if BVH_THREADS
+/* A second thread that runs one batch at a time for the parser's thread. */
+typedef struct helper {
+    pthread_t thread;
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+    batch *work; /* set by the parser, cleared when done */
+    bool quit;
+    scratch sc;
+} helper;
+
+static void *helper_main(void *arg)
+{
+    helper *h = arg;
+    pthread_mutex_lock(&h->mu);
+    for (;;) {
+        while (!h->work && !h->quit)
+            pthread_cond_wait(&h->cv, &h->mu);
+        if (!h->work)
+            break;
+        pthread_mutex_unlock(&h->mu);
+        run_batch(h->work);
+        pthread_mutex_lock(&h->mu);
+        h->work = NULL;
+        pthread_cond_broadcast(&h->cv);
+    }
+    pthread_mutex_unlock(&h->mu);
+    return NULL;
+}
+
+static helper *helper_start(size_t channels)
+{
+    helper *h = calloc(1, sizeof *h);
+    if (!h || !scratch_init(&h->sc, channels) || pthread_mutex_init(&h->mu, NULL) != 0) {
+        if (h)
+            scratch_free(&h->sc);
+        free(h);
+        return NULL;
+    }
+    pthread_cond_init(&h->cv, NULL);
+    if (pthread_create(&h->thread, NULL, helper_main, h) != 0) {
+        pthread_cond_destroy(&h->cv);
+        pthread_mutex_destroy(&h->mu);
+        scratch_free(&h->sc);
+        free(h);
+        return NULL;
+    }
+    return h;
+}
+
+static void helper_submit(helper *h, batch *b)
+{
+    pthread_mutex_lock(&h->mu);
+    h->work = b;
+    pthread_cond_broadcast(&h->cv);
+    pthread_mutex_unlock(&h->mu);
+}
+
+static void helper_wait(helper *h)
+{
+    pthread_mutex_lock(&h->mu);
+    while (h->work)
+        pthread_cond_wait(&h->cv, &h->mu);
+    pthread_mutex_unlock(&h->mu);
+}
+
+static void helper_stop(helper *h)
+{
+    if (!h)
+        return;
+    pthread_mutex_lock(&h->mu);
+    h->quit = true;
+    pthread_cond_broadcast(&h->cv);
+    pthread_mutex_unlock(&h->mu);
+    pthread_join(h->thread, NULL);
+    pthread_cond_destroy(&h->cv);
+    pthread_mutex_destroy(&h->mu);
+    scratch_free(&h->sc);
+    free(h);
+}
+
+/* A helper thread when the frames are many enough to be worth one, the caller allows it and
+ * there is a second processor; NULL otherwise (everything then runs on the caller's thread). */
+static helper *maybe_helper(const parser *ps, uint32_t frames)
+{
+    int allowed = ps->opts ? ps->opts->threads : 0;
+    uint64_t at = source_offset(&ps->src);
+    uint64_t left = ps->src.total > at ? ps->src.total - at : 0;
+    if (allowed == 1 || left < THREAD_MIN_BYTES || frames < 2 * MIN_SPLIT ||
+        sysconf(_SC_NPROCESSORS_ONLN) < 2)
+        return NULL;
+    return helper_start(ps->channels);
+}
+#else
+typedef struct helper helper;
+static helper *maybe_helper(const parser *ps, uint32_t frames)
+{
+    (void)ps, (void)frames;
+    return NULL;
+}
+static void helper_submit(helper *h, batch *b)
+{
+    (void)h, (void)b;
+}
+static void helper_wait(helper *h)
+{
+    (void)h;
+}
+static void helper_stop(helper *h)
+{
+    (void)h;
+}
+#endif
+
+/* Takes up to `max` frame lines that are already whole in the buffer (skipping blank lines),
+ * without reading more: their pointers stay valid until the next read. */
+static size_t take_lines(parser *ps, frame_line *lines, size_t max)
+{
+    source *s = &ps->src;
+    size_t n = 0;
+    while (n < max) {
+        char *p = s->buf + s->pos;
+        char *nl = memchr(p, '\n', s->len - s->pos);
+        if (!nl)
+            break;
+        if (skip_spaces(p, nl) != nl) {
+            lines[n].line = p, lines[n].end = nl;
+            lines[n++].number = s->line;
+        }
+        source_next(s, nl);
+    }
+    return n;
+}
+
+/* The lines from the first the fast path declined, one by one on this thread: a line the fast
+ * path cannot take either parses the careful way or fails with the message. */
+static bool finish_batch(parser *ps, rf_animation *a, const frame_line *lines, size_t from,
+                         size_t count, uint32_t first)
+{
+    unsigned long line = ps->src.line;
+    for (size_t i = from; i < count; i++) {
+        ps->src.line = lines[i].number; /* for messages */
+        if (!read_values(ps, (char *)lines[i].line, (char *)lines[i].end, first + (uint32_t)i))
+            return false;
+        convert_frame(ps, &ps->main, a, first + (uint32_t)i);
+    }
+    ps->src.line = line;
+    return true;
+}
+
+/* Converts `count` whole lines into frames first..: halves on two threads when there is a
+ * helper and enough lines. */
+static bool run_lines(parser *ps, helper *h, rf_animation *a, const frame_line *lines, size_t count,
+                      uint32_t first)
+{
+    size_t half = h && count >= 2 * MIN_SPLIT ? count / 2 : count;
+    batch mine = {ps, &ps->main, a, lines, half, first, 0};
+#if BVH_THREADS
+    batch theirs = {ps,           h ? &h->sc : NULL,      a, lines + half,
+                    count - half, first + (uint32_t)half, 0};
+    if (half < count)
+        helper_submit(h, &theirs);
+#endif
+    run_batch(&mine);
+    size_t from = mine.done;
+#if BVH_THREADS
+    if (half < count) {
+        helper_wait(h);
+        if (from == half)
+            from = half + theirs.done;
+    }
+#endif
+    return finish_batch(ps, a, lines, from, count, first);
+}
+
+/* One frame the ordinary way, when no whole line is buffered (the buffer needs refilling). */
+static bool one_frame(parser *ps, rf_animation *a, uint32_t f)
+{
+    char *end, *line;
+    line = ps->channels ? next_nonblank(ps, &end) : source_line(&ps->src, &end);
+    if (!line) {
+        if (!ps->failed && !end)
+            fail_read(ps);
+        if (ps->failed)
+            return false;
+        return fail(ps, ps->src.line,
+                    "MOTION is truncated: the file ends after %" PRIu32 " of %" PRIu32
+                    " frames, expected %" PRIu32 " more",
+                    f, a->frame_count, a->frame_count - f);
+    }
+    if (!read_values(ps, line, end, f))
+        return false;
+    convert_frame(ps, &ps->main, a, f);
+    source_next(&ps->src, end);
+    return true;
+}
+
 static bool parse_frames(parser *ps, rf_animation *a)
 {
-    size_t stride = ps->count;
-    for (uint32_t f = 0; f < a->frame_count; f++) {
-        char *end, *line;
-        if (ps->channels)
-            line = next_nonblank(ps, &end);
+    frame_line lines[BATCH_LINES];
+    helper *h = ps->channels ? maybe_helper(ps, a->frame_count) : NULL;
+    uint32_t f = 0, reported = 0;
+    bool ok = true;
+    while (ok && f < a->frame_count) {
+        size_t want = a->frame_count - f < BATCH_LINES ? a->frame_count - f : BATCH_LINES;
+        /* frames of no values are lines, blank or not: those go one at a time */
+        size_t n = ps->channels ? take_lines(ps, lines, want) : 0;
+        if (n)
+            ok = run_lines(ps, h, a, lines, n, f);
         else
-            line = source_line(&ps->src, &end);
-        if (!line) {
-            if (!ps->failed && !end)
-                fail_read(ps);
-            if (ps->failed)
-                return false;
-            return fail(ps, ps->src.line,
-                        "MOTION is truncated: the file ends after %" PRIu32 " of %" PRIu32
-                        " frames, expected %" PRIu32 " more",
-                        f, a->frame_count, a->frame_count - f);
+            ok = one_frame(ps, a, f), n = 1;
+        f += (uint32_t)n;
+        if (ok && f - reported >= PROGRESS_FRAMES) {
+            ok = report_progress(ps);
+            reported = f;
         }
-        if (!read_values(ps, line, end, f))
-            return false;
-        convert_frame(ps, a->rotations + (size_t)f * stride * 4,
-                      a->translations + (size_t)f * stride * 3);
-        source_next(&ps->src, end);
-        if ((f + 1) % PROGRESS_FRAMES == 0 && !report_progress(ps))
-            return false;
     }
-    check_trailing(ps, a->frame_count);
-    return !ps->failed;
+    helper_stop(h);
+    if (ok)
+        check_trailing(ps, a->frame_count);
+    return ok && !ps->failed;
 }
 
 /* ---- results ---- */
@@ -969,9 +1227,7 @@ static void parser_free(parser *ps)
     free(ps->names);
     free(ps->src.buf);
     free(ps->plan);
-    free(ps->vals);
-    free(ps->sn);
-    free(ps->cs);
+    scratch_free(&ps->main);
 }
 
 static bool parse(parser *ps, rf_skeleton **skeleton, rf_animation **animation)
@@ -1036,9 +1292,14 @@ bool rf_bvh_read_file(const char *path, const rf_bvh_read_opts *opts, rf_skeleto
 {
     struct stat st;
     *skeleton = NULL, *animation = NULL;
-    FILE *f = fopen(path, "rb");
+    /* O_NONBLOCK: opening a FIFO must not wait for a writer (it is refused just below; regular
+     * files ignore the flag). */
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+    FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
     if (!f) {
         snprintf(err, err_size, "%s: cannot open: %s", path, strerror(errno));
+        if (fd >= 0)
+            close(fd);
         return false;
     }
     if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {

@@ -30,6 +30,9 @@ typedef struct rf_bvh_read_opts {
     rf_bvh_progress_fn progress; /* may be NULL */
     rf_bvh_warning_fn warning;   /* may be NULL */
     void *user;                  /* passed to both */
+    int threads;                 /* 0: a second thread for large files when there is a second
+                                  * processor; 1: the caller's thread only. Callbacks always run
+                                  * on the caller's thread. */
 } rf_bvh_read_opts;
 
 /* Rotation orders for writing; the letters give the channel order, composed left to right. */

@@ -606,7 +606,7 @@ static void test_trailing_and_cancel(void **state)
 {
     (void)state;
     char *text = replaced(sample, "Frames: 2", "Frames: 1", 1);
-    rf_bvh_read_opts opts = {NULL, on_warning, NULL};
+    rf_bvh_read_opts opts = {.warning = on_warning};
     rf_skeleton *s;
     rf_animation *a;
     warnings = 0;
@@ -625,12 +625,106 @@ static void test_trailing_and_cancel(void **state)
                               "MOTION\nFrames: 5000\nFrame Time: 0.01\n");
     for (int f = 0; f < 5000; f++)
         n += (size_t)sprintf(big + n, "%d\n", f % 360);
-    rf_bvh_read_opts cancel = {cancel_at_half, NULL, NULL};
+    rf_bvh_read_opts cancel = {.progress = cancel_at_half};
     progress_calls = 0;
     assert_false(rf_bvh_read_memory(big, n, "big.bvh", &cancel, &s, &a, err, sizeof err));
     assert_true(progress_calls >= 1);
     assert_non_null(strstr(err, "cancelled"));
     free(big);
+}
+
+/* A 6000-frame, 1.5 MB file: enough for the reader to split frames between two threads. */
+static char *big_text(size_t *size)
+{
+    size_t cap = 6000 * 400 + 4096, n = 0;
+    char *t = malloc(cap);
+    assert_non_null(t);
+    n += (size_t)sprintf(t, "HIERARCHY\nROOT j0\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition "
+                            "Zposition Zrotation Yrotation Xrotation\n");
+    for (int j = 1; j < 10; j++)
+        n += (size_t)sprintf(t + n,
+                             "JOINT j%d\n{\nOFFSET 0 %d 0\nCHANNELS 3 Yrotation Xrotation "
+                             "Zrotation\n",
+                             j, j);
+    n += (size_t)sprintf(t + n, "End Site\n{\nOFFSET 0 1 0\n}\n");
+    for (int j = 0; j < 10; j++)
+        n += (size_t)sprintf(t + n, "}\n");
+    n += (size_t)sprintf(t + n, "MOTION\nFrames: 6000\nFrame Time: 0.01\n");
+    srand(5);
+    for (int f = 0; f < 6000; f++) {
+        for (int v = 0; v < 33; v++)
+            n += (size_t)sprintf(t + n, "%.6f ", (rand() % 2000000) / 1e4 - 100);
+        t[n - 1] = '\n';
+    }
+    t[n] = '\0';
+    *size = n;
+    return t;
+}
+
+/* The line number of frame `frame` (1-based) in big_text: 5 lines for the root, 4 per joint, 4
+ * for the End Site, 10 closing braces and 3 of MOTION header come before. */
+static int big_line(int frame)
+{
+    return 5 + 9 * 4 + 4 + 10 + 3 + frame;
+}
+
+static void replace_value(char *text, int line)
+{
+    char *p = text;
+    for (int l = 1; l < line; l++)
+        p = strchr(p, '\n') + 1;
+    p = strchr(p, ' ') + 1; /* the second value */
+    memcpy(p, "nanxxxxxxx", strcspn(p, " "));
+}
+
+/* Two threads read exactly what one does, and report the first error in file order. */
+static void test_threads(void **state)
+{
+    (void)state;
+    size_t size;
+    char *text = big_text(&size);
+    rf_bvh_read_opts one = {.threads = 1}, any = {.threads = 0};
+    rf_skeleton *s1, *s2;
+    rf_animation *a1, *a2;
+    assert_true(size > (1u << 20));
+    assert_true(rf_bvh_read_memory(text, size, "big.bvh", &one, &s1, &a1, err, sizeof err));
+    assert_true(rf_bvh_read_memory(text, size, "big.bvh", &any, &s2, &a2, err, sizeof err));
+    assert_int_equal(a1->frame_count, 6000);
+    assert_memory_equal(a1->rotations, a2->rotations, 6000 * 10 * 4 * sizeof(float));
+    assert_memory_equal(a1->translations, a2->translations, 6000 * 10 * 3 * sizeof(float));
+    rf_skeleton_free(s1), rf_animation_free(a1);
+    rf_skeleton_free(s2), rf_animation_free(a2);
+
+    /* a value the fast path declines (huge angle) late in a batch: same result */
+    char *p = text;
+    for (int l = 1; l < big_line(2000); l++)
+        p = strchr(p, '\n') + 1;
+    size_t len = strcspn(p, " ");
+    memset(p, ' ', len);
+    memcpy(p, "1e20", 4);
+    if (!rf_bvh_read_memory(text, size, "big.bvh", &one, &s1, &a1, err, sizeof err) ||
+        !rf_bvh_read_memory(text, size, "big.bvh", &any, &s2, &a2, err, sizeof err))
+        fail_msg("%s", err);
+    assert_memory_equal(a1->rotations, a2->rotations, 6000 * 10 * 4 * sizeof(float));
+    rf_skeleton_free(s1), rf_animation_free(a1);
+    rf_skeleton_free(s2), rf_animation_free(a2);
+
+    /* batches are 512 lines from frame 1, split in halves: frames 2561-2816 and 2817-3072. An
+     * error in the second half alone, then one in the first half too: the first is named */
+    static const int bad[2] = {2900, 2700};
+    for (int b = 0; b < 2; b++) {
+        replace_value(text, big_line(bad[b]));
+        char expect[64], where[64];
+        snprintf(where, sizeof where, "big.bvh:%d: 'nanx", big_line(bad[b]));
+        snprintf(expect, sizeof expect, "is not a finite number (frame %d, joint 'j0'", bad[b]);
+        for (int t = 0; t < 2; t++) {
+            assert_false(rf_bvh_read_memory(text, size, "big.bvh", t ? &any : &one, &s1, &a1, err,
+                                            sizeof err));
+            if (!strstr(err, where) || !strstr(err, expect))
+                fail_msg("%s, expected %s ... %s", err, where, expect);
+        }
+    }
+    free(text);
 }
 
 /* ---- the shared files ---- */
@@ -707,7 +801,7 @@ static void roundtrip_file(const char *dir, const char *name, const char *tmp)
     rf_skeleton *s, *s2;
     rf_animation *a, *a2;
     warnings = 0;
-    rf_bvh_read_opts opts = {NULL, on_warning, NULL};
+    rf_bvh_read_opts opts = {.warning = on_warning};
     if (!rf_bvh_read_file(path, &opts, &s, &a, err, sizeof err))
         fail_msg("%s", err);
     print_message("  %s: %u joints, %u frames, %.4g fps%s%s\n", name, s->joint_count,
@@ -888,7 +982,7 @@ static void test_boxing_extra_line(void **state)
     char expect[128];
     snprintf(expect, sizeof expect, "boxing_toes.bvh:%d: %d line", time_line + (int)frames + 1,
              data_lines - (int)frames);
-    rf_bvh_read_opts opts = {NULL, on_warning, NULL};
+    rf_bvh_read_opts opts = {.warning = on_warning};
     rf_skeleton *s;
     rf_animation *a;
     warnings = 0;
@@ -1289,6 +1383,7 @@ int main(void)
         cmocka_unit_test(test_frames_bound),
         cmocka_unit_test(test_deep_nesting),
         cmocka_unit_test(test_trailing_and_cancel),
+        cmocka_unit_test(test_threads),
         cmocka_unit_test(test_roundtrip_shared_files),
         cmocka_unit_test(test_cmu_values),
         cmocka_unit_test(test_real_file_variants),

@@ -1,0 +1,14 @@
+# BVH import/export benchmark (issue 2): bench/bvh/bench_bvh, built only by `make bench-bvh`
+# (or `make bench`), and bench/bvh/run.sh, which runs it beside the three.js and Assimp peers.
+EXTRA_PROGRAMS += bench/bvh/bench_bvh
+bench_bvh_bench_bvh_SOURCES = bench/bvh/bench_bvh.c
+bench_bvh_bench_bvh_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/bvh
+bench_bvh_bench_bvh_LDADD = plugins/bvh/libbvh.la -lm
+CLEANFILES += bench/bvh/bench_bvh$(EXEEXT)
+EXTRA_DIST += bench/bvh/run.sh bench/bvh/ratios.mjs
+
+# BENCH_BVH_ARGS: e.g. --quick or --full (see bench/bvh/run.sh).
+bench-bvh: bench/bvh/bench_bvh$(EXEEXT) plugins/bvh.la
+	$(SHELL) $(srcdir)/bench/bvh/run.sh '$(abs_top_builddir)' $(BENCH_BVH_ARGS)
+bench: bench-bvh
+.PHONY: bench bench-bvh
