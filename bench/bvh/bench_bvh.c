@@ -1,6 +1,6 @@
 /* BVH import (and export) throughput of libbvh, and peak memory against the decoded data.
  *
- * usage: bench_bvh [--reps N] [--min-ms MS] [--no-write] FILE...
+ * usage: bench_bvh [--reps N] [--min-ms MS] [--threads 0|1] [--no-write] FILE...
  *
  * For each file: parse time measured like the three.js peer does (each of N reps repeats the
  * parse until MS milliseconds have passed and records the time per call; the median rep is
@@ -22,6 +22,7 @@
 
 static int reps = 5;
 static double min_ms = 300;
+static rf_bvh_read_opts read_opts; /* .threads from --threads */
 
 static double now_ms(void)
 {
@@ -73,7 +74,7 @@ static bool parse_file(void *arg)
     job *j = arg;
     rf_skeleton *s;
     rf_animation *a;
-    if (!rf_bvh_read_file(j->path, NULL, &s, &a, err, sizeof err))
+    if (!rf_bvh_read_file(j->path, &read_opts, &s, &a, err, sizeof err))
         return false;
     rf_skeleton_free(s);
     rf_animation_free(a);
@@ -85,7 +86,7 @@ static bool parse_memory(void *arg)
     job *j = arg;
     rf_skeleton *s;
     rf_animation *a;
-    if (!rf_bvh_read_memory(j->text, j->size, j->path, NULL, &s, &a, err, sizeof err))
+    if (!rf_bvh_read_memory(j->text, j->size, j->path, &read_opts, &s, &a, err, sizeof err))
         return false;
     rf_skeleton_free(s);
     rf_animation_free(a);
@@ -214,10 +215,10 @@ static int bench_file(const char *path, bool with_write)
     printf("\n");
     printf("RESULT {\"file\":\"%s\",\"metric\":\"parse\",\"ms\":%.4f,\"MBps\":%.2f,\"fps\":%.1f,"
            "\"jfps\":%.1f,\"frames\":%.0f,\"joints\":%.0f,\"mem_MBps\":%.2f,\"peak_MB\":%.3f,"
-           "\"decoded_MB\":%.3f,\"rss_ratio\":%.3f}\n",
+           "\"decoded_MB\":%.3f,\"rss_ratio\":%.3f,\"threads\":%d}\n",
            path, ms_file, mb / (ms_file / 1e3), frames / (ms_file / 1e3),
            frames * joints / (ms_file / 1e3), frames, joints, mb / (ms_mem / 1e3), peak / 1e6,
-           decoded / 1e6, peak / decoded);
+           decoded / 1e6, peak / decoded, read_opts.threads);
     if (ms_write > 0)
         printf("RESULT {\"file\":\"%s\",\"metric\":\"write\",\"ms\":%.4f,\"MBps\":%.2f}\n", path,
                ms_write, mb / (ms_write / 1e3));
@@ -230,7 +231,8 @@ static int bench_file(const char *path, bool with_write)
 
 int main(int argc, char **argv)
 {
-    const char *usage = "usage: bench_bvh [--reps N] [--min-ms MS] [--no-write] FILE...\n";
+    const char *usage =
+        "usage: bench_bvh [--reps N] [--min-ms MS] [--threads 0|1] [--no-write] FILE...\n";
     bool with_write = true;
     int status = 0, first = argc;
     if (argc == 3 && strcmp(argv[1], "--peak") == 0)
@@ -240,6 +242,8 @@ int main(int argc, char **argv)
             reps = atoi(argv[++i]);
         else if (strcmp(argv[i], "--min-ms") == 0 && i + 1 < argc)
             min_ms = atof(argv[++i]);
+        else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc)
+            read_opts.threads = atoi(argv[++i]);
         else if (strcmp(argv[i], "--no-write") == 0)
             with_write = false;
         else if (argv[i][0] == '-' || reps < 1 || min_ms < 0)

@@ -38,6 +38,14 @@ try {
   }
 } catch { /* no Assimp figures */ }
 
+const perProcess = new Map(); // ours timed per process like Assimp: file MB seconds
+try {
+  for (const l of readFileSync(join(dir, 'ours_process.txt'), 'utf8').split('\n')) {
+    const t = l.trim().split(/\s+/);
+    if (t.length === 3) perProcess.set(t[0], { MBps: +t[1] / +t[2], s: +t[2] });
+  }
+} catch { /* not measured */ }
+
 const f = (x, d = 1) => (x === undefined || !isFinite(x) ? '-' : x.toFixed(d));
 const rows = [];
 console.log('\nBVH import, MB/s (median of runs) and ratios; peak RSS added by one import / decoded bytes');
@@ -56,4 +64,14 @@ for (const [k, o] of big)
 const xt = rows.map((r) => r.x_three).filter((x) => x !== undefined), xa = rows.map((r) => r.x_assimp).filter((x) => x !== undefined);
 if (xt.length) console.log(`three.js: ${f(Math.min(...xt))}x to ${f(Math.max(...xt))}x (goal 20x)`);
 if (xa.length) console.log(`Assimp (its CLI wall time, process start included): ${f(Math.min(...xa))}x to ${f(Math.max(...xa))}x (goal 10x)`);
+const xp = [];
+for (const [k, p] of perProcess) {
+  const a = assimp.get(k);
+  if (!a) continue;
+  xp.push(p.MBps / a.MBps);
+  const r = rows.find((x) => x.file === k);
+  if (r) Object.assign(r, { ours_process: p.MBps, x_assimp_process: p.MBps / a.MBps });
+  console.log(`${k}: one import per process, wall clock: libbvh ${f(p.s * 1e3, 1)} ms = ${f(p.MBps)} MB/s, Assimp ${f(a.s * 1e3, 1)} ms = ${f(a.MBps)} MB/s: ${f(p.MBps / a.MBps)}x`);
+}
+if (xp.length) console.log(`Assimp, process against process: ${f(Math.min(...xp))}x to ${f(Math.max(...xp))}x (goal 10x)`);
 for (const r of rows) console.log('RESULT ' + JSON.stringify({ metric: 'bvh_ratio', ...r }));

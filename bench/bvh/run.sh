@@ -102,4 +102,19 @@ else
     : >"$out/assimp.txt"
 fi
 
+# --- ours, timed like run_assimp.sh times Assimp: one import per process, wall clock ---
+say "== libbvh, one import per process (bench_bvh --peak), median of $nassimp"
+med() { sort -g | awk '{a[NR]=$1} END{ if(NR%2) print a[(NR+1)/2]; else print (a[NR/2]+a[NR/2+1])/2 }'; }
+wall() { s=$(date +%s.%N); "$@" >/dev/null 2>&1; e=$(date +%s.%N); echo "$e - $s" | bc; }
+: >"$out/ours_process.txt"
+for f in "$data/bvh/cmu_01_01.bvh" "$data/bvh/boxing_toes.bvh" "$synth"; do
+    mb=$(stat -c %s "$f" | awk '{print $1/1e6}')
+    i=1
+    while [ $i -le $nassimp ]; do
+        wall "$bench" --peak "$f"
+        i=$((i + 1))
+    done | med | awk -v f="$(basename "$f")" -v mb="$mb" '{printf "%s %s %s\n", f, mb, $1}' \
+        | tee -a "$out/ours_process.txt" >&2
+done
+
 node "$here/ratios.mjs" "$out"

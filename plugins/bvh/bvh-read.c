@@ -28,7 +28,8 @@
 #include "bvh-num.h"
 #include "bvh.h"
 
-#define CHUNK (1u << 18)
+#define CHUNK_SMALL (1u << 16) /* bytes read at a time: small files keep memory low */
+#define CHUNK_LARGE (1u << 18) /* and large ones give the threads batches of many lines */
 #define PROGRESS_FRAMES 1024u
 #define BATCH_LINES 512             /* frame lines taken from the buffer at a time */
 #define MIN_SPLIT 16                /* fewer lines than twice this are not split between threads */
@@ -56,6 +57,7 @@ typedef struct source {
     bool eof;
     uint64_t base;      /* input offset of buf[0] */
     uint64_t total;     /* size of the whole input */
+    size_t chunk;       /* the usual read size */
     unsigned long line; /* number of the line at buf[pos], from 1 */
 } source;
 
@@ -75,7 +77,7 @@ static bool source_fill(source *s)
      * follow (so reads stay large). */
     size_t room = s->cap - 1 - s->len;
     uint64_t left = s->total > s->base + s->len ? s->total - s->base - s->len : 0;
-    if (room == 0 || (room < CHUNK / 4 && left > room)) {
+    if (room == 0 || (room < s->chunk / 4 && left > room)) {
         size_t cap = s->cap * 2;
         char *b = realloc(s->buf, cap + BVH_PAD);
         if (!b)
@@ -184,6 +186,7 @@ typedef struct parser {
     /* per-frame work: the joints' plans, and this thread's work space (allocated once) */
     jplan *plan;
     scratch main;
+    bool avx2; /* the processor has AVX2: sines and cosines four at a time */
     /* tokenizer: the rest of the current line */
     char *cur, *end;
 } parser;
@@ -743,6 +746,7 @@ static bool read_values_fast(const parser *ps, scratch *sc, const char *line, co
     }
     return v == vend && skip_spaces((char *)p, end) == end;
 }
+
 #else
 static bool read_values_fast(const parser *ps, scratch *sc, const char *line, const char *end)
 {
@@ -783,7 +787,12 @@ static void convert_frame(const parser *ps, scratch *sc, rf_animation *a, uint32
     size_t n = ps->channels + 1; /* with the padding value */
     float *rot = a->rotations + (size_t)f * ps->count * 4;
     float *tr = a->translations + (size_t)f * ps->count * 3;
-    bvh_sincos_half(sc->vals, sc->sn, sc->cs, n);
+#if BVH_AVX2
+    if (ps->avx2)
+        bvh_sincos_half_avx2(sc->vals, sc->sn, sc->cs, n);
+    else
+#endif
+        bvh_sincos_half(sc->vals, sc->sn, sc->cs, n);
     if (sc->huge)
         bvh_sincos_half_fix(sc->vals, sc->sn, sc->cs, n);
     const double *sn = sc->sn, *cs = sc->cs, *v = sc->vals;
@@ -817,6 +826,9 @@ static void scratch_free(scratch *sc)
 
 static bool make_plan(parser *ps)
 {
+#if BVH_AVX2
+    ps->avx2 = __builtin_cpu_supports("avx2");
+#endif
     ps->plan = malloc((ps->count ? ps->count : 1) * sizeof *ps->plan);
     if (!ps->plan || !scratch_init(&ps->main, ps->channels))
         return fail(ps, ps->src.line, "out of memory");
@@ -1234,7 +1246,8 @@ static bool parse(parser *ps, rf_skeleton **skeleton, rf_animation **animation)
 {
     uint32_t frames = 0;
     double frame_time = 0;
-    size_t first = ps->src.total < CHUNK ? (size_t)ps->src.total : CHUNK;
+    ps->src.chunk = ps->src.total >= THREAD_MIN_BYTES ? CHUNK_LARGE : CHUNK_SMALL;
+    size_t first = ps->src.total < ps->src.chunk ? (size_t)ps->src.total : ps->src.chunk;
     ps->src.cap = first + 1;
     ps->src.buf = malloc(ps->src.cap + BVH_PAD);
     ps->src.line = 1;
