@@ -178,13 +178,17 @@ BVH_INLINE const char *bvh_number_padded(const char *s, double *out)
 #define BVH_TOKEN 1
 
 /* A number of at most 8 digits, with an optional '-' and '.', that ends within 16 bytes at a
- * space, tab, CR or LF (BVH_PAD readable bytes after the text): its value and end, or NULL to
- * leave anything else to bvh_number_padded. The whole token is classified at once (16 bytes
- * compared in SSE2), the '.' squeezed out of an 8-byte word, and all digits converted by one
- * bvh_swar8: about half the work of reading the integer and fraction digits separately. */
-BVH_INLINE const char *bvh_token_number(const char *s, double *out)
+ * space, tab, CR or LF (BVH_PAD readable bytes after the text): its value, its end, and in *next
+ * the first byte after it that is not a space, tab or CR (the next number, or the LF ending the
+ * line); NULL to leave anything else to bvh_number_padded. The whole token is classified at once
+ * (16 bytes compared in SSE2), the '.' squeezed out of an 8-byte word, and all digits converted
+ * by one bvh_swar8: about half the work of reading integer and fraction digits apart, and
+ * finding the next number does not wait for the digits. */
+BVH_INLINE const char *bvh_token_number(const char *s, double *out, const char **next)
 {
-    static const double pow10[9] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8};
+    /* dividing by -10^k gives the sign for free, and exactly */
+    static const double pow10[2][9] = {{1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8},
+                                       {-1e0, -1e1, -1e2, -1e3, -1e4, -1e5, -1e6, -1e7, -1e8}};
     static const uint64_t bytes[9] = {0,
                                       0xFFull,
                                       0xFFFFull,
@@ -195,12 +199,12 @@ BVH_INLINE const char *bvh_token_number(const char *s, double *out)
                                       0xFFFFFFFFFFFFFFull,
                                       0xFFFFFFFFFFFFFFFFull}; /* the low n bytes */
     __m128i b = _mm_loadu_si128((const __m128i *)(const void *)s);
-    __m128i sep = _mm_or_si128(
+    __m128i blank = _mm_or_si128(
         _mm_or_si128(_mm_cmpeq_epi8(b, _mm_set1_epi8(' ')), _mm_cmpeq_epi8(b, _mm_set1_epi8('\t'))),
-        _mm_or_si128(_mm_cmpeq_epi8(b, _mm_set1_epi8('\n')),
-                     _mm_cmpeq_epi8(b, _mm_set1_epi8('\r'))));
-    unsigned sepm = (unsigned)_mm_movemask_epi8(sep) | 0x10000u;
-    unsigned len = (unsigned)__builtin_ctz(sepm), neg = *s == '-';
+        _mm_cmpeq_epi8(b, _mm_set1_epi8('\r')));
+    unsigned blanks = (unsigned)_mm_movemask_epi8(blank);
+    unsigned lf = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(b, _mm_set1_epi8('\n')));
+    unsigned len = (unsigned)__builtin_ctz(blanks | lf | 0x10000u), neg = *s == '-';
     unsigned dots = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(b, _mm_set1_epi8('.')));
     dots &= (1u << len) - 1;
     unsigned n = len - neg - (dots != 0); /* digits, if the token is a number */
@@ -216,8 +220,12 @@ BVH_INLINE const char *bvh_token_number(const char *s, double *out)
     if ((d | (w + 0x4646464646464646ull)) & 0x8080808080808080ull & bytes[n])
         return 0; /* not all digits: an exponent, a '+', a stray character */
     /* m < 10^8: exact, and so is 10^(digits after the '.'): one correctly rounded division */
-    double v = (double)bvh_swar8(d << (64 - 8 * n)) / pow10[n - dp];
-    *out = neg ? -v : v;
+    *out = (double)bvh_swar8(d << (64 - 8 * n)) / pow10[neg][n - dp];
+    unsigned after = ~blanks & (0xFFFFu << len) & 0xFFFFu;
+    const char *q = s + (after ? (unsigned)__builtin_ctz(after) : 16u);
+    while (*q == ' ' || *q == '\t' || *q == '\r') /* only after 16 bytes of token and blanks */
+        q++;
+    *next = q;
     return s + len;
 }
 #else

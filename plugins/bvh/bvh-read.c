@@ -728,23 +728,24 @@ static bool is_separator(char c)
 static bool read_values_fast(const parser *ps, scratch *sc, const char *line, const char *end)
 {
     double *v = sc->vals, *vend = v + ps->channels;
-    const char *p = line;
+    const char *p = line, *next;
     sc->huge = false;
-    for (;;) {
-        while (*p == ' ' || *p == '\t')
-            p++;
-        if (p >= end || *p == '\r')
-            break;
+    while (*p == ' ' || *p == '\t' || *p == '\r')
+        p++;
+    while (p < end) {
         if (v == vend)
             return false;
-        const char *e = bvh_token_number(p, v); /* ends at a separator when it succeeds */
-        if (!e &&
-            (!(e = bvh_number_padded(p, v)) || !(e == end || is_space(*e)) || !(fabs(*v) < 1e15)))
-            return false;
+        if (!bvh_token_number(p, v, &next)) {
+            const char *e = bvh_number_padded(p, v);
+            if (!e || !(e == end || is_space(*e)) || !(fabs(*v) < 1e15))
+                return false;
+            for (next = e; *next == ' ' || *next == '\t' || *next == '\r';)
+                next++;
+        }
         v++;
-        p = e;
+        p = next;
     }
-    return v == vend && skip_spaces((char *)p, end) == end;
+    return v == vend && p == end;
 }
 
 #else

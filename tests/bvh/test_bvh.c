@@ -226,9 +226,11 @@ static void check_number(const char *text)
         assert_memory_equal(&v, &ref, sizeof ref);
 #if BVH_TOKEN
         v = -1;
-        e = bvh_token_number(padded, &v);
+        const char *next;
+        e = bvh_token_number(padded, &v, &next);
         if (e) { /* it may decline; when it answers it must be exact */
             assert_ptr_equal(e, padded + (end - text));
+            assert_ptr_equal(next, e + 1); /* the NUL after the space */
             assert_memory_equal(&v, &ref, sizeof ref);
         }
 #endif
