@@ -209,12 +209,10 @@ static void indent(writer *w, uint32_t depth)
         fputc('\t', w->out);
 }
 
-/* Formats v with the chosen precision into buf; -0 and the like print as 0. */
+/* Formats v with the chosen precision into buf (40 bytes); -0 prints as 0. */
 static int fmt_num(char *buf, size_t size, int precision, double v)
 {
-    if (v == 0)
-        v = 0; /* turns -0 into 0 */
-    return snprintf(buf, size, "%.*g", precision, v);
+    return rf_bvh_format_number(buf, size, precision, v);
 }
 
 static void write_vec(writer *w, const char *label, rf_vec3 v)

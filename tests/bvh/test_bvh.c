@@ -307,6 +307,38 @@ static void test_number_rejects(void **state)
     }
 }
 
+/* The writer's number formatting is printf's %.*g to the byte (but for -0). */
+static void test_format_number(void **state)
+{
+    (void)state;
+    char ours[64], ref[64];
+    static const double edge[] = {9.9999999995, 0.00099999999995, 999999999.5, 0.0001,   1e-5,
+                                  123456789,    1234567890,       0.1,         0.5,      2.5,
+                                  1e15,         99999.99999,      0.0083333,   120.0005, -0.0,
+                                  1e300,        -4.9e-324};
+    for (size_t i = 0; i < sizeof edge / sizeof *edge; i++)
+        for (int p = 3; p <= 17; p++) {
+            rf_bvh_format_number(ours, sizeof ours, p, edge[i]);
+            snprintf(ref, sizeof ref, "%.*g", p, edge[i] == 0 ? 0.0 : edge[i]);
+            assert_string_equal(ours, ref);
+        }
+    srand(1);
+    for (int i = 0; i < 300000; i++) {
+        int p = 3 + rand() % 15;
+        double v = (double)rand() / RAND_MAX * pow(10, (rand() % 2200) / 100.0 - 6);
+        if (i % 3 == 1)
+            v = (float)v; /* values that came from floats, as animations hold */
+        if (i % 3 == 2)
+            v = (rand() % 36000) / 100.0 - 180;
+        if (rand() % 2)
+            v = -v;
+        rf_bvh_format_number(ours, sizeof ours, p, v);
+        snprintf(ref, sizeof ref, "%.*g", p, v == 0 ? 0.0 : v); /* we write -0 as 0 */
+        if (strcmp(ours, ref) != 0)
+            fail_msg("%.17g at %d digits: '%s', printf '%s'", v, p, ours, ref);
+    }
+}
+
 /* sin and cos of half-angles against libm, over angles a BVH file may hold. */
 static void test_sincos(void **state)
 {
@@ -1389,6 +1421,7 @@ int main(void)
         cmocka_unit_test(test_number_exact),
         cmocka_unit_test(test_number_rejects),
         cmocka_unit_test(test_sincos),
+        cmocka_unit_test(test_format_number),
         cmocka_unit_test(test_sample_values),
         cmocka_unit_test(test_channel_orders),
         cmocka_unit_test(test_six_channels),
