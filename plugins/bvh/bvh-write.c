@@ -65,6 +65,16 @@ static bool validate(writer *w)
     const rf_skeleton *s = w->s;
     if (!s || s->joint_count == 0 || !s->joints)
         return wfail(w, "expected a skeleton with at least one joint");
+    for (uint32_t i = 0; i < s->joint_count; i++) {
+        const rf_joint *j = &s->joints[i];
+        rf_quat r = j->rest.r;
+        if (!rf_v3_isfinite(j->rest.t) || !rf_v3_isfinite(j->rest.s) ||
+            !rf_v3_isfinite(j->end_site) || !isfinite(r.x + r.y + r.z + r.w))
+            return wfail(w,
+                         "joint %" PRIu32 " ('%s') has a rest pose that is not finite: expected "
+                         "finite numbers",
+                         i, j->name ? j->name : "");
+    }
     for (uint32_t i = 0; i < s->joint_count; i++)
         if (s->joints[i].parent >= (int32_t)i)
             return wfail(w,
@@ -323,6 +333,8 @@ static int joint_values(writer *w, uint32_t i, uint32_t f, bool first, double *v
     rf_quat r = w->a ? rf_animation_rotation(w->a, f, i) : w->s->joints[i].rest.r;
     rf_vec3 t = w->a ? rf_animation_translation(w->a, f, i) : w->s->joints[i].rest.t;
     int n = 0;
+    if (!isfinite(r.x + r.y + r.z + r.w) || !rf_v3_isfinite(t))
+        return -1; /* before rf_quat_normalize, which would make a NaN the identity */
     if (w->pos[i]) {
         rf_vec3 bt = rf_quat_rotate(pr, rf_v3_mul(ps, t));
         v[n++] = bt.x, v[n++] = bt.y, v[n++] = bt.z;

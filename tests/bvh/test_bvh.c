@@ -1218,6 +1218,18 @@ static void test_write_names_and_rest_only(void **state)
     assert_non_null(strstr(err, "out.bvh: the animation has 3 joints, the skeleton 4"));
     assert_int_equal(access(path, F_OK), -1); /* no partial file left */
     rf_animation_free(wrong);
+
+    /* values that are not finite are refused, naming the joint */
+    rf_animation *nan = rf_animation_new(4, 2, 30);
+    rf_animation_set_rotation(nan, 1, 2, rf_quat_make(NAN, 0, 0, 1));
+    assert_false(rf_bvh_write_file(path, "out.bvh", s, nan, NULL, err, sizeof err));
+    assert_non_null(strstr(err, "out.bvh: frame 2 of joint 'joint2' is not finite"));
+    rf_animation_free(nan);
+    s->joints[1].rest.t.y = INFINITY;
+    assert_false(rf_bvh_write_file(path, "out.bvh", s, NULL, NULL, err, sizeof err));
+    assert_non_null(
+        strstr(err, "out.bvh: joint 1 ('left_arm') has a rest pose that is not finite"));
+    assert_int_equal(access(path, F_OK), -1);
     rmdir(dir);
     free(dir);
     rf_skeleton_free(s);
