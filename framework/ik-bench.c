@@ -84,11 +84,16 @@ static int run_benchmarks(GArray *solvers, char **workloads, const char *bvh, do
                           int reps)
 {
     int found = 0;
+    for (const char *const *name = rf_ikw_names(); *name; name++)
+        found += selected(workloads, *name);
+    if (!found) {
+        fprintf(stderr, "rigflow ik-bench: no workload matches (see --list)\n");
+        return RF_EXIT_USAGE;
+    }
     rf_ikw_csv_header(stdout);
     for (const char *const *name = rf_ikw_names(); *name; name++) {
         if (!selected(workloads, *name))
             continue;
-        found++;
         if (rf_ikw_needs_bvh(*name) && !bvh) {
             fprintf(stderr,
                     "rigflow ik-bench: %s skipped: no BVH skeleton (--bvh or RF_DATA_DIR)\n",
@@ -104,10 +109,6 @@ static int run_benchmarks(GArray *solvers, char **workloads, const char *bvh, do
         for (guint i = 0; i < solvers->len; i++)
             bench_one(&g_array_index(solvers, bench_solver, i), w, min_time, reps);
         rf_ikw_free(w);
-    }
-    if (!found) {
-        fprintf(stderr, "rigflow ik-bench: no workload matches (see --list)\n");
-        return RF_EXIT_USAGE;
     }
     return RF_EXIT_OK;
 }

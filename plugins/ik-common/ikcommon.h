@@ -173,21 +173,15 @@ bool rf_ikc_cholesky_solve(double *S, double *b, int m);
 /* The output port and parameters every solver node type shares: "solver" of RF_TYPE_IK_SOLVER;
  * max-joints, max-goals. */
 extern const rf_port_desc rf_ikc_solver_output;
+/* clang-format off */
 #define RF_IKC_COMMON_PARAMS                                                                       \
-    {sizeof(rf_param_desc),                                                                        \
-     "max-joints",                                                                                 \
-     RF_PARAM_INT,                                                                                 \
-     RF_PARAM_HAS_RANGE,                                                                           \
-     256,                                                                                          \
-     NULL,                                                                                         \
-     1,                                                                                            \
-     65536,                                                                                        \
-     NULL,                                                                                         \
-     "joints the solver preallocates for (larger problems grow it once)"},                         \
-    {                                                                                              \
-        sizeof(rf_param_desc), "max-goals", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 8, NULL, 1,          \
-            RF_IKC_MAX_GOALS, NULL, "goals the solver preallocates for"                            \
-    }
+    {.size = sizeof(rf_param_desc), .name = "max-joints", .type = RF_PARAM_INT,                    \
+     .flags = RF_PARAM_HAS_RANGE, .default_number = 256, .min = 1, .max = 65536,                   \
+     .doc = "joints the solver preallocates for (larger problems grow it once)"},                  \
+    {.size = sizeof(rf_param_desc), .name = "max-goals", .type = RF_PARAM_INT,                     \
+     .flags = RF_PARAM_HAS_RANGE, .default_number = 8, .min = 1, .max = RF_IKC_MAX_GOALS,          \
+     .doc = "goals the solver preallocates for"}
+/* clang-format on */
 
 /* create/process/destroy for a solver node whose configuration is only the shared params plus,
  * optionally, "damping" and "max-step" floats. process makes an rf_ik_solver for `api` on the

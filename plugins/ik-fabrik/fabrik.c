@@ -15,9 +15,9 @@
  *     its roll) so the path joints it drives point at their forward-pass positions, then the
  *     rotation is projected into its limits (hinge, cone, twist) and the next joints follow by
  *     forward kinematics. So limits hold exactly after every iteration, and rigid parts (locked
- *     joints, two arms fixed to one chest) stay rigid. The paper re-positions joints inside
- *     each limit's cone in both passes; projecting only in the backward pass is enough for the
- *     final pose to respect the limits, and the forward pass stays the unconstrained pull.
+ *     joints, two arms fixed to one chest) stay rigid.
+ * As in the 2016 paper, limits also act in the forward pass (forward_limit), and a joint that
+ * drives a hinge rolls so that the hinge's plane holds its target direction (hinge_roll).
  */
 #include <stdio.h>
 #include <stdlib.h>

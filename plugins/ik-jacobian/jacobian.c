@@ -236,7 +236,7 @@ static void clamp_step(jac_state *st)
 {
     double largest = 0;
     for (uint32_t c = 0; c < st->cols; c++)
-        largest = fmax(largest, fabs(st->dtheta[c]));
+        largest = fabs(st->dtheta[c]) > largest ? fabs(st->dtheta[c]) : largest; /* no libm call */
     if (largest > MAX_TURN)
         for (uint32_t c = 0; c < st->cols; c++)
             st->dtheta[c] *= MAX_TURN / largest;

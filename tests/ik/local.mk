@@ -28,3 +28,7 @@ TESTS += tests/ik/test_ik_pipeline
 tests_ik_test_ik_pipeline_SOURCES = tests/ik/test_ik_pipeline.c
 tests_ik_test_ik_pipeline_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS) $(CMOCKA_CFLAGS)
 tests_ik_test_ik_pipeline_LDADD = framework/librigflow.la $(GLIB_LIBS) $(CMOCKA_LIBS) -lm
+
+# rigflow ik-bench from the command line.
+TESTS += tests/ik/test_ik_bench.sh
+EXTRA_DIST += tests/ik/test_ik_bench.sh
