@@ -4,6 +4,9 @@
 #   ./quickstart.sh check    install what is missing, build with -Werror, run the whole test suite
 #   ./quickstart.sh deps     only install what is missing (Debian packages; npm tools for tests)
 #   ./quickstart.sh build    only configure and build (into _build/)
+#   ./quickstart.sh check-asan   the test suite again, built with ASan and UBSan (into _build-asan/)
+#   ./quickstart.sh fuzz [SECONDS]  build the fuzz harnesses with clang, run each (default 60 s)
+#   ./quickstart.sh valgrind     the end-to-end tests with every command under valgrind memcheck
 # Works without a terminal (CI=true). Installing needs root or sudo; nothing else is downloaded.
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -11,7 +14,8 @@ top=$(pwd)
 build="$top/_build"
 
 debs=(build-essential autoconf automake libtool pkg-config libltdl-dev libassimp-dev
-      libjansson-dev libglib2.0-dev libcmocka-dev assimp-utils assimp-testmodels nodejs npm)
+      libjansson-dev libglib2.0-dev libcmocka-dev assimp-utils assimp-testmodels nodejs npm
+      clang libclang-rt-14-dev valgrind strace)
 
 say() { printf '==> %s\n' "$*" >&2; }
 
@@ -93,11 +97,35 @@ check() {
     make -j"$(nproc)" check RF_NPM_DIR="$build/npm/node_modules"
 }
 
+# The reliability runs (issue 8, doc/reliability.md): a sanitizer build beside _build, fuzzing
+# and valgrind in _build.
+check_asan() {
+    deps
+    build="$top/_build-asan" configure_build --enable-sanitizers
+    cd "$top/_build-asan"
+    make -j"$(nproc)" check RF_NPM_DIR="$build/npm/node_modules"
+}
+
+fuzz() {
+    deps
+    configure_build
+    make -C "$build" fuzz FUZZ_SECONDS="${1:-60}"
+}
+
+valgrind_check() {
+    deps
+    configure_build
+    make -C "$build" valgrind
+}
+
 case "${1:-demo}" in
     demo) demo ;;
     check) check ;;
     deps) deps ;;
     build) configure_build ;;
-    -h|--help) sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//' ;;
+    check-asan) check_asan ;;
+    fuzz) fuzz "${2:-60}" ;;
+    valgrind) valgrind_check ;;
+    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//' ;;
     *) say "unknown job '$1' (see ./quickstart.sh --help)"; exit 2 ;;
 esac

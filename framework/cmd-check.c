@@ -343,13 +343,18 @@ static enum verdict check_selftest(const char *file)
 
 /* ---- running checks in child processes ---- */
 
+/* A check's child exits with CHECK_EXIT_BASE + its verdict. Any other status means plugin code
+ * ended the process: exit() called by the plugin, or a crash caught by a sanitizer, which exits
+ * with status 1 instead of dying by the signal. Neither may pass for a verdict. */
+#define CHECK_EXIT_BASE 64
+
 static enum verdict run_isolated(check_fn fn, const char *file, const char *name)
 {
     fflush(stdout);
     pid_t pid = fork();
     if (pid == 0) {
         alarm(30); /* a hung plugin fails its check instead of hanging the validator */
-        _exit((int)fn(file));
+        _exit(CHECK_EXIT_BASE + (int)fn(file));
     }
     int status = 0;
     if (pid < 0 || waitpid(pid, &status, 0) < 0) {
@@ -360,8 +365,12 @@ static enum verdict run_isolated(check_fn fn, const char *file, const char *name
         report(FAIL, file, name, "the plugin crashed the check (%s)", strsignal(WTERMSIG(status)));
         return FAIL;
     }
-    return WIFEXITED(status) && WEXITSTATUS(status) <= FAIL ? (enum verdict)WEXITSTATUS(status)
-                                                            : FAIL;
+    int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (code >= CHECK_EXIT_BASE && code <= CHECK_EXIT_BASE + FAIL)
+        return (enum verdict)(code - CHECK_EXIT_BASE);
+    report(FAIL, file, name, "the plugin crashed the check (it ended the process, exit status %d)",
+           code);
+    return FAIL;
 }
 
 int rf_cmd_plugin_check(rf_registry *reg, int argc, char **argv)

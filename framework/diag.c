@@ -1,6 +1,8 @@
 /* Diagnostics: problems collected while loading plugins and validating pipelines, so every error
  * can be reported at once with the file, line, node and JSON pointer it concerns. */
-#include "rigflow-host.h"
+#include <string.h>
+
+#include "pipeline-internal.h"
 
 static void diag_free(gpointer data)
 {
@@ -10,6 +12,17 @@ static void diag_free(gpointer data)
     g_free(d->pointer);
     g_free(d->message);
     g_free(d);
+}
+
+char *rf_printable(const char *text)
+{
+    GString *s = g_string_sized_new(strlen(text));
+    for (const unsigned char *c = (const unsigned char *)text; *c; c++)
+        if ((*c < 0x20 && *c != '\n' && *c != '\t') || *c == 0x7f)
+            g_string_append_printf(s, "\\x%02x", *c);
+        else
+            g_string_append_c(s, (char)*c);
+    return g_string_free(s, FALSE);
 }
 
 GPtrArray *rf_diags_new(void)
@@ -23,15 +36,16 @@ void rf_diags_add(GPtrArray *diags, const char *file, int line, int column, cons
     if (!diags)
         return;
     rf_diag *d = g_new0(rf_diag, 1);
-    d->file = g_strdup(file);
+    d->file = file ? rf_printable(file) : NULL;
     d->line = line;
     d->column = column;
     d->node = g_strdup(node);
     d->pointer = g_strdup(pointer);
     va_list ap;
     va_start(ap, fmt);
-    d->message = g_strdup_vprintf(fmt, ap);
+    g_autofree char *raw = g_strdup_vprintf(fmt, ap);
     va_end(ap);
+    d->message = rf_printable(raw); /* messages quote bytes from files */
     g_ptr_array_add(diags, d);
 }
 

@@ -25,8 +25,9 @@ static void host_log(rf_node *node, rf_log_level level, const char *fmt, ...)
         return;
     va_list ap;
     va_start(ap, fmt);
-    g_autofree char *msg = g_strdup_vprintf(fmt, ap);
+    g_autofree char *raw = g_strdup_vprintf(fmt, ap);
     va_end(ap);
+    g_autofree char *msg = rf_printable(raw); /* plugins quote bytes from files */
     if (node)
         fprintf(stderr, "rigflow: node '%s': %s: %s\n", node->id, level_names[level], msg);
     else

@@ -262,8 +262,15 @@ bool rf_pipeline_override(rf_pipeline *p, const char *assignment, GPtrArray *dia
     }
     if (!json_is_object(params))
         return false; /* already reported as a structural error */
-    /* Kept as text: validation types it by the parameter's declaration. */
-    json_object_set_new(params, param, json_string(eq + 1));
+    /* Kept as text: validation types it by the parameter's declaration. JSON holds only UTF-8:
+     * a name or value that is not must be refused here, or validation would read the file's
+     * value (a number, say) as this override's text. */
+    if (json_object_set_new(params, param, json_string(eq + 1)) != 0) {
+        rf_diags_add(diags, p->name, 0, 0, NULL, NULL,
+                     "override '%s': expected UTF-8 text in the parameter name and value",
+                     assignment);
+        return false;
+    }
     /* A path given on the command line is relative to where the user is, not to the pipeline. */
     g_hash_table_insert(p->overrides, g_strdup_printf("%s.%s", node_id, param),
                         g_get_current_dir());

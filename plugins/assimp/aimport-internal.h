@@ -29,6 +29,8 @@ typedef struct rf_ai_ctx {
     uint8_t *animated;             /* [node] keyed by some clip */
     int *joint_of;                 /* [node] joint index, or -1 */
 
+    struct rf_ai_name_ref *by_name; /* every node, sorted by name (rf_ai_find_node) */
+
     unsigned joint_count;
     int *joint_node;      /* [joint] node index */
     rf_mat4 *bind_global; /* [joint] world bind transform */

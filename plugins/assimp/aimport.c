@@ -9,18 +9,21 @@
  * it, as in a VRM humanoid).
  */
 #include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/config.h>
 #include <assimp/metadata.h>
 #include <assimp/postprocess.h>
 
 #include "aimport-internal.h"
+#include "aimport-io.h"
 
 bool rf_ai_fail(rf_ai_ctx *c, const char *fmt, ...)
 {
@@ -57,20 +60,51 @@ rf_mat4 rf_ai_mat4(const struct aiMatrix4x4 *m)
     return r;
 }
 
+/* One node in the name index: sorted by name, then meshless first, then file order, so the first
+ * entry of a name is the node rf_ai_find_node wants. */
+typedef struct rf_ai_name_ref {
+    const char *name;
+    int meshy;
+    int node;
+} rf_ai_name_ref;
+
+static int rf_ai_name_ref_cmp(const void *pa, const void *pb)
+{
+    const rf_ai_name_ref *a = pa, *b = pb;
+    int d = strcmp(a->name, b->name);
+    if (d)
+        return d;
+    if (a->meshy != b->meshy)
+        return a->meshy - b->meshy;
+    return (a->node > b->node) - (a->node < b->node);
+}
+
+/* Sorts the nodes by name once: a linear search per bone or channel would be quadratic. */
+static bool rf_ai_index_names(rf_ai_ctx *c)
+{
+    c->by_name = calloc(c->node_count ? c->node_count : 1, sizeof *c->by_name);
+    if (!c->by_name)
+        return false;
+    for (unsigned i = 0; i < c->node_count; i++)
+        c->by_name[i] =
+            (rf_ai_name_ref){c->nodes[i]->mName.data, c->nodes[i]->mNumMeshes != 0, (int)i};
+    qsort(c->by_name, c->node_count, sizeof *c->by_name, rf_ai_name_ref_cmp);
+    return true;
+}
+
 int rf_ai_find_node(const rf_ai_ctx *c, const char *name)
 {
     /* Bones and channels name their node; names need not be unique (glTF mesh nodes often share
      * a joint's name), and a bone is a transform, so a node without meshes wins. */
-    int found = -1;
-    for (unsigned i = 0; i < c->node_count; i++) {
-        if (strcmp(c->nodes[i]->mName.data, name) != 0)
-            continue;
-        if (c->nodes[i]->mNumMeshes == 0)
-            return (int)i;
-        if (found < 0)
-            found = (int)i;
+    size_t lo = 0, hi = c->node_count;
+    while (lo < hi) { /* the first entry not below name */
+        size_t mid = lo + (hi - lo) / 2;
+        if (strcmp(c->by_name[mid].name, name) < 0)
+            lo = mid + 1;
+        else
+            hi = mid;
     }
-    return found;
+    return lo < c->node_count && strcmp(c->by_name[lo].name, name) == 0 ? c->by_name[lo].node : -1;
 }
 
 int rf_ai_joint_above(const rf_ai_ctx *c, int n)
@@ -94,27 +128,38 @@ rf_mat4 rf_ai_joint_node_local(const rf_ai_ctx *c, unsigned j)
 
 static const struct aiScene *rf_ai_load(rf_ai_ctx *c)
 {
+    /* Assimp reads only the model and files in its folder (aimport-io.c). */
+    rf_ai_confine cf;
+    struct aiFileIO io;
+    if (!rf_ai_confine_init(&cf, c->path, &io)) {
+        rf_ai_fail(c, "cannot resolve the model's folder: %s", strerror(errno));
+        return NULL;
+    }
     struct aiPropertyStore *props = aiCreatePropertyStore();
     /* FBX pivots would otherwise appear as extra "$AssimpFbx$" nodes between real joints. */
     aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, 0);
     unsigned flags = aiProcess_Triangulate | aiProcess_SortByPType;
     const struct aiScene *s =
-        aiImportFileExWithProperties(c->path, flags | aiProcess_ValidateDataStructure, NULL, props);
+        aiImportFileExWithProperties(c->path, flags | aiProcess_ValidateDataStructure, &io, props);
     if (!s) {
         /* Some files (every B3D creature here) fail validation only for keys past the clip's end;
          * import without the step and clamp the keys while resampling. */
         char first[512];
         snprintf(first, sizeof first, "%s", aiGetErrorString());
-        s = aiImportFileExWithProperties(c->path, flags, NULL, props);
+        s = aiImportFileExWithProperties(c->path, flags, &io, props);
         if (s)
             rf_ai_logf(c, 1,
                        "%s: Assimp's validation failed (%s); imported without it, keys outside a "
                        "clip are clamped",
                        c->path, first);
         else
-            rf_ai_fail(c, "Assimp cannot read it: %s", first);
+            rf_ai_fail(c, "Assimp cannot read it: %s%s%s", first, cf.refused[0] ? "; " : "",
+                       cf.refused);
     }
+    if (s && cf.refused[0])
+        rf_ai_logf(c, 1, "%s: %s (%u reads refused)", c->path, cf.refused, cf.refused_count);
     aiReleasePropertyStore(props);
+    rf_ai_confine_clear(&cf);
     return s;
 }
 
@@ -166,6 +211,23 @@ static unsigned rf_ai_space_votes(const rf_mat4 *cand, unsigned n, rf_mat4 space
     return votes;
 }
 
+#define RF_AI_VOTE_ALL_MAX 4096u
+
+/* The candidate agreeing with more than half of the others, if any is. */
+static unsigned rf_ai_space_majority(const rf_mat4 *cand, unsigned n)
+{
+    unsigned m = 0, count = 0;
+    for (unsigned i = 0; i < n; i++) {
+        if (count == 0)
+            m = i, count = 1;
+        else if (rf_ai_mat_diff(cand[i], cand[m]) < 1e-3)
+            count++;
+        else
+            count--;
+    }
+    return m;
+}
+
 /* Model space. Assimp skins as world = joint global * offset * vertex, and where the offsets
  * lead depends on the format: glTF's inverse binds and .x offsets are relative to the model,
  * FBX folds the mesh node's transform in, some glTF files bind relative to the mesh node. A bone
@@ -194,7 +256,12 @@ static rf_mat4 rf_ai_mesh_space(rf_ai_ctx *c, unsigned m)
     unsigned v = rf_ai_space_votes(cand, n, mg);
     if (v > best_votes)
         best = mg, best_votes = v;
-    for (unsigned i = 0; i < n; i++)
+    /* Every bone's candidate against every other is quadratic: beyond a real rig's bone count,
+     * only the majority element (Boyer-Moore vote) can be the one wanted. */
+    unsigned lo = 0, hi = n;
+    if (n > RF_AI_VOTE_ALL_MAX)
+        lo = rf_ai_space_majority(cand, n), hi = lo + 1;
+    for (unsigned i = lo; i < hi && i < n; i++)
         if ((v = rf_ai_space_votes(cand, n, cand[i])) > best_votes && v * 2 > n &&
             rf_mat4_invert(cand[i], &inv))
             best = cand[i], best_votes = v;
@@ -266,6 +333,8 @@ static bool rf_ai_build_table(rf_ai_ctx *c)
     rf_ai_flatten(c, c->scene->mRootNode, -1);
     for (unsigned i = 0; i < count; i++)
         c->joint_of[i] = -1;
+    if (!rf_ai_index_names(c))
+        return rf_ai_fail(c, "out of memory for %u nodes", count);
     rf_ai_mark_bones(c);
     return true;
 }
@@ -283,6 +352,7 @@ static void rf_ai_ctx_free(rf_ai_ctx *c)
     free(c->joint_node);
     free(c->bind_global);
     free(c->mesh_space);
+    free(c->by_name);
     if (c->scene)
         aiReleaseImport(c->scene);
 }
@@ -301,24 +371,25 @@ static bool rf_ai_is_camera_or_light(const rf_ai_ctx *c, const struct aiNode *n)
     return false;
 }
 
-static int rf_ai_depth(const rf_ai_ctx *c, int n)
+/* The lowest common ancestor of the seeds: the last node in pre-order whose subtree holds every
+ * seed (one pass; an LCA walk per seed would be quadratic on a deep chain). */
+static int rf_ai_seeds_root(const rf_ai_ctx *c, const uint8_t *seed)
 {
-    int d = 0;
-    while ((n = c->node_parent[n]) >= 0)
-        d++;
-    return d;
-}
-
-static int rf_ai_lca(const rf_ai_ctx *c, int a, int b)
-{
-    int da = rf_ai_depth(c, a), db = rf_ai_depth(c, b);
-    for (; da > db; da--)
-        a = c->node_parent[a];
-    for (; db > da; db--)
-        b = c->node_parent[b];
-    while (a != b)
-        a = c->node_parent[a], b = c->node_parent[b];
-    return a;
+    unsigned *below = calloc(c->node_count ? c->node_count : 1, sizeof *below), total = 0;
+    if (!below)
+        return 0;
+    for (unsigned i = c->node_count; i-- > 0;) {
+        below[i] += seed[i];
+        total += seed[i];
+        if (c->node_parent[i] >= 0)
+            below[c->node_parent[i]] += below[i];
+    }
+    int root = 0;
+    for (unsigned i = 0; i < c->node_count; i++)
+        if (below[i] == total)
+            root = (int)i;
+    free(below);
+    return root;
 }
 
 static bool rf_ai_any_bone(const rf_ai_ctx *c)
@@ -360,7 +431,8 @@ static int rf_ai_pick_seeds(const rf_ai_ctx *c, uint8_t *seed, const char **why)
 
 static void rf_ai_mark_up_to(const rf_ai_ctx *c, uint8_t *sel, int n, int root)
 {
-    for (; n >= 0; n = c->node_parent[n]) {
+    /* A node already marked has its path to the root marked: stop there (linear overall). */
+    for (; n >= 0 && !sel[n]; n = c->node_parent[n]) {
         sel[n] = 1;
         if (n == root)
             break;
@@ -376,10 +448,7 @@ static void rf_ai_select_joints(rf_ai_ctx *c)
         free(seed), free(sel);
         return;
     }
-    int root = -1;
-    for (unsigned i = 0; i < c->node_count; i++)
-        if (seed[i])
-            root = root < 0 ? (int)i : rf_ai_lca(c, root, (int)i);
+    int root = rf_ai_seeds_root(c, seed);
     while (c->node_parent[root] >= 0 && c->animated[c->node_parent[root]])
         root = c->node_parent[root];
     for (unsigned i = 0; i < c->node_count; i++)
@@ -406,10 +475,35 @@ char *rf_ai_strdup(const char *s)
     return d;
 }
 
+/* The joint names given so far, with the next suffix to try for each: open addressing over a
+ * power-of-two table at most half full, so that uniqueness costs constant time per joint (a
+ * search of the skeleton per joint, and per suffix, would be quadratic). */
+typedef struct rf_ai_name_slot {
+    const char *name; /* borrowed from the skeleton */
+    unsigned next;    /* the suffix to try next when this name comes again */
+} rf_ai_name_slot;
+
+static rf_ai_name_slot *rf_ai_name_slot_of(rf_ai_name_slot *t, size_t mask, const char *name)
+{
+    uint64_t h = 1469598103934665603u; /* FNV-1a */
+    for (const unsigned char *p = (const unsigned char *)name; *p; p++)
+        h = (h ^ *p) * 1099511628211u;
+    size_t i = (size_t)h & mask;
+    while (t[i].name && strcmp(t[i].name, name) != 0)
+        i = (i + 1) & mask;
+    return &t[i];
+}
+
 /* Joint names must be unique: empty names become "joint<i>", a repeated name gets ".1", ".2"...
  * in joint order (the first keeps its name), with a warning naming each change. */
 static bool rf_ai_name_joints(rf_ai_ctx *c, rf_skeleton *s)
 {
+    size_t cap = 16;
+    while (cap < (size_t)s->joint_count * 2)
+        cap *= 2;
+    rf_ai_name_slot *table = calloc(cap, sizeof *table);
+    if (!table)
+        return rf_ai_fail(c, "out of memory");
     for (unsigned j = 0; j < s->joint_count; j++) {
         const char *src = c->nodes[c->joint_node[j]]->mName.data;
         char buf[1100];
@@ -418,14 +512,22 @@ static bool rf_ai_name_joints(rf_ai_ctx *c, rf_skeleton *s)
         else
             snprintf(buf, sizeof buf, "%s", src);
         size_t base = strlen(buf);
-        for (unsigned k = 1; rf_skeleton_find(s, buf) >= 0; k++)
-            snprintf(buf + base, sizeof buf - base, ".%u", k);
+        rf_ai_name_slot *first = rf_ai_name_slot_of(table, cap - 1, buf), *slot = first;
+        for (unsigned k = first->name ? first->next : 0; slot->name; k++) {
+            snprintf(buf + base, sizeof buf - base, ".%u", k + 1);
+            first->next = k + 1;
+            slot = rf_ai_name_slot_of(table, cap - 1, buf);
+        }
         if (strcmp(buf, src) != 0 && src[0])
             rf_ai_logf(c, 1, "%s: duplicate joint name '%s' renamed '%s'", c->path, src, buf);
         s->joints[j].name = rf_ai_strdup(buf);
-        if (!s->joints[j].name)
+        if (!s->joints[j].name) {
+            free(table);
             return rf_ai_fail(c, "out of memory");
+        }
+        slot->name = s->joints[j].name;
     }
+    free(table);
     return true;
 }
 
@@ -637,6 +739,20 @@ static bool rf_ai_run(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
                                  &r->animation);
 }
 
+typedef struct rf_ai_job {
+    rf_ai_ctx *c;
+    const rf_ai_options *o;
+    rf_ai_result *r;
+    bool ok;
+} rf_ai_job;
+
+static void rf_ai_job_run(void *p)
+{
+    rf_ai_job *j = p;
+    j->ok = rf_ai_run(j->c, j->o, j->r);
+    rf_ai_ctx_free(j->c); /* releasing the scene recurses too */
+}
+
 bool rf_ai_import(const char *path, const rf_ai_options *opts, rf_ai_result *out, rf_ai_log_fn log,
                   void *user, char *err, size_t err_size)
 {
@@ -644,9 +760,11 @@ bool rf_ai_import(const char *path, const rf_ai_options *opts, rf_ai_result *out
     rf_ai_ctx c = {.path = path, .log = log, .user = user, .err = err, .err_size = err_size};
     memset(out, 0, sizeof *out);
     out->selected_clip = -1;
-    bool ok = rf_ai_run(&c, opts ? opts : &defaults, out);
-    rf_ai_ctx_free(&c);
-    if (!ok)
+    /* Assimp recurses once per level of node nesting: run it on a stack sized for the file
+     * (aimport-io.c), so a deeply nested hostile file cannot overflow it. */
+    rf_ai_job job = {&c, opts ? opts : &defaults, out, false};
+    rf_ai_call_with_stack_for(path, rf_ai_job_run, &job);
+    if (!job.ok)
         rf_ai_result_clear(out);
-    return ok;
+    return job.ok;
 }

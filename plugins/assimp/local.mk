@@ -8,7 +8,9 @@ plugins_assimp_librfassimp_la_SOURCES = \
 	plugins/assimp/aimport-mesh.c \
 	plugins/assimp/aimport-anim.c \
 	plugins/assimp/aimport-node.h \
-	plugins/assimp/aimport-node.c
+	plugins/assimp/aimport-node.c \
+	plugins/assimp/aimport-io.h \
+	plugins/assimp/aimport-io.c
 plugins_assimp_librfassimp_la_CFLAGS = $(AM_CFLAGS) $(ASSIMP_CFLAGS)
 plugins_assimp_librfassimp_la_LIBADD = $(ASSIMP_LIBS) -lm
 

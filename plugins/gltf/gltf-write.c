@@ -8,6 +8,7 @@
  * validator compares exactly; JSON numbers carry 9 significant digits, enough to round-trip a
  * float32.
  */
+#include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -132,15 +133,25 @@ static json_t *rf_gw_joint_node(const rf_skeleton *s, uint32_t j)
         json_object_set_new(n, "rotation", rf_gw_vec(r, 4));
     if (sc[0] != 1 || sc[1] != 1 || sc[2] != 1)
         json_object_set_new(n, "scale", rf_gw_vec(sc, 3));
-    json_t *children = json_array();
-    for (uint32_t k = j + 1; k < s->joint_count; k++)
-        if (s->joints[k].parent == (int32_t)j)
-            json_array_append_new(children, json_integer(k));
-    if (json_array_size(children))
-        json_object_set_new(n, "children", children);
-    else
-        json_decref(children);
     return n;
+}
+
+/* Gives every joint node its "children", in one pass over the parents: a scan of the later
+ * joints per joint would be quadratic in the joint count. */
+static void rf_gw_link_children(const rf_skeleton *s, json_t *nodes)
+{
+    for (uint32_t k = 0; k < s->joint_count; k++) {
+        int32_t p = s->joints[k].parent;
+        if (p < 0 || (uint32_t)p >= k)
+            continue;
+        json_t *parent = json_array_get(nodes, (size_t)p);
+        json_t *children = json_object_get(parent, "children");
+        if (!children) {
+            children = json_array();
+            json_object_set_new(parent, "children", children);
+        }
+        json_array_append_new(children, json_integer(k));
+    }
 }
 
 static uint32_t rf_gw_root_count(const rf_skeleton *s)
@@ -383,6 +394,7 @@ static json_t *rf_gw_document(rf_gw *g, const rf_skeleton *s, const rf_animation
                             o->generator ? o->generator : "rigflow", "scene", 0);
     for (uint32_t j = 0; j < s->joint_count; j++)
         json_array_append_new(nodes, rf_gw_joint_node(s, j));
+    rf_gw_link_children(s, nodes);
     if (rf_gw_root_count(s) > 1) {
         json_t *children = json_array();
         for (uint32_t j = 0; j < s->joint_count; j++)
@@ -518,14 +530,18 @@ static bool rf_gw_emit(const char *path, const char *name, json_t *doc, rf_gw *g
     char *text = json_dumps(doc, JSON_COMPACT | JSON_REAL_PRECISION(9));
     FILE *f = text ? fopen(path, "wb") : NULL;
     bool ok = f && (binary ? rf_gw_write_glb(f, text, g) : fputs(text, f) >= 0);
-    if (f && fclose(f) != 0)
-        ok = false;
-    free(text);
+    int e = ok ? 0 : errno; /* why, before free() can change errno (e.g. ENOSPC, EFBIG) */
+    if (f && fclose(f) != 0 && ok)
+        ok = false, e = errno;
     if (!ok) {
-        snprintf(err, err_size, "%s: cannot write the glTF file", name);
+        snprintf(err, err_size, "%s: cannot write the glTF file: %s", name,
+                 !text ? "out of memory"
+                 : e   ? strerror(e)
+                       : "write error");
         if (f)
             remove(path);
     }
+    free(text);
     return ok;
 }
 

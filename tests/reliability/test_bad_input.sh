@@ -1,0 +1,421 @@
+#!/usr/bin/env bash
+# The bad-input matrix (issue 8; doc/reliability.md lists every row and where the rows that other
+# tests already cover live). Each row feeds the rigflow command one hostile input or condition and
+# checks the exit code, the message, and that no output (nor a temporary file) is left behind.
+# Every input is made here, in a scratch folder; nothing comes from outside the repository except
+# the optional shared data.
+#
+# Environment: RF_BUILDDIR, RF_SRCDIR (set by make check); RF_RIGFLOW runs the command through a
+# wrapper (make valgrind sets it); RF_DEEP_JOINTS (default 100000) sizes the deep-nesting rows.
+set -u
+build="${RF_BUILDDIR:?}"
+src="${RF_SRCDIR:?}"
+rigflow="${RF_RIGFLOW:-$build/rigflow}"
+convert="$src/pipelines/convert.json"
+deep=${RF_DEEP_JOINTS:-100000}
+tmp=$(mktemp -d)
+trap 'chmod -R u+rwx "$tmp" 2>/dev/null; umount "$tmp/full" 2>/dev/null; rm -rf "$tmp"' EXIT
+pass=0 fail=0 skip=0
+
+ok() { pass=$((pass + 1)); echo "ok - $1"; }
+bad() { fail=$((fail + 1)); echo "not ok - $1"; sed 's/^/    stderr: /' "$tmp/err" | head -12; }
+skipped() { skip=$((skip + 1)); echo "ok - $1 # SKIP $2"; }
+
+# rf ARGS...: the command, stdout to $tmp/out, stderr to $tmp/err; sets $code. rfv keeps the
+# warnings --quiet drops.
+rf() {
+    "$rigflow" --quiet "$@" >"$tmp/out" 2>"$tmp/err"
+    code=$?
+}
+rfv() {
+    "$rigflow" "$@" >"$tmp/out" 2>"$tmp/err"
+    code=$?
+}
+
+# leftovers DIR: what a run left in DIR (outputs and temporary files), or nothing.
+leftovers() { ls -A "$1" 2>/dev/null; }
+
+# row NAME CODE MESSAGE INPUT OUTPUT [-p ...]: converts INPUT to OUTPUT (format by extension) and
+# expects exit CODE, MESSAGE in stderr and nothing in OUTPUT's folder.
+row() {
+    local name=$1 want=$2 msg=$3 in=$4 out=$5
+    shift 5
+    rm -rf "$tmp/o" && mkdir -p "$tmp/o"
+    rf run "$convert" -p source.path="$in" -p export.path="$out" "$@"
+    local left
+    left=$(leftovers "$(dirname "$out")")
+    if [ "$code" != "$want" ]; then bad "$name: exit $code, expected $want"
+    elif ! grep -qF -- "$msg" "$tmp/err"; then bad "$name: '$msg' not in the message"
+    elif [ -n "$left" ]; then bad "$name: left $left behind"
+    else ok "$name"; fi
+}
+
+# good NAME INPUT OUTPUT [MESSAGE]: a hostile but valid input converts, with MESSAGE if given.
+good() {
+    local name=$1 in=$2 out=$3 msg=${4:-}
+    rm -f "$out"
+    rf run "$convert" -p source.path="$in" -p export.path="$out"
+    if [ "$code" != 0 ]; then bad "$name: exit $code, expected 0"
+    elif [ -n "$msg" ] && ! grep -qF -- "$msg" "$tmp/err"; then bad "$name: '$msg' not in the message"
+    elif [ ! -s "$out" ]; then bad "$name: no output written"
+    else ok "$name"; fi
+}
+
+o="$tmp/o/out" # every failing row writes here; its folder must stay empty
+cp "$src/tests/fuzz/seeds/bvh/minimal.bvh" "$tmp/ok.bvh"
+good "a small valid BVH converts to GLB (the material for the GLB rows)" "$tmp/ok.bvh" "$tmp/ok.glb"
+
+# ---- truncated and empty files ----
+: >"$tmp/empty.bvh"
+row "empty BVH" 1 "empty.bvh:1: expected HIERARCHY, found the end of the file" "$tmp/empty.bvh" "$o.glb"
+head -n 9 "$tmp/ok.bvh" >"$tmp/cut-hierarchy.bvh"
+row "BVH cut inside the hierarchy" 1 "the file ends inside joint 'Spine'" "$tmp/cut-hierarchy.bvh" "$o.glb"
+head -c "$(($(wc -c <"$tmp/ok.bvh") - 20))" "$tmp/ok.bvh" >"$tmp/cut-motion.bvh"
+row "BVH cut inside the motion" 1 "cut-motion.bvh:" "$tmp/cut-motion.bvh" "$o.glb"
+: >"$tmp/empty.glb"
+row "empty GLB" 1 "empty.glb: Assimp cannot read it" "$tmp/empty.glb" "$o.bvh"
+head -c "$(($(wc -c <"$tmp/ok.glb") / 2))" "$tmp/ok.glb" >"$tmp/cut.glb"
+row "GLB cut in half" 1 "cut.glb: Assimp cannot read it" "$tmp/cut.glb" "$o.bvh"
+
+# ---- wrong format behind a known extension ----
+cp "$tmp/ok.glb" "$tmp/glb-inside.bvh"
+row "GLB bytes named .bvh" 1 "expected HIERARCHY at the start of the file, found 'glTF\\x02'" \
+    "$tmp/glb-inside.bvh" "$o.glb"
+printf '\x89PNG\r\n\x1a\n\0\0\0\rIHDR' >"$tmp/png-inside.glb"
+row "PNG bytes named .glb" 1 "png-inside.glb: Assimp cannot read it" "$tmp/png-inside.glb" "$o.bvh"
+echo '{"asset": {"version": "2.0"}, "nodes": "not a list"}' >"$tmp/bad-schema.gltf"
+row "glTF JSON of the wrong shape" 1 "bad-schema.gltf: Assimp cannot read it" \
+    "$tmp/bad-schema.gltf" "$o.bvh"
+
+# ---- NaN, infinity, overflow ----
+bvh1() { # bvh1 OFFSET-Y MOTION-LINE FRAME-TIME: a one-joint BVH
+    printf 'HIERARCHY\nROOT a\n{\nOFFSET 0 %s 0\nCHANNELS 3 Xposition Yposition Zrotation\n' "$1"
+    printf 'End Site\n{\nOFFSET 0 1 0\n}\n}\nMOTION\nFrames: 2\nFrame Time: %s\n0 0 0\n%s\n' "$3" "$2"
+}
+bvh1 0 "nan 1 2" 0.1 >"$tmp/nan.bvh"
+row "NaN in the motion" 1 "nan.bvh:15: 'nan' is not a finite number (frame 2, joint 'a', Xposition)" \
+    "$tmp/nan.bvh" "$o.glb"
+bvh1 inf "0 1 2" 0.1 >"$tmp/inf.bvh"
+row "infinite OFFSET" 1 "inf.bvh:4: 'inf' is not a finite number: expected the OFFSET's y" \
+    "$tmp/inf.bvh" "$o.glb"
+bvh1 0 "0 1 1e400" 0.1 >"$tmp/huge.bvh"
+row "a number beyond double range" 1 "huge.bvh:15:" "$tmp/huge.bvh" "$o.glb"
+bvh1 1e308 "1e308 1e308 0" 0.1 >"$tmp/big.bvh"
+row "finite values whose product overflows" 1 "is not finite" "$tmp/big.bvh" "$o.bvh"
+bvh1 0 "0 1 2" 0.01e3081 >"$tmp/inf-time.bvh" # found by fuzz_bvh: the rate became 0 fps
+row "Frame Time that reads as infinity" 1 "expected a positive Frame Time" "$tmp/inf-time.bvh" "$o.glb"
+
+# ---- bytes that would drive a terminal, quoted in a message ----
+printf 'HIERARCHY\nROOT \033[2J\033]0;pwned\007\n{\nOFFSET 0 0 0\nCHANNELS 1 Zrotation\nJOINT \033[2J\033]0;pwned\007\n' >"$tmp/esc.bvh"
+row "control characters from a file are escaped in messages" 1 \
+    "duplicate joint name '\\x1b[2J\\x1b]0;pwned\\x07'" "$tmp/esc.bvh" "$o.glb"
+if grep -q "$(printf '\033')" "$tmp/err"; then bad "... an escape byte reached the terminal"; else ok "... none reaches the terminal"; fi
+
+# ---- joint names that repeat ----
+cat >"$tmp/dup.bvh" <<'EOF'
+HIERARCHY
+ROOT a
+{
+OFFSET 0 0 0
+CHANNELS 1 Zrotation
+JOINT b
+{
+OFFSET 0 1 0
+CHANNELS 1 Zrotation
+End Site
+{
+OFFSET 0 1 0
+}
+}
+JOINT b
+{
+OFFSET 1 0 0
+CHANNELS 1 Zrotation
+End Site
+{
+OFFSET 1 0 0
+}
+}
+}
+MOTION
+Frames: 1
+Frame Time: 0.1
+0 0 0
+EOF
+row "BVH joint name repeated" 1 "dup.bvh:15: duplicate joint name 'b' (first declared on line 6)" \
+    "$tmp/dup.bvh" "$o.glb"
+cat >"$tmp/dup.gltf" <<'EOF'
+{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+ "nodes": [{"name": "a", "children": [1, 2]}, {"name": "b", "translation": [0, 1, 0]},
+           {"name": "b", "translation": [1, 0, 0]}]}
+EOF
+good "glTF joint name repeated: renamed, with a warning" "$tmp/dup.gltf" "$tmp/dup.bvh.out.bvh" \
+    "duplicate joint name 'b' renamed 'b.1'"
+
+# ---- hierarchy cycles in glTF node graphs (Assimp importer) ----
+cat >"$tmp/cycle.gltf" <<'EOF'
+{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+ "nodes": [{"name": "a", "children": [1]}, {"name": "b", "children": [2]},
+           {"name": "c", "children": [0]}]}
+EOF
+row "glTF nodes in a cycle" 1 "has recursive reference to itself" "$tmp/cycle.gltf" "$o.bvh"
+cat >"$tmp/self.gltf" <<'EOF'
+{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+ "nodes": [{"name": "a", "children": [0]}]}
+EOF
+row "glTF node that is its own child" 1 "has recursive reference to itself" "$tmp/self.gltf" "$o.bvh"
+cat >"$tmp/badchild.gltf" <<'EOF'
+{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+ "nodes": [{"name": "a", "children": [7]}]}
+EOF
+row "glTF child index out of range" 1 "badchild.gltf: Assimp cannot read it" "$tmp/badchild.gltf" "$o.bvh"
+
+# ---- nesting deep enough to overflow a naive recursive parser ----
+{
+    printf 'HIERARCHY\nROOT j0\n{\nOFFSET 0 0 0\nCHANNELS 3 Xposition Yposition Zposition\n'
+    awk -v n="$deep" 'BEGIN { for (i = 1; i < n; i++) printf "JOINT j%d\n{\nOFFSET 0 1 0\nCHANNELS 0\n", i }'
+    printf 'End Site\n{\nOFFSET 0 1 0\n}\n'
+    awk -v n="$deep" 'BEGIN { for (i = 0; i < n; i++) print "}" }'
+    printf 'MOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0\n'
+} >"$tmp/deep.bvh"
+good "$deep nested BVH joints read and write (BVH)" "$tmp/deep.bvh" "$tmp/deep-out.bvh"
+good "$deep nested BVH joints write as GLB" "$tmp/deep.bvh" "$tmp/deep.glb"
+good "$deep nested glTF nodes read through Assimp (deep recursion on a sized stack)" \
+    "$tmp/deep.glb" "$tmp/deep-back.bvh"
+rm -f "$tmp"/deep*
+
+# ---- huge declared frame counts with little data ----
+bvh1 0 "0 1 2" 0.1 | sed 's/^Frames: 2$/Frames: 5000000000/' >"$tmp/frames-over.bvh"
+row "Frames beyond the 32-bit range" 1 "expected a whole number of frames from 0 to" \
+    "$tmp/frames-over.bvh" "$o.glb"
+bvh1 0 "0 1 2" 0.1 | sed 's/^Frames: 2$/Frames: 4000000/' >"$tmp/frames-huge.bvh"
+row "Frames: 4000000 with two frames of data" 1 \
+    "'Frames: 4000000' is more than the rest of the file can hold" "$tmp/frames-huge.bvh" "$o.glb"
+
+# ---- unreadable input ----
+mkdir "$tmp/folder.bvh"
+row "a folder named .bvh" 1 "folder.bvh: not a regular file" "$tmp/folder.bvh" "$o.glb"
+mkfifo "$tmp/fifo.bvh" "$tmp/fifo.glb"
+row "a FIFO named .bvh (no hang)" 1 "fifo.bvh: not a regular file" "$tmp/fifo.bvh" "$o.glb"
+row "a FIFO named .glb (no hang)" 1 "fifo.glb: not a regular file" "$tmp/fifo.glb" "$o.bvh"
+row "a missing input" 1 "none.bvh" "$tmp/none.bvh" "$o.glb"
+cp "$tmp/ok.bvh" "$tmp/locked.bvh" && chmod 000 "$tmp/locked.bvh"
+if [ "$(id -u)" = 0 ]; then
+    skipped "input without read permission" "running as root, who reads it anyway (the folder and FIFO rows cover refusals)"
+else
+    row "input without read permission" 1 "Permission denied" "$tmp/locked.bvh" "$o.glb"
+fi
+
+# ---- output folder missing or not writable ----
+# (a missing output folder: test_cli.sh "unwritable output folder fails the run" and
+# test_pipeline.c missing_output_folder_reported)
+echo "a file" >"$tmp/plainfile"
+rf run "$convert" -p source.path="$tmp/ok.bvh" -p export.path="$tmp/plainfile/out.glb"
+[ "$code" = 1 ] && grep -q "plainfile: Not a directory" "$tmp/err" && [ "$(cat "$tmp/plainfile")" = "a file" ] &&
+    ok "output folder is a regular file" || bad "output folder is a regular file (exit $code)"
+mkdir -p "$tmp/ro" && chmod 555 "$tmp/ro"
+if [ "$(id -u)" = 0 ]; then
+    skipped "output folder without write permission" "running as root, who writes anyway (the regular-file row covers it)"
+else
+    rf run "$convert" -p source.path="$tmp/ok.bvh" -p export.path="$tmp/ro/out.glb"
+    [ "$code" = 1 ] && grep -q "Permission denied" "$tmp/err" && [ -z "$(leftovers "$tmp/ro")" ] &&
+        ok "output folder without write permission" || bad "output folder without write permission"
+fi
+
+# ---- a write that fails midway ----
+big="${RF_DATA_DIR:-}/bvh/cmu_01_01.bvh"
+[ -f "$big" ] || big="$tmp/ok.bvh"
+for ext in bvh glb gltf; do # a file size limit: the write fails with EFBIG after 4 KiB
+    mkdir -p "$tmp/lim"
+    (trap '' XFSZ; ulimit -f 4; "$rigflow" --quiet run "$convert" -p source.path="$big" \
+        -p export.path="$tmp/lim/out.$ext" >"$tmp/out" 2>"$tmp/err")
+    code=$?
+    if [ "$big" = "$tmp/ok.bvh" ]; then
+        skipped "file size limit hit while writing .$ext" "no large sample (RF_DATA_DIR)"
+    elif [ "$code" = 1 ] && grep -q "File too large" "$tmp/err" && [ -z "$(leftovers "$tmp/lim")" ]; then
+        ok "file size limit hit while writing .$ext: failed, nothing left"
+    else bad "file size limit hit while writing .$ext: exit $code, left '$(leftovers "$tmp/lim")'"; fi
+done
+# a full filesystem: a 64 KiB tmpfs, mounted directly as root or in a user namespace otherwise
+mkdir -p "$tmp/full"
+fill_and_run() { # runs inside the mount namespace
+    mount -t tmpfs -o size=64k rf-full "$1" || exit 3
+    head -c 40000 /dev/zero >"$1/ballast" 2>/dev/null
+    "$rigflow" --quiet run "$convert" -p source.path="$2" -p export.path="$1/out.$3"
+    echo "exit $?" >"$4"
+    ls -A "$1" | grep -v '^ballast$' >>"$4"
+    umount "$1"
+}
+export -f fill_and_run
+export rigflow convert
+for ext in bvh glb; do
+    : >"$tmp/full.res"
+    if [ "$(id -u)" = 0 ]; then runner=(unshare -m); else runner=(unshare -rm); fi
+    if ! "${runner[@]}" true 2>/dev/null; then
+        skipped "full filesystem while writing .$ext" "cannot make a mount namespace here"; continue
+    fi
+    "${runner[@]}" bash -c 'fill_and_run "$@"' _ "$tmp/full" "$big" "$ext" "$tmp/full.res" 2>"$tmp/err"
+    if [ "$(head -1 "$tmp/full.res")" = "" ]; then
+        skipped "full filesystem while writing .$ext" "cannot mount a tmpfs here"
+    elif [ "$big" = "$tmp/ok.bvh" ]; then
+        skipped "full filesystem while writing .$ext" "no large sample (RF_DATA_DIR)"
+    elif [ "$(cat "$tmp/full.res")" = "exit 1" ] && grep -q "No space left on device" "$tmp/err"; then
+        ok "full filesystem while writing .$ext: failed with ENOSPC, nothing left"
+    else bad "full filesystem while writing .$ext: $(tr '\n' ' ' <"$tmp/full.res")"; fi
+done
+
+# ---- plugins: missing, failing init, loaded from where ----
+# (a pipeline naming a missing plugin: test_pipeline.c unknown_type_says_plugin_not_installed;
+# SIGINT leaving no partial file: test_cli.sh "interrupted run left no file")
+fixtures="$build/tests/fixtures/.libs"
+cat >"$tmp/fixture.json" <<'EOF'
+{"format": "rigflow.pipeline", "version": 1, "nodes": [
+  {"id": "s", "type": "test.source"},
+  {"id": "w", "type": "test.sink", "params": {"path": "o/out.txt"}, "inputs": {"in": "s.value"}}]}
+EOF
+mkdir -p "$tmp/initfail" "$tmp/o" && cp "$fixtures/fx_initfail.so" "$tmp/initfail/"
+RIGFLOW_PLUGIN_PATH= rfv --plugin-path "$tmp/initfail" run "$tmp/fixture.json"
+[ "$code" = 3 ] && grep -q "plugin failed to initialise: the fixture's licence file is missing" "$tmp/err" &&
+    grep -q "plugin not installed: test.source" "$tmp/err" && [ -z "$(leftovers "$tmp/o")" ] &&
+    ok "a plugin that fails init is refused and its node types are not there" ||
+    bad "a plugin that fails init (exit $code)"
+
+# A pipeline is data: a type or key naming a library never loads it. The library would leave a
+# marker file from its constructor if it were ever loaded.
+cc=${CC:-cc}
+printf '#include <stdio.h>\n__attribute__((constructor)) static void rf_evil(void)\n{ FILE *f = fopen("%s", "w"); if (f) fclose(f); }\nconst int rigflow_plugin_entry;\n' \
+    "$tmp/LOADED" >"$tmp/evil.c"
+if $cc -shared -fPIC -o "$tmp/evil.so" "$tmp/evil.c" 2>"$tmp/err"; then
+    for type in "$tmp/evil.so" "evil.so" "evil" "../$(basename "$tmp")/evil.so"; do
+        printf '{"format": "rigflow.pipeline", "version": 1, "nodes": [{"id": "x", "type": "%s"}]}\n' \
+            "$type" >"$tmp/evil.json"
+        rf run "$tmp/evil.json"
+        [ "$code" = 3 ] && grep -q "plugin not installed" "$tmp/err" && [ ! -e "$tmp/LOADED" ] &&
+            ok "a node type naming a library ($type) loads nothing" || bad "type $type loaded or misreported"
+    done
+    printf '{"format": "rigflow.pipeline", "version": 1, "plugins": ["%s"], "nodes": [{"id": "x", "type": "test.source", "plugin": "%s"}]}\n' \
+        "$tmp/evil.so" "$tmp/evil.so" >"$tmp/evil.json"
+    rf run "$tmp/evil.json"
+    [ "$code" = 3 ] && grep -q "unknown key 'plugins'" "$tmp/err" && grep -q "unknown key 'plugin'" "$tmp/err" &&
+        [ ! -e "$tmp/LOADED" ] && ok "plugin keys in a pipeline are refused, nothing loaded" ||
+        bad "plugin keys in a pipeline"
+    RIGFLOW_PLUGIN_PATH= rf --plugin-path "$tmp/nothere" run "$tmp/evil.json"
+    [ ! -e "$tmp/LOADED" ] && ok "the pipeline's own folder is not a plugin folder" || bad "pipeline folder searched"
+else
+    skipped "pipelines naming libraries" "no C compiler ($cc) to build the marker library"
+fi
+
+# Plugin folders and files others may write to are refused (end to end; unit: test_plugins.c).
+mkdir -p "$tmp/shared"
+cp "$fixtures/fx_good.so" "$tmp/shared/"
+chmod 777 "$tmp/shared"
+RIGFLOW_PLUGIN_PATH= rfv --plugin-path "$tmp/shared" run "$tmp/fixture.json"
+[ "$code" = 3 ] && grep -q "shared: plugin folder refused: it is writable by other users" "$tmp/err" &&
+    grep -q "plugin not installed: test.source" "$tmp/err" &&
+    ok "a plugin folder writable by others is refused with a warning" || bad "world-writable folder (exit $code)"
+chmod 755 "$tmp/shared" && chmod 666 "$tmp/shared/fx_good.so"
+RIGFLOW_PLUGIN_PATH= rfv --plugin-path "$tmp/shared" run "$tmp/fixture.json"
+[ "$code" = 3 ] && grep -q "fx_good.so: plugin refused: the file is writable by other users" "$tmp/err" &&
+    ok "a plugin file writable by others is refused with a warning" || bad "world-writable plugin file (exit $code)"
+
+# ---- references inside a model resolve only inside its folder ----
+m="$tmp/model"
+mkdir -p "$m"
+python3 -c 'import struct, sys; sys.stdout.buffer.write(struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0))' \
+    >"$tmp/secret.bin" 2>/dev/null || printf '\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0' >"$tmp/secret.bin"
+cp "$tmp/secret.bin" "$m/inside.bin"
+ln -s ../secret.bin "$m/link.bin"
+gltf_with_buffer() { # gltf_with_buffer URI: a skeleton and a mesh whose vertices are in URI
+    printf '{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+ "nodes": [{"name": "hips", "children": [1]}, {"name": "spine", "translation": [0, 1, 0], "children": [2]},
+           {"name": "m", "mesh": 0}],
+ "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+ "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                "min": [0, 0, 0], "max": [1, 1, 0]}],
+ "buffers": [{"uri": "%s", "byteLength": 36}],
+ "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}]}\n' "$1"
+}
+# traced NAME: runs the command under strace when it can, so rows can check what was opened.
+tracing=no
+[ -z "${RF_RIGFLOW:-}" ] && strace -f -qq -o /dev/null true 2>/dev/null && tracing=yes
+traced() {
+    if [ "$tracing" = yes ]; then
+        # LeakSanitizer cannot run under ptrace: a sanitizer build checks leaks in the other rows.
+        ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" strace -f -qq \
+            -e trace=open,openat -o "$tmp/trace" "$rigflow" --quiet "$@" >"$tmp/out" 2>"$tmp/err"
+    else
+        : >"$tmp/trace"
+        "$rigflow" --quiet "$@" >"$tmp/out" 2>"$tmp/err"
+    fi
+    code=$?
+}
+# never_opened NAME FILE: FILE (outside the model's folder) was never opened.
+never_opened() {
+    if [ "$tracing" != yes ]; then skipped "$1: nothing opened outside" "strace unavailable (or under valgrind)"
+    elif grep -F "\"$2\"" "$tmp/trace" | grep -vq '= -1'; then bad "$1: $2 was opened"
+    else ok "$1: nothing opened outside"; fi
+}
+gltf_with_buffer inside.bin >"$m/inside.gltf"
+good "glTF buffer beside the model is read" "$m/inside.gltf" "$tmp/inside.bvh"
+gltf_with_buffer ../secret.bin >"$m/up.gltf"
+traced run "$convert" -p source.path="$m/up.gltf" -p export.path="$o.bvh"
+[ "$code" = 1 ] && grep -q "refused to read $m/../secret.bin: outside the model's folder" "$tmp/err" &&
+    ok "glTF buffer URI ../secret.bin is refused, and named" || bad "glTF buffer ../ (exit $code)"
+never_opened "glTF buffer URI ../" "$tmp/secret.bin"
+gltf_with_buffer "$tmp/secret.bin" >"$m/abs.gltf"
+traced run "$convert" -p source.path="$m/abs.gltf" -p export.path="$o.bvh"
+[ "$code" = 1 ] && grep -q "could not open referenced file \"$tmp/secret.bin\"" "$tmp/err" &&
+    ok "glTF buffer URI with an absolute path is not read" || bad "glTF buffer absolute (exit $code)"
+never_opened "glTF buffer absolute URI" "$tmp/secret.bin"
+gltf_with_buffer link.bin >"$m/link.gltf"
+traced run "$convert" -p source.path="$m/link.gltf" -p export.path="$o.bvh"
+[ "$code" = 1 ] && grep -q "refused to read $m/link.bin: outside the model's folder" "$tmp/err" &&
+    ok "glTF buffer through a symbolic link leading out is refused" || bad "glTF buffer symlink (exit $code)"
+never_opened "glTF buffer through a link" "$tmp/secret.bin"
+cp "$tmp/secret.bin" "$tmp/secret.png"
+printf '{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+ "nodes": [{"name": "hips", "children": [1]}, {"name": "spine", "translation": [0, 1, 0]}],
+ "images": [{"uri": "../secret.png"}, {"uri": "%s"}], "textures": [{"source": 0}, {"source": 1}],
+ "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 1}}}]}\n' "$tmp/secret.png" >"$m/img.gltf"
+traced run "$convert" -p source.path="$m/img.gltf" -p export.path="$tmp/img.bvh"
+[ "$code" = 0 ] && ok "glTF image URIs (../ and absolute) do not stop the import" || bad "glTF images (exit $code)"
+never_opened "glTF image URIs ../ and absolute" "$m/../secret.png"
+never_opened "glTF image URI absolute" "$tmp/secret.png"
+
+# Ogre: a mesh names its skeleton file
+cat >"$tmp/outside.skeleton.xml" <<'EOF'
+<skeleton><bones><bone id="0" name="root"><position x="0" y="0" z="0"/><rotation angle="0"><axis x="1" y="0" z="0"/></rotation></bone><bone id="1" name="tip"><position x="0" y="1" z="0"/><rotation angle="0"><axis x="1" y="0" z="0"/></rotation></bone></bones><bonehierarchy><boneparent bone="tip" parent="root"/></bonehierarchy></skeleton>
+EOF
+ogre_mesh() { # ogre_mesh SKELETON: an Ogre XML mesh skinned to SKELETON
+    printf '<mesh><submeshes><submesh material="m" usesharedvertices="false" use32bitindexes="false" operationtype="triangle_list">
+<faces count="1"><face v1="0" v2="1" v3="2"/></faces><geometry vertexcount="3"><vertexbuffer positions="true">
+<vertex><position x="0" y="0" z="0"/></vertex><vertex><position x="1" y="0" z="0"/></vertex><vertex><position x="0" y="1" z="0"/></vertex>
+</vertexbuffer></geometry><boneassignments><vertexboneassignment vertexindex="0" boneindex="0" weight="1"/>
+<vertexboneassignment vertexindex="1" boneindex="1" weight="1"/><vertexboneassignment vertexindex="2" boneindex="1" weight="1"/>
+</boneassignments></submesh></submeshes><skeletonlink name="%s"/></mesh>\n' "$1"
+}
+cp "$tmp/outside.skeleton.xml" "$m/inside.skeleton.xml"
+ogre_mesh inside.skeleton.xml >"$m/in.mesh.xml"
+good "Ogre skeleton beside the mesh is read" "$m/in.mesh.xml" "$tmp/ogre.bvh"
+for ref in ../outside.skeleton.xml "$tmp/outside.skeleton.xml"; do
+    ogre_mesh "$ref" >"$m/out.mesh.xml"
+    traced run "$convert" -p source.path="$m/out.mesh.xml" -p export.path="$o.bvh"
+    grep -q "refused to read .*outside.skeleton.xml: outside the model's folder" "$tmp/err" &&
+        [ -z "$(leftovers "$(dirname "$o")")" ] &&
+        ok "Ogre skeleton link $ref is refused, and named" || bad "Ogre skeleton link $ref (exit $code)"
+    never_opened "Ogre skeleton link $ref" "$tmp/outside.skeleton.xml"
+done
+
+# OBJ: a material library, whose textures are external files too
+printf 'newmtl m\nKd 1 0 0\nmap_Kd ../secret.png\n' >"$tmp/outside.mtl"
+printf 'mtllib ../outside.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n' >"$m/up.obj"
+traced run "$convert" -p source.path="$m/up.obj" -p export.path="$tmp/mesh.glb"
+grep -q "refused to read $m/../outside.mtl: outside the model's folder" "$tmp/err" &&
+    ok "OBJ material library ../outside.mtl is refused, and named" || bad "OBJ mtllib ../ (exit $code)"
+never_opened "OBJ material library ../" "$tmp/outside.mtl"
+printf 'mtllib %s\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n' "$tmp/outside.mtl" >"$m/abs.obj"
+traced run "$convert" -p source.path="$m/abs.obj" -p export.path="$tmp/mesh.glb"
+never_opened "OBJ material library with an absolute path" "$tmp/outside.mtl"
+
+echo "$pass passed, $fail failed, $skip skipped"
+[ "$fail" = 0 ]
