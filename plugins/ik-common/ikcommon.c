@@ -88,8 +88,10 @@ const rf_ik_constraint *rf_ikc_constraint(const rf_ik_problem *pb, uint32_t j)
 
 static bool finite_xform(rf_xform x)
 {
-    return rf_v3_isfinite(x.t) && rf_v3_isfinite(x.s) && isfinite(x.r.x) && isfinite(x.r.y) &&
-           isfinite(x.r.z) && isfinite(x.r.w) && x.s.x > 0 && x.s.y > 0 && x.s.z > 0;
+    /* One test for all ten: a NaN or infinity anywhere makes the sum one (an overflowing sum
+     * of huge finite values is refused too, which no skeleton has). Runs per joint per solve. */
+    double sum = x.t.x + x.t.y + x.t.z + x.r.x + x.r.y + x.r.z + x.r.w + x.s.x + x.s.y + x.s.z;
+    return isfinite(sum) && x.s.x > 0 && x.s.y > 0 && x.s.z > 0;
 }
 
 static bool is_ancestor_or_self(const int32_t *parents, int32_t a, int32_t j)
@@ -270,16 +272,11 @@ static void prepare_paths(rf_ikc_solve *s)
 static void count_branches(rf_ikc_solve *s)
 {
     rf_ikc_work *w = s->w;
-    /* Reuse pos[].x as a counter of path joints each movable joint drives. */
-    for (uint32_t j = 0; j < s->n; j++)
-        w->pos[j].x = 0;
     for (uint32_t j = 0; j < s->n; j++) {
         if ((w->flags[j] & RF_IKC_MOVABLE) && rf_ikc_constraint(s->pb, j))
             s->constrained = true;
-        if (w->driver[j] >= 0 && (w->pos[w->driver[j]].x += 1) > 1)
-            s->branched = true;
-        if (w->driver[j] >= 0 && w->driver[j] != s->pb->parents[j])
-            s->branched = true; /* a locked joint in between: rigid offsets need rotations */
+        if (w->driver[j] >= 0 && (w->next[j] >= 0 || w->driver[j] != s->pb->parents[j]))
+            s->branched = true; /* a driver with two joints, or a locked joint in between */
     }
 }
 

@@ -369,6 +369,35 @@ static void test_twobone_refuses_other_chains(void **unused)
     rf_ik_twobone_api.destroy(st);
 }
 
+/* A state made for 2 joints and 1 goal grows for bigger problems instead of failing them. */
+static void test_states_grow_past_their_config(void **unused)
+{
+    (void)unused;
+    rf_ik_config cfg = {sizeof cfg, 2, 1, 0, 0};
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        char err[160];
+        void *st = api->create(&cfg, err, sizeof err);
+        assert_non_null(st);
+        fx_problem f;
+        uint32_t links = handles_links(api, 10) ? 10 : 2;
+        fx_chain(&f, links);
+        f.goals[0].target = rf_v3(0.5, 0.3 * links, 0.2);
+        fx_wire(&f, 1, 1e-4, 2000);
+        solve_ok(api, st, &f);
+        assert_true(f.res.reached);
+        if (api->capabilities & RF_IK_CAP_MULTI_GOAL) {
+            fx_tree(&f);
+            f.goals[0].target = rf_v3(1.5, 4.5, 0.5);
+            f.goals[1].target = rf_v3(-1.5, 4.5, 0.5);
+            fx_wire(&f, 2, 1e-4, 2000);
+            solve_ok(api, st, &f);
+            assert_int_equal(f.res.size, sizeof f.res);
+        }
+        api->destroy(st);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -382,6 +411,7 @@ int main(void)
         cmocka_unit_test(test_solves_in_place),
         cmocka_unit_test(test_twobone_follows_the_law_of_cosines),
         cmocka_unit_test(test_twobone_refuses_other_chains),
+        cmocka_unit_test(test_states_grow_past_their_config),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
