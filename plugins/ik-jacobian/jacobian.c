@@ -190,10 +190,13 @@ static void step_dls(jac_state *st)
     for (uint32_t a = 0; a < m; a++)
         for (uint32_t b = 0; b <= a; b++) {
             const double *ra = st->J + (size_t)a * n, *rb = st->J + (size_t)b * n;
-            double sum = 0;
-            for (uint32_t c = 0; c < n; c++)
-                sum += ra[c] * rb[c];
-            st->S[a * m + b] = st->S[b * m + a] = sum;
+            double s0 = 0, s1 = 0; /* two sums: half the dependency chain of one */
+            uint32_t c = 0;
+            for (; c + 1 < n; c += 2)
+                s0 += ra[c] * rb[c], s1 += ra[c + 1] * rb[c + 1];
+            if (c < n)
+                s0 += ra[c] * rb[c];
+            st->S[a * m + b] = st->S[b * m + a] = s0 + s1;
         }
     for (uint32_t a = 0; a < m; a++)
         st->S[a * m + a] += st->lambda * st->lambda, st->y[a] = st->e[a];
@@ -257,7 +260,9 @@ static void apply_step(jac_state *st, rf_ikc_solve *s, double scale)
         /* A world-axis turn of joint j is, in its parent's frame, a turn about the axis seen
          * from the parent: local' = (parent^-1 omega) local. */
         rf_vec3 in_parent = rf_quat_rotate(rf_quat_conj(rf_ikc_parent_rot(s, j)), omega);
-        rf_quat turn = rf_quat_from_axis_angle(in_parent, angle);
+        double k = sin(0.5 * angle) / angle; /* the axis is omega / angle: no normalising */
+        rf_quat turn =
+            rf_quat_make(in_parent.x * k, in_parent.y * k, in_parent.z * k, cos(0.5 * angle));
         s->local[j].r = rf_ikc_constrain_local(s, j, rf_quat_mul(turn, s->local[j].r));
     }
     rf_ikc_fk(s);
