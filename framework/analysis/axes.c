@@ -1,0 +1,460 @@
+/* Skeleton analysis, stage 3: up, forward and left.
+ *
+ * Up lies in the symmetry plane. Of the four in-plane directions, up is the one the limbs hang
+ * away from: weighted by how much of each limb's reach points down and how steadily its chain
+ * descends, plus a bonus when a mirrored pair of limbs touches the lowest level (feet on the
+ * ground) and a small one for the axis the file declares. Forward is then one of two directions;
+ * its sign is voted by the feet (toes point forward), by the knees of a biped and by the file. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis-internal.h"
+
+typedef struct rf_limb {
+    uint32_t root;
+    uint32_t end;     /* joint whose tip is farthest from the attachment */
+    rf_vec3 attach;   /* where the limb leaves the body */
+    rf_vec3 far;      /* that farthest tip */
+    double lowest[4]; /* lowest height under each up candidate */
+    double reach;     /* farthest tip, guessed ones included, from the attachment */
+    uint32_t joints;
+    bool leg;
+} rf_limb;
+
+typedef struct rf_limbs {
+    rf_limb *v;
+    uint32_t n;
+    int32_t *slot; /* limb index of each limb root */
+} rf_limbs;
+
+/* A limb's direction is measured from its own first pivot: the offset from its parent says
+ * little (a clavicle, or a root node at the origin the limb hangs from). */
+static rf_vec3 attach_point(const rf_awork *w, uint32_t root)
+{
+    return rf_an_pos(w, root);
+}
+
+static bool collect_limbs(const rf_awork *w, rf_limbs *ls)
+{
+    ls->v = calloc(w->n ? w->n : 1, sizeof *ls->v);
+    ls->slot = malloc((size_t)(w->n ? w->n : 1) * sizeof *ls->slot);
+    if (!ls->v || !ls->slot)
+        return false;
+    ls->n = 0;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        int32_t r = w->limb_of[j];
+        if (r < 0)
+            continue;
+        if ((uint32_t)r == j) {
+            ls->slot[j] = (int32_t)ls->n;
+            rf_limb *l = &ls->v[ls->n++];
+            l->root = j, l->end = j;
+            l->attach = attach_point(w, j);
+            l->far = rf_an_pos(w, j);
+        }
+        /* only measured points: a guessed tip would decide by its guess */
+        rf_limb *l = &ls->v[ls->slot[r]];
+        const rf_joint_info *ji = &w->a->joints[j];
+        rf_vec3 tip = (ji->flags & RF_JI_TIP_GUESSED) ? ji->pos : ji->tip;
+        if (rf_v3_dist(tip, l->attach) > rf_v3_dist(l->far, l->attach))
+            l->far = tip, l->end = j;
+        l->reach = fmax(l->reach, rf_v3_dist(ji->tip, l->attach));
+        l->joints++;
+    }
+    return true;
+}
+
+/* Share of the limb's height change along its path (root to far end) that goes down along u. */
+static double descent(const rf_awork *w, const rf_limb *l, rf_vec3 u)
+{
+    double down = 0, total = 0;
+    rf_vec3 below = l->far;
+    uint32_t j = l->end;
+    for (uint32_t step = 0; step < w->n; step++) {
+        rf_vec3 above = rf_an_pos(w, j);
+        double dh = rf_v3_dot(rf_v3_sub(below, above), u);
+        down += fmax(0, -dh), total += fabs(dh);
+        below = above;
+        if (j == l->root)
+            break;
+        j = (uint32_t)w->parent[j];
+    }
+    return total > 0 ? down / total : 0;
+}
+
+/* How well u explains the limbs as hanging down (0..1), plus 0.3 when two or more limbs reach
+ * the lowest level (feet on the ground) and 0.3 more when their end bones lie flat (feet, not
+ * wing tips pointing down). The lowest level is the lowest limb: a mesh node or ground root at
+ * the origin says nothing. */
+static double up_score(const rf_awork *w, const rf_limbs *ls, rf_vec3 u, int cand)
+{
+    double hang = 0, reach = 0, lo = INFINITY, hi = -INFINITY;
+    for (uint32_t i = 0; i < ls->n; i++) {
+        rf_vec3 v = rf_v3_sub(ls->v[i].far, ls->v[i].attach);
+        v = rf_v3_sub(v, rf_v3_scale(w->plane_n, rf_v3_dot(v, w->plane_n)));
+        reach += rf_v3_len(v);
+        hang += descent(w, &ls->v[i], u) * fmax(0, -rf_v3_dot(v, u));
+        lo = fmin(lo, ls->v[i].lowest[cand]);
+    }
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        const rf_joint_info *ji = &w->a->joints[w->order[i]];
+        hi = fmax(hi, fmax(rf_v3_dot(ji->pos, u), rf_v3_dot(ji->tip, u)));
+    }
+    uint32_t grounded = 0;
+    double flat = 0;
+    for (uint32_t i = 0; i < ls->n; i++) {
+        if (ls->v[i].lowest[cand] > lo + 0.05 * (hi - lo))
+            continue;
+        const rf_joint_info *end = &w->a->joints[ls->v[i].end];
+        rf_vec3 d = rf_v3_normalize(rf_v3_sub(end->tip, end->pos));
+        grounded++;
+        flat += fabs(rf_v3_dot(d, u)) < 0.8;
+    }
+    double bonus = grounded >= 2 ? 0.3 + 0.3 * flat / grounded : 0;
+    return (reach > 0 ? hang / reach : 0) + bonus;
+}
+
+static void limb_lowest(const rf_awork *w, rf_limbs *ls, const rf_vec3 *cands)
+{
+    for (uint32_t i = 0; i < ls->n; i++)
+        for (int c = 0; c < 4; c++)
+            ls->v[i].lowest[c] = INFINITY;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (w->limb_of[j] < 0)
+            continue;
+        rf_limb *l = &ls->v[ls->slot[w->limb_of[j]]];
+        const rf_joint_info *ji = &w->a->joints[j];
+        bool guessed = (ji->flags & RF_JI_TIP_GUESSED) != 0;
+        for (int c = 0; c < 4; c++) {
+            double a = rf_v3_dot(ji->pos, cands[c]);
+            double b = guessed ? a : rf_v3_dot(ji->tip, cands[c]);
+            l->lowest[c] = fmin(l->lowest[c], fmin(a, b));
+        }
+    }
+}
+
+static rf_vec3 perpendicular_to(rf_vec3 n, rf_vec3 hint)
+{
+    rf_vec3 a = rf_v3_sub(hint, rf_v3_scale(n, rf_v3_dot(hint, n)));
+    if (rf_v3_len(a) < 1e-6)
+        a = rf_v3_sub(rf_v3(1, 0, 0), rf_v3_scale(n, n.x));
+    if (rf_v3_len(a) < 1e-6)
+        a = rf_v3_sub(rf_v3(0, 0, 1), rf_v3_scale(n, n.z));
+    return rf_v3_normalize(a);
+}
+
+/* The four in-plane candidates: coordinate axes when the plane is axis-aligned. */
+static void up_candidates(const rf_awork *w, rf_vec3 *c)
+{
+    rf_vec3 n = w->plane_n, hint = rf_v3(0, 1, 0);
+    const rf_vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    int k = fabs(n.x) >= fabs(n.y) && fabs(n.x) >= fabs(n.z) ? 0 : fabs(n.y) >= fabs(n.z) ? 1 : 2;
+    bool aligned = fabs(rf_v3_dot(n, axes[k])) >= cos(10.0 * RF_PI / 180.0);
+    if (aligned)
+        hint = axes[k == 1 ? 2 : 1];
+    if (rf_v3_len2(w->skel->up) > 0 && !w->opt.ignore_file_axes && rf_v3_isfinite(w->skel->up))
+        hint = w->skel->up;
+    rf_vec3 a = perpendicular_to(n, hint);
+    if (aligned) { /* snap a to the nearest axis other than the plane's */
+        int m = (k + 1) % 3;
+        int o = (k + 2) % 3;
+        m = fabs(rf_v3_dot(a, axes[m])) >= fabs(rf_v3_dot(a, axes[o])) ? m : o;
+        a = rf_v3_scale(axes[m], rf_v3_dot(a, axes[m]) >= 0 ? 1 : -1);
+    }
+    rf_vec3 b = rf_v3_normalize(rf_v3_cross(n, a));
+    c[0] = a, c[1] = rf_v3_scale(a, -1), c[2] = b, c[3] = rf_v3_scale(b, -1);
+}
+
+static bool file_up(const rf_awork *w, rf_vec3 *up)
+{
+    rf_vec3 u = w->skel->up;
+    if (w->opt.ignore_file_axes || !rf_v3_isfinite(u) || rf_v3_len2(u) == 0)
+        return false;
+    *up = rf_v3_normalize(u);
+    return true;
+}
+
+static void detect_up(rf_awork *w, rf_limbs *ls)
+{
+    rf_analysis *a = w->a;
+    rf_vec3 cands[4], fu;
+    up_candidates(w, cands);
+    limb_lowest(w, ls, cands);
+    bool have_file = file_up(w, &fu);
+    /* Limbs measured over little of the body (single leaf bones) are weak evidence: the axis
+     * the file declares then weighs more. */
+    double extent = 0;
+    for (uint32_t i = 0; i < ls->n; i++) {
+        rf_vec3 v = rf_v3_sub(ls->v[i].far, ls->v[i].attach);
+        extent += rf_v3_len(rf_v3_sub(v, rf_v3_scale(w->plane_n, rf_v3_dot(v, w->plane_n))));
+    }
+    double strength = fmin(1, extent / (0.3 * a->size));
+    double score[4];
+    int best = 0;
+    for (int c = 0; c < 4; c++) {
+        score[c] = ls->n ? strength * up_score(w, ls, cands[c], c) : 0;
+        if (have_file && rf_v3_dot(cands[c], fu) > 0.9)
+            score[c] += 0.3;
+        if (score[c] > score[best])
+            best = c;
+    }
+    double second = 0;
+    for (int c = 0; c < 4; c++)
+        if (c != best)
+            second = fmax(second, score[c]);
+    a->up = cands[best];
+    if (ls->n == 0) {
+        a->up = have_file ? perpendicular_to(w->plane_n, fu) : cands[0];
+        a->up_source = have_file ? "file" : "default";
+        a->up_confidence = 0;
+        return;
+    }
+    a->up_source = "limbs";
+    a->up_confidence = score[best] > 0 ? fmin(1, fmax(0, (score[best] - second) / score[best])) : 0;
+}
+
+/* ---- forward ---- */
+
+typedef struct rf_votes {
+    double feet, knees;
+} rf_votes;
+
+/* The points of a limb's path, root first, into pts; returns their count (pivots and far tip). */
+static uint32_t limb_path(const rf_awork *w, const rf_limb *l, rf_vec3 *pts, uint32_t max)
+{
+    uint32_t count = 0, j = l->end;
+    pts[count++] = l->far;
+    for (uint32_t step = 0; step < w->n && count < max; step++) {
+        pts[count++] = rf_an_pos(w, j);
+        if (j == l->root || w->parent[j] < 0)
+            break;
+        j = (uint32_t)w->parent[j];
+    }
+    for (uint32_t i = 0; i < count / 2; i++) { /* reverse: root first */
+        rf_vec3 t = pts[i];
+        pts[i] = pts[count - 1 - i];
+        pts[count - 1 - i] = t;
+    }
+    return count;
+}
+
+/* The centerline stands taller than it is long (a biped, not a dragon on two legs). */
+static bool upright(const rf_awork *w)
+{
+    double lo = INFINITY, hi = -INFINITY, back = INFINITY, front = -INFINITY;
+    rf_vec3 c = rf_v3_normalize(rf_v3_cross(w->plane_n, w->a->up));
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (!w->center[j] || w->root_chain[j])
+            continue;
+        double h = rf_an_height(w, rf_an_pos(w, j)), x = rf_v3_dot(rf_an_pos(w, j), c);
+        lo = fmin(lo, h), hi = fmax(hi, h), back = fmin(back, x), front = fmax(front, x);
+    }
+    return hi - lo > front - back;
+}
+
+/* Feet: the part of a grounded limb near the ground points forward. Knees of a biped bend
+ * forward. Both measured along c (forward up to sign). */
+static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32_t *legs)
+{
+    rf_analysis *a = w->a;
+    rf_vec3 pts[64];
+    *legs = 0;
+    for (uint32_t i = 0; i < ls->n; i++) {
+        rf_limb *l = &ls->v[i];
+        double top = rf_an_height(w, l->attach), low = INFINITY;
+        uint32_t np = limb_path(w, l, pts, 64);
+        for (uint32_t k = 0; k < np; k++)
+            low = fmin(low, rf_an_height(w, pts[k]));
+        l->leg = low <= a->ground + 0.25 * a->height && top - low > 0.2 * a->height;
+        if (!l->leg)
+            continue;
+        (*legs)++;
+        double foot_top = low + 0.2 * (top - low);
+        uint32_t f = np - 1;
+        while (f > 0 && rf_an_height(w, pts[f - 1]) <= foot_top)
+            f--;
+        if (f == np - 1 && f > 0)
+            f--; /* only the end is low: use the last bone */
+        /* a foot lies along the ground: count it by how flat it is */
+        rf_vec3 foot = rf_v3_sub(pts[np - 1], pts[f]);
+        double reach = rf_v3_dist(l->far, l->attach), flen = rf_v3_len(foot);
+        double flat = flen > 0 ? sqrt(fmax(0, 1 - pow(rf_an_height(w, foot) / flen, 2))) : 0;
+        if (reach > 0)
+            v->feet += flat * flat * rf_v3_dot(foot, c) / reach;
+    }
+    if (*legs != 2 || !upright(w))
+        return;
+    for (uint32_t i = 0; i < ls->n; i++) {
+        rf_limb *l = &ls->v[i];
+        uint32_t np = l->leg ? limb_path(w, l, pts, 64) : 0;
+        double best = 0, reach = rf_v3_dist(l->far, l->attach);
+        for (uint32_t k = 1; k + 1 < np; k++) {
+            /* a knee joins two real leg bones (not a pelvis offset, not the foot) */
+            if (rf_v3_dist(pts[k - 1], pts[k]) < 0.15 * reach ||
+                rf_v3_dist(pts[k + 1], pts[k]) < 0.15 * reach ||
+                rf_an_height(w, pts[k]) <= rf_an_height(w, pts[np - 1]) + 0.15 * reach)
+                continue;
+            rf_vec3 mid = rf_v3_scale(rf_v3_add(pts[k - 1], pts[k + 1]), 0.5);
+            double b = rf_v3_dot(rf_v3_sub(pts[k], mid), c);
+            if (fabs(b) > fabs(best))
+                best = b;
+        }
+        if (reach > 0 && fabs(best) > 0.02 * reach)
+            v->knees += (best > 0 ? 0.25 : -0.25);
+    }
+}
+
+/* Head marks: a fan of three or more children, short side branches (ears, eyes), or an offset
+ * child under a bone of its own (a jaw under the skull). Each votes for its end of the body. */
+static double vote_head(const rf_awork *w, const rf_limbs *ls, rf_vec3 c)
+{
+    double longest = 0, vote = 0;
+    for (uint32_t i = 0; i < ls->n; i++)
+        longest = fmax(longest, ls->v[i].reach);
+    rf_vec3 sum = rf_v3(0, 0, 0);
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < w->order_count; i++)
+        if (w->center[w->order[i]] && !w->root_chain[w->order[i]])
+            sum = rf_v3_add(sum, rf_an_pos(w, w->order[i])), count++;
+    if (count == 0)
+        return 0;
+    rf_vec3 mid = rf_v3_scale(sum, 1.0 / count);
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (!w->center[j] || w->root_chain[j])
+            continue;
+        bool connected = false, offset = false, girdle = false, mark;
+        uint32_t shorts = 0;
+        for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
+            uint32_t ch = w->child_idx[k];
+            if (!w->center[ch] && w->limb_of[ch] == (int32_t)ch) {
+                const rf_limb *l = &ls->v[ls->slot[ch]];
+                shorts += l->reach < 0.3 * longest;
+                girdle |= l->reach >= 0.3 * longest || l->joints >= 2;
+            } else if (w->center[ch] && w->sub_len[ch] < 0.3 * longest) {
+                shorts++;
+            }
+            if (w->center[ch] && w->conv_axis >= 0) {
+                bool on = rf_v3_dist(rf_an_pos(w, ch), w->a->joints[j].tip) <= w->eps;
+                connected |= on, offset |= !on;
+            }
+        }
+        mark = !girdle && (shorts >= 2 || (offset && !connected));
+        double along = rf_v3_dot(rf_v3_sub(rf_an_pos(w, j), mid), c);
+        if (mark && fabs(along) > 0.05 * w->a->size)
+            vote += along > 0 ? 0.3 : -0.3;
+    }
+    return fmax(-0.6, fmin(0.6, vote));
+}
+
+/* A horizontal body holds its head higher than its tail. */
+static double vote_elevation(const rf_awork *w, rf_vec3 c)
+{
+    int32_t lo = RF_NONE, hi = RF_NONE;
+    double hmin = INFINITY, hmax = -INFINITY;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (!w->center[j] || w->root_chain[j])
+            continue;
+        double h = rf_an_height(w, rf_an_pos(w, j));
+        hmin = fmin(hmin, h), hmax = fmax(hmax, h);
+        double x = rf_v3_dot(rf_an_pos(w, j), c);
+        if (lo < 0 || x < rf_v3_dot(rf_an_pos(w, (uint32_t)lo), c))
+            lo = (int32_t)j;
+        if (hi < 0 || x > rf_v3_dot(rf_an_pos(w, (uint32_t)hi), c))
+            hi = (int32_t)j;
+    }
+    if (lo < 0)
+        return 0;
+    double span = rf_v3_dot(rf_v3_sub(rf_an_pos(w, (uint32_t)hi), rf_an_pos(w, (uint32_t)lo)), c);
+    double dh =
+        rf_an_height(w, rf_an_pos(w, (uint32_t)hi)) - rf_an_height(w, rf_an_pos(w, (uint32_t)lo));
+    if (span <= hmax - hmin || fabs(dh) < 0.05 * w->a->height)
+        return 0;
+    return dh > 0 ? 0.2 : -0.2;
+}
+
+static double vote_file(const rf_awork *w, rf_vec3 c)
+{
+    rf_vec3 ff = w->skel->forward;
+    if (w->opt.ignore_file_axes || !rf_v3_isfinite(ff) || rf_v3_len2(ff) == 0)
+        return 0;
+    double d = rf_v3_dot(rf_v3_normalize(ff), c);
+    return d > 0.5 ? 0.3 : d < -0.5 ? -0.3 : 0;
+}
+
+static void detect_forward(rf_awork *w, rf_limbs *ls)
+{
+    rf_analysis *a = w->a;
+    rf_vec3 c = rf_v3_normalize(rf_v3_cross(w->plane_n, a->up));
+    rf_votes v = {0};
+    uint32_t legs;
+    vote_limbs(w, ls, c, &v, &legs);
+    static const char *const names[] = {"feet", "knees", "head", "elevation", "file"};
+    double cue[5] = {fmax(-1, fmin(1, v.feet)), v.knees, vote_head(w, ls, c), vote_elevation(w, c),
+                     vote_file(w, c)};
+    double sum = 0, weight = 0;
+    int strongest = -1;
+    for (int i = 0; i < 5; i++) {
+        sum += cue[i], weight += fabs(cue[i]);
+        if (cue[i] != 0 && (strongest < 0 || fabs(cue[i]) > fabs(cue[strongest])))
+            strongest = i;
+    }
+    a->forward = rf_v3_scale(c, sum < 0 ? -1 : 1);
+    a->forward_confidence = weight > 0 ? fabs(sum) / (weight + 0.25) : 0;
+    a->forward_source = strongest >= 0 ? names[strongest] : "default";
+    if (strongest < 0 || sum == 0) /* nothing to go by: +Z (glTF) when it is a choice */
+        a->forward = rf_v3_scale(c, c.z < 0 ? -1 : 1);
+}
+
+static void measure_heights(rf_awork *w)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        const rf_joint_info *ji = &w->a->joints[w->order[i]];
+        double h0 = rf_an_height(w, ji->pos), h1 = rf_an_height(w, ji->tip);
+        lo = fmin(lo, fmin(h0, h1)), hi = fmax(hi, fmax(h0, h1));
+    }
+    w->a->ground = isfinite(lo) ? lo : 0;
+    w->a->height = isfinite(hi - lo) && hi - lo > 1e-12 ? hi - lo : w->a->size;
+}
+
+static bool usable(rf_vec3 v)
+{
+    return rf_v3_isfinite(v) && rf_v3_len2(v) > 1e-24;
+}
+
+void rf_an_axes(rf_awork *w)
+{
+    rf_analysis *a = w->a;
+    rf_limbs ls = {0};
+    bool ok = collect_limbs(w, &ls);
+    if (usable(w->opt.up)) {
+        a->up = rf_v3_normalize(w->opt.up);
+        a->up_source = "forced", a->up_confidence = 1;
+    } else if (ok) {
+        detect_up(w, &ls);
+    } else {
+        a->up = perpendicular_to(w->plane_n, rf_v3(0, 1, 0)), a->up_source = "default";
+    }
+    w->plane_n = perpendicular_to(a->up, w->plane_n);
+    measure_heights(w);
+    rf_vec3 ff = w->opt.forward;
+    if (usable(ff) && rf_v3_len(rf_v3_cross(a->up, rf_v3_normalize(ff))) > 1e-6) {
+        a->forward = perpendicular_to(a->up, ff);
+        a->forward_source = "forced", a->forward_confidence = 1;
+    } else if (ok) {
+        detect_forward(w, &ls);
+    } else {
+        a->forward = rf_v3_normalize(rf_v3_cross(w->plane_n, a->up));
+        a->forward_source = "default";
+    }
+    a->left = rf_v3_normalize(rf_v3_cross(a->up, a->forward));
+    w->plane_n = a->left;
+    a->plane_normal = a->left, a->plane_point = w->plane_p;
+    free(ls.v);
+    free(ls.slot);
+}

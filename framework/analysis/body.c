@@ -1,0 +1,145 @@
+/* Skeleton analysis, stage 4: the body tree.
+ *
+ * Ground roots and armature nodes above the body form the root chain. Parts hanging from other
+ * roots or from the root chain (a forest: legs under a separate root, feet parented to the
+ * ground root for IK) are attached to the nearest bone of the body: to a leaf's end they
+ * continue its chain, elsewhere they hang from that bone's joint. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis-internal.h"
+
+static int32_t main_root(const rf_awork *w)
+{
+    int32_t best = RF_NONE;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (w->parent[j] < 0 && (best < 0 || w->sub_count[j] > w->sub_count[best]))
+            best = (int32_t)j;
+    }
+    return best;
+}
+
+static int32_t largest_child(const rf_awork *w, uint32_t j)
+{
+    int32_t best = RF_NONE;
+    for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
+        uint32_t c = w->child_idx[k];
+        if (best < 0 || w->sub_count[c] > w->sub_count[best])
+            best = (int32_t)c;
+    }
+    return best;
+}
+
+/* A root-chain joint sits low (at the ground) with its body in one child and at most small
+ * parts (IK feet) beside it. The chain only counts if it leads to a branching body. */
+static void root_chain(rf_awork *w, uint32_t root)
+{
+    rf_analysis *a = w->a;
+    uint32_t r = root, steps = 0;
+    for (;;) {
+        int32_t b = largest_child(w, r);
+        if (b < 0)
+            break;
+        bool small = true;
+        for (uint32_t k = w->child_off[r]; k < w->child_off[r + 1] && small; k++) {
+            uint32_t c = w->child_idx[k];
+            small = (int32_t)c == b || w->sub_count[c] <= fmax(2, 0.1 * w->sub_count[b]);
+        }
+        bool low = rf_an_height(w, rf_an_pos(w, r)) <= a->ground + 0.15 * a->height;
+        if (!small || !low)
+            break;
+        r = (uint32_t)b, steps++;
+    }
+    uint32_t below = r; /* the chain must lead to a branching body, not to a bare chain */
+    for (uint32_t i = 0; i < w->n && rf_an_child_count(w, below) == 1; i++)
+        below = w->child_idx[w->child_off[below]];
+    if (steps == 0 || rf_an_child_count(w, below) < 2) {
+        w->top = (int32_t)root;
+        return;
+    }
+    w->top = (int32_t)r;
+    for (uint32_t j = root; j != r; j = (uint32_t)largest_child(w, j))
+        w->root_chain[j] = 1;
+}
+
+/* Closest point to p on the bone of j (pivot to tip) as a fraction t along it, and its
+ * distance. */
+static double bone_distance(const rf_awork *w, uint32_t j, rf_vec3 p, double *t)
+{
+    rf_vec3 a = rf_an_pos(w, j), b = w->a->joints[j].tip, ab = rf_v3_sub(b, a);
+    double l2 = rf_v3_len2(ab);
+    *t = l2 > 0 ? fmax(0, fmin(1, rf_v3_dot(rf_v3_sub(p, a), ab) / l2)) : 0;
+    return rf_v3_dist(p, rf_v3_add(a, rf_v3_scale(ab, *t)));
+}
+
+#define RF_MAX_DETACHED 256
+
+static void attach(rf_awork *w, uint32_t d, const uint8_t *body)
+{
+    int32_t best = RF_NONE;
+    double best_d = INFINITY, best_t = 0;
+    rf_vec3 p = rf_an_pos(w, d);
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (!body[j])
+            continue;
+        double t, dist = bone_distance(w, j, p, &t);
+        if (dist < best_d)
+            best_d = dist, best = (int32_t)j, best_t = t;
+    }
+    if (best < 0)
+        return;
+    rf_vec3 a = rf_an_pos(w, (uint32_t)best), b = w->a->joints[best].tip;
+    w->parent[d] = best;
+    w->attach_pt[d] = rf_v3_lerp(a, b, best_t);
+    w->detached[d] = 1;
+}
+
+/* Roots other than the main one, and small parts hanging from the root chain, attach to the
+ * nearest body bone. */
+static void attach_detached(rf_awork *w, uint32_t root)
+{
+    uint8_t *body = calloc(w->n ? w->n : 1, 1);
+    uint32_t *parts = malloc((size_t)(w->n ? w->n : 1) * sizeof *parts);
+    if (!body || !parts)
+        goto out;
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        int32_t p = w->parent[j];
+        bool part = (p < 0 && j != root) ||
+                    (p >= 0 && w->root_chain[p] && !w->root_chain[j] && (int32_t)j != w->top);
+        if (part)
+            parts[count++] = j;
+        body[j] = !part && !w->root_chain[j] && (p < 0 ? j == root : body[p] || w->root_chain[p]);
+    }
+    for (uint32_t i = 0; i < count && i < RF_MAX_DETACHED; i++)
+        attach(w, parts[i], body);
+out:
+    free(body);
+    free(parts);
+}
+
+bool rf_an_body(rf_awork *w)
+{
+    int32_t root = main_root(w);
+    w->a->root = root;
+    if (root < 0)
+        return true;
+    for (uint32_t j = 0; j < w->n; j++)
+        w->attach_pt[j] =
+            w->parent[j] >= 0 ? rf_an_pos(w, (uint32_t)w->parent[j]) : rf_an_pos(w, j);
+    root_chain(w, (uint32_t)root);
+    attach_detached(w, (uint32_t)root);
+    if (!rf_an_build_tree(w))
+        return false;
+    rf_an_tips(w);
+    rf_an_subtree_stats(w);
+    rf_an_classify(w);
+    rf_an_mirrors(w);
+    w->a->root = w->top;
+    if (w->top >= 0)
+        w->a->joints[w->top].flags |= RF_JI_ROOT;
+    return true;
+}

@@ -1,0 +1,384 @@
+/* Skeleton analysis, stage 1: sanitised world pivots, the rig's bone-axis convention, bone tips
+ * and helper joints, and the tree every later stage walks. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis-internal.h"
+
+bool rf_u32vec_push(rf_u32vec *a, uint32_t x)
+{
+    if (a->n == a->cap) {
+        uint32_t cap = a->cap ? a->cap * 2 : 16;
+        uint32_t *v = realloc(a->v, (size_t)cap * sizeof *v);
+        if (!v)
+            return false;
+        a->v = v;
+        a->cap = cap;
+    }
+    a->v[a->n++] = x;
+    return true;
+}
+
+static rf_vec3 finite_or(rf_vec3 v, rf_vec3 fallback)
+{
+    return rf_v3_isfinite(v) ? v : fallback;
+}
+
+/* A transform with every non-finite part replaced, so one bad number spoils one joint only. */
+static rf_xform sane_xform(rf_xform x)
+{
+    x.t = finite_or(x.t, rf_v3(0, 0, 0));
+    x.r = rf_quat_normalize(x.r);
+    if (!rf_v3_isfinite(x.s))
+        x.s = rf_v3(1, 1, 1);
+    return x;
+}
+
+static void bounding_size(rf_awork *w)
+{
+    rf_vec3 lo = rf_v3(INFINITY, INFINITY, INFINITY), hi = rf_v3(-INFINITY, -INFINITY, -INFINITY);
+    for (uint32_t i = 0; i < w->n; i++) {
+        rf_vec3 p = w->a->joints[i].pos;
+        lo = rf_v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+        hi = rf_v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+    }
+    double size = w->n ? rf_v3_dist(lo, hi) : 0.0;
+    w->a->size = isfinite(size) && size > 1e-12 ? size : 1.0;
+    w->eps = 1e-4 * w->a->size;
+    w->tol = 0.04 * w->a->size;
+}
+
+/* The pose to analyse, parents and world pivots, with bad numbers and bad parents neutralised. */
+bool rf_an_geometry(rf_awork *w)
+{
+    const rf_skeleton *s = w->skel;
+    bool bind = w->opt.use_bind_pose && RF_HAS_FIELD(s, rf_skeleton, bind) && s->bind;
+    rf_xform *local = malloc((size_t)(w->n ? w->n : 1) * sizeof *local);
+    if (!local)
+        return false;
+    uint32_t unweighted = 0;
+    for (uint32_t i = 0; i < w->n; i++) {
+        local[i] = sane_xform(bind ? s->bind[i] : s->joints[i].rest);
+        int32_t p = s->joints[i].parent;
+        w->file_parent[i] = (p >= 0 && (uint32_t)p < i) ? p : RF_NONE;
+        w->parent[i] = w->file_parent[i];
+        unweighted += (s->joints[i].flags & RF_JOINT_UNWEIGHTED) != 0;
+    }
+    w->local = local;
+    for (uint32_t i = 0; i < w->n; i++) {
+        int32_t p = w->file_parent[i];
+        w->world[i] = p < 0 ? local[i] : rf_xform_mul(w->world[p], local[i]);
+        rf_vec3 fallback = p < 0 ? rf_v3(0, 0, 0) : w->world[p].t;
+        w->world[i].t = finite_or(w->world[i].t, fallback);
+        w->a->joints[i].pos = w->world[i].t;
+    }
+    /* Weights tell helpers apart only when some joints have them and some do not. */
+    w->weights_known = unweighted > 0 && unweighted < w->n;
+    for (uint32_t i = 0; i < w->n; i++)
+        w->weighted[i] = !w->weights_known || !(s->joints[i].flags & RF_JOINT_UNWEIGHTED);
+    bounding_size(w);
+    return true;
+}
+
+/* Children lists of `parent`, skipping joints for which skip[] is set (skip may be NULL). */
+static bool build_children(rf_awork *w, const int32_t *parent, const uint8_t *skip)
+{
+    memset(w->child_off, 0, (size_t)(w->n + 1) * sizeof *w->child_off);
+    for (uint32_t i = 0; i < w->n; i++)
+        if (parent[i] >= 0 && !(skip && skip[i]))
+            w->child_off[parent[i] + 1]++;
+    for (uint32_t i = 0; i < w->n; i++)
+        w->child_off[i + 1] += w->child_off[i];
+    uint32_t *fill = malloc((size_t)(w->n ? w->n : 1) * sizeof *fill);
+    if (!fill)
+        return false;
+    memcpy(fill, w->child_off, (size_t)w->n * sizeof *fill);
+    for (uint32_t i = 0; i < w->n; i++)
+        if (parent[i] >= 0 && !(skip && skip[i]))
+            w->child_idx[fill[parent[i]]++] = i;
+    free(fill);
+    return true;
+}
+
+/* Unit local direction of the child offset c within joint j's frame. */
+static rf_vec3 local_offset(const rf_awork *w, uint32_t j, uint32_t c)
+{
+    rf_vec3 d = rf_v3_sub(w->a->joints[c].pos, w->a->joints[j].pos);
+    return rf_quat_rotate(rf_quat_conj(w->world[j].r), d);
+}
+
+/* Axis (0..2) a unit vector lies along, within about 18 degrees, or -1. */
+static int along_axis(rf_vec3 d, double *component)
+{
+    double c[3] = {d.x, d.y, d.z};
+    int k = 0;
+    for (int i = 1; i < 3; i++)
+        if (fabs(c[i]) > fabs(c[k]))
+            k = i;
+    *component = c[k];
+    return fabs(c[k]) >= 0.95 ? k : -1;
+}
+
+/* Many rigs (Blender's +Y, Maya's +-X) point every bone along one local axis. Knowing it gives
+ * leaf bones a direction and tells connected children from offset ones (a jaw below a skull). */
+static void convention(rf_awork *w)
+{
+    uint32_t votes[3][2] = {{0}}, candidates = 0;
+    for (uint32_t j = 0; j < w->n; j++) {
+        int best = -1, sign = 0;
+        double best_c = 0;
+        for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
+            uint32_t c = w->child_idx[k];
+            if (rf_v3_dist(w->a->joints[c].pos, w->a->joints[j].pos) <= w->eps)
+                continue;
+            double comp;
+            int axis = along_axis(rf_v3_normalize(local_offset(w, j, c)), &comp);
+            if (best < 0 || fabs(comp) > fabs(best_c))
+                best = axis, best_c = comp, sign = comp > 0 ? 1 : -1;
+        }
+        if (best_c == 0)
+            continue;
+        candidates++;
+        if (best >= 0) {
+            votes[best][sign > 0]++;
+            w->own_sign[j] = (int8_t)sign;
+        }
+    }
+    int axis = 0;
+    for (int k = 1; k < 3; k++)
+        if (votes[k][0] + votes[k][1] > votes[axis][0] + votes[axis][1])
+            axis = k;
+    uint32_t total = votes[axis][0] + votes[axis][1];
+    w->conv_axis = (total >= 3 && total >= 0.7 * candidates) ? axis : -1;
+    w->conv_sign = votes[axis][1] >= votes[axis][0] ? 1 : -1;
+    for (uint32_t j = 0; j < w->n; j++) /* signs voted along another axis mean nothing */
+        if (w->own_sign[j] && w->conv_axis >= 0) {
+            double comp;
+            int best = -1;
+            for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1] && best != w->conv_axis; k++)
+                best = along_axis(rf_v3_normalize(local_offset(w, j, w->child_idx[k])), &comp);
+            if (best != w->conv_axis)
+                w->own_sign[j] = 0;
+        }
+}
+
+/* World direction of joint j's local convention axis with the given sign. */
+rf_vec3 rf_an_axis_dir(const rf_awork *w, uint32_t j, int sign)
+{
+    rf_vec3 e = rf_v3(w->conv_axis == 0, w->conv_axis == 1, w->conv_axis == 2);
+    return rf_v3_normalize(rf_quat_rotate(w->world[j].r, rf_v3_scale(e, sign)));
+}
+
+/* Sign of the convention axis for joint j: its own when a child showed it, else the sign of the
+ * joint's offset from its parent along the parent's axis (a leaf continues its parent), else the
+ * rig's usual sign. */
+static int axis_sign(const rf_awork *w, uint32_t j)
+{
+    if (w->own_sign[j])
+        return w->own_sign[j];
+    int32_t p = w->file_parent[j];
+    if (p >= 0 && w->own_sign[p])
+        return w->own_sign[p];
+    return w->conv_sign;
+}
+
+/* Length of the nearest non-zero bone above j (how long a guessed leaf should be). */
+static double ancestor_length(const rf_awork *w, uint32_t j)
+{
+    uint32_t at = j;
+    for (int step = 0; step < 64 && w->parent[at] >= 0; step++) {
+        uint32_t p = (uint32_t)w->parent[at];
+        double d = rf_v3_dist(w->a->joints[at].pos, w->a->joints[p].pos);
+        if (d > w->eps)
+            return d;
+        at = p;
+    }
+    return 0.05 * w->a->size;
+}
+
+/* A guessed tip for a bone with nothing beyond it: along the rig's bone axis when it has one,
+ * else straight on from the parent bone, three quarters as long as the bone above. */
+static void guess_tip(rf_awork *w, uint32_t j)
+{
+    rf_joint_info *ji = &w->a->joints[j];
+    rf_vec3 dir = rf_v3(0, 0, 0);
+    if (w->conv_axis >= 0)
+        dir = rf_an_axis_dir(w, j, axis_sign(w, j));
+    else if (w->parent[j] >= 0)
+        dir = rf_v3_normalize(rf_v3_sub(ji->pos, w->a->joints[w->parent[j]].pos));
+    if (rf_v3_len2(dir) == 0) {
+        ji->tip = ji->pos;
+        return;
+    }
+    ji->tip = rf_v3_add(ji->pos, rf_v3_scale(dir, 0.75 * ancestor_length(w, j)));
+    ji->flags |= RF_JI_TIP_GUESSED;
+}
+
+/* The child continuing j's bone along the rig's axis, or -1. */
+static int32_t connected_child(const rf_awork *w, uint32_t j)
+{
+    rf_vec3 e = rf_an_axis_dir(w, j, axis_sign(w, j));
+    int32_t best = RF_NONE;
+    double best_c = 0.9;
+    for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
+        uint32_t c = w->child_idx[k];
+        rf_vec3 d = rf_v3_sub(w->a->joints[c].pos, w->a->joints[j].pos);
+        double len = rf_v3_len(d);
+        if (len <= w->eps)
+            continue;
+        double comp = rf_v3_dot(d, e) / len;
+        if (comp >= best_c)
+            best_c = comp, best = (int32_t)c;
+    }
+    return best;
+}
+
+static void tip_from_children(rf_awork *w, uint32_t j)
+{
+    rf_joint_info *ji = &w->a->joints[j];
+    uint32_t count = rf_an_child_count(w, j);
+    if (w->conv_axis >= 0) {
+        int32_t c = connected_child(w, j);
+        if (c >= 0) {
+            ji->tip = w->a->joints[c].pos;
+            return;
+        }
+        uint32_t only = count == 1 ? w->child_idx[w->child_off[j]] : 0;
+        if (count == 1 && rf_v3_dist(w->a->joints[only].pos, ji->pos) <= w->eps) {
+            ji->tip = ji->pos; /* a control joint sitting on its child */
+            return;
+        }
+        guess_tip(w, j); /* only offset children (a head over its jaw): the bone is its own */
+        return;
+    }
+    if (count == 1) {
+        ji->tip = w->a->joints[w->child_idx[w->child_off[j]]].pos;
+        return;
+    }
+    rf_vec3 sum = rf_v3(0, 0, 0);
+    uint32_t used = 0;
+    for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
+        rf_vec3 p = w->a->joints[w->child_idx[k]].pos;
+        if (rf_v3_dist(p, ji->pos) > w->eps)
+            sum = rf_v3_add(sum, p), used++;
+    }
+    ji->tip = used ? rf_v3_scale(sum, 1.0 / used) : ji->pos;
+}
+
+/* Tips of every bone from the current tree: end sites and end markers first, then children,
+ * then a guess. */
+void rf_an_tips(rf_awork *w)
+{
+    for (uint32_t j = 0; j < w->n; j++) {
+        rf_joint_info *ji = &w->a->joints[j];
+        if (w->tip_set[j])
+            continue;
+        ji->flags &= ~(uint32_t)RF_JI_TIP_GUESSED;
+        if (rf_an_is_leaf(w, j))
+            guess_tip(w, j);
+        else
+            tip_from_children(w, j);
+    }
+}
+
+static void end_sites(rf_awork *w)
+{
+    for (uint32_t j = 0; j < w->n; j++) {
+        const rf_joint *sj = &w->skel->joints[j];
+        if (!(sj->flags & RF_JOINT_HAS_END_SITE) || !rf_v3_isfinite(sj->end_site))
+            continue;
+        rf_vec3 tip = rf_xform_point(w->world[j], sj->end_site);
+        if (rf_v3_isfinite(tip)) {
+            w->a->joints[j].tip = tip;
+            w->tip_set[j] = 1;
+        }
+    }
+}
+
+/* An unweighted leaf that is its weighted parent's only child and lies on along the parent's
+ * bone (an exporter's "_end" joint) marks the parent's tip. */
+static bool end_marker(rf_awork *w, uint32_t j)
+{
+    int32_t p = w->file_parent[j];
+    if (p < 0 || !w->weighted[p] || rf_an_child_count(w, (uint32_t)p) != 1 || w->tip_set[p])
+        return false;
+    rf_vec3 off = rf_v3_sub(w->a->joints[j].pos, w->a->joints[p].pos);
+    if (rf_v3_len(off) <= w->eps)
+        return false;
+    int32_t pp = w->file_parent[p];
+    rf_vec3 in = pp >= 0 ? rf_v3_sub(w->a->joints[p].pos, w->a->joints[pp].pos) : rf_v3(0, 0, 0);
+    if (rf_v3_len(in) > w->eps) {
+        if (rf_v3_angle(off, in) > 50.0 * RF_PI / 180.0 || rf_v3_len(off) > 3.0 * rf_v3_len(in))
+            return false;
+    }
+    w->a->joints[p].tip = w->a->joints[j].pos;
+    w->tip_set[p] = 1;
+    return true;
+}
+
+/* Helpers from skin weights (only when the skeleton says which joints have them): end markers,
+ * unweighted leaves (IK targets, poles, sockets) and wholly unweighted subtrees (control rigs).
+ * Unweighted joints sitting on their only child are control joints: kept, never driven. */
+void rf_an_helpers(rf_awork *w)
+{
+    if (!w->weights_known)
+        return;
+    uint8_t *all_unweighted = calloc(w->n ? w->n : 1, 1);
+    if (all_unweighted) {
+        for (uint32_t i = w->n; i-- > 0;) {
+            bool all = !w->weighted[i];
+            for (uint32_t k = w->child_off[i]; k < w->child_off[i + 1] && all; k++)
+                all = all_unweighted[w->child_idx[k]];
+            all_unweighted[i] = all;
+        }
+    }
+    for (uint32_t j = 0; j < w->n; j++) {
+        rf_joint_info *ji = &w->a->joints[j];
+        if (w->weighted[j])
+            continue;
+        if (rf_an_is_leaf(w, j)) {
+            if (end_marker(w, j))
+                ji->flags |= RF_JI_END_MARKER;
+            w->helper[j] = 1;
+        } else if (all_unweighted && all_unweighted[j]) {
+            w->helper[j] = 1;
+        } else if (rf_an_child_count(w, j) == 1 &&
+                   rf_v3_dist(w->a->joints[w->child_idx[w->child_off[j]]].pos, ji->pos) <= w->eps) {
+            ji->flags |= RF_JI_CONTROL;
+        }
+    }
+    free(all_unweighted);
+}
+
+/* Parents first, helpers left out of `order` (they stay in `hlp_order`). */
+bool rf_an_build_tree(rf_awork *w)
+{
+    if (!build_children(w, w->parent, w->helper))
+        return false;
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < w->n; i++)
+        if (!w->helper[i] && (w->parent[i] < 0 || w->helper[w->parent[i]]))
+            w->order[n++] = i;
+    for (uint32_t head = 0; head < n; head++) {
+        uint32_t j = w->order[head];
+        for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++)
+            w->order[n++] = w->child_idx[k];
+    }
+    w->order_count = n;
+    return true;
+}
+
+/* Everything geometry needs before symmetry: pivots, the axis convention, tips, helpers. */
+bool rf_an_prepare(rf_awork *w)
+{
+    if (!rf_an_geometry(w) || !build_children(w, w->file_parent, NULL))
+        return false;
+    convention(w);
+    end_sites(w);
+    rf_an_helpers(w);
+    if (!rf_an_build_tree(w))
+        return false;
+    rf_an_tips(w);
+    return true;
+}

@@ -1,0 +1,21 @@
+# Skeleton analysis (issue 4): a convenience library linked statically into the matchers, the
+# retargeters and the riggers. It needs only the SDK headers and libm.
+noinst_LTLIBRARIES += framework/analysis/libanalysis.la
+framework_analysis_libanalysis_la_SOURCES = \
+	framework/analysis/analysis.h \
+	framework/analysis/analysis-internal.h \
+	framework/analysis/analysis.c \
+	framework/analysis/geom.c \
+	framework/analysis/symmetry.c \
+	framework/analysis/axes.c \
+	framework/analysis/body.c \
+	framework/analysis/sections.c \
+	framework/analysis/measure.c
+framework_analysis_libanalysis_la_CFLAGS = $(AM_CFLAGS)
+framework_analysis_libanalysis_la_LIBADD = -lm
+
+check_PROGRAMS += tests/match/test_analysis
+TESTS += tests/match/test_analysis
+tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
+tests_match_test_analysis_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_match_test_analysis_LDADD = framework/analysis/libanalysis.la $(CMOCKA_LIBS) -lm

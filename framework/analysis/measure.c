@@ -1,0 +1,224 @@
+/* Skeleton analysis, stage 6: per-section and per-joint measures: sides, lengths, positions
+ * along each section, bone directions, bends, where sections sit along the body, ranks among
+ * limbs and digits, mirrored sections. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis-internal.h"
+
+static bool center_type(rf_section_type t)
+{
+    return t == RF_SECTION_ROOT || t == RF_SECTION_SPINE || t == RF_SECTION_HEAD ||
+           t == RF_SECTION_TAIL;
+}
+
+static rf_side side_of_point(const rf_awork *w, rf_vec3 p, double margin)
+{
+    double d = rf_v3_dot(rf_v3_sub(p, w->plane_p), w->a->left);
+    return d > margin ? RF_SIDE_LEFT : d < -margin ? RF_SIDE_RIGHT : RF_SIDE_CENTER;
+}
+
+static rf_side section_side(const rf_awork *w, const rf_section *s, uint32_t first)
+{
+    if (center_type(s->type))
+        return RF_SIDE_CENTER;
+    if (w->helper[first])
+        return side_of_point(w, rf_an_pos(w, first), 0.5 * w->tol);
+    int32_t r = w->limb_of[first];
+    if (r < 0)
+        return RF_SIDE_CENTER;
+    rf_vec3 c = rf_v3_scale(w->sub_sum[r], 1.0 / w->sub_count[r]);
+    return side_of_point(w, c, 0.1 * w->tol);
+}
+
+/* Where a section's length is measured from: its own first pivot for the root chain and the
+ * spine, else the point where it leaves its parent. */
+static rf_vec3 start_point(const rf_awork *w, const rf_section *s, uint32_t first)
+{
+    bool own = s->type == RF_SECTION_ROOT ||
+               (s->type == RF_SECTION_SPINE && !(s->flags & RF_SECFL_REVERSE)) ||
+               w->parent[first] < 0;
+    if (own)
+        return rf_an_pos(w, first);
+    /* digits start where the bone they fan out of ends (the wrist, not the elbow), and so does
+     * the neck (at the top of the last spine bone, not at its pivot) */
+    if (((s->flags & RF_SECFL_FAN) || s->type == RF_SECTION_HEAD) && s->attach_joint >= 0)
+        return w->a->joints[s->attach_joint].tip;
+    return w->attach_pt[first];
+}
+
+static void measure_section(rf_awork *w, rf_section *s)
+{
+    rf_analysis *a = w->a;
+    const uint32_t *js = a->section_joints + s->first;
+    uint32_t m = s->bone_count;
+    rf_vec3 p0 = start_point(w, s, js[0]);
+    double d = rf_v3_dist(rf_an_pos(w, js[0]), p0);
+    for (uint32_t k = 0; k < m; k++) {
+        rf_joint_info *ji = &a->joints[js[k]];
+        ji->u0 = d;
+        d += k + 1 < m ? rf_v3_dist(a->joints[js[k + 1]].pos, ji->pos) : ji->length;
+        ji->u1 = d;
+    }
+    s->length = d;
+    /* The spine is measured to its last pivot, the front girdle, where it meets the neck and the
+     * arms: spines ending in a long bone and in a zero-length one then compare. */
+    if (s->type == RF_SECTION_SPINE && !(s->flags & RF_SECFL_REVERSE) && m > 1) {
+        double to_pivot = a->joints[js[m - 1]].u0;
+        if (to_pivot > w->eps)
+            d = to_pivot;
+    }
+    for (uint32_t k = 0; k < m; k++) {
+        rf_joint_info *ji = &a->joints[js[k]];
+        if (d > w->eps)
+            ji->u0 /= d, ji->u1 /= d;
+        else
+            ji->u0 = (double)k / m, ji->u1 = (double)(k + 1) / m;
+        rf_vec3 prev = k ? a->joints[js[k - 1]].pos : p0;
+        rf_vec3 next = k + 1 < m ? a->joints[js[k + 1]].pos : ji->tip;
+        rf_vec3 off = rf_v3_sub(ji->pos, rf_v3_scale(rf_v3_add(prev, next), 0.5));
+        ji->bend = d > w->eps ? rf_v3_dot(off, a->forward) / d : 0;
+    }
+}
+
+/* Bone directions; a zero-length bone takes the next real one along its chain, else the one
+ * before. */
+static void directions(rf_awork *w, const rf_section *s)
+{
+    rf_analysis *a = w->a;
+    const uint32_t *js = a->section_joints + s->first;
+    uint32_t m = s->bone_count;
+    for (uint32_t k = 0; k < m; k++) {
+        rf_joint_info *ji = &a->joints[js[k]];
+        ji->dir = rf_v3_normalize(rf_v3_sub(ji->tip, ji->pos));
+        if (ji->length <= w->eps)
+            ji->flags |= RF_JI_ZERO_LENGTH, ji->dir = rf_v3(0, 0, 0);
+    }
+    rf_vec3 carry = rf_v3(0, 0, 0);
+    for (uint32_t k = m; k-- > 0;) {
+        rf_joint_info *ji = &a->joints[js[k]];
+        if (rf_v3_len2(ji->dir) > 0)
+            carry = ji->dir;
+        else
+            ji->dir = carry;
+    }
+    for (uint32_t k = 0; k < m; k++) {
+        rf_joint_info *ji = &a->joints[js[k]];
+        if (rf_v3_len2(ji->dir) > 0)
+            carry = ji->dir;
+        else
+            ji->dir = carry;
+    }
+}
+
+static double body_pos(const rf_awork *w, rf_vec3 p)
+{
+    const rf_analysis *a = w->a;
+    if (w->rear < 0)
+        return 0.5;
+    rf_vec3 r = rf_an_pos(w, (uint32_t)w->rear), f = rf_an_pos(w, (uint32_t)w->front);
+    rf_vec3 axis = rf_v3_sub(f, r);
+    double l2 = rf_v3_len2(axis);
+    if (l2 <= w->eps * w->eps)
+        return 0.5 + rf_v3_dot(rf_v3_sub(p, r), a->forward) / a->size;
+    return rf_v3_dot(rf_v3_sub(p, r), axis) / l2;
+}
+
+/* ---- ranks ---- */
+
+typedef struct rf_rank_item {
+    uint64_t group;
+    double order;
+    uint32_t sec;
+} rf_rank_item;
+
+static int cmp_rank(const void *x, const void *y)
+{
+    const rf_rank_item *a = x, *b = y;
+    if (a->group != b->group)
+        return a->group < b->group ? -1 : 1;
+    if (a->order != b->order)
+        return a->order > b->order ? -1 : 1;
+    return a->sec < b->sec ? -1 : a->sec > b->sec;
+}
+
+/* Limbs rank front to back among their type and side; digits rank forward-most first within
+ * their fan. */
+static bool ranks(rf_awork *w)
+{
+    rf_analysis *a = w->a;
+    rf_rank_item *it = malloc((size_t)(a->section_count ? a->section_count : 1) * sizeof *it);
+    if (!it)
+        return false;
+    uint32_t n = 0;
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        rf_section *sec = &a->sections[s];
+        if (center_type(sec->type) || sec->type == RF_SECTION_HELPER)
+            continue;
+        rf_rank_item *r = &it[n++];
+        r->sec = s;
+        if (sec->flags & RF_SECFL_FAN) {
+            uint32_t last = a->section_joints[sec->first + sec->bone_count - 1];
+            rf_vec3 v = rf_v3_sub(a->joints[last].tip, w->attach_pt[a->section_joints[sec->first]]);
+            r->group = (1ull << 40) | (uint32_t)(sec->attach_joint + 1);
+            r->order = rf_v3_dot(v, a->forward) + 0.3 * rf_v3_dot(v, a->up);
+        } else {
+            r->group = ((uint64_t)sec->type << 8) | sec->side;
+            r->order = sec->body_pos;
+        }
+    }
+    qsort(it, n, sizeof *it, cmp_rank);
+    for (uint32_t i = 0; i < n;) {
+        uint32_t e = i;
+        while (e < n && it[e].group == it[i].group)
+            e++;
+        for (uint32_t k = i; k < e; k++) {
+            a->sections[it[k].sec].pair_rank = k - i;
+            a->sections[it[k].sec].pair_count = e - i;
+        }
+        i = e;
+    }
+    free(it);
+    return true;
+}
+
+static void mirror_sections(rf_awork *w)
+{
+    rf_analysis *a = w->a;
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        rf_section *sec = &a->sections[s];
+        if (sec->side == RF_SIDE_CENTER)
+            continue;
+        for (uint32_t k = 0; k < sec->bone_count; k++) {
+            int32_t m = a->joints[a->section_joints[sec->first + k]].mirror;
+            if (m < 0 || a->joints[m].section < 0)
+                continue;
+            rf_section *o = &a->sections[a->joints[m].section];
+            if (o->type == sec->type && o->side != sec->side && o->side != RF_SIDE_CENTER)
+                sec->mirror = a->joints[m].section;
+            break;
+        }
+    }
+}
+
+bool rf_an_measure(rf_awork *w)
+{
+    rf_analysis *a = w->a;
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        rf_section *sec = &a->sections[s];
+        uint32_t first = a->section_joints[sec->first];
+        sec->side = section_side(w, sec, first);
+        measure_section(w, sec);
+        directions(w, sec);
+        /* a limb sits where its first joint is (clavicles and hips reach out of the body) */
+        sec->body_pos =
+            body_pos(w, center_type(sec->type) ? start_point(w, sec, first) : rf_an_pos(w, first));
+        for (uint32_t k = 0; k < sec->bone_count; k++) {
+            rf_joint_info *ji = &a->joints[a->section_joints[sec->first + k]];
+            ji->index = k;
+            ji->side = sec->side;
+        }
+    }
+    mirror_sections(w);
+    return ranks(w);
+}

@@ -1,0 +1,456 @@
+/* Skeleton analysis, stage 2: the plane of symmetry, the centerline and the limbs.
+ *
+ * Sibling subtrees with the same shape (same topology, similar length) propose mirror planes; the
+ * plane that reflects the most joints onto other joints wins. Checking every joint against the
+ * plane is what makes this hold where the thesis's angle comparison at one junction is
+ * ambiguous (four identical legs of a wolf, fingers, coincident hip joints). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis-internal.h"
+
+/* ---- subtree statistics ---- */
+
+static uint64_t mix64(uint64_t h)
+{
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdULL;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ULL;
+    return h ^ (h >> 33);
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Count, pivot sum, length and topology hash of every subtree, children before parents. */
+void rf_an_subtree_stats(rf_awork *w)
+{
+    uint64_t *buf = malloc((size_t)(w->n ? w->n : 1) * sizeof *buf);
+    for (uint32_t i = w->order_count; i-- > 0;) {
+        uint32_t j = w->order[i];
+        const rf_joint_info *ji = &w->a->joints[j];
+        w->sub_count[j] = 1;
+        w->sub_sum[j] = ji->pos;
+        w->sub_len[j] = rf_an_is_leaf(w, j) ? rf_v3_dist(ji->tip, ji->pos) : 0.0;
+        uint32_t k0 = w->child_off[j], k1 = w->child_off[j + 1];
+        for (uint32_t k = k0; k < k1; k++) {
+            uint32_t c = w->child_idx[k];
+            w->sub_count[j] += w->sub_count[c];
+            w->sub_sum[j] = rf_v3_add(w->sub_sum[j], w->sub_sum[c]);
+            w->sub_len[j] += w->sub_len[c] + rf_v3_dist(w->a->joints[c].pos, ji->pos);
+            if (buf)
+                buf[k - k0] = w->hash[c];
+        }
+        uint64_t h = mix64(0x9e3779b97f4a7c15ULL + (k1 - k0));
+        if (buf) {
+            qsort(buf, k1 - k0, sizeof *buf, cmp_u64);
+            for (uint32_t k = 0; k < k1 - k0; k++)
+                h = mix64(h ^ (buf[k] + 0x632be59bd9b4e019ULL));
+        }
+        w->hash[j] = h;
+    }
+    free(buf);
+}
+
+/* ---- a spatial hash of pivots for "is there a joint near this point" ---- */
+
+typedef struct rf_grid {
+    double cell;
+    uint32_t mask;
+    uint32_t *off; /* [mask + 2] */
+    uint32_t *idx;
+} rf_grid;
+
+static int64_t cell_of(double x, double cell)
+{
+    double c = floor(x / cell);
+    return (int64_t)fmax(-1e17, fmin(1e17, c));
+}
+
+static uint32_t cell_hash(int64_t x, int64_t y, int64_t z, uint32_t mask)
+{
+    uint64_t h = mix64((uint64_t)x * 0x9e3779b97f4a7c15ULL ^ (uint64_t)y * 0xc2b2ae3d27d4eb4fULL ^
+                       (uint64_t)z * 0x165667b19e3779f9ULL);
+    return (uint32_t)(h & mask);
+}
+
+static uint32_t point_hash(rf_vec3 p, double cell, uint32_t mask)
+{
+    return cell_hash(cell_of(p.x, cell), cell_of(p.y, cell), cell_of(p.z, cell), mask);
+}
+
+static bool grid_build(rf_grid *g, const rf_awork *w, double cell)
+{
+    uint32_t buckets = 16;
+    while (buckets < 2 * w->order_count && buckets < (1u << 30))
+        buckets *= 2;
+    g->cell = cell;
+    g->mask = buckets - 1;
+    g->off = calloc((size_t)buckets + 1, sizeof *g->off);
+    g->idx = malloc((size_t)(w->order_count ? w->order_count : 1) * sizeof *g->idx);
+    if (!g->off || !g->idx)
+        return false;
+    for (uint32_t i = 0; i < w->order_count; i++)
+        g->off[point_hash(rf_an_pos(w, w->order[i]), cell, g->mask) + 1]++;
+    for (uint32_t b = 0; b < buckets; b++)
+        g->off[b + 1] += g->off[b];
+    uint32_t *fill = malloc((size_t)buckets * sizeof *fill);
+    if (!fill)
+        return false;
+    memcpy(fill, g->off, (size_t)buckets * sizeof *fill);
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        g->idx[fill[point_hash(rf_an_pos(w, j), cell, g->mask)]++] = j;
+    }
+    free(fill);
+    return true;
+}
+
+static void grid_free(rf_grid *g)
+{
+    free(g->off);
+    free(g->idx);
+}
+
+/* The joint nearest to p within the grid's cell size whose signed plane distance has the sign
+ * `side` (or any when side is 0), other than `self`; -1 when none. Looks at no more than 48
+ * joints, so clusters of coincident joints cannot make the analysis quadratic. */
+static int32_t grid_nearest(const rf_grid *g, const rf_awork *w, rf_vec3 p, uint32_t self, int side)
+{
+    int64_t cx = cell_of(p.x, g->cell), cy = cell_of(p.y, g->cell), cz = cell_of(p.z, g->cell);
+    int32_t best = RF_NONE;
+    double best_d = g->cell;
+    uint32_t seen[27], examined = 0;
+    int nseen = 0;
+    for (int dx = -1; dx <= 1; dx++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dz = -1; dz <= 1; dz++) {
+                uint32_t b = cell_hash(cx + dx, cy + dy, cz + dz, g->mask);
+                bool dup = false;
+                for (int s = 0; s < nseen && !dup; s++)
+                    dup = seen[s] == b;
+                if (dup)
+                    continue;
+                seen[nseen++] = b;
+                for (uint32_t k = g->off[b]; k < g->off[b + 1] && examined < 48; k++) {
+                    uint32_t j = g->idx[k];
+                    examined++;
+                    double d = rf_v3_dist(rf_an_pos(w, j), p);
+                    if (j == self || d > best_d)
+                        continue;
+                    double s = rf_an_plane_dist(w, rf_an_pos(w, j));
+                    if (side && s * side <= 0)
+                        continue;
+                    best_d = d, best = (int32_t)j;
+                }
+            }
+    return best;
+}
+
+/* ---- candidate planes ---- */
+
+double rf_an_plane_dist(const rf_awork *w, rf_vec3 p)
+{
+    return rf_v3_dot(rf_v3_sub(p, w->plane_p), w->plane_n);
+}
+
+typedef struct rf_plane_cluster {
+    rf_vec3 n_sum, p_sum;
+    double weight;
+} rf_plane_cluster;
+
+#define RF_MAX_CLUSTERS 32
+
+typedef struct rf_candidates {
+    rf_plane_cluster c[RF_MAX_CLUSTERS];
+    int count;
+    uint32_t proposals;
+} rf_candidates;
+
+static void propose(rf_candidates *cs, rf_vec3 n, rf_vec3 p, double weight)
+{
+    n = rf_v3_normalize(n);
+    if (rf_v3_len2(n) == 0 || !rf_v3_isfinite(p))
+        return;
+    cs->proposals++;
+    for (int i = 0; i < cs->count; i++) {
+        rf_vec3 m = rf_v3_normalize(cs->c[i].n_sum);
+        double d = rf_v3_dot(m, n);
+        if (fabs(d) >= cos(10.0 * RF_PI / 180.0)) {
+            if (d < 0)
+                n = rf_v3_scale(n, -1);
+            cs->c[i].n_sum = rf_v3_add(cs->c[i].n_sum, rf_v3_scale(n, weight));
+            cs->c[i].p_sum = rf_v3_add(cs->c[i].p_sum, rf_v3_scale(p, weight));
+            cs->c[i].weight += weight;
+            return;
+        }
+    }
+    if (cs->count == RF_MAX_CLUSTERS)
+        return;
+    rf_plane_cluster *c = &cs->c[cs->count++];
+    c->n_sum = rf_v3_scale(n, weight);
+    c->p_sum = rf_v3_scale(p, weight);
+    c->weight = weight;
+}
+
+typedef struct rf_hashed {
+    uint64_t hash;
+    uint32_t joint;
+} rf_hashed;
+
+static int cmp_hashed(const void *a, const void *b)
+{
+    const rf_hashed *x = a, *y = b;
+    if (x->hash != y->hash)
+        return x->hash < y->hash ? -1 : 1;
+    return x->joint < y->joint ? -1 : x->joint > y->joint;
+}
+
+static rf_vec3 centroid(const rf_awork *w, uint32_t j)
+{
+    return rf_v3_scale(w->sub_sum[j], 1.0 / w->sub_count[j]);
+}
+
+/* Pairs of siblings with equal topology and similar length propose the plane between them. */
+static void propose_siblings(rf_awork *w, rf_candidates *cs, rf_hashed *kids, uint32_t k)
+{
+    qsort(kids, k, sizeof *kids, cmp_hashed);
+    for (uint32_t a = 0; a < k; a++) {
+        /* Only the first few of a run of identical siblings: enough to find the plane. */
+        for (uint32_t b = a + 1; b < k && b < a + 8 && kids[b].hash == kids[a].hash; b++) {
+            uint32_t ja = kids[a].joint, jb = kids[b].joint;
+            double la = w->sub_len[ja], lb = w->sub_len[jb];
+            if (fabs(la - lb) > 0.25 * fmax(la, lb) + w->eps)
+                continue;
+            rf_vec3 ca = centroid(w, ja), cb = centroid(w, jb);
+            if (rf_v3_dist(ca, cb) <= 0.25 * w->tol)
+                continue;
+            propose(cs, rf_v3_sub(ca, cb), rf_v3_scale(rf_v3_add(ca, cb), 0.5),
+                    w->sub_count[ja] + w->sub_count[jb]);
+            if (cs->proposals > 4096)
+                return;
+        }
+    }
+}
+
+static void gather_candidates(rf_awork *w, rf_candidates *cs, rf_hashed *kids)
+{
+    uint32_t k = 0; /* the roots are siblings under a virtual root */
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (w->parent[j] < 0)
+            kids[k++] = (rf_hashed){w->hash[j], j};
+    }
+    propose_siblings(w, cs, kids, k);
+    for (uint32_t i = 0; i < w->order_count && cs->proposals <= 4096; i++) {
+        uint32_t j = w->order[i];
+        k = 0;
+        for (uint32_t c = w->child_off[j]; c < w->child_off[j + 1]; c++)
+            kids[k++] = (rf_hashed){w->hash[w->child_idx[c]], w->child_idx[c]};
+        if (k >= 2)
+            propose_siblings(w, cs, kids, k);
+    }
+}
+
+/* Mirror matches of the plane (n, p): off-plane joints whose reflection lands on a joint on
+ * the other side, plus a quarter point per joint on the plane. */
+static double plane_score(rf_awork *w, const rf_grid *g, rf_vec3 n, rf_vec3 p, uint32_t *off,
+                          uint32_t *matched)
+{
+    w->plane_n = n, w->plane_p = p;
+    uint32_t on = 0;
+    *off = *matched = 0;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        rf_vec3 q = rf_an_pos(w, j);
+        double d = rf_an_plane_dist(w, q);
+        if (fabs(d) <= 0.5 * w->tol) {
+            on++;
+            continue;
+        }
+        (*off)++;
+        rf_vec3 r = rf_v3_sub(q, rf_v3_scale(n, 2 * d));
+        if (grid_nearest(g, w, r, j, d > 0 ? -1 : 1) >= 0)
+            (*matched)++;
+    }
+    return *matched + 0.25 * on;
+}
+
+static rf_vec3 all_centroid(const rf_awork *w)
+{
+    rf_vec3 s = rf_v3(0, 0, 0);
+    for (uint32_t i = 0; i < w->order_count; i++)
+        s = rf_v3_add(s, rf_an_pos(w, w->order[i]));
+    return w->order_count ? rf_v3_scale(s, 1.0 / w->order_count) : s;
+}
+
+/* Moves the plane to the mean of its matched pairs' midpoints, and turns it to their mean
+ * direction. */
+static void refine_plane(rf_awork *w, const rf_grid *g)
+{
+    rf_vec3 nsum = rf_v3(0, 0, 0), psum = rf_v3(0, 0, 0);
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        rf_vec3 q = rf_an_pos(w, j);
+        double d = rf_an_plane_dist(w, q);
+        if (d <= 0.5 * w->tol)
+            continue; /* one side only: each pair once */
+        int32_t m = grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), j, -1);
+        if (m < 0)
+            continue;
+        nsum = rf_v3_add(nsum, rf_v3_normalize(rf_v3_sub(q, rf_an_pos(w, (uint32_t)m))));
+        psum = rf_v3_add(psum, rf_v3_scale(rf_v3_add(q, rf_an_pos(w, (uint32_t)m)), 0.5));
+        count++;
+    }
+    if (count == 0)
+        return;
+    rf_vec3 n = rf_v3_normalize(nsum);
+    if (rf_v3_len2(n) > 0 && rf_v3_dot(n, w->plane_n) > 0.9)
+        w->plane_n = n;
+    w->plane_p = rf_v3_scale(psum, 1.0 / count);
+}
+
+static void fallback_candidates(rf_awork *w, rf_candidates *cs, rf_vec3 center)
+{
+    const rf_skeleton *s = w->skel;
+    if (!w->opt.ignore_file_axes && rf_v3_len2(s->up) > 0 && rf_v3_len2(s->forward) > 0)
+        propose(cs, rf_v3_cross(s->up, s->forward), center, 0);
+    propose(cs, rf_v3(1, 0, 0), center, 0);
+    propose(cs, rf_v3(0, 0, 1), center, 0);
+    propose(cs, rf_v3(0, 1, 0), center, 0);
+}
+
+#define RF_SCORED_CLUSTERS 12
+
+static int cmp_cluster(const void *a, const void *b)
+{
+    double x = ((const rf_plane_cluster *)a)->weight, y = ((const rf_plane_cluster *)b)->weight;
+    return x > y ? -1 : x < y;
+}
+
+/* Heaviest proposals first; the zero-weight fallback axes after them, kept in the scored set. */
+static void sort_clusters(rf_candidates *cs)
+{
+    qsort(cs->c, (size_t)cs->count, sizeof cs->c[0], cmp_cluster);
+    int fallbacks = 0;
+    for (int i = 0; i < cs->count; i++)
+        fallbacks += cs->c[i].weight == 0;
+    int proposals = cs->count - fallbacks;
+    if (proposals > RF_SCORED_CLUSTERS - fallbacks) {
+        int keep = RF_SCORED_CLUSTERS - fallbacks;
+        memmove(&cs->c[keep], &cs->c[proposals], (size_t)fallbacks * sizeof cs->c[0]);
+        cs->count = keep + fallbacks;
+    }
+}
+
+/* Chooses the symmetry plane: forced axes define it; otherwise the best scoring candidate. */
+void rf_an_symmetry(rf_awork *w)
+{
+    rf_vec3 center = all_centroid(w);
+    rf_candidates *cs = calloc(1, sizeof *cs);
+    rf_hashed *kids = malloc((size_t)(w->n ? w->n : 1) * sizeof *kids);
+    rf_grid g = {0};
+    w->plane_n = rf_v3(1, 0, 0), w->plane_p = center;
+    if (!cs || !kids || !grid_build(&g, w, w->tol))
+        goto out;
+    rf_vec3 fu = w->opt.up, ff = w->opt.forward;
+    if (rf_v3_len2(fu) > 0 && rf_v3_len2(ff) > 0 && rf_v3_len2(rf_v3_cross(fu, ff)) > 0) {
+        propose(cs, rf_v3_cross(fu, ff), center, 1); /* forced: only the offset is searched */
+    } else {
+        gather_candidates(w, cs, kids);
+        fallback_candidates(w, cs, center);
+    }
+    sort_clusters(cs);
+    double best = -1;
+    uint32_t best_off = 0, best_matched = 0;
+    rf_vec3 bn = w->plane_n, bp = center;
+    for (int i = 0; i < cs->count && i < RF_SCORED_CLUSTERS; i++) {
+        rf_vec3 n = rf_v3_normalize(cs->c[i].n_sum);
+        rf_vec3 p =
+            cs->c[i].weight > 0 ? rf_v3_scale(cs->c[i].p_sum, 1.0 / cs->c[i].weight) : center;
+        uint32_t off, matched;
+        double score = plane_score(w, &g, n, p, &off, &matched);
+        /* Proposed planes beat the fallback axes on ties: they come from the skeleton. */
+        score += cs->c[i].weight > 0 ? 1e-3 : 0;
+        if (score > best)
+            best = score, bn = n, bp = p, best_off = off, best_matched = matched;
+    }
+    w->plane_n = bn, w->plane_p = bp;
+    refine_plane(w, &g);
+    uint32_t off, matched;
+    plane_score(w, &g, w->plane_n, w->plane_p, &off, &matched);
+    if (matched < best_matched) { /* the refinement made it worse: keep the original */
+        w->plane_n = bn, w->plane_p = bp;
+        off = best_off, matched = best_matched;
+    }
+    w->a->symmetry = off ? (double)matched / off : 1.0;
+    w->have_plane = matched > 0;
+out:
+    grid_free(&g);
+    free(kids);
+    free(cs);
+}
+
+/* ---- centerline and limbs ---- */
+
+/* Center: near the plane, with a subtree centred on it, under a center parent, and without a
+ * twin across the plane (eyes close to the plane are a pair, not the centerline). */
+void rf_an_classify(rf_awork *w)
+{
+    rf_grid g = {0};
+    bool grid = grid_build(&g, w, w->tol);
+    double tol_c = 0.5 * w->tol, tiny = 0.05 * w->tol;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        int32_t p = w->parent[j];
+        rf_vec3 q = rf_an_pos(w, j);
+        double d = rf_an_plane_dist(w, q);
+        bool center = (p < 0 || w->center[p]) && fabs(d) <= tol_c &&
+                      fabs(rf_an_plane_dist(w, centroid(w, j))) <= tol_c;
+        /* No symmetry: no sides. The root chain and the body's top are the centerline. */
+        bool forced = !w->have_plane || w->root_chain[j] || (int32_t)j == w->top;
+        if (center && fabs(d) > tiny && grid) {
+            rf_vec3 r = rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d));
+            int32_t twin = grid_nearest(&g, w, r, j, d > 0 ? -1 : 1);
+            center = twin < 0 || rf_v3_dist(rf_an_pos(w, (uint32_t)twin), r) > 0.5 * fabs(d);
+        }
+        w->center[j] = center || forced;
+        center = w->center[j];
+        if (center)
+            w->limb_of[j] = RF_NONE;
+        else
+            w->limb_of[j] = (p < 0 || w->center[p]) ? (int32_t)j : w->limb_of[p];
+    }
+    if (grid)
+        grid_free(&g);
+}
+
+/* Each off-center joint's mirror image: the nearest joint to its reflection, other side. */
+void rf_an_mirrors(rf_awork *w)
+{
+    rf_grid g = {0};
+    for (uint32_t j = 0; j < w->n; j++)
+        w->a->joints[j].mirror = RF_NONE;
+    if (!w->have_plane || !grid_build(&g, w, w->tol)) {
+        grid_free(&g);
+        return;
+    }
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (w->center[j])
+            continue;
+        rf_vec3 q = rf_an_pos(w, j);
+        double d = rf_an_plane_dist(w, q);
+        int32_t m =
+            grid_nearest(&g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), j, d > 0 ? -1 : 1);
+        if (m >= 0 && !w->center[m])
+            w->a->joints[j].mirror = m;
+    }
+    grid_free(&g);
+}

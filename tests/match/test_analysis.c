@@ -1,0 +1,334 @@
+/* Skeleton analysis on hand-built skeletons: axes whichever way a body faces, sides by geometry,
+ * section types, helpers, forests, and degenerate input that must not crash. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <time.h>
+
+#include <cmocka.h>
+
+#include "analysis/analysis.h"
+#include "skel-build.h"
+
+static const rf_section *section_of(const rf_analysis *a, const rf_skeleton *s, const char *name)
+{
+    int32_t j = sb_find(s, name);
+    assert_true(j >= 0);
+    assert_true(a->joints[j].section >= 0);
+    return &a->sections[a->joints[j].section];
+}
+
+static void assert_near_dir(rf_vec3 got, rf_vec3 want)
+{
+    if (rf_v3_dot(rf_v3_normalize(got), rf_v3_normalize(want)) < 0.99)
+        fail_msg("direction (%.3f %.3f %.3f), expected (%.3f %.3f %.3f)", got.x, got.y, got.z,
+                 want.x, want.y, want.z);
+}
+
+static void assert_section(const rf_analysis *a, const rf_skeleton *s, const char *joint,
+                           rf_section_type type, rf_side side)
+{
+    const rf_section *sec = section_of(a, s, joint);
+    if (sec->type != type || sec->side != side)
+        fail_msg("%s is in a %s %s section, expected %s %s", joint, rf_side_name(sec->side),
+                 rf_section_type_name(sec->type), rf_side_name(side), rf_section_type_name(type));
+}
+
+static void check_biped_sections(const rf_analysis *a, const rf_skeleton *s)
+{
+    assert_section(a, s, "hips", RF_SECTION_SPINE, RF_SIDE_CENTER);
+    assert_section(a, s, "chest", RF_SECTION_SPINE, RF_SIDE_CENTER);
+    assert_section(a, s, "neck", RF_SECTION_HEAD, RF_SIDE_CENTER);
+    assert_section(a, s, "head", RF_SECTION_HEAD, RF_SIDE_CENTER);
+    assert_section(a, s, "l_arm", RF_SECTION_ARM, RF_SIDE_LEFT);
+    assert_section(a, s, "l_clavicle", RF_SECTION_ARM, RF_SIDE_LEFT);
+    assert_section(a, s, "r_forearm", RF_SECTION_ARM, RF_SIDE_RIGHT);
+    assert_section(a, s, "l_finger", RF_SECTION_HAND, RF_SIDE_LEFT);
+    assert_section(a, s, "r_thumb", RF_SECTION_HAND, RF_SIDE_RIGHT);
+    assert_section(a, s, "l_thigh", RF_SECTION_LEG, RF_SIDE_LEFT);
+    assert_section(a, s, "r_toe", RF_SECTION_LEG, RF_SIDE_RIGHT);
+}
+
+static void test_biped(void **state)
+{
+    (void)state;
+    rf_skeleton *s = sb_build(sb_biped, SB_COUNT(sb_biped));
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    assert_near_dir(a->forward, rf_v3(0, 0, 1));
+    assert_near_dir(a->left, rf_v3(1, 0, 0));
+    assert_true(a->symmetry > 0.9);
+    check_biped_sections(a, s);
+    /* the thumb is the forward-most digit of its fan */
+    assert_int_equal(section_of(a, s, "l_thumb")->pair_rank, 0);
+    assert_int_equal(a->joints[sb_find(s, "l_arm")].mirror, sb_find(s, "r_arm"));
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* The same body turned to face every way, and lying with +Z up: detected, not assumed. */
+static void test_biped_facing(void **state)
+{
+    (void)state;
+    const double yaws[] = {0, 90, 180, 270, 35};
+    for (size_t i = 0; i < sizeof yaws / sizeof yaws[0]; i++) {
+        for (int zup = 0; zup < 2; zup++) {
+            rf_quat r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), yaws[i] * RF_PI / 180);
+            if (zup)
+                r = rf_quat_mul(rf_quat_from_axis_angle(rf_v3(1, 0, 0), RF_PI / 2), r);
+            rf_skeleton *s = sb_build_xf(sb_biped, SB_COUNT(sb_biped), r, 37.0, rf_v3(5, -2, 9));
+            rf_analysis *a = rf_analyze(s, NULL);
+            assert_non_null(a);
+            assert_near_dir(a->up, rf_quat_rotate(r, rf_v3(0, 1, 0)));
+            assert_near_dir(a->forward, rf_quat_rotate(r, rf_v3(0, 0, 1)));
+            check_biped_sections(a, s);
+            rf_analysis_free(a);
+            rf_skeleton_free(s);
+        }
+    }
+}
+
+static void test_quadruped(void **state)
+{
+    (void)state;
+    rf_skeleton *s = sb_build(sb_quadruped, SB_COUNT(sb_quadruped));
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    assert_near_dir(a->forward, rf_v3(0, 0, -1));
+    assert_section(a, s, "pelvis", RF_SECTION_SPINE, RF_SIDE_CENTER);
+    assert_section(a, s, "chest", RF_SECTION_SPINE, RF_SIDE_CENTER);
+    assert_section(a, s, "head", RF_SECTION_HEAD, RF_SIDE_CENTER);
+    assert_section(a, s, "tail2", RF_SECTION_TAIL, RF_SIDE_CENTER);
+    assert_section(a, s, "fl1", RF_SECTION_LEG, RF_SIDE_LEFT);
+    assert_section(a, s, "hr3", RF_SECTION_LEG, RF_SIDE_RIGHT);
+    /* front legs rank before hind legs, and sit at the front end of the body */
+    assert_int_equal(section_of(a, s, "fl1")->pair_rank, 0);
+    assert_int_equal(section_of(a, s, "hl1")->pair_rank, 1);
+    assert_true(section_of(a, s, "fl1")->body_pos > 0.8);
+    assert_true(section_of(a, s, "hl1")->body_pos < 0.2);
+    /* the hock bends backward, the front knee (carpus) forward or not at all */
+    assert_true(a->joints[sb_find(s, "hl3")].bend < 0);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+static void test_strip(void **state)
+{
+    (void)state;
+    const sb_joint strip[] = {{"a", NULL, 0, 1, 0, 0}, {"b", "a", 0, 2, 0, 0}};
+    rf_skeleton *s = sb_build(strip, 2);
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    assert_int_equal(a->section_count, 1);
+    assert_int_equal(a->sections[0].type, RF_SECTION_SPINE);
+    assert_int_equal(a->sections[0].bone_count, 2);
+    assert_true(a->joints[0].u0 <= a->joints[1].u0);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* Every joint ends up in exactly one section, and the sections' joint lists agree. */
+static void check_consistent(const rf_analysis *a)
+{
+    uint32_t total = 0;
+    for (uint32_t k = 0; k < a->section_count; k++) {
+        total += a->sections[k].bone_count;
+        for (uint32_t i = 0; i < a->sections[k].bone_count; i++) {
+            uint32_t j = rf_section_joints(a, k)[i];
+            assert_true(j < a->joint_count);
+            assert_int_equal(a->joints[j].section, (int32_t)k);
+            assert_int_equal(a->joints[j].index, i);
+            assert_true(isfinite(a->joints[j].u0) && isfinite(a->joints[j].u1));
+        }
+    }
+    assert_int_equal(total, a->joint_count);
+    assert_true(rf_v3_isfinite(a->up) && rf_v3_isfinite(a->forward));
+    assert_true(fabs(rf_v3_len(a->up) - 1) < 1e-9 && fabs(rf_v3_dot(a->up, a->forward)) < 1e-9);
+}
+
+static void test_degenerate(void **state)
+{
+    (void)state;
+    rf_analysis *a = rf_analyze(NULL, NULL);
+    assert_non_null(a);
+    assert_int_equal(a->section_count, 0);
+    rf_analysis_free(a);
+    rf_skeleton *s = rf_skeleton_new(0);
+    a = rf_analyze(s, NULL);
+    assert_int_equal(a->joint_count, 0);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+
+    s = rf_skeleton_new(1); /* one joint */
+    a = rf_analyze(s, NULL);
+    check_consistent(a);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+
+    s = rf_skeleton_new(12); /* all coincident: a chain and a star at the origin */
+    for (uint32_t i = 1; i < 12; i++)
+        s->joints[i].parent = i < 6 ? (int32_t)i - 1 : 0;
+    a = rf_analyze(s, NULL);
+    check_consistent(a);
+    rf_analysis_free(a);
+
+    /* non-finite numbers, zero scale, parents that are not before their children */
+    s->joints[3].rest.t = rf_v3(NAN, 1, INFINITY);
+    s->joints[4].rest.r = rf_quat_make(NAN, 0, 0, 0);
+    s->joints[5].rest.s = rf_v3(0, 0, 0);
+    s->joints[7].parent = 11;
+    s->joints[8].parent = -7;
+    s->joints[9].parent = 9;
+    s->joints[2].flags = RF_JOINT_HAS_END_SITE;
+    s->joints[2].end_site = rf_v3(NAN, 0, 0);
+    a = rf_analyze(s, NULL);
+    check_consistent(a);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* A 100 000-joint chain and a wide random tree: no recursion, no quadratic blow-up. */
+static void test_large(void **state)
+{
+    (void)state;
+    uint32_t n = 100000;
+    rf_skeleton *s = rf_skeleton_new(n);
+    for (uint32_t i = 1; i < n; i++) {
+        s->joints[i].parent = (int32_t)i - 1;
+        s->joints[i].rest.t = rf_v3(0.001 * (i % 7), 0.01, 0);
+    }
+    clock_t t0 = clock();
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    rf_analysis_free(a);
+    srand(7);
+    for (uint32_t i = 1; i < n; i++) {
+        s->joints[i].parent = (int32_t)(i < 20000 ? 0 : (uint32_t)rand() % i);
+        s->joints[i].rest.t = rf_v3(rand() % 100 - 50, rand() % 100 - 50, rand() % 100 - 50);
+    }
+    a = rf_analyze(s, NULL);
+    check_consistent(a);
+    rf_analysis_free(a);
+    double seconds = (double)(clock() - t0) / CLOCKS_PER_SEC;
+    print_message("two 100000-joint analyses: %.2f s\n", seconds);
+    assert_true(seconds < 20);
+    rf_skeleton_free(s);
+}
+
+static void test_forced_axes(void **state)
+{
+    (void)state;
+    rf_skeleton *s = sb_build(sb_biped, SB_COUNT(sb_biped));
+    rf_analysis_options o = {0};
+    o.up = rf_v3(0, 0, 2);
+    o.forward = rf_v3(1, 0, 0.5);
+    rf_analysis *a = rf_analyze(s, &o);
+    assert_near_dir(a->up, rf_v3(0, 0, 1));
+    assert_near_dir(a->forward, rf_v3(1, 0, 0));
+    assert_string_equal(a->up_source, "forced");
+    assert_string_equal(a->forward_source, "forced");
+    check_consistent(a);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* Unweighted leaves (IK target, pole, socket) are helpers, an unweighted joint on its only child
+ * is a control joint, and a weighted foot parented to the ground root joins its leg. */
+static void test_helpers_and_forest(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped) + 8];
+    size_t n = 0;
+    js[n++] = (sb_joint){"ground", NULL, 0, 0, 0, RF_JOINT_UNWEIGHTED};
+    js[n++] = (sb_joint){"ctrl", "ground", 0, 1.0, 0, RF_JOINT_UNWEIGHTED};
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) {
+        js[n] = sb_biped[i];
+        if (!js[n].parent)
+            js[n].parent = "ctrl";
+        if (strcmp(js[n].name, "l_foot") == 0) /* the foot hangs from the ground root */
+            js[n].parent = "ground";
+        n++;
+    }
+    js[n++] = (sb_joint){"ik_target", "ground", 0.1, 0.08, 0, RF_JOINT_UNWEIGHTED};
+    js[n++] = (sb_joint){"pole", "ground", 0.1, 0.5, 0.6, RF_JOINT_UNWEIGHTED};
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    assert_section(a, s, "ik_target", RF_SECTION_HELPER, RF_SIDE_LEFT);
+    assert_int_equal(section_of(a, s, "pole")->type, RF_SECTION_HELPER);
+    assert_int_equal(section_of(a, s, "ground")->type, RF_SECTION_ROOT);
+    assert_true(a->joints[sb_find(s, "ctrl")].flags & RF_JI_CONTROL);
+    assert_section(a, s, "l_foot", RF_SECTION_LEG, RF_SIDE_LEFT);
+    assert_int_equal(a->joints[sb_find(s, "l_foot")].logical_parent, sb_find(s, "l_shin"));
+    check_biped_sections(a, s);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* Arms hanging to mid-thigh stay arms by default and become legs with a higher threshold. */
+static void test_leg_threshold(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped)];
+    memcpy(js, sb_biped, sizeof js);
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) {
+        const char *nm = js[i].name[0] == '.' ? js[i].parent : js[i].name;
+        bool arm =
+            strstr(nm, "arm") || strstr(nm, "hand") || strstr(nm, "finger") || strstr(nm, "thumb");
+        if (arm && strcmp(nm, "l_arm") && strcmp(nm, "r_arm")) { /* hang down from the shoulder */
+            double out = fabs(js[i].x) - 0.18;
+            js[i].y = 1.50 - out * 1.1;
+            js[i].x = js[i].x > 0 ? 0.2 : -0.2;
+        }
+    }
+    rf_skeleton *s = sb_build(js, SB_COUNT(sb_biped));
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_section(a, s, "l_forearm", RF_SECTION_ARM, RF_SIDE_LEFT);
+    rf_analysis_free(a);
+    rf_analysis_options o = {0};
+    o.leg_threshold = 0.6;
+    a = rf_analyze(s, &o);
+    assert_section(a, s, "l_forearm", RF_SECTION_LEG, RF_SIDE_LEFT);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* Positions along a section grow, the spine ends at its front girdle. */
+static void test_measures(void **state)
+{
+    (void)state;
+    rf_skeleton *s = sb_build(sb_biped, SB_COUNT(sb_biped));
+    rf_analysis *a = rf_analyze(s, NULL);
+    for (uint32_t k = 0; k < a->section_count; k++) {
+        const uint32_t *js = rf_section_joints(a, k);
+        for (uint32_t i = 0; i + 1 < a->sections[k].bone_count; i++)
+            assert_true(a->joints[js[i]].u0 <= a->joints[js[i + 1]].u0 + 1e-12);
+        assert_true(a->sections[k].length > 0);
+    }
+    assert_true(fabs(a->joints[sb_find(s, "chest")].u0 - 1.0) < 1e-9);
+    assert_true(a->joints[sb_find(s, "chest")].flags & RF_JI_GIRDLE);
+    assert_true(a->joints[sb_find(s, "hips")].flags & RF_JI_GIRDLE);
+    assert_string_equal(rf_section_type_name(RF_SECTION_APPENDAGE), "appendage");
+    rf_section_type t;
+    assert_true(rf_section_type_parse("foot", &t) && t == RF_SECTION_FOOT);
+    assert_false(rf_section_type_parse("wing", &t));
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_biped),         cmocka_unit_test(test_biped_facing),
+        cmocka_unit_test(test_quadruped),     cmocka_unit_test(test_strip),
+        cmocka_unit_test(test_degenerate),    cmocka_unit_test(test_large),
+        cmocka_unit_test(test_forced_axes),   cmocka_unit_test(test_helpers_and_forest),
+        cmocka_unit_test(test_leg_threshold), cmocka_unit_test(test_measures),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
