@@ -36,6 +36,7 @@ typedef struct rf_output {
 } rf_output;
 
 struct rf_node {
+    guint index; /* position in pipeline->nodes */
     char *id;
     char *type;
     char *pointer;  /* "/nodes/N" */

@@ -153,6 +153,7 @@ static void parse_nodes(rf_pipeline *p, json_t *nodes)
     json_array_foreach(nodes, i, obj)
     {
         rf_node *n = parse_node(p, obj, i);
+        n->index = p->nodes->len;
         g_ptr_array_add(p->nodes, n);
         if (!n->id)
             continue;

@@ -346,22 +346,31 @@ static void stage_ports(rf_pipeline *p, GPtrArray *diags)
 
 /* ---- cycles and order ---- */
 
-static guint node_index(rf_pipeline *p, rf_node *n)
+/* Reports the cycle that closes at `cur`, the nodes from pos[cur] to the end of `path`. */
+static void report_path(rf_pipeline *p, GArray *path, const gint *pos, guint cur, bool *reported,
+                        GPtrArray *diags)
 {
-    guint idx = 0;
-    g_ptr_array_find(p->nodes, n, &idx);
-    return idx;
+    GString *names = g_string_new(NULL);
+    for (guint i = path->len; i-- > (guint)pos[cur];) { /* appended: prepending is quadratic */
+        guint k = g_array_index(path, guint, i);
+        reported[k] = true;
+        g_string_append(names, ((rf_node *)g_ptr_array_index(p->nodes, k))->id);
+        g_string_append(names, " <- ");
+    }
+    rf_node *first = g_ptr_array_index(p->nodes, cur);
+    g_string_append(names, first->id);
+    rf_diags_add(diags, p->name, 0, 0, first->id, first->pointer,
+                 "cycle: %s (each node needs the next one's output)", names->str);
+    g_string_free(names, TRUE);
 }
 
 /* Walks back from a node left over by the topological sort, which must lead into a cycle, and
- * reports that cycle unless it was reported already. */
-static void report_cycle(rf_pipeline *p, guint start, guint *pending, bool *reported,
+ * reports that cycle unless it was reported already. `pos` (-1 for every node) is scratch space,
+ * handed back as it came. */
+static void report_cycle(rf_pipeline *p, guint start, guint *pending, bool *reported, gint *pos,
                          GPtrArray *diags)
 {
     g_autoptr(GArray) path = g_array_new(FALSE, FALSE, sizeof(guint));
-    g_autofree gint *pos = g_new(gint, p->nodes->len);
-    for (guint i = 0; i < p->nodes->len; i++)
-        pos[i] = -1;
     guint cur = start;
     while (pos[cur] < 0 && !reported[cur]) {
         pos[cur] = (gint)path->len;
@@ -371,7 +380,7 @@ static void report_cycle(rf_pipeline *p, guint start, guint *pending, bool *repo
         for (uint32_t k = 0; k < n->desc->input_count && next == cur; k++)
             for (guint e = 0; e < n->inputs[k]->len; e++) {
                 rf_conn *c = g_ptr_array_index(n->inputs[k], e);
-                guint s = node_index(p, c->src);
+                guint s = c->src->index;
                 if (pending[s]) {
                     next = s;
                     break;
@@ -379,21 +388,37 @@ static void report_cycle(rf_pipeline *p, guint start, guint *pending, bool *repo
             }
         cur = next;
     }
-    if (reported[cur])
-        return;
-    GString *names = g_string_new(NULL);
-    for (guint i = (guint)pos[cur]; i < path->len; i++) {
-        guint k = g_array_index(path, guint, i);
-        rf_node *n = g_ptr_array_index(p->nodes, k);
-        reported[k] = true;
-        g_string_prepend(names, " <- ");
-        g_string_prepend(names, n->id);
+    if (!reported[cur])
+        report_path(p, path, pos, cur, reported, diags);
+    for (guint i = 0; i < path->len; i++)
+        pos[g_array_index(path, guint, i)] = -1;
+}
+
+/* The nodes reading each node's outputs, one entry per edge, in node order: users[first[i]] to
+ * users[first[i + 1]] read node i. Built once so that the sort is linear in nodes and edges
+ * instead of scanning every edge for each node done. */
+static guint *edge_users(rf_pipeline *p, guint **first_out)
+{
+    guint count = p->nodes->len;
+    guint *first = g_new0(guint, count + 1);
+    for (guint i = 0; i < count; i++) {
+        rf_node *n = g_ptr_array_index(p->nodes, i);
+        for (uint32_t k = 0; n->inputs && k < n->desc->input_count; k++)
+            for (guint e = 0; e < n->inputs[k]->len; e++)
+                first[((rf_conn *)g_ptr_array_index(n->inputs[k], e))->src->index + 1]++;
     }
-    rf_node *first = g_ptr_array_index(p->nodes, cur);
-    g_string_append(names, first->id);
-    rf_diags_add(diags, p->name, 0, 0, first->id, first->pointer,
-                 "cycle: %s (each node needs the next one's output)", names->str);
-    g_string_free(names, TRUE);
+    for (guint i = 0; i < count; i++)
+        first[i + 1] += first[i];
+    g_autofree guint *fill = g_memdup2(first, (count + 1) * sizeof *first);
+    guint *users = g_new(guint, first[count] ? first[count] : 1);
+    for (guint i = 0; i < count; i++) {
+        rf_node *n = g_ptr_array_index(p->nodes, i);
+        for (uint32_t k = 0; n->inputs && k < n->desc->input_count; k++)
+            for (guint e = 0; e < n->inputs[k]->len; e++)
+                users[fill[((rf_conn *)g_ptr_array_index(n->inputs[k], e))->src->index]++] = i;
+    }
+    *first_out = first;
+    return users;
 }
 
 /* Kahn's algorithm over the edges; what is left over lies on or behind a cycle. */
@@ -407,24 +432,24 @@ static void stage_order(rf_pipeline *p, GPtrArray *diags)
         for (uint32_t k = 0; n->inputs && k < n->desc->input_count; k++)
             pending[i] += n->inputs[k]->len;
     }
+    g_autofree guint *first = NULL;
+    g_autofree guint *users = edge_users(p, &first);
     p->order = g_array_new(FALSE, FALSE, sizeof(guint));
     for (guint i = 0; i < count; i++)
         if (!pending[i])
             g_array_append_val(p->order, i);
     for (guint head = 0; head < p->order->len; head++) {
-        rf_node *done = g_ptr_array_index(p->nodes, g_array_index(p->order, guint, head));
-        for (guint i = 0; i < count; i++) {
-            rf_node *n = g_ptr_array_index(p->nodes, i);
-            for (uint32_t k = 0; n->inputs && k < n->desc->input_count; k++)
-                for (guint e = 0; e < n->inputs[k]->len; e++)
-                    if (((rf_conn *)g_ptr_array_index(n->inputs[k], e))->src == done &&
-                        --pending[i] == 0)
-                        g_array_append_val(p->order, i);
-        }
+        guint done = g_array_index(p->order, guint, head);
+        for (guint u = first[done]; u < first[done + 1]; u++)
+            if (--pending[users[u]] == 0)
+                g_array_append_val(p->order, users[u]);
     }
+    g_autofree gint *pos = g_new(gint, count ? count : 1);
+    for (guint i = 0; i < count; i++)
+        pos[i] = -1;
     for (guint i = 0; i < count; i++)
         if (pending[i] && !reported[i])
-            report_cycle(p, i, pending, reported, diags);
+            report_cycle(p, i, pending, reported, pos, diags);
 }
 
 /* ---- port types ---- */
