@@ -5,6 +5,7 @@
  * RF_DATA_DIR and skip, saying why, without it; the plugin test needs RIGFLOW_PLUGIN_PATH.
  */
 #include <dirent.h>
+#include <locale.h>
 #include <ltdl.h>
 #include <math.h>
 #include <setjmp.h>
@@ -291,6 +292,46 @@ static void test_number_exact(void **state)
             n += sprintf(buf + n, "e%d", rand() % 80 - 40);
         buf[n] = '\0';
         check_number(buf);
+    }
+}
+
+/* A locale whose decimal point is a comma changes nothing, slow path included. */
+static void test_number_locale(void **state)
+{
+    (void)state;
+    static const char *const cases[] = {"1.5", "-16.4850", "123456789012345678901234567890.5",
+                                        "0.000000000000000000000000000001234", "1e-300"};
+    double before[5];
+    for (int i = 0; i < 5; i++)
+        assert_non_null(rf_bvh_parse_double(cases[i], &before[i]));
+    const char *names[] = {"de_DE.UTF-8", "de_DE.utf8", "fr_FR.UTF-8", "fr_FR.utf8", "de_DE"};
+    const char *loc = NULL;
+    for (int i = 0; i < 5 && !loc; i++)
+        loc = setlocale(LC_NUMERIC, names[i]);
+    char *dir = NULL, cmd[512];
+    if (!loc) { /* none installed: build one where glibc's LOCPATH finds it, if localedef can */
+        dir = temp_dir();
+        snprintf(cmd, sizeof cmd, "localedef -i de_DE -f UTF-8 '%s/de_DE.UTF-8' >/dev/null 2>&1",
+                 dir);
+        if (system(cmd) == 0 && setenv("LOCPATH", dir, 1) == 0)
+            loc = setlocale(LC_NUMERIC, "de_DE.UTF-8");
+    }
+    if (!loc || strtod("1.5", NULL) == 1.5) {
+        print_message("  skipped: no locale with a decimal comma (none installed, no localedef)\n");
+        skip();
+    }
+    for (int i = 0; i < 5; i++) {
+        double v;
+        const char *e = rf_bvh_parse_double(cases[i], &v);
+        assert_ptr_equal(e, cases[i] + strlen(cases[i]));
+        assert_memory_equal(&v, &before[i], sizeof v);
+    }
+    setlocale(LC_NUMERIC, "C");
+    if (dir) {
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+        assert_int_equal(system(cmd), 0);
+        unsetenv("LOCPATH");
+        free(dir);
     }
 }
 
@@ -1431,6 +1472,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_number_exact),
+        cmocka_unit_test(test_number_locale),
         cmocka_unit_test(test_number_rejects),
         cmocka_unit_test(test_sincos),
         cmocka_unit_test(test_format_number),
