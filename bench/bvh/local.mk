@@ -5,7 +5,7 @@ bench_bvh_bench_bvh_SOURCES = bench/bvh/bench_bvh.c
 bench_bvh_bench_bvh_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/bvh
 bench_bvh_bench_bvh_LDADD = plugins/bvh/libbvh.la -lm
 CLEANFILES += bench/bvh/bench_bvh$(EXEEXT)
-EXTRA_DIST += bench/bvh/run.sh bench/bvh/ratios.mjs
+EXTRA_DIST += bench/bvh/run.sh bench/bvh/ratios.mjs bench/README.md
 
 # BENCH_BVH_ARGS: e.g. --quick or --full (see bench/bvh/run.sh).
 bench-bvh: bench/bvh/bench_bvh$(EXEEXT) plugins/bvh.la
