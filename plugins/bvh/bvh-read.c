@@ -22,6 +22,7 @@
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "bvh-math.h"
 #include "bvh-num.h"
@@ -38,7 +39,6 @@
 #if defined(__unix__) && !defined(BVH_NO_THREADS)
 #define BVH_THREADS 1
 #include <pthread.h>
-#include <unistd.h>
 #else
 #define BVH_THREADS 0
 #endif
@@ -1015,14 +1015,6 @@ static helper *maybe_helper(const parser *ps, uint32_t frames)
 {
     (void)ps, (void)frames;
     return NULL;
-}
-static void helper_submit(helper *h, batch *b)
-{
-    (void)h, (void)b;
-}
-static void helper_wait(helper *h)
-{
-    (void)h;
 }
 static void helper_stop(helper *h)
 {
