@@ -140,11 +140,13 @@ static inline uint64_t bvh_digits_value(uint64_t digits, unsigned n)
 #endif
 
 /* bvh_number for text with BVH_PAD readable bytes after its end: the common shape
- * [-]d{0,7}[.d{0,7}] is read 8 bytes at a time; anything else goes to bvh_number. */
+ * [-]d{0,7}[.d{0,7}][e[+-]d+] is read 8 bytes at a time; anything else goes to bvh_number. */
 BVH_INLINE const char *bvh_number_padded(const char *s, double *out)
 {
 #if BVH_SWAR && BVH_FAST_PATH
-    static const double pow10[8] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7};
+    static const double pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
     static const uint64_t ipow10[8] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000};
     const char *p = s + (*s == '-');
     uint64_t digits, m = 0;
@@ -162,10 +164,23 @@ BVH_INLINE const char *bvh_number_padded(const char *s, double *out)
             m = m * ipow10[nf] + bvh_digits_value(digits, nf);
         p += nf;
     }
-    if (ni + nf == 0 || *p == 'e' || *p == 'E')
+    if (ni + nf == 0)
         return bvh_number(s, out);
-    /* at most 14 digits: m < 2^53 and 10^nf exact, so one division rounds correctly */
-    double v = (double)m / pow10[nf];
+    int x = -(int)nf;             /* the decimal exponent */
+    if (*p == 'e' || *p == 'E') { /* exporters write small values so: 8.68687e-06 */
+        const char *q = p + 1 + (p[1] == '-' || p[1] == '+');
+        int e = 0;
+        for (; bvh_is_digit(*q) && e < 1000; q++)
+            e = e * 10 + (*q - '0');
+        if (!bvh_is_digit(q[-1]) || bvh_is_digit(*q))
+            return bvh_number(s, out); /* no exponent digits, or a huge exponent */
+        x += p[1] == '-' ? -e : e;
+        if (x < -22 || x > 22)
+            return bvh_number(s, out);
+        p = q;
+    }
+    /* at most 14 digits: m < 2^53 and 10^|x| exact, so one operation rounds correctly */
+    double v = x < 0 ? (double)m / pow10[-x] : (double)m * pow10[x];
     *out = *s == '-' ? -v : v;
     return p;
 #else
