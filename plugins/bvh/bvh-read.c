@@ -222,7 +222,7 @@ static bool fail_read(parser *ps)
 static const char *describe(const char *p, const char *end, char *buf, size_t size)
 {
     size_t n = 0;
-    while (p + n < end && p[n] && !strchr(" \t\r\n", p[n]))
+    while (p + n < end && p[n] && p[n] != ' ' && p[n] != '\t' && p[n] != '\r' && p[n] != '\n')
         n++;
     if (n == 0)
         snprintf(buf, size, p < end && !*p ? "a NUL byte" : "the end of the line");
@@ -307,6 +307,8 @@ static bool expect_word(parser *ps, const char *word, const char *what)
 static bool token_number(parser *ps, const token *t, double *v, const char *what)
 {
     const char *e = bvh_number(t->p, v), *w = t->p + (*t->p == '-' || *t->p == '+');
+    if (e && e == t->p + t->n && isfinite(*v))
+        return true;
     char found[64];
     describe(t->p, t->p + t->n, found, sizeof found);
     if (!e && (strncasecmp(w, "nan", 3) == 0 || strncasecmp(w, "inf", 3) == 0))
