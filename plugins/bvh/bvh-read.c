@@ -275,10 +275,19 @@ static bool next_token(parser *ps, token *t)
     }
 }
 
+static char ascii_lower(char c)
+{
+    return c >= 'A' && c <= 'Z' ? (char)(c + ('a' - 'A')) : c;
+}
+
+/* Whether the token is `word`, ASCII case ignored (no locale: keywords are ASCII). */
 static bool tok_is(const token *t, const char *word)
 {
-    size_t n = strlen(word);
-    return t->n == n && strncasecmp(t->p, word, n) == 0;
+    size_t i = 0;
+    for (; i < t->n; i++)
+        if (!word[i] || ascii_lower(t->p[i]) != ascii_lower(word[i]))
+            return false;
+    return word[i] == '\0';
 }
 
 static bool fail_expected(parser *ps, const token *t, const char *what)
