@@ -29,8 +29,10 @@ void rf_print_diags(const GPtrArray *diags, const char *severity)
 bool rf_parse_options(const char *name, const char *args, const char *summary,
                       const GOptionEntry *entries, int *argc, char ***argv)
 {
-    g_autofree char *usage = g_strdup_printf("%s %s", name, args);
-    g_autoptr(GOptionContext) ctx = g_option_context_new(usage);
+    /* the usage line reads "rigflow NAME [OPTION…] ARGS" */
+    g_autofree char *prgname = g_strdup_printf("rigflow %s", name);
+    g_set_prgname(prgname);
+    g_autoptr(GOptionContext) ctx = g_option_context_new(args);
     g_option_context_set_summary(ctx, summary);
     if (entries)
         g_option_context_add_main_entries(ctx, entries, NULL);

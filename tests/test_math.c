@@ -63,6 +63,17 @@ static void slerp_halfway(void **state)
     near(rf_quat_angle(a, h), RF_PI / 4, 1e-12);
 }
 
+static void tiny_angles_resolved(void **state)
+{
+    (void)state;
+    rf_quat a = rf_quat_from_axis_angle(rf_v3(1, 2, 3), 0.7);
+    rf_quat b = rf_quat_mul(a, rf_quat_from_axis_angle(rf_v3(0, 1, 0), 1e-10));
+    near(rf_quat_angle(a, b), 1e-10, 1e-16);
+    near(rf_quat_angle(a, rf_quat_neg(a)), 0, 1e-15); /* q and -q are one rotation */
+    near(rf_quat_angle(rf_quat_identity(), rf_quat_from_axis_angle(rf_v3(0, 0, 1), RF_PI)), RF_PI,
+         1e-12);
+}
+
 static void xform_compose_and_invert(void **state)
 {
     (void)state;
@@ -130,6 +141,7 @@ int main(void)
         cmocka_unit_test(product_applies_right_operand_first),
         cmocka_unit_test(two_vectors),
         cmocka_unit_test(slerp_halfway),
+        cmocka_unit_test(tiny_angles_resolved),
         cmocka_unit_test(xform_compose_and_invert),
         cmocka_unit_test(matrices_agree_with_transforms),
         cmocka_unit_test(skeleton_world_rest),

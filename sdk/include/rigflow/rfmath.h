@@ -162,11 +162,13 @@ static inline rf_quat rf_quat_slerp(rf_quat a, rf_quat b, double t)
     return rf_quat_make(a.x * ka + b.x * kb, a.y * ka + b.y * kb, a.z * ka + b.z * kb,
                         a.w * ka + b.w * kb);
 }
-/* Rotation angle in radians between two unit quaternions, in [0, pi]. */
+/* Rotation angle in radians between two unit quaternions, in [0, pi]. From the relative rotation's
+ * vector and scalar parts with atan2, which stays exact for tiny angles where acos of a dot
+ * product near 1 cannot resolve anything below about 1e-8. */
 static inline double rf_quat_angle(rf_quat a, rf_quat b)
 {
-    double d = fabs(rf_quat_dot(a, b));
-    return 2.0 * acos(d > 1.0 ? 1.0 : d);
+    rf_quat d = rf_quat_mul(rf_quat_conj(a), b);
+    return 2.0 * atan2(sqrt(d.x * d.x + d.y * d.y + d.z * d.z), fabs(d.w));
 }
 
 /* ---- 4x4 matrices (column-major) ---- */
