@@ -1,4 +1,5 @@
 /* Skeleton analysis: runs the stages in order (see analysis-internal.h) and reports. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -88,6 +89,17 @@ static bool run_stages(rf_awork *w)
     return rf_an_sections(w);
 }
 
+/* A forced axis is a direction only: scaled so that its largest component is 1, since a length
+ * such as 1e300 overflows to infinity when squared and normalises to zero; dropped (so detected)
+ * when it is not finite or next to nothing. */
+static rf_vec3 forced_axis(rf_vec3 v)
+{
+    double m = fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
+    if (!isfinite(v.x + v.y + v.z) || !(m > 1e-12))
+        return rf_v3(0, 0, 0);
+    return rf_v3_scale(v, 1.0 / m);
+}
+
 rf_analysis *rf_analyze(const rf_skeleton *skeleton, const rf_analysis_options *opts)
 {
     rf_analysis *a = calloc(1, sizeof *a);
@@ -103,6 +115,7 @@ rf_analysis *rf_analyze(const rf_skeleton *skeleton, const rf_analysis_options *
     w.skel = skeleton, w.a = a, w.n = n, w.top = RF_NONE, w.rear = w.front = RF_NONE;
     if (opts)
         w.opt = *opts;
+    w.opt.up = forced_axis(w.opt.up), w.opt.forward = forced_axis(w.opt.forward);
     for (uint32_t j = 0; a->joints && j < n; j++)
         a->joints[j].section = a->joints[j].mirror = a->joints[j].logical_parent = RF_NONE;
     bool ok = a->joints && work_alloc(&w) && run_stages(&w);

@@ -65,6 +65,13 @@ build_analysis() {
         "$src"/framework/analysis/*.c --
 }
 
+build_mapping() {
+    # shellcheck disable=SC2046
+    build fuzz_mapping -I"$src/plugins/mapping-file" $(pkg-config --cflags jansson) \
+        "$src/tests/fuzz/fuzz_mapping.c" "$src"/plugins/mapping-file/mapfile-*.c \
+        -- $(pkg-config --libs jansson)
+}
+
 # seed NAME: fills the scratch corpus of a harness (copies; the sources stay untouched).
 seed() {
     local name=$1 dir="$work/$1/corpus" f
@@ -78,6 +85,11 @@ seed() {
         done ;;
     pipeline)
         for f in "$src"/pipelines/*.json; do [ -f "$f" ] && cp -f "$f" "$dir/"; done ;;
+    analysis)
+        # Any varied bytes make varied trees: the start of each real BVH, read as joint records.
+        for f in "${RF_DATA_DIR:-$src/../shared/data}"/bvh/*.bvh; do
+            [ -f "$f" ] && head -c 2048 "$f" >"$dir/data-$(basename "$f")"
+        done ;;
     esac
 }
 
@@ -118,9 +130,11 @@ for h in $harnesses; do
         fi
         build_analysis && seed analysis && run analysis 16384 ;;
     mapping)
-        # TODO (doc/reliability.md): no mapping-file reader has landed yet.
-        say "skipped mapping: no mapping-file reader in the tree yet"
-        skipped=$((skipped + 1)); continue ;;
+        if [ ! -f "$src/plugins/mapping-file/mapfile-read.c" ]; then
+            say "skipped mapping: plugins/mapping-file is not in this tree yet"
+            skipped=$((skipped + 1)); continue
+        fi
+        build_mapping && seed mapping && run mapping 16384 ;;
     *) say "unknown harness '$h'"; false ;;
     esac
     if [ $? = 0 ]; then pass=$((pass + 1)); else fail=$((fail + 1)); fi

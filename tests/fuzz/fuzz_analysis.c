@@ -6,7 +6,8 @@
  * from the rest pose, forced axes that are zero, parallel or NaN.
  *
  *   byte 0      mode bits (RF_FZ_*)
- *   bytes 1, 2  joint count (little-endian, capped); with RF_FZ_MANY multiplied up to 8192
+ *   bytes 1, 2  joint count (little-endian, capped at 4 per record and 512); RF_FZ_MANY
+ *               multiplies it by 16, up to 8192
  *   then        8 bytes per joint, reused cyclically when the input runs out
  *
  * Then it checks what analysis.h promises: every index it returns is in range, sections list
@@ -128,6 +129,10 @@ static rf_skeleton *rf_fz_skeleton(const uint8_t *data, size_t size, unsigned *m
 {
     *mode = size ? data[0] : 0;
     uint32_t n = size >= 3 ? (uint32_t)data[1] | (uint32_t)data[2] << 8 : 0;
+    /* A few joints per record: short inputs stay small and fast, so the fuzzer explores shapes
+     * rather than spending its time on one big repetitive tree (RF_FZ_MANY asks for that). */
+    uint32_t most = size > 3 ? 2 + (uint32_t)((size - 3) / 8) * 4 : 2;
+    n = n < most ? n : most;
     n = n < RF_FZ_MAX_JOINTS ? n : RF_FZ_MAX_JOINTS;
     if (*mode & RF_FZ_MANY)
         n = n * 16 < RF_FZ_MAX_MANY ? n * 16 : RF_FZ_MAX_MANY;
