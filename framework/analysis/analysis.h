@@ -54,11 +54,12 @@ typedef enum rf_section_type {
 
 /* rf_section.flags */
 enum rf_section_flags {
-    RF_SECFL_WING = 1u << 0,    /* an arm carrying digits before its last bone, or a fan of long
-                                 * digits (wing fingers) */
-    RF_SECFL_FAN = 1u << 1,     /* one digit of a fan of parallel children */
-    RF_SECFL_REVERSE = 1u << 2, /* a spine part that runs from the root toward the rear girdle */
-    RF_SECFL_DETACHED = 1u << 3 /* attached by proximity (its joints hang from another root) */
+    RF_SECFL_WING = 1u << 0,     /* an arm carrying digits before its last bone, or a fan of long
+                                  * digits (wing fingers) */
+    RF_SECFL_FAN = 1u << 1,      /* one digit of a fan of parallel children */
+    RF_SECFL_REVERSE = 1u << 2,  /* a spine part that runs from the root toward the rear girdle */
+    RF_SECFL_DETACHED = 1u << 3, /* attached by proximity (its joints hang from another root) */
+    RF_SECFL_THUMB = 1u << 4,    /* the digit of its fan that stands apart (rank 0) */
 };
 
 /* rf_joint_info.flags */
@@ -69,6 +70,8 @@ enum rf_joint_info_flags {
     RF_JI_END_MARKER = 1u << 3,  /* an unweighted leaf marking its parent's tip ("_end" joints) */
     RF_JI_ROOT = 1u << 4,        /* the root of the body tree */
     RF_JI_GIRDLE = 1u << 5,      /* a center joint where a pair of limbs attaches */
+    RF_JI_OFFSET = 1u << 6,      /* a limb's short first bone from the centerline (clavicle,
+                                  * hip offset) */
 };
 
 typedef struct rf_section {
@@ -77,14 +80,18 @@ typedef struct rf_section {
     uint32_t flags;       /* rf_section_flags */
     uint32_t bone_count;  /* joints in the section */
     uint32_t first;       /* index of its first joint in rf_analysis.section_joints */
-    double length;        /* total length, from the attachment point to the last tip */
+    double length;        /* total length, from the attachment point to the last tip (for a
+                           * limb ending in a fan, to the end of its longest digit; for the
+                           * spine, to its last pivot) */
     int32_t parent;       /* section this one hangs from, or -1 */
     int32_t attach_joint; /* joint it hangs from (may be in a helper or root section), or -1 */
     int32_t mirror;       /* the mirrored section on the other side, or -1 */
     double body_pos;      /* where it attaches along the body, 0 at the rear end of the
                            * centerline and 1 at the front end (0.5 when there is no axis) */
-    uint32_t pair_rank;   /* limbs and digits: rank among sections of the same type and side,
-                           * counted from the front (limbs) or from the forward-most digit */
+    uint32_t pair_rank;   /* limbs: rank among sections of the same type and side, counted
+                           * from the front; digits: rank in their fan, the thumb (the digit
+                           * standing apart from the limb's line) first, then the others from
+                           * the forward-most */
     uint32_t pair_count;  /* how many sections share that type and side */
 } rf_section;
 

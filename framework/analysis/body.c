@@ -63,36 +63,30 @@ static void root_chain(rf_awork *w, uint32_t root)
         w->root_chain[j] = 1;
 }
 
-/* Closest point to p on the bone of j (pivot to tip) as a fraction t along it, and its
- * distance. */
-static double bone_distance(const rf_awork *w, uint32_t j, rf_vec3 p, double *t)
-{
-    rf_vec3 a = rf_an_pos(w, j), b = w->a->joints[j].tip, ab = rf_v3_sub(b, a);
-    double l2 = rf_v3_len2(ab);
-    *t = l2 > 0 ? fmax(0, fmin(1, rf_v3_dot(rf_v3_sub(p, a), ab) / l2)) : 0;
-    return rf_v3_dist(p, rf_v3_add(a, rf_v3_scale(ab, *t)));
-}
-
 #define RF_MAX_DETACHED 256
 
+/* The part hangs from the body joint nearest to it: from a leaf's end it continues that chain
+ * (a foot under its shin), elsewhere it hangs from that pivot (legs under a torso). Pivots, not
+ * bones: a leg where the torso meets the neck belongs to the torso's end, not to the neck. */
 static void attach(rf_awork *w, uint32_t d, const uint8_t *body)
 {
     int32_t best = RF_NONE;
-    double best_d = INFINITY, best_t = 0;
+    double best_d = INFINITY;
     rf_vec3 p = rf_an_pos(w, d);
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
         if (!body[j])
             continue;
-        double t, dist = bone_distance(w, j, p, &t);
-        if (dist < best_d)
-            best_d = dist, best = (int32_t)j, best_t = t;
+        double dist = rf_v3_dist(p, rf_an_pos(w, j));
+        if (rf_an_is_leaf(w, j))
+            dist = fmin(dist, rf_v3_dist(p, w->a->joints[j].tip));
+        if (dist < best_d - w->eps) /* ties: the first, shallowest joint on that pivot */
+            best_d = dist, best = (int32_t)j;
     }
     if (best < 0)
         return;
-    rf_vec3 a = rf_an_pos(w, (uint32_t)best), b = w->a->joints[best].tip;
     w->parent[d] = best;
-    w->attach_pt[d] = rf_v3_lerp(a, b, best_t);
+    w->attach_pt[d] = rf_an_pos(w, (uint32_t)best);
     w->detached[d] = 1;
 }
 

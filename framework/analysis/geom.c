@@ -343,12 +343,20 @@ void rf_an_helpers(rf_awork *w)
             w->helper[j] = 1;
         } else if (all_unweighted && all_unweighted[j]) {
             w->helper[j] = 1;
-        } else if (rf_an_child_count(w, j) == 1 &&
-                   rf_v3_dist(w->a->joints[w->child_idx[w->child_off[j]]].pos, ji->pos) <= w->eps) {
-            ji->flags |= RF_JI_CONTROL;
         }
     }
     free(all_unweighted);
+    /* Control joints, once helpers are known: an armature node with IK targets beside the body
+     * still sits on its one real child. */
+    for (uint32_t j = 0; j < w->n; j++) {
+        uint32_t real = 0, only = 0;
+        for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++)
+            if (!w->helper[w->child_idx[k]])
+                real++, only = w->child_idx[k];
+        if (!w->weighted[j] && !w->helper[j] && real == 1 &&
+            rf_v3_dist(w->a->joints[only].pos, w->a->joints[j].pos) <= w->eps)
+            w->a->joints[j].flags |= RF_JI_CONTROL;
+    }
 }
 
 /* Parents first, helpers left out of `order` (they stay in `hlp_order`). */

@@ -14,8 +14,3 @@ framework_analysis_libanalysis_la_SOURCES = \
 framework_analysis_libanalysis_la_CFLAGS = $(AM_CFLAGS)
 framework_analysis_libanalysis_la_LIBADD = -lm
 
-check_PROGRAMS += tests/match/test_analysis
-TESTS += tests/match/test_analysis
-tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
-tests_match_test_analysis_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
-tests_match_test_analysis_LDADD = framework/analysis/libanalysis.la $(CMOCKA_LIBS) -lm

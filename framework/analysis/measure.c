@@ -47,7 +47,10 @@ static rf_vec3 start_point(const rf_awork *w, const rf_section *s, uint32_t firs
     return w->attach_pt[first];
 }
 
-static void measure_section(rf_awork *w, rf_section *s)
+/* Positions along the section as fractions of its length; `extra` lengthens it beyond the last
+ * tip (a limb ending in a fan counts its longest digit, so hands of one joint and of three
+ * compare). */
+static void measure_section(rf_awork *w, rf_section *s, double extra)
 {
     rf_analysis *a = w->a;
     const uint32_t *js = a->section_joints + s->first;
@@ -60,6 +63,7 @@ static void measure_section(rf_awork *w, rf_section *s)
         d += k + 1 < m ? rf_v3_dist(a->joints[js[k + 1]].pos, ji->pos) : ji->length;
         ji->u1 = d;
     }
+    d += extra;
     s->length = d;
     /* The spine is measured to its last pivot, the front girdle, where it meets the neck and the
      * arms: spines ending in a long bone and in a zero-length one then compare. */
@@ -142,8 +146,23 @@ static int cmp_rank(const void *x, const void *y)
     return a->sec < b->sec ? -1 : a->sec > b->sec;
 }
 
+/* Where a fan's digits start: the end of the bone they fan out of (the wrist). */
+static rf_vec3 fan_origin(const rf_awork *w, const rf_section *sec)
+{
+    return sec->attach_joint >= 0 ? w->a->joints[sec->attach_joint].tip
+                                  : rf_an_pos(w, w->a->section_joints[sec->first]);
+}
+
+/* Where a digit ends: its last tip, or its last pivot when that tip is only a guess. */
+static rf_vec3 digit_end(const rf_awork *w, uint32_t last)
+{
+    const rf_joint_info *ji = &w->a->joints[last];
+    bool guessed = (ji->flags & RF_JI_TIP_GUESSED) && rf_v3_dist(ji->pos, ji->tip) > 0;
+    return guessed && ji->index > 0 ? ji->pos : ji->tip;
+}
+
 /* Limbs rank front to back among their type and side; digits rank forward-most first within
- * their fan. */
+ * their fan (fan_ranks then puts a thumb first). */
 static bool ranks(rf_awork *w)
 {
     rf_analysis *a = w->a;
@@ -159,9 +178,9 @@ static bool ranks(rf_awork *w)
         r->sec = s;
         if (sec->flags & RF_SECFL_FAN) {
             uint32_t last = a->section_joints[sec->first + sec->bone_count - 1];
-            rf_vec3 v = rf_v3_sub(a->joints[last].tip, w->attach_pt[a->section_joints[sec->first]]);
+            rf_vec3 v = rf_v3_normalize(rf_v3_sub(digit_end(w, last), fan_origin(w, sec)));
             r->group = (1ull << 40) | (uint32_t)(sec->attach_joint + 1);
-            r->order = rf_v3_dot(v, a->forward) + 0.3 * rf_v3_dot(v, a->up);
+            r->order = rf_v3_dot(v, a->forward) + 0.5 * rf_v3_dot(v, a->up);
         } else {
             r->group = ((uint64_t)sec->type << 8) | sec->side;
             r->order = sec->body_pos;
@@ -201,6 +220,121 @@ static void mirror_sections(rf_awork *w)
     }
 }
 
+/* The thumb stands apart: of a fan's digits, the one turned furthest from the line of the limb,
+ * by 20 degrees more than any other. It takes rank 0, the others keep their order after it. */
+static void find_thumb(rf_awork *w, uint32_t *fan, uint32_t n)
+{
+    rf_analysis *a = w->a;
+    const rf_section *first = &a->sections[fan[0]];
+    if (n < 2 || first->parent < 0 || (a->sections[first->parent].flags & RF_SECFL_FAN))
+        return; /* thumbs are on hands and feet, not on fans within a digit */
+    rf_vec3 o = fan_origin(w, first);
+    rf_vec3 axis = rf_v3_normalize(
+        rf_v3_sub(o, rf_an_pos(w, a->section_joints[a->sections[first->parent].first])));
+    if (rf_v3_len2(axis) == 0)
+        return;
+    double best = -1, second = -1;
+    uint32_t thumb = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        const rf_section *sec = &a->sections[fan[i]];
+        uint32_t last = a->section_joints[sec->first + sec->bone_count - 1];
+        double dev = rf_v3_angle(rf_v3_sub(digit_end(w, last), o), axis);
+        if (dev > best)
+            second = best, best = dev, thumb = i;
+        else if (dev > second)
+            second = dev;
+    }
+    if (best - second < 20.0 * RF_PI / 180.0)
+        return;
+    rf_section *t = &a->sections[fan[thumb]];
+    for (uint32_t i = 0; i < n; i++)
+        if (a->sections[fan[i]].pair_rank < t->pair_rank)
+            a->sections[fan[i]].pair_rank++;
+    t->pair_rank = 0;
+    t->flags |= RF_SECFL_THUMB;
+}
+
+static int cmp_pair(const void *x, const void *y)
+{
+    const uint64_t a = *(const uint64_t *)x, b = *(const uint64_t *)y;
+    return a < b ? -1 : a > b;
+}
+
+/* Digits grouped by the joint their fan hangs from (attach joint in the high bits, section in
+ * the low ones, sorted). */
+static bool fan_ranks(rf_awork *w)
+{
+    rf_analysis *a = w->a;
+    uint64_t *key = malloc((size_t)(a->section_count ? a->section_count : 1) * sizeof *key);
+    uint32_t *fan = malloc((size_t)(a->section_count ? a->section_count : 1) * sizeof *fan);
+    if (!key || !fan) {
+        free(key);
+        free(fan);
+        return false;
+    }
+    uint32_t n = 0;
+    for (uint32_t s = 0; s < a->section_count; s++)
+        if (a->sections[s].flags & RF_SECFL_FAN)
+            key[n++] = ((uint64_t)(uint32_t)(a->sections[s].attach_joint + 1) << 32) | s;
+    qsort(key, n, sizeof *key, cmp_pair);
+    for (uint32_t i = 0; i < n;) {
+        uint32_t e = i;
+        while (e < n && key[e] >> 32 == key[i] >> 32)
+            fan[e] = (uint32_t)key[e], e++;
+        find_thumb(w, fan + i, e - i);
+        i = e;
+    }
+    free(key);
+    free(fan);
+    return true;
+}
+
+static bool limb_type(rf_section_type t)
+{
+    return t == RF_SECTION_ARM || t == RF_SECTION_LEG;
+}
+
+/* Limbs ending in a fan are measured again to the end of their longest digit. */
+static bool extend_by_digits(rf_awork *w)
+{
+    rf_analysis *a = w->a;
+    double *longest = calloc(w->n ? w->n : 1, sizeof *longest);
+    if (!longest)
+        return false;
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        const rf_section *sec = &a->sections[s];
+        if ((sec->flags & RF_SECFL_FAN) && sec->attach_joint >= 0)
+            longest[sec->attach_joint] = fmax(longest[sec->attach_joint], sec->length);
+    }
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        rf_section *sec = &a->sections[s];
+        uint32_t last = a->section_joints[sec->first + sec->bone_count - 1];
+        if (limb_type(sec->type) && !(sec->flags & RF_SECFL_FAN) && longest[last] > 0)
+            measure_section(w, sec, longest[last]);
+    }
+    free(longest);
+    return true;
+}
+
+/* A limb's first bone, short and starting on the centerline (or very short), is an offset:
+ * a clavicle, or a hip bone from the pelvis centre to the socket. Many rigs have none, so the
+ * matcher keeps offsets for offsets. */
+static void mark_offsets(rf_awork *w)
+{
+    rf_analysis *a = w->a;
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        const rf_section *sec = &a->sections[s];
+        if (!limb_type(sec->type) || (sec->flags & RF_SECFL_FAN) || sec->bone_count < 2)
+            continue;
+        uint32_t j = a->section_joints[sec->first];
+        rf_joint_info *ji = &a->joints[j];
+        double len = (ji->u1 - ji->u0) * sec->length;
+        bool central = fabs(rf_v3_dot(rf_v3_sub(ji->pos, w->plane_p), a->left)) <= 0.5 * w->tol;
+        if (len < 0.35 * sec->length && (central || len < 0.1 * sec->length))
+            ji->flags |= RF_JI_OFFSET;
+    }
+}
+
 bool rf_an_measure(rf_awork *w)
 {
     rf_analysis *a = w->a;
@@ -208,7 +342,7 @@ bool rf_an_measure(rf_awork *w)
         rf_section *sec = &a->sections[s];
         uint32_t first = a->section_joints[sec->first];
         sec->side = section_side(w, sec, first);
-        measure_section(w, sec);
+        measure_section(w, sec, 0);
         directions(w, sec);
         /* a limb sits where its first joint is (clavicles and hips reach out of the body) */
         sec->body_pos =
@@ -219,6 +353,9 @@ bool rf_an_measure(rf_awork *w)
             ji->side = sec->side;
         }
     }
+    if (!extend_by_digits(w))
+        return false;
+    mark_offsets(w);
     mirror_sections(w);
-    return ranks(w);
+    return ranks(w) && fan_ranks(w);
 }

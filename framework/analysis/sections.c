@@ -390,9 +390,12 @@ static void limb_chain(rf_builder *b, uint32_t start, rf_section_type type, uint
         for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++)
             if (b->branchy[w->child_idx[k]])
                 branching++, next = (int32_t)w->child_idx[k];
+        /* Through a junction only into a part as long as the limb so far (a wing beyond its
+         * mid-wing digits), not into a fist that happens to hold a weapon bone. */
+        double so_far = rf_v3_dist(rf_an_pos(w, (uint32_t)j), w->attach_pt[start]);
         if (count == 1)
             next = (int32_t)w->child_idx[w->child_off[j]];
-        else if (branching != 1 || digit)
+        else if (branching != 1 || digit || w->sub_len[next] < 0.5 * so_far)
             next = RF_NONE;
         for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
             uint32_t c = w->child_idx[k];

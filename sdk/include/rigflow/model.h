@@ -369,6 +369,11 @@ typedef struct rf_mapping {
     rf_map_entry *entries; /* one per target joint, in the target skeleton's order */
     uint32_t metric_count;
     char **metric_names;   /* [metric_count], owned */
+    /* Appended in 1.0 (check with RF_HAS_FIELD before reading): */
+    char **sections; /* [target_joint_count] where the matcher placed each target joint: a section
+                      * type ("spine", "head", "tail", "arm", "hand", "leg", "foot", "appendage",
+                      * "root", "helper"; doc/matching.md), NULL entries allowed; or NULL; owned */
+    char **sides;    /* [target_joint_count] "left", "right" or "center", same rules; owned */
 } rf_mapping;
 
 /* A mapping with every target joint unmapped, or NULL when out of memory.
@@ -403,6 +408,14 @@ static inline void rf_mapping_free(void *mapping)
     for (uint32_t i = 0; i < m->metric_count; i++)
         free(m->metric_names[i]);
     free(m->metric_names);
+    if (RF_HAS_FIELD(m, rf_mapping, sides)) {
+        for (uint32_t i = 0; m->sections && i < m->target_joint_count; i++)
+            free(m->sections[i]);
+        for (uint32_t i = 0; m->sides && i < m->target_joint_count; i++)
+            free(m->sides[i]);
+        free(m->sections);
+        free(m->sides);
+    }
     free(m->entries);
     free(m);
 }

@@ -1,0 +1,58 @@
+/* Duplicate-bone removal (thesis 4.2.2, Tables 3 and 4): of all order-preserving ways to match
+ * the bones of a target section with those of a source section, the one with the smallest summed
+ * cost. The thesis enumerates the sets; dynamic programming finds the same minimum in O(n m):
+ * f[i][k] is the best cost for the first i target and first k source bones, and each step either
+ * matches bone i with bone k or skips a bone of the longer side. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "similarity.h"
+
+enum { STEP_MATCH = 1, STEP_SKIP_TARGET = 2, STEP_SKIP_SOURCE = 3 };
+
+double rf_ms_assign(const double *cost, uint32_t n, uint32_t m, int32_t *match)
+{
+    for (uint32_t i = 0; i < n; i++)
+        match[i] = -1;
+    if (n == 0 || m == 0)
+        return 0;
+    bool skip_target = n > m; /* the longer side may skip; every bone of the shorter is matched */
+    size_t w = (size_t)m + 1;
+    double *f = malloc((size_t)(n + 1) * w * sizeof *f);
+    unsigned char *step = malloc((size_t)(n + 1) * w);
+    if (!f || !step) {
+        free(f);
+        free(step);
+        return -1;
+    }
+    for (uint32_t i = 0; i <= n; i++)
+        for (uint32_t k = 0; k <= m; k++) {
+            double *c = &f[i * w + k];
+            if (i == 0 || k == 0) {
+                /* nothing matched yet: free only if the shorter side has none left over */
+                bool ok = skip_target ? k == 0 : i == 0;
+                *c = ok ? 0 : INFINITY;
+                step[i * w + k] = i ? STEP_SKIP_TARGET : STEP_SKIP_SOURCE;
+                continue;
+            }
+            double best = f[(i - 1) * w + (k - 1)] + cost[(size_t)(i - 1) * m + (k - 1)];
+            unsigned char how = STEP_MATCH;
+            double skip = skip_target ? f[(i - 1) * w + k] : f[i * w + (k - 1)];
+            if (skip < best)
+                best = skip, how = skip_target ? STEP_SKIP_TARGET : STEP_SKIP_SOURCE;
+            *c = best, step[i * w + k] = how;
+        }
+    double total = f[n * w + m];
+    for (uint32_t i = n, k = m; i > 0 && k > 0;) {
+        unsigned char how = step[i * w + k];
+        if (how == STEP_MATCH)
+            match[i - 1] = (int32_t)(k - 1), i--, k--;
+        else if (how == STEP_SKIP_TARGET)
+            i--;
+        else
+            k--;
+    }
+    free(f);
+    free(step);
+    return total;
+}

@@ -1,0 +1,19 @@
+# The skeletal-similarity matcher (issue 4): libsimilarity (metrics, assignment, matching,
+# explanations; linked by the plugin, `rigflow map`, the tests and the benchmarks) and the
+# plugin, which links the analysis and names libraries statically.
+noinst_LTLIBRARIES += plugins/match-similarity/libsimilarity.la
+plugins_match_similarity_libsimilarity_la_SOURCES = \
+	plugins/match-similarity/similarity.h \
+	plugins/match-similarity/ms-internal.h \
+	plugins/match-similarity/metrics.c \
+	plugins/match-similarity/assign.c \
+	plugins/match-similarity/match.c \
+	plugins/match-similarity/explain.c
+plugins_match_similarity_libsimilarity_la_LIBADD = framework/analysis/libanalysis.la -lm
+
+plugins_LTLIBRARIES += plugins/match-similarity.la
+plugins_match_similarity_la_SOURCES = plugins/match-similarity/plugin.c
+plugins_match_similarity_la_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins
+plugins_match_similarity_la_LDFLAGS = $(PLUGIN_LDFLAGS)
+plugins_match_similarity_la_LIBADD = plugins/match-similarity/libsimilarity.la \
+	plugins/match-names/libnames.la -lm

@@ -1,0 +1,546 @@
+/* The skeletal-similarity matcher: scoring, the best candidates, the one-input-section rule,
+ * duplicate-bone removal, the threshold, reversed knees, mirroring, blending several sources. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ms-internal.h"
+
+#define RF_MS_DEFAULT_THRESHOLD 80.0
+
+static const rf_ms_candidate no_candidate = {RF_MS_NO_SOURCE, 0, 0, {0}};
+
+static double total_of(const double *m)
+{
+    double t = 0;
+    for (int i = 0; i < RF_MS_METRIC_COUNT; i++)
+        t += m[i];
+    return t;
+}
+
+/* ---- set-up ---- */
+
+/* Every second pair of legs, counted from the front: its sides swap (the thesis's mirror
+ * setting) or it is flagged to play half a cycle away. */
+static void mirror_setup(rf_ms_ctx *c)
+{
+    const rf_analysis *a = c->tgt.a;
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        const rf_section *sec = &a->sections[s];
+        int32_t limb = (int32_t)s; /* a foot takes its leg's rank */
+        while (limb >= 0 && a->sections[limb].type != RF_SECTION_LEG)
+            limb = a->sections[limb].type == RF_SECTION_FOOT ? a->sections[limb].parent : -1;
+        bool second = limb >= 0 && a->sections[limb].pair_rank % 2 == 1;
+        c->flip[s] = second && c->o->mirror == RF_MS_MIRROR_SWAP;
+        c->phase[s] = second && c->o->mirror == RF_MS_MIRROR_PHASE;
+        (void)sec;
+    }
+}
+
+static bool ctx_init(rf_ms_ctx *c, const rf_skeleton *target, const rf_skeleton *const *sources,
+                     uint32_t n, const rf_ms_options *o, char *err, size_t err_size)
+{
+    memset(c, 0, sizeof *c);
+    c->o = o;
+    uint32_t unused;
+    if (o->weights)
+        c->wt = *o->weights;
+    else
+        rf_ms_weight_set(o->thesis ? "thesis" : "default", &c->wt, &unused);
+    c->threshold = o->threshold_given ? o->threshold : RF_MS_DEFAULT_THRESHOLD;
+    c->angle = o->orientation_angle > 0 ? o->orientation_angle
+               : o->thesis              ? fmax(1e-6, c->wt.w[RF_MS_ORIENTATION])
+                                        : 45.0;
+    c->nsrc = n;
+    c->src = calloc(n ? n : 1, sizeof *c->src);
+    if (!c->src || !rf_ms_skel_init(&c->tgt, target, &o->target_analysis, o->thesis)) {
+        snprintf(err, err_size, "out of memory analysing the target skeleton");
+        return false;
+    }
+    for (uint32_t k = 0; k < n; k++)
+        if (!rf_ms_skel_init(&c->src[k], sources[k], &o->source_analysis, o->thesis)) {
+            snprintf(err, err_size, "out of memory analysing source %u", k);
+            return false;
+        }
+    size_t ns = c->tgt.a->section_count ? c->tgt.a->section_count : 1;
+    c->flip = calloc(ns, 1);
+    c->phase = calloc(ns, 1);
+    if (!c->flip || !c->phase) {
+        snprintf(err, err_size, "out of memory");
+        return false;
+    }
+    mirror_setup(c);
+    return true;
+}
+
+static void ctx_clear(rf_ms_ctx *c)
+{
+    rf_ms_skel_clear(&c->tgt);
+    for (uint32_t k = 0; c->src && k < c->nsrc; k++)
+        rf_ms_skel_clear(&c->src[k]);
+    free(c->src);
+    free(c->flip);
+    free(c->phase);
+}
+
+static bool source_on(const rf_ms_ctx *c, uint32_t k, int32_t only)
+{
+    return (only < 0 || (uint32_t)only == k) && !(c->o->disabled && c->o->disabled[k]);
+}
+
+/* ---- the best candidates ---- */
+
+typedef struct rf_ms_pass {
+    rf_ms_candidate *best;  /* [target joint] */
+    rf_ms_candidate *final; /* [target joint] */
+    rf_ms_candidate *top;   /* [target joint * 3] or NULL */
+    uint8_t *top_count;
+    double *sec;       /* section metrics of the current target section against every
+                        * source section: [sum of source sections][metric] */
+    uint32_t *sec_off; /* [source] first row of source k in sec */
+} rf_ms_pass;
+
+static void keep_top(rf_ms_candidate *top, uint8_t *count, const rf_ms_candidate *cand)
+{
+    int n = *count, at = n;
+    while (at > 0 && cand->total > top[at - 1].total)
+        at--;
+    if (at >= 3)
+        return;
+    for (int i = (n < 3 ? n : 2); i > at; i--)
+        top[i] = top[i - 1];
+    top[at] = *cand;
+    if (n < 3)
+        (*count)++;
+}
+
+static bool kinds_meet(uint8_t kt, uint8_t ks)
+{
+    if (kt == RF_MK_HELPER || ks == RF_MK_HELPER)
+        return false;
+    return (kt == RF_MK_ROOT) == (ks == RF_MK_ROOT); /* ground roots only with ground roots */
+}
+
+static void section_rows(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t ts, int32_t only)
+{
+    for (uint32_t k = 0; k < c->nsrc; k++) {
+        if (!source_on(c, k, only))
+            continue;
+        for (uint32_t ss = 0; ss < c->src[k].a->section_count; ss++)
+            rf_ms_section_metrics(c, ts, k, ss,
+                                  &p->sec[(size_t)(p->sec_off[k] + ss) * RF_MS_METRIC_COUNT]);
+    }
+}
+
+/* Scores target joint t against every joint of the source sections that can beat the best so
+ * far (a section's metrics plus the most its joints can add bound what it can reach). */
+static void score_joint(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t ts, uint32_t t, int32_t only)
+{
+    const double *w = c->wt.w;
+    double joint_max = w[RF_MS_ORIENTATION] + w[RF_MS_SEQUENCE] + w[RF_MS_CONTINUITY];
+    int32_t pa = c->tgt.anc[t];
+    const rf_ms_candidate *parent = pa >= 0 ? &p->best[pa] : NULL;
+    rf_ms_candidate local[3];
+    uint8_t nlocal = 0;
+    rf_ms_candidate *top = p->top ? &p->top[(size_t)t * 3] : local;
+    uint8_t *count = p->top ? &p->top_count[t] : &nlocal;
+    for (uint32_t k = 0; k < c->nsrc; k++) {
+        if (!source_on(c, k, only))
+            continue;
+        const rf_ms_skel *s = &c->src[k];
+        for (uint32_t ss = 0; ss < s->a->section_count; ss++) {
+            if (!kinds_meet(c->tgt.kind[ts], s->kind[ss]))
+                continue;
+            const double *sm = &p->sec[(size_t)(p->sec_off[k] + ss) * RF_MS_METRIC_COUNT];
+            double floor = *count == 3 ? top[2].total : -INFINITY;
+            if (total_of(sm) + joint_max < floor)
+                continue;
+            const uint32_t *js = rf_section_joints(s->a, ss);
+            for (uint32_t i = 0; i < s->a->sections[ss].bone_count; i++) {
+                uint32_t j = js[i];
+                if (!s->matchable[j])
+                    continue;
+                rf_ms_candidate cand = {k, j, 0, {0}};
+                memcpy(cand.metrics, sm, sizeof cand.metrics);
+                rf_ms_joint_metrics(c, t, k, j, cand.metrics);
+                cand.metrics[RF_MS_CONTINUITY] = rf_ms_continuity(c, parent, k, j);
+                cand.total = total_of(cand.metrics);
+                keep_top(top, count, &cand);
+            }
+        }
+    }
+    p->best[t] = *count ? top[0] : no_candidate;
+}
+
+static void select_best(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
+{
+    const rf_analysis *a = c->tgt.a;
+    for (uint32_t ts = 0; ts < a->section_count; ts++) {
+        section_rows(c, p, ts, only);
+        const uint32_t *js = rf_section_joints(a, ts);
+        for (uint32_t i = 0; i < a->sections[ts].bone_count; i++) {
+            uint32_t t = js[i];
+            p->best[t] = no_candidate;
+            if (c->tgt.matchable[t] && c->tgt.kind[ts] != RF_MK_HELPER)
+                score_joint(c, p, ts, t, only);
+        }
+    }
+}
+
+/* ---- one input section per target section, duplicate removal ---- */
+
+/* The DP's cost of target joint t against source joint j: the thesis compares bone length
+ * ratios; here the pivot and tip positions along the sections, and a spine's girdle joints
+ * (where limbs attach) only fit girdle joints. */
+static double pair_cost(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
+{
+    const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
+    const rf_joint_info *a = &at->joints[t], *b = &as->joints[j];
+    if (c->o->thesis) {
+        double lt = at->sections[a->section].length, ls = as->sections[b->section].length;
+        return fabs((lt > 0 ? a->length / lt : 0) - (ls > 0 ? b->length / ls : 0));
+    }
+    double cost = fabs(a->u0 - b->u0) + 0.5 * fabs(fmin(a->u1, 1.5) - fmin(b->u1, 1.5));
+    /* landmarks only fit landmarks: girdles on the spine, a limb's offset bone (clavicle, hip
+     * offset), the skull at the end of the neck */
+    uint32_t marks = (a->flags ^ b->flags) & (RF_JI_GIRDLE | RF_JI_OFFSET);
+    if (at->sections[a->section].type == RF_SECTION_HEAD && c->tgt.last[t] != c->src[k].last[j])
+        marks |= 1;
+    for (; marks; marks &= marks - 1)
+        cost += 0.25;
+    return cost;
+}
+
+static uint32_t matchable_joints(const rf_ms_skel *s, uint32_t sec, uint32_t *out)
+{
+    uint32_t n = 0;
+    const uint32_t *js = rf_section_joints(s->a, sec);
+    for (uint32_t i = 0; i < s->a->sections[sec].bone_count; i++)
+        if (s->matchable[js[i]])
+            out[n++] = js[i];
+    return n;
+}
+
+static bool same_section(const rf_ms_ctx *c, const rf_ms_candidate *a, const rf_ms_candidate *b)
+{
+    return a->source == b->source && c->src[a->source].a->joints[a->joint].section ==
+                                         c->src[b->source].a->joints[b->joint].section;
+}
+
+/* Thesis 4.2.2: the input section of the first mapped bone is used for the whole target section
+ * when more than half of its mapped bones come from it. Beyond the thesis, the section most of
+ * them chose is used (ties: the first bone's), so a two-bone thumb split one and one still
+ * follows its first bone. Returns false when none qualifies. */
+static bool input_section(const rf_ms_ctx *c, const rf_ms_pass *p, const uint32_t *tj, uint32_t n,
+                          uint32_t *k, uint32_t *ss)
+{
+    uint32_t mapped = 0, most = 0;
+    int32_t first = -1, pick = -1;
+    for (uint32_t i = 0; i < n; i++) {
+        const rf_ms_candidate *b = &p->best[tj[i]];
+        if (b->source == RF_MS_NO_SOURCE)
+            continue;
+        mapped++;
+        if (first < 0)
+            first = (int32_t)i;
+        if (c->o->thesis && i != (uint32_t)first)
+            continue;
+        uint32_t votes = 0; /* sections are short: counting per bone stays cheap */
+        for (uint32_t q = 0; q < n; q++)
+            votes +=
+                p->best[tj[q]].source != RF_MS_NO_SOURCE && same_section(c, &p->best[tj[q]], b);
+        if (votes > most)
+            most = votes, pick = (int32_t)i;
+    }
+    if (first < 0 || (c->o->thesis && 2 * most <= mapped))
+        return false;
+    const rf_ms_candidate *f = &p->best[tj[pick]];
+    *k = f->source;
+    *ss = (uint32_t)c->src[f->source].a->joints[f->joint].section;
+    return true;
+}
+
+/* Each target joint's best joint within the chosen source section (duplicates kept). */
+static void best_within(const rf_ms_ctx *c, rf_ms_pass *p, const uint32_t *tj, uint32_t n,
+                        uint32_t k, const uint32_t *sj, uint32_t m)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        double best = -INFINITY;
+        p->final[tj[i]] = no_candidate;
+        for (uint32_t q = 0; q < m; q++) {
+            double jm[RF_MS_METRIC_COUNT] = {0};
+            rf_ms_joint_metrics(c, tj[i], k, sj[q], jm);
+            double score = jm[RF_MS_ORIENTATION] + jm[RF_MS_SEQUENCE];
+            if (score > best)
+                best = score, p->final[tj[i]] = (rf_ms_candidate){k, sj[q], 0, {0}};
+        }
+    }
+}
+
+static bool remove_duplicates(const rf_ms_ctx *c, rf_ms_pass *p, const uint32_t *tj, uint32_t n,
+                              uint32_t k, const uint32_t *sj, uint32_t m)
+{
+    double *cost = malloc((size_t)(n ? n : 1) * (m ? m : 1) * sizeof *cost);
+    int32_t *match = malloc((size_t)(n ? n : 1) * sizeof *match);
+    bool ok = cost && match;
+    if (ok) {
+        for (uint32_t i = 0; i < n; i++)
+            for (uint32_t q = 0; q < m; q++)
+                cost[(size_t)i * m + q] =
+                    pair_cost(c, tj[i], k, sj[q]) + 1e-6 * fabs((double)i / n - (double)q / m);
+        ok = rf_ms_assign(cost, n, m, match) >= 0;
+    }
+    for (uint32_t i = 0; ok && i < n; i++)
+        p->final[tj[i]] = match[i] >= 0 ? (rf_ms_candidate){k, sj[match[i]], 0, {0}} : no_candidate;
+    free(cost);
+    free(match);
+    return ok;
+}
+
+static bool settle_sections(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t *tj, uint32_t *sj)
+{
+    const rf_analysis *a = c->tgt.a;
+    for (uint32_t ts = 0; ts < a->section_count; ts++) {
+        uint32_t n = matchable_joints(&c->tgt, ts, tj), k, ss;
+        for (uint32_t i = 0; i < n; i++)
+            p->final[tj[i]] = p->best[tj[i]];
+        if (n == 0 || !input_section(c, p, tj, n, &k, &ss))
+            continue;
+        uint32_t m = matchable_joints(&c->src[k], ss, sj);
+        if (c->o->keep_duplicates)
+            best_within(c, p, tj, n, k, sj, m);
+        else if (!remove_duplicates(c, p, tj, n, k, sj, m))
+            return false;
+    }
+    return true;
+}
+
+/* Scores of the final choices (continuity with the final parents), then the threshold. */
+static void finalize(const rf_ms_ctx *c, rf_ms_pass *p)
+{
+    const rf_analysis *a = c->tgt.a;
+    for (uint32_t ts = 0; ts < a->section_count; ts++) {
+        const uint32_t *js = rf_section_joints(a, ts);
+        for (uint32_t i = 0; i < a->sections[ts].bone_count; i++) {
+            rf_ms_candidate *f = &p->final[js[i]];
+            if (f->source == RF_MS_NO_SOURCE)
+                continue;
+            uint32_t k = f->source, ss = (uint32_t)c->src[k].a->joints[f->joint].section;
+            rf_ms_section_metrics(c, ts, k, ss, f->metrics);
+            rf_ms_joint_metrics(c, js[i], k, f->joint, f->metrics);
+            int32_t pa = c->tgt.anc[js[i]];
+            f->metrics[RF_MS_CONTINUITY] =
+                rf_ms_continuity(c, pa >= 0 ? &p->final[pa] : NULL, k, f->joint);
+            f->total = total_of(f->metrics);
+            if (f->total < c->threshold)
+                *f = no_candidate;
+        }
+    }
+}
+
+static bool run_pass(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
+{
+    size_t n = c->tgt.a->joint_count ? c->tgt.a->joint_count : 1;
+    uint32_t most = 1;
+    for (uint32_t k = 0; k < c->nsrc; k++)
+        most = c->src[k].a->joint_count > most ? c->src[k].a->joint_count : most;
+    uint32_t *tj = malloc(n * sizeof *tj), *sj = malloc((size_t)most * sizeof *sj);
+    bool ok = tj && sj;
+    if (ok) {
+        select_best(c, p, only);
+        ok = settle_sections(c, p, tj, sj);
+        finalize(c, p);
+    }
+    free(tj);
+    free(sj);
+    return ok;
+}
+
+static bool pass_alloc(const rf_ms_ctx *c, rf_ms_pass *p, bool explain)
+{
+    size_t n = c->tgt.a->joint_count ? c->tgt.a->joint_count : 1;
+    memset(p, 0, sizeof *p);
+    p->best = calloc(n, sizeof *p->best);
+    p->final = calloc(n, sizeof *p->final);
+    p->sec_off = calloc(c->nsrc ? c->nsrc : 1, sizeof *p->sec_off);
+    uint32_t rows = 0;
+    for (uint32_t k = 0; p->sec_off && k < c->nsrc; k++)
+        p->sec_off[k] = rows, rows += c->src[k].a->section_count;
+    p->sec = calloc((size_t)(rows ? rows : 1) * RF_MS_METRIC_COUNT, sizeof *p->sec);
+    if (explain) {
+        p->top = calloc(n * 3, sizeof *p->top);
+        p->top_count = calloc(n, 1);
+    }
+    if (!p->best || !p->final || !p->sec_off || !p->sec || (explain && (!p->top || !p->top_count)))
+        return false;
+    for (size_t j = 0; j < n; j++)
+        p->best[j] = p->final[j] = no_candidate;
+    return true;
+}
+
+static void pass_free(rf_ms_pass *p)
+{
+    free(p->best);
+    free(p->final);
+    free(p->sec);
+    free(p->sec_off);
+    free(p->top);
+    free(p->top_count);
+}
+
+/* ---- the mapping ---- */
+
+static bool bends_apart(double a, double b)
+{
+    return fabs(a) > 0.03 && fabs(b) > 0.03 && (a > 0) != (b > 0);
+}
+
+static uint32_t input_flags(const rf_ms_ctx *c, uint32_t t, const rf_ms_candidate *f)
+{
+    const rf_joint_info *a = &c->tgt.a->joints[t], *b = &c->src[f->source].a->joints[f->joint];
+    uint32_t flags = c->phase[a->section] ? RF_MAP_MIRROR : 0;
+    uint8_t ka = c->tgt.kind[a->section], kb = c->src[f->source].kind[b->section];
+    bool limbs = (ka == RF_MK_FORE || ka == RF_MK_HIND) && (kb == RF_MK_FORE || kb == RF_MK_HIND);
+    if (!c->o->no_reverse && limbs && bends_apart(a->bend, b->bend))
+        flags |= RF_MAP_REVERSE; /* a knee bending the other way (thesis, chapter 6) */
+    return flags;
+}
+
+static char *dup_str(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *d = malloc(n);
+    if (d)
+        memcpy(d, s, n);
+    return d;
+}
+
+static bool mapping_labels(rf_mapping *m, const rf_analysis *a)
+{
+    m->metric_count = RF_MS_METRIC_COUNT;
+    m->metric_names = calloc(RF_MS_METRIC_COUNT, sizeof *m->metric_names);
+    m->sections = calloc(m->target_joint_count ? m->target_joint_count : 1, sizeof(char *));
+    m->sides = calloc(m->target_joint_count ? m->target_joint_count : 1, sizeof(char *));
+    if (!m->metric_names || !m->sections || !m->sides)
+        return false;
+    for (int i = 0; i < RF_MS_METRIC_COUNT; i++)
+        if (!(m->metric_names[i] = dup_str(rf_ms_metric_names[i])))
+            return false;
+    for (uint32_t j = 0; j < m->target_joint_count; j++) {
+        const rf_joint_info *ji = &a->joints[j];
+        rf_section_type t = ji->section >= 0 ? a->sections[ji->section].type : RF_SECTION_NONE;
+        m->sections[j] = dup_str(rf_section_type_name(t));
+        m->sides[j] = dup_str(rf_side_name(ji->side));
+        if (!m->sections[j] || !m->sides[j])
+            return false;
+    }
+    return true;
+}
+
+/* Fills entry j from the final choice of each pass (one pass, or one per source when
+ * blending): one input per pass that mapped it, equal weights. */
+static bool fill_entry(const rf_ms_ctx *c, rf_map_entry *e, uint32_t j, rf_ms_pass *passes,
+                       uint32_t npass)
+{
+    uint32_t count = 0;
+    const rf_ms_candidate *best = NULL;
+    for (uint32_t q = 0; q < npass; q++)
+        if (passes[q].final[j].source != RF_MS_NO_SOURCE) {
+            count++;
+            if (!best || passes[q].final[j].total > best->total)
+                best = &passes[q].final[j];
+        }
+    e->metrics = calloc(RF_MS_METRIC_COUNT, sizeof *e->metrics);
+    if (!e->metrics)
+        return false;
+    if (!count)
+        return true;
+    e->inputs = calloc(count, sizeof *e->inputs);
+    if (!e->inputs)
+        return false;
+    for (uint32_t q = 0; q < npass; q++) {
+        const rf_ms_candidate *f = &passes[q].final[j];
+        if (f->source == RF_MS_NO_SOURCE)
+            continue;
+        e->inputs[e->input_count++] =
+            (rf_map_input){f->source, f->joint, 1.0f / (float)count, 0.0f, input_flags(c, j, f)};
+    }
+    e->score = best->total;
+    memcpy(e->metrics, best->metrics, sizeof best->metrics);
+    return true;
+}
+
+static rf_mapping *build_mapping(const rf_ms_ctx *c, rf_ms_pass *passes, uint32_t npass)
+{
+    uint32_t n = c->tgt.a->joint_count;
+    rf_mapping *m = rf_mapping_new(n, c->nsrc);
+    bool ok = m && mapping_labels(m, c->tgt.a);
+    for (uint32_t j = 0; ok && j < n; j++)
+        ok = fill_entry(c, &m->entries[j], j, passes, npass);
+    if (!ok) {
+        rf_mapping_free(m);
+        return NULL;
+    }
+    return m;
+}
+
+/* ---- entry point ---- */
+
+static void keep_explanation(rf_ms_ctx *c, rf_ms_pass *p, rf_ms_explain *e)
+{
+    e->target = c->tgt.a, c->tgt.a = NULL;
+    e->source_count = c->nsrc;
+    e->sources = calloc(c->nsrc ? c->nsrc : 1, sizeof *e->sources);
+    for (uint32_t k = 0; e->sources && k < c->nsrc; k++)
+        e->sources[k] = c->src[k].a, c->src[k].a = NULL;
+    e->joint_count = e->target->joint_count;
+    e->top = p->top, p->top = NULL;
+    e->top_count = p->top_count, p->top_count = NULL;
+}
+
+static rf_mapping *match_all(rf_ms_ctx *c, rf_ms_explain *explain, char *err, size_t err_size)
+{
+    uint32_t npass = c->o->blend ? c->nsrc : 1;
+    rf_ms_pass *passes = calloc(npass, sizeof *passes);
+    bool ok = passes != NULL;
+    for (uint32_t q = 0; ok && q < npass; q++) {
+        int32_t only = c->o->blend ? (int32_t)q : -1;
+        ok = pass_alloc(c, &passes[q], explain && q == 0) &&
+             (!source_on(c, q, only) || run_pass(c, &passes[q], only));
+    }
+    rf_mapping *m = ok ? build_mapping(c, passes, npass) : NULL;
+    if (!m)
+        snprintf(err, err_size, "out of memory while matching");
+    if (m && explain && !c->o->blend)
+        keep_explanation(c, &passes[0], explain);
+    for (uint32_t q = 0; passes && q < npass; q++)
+        pass_free(&passes[q]);
+    free(passes);
+    return m;
+}
+
+rf_mapping *rf_ms_match(const rf_skeleton *target, const rf_skeleton *const *sources,
+                        uint32_t source_count, const rf_ms_options *opts, rf_ms_explain *explain,
+                        char *err, size_t err_size)
+{
+    rf_ms_options defaults = {0};
+    const rf_ms_options *o = opts ? opts : &defaults;
+    uint32_t enabled = 0;
+    for (uint32_t k = 0; k < source_count; k++)
+        enabled += !(o->disabled && o->disabled[k]) && sources[k];
+    if (!target || enabled == 0) {
+        snprintf(err, err_size, "%s", target ? "no source skeleton to map from" : "no target");
+        return NULL;
+    }
+    for (uint32_t k = 0; k < source_count; k++)
+        if (!sources[k]) {
+            snprintf(err, err_size, "source %u is missing", k);
+            return NULL;
+        }
+    rf_ms_ctx c;
+    rf_mapping *m = NULL;
+    if (ctx_init(&c, target, sources, source_count, o, err, err_size))
+        m = match_all(&c, explain, err, err_size);
+    ctx_clear(&c);
+    return m;
+}

@@ -1,0 +1,307 @@
+/* The metrics of the skeletal-similarity matcher (thesis Table 1, plus body position and digit
+ * order), the named weight sets, and the per-skeleton facts they read. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ms-internal.h"
+
+const char *const rf_ms_metric_names[RF_MS_METRIC_COUNT] = {
+    "same_side", "same_type",  "similar_type", "bone_count",    "orientation",
+    "sequence",  "continuity", "preference",   "body_position", "digit_order",
+};
+
+/* Table 1 / Table 5 of the thesis, then the two metrics it lacked. */
+static const rf_ms_weights default_weights = {{30, 50, 15, 10, 15, 16, 5, 0, 20, 20}};
+static const rf_ms_weights thesis_weights = {{30, 50, 15, 10, 15, 16, 5, 0, 0, 0}};
+
+bool rf_ms_weight_set(const char *name, rf_ms_weights *out, uint32_t *preferred)
+{
+    *preferred = 0;
+    if (!name || !*name || strcmp(name, "default") == 0) {
+        *out = default_weights;
+        return true;
+    }
+    if (strcmp(name, "thesis") == 0) {
+        *out = thesis_weights;
+        return true;
+    }
+    const char *rest = NULL;
+    if (strncmp(name, "prefer-", 7) == 0)
+        *out = default_weights, rest = name + 7;
+    else if (strncmp(name, "thesis-prefer-", 14) == 0)
+        *out = thesis_weights, rest = name + 14;
+    if (!rest || !*rest || strspn(rest, "0123456789") != strlen(rest) || strlen(rest) > 6)
+        return false;
+    *preferred = (uint32_t)strtoul(rest, NULL, 10);
+    out->w[RF_MS_PREFERENCE] = 10;
+    return true;
+}
+
+/* ---- kinds ---- */
+
+static bool limb_type(rf_section_type t)
+{
+    return t == RF_SECTION_ARM || t == RF_SECTION_LEG;
+}
+
+/* Limbs spread along the body (two girdles or more) get their role from where they sit: front
+ * half fore, rear half hind. Otherwise arms are fore and legs hind. */
+static void limb_roles(rf_ms_skel *s, bool thesis)
+{
+    const rf_analysis *a = s->a;
+    double lo = INFINITY, hi = -INFINITY;
+    for (uint32_t k = 0; k < a->section_count; k++)
+        if (limb_type(a->sections[k].type))
+            lo = fmin(lo, a->sections[k].body_pos), hi = fmax(hi, a->sections[k].body_pos);
+    bool spread = !thesis && hi - lo > 0.3;
+    for (uint32_t k = 0; k < a->section_count; k++) {
+        const rf_section *sec = &a->sections[k];
+        if (!limb_type(sec->type))
+            continue;
+        bool fore = spread ? sec->body_pos >= 0.5 * (lo + hi) : sec->type == RF_SECTION_ARM;
+        s->kind[k] = fore ? RF_MK_FORE : RF_MK_HIND;
+    }
+}
+
+static rf_ms_kind center_kind(const rf_section *sec)
+{
+    switch (sec->type) {
+    case RF_SECTION_ROOT:
+        return RF_MK_ROOT;
+    case RF_SECTION_SPINE:
+        return (sec->flags & RF_SECFL_REVERSE) ? RF_MK_SPINE_REVERSE : RF_MK_SPINE;
+    case RF_SECTION_HEAD:
+        return RF_MK_HEAD;
+    case RF_SECTION_TAIL:
+        return RF_MK_TAIL;
+    case RF_SECTION_APPENDAGE:
+        return RF_MK_APPENDAGE;
+    case RF_SECTION_HELPER:
+    case RF_SECTION_NONE:
+    case RF_SECTION_TYPE_COUNT:
+        return RF_MK_HELPER;
+    default:
+        return RF_MK_NONE;
+    }
+}
+
+/* Digits take the role of the limb they hang from. */
+static void digit_kinds(rf_ms_skel *s)
+{
+    const rf_analysis *a = s->a;
+    for (uint32_t k = 0; k < a->section_count; k++) { /* parents come first */
+        const rf_section *sec = &a->sections[k];
+        if (sec->type != RF_SECTION_HAND && sec->type != RF_SECTION_FOOT)
+            continue;
+        uint8_t parent = sec->parent >= 0 ? s->kind[sec->parent] : RF_MK_NONE;
+        bool fore =
+            parent == RF_MK_FORE || parent == RF_MK_FORE_DIGIT ||
+            (parent != RF_MK_HIND && parent != RF_MK_HIND_DIGIT && sec->type == RF_SECTION_HAND);
+        s->kind[k] = fore ? RF_MK_FORE_DIGIT : RF_MK_HIND_DIGIT;
+    }
+}
+
+static bool per_section(rf_ms_skel *s, bool thesis)
+{
+    const rf_analysis *a = s->a;
+    uint8_t *thumbs = calloc(a->joint_count ? a->joint_count : 1, 1); /* fans with a thumb */
+    if (!thumbs)
+        return false;
+    for (uint32_t k = 0; k < a->section_count; k++)
+        if ((a->sections[k].flags & RF_SECFL_THUMB) && a->sections[k].attach_joint >= 0)
+            thumbs[a->sections[k].attach_joint] = 1;
+    for (uint32_t k = 0; k < a->section_count; k++) {
+        const rf_section *sec = &a->sections[k];
+        for (uint32_t i = sec->bone_count; i-- > 0;)
+            if (s->matchable[rf_section_joints(a, k)[i]]) {
+                s->last[rf_section_joints(a, k)[i]] = 1;
+                break;
+            }
+        s->kind[k] = center_kind(sec);
+        /* place among the fingers other than the thumb, 0..1 from the thumb's side */
+        bool thumbed =
+            (sec->flags & RF_SECFL_FAN) && sec->attach_joint >= 0 && thumbs[sec->attach_joint];
+        uint32_t fingers = sec->pair_count - thumbed, rank = sec->pair_rank - thumbed;
+        s->digit_frac[k] =
+            (sec->flags & RF_SECFL_THUMB) || fingers < 2 ? 0.5 : (double)rank / (fingers - 1);
+        s->count[k] = 0;
+        for (uint32_t i = 0; i < sec->bone_count; i++)
+            s->count[k] += thesis || s->matchable[rf_section_joints(a, k)[i]];
+    }
+    free(thumbs);
+    limb_roles(s, thesis);
+    digit_kinds(s);
+    return true;
+}
+
+/* Joints a mapping can drive: not helpers, not control joints sitting on their child. */
+static void per_joint(rf_ms_skel *s)
+{
+    const rf_analysis *a = s->a;
+    for (uint32_t j = 0; j < a->joint_count; j++) {
+        const rf_joint_info *ji = &a->joints[j];
+        bool helper = ji->section < 0 || a->sections[ji->section].type == RF_SECTION_HELPER;
+        s->matchable[j] = !helper && !(ji->flags & (RF_JI_CONTROL | RF_JI_END_MARKER));
+        s->bdir[j] = rf_v3(rf_v3_dot(ji->dir, a->left), rf_v3_dot(ji->dir, a->up),
+                           rf_v3_dot(ji->dir, a->forward));
+    }
+    for (uint32_t j = 0; j < a->joint_count; j++) {
+        int32_t p = a->joints[j].logical_parent;
+        for (uint32_t step = 0; p >= 0 && !s->matchable[p] && step < a->joint_count; step++)
+            p = a->joints[p].logical_parent;
+        s->anc[j] = p >= 0 && s->matchable[p] ? p : -1;
+    }
+}
+
+bool rf_ms_skel_init(rf_ms_skel *s, const rf_skeleton *skel, const rf_analysis_options *ao,
+                     bool thesis)
+{
+    memset(s, 0, sizeof *s);
+    s->skel = skel;
+    s->a = rf_analyze(skel, ao);
+    if (!s->a)
+        return false;
+    size_t n = s->a->joint_count ? s->a->joint_count : 1;
+    size_t ns = s->a->section_count ? s->a->section_count : 1;
+    s->kind = calloc(ns, 1);
+    s->count = calloc(ns, sizeof *s->count);
+    s->digit_frac = calloc(ns, sizeof *s->digit_frac);
+    s->matchable = calloc(n, 1);
+    s->anc = calloc(n, sizeof *s->anc);
+    s->bdir = calloc(n, sizeof *s->bdir);
+    s->last = calloc(n, 1);
+    if (!s->kind || !s->count || !s->digit_frac || !s->matchable || !s->anc || !s->bdir || !s->last)
+        return false;
+    per_joint(s);
+    return per_section(s, thesis);
+}
+
+void rf_ms_skel_clear(rf_ms_skel *s)
+{
+    rf_analysis_free(s->a);
+    free(s->kind);
+    free(s->count);
+    free(s->digit_frac);
+    free(s->matchable);
+    free(s->anc);
+    free(s->bdir);
+    free(s->last);
+    memset(s, 0, sizeof *s);
+}
+
+/* ---- metrics ---- */
+
+/* How alike two different kinds are, 0..1: the similar-type metric. Limbs of the two roles and
+ * a limb with its digits are alike; so are the centerline sections; appendages are closest to
+ * digits (thesis, chapter 6). */
+static double kind_similarity(rf_ms_kind a, rf_ms_kind b)
+{
+    static const struct {
+        rf_ms_kind a, b;
+        double s;
+    } pairs[] = {
+        {RF_MK_FORE, RF_MK_HIND, 1},
+        {RF_MK_FORE_DIGIT, RF_MK_HIND_DIGIT, 1},
+        {RF_MK_FORE, RF_MK_FORE_DIGIT, 1},
+        {RF_MK_HIND, RF_MK_HIND_DIGIT, 1},
+        {RF_MK_FORE, RF_MK_HIND_DIGIT, 0.5},
+        {RF_MK_HIND, RF_MK_FORE_DIGIT, 0.5},
+        {RF_MK_SPINE, RF_MK_TAIL, 1},
+        {RF_MK_SPINE, RF_MK_HEAD, 1},
+        {RF_MK_HEAD, RF_MK_TAIL, 0.5},
+        {RF_MK_SPINE, RF_MK_SPINE_REVERSE, 0.5},
+        {RF_MK_SPINE_REVERSE, RF_MK_TAIL, 1},
+        {RF_MK_ROOT, RF_MK_SPINE, 0.5},
+        {RF_MK_APPENDAGE, RF_MK_FORE_DIGIT, 0.6},
+        {RF_MK_APPENDAGE, RF_MK_HIND_DIGIT, 0.6},
+        {RF_MK_APPENDAGE, RF_MK_FORE, 0.3},
+        {RF_MK_APPENDAGE, RF_MK_HIND, 0.3},
+    };
+    for (size_t i = 0; i < sizeof pairs / sizeof pairs[0]; i++)
+        if ((pairs[i].a == a && pairs[i].b == b) || (pairs[i].a == b && pairs[i].b == a))
+            return pairs[i].s;
+    return 0;
+}
+
+static rf_side flipped(rf_side s)
+{
+    return s == RF_SIDE_LEFT ? RF_SIDE_RIGHT : s == RF_SIDE_RIGHT ? RF_SIDE_LEFT : s;
+}
+
+static bool limb_kind(uint8_t k)
+{
+    return k == RF_MK_FORE || k == RF_MK_HIND;
+}
+
+void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t ss, double *m)
+{
+    const rf_ms_skel *t = &c->tgt, *s = &c->src[k];
+    const rf_section *st = &t->a->sections[ts], *sc = &s->a->sections[ss];
+    const double *w = c->wt.w;
+    rf_side side = c->flip[ts] ? flipped(st->side) : st->side;
+    uint8_t kt = t->kind[ts], ks = s->kind[ss];
+    memset(m, 0, RF_MS_METRIC_COUNT * sizeof *m);
+    m[RF_MS_SAME_SIDE] = side == sc->side ? w[RF_MS_SAME_SIDE] : 0;
+    m[RF_MS_SAME_TYPE] = kt == ks ? w[RF_MS_SAME_TYPE] : 0;
+    m[RF_MS_SIMILAR_TYPE] = kt != ks ? w[RF_MS_SIMILAR_TYPE] * kind_similarity(kt, ks) : 0;
+    m[RF_MS_BONE_COUNT] = t->count[ts] == s->count[ss] ? w[RF_MS_BONE_COUNT] : 0;
+    m[RF_MS_PREFERENCE] = k == c->o->preferred_source ? w[RF_MS_PREFERENCE] : 0;
+    if ((limb_kind(kt) || kt == RF_MK_APPENDAGE) && (limb_kind(ks) || ks == RF_MK_APPENDAGE)) {
+        double bt = fmax(-1, fmin(2, st->body_pos)), bs = fmax(-1, fmin(2, sc->body_pos));
+        m[RF_MS_BODY_POSITION] = w[RF_MS_BODY_POSITION] * fmax(0, 1 - fabs(bt - bs));
+    }
+    /* digits: a thumb for a thumb, then the fingers in their order across the hand */
+    if ((st->flags & RF_SECFL_FAN) && (sc->flags & RF_SECFL_FAN) &&
+        !((st->flags ^ sc->flags) & RF_SECFL_THUMB))
+        m[RF_MS_DIGIT_ORDER] =
+            w[RF_MS_DIGIT_ORDER] * (0.6 + 0.4 * (1 - fabs(t->digit_frac[ts] - s->digit_frac[ss])));
+}
+
+/* Orientation: the angle between the bones in their bodies' frames (a bone on the other side is
+ * mirrored first); full points at zero, falling quadratically to none at the maximum angle. */
+static double orientation(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
+{
+    rf_vec3 a = c->tgt.bdir[t], b = c->src[k].bdir[j];
+    if (rf_v3_len2(a) == 0 || rf_v3_len2(b) == 0)
+        return 0;
+    rf_side st = c->tgt.a->joints[t].side, ss = c->src[k].a->joints[j].side;
+    if (st != RF_SIDE_CENTER && ss != RF_SIDE_CENTER && st != ss)
+        b.x = -b.x;
+    double deg = rf_v3_angle(a, b) * 180.0 / RF_PI, x = deg / c->angle;
+    return c->wt.w[RF_MS_ORIENTATION] * fmax(0, 1 - x * x);
+}
+
+/* Sequence: the thesis gives the points for the same index in the section; here for the same
+ * place, pivot and tip measured as fractions of the section's length, so a zero-length joint or
+ * a missing clavicle does not shift the rest. */
+static double sequence(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
+{
+    const rf_joint_info *a = &c->tgt.a->joints[t], *b = &c->src[k].a->joints[j];
+    if (c->o->thesis)
+        return a->index == b->index ? c->wt.w[RF_MS_SEQUENCE] : 0;
+    double d = fabs(a->u0 - b->u0) + fabs(fmin(a->u1, 1.5) - fmin(b->u1, 1.5));
+    return c->wt.w[RF_MS_SEQUENCE] * fmax(0, 1 - d / 0.5);
+}
+
+void rf_ms_joint_metrics(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j, double *m)
+{
+    m[RF_MS_ORIENTATION] = orientation(c, t, k, j);
+    m[RF_MS_SEQUENCE] = sequence(c, t, k, j);
+}
+
+/* Continuity: half for staying with the source the parent's match came from, half for a
+ * candidate whose parent is that match (the chain goes on in order). */
+double rf_ms_continuity(const rf_ms_ctx *c, const rf_ms_candidate *parent, uint32_t k, uint32_t j)
+{
+    if (!parent || parent->source == RF_MS_NO_SOURCE)
+        return 0;
+    double w = c->wt.w[RF_MS_CONTINUITY], points = 0;
+    if (parent->source == k) {
+        points += 0.5 * w;
+        if (c->src[k].anc[j] == (int32_t)parent->joint)
+            points += 0.5 * w;
+    }
+    return points;
+}

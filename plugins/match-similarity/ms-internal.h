@@ -1,0 +1,64 @@
+/* Internals of the skeletal-similarity matcher shared by metrics.c and match.c. */
+#ifndef RF_MS_INTERNAL_H
+#define RF_MS_INTERNAL_H
+
+#include "similarity.h"
+
+/* What a section is for when comparing: the analysis's type, with limbs by their role along the
+ * body (a quadruped's front legs are forelimbs like a human's arms) unless in thesis mode. */
+typedef enum rf_ms_kind {
+    RF_MK_NONE = 0,
+    RF_MK_ROOT,
+    RF_MK_SPINE,
+    RF_MK_SPINE_REVERSE,
+    RF_MK_HEAD,
+    RF_MK_TAIL,
+    RF_MK_FORE,       /* arms, wings, front legs (thesis: arms) */
+    RF_MK_HIND,       /* hind legs (thesis: legs) */
+    RF_MK_FORE_DIGIT, /* hands (thesis: hands) */
+    RF_MK_HIND_DIGIT, /* feet (thesis: feet) */
+    RF_MK_APPENDAGE,
+    RF_MK_HELPER,
+    RF_MK_COUNT
+} rf_ms_kind;
+
+/* One analysed skeleton with what the metrics read. */
+typedef struct rf_ms_skel {
+    const rf_skeleton *skel;
+    rf_analysis *a;
+    uint8_t *kind;      /* [section] rf_ms_kind */
+    uint32_t *count;    /* [section] joints that can be matched */
+    double *digit_frac; /* [section] rank across the fan, 0..1 */
+    uint8_t *matchable; /* [joint] */
+    int32_t *anc;       /* [joint] nearest matchable ancestor, -1 */
+    rf_vec3 *bdir;      /* [joint] bone direction in the body frame (left, up, forward) */
+    uint8_t *last;      /* [joint] the last matchable joint of its section */
+} rf_ms_skel;
+
+typedef struct rf_ms_ctx {
+    const rf_ms_options *o;
+    rf_ms_weights wt;
+    double threshold;
+    double angle; /* degrees */
+    rf_ms_skel tgt;
+    rf_ms_skel *src;
+    uint32_t nsrc;
+    uint8_t *flip;  /* [target section] side swapped (mirror option) */
+    uint8_t *phase; /* [target section] mapped with RF_MAP_MIRROR */
+} rf_ms_ctx;
+
+#define RF_MS_NO_SOURCE UINT32_MAX
+
+bool rf_ms_skel_init(rf_ms_skel *s, const rf_skeleton *skel, const rf_analysis_options *ao,
+                     bool thesis);
+void rf_ms_skel_clear(rf_ms_skel *s);
+
+/* Section-level metrics of target section ts against source section ss of source k. */
+void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t ss, double *m);
+/* Joint-level metrics (orientation, sequence) of target joint t against source joint j. */
+void rf_ms_joint_metrics(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j, double *m);
+/* Continuity of candidate (k, j) for t given the choice made for t's matchable ancestor. */
+double rf_ms_continuity(const rf_ms_ctx *c, const rf_ms_candidate *parent_choice, uint32_t k,
+                        uint32_t j);
+
+#endif

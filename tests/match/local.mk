@@ -1,0 +1,24 @@
+# Joint mapping tests (issue 4): analysis on hand-built skeletons, the matcher's metrics and
+# assignment, mapping files, name matching, accuracy on real skeletons against hand-written
+# ground truth (tests/match/truth) and on generated ones.
+MATCH_TEST_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins -I$(top_srcdir)/tests/match
+MATCH_TEST_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+MATCH_LIBS = plugins/match-similarity/libsimilarity.la framework/analysis/libanalysis.la \
+	plugins/match-names/libnames.la -lm
+
+check_PROGRAMS += tests/match/test_analysis tests/match/test_accuracy
+TESTS += tests/match/test_analysis tests/match/test_accuracy
+EXTRA_DIST += tests/match/truth
+
+tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
+tests_match_test_analysis_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
+tests_match_test_analysis_CFLAGS = $(MATCH_TEST_CFLAGS)
+tests_match_test_analysis_LDADD = framework/analysis/libanalysis.la $(CMOCKA_LIBS) -lm
+
+tests_match_test_accuracy_SOURCES = tests/match/test_accuracy.c tests/match/truth.c \
+	tests/match/truth.h
+tests_match_test_accuracy_CPPFLAGS = $(MATCH_TEST_CPPFLAGS) -I$(top_srcdir)/plugins/assimp \
+	-I$(top_srcdir)/plugins/bvh
+tests_match_test_accuracy_CFLAGS = $(MATCH_TEST_CFLAGS)
+tests_match_test_accuracy_LDADD = $(MATCH_LIBS) plugins/assimp/librfassimp.la \
+	plugins/bvh/libbvh.la
