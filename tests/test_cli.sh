@@ -2,7 +2,7 @@
 # End-to-end tests of the rigflow command: help, exit codes, plugins, describe, validate, run,
 # BVH round trip through the bundled plugins, failed and interrupted runs leaving nothing behind.
 set -u
-rigflow="${RF_BUILDDIR:?}/rigflow"
+rigflow="${RF_RIGFLOW:-${RF_BUILDDIR:?}/rigflow}" # RF_RIGFLOW: a wrapper (make valgrind)
 fixtures="$RF_BUILDDIR/tests/fixtures/.libs"
 pipelines="${RF_SRCDIR:?}/pipelines"
 tmp=$(mktemp -d)
