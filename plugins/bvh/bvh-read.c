@@ -934,6 +934,7 @@ typedef struct helper {
     pthread_mutex_t mu;
     pthread_cond_t cv;
     batch *work; /* set by the parser, cleared when done */
+    bool busy;   /* the helper has taken `work` */
     bool quit;
     scratch sc;
 } helper;
@@ -947,10 +948,12 @@ static void *helper_main(void *arg)
             pthread_cond_wait(&h->cv, &h->mu);
         if (!h->work)
             break;
+        h->busy = true;
         pthread_mutex_unlock(&h->mu);
         run_batch(h->work);
         pthread_mutex_lock(&h->mu);
         h->work = NULL;
+        h->busy = false;
         pthread_cond_broadcast(&h->cv);
     }
     pthread_mutex_unlock(&h->mu);
@@ -985,9 +988,19 @@ static void helper_submit(helper *h, batch *b)
     pthread_mutex_unlock(&h->mu);
 }
 
+/* Waits for the submitted batch; if the helper has not started it yet (on a busy machine it may
+ * not have run at all), takes it back and runs it here, so a second thread never makes a read
+ * slower than one. */
 static void helper_wait(helper *h)
 {
     pthread_mutex_lock(&h->mu);
+    if (h->work && !h->busy) {
+        batch *b = h->work;
+        h->work = NULL;
+        pthread_mutex_unlock(&h->mu);
+        run_batch(b);
+        return;
+    }
     while (h->work)
         pthread_cond_wait(&h->cv, &h->mu);
     pthread_mutex_unlock(&h->mu);
