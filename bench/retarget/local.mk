@@ -1,0 +1,18 @@
+# Retargeting benchmark (issue 5): bench/retarget/bench_retarget, built only by
+# `make bench-retarget` (or `make bench`), and bench/retarget/run.sh, which runs it beside
+# three.js retargetClip and the memory bandwidth floor, and compares quality on the same pairs.
+EXTRA_PROGRAMS += bench/retarget/bench_retarget
+bench_retarget_bench_retarget_SOURCES = bench/retarget/bench_retarget.c
+bench_retarget_bench_retarget_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/retarget \
+	-I$(top_srcdir)/plugins/bvh -I$(top_srcdir)/plugins/assimp -I$(top_srcdir)/tests/retarget \
+	-I$(top_srcdir)/plugins/ik-common -I$(top_srcdir)/plugins/ik-twobone
+bench_retarget_bench_retarget_LDADD = plugins/retarget/libretarget.la plugins/bvh/libbvh.la \
+	plugins/assimp/librfassimp.la plugins/ik-twobone/libiktwobone.la \
+	plugins/ik-common/libikcommon.la -lm
+CLEANFILES += bench/retarget/bench_retarget$(EXEEXT)
+EXTRA_DIST += bench/retarget/run.sh bench/retarget/ratios.mjs bench/retarget/three_retarget.mjs
+
+bench-retarget: bench/retarget/bench_retarget$(EXEEXT)
+	$(SHELL) $(srcdir)/bench/retarget/run.sh '$(abs_top_builddir)' $(BENCH_RETARGET_ARGS)
+bench: bench-retarget
+.PHONY: bench-retarget

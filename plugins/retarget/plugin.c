@@ -1,0 +1,439 @@
+/* The retarget plugin: node types "retarget" (source clips onto a target skeleton through a
+ * mapping, with an optional contact pass through any IK solver) and "retarget.measure" (direction
+ * fidelity and foot skate of any target clip). The work is in libretarget. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <rigflow/ik.h>
+#include <rigflow/rigflow.h>
+
+#include "retarget.h"
+
+#define ERR_SIZE 512
+
+/* ---- shared inputs and parameters ---- */
+
+#define RT_SOURCE_PORTS                                                                            \
+    {sizeof(rf_port_desc), "sources", RF_TYPE_ANIMATION, RF_PORT_MULTIPLE,                         \
+     "the source clips, one per source (several sources drive one target together)"},              \
+        {sizeof(rf_port_desc), "source_skeletons", RF_TYPE_SKELETON, RF_PORT_MULTIPLE,             \
+         "the skeleton of each source clip, in the same order (the mapping's source indices)"},    \
+        {sizeof(rf_port_desc), "target", RF_TYPE_SKELETON, 0, "the skeleton to animate"},          \
+    {                                                                                              \
+        sizeof(rf_port_desc), "mapping", RF_TYPE_MAPPING, 0,                                       \
+            "what drives each target joint (a matcher's output or a mapping file)"                 \
+    }
+
+#define RT_PLAN_PARAMS                                                                             \
+    {sizeof(rf_param_desc),                                                                        \
+     "rest_frame",                                                                                 \
+     RF_PARAM_INT,                                                                                 \
+     RF_PARAM_HAS_RANGE,                                                                           \
+     -1,                                                                                           \
+     NULL,                                                                                         \
+     -1,                                                                                           \
+     1e9,                                                                                          \
+     NULL,                                                                                         \
+     "source rest pose: -1 the skeleton's, or frame 0 when that pose is degenerate (every bone "   \
+     "on one line, e.g. Maya joint orients); N: frame N of every source clip"},                    \
+    {                                                                                              \
+        sizeof(rf_param_desc), "ground", RF_PARAM_ENUM, 0, 0, "auto", 0, 0, "auto|rest|world",     \
+            "floors: auto (a rest hanging from the origin stands on the origin's plane, any "      \
+            "other on its lowest point), rest (lowest rest points; the source's from its clip), "  \
+            "world (the origin's plane for both)"                                                  \
+    }
+
+/* Reads the inputs shared by both node types. False after host->error. */
+static bool rt_gather(const rf_host *host, rf_node *node, rf_rt_source *src, uint32_t max,
+                      uint32_t *count, const rf_skeleton **target, const rf_mapping **mapping)
+{
+    uint32_t na = host->input_count(node, "sources");
+    uint32_t ns = host->input_count(node, "source_skeletons");
+    if (na != ns) {
+        host->error(node, "%u source clips but %u source skeletons: give one skeleton per clip", na,
+                    ns);
+        return false;
+    }
+    if (na > max) {
+        host->error(node, "%u sources: at most %u are supported", na, max);
+        return false;
+    }
+    for (uint32_t k = 0; k < na; k++) {
+        src[k].animation = host->input(node, "sources", k);
+        src[k].skeleton = host->input(node, "source_skeletons", k);
+    }
+    *count = na;
+    *target = host->input(node, "target", 0);
+    *mapping = host->input(node, "mapping", 0);
+    if (*mapping && (*mapping)->source_count != na)
+        host->log(node, RF_LOG_WARNING, "the mapping was made for %u source(s), %u are connected",
+                  (*mapping)->source_count, na);
+    return true;
+}
+
+static bool rt_ground_parse(const char *text, rf_rt_ground *g)
+{
+    *g = strcmp(text, "rest") == 0    ? RF_RT_GROUND_REST
+         : strcmp(text, "world") == 0 ? RF_RT_GROUND_WORLD
+                                      : RF_RT_GROUND_AUTO;
+    return strcmp(text, "auto") == 0 || *g != RF_RT_GROUND_AUTO;
+}
+
+/* ---- retarget ---- */
+
+static bool rt_create(const rf_host *host, rf_node *node, void **self)
+{
+    rf_retarget_options *o = calloc(1, sizeof *o);
+    if (!o) {
+        host->error(node, "out of memory");
+        return false;
+    }
+    rf_retarget_options_default(o);
+    o->rest_frame = (int32_t)host->param_int(node, "rest_frame");
+    o->first_frame = (uint32_t)host->param_int(node, "first_frame");
+    o->last_frame = (int32_t)host->param_int(node, "last_frame");
+    o->fps = host->param_float(node, "fps");
+    o->in_place = host->param_bool(node, "in_place");
+    o->root_scale = host->param_float(node, "root_scale");
+    o->cycle = host->param_float(node, "cycle");
+    o->contact = host->param_bool(node, "contact");
+    o->contact_height = host->param_float(node, "contact_height");
+    o->contact_speed = host->param_float(node, "contact_speed");
+    o->contact_blend = host->param_float(node, "contact_blend");
+    if (!rt_ground_parse(host->param_string(node, "ground"), &o->ground)) {
+        free(o);
+        host->error(node, "ground: expected auto, rest or world");
+        return false;
+    }
+    if (o->last_frame >= 0 && (uint32_t)o->last_frame < o->first_frame) {
+        host->error(node, "last_frame %d comes before first_frame %u", o->last_frame,
+                    o->first_frame);
+        free(o);
+        return false;
+    }
+    *self = o;
+    return true;
+}
+
+typedef struct rt_progress_ctx {
+    const rf_host *host;
+    rf_node *node;
+} rt_progress_ctx;
+
+static bool rt_on_progress(void *user, double fraction)
+{
+    rt_progress_ctx *c = user;
+    c->host->progress(c->node, fraction);
+    return !c->host->cancelled(c->node);
+}
+
+/* The contact pass, when asked for and a solver is connected. False after host->error. */
+static bool rt_contact_pass(rf_retarget *rt, rf_animation *out, const rf_retarget_options *o,
+                            const rf_host *host, rf_node *node)
+{
+    const rf_ik_solver *solver = host->input_count(node, "ik") ? host->input(node, "ik", 0) : NULL;
+    if (!o->contact)
+        return true;
+    if (!solver) {
+        host->log(node, RF_LOG_INFO, "no IK solver on input 'ik': contact pass skipped");
+        return true;
+    }
+    rf_rt_contact_stats st;
+    char err[ERR_SIZE];
+    if (!rf_retarget_contacts(rt, out, solver, &st, err, sizeof err)) {
+        host->error(node, "contact pass (%s): %s", solver->api->name, err);
+        return false;
+    }
+    host->log(node, RF_LOG_INFO,
+              "contact pass (%s): %u feet, %u foot-frames pinned, %u solves, largest miss %.3g",
+              solver->api->name, st.effectors, st.contact_frames, st.solves, st.max_error);
+    return true;
+}
+
+static bool rt_process(void *self, const rf_host *host, rf_node *node)
+{
+    const rf_retarget_options *o = self;
+    rf_rt_source src[64];
+    uint32_t count;
+    const rf_skeleton *target;
+    const rf_mapping *mapping;
+    if (!rt_gather(host, node, src, 64, &count, &target, &mapping))
+        return false;
+    char err[ERR_SIZE];
+    rf_retarget *rt = rf_retarget_new(src, count, target, mapping, o, err, sizeof err);
+    if (!rt) {
+        host->error(node, "%s", err);
+        return false;
+    }
+    rt_progress_ctx ctx = {host, node};
+    rf_animation *out = rf_retarget_clip(rt, rt_on_progress, &ctx, err, sizeof err);
+    if (!out) {
+        rf_retarget_free(rt);
+        host->error(node, "%s", err);
+        return false;
+    }
+    rf_rt_info info;
+    rf_retarget_info(rt, &info);
+    char rest[48] = "its skeleton's";
+    if (info.rest_frame >= 0)
+        snprintf(rest, sizeof rest, "frame %d of its clip", info.rest_frame);
+    host->log(node, RF_LOG_INFO,
+              "%u of %u target joints mapped, %u sharing a chain's rotation; legs %.4g -> %.4g "
+              "(root motion x%.4g); source rest: %s",
+              info.mapped, target->joint_count, info.shared, info.leg_source, info.leg_target,
+              info.root_scale, rest);
+    bool ok = rt_contact_pass(rt, out, o, host, node);
+    rf_retarget_free(rt);
+    if (!ok) {
+        rf_animation_free(out);
+        return false;
+    }
+    return host->set_output(node, "animation", out, rf_animation_free);
+}
+
+static const rf_port_desc rt_inputs[] = {
+    RT_SOURCE_PORTS,
+    {sizeof(rf_port_desc), "ik", RF_TYPE_IK_SOLVER, RF_PORT_OPTIONAL,
+     "an IK solver (any node of kind ik) for the contact pass; without it feet are not pinned"},
+};
+
+static const rf_port_desc rt_outputs[] = {
+    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0,
+     "the target's clip: local rotations of every joint, the root's translation"},
+};
+
+static const rf_param_desc rt_params[] = {
+    RT_PLAN_PARAMS,
+    {sizeof(rf_param_desc), "first_frame", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1e9, NULL,
+     "first source frame to retarget (of the first source's clip)"},
+    {sizeof(rf_param_desc), "last_frame", RF_PARAM_INT, RF_PARAM_HAS_RANGE, -1, NULL, -1, 1e9, NULL,
+     "last source frame, inclusive; -1 for the clip's last"},
+    {sizeof(rf_param_desc), "fps", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1000, NULL,
+     "output frame rate (resampled with slerp); 0 keeps the first source's"},
+    {sizeof(rf_param_desc), "in_place", RF_PARAM_BOOL, 0, 0, NULL, 0, 0, NULL,
+     "no horizontal root motion: the target stays where it stands (its height still moves)"},
+    {sizeof(rf_param_desc), "root_scale", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1e6, NULL,
+     "scale of the root motion; 0 uses the ratio of the legs (hip heights)"},
+    {sizeof(rf_param_desc), "cycle", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1e6, NULL,
+     "seconds of one motion cycle, for mirrored inputs (half a cycle apart); 0 detects it"},
+    {sizeof(rf_param_desc), "contact", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
+     "pin the target's feet while the source's touch the ground (needs the ik input)"},
+    {sizeof(rf_param_desc), "contact_height", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.12, NULL, 0, 10,
+     NULL, "a source foot is in contact when this low over its lowest, in leg lengths"},
+    {sizeof(rf_param_desc), "contact_speed", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.6, NULL, 0, 100,
+     NULL, "... and this slow horizontally, in leg lengths per second"},
+    {sizeof(rf_param_desc), "contact_blend", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.15, NULL, 0, 10,
+     NULL, "seconds over which a released foot eases back to the retargeted motion"},
+};
+
+/* A T-pose arm driving an A-pose arm must point the same way. */
+static bool rt_selftest(const rf_host *host, char *err, size_t err_size);
+
+static const rf_selftest rt_selftest_ext = {sizeof(rf_selftest), rt_selftest};
+
+static const void *rt_extension(const char *id)
+{
+    return strcmp(id, RF_SELFTEST_EXTENSION) == 0 ? &rt_selftest_ext : NULL;
+}
+
+static const rf_node_desc rt_node = {
+    .size = sizeof(rf_node_desc),
+    .type = "retarget",
+    .kind = RF_KIND_RETARGETER,
+    .doc = "Moves the source clips onto the target skeleton through the mapping: world-space "
+           "rotations relative to each rest pose, with the rests aligned so the target points "
+           "its bones where the source points its (T-pose onto A-pose, degenerate rests), "
+           "unmapped joints between mapped ones sharing the rotation, root motion scaled by the "
+           "legs and kept on the ground, the mapping's weights, delays, reverse and mirror; "
+           "with an IK solver on 'ik', feet are pinned while the source's touch the ground. See "
+           "doc/retargeting.md.",
+    .input_count = sizeof rt_inputs / sizeof rt_inputs[0],
+    .inputs = rt_inputs,
+    .output_count = 1,
+    .outputs = rt_outputs,
+    .param_count = sizeof rt_params / sizeof rt_params[0],
+    .params = rt_params,
+    .create = rt_create,
+    .process = rt_process,
+    .destroy = free,
+    .get_extension = rt_extension,
+};
+
+/* ---- retarget.measure ---- */
+
+static void rt_report_json(FILE *f, const rf_rt_report *r)
+{
+    fprintf(f,
+            "{\"fidelity_mean_deg\": %.6g, \"fidelity_p95_deg\": %.6g, \"fidelity_max_deg\": "
+            "%.6g, \"bones\": %u, \"skate_target\": %.6g, \"skate_source\": %.6g, "
+            "\"contact_frames\": %u, \"ground_error\": %.6g, \"frames\": %u}\n",
+            r->fidelity_mean, r->fidelity_p95, r->fidelity_max, r->fidelity_bones, r->skate_target,
+            r->skate_source, r->contact_frames, r->ground_error, r->frames);
+}
+
+static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_report *r)
+{
+    const char *path = host->param_string(node, "path");
+    if (!*path)
+        return true;
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        host->error(node, "cannot write %s", host->param_output_target(node, "path"));
+        return false;
+    }
+    rt_report_json(f, r);
+    if (fclose(f) != 0) {
+        host->error(node, "cannot write %s", host->param_output_target(node, "path"));
+        return false;
+    }
+    return true;
+}
+
+static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
+{
+    (void)self;
+    rf_rt_source src[64];
+    uint32_t count;
+    const rf_skeleton *target;
+    const rf_mapping *mapping;
+    if (!rt_gather(host, node, src, 64, &count, &target, &mapping))
+        return false;
+    rf_retarget_options o;
+    rf_retarget_options_default(&o);
+    o.rest_frame = (int32_t)host->param_int(node, "rest_frame");
+    rt_ground_parse(host->param_string(node, "ground"), &o.ground);
+    char err[ERR_SIZE];
+    rf_retarget *rt = rf_retarget_new(src, count, target, mapping, &o, err, sizeof err);
+    rf_rt_report r;
+    double start = src[0].animation && src[0].animation->fps > 0
+                       ? host->param_int(node, "first_frame") / src[0].animation->fps
+                       : 0;
+    bool ok = rt && rf_retarget_measure(rt, host->input(node, "animation", 0), start, &r, err,
+                                        sizeof err);
+    rf_retarget_free(rt);
+    if (!ok) {
+        host->error(node, "%s", err);
+        return false;
+    }
+    const char *label = host->param_string(node, "label");
+    printf("%s: direction fidelity %.2f deg mean (p95 %.2f, max %.2f) over %u bones x %u frames; "
+           "foot skate %.4f leg/s (source %.4f) over %u contact frames; ground error %.3f leg\n",
+           *label ? label : host->node_id(node), r.fidelity_mean, r.fidelity_p95, r.fidelity_max,
+           r.fidelity_bones, r.frames, r.skate_target, r.skate_source, r.contact_frames,
+           r.ground_error);
+    fflush(stdout);
+    return rt_write_report(host, node, &r);
+}
+
+static const rf_port_desc rt_measure_inputs[] = {
+    RT_SOURCE_PORTS,
+    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0,
+     "the target clip to measure (from retarget, or any other tool)"},
+};
+
+static const rf_param_desc rt_measure_params[] = {
+    RT_PLAN_PARAMS,
+    {sizeof(rf_param_desc), "first_frame", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1e9, NULL,
+     "the source frame the measured clip starts at (retarget's first_frame)"},
+    {sizeof(rf_param_desc), "label", RF_PARAM_STRING, 0, 0, "", 0, 0, NULL,
+     "text before the figures (default: the node id)"},
+    {sizeof(rf_param_desc), "path", RF_PARAM_OUTPUT_PATH, 0, 0, "", 0, 0, NULL,
+     "also write the figures as JSON to this file (optional)"},
+};
+
+static const rf_node_desc rt_measure_node = {
+    .size = sizeof(rf_node_desc),
+    .type = "retarget.measure",
+    .kind = RF_KIND_REPORT,
+    .doc = "Measures a target clip against its sources and prints one line: direction fidelity "
+           "(angle between each mapped target bone's world direction and its source bone's, per "
+           "frame) and foot skate (horizontal speed of target feet while the source's are in "
+           "contact, in leg lengths per second). Same definitions as the tests and benchmarks.",
+    .input_count = sizeof rt_measure_inputs / sizeof rt_measure_inputs[0],
+    .inputs = rt_measure_inputs,
+    .param_count = sizeof rt_measure_params / sizeof rt_measure_params[0],
+    .params = rt_measure_params,
+    .process = rt_measure_process,
+};
+
+/* ---- self-test ---- */
+
+/* A chest with two arms drooping by `droop` degrees (bones along local +-X) and a head. */
+static rf_skeleton *rt_torso(double droop, double scale)
+{
+    rf_skeleton *s = rf_skeleton_new(6);
+    if (!s)
+        return NULL;
+    int32_t parent[6] = {-1, 0, 1, 0, 3, 0};
+    double x[6] = {0, 1, 1, -1, -1, 0};
+    for (uint32_t j = 0; j < 6; j++) {
+        s->joints[j].parent = parent[j];
+        s->joints[j].rest.t = rf_v3(x[j] * scale, j == 5 ? scale : 0, 0);
+    }
+    double a = droop * RF_PI / 180;
+    s->joints[1].rest.r = rf_quat_from_axis_angle(rf_v3(0, 0, 1), -a);
+    s->joints[3].rest.r = rf_quat_from_axis_angle(rf_v3(0, 0, 1), a);
+    uint32_t leaf[3] = {2, 4, 5};
+    for (int i = 0; i < 3; i++) {
+        s->joints[leaf[i]].flags |= RF_JOINT_HAS_END_SITE;
+        s->joints[leaf[i]].end_site = leaf[i] == 5 ? rf_v3(0, scale, 0) : s->joints[leaf[i]].rest.t;
+    }
+    return s;
+}
+
+/* The identity mapping of n joints, or NULL. */
+static rf_mapping *rt_same_mapping(uint32_t n)
+{
+    rf_mapping *m = rf_mapping_new(n, 1);
+    for (uint32_t j = 0; m && j < n; j++) {
+        m->entries[j].inputs = calloc(1, sizeof *m->entries[j].inputs);
+        if (!m->entries[j].inputs) {
+            rf_mapping_free(m);
+            return NULL;
+        }
+        m->entries[j].input_count = 1;
+        m->entries[j].inputs[0] = (rf_map_input){0, j, 1, 0, 0};
+    }
+    return m;
+}
+
+static bool rt_selftest(const rf_host *host, char *err, size_t err_size)
+{
+    (void)host;
+    rf_skeleton *src = rt_torso(0, 1), *tgt = rt_torso(45, 0.8);
+    rf_animation *clip = src ? rf_animation_new(6, 2, 10) : NULL;
+    rf_mapping *m = rt_same_mapping(6);
+    bool ok = src && tgt && clip && m;
+    for (uint32_t j = 0; ok && j < 6; j++)
+        for (uint32_t f = 0; f < 2; f++)
+            rf_animation_set_translation(clip, f, j, src->joints[j].rest.t);
+    if (ok)
+        rf_animation_set_rotation(clip, 1, 1, rf_quat_from_axis_angle(rf_v3(0, 0, 1), 0.5));
+    rf_rt_source s = {src, clip};
+    rf_retarget *rt = ok ? rf_retarget_new(&s, 1, tgt, m, NULL, err, err_size) : NULL;
+    rf_rt_report r = {0};
+    rf_animation *out = rt ? rf_retarget_clip(rt, NULL, NULL, err, err_size) : NULL;
+    ok = out && rf_retarget_measure(rt, out, 0, &r, err, err_size);
+    if (ok && !(r.fidelity_bones >= 4 && r.fidelity_max < 1e-3)) {
+        snprintf(err, err_size, "A-pose arms off by %g degrees over %u bones", r.fidelity_max,
+                 r.fidelity_bones);
+        ok = false;
+    }
+    rf_animation_free(out), rf_retarget_free(rt), rf_mapping_free(m), rf_animation_free(clip);
+    rf_skeleton_free(src), rf_skeleton_free(tgt);
+    return ok;
+}
+
+static const rf_node_desc *const rt_nodes[] = {&rt_node, &rt_measure_node};
+
+RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
+    .abi = RF_ABI_VERSION_INIT,
+    .size = sizeof(rf_plugin_entry),
+    .id = "org.rigflow.retarget",
+    .name = "Retargeting",
+    .version = "0.1.0",
+    .description = "Motion retargeting between different skeletons, and its measures",
+    .node_count = 2,
+    .nodes = rt_nodes,
+};

@@ -1,0 +1,186 @@
+/* Motion retargeting between different skeletons (convenience library libretarget).
+ *
+ * Linked by the retarget plugin, the tests and the benchmarks. doc/retargeting.md explains the
+ * method; in short:
+ *
+ * - Set-up (rf_retarget_new, once per clip): world rest transforms of every skeleton, the source
+ *   rest pose (the skeleton's, or a frame of its clip when the rest is degenerate), per mapped
+ *   target joint and per mapping input an alignment rotation that turns the target's rest bone
+ *   directions onto the source's (so a T-pose source drives an A-pose or arms-down target), the
+ *   plan of chains of different length (unmapped joints between mapped ones share the rotation),
+ *   leg lengths, floors and the root scale. Everything a frame needs is allocated here.
+ * - Per frame (rf_retarget_frame): the caller hands in one source pose per sample slot (a slot is
+ *   a source clip at a time offset: delays and the half-cycle of mirrored inputs); the frame
+ *   function transfers world-space rotations relative to the rests, places the root, and writes
+ *   the target's local pose. It allocates nothing, so live input can drive it frame by frame.
+ * - Per clip (rf_retarget_clip): the frame range, resampling to an output rate with slerp, the
+ *   slots' times, then rf_retarget_contacts pins feet with an IK solver.
+ * - Measures (rf_retarget_measure): direction fidelity and foot skate of any target animation
+ *   (ours or a peer's) against the sources, with the same definitions everywhere.
+ *
+ * No joint is ever recognised by name: everything comes from the mapping and the geometry.
+ */
+#ifndef RF_RETARGET_H
+#define RF_RETARGET_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <rigflow/ik.h>
+#include <rigflow/rigflow.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Where the target's floor is (see doc/retargeting.md, "Root motion"). */
+typedef enum rf_rt_ground {
+    RF_RT_GROUND_AUTO = 0, /* a skeleton whose root rests at the origin (a BVH-style rest with no
+                            * placement) has its floor on the origin's plane; any other stands
+                            * on the lowest point of its rest pose. A source whose clip's feet
+                            * stay away from that floor uses the clip's own floor. */
+    RF_RT_GROUND_REST,     /* floors from the lowest rest points (source: of its clip) */
+    RF_RT_GROUND_WORLD,    /* both floors on the origin's plane: heights scale from there */
+} rf_rt_ground;
+
+typedef struct rf_retarget_options {
+    int32_t rest_frame;   /* source rest pose: -1 the skeleton's unless degenerate (every bone
+                           * on one line, as with Maya joint orients), then frame 0; >= 0 that
+                           * frame of every source clip */
+    uint32_t first_frame; /* first source frame (of source 0's clip) */
+    int32_t last_frame;   /* last source frame, inclusive; -1 the clip's last */
+    double fps;           /* output rate; 0 keeps source 0's */
+    bool in_place;        /* no horizontal root motion (height kept) */
+    rf_rt_ground ground;
+    double root_scale;     /* root motion scale; 0: the leg length (hip height) ratio */
+    double cycle;          /* seconds of a motion cycle for mirrored inputs; 0: detected */
+    bool contact;          /* pin feet during source contacts (needs an IK solver) */
+    double contact_height; /* contact when the source effector is this low over its floor, in
+                            * source leg lengths */
+    double contact_speed;  /* ... and this slow horizontally, in leg lengths per second */
+    double contact_blend;  /* seconds to ease out of a pin */
+} rf_retarget_options;
+
+/* The defaults: automatic rest, whole clip, source rate, root motion, auto ground, contact pass
+ * on with height 0.12, speed 0.6 and 0.15 s of blend. */
+void rf_retarget_options_default(rf_retarget_options *o);
+
+/* One source: a skeleton and its clip (the clip must have the skeleton's joint count). */
+typedef struct rf_rt_source {
+    const rf_skeleton *skeleton;
+    const rf_animation *animation;
+} rf_rt_source;
+
+/* The per-clip plan. Opaque. */
+typedef struct rf_retarget rf_retarget;
+
+/* Plans retargeting `source_count` sources onto `target` through `mapping` (one entry per target
+ * joint; inputs name sources by index in `sources`). Everything is borrowed and must outlive the
+ * plan. Returns NULL with a message in err when the inputs disagree (joint counts, indices out of
+ * range, no mapped joint) or memory runs out. */
+rf_retarget *rf_retarget_new(const rf_rt_source *sources, uint32_t source_count,
+                             const rf_skeleton *target, const rf_mapping *mapping,
+                             const rf_retarget_options *opts, char *err, size_t err_size);
+void rf_retarget_free(rf_retarget *rt);
+
+/* ---- per frame ---- */
+
+/* Sample slots: each is one source pose at a time offset from the output time. */
+uint32_t rf_retarget_slot_count(const rf_retarget *rt);
+/* The source index of slot `i` and its offset in seconds (negative: the past). */
+void rf_retarget_slot(const rf_retarget *rt, uint32_t i, uint32_t *source, double *offset);
+
+/* The pose of one slot for one frame: local rotations [joint][4] (x, y, z, w) and translations
+ * [joint][3], laid out as one frame of an rf_animation. (borrowed) */
+typedef struct rf_rt_pose {
+    const float *rotations;
+    const float *translations;
+} rf_rt_pose;
+
+/* Retargets one frame: `poses` has one entry per slot; writes the target's local rotations
+ * (joint_count x 4) and translations (joint_count x 3). Never allocates. */
+void rf_retarget_frame(rf_retarget *rt, const rf_rt_pose *poses, float *rotations,
+                       float *translations);
+
+/* ---- per clip ---- */
+
+typedef bool (*rf_rt_progress_fn)(void *user, double fraction); /* false cancels */
+
+/* Retargets the clip range at the output rate. Returns the target animation (transfer full) or
+ * NULL with a message in err (cancelled, out of memory). `progress` may be NULL. */
+rf_animation *rf_retarget_clip(rf_retarget *rt, rf_rt_progress_fn progress, void *user, char *err,
+                               size_t err_size);
+
+/* Time in source 0's clip, in seconds, of output frame 0, and the output rate. */
+double rf_retarget_start_time(const rf_retarget *rt);
+double rf_retarget_output_fps(const rf_retarget *rt);
+
+/* What the contact pass did. */
+typedef struct rf_rt_contact_stats {
+    uint32_t effectors;      /* target joints pinned when in contact */
+    uint32_t contact_frames; /* effector-frames in contact */
+    uint32_t solves;         /* IK calls */
+    uint32_t failures;       /* solves the solver refused */
+    double max_error;        /* largest residual distance to a pin, target units */
+} rf_rt_contact_stats;
+
+/* Pins the target's end effectors where the source's are in contact, through `solver` (any
+ * rf_ik_solver_api: two-bone chains are used). `anim` is the output of rf_retarget_clip for
+ * this plan; it is modified in place. Returns false with a message when a solve is refused and
+ * the pass cannot go on. */
+bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solver *solver,
+                          rf_rt_contact_stats *stats, char *err, size_t err_size);
+
+/* ---- facts found at set-up ---- */
+
+typedef struct rf_rt_info {
+    double leg_source;   /* source 0's hip height over the lowest point of its rest */
+    double leg_target;   /* the target's, in its rest aligned to the source's */
+    double root_scale;   /* the scale applied to root motion */
+    double floor_source; /* source 0's floor height, along up */
+    double floor_target; /* the target's floor height */
+    double ground_shift; /* vertical correction of the last clip so its feet sit over the floor
+                          * as the source's do (target units) */
+    double cycle;        /* seconds, for mirrored inputs (0 when there are none) */
+    int32_t rest_frame;  /* the frame source 0's rest came from, or -1 for its skeleton */
+    uint32_t mapped;     /* target joints with inputs */
+    uint32_t shared;     /* unmapped target joints sharing a chain's rotation */
+    uint32_t effectors;  /* candidate end effectors for the contact pass */
+} rf_rt_info;
+
+void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info);
+
+/* ---- measures ---- */
+
+typedef struct rf_rt_report {
+    /* Direction fidelity over mapped bones (a target joint and its only mapped child, both
+     * driven by one undelayed input from the same source): the angle between the target bone's
+     * world direction and the source bone's, per frame. Degrees. */
+    double fidelity_mean, fidelity_max, fidelity_p95;
+    uint32_t fidelity_bones;
+    /* Foot skate: horizontal speed of a target effector while its source counterpart is in
+     * contact, in target leg lengths per second (mean over contact frames); the source's own,
+     * in source leg lengths per second, for reference. */
+    double skate_target, skate_source;
+    uint32_t contact_frames; /* effector-frames in contact (with the frame before) */
+    /* Ground: mean difference, over contact frames, between the height of the target foot's
+     * sole (its lowest joint or bone tip, toes included) over the target floor and the source
+     * foot's over the source floor, each in its own leg lengths (0 when the target's feet touch
+     * its ground as the source's touch theirs). */
+    double ground_error;
+    uint32_t frames;
+} rf_rt_report;
+
+/* Measures `anim` (a clip for the plan's target whose frame 0 is at time `start` of the source
+ * clips, at its own fps) against the plan's sources. Works on any such clip, ours or another
+ * tool's. Returns false with a message when the clip does not fit the target or memory runs
+ * out. */
+bool rf_retarget_measure(rf_retarget *rt, const rf_animation *anim, double start,
+                         rf_rt_report *report, char *err, size_t err_size);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

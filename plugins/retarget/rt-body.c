@@ -1,0 +1,597 @@
+/* Set-up facts about each skeleton: which pose is its rest, world rests, bone tips, up and the
+ * symmetry plane (from the skeleton analysis), leg lengths, floors and root scales. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis/analysis.h"
+#include "rt-internal.h"
+
+/* The dominant direction of the bones of a pose, and the fraction of their summed length lying
+ * along it (1: every bone on one line): the scatter matrix of the bone directions weighted by
+ * length, by power iteration. Offsets from a root joint are placement, not bones. */
+static double rt_collinearity(const rf_skeleton *s, const rf_xform *world, rf_vec3 *axis)
+{
+    double m[3][3] = {{0}}, trace = 0;
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        int32_t p = s->joints[j].parent;
+        if (p < 0 || s->joints[p].parent < 0)
+            continue;
+        rf_vec3 d = rf_v3_sub(world[j].t, world[p].t);
+        double len = rf_v3_len(d);
+        if (!(len > 0) || !isfinite(len))
+            continue;
+        double v[3] = {d.x / len, d.y / len, d.z / len};
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                m[r][c] += len * v[r] * v[c];
+        trace += len;
+    }
+    if (!(trace > 0))
+        return 0;
+    double x[3] = {1, 0.7, 0.3}, lambda = 0;
+    for (int it = 0; it < 64; it++) {
+        double y[3] = {0};
+        for (int r = 0; r < 3; r++)
+            y[r] = m[r][0] * x[0] + m[r][1] * x[1] + m[r][2] * x[2];
+        lambda = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+        if (!(lambda > 0))
+            return 0;
+        for (int r = 0; r < 3; r++)
+            x[r] = y[r] / lambda;
+    }
+    *axis = rf_v3(x[0], x[1], x[2]);
+    return lambda / trace;
+}
+
+static uint32_t rt_leaf_count(const rf_skeleton *s)
+{
+    uint32_t leaves = 0;
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        bool has_child = false;
+        for (uint32_t c = j + 1; c < s->joint_count && !has_child; c++)
+            has_child = s->joints[c].parent == (int32_t)j;
+        leaves += !has_child;
+    }
+    return leaves;
+}
+
+static void rt_world(const rf_skeleton *s, const rf_xform *local, rf_xform *world)
+{
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        int32_t p = s->joints[j].parent;
+        world[j] = p < 0 ? local[j] : rf_xform_mul(world[p], local[j]);
+    }
+}
+
+/* A branched pose whose bones nearly all lie on one line across the up axis is no body (Maya
+ * joint orients leave every bone along its local X at zero rotation). A straight chain (a fish,
+ * a strip) may be straight, and a body with its limbs hanging along up (arms down) is a body. */
+static bool rt_degenerate(const rf_skeleton *s, const rf_xform *world)
+{
+    rf_vec3 axis = rf_v3(0, 1, 0);
+    rf_vec3 up = rf_v3_len2(s->up) > 0.5 ? rf_v3_normalize(s->up) : rf_v3(0, 1, 0);
+    return rt_leaf_count(s) >= 3 && rt_collinearity(s, world, &axis) > 0.9 &&
+           fabs(rf_v3_dot(axis, up)) < 0.7;
+}
+
+/* Tips (in each joint's local rest frame), up and the symmetry plane, from the analysis of the
+ * skeleton posed in `local`. */
+typedef struct rt_axes {
+    rf_vec3 up, forward, left, center;
+    double size;
+    uint8_t *centerline; /* [n] or NULL: joints the analysis puts on the centerline */
+} rt_axes;
+
+static bool rt_analyse(const rf_skeleton *s, const rf_xform *local, const rf_xform *world,
+                       rf_vec3 *tip, rt_axes *axes)
+{
+    rf_skeleton copy = *s;
+    rf_joint *joints = malloc((s->joint_count ? s->joint_count : 1) * sizeof *joints);
+    if (!joints)
+        return false;
+    memcpy(joints, s->joints, s->joint_count * sizeof *joints);
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        joints[j].rest = local[j];
+    copy.joints = joints;
+    if (RF_HAS_FIELD(s, rf_skeleton, bind))
+        copy.bind = NULL; /* analyse this pose, not the bind pose */
+    rf_analysis *a = rf_analyze(&copy, NULL);
+    free(joints);
+    if (!a)
+        return false;
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        rf_vec3 d = rf_v3_sub(a->joints[j].tip, world[j].t);
+        bool has = rf_v3_len(d) > 1e-9 * a->size && rf_v3_isfinite(d);
+        rf_xform inv = rf_xform_invert(world[j]);
+        tip[j] = has ? rf_v3_mul(inv.s, rf_quat_rotate(inv.r, d)) : rf_v3(0, 0, 0);
+    }
+    /* The file's axes when it states them; the analysis's otherwise. Left is rebuilt from the
+     * chosen up and forward so the two always agree. */
+    bool file_up = rf_v3_len2(s->up) > 0.5, file_fwd = rf_v3_len2(s->forward) > 0.5;
+    axes->up = file_up ? rf_v3_normalize(s->up) : a->up;
+    rf_vec3 fwd = file_fwd ? s->forward : a->forward;
+    fwd = rf_v3_normalize(rf_v3_sub(fwd, rf_v3_scale(axes->up, rf_v3_dot(fwd, axes->up))));
+    if (rf_v3_len2(fwd) == 0)
+        fwd = rf_v3_normalize(rf_v3_cross(rf_v3(1, 0, 0), axes->up));
+    axes->forward = fwd;
+    axes->left = rf_v3_normalize(rf_v3_cross(axes->up, fwd));
+    axes->center = a->plane_point;
+    axes->size = a->size > 0 ? a->size : 1;
+    for (uint32_t j = 0; axes->centerline && j < s->joint_count; j++)
+        axes->centerline[j] = a->joints[j].side == RF_SIDE_CENTER;
+    rf_analysis_free(a);
+    return true;
+}
+
+/* The rotation whose columns are x, y, z (an orthonormal right-handed basis). */
+static rf_quat rt_frame_rot(rf_vec3 x, rf_vec3 y, rf_vec3 z)
+{
+    rf_mat4 m = rf_mat4_identity();
+    m.m[0] = x.x, m.m[1] = x.y, m.m[2] = x.z;
+    m.m[4] = y.x, m.m[5] = y.y, m.m[6] = y.z;
+    m.m[8] = z.x, m.m[9] = z.y, m.m[10] = z.z;
+    rf_xform out;
+    return rf_mat4_to_xform(m, &out) ? out.r : rf_quat_identity();
+}
+
+static bool rt_source_rest(rf_retarget *rt, rf_rt_src *src, char *err, size_t err_size)
+{
+    const rf_skeleton *s = src->skel;
+    for (uint32_t j = 0; j < src->n; j++)
+        src->rest_local[j] = s->joints[j].rest;
+    rt_world(s, src->rest_local, src->rest_world);
+    for (uint32_t j = 0; j < src->n; j++)
+        src->skel_pos[j] = src->rest_world[j].t;
+    int32_t frame = rt->opt.rest_frame;
+    if (frame < 0 && rt_degenerate(s, src->rest_world) && src->anim->frame_count > 0)
+        frame = 0;
+    if (frame >= 0) {
+        if ((uint32_t)frame >= src->anim->frame_count) {
+            rf_rt_fail(err, err_size, "rest_frame %d is past the clip's %u frames", frame,
+                       src->anim->frame_count);
+            return false;
+        }
+        rf_animation_local_pose(src->anim, s, (uint32_t)frame, src->rest_local);
+        for (uint32_t j = 0; j < src->n; j++)
+            src->rest_local[j].r = rf_quat_normalize(src->rest_local[j].r);
+        rt_world(s, src->rest_local, src->rest_world);
+    }
+    src->rest_frame = frame;
+    return true;
+}
+
+bool rf_rt_sources_prepare(rf_retarget *rt, char *err, size_t err_size)
+{
+    for (uint32_t k = 0; k < rt->source_count; k++) {
+        rf_rt_src *src = &rt->src[k];
+        size_t n = src->n ? src->n : 1;
+        src->rest_local = malloc(n * sizeof *src->rest_local);
+        src->rest_world = malloc(n * sizeof *src->rest_world);
+        src->skel_pos = malloc(n * sizeof *src->skel_pos);
+        src->tip = calloc(n, sizeof *src->tip);
+        src->need_pos = calloc(n, 1);
+        src->parent = malloc(n * sizeof *src->parent);
+        if (!src->rest_local || !src->rest_world || !src->skel_pos || !src->tip || !src->need_pos ||
+            !src->parent) {
+            rf_rt_fail(err, err_size, "out of memory");
+            return false;
+        }
+        for (uint32_t j = 0; j < src->n; j++)
+            src->parent[j] = src->skel->joints[j].parent;
+        if (!rt_source_rest(rt, src, err, err_size))
+            return false;
+        rt_axes axes = {.centerline = NULL};
+        if (!rt_analyse(src->skel, src->rest_local, src->rest_world, src->tip, &axes)) {
+            rf_rt_fail(err, err_size, "out of memory");
+            return false;
+        }
+        src->up = axes.up, src->forward = axes.forward, src->left = axes.left;
+        src->center = axes.center, src->size = axes.size;
+    }
+    return true;
+}
+
+bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
+{
+    const rf_skeleton *t = rt->target;
+    size_t n = rt->n ? rt->n : 1;
+    rf_xform *local = malloc(n * sizeof *local);
+    rt->t_rest_world = malloc(n * sizeof *rt->t_rest_world);
+    rt->t_tip = calloc(n, sizeof *rt->t_tip);
+    rt->t_centerline = calloc(n, 1);
+    if (!local || !rt->t_rest_world || !rt->t_tip || !rt->t_centerline) {
+        free(local);
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    for (uint32_t j = 0; j < rt->n; j++)
+        local[j] = t->joints[j].rest;
+    rt_world(t, local, rt->t_rest_world);
+    rt_axes axes = {.centerline = rt->t_centerline};
+    bool ok = rt_analyse(t, local, rt->t_rest_world, rt->t_tip, &axes);
+    free(local);
+    if (!ok) {
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    rt->up = axes.up, rt->forward = axes.forward, rt->left = axes.left;
+    rt->center = axes.center, rt->size = axes.size;
+    rt->t_degenerate = rt_degenerate(t, rt->t_rest_world);
+    if (rt->t_degenerate && rf_v3_len2(t->up) < 0.5) {
+        /* An analysis of a pose that is no body finds no up: the target will stand as the source
+         * does, so it has the source's. */
+        rt->up = rt->src[0].up, rt->forward = rt->src[0].forward, rt->left = rt->src[0].left;
+    }
+    /* The rotation turning the target's body frame onto each source's. */
+    for (uint32_t k = 0; k < rt->source_count; k++) {
+        rf_rt_src *src = &rt->src[k];
+        rf_quat ft = rt_frame_rot(rt->left, rt->up, rt->forward);
+        rf_quat fs = rt_frame_rot(src->left, src->up, src->forward);
+        src->body = rt->t_degenerate ? rf_quat_identity() : rf_quat_mul(fs, rf_quat_conj(ft));
+    }
+    return true;
+}
+
+/* ---- leg lengths and floors ---- */
+
+/* Lowest height along up of the joints of `s` posed in `world` and of their tips; unweighted
+ * helpers (IK targets, sockets) and the joints in `above` (placement roots above the hips, may
+ * be NULL) do not count. */
+static double rt_lowest(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
+                        const uint8_t *above)
+{
+    double low = INFINITY;
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        if ((s->joints[j].flags & RF_JOINT_UNWEIGHTED) || (above && above[j]))
+            continue;
+        low = fmin(low, rf_rt_height(up, world[j].t));
+        if (rf_v3_len2(tip[j]) > 0)
+            low = fmin(low, rf_rt_height(up, rf_xform_point(world[j], tip[j])));
+    }
+    return isfinite(low) ? low : 0;
+}
+
+/* Whether joint j has children. */
+static bool rt_has_children(const rf_skeleton *s, uint32_t j)
+{
+    for (uint32_t c = j + 1; c < s->joint_count; c++)
+        if (s->joints[c].parent == (int32_t)j)
+            return true;
+    return false;
+}
+
+/* The joint whose height is the hip height: from j down while it has exactly one child besides
+ * unweighted leaves (placement roots, armature nodes and ground roots sit above the hips; IK
+ * targets and sockets hang from them). */
+static uint32_t rt_hip_below(const rf_skeleton *s, uint32_t j)
+{
+    for (int guard = 0; guard < 64; guard++) {
+        uint32_t only = 0, count = 0;
+        for (uint32_t c = j + 1; c < s->joint_count; c++)
+            if (s->joints[c].parent == (int32_t)j &&
+                (!(s->joints[c].flags & RF_JOINT_UNWEIGHTED) || rt_has_children(s, c)))
+                only = c, count++;
+        if (count != 1)
+            break;
+        j = only;
+    }
+    return j;
+}
+
+/* Marks the proper ancestors of `hip` in `above` ([joint_count], the caller's). */
+static void rt_mark_above(const rf_skeleton *s, uint32_t hip, uint8_t *above)
+{
+    memset(above, 0, s->joint_count);
+    for (int32_t p = s->joints[hip].parent; p >= 0; p = s->joints[p].parent)
+        above[p] = 1;
+}
+
+/* The source joint whose motion moves the root of the target (the first root-motion input from
+ * source k), or -1. */
+static int32_t rt_hip_of(const rf_retarget *rt, uint32_t k)
+{
+    for (uint32_t j = 0; j < rt->n; j++) {
+        const rf_rt_tjoint *tj = &rt->tj[j];
+        if (!tj->root_motion)
+            continue;
+        for (uint32_t i = 0; i < tj->input_count; i++)
+            if (rt->in[tj->first_input + i].source == k)
+                return (int32_t)rt->in[tj->first_input + i].joint;
+    }
+    return RF_RT_NONE;
+}
+
+static int32_t rt_target_hip(const rf_retarget *rt)
+{
+    for (uint32_t j = 0; j < rt->n; j++)
+        if (rt->tj[j].root_motion)
+            return (int32_t)j;
+    return RF_RT_NONE;
+}
+
+/* Floor of a skeleton from its rest: a rest whose root sits at the origin carries no placement
+ * (BVH files hang the body from the origin), so its floor is the origin's plane; any other rest
+ * stands on its lowest point. */
+static double rt_rest_floor(const rf_skeleton *s, const rf_xform *world, double lowest, double leg)
+{
+    if (s->joint_count && rf_v3_len(world[0].t) <= 1e-6 * fmax(leg, 1e-12))
+        return 0;
+    return lowest;
+}
+
+static int rt_cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The lowest height the clip's body reaches in most frames: the 5th percentile of per-frame
+ * lowest points (over one frame in 16, at least 16 and at most 128, spread across the clip), so
+ * that a stray frame does not lower the floor. */
+static double rt_clip_floor(const rf_retarget *rt, uint32_t k, const uint8_t *above)
+{
+    const rf_rt_src *src = &rt->src[k];
+    uint32_t frames = src->anim->frame_count, samples = frames / 16;
+    samples = samples < 16 ? (frames < 16 ? frames : 16) : samples > 128 ? 128 : samples;
+    double *low = malloc((samples ? samples : 1) * sizeof *low);
+    rf_xform *local = malloc(src->n * sizeof *local), *world = malloc(src->n * sizeof *world);
+    double result = 0;
+    if (low && local && world && samples) {
+        for (uint32_t i = 0; i < samples; i++) {
+            uint32_t f = samples > 1 ? (uint32_t)((uint64_t)i * (frames - 1) / (samples - 1)) : 0;
+            rf_animation_local_pose(src->anim, src->skel, f, local);
+            rt_world(src->skel, local, world);
+            low[i] = rt_lowest(src->skel, world, src->tip, src->up, above);
+        }
+        qsort(low, samples, sizeof *low, rt_cmp_double);
+        result = low[(uint32_t)(0.05 * (samples - 1))];
+    }
+    free(low), free(local), free(world);
+    return result;
+}
+
+static bool rt_source_ground(rf_retarget *rt, uint32_t k)
+{
+    rf_rt_src *src = &rt->src[k];
+    uint8_t *above = malloc(src->n);
+    if (!above)
+        return false;
+    int32_t hip = rt_hip_of(rt, k);
+    uint32_t h = rt_hip_below(src->skel, hip >= 0 ? (uint32_t)hip : 0);
+    rt_mark_above(src->skel, h, above);
+    double lowest = rt_lowest(src->skel, src->rest_world, src->tip, src->up, above);
+    src->leg = rf_rt_height(src->up, src->rest_world[h].t) - lowest;
+    src->lowest = lowest;
+    if (!(src->leg > 0))
+        src->leg = 1;
+    double clip = rt->opt.ground == RF_RT_GROUND_WORLD ? 0 : rt_clip_floor(rt, k, above);
+    free(above);
+    if (rt->opt.ground == RF_RT_GROUND_WORLD) {
+        src->floor = 0;
+        return true;
+    }
+    if (rt->opt.ground == RF_RT_GROUND_REST) {
+        src->floor = clip;
+        return true;
+    }
+    /* The skeleton's own rest (not a frame used as rest) says where it stands. */
+    rf_xform *world = malloc(src->n * sizeof *world);
+    src->floor = clip;
+    if (world) {
+        for (uint32_t j = 0; j < src->n; j++)
+            world[j] = src->skel->joints[j].rest;
+        rt_world(src->skel, world, world);
+        double rest = src->rest_frame < 0 ? lowest : clip;
+        double floor = rt_rest_floor(src->skel, world, rest, src->leg);
+        /* A clip whose feet stay away from the rest's floor has a floor of its own. */
+        src->floor = fabs(clip - floor) <= 0.2 * src->leg ? floor : clip;
+        free(world);
+    }
+    return true;
+}
+
+/* The target posed in its aligned rest (each source at its rest): leg length and lowest point. */
+static bool rt_target_leg(rf_retarget *rt, double *leg)
+{
+    uint32_t n = rt->n, slots = rt->slot_count;
+    float *rot = malloc((size_t)(n ? n : 1) * 7 * sizeof *rot);
+    float *srot = malloc((size_t)slots * (rt->max_src_n ? rt->max_src_n : 1) * 7 * sizeof *srot);
+    rf_rt_pose *poses = malloc((slots ? slots : 1) * sizeof *poses);
+    rf_xform *world = malloc((n ? n : 1) * sizeof *world);
+    if (!rot || !srot || !poses || !world) {
+        free(rot), free(srot), free(poses), free(world);
+        return false;
+    }
+    for (uint32_t s = 0; s < slots; s++) {
+        const rf_rt_src *src = &rt->src[rt->slots[s].source];
+        float *r = srot + (size_t)s * rt->max_src_n * 7, *t = r + (size_t)rt->max_src_n * 4;
+        for (uint32_t j = 0; j < src->n; j++) {
+            rf_xform x = src->rest_local[j];
+            r[j * 4] = (float)x.r.x, r[j * 4 + 1] = (float)x.r.y;
+            r[j * 4 + 2] = (float)x.r.z, r[j * 4 + 3] = (float)x.r.w;
+            t[j * 3] = (float)x.t.x, t[j * 3 + 1] = (float)x.t.y, t[j * 3 + 2] = (float)x.t.z;
+        }
+        poses[s].rotations = r, poses[s].translations = t;
+    }
+    rt->root_motion_on = false;
+    rf_retarget_frame(rt, poses, rot, rot + (size_t)n * 4);
+    rt->root_motion_on = true;
+    rt->w0 = malloc((n ? n : 1) * sizeof *rt->w0); /* the aligned rest's world rotations */
+    if (rt->w0)
+        memcpy(rt->w0, rt->work.q, n * sizeof *rt->w0);
+    for (uint32_t j = 0; j < n; j++) {
+        const float *q = rot + j * 4, *t = rot + (size_t)n * 4 + j * 3;
+        rf_xform x = {rf_v3(t[0], t[1], t[2]), rf_quat_make(q[0], q[1], q[2], q[3]),
+                      rt->target->joints[j].rest.s};
+        int32_t p = rt->target->joints[j].parent;
+        world[j] = p < 0 ? x : rf_xform_mul(world[p], x);
+    }
+    int32_t hip = rt_target_hip(rt);
+    uint32_t h = rt_hip_below(rt->target, hip >= 0 ? (uint32_t)hip : 0);
+    rt_mark_above(rt->target, h, rt->t_above);
+    double lowest = rt_lowest(rt->target, world, rt->t_tip, rt->up, rt->t_above);
+    *leg = rf_rt_height(rt->up, world[h].t) - lowest;
+    rt->aligned_low = lowest;
+    rt->t_aligned = malloc((n ? n : 1) * sizeof *rt->t_aligned);
+    for (uint32_t j = 0; rt->t_aligned && j < n; j++)
+        rt->t_aligned[j] = world[j].t;
+    free(rot), free(srot), free(poses), free(world);
+    return rt->t_aligned && rt->w0;
+}
+
+bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size)
+{
+    bool ok = true;
+    for (uint32_t k = 0; k < rt->source_count; k++)
+        ok = ok && rt_source_ground(rt, k);
+    rt->t_above = malloc(rt->n ? rt->n : 1);
+    if (!ok || !rt->t_above || !rt_target_leg(rt, &rt->leg_target)) {
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    if (!(rt->leg_target > 0))
+        rt->leg_target = rt->src[0].leg;
+    double lowest = rt_lowest(rt->target, rt->t_rest_world, rt->t_tip, rt->up, rt->t_above);
+    if (rt->opt.ground == RF_RT_GROUND_WORLD)
+        rt->floor_target = 0;
+    else if (rt->opt.ground == RF_RT_GROUND_REST)
+        rt->floor_target = lowest;
+    else
+        rt->floor_target = rt_rest_floor(rt->target, rt->t_rest_world, lowest, rt->leg_target);
+    for (uint32_t k = 0; k < rt->source_count; k++)
+        rt->src[k].scale =
+            rt->opt.root_scale > 0 ? rt->opt.root_scale : rt->leg_target / rt->src[k].leg;
+    return true;
+}
+
+/* ---- keeping the target on its floor ---- */
+
+/* Height of the lowest point of joint j and everything below it (joints and bone tips): the
+ * sole of a foot, toes included. */
+double rf_rt_sole(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
+                  uint32_t j)
+{
+    double low = INFINITY;
+    for (uint32_t c = j; c < s->joint_count; c++) {
+        bool below = c == j;
+        for (int32_t p = s->joints[c].parent; !below && p >= (int32_t)j; p = s->joints[p].parent)
+            below = p == (int32_t)j;
+        if (!below)
+            continue;
+        low = fmin(low, rf_rt_height(up, world[c].t));
+        if (rf_v3_len2(tip[c]) > 0)
+            low = fmin(low, rf_rt_height(up, rf_xform_point(world[c], tip[c])));
+    }
+    return low;
+}
+
+/* The 5th percentile of per-frame lowest points of the target clip `out` (sampled over one
+ * frame in 16, at least 16 and at most 128 frames) and of the source frames at the same times, each
+ * over its own floor in its own leg lengths. */
+static bool rt_clip_lows(rf_retarget *rt, const rf_animation *out, double *low_t, double *low_s)
+{
+    uint32_t frames = out->frame_count, samples = frames / 16;
+    samples = samples < 16 ? (frames < 16 ? frames : 16) : samples > 128 ? 128 : samples;
+    const rf_rt_src *src = &rt->src[0];
+    size_t m = rt->max_src_n > rt->n ? rt->max_src_n : rt->n;
+    double *lt = malloc((samples + 1) * sizeof *lt), *ls = malloc((samples + 1) * sizeof *ls);
+    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
+    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
+    uint8_t *above = malloc(src->n);
+    bool ok = lt && ls && local && world && rot && tr && above && samples;
+    if (ok) {
+        int32_t hip = rt_hip_of(rt, 0);
+        rt_mark_above(src->skel, rt_hip_below(src->skel, hip >= 0 ? (uint32_t)hip : 0), above);
+        double start = rf_retarget_start_time(rt);
+        for (uint32_t i = 0; i < samples; i++) {
+            uint32_t f = samples > 1 ? (uint32_t)((uint64_t)i * (frames - 1) / (samples - 1)) : 0;
+            rf_rt_target_fk(rt, out, f, world);
+            lt[i] =
+                (rt_lowest(rt->target, world, rt->t_tip, rt->up, rt->t_above) - rt->floor_target) /
+                rt->leg_target;
+            rf_rt_source_world(rt, 0, start + f / out->fps, local, world, rot, tr);
+            ls[i] = (rt_lowest(src->skel, world, src->tip, src->up, above) - src->floor) / src->leg;
+        }
+        qsort(lt, samples, sizeof *lt, rt_cmp_double);
+        qsort(ls, samples, sizeof *ls, rt_cmp_double);
+        *low_t = lt[(uint32_t)(0.05 * (samples - 1))];
+        *low_s = ls[(uint32_t)(0.05 * (samples - 1))];
+    }
+    free(lt), free(ls), free(local), free(world), free(rot), free(tr), free(above);
+    return ok;
+}
+
+/* Median of `count` values (reordered). */
+static double rt_median(double *v, uint32_t count)
+{
+    qsort(v, count, sizeof *v, rt_cmp_double);
+    return count % 2 ? v[count / 2] : 0.5 * (v[count / 2 - 1] + v[count / 2]);
+}
+
+/* How far the target's feet in contact sit from where the source's say they should (their soles
+ * over the target floor as the source's over theirs, in leg lengths): the median over one frame
+ * in 16 (at least 16, at most 128) spread over the clip, contacts read on that coarser timeline. False (and no figure)
+ * without a contact in those frames or when out of memory. */
+static bool rt_contact_shift(rf_retarget *rt, const rf_animation *out, double *shift)
+{
+    uint32_t frames = out->frame_count, aim = frames / 16;
+    aim = aim < 16 ? 16 : aim > 128 ? 128 : aim;
+    uint32_t step = frames > aim ? (frames + aim - 1) / aim : 1;
+    uint32_t samples = (frames + step - 1) / step, e_count = rt->effector_count;
+    double *sole = malloc(((size_t)e_count * samples + 1) * sizeof *sole);
+    double *diff = malloc(((size_t)e_count * samples + 1) * sizeof *diff);
+    rf_xform *world = malloc((rt->n ? rt->n : 1) * sizeof *world);
+    uint8_t *c = sole && diff && world
+                     ? rf_rt_detect_contacts(rt, samples, out->fps / step,
+                                             rf_retarget_start_time(rt), NULL, sole)
+                     : NULL;
+    uint32_t count = 0;
+    for (uint32_t i = 0; c && i < samples; i++) {
+        bool any = false;
+        for (uint32_t e = 0; e < e_count; e++)
+            any = any || c[(size_t)e * samples + i];
+        if (!any)
+            continue;
+        rf_rt_target_fk(rt, out, i * step, world);
+        for (uint32_t e = 0; e < e_count; e++) {
+            if (!c[(size_t)e * samples + i])
+                continue;
+            double want = rt->floor_target + sole[(size_t)e * samples + i] * rt->leg_target;
+            diff[count++] =
+                want - rf_rt_sole(rt->target, world, rt->t_tip, rt->up, rt->effectors[e]);
+        }
+    }
+    if (count)
+        *shift = rt_median(diff, count);
+    free(sole), free(diff), free(world), free(c);
+    return count > 0;
+}
+
+/* The leg ratio places the hips; the feet then sit over the floor as the source's do only if
+ * the legs are built alike. Measure where the clip's feet in contact (or, without feet, its
+ * lowest points) fall, relative to each floor and leg, and move the root-motion joints up or down
+ * by the difference. */
+bool rf_rt_ground_fix(rf_retarget *rt, rf_animation *out)
+{
+    double low_t, low_s, shift;
+    if (rt->opt.root_scale > 0 || !out->frame_count)
+        return true; /* an explicit scale is the user's placement */
+    if (!rt->effector_count || !rt_contact_shift(rt, out, &shift)) {
+        if (!rt_clip_lows(rt, out, &low_t, &low_s))
+            return false;
+        shift = (low_s - low_t) * rt->leg_target;
+    }
+    rt->ground_shift = shift;
+    rf_vec3 lift = rf_v3_scale(rt->up, shift);
+    for (uint32_t j = 0; j < rt->n; j++) {
+        if (!rt->tj[j].root_motion)
+            continue;
+        rf_vec3 d = rf_quat_rotate(rt->tj[j].parent_world_inv.r, lift);
+        d = rf_v3_mul(rt->tj[j].parent_world_inv.s, d);
+        for (uint32_t f = 0; f < out->frame_count; f++)
+            rf_animation_set_translation(out, f, j,
+                                         rf_v3_add(rf_animation_translation(out, f, j), d));
+    }
+    return true;
+}

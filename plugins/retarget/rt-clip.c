@@ -1,0 +1,305 @@
+/* The clip driver: frame range, output rate (slerp resampling), each slot's sample time (delays,
+ * the half cycle of mirrored inputs), and the detection of that cycle. */
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rt-internal.h"
+
+/* Position of time t in a clip, in frames, clamped; snapped to a whole frame when within
+ * rounding of one so that exact frames are read, not interpolated. */
+static double rt_frame_pos(const rf_animation *a, double t)
+{
+    double x = t * a->fps, last = a->frame_count ? a->frame_count - 1 : 0;
+    double r = nearbyint(x);
+    if (fabs(x - r) < 1e-6)
+        x = r;
+    return x < 0 ? 0 : x > last ? last : x;
+}
+
+void rf_rt_sample(const rf_animation *a, double t, float *rot, float *tr)
+{
+    double x = rt_frame_pos(a, t);
+    uint32_t f0 = (uint32_t)x, n = a->joint_count;
+    double u = x - f0;
+    const float *r0 = a->rotations + (size_t)f0 * n * 4, *t0 = a->translations + (size_t)f0 * n * 3;
+    if (u == 0 || f0 + 1 >= a->frame_count) {
+        memcpy(rot, r0, (size_t)n * 4 * sizeof *rot);
+        memcpy(tr, t0, (size_t)n * 3 * sizeof *tr);
+        return;
+    }
+    const float *r1 = r0 + (size_t)n * 4, *t1 = t0 + (size_t)n * 3;
+    for (uint32_t j = 0; j < n; j++) {
+        rf_quat a0 = rf_quat_make(r0[j * 4], r0[j * 4 + 1], r0[j * 4 + 2], r0[j * 4 + 3]);
+        rf_quat a1 = rf_quat_make(r1[j * 4], r1[j * 4 + 1], r1[j * 4 + 2], r1[j * 4 + 3]);
+        rf_quat q = rf_quat_slerp(rf_quat_normalize(a0), rf_quat_normalize(a1), u);
+        rot[j * 4] = (float)q.x, rot[j * 4 + 1] = (float)q.y;
+        rot[j * 4 + 2] = (float)q.z, rot[j * 4 + 3] = (float)q.w;
+        for (int c = 0; c < 3; c++)
+            tr[j * 3 + c] = (float)(t0[j * 3 + c] + (t1[j * 3 + c] - t0[j * 3 + c]) * u);
+    }
+}
+
+double rf_rt_slot_time(const rf_retarget *rt, uint32_t s, double t)
+{
+    const rf_rt_slot *slot = &rt->slots[s];
+    const rf_animation *a = rt->src[slot->source].anim;
+    double end = a->frame_count ? (a->frame_count - 1) / a->fps : 0;
+    double ts = t + slot->offset;
+    if (slot->wrap > 0 && ts > end + 1e-9)
+        ts -= slot->wrap; /* half a cycle on: the same phase a cycle earlier */
+    return ts;
+}
+
+/* The pose of slot s at output time t: straight from the clip on a whole frame, else sampled
+ * into the slot's scratch. */
+static rf_rt_pose rt_slot_pose(const rf_retarget *rt, rf_rt_work *w, uint32_t s, double t)
+{
+    const rf_animation *a = rt->src[rt->slots[s].source].anim;
+    double ts = rf_rt_slot_time(rt, s, t);
+    double x = rt_frame_pos(a, ts);
+    uint32_t n = a->joint_count;
+    if (x == floor(x)) {
+        size_t f = (size_t)x;
+        return (rf_rt_pose){a->rotations + f * n * 4, a->translations + f * n * 3};
+    }
+    float *rot = w->scratch_rot + (size_t)s * rt->max_src_n * 4;
+    float *tr = w->scratch_tr + (size_t)s * rt->max_src_n * 3;
+    rf_rt_sample(a, ts, rot, tr);
+    return (rf_rt_pose){rot, tr};
+}
+
+double rf_retarget_start_time(const rf_retarget *rt)
+{
+    return rt->opt.first_frame / rt->src[0].anim->fps;
+}
+
+double rf_retarget_output_fps(const rf_retarget *rt)
+{
+    return rt->opt.fps > 0 ? rt->opt.fps : rt->src[0].anim->fps;
+}
+
+/* Frames of output for the option's range; 0 when the range is empty. */
+static uint32_t rt_output_frames(const rf_retarget *rt)
+{
+    const rf_animation *a = rt->src[0].anim;
+    if (!a->frame_count)
+        return 0;
+    uint32_t last = rt->opt.last_frame < 0 || (uint32_t)rt->opt.last_frame >= a->frame_count
+                        ? a->frame_count - 1
+                        : (uint32_t)rt->opt.last_frame;
+    if (rt->opt.first_frame > last)
+        return 0;
+    double duration = (last - rt->opt.first_frame) / a->fps;
+    return (uint32_t)floor(duration * rf_retarget_output_fps(rt) + 1e-9) + 1;
+}
+
+/* The output clip, its arrays left unset: every frame writes every value (rf_animation_new
+ * would fill the rotations with identities first, one more pass over the memory). Freed with
+ * rf_animation_free like any clip. */
+static rf_animation *rt_output_new(const rf_retarget *rt, uint32_t frames)
+{
+    size_t n = (size_t)rt->n * frames;
+    if (rt->n && n / rt->n != frames)
+        return NULL;
+    rf_animation *out = calloc(1, sizeof *out);
+    if (!out)
+        return NULL;
+    out->size = sizeof *out;
+    out->joint_count = rt->n, out->frame_count = frames;
+    out->fps = rf_retarget_output_fps(rt);
+    out->rotations = malloc((n ? n : 1) * 4 * sizeof *out->rotations);
+    out->translations = malloc((n ? n : 1) * 3 * sizeof *out->translations);
+    out->channels = calloc(rt->n ? rt->n : 1, 1);
+    const char *name = rt->src[0].anim->name;
+    if (name && (out->name = malloc(strlen(name) + 1)))
+        memcpy(out->name, name, strlen(name) + 1);
+    if (!out->rotations || !out->translations || !out->channels || (name && !out->name)) {
+        rf_animation_free(out);
+        return NULL;
+    }
+    for (uint32_t j = 0; j < rt->n; j++)
+        out->channels[j] =
+            (uint8_t)(RF_CHANNEL_ROTATION |
+                      (rt->tj[j].root_motion || rt->tj[j].translate ? RF_CHANNEL_TRANSLATION : 0));
+    return out;
+}
+
+/* Frames [first, end) of the clip into out, with scratch w. Reports progress and stops when it
+ * says so (false); progress may be NULL. */
+static bool rt_frames(const rf_retarget *rt, rf_rt_work *w, rf_animation *out, uint32_t first,
+                      uint32_t end, rf_rt_progress_fn progress, void *user)
+{
+    double start = rf_retarget_start_time(rt), fps = out->fps;
+    size_t n = rt->n;
+    for (uint32_t f = first; f < end; f++) {
+        double t = start + f / fps;
+        for (uint32_t s = 0; s < rt->slot_count; s++)
+            w->poses[s] = rt_slot_pose(rt, w, s, t);
+        rf_rt_frame(rt, w, w->poses, out->rotations + f * n * 4, out->translations + f * n * 3);
+        if (progress && ((f - first) & 255) == 255 &&
+            !progress(user, (double)(f - first) / (end - first)))
+            return false;
+    }
+    return true;
+}
+
+/* A helper thread doing the second half of a long clip with scratch of its own. */
+typedef struct rt_half {
+    const rf_retarget *rt;
+    rf_rt_work work;
+    rf_animation *out;
+    uint32_t first, end;
+} rt_half;
+
+static void *rt_half_run(void *arg)
+{
+    rt_half *h = arg;
+    rt_frames(h->rt, &h->work, h->out, h->first, h->end, NULL, NULL);
+    return NULL;
+}
+
+/* Below this many joint-frames a second thread costs more than it saves. */
+#define RT_THREAD_MIN 65536
+
+/* All frames of the clip: on two threads when the clip is long and a second thread can be had,
+ * else on this one. Frames are independent, so the halves need no coordination. */
+static bool rt_all_frames(rf_retarget *rt, rf_animation *out, rf_rt_progress_fn progress,
+                          void *user)
+{
+    uint32_t frames = out->frame_count;
+    rt_half h = {rt, {0}, out, frames / 2, frames};
+    pthread_t thread;
+    bool two = (uint64_t)frames * rt->n >= RT_THREAD_MIN && rf_rt_work_init(rt, &h.work) &&
+               pthread_create(&thread, NULL, rt_half_run, &h) == 0;
+    bool ok = rt_frames(rt, &rt->work, out, 0, two ? frames / 2 : frames, progress, user);
+    if (two)
+        pthread_join(thread, NULL);
+    rf_rt_work_free(rt, &h.work);
+    return ok;
+}
+
+rf_animation *rf_retarget_clip(rf_retarget *rt, rf_rt_progress_fn progress, void *user, char *err,
+                               size_t err_size)
+{
+    uint32_t frames = rt_output_frames(rt);
+    if (!frames) {
+        rf_rt_fail(err, err_size, "the frame range %u..%d is empty (the clip has %u frames)",
+                   rt->opt.first_frame, rt->opt.last_frame, rt->src[0].anim->frame_count);
+        return NULL;
+    }
+    rf_animation *out = rt_output_new(rt, frames);
+    if (!out) {
+        rf_rt_fail(err, err_size, "out of memory for %u frames", frames);
+        return NULL;
+    }
+    if (!rt_all_frames(rt, out, progress, user)) {
+        rf_animation_free(out);
+        rf_rt_fail(err, err_size, "cancelled");
+        return NULL;
+    }
+    if (!rf_rt_ground_fix(rt, out)) {
+        rf_animation_free(out);
+        rf_rt_fail(err, err_size, "out of memory");
+        return NULL;
+    }
+    return out;
+}
+
+/* ---- poses for the measures and the contact pass ---- */
+
+void rf_rt_target_fk(const rf_retarget *rt, const rf_animation *anim, uint32_t f, rf_xform *world)
+{
+    const rf_joint *joints = rt->target->joints;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        rf_xform x = {rf_animation_translation(anim, f, j),
+                      rf_quat_normalize(rf_animation_rotation(anim, f, j)), joints[j].rest.s};
+        int32_t p = joints[j].parent;
+        world[j] = p < 0 ? x : rf_xform_mul(world[p], x);
+    }
+}
+
+void rf_rt_source_world(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
+                        rf_xform *world, float *rot, float *tr)
+{
+    const rf_rt_src *src = &rt->src[k];
+    rf_rt_sample(src->anim, t, rot, tr);
+    for (uint32_t j = 0; j < src->n; j++) {
+        const float *q = rot + j * 4, *p = tr + j * 3;
+        local[j].r = rf_quat_normalize(rf_quat_make(q[0], q[1], q[2], q[3]));
+        local[j].t = rf_v3(p[0], p[1], p[2]);
+        local[j].s = src->skel->joints[j].rest.s;
+        int32_t par = src->skel->joints[j].parent;
+        world[j] = par < 0 ? local[j] : rf_xform_mul(world[par], local[j]);
+    }
+}
+
+/* ---- the cycle of mirrored inputs ---- */
+
+/* Mean angular distance between the rotations of the joints in `use` at frames f and f + lag. */
+static double rt_lag_distance(const rf_animation *a, const uint8_t *use, uint32_t lag)
+{
+    double sum = 0;
+    uint32_t count = 0, n = a->joint_count;
+    for (uint32_t f = 0; f + lag < a->frame_count; f++)
+        for (uint32_t j = 0; j < n; j++) {
+            if (!use[j])
+                continue;
+            const float *p = a->rotations + ((size_t)f * n + j) * 4;
+            const float *q = a->rotations + ((size_t)(f + lag) * n + j) * 4;
+            double d = fabs(p[0] * q[0] + p[1] * q[1] + p[2] * q[2] + p[3] * q[3]);
+            sum += 1 - fmin(d, 1), count++;
+        }
+    return count ? sum / count : INFINITY;
+}
+
+/* The first lag at which the pose nearly repeats: past the first peak of the distance, the first
+ * local minimum within a tenth of the way from the deepest minimum to that peak. */
+static uint32_t rt_first_repeat(const double *d, uint32_t count)
+{
+    uint32_t peak = 0;
+    while (peak + 1 < count && d[peak + 1] >= d[peak])
+        peak++;
+    double low = INFINITY;
+    for (uint32_t i = peak; i < count; i++)
+        low = fmin(low, d[i]);
+    double bar = low + 0.1 * (d[peak] - low);
+    for (uint32_t i = peak + 1; i < count; i++)
+        if (d[i] <= bar && (i + 1 == count || d[i] <= d[i + 1]))
+            return i;
+    return count;
+}
+
+/* The period of source k's motion, from the joints that mirrored inputs read: the lag (between
+ * 0.2 s and half the clip, at most 4 s) at which the pose first repeats. A clip with no repeat
+ * gives its own length. */
+double rf_rt_detect_cycle(const rf_retarget *rt, uint32_t k)
+{
+    const rf_animation *a = rt->src[k].anim;
+    double clip = a->frame_count > 1 ? (a->frame_count - 1) / a->fps : 1;
+    uint32_t lo = (uint32_t)ceil(0.2 * a->fps), hi = a->frame_count / 2;
+    if (hi > (uint32_t)(4 * a->fps))
+        hi = (uint32_t)(4 * a->fps);
+    if (lo < 1)
+        lo = 1;
+    if (hi <= lo)
+        return clip;
+    uint8_t *use = calloc(a->joint_count ? a->joint_count : 1, 1);
+    double *d = malloc((hi - lo + 1) * sizeof *d);
+    uint32_t found = hi - lo + 1;
+    if (use && d) {
+        for (uint32_t j = 0; j < rt->n; j++)
+            for (uint32_t i = 0; i < rt->mapping->entries[j].input_count; i++) {
+                const rf_map_input *in = &rt->mapping->entries[j].inputs[i];
+                if (in->source == k && (in->flags & RF_MAP_MIRROR))
+                    use[in->joint] = 1;
+            }
+        for (uint32_t lag = lo; lag <= hi; lag++)
+            d[lag - lo] = rt_lag_distance(a, use, lag);
+        found = rt_first_repeat(d, hi - lo + 1);
+    }
+    free(use);
+    free(d);
+    return found <= hi - lo ? (found + lo) / a->fps : clip;
+}

@@ -1,0 +1,339 @@
+/* The contact pass: which target joints are feet (end effectors near the floor in the aligned
+ * rest), when their source counterparts touch the ground (low and slow, relative to the leg),
+ * and pinning them there through whatever IK solver is connected, so they do not slide. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rt-internal.h"
+
+/* ---- effectors ---- */
+
+/* Height of target joint j's source counterpart (its first input) over the lowest point of that
+ * source's rest, in the source's leg lengths: the source's body says what touches the ground. */
+static double rt_source_height(const rf_retarget *rt, uint32_t j)
+{
+    const rf_rt_input *in = rt->in + rt->tj[j].first_input;
+    const rf_rt_src *src = &rt->src[in->source];
+    return (rf_rt_height(src->up, src->rest_world[in->joint].t) - src->lowest) / src->leg;
+}
+
+static bool rt_has_mapped_child(const rf_retarget *rt, const int32_t *mp, uint32_t j)
+{
+    for (uint32_t c = j + 1; c < rt->n; c++)
+        if (mp[c] == (int32_t)j && rt->tj[c].kind == RF_RT_MAPPED)
+            return true;
+    return false;
+}
+
+/* A foot: from the end of a mapped chain whose source joint is near the source's floor, climb
+ * while the mapped parent's source joint is still low (a toe's ankle); the highest low joint is
+ * the one pinned. It needs two bones above it for the solvers. */
+bool rf_rt_effectors_prepare(rf_retarget *rt)
+{
+    int32_t *mp = malloc(rt->n * sizeof *mp);
+    rt->effectors = malloc(rt->n * sizeof *rt->effectors);
+    if (!mp || !rt->effectors) {
+        free(mp);
+        return false;
+    }
+    for (uint32_t j = 0; j < rt->n; j++) {
+        int32_t p = rt->tj[j].parent;
+        mp[j] = p < 0 ? RF_RT_NONE : rt->tj[p].kind == RF_RT_MAPPED ? p : mp[p];
+    }
+    const double low = 0.25;
+    for (uint32_t e = 0; e < rt->n; e++) {
+        if (rt->tj[e].kind != RF_RT_MAPPED || rt_has_mapped_child(rt, mp, e) ||
+            rt_source_height(rt, e) > low)
+            continue;
+        uint32_t f = e;
+        while (mp[f] >= 0 && rt_source_height(rt, (uint32_t)mp[f]) <= low)
+            f = (uint32_t)mp[f];
+        int32_t p = rt->tj[f].parent;
+        if (p < 0 || rt->tj[p].parent < 0 || rt->tj[f].root_motion)
+            continue;
+        bool seen = false;
+        for (uint32_t i = 0; i < rt->effector_count; i++)
+            seen = seen || rt->effectors[i] == f;
+        if (!seen)
+            rt->effectors[rt->effector_count++] = f;
+    }
+    free(mp);
+    return true;
+}
+
+void rf_rt_effector_source(const rf_retarget *rt, uint32_t e, uint32_t *source, uint32_t *joint)
+{
+    const rf_rt_input *in = rt->in + rt->tj[rt->effectors[e]].first_input;
+    *source = in->source;
+    *joint = in->joint;
+}
+
+/* ---- contacts ---- */
+
+/* The slot effector e's input reads. */
+static uint32_t rt_effector_slot(const rf_retarget *rt, uint32_t e)
+{
+    return rt->in[rt->tj[rt->effectors[e]].first_input].slot;
+}
+
+/* World positions of every effector's source joint at each output frame, and the heights of
+ * their soles over the source floor in source leg lengths, each at its input's sample time
+ * (half a cycle away for a mirrored input). */
+static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps, double start,
+                             rf_vec3 *pos, double *sole)
+{
+    size_t m = rt->max_src_n;
+    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
+    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
+    bool ok = local && world && rot && tr;
+    for (uint32_t s = 0; ok && s < rt->slot_count; s++) {
+        bool used = false;
+        for (uint32_t e = 0; e < rt->effector_count; e++)
+            used = used || rt_effector_slot(rt, e) == s;
+        for (uint32_t f = 0; used && f < frames; f++) {
+            uint32_t k = rt->slots[s].source;
+            const rf_rt_src *src = &rt->src[k];
+            rf_rt_source_world(rt, k, rf_rt_slot_time(rt, s, start + f / fps), local, world, rot,
+                               tr);
+            for (uint32_t e = 0; e < rt->effector_count; e++) {
+                if (rt_effector_slot(rt, e) != s)
+                    continue;
+                uint32_t j = rt->in[rt->tj[rt->effectors[e]].first_input].joint;
+                pos[(size_t)e * frames + f] = world[j].t;
+                double h = rf_rt_sole(src->skel, world, src->tip, src->up, j);
+                sole[(size_t)e * frames + f] = (h - src->floor) / src->leg;
+            }
+        }
+    }
+    free(local), free(world), free(rot), free(tr);
+    return ok;
+}
+
+/* Contact runs shorter than `min` frames are dropped, gaps shorter than `min` filled. */
+static void rt_clean_runs(uint8_t *c, uint32_t frames, uint32_t min)
+{
+    for (int pass = 0; pass < 2; pass++) {
+        uint8_t want = pass == 0 ? 0 : 1; /* first fill gaps (runs of 0), then drop runs of 1 */
+        for (uint32_t f = 0; f < frames;) {
+            uint32_t g = f;
+            while (g < frames && c[g] == c[f])
+                g++;
+            bool inner = f > 0 && g < frames;
+            if (c[f] == want && g - f < min && (inner || want == 1))
+                memset(c + f, !want, g - f);
+            f = g;
+        }
+    }
+}
+
+uint8_t *rf_rt_detect_contacts(const rf_retarget *rt, uint32_t frames, double fps, double start,
+                               rf_vec3 *src_pos, double *src_sole)
+{
+    size_t count = (size_t)rt->effector_count * frames;
+    uint8_t *c = calloc(count ? count : 1, 1);
+    rf_vec3 *pos = src_pos ? src_pos : malloc((count ? count : 1) * sizeof *pos);
+    double *sole = src_sole ? src_sole : malloc((count ? count : 1) * sizeof *sole);
+    bool ok = c && pos && sole && rt_source_tracks(rt, frames, fps, start, pos, sole);
+    if (sole != src_sole)
+        free(sole);
+    if (!ok) {
+        free(c);
+        if (pos != src_pos)
+            free(pos);
+        return NULL;
+    }
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        uint32_t k, j;
+        rf_rt_effector_source(rt, e, &k, &j);
+        const rf_rt_src *src = &rt->src[k];
+        const rf_vec3 *p = pos + (size_t)e * frames;
+        double lowest = INFINITY;
+        for (uint32_t f = 0; f < frames; f++)
+            lowest = fmin(lowest, rf_rt_height(src->up, p[f]));
+        for (uint32_t f = 0; f < frames && frames > 1; f++) {
+            uint32_t a = f ? f - 1 : 0, b = f + 1 < frames ? f + 1 : f;
+            rf_vec3 d = rf_rt_horizontal(src->up, rf_v3_sub(p[b], p[a]));
+            double speed = rf_v3_len(d) * fps / (b - a) / src->leg;
+            double height = (rf_rt_height(src->up, p[f]) - lowest) / src->leg;
+            c[(size_t)e * frames + f] =
+                height <= rt->opt.contact_height && speed <= rt->opt.contact_speed;
+        }
+        rt_clean_runs(c + (size_t)e * frames, frames, (uint32_t)ceil(0.05 * fps));
+    }
+    if (pos != src_pos)
+        free(pos);
+    return c;
+}
+
+/* ---- pinning ---- */
+
+typedef struct rt_pin_work {
+    rf_xform *local, *world, *before;
+    int32_t *parents;
+    rf_ik_goal *goals;
+    rf_vec3 *target_pos; /* [eff][frames] target effector positions before pinning */
+    double *target_sole; /* [eff][frames] heights of the target feet's soles */
+    double *src_sole;    /* [eff][frames] the source's soles over its floor, in its legs */
+    rf_vec3 *pin;        /* [eff][frames] the goal, or NaN when free */
+} rt_pin_work;
+
+static void rt_pin_work_free(rt_pin_work *w)
+{
+    free(w->local), free(w->world), free(w->before), free(w->parents), free(w->goals);
+    free(w->target_pos), free(w->target_sole), free(w->src_sole), free(w->pin);
+}
+
+static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t frames)
+{
+    size_t n = rt->n, ef = (size_t)rt->effector_count * frames;
+    w->local = malloc(n * sizeof *w->local);
+    w->world = malloc(n * sizeof *w->world);
+    w->before = malloc(n * sizeof *w->before);
+    w->parents = malloc(n * sizeof *w->parents);
+    w->goals = calloc(rt->effector_count ? rt->effector_count : 1, sizeof *w->goals);
+    w->target_pos = malloc((ef ? ef : 1) * sizeof *w->target_pos);
+    w->target_sole = malloc((ef ? ef : 1) * sizeof *w->target_sole);
+    w->src_sole = malloc((ef ? ef : 1) * sizeof *w->src_sole);
+    w->pin = malloc((ef ? ef : 1) * sizeof *w->pin);
+    if (!w->local || !w->world || !w->before || !w->parents || !w->goals || !w->target_pos ||
+        !w->target_sole || !w->src_sole || !w->pin)
+        return false;
+    for (uint32_t j = 0; j < n; j++)
+        w->parents[j] = rt->target->joints[j].parent;
+    return true;
+}
+
+/* The goal of every effector at every frame: during a contact, the horizontal position where it
+ * began, and no lower than the height that puts its sole over the target's floor as the
+ * source's is over its own (the foot can still roll); for contact_blend seconds after it, easing
+ * back to the free motion. */
+static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t frames, double fps,
+                    rt_pin_work *w)
+{
+    uint32_t blend = (uint32_t)ceil(rt->opt.contact_blend * fps);
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        size_t at = (size_t)e * frames;
+        const uint8_t *c = contact + at;
+        const rf_vec3 *p = w->target_pos + at;
+        rf_vec3 *pin = w->pin + at, anchor = p[0], lift = rf_v3(0, 0, 0);
+        uint32_t since = UINT32_MAX; /* frames since the last contact ended */
+        for (uint32_t f = 0; f < frames; f++) {
+            if (c[f]) {
+                if (f == 0 || !c[f - 1])
+                    anchor = p[f];
+                /* Only up: a foot through the floor is lifted out of it; pulling a floating
+                 * foot down would stretch the leg out of reach (the root placement keeps the
+                 * feet at the floor on average). */
+                double want = rt->floor_target + w->src_sole[at + f] * rt->leg_target;
+                lift = rf_v3_scale(rt->up, fmax(0, want - w->target_sole[at + f]));
+                since = 0;
+            } else if (since != UINT32_MAX) {
+                since++;
+            }
+            rf_vec3 off = rf_v3_add(rf_rt_horizontal(rt->up, rf_v3_sub(anchor, p[f])), lift);
+            double keep = c[f] ? 1 : since <= blend ? 1.0 - (double)since / (blend + 1) : 0;
+            pin[f] = keep > 0 ? rf_v3_add(p[f], rf_v3_scale(off, keep)) : rf_v3(NAN, NAN, NAN);
+        }
+    }
+}
+
+static void rt_pose_of(const rf_retarget *rt, const rf_animation *a, uint32_t f, rf_xform *local)
+{
+    for (uint32_t j = 0; j < rt->n; j++) {
+        local[j].t = rf_animation_translation(a, f, j);
+        local[j].r = rf_quat_normalize(rf_animation_rotation(a, f, j));
+        local[j].s = rt->target->joints[j].rest.s;
+    }
+}
+
+static void rt_fk(const rf_retarget *rt, const rf_xform *local, rf_xform *world)
+{
+    for (uint32_t j = 0; j < rt->n; j++) {
+        int32_t p = rt->target->joints[j].parent;
+        world[j] = p < 0 ? local[j] : rf_xform_mul(world[p], local[j]);
+    }
+}
+
+/* Solves frame f's goals and writes the chains back; each effector keeps its world rotation. */
+static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t frames,
+                           const rf_ik_solver *solver, rt_pin_work *w, rf_rt_contact_stats *st,
+                           char *err, size_t err_size)
+{
+    uint32_t count = 0;
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        rf_vec3 pin = w->pin[(size_t)e * frames + f];
+        if (isnan(pin.x))
+            continue;
+        uint32_t eff = rt->effectors[e];
+        w->goals[count] = rf_ik_goal_make(eff, pin);
+        w->goals[count++].chain_root = rt->target->joints[rt->target->joints[eff].parent].parent;
+    }
+    if (!count)
+        return true;
+    rt_pose_of(rt, a, f, w->local);
+    rt_fk(rt, w->local, w->before);
+    rf_ik_problem pb = {
+        sizeof pb, rt->n, w->parents, w->local, NULL, NULL, count, w->goals, 1e-4 * rt->leg_target,
+        32};
+    rf_ik_result res;
+    memset(&res, 0, sizeof res);
+    res.size = sizeof res;
+    res.pose = w->local;
+    st->solves++;
+    if (!solver->api->solve(solver->state, &pb, &res)) {
+        st->failures++;
+        rf_rt_fail(err, err_size, "the IK solver refused frame %u: %s", f, res.message);
+        return false;
+    }
+    st->max_error = fmax(st->max_error, res.max_error);
+    rt_fk(rt, w->local, w->world);
+    for (uint32_t j = 0; j < rt->n; j++) {
+        rf_quat r = w->local[j].r;
+        for (uint32_t g = 0; g < count; g++)
+            if (w->goals[g].effector == j) { /* keep the foot's orientation */
+                int32_t p = rt->target->joints[j].parent;
+                r = rf_quat_mul(rf_quat_conj(w->world[p].r), w->before[j].r);
+            }
+        rf_animation_set_rotation(a, f, j, rf_quat_normalize(r));
+    }
+    return true;
+}
+
+bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solver *solver,
+                          rf_rt_contact_stats *stats, char *err, size_t err_size)
+{
+    memset(stats, 0, sizeof *stats);
+    stats->effectors = rt->effector_count;
+    uint32_t frames = anim->frame_count;
+    if (!rt->effector_count || frames < 2)
+        return true;
+    rt_pin_work w = {0};
+    uint8_t *contact = NULL;
+    bool ok = rt_pin_work_alloc(&w, rt, frames) &&
+              (contact = rf_rt_detect_contacts(rt, frames, anim->fps, rf_retarget_start_time(rt),
+                                               NULL, w.src_sole));
+    if (!ok) {
+        rt_pin_work_free(&w);
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    for (uint32_t f = 0; f < frames; f++) {
+        rt_pose_of(rt, anim, f, w.local);
+        rt_fk(rt, w.local, w.world);
+        for (uint32_t e = 0; e < rt->effector_count; e++) {
+            uint32_t j = rt->effectors[e];
+            w.target_pos[(size_t)e * frames + f] = w.world[j].t;
+            w.target_sole[(size_t)e * frames + f] =
+                rf_rt_sole(rt->target, w.world, rt->t_tip, rt->up, j);
+        }
+    }
+    for (size_t i = 0; i < (size_t)rt->effector_count * frames; i++)
+        stats->contact_frames += contact[i];
+    rt_pins(rt, contact, frames, anim->fps, &w);
+    for (uint32_t f = 0; ok && f < frames; f++)
+        ok = rt_solve_frame(rt, anim, f, frames, solver, &w, stats, err, err_size);
+    free(contact);
+    rt_pin_work_free(&w);
+    return ok;
+}

@@ -1,0 +1,243 @@
+/* Internals of libretarget shared by its files: the plan made at set-up (rt-plan.c, rt-body.c),
+ * read by the frame function (rt-frame.c), the clip driver (rt-clip.c), the contact pass
+ * (rt-contact.c) and the measures (rt-measure.c). Names use the rf_rt_ prefix; nothing here is
+ * part of any ABI.
+ */
+#ifndef RF_RT_INTERNAL_H
+#define RF_RT_INTERNAL_H
+
+#include "retarget.h"
+
+#define RF_RT_NONE (-1)
+
+/* Internal flags of an input, beside the mapping's RF_MAP_* bits. */
+enum rf_rt_input_flags {
+    RF_RT_IN_CORRECT = 1u << 8, /* swing the delta so the source segment's direction is exact
+                                 * (the source segment is not one rigid bone) */
+    RF_RT_IN_REFLECT = 1u << 9, /* mirrored from the other side of the body: reflect */
+};
+
+/* One mapping input, resolved against its source's rest. */
+typedef struct rf_rt_input {
+    uint32_t slot;     /* sample slot it reads */
+    uint32_t source;   /* source index */
+    uint32_t joint;    /* source joint */
+    int32_t parent;    /* source joint's parent (for reverse), or -1 */
+    int32_t seg_end;   /* source joint ending the primary segment (RF_RT_IN_CORRECT), or -1 */
+    rf_vec3 seg_local; /* unit primary segment direction at rest, in the source joint's frame */
+    rf_quat align;     /* A: turns the target's rest directions onto this source's */
+    rf_quat rest_inv;  /* conj(source rest world rotation) */
+    rf_quat C;         /* conj(source rest world rotation) * A */
+    rf_quat K;         /* C * target rest world rotation: world rotation = Qs(f) * K */
+    rf_quat parent_rest_inv; /* conj of the source parent's rest world rotation (reverse) */
+    double weight;           /* normalised over the joint's inputs */
+    uint32_t flags;          /* rf_map_flags | rf_rt_input_flags */
+} rf_rt_input;
+
+typedef enum rf_rt_kind {
+    RF_RT_REST = 0, /* keeps its rest local rotation (unmapped leaves, joints above the body) */
+    RF_RT_MAPPED,   /* driven by its inputs */
+    RF_RT_SHARED,   /* unmapped between mapped joints: takes a share of the chain's rotation */
+} rf_rt_kind;
+
+/* One joint of a chain whose rotation is shared: the owner first, then the unmapped joints. */
+typedef struct rf_rt_link {
+    uint32_t joint;
+    double share; /* cumulative fraction of the chain's rotation, (0, 1] */
+    rf_vec3 bone; /* rest world vector to the next link (or the chain's end), aligned by A */
+} rf_rt_link;
+
+typedef struct rf_rt_tjoint {
+    uint8_t kind;     /* rf_rt_kind */
+    bool root_motion; /* a top mapped joint: its translation carries the root motion */
+    bool translate;   /* another mapped joint whose source translation is animated */
+    int32_t parent;
+    uint32_t first_input, input_count; /* MAPPED */
+    int32_t owner; /* SHARED: the mapped joint owning the chain; MAPPED: itself when it owns
+                    * a shared chain, else -1 */
+    uint32_t first_link, link_count; /* owners: the chain (rf_retarget.links) */
+    double share;                    /* MAPPED owner and SHARED: this joint's cumulative share */
+    rf_vec3 chord;      /* owners: rest world vector from the owner to the chain's end, unit */
+    rf_quat rest_local; /* rest local rotation */
+    rf_quat rest_world; /* rest world rotation */
+    rf_quat align;      /* MAPPED: the inputs' alignments blended (constant) */
+    rf_xform parent_world_inv; /* root_motion: inverse rest world transform of the parent */
+} rf_rt_tjoint;
+
+/* A sample slot: one source at one time offset. */
+typedef struct rf_rt_slot {
+    uint32_t source;
+    double offset; /* seconds added to the output time */
+    double wrap;   /* mirrored inputs: the cycle, subtracted when the time runs past the clip */
+} rf_rt_slot;
+
+/* Per source, found at set-up. */
+typedef struct rf_rt_src {
+    const rf_skeleton *skel;
+    const rf_animation *anim;
+    uint32_t n;
+    int32_t rest_frame;   /* -1: the skeleton's rest */
+    rf_xform *rest_local; /* [n] the rest pose used (skeleton's or the frame's) */
+    rf_xform *rest_world; /* [n] */
+    rf_vec3 *skel_pos;    /* [n] world positions of the skeleton's own rest (root placement) */
+    rf_vec3 *tip;         /* [n] bone tips in the joint's local rest frame (end sites, children or
+                           * a guess from the analysis), zero when none */
+    uint8_t *need_pos;    /* [n] the frame function needs this joint's world position */
+    int32_t *parent;      /* [n] parents, packed for the frame loop */
+    uint8_t *need_rot;    /* [n] the frame function needs this joint's world rotation */
+    rf_vec3 up, forward, left; /* body axes (unit, orthogonal) */
+    rf_quat body;              /* turns the target's body axes onto this source's (up, forward) */
+    rf_vec3 center;            /* a point on the symmetry plane */
+    double size;               /* extent of the rest pose (tolerances) */
+    double leg;                /* hip height over the lowest rest point */
+    double lowest;             /* that lowest point's height along up */
+    double floor;              /* floor height along up */
+    double scale;              /* root motion scale for this source */
+} rf_rt_src;
+
+/* The scratch of one thread's frames, allocated once per thread and clip. */
+typedef struct rf_rt_work {
+    rf_quat *q;          /* [n] target world rotations */
+    rf_quat *chain_rot;  /* [n] owners: the chain's own rotation solved this frame */
+    rf_quat *chain_base; /* [n] owners: the motion of the owner's parent this frame */
+    rf_quat **s_rot;     /* [slot][source n] source world rotations */
+    rf_vec3 **s_pos;     /* [slot][source n] source world positions (joints with need_pos) */
+    rf_rt_pose *poses;   /* [slot] the clip driver's poses */
+    float *scratch_rot;  /* [slot][max source n][4] sampled poses */
+    float *scratch_tr;   /* [slot][max source n][3] */
+} rf_rt_work;
+
+struct rf_retarget {
+    rf_retarget_options opt;
+    const rf_skeleton *target;
+    const rf_mapping *mapping;
+    uint32_t source_count;
+    rf_rt_src *src;
+
+    uint32_t n; /* target joints */
+    rf_rt_tjoint *tj;
+    rf_rt_input *in;
+    uint32_t input_count;
+    rf_rt_link *links;
+    uint32_t link_count;
+    rf_rt_slot *slots;
+    uint32_t slot_count;
+
+    rf_vec3 up;                    /* the target's up (unit) */
+    rf_vec3 forward, left, center; /* the target's body axes and symmetry plane */
+    uint8_t *t_centerline;         /* [n] the joint lies on the target's centerline (analysis) */
+    bool t_degenerate;             /* the target's rest is no body: align every bone */
+    bool plan_differs;             /* the bodies lie differently (an upright biped onto a level
+                                    * quadruped): centerline bones keep their own rest directions */
+    double size;                   /* extent of the target's rest (tolerances) */
+    rf_xform *t_rest_world;        /* [n] the target's rest */
+    rf_vec3 *t_tip;     /* [n] target bone tips in the joint's local frame, zero when none */
+    double leg_target;  /* hip height in the aligned rest */
+    rf_vec3 *t_aligned; /* [n] world positions in the aligned rest (the target posed like the
+                         * sources' rests) */
+    double aligned_low; /* lowest height of that pose */
+    uint8_t *t_above;   /* [n] placement joints above the target's hips */
+    double floor_target;
+    double ground_shift; /* the clip's vertical correction (rf_rt_ground_fix), target units */
+    double cycle;
+    bool root_motion_on; /* false while measuring the aligned rest */
+
+    /* Measure and contact definitions (rt-plan.c). */
+    uint32_t *bones; /* pairs (target joint, its only mapped child) measured for fidelity */
+    uint32_t bone_count;
+    uint32_t *effectors; /* target end effectors (feet) */
+    uint32_t effector_count;
+
+    /* What the frame loop reads per target joint, packed (rt-frame.c). */
+    struct rf_rt_hot *hot;
+    float *rest_tr;  /* [n][3] the target's rest translations, as output rows */
+    rf_quat *w0;     /* [n] world rotations of the aligned rest, or NULL while it is made */
+    rf_rt_work work; /* the scratch of rf_retarget_frame (the clip driver's helper thread
+                      * has its own) */
+    uint32_t max_src_n;
+};
+
+/* ---- rt-plan.c ---- */
+void rf_rt_fail(char *err, size_t err_size, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* ---- rt-body.c: rests, tips, axes, leg lengths, floors ---- */
+/* Picks each source's rest, world rests, tips and axes. */
+bool rf_rt_sources_prepare(rf_retarget *rt, char *err, size_t err_size);
+/* Target rest, tips and up. */
+bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size);
+/* Leg lengths, floors and root scales (after the plan is complete). */
+bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size);
+/* Moves the root-motion joints of a clip up or down so its lowest points sit over the target's
+ * floor as the source's do over theirs. False when out of memory. */
+bool rf_rt_ground_fix(rf_retarget *rt, rf_animation *out);
+/* Height of the lowest point of joint j and everything below it (joints and bone tips, `tip`
+ * in each joint's frame): the sole of a foot, toes included. */
+double rf_rt_sole(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
+                  uint32_t j);
+/* Height of p along up. */
+static inline double rf_rt_height(rf_vec3 up, rf_vec3 p)
+{
+    return rf_v3_dot(up, p);
+}
+/* p without its component along up. */
+static inline rf_vec3 rf_rt_horizontal(rf_vec3 up, rf_vec3 p)
+{
+    return rf_v3_sub(p, rf_v3_scale(up, rf_v3_dot(up, p)));
+}
+
+/* ---- rt-frame.c ---- */
+/* Allocates w for the plan (false when out of memory); frees it. */
+bool rf_rt_work_init(const rf_retarget *rt, rf_rt_work *w);
+void rf_rt_work_free(const rf_retarget *rt, rf_rt_work *w);
+/* Packs the frame loop's per-joint data (after the plan is complete). False when out of
+ * memory. */
+bool rf_rt_hot_init(rf_retarget *rt);
+/* rf_retarget_frame with a given scratch. */
+void rf_rt_frame(const rf_retarget *rt, rf_rt_work *w, const rf_rt_pose *poses, float *rotations,
+                 float *translations);
+/* The quaternion power q^t along the shorter arc. */
+rf_quat rf_rt_quat_pow(rf_quat q, double t);
+/* The rotation about unit axis n that best turns the vectors a[i] onto b[i] (both already
+ * perpendicular to n or not: only the parts perpendicular to n count). */
+double rf_rt_twist_fit(rf_vec3 n, const rf_vec3 *a, const rf_vec3 *b, uint32_t count);
+/* Reflects a rotation through the plane whose unit normal is n. */
+static inline rf_quat rf_rt_reflect(rf_quat q, rf_vec3 n)
+{
+    rf_vec3 v = rf_v3(q.x, q.y, q.z);
+    rf_vec3 r = rf_v3_sub(rf_v3_scale(n, 2 * rf_v3_dot(v, n)), v);
+    return rf_quat_make(r.x, r.y, r.z, q.w);
+}
+/* Reflects a vector through the plane whose unit normal is n. */
+static inline rf_vec3 rf_rt_reflect_v(rf_vec3 v, rf_vec3 n)
+{
+    return rf_v3_sub(v, rf_v3_scale(n, 2 * rf_v3_dot(v, n)));
+}
+
+/* ---- rt-clip.c ---- */
+/* The time slot s samples its source at for output time t (its offset; a mirrored slot's time
+ * past the clip's end comes back a cycle). */
+double rf_rt_slot_time(const rf_retarget *rt, uint32_t s, double t);
+/* Samples source `k`'s clip at time t (seconds, clamped to the clip) into rot/tr (one frame). */
+void rf_rt_sample(const rf_animation *a, double t, float *rot, float *tr);
+/* Local pose of every target joint for frame f of anim, then world transforms into world. */
+void rf_rt_target_fk(const rf_retarget *rt, const rf_animation *anim, uint32_t f, rf_xform *world);
+/* World transforms of source k at time t (sampled), into world (scratch local of n entries). */
+void rf_rt_source_world(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
+                        rf_xform *world, float *rot, float *tr);
+
+/* ---- rt-contact.c ---- */
+/* Per effector and output frame: 1 when the source counterpart is in contact ([eff][frames],
+ * transfer full), and when not NULL the source effectors' world positions and the heights of
+ * their soles over the source floor in source leg lengths ([eff][frames], the caller's); each
+ * at the time its input samples the source. NULL when out of memory. */
+uint8_t *rf_rt_detect_contacts(const rf_retarget *rt, uint32_t frames, double fps, double start,
+                               rf_vec3 *src_pos, double *src_sole);
+/* Picks the end effectors (rt->effectors) from the aligned rest. */
+bool rf_rt_effectors_prepare(rf_retarget *rt);
+/* ---- rt-clip.c ---- */
+double rf_rt_detect_cycle(const rf_retarget *rt, uint32_t k);
+/* The source joint driving target effector e (its first input), and its source index. */
+void rf_rt_effector_source(const rf_retarget *rt, uint32_t e, uint32_t *source, uint32_t *joint);
+
+#endif

@@ -1,0 +1,184 @@
+/* Measures of any target clip against the plan's sources, with one definition for our output and
+ * for a peer's: direction fidelity of the mapped bones, foot skate during source contacts, and how
+ * far the feet in contact are from the floor compared with the source's. The definitions depend
+ * only on the mapping and the geometry, not on how the clip was made. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rt-internal.h"
+
+typedef struct rt_measure_work {
+    rf_xform *t_world;
+    rf_xform **s_local, **s_world;
+    float *rot, *tr;
+    double *angles;   /* [frame][bone] degrees */
+    rf_vec3 *src_pos; /* [eff][frame] */
+    double *src_sole; /* [eff][frame] */
+    uint8_t *contact;
+} rt_measure_work;
+
+static void rt_mw_free(rt_measure_work *w, uint32_t sources)
+{
+    for (uint32_t k = 0; k < sources; k++) {
+        if (w->s_local)
+            free(w->s_local[k]);
+        if (w->s_world)
+            free(w->s_world[k]);
+    }
+    free(w->t_world), free(w->s_local), free(w->s_world), free(w->rot), free(w->tr);
+    free(w->angles), free(w->src_pos), free(w->src_sole), free(w->contact);
+}
+
+static bool rt_mw_alloc(rt_measure_work *w, const rf_retarget *rt, uint32_t frames)
+{
+    size_t m = rt->max_src_n, ef = (size_t)rt->effector_count * frames;
+    w->t_world = malloc(rt->n * sizeof *w->t_world);
+    w->s_local = calloc(rt->source_count, sizeof *w->s_local);
+    w->s_world = calloc(rt->source_count, sizeof *w->s_world);
+    w->rot = malloc(m * 4 * sizeof *w->rot);
+    w->tr = malloc(m * 3 * sizeof *w->tr);
+    w->angles = malloc(((size_t)frames * rt->bone_count + 1) * sizeof *w->angles);
+    w->src_pos = malloc((ef ? ef : 1) * sizeof *w->src_pos);
+    w->src_sole = malloc((ef ? ef : 1) * sizeof *w->src_sole);
+    if (!w->t_world || !w->s_local || !w->s_world || !w->rot || !w->tr || !w->angles ||
+        !w->src_pos || !w->src_sole)
+        return false;
+    for (uint32_t k = 0; k < rt->source_count; k++) {
+        w->s_local[k] = malloc(m * sizeof **w->s_local);
+        w->s_world[k] = malloc(m * sizeof **w->s_world);
+        if (!w->s_local[k] || !w->s_world[k])
+            return false;
+    }
+    return true;
+}
+
+/* The world direction of bone (j, c) in a pose: to the mapped child, or along j's tip. */
+static rf_vec3 rt_bone_dir(const rf_xform *world, uint32_t j, uint32_t c, rf_vec3 tip)
+{
+    if (c != j)
+        return rf_v3_sub(world[c].t, world[j].t);
+    return rf_v3_sub(rf_xform_point(world[j], tip), world[j].t);
+}
+
+/* Fidelity angles of every measured bone at one frame (sources already posed). */
+static void rt_frame_angles(const rf_retarget *rt, rt_measure_work *w, double *angles)
+{
+    for (uint32_t b = 0; b < rt->bone_count; b++) {
+        uint32_t j = rt->bones[b * 2], c = rt->bones[b * 2 + 1];
+        const rf_map_input *ij = &rt->mapping->entries[j].inputs[0];
+        const rf_xform *sw = w->s_world[ij->source];
+        uint32_t sc = c == j ? ij->joint : rt->mapping->entries[c].inputs[0].joint;
+        rf_vec3 td = rt_bone_dir(w->t_world, j, c, rt->t_tip[j]);
+        rf_vec3 sd =
+            rt_bone_dir(sw, ij->joint, c == j ? ij->joint : sc, rt->src[ij->source].tip[ij->joint]);
+        angles[b] = rf_v3_angle(td, sd) * 180.0 / RF_PI;
+    }
+}
+
+static int rt_cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void rt_fidelity(const rf_retarget *rt, rt_measure_work *w, uint32_t frames, rf_rt_report *r)
+{
+    size_t count = (size_t)frames * rt->bone_count;
+    r->fidelity_bones = rt->bone_count;
+    if (!count)
+        return;
+    double sum = 0, max = 0;
+    for (size_t i = 0; i < count; i++)
+        sum += w->angles[i], max = fmax(max, w->angles[i]);
+    qsort(w->angles, count, sizeof *w->angles, rt_cmp_double);
+    r->fidelity_mean = sum / count;
+    r->fidelity_max = max;
+    r->fidelity_p95 = w->angles[(size_t)(0.95 * (count - 1))];
+}
+
+/* Ground at one frame: for each effector in contact, how far its sole is over the target's
+ * floor against how far the source's is over its own, each in its own leg lengths. */
+static void rt_frame_ground(const rf_retarget *rt, rt_measure_work *w, uint32_t f, uint32_t frames,
+                            double *sum, uint32_t *count)
+{
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        if (!w->contact[(size_t)e * frames + f])
+            continue;
+        double ht = rf_rt_sole(rt->target, w->t_world, rt->t_tip, rt->up, rt->effectors[e]);
+        double hs = w->src_sole[(size_t)e * frames + f]; /* at the input's own sample time */
+        *sum += fabs((ht - rt->floor_target) / rt->leg_target - hs);
+        (*count)++;
+    }
+}
+
+/* Skate: effector speeds while in contact, the target's positions read from its FK, the
+ * source's from the contact detection. */
+static void rt_skate(const rf_retarget *rt, const rf_animation *anim, rt_measure_work *w,
+                     rf_rt_report *r)
+{
+    uint32_t frames = anim->frame_count, count = 0;
+    double t_sum = 0, s_sum = 0;
+    rf_vec3 *prev = malloc((rt->effector_count ? rt->effector_count : 1) * sizeof *prev);
+    if (!prev)
+        return;
+    for (uint32_t f = 0; f < frames; f++) {
+        rf_rt_target_fk(rt, anim, f, w->t_world);
+        for (uint32_t e = 0; e < rt->effector_count; e++) {
+            size_t i = (size_t)e * frames + f;
+            rf_vec3 p = w->t_world[rt->effectors[e]].t;
+            if (f > 0 && w->contact[i] && w->contact[i - 1]) {
+                uint32_t k, j;
+                rf_rt_effector_source(rt, e, &k, &j);
+                const rf_rt_src *src = &rt->src[k];
+                rf_vec3 dt = rf_rt_horizontal(rt->up, rf_v3_sub(p, prev[e]));
+                rf_vec3 ds = rf_rt_horizontal(src->up, rf_v3_sub(w->src_pos[i], w->src_pos[i - 1]));
+                t_sum += rf_v3_len(dt) * anim->fps / rt->leg_target;
+                s_sum += rf_v3_len(ds) * anim->fps / src->leg;
+                count++;
+            }
+            prev[e] = p;
+        }
+    }
+    free(prev);
+    r->contact_frames = count;
+    r->skate_target = count ? t_sum / count : 0;
+    r->skate_source = count ? s_sum / count : 0;
+}
+
+bool rf_retarget_measure(rf_retarget *rt, const rf_animation *anim, double start,
+                         rf_rt_report *report, char *err, size_t err_size)
+{
+    memset(report, 0, sizeof *report);
+    if (!anim || anim->joint_count != rt->n || !(anim->fps > 0)) {
+        rf_rt_fail(err, err_size, "the clip measured does not fit the target (%u joints, %u)",
+                   anim ? anim->joint_count : 0, rt->n);
+        return false;
+    }
+    uint32_t frames = anim->frame_count;
+    rt_measure_work w = {0};
+    bool ok =
+        rt_mw_alloc(&w, rt, frames) &&
+        (w.contact = rf_rt_detect_contacts(rt, frames, anim->fps, start, w.src_pos, w.src_sole));
+    if (!ok) {
+        rt_mw_free(&w, rt->source_count);
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    double ground = 0;
+    uint32_t grounded = 0;
+    for (uint32_t f = 0; f < frames; f++) {
+        rf_rt_target_fk(rt, anim, f, w.t_world);
+        for (uint32_t k = 0; k < rt->source_count; k++)
+            rf_rt_source_world(rt, k, start + f / anim->fps, w.s_local[k], w.s_world[k], w.rot,
+                               w.tr);
+        rt_frame_angles(rt, &w, w.angles + (size_t)f * rt->bone_count);
+        rt_frame_ground(rt, &w, f, frames, &ground, &grounded);
+    }
+    report->ground_error = grounded ? ground / grounded : 0;
+    report->frames = frames;
+    rt_fidelity(rt, &w, frames, report);
+    rt_skate(rt, anim, &w, report);
+    rt_mw_free(&w, rt->source_count);
+    return true;
+}

@@ -1,0 +1,689 @@
+/* Set-up of a retargeting plan: checks the inputs, resolves every mapping input against its
+ * source's rest (alignment rotations, segment corrections, slots), plans the chains whose
+ * unmapped joints share a rotation, and picks the joints that carry root motion. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rt-internal.h"
+
+void rf_rt_fail(char *err, size_t err_size, const char *fmt, ...)
+{
+    if (!err || !err_size)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, err_size, fmt, ap);
+    va_end(ap);
+}
+
+void rf_retarget_options_default(rf_retarget_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->rest_frame = -1;
+    o->last_frame = -1;
+    o->ground = RF_RT_GROUND_AUTO;
+    o->contact = true;
+    o->contact_height = 0.12;
+    o->contact_speed = 0.6;
+    o->contact_blend = 0.15;
+}
+
+/* ---- checks ---- */
+
+static bool rt_check_skeleton(const rf_skeleton *s, const char *what, char *err, size_t err_size)
+{
+    if (!s || !s->joint_count) {
+        rf_rt_fail(err, err_size, "%s has no joints", what);
+        return false;
+    }
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        if (s->joints[j].parent >= (int32_t)j) {
+            rf_rt_fail(err, err_size, "%s: joint %u's parent comes after it", what, j);
+            return false;
+        }
+    return true;
+}
+
+static bool rt_check(const rf_rt_source *sources, uint32_t count, const rf_skeleton *target,
+                     const rf_mapping *m, char *err, size_t err_size)
+{
+    char what[64];
+    if (!count) {
+        rf_rt_fail(err, err_size, "no source");
+        return false;
+    }
+    if (!rt_check_skeleton(target, "the target skeleton", err, err_size))
+        return false;
+    for (uint32_t k = 0; k < count; k++) {
+        snprintf(what, sizeof what, "source skeleton %u", k);
+        if (!rt_check_skeleton(sources[k].skeleton, what, err, err_size))
+            return false;
+        const rf_animation *a = sources[k].animation;
+        if (!a || a->joint_count != sources[k].skeleton->joint_count || !(a->fps > 0)) {
+            rf_rt_fail(err, err_size,
+                       "source %u: the clip does not fit its skeleton (%u joints, clip %u, fps "
+                       "%g)",
+                       k, sources[k].skeleton->joint_count, a ? a->joint_count : 0, a ? a->fps : 0);
+            return false;
+        }
+    }
+    if (!m || m->target_joint_count != target->joint_count) {
+        rf_rt_fail(err, err_size, "the mapping has %u entries but the target has %u joints",
+                   m ? m->target_joint_count : 0, target->joint_count);
+        return false;
+    }
+    uint32_t mapped = 0;
+    for (uint32_t j = 0; j < m->target_joint_count; j++) {
+        const rf_map_entry *e = &m->entries[j];
+        for (uint32_t i = 0; i < e->input_count; i++) {
+            const rf_map_input *in = &e->inputs[i];
+            if (in->source >= count || in->joint >= sources[in->source].skeleton->joint_count ||
+                !(in->weight > 0) || !isfinite(in->delay)) {
+                rf_rt_fail(err, err_size,
+                           "mapping entry %u input %u: source %u joint %u weight %g delay %g "
+                           "does not fit the %u source(s)",
+                           j, i, in->source, in->joint, in->weight, in->delay, count);
+                return false;
+            }
+        }
+        mapped += e->input_count > 0;
+    }
+    if (!mapped) {
+        rf_rt_fail(err, err_size, "the mapping maps no target joint");
+        return false;
+    }
+    return true;
+}
+
+/* ---- the mapped tree ---- */
+
+/* Nearest mapped proper ancestor of every target joint, or -1. */
+static void rt_mapped_parents(const rf_retarget *rt, int32_t *mp)
+{
+    for (uint32_t j = 0; j < rt->n; j++) {
+        int32_t p = rt->target->joints[j].parent;
+        mp[j] = p < 0 ? RF_RT_NONE : rt->mapping->entries[p].input_count ? p : mp[p];
+    }
+}
+
+/* Mapped joints below j (in the mapped tree) counted for every joint. */
+static void rt_mapped_weight(const rf_retarget *rt, const int32_t *mp, uint32_t *w)
+{
+    memset(w, 0, rt->n * sizeof *w);
+    for (uint32_t j = rt->n; j-- > 0;)
+        if (rt->mapping->entries[j].input_count && mp[j] >= 0)
+            w[mp[j]] += w[j] + 1;
+}
+
+static rf_vec3 rt_tpos(const rf_retarget *rt, uint32_t j)
+{
+    return rt->t_rest_world[j].t;
+}
+
+/* The mapped child of mapped joint j that its rotation aims along: the one continuing the bone
+ * into j best (mapped parent to j), or for a top joint the one leading to most mapped joints.
+ * -1 when j has no mapped child at a distance. */
+static int32_t rt_primary_child(const rf_retarget *rt, uint32_t j, const int32_t *mp,
+                                const uint32_t *weight, double eps)
+{
+    rf_vec3 in = rf_v3(0, 0, 0);
+    if (mp[j] >= 0)
+        in = rf_v3_normalize(rf_v3_sub(rt_tpos(rt, j), rt_tpos(rt, (uint32_t)mp[j])));
+    int32_t best = RF_RT_NONE;
+    double best_score = -INFINITY;
+    for (uint32_t c = j + 1; c < rt->n; c++) {
+        if (mp[c] != (int32_t)j || !rt->mapping->entries[c].input_count)
+            continue;
+        rf_vec3 d = rf_v3_sub(rt_tpos(rt, c), rt_tpos(rt, j));
+        if (rf_v3_len(d) <= eps)
+            continue;
+        double score = rf_v3_len2(in) > 0 ? rf_v3_dot(rf_v3_normalize(d), in) : weight[c];
+        if (score > best_score)
+            best_score = score, best = (int32_t)c;
+    }
+    return best;
+}
+
+/* The first input of target joint c reading source k, or NULL. */
+static const rf_map_input *rt_input_from(const rf_mapping *m, uint32_t c, uint32_t k)
+{
+    const rf_map_entry *e = &m->entries[c];
+    for (uint32_t i = 0; i < e->input_count; i++)
+        if (e->inputs[i].source == k)
+            return &e->inputs[i];
+    return NULL;
+}
+
+/* ---- slots ---- */
+
+static uint32_t rt_slot_for(rf_retarget *rt, uint32_t source, double offset)
+{
+    for (uint32_t s = 0; s < rt->slot_count; s++)
+        if (rt->slots[s].source == source && fabs(rt->slots[s].offset - offset) < 1e-9)
+            return s;
+    rt->slots[rt->slot_count].source = source;
+    rt->slots[rt->slot_count].offset = offset;
+    return rt->slot_count++;
+}
+
+/* ---- alignment ---- */
+
+/* Segment pairs of one input: target rest vector, source rest vector, source joint at the end. */
+typedef struct rt_pair {
+    rf_vec3 t, s;
+    int32_t end; /* source joint ending the segment, -1 for a tip */
+    bool primary;
+} rt_pair;
+
+static rf_vec3 rt_tip_world(rf_xform w, rf_vec3 tip)
+{
+    return rf_v3_sub(rf_xform_point(w, tip), w.t);
+}
+
+/* The pair of segment j -> c for input `in` into *out; a segment of no length on either side (a
+ * joint sitting on its parent, as CMU's LowerBack on its Hips) is carried on to c's primary
+ * mapped child, and so on. False when no segment with a length is found. */
+static bool rt_pair_of(const rf_retarget *rt, uint32_t j, uint32_t c, const rf_map_input *in,
+                       const int32_t *primary, rt_pair *out)
+{
+    const rf_rt_src *src = &rt->src[in->source];
+    double eps_t = 1e-6 * rt->size, eps_s = 1e-6 * src->size;
+    for (int32_t at = (int32_t)c, hops = 0; at >= 0; at = primary[at], hops++) {
+        const rf_map_input *ci = rt_input_from(rt->mapping, (uint32_t)at, in->source);
+        if (!ci)
+            return false;
+        rf_vec3 vt = rf_v3_sub(rt_tpos(rt, (uint32_t)at), rt_tpos(rt, j));
+        rf_vec3 vs = rf_v3_sub(src->rest_world[ci->joint].t, src->rest_world[in->joint].t);
+        if (rf_v3_len(vt) > eps_t && rf_v3_len(vs) > eps_s) {
+            /* Only a direct segment may steer j's rotation frame by frame. */
+            *out = (rt_pair){vt, vs, hops ? RF_RT_NONE : (int32_t)ci->joint, false};
+            return true;
+        }
+    }
+    return false;
+}
+
+/* The pairs of target joint j for input `in`: one per mapped child that the same source drives,
+ * or the bones' tips when j has no mapped child. The primary child's pair is flagged; when it
+ * has none, the longest pair stands in. */
+static uint32_t rt_pairs(const rf_retarget *rt, uint32_t j, const rf_map_input *in,
+                         const int32_t *mp, const int32_t *primary, rt_pair *pairs, uint32_t max)
+{
+    const rf_rt_src *src = &rt->src[in->source];
+    uint32_t count = 0;
+    int32_t first = RF_RT_NONE, longest = RF_RT_NONE;
+    bool has_child = false;
+    for (uint32_t c = j + 1; c < rt->n && count < max; c++) {
+        if (mp[c] != (int32_t)j || !rt->mapping->entries[c].input_count)
+            continue;
+        has_child = true;
+        if (!rt_pair_of(rt, j, c, in, primary, &pairs[count]))
+            continue;
+        if ((int32_t)c == primary[j])
+            first = (int32_t)count;
+        if (longest < 0 || rf_v3_len(pairs[count].t) > rf_v3_len(pairs[longest].t))
+            longest = (int32_t)count;
+        count++;
+    }
+    if (count)
+        pairs[first >= 0 ? first : longest].primary = true;
+    if (!has_child && rf_v3_len2(rt->t_tip[j]) > 0 && rf_v3_len2(src->tip[in->joint]) > 0) {
+        rf_vec3 vt = rt_tip_world(rt->t_rest_world[j], rt->t_tip[j]);
+        rf_vec3 vs = rt_tip_world(src->rest_world[in->joint], src->tip[in->joint]);
+        pairs[count++] = (rt_pair){vt, vs, RF_RT_NONE, true};
+    }
+    return count;
+}
+
+double rf_rt_twist_fit(rf_vec3 n, const rf_vec3 *a, const rf_vec3 *b, uint32_t count)
+{
+    double sin_sum = 0, cos_sum = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        rf_vec3 pa = rf_v3_sub(a[i], rf_v3_scale(n, rf_v3_dot(a[i], n)));
+        rf_vec3 pb = rf_v3_sub(b[i], rf_v3_scale(n, rf_v3_dot(b[i], n)));
+        sin_sum += rf_v3_dot(rf_v3_cross(pa, pb), n);
+        cos_sum += rf_v3_dot(pa, pb);
+    }
+    return sin_sum == 0 && cos_sum == 0 ? 0 : atan2(sin_sum, cos_sum);
+}
+
+/* Beyond this angle between the target's body axis (the top mapped joint to the farthest mapped
+ * joint on the centerline) and the source's, once the body frames are aligned, the bodies have
+ * different plans (a level quadruped spine under an upright biped's), not different poses. */
+#define RT_BODY_PLAN_ANGLE (45.0 * RF_PI / 180.0)
+
+/* The rotation turning the target's rest directions onto the source's: the primary pair
+ * exactly, starting from the parent's alignment (so the twist follows the body's), then turned
+ * about the primary direction to fit the other pairs best. A centerline bone of a different body
+ * plan (`keep`) keeps the parent's alignment: only limbs are aligned. */
+static rf_quat rt_align(const rt_pair *pairs, uint32_t count, rf_quat ref, bool keep)
+{
+    int32_t p = RF_RT_NONE;
+    for (uint32_t i = 0; i < count; i++)
+        if (pairs[i].primary)
+            p = (int32_t)i;
+    if (p < 0)
+        return ref;
+    if (keep)
+        return ref;
+    rf_vec3 from = rf_quat_rotate(ref, pairs[p].t);
+    rf_quat a = rf_quat_mul(rf_quat_from_two_vectors(from, pairs[p].s), ref);
+    rf_vec3 n = rf_v3_normalize(pairs[p].s), ta[16], sb[16];
+    uint32_t m = 0;
+    for (uint32_t i = 0; i < count && m < 16; i++)
+        if ((int32_t)i != p)
+            ta[m] = rf_quat_rotate(a, pairs[i].t), sb[m++] = pairs[i].s;
+    double angle = rf_rt_twist_fit(n, ta, sb, m);
+    return rf_quat_normalize(rf_quat_mul(rf_quat_from_axis_angle(n, angle), a));
+}
+
+/* The alignment of the nearest mapped ancestor's input from the same source, or the turn of
+ * the target's body frame onto the source's. */
+static rf_quat rt_parent_align(const rf_retarget *rt, uint32_t j, uint32_t source,
+                               const int32_t *mp)
+{
+    for (int32_t a = mp[j]; a >= 0; a = mp[a]) {
+        const rf_rt_tjoint *tj = &rt->tj[a];
+        for (uint32_t i = 0; i < tj->input_count; i++)
+            if (rt->in[tj->first_input + i].source == source)
+                return rt->in[tj->first_input + i].align;
+    }
+    return rt->src[source].body;
+}
+
+/* Whether source joint j and target joint t lie on opposite sides of their bodies (each side
+ * read on its own skeleton's left axis, which the analysis finds from geometry). */
+static bool rt_opposite_side(const rf_retarget *rt, const rf_rt_src *src, uint32_t j, uint32_t t)
+{
+    double ss = rf_v3_dot(rf_v3_sub(src->rest_world[j].t, src->center), src->left) / src->size;
+    double ts = rf_v3_dot(rf_v3_sub(rt_tpos(rt, t), rt->center), rt->left) / rt->size;
+    return (ss > 0.01 && ts < -0.01) || (ss < -0.01 && ts > 0.01);
+}
+
+/* Resolves one input of mapped target joint j. */
+static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in, rf_rt_input *out,
+                             const int32_t *mp, const int32_t *primary)
+{
+    const rf_rt_src *src = &rt->src[in->source];
+    rt_pair pairs[64];
+    uint32_t count = rt_pairs(rt, j, in, mp, primary, pairs, 63);
+    out->source = in->source;
+    out->joint = in->joint;
+    out->flags = in->flags & (RF_MAP_REVERSE | RF_MAP_MIRROR);
+    out->parent = src->skel->joints[in->joint].parent;
+    out->seg_end = RF_RT_NONE;
+    if ((in->flags & RF_MAP_MIRROR) && rt_opposite_side(rt, src, in->joint, j)) {
+        out->flags |= RF_RT_IN_REFLECT;
+        for (uint32_t i = 0; i < count; i++)
+            pairs[i].s = rf_rt_reflect_v(pairs[i].s, src->left);
+    }
+    bool keep = rt->t_centerline[j] && rt->plan_differs;
+    out->align = rt_align(pairs, count, rt_parent_align(rt, j, in->source, mp), keep);
+    rf_quat rs = src->rest_world[in->joint].r;
+    for (uint32_t i = 0; i < count; i++) {
+        if (!pairs[i].primary || pairs[i].end < 0 || (out->flags & RF_MAP_REVERSE))
+            continue;
+        /* A child hanging from the joint moves with its rotation (its own translation, when
+         * animated, is carried over separately); a segment through other joints does not. */
+        uint32_t e = (uint32_t)pairs[i].end;
+        if (src->skel->joints[e].parent == (int32_t)in->joint)
+            continue;
+        rf_vec3 u = rf_v3_sub(src->rest_world[e].t, src->rest_world[in->joint].t);
+        out->flags |= RF_RT_IN_CORRECT;
+        out->seg_end = (int32_t)e;
+        out->seg_local = rf_quat_rotate(rf_quat_conj(rs), rf_v3_normalize(u));
+    }
+    out->rest_inv = rf_quat_conj(rs);
+    out->C = rf_quat_mul(out->rest_inv, out->align);
+    out->K = rf_quat_normalize(rf_quat_mul(out->C, rt->t_rest_world[j].r));
+    out->parent_rest_inv =
+        out->parent >= 0 ? rf_quat_conj(src->rest_world[out->parent].r) : rf_quat_identity();
+}
+
+/* Blend of the inputs' alignments with their weights, sign-aligned. */
+static rf_quat rt_blend_align(const rf_rt_input *in, uint32_t count)
+{
+    rf_quat sum = {0, 0, 0, 0}, first = in[0].align;
+    for (uint32_t i = 0; i < count; i++) {
+        rf_quat a = in[i].align;
+        double s = rf_quat_dot(a, first) < 0 ? -in[i].weight : in[i].weight;
+        sum.x += s * a.x, sum.y += s * a.y, sum.z += s * a.z, sum.w += s * a.w;
+    }
+    return rf_quat_normalize(sum);
+}
+
+/* Whether the target's body lies differently from source 0's: compares the axis from the top
+ * mapped joint to the farthest mapped centerline joint in both rests. */
+static bool rt_plan_differs(const rf_retarget *rt, const int32_t *mp)
+{
+    if (rt->t_degenerate)
+        return false; /* a rest that is no body has no plan to keep */
+    int32_t top = RF_RT_NONE, far = RF_RT_NONE;
+    for (uint32_t j = 0; j < rt->n && top < 0; j++)
+        if (rt->mapping->entries[j].input_count && mp[j] < 0)
+            top = (int32_t)j;
+    double best = 0;
+    for (uint32_t j = 0; top >= 0 && j < rt->n; j++) {
+        const rf_map_input *in = rt_input_from(rt->mapping, j, 0);
+        double d = rf_v3_dist(rt_tpos(rt, j), rt_tpos(rt, (uint32_t)top));
+        if (in && rt->t_centerline[j] && d > best)
+            best = d, far = (int32_t)j;
+    }
+    const rf_map_input *a = top >= 0 ? rt_input_from(rt->mapping, (uint32_t)top, 0) : NULL;
+    const rf_map_input *b = far >= 0 ? rt_input_from(rt->mapping, (uint32_t)far, 0) : NULL;
+    if (!a || !b)
+        return false;
+    const rf_rt_src *src = &rt->src[0];
+    rf_vec3 vt = rf_quat_rotate(src->body,
+                                rf_v3_sub(rt_tpos(rt, (uint32_t)far), rt_tpos(rt, (uint32_t)top)));
+    rf_vec3 vs = rf_v3_sub(src->rest_world[b->joint].t, src->rest_world[a->joint].t);
+    return rf_v3_angle(vt, vs) > RT_BODY_PLAN_ANGLE;
+}
+
+static bool rt_inputs(rf_retarget *rt, const int32_t *mp, const int32_t *primary)
+{
+    rt->plan_differs = rt_plan_differs(rt, mp);
+    uint32_t total = 0;
+    for (uint32_t j = 0; j < rt->n; j++)
+        total += rt->mapping->entries[j].input_count;
+    rt->in = calloc(total ? total : 1, sizeof *rt->in);
+    rt->slots = calloc(total ? total : 1, sizeof *rt->slots);
+    if (!rt->in || !rt->slots)
+        return false;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        const rf_map_entry *e = &rt->mapping->entries[j];
+        rf_rt_tjoint *tj = &rt->tj[j];
+        if (!e->input_count)
+            continue;
+        tj->kind = RF_RT_MAPPED;
+        tj->first_input = rt->input_count;
+        tj->input_count = e->input_count;
+        double wsum = 0;
+        for (uint32_t i = 0; i < e->input_count; i++)
+            wsum += e->inputs[i].weight;
+        for (uint32_t i = 0; i < e->input_count; i++) {
+            const rf_map_input *in = &e->inputs[i];
+            rf_rt_input *out = &rt->in[rt->input_count++];
+            rt_input_resolve(rt, j, in, out, mp, primary);
+            out->weight = in->weight / wsum;
+            double offset = -in->delay + ((in->flags & RF_MAP_MIRROR) ? 0.5 * rt->cycle : 0);
+            out->slot = rt_slot_for(rt, in->source, offset);
+            if (in->flags & RF_MAP_MIRROR)
+                rt->slots[out->slot].wrap = rt->cycle;
+        }
+        tj->align = rt_blend_align(rt->in + tj->first_input, tj->input_count);
+    }
+    return true;
+}
+
+/* ---- chains whose unmapped joints share the rotation ---- */
+
+static bool rt_chains(rf_retarget *rt, const int32_t *primary)
+{
+    rt->links = calloc(rt->n, sizeof *rt->links);
+    if (!rt->links)
+        return false;
+    for (uint32_t j = 0; j < rt->n; j++)
+        rt->tj[j].owner = RF_RT_NONE;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        rf_rt_tjoint *tj = &rt->tj[j];
+        if (tj->kind != RF_RT_MAPPED || primary[j] < 0)
+            continue;
+        uint32_t c = (uint32_t)primary[j], n = 0;
+        for (int32_t u = rt->target->joints[c].parent; u != (int32_t)j;
+             u = rt->target->joints[u].parent)
+            n++; /* the unmapped joints between j and c (c descends from j) */
+        if (!n)
+            continue; /* the mapped child hangs from j directly: no chain */
+        tj->owner = (int32_t)j;
+        tj->first_link = rt->link_count;
+        tj->link_count = n + 1;
+        tj->chord = rf_v3_normalize(rf_v3_sub(rt_tpos(rt, c), rt_tpos(rt, j)));
+        /* Links top down: walk up from c, filling from the end. */
+        uint32_t next = c;
+        for (uint32_t k = n + 1; k-- > 0;) {
+            uint32_t joint = k == 0 ? j : (uint32_t)rt->target->joints[next].parent;
+            rf_rt_link *l = &rt->links[tj->first_link + k];
+            l->joint = joint;
+            l->share = (double)(k + 1) / (n + 1);
+            l->bone = rf_quat_rotate(tj->align, rf_v3_sub(rt_tpos(rt, next), rt_tpos(rt, joint)));
+            if (k > 0) {
+                rt->tj[joint].kind = RF_RT_SHARED;
+                rt->tj[joint].owner = (int32_t)j;
+            }
+            rt->tj[joint].share = l->share;
+            next = joint;
+        }
+        rt->link_count += n + 1;
+    }
+    return true;
+}
+
+/* ---- root motion, positions the frame needs ---- */
+
+static void rt_mark_pos(rf_rt_src *src, int32_t j)
+{
+    for (; j >= 0 && !src->need_pos[j]; j = src->skel->joints[j].parent)
+        src->need_pos[j] = 1;
+}
+
+/* Whether source joint j's translation is keyed and moves in its clip (files that key every
+ * joint's position, as Maya exports do, mostly repeat the offset). */
+static bool rt_translation_moves(const rf_rt_src *src, uint32_t j)
+{
+    if (!(src->anim->channels[j] & RF_CHANNEL_TRANSLATION))
+        return false;
+    rf_vec3 rest = src->rest_local[j].t;
+    for (uint32_t f = 0; f < src->anim->frame_count; f++)
+        if (rf_v3_dist(rf_animation_translation(src->anim, f, j), rest) > 1e-6 * src->size)
+            return true;
+    return false;
+}
+
+static void rt_root_motion(rf_retarget *rt, const int32_t *mp)
+{
+    for (uint32_t j = 0; j < rt->n; j++) {
+        rf_rt_tjoint *tj = &rt->tj[j];
+        tj->parent = rt->target->joints[j].parent;
+        tj->rest_local = rf_quat_normalize(rt->target->joints[j].rest.r);
+        tj->rest_world = rt->t_rest_world[j].r;
+        tj->root_motion = tj->kind == RF_RT_MAPPED && mp[j] < 0;
+        for (uint32_t i = 0; !tj->root_motion && i < tj->input_count; i++) {
+            const rf_rt_input *in = &rt->in[tj->first_input + i];
+            tj->translate = tj->translate || rt_translation_moves(&rt->src[in->source], in->joint);
+        }
+        if (tj->root_motion)
+            tj->parent_world_inv = tj->parent >= 0 ? rf_xform_invert(rt->t_rest_world[tj->parent])
+                                                   : rf_xform_identity();
+        for (uint32_t i = 0; i < tj->input_count; i++) {
+            const rf_rt_input *in = &rt->in[tj->first_input + i];
+            rf_rt_src *src = &rt->src[in->source];
+            if (tj->root_motion)
+                rt_mark_pos(src, (int32_t)in->joint);
+            if (in->flags & RF_RT_IN_CORRECT) {
+                rt_mark_pos(src, (int32_t)in->joint);
+                rt_mark_pos(src, in->seg_end);
+            }
+        }
+    }
+}
+
+/* ---- measured bones and contact effectors ---- */
+
+/* A target joint measured for direction fidelity: one undelayed, unflagged input. */
+static bool rt_plain(const rf_retarget *rt, uint32_t j)
+{
+    const rf_map_entry *e = &rt->mapping->entries[j];
+    return e->input_count == 1 && e->inputs[0].delay == 0 && !e->inputs[0].flags;
+}
+
+static bool rt_bones(rf_retarget *rt, const int32_t *mp)
+{
+    rt->bones = calloc(rt->n * 2, sizeof *rt->bones);
+    if (!rt->bones)
+        return false;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        if (!rt_plain(rt, j))
+            continue;
+        uint32_t kids = 0, only = 0;
+        for (uint32_t c = j + 1; c < rt->n; c++)
+            if (mp[c] == (int32_t)j && rt->mapping->entries[c].input_count)
+                kids++, only = c;
+        bool child_ok =
+            kids == 1 && rt_plain(rt, only) &&
+            rt->mapping->entries[only].inputs[0].source == rt->mapping->entries[j].inputs[0].source;
+        const rf_map_input *in = &rt->mapping->entries[j].inputs[0];
+        bool tip_ok = kids == 0 && rf_v3_len2(rt->t_tip[j]) > 0 &&
+                      rf_v3_len2(rt->src[in->source].tip[in->joint]) > 0;
+        if (!child_ok && !tip_ok)
+            continue;
+        rt->bones[rt->bone_count * 2] = j;
+        rt->bones[rt->bone_count * 2 + 1] = child_ok ? only : j; /* j itself: its tip */
+        rt->bone_count++;
+    }
+    return true;
+}
+
+/* ---- the plan ---- */
+
+static bool rt_alloc_frame(rf_retarget *rt)
+{
+    rt->rest_tr = malloc((rt->n ? rt->n : 1) * 3 * sizeof *rt->rest_tr);
+    if (!rt->rest_tr || !rf_rt_hot_init(rt) || !rf_rt_work_init(rt, &rt->work))
+        return false;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        rf_vec3 t = rt->target->joints[j].rest.t;
+        rt->rest_tr[j * 3] = (float)t.x, rt->rest_tr[j * 3 + 1] = (float)t.y;
+        rt->rest_tr[j * 3 + 2] = (float)t.z;
+    }
+    return true;
+}
+
+static bool rt_plan(rf_retarget *rt, char *err, size_t err_size)
+{
+    uint32_t n = rt->n;
+    int32_t *mp = malloc(n * sizeof *mp), *primary = malloc(n * sizeof *primary);
+    uint32_t *weight = malloc(n * sizeof *weight);
+    bool ok = mp && primary && weight;
+    if (ok) {
+        rt_mapped_parents(rt, mp);
+        rt_mapped_weight(rt, mp, weight);
+        rt->leg_target = 0;
+        for (uint32_t j = 0; j < n; j++)
+            primary[j] = rt->mapping->entries[j].input_count
+                             ? rt_primary_child(rt, j, mp, weight, 1e-6 * rt->size)
+                             : RF_RT_NONE;
+        ok = rt_inputs(rt, mp, primary) && rt_chains(rt, primary);
+    }
+    if (ok) {
+        rt_root_motion(rt, mp);
+        ok = rt_bones(rt, mp) && rt_alloc_frame(rt);
+    }
+    if (ok)
+        ok = rf_rt_ground_prepare(rt, err, err_size);
+    else
+        rf_rt_fail(err, err_size, "out of memory");
+    free(weight);
+    free(primary);
+    free(mp);
+    return ok;
+}
+
+static bool rt_wants_cycle(const rf_mapping *m)
+{
+    for (uint32_t j = 0; j < m->target_joint_count; j++)
+        for (uint32_t i = 0; i < m->entries[j].input_count; i++)
+            if (m->entries[j].inputs[i].flags & RF_MAP_MIRROR)
+                return true;
+    return false;
+}
+
+rf_retarget *rf_retarget_new(const rf_rt_source *sources, uint32_t source_count,
+                             const rf_skeleton *target, const rf_mapping *mapping,
+                             const rf_retarget_options *opts, char *err, size_t err_size)
+{
+    if (!rt_check(sources, source_count, target, mapping, err, err_size))
+        return NULL;
+    rf_retarget *rt = calloc(1, sizeof *rt);
+    if (!rt || !(rt->src = calloc(source_count, sizeof *rt->src)) ||
+        !(rt->tj = calloc(target->joint_count, sizeof *rt->tj))) {
+        rf_retarget_free(rt);
+        rf_rt_fail(err, err_size, "out of memory");
+        return NULL;
+    }
+    if (opts)
+        rt->opt = *opts;
+    else
+        rf_retarget_options_default(&rt->opt);
+    rt->target = target, rt->mapping = mapping, rt->n = target->joint_count;
+    rt->source_count = source_count;
+    rt->root_motion_on = true;
+    for (uint32_t k = 0; k < source_count; k++) {
+        rt->src[k].skel = sources[k].skeleton, rt->src[k].anim = sources[k].animation;
+        rt->src[k].n = sources[k].skeleton->joint_count;
+        if (rt->src[k].n > rt->max_src_n)
+            rt->max_src_n = rt->src[k].n;
+    }
+    bool ok = rf_rt_sources_prepare(rt, err, err_size) && rf_rt_target_prepare(rt, err, err_size);
+    if (ok && rt_wants_cycle(mapping))
+        rt->cycle = rt->opt.cycle > 0 ? rt->opt.cycle : rf_rt_detect_cycle(rt, 0);
+    ok = ok && rt_plan(rt, err, err_size);
+    if (ok && !rf_rt_effectors_prepare(rt)) {
+        rf_rt_fail(err, err_size, "out of memory");
+        ok = false;
+    }
+    if (!ok) {
+        rf_retarget_free(rt);
+        return NULL;
+    }
+    return rt;
+}
+
+void rf_retarget_free(rf_retarget *rt)
+{
+    if (!rt)
+        return;
+    for (uint32_t k = 0; rt->src && k < rt->source_count; k++) {
+        rf_rt_src *s = &rt->src[k];
+        free(s->rest_local), free(s->rest_world), free(s->skel_pos), free(s->tip);
+        free(s->need_pos), free(s->parent), free(s->need_rot);
+    }
+    rf_rt_work_free(rt, &rt->work);
+    free(rt->src), free(rt->tj), free(rt->in), free(rt->links), free(rt->slots);
+    free(rt->t_rest_world), free(rt->t_tip), free(rt->t_aligned), free(rt->t_centerline);
+    free(rt->t_above), free(rt->bones), free(rt->effectors), free(rt->hot), free(rt->rest_tr);
+    free(rt->w0);
+    free(rt);
+}
+
+uint32_t rf_retarget_slot_count(const rf_retarget *rt)
+{
+    return rt->slot_count;
+}
+
+void rf_retarget_slot(const rf_retarget *rt, uint32_t i, uint32_t *source, double *offset)
+{
+    *source = rt->slots[i].source;
+    *offset = rt->slots[i].offset;
+}
+
+void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info)
+{
+    memset(info, 0, sizeof *info);
+    info->leg_source = rt->src[0].leg;
+    info->leg_target = rt->leg_target;
+    info->root_scale = rt->src[0].scale;
+    info->floor_source = rt->src[0].floor;
+    info->floor_target = rt->floor_target;
+    info->ground_shift = rt->ground_shift;
+    info->cycle = rt->cycle;
+    info->rest_frame = rt->src[0].rest_frame;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        info->mapped += rt->tj[j].kind == RF_RT_MAPPED;
+        info->shared += rt->tj[j].kind == RF_RT_SHARED;
+    }
+    info->effectors = rt->effector_count;
+}

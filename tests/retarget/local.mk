@@ -1,0 +1,28 @@
+# Retargeting tests: hand-built skeletons (test_retarget), the shared data (test_retarget_data,
+# skipped without $RF_DATA_DIR), and the retarget node through the host with pipelines
+# (test_retarget_pipeline.sh, with the test.name-map fixture plugin). The contact pass runs
+# through the two-bone solver's library.
+RT_TEST_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/retarget \
+	-I$(top_srcdir)/plugins/ik-common -I$(top_srcdir)/plugins/ik-twobone
+RT_TEST_LDADD = plugins/retarget/libretarget.la plugins/ik-twobone/libiktwobone.la \
+	plugins/ik-common/libikcommon.la $(CMOCKA_LIBS) -lm
+
+check_PROGRAMS += tests/retarget/test_retarget tests/retarget/test_retarget_data
+TESTS += tests/retarget/test_retarget tests/retarget/test_retarget_data
+tests_retarget_test_retarget_SOURCES = tests/retarget/test_retarget.c tests/retarget/rt-fixtures.h
+tests_retarget_test_retarget_CPPFLAGS = $(RT_TEST_CPPFLAGS)
+tests_retarget_test_retarget_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_retarget_test_retarget_LDADD = $(RT_TEST_LDADD)
+tests_retarget_test_retarget_data_SOURCES = tests/retarget/test_retarget_data.c
+tests_retarget_test_retarget_data_CPPFLAGS = $(RT_TEST_CPPFLAGS) -I$(top_srcdir)/plugins/bvh \
+	-I$(top_srcdir)/plugins/assimp
+tests_retarget_test_retarget_data_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_retarget_test_retarget_data_LDADD = plugins/bvh/libbvh.la plugins/assimp/librfassimp.la \
+	$(RT_TEST_LDADD)
+
+check_LTLIBRARIES += tests/retarget/fx_namemap.la
+tests_retarget_fx_namemap_la_SOURCES = tests/retarget/fx_namemap.c
+tests_retarget_fx_namemap_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+
+TESTS += tests/retarget/test_retarget_pipeline.sh
+dist_noinst_SCRIPTS += tests/retarget/test_retarget_pipeline.sh

@@ -1,0 +1,795 @@
+/* Retargeting on hand-built skeletons whose expected results are worked out by hand or follow
+ * from an invariant: rest-pose alignment (T-pose onto A-pose), chains of different length, delay,
+ * reverse, weights, mirror, root scale and ground, resampling, frame range, identity, a
+ * degenerate source rest, the measures, and the contact pass through the two-bone solver. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include <cmocka.h>
+
+#include "retarget.h"
+#include "rt-fixtures.h"
+#include "twobone.h"
+
+#define X rf_v3(1, 0, 0)
+#define Y rf_v3(0, 1, 0)
+#define Z rf_v3(0, 0, 1)
+
+/* ---- helpers ---- */
+
+typedef struct run {
+    rf_retarget *rt;
+    rf_animation *out;
+} run;
+
+static run do_run(const rf_skeleton *src, const rf_animation *clip, const rf_skeleton *tgt,
+                  const rf_mapping *m, const rf_retarget_options *o)
+{
+    char err[256] = "";
+    rf_rt_source s = {src, clip};
+    run r = {rf_retarget_new(&s, 1, tgt, m, o, err, sizeof err), NULL};
+    if (!r.rt)
+        print_message("plan: %s\n", err);
+    assert_non_null(r.rt);
+    r.out = rf_retarget_clip(r.rt, NULL, NULL, err, sizeof err);
+    if (!r.out)
+        print_message("clip: %s\n", err);
+    assert_non_null(r.out);
+    return r;
+}
+
+static void run_free(run *r)
+{
+    rf_animation_free(r->out);
+    rf_retarget_free(r->rt);
+}
+
+static rf_retarget_options opts(void)
+{
+    rf_retarget_options o;
+    rf_retarget_options_default(&o);
+    return o;
+}
+
+static rf_quat local_rot(const rf_animation *a, uint32_t f, uint32_t j)
+{
+    return rf_quat_normalize(rf_animation_rotation(a, f, j));
+}
+
+/* Angle in degrees between two rotations. */
+static double rot_diff(rf_quat a, rf_quat b)
+{
+    return rf_quat_angle(a, b) / DEG;
+}
+
+/* ---- skeletons ---- */
+
+/* A torso with its arms held out sideways (a T-pose) and a head: chest, left upper arm,
+ * forearm, hand (joints 1-3, along +X), the right arm (4-6) and the head (7). */
+static rf_skeleton *arm_tpose(void)
+{
+    rf_skeleton *s = rf_skeleton_new(8);
+    fx_joint(s, 0, "chest", -1, rf_v3(0, 0, 0), rf_quat_identity());
+    fx_joint(s, 1, "upper", 0, rf_v3(0.5, 0, 0), rf_quat_identity());
+    fx_joint(s, 2, "lower", 1, rf_v3(1, 0, 0), rf_quat_identity());
+    fx_joint(s, 3, "hand", 2, rf_v3(1, 0, 0), rf_quat_identity());
+    fx_end_site(s, 3, rf_v3(0.3, 0, 0));
+    fx_joint(s, 4, "r_upper", 0, rf_v3(-0.5, 0, 0), rf_quat_identity());
+    fx_joint(s, 5, "r_lower", 4, rf_v3(-1, 0, 0), rf_quat_identity());
+    fx_joint(s, 6, "r_hand", 5, rf_v3(-1, 0, 0), rf_quat_identity());
+    fx_end_site(s, 6, rf_v3(-0.3, 0, 0));
+    fx_joint(s, 7, "head", 0, rf_v3(0, 0.6, 0), rf_quat_identity());
+    fx_end_site(s, 7, rf_v3(0, 0.3, 0));
+    return s;
+}
+
+/* The same torso shaped differently with both arms hanging 45 degrees down (an A-pose), the
+ * bones along local +X (left) and -X (right). */
+static rf_skeleton *arm_apose(void)
+{
+    rf_skeleton *s = rf_skeleton_new(8);
+    fx_joint(s, 0, "c", -1, rf_v3(0, 0, 0), rf_quat_identity());
+    fx_joint(s, 1, "u", 0, rf_v3(0.4, 0, 0), fx_rot(Z, -45));
+    fx_joint(s, 2, "l", 1, rf_v3(0.8, 0, 0), rf_quat_identity());
+    fx_joint(s, 3, "h", 2, rf_v3(0.7, 0, 0), rf_quat_identity());
+    fx_end_site(s, 3, rf_v3(0.2, 0, 0));
+    fx_joint(s, 4, "ru", 0, rf_v3(-0.4, 0, 0), fx_rot(Z, 45));
+    fx_joint(s, 5, "rl", 4, rf_v3(-0.8, 0, 0), rf_quat_identity());
+    fx_joint(s, 6, "rh", 5, rf_v3(-0.7, 0, 0), rf_quat_identity());
+    fx_end_site(s, 6, rf_v3(-0.2, 0, 0));
+    fx_joint(s, 7, "hd", 0, rf_v3(0, 0.5, 0), rf_quat_identity());
+    fx_end_site(s, 7, rf_v3(0, 0.25, 0));
+    return s;
+}
+
+/* Three frames: rest, then two poses of the upper arm and forearm. */
+static rf_animation *arm_clip(const rf_skeleton *s)
+{
+    rf_animation *a = fx_rest_clip(s, 3, 10);
+    rf_animation_set_rotation(a, 1, 1, fx_rot(Z, 30));
+    rf_animation_set_rotation(a, 1, 2, fx_rot(Y, 40));
+    rf_animation_set_rotation(a, 2, 1, rf_quat_mul(fx_rot(X, 50), fx_rot(Z, -20)));
+    rf_animation_set_rotation(a, 2, 2, fx_rot(Z, 60));
+    rf_animation_set_rotation(a, 2, 3, fx_rot(Y, -30));
+    return a;
+}
+
+/* World direction from joint j to joint c (or along j's end site when c == j). */
+static rf_vec3 bone_dir(const rf_skeleton *s, const rf_xform *w, uint32_t j, uint32_t c)
+{
+    if (c == j)
+        return rf_v3_sub(rf_xform_point(w[j], s->joints[j].end_site), w[j].t);
+    return rf_v3_sub(w[c].t, w[j].t);
+}
+
+/* ---- rest-pose alignment ---- */
+
+static void tpose_drives_apose(void **state)
+{
+    (void)state;
+    rf_skeleton *src = arm_tpose(), *tgt = arm_apose();
+    rf_animation *clip = arm_clip(src);
+    rf_mapping *m = fx_mapping(8, 1);
+    fx_map_same(m, 8);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_xform ws[8], wt[8];
+    for (uint32_t f = 0; f < 3; f++) {
+        fx_world(src, clip, f, ws);
+        fx_world(tgt, r.out, f, wt);
+        for (uint32_t j = 1; j < 8; j++) {
+            uint32_t c = j == 3 || j >= 6 ? j : j + 1;
+            assert_true(fx_angle(bone_dir(tgt, wt, j, c), bone_dir(src, ws, j, c)) < 1e-3);
+        }
+    }
+    /* Frame 0 is the source's rest: the A-pose arm must be raised to the T-pose. */
+    fx_world(tgt, r.out, 0, wt);
+    assert_true(fx_angle(rf_v3_sub(wt[2].t, wt[1].t), X) < 1e-3);
+    /* Frame 1 by hand: the upper arm turned 30 degrees up about Z. */
+    fx_world(tgt, r.out, 1, wt);
+    assert_true(fx_angle(rf_v3_sub(wt[2].t, wt[1].t), rf_v3(cos(30 * DEG), sin(30 * DEG), 0)) <
+                1e-3);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* ---- chains of different length ---- */
+
+/* A vertical chain root-a-b-c (c with a tip), and a target with unmapped joints between. */
+static rf_skeleton *chain3(void)
+{
+    rf_skeleton *s = rf_skeleton_new(4);
+    fx_joint(s, 0, "root", -1, rf_v3(0, 0, 0), rf_quat_identity());
+    fx_joint(s, 1, "a", 0, rf_v3(0, 1, 0), rf_quat_identity());
+    fx_joint(s, 2, "b", 1, rf_v3(0, 1, 0), rf_quat_identity());
+    fx_joint(s, 3, "c", 2, rf_v3(0, 1, 0), rf_quat_identity());
+    fx_end_site(s, 3, rf_v3(0, 0.5, 0));
+    return s;
+}
+
+static rf_skeleton *chain5(void)
+{
+    rf_skeleton *s = rf_skeleton_new(6);
+    fx_joint(s, 0, "root", -1, rf_v3(0, 0, 0), rf_quat_identity());
+    fx_joint(s, 1, "a", 0, rf_v3(0, 1, 0), rf_quat_identity());
+    fx_joint(s, 2, "u1", 1, rf_v3(0, 0.5, 0), rf_quat_identity());
+    fx_joint(s, 3, "b", 2, rf_v3(0, 0.5, 0), rf_quat_identity());
+    fx_joint(s, 4, "u2", 3, rf_v3(0, 0.6, 0), rf_quat_identity());
+    fx_joint(s, 5, "c", 4, rf_v3(0, 0.6, 0), rf_quat_identity());
+    fx_end_site(s, 5, rf_v3(0, 0.5, 0));
+    return s;
+}
+
+static void chain3_drives_chain5(void **state)
+{
+    (void)state;
+    rf_skeleton *src = chain3(), *tgt = chain5();
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_animation_set_rotation(clip, 1, 1, fx_rot(Z, 30));
+    rf_animation_set_rotation(clip, 1, 2, fx_rot(X, 45));
+    rf_mapping *m = fx_mapping(6, 1);
+    fx_map(m, 0, 0, 0, 1, 0, 0), fx_map(m, 1, 0, 1, 1, 0, 0);
+    fx_map(m, 3, 0, 2, 1, 0, 0), fx_map(m, 5, 0, 3, 1, 0, 0);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_xform ws[4], wt[6];
+    fx_world(src, clip, 1, ws);
+    fx_world(tgt, r.out, 1, wt);
+    /* The mapped joints land where the source's segments point. */
+    assert_true(fx_angle(rf_v3_sub(wt[3].t, wt[1].t), rf_v3_sub(ws[2].t, ws[1].t)) < 1e-4);
+    assert_true(fx_angle(rf_v3_sub(wt[5].t, wt[3].t), rf_v3_sub(ws[3].t, ws[2].t)) < 1e-4);
+    /* By hand: the source segment turns 30 degrees about Z. a and u1 (two bones of 0.5) share
+     * the chain's rotation t equally: the bones point at t/2 and t, the chord at 3t/4 = 30, so
+     * t = 40 and each joint turns 20 degrees... */
+    double a_local = rot_diff(local_rot(r.out, 1, 1), rf_quat_identity());
+    double u1_local = rot_diff(local_rot(r.out, 1, 2), rf_quat_identity());
+    assert_true(fabs(a_local - 20) < 1e-3);
+    assert_true(fabs(u1_local - 20) < 1e-3);
+    /* ... and a leaf without a mapping keeps its rest. */
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+static void chain5_drives_chain3(void **state)
+{
+    (void)state;
+    rf_skeleton *src = chain5(), *tgt = chain3();
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_animation_set_rotation(clip, 1, 2, fx_rot(Z, 40));  /* the unmapped u1 bends */
+    rf_animation_set_rotation(clip, 1, 4, fx_rot(X, -25)); /* and u2 */
+    rf_mapping *m = fx_mapping(4, 1);
+    fx_map(m, 0, 0, 0, 1, 0, 0), fx_map(m, 1, 0, 1, 1, 0, 0);
+    fx_map(m, 2, 0, 3, 1, 0, 0), fx_map(m, 3, 0, 5, 1, 0, 0);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_xform ws[6], wt[4];
+    fx_world(src, clip, 1, ws);
+    fx_world(tgt, r.out, 1, wt);
+    assert_true(fx_angle(rf_v3_sub(wt[2].t, wt[1].t), rf_v3_sub(ws[3].t, ws[1].t)) < 1e-4);
+    assert_true(fx_angle(rf_v3_sub(wt[3].t, wt[2].t), rf_v3_sub(ws[5].t, ws[3].t)) < 1e-4);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+static void unmapped_leaf_keeps_rest(void **state)
+{
+    (void)state;
+    rf_skeleton *src = arm_tpose(), *tgt = arm_apose();
+    rf_animation *clip = arm_clip(src);
+    rf_mapping *m = fx_mapping(8, 1);
+    fx_map_same(m, 3); /* the hand is left unmapped */
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    for (uint32_t f = 0; f < 3; f++)
+        assert_true(rot_diff(local_rot(r.out, f, 3), tgt->joints[3].rest.r) < 1e-4);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* ---- mapping options ---- */
+
+static rf_animation *swing_clip(const rf_skeleton *s, uint32_t frames)
+{
+    rf_animation *a = fx_rest_clip(s, frames, 10);
+    for (uint32_t f = 0; f < frames; f++) {
+        rf_animation_set_rotation(a, f, 1, fx_rot(Z, 5.0 * f));
+        rf_animation_set_rotation(a, f, 2, fx_rot(Y, 3.0 * f));
+    }
+    return a;
+}
+
+static void delay_equals_shift(void **state)
+{
+    (void)state;
+    rf_skeleton *src = arm_tpose(), *tgt = arm_apose();
+    rf_animation *clip = swing_clip(src, 20);
+    rf_mapping *plain = fx_mapping(8, 1), *late = fx_mapping(8, 1);
+    fx_map_same(plain, 8);
+    for (uint32_t j = 0; j < 8; j++)
+        fx_map(late, j, 0, j, 1, 0.3f, 0); /* 3 frames at 10 fps */
+    rf_retarget_options o = opts();
+    run a = do_run(src, clip, tgt, plain, &o), b = do_run(src, clip, tgt, late, &o);
+    for (uint32_t f = 0; f < 20; f++)
+        for (uint32_t j = 0; j < 8; j++)
+            assert_true(rot_diff(local_rot(b.out, f, j), local_rot(a.out, f < 3 ? 0 : f - 3, j)) <
+                        1e-3);
+    run_free(&a), run_free(&b);
+    rf_mapping_free(plain), rf_mapping_free(late), rf_animation_free(clip);
+    rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+static void reverse_inverts(void **state)
+{
+    (void)state;
+    rf_skeleton *src = arm_tpose(), *tgt = arm_tpose();
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_animation_set_rotation(clip, 1, 1, fx_rot(Z, 30));
+    rf_mapping *m = fx_mapping(8, 1);
+    fx_map(m, 0, 0, 0, 1, 0, 0);
+    fx_map(m, 1, 0, 1, 1, 0, RF_MAP_REVERSE);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    /* By hand: the upper arm turns -30 degrees about Z (the root does not move). */
+    assert_true(rot_diff(local_rot(r.out, 1, 1), fx_rot(Z, -30)) < 1e-3);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+static void weights_blend_two_sources(void **state)
+{
+    (void)state;
+    rf_skeleton *sa = arm_tpose(), *sb = arm_tpose(), *tgt = arm_tpose();
+    rf_animation *ca = fx_rest_clip(sa, 2, 10), *cb = fx_rest_clip(sb, 2, 10);
+    rf_quat qa = fx_rot(Z, 40), qb = fx_rot(X, -60);
+    rf_animation_set_rotation(ca, 1, 1, qa);
+    rf_animation_set_rotation(cb, 1, 1, qb);
+    rf_mapping *m = fx_mapping(8, 2);
+    fx_map(m, 0, 0, 0, 1, 0, 0);
+    fx_map(m, 1, 0, 1, 0.5f, 0, 0);
+    fx_map(m, 1, 1, 1, 0.5f, 0, 0);
+    fx_map(m, 2, 0, 2, 1, 0, 0), fx_map(m, 3, 0, 3, 1, 0, 0);
+    rf_rt_source s[2] = {{sa, ca}, {sb, cb}};
+    char err[256];
+    rf_retarget_options o = opts();
+    rf_retarget *rt = rf_retarget_new(s, 2, tgt, m, &o, err, sizeof err);
+    assert_non_null(rt);
+    rf_animation *out = rf_retarget_clip(rt, NULL, NULL, err, sizeof err);
+    assert_non_null(out);
+    assert_true(rot_diff(local_rot(out, 1, 1), rf_quat_slerp(qa, qb, 0.5)) < 1e-3);
+    rf_animation_free(out), rf_retarget_free(rt), rf_mapping_free(m);
+    rf_animation_free(ca), rf_animation_free(cb);
+    rf_skeleton_free(sa), rf_skeleton_free(sb), rf_skeleton_free(tgt);
+}
+
+/* ---- root motion ---- */
+
+/* A biped: hips over two legs ending on the floor (y = 0), toes forward (+Z), a spine and head. */
+static rf_skeleton *biped(double scale, double thigh, double shin)
+{
+    rf_skeleton *s = rf_skeleton_new(9);
+    double k = scale;
+    fx_joint(s, 0, "hips", -1, rf_v3(0, (thigh + shin + 0.05) * k, 0), rf_quat_identity());
+    fx_joint(s, 1, "lthigh", 0, rf_v3(0.1 * k, 0, 0), rf_quat_identity());
+    fx_joint(s, 2, "lknee", 1, rf_v3(0, -thigh * k, 0), rf_quat_identity());
+    fx_joint(s, 3, "lankle", 2, rf_v3(0, -shin * k, 0), rf_quat_identity());
+    fx_end_site(s, 3, rf_v3(0, -0.05 * k, 0.15 * k));
+    fx_joint(s, 4, "rthigh", 0, rf_v3(-0.1 * k, 0, 0), rf_quat_identity());
+    fx_joint(s, 5, "rknee", 4, rf_v3(0, -thigh * k, 0), rf_quat_identity());
+    fx_joint(s, 6, "rankle", 5, rf_v3(0, -shin * k, 0), rf_quat_identity());
+    fx_end_site(s, 6, rf_v3(0, -0.05 * k, 0.15 * k));
+    fx_joint(s, 7, "spine", 0, rf_v3(0, 0.1 * k, 0), rf_quat_identity());
+    fx_joint(s, 8, "head", 7, rf_v3(0, 0.5 * k, 0), rf_quat_identity());
+    fx_end_site(s, 8, rf_v3(0, 0.2 * k, 0));
+    return s;
+}
+
+static void root_scaled_by_hip_height(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = biped(0.5, 0.5, 0.45);
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_animation_set_translation(clip, 1, 0, rf_v3(2, 1.1, 0));
+    for (uint32_t j = 0; j < 9; j++)
+        clip->channels[j] |= j == 0 ? RF_CHANNEL_TRANSLATION : 0;
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_rt_info info;
+    rf_retarget_info(r.rt, &info);
+    assert_true(fabs(info.root_scale - 0.5) < 1e-6); /* hip heights 1 and 0.5 over the floor */
+    /* By hand: 2 forward becomes 1; height 1.1 over the floor at 0 becomes 0.55. */
+    rf_vec3 hip = rf_animation_translation(r.out, 1, 0);
+    assert_true(rf_v3_dist(hip, rf_v3(1, 0.55, 0)) < 1e-6);
+    run_free(&r);
+    o.in_place = true;
+    r = do_run(src, clip, tgt, m, &o);
+    hip = rf_animation_translation(r.out, 1, 0);
+    assert_true(rf_v3_dist(hip, rf_v3(0, 0.55, 0)) < 1e-6);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* A target standing on a floor below the origin keeps its feet there. */
+static void target_stays_on_its_floor(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = biped(1, 0.5, 0.45);
+    tgt->joints[0].rest.t.y -= 3; /* stands on y = -3 */
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_animation_set_translation(clip, 1, 0, rf_v3(0, 0.9, 0.5)); /* crouches 0.1 */
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    assert_true(rf_v3_dist(rf_animation_translation(r.out, 1, 0), rf_v3(0, -2.1, 0.5)) < 1e-6);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* ---- clip options ---- */
+
+static void resampling_slerps(void **state)
+{
+    (void)state;
+    rf_skeleton *src = arm_tpose(), *tgt = arm_apose();
+    rf_animation *clip = swing_clip(src, 10);
+    rf_mapping *m = fx_mapping(8, 1);
+    fx_map_same(m, 8);
+    rf_retarget_options o = opts();
+    run base = do_run(src, clip, tgt, m, &o);
+    o.fps = 20;
+    run fine = do_run(src, clip, tgt, m, &o);
+    assert_int_equal(fine.out->frame_count, 19);
+    assert_true(fabs(fine.out->fps - 20) < 1e-12);
+    for (uint32_t f = 0; f + 1 < 10; f++) {
+        /* The upper arm hangs from a still root: its rotation is the source's times a constant,
+         * so the new frames are the slerp of their neighbours. */
+        rf_quat mid = rf_quat_slerp(local_rot(base.out, f, 1), local_rot(base.out, f + 1, 1), 0.5);
+        assert_true(rot_diff(local_rot(fine.out, 2 * f, 1), local_rot(base.out, f, 1)) < 1e-3);
+        assert_true(rot_diff(local_rot(fine.out, 2 * f + 1, 1), mid) < 1e-3);
+    }
+    run_free(&base), run_free(&fine);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+static void frame_range(void **state)
+{
+    (void)state;
+    rf_skeleton *src = arm_tpose(), *tgt = arm_apose();
+    rf_animation *clip = swing_clip(src, 12);
+    rf_mapping *m = fx_mapping(8, 1);
+    fx_map_same(m, 8);
+    rf_retarget_options o = opts();
+    run all = do_run(src, clip, tgt, m, &o);
+    o.first_frame = 5, o.last_frame = 9;
+    run part = do_run(src, clip, tgt, m, &o);
+    assert_int_equal(part.out->frame_count, 5);
+    for (uint32_t f = 0; f < 5; f++)
+        for (uint32_t j = 0; j < 8; j++)
+            assert_true(rot_diff(local_rot(part.out, f, j), local_rot(all.out, f + 5, j)) < 1e-4);
+    run_free(&all), run_free(&part);
+    o.first_frame = 20, o.last_frame = -1;
+    char err[256];
+    rf_rt_source s = {src, clip};
+    rf_retarget *rt = rf_retarget_new(&s, 1, tgt, m, &o, err, sizeof err);
+    assert_null(rf_retarget_clip(rt, NULL, NULL, err, sizeof err));
+    assert_non_null(strstr(err, "empty"));
+    rf_retarget_free(rt);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* A seeded generator, so the motion is arbitrary but the same every run. */
+static double lcg(uint32_t *seed)
+{
+    *seed = *seed * 1664525u + 1013904223u;
+    return *seed / 4294967296.0;
+}
+
+static void identity_returns_the_clip(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped(1, 0.5, 0.45);
+    /* Rotated rests, so the identity is not a matter of identity rotations. */
+    s->joints[1].rest.r = fx_rot(rf_v3(1, 2, 3), 20);
+    s->joints[2].rest.r = fx_rot(rf_v3(-2, 1, 0), 35);
+    s->joints[7].rest.r = fx_rot(Y, 90);
+    rf_animation *clip = fx_rest_clip(s, 30, 30);
+    uint32_t seed = 5;
+    for (uint32_t f = 0; f < 30; f++) {
+        for (uint32_t j = 0; j < 9; j++) {
+            rf_vec3 axis = rf_v3(lcg(&seed) - 0.5, lcg(&seed) - 0.5, lcg(&seed) - 0.5);
+            rf_quat q = rf_quat_mul(s->joints[j].rest.r, rf_quat_from_axis_angle(axis, 0.3));
+            rf_animation_set_rotation(clip, f, j, q);
+        }
+        rf_animation_set_translation(clip, f, 0, rf_v3(0.05 * f, 1.0 + 0.02 * lcg(&seed), 0));
+    }
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(s, clip, s, m, &o);
+    for (uint32_t f = 0; f < 30; f++)
+        for (uint32_t j = 0; j < 9; j++) {
+            rf_quat a = local_rot(r.out, f, j), b = local_rot(clip, f, j);
+            assert_true(1 - fabs(rf_quat_dot(a, b)) < 1e-10 || rot_diff(a, b) < 1e-3);
+            assert_true(rf_v3_dist(rf_animation_translation(r.out, f, j),
+                                   rf_animation_translation(clip, f, j)) < 1e-5);
+            float *qa = r.out->rotations + ((size_t)f * 9 + j) * 4;
+            float *qb = clip->rotations + ((size_t)f * 9 + j) * 4;
+            double sign =
+                qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3] < 0 ? -1 : 1;
+            for (int c = 0; c < 4; c++)
+                assert_true(fabs(qa[c] * sign - qb[c]) < 1e-5);
+        }
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(s);
+}
+
+/* ---- facing, mirror, degenerate rest ---- */
+
+/* A target turned to face -Z still points its bones where the source's point: the hips turn
+ * round (the legs' sides fix the twist about the spine). */
+static void opposite_facing_turns_round(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = biped(0.8, 0.55, 0.4);
+    tgt->joints[0].rest.r = fx_rot(Y, 180);
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_animation_set_rotation(clip, 1, 1, fx_rot(X, -40));
+    rf_animation_set_rotation(clip, 1, 2, fx_rot(X, 60));
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_xform ws[9], wt[9];
+    for (uint32_t f = 0; f < 2; f++) {
+        fx_world(src, clip, f, ws);
+        fx_world(tgt, r.out, f, wt);
+        /* toes forward like the source's, the left thigh on the source's left */
+        assert_true(fx_angle(bone_dir(tgt, wt, 3, 3), bone_dir(src, ws, 3, 3)) < 1e-3);
+        assert_true(fx_angle(rf_v3_sub(wt[2].t, wt[1].t), rf_v3_sub(ws[2].t, ws[1].t)) < 1e-3);
+        assert_true(fx_angle(rf_v3_sub(wt[1].t, wt[0].t), rf_v3_sub(ws[1].t, ws[0].t)) < 1e-3);
+    }
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* Four legs: hind legs under the hips, front legs under a chest ahead (+Z), feet forward. */
+static rf_skeleton *quadruped(void)
+{
+    rf_skeleton *s = rf_skeleton_new(16);
+    fx_joint(s, 0, "hips", -1, rf_v3(0, 1.0, -0.5), rf_quat_identity());
+    const char *names[4][3] = {
+        {"hl1", "hl2", "hl3"}, {"hr1", "hr2", "hr3"}, {"fl1", "fl2", "fl3"}, {"fr1", "fr2", "fr3"}};
+    fx_joint(s, 7, "spine", 0, rf_v3(0, 0, 0.5), rf_quat_identity());
+    fx_joint(s, 8, "chest", 7, rf_v3(0, 0, 0.5), rf_quat_identity());
+    uint32_t first[4] = {1, 4, 9, 12};
+    int32_t parent[4] = {0, 0, 8, 8};
+    for (int leg = 0; leg < 4; leg++) {
+        uint32_t j = first[leg];
+        double side = leg % 2 ? -0.15 : 0.15;
+        fx_joint(s, j, names[leg][0], parent[leg], rf_v3(side, 0, 0), rf_quat_identity());
+        fx_joint(s, j + 1, names[leg][1], (int32_t)j, rf_v3(0, -0.5, 0), rf_quat_identity());
+        fx_joint(s, j + 2, names[leg][2], (int32_t)j + 1, rf_v3(0, -0.45, 0), rf_quat_identity());
+        fx_end_site(s, j + 2, rf_v3(0, -0.05, 0.1));
+    }
+    fx_joint(s, 15, "head", 8, rf_v3(0, 0.3, 0.3), rf_quat_identity());
+    fx_end_site(s, 15, rf_v3(0, 0, 0.25));
+    return s;
+}
+
+/* Three seconds of stepping with a one-second cycle: the legs swing in opposite phase, and
+ * swing out sideways by a constant 10 degrees each. */
+static rf_animation *stepping(const rf_skeleton *s)
+{
+    rf_animation *a = fx_rest_clip(s, 90, 30);
+    for (uint32_t f = 0; f < 90; f++) {
+        double w = 30 * sin(2 * RF_PI * f / 30.0);
+        rf_animation_set_rotation(a, f, 1, rf_quat_mul(fx_rot(X, w), fx_rot(Z, 10)));
+        rf_animation_set_rotation(a, f, 4, rf_quat_mul(fx_rot(X, -w), fx_rot(Z, -10)));
+        rf_animation_set_rotation(a, f, 2, fx_rot(X, 20 + w / 2));
+        rf_animation_set_rotation(a, f, 5, fx_rot(X, 20 - w / 2));
+    }
+    return a;
+}
+
+static rf_vec3 seg(const rf_xform *w, uint32_t a, uint32_t b)
+{
+    return rf_v3_sub(w[b].t, w[a].t);
+}
+
+static void mirror_drives_second_pair(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = quadruped();
+    rf_animation *clip = stepping(src);
+    rf_mapping *m = fx_mapping(16, 1);
+    fx_map(m, 0, 0, 0, 1, 0, 0), fx_map(m, 7, 0, 7, 1, 0, 0), fx_map(m, 15, 0, 8, 1, 0, 0);
+    for (uint32_t k = 0; k < 3; k++) {
+        fx_map(m, 1 + k, 0, 1 + k, 1, 0, 0), fx_map(m, 4 + k, 0, 4 + k, 1, 0, 0);
+        fx_map(m, 9 + k, 0, 1 + k, 1, 0, RF_MAP_MIRROR); /* front left from the left leg */
+        fx_map(m, 12 + k, 0, 4 + k, 1, 0, RF_MAP_MIRROR);
+    }
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_rt_info info;
+    rf_retarget_info(r.rt, &info);
+    assert_true(fabs(info.cycle - 1.0) < 1.5 / 30); /* within a frame or so of the true cycle */
+    rf_xform a[16], b[16];
+    for (uint32_t f = 0; f + 15 < 90; f++) {
+        fx_world(tgt, r.out, f, a);
+        fx_world(tgt, r.out, f + (uint32_t)lround(info.cycle * 15), b);
+        /* The front left leg now does what the hind left leg does half a cycle on... */
+        assert_true(fx_angle(seg(a, 9, 10), seg(b, 1, 2)) < 0.5);
+        assert_true(fx_angle(seg(a, 10, 11), seg(b, 2, 3)) < 0.5);
+    }
+    run_free(&r);
+    /* ... and taken from the other side, it is mirrored: the right leg half a cycle on, swung
+     * out to the left, is the left leg now. */
+    rf_mapping *x = fx_mapping(16, 1);
+    fx_map(x, 0, 0, 0, 1, 0, 0), fx_map(x, 7, 0, 7, 1, 0, 0), fx_map(x, 15, 0, 8, 1, 0, 0);
+    for (uint32_t k = 0; k < 3; k++) {
+        fx_map(x, 1 + k, 0, 1 + k, 1, 0, 0), fx_map(x, 4 + k, 0, 4 + k, 1, 0, 0);
+        fx_map(x, 9 + k, 0, 4 + k, 1, 0, RF_MAP_MIRROR);
+        fx_map(x, 12 + k, 0, 1 + k, 1, 0, RF_MAP_MIRROR);
+    }
+    o.cycle = 1.0;
+    r = do_run(src, clip, tgt, x, &o);
+    for (uint32_t f = 0; f < 90; f++) {
+        fx_world(tgt, r.out, f, a);
+        assert_true(fx_angle(seg(a, 9, 10), seg(a, 1, 2)) < 1e-2);
+        assert_true(fx_angle(seg(a, 12, 13), seg(a, 4, 5)) < 1e-2);
+    }
+    run_free(&r);
+    rf_mapping_free(m), rf_mapping_free(x), rf_animation_free(clip);
+    rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* The biped's topology with every bone along local +X at zero rotation (as Maya joint orients
+ * leave a BVH): its zero pose is no body; frame 0 of its clip stands it up. */
+static rf_skeleton *flat_biped(void)
+{
+    rf_skeleton *s = rf_skeleton_new(9);
+    fx_joint(s, 0, "hips", -1, rf_v3(0, 1.0, 0), rf_quat_identity());
+    fx_joint(s, 1, "lthigh", 0, rf_v3(0.1, 0, 0), rf_quat_identity());
+    fx_joint(s, 2, "lknee", 1, rf_v3(0.5, 0, 0), rf_quat_identity());
+    fx_joint(s, 3, "lankle", 2, rf_v3(0.45, 0, 0), rf_quat_identity());
+    fx_end_site(s, 3, rf_v3(0.15, 0, 0));
+    fx_joint(s, 4, "rthigh", 0, rf_v3(0.1, 0, 0), rf_quat_identity());
+    fx_joint(s, 5, "rknee", 4, rf_v3(0.5, 0, 0), rf_quat_identity());
+    fx_joint(s, 6, "rankle", 5, rf_v3(0.45, 0, 0), rf_quat_identity());
+    fx_end_site(s, 6, rf_v3(0.15, 0, 0));
+    fx_joint(s, 7, "spine", 0, rf_v3(0.1, 0, 0), rf_quat_identity());
+    fx_joint(s, 8, "head", 7, rf_v3(0.5, 0, 0), rf_quat_identity());
+    fx_end_site(s, 8, rf_v3(0.2, 0, 0));
+    return s;
+}
+
+static void degenerate_rest_uses_a_frame(void **state)
+{
+    (void)state;
+    rf_skeleton *src = flat_biped(), *tgt = biped(0.9, 0.5, 0.45);
+    rf_animation *clip = fx_rest_clip(src, 3, 10);
+    for (uint32_t f = 0; f < 3; f++) {
+        /* hips turned so the spine points up; legs turned down, the right one over to -X */
+        rf_animation_set_rotation(clip, f, 0, fx_rot(Z, 90));
+        rf_animation_set_rotation(clip, f, 1, fx_rot(Z, 180 - 10.0 * f));
+        rf_animation_set_rotation(clip, f, 4, fx_rot(Y, 180));
+        rf_animation_set_rotation(clip, f, 2, fx_rot(Z, 15.0 * f));
+        rf_animation_set_rotation(clip, f, 3, fx_rot(Y, -90));
+        rf_animation_set_rotation(clip, f, 6, fx_rot(Y, 90));
+        rf_animation_set_rotation(clip, f, 7, fx_rot(Z, 5.0 * f));
+    }
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_rt_info info;
+    rf_retarget_info(r.rt, &info);
+    assert_int_equal(info.rest_frame, 0);
+    rf_rt_report rep;
+    char err[256];
+    assert_true(
+        rf_retarget_measure(r.rt, r.out, rf_retarget_start_time(r.rt), &rep, err, sizeof err));
+    assert_true(rep.fidelity_bones >= 6);
+    assert_true(rep.fidelity_max < 1e-2);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* ---- measures and the contact pass ---- */
+
+static void measure_by_hand(void **state)
+{
+    (void)state;
+    rf_skeleton *src = arm_tpose(), *tgt = arm_apose();
+    rf_animation *clip = fx_rest_clip(src, 3, 10), *held = fx_rest_clip(tgt, 3, 10);
+    rf_mapping *m = fx_mapping(8, 1);
+    fx_map_same(m, 8);
+    char err[256];
+    rf_rt_source s = {src, clip};
+    rf_retarget_options o = opts();
+    rf_retarget *rt = rf_retarget_new(&s, 1, tgt, m, &o, err, sizeof err);
+    rf_rt_report rep;
+    assert_true(rf_retarget_measure(rt, held, 0, &rep, err, sizeof err));
+    /* The target held in its A-pose against a T-pose. Measured bones: each arm's upper arm,
+     * forearm and hand (45 degrees off each) and the head (0); the chest branches three ways,
+     * so it is not one bone. Mean 6 x 45 / 7. */
+    assert_int_equal(rep.fidelity_bones, 7);
+    assert_true(fabs(rep.fidelity_mean - 270.0 / 7) < 1e-3);
+    assert_true(fabs(rep.fidelity_max - 45) < 1e-3);
+    assert_int_equal(rep.frames, 3);
+    rf_retarget_free(rt);
+    rf_mapping_free(m), rf_animation_free(clip), rf_animation_free(held);
+    rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* Turns a leg (thigh at j, knee j + 1) so the ankle of a thigh and shin of lengths a and b
+ * reaches `ankle` from the hip joint `hip`, bending the knee forward (+Z), in the YZ plane. */
+static void plant_leg(rf_animation *clip, uint32_t f, uint32_t j, rf_vec3 hip, rf_vec3 ankle,
+                      double a, double b)
+{
+    rf_vec3 d = rf_v3_sub(ankle, hip);
+    double len = rf_v3_len(d);
+    double line = atan2(-d.z, -d.y); /* rotX angle taking straight down onto the line */
+    double at_hip = acos((a * a + len * len - b * b) / (2 * a * len));
+    double at_knee = acos((a * a + b * b - len * len) / (2 * a * b));
+    rf_animation_set_rotation(clip, f, j, fx_rot(X, (line - at_hip) / DEG));
+    rf_animation_set_rotation(clip, f, j + 1, fx_rot(X, (RF_PI - at_knee) / DEG));
+}
+
+static void contact_pass_pins_feet(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = biped(1, 0.75, 0.2);
+    rf_animation *clip = fx_rest_clip(src, 30, 30);
+    for (uint32_t f = 0; f < 30; f++) {
+        double z = -0.2 + 0.4 * f / 29.0;
+        rf_animation_set_translation(clip, f, 0, rf_v3(0, 0.95, z));
+        plant_leg(clip, f, 1, rf_v3(0.1, 0.95, z), rf_v3(0.1, 0.05, 0), 0.5, 0.45);
+        plant_leg(clip, f, 4, rf_v3(-0.1, 0.95, z), rf_v3(-0.1, 0.05, 0), 0.5, 0.45);
+    }
+    clip->channels[0] |= RF_CHANNEL_TRANSLATION;
+    rf_xform w[9];
+    for (uint32_t f = 0; f < 30; f++) { /* the fixture: the source's feet do stay planted */
+        fx_world(src, clip, f, w);
+        assert_true(rf_v3_dist(w[3].t, rf_v3(0.1, 0.05, 0)) < 1e-5);
+    }
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_rt_info info;
+    rf_retarget_info(r.rt, &info);
+    assert_int_equal(info.effectors, 2); /* the ankles */
+    char err[256];
+    rf_rt_report before, after;
+    double start = rf_retarget_start_time(r.rt);
+    assert_true(rf_retarget_measure(r.rt, r.out, start, &before, err, sizeof err));
+    assert_true(before.contact_frames > 50);
+    assert_true(before.skate_source < 1e-4);
+    assert_true(before.skate_target > 0.02); /* other bone proportions: the feet slide */
+    const rf_ik_solver_api *api = &rf_ik_twobone_api;
+    rf_ik_solver *solver = rf_ik_solver_new(api, api->create(NULL, err, sizeof err), "twobone");
+    rf_rt_contact_stats st;
+    assert_true(rf_retarget_contacts(r.rt, r.out, solver, &st, err, sizeof err));
+    assert_int_equal(st.effectors, 2);
+    assert_true(st.solves >= 29);
+    assert_true(rf_retarget_measure(r.rt, r.out, start, &after, err, sizeof err));
+    print_message("skate %.4f -> %.6f leg/s, fidelity %.2f -> %.2f deg, ground %.4f -> %.4f, "
+                  "miss %.3g\n",
+                  before.skate_target, after.skate_target, before.fidelity_mean,
+                  after.fidelity_mean, before.ground_error, after.ground_error, st.max_error);
+    assert_true(after.skate_target < 1e-3);
+    assert_true(after.fidelity_mean < before.fidelity_mean + 20); /* the legs bend, no more */
+    rf_ik_solver_free(solver);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+static void bad_inputs_refused(void **state)
+{
+    (void)state;
+    rf_skeleton *src = arm_tpose(), *tgt = arm_apose();
+    rf_animation *clip = arm_clip(src);
+    rf_mapping *empty = fx_mapping(8, 1), *wrong = fx_mapping(3, 1), *far = fx_mapping(8, 1);
+    fx_map(far, 1, 0, 17, 1, 0, 0);
+    rf_rt_source s = {src, clip};
+    char err[256];
+    assert_null(rf_retarget_new(&s, 1, tgt, empty, NULL, err, sizeof err));
+    assert_non_null(strstr(err, "maps no target joint"));
+    assert_null(rf_retarget_new(&s, 1, tgt, wrong, NULL, err, sizeof err));
+    assert_non_null(strstr(err, "3 entries"));
+    assert_null(rf_retarget_new(&s, 1, tgt, far, NULL, err, sizeof err));
+    assert_non_null(strstr(err, "joint 17"));
+    rf_mapping_free(empty), rf_mapping_free(wrong), rf_mapping_free(far);
+    rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(tpose_drives_apose),
+        cmocka_unit_test(chain3_drives_chain5),
+        cmocka_unit_test(chain5_drives_chain3),
+        cmocka_unit_test(unmapped_leaf_keeps_rest),
+        cmocka_unit_test(delay_equals_shift),
+        cmocka_unit_test(reverse_inverts),
+        cmocka_unit_test(weights_blend_two_sources),
+        cmocka_unit_test(root_scaled_by_hip_height),
+        cmocka_unit_test(target_stays_on_its_floor),
+        cmocka_unit_test(resampling_slerps),
+        cmocka_unit_test(frame_range),
+        cmocka_unit_test(identity_returns_the_clip),
+        cmocka_unit_test(opposite_facing_turns_round),
+        cmocka_unit_test(mirror_drives_second_pair),
+        cmocka_unit_test(degenerate_rest_uses_a_frame),
+        cmocka_unit_test(measure_by_hand),
+        cmocka_unit_test(contact_pass_pins_feet),
+        cmocka_unit_test(bad_inputs_refused),
+    };
+    return cmocka_run_group_tests_name("retarget", tests, NULL, NULL);
+}
