@@ -13,7 +13,8 @@ tests_retarget_test_retarget_SOURCES = tests/retarget/test_retarget.c tests/reta
 tests_retarget_test_retarget_CPPFLAGS = $(RT_TEST_CPPFLAGS)
 tests_retarget_test_retarget_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_retarget_test_retarget_LDADD = $(RT_TEST_LDADD)
-tests_retarget_test_retarget_data_SOURCES = tests/retarget/test_retarget_data.c
+tests_retarget_test_retarget_data_SOURCES = tests/retarget/test_retarget_data.c \
+	tests/retarget/rt-maps.h
 tests_retarget_test_retarget_data_CPPFLAGS = $(RT_TEST_CPPFLAGS) -I$(top_srcdir)/plugins/bvh \
 	-I$(top_srcdir)/plugins/assimp
 tests_retarget_test_retarget_data_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
@@ -26,3 +27,4 @@ tests_retarget_fx_namemap_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 
 TESTS += tests/retarget/test_retarget_pipeline.sh
 dist_noinst_SCRIPTS += tests/retarget/test_retarget_pipeline.sh
+EXTRA_DIST += tests/retarget/maps
