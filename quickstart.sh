@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # rigflow quick start. One command per job:
-#   ./quickstart.sh          install what is missing, build, run the default pipeline on sample data
+#   ./quickstart.sh          install what is missing, build, retarget a mocap walk onto a quadruped
 #   ./quickstart.sh check    install what is missing, build with -Werror, run the whole test suite
 #   ./quickstart.sh deps     only install what is missing (Debian packages; npm tools for tests)
 #   ./quickstart.sh build    only configure and build (into _build/)
@@ -69,24 +69,28 @@ configure_build() {
     cd "$top"
 }
 
-# Sample data: the shared data folder beside the checkout, else Debian's assimp-testmodels.
-sample_bvh() {
+# Sample data: the shared data folder beside the checkout, else Debian's assimp-testmodels (which
+# has the same CMU walk and a quadruped, Testwuson).
+sample_data() {
     local d
     for d in "${RF_DATA_DIR:-}" "$top/../shared/data"; do
-        [ -n "$d" ] && [ -f "$d/bvh/cmu_01_01.bvh" ] && { echo "$d/bvh/cmu_01_01.bvh"; return; }
+        if [ -n "$d" ] && [ -f "$d/bvh/cmu_01_01.bvh" ] && [ -f "$d/models/Fox.glb" ]; then
+            echo "$d/bvh/cmu_01_01.bvh $d/models/Fox.glb"; return
+        fi
     done
-    echo /usr/share/assimp/models/BVH/01_01.bvh
+    echo /usr/share/assimp/models/BVH/01_01.bvh /usr/share/assimp/models/X/Testwuson.X
 }
 
+# The main job: a CMU mocap walk retargeted onto a quadruped, written as GLB.
 demo() {
     deps
     configure_build
     mkdir -p "$top/out"
-    local in out="$top/out/roundtrip.bvh"
-    in=$(sample_bvh)
-    say "running pipelines/bvh-roundtrip.json on $in"
-    RIGFLOW_PLUGIN_PATH="$build/plugins" "$build/rigflow" run "$top/pipelines/bvh-roundtrip.json" \
-        -p source.path="$in" -p export.path="$out"
+    local motion target out="$top/out/walk.glb"
+    read -r motion target <<<"$(sample_data)"
+    say "retargeting $(basename "$motion") onto $(basename "$target") (pipelines/retarget.json)"
+    "$build/rigflow" run "$top/pipelines/retarget.json" \
+        -p source.path="$motion" -p target.path="$target" -p export.path="$out"
     say "wrote $out"
 }
 

@@ -192,6 +192,28 @@ static int parse_globals(int argc, char **argv, GPtrArray *plugin_path, bool *qu
     return i;
 }
 
+/* When the command runs from a libtool build tree (unpacked, not installed), the plugins built
+ * beside it: `_build/rigflow` then works without RIGFLOW_PLUGIN_PATH. NULL elsewhere. */
+static char *build_tree_plugins(void)
+{
+    g_autofree char *exe = g_file_read_link("/proc/self/exe", NULL);
+    if (!exe)
+        return NULL;
+    g_autofree char *dir = g_path_get_dirname(exe);
+    g_autofree char *base = g_path_get_basename(dir);
+    if (strcmp(base, ".libs") == 0) { /* libtool's wrapper runs .libs/lt-rigflow */
+        char *up = g_path_get_dirname(dir);
+        g_free(dir);
+        dir = up;
+    }
+    g_autofree char *status = g_build_filename(dir, "config.status", NULL);
+    char *plugins = g_build_filename(dir, "plugins", NULL);
+    if (g_file_test(status, G_FILE_TEST_EXISTS) && g_file_test(plugins, G_FILE_TEST_IS_DIR))
+        return plugins;
+    g_free(plugins);
+    return NULL;
+}
+
 int main(int argc, char **argv)
 {
     g_autoptr(GPtrArray) plugin_path = g_ptr_array_new();
@@ -205,6 +227,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "rigflow: unknown command '%s' (see rigflow --help)\n", argv[first]);
         return RF_EXIT_USAGE;
     }
+    g_autofree char *built = build_tree_plugins();
+    if (built && !g_getenv("RIGFLOW_PLUGIN_PATH"))
+        g_ptr_array_add(plugin_path, built);
     g_ptr_array_add(plugin_path, NULL);
     rf_registry *reg = rf_registry_new();
     g_autoptr(GPtrArray) diags = rf_diags_new();
