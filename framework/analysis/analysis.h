@@ -72,6 +72,7 @@ enum rf_joint_info_flags {
     RF_JI_GIRDLE = 1u << 5,      /* a center joint where a pair of limbs attaches */
     RF_JI_OFFSET = 1u << 6,      /* a limb's short first bone from the centerline (clavicle,
                                   * hip offset) */
+    RF_JI_UNWEIGHTED = 1u << 7,  /* carries no skin weights, in a skeleton where others do */
 };
 
 typedef struct rf_section {

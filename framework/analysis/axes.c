@@ -16,6 +16,7 @@ typedef struct rf_limb {
     rf_vec3 attach;   /* where the limb leaves the body */
     rf_vec3 far;      /* that farthest tip */
     double lowest[4]; /* lowest height under each up candidate */
+    double out[4];    /* how far from the attachment that lowest point is */
     double reach;     /* farthest tip, guessed ones included, from the attachment */
     uint32_t joints;
     bool leg;
@@ -83,10 +84,10 @@ static double descent(const rf_awork *w, const rf_limb *l, rf_vec3 u)
     return total > 0 ? down / total : 0;
 }
 
-/* How well u explains the limbs as hanging down (0..1), plus 0.3 when two or more limbs reach
- * the lowest level (feet on the ground) and 0.3 more when their end bones lie flat (feet, not
- * wing tips pointing down). The lowest level is the lowest limb: a mesh node or ground root at
- * the origin says nothing. */
+/* How well u explains the limbs as hanging down (0..1), plus 0.15 per limb (up to four) when two
+ * or more reach the lowest level (feet on the ground: four legs say more than two wing tips) and
+ * up to 0.15 more as their end bones lie flat (feet, not tips pointing down). The lowest level is
+ * the lowest limb's: a mesh node or ground root at the origin says nothing. */
 static double up_score(const rf_awork *w, const rf_limbs *ls, rf_vec3 u, int cand)
 {
     double hang = 0, reach = 0, lo = INFINITY, hi = -INFINITY;
@@ -104,22 +105,28 @@ static double up_score(const rf_awork *w, const rf_limbs *ls, rf_vec3 u, int can
     uint32_t grounded = 0;
     double flat = 0;
     for (uint32_t i = 0; i < ls->n; i++) {
-        if (ls->v[i].lowest[cand] > lo + 0.05 * (hi - lo))
+        const rf_limb *l = &ls->v[i];
+        double drop = rf_v3_dot(l->attach, u) - l->lowest[cand]; /* a leg reaches down to it */
+        if (l->lowest[cand] > lo + 0.05 * (hi - lo) || l->out[cand] < 0.6 * l->reach ||
+            drop < 0.5 * l->reach)
             continue;
         const rf_joint_info *end = &w->a->joints[ls->v[i].end];
         rf_vec3 d = rf_v3_normalize(rf_v3_sub(end->tip, end->pos));
         grounded++;
         flat += fabs(rf_v3_dot(d, u)) < 0.8;
     }
-    double bonus = grounded >= 2 ? 0.3 + 0.3 * flat / grounded : 0;
+    double bonus = grounded >= 2 ? 0.15 * fmin(grounded, 4) + 0.15 * flat / grounded : 0;
     return (reach > 0 ? hang / reach : 0) + bonus;
 }
 
+/* Each limb's lowest measured point (pivots, known tips) under each candidate, and how far out
+ * along the limb it is: a leg stands on its foot, while seen along the body its hip may be its
+ * lowest point. */
 static void limb_lowest(const rf_awork *w, rf_limbs *ls, const rf_vec3 *cands)
 {
     for (uint32_t i = 0; i < ls->n; i++)
         for (int c = 0; c < 4; c++)
-            ls->v[i].lowest[c] = INFINITY;
+            ls->v[i].lowest[c] = INFINITY, ls->v[i].out[c] = 0;
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
         if (w->limb_of[j] < 0)
@@ -127,11 +134,13 @@ static void limb_lowest(const rf_awork *w, rf_limbs *ls, const rf_vec3 *cands)
         rf_limb *l = &ls->v[ls->slot[w->limb_of[j]]];
         const rf_joint_info *ji = &w->a->joints[j];
         bool guessed = (ji->flags & RF_JI_TIP_GUESSED) != 0;
-        for (int c = 0; c < 4; c++) {
-            double a = rf_v3_dot(ji->pos, cands[c]);
-            double b = guessed ? a : rf_v3_dot(ji->tip, cands[c]);
-            l->lowest[c] = fmin(l->lowest[c], fmin(a, b));
-        }
+        for (int c = 0; c < 4; c++)
+            for (int e = 0; e < 2 - guessed; e++) {
+                rf_vec3 p = e ? ji->tip : ji->pos;
+                double h = rf_v3_dot(p, cands[c]);
+                if (h < l->lowest[c])
+                    l->lowest[c] = h, l->out[c] = rf_v3_dist(p, l->attach);
+            }
     }
 }
 

@@ -75,8 +75,11 @@ bool rf_an_geometry(rf_awork *w)
     }
     /* Weights tell helpers apart only when some joints have them and some do not. */
     w->weights_known = unweighted > 0 && unweighted < w->n;
-    for (uint32_t i = 0; i < w->n; i++)
+    for (uint32_t i = 0; i < w->n; i++) {
         w->weighted[i] = !w->weights_known || !(s->joints[i].flags & RF_JOINT_UNWEIGHTED);
+        if (!w->weighted[i])
+            w->a->joints[i].flags |= RF_JI_UNWEIGHTED;
+    }
     bounding_size(w);
     return true;
 }

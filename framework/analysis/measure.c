@@ -316,9 +316,9 @@ static bool extend_by_digits(rf_awork *w)
     return true;
 }
 
-/* A limb's first bone, short and starting on the centerline (or very short), is an offset:
- * a clavicle, or a hip bone from the pelvis centre to the socket. Many rigs have none, so the
- * matcher keeps offsets for offsets. */
+/* A limb's first bone, short, shorter than the next, starting near where the limb leaves the
+ * body and running sideways (or very short), is an offset: a clavicle, or a hip bone from the
+ * pelvis centre to the socket. Many rigs have none, so the matcher keeps offsets for offsets. */
 static void mark_offsets(rf_awork *w)
 {
     rf_analysis *a = w->a;
@@ -328,9 +328,14 @@ static void mark_offsets(rf_awork *w)
             continue;
         uint32_t j = a->section_joints[sec->first];
         rf_joint_info *ji = &a->joints[j];
-        double len = (ji->u1 - ji->u0) * sec->length;
-        bool central = fabs(rf_v3_dot(rf_v3_sub(ji->pos, w->plane_p), a->left)) <= 0.5 * w->tol;
-        if (len < 0.35 * sec->length && (central || len < 0.1 * sec->length))
+        const rf_joint_info *next = &a->joints[a->section_joints[sec->first + 1]];
+        double len = (ji->u1 - ji->u0) * sec->length, limb = sec->length;
+        double after = (next->u1 - next->u0) * sec->length;
+        bool tiny = len < 0.1 * limb;
+        bool near = rf_v3_dist(ji->pos, w->attach_pt[j]) <= 0.3 * limb;
+        bool sideways = fabs(rf_v3_dot(ji->dir, a->left)) >= 0.5;
+        /* shorter than the bone after it: an upper arm is not, a clavicle is */
+        if (len < 0.35 * limb && (tiny || (near && sideways && len < 0.8 * after)))
             ji->flags |= RF_JI_OFFSET;
     }
 }

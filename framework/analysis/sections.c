@@ -248,7 +248,18 @@ static int32_t center_next(const rf_builder *b, uint32_t j)
     }
     if (w->conv_axis >= 0)
         return connected;
-    return (centers == 1 && all < 3) ? only : RF_NONE;
+    if (centers != 1 || all >= 3)
+        return RF_NONE;
+    /* Without a bone axis, a lone child continues the chain only if it goes on roughly the same
+     * way: a jaw hanging forward and down from the skull does not. Coincident joints say
+     * nothing and continue. */
+    int32_t p = w->parent[j];
+    rf_vec3 in = p >= 0 ? rf_v3_sub(rf_an_pos(w, j), rf_an_pos(w, (uint32_t)p)) : rf_v3(0, 0, 0);
+    rf_vec3 out = rf_v3_sub(rf_an_pos(w, (uint32_t)only), rf_an_pos(w, j));
+    if (rf_v3_len(in) > w->eps && rf_v3_len(out) > w->eps &&
+        rf_v3_angle(in, out) > 75.0 * RF_PI / 180.0)
+        return RF_NONE;
+    return only;
 }
 
 /* A chain of center joints from `start`; other center children become pending appendages. */

@@ -401,18 +401,47 @@ out:
 
 /* Center: near the plane, with a subtree centred on it, under a center parent, and without a
  * twin across the plane (eyes close to the plane are a pair, not the centerline). */
+/* Per joint: whether all its descendants lie off the plane on one side (a hip offset bone on
+ * the pelvis pivot carrying a leg), however narrow the hips are next to the wingspan that sets
+ * the tolerances. */
+static uint8_t *one_sided(const rf_awork *w, double tiny)
+{
+    uint8_t *side = calloc(w->n ? w->n : 1, 1); /* bits: 1 left of the plane, 2 right, 4 on */
+    uint8_t *out = calloc(w->n ? w->n : 1, 1);
+    if (!side || !out) {
+        free(side);
+        free(out);
+        return NULL;
+    }
+    for (uint32_t i = w->order_count; i-- > 0;) {
+        uint32_t j = w->order[i];
+        uint8_t below = 0;
+        for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
+            uint32_t c = w->child_idx[k];
+            double d = rf_an_plane_dist(w, rf_an_pos(w, c));
+            below |= side[c] | (d > tiny ? 1 : d < -tiny ? 2 : 4);
+        }
+        side[j] = below;
+        out[j] = below == 1 || below == 2;
+    }
+    free(side);
+    return out;
+}
+
 void rf_an_classify(rf_awork *w)
 {
     rf_grid g = {0};
     bool grid = grid_build(&g, w, w->tol);
     double tol_c = 0.5 * w->tol, tiny = 0.05 * w->tol;
+    uint8_t *lateral = one_sided(w, 0.25 * w->tol);
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
         int32_t p = w->parent[j];
         rf_vec3 q = rf_an_pos(w, j);
         double d = rf_an_plane_dist(w, q);
         bool center = (p < 0 || w->center[p]) && fabs(d) <= tol_c &&
-                      fabs(rf_an_plane_dist(w, centroid(w, j))) <= tol_c;
+                      fabs(rf_an_plane_dist(w, centroid(w, j))) <= tol_c &&
+                      !(lateral && lateral[j]);
         /* No symmetry: no sides. The root chain and the body's top are the centerline. */
         bool forced = !w->have_plane || w->root_chain[j] || (int32_t)j == w->top;
         if (center && fabs(d) > tiny && grid) {
@@ -429,6 +458,7 @@ void rf_an_classify(rf_awork *w)
     }
     if (grid)
         grid_free(&g);
+    free(lateral);
 }
 
 /* Each off-center joint's mirror image: the nearest joint to its reflection, other side. */

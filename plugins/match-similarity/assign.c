@@ -56,3 +56,44 @@ double rf_ms_assign(const double *cost, uint32_t n, uint32_t m, int32_t *match)
     free(step);
     return total;
 }
+
+/* The same with a price for leaving a bone out on either side: an alignment, as between two
+ * strings, where matching costs cost[i * m + k] and each bone left out costs `skip`. */
+double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int32_t *match)
+{
+    for (uint32_t i = 0; i < n; i++)
+        match[i] = -1;
+    size_t w = (size_t)m + 1;
+    double *f = malloc((size_t)(n + 1) * w * sizeof *f);
+    unsigned char *step = malloc((size_t)(n + 1) * w);
+    if (!f || !step) {
+        free(f);
+        free(step);
+        return -1;
+    }
+    for (uint32_t i = 0; i <= n; i++)
+        for (uint32_t k = 0; k <= m; k++) {
+            double best = i == 0 && k == 0 ? 0 : INFINITY;
+            unsigned char how = 0;
+            if (i && k && f[(i - 1) * w + k - 1] + cost[(size_t)(i - 1) * m + k - 1] < best)
+                best = f[(i - 1) * w + k - 1] + cost[(size_t)(i - 1) * m + k - 1], how = STEP_MATCH;
+            if (i && f[(i - 1) * w + k] + skip < best)
+                best = f[(i - 1) * w + k] + skip, how = STEP_SKIP_TARGET;
+            if (k && f[i * w + k - 1] + skip < best)
+                best = f[i * w + k - 1] + skip, how = STEP_SKIP_SOURCE;
+            f[i * w + k] = best, step[i * w + k] = how;
+        }
+    double total = f[n * w + m];
+    for (uint32_t i = n, k = m; i > 0 || k > 0;) {
+        unsigned char how = step[i * w + k];
+        if (how == STEP_MATCH)
+            match[i - 1] = (int32_t)(k - 1), i--, k--;
+        else if (how == STEP_SKIP_TARGET)
+            i--;
+        else
+            k--;
+    }
+    free(f);
+    free(step);
+    return total;
+}

@@ -93,6 +93,7 @@ static bool source_on(const rf_ms_ctx *c, uint32_t k, int32_t only)
 typedef struct rf_ms_pass {
     rf_ms_candidate *best;  /* [target joint] */
     rf_ms_candidate *final; /* [target joint] */
+    uint8_t *settled;       /* [target joint] assigned with its limb (a lent digit) */
     rf_ms_candidate *top;   /* [target joint * 3] or NULL */
     uint8_t *top_count;
     double *sec;       /* section metrics of the current target section against every
@@ -189,36 +190,105 @@ static void select_best(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
 
 /* ---- one input section per target section, duplicate removal ---- */
 
-/* The DP's cost of target joint t against source joint j: the thesis compares bone length
- * ratios; here the pivot and tip positions along the sections, and a spine's girdle joints
- * (where limbs attach) only fit girdle joints. */
-static double pair_cost(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
+/* A section's joints as the assignment sees them: the joint, its place counted in bones, its
+ * pivot and tip along the section. A limb may go on into its main digit. */
+typedef struct rf_ms_line {
+    uint32_t *joint;
+    int32_t *step;
+    double *u0, *u1;
+    uint32_t n;
+} rf_ms_line;
+
+static bool line_alloc(rf_ms_line *l, uint32_t cap)
+{
+    cap = cap ? cap : 1;
+    l->joint = malloc(cap * sizeof *l->joint);
+    l->step = malloc(cap * sizeof *l->step);
+    l->u0 = malloc(cap * sizeof *l->u0);
+    l->u1 = malloc(cap * sizeof *l->u1);
+    l->n = 0;
+    return l->joint && l->step && l->u0 && l->u1;
+}
+
+static void line_free(rf_ms_line *l)
+{
+    free(l->joint);
+    free(l->step);
+    free(l->u0);
+    free(l->u1);
+}
+
+static void line_section(const rf_ms_skel *s, uint32_t sec, rf_ms_line *l)
+{
+    const uint32_t *js = rf_section_joints(s->a, sec);
+    l->n = 0;
+    for (uint32_t i = 0; i < s->a->sections[sec].bone_count; i++) {
+        uint32_t j = js[i];
+        if (!s->matchable[j])
+            continue;
+        l->joint[l->n] = j, l->step[l->n] = s->step[j];
+        l->u0[l->n] = s->a->joints[j].u0, l->u1[l->n] = s->a->joints[j].u1;
+        l->n++;
+    }
+}
+
+/* The joints of a limb's main digit after the limb's own, placed along the limb (whose length
+ * reaches the end of its longest digit). Returns the digit section, or -1 when there is none. */
+static int32_t line_digit(const rf_ms_skel *s, uint32_t sec, rf_ms_line *l)
+{
+    const rf_analysis *a = s->a;
+    const rf_section *limb = &a->sections[sec];
+    uint32_t last = rf_section_joints(a, sec)[limb->bone_count - 1];
+    int32_t d = s->main_digit[last];
+    if (d < 0 || l->n == 0)
+        return -1;
+    double base = a->joints[last].u1,
+           scale = limb->length > 0 ? a->sections[d].length / limb->length : 0;
+    int32_t step = l->step[l->n - 1] + 1;
+    const uint32_t *js = rf_section_joints(a, (uint32_t)d);
+    for (uint32_t i = 0; i < a->sections[d].bone_count; i++) {
+        uint32_t j = js[i];
+        if (!s->matchable[j])
+            continue;
+        l->joint[l->n] = j, l->step[l->n] = step + s->step[j];
+        l->u0[l->n] = base + a->joints[j].u0 * scale, l->u1[l->n] = base + a->joints[j].u1 * scale;
+        l->n++;
+    }
+    return d;
+}
+
+/* The DP's cost of entry i of the target line against entry q of the source line: the thesis
+ * compares bone length ratios; here pivot and tip places along the sections, bone counts along
+ * limbs and digits, and landmarks, which only fit landmarks. */
+static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, uint32_t k,
+                        const rf_ms_line *sl, uint32_t q)
 {
     const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
+    uint32_t t = tl->joint[i], j = sl->joint[q];
     const rf_joint_info *a = &at->joints[t], *b = &as->joints[j];
     if (c->o->thesis) {
         double lt = at->sections[a->section].length, ls = as->sections[b->section].length;
         return fabs((lt > 0 ? a->length / lt : 0) - (ls > 0 ? b->length / ls : 0));
     }
-    double cost = fabs(a->u0 - b->u0) + 0.5 * fabs(fmin(a->u1, 1.5) - fmin(b->u1, 1.5));
-    /* landmarks only fit landmarks: girdles on the spine, a limb's offset bone (clavicle, hip
-     * offset), the skull at the end of the neck */
-    uint32_t marks = (a->flags ^ b->flags) & (RF_JI_GIRDLE | RF_JI_OFFSET);
-    if (at->sections[a->section].type == RF_SECTION_HEAD && c->tgt.last[t] != c->src[k].last[j])
-        marks |= 1;
+    double cost =
+        fabs(tl->u0[i] - sl->u0[q]) + 0.5 * fabs(fmin(tl->u1[i], 1.5) - fmin(sl->u1[q], 1.5));
+    /* the spine's ends (pelvis, chest), a limb's offset bone (clavicle, hip offset), the skull at
+     * the end of the neck */
+    uint32_t marks = (a->flags ^ b->flags) & RF_JI_OFFSET;
+    rf_section_type type = at->sections[a->section].type;
+    uint8_t ends = c->tgt.ends[t] ^ c->src[k].ends[j];
+    if (type == RF_SECTION_SPINE && !(at->sections[a->section].flags & RF_SECFL_REVERSE))
+        marks |= (uint32_t)ends << 8;
+    if (type == RF_SECTION_HEAD)
+        marks |= (uint32_t)(ends & 1) << 8;
     for (; marks; marks &= marks - 1)
         cost += 0.25;
+    /* limbs and digits: bones counted from the first real one (thigh, shin, foot whatever their
+     * proportions, plantigrade or not) */
+    if (type != RF_SECTION_SPINE && type != RF_SECTION_HEAD && type != RF_SECTION_TAIL &&
+        type != RF_SECTION_ROOT)
+        cost += 0.3 * abs(tl->step[i] - sl->step[q]);
     return cost;
-}
-
-static uint32_t matchable_joints(const rf_ms_skel *s, uint32_t sec, uint32_t *out)
-{
-    uint32_t n = 0;
-    const uint32_t *js = rf_section_joints(s->a, sec);
-    for (uint32_t i = 0; i < s->a->sections[sec].bone_count; i++)
-        if (s->matchable[js[i]])
-            out[n++] = js[i];
-    return n;
 }
 
 static bool same_section(const rf_ms_ctx *c, const rf_ms_candidate *a, const rf_ms_candidate *b)
@@ -231,13 +301,13 @@ static bool same_section(const rf_ms_ctx *c, const rf_ms_candidate *a, const rf_
  * when more than half of its mapped bones come from it. Beyond the thesis, the section most of
  * them chose is used (ties: the first bone's), so a two-bone thumb split one and one still
  * follows its first bone. Returns false when none qualifies. */
-static bool input_section(const rf_ms_ctx *c, const rf_ms_pass *p, const uint32_t *tj, uint32_t n,
+static bool input_section(const rf_ms_ctx *c, const rf_ms_pass *p, const rf_ms_line *tl,
                           uint32_t *k, uint32_t *ss)
 {
     uint32_t mapped = 0, most = 0;
     int32_t first = -1, pick = -1;
-    for (uint32_t i = 0; i < n; i++) {
-        const rf_ms_candidate *b = &p->best[tj[i]];
+    for (uint32_t i = 0; i < tl->n; i++) {
+        const rf_ms_candidate *b = &p->best[tl->joint[i]];
         if (b->source == RF_MS_NO_SOURCE)
             continue;
         mapped++;
@@ -246,40 +316,44 @@ static bool input_section(const rf_ms_ctx *c, const rf_ms_pass *p, const uint32_
         if (c->o->thesis && i != (uint32_t)first)
             continue;
         uint32_t votes = 0; /* sections are short: counting per bone stays cheap */
-        for (uint32_t q = 0; q < n; q++)
-            votes +=
-                p->best[tj[q]].source != RF_MS_NO_SOURCE && same_section(c, &p->best[tj[q]], b);
+        for (uint32_t q = 0; q < tl->n; q++)
+            votes += p->best[tl->joint[q]].source != RF_MS_NO_SOURCE &&
+                     same_section(c, &p->best[tl->joint[q]], b);
         if (votes > most)
             most = votes, pick = (int32_t)i;
     }
     if (first < 0 || (c->o->thesis && 2 * most <= mapped))
         return false;
-    const rf_ms_candidate *f = &p->best[tj[pick]];
+    const rf_ms_candidate *f = &p->best[tl->joint[pick]];
     *k = f->source;
     *ss = (uint32_t)c->src[f->source].a->joints[f->joint].section;
     return true;
 }
 
 /* Each target joint's best joint within the chosen source section (duplicates kept). */
-static void best_within(const rf_ms_ctx *c, rf_ms_pass *p, const uint32_t *tj, uint32_t n,
-                        uint32_t k, const uint32_t *sj, uint32_t m)
+static void best_within(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_line *tl, uint32_t k,
+                        const rf_ms_line *sl)
 {
-    for (uint32_t i = 0; i < n; i++) {
+    for (uint32_t i = 0; i < tl->n; i++) {
         double best = -INFINITY;
-        p->final[tj[i]] = no_candidate;
-        for (uint32_t q = 0; q < m; q++) {
+        p->final[tl->joint[i]] = no_candidate;
+        for (uint32_t q = 0; q < sl->n; q++) {
             double jm[RF_MS_METRIC_COUNT] = {0};
-            rf_ms_joint_metrics(c, tj[i], k, sj[q], jm);
+            rf_ms_joint_metrics(c, tl->joint[i], k, sl->joint[q], jm);
             double score = jm[RF_MS_ORIENTATION] + jm[RF_MS_SEQUENCE];
             if (score > best)
-                best = score, p->final[tj[i]] = (rf_ms_candidate){k, sj[q], 0, {0}};
+                best = score, p->final[tl->joint[i]] = (rf_ms_candidate){k, sl->joint[q], 0, {0}};
         }
     }
 }
 
-static bool remove_duplicates(const rf_ms_ctx *c, rf_ms_pass *p, const uint32_t *tj, uint32_t n,
-                              uint32_t k, const uint32_t *sj, uint32_t m)
+/* Assigns along the two lines. The thesis matches every bone of the shorter section; here
+ * either side may also leave a bone out at a price, so a hip offset on one side and a toe on the
+ * other do not shift the whole leg. */
+static bool remove_duplicates(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_line *tl, uint32_t k,
+                              const rf_ms_line *sl)
 {
+    uint32_t n = tl->n, m = sl->n;
     double *cost = malloc((size_t)(n ? n : 1) * (m ? m : 1) * sizeof *cost);
     int32_t *match = malloc((size_t)(n ? n : 1) * sizeof *match);
     bool ok = cost && match;
@@ -287,29 +361,63 @@ static bool remove_duplicates(const rf_ms_ctx *c, rf_ms_pass *p, const uint32_t 
         for (uint32_t i = 0; i < n; i++)
             for (uint32_t q = 0; q < m; q++)
                 cost[(size_t)i * m + q] =
-                    pair_cost(c, tj[i], k, sj[q]) + 1e-6 * fabs((double)i / n - (double)q / m);
-        ok = rf_ms_assign(cost, n, m, match) >= 0;
+                    pair_cost(c, tl, i, k, sl, q) + 1e-6 * fabs((double)i / n - (double)q / m);
+        ok = (c->o->thesis ? rf_ms_assign(cost, n, m, match)
+                           : rf_ms_align(cost, n, m, RF_MS_SKIP_COST, match)) >= 0;
     }
     for (uint32_t i = 0; ok && i < n; i++)
-        p->final[tj[i]] = match[i] >= 0 ? (rf_ms_candidate){k, sj[match[i]], 0, {0}} : no_candidate;
+        p->final[tl->joint[i]] =
+            match[i] >= 0 ? (rf_ms_candidate){k, sl->joint[match[i]], 0, {0}} : no_candidate;
     free(cost);
     free(match);
     return ok;
 }
 
-static bool settle_sections(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t *tj, uint32_t *sj)
+static bool is_limb(const rf_analysis *a, uint32_t s)
+{
+    rf_section_type t = a->sections[s].type;
+    return (t == RF_SECTION_ARM || t == RF_SECTION_LEG) && !(a->sections[s].flags & RF_SECFL_FAN);
+}
+
+/* A limb ending in a fan of digits against one ending in a single chain: the hand of one is
+ * bones of the other's arm. The fan side lends its main digit to the assignment, and a target
+ * digit settled that way is not settled again with its own section. */
+static void lend_digits(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t ts, rf_ms_line *tl, uint32_t k,
+                        uint32_t ss, rf_ms_line *sl)
+{
+    if (c->o->thesis || !is_limb(c->tgt.a, ts) || !is_limb(c->src[k].a, ss))
+        return;
+    const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
+    uint32_t tl_last = rf_section_joints(at, ts)[at->sections[ts].bone_count - 1];
+    uint32_t sl_last = rf_section_joints(as, ss)[as->sections[ss].bone_count - 1];
+    bool tfan = c->tgt.main_digit[tl_last] >= 0, sfan = c->src[k].main_digit[sl_last] >= 0;
+    if (tfan && !sfan) {
+        uint32_t before = tl->n;
+        line_digit(&c->tgt, ts, tl);
+        for (uint32_t i = before; i < tl->n; i++)
+            p->settled[tl->joint[i]] = 1;
+    } else if (sfan && !tfan) {
+        line_digit(&c->src[k], ss, sl);
+    }
+}
+
+static bool settle_sections(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf_ms_line *sl)
 {
     const rf_analysis *a = c->tgt.a;
     for (uint32_t ts = 0; ts < a->section_count; ts++) {
-        uint32_t n = matchable_joints(&c->tgt, ts, tj), k, ss;
-        for (uint32_t i = 0; i < n; i++)
-            p->final[tj[i]] = p->best[tj[i]];
-        if (n == 0 || !input_section(c, p, tj, n, &k, &ss))
+        uint32_t k, ss;
+        line_section(&c->tgt, ts, tl);
+        if (tl->n && p->settled[tl->joint[0]])
+            continue; /* a digit its limb has settled */
+        for (uint32_t i = 0; i < tl->n; i++)
+            p->final[tl->joint[i]] = p->best[tl->joint[i]];
+        if (tl->n == 0 || !input_section(c, p, tl, &k, &ss))
             continue;
-        uint32_t m = matchable_joints(&c->src[k], ss, sj);
+        line_section(&c->src[k], ss, sl);
+        lend_digits(c, p, ts, tl, k, ss, sl);
         if (c->o->keep_duplicates)
-            best_within(c, p, tj, n, k, sj, m);
-        else if (!remove_duplicates(c, p, tj, n, k, sj, m))
+            best_within(c, p, tl, k, sl);
+        else if (!remove_duplicates(c, p, tl, k, sl))
             return false;
     }
     return true;
@@ -340,19 +448,18 @@ static void finalize(const rf_ms_ctx *c, rf_ms_pass *p)
 
 static bool run_pass(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
 {
-    size_t n = c->tgt.a->joint_count ? c->tgt.a->joint_count : 1;
     uint32_t most = 1;
     for (uint32_t k = 0; k < c->nsrc; k++)
         most = c->src[k].a->joint_count > most ? c->src[k].a->joint_count : most;
-    uint32_t *tj = malloc(n * sizeof *tj), *sj = malloc((size_t)most * sizeof *sj);
-    bool ok = tj && sj;
+    rf_ms_line tl = {0}, sl = {0};
+    bool ok = line_alloc(&tl, c->tgt.a->joint_count) && line_alloc(&sl, most);
     if (ok) {
         select_best(c, p, only);
-        ok = settle_sections(c, p, tj, sj);
+        ok = settle_sections(c, p, &tl, &sl);
         finalize(c, p);
     }
-    free(tj);
-    free(sj);
+    line_free(&tl);
+    line_free(&sl);
     return ok;
 }
 
@@ -362,6 +469,7 @@ static bool pass_alloc(const rf_ms_ctx *c, rf_ms_pass *p, bool explain)
     memset(p, 0, sizeof *p);
     p->best = calloc(n, sizeof *p->best);
     p->final = calloc(n, sizeof *p->final);
+    p->settled = calloc(n, 1);
     p->sec_off = calloc(c->nsrc ? c->nsrc : 1, sizeof *p->sec_off);
     uint32_t rows = 0;
     for (uint32_t k = 0; p->sec_off && k < c->nsrc; k++)
@@ -371,7 +479,8 @@ static bool pass_alloc(const rf_ms_ctx *c, rf_ms_pass *p, bool explain)
         p->top = calloc(n * 3, sizeof *p->top);
         p->top_count = calloc(n, 1);
     }
-    if (!p->best || !p->final || !p->sec_off || !p->sec || (explain && (!p->top || !p->top_count)))
+    if (!p->best || !p->final || !p->settled || !p->sec_off || !p->sec ||
+        (explain && (!p->top || !p->top_count)))
         return false;
     for (size_t j = 0; j < n; j++)
         p->best[j] = p->final[j] = no_candidate;
@@ -382,6 +491,7 @@ static void pass_free(rf_ms_pass *p)
 {
     free(p->best);
     free(p->final);
+    free(p->settled);
     free(p->sec);
     free(p->sec_off);
     free(p->top);

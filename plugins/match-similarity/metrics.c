@@ -103,6 +103,50 @@ static void digit_kinds(rf_ms_skel *s)
     }
 }
 
+/* Of each fan, the digit a limb goes on into when compared with a limb without one: the
+ * middle finger (of the non-thumbs, the middle rank; the longest on a tie). */
+static void main_digits(rf_ms_skel *s)
+{
+    const rf_analysis *a = s->a;
+    for (uint32_t j = 0; j < a->joint_count; j++)
+        s->main_digit[j] = -1;
+    for (uint32_t k = 0; k < a->section_count; k++) {
+        const rf_section *sec = &a->sections[k];
+        if (!(sec->flags & RF_SECFL_FAN) || (sec->flags & RF_SECFL_THUMB) || sec->attach_joint < 0)
+            continue;
+        int32_t *m = &s->main_digit[sec->attach_joint];
+        double mid = 0.5 * sec->pair_count; /* ranks run 0..count-1, a thumb at 0 */
+        if (*m < 0) {
+            *m = (int32_t)k;
+            continue;
+        }
+        const rf_section *o = &a->sections[*m];
+        double d = fabs(sec->pair_rank - mid), od = fabs(o->pair_rank - mid);
+        if (d < od || (d == od && sec->bone_count > o->bone_count))
+            *m = (int32_t)k;
+    }
+}
+
+/* Joints counted along a section from its first real bone: a limb's thigh is 0, shin 1, foot 2
+ * whether or not a hip offset comes first (-1), and an unweighted link in the middle of a leg
+ * (a rig's mechanism) shares the place of the bone after it. */
+static void steps(rf_ms_skel *s, uint32_t k)
+{
+    const rf_analysis *a = s->a;
+    const uint32_t *js = rf_section_joints(a, k);
+    int32_t count = 0;
+    for (uint32_t i = 0; i < a->sections[k].bone_count; i++) {
+        const rf_joint_info *ji = &a->joints[js[i]];
+        if (ji->flags & RF_JI_OFFSET) {
+            s->step[js[i]] = -1;
+            continue;
+        }
+        s->step[js[i]] = count;
+        bool link = (ji->flags & RF_JI_UNWEIGHTED) && i + 1 < a->sections[k].bone_count;
+        count += s->matchable[js[i]] && !link;
+    }
+}
+
 static bool per_section(rf_ms_skel *s, bool thesis)
 {
     const rf_analysis *a = s->a;
@@ -116,9 +160,15 @@ static bool per_section(rf_ms_skel *s, bool thesis)
         const rf_section *sec = &a->sections[k];
         for (uint32_t i = sec->bone_count; i-- > 0;)
             if (s->matchable[rf_section_joints(a, k)[i]]) {
-                s->last[rf_section_joints(a, k)[i]] = 1;
+                s->ends[rf_section_joints(a, k)[i]] |= 1;
                 break;
             }
+        for (uint32_t i = 0; i < sec->bone_count; i++)
+            if (s->matchable[rf_section_joints(a, k)[i]]) {
+                s->ends[rf_section_joints(a, k)[i]] |= 2;
+                break;
+            }
+        steps(s, k);
         s->kind[k] = center_kind(sec);
         /* place among the fingers other than the thumb, 0..1 from the thumb's side */
         bool thumbed =
@@ -171,10 +221,14 @@ bool rf_ms_skel_init(rf_ms_skel *s, const rf_skeleton *skel, const rf_analysis_o
     s->matchable = calloc(n, 1);
     s->anc = calloc(n, sizeof *s->anc);
     s->bdir = calloc(n, sizeof *s->bdir);
-    s->last = calloc(n, 1);
-    if (!s->kind || !s->count || !s->digit_frac || !s->matchable || !s->anc || !s->bdir || !s->last)
+    s->ends = calloc(n, 1);
+    s->step = calloc(n, sizeof *s->step);
+    s->main_digit = malloc(n * sizeof *s->main_digit);
+    if (!s->kind || !s->count || !s->digit_frac || !s->matchable || !s->anc || !s->bdir ||
+        !s->ends || !s->step || !s->main_digit)
         return false;
     per_joint(s);
+    main_digits(s);
     return per_section(s, thesis);
 }
 
@@ -187,7 +241,9 @@ void rf_ms_skel_clear(rf_ms_skel *s)
     free(s->matchable);
     free(s->anc);
     free(s->bdir);
-    free(s->last);
+    free(s->ends);
+    free(s->step);
+    free(s->main_digit);
     memset(s, 0, sizeof *s);
 }
 

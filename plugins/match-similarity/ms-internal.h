@@ -26,13 +26,17 @@ typedef enum rf_ms_kind {
 typedef struct rf_ms_skel {
     const rf_skeleton *skel;
     rf_analysis *a;
-    uint8_t *kind;      /* [section] rf_ms_kind */
-    uint32_t *count;    /* [section] joints that can be matched */
-    double *digit_frac; /* [section] rank across the fan, 0..1 */
-    uint8_t *matchable; /* [joint] */
-    int32_t *anc;       /* [joint] nearest matchable ancestor, -1 */
-    rf_vec3 *bdir;      /* [joint] bone direction in the body frame (left, up, forward) */
-    uint8_t *last;      /* [joint] the last matchable joint of its section */
+    uint8_t *kind;       /* [section] rf_ms_kind */
+    uint32_t *count;     /* [section] joints that can be matched */
+    double *digit_frac;  /* [section] rank across the fan, 0..1 */
+    uint8_t *matchable;  /* [joint] */
+    int32_t *anc;        /* [joint] nearest matchable ancestor, -1 */
+    rf_vec3 *bdir;       /* [joint] bone direction in the body frame (left, up, forward) */
+    uint8_t *ends;       /* [joint] 1: the last matchable joint of its section, 2: the first */
+    int32_t *main_digit; /* [joint] the middle non-thumb digit section of the fan hanging from
+                          * the joint, or -1 */
+    int32_t *step;       /* [joint] place in a limb or digit counted in joints from its first
+                          * real bone (offsets -1, unweighted links share the next one's) */
 } rf_ms_skel;
 
 typedef struct rf_ms_ctx {

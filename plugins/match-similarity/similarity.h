@@ -107,4 +107,13 @@ void rf_ms_explain_clear(rf_ms_explain *e);
  * cost, or -1 when out of memory. O(n m) time and space. */
 double rf_ms_assign(const double *cost, uint32_t n, uint32_t m, int32_t *match);
 
+/* The assignment this matcher uses beyond the thesis: the same order-preserving matching, but
+ * either side may leave any bone out at a price of `skip` (an alignment), so extra bones on both
+ * sides (a hip offset here, a toe there) need not shift the rest. */
+double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int32_t *match);
+
+/* The price of leaving a bone out in the matcher's assignment (a match costs 0 for bones at the
+ * same place, about 0.3 per bone of shift or per landmark it crosses). */
+#define RF_MS_SKIP_COST 0.4
+
 #endif

@@ -6,8 +6,8 @@ MATCH_TEST_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 MATCH_LIBS = plugins/match-similarity/libsimilarity.la framework/analysis/libanalysis.la \
 	plugins/match-names/libnames.la -lm
 
-check_PROGRAMS += tests/match/test_analysis tests/match/test_accuracy
-TESTS += tests/match/test_analysis tests/match/test_accuracy
+check_PROGRAMS += tests/match/test_analysis tests/match/test_accuracy tests/match/test_generated
+TESTS += tests/match/test_analysis tests/match/test_accuracy tests/match/test_generated
 EXTRA_DIST += tests/match/truth
 
 tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
@@ -22,3 +22,9 @@ tests_match_test_accuracy_CPPFLAGS = $(MATCH_TEST_CPPFLAGS) -I$(top_srcdir)/plug
 tests_match_test_accuracy_CFLAGS = $(MATCH_TEST_CFLAGS)
 tests_match_test_accuracy_LDADD = $(MATCH_LIBS) plugins/assimp/librfassimp.la \
 	plugins/bvh/libbvh.la
+
+tests_match_test_generated_SOURCES = tests/match/test_generated.c tests/match/gen.c \
+	tests/match/gen.h
+tests_match_test_generated_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
+tests_match_test_generated_CFLAGS = $(MATCH_TEST_CFLAGS)
+tests_match_test_generated_LDADD = $(MATCH_LIBS)
