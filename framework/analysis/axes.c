@@ -274,13 +274,19 @@ static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32
     for (uint32_t i = 0; i < ls->n; i++) {
         rf_limb *l = &ls->v[i];
         double top = rf_an_height(w, l->attach), low = INFINITY;
-        uint32_t np = limb_path(w, l, pts, 64);
+        uint32_t np = limb_path(w, l, pts, 63);
         for (uint32_t k = 0; k < np; k++)
             low = fmin(low, rf_an_height(w, pts[k]));
         l->leg = low <= a->ground + 0.25 * a->height && top - low > 0.2 * a->height;
         if (!l->leg)
             continue;
         (*legs)++;
+        /* A leaf's guessed tip points the right way in a rig with a bone axis: the foot may be
+         * that leaf (its length does not matter here). */
+        const rf_joint_info *end = &w->a->joints[l->end];
+        if (w->conv_axis >= 0 && (end->flags & RF_JI_TIP_GUESSED) &&
+            rf_v3_dist(end->tip, pts[np - 1]) > w->eps)
+            pts[np++] = end->tip;
         double foot_top = low + 0.2 * (top - low);
         uint32_t f = np - 1;
         while (f > 0 && rf_an_height(w, pts[f - 1]) <= foot_top)
@@ -291,8 +297,8 @@ static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32
         rf_vec3 foot = rf_v3_sub(pts[np - 1], pts[f]);
         double reach = rf_v3_dist(l->far, l->attach), flen = rf_v3_len(foot);
         double flat = flen > 0 ? sqrt(fmax(0, 1 - pow(rf_an_height(w, foot) / flen, 2))) : 0;
-        if (reach > 0)
-            v->feet += flat * flat * rf_v3_dot(foot, c) / reach;
+        if (reach > 0 && flen > 0.02 * reach && flat >= 0.7) /* 0.3 per flat foot along c */
+            v->feet += 0.3 * flat * rf_v3_dot(foot, c) / flen;
     }
     if (*legs != 2 || !upright(w))
         return;
@@ -312,7 +318,7 @@ static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32
                 best = b;
         }
         if (reach > 0 && fabs(best) > 0.02 * reach)
-            v->knees += (best > 0 ? 0.25 : -0.25);
+            v->knees += (best > 0 ? 0.15 : -0.15); /* weaker: birds bend theirs back */
     }
 }
 

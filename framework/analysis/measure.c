@@ -349,9 +349,10 @@ bool rf_an_measure(rf_awork *w)
         sec->side = section_side(w, sec, first);
         measure_section(w, sec, 0);
         directions(w, sec);
-        /* a limb sits where its first joint is (clavicles and hips reach out of the body) */
-        sec->body_pos =
-            body_pos(w, center_type(sec->type) ? start_point(w, sec, first) : rf_an_pos(w, first));
+        /* A limb sits where it leaves the body: its girdle when the body has two, else where
+         * its first joint is (four legs on one torso joint). */
+        bool own = !center_type(sec->type) && w->rear == w->front;
+        sec->body_pos = body_pos(w, own ? rf_an_pos(w, first) : start_point(w, sec, first));
         for (uint32_t k = 0; k < sec->bone_count; k++) {
             rf_joint_info *ji = &a->joints[a->section_joints[sec->first + k]];
             ji->index = k;

@@ -616,7 +616,7 @@ static rf_mapping *match_all(rf_ms_ctx *c, rf_ms_explain *explain, char *err, si
     for (uint32_t q = 0; ok && q < npass; q++) {
         int32_t only = c->o->blend ? (int32_t)q : -1;
         ok = pass_alloc(c, &passes[q], explain && q == 0) &&
-             (!source_on(c, q, only) || run_pass(c, &passes[q], only));
+             ((only >= 0 && !source_on(c, q, only)) || run_pass(c, &passes[q], only));
     }
     rf_mapping *m = ok ? build_mapping(c, passes, npass) : NULL;
     if (!m)

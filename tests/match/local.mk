@@ -6,8 +6,10 @@ MATCH_TEST_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 MATCH_LIBS = plugins/match-similarity/libsimilarity.la framework/analysis/libanalysis.la \
 	plugins/match-names/libnames.la -lm
 
-check_PROGRAMS += tests/match/test_analysis tests/match/test_accuracy tests/match/test_generated
-TESTS += tests/match/test_analysis tests/match/test_accuracy tests/match/test_generated
+check_PROGRAMS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
+	tests/match/test_generated
+TESTS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
+	tests/match/test_generated
 EXTRA_DIST += tests/match/truth
 
 tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
@@ -28,3 +30,8 @@ tests_match_test_generated_SOURCES = tests/match/test_generated.c tests/match/ge
 tests_match_test_generated_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
 tests_match_test_generated_CFLAGS = $(MATCH_TEST_CFLAGS)
 tests_match_test_generated_LDADD = $(MATCH_LIBS)
+
+tests_match_test_similarity_SOURCES = tests/match/test_similarity.c tests/match/skel-build.h
+tests_match_test_similarity_CPPFLAGS = $(MATCH_TEST_CPPFLAGS) -D_POSIX_C_SOURCE=200809L
+tests_match_test_similarity_CFLAGS = $(MATCH_TEST_CFLAGS)
+tests_match_test_similarity_LDADD = $(MATCH_LIBS) $(CMOCKA_LIBS)

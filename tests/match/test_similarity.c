@@ -1,0 +1,547 @@
+/* The skeletal-similarity matcher: weight sets, every metric, the duplicate-bone removal against
+ * brute force (including the thesis's Tables 3 and 4), facing, several sources, preference,
+ * blending, the mirror setting, reversed knees, threshold, explanations, degenerate input. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include <cmocka.h>
+
+#include "match-similarity/similarity.h"
+#include "skel-build.h"
+
+static rf_skeleton *biped_facing(double yaw_degrees)
+{
+    rf_quat r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), yaw_degrees * RF_PI / 180);
+    return sb_build_xf(sb_biped, SB_COUNT(sb_biped), r, 1, rf_v3(0, 0, 0));
+}
+
+static rf_mapping *match1(const rf_skeleton *t, const rf_skeleton *s, const rf_ms_options *o)
+{
+    char err[256];
+    const rf_skeleton *src[1] = {s};
+    rf_mapping *m = rf_ms_match(t, src, 1, o, NULL, err, sizeof err);
+    if (!m)
+        fail_msg("%s", err);
+    return m;
+}
+
+/* The source joint (by name) driving the target joint `name`, or NULL when unmapped. */
+static const char *driver(const rf_mapping *m, const rf_skeleton *t, const rf_skeleton *const *s,
+                          const char *name, uint32_t *source)
+{
+    int32_t j = sb_find(t, name);
+    assert_true(j >= 0);
+    const rf_map_entry *e = &m->entries[j];
+    if (!e->input_count)
+        return NULL;
+    if (source)
+        *source = e->inputs[0].source;
+    return s[e->inputs[0].source]->joints[e->inputs[0].joint].name;
+}
+
+static void assert_driver(const rf_mapping *m, const rf_skeleton *t, const rf_skeleton *s,
+                          const char *name, const char *want)
+{
+    const rf_skeleton *src[1] = {s};
+    const char *got = driver(m, t, src, name, NULL);
+    if ((got == NULL) != (want == NULL) || (got && strcmp(got, want) != 0))
+        fail_msg("%s is driven by %s, expected %s", name, got ? got : "nothing",
+                 want ? want : "nothing");
+}
+
+static double metric(const rf_mapping *m, const rf_skeleton *t, const char *joint, const char *name)
+{
+    int32_t j = sb_find(t, joint);
+    for (uint32_t k = 0; k < m->metric_count; k++)
+        if (strcmp(m->metric_names[k], name) == 0)
+            return m->entries[j].metrics[k];
+    fail_msg("no metric %s", name);
+    return 0;
+}
+
+static void test_weight_sets(void **state)
+{
+    (void)state;
+    rf_ms_weights w;
+    uint32_t pref;
+    assert_true(rf_ms_weight_set("default", &w, &pref));
+    const double table1[] = {30, 50, 15, 10, 15, 16, 5, 0};
+    for (int i = 0; i < 8; i++)
+        assert_true(w.w[i] == table1[i]);
+    assert_true(w.w[RF_MS_BODY_POSITION] > 0 && w.w[RF_MS_DIGIT_ORDER] > 0);
+    assert_true(rf_ms_weight_set("thesis", &w, &pref));
+    assert_true(w.w[RF_MS_BODY_POSITION] == 0 && w.w[RF_MS_DIGIT_ORDER] == 0);
+    assert_true(rf_ms_weight_set("prefer-2", &w, &pref));
+    assert_int_equal(pref, 2);
+    assert_true(w.w[RF_MS_PREFERENCE] == 10);
+    assert_true(rf_ms_weight_set("thesis-prefer-0", &w, &pref));
+    assert_false(rf_ms_weight_set("prefer-", &w, &pref));
+    assert_false(rf_ms_weight_set("heavy", &w, &pref));
+    assert_string_equal(rf_ms_metric_names[RF_MS_SAME_SIDE], "same_side");
+}
+
+/* ---- assignment against brute force ---- */
+
+/* Lowest total over every order-preserving matching that uses each bone of the shorter side
+ * exactly once, by enumeration. */
+static double brute_assign(const double *cost, uint32_t n, uint32_t m, uint32_t i, uint32_t k,
+                           uint32_t left_t, uint32_t left_s)
+{
+    if (n >= m ? left_s == 0 : left_t == 0)
+        return 0;
+    double best = INFINITY;
+    for (uint32_t a = i; a < n; a++)
+        for (uint32_t b = k; b < m; b++) {
+            if (n >= m ? b != k : a != i) /* the shorter side may not skip */
+                continue;
+            double rest = brute_assign(cost, n, m, a + 1, b + 1, left_t - 1, left_s - 1);
+            best = fmin(best, cost[a * m + b] + rest);
+        }
+    return best;
+}
+
+/* Lowest total over every order-preserving partial matching, each bone left out costing skip. */
+static double brute_align(const double *cost, uint32_t n, uint32_t m, uint32_t i, uint32_t k,
+                          double skip)
+{
+    if (i == n || k == m)
+        return skip * ((n - i) + (m - k));
+    double best = cost[i * m + k] + brute_align(cost, n, m, i + 1, k + 1, skip);
+    best = fmin(best, skip + brute_align(cost, n, m, i + 1, k, skip));
+    return fmin(best, skip + brute_align(cost, n, m, i, k + 1, skip));
+}
+
+static double total_of_match(const double *cost, uint32_t n, uint32_t m, const int32_t *match,
+                             double skip)
+{
+    double t = 0;
+    uint32_t used = 0;
+    int32_t last = -1;
+    for (uint32_t i = 0; i < n; i++) {
+        if (match[i] < 0) {
+            t += skip;
+            continue;
+        }
+        assert_true(match[i] > last && (uint32_t)match[i] < m); /* order kept, no duplicate */
+        last = match[i];
+        t += cost[i * m + (uint32_t)match[i]];
+        used++;
+    }
+    return t + skip * (m - used);
+}
+
+static void test_assign_thesis_tables(void **state)
+{
+    (void)state;
+    /* Table 3: limb bones 1..4 of the target against A, B, C of the source; X is not allowed. */
+    const double X = 1e9;
+    const double cost[4 * 3] = {0.2, X, X, 0.4, 0.3, X, X, 0.1, 0.2, X, X, 0.3};
+    int32_t match[4];
+    double total = rf_ms_assign(cost, 4, 3, match);
+    assert_true(fabs(total - 0.6) < 1e-9); /* Table 4: 1A 3B 4C, 0.6 */
+    assert_int_equal(match[0], 0);
+    assert_int_equal(match[1], -1);
+    assert_int_equal(match[2], 1);
+    assert_int_equal(match[3], 2);
+}
+
+static void test_assign_brute_force(void **state)
+{
+    (void)state;
+    srand(11);
+    for (int round = 0; round < 400; round++) {
+        uint32_t n = 1 + (uint32_t)rand() % 6, m = 1 + (uint32_t)rand() % 6;
+        double cost[36];
+        for (uint32_t i = 0; i < n * m; i++)
+            cost[i] = (rand() % 1000) / 1000.0;
+        int32_t match[6];
+        double dp = rf_ms_assign(cost, n, m, match);
+        double brute = brute_assign(cost, n, m, 0, 0, n, m);
+        assert_true(fabs(dp - brute) < 1e-9);
+        uint32_t matched = 0;
+        for (uint32_t i = 0; i < n; i++)
+            matched += match[i] >= 0;
+        assert_int_equal(matched, n < m ? n : m);
+        assert_true(fabs(total_of_match(cost, n, m, match, 0) - dp) < 1e-9);
+
+        double skip = (rand() % 600) / 1000.0;
+        double al = rf_ms_align(cost, n, m, skip, match);
+        assert_true(fabs(al - brute_align(cost, n, m, 0, 0, skip)) < 1e-9);
+        assert_true(fabs(total_of_match(cost, n, m, match, skip) - al) < 1e-9);
+    }
+    int32_t none[1];
+    assert_true(rf_ms_assign(NULL, 0, 3, none) == 0);
+}
+
+/* ---- metrics ---- */
+
+/* A body mapped onto itself: every joint to itself, each metric at its full weight. */
+static void test_identity_and_metrics(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped_facing(0);
+    rf_mapping *m = match1(s, s, NULL);
+    assert_int_equal(m->metric_count, RF_MS_METRIC_COUNT);
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        assert_int_equal(m->entries[j].input_count, 1);
+        assert_int_equal(m->entries[j].inputs[0].joint, j);
+        assert_int_equal(m->entries[j].inputs[0].flags, 0);
+    }
+    assert_true(metric(m, s, "l_forearm", "same_side") == 30);
+    assert_true(metric(m, s, "l_forearm", "same_type") == 50);
+    assert_true(metric(m, s, "l_forearm", "similar_type") == 0);
+    assert_true(metric(m, s, "l_forearm", "bone_count") == 10);
+    assert_true(fabs(metric(m, s, "l_forearm", "orientation") - 15) < 1e-9);
+    assert_true(fabs(metric(m, s, "l_forearm", "sequence") - 16) < 1e-9);
+    assert_true(metric(m, s, "l_forearm", "continuity") == 5);
+    assert_true(metric(m, s, "l_forearm", "preference") == 0);
+    assert_true(metric(m, s, "l_forearm", "body_position") == 20);
+    assert_true(metric(m, s, "l_thumb", "digit_order") == 20);
+    int32_t f = sb_find(s, "l_forearm");
+    double sum = 0;
+    for (uint32_t k = 0; k < m->metric_count; k++)
+        sum += m->entries[f].metrics[k];
+    assert_true(fabs(m->entries[f].score - sum) < 1e-9);
+    assert_string_equal(m->sections[f], "arm");
+    assert_string_equal(m->sides[f], "left");
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+}
+
+/* Orientation falls quadratically from full points to none at the angle given. */
+static void test_orientation_falloff(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped_facing(0);
+    rf_skeleton *t = biped_facing(0);
+    /* turn the target's left forearm 20 degrees down: its end moves, nothing else */
+    int32_t hand = sb_find(t, "l_hand");
+    rf_vec3 off = t->joints[hand].rest.t;
+    double len = rf_v3_len(off), a = 20 * RF_PI / 180;
+    t->joints[hand].rest.t = rf_v3(len * cos(a), -len * sin(a), off.z);
+    double dir_angle = rf_v3_angle(off, t->joints[hand].rest.t) * 180 / RF_PI;
+    rf_ms_options o = {0};
+    o.orientation_angle = 40;
+    rf_mapping *m = match1(t, s, &o);
+    double want = 15 * (1 - pow(dir_angle / 40, 2));
+    assert_true(fabs(metric(m, t, "l_forearm", "orientation") - want) < 0.2);
+    assert_driver(m, t, s, "l_forearm", "l_forearm");
+    rf_mapping_free(m);
+    /* the thesis: the maximum angle is the orientation weight, 15 degrees */
+    o = (rf_ms_options){0};
+    o.thesis = true;
+    m = match1(t, s, &o);
+    assert_true(metric(m, t, "l_forearm", "orientation") == 0);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+/* Facing +Z onto facing -Z (and a quarter turn): sides come from the bodies, never the axes. */
+static void test_facing(void **state)
+{
+    (void)state;
+    const double yaws[] = {180, 90};
+    rf_skeleton *s = biped_facing(0);
+    for (int i = 0; i < 2; i++) {
+        rf_skeleton *t = biped_facing(yaws[i]);
+        rf_mapping *m = match1(t, s, NULL);
+        for (uint32_t j = 0; j < t->joint_count; j++) {
+            assert_int_equal(m->entries[j].input_count, 1);
+            assert_string_equal(s->joints[m->entries[j].inputs[0].joint].name, t->joints[j].name);
+        }
+        rf_mapping_free(m);
+        rf_skeleton_free(t);
+    }
+    rf_skeleton_free(s);
+}
+
+/* A biped onto a quadruped: forelegs take the arms, hind legs the legs, the tail stays
+ * unmapped (no counterpart of the same type). */
+static void test_biped_onto_quadruped(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped_facing(0);
+    rf_skeleton *t = sb_build(sb_quadruped, SB_COUNT(sb_quadruped));
+    rf_mapping *m = match1(t, s, NULL);
+    assert_driver(m, t, s, "pelvis", "hips");
+    assert_driver(m, t, s, "chest", "chest");
+    assert_driver(m, t, s, "head", "head");
+    assert_driver(m, t, s, "fl1", "l_arm");
+    assert_driver(m, t, s, "fr2", "r_forearm");
+    assert_driver(m, t, s, "hl1", "l_thigh");
+    assert_driver(m, t, s, "hr2", "r_shin");
+    assert_driver(m, t, s, "tail2", NULL);
+    assert_true(metric(m, t, "fl1", "body_position") > 15);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+/* Similar types map only when the threshold lets them: a target's thumb onto a source without
+ * hands (the main finger goes with the arm: the source arm is too short to drive it). */
+static void test_threshold_and_similar(void **state)
+{
+    (void)state;
+    const sb_joint plain[] = {
+        {"hips", NULL, 0, 1, 0, 0},
+        {"chest", "hips", 0, 1.4, 0, 0},
+        {"head", "chest", 0, 1.6, 0, 0},
+        {".", "head", 0, 1.8, 0, 0},
+        {"l_arm", "chest", 0.15, 1.5, 0, 0},
+        {"l_fore", "l_arm", 0.45, 1.5, 0, 0},
+        {".", "l_fore", 0.75, 1.5, 0, 0},
+        {"r_arm", "chest", -0.15, 1.5, 0, 0},
+        {"r_fore", "r_arm", -0.45, 1.5, 0, 0},
+        {".", "r_fore", -0.75, 1.5, 0, 0},
+        {"l_leg", "hips", 0.1, 0.95, 0, 0},
+        {"l_shin", "l_leg", 0.1, 0.5, 0.05, 0},
+        {".", "l_shin", 0.1, 0.0, 0.0, 0},
+        {"r_leg", "hips", -0.1, 0.95, 0, 0},
+        {"r_shin", "r_leg", -0.1, 0.5, 0.05, 0},
+        {".", "r_shin", -0.1, 0.0, 0.0, 0},
+    };
+    rf_skeleton *s = sb_build(plain, SB_COUNT(plain));
+    rf_skeleton *t = biped_facing(0);
+    rf_mapping *m = match1(t, s, NULL);
+    assert_driver(m, t, s, "l_finger", NULL);
+    assert_driver(m, t, s, "l_forearm", "l_fore");
+    rf_mapping_free(m);
+    rf_ms_options o = {0};
+    o.threshold_given = true, o.threshold = 0;
+    m = match1(t, s, &o);
+    const rf_skeleton *src[1] = {s};
+    assert_non_null(driver(m, t, src, "l_thumb", NULL));
+    assert_true(metric(m, t, "l_thumb", "similar_type") > 0);
+    assert_true(metric(m, t, "l_thumb", "same_type") == 0);
+    rf_mapping_free(m);
+    o.threshold = 1e5; /* nothing reaches it */
+    m = match1(t, s, &o);
+    for (uint32_t j = 0; j < t->joint_count; j++)
+        assert_int_equal(m->entries[j].input_count, 0);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+/* More target bones than source bones: duplicates when asked to keep them, none otherwise. */
+static void test_duplicates(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped_facing(0);
+    sb_joint js[SB_COUNT(sb_biped) + 1];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) { /* a second forearm bone on each arm */
+        js[n] = sb_biped[i];
+        if (strcmp(js[n].name, "l_hand") == 0)
+            js[n].parent = "l_forearm2";
+        n++;
+        if (strcmp(sb_biped[i].name, "l_forearm") == 0)
+            js[n++] = (sb_joint){"l_forearm2", "l_forearm", 0.59, 1.50, -0.03, 0};
+    }
+    rf_skeleton *t = sb_build(js, n);
+    rf_mapping *m = match1(t, s, NULL);
+    int32_t a = sb_find(t, "l_forearm"), b = sb_find(t, "l_forearm2");
+    bool same = m->entries[a].input_count && m->entries[b].input_count &&
+                m->entries[a].inputs[0].joint == m->entries[b].inputs[0].joint;
+    assert_false(same);
+    rf_mapping_free(m);
+    rf_ms_options o = {0};
+    o.keep_duplicates = true;
+    m = match1(t, s, &o);
+    same = m->entries[a].input_count && m->entries[b].input_count &&
+           m->entries[a].inputs[0].joint == m->entries[b].inputs[0].joint;
+    assert_true(same);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+/* Several sources: continuity keeps a section with one source; the preference picks which;
+ * a disabled source is left out; blending takes one input from every source. */
+static void test_several_sources(void **state)
+{
+    (void)state;
+    rf_skeleton *a = biped_facing(0), *b = biped_facing(180), *c = biped_facing(90);
+    rf_skeleton *t = biped_facing(30);
+    const rf_skeleton *src[3] = {a, b, c};
+    char err[256];
+    rf_mapping *m = rf_ms_match(t, src, 3, NULL, NULL, err, sizeof err);
+    for (uint32_t j = 0; j < t->joint_count; j++) {
+        assert_int_equal(m->entries[j].input_count, 1);
+        assert_string_equal(
+            src[m->entries[j].inputs[0].source]->joints[m->entries[j].inputs[0].joint].name,
+            t->joints[j].name);
+    }
+    rf_mapping_free(m);
+
+    rf_ms_weights w;
+    rf_ms_options o = {0};
+    assert_true(rf_ms_weight_set("prefer-2", &w, &o.preferred_source));
+    o.weights = &w;
+    m = rf_ms_match(t, src, 3, &o, NULL, err, sizeof err);
+    for (uint32_t j = 0; j < t->joint_count; j++)
+        assert_int_equal(m->entries[j].inputs[0].source, 2);
+    assert_true(metric(m, t, "head", "preference") == 10);
+    rf_mapping_free(m);
+
+    uint8_t disabled[3] = {1, 0, 0};
+    o = (rf_ms_options){0};
+    o.disabled = disabled;
+    m = rf_ms_match(t, src, 3, &o, NULL, err, sizeof err);
+    for (uint32_t j = 0; j < t->joint_count; j++)
+        assert_int_not_equal(m->entries[j].inputs[0].source, 0);
+    rf_mapping_free(m);
+
+    o = (rf_ms_options){0};
+    o.blend = true;
+    m = rf_ms_match(t, src, 3, &o, NULL, err, sizeof err);
+    for (uint32_t j = 0; j < t->joint_count; j++) {
+        assert_int_equal(m->entries[j].input_count, 3);
+        for (uint32_t k = 0; k < 3; k++) {
+            assert_int_equal(m->entries[j].inputs[k].source, k);
+            assert_true(fabsf(m->entries[j].inputs[k].weight - 1.0f / 3) < 1e-6f);
+        }
+    }
+    rf_mapping_free(m);
+    uint8_t all[3] = {1, 1, 1};
+    o = (rf_ms_options){0};
+    o.disabled = all;
+    assert_null(rf_ms_match(t, src, 3, &o, NULL, err, sizeof err));
+    rf_skeleton_free(a), rf_skeleton_free(b), rf_skeleton_free(c), rf_skeleton_free(t);
+}
+
+/* The mirror setting: every second pair of legs takes the other side's source (swap), or keeps
+ * its side flagged to play half a cycle away (phase). */
+static void test_mirror(void **state)
+{
+    (void)state;
+    rf_skeleton *q = sb_build(sb_quadruped, SB_COUNT(sb_quadruped));
+    rf_ms_options o = {0};
+    o.mirror = RF_MS_MIRROR_SWAP;
+    rf_mapping *m = match1(q, q, &o);
+    assert_driver(m, q, q, "fl2", "fl2"); /* front pair kept */
+    assert_driver(m, q, q, "hl2", "hr2"); /* hind pair swapped */
+    assert_driver(m, q, q, "hr3", "hl3");
+    rf_mapping_free(m);
+    o.mirror = RF_MS_MIRROR_PHASE;
+    m = match1(q, q, &o);
+    assert_driver(m, q, q, "hl2", "hl2");
+    assert_true(m->entries[sb_find(q, "hl2")].inputs[0].flags & RF_MAP_MIRROR);
+    assert_false(m->entries[sb_find(q, "fl2")].inputs[0].flags & RF_MAP_MIRROR);
+    rf_mapping_free(m);
+    rf_skeleton_free(q);
+}
+
+/* A knee bending forward driving one bending backward is flagged reversed (thesis, chapter 6). */
+static void test_reverse(void **state)
+{
+    (void)state;
+    sb_joint bent[SB_COUNT(sb_biped)];
+    memcpy(bent, sb_biped, sizeof bent);
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++)
+        if (strcmp(bent[i].name, "l_shin") == 0 || strcmp(bent[i].name, "r_shin") == 0)
+            bent[i].z = 0.12; /* knees well forward */
+    rf_skeleton *s = sb_build(bent, SB_COUNT(bent));
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++)
+        if (strcmp(bent[i].name, "l_shin") == 0 || strcmp(bent[i].name, "r_shin") == 0)
+            bent[i].z = -0.12; /* a bird's backward knee */
+    rf_skeleton *t = sb_build(bent, SB_COUNT(bent));
+    rf_mapping *m = match1(t, s, NULL);
+    assert_driver(m, t, s, "l_shin", "l_shin");
+    assert_true(m->entries[sb_find(t, "l_shin")].inputs[0].flags & RF_MAP_REVERSE);
+    assert_false(m->entries[sb_find(t, "l_arm")].inputs[0].flags & RF_MAP_REVERSE);
+    rf_mapping_free(m);
+    rf_ms_options o = {0};
+    o.no_reverse = true;
+    m = match1(t, s, &o);
+    assert_false(m->entries[sb_find(t, "l_shin")].inputs[0].flags & RF_MAP_REVERSE);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+static void test_explain(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped_facing(0), *t = biped_facing(180);
+    const rf_skeleton *src[1] = {s};
+    rf_ms_explain e = {0};
+    char err[256], *text = NULL;
+    size_t size = 0;
+    rf_mapping *m = rf_ms_match(t, src, 1, NULL, &e, err, sizeof err);
+    assert_non_null(e.target);
+    assert_int_equal(e.joint_count, t->joint_count);
+    for (uint32_t j = 0; j < e.joint_count; j++) {
+        assert_true(e.top_count[j] >= 1 && e.top_count[j] <= 3);
+        for (uint32_t k = 1; k < e.top_count[j]; k++)
+            assert_true(e.top[j * 3 + k - 1].total >= e.top[j * 3 + k].total);
+    }
+    FILE *out = open_memstream(&text, &size);
+    rf_ms_explain_print(&e, m, t, src, out);
+    fclose(out);
+    assert_non_null(strstr(text, "l_forearm (left arm) <- 0:l_forearm"));
+    assert_non_null(strstr(text, "same_type=50"));
+    assert_non_null(strstr(text, "sections:"));
+    free(text);
+    rf_ms_explain_clear(&e);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+static void test_degenerate(void **state)
+{
+    (void)state;
+    char err[256];
+    rf_skeleton *one = rf_skeleton_new(1), *none = rf_skeleton_new(0), *s = biped_facing(0);
+    const rf_skeleton *src[2] = {s, NULL};
+    assert_null(rf_ms_match(s, src, 0, NULL, NULL, err, sizeof err));
+    assert_null(rf_ms_match(NULL, src, 1, NULL, NULL, err, sizeof err));
+    assert_null(rf_ms_match(s, src, 2, NULL, NULL, err, sizeof err));
+    rf_mapping *m = rf_ms_match(none, src, 1, NULL, NULL, err, sizeof err);
+    assert_non_null(m);
+    assert_int_equal(m->target_joint_count, 0);
+    rf_mapping_free(m);
+    const rf_skeleton *tiny[1] = {one};
+    m = rf_ms_match(s, tiny, 1, NULL, NULL, err, sizeof err);
+    assert_non_null(m);
+    rf_mapping_free(m);
+    m = rf_ms_match(one, src, 1, NULL, NULL, err, sizeof err);
+    assert_non_null(m);
+    rf_mapping_free(m);
+    rf_ms_options o = {0};
+    o.thesis = true;
+    m = rf_ms_match(s, src, 1, &o, NULL, err, sizeof err);
+    assert_non_null(m);
+    assert_int_equal(m->entries[sb_find(s, "l_forearm")].inputs[0].joint,
+                     (uint32_t)sb_find(s, "l_forearm"));
+    rf_mapping_free(m);
+    rf_skeleton_free(one), rf_skeleton_free(none), rf_skeleton_free(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_weight_sets),
+        cmocka_unit_test(test_assign_thesis_tables),
+        cmocka_unit_test(test_assign_brute_force),
+        cmocka_unit_test(test_identity_and_metrics),
+        cmocka_unit_test(test_orientation_falloff),
+        cmocka_unit_test(test_facing),
+        cmocka_unit_test(test_biped_onto_quadruped),
+        cmocka_unit_test(test_threshold_and_similar),
+        cmocka_unit_test(test_duplicates),
+        cmocka_unit_test(test_several_sources),
+        cmocka_unit_test(test_mirror),
+        cmocka_unit_test(test_reverse),
+        cmocka_unit_test(test_explain),
+        cmocka_unit_test(test_degenerate),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
