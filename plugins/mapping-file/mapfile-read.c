@@ -317,7 +317,10 @@ rf_mapfile *rf_mapfile_parse(const char *data, size_t size, const char *name, ch
     json_error_t je;
     json_t *root = json_loadb(data ? data : "", data ? size : 0, JSON_REJECT_DUPLICATES, &je);
     if (!root) {
-        rf_errs_add(&e, "%d:%d: JSON syntax error: %s", je.line, je.column, je.text);
+        char where[512]; /* FILE:LINE:COL: like a compiler */
+        snprintf(where, sizeof where, "%s:%d:%d", e.name, je.line, je.column);
+        e.name = where;
+        rf_errs_add(&e, "JSON syntax error: %s", je.text);
         return NULL;
     }
     rf_mapfile *f = calloc(1, sizeof *f);

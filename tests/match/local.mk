@@ -7,9 +7,11 @@ MATCH_LIBS = plugins/match-similarity/libsimilarity.la framework/analysis/libana
 	plugins/match-names/libnames.la -lm
 
 check_PROGRAMS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
-	tests/match/test_generated
+	tests/match/test_generated tests/match/test_mapfile tests/match/test_names \
+	tests/match/test_map_pipeline
 TESTS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
-	tests/match/test_generated
+	tests/match/test_generated tests/match/test_mapfile tests/match/test_names \
+	tests/match/test_map_pipeline
 EXTRA_DIST += tests/match/truth
 
 tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
@@ -35,3 +37,20 @@ tests_match_test_similarity_SOURCES = tests/match/test_similarity.c tests/match/
 tests_match_test_similarity_CPPFLAGS = $(MATCH_TEST_CPPFLAGS) -D_POSIX_C_SOURCE=200809L
 tests_match_test_similarity_CFLAGS = $(MATCH_TEST_CFLAGS)
 tests_match_test_similarity_LDADD = $(MATCH_LIBS) $(CMOCKA_LIBS)
+
+tests_match_test_mapfile_SOURCES = tests/match/test_mapfile.c
+tests_match_test_mapfile_CPPFLAGS = $(MATCH_TEST_CPPFLAGS) -D_POSIX_C_SOURCE=200809L
+tests_match_test_mapfile_CFLAGS = $(MATCH_TEST_CFLAGS)
+tests_match_test_mapfile_LDADD = plugins/mapping-file/libmapfile.la $(CMOCKA_LIBS)
+
+tests_match_test_names_SOURCES = tests/match/test_names.c
+tests_match_test_names_CPPFLAGS = $(MATCH_TEST_CPPFLAGS) -D_POSIX_C_SOURCE=200809L
+tests_match_test_names_CFLAGS = $(MATCH_TEST_CFLAGS)
+tests_match_test_names_LDADD = plugins/match-names/libnames.la $(CMOCKA_LIBS)
+
+# Through the host with the bundled plugins: every data file, strategies, overrides.
+tests_match_test_map_pipeline_SOURCES = tests/match/test_map_pipeline.c
+tests_match_test_map_pipeline_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
+tests_match_test_map_pipeline_CFLAGS = $(MATCH_TEST_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS)
+tests_match_test_map_pipeline_LDADD = framework/librigflow.la plugins/mapping-file/libmapfile.la \
+	$(GLIB_LIBS) $(CMOCKA_LIBS)
