@@ -33,3 +33,6 @@ rigflow_LDADD += $(JANSSON_LIBS)
 rigflow_SOURCES += framework/ik-bench.c framework/ik-bench.h
 rigflow_CPPFLAGS += -I$(top_srcdir)/plugins/ik-common
 rigflow_LDADD += plugins/ik-common/libikworkload.la
+
+# rigflow map (issue 4): the graph of pipelines/map.json from the command line.
+rigflow_SOURCES += framework/map-cmd.c framework/map-cmd.h

@@ -8,6 +8,7 @@
 #include "config.h"
 #include "ik-bench.h"
 #include "inspect.h"
+#include "map-cmd.h"
 
 static volatile int interrupted;
 
@@ -133,6 +134,7 @@ static const command commands[] = {
     {"inspect", rf_cmd_inspect, "show what a model or motion file imports as"},
     {"plugin-check", rf_cmd_plugin_check, "check plugin files, each check in its own process"},
     {"ik-bench", rf_cmd_ik_bench, "compare the IK solver plugins on standard workloads (CSV)"},
+    {"map", rf_cmd_map, "map a target skeleton's joints onto source skeletons"},
 };
 
 static void print_help(void)

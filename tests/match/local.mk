@@ -54,3 +54,7 @@ tests_match_test_map_pipeline_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
 tests_match_test_map_pipeline_CFLAGS = $(MATCH_TEST_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS)
 tests_match_test_map_pipeline_LDADD = framework/librigflow.la plugins/mapping-file/libmapfile.la \
 	$(GLIB_LIBS) $(CMOCKA_LIBS)
+
+# The rigflow map command end to end.
+TESTS += tests/match/test_map_cmd.sh
+EXTRA_DIST += tests/match/test_map_cmd.sh

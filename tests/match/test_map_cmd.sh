@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# The rigflow map command (issue 4) on real files: the printed mapping, -o, --explain, --repeat,
+# several sources, another matcher, exit codes. Expected joints come from looking at the files
+# (the Fox's left hind leg is a human's left leg), not from the command's output.
+set -u
+rigflow="${RF_RIGFLOW:-${RF_BUILDDIR:?}/rigflow}"
+data="${RF_DATA_DIR:-}"
+if [ -z "$data" ] || [ ! -f "$data/bvh/cmu_01_01.bvh" ] || [ ! -f "$data/models/Fox.glb" ]; then
+    echo "SKIP: RF_DATA_DIR does not hold bvh/cmu_01_01.bvh and models/Fox.glb"
+    exit 77
+fi
+cmu="$data/bvh/cmu_01_01.bvh" fox="$data/models/Fox.glb" bandai="$data/bvh/bandai_walk.bvh"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+ok() { pass=$((pass + 1)); echo "ok - $1"; }
+bad() { fail=$((fail + 1)); echo "not ok - $1"; sed 's/^/    stderr: /' "$tmp/err" | head -20; }
+expect() { # expect CODE NAME -- COMMAND...
+    local want=$1 name=$2
+    shift 3
+    "$@" >"$tmp/out" 2>"$tmp/err"
+    local got=$?
+    if [ "$got" = "$want" ]; then ok "$name"; else bad "$name (exit $got, expected $want)"; fi
+}
+contains() { # contains FILE REGEX NAME
+    if grep -qE -- "$2" "$1"; then ok "$3"; else bad "$3: /$2/ not in $(basename "$1")"; fi
+}
+
+expect 2 "one file is a usage error" -- "$rigflow" map "$cmu"
+expect 2 "--repeat 0 is a usage error" -- "$rigflow" map --repeat 0 "$cmu" "$fox"
+
+expect 0 "CMU onto the Fox, printed" -- "$rigflow" map "$cmu" "$fox"
+contains "$tmp/out" "^b_LeftLeg01_015 +<- 0:LeftUpLeg " "left hind thigh from the left thigh"
+contains "$tmp/out" "^b_RightUpperArm_06 +<- 0:RightArm " "right foreleg from the right arm"
+contains "$tmp/out" "^b_Tail01_012 +\(unmapped\)" "a human has no tail"
+contains "$tmp/out" "target joints mapped$" "summary line"
+
+expect 0 "-o writes a mapping file" -- "$rigflow" map "$cmu" "$fox" -o "$tmp/fox.json"
+contains "$tmp/fox.json" '"format": "rigflow.mapping"' "file has the format tag"
+contains "$tmp/fox.json" '"target": "b_Tail03_014"' "file lists every target joint"
+expect 0 "pipelines/map.json on the same pair" -- "$rigflow" run "${RF_SRCDIR:?}/pipelines/map.json" \
+    -p source.path="$cmu" -p target.path="$fox" -p save.path="$tmp/again.json"
+if cmp -s "$tmp/fox.json" "$tmp/again.json"; then ok "command and pipeline agree"; else
+    bad "command and pipeline agree"; fi
+
+expect 1 "an unwritable -o fails" -- "$rigflow" map "$cmu" "$fox" -o "$tmp/no/such/dir.json"
+[ ! -e "$tmp/no" ] && ok "nothing left behind" || bad "nothing left behind"
+
+expect 0 "--explain" -- "$rigflow" map --explain "$cmu" "$fox"
+contains "$tmp/out" "three best candidates" "explain header"
+contains "$tmp/out" "same_side=30 same_type=50" "explain shows metrics"
+contains "$tmp/out" "^up +\(.*\) from " "explain shows the detected up axis"
+contains "$tmp/out" "sections:" "explain shows sections"
+
+expect 0 "--repeat" -- "$rigflow" map --repeat 5 "$cmu" "$fox"
+contains "$tmp/err" "^map_us_median=[0-9.]+$" "timing on stderr"
+
+expect 0 "two sources blended" -- "$rigflow" map "$cmu" "$bandai" "$fox" -p map.blend=true
+contains "$tmp/out" "<- 0:.* <- 1:" "joints driven by both sources"
+expect 0 "the names matcher" -- "$rigflow" map -m names "$cmu" "$fox"
+expect 3 "a bad parameter is a validation error" -- "$rigflow" map -p map.strategy=x "$cmu" "$fox"
+expect 1 "a missing file fails" -- "$rigflow" map "$cmu" "$tmp/missing.glb"
+if [ -f "$data/models/spider.fbx" ]; then
+    expect 1 "spider.fbx refused" -- "$rigflow" map "$cmu" "$data/models/spider.fbx"
+    contains "$tmp/err" "no skeleton" "refusal says why"
+fi
+
+echo "# $pass passed, $fail failed"
+[ "$fail" = 0 ]
