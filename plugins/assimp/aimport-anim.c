@@ -9,10 +9,12 @@
  * Scale keys are not kept (rf_animation has no scale channel).
  */
 #include <ctype.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "aimport-internal.h"
 
@@ -124,7 +126,10 @@ bool rf_ai_list_clips(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
             return rf_ai_fail(c, "out of memory");
         clip->duration = a->mDuration > 0 ? a->mDuration / rf_ai_tps(a) : 0;
         clip->fps = rf_ai_pick_fps(a, o->fps);
-        clip->frames = (unsigned)floor(clip->duration * clip->fps + 0.5) + 1;
+        /* A hostile duration (1e30 s) must not overflow the conversion: such a clip is refused
+         * for its size when selected. */
+        double frames = floor(clip->duration * clip->fps + 0.5) + 1;
+        clip->frames = frames < UINT_MAX ? (unsigned)frames : UINT_MAX;
     }
     return true;
 }
@@ -300,6 +305,18 @@ bool rf_ai_build_animation(rf_ai_ctx *c, const rf_skeleton *s, int clip, const r
     if (clip < 0)
         return rf_ai_rest_animation(c, s, out);
     const struct aiAnimation *a = c->scene->mAnimations[clip];
+    /* Resampling makes frames x joints from a few keys: a clip a file says lasts years would ask
+     * for more memory than the machine has. Refuse beyond half of it. */
+    double need = (double)info->frames * (double)s->joint_count * 7 * sizeof(float);
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    double half = pages > 0 && page > 0 ? (double)pages * (double)page / 2 : 0;
+    if (half > 0 && need > half)
+        return rf_ai_fail(c,
+                          "clip '%s' (%g s at %g fps: %u frames of %u joints) would take %.1f GB "
+                          "of memory, more than half of this machine's %.1f GB: expected a "
+                          "shorter clip",
+                          info->name, info->duration, info->fps, info->frames, s->joint_count,
+                          need / 1e9, 2 * half / 1e9);
     rf_animation *anim = rf_animation_new(s->joint_count, info->frames, info->fps);
     rf_ai_track *tracks = calloc(s->joint_count ? s->joint_count : 1, sizeof *tracks);
     if (!anim || !tracks || !(anim->name = rf_ai_strdup(info->name))) {

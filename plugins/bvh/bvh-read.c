@@ -1258,6 +1258,22 @@ static void parser_free(parser *ps)
     scratch_free(&ps->main);
 }
 
+/* The decoded motion takes frames x joints whatever the channels, so a file of a megabyte with
+ * many joints and no channels asks for gigabytes. Refuses what would take more than half of
+ * this machine's memory, which would fail or drive the machine into swapping. */
+static bool check_motion_memory(parser *ps, uint32_t frames, unsigned long frames_line)
+{
+    double need = (double)frames * (double)ps->count * 7 * sizeof(float);
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    double half = pages > 0 && page > 0 ? (double)pages * (double)page / 2 : 0;
+    if (half == 0 || need <= half)
+        return true;
+    return fail(ps, frames_line,
+                "'Frames: %" PRIu32 "' of %zu joints would take %.1f GB of memory, more than "
+                "half of this machine's %.1f GB: expected fewer frames or joints",
+                frames, ps->count, need / 1e9, 2 * half / 1e9);
+}
+
 static bool parse(parser *ps, rf_skeleton **skeleton, rf_animation **animation)
 {
     uint32_t frames = 0;
@@ -1272,7 +1288,8 @@ static bool parse(parser *ps, rf_skeleton **skeleton, rf_animation **animation)
     memset(ps->src.buf, 0, BVH_PAD);
     unsigned long frames_line;
     if (!parse_hierarchy(ps) || !read_motion_header(ps, &frames, &frame_time, &frames_line) ||
-        !check_frame_bound(ps, frames, frames_line))
+        !check_frame_bound(ps, frames, frames_line) ||
+        !check_motion_memory(ps, frames, frames_line))
         return false;
     rf_animation *a = new_animation((uint32_t)ps->count, frames, 1.0 / frame_time);
     if (!a || !(a->name = clip_name(ps->name))) {
