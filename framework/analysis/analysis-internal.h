@@ -48,6 +48,7 @@ typedef struct rf_awork {
     uint64_t *hash;      /* topology of the subtree */
     rf_vec3 plane_n, plane_p;
     bool have_plane;
+    struct rf_grid *grid; /* spatial hash of the pivots in `order`, built on first use */
 
     /* body */
     int32_t top;         /* first joint of the body below the root chain */
@@ -71,6 +72,8 @@ void rf_an_symmetry(rf_awork *w);
 void rf_an_classify(rf_awork *w);
 double rf_an_plane_dist(const rf_awork *w, rf_vec3 p);
 void rf_an_mirrors(rf_awork *w);
+/* Drops the spatial hash (when `order` changes); rebuilt on next use. */
+void rf_an_grid_reset(rf_awork *w);
 
 /* axes.c */
 void rf_an_axes(rf_awork *w);

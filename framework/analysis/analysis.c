@@ -16,6 +16,7 @@ static void empty_axes(rf_analysis *a)
 
 static void work_free(rf_awork *w)
 {
+    rf_an_grid_reset(w);
     free((void *)w->local);
     free(w->world);
     free(w->file_parent);
@@ -79,6 +80,7 @@ static bool run_stages(rf_awork *w)
             w->parent[j] >= 0 ? rf_an_pos(w, (uint32_t)w->parent[j]) : rf_an_pos(w, j);
     if (!rf_an_body(w))
         return false;
+    rf_an_grid_reset(w); /* the body has its own order */
     /* Again on the body tree: parts attached by proximity (feet under the ground root, legs of
      * another root) now count with their limbs. */
     rf_an_axes(w);

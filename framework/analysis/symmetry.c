@@ -69,7 +69,8 @@ typedef struct rf_grid {
 static int64_t cell_of(double x, double cell)
 {
     double c = floor(x / cell);
-    return (int64_t)fmax(-1e17, fmin(1e17, c));
+    /* plain comparisons: fmin/fmax are library calls here; NaN lands in cell 0 */
+    return c > 1e17 ? (int64_t)1e17 : c < -1e17 ? (int64_t)-1e17 : c == c ? (int64_t)c : 0;
 }
 
 static uint32_t cell_hash(int64_t x, int64_t y, int64_t z, uint32_t mask)
@@ -117,38 +118,80 @@ static void grid_free(rf_grid *g)
     free(g->idx);
 }
 
+void rf_an_grid_reset(rf_awork *w)
+{
+    if (w->grid)
+        grid_free(w->grid);
+    free(w->grid);
+    w->grid = NULL;
+}
+
+/* The grid of the pivots in `order` with cells of the symmetry tolerance, kept in the work
+ * (several stages ask for it); NULL when out of memory. */
+static const rf_grid *work_grid(rf_awork *w)
+{
+    if (w->grid)
+        return w->grid;
+    w->grid = calloc(1, sizeof *w->grid);
+    if (w->grid && !grid_build(w->grid, w, w->tol))
+        rf_an_grid_reset(w);
+    return w->grid;
+}
+
+/* Squared distances from a coordinate x to the cells before, at and after its own along one
+ * axis. */
+static void cell_gaps(double x, double cell, double gap[3])
+{
+    double f = x / cell - floor(x / cell);
+    gap[0] = f * f * cell * cell;
+    gap[1] = 0;
+    gap[2] = (1 - f) * (1 - f) * cell * cell;
+}
+
+/* Looks through one cell's joints for one nearer to p than *best_d2 on the wanted side. */
+static void cell_scan(const rf_grid *g, const rf_awork *w, uint32_t b, rf_vec3 p, uint32_t self,
+                      int side, double *best_d2, int32_t *best, uint32_t *examined)
+{
+    for (uint32_t k = g->off[b]; k < g->off[b + 1] && *examined < 48; k++) {
+        uint32_t j = g->idx[k];
+        (*examined)++;
+        double d2 = rf_v3_len2(rf_v3_sub(rf_an_pos(w, j), p));
+        if (j == self || d2 > *best_d2)
+            continue;
+        double s = rf_an_plane_dist(w, rf_an_pos(w, j));
+        if (side && s * side <= 0)
+            continue;
+        *best_d2 = d2, *best = (int32_t)j;
+    }
+}
+
 /* The joint nearest to p within the grid's cell size whose signed plane distance has the sign
  * `side` (or any when side is 0), other than `self`; -1 when none. Looks at no more than 48
- * joints, so clusters of coincident joints cannot make the analysis quadratic. */
+ * joints, so clusters of coincident joints cannot make the analysis quadratic. The 27 cells
+ * around p are visited own cell first on each axis, and a row, column or cell further away than
+ * the best match so far is skipped whole. Two neighbour cells sharing a bucket are rare and only
+ * look at the same joints twice, so they are not weeded out. */
 static int32_t grid_nearest(const rf_grid *g, const rf_awork *w, rf_vec3 p, uint32_t self, int side)
 {
+    static const int step[3] = {0, -1, 1};
     int64_t cx = cell_of(p.x, g->cell), cy = cell_of(p.y, g->cell), cz = cell_of(p.z, g->cell);
+    double gx[3], gy[3], gz[3];
+    cell_gaps(p.x, g->cell, gx), cell_gaps(p.y, g->cell, gy), cell_gaps(p.z, g->cell, gz);
     int32_t best = RF_NONE;
-    double best_d = g->cell;
-    uint32_t seen[27], examined = 0;
-    int nseen = 0;
-    for (int dx = -1; dx <= 1; dx++)
-        for (int dy = -1; dy <= 1; dy++)
-            for (int dz = -1; dz <= 1; dz++) {
-                uint32_t b = cell_hash(cx + dx, cy + dy, cz + dz, g->mask);
-                bool dup = false;
-                for (int s = 0; s < nseen && !dup; s++)
-                    dup = seen[s] == b;
-                if (dup)
-                    continue;
-                seen[nseen++] = b;
-                for (uint32_t k = g->off[b]; k < g->off[b + 1] && examined < 48; k++) {
-                    uint32_t j = g->idx[k];
-                    examined++;
-                    double d = rf_v3_dist(rf_an_pos(w, j), p);
-                    if (j == self || d > best_d)
-                        continue;
-                    double s = rf_an_plane_dist(w, rf_an_pos(w, j));
-                    if (side && s * side <= 0)
-                        continue;
-                    best_d = d, best = (int32_t)j;
-                }
+    double best_d2 = g->cell * g->cell;
+    uint32_t examined = 0;
+    for (int a = 0; a < 3; a++) {
+        int dx = step[a];
+        for (int b = 0; b < 3 && gx[dx + 1] <= best_d2; b++) {
+            int dy = step[b];
+            for (int c = 0; c < 3 && gx[dx + 1] + gy[dy + 1] <= best_d2; c++) {
+                int dz = step[c];
+                if (gx[dx + 1] + gy[dy + 1] + gz[dz + 1] <= best_d2)
+                    cell_scan(g, w, cell_hash(cx + dx, cy + dy, cz + dz, g->mask), p, self, side,
+                              &best_d2, &best, &examined);
             }
+        }
+    }
     return best;
 }
 
@@ -258,14 +301,17 @@ static void gather_candidates(rf_awork *w, rf_candidates *cs, rf_hashed *kids)
 }
 
 /* Mirror matches of the plane (n, p): off-plane joints whose reflection lands on a joint on
- * the other side, plus a quarter point per joint on the plane. */
-static double plane_score(rf_awork *w, const rf_grid *g, rf_vec3 n, rf_vec3 p, uint32_t *off,
-                          uint32_t *matched)
+ * the other side, plus a quarter point per joint on the plane. Gives up, returning -1, as soon
+ * as the score cannot exceed `need` even if every joint left matched. */
+static double plane_score(rf_awork *w, const rf_grid *g, rf_vec3 n, rf_vec3 p, double need,
+                          uint32_t *off, uint32_t *matched)
 {
     w->plane_n = n, w->plane_p = p;
     uint32_t on = 0;
     *off = *matched = 0;
     for (uint32_t i = 0; i < w->order_count; i++) {
+        if (*matched + 0.25 * on + (w->order_count - i) <= need)
+            return -1;
         uint32_t j = w->order[i];
         rf_vec3 q = rf_an_pos(w, j);
         double d = rf_an_plane_dist(w, q);
@@ -355,9 +401,9 @@ void rf_an_symmetry(rf_awork *w)
     rf_vec3 center = all_centroid(w);
     rf_candidates *cs = calloc(1, sizeof *cs);
     rf_hashed *kids = malloc((size_t)(w->n ? w->n : 1) * sizeof *kids);
-    rf_grid g = {0};
+    const rf_grid *g = work_grid(w);
     w->plane_n = rf_v3(1, 0, 0), w->plane_p = center;
-    if (!cs || !kids || !grid_build(&g, w, w->tol))
+    if (!cs || !kids || !g)
         goto out;
     rf_vec3 fu = w->opt.up, ff = w->opt.forward;
     if (rf_v3_len2(fu) > 0 && rf_v3_len2(ff) > 0 && rf_v3_len2(rf_v3_cross(fu, ff)) > 0) {
@@ -375,16 +421,16 @@ void rf_an_symmetry(rf_awork *w)
         rf_vec3 p =
             cs->c[i].weight > 0 ? rf_v3_scale(cs->c[i].p_sum, 1.0 / cs->c[i].weight) : center;
         uint32_t off, matched;
-        double score = plane_score(w, &g, n, p, &off, &matched);
         /* Proposed planes beat the fallback axes on ties: they come from the skeleton. */
-        score += cs->c[i].weight > 0 ? 1e-3 : 0;
-        if (score > best)
+        double bonus = cs->c[i].weight > 0 ? 1e-3 : 0;
+        double score = plane_score(w, g, n, p, best - bonus, &off, &matched);
+        if (score >= 0 && score + bonus > best)
             best = score, bn = n, bp = p, best_off = off, best_matched = matched;
     }
     w->plane_n = bn, w->plane_p = bp;
-    refine_plane(w, &g);
+    refine_plane(w, g);
     uint32_t off, matched;
-    plane_score(w, &g, w->plane_n, w->plane_p, &off, &matched);
+    plane_score(w, g, w->plane_n, w->plane_p, -1, &off, &matched);
     if (matched < best_matched) { /* the refinement made it worse: keep the original */
         w->plane_n = bn, w->plane_p = bp;
         off = best_off, matched = best_matched;
@@ -392,7 +438,6 @@ void rf_an_symmetry(rf_awork *w)
     w->a->symmetry = off ? (double)matched / off : 1.0;
     w->have_plane = matched > 0;
 out:
-    grid_free(&g);
     free(kids);
     free(cs);
 }
@@ -430,8 +475,7 @@ static uint8_t *one_sided(const rf_awork *w, double tiny)
 
 void rf_an_classify(rf_awork *w)
 {
-    rf_grid g = {0};
-    bool grid = grid_build(&g, w, w->tol);
+    const rf_grid *grid = work_grid(w);
     double tol_c = 0.5 * w->tol, tiny = 0.05 * w->tol;
     uint8_t *lateral = one_sided(w, 0.25 * w->tol);
     for (uint32_t i = 0; i < w->order_count; i++) {
@@ -446,7 +490,7 @@ void rf_an_classify(rf_awork *w)
         bool forced = !w->have_plane || w->root_chain[j] || (int32_t)j == w->top;
         if (center && fabs(d) > tiny && grid) {
             rf_vec3 r = rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d));
-            int32_t twin = grid_nearest(&g, w, r, j, d > 0 ? -1 : 1);
+            int32_t twin = grid_nearest(grid, w, r, j, d > 0 ? -1 : 1);
             center = twin < 0 || rf_v3_dist(rf_an_pos(w, (uint32_t)twin), r) > 0.5 * fabs(d);
         }
         w->center[j] = center || forced;
@@ -456,21 +500,17 @@ void rf_an_classify(rf_awork *w)
         else
             w->limb_of[j] = (p < 0 || w->center[p]) ? (int32_t)j : w->limb_of[p];
     }
-    if (grid)
-        grid_free(&g);
     free(lateral);
 }
 
 /* Each off-center joint's mirror image: the nearest joint to its reflection, other side. */
 void rf_an_mirrors(rf_awork *w)
 {
-    rf_grid g = {0};
     for (uint32_t j = 0; j < w->n; j++)
         w->a->joints[j].mirror = RF_NONE;
-    if (!w->have_plane || !grid_build(&g, w, w->tol)) {
-        grid_free(&g);
+    const rf_grid *g = w->have_plane ? work_grid(w) : NULL;
+    if (!g)
         return;
-    }
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
         if (w->center[j])
@@ -478,9 +518,8 @@ void rf_an_mirrors(rf_awork *w)
         rf_vec3 q = rf_an_pos(w, j);
         double d = rf_an_plane_dist(w, q);
         int32_t m =
-            grid_nearest(&g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), j, d > 0 ? -1 : 1);
+            grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), j, d > 0 ? -1 : 1);
         if (m >= 0 && !w->center[m])
             w->a->joints[j].mirror = m;
     }
-    grid_free(&g);
 }

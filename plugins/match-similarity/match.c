@@ -51,6 +51,7 @@ static bool ctx_init(rf_ms_ctx *c, const rf_skeleton *target, const rf_skeleton 
     c->angle = o->orientation_angle > 0 ? o->orientation_angle
                : o->thesis              ? fmax(1e-6, c->wt.w[RF_MS_ORIENTATION])
                                         : 45.0;
+    c->cos_angle = c->angle < 180 ? cos(c->angle * RF_PI / 180.0) : -2;
     c->nsrc = n;
     c->src = calloc(n ? n : 1, sizeof *c->src);
     if (!c->src || !rf_ms_skel_init(&c->tgt, target, &o->target_analysis, o->thesis)) {
@@ -90,6 +91,13 @@ static bool source_on(const rf_ms_ctx *c, uint32_t k, int32_t only)
 
 /* ---- the best candidates ---- */
 
+/* A source section as a candidate section for the current target section: its row in `sec`,
+ * the sum of its section metrics, and which source and section it is. */
+typedef struct rf_ms_row {
+    double base;
+    uint32_t row, k, ss;
+} rf_ms_row;
+
 typedef struct rf_ms_pass {
     rf_ms_candidate *best;  /* [target joint] */
     rf_ms_candidate *final; /* [target joint] */
@@ -99,20 +107,36 @@ typedef struct rf_ms_pass {
     double *sec;       /* section metrics of the current target section against every
                         * source section: [sum of source sections][metric] */
     uint32_t *sec_off; /* [source] first row of source k in sec */
+    rf_ms_row *rows;   /* the source sections worth scoring, best section metrics first */
+    uint32_t row_count;
 } rf_ms_pass;
 
-static void keep_top(rf_ms_candidate *top, uint8_t *count, const rf_ms_candidate *cand)
+/* The best three candidates of one target joint. Equal totals keep the order the sources,
+ * sections and joints come in (rank), whatever order they are scored in. */
+typedef struct rf_ms_top {
+    rf_ms_candidate *c;
+    uint64_t rank[3];
+    uint8_t *count;
+} rf_ms_top;
+
+static void keep_top(rf_ms_top *top, const rf_ms_candidate *cand, uint64_t rank)
 {
-    int n = *count, at = n;
-    while (at > 0 && cand->total > top[at - 1].total)
+    int n = *top->count, at = n;
+    while (at > 0 && (cand->total > top->c[at - 1].total ||
+                      (cand->total == top->c[at - 1].total && rank < top->rank[at - 1])))
         at--;
     if (at >= 3)
         return;
     for (int i = (n < 3 ? n : 2); i > at; i--)
-        top[i] = top[i - 1];
-    top[at] = *cand;
+        top->c[i] = top->c[i - 1], top->rank[i] = top->rank[i - 1];
+    top->c[at] = *cand, top->rank[at] = rank;
     if (n < 3)
-        (*count)++;
+        (*top->count)++;
+}
+
+static double top_floor(const rf_ms_top *top)
+{
+    return *top->count == 3 ? top->c[2].total : -INFINITY;
 }
 
 static bool kinds_meet(uint8_t kt, uint8_t ks)
@@ -122,55 +146,87 @@ static bool kinds_meet(uint8_t kt, uint8_t ks)
     return (kt == RF_MK_ROOT) == (ks == RF_MK_ROOT); /* ground roots only with ground roots */
 }
 
+static int cmp_row(const void *a, const void *b)
+{
+    const rf_ms_row *x = a, *y = b;
+    if (x->base != y->base)
+        return x->base > y->base ? -1 : 1;
+    return (x->row > y->row) - (x->row < y->row);
+}
+
+/* Scores target section ts against every source section, and sorts those its joints may match
+ * best first: a joint's search then stops at the first section that cannot reach its top three. */
 static void section_rows(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t ts, int32_t only)
 {
+    p->row_count = 0;
     for (uint32_t k = 0; k < c->nsrc; k++) {
         if (!source_on(c, k, only))
             continue;
-        for (uint32_t ss = 0; ss < c->src[k].a->section_count; ss++)
-            rf_ms_section_metrics(c, ts, k, ss,
-                                  &p->sec[(size_t)(p->sec_off[k] + ss) * RF_MS_METRIC_COUNT]);
+        for (uint32_t ss = 0; ss < c->src[k].a->section_count; ss++) {
+            if (!kinds_meet(c->tgt.kind[ts], c->src[k].kind[ss]))
+                continue;
+            uint32_t row = p->sec_off[k] + ss;
+            double *sm = &p->sec[(size_t)row * RF_MS_METRIC_COUNT];
+            rf_ms_section_metrics(c, ts, k, ss, sm);
+            p->rows[p->row_count++] = (rf_ms_row){total_of(sm), row, k, ss};
+        }
     }
+    qsort(p->rows, p->row_count, sizeof *p->rows, cmp_row);
 }
 
-/* Scores target joint t against every joint of the source sections that can beat the best so
- * far (a section's metrics plus the most its joints can add bound what it can reach). */
-static void score_joint(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t ts, uint32_t t, int32_t only)
+/* The most a metric can add: its weight, or nothing when a user made the weight negative. */
+static double most(double w)
+{
+    return w > 0 ? w : 0;
+}
+
+/* One source joint as a candidate for target joint t: skipped (false) when even full
+ * orientation points could not lift it past `floor`, the third best so far, so the angle is
+ * only computed for candidates that may enter the top three. */
+static bool score_candidate(const rf_ms_ctx *c, const double *sm, double base, uint32_t t,
+                            uint32_t k, uint32_t j, const rf_ms_candidate *parent, double floor,
+                            rf_ms_candidate *cand)
+{
+    double seq = rf_ms_sequence(c, t, k, j), cont = rf_ms_continuity(c, parent, k, j);
+    if (base + seq + cont + most(c->wt.w[RF_MS_ORIENTATION]) < floor - 1e-9)
+        return false; /* the margin: the bound adds in another order than total_of */
+    *cand = (rf_ms_candidate){k, j, 0, {0}};
+    memcpy(cand->metrics, sm, sizeof cand->metrics);
+    cand->metrics[RF_MS_SEQUENCE] = seq;
+    cand->metrics[RF_MS_CONTINUITY] = cont;
+    cand->metrics[RF_MS_ORIENTATION] = rf_ms_orientation(c, t, k, j);
+    cand->total = total_of(cand->metrics);
+    return true;
+}
+
+/* Scores target joint t against the joints of the source sections that can still enter its top
+ * three (a section's metrics plus the most its joints can add bound what it can reach). */
+static void score_joint(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t t)
 {
     const double *w = c->wt.w;
-    double joint_max = w[RF_MS_ORIENTATION] + w[RF_MS_SEQUENCE] + w[RF_MS_CONTINUITY];
+    double joint_max =
+        most(w[RF_MS_ORIENTATION]) + most(w[RF_MS_SEQUENCE]) + most(w[RF_MS_CONTINUITY]);
     int32_t pa = c->tgt.anc[t];
     const rf_ms_candidate *parent = pa >= 0 ? &p->best[pa] : NULL;
     rf_ms_candidate local[3];
     uint8_t nlocal = 0;
-    rf_ms_candidate *top = p->top ? &p->top[(size_t)t * 3] : local;
-    uint8_t *count = p->top ? &p->top_count[t] : &nlocal;
-    for (uint32_t k = 0; k < c->nsrc; k++) {
-        if (!source_on(c, k, only))
-            continue;
-        const rf_ms_skel *s = &c->src[k];
-        for (uint32_t ss = 0; ss < s->a->section_count; ss++) {
-            if (!kinds_meet(c->tgt.kind[ts], s->kind[ss]))
-                continue;
-            const double *sm = &p->sec[(size_t)(p->sec_off[k] + ss) * RF_MS_METRIC_COUNT];
-            double floor = *count == 3 ? top[2].total : -INFINITY;
-            if (total_of(sm) + joint_max < floor)
-                continue;
-            const uint32_t *js = rf_section_joints(s->a, ss);
-            for (uint32_t i = 0; i < s->a->sections[ss].bone_count; i++) {
-                uint32_t j = js[i];
-                if (!s->matchable[j])
-                    continue;
-                rf_ms_candidate cand = {k, j, 0, {0}};
-                memcpy(cand.metrics, sm, sizeof cand.metrics);
-                rf_ms_joint_metrics(c, t, k, j, cand.metrics);
-                cand.metrics[RF_MS_CONTINUITY] = rf_ms_continuity(c, parent, k, j);
-                cand.total = total_of(cand.metrics);
-                keep_top(top, count, &cand);
-            }
+    rf_ms_top top = {
+        p->top ? &p->top[(size_t)t * 3] : local, {0}, p->top ? &p->top_count[t] : &nlocal};
+    for (uint32_t r = 0; r < p->row_count; r++) {
+        const rf_ms_row *row = &p->rows[r];
+        if (row->base + joint_max < top_floor(&top) - 1e-9)
+            break; /* sorted: no later section can do better */
+        const rf_ms_skel *s = &c->src[row->k];
+        const double *sm = &p->sec[(size_t)row->row * RF_MS_METRIC_COUNT];
+        const uint32_t *js = rf_section_joints(s->a, row->ss);
+        for (uint32_t i = 0; i < s->a->sections[row->ss].bone_count; i++) {
+            rf_ms_candidate cand;
+            if (s->matchable[js[i]] &&
+                score_candidate(c, sm, row->base, t, row->k, js[i], parent, top_floor(&top), &cand))
+                keep_top(&top, &cand, (uint64_t)row->row << 32 | i);
         }
     }
-    p->best[t] = *count ? top[0] : no_candidate;
+    p->best[t] = *top.count ? top.c[0] : no_candidate;
 }
 
 static void select_best(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
@@ -183,7 +239,7 @@ static void select_best(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
             uint32_t t = js[i];
             p->best[t] = no_candidate;
             if (c->tgt.matchable[t] && c->tgt.kind[ts] != RF_MK_HELPER)
-                score_joint(c, p, ts, t, only);
+                score_joint(c, p, t);
         }
     }
 }
@@ -475,11 +531,12 @@ static bool pass_alloc(const rf_ms_ctx *c, rf_ms_pass *p, bool explain)
     for (uint32_t k = 0; p->sec_off && k < c->nsrc; k++)
         p->sec_off[k] = rows, rows += c->src[k].a->section_count;
     p->sec = calloc((size_t)(rows ? rows : 1) * RF_MS_METRIC_COUNT, sizeof *p->sec);
+    p->rows = malloc((size_t)(rows ? rows : 1) * sizeof *p->rows);
     if (explain) {
         p->top = calloc(n * 3, sizeof *p->top);
         p->top_count = calloc(n, 1);
     }
-    if (!p->best || !p->final || !p->settled || !p->sec_off || !p->sec ||
+    if (!p->best || !p->final || !p->settled || !p->sec_off || !p->sec || !p->rows ||
         (explain && (!p->top || !p->top_count)))
         return false;
     for (size_t j = 0; j < n; j++)
@@ -494,6 +551,7 @@ static void pass_free(rf_ms_pass *p)
     free(p->settled);
     free(p->sec);
     free(p->sec_off);
+    free(p->rows);
     free(p->top);
     free(p->top_count);
 }

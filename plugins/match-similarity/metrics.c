@@ -317,7 +317,7 @@ void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t
 
 /* Orientation: the angle between the bones in their bodies' frames (a bone on the other side is
  * mirrored first); full points at zero, falling quadratically to none at the maximum angle. */
-static double orientation(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
+double rf_ms_orientation(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
 {
     rf_vec3 a = c->tgt.bdir[t], b = c->src[k].bdir[j];
     if (rf_v3_len2(a) == 0 || rf_v3_len2(b) == 0)
@@ -325,26 +325,31 @@ static double orientation(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j
     rf_side st = c->tgt.a->joints[t].side, ss = c->src[k].a->joints[j].side;
     if (st != RF_SIDE_CENTER && ss != RF_SIDE_CENTER && st != ss)
         b.x = -b.x;
+    /* most pairs point too far apart to score: a dot product settles them */
+    if (rf_v3_dot(a, b) <= c->cos_angle * sqrt(rf_v3_len2(a) * rf_v3_len2(b)))
+        return 0;
     double deg = rf_v3_angle(a, b) * 180.0 / RF_PI, x = deg / c->angle;
-    return c->wt.w[RF_MS_ORIENTATION] * fmax(0, 1 - x * x);
+    return x < 1 ? c->wt.w[RF_MS_ORIENTATION] * (1 - x * x) : 0;
 }
 
 /* Sequence: the thesis gives the points for the same index in the section; here for the same
  * place, pivot and tip measured as fractions of the section's length, so a zero-length joint or
  * a missing clavicle does not shift the rest. */
-static double sequence(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
+double rf_ms_sequence(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
 {
     const rf_joint_info *a = &c->tgt.a->joints[t], *b = &c->src[k].a->joints[j];
     if (c->o->thesis)
         return a->index == b->index ? c->wt.w[RF_MS_SEQUENCE] : 0;
-    double d = fabs(a->u0 - b->u0) + fabs(fmin(a->u1, 1.5) - fmin(b->u1, 1.5));
-    return c->wt.w[RF_MS_SEQUENCE] * fmax(0, 1 - d / 0.5);
+    /* comparisons, not fmin/fmax: this runs for every pair of joints and those are calls */
+    double ua = a->u1 < 1.5 ? a->u1 : 1.5, ub = b->u1 < 1.5 ? b->u1 : 1.5;
+    double x = 1 - (fabs(a->u0 - b->u0) + fabs(ua - ub)) / 0.5;
+    return x > 0 ? c->wt.w[RF_MS_SEQUENCE] * x : 0;
 }
 
 void rf_ms_joint_metrics(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j, double *m)
 {
-    m[RF_MS_ORIENTATION] = orientation(c, t, k, j);
-    m[RF_MS_SEQUENCE] = sequence(c, t, k, j);
+    m[RF_MS_ORIENTATION] = rf_ms_orientation(c, t, k, j);
+    m[RF_MS_SEQUENCE] = rf_ms_sequence(c, t, k, j);
 }
 
 /* Continuity: half for staying with the source the parent's match came from, half for a

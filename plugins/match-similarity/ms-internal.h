@@ -43,7 +43,8 @@ typedef struct rf_ms_ctx {
     const rf_ms_options *o;
     rf_ms_weights wt;
     double threshold;
-    double angle; /* degrees */
+    double angle;     /* degrees */
+    double cos_angle; /* its cosine: bones further apart score nothing (no angle needed) */
     rf_ms_skel tgt;
     rf_ms_skel *src;
     uint32_t nsrc;
@@ -61,6 +62,9 @@ void rf_ms_skel_clear(rf_ms_skel *s);
 void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t ss, double *m);
 /* Joint-level metrics (orientation, sequence) of target joint t against source joint j. */
 void rf_ms_joint_metrics(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j, double *m);
+/* The two per-joint metrics apart, so a candidate can be dropped before the dearer one. */
+double rf_ms_orientation(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j);
+double rf_ms_sequence(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j);
 /* Continuity of candidate (k, j) for t given the choice made for t's matchable ancestor. */
 double rf_ms_continuity(const rf_ms_ctx *c, const rf_ms_candidate *parent_choice, uint32_t k,
                         uint32_t j);
