@@ -35,15 +35,27 @@ static rf_xform sane_xform(rf_xform x)
     return x;
 }
 
-static void bounding_size(rf_awork *w)
+/* The diagonal of the box around the pivots of the joints with flag `want` (unweighted or
+ * not), or of all joints when `all`; 0 when there are none. */
+static double extent(const rf_awork *w, bool all, bool want)
 {
     rf_vec3 lo = rf_v3(INFINITY, INFINITY, INFINITY), hi = rf_v3(-INFINITY, -INFINITY, -INFINITY);
+    uint32_t count = 0;
     for (uint32_t i = 0; i < w->n; i++) {
+        bool unweighted = (w->skel->joints[i].flags & RF_JOINT_UNWEIGHTED) != 0;
+        if (!all && unweighted != want)
+            continue;
         rf_vec3 p = w->a->joints[i].pos;
         lo = rf_v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
         hi = rf_v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+        count++;
     }
-    double size = w->n ? rf_v3_dist(lo, hi) : 0.0;
+    return count ? rf_v3_dist(lo, hi) : 0.0;
+}
+
+static void bounding_size(rf_awork *w)
+{
+    double size = extent(w, true, false);
     w->a->size = isfinite(size) && size > 1e-12 ? size : 1.0;
     w->eps = 1e-4 * w->a->size;
     w->tol = 0.04 * w->a->size;
@@ -73,14 +85,17 @@ bool rf_an_geometry(rf_awork *w)
         w->world[i].t = finite_or(w->world[i].t, fallback);
         w->a->joints[i].pos = w->world[i].t;
     }
-    /* Weights tell helpers apart only when some joints have them and some do not. */
-    w->weights_known = unweighted > 0 && unweighted < w->n;
+    bounding_size(w);
+    /* Weights tell helpers apart only when some joints have them and some do not, and when
+     * the weighted joints span most of the skeleton: a mesh skinned to the head alone (a VRM
+     * sample's UI quads) says nothing about the limbs. */
+    w->weights_known = unweighted > 0 && unweighted < w->n &&
+                       extent(w, false, false) >= 0.5 * extent(w, true, false);
     for (uint32_t i = 0; i < w->n; i++) {
         w->weighted[i] = !w->weights_known || !(s->joints[i].flags & RF_JOINT_UNWEIGHTED);
         if (!w->weighted[i])
             w->a->joints[i].flags |= RF_JI_UNWEIGHTED;
     }
-    bounding_size(w);
     return true;
 }
 

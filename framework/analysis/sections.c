@@ -232,6 +232,18 @@ static void add_down(rf_builder *b, int32_t sec, uint32_t from, uint32_t to)
 
 /* ---- chains ---- */
 
+/* Degrees between the bone into j and the step from j to its child c; 0 when either is too
+ * short to say (coincident joints continue a chain). */
+static double turn(const rf_awork *w, uint32_t j, uint32_t c)
+{
+    int32_t p = w->parent[j];
+    rf_vec3 in = p >= 0 ? rf_v3_sub(rf_an_pos(w, j), rf_an_pos(w, (uint32_t)p)) : rf_v3(0, 0, 0);
+    rf_vec3 out = rf_v3_sub(rf_an_pos(w, c), rf_an_pos(w, j));
+    if (rf_v3_len(in) <= w->eps || rf_v3_len(out) <= w->eps)
+        return 0;
+    return rf_v3_angle(in, out) * 180.0 / RF_PI;
+}
+
 /* The child continuing a center chain at j, or -1 at a fan or an offset-only child. */
 static int32_t center_next(const rf_builder *b, uint32_t j)
 {
@@ -246,20 +258,19 @@ static int32_t center_next(const rf_builder *b, uint32_t j)
         if (rf_v3_dist(rf_an_pos(w, c), w->a->joints[j].tip) <= w->eps)
             connected = (int32_t)c;
     }
+    /* With a bone axis: the connected child, unless it folds back down the chain (a bone
+     * under the skull pointing into the body). Only within the chain: a tail's first bone may
+     * rise from the pelvis and the tail hang from it. */
+    int32_t p = w->parent[j];
+    bool inside = p >= 0 && b->sec_of[p] >= 0 && b->sec_of[p] == b->sec_of[j];
     if (w->conv_axis >= 0)
-        return connected;
+        return connected >= 0 && inside && turn(w, j, (uint32_t)connected) > 120.0 ? RF_NONE
+                                                                                   : connected;
     if (centers != 1 || all >= 3)
         return RF_NONE;
     /* Without a bone axis, a lone child continues the chain only if it goes on roughly the same
-     * way: a jaw hanging forward and down from the skull does not. Coincident joints say
-     * nothing and continue. */
-    int32_t p = w->parent[j];
-    rf_vec3 in = p >= 0 ? rf_v3_sub(rf_an_pos(w, j), rf_an_pos(w, (uint32_t)p)) : rf_v3(0, 0, 0);
-    rf_vec3 out = rf_v3_sub(rf_an_pos(w, (uint32_t)only), rf_an_pos(w, j));
-    if (rf_v3_len(in) > w->eps && rf_v3_len(out) > w->eps &&
-        rf_v3_angle(in, out) > 75.0 * RF_PI / 180.0)
-        return RF_NONE;
-    return only;
+     * way: a jaw hanging forward and down from the skull does not. */
+    return turn(w, j, (uint32_t)only) > 75.0 ? RF_NONE : only;
 }
 
 /* A chain of center joints from `start`; other center children become pending appendages. */

@@ -8,10 +8,10 @@ MATCH_LIBS = plugins/match-similarity/libsimilarity.la framework/analysis/libana
 
 check_PROGRAMS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
 	tests/match/test_generated tests/match/test_mapfile tests/match/test_names \
-	tests/match/test_map_pipeline
+	tests/match/test_map_pipeline tests/match/test_corr
 TESTS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
 	tests/match/test_generated tests/match/test_mapfile tests/match/test_names \
-	tests/match/test_map_pipeline
+	tests/match/test_map_pipeline tests/match/test_corr
 EXTRA_DIST += tests/match/truth
 
 tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
@@ -26,6 +26,12 @@ tests_match_test_accuracy_CPPFLAGS = $(MATCH_TEST_CPPFLAGS) -I$(top_srcdir)/plug
 tests_match_test_accuracy_CFLAGS = $(MATCH_TEST_CFLAGS)
 tests_match_test_accuracy_LDADD = $(MATCH_LIBS) plugins/assimp/librfassimp.la \
 	plugins/bvh/libbvh.la
+
+# Against the name maps of ../shared/data/correspondences.
+tests_match_test_corr_SOURCES = tests/match/test_corr.c tests/match/truth.c tests/match/truth.h
+tests_match_test_corr_CPPFLAGS = $(tests_match_test_accuracy_CPPFLAGS)
+tests_match_test_corr_CFLAGS = $(MATCH_TEST_CFLAGS) $(JANSSON_CFLAGS)
+tests_match_test_corr_LDADD = $(tests_match_test_accuracy_LDADD) $(JANSSON_LIBS)
 
 tests_match_test_generated_SOURCES = tests/match/test_generated.c tests/match/gen.c \
 	tests/match/gen.h

@@ -270,6 +270,65 @@ static void test_helpers_and_forest(void **state)
     rf_skeleton_free(s);
 }
 
+/* Rewrites a skeleton built with identity rests the way Blender exports it: every joint turned
+ * so its bone runs along local +Y towards its first child (a leaf keeps its parent's turn), no
+ * end sites. */
+static void blenderize(rf_skeleton *s)
+{
+    uint32_t n = s->joint_count;
+    rf_vec3 *pos = calloc(n, sizeof *pos);
+    rf_quat *world = calloc(n, sizeof *world);
+    for (uint32_t i = 0; i < n; i++) {
+        int32_t p = s->joints[i].parent;
+        pos[i] = p >= 0 ? rf_v3_add(pos[p], s->joints[i].rest.t) : s->joints[i].rest.t;
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        int32_t p = s->joints[i].parent, child = -1;
+        for (uint32_t k = i + 1; k < n && child < 0; k++)
+            child = s->joints[k].parent == (int32_t)i ? (int32_t)k : -1;
+        world[i] = p >= 0 ? world[p] : rf_quat_identity();
+        if (child >= 0)
+            world[i] = rf_quat_from_two_vectors(rf_v3(0, 1, 0), rf_v3_sub(pos[child], pos[i]));
+        rf_quat pr = p >= 0 ? world[p] : rf_quat_identity();
+        s->joints[i].rest.t =
+            rf_quat_rotate(rf_quat_conj(pr), p >= 0 ? rf_v3_sub(pos[i], pos[p]) : pos[i]);
+        s->joints[i].rest.r = rf_quat_normalize(rf_quat_mul(rf_quat_conj(pr), world[i]));
+        s->joints[i].flags &= ~(uint32_t)RF_JOINT_HAS_END_SITE;
+    }
+    free(pos);
+    free(world);
+}
+
+/* A mesh skinned to the head alone (a VRM sample's UI quads) says nothing about the limbs:
+ * they stay limbs, not helpers. A weighted bone folding back from the skull into the body (the
+ * quads' "Meter") is not part of the head. Bones along +Y, as Blender writes them. */
+static void test_partial_skin_and_fold(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped) + 1];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) {
+        if (sb_biped[i].name[0] == '.')
+            continue;
+        js[n] = sb_biped[i];
+        js[n].flags = strcmp(js[n].name, "head") == 0 ? 0 : RF_JOINT_UNWEIGHTED;
+        n++;
+    }
+    js[n++] = (sb_joint){"badge", "head", 0, 1.30, 0.02, 0};
+    rf_skeleton *s = sb_build(js, n);
+    blenderize(s);
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    assert_section(a, s, "l_forearm", RF_SECTION_ARM, RF_SIDE_LEFT);
+    assert_section(a, s, "r_shin", RF_SECTION_LEG, RF_SIDE_RIGHT);
+    assert_section(a, s, "head", RF_SECTION_HEAD, RF_SIDE_CENTER);
+    assert_int_not_equal(a->joints[sb_find(s, "badge")].section,
+                         a->joints[sb_find(s, "head")].section);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 /* Arms hanging to mid-thigh stay arms by default and become legs with a higher threshold. */
 static void test_leg_threshold(void **state)
 {
@@ -324,11 +383,17 @@ static void test_measures(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_biped),         cmocka_unit_test(test_biped_facing),
-        cmocka_unit_test(test_quadruped),     cmocka_unit_test(test_strip),
-        cmocka_unit_test(test_degenerate),    cmocka_unit_test(test_large),
-        cmocka_unit_test(test_forced_axes),   cmocka_unit_test(test_helpers_and_forest),
-        cmocka_unit_test(test_leg_threshold), cmocka_unit_test(test_measures),
+        cmocka_unit_test(test_biped),
+        cmocka_unit_test(test_biped_facing),
+        cmocka_unit_test(test_quadruped),
+        cmocka_unit_test(test_strip),
+        cmocka_unit_test(test_degenerate),
+        cmocka_unit_test(test_large),
+        cmocka_unit_test(test_forced_axes),
+        cmocka_unit_test(test_helpers_and_forest),
+        cmocka_unit_test(test_leg_threshold),
+        cmocka_unit_test(test_measures),
+        cmocka_unit_test(test_partial_skin_and_fold),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
