@@ -107,32 +107,61 @@ static uint32_t ccd_iterate(rf_ikc_solve *s)
     return it;
 }
 
-/* ---- a single unconstrained chain: the same sweeps, in world space ---- */
+/* ---- a single free chain: the same sweeps, in world space ----
+ * The chain's state is its joints' world positions (w->cpos), bone vectors (w->coff: from each
+ * joint to the next) and world rotations (w->crot), by position along the chain. Every turn a
+ * sweep makes is a world rotation about a joint, so positions and bone vectors can follow the
+ * turns directly; local rotations are worked out once, at the end.
+ *
+ * A sweep is a chain of dependent square roots with time to spare between them, while carrying
+ * its turns into the chain's state is much arithmetic with little waiting; and the next sweep
+ * needs the new positions but not the new world rotations. So each sweep also applies the
+ * rotations the previous one left pending (w->cpend), in that spare time. */
 
-/* One backward sweep over the chain (world transforms current). Turning joint k by the shortest
- * rotation from u = E - X to v = T - X puts the effector on the ray towards the target at its
- * old distance, E = X + v |u| / |v|, so the sweep needs no rotation of E; each turn is kept
- * unnormalised, (u x v, |u||v| + u.v), and normalised once when committed. Returns true, with
- * *first the last chain index turned, as soon as E is within tolerance; *moved tells whether
- * any joint turned by more than about 1e-10 rad. */
-static bool chain_sweep(rf_ikc_solve *s, uint32_t m, rf_vec3 *E, bool *moved, uint32_t *first)
+/* Applies the pending turns of chain joints [from, to). */
+static void apply_pending(rf_ikc_work *w, uint32_t from, uint32_t to)
+{
+    for (uint32_t k = from; k < to; k++)
+        w->crot[k] = rf_quat_mul(w->cpend[k], w->crot[k]);
+}
+
+/* One backward sweep over the chain; joints from `pending` on have a pending turn. Turning joint
+ * k by the shortest rotation from u = E - X to v = T - X puts the effector on the ray towards
+ * the target at its old distance, E = X + v |u| / |v|, so the sweep needs no rotation of E. Each
+ * turn is kept unnormalised, q = (u x v, |u||v| + u.v), in w->turn, with 1 / |q|^2 in w->acc_w.
+ * Returns true, with *first the last chain index turned, as soon as E is within tolerance;
+ * *moved tells whether any joint turned by 2e-10 rad or more. */
+static bool chain_sweep(rf_ikc_solve *s, uint32_t m, uint32_t pending, rf_vec3 *E, bool *moved,
+                        uint32_t *first)
 {
     rf_ikc_work *w = s->w;
     rf_vec3 T = rf_ikc_goal(s->pb, 0)->target;
     double tol2 = s->pb->tolerance * s->pb->tolerance;
     for (uint32_t k = m; k-- > 0;) {
-        rf_vec3 X = w->world[w->chain[k]].t, u = rf_v3_sub(*E, X), v = rf_v3_sub(T, X);
-        double lv = rf_v3_len2(v), uv = sqrt(rf_v3_len2(u) * lv), d = rf_v3_dot(u, v);
+        rf_vec3 X = w->cpos[k], u = rf_v3_sub(*E, X), v = rf_v3_sub(T, X);
+        double lv = rf_v3_len2(v), inv_lv = 1.0 / lv; /* independent of E: off the chain */
+        double uv = sqrt(rf_v3_len2(u) * lv), d = rf_v3_dot(u, v);
         rf_quat q = rf_quat_identity();
+        double inv_qq = 1;
         if (uv > 1e-300) {
-            rf_vec3 c = rf_v3_cross(u, v);
-            q = d > -uv * (1 - 1e-12) ? rf_quat_make(c.x, c.y, c.z, uv + d)
-                                      : rf_quat_from_two_vectors(u, v); /* opposite */
-            *E = rf_v3_add(X, rf_v3_scale(v, uv / lv));
-            *moved = *moved || uv - d > 1e-20 * uv;
+            if (d > -uv * (1 - 1e-12)) {
+                rf_vec3 c = rf_v3_cross(u, v);
+                q = rf_quat_make(c.x, c.y, c.z, uv + d);
+                inv_qq = 1.0 / rf_quat_dot(q, q);
+                /* sin^2 of half the angle, as the general form measures a turn: from the cross
+                 * product, exact for tiny angles where 1 - cos (from uv - d) is all rounding */
+                *moved = *moved || rf_v3_len2(c) * inv_qq >= 1e-20;
+            } else {
+                q = rf_quat_from_two_vectors(u, v); /* opposite: a unit half turn */
+                *moved = true;
+            }
+            *E = rf_v3_add(X, rf_v3_scale(v, uv * inv_lv));
         }
-        w->turn[k] = q;
+        w->turn[k] = q, w->acc_w[k] = inv_qq;
+        if (k >= pending)
+            w->crot[k] = rf_quat_mul(w->cpend[k], w->crot[k]);
         if (rf_v3_len2(rf_v3_sub(*E, T)) <= tol2) {
+            apply_pending(w, pending, k);
             *first = k;
             return true;
         }
@@ -141,41 +170,68 @@ static bool chain_sweep(rf_ikc_solve *s, uint32_t m, rf_vec3 *E, bool *moved, ui
     return false;
 }
 
-/* Folds the sweep's world turns into the local rotations and recomputes the chain's world
- * transforms. A joint's final world rotation is q_0 ... q_k R_k (every turn above it came later
- * and carried it along), so its local one is R_parent^-1 q_k R_k with the transforms from before
- * the sweep. */
+/* Carries the sweep's turns into the chain's positions, and leaves them pending for the world
+ * rotations. Joint k's new world rotation is q_first ... q_k R_k: its own turn came first, then
+ * each joint above it turned it along. So one running product Q serves the whole chain,
+ * normalised where it is used: it turns the bone vectors (the positions follow) and the world
+ * rotations. Its norm is the product of the turns' norms, known from the sweep, so the product
+ * itself is not normalised on its chain of dependent steps, only when its norm drifts far from
+ * 1 (long chains). */
 static void chain_commit(rf_ikc_solve *s, uint32_t m, uint32_t first)
 {
     rf_ikc_work *w = s->w;
-    rf_quat parent_before = rf_ikc_parent_rot(s, w->chain[first]);
+    rf_quat Q = w->turn[first];
+    double inv = w->acc_w[first]; /* 1 / |Q|^2 */
     for (uint32_t k = first; k < m; k++) {
-        uint32_t j = w->chain[k];
-        rf_quat before = w->world[j].r;
-        rf_quat l = rf_quat_mul(rf_quat_conj(parent_before), rf_quat_mul(w->turn[k], before));
-        double inv = 1.0 / sqrt(rf_quat_dot(l, l));
-        s->local[j].r = rf_quat_make(l.x * inv, l.y * inv, l.z * inv, l.w * inv);
-        parent_before = before;
+        if (k > first)
+            Q = rf_quat_mul(Q, w->turn[k]), inv *= w->acc_w[k];
+        double n = sqrt(inv);
+        rf_quat unit = rf_quat_make(Q.x * n, Q.y * n, Q.z * n, Q.w * n);
+        if (!(inv > 1e-100 && inv < 1e100)) /* before it could overflow or underflow */
+            Q = unit, inv = 1;
+        w->coff[k] = rf_quat_rotate(unit, w->coff[k]);
+        w->cpos[k + 1] = rf_v3_add(w->cpos[k], w->coff[k]);
+        w->cpend[k] = unit;
     }
-    for (uint32_t k = first; k <= m; k++)
-        rf_ikc_fk_joint(s, w->chain[k]);
 }
 
-static uint32_t chain_iterate(rf_ikc_solve *s)
+/* The local rotations of the chain from its world rotations. */
+static void chain_locals(rf_ikc_solve *s, uint32_t m)
 {
-    uint32_t m = rf_ikc_collect_chain(s, 0), it = 0, first;
-    rf_vec3 T = rf_ikc_goal(s->pb, 0)->target;
-    rf_vec3 E = s->w->world[s->w->chain[m]].t;
+    rf_ikc_work *w = s->w;
+    rf_quat parent = rf_ikc_parent_rot(s, s->chain[0]);
+    for (uint32_t k = 0; k < m; k++) {
+        rf_quat l = rf_quat_mul(rf_quat_conj(parent), w->crot[k]);
+        double n = 1.0 / sqrt(rf_quat_dot(l, l));
+        s->local[s->chain[k]].r = rf_quat_make(l.x * n, l.y * n, l.z * n, l.w * n);
+        parent = w->crot[k];
+    }
+}
+
+static uint32_t chain_iterate(rf_ikc_solve *s, uint32_t m)
+{
+    rf_ikc_work *w = s->w;
+    const uint32_t *c = s->chain;
+    rf_vec3 T = rf_ikc_goal(s->pb, 0)->target, E = w->cpos[m];
     if (rf_v3_len2(rf_v3_sub(E, T)) <= s->pb->tolerance * s->pb->tolerance)
         return 0;
+    for (uint32_t k = 0; k < m; k++) {
+        w->crot[k] = w->world[c[k]].r;
+        w->coff[k] = rf_v3_sub(w->cpos[k + 1], w->cpos[k]);
+    }
+    uint32_t it = 0, first = m; /* m: nothing pending */
     while (it < s->pb->max_iterations) {
         bool moved = false;
         it++;
-        bool done = chain_sweep(s, m, &E, &moved, &first);
+        bool done = chain_sweep(s, m, first, &E, &moved, &first);
         chain_commit(s, m, first);
-        E = s->w->world[s->w->chain[m]].t;
+        E = w->cpos[m];
         if (done || !moved) /* reached, or nothing turns any more (unreachable) */
             break;
+    }
+    if (it > 0) {
+        apply_pending(w, first, m);
+        chain_locals(s, m);
     }
     return it;
 }
@@ -189,14 +245,15 @@ static bool ccd_solve(void *state, const rf_ik_problem *pb, rf_ik_result *res)
 {
     ccd_state *st = state;
     rf_ikc_solve s;
-    if (!rf_ikc_begin(&s, pb, res, &st->w))
+    if (!rf_ikc_start(&s, pb, res, &st->w))
         return false;
-    uint32_t it = 0;
-    if (s.goal_count == 1 && !s.constrained && !s.branched)
-        it = chain_iterate(&s);
-    else if (s.goal_count > 0)
-        it = ccd_iterate(&s);
-    rf_ikc_finish(&s, it);
+    if (rf_ikc_is_free_chain(&s)) {
+        uint32_t m = rf_ikc_chain_begin(&s);
+        rf_ikc_chain_finish(&s, m, chain_iterate(&s, m));
+        return true;
+    }
+    rf_ikc_prepare(&s);
+    rf_ikc_finish(&s, s.goal_count > 0 ? ccd_iterate(&s) : 0);
     return true;
 }
 

@@ -13,15 +13,17 @@ bool rf_ikc_work_reserve(rf_ikc_work *w, uint32_t joints, uint32_t goals)
         if (!GROW(w->world, joints) || !GROW(w->pos, joints) || !GROW(w->ref, joints) ||
             !GROW(w->bone_axis, joints) || !GROW(w->bone_len, joints) || !GROW(w->weight, joints) ||
             !GROW(w->driver, joints) || !GROW(w->rel, joints) || !GROW(w->first, joints) ||
-            !GROW(w->next, joints) || !GROW(w->chain, joints) || !GROW(w->acc, joints) ||
-            !GROW(w->turn, joints) || !GROW(w->acc_w, joints) || !GROW(w->goals, joints) ||
-            !GROW(w->flags, joints))
+            !GROW(w->next, joints) || !GROW(w->acc, joints) || !GROW(w->turn, joints) ||
+            !GROW(w->acc_w, joints) || !GROW(w->goals, joints) || !GROW(w->flags, joints) ||
+            !GROW(w->cpos, joints) || !GROW(w->coff, joints) || !GROW(w->crot, joints) ||
+            !GROW(w->cpend, joints) || !GROW(w->clen, joints) || !GROW(w->plan_parents, joints) ||
+            !GROW(w->plan_limits, joints) || !GROW(w->path, joints))
             return false; /* what did grow stays owned by w and is freed with it */
         w->cap_joints = joints;
     }
     if (goals > w->cap_goals) {
         if (!GROW(w->pivot, goals) || !GROW(w->reach, goals) || !GROW(w->err, goals) ||
-            !GROW(w->eff, goals))
+            !GROW(w->eff, goals) || !GROW(w->plan_goal, 2 * (size_t)goals))
             return false;
         w->cap_goals = goals;
     }
@@ -32,8 +34,10 @@ void rf_ikc_work_free(rf_ikc_work *w)
 {
     free(w->world), free(w->pos), free(w->ref), free(w->bone_axis), free(w->bone_len);
     free(w->weight), free(w->driver), free(w->rel), free(w->first), free(w->next);
-    free(w->chain), free(w->acc), free(w->turn), free(w->acc_w), free(w->goals), free(w->flags);
+    free(w->acc), free(w->turn), free(w->acc_w), free(w->goals), free(w->flags);
     free(w->pivot), free(w->reach), free(w->err), free(w->eff);
+    free(w->cpos), free(w->coff), free(w->crot), free(w->cpend), free(w->clen);
+    free(w->plan_parents), free(w->plan_limits), free(w->plan_goal), free(w->path);
     memset(w, 0, sizeof *w);
 }
 
@@ -101,10 +105,11 @@ static bool is_ancestor_or_self(const int32_t *parents, int32_t a, int32_t j)
     return j == a;
 }
 
-static bool check_joints(const rf_ik_problem *pb, rf_ik_result *res)
+/* With `known`, the parents are those of a plan, so checked already. */
+static bool check_joints(const rf_ik_problem *pb, rf_ik_result *res, bool known)
 {
     for (uint32_t j = 0; j < pb->joint_count; j++) {
-        if (pb->parents[j] < -1 || pb->parents[j] >= (int32_t)j)
+        if (!known && (pb->parents[j] < -1 || pb->parents[j] >= (int32_t)j))
             return REFUSE(res, "joint %u: parent %d is not an earlier joint", j, pb->parents[j]);
         if (!finite_xform(pb->pose[j]))
             return REFUSE(res, "joint %u: start pose is not finite or has a scale <= 0", j);
@@ -130,11 +135,13 @@ static bool check_constraint(const rf_ik_constraint *c, uint32_t j, rf_ik_result
     return true;
 }
 
-static bool check_goal(const rf_ik_problem *pb, const rf_ik_goal *g, uint32_t i, rf_ik_result *res)
+/* With `known`, the effector and chain root are those of a plan, so checked already. */
+static bool check_goal(const rf_ik_problem *pb, const rf_ik_goal *g, uint32_t i, rf_ik_result *res,
+                       bool known)
 {
     if (g->size < sizeof(rf_ik_goal))
         return REFUSE(res, "goal %u: size %u is too small", i, g->size);
-    if (g->effector >= pb->joint_count)
+    if (!known && g->effector >= pb->joint_count)
         return REFUSE(res, "goal %u: effector joint %u does not exist (the problem has %u joints)",
                       i, g->effector, pb->joint_count);
     if (!rf_v3_isfinite(g->target))
@@ -142,12 +149,12 @@ static bool check_goal(const rf_ik_problem *pb, const rf_ik_goal *g, uint32_t i,
                       g->target.y, g->target.z);
     if (!(g->weight > 0) || !isfinite(g->weight))
         return REFUSE(res, "goal %u: weight %g must be a positive number", i, g->weight);
-    if (g->chain_root != -1 &&
+    if (!known && g->chain_root != -1 &&
         (g->chain_root < 0 || g->chain_root >= (int32_t)pb->joint_count ||
          !is_ancestor_or_self(pb->parents, g->chain_root, (int32_t)g->effector)))
         return REFUSE(res, "goal %u: chain_root %d is not an ancestor of effector %u", i,
                       g->chain_root, g->effector);
-    if (g->chain_root == (int32_t)g->effector || pb->parents[g->effector] < 0)
+    if (!known && (g->chain_root == (int32_t)g->effector || pb->parents[g->effector] < 0))
         return REFUSE(res, "goal %u: effector %u has no joint above it to move", i, g->effector);
     rf_quat o = g->orientation;
     if ((g->flags & RF_IK_GOAL_ORIENTATION) &&
@@ -158,7 +165,8 @@ static bool check_goal(const rf_ik_problem *pb, const rf_ik_goal *g, uint32_t i,
     return true;
 }
 
-bool rf_ikc_check(const rf_ik_problem *pb, rf_ik_result *res)
+/* What every problem is checked for before its arrays are read. */
+static bool check_header(const rf_ik_problem *pb, rf_ik_result *res)
 {
     if (!res || res->size < sizeof(rf_ik_result))
         return false; /* nowhere to say why */
@@ -175,20 +183,35 @@ bool rf_ikc_check(const rf_ik_problem *pb, rf_ik_result *res)
         return REFUSE(res, "%u goals: at most %d per problem", pb->goal_count, RF_IKC_MAX_GOALS);
     if (!(pb->tolerance > 0) || !isfinite(pb->tolerance))
         return REFUSE(res, "tolerance %g must be a positive number", pb->tolerance);
-    if (!check_joints(pb, res))
+    return true;
+}
+
+/* The rest of rf_ikc_check. With `known` (the structure is a plan's, so checked when the plan
+ * was made) only values are checked, in the same order, so a problem is refused with the same
+ * message either way; and constraints only when the plan has some. */
+static bool check_body(const rf_ik_problem *pb, rf_ik_result *res, bool known, bool limited)
+{
+    if (!check_joints(pb, res, known))
         return false;
-    for (uint32_t j = 0; pb->constraints && j < pb->joint_count; j++) {
+    for (uint32_t j = 0; pb->constraints && (!known || limited) && j < pb->joint_count; j++) {
         const rf_ik_constraint *c = rf_ikc_constraint(pb, j);
         if (c && !check_constraint(c, j, res))
             return false;
     }
     for (uint32_t i = 0; i < pb->goal_count; i++)
-        if (!check_goal(pb, rf_ikc_goal(pb, i), i, res))
+        if (!check_goal(pb, rf_ikc_goal(pb, i), i, res, known))
             return false;
     return true;
 }
 
+bool rf_ikc_check(const rf_ik_problem *pb, rf_ik_result *res)
+{
+    return check_header(pb, res) && check_body(pb, res, false, true);
+}
+
 /* ---- preparation ---- */
+
+bool rf_ikc_fast_paths = true;
 
 /* q normalised, skipping the square root when it already is unit (the usual case). */
 static rf_quat unit(rf_quat q)
@@ -209,6 +232,34 @@ static rf_vec3 bone_axis_of(const rf_ikc_solve *s, uint32_t j, const rf_ik_const
     return rf_v3(0, 1, 0);
 }
 
+static uint32_t limit_flags(const rf_ik_problem *pb, uint32_t j)
+{
+    const rf_ik_constraint *c = rf_ikc_constraint(pb, j);
+    return c ? c->flags : 0;
+}
+
+/* True when the problem has the structure the plan was made for: then every path, pivot and
+ * driver is what the plan says. */
+static bool plan_matches(const rf_ikc_work *w, const rf_ik_problem *pb)
+{
+    uint32_t n = pb->joint_count;
+    if (w->plan_joints != n || w->plan_goals != pb->goal_count ||
+        memcmp(w->plan_parents, pb->parents, n * sizeof *pb->parents) != 0)
+        return false;
+    for (uint32_t i = 0; i < pb->goal_count; i++) {
+        const rf_ik_goal *g = rf_ikc_goal(pb, i);
+        if (w->plan_goal[2 * i] != g->effector ||
+            w->plan_goal[2 * i + 1] != (uint32_t)g->chain_root)
+            return false;
+    }
+    if (!pb->constraints)
+        return !w->plan_limited;
+    for (uint32_t j = 0; j < n; j++)
+        if (w->plan_limits[j] != limit_flags(pb, j))
+            return false;
+    return true;
+}
+
 /* Marks the path of goal i from its effector up to its pivot. */
 static void mark_path(rf_ikc_solve *s, uint32_t i)
 {
@@ -217,39 +268,32 @@ static void mark_path(rf_ikc_solve *s, uint32_t i)
     int32_t j = (int32_t)g->effector;
     w->flags[j] |= RF_IKC_EFFECTOR | RF_IKC_ON_PATH;
     w->goals[j] |= 1ull << i;
-    w->weight[j] += g->weight;
     for (j = s->pb->parents[j]; j >= 0; j = s->pb->parents[j]) {
-        const rf_ik_constraint *c = rf_ikc_constraint(s->pb, (uint32_t)j);
         w->flags[j] |= RF_IKC_ON_PATH;
-        if (!c || !(c->flags & RF_IK_LOCKED))
+        if (!(limit_flags(s->pb, (uint32_t)j) & RF_IK_LOCKED))
             w->flags[j] |= RF_IKC_MOVABLE;
         w->goals[j] |= 1ull << i;
-        w->weight[j] += g->weight;
         if (j == g->chain_root || s->pb->parents[j] < 0)
             break;
     }
     w->pivot[i] = (uint32_t)j;
 }
 
-/* Drivers and transforms relative to them; pivots; bone lengths; reach per goal. */
-static void prepare_paths(rf_ikc_solve *s)
+/* Pivots, and the driver of every other path joint, with the lists of the joints each drives. */
+static void link_drivers(rf_ikc_solve *s)
 {
     rf_ikc_work *w = s->w;
     const int32_t *par = s->pb->parents;
     for (uint32_t j = 0; j < s->n; j++) {
         int32_t p = par[j];
-        bool on = w->flags[j] & RF_IKC_ON_PATH;
         w->driver[j] = -1;
-        if (!on)
+        if (!(w->flags[j] & RF_IKC_ON_PATH))
             continue;
-        w->bone_len[j] = p < 0 ? 0 : rf_v3_dist(w->world[j].t, w->world[p].t);
         if (p < 0 || !(w->flags[p] & RF_IKC_ON_PATH) || (w->goals[p] & w->goals[j]) == 0) {
             w->flags[j] |= RF_IKC_PIVOT;
             continue;
         }
-        bool direct = w->flags[p] & RF_IKC_MOVABLE;
-        w->driver[j] = direct ? p : w->driver[p];
-        w->rel[j] = direct || w->driver[p] < 0 ? s->local[j] : rf_xform_mul(w->rel[p], s->local[j]);
+        w->driver[j] = (w->flags[p] & RF_IKC_MOVABLE) ? p : w->driver[p];
     }
     for (uint32_t j = 0; j < s->n; j++)
         w->first[j] = w->next[j] = -1;
@@ -259,13 +303,6 @@ static void prepare_paths(rf_ikc_solve *s)
             w->next[c] = w->first[d];
             w->first[d] = (int32_t)c;
         }
-    }
-    for (uint32_t i = 0; i < s->goal_count; i++) {
-        double reach = 0;
-        for (int32_t j = (int32_t)rf_ikc_goal(s->pb, i)->effector; j != (int32_t)w->pivot[i];
-             j = par[j])
-            reach += w->bone_len[j];
-        w->reach[i] = reach;
     }
 }
 
@@ -280,49 +317,163 @@ static void count_branches(rf_ikc_solve *s)
     }
 }
 
-bool rf_ikc_begin(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, rf_ikc_work *w)
+/* A single free chain's path: the effector's ancestors, root first, down to the effector. */
+static void plan_free_chain(rf_ikc_solve *s)
+{
+    rf_ikc_work *w = s->w;
+    w->path_bones = 0;
+    if (s->goal_count != 1 || s->constrained || s->branched)
+        return;
+    uint32_t len = 0, above = 0;
+    for (int32_t j = (int32_t)rf_ikc_goal(s->pb, 0)->effector; j >= 0; j = s->pb->parents[j])
+        w->path[len++] = (uint32_t)j;
+    for (uint32_t a = 0, b = len - 1; a < b; a++, b--) {
+        uint32_t t = w->path[a];
+        w->path[a] = w->path[b], w->path[b] = t;
+    }
+    while (w->path[above] != w->pivot[0])
+        above++;
+    w->path_above = above;
+    w->path_bones = len - 1 - above;
+}
+
+/* Everything that follows from the problem's structure alone, remembered with the structure. */
+static void build_plan(rf_ikc_solve *s)
+{
+    rf_ikc_work *w = s->w;
+    const rf_ik_problem *pb = s->pb;
+    w->plan_joints = 0; /* no plan while it is being made */
+    for (uint32_t j = 0; j < s->n; j++)
+        w->flags[j] = 0, w->goals[j] = 0;
+    for (uint32_t i = 0; i < s->goal_count; i++)
+        mark_path(s, i);
+    link_drivers(s);
+    count_branches(s);
+    plan_free_chain(s);
+    memcpy(w->plan_parents, pb->parents, s->n * sizeof *pb->parents);
+    w->plan_limited = false;
+    for (uint32_t j = 0; j < s->n; j++) {
+        w->plan_limits[j] = limit_flags(pb, j);
+        w->plan_limited = w->plan_limited || w->plan_limits[j];
+    }
+    for (uint32_t i = 0; i < s->goal_count; i++) {
+        const rf_ik_goal *g = rf_ikc_goal(pb, i);
+        w->plan_goal[2 * i] = g->effector;
+        w->plan_goal[2 * i + 1] = (uint32_t)g->chain_root;
+    }
+    w->plan_constrained = s->constrained, w->plan_branched = s->branched;
+    w->plan_goals = s->goal_count;
+    w->plan_joints = s->n;
+}
+
+bool rf_ikc_start(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, rf_ikc_work *w)
 {
     memset(s, 0, sizeof *s);
-    if (!rf_ikc_check(pb, res))
+    if (!check_header(pb, res))
         return false;
-    if (!rf_ikc_work_reserve(w, pb->joint_count, pb->goal_count ? pb->goal_count : 1))
+    bool known = plan_matches(w, pb); /* then the work area is big enough too */
+    if (!check_body(pb, res, known, w->plan_limited))
+        return false;
+    if (!known && !rf_ikc_work_reserve(w, pb->joint_count, pb->goal_count ? pb->goal_count : 1))
         return REFUSE(res, "out of memory for %u joints", pb->joint_count);
     s->pb = pb, s->res = res, s->local = res->pose, s->w = w;
     s->n = pb->joint_count, s->goal_count = pb->goal_count;
-    if (res->pose != pb->pose)
-        memcpy(res->pose, pb->pose, s->n * sizeof *res->pose);
+    for (uint32_t j = 0; j < s->n; j++) { /* one pass: may be in place */
+        rf_xform x = pb->pose[j];
+        x.r = unit(x.r);
+        s->local[j] = x;
+    }
+    if (known)
+        s->constrained = w->plan_constrained, s->branched = w->plan_branched;
+    else
+        build_plan(s);
+    return true;
+}
+
+/* Weights, bone lengths, transforms relative to drivers and reach (world transforms current). */
+static void measure_paths(rf_ikc_solve *s)
+{
+    rf_ikc_work *w = s->w;
+    const int32_t *par = s->pb->parents;
+    for (uint32_t j = 0; j < s->n; j++)
+        w->weight[j] = 0;
+    for (uint32_t i = 0; i < s->goal_count; i++) {
+        double wt = rf_ikc_goal(s->pb, i)->weight;
+        int32_t j = (int32_t)rf_ikc_goal(s->pb, i)->effector;
+        for (; j != (int32_t)w->pivot[i]; j = par[j])
+            w->weight[j] += wt;
+        w->weight[j] += wt;
+    }
+    for (uint32_t j = 0; j < s->n; j++) {
+        int32_t p = par[j];
+        if (!(w->flags[j] & RF_IKC_ON_PATH))
+            continue;
+        w->bone_len[j] = p < 0 ? 0 : rf_v3_dist(w->world[j].t, w->world[p].t);
+        if (w->driver[j] < 0)
+            continue;
+        bool direct = w->flags[p] & RF_IKC_MOVABLE;
+        w->rel[j] = direct || w->driver[p] < 0 ? s->local[j] : rf_xform_mul(w->rel[p], s->local[j]);
+    }
+    for (uint32_t i = 0; i < s->goal_count; i++) {
+        double reach = 0;
+        for (int32_t j = (int32_t)rf_ikc_goal(s->pb, i)->effector; j != (int32_t)w->pivot[i];
+             j = par[j])
+            reach += w->bone_len[j];
+        w->reach[i] = reach;
+    }
+}
+
+void rf_ikc_prepare(rf_ikc_solve *s)
+{
+    const rf_ik_problem *pb = s->pb;
+    rf_ikc_work *w = s->w;
     for (uint32_t j = 0; j < s->n; j++) {
         w->ref[j] = unit(pb->reference ? pb->reference[j].r : pb->pose[j].r);
-        s->local[j].r = unit(s->local[j].r);
-        w->flags[j] = 0, w->goals[j] = 0, w->weight[j] = 0;
         const rf_ik_constraint *c = rf_ikc_constraint(pb, j);
         if (c && (c->flags & (RF_IK_LIMIT_CONE | RF_IK_LIMIT_TWIST)))
             w->bone_axis[j] = bone_axis_of(s, j, c); /* only cone and twist use it */
     }
-    for (uint32_t i = 0; i < s->goal_count; i++)
-        mark_path(s, i);
     rf_ikc_fk(s);
-    prepare_paths(s);
-    count_branches(s);
+    measure_paths(s);
+}
+
+bool rf_ikc_begin(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, rf_ikc_work *w)
+{
+    if (!rf_ikc_start(s, pb, res, w))
+        return false;
+    rf_ikc_prepare(s);
     return true;
 }
 
-/* ---- kinematics ---- */
+/* ---- a single free chain ---- */
 
-uint32_t rf_ikc_collect_chain(rf_ikc_solve *s, uint32_t i)
+bool rf_ikc_is_free_chain(const rf_ikc_solve *s)
+{
+    return rf_ikc_fast_paths && s->w->path_bones > 0;
+}
+
+uint32_t rf_ikc_chain_begin(rf_ikc_solve *s)
 {
     rf_ikc_work *w = s->w;
-    uint32_t m = 0;
-    for (int32_t j = (int32_t)rf_ikc_goal(s->pb, i)->effector; j != (int32_t)w->pivot[i];
-         j = s->pb->parents[j])
-        w->chain[m++] = (uint32_t)j;
-    w->chain[m] = w->pivot[i];
-    for (uint32_t a = 0, b = m; a < b; a++, b--) { /* reverse: pivot first */
-        uint32_t t = w->chain[a];
-        w->chain[a] = w->chain[b], w->chain[b] = t;
+    const uint32_t *c = w->path + w->path_above;
+    uint32_t m = w->path_bones;
+    for (uint32_t k = 0; k < w->path_above; k++)
+        rf_ikc_fk_joint(s, w->path[k]);
+    for (uint32_t k = 0; k <= m; k++) {
+        rf_ikc_fk_joint(s, c[k]);
+        w->cpos[k] = w->world[c[k]].t;
     }
+    double reach = 0; /* summed from the effector up, as measure_paths does */
+    for (uint32_t k = m; k-- > 0;) {
+        w->clen[k] = rf_v3_dist(w->cpos[k + 1], w->cpos[k]);
+        reach += w->clen[k];
+    }
+    w->reach[0] = reach;
+    s->chain = c;
     return m;
 }
+
+/* ---- kinematics ---- */
 
 void rf_ikc_fk(rf_ikc_solve *s)
 {
@@ -397,12 +548,11 @@ static double angle_between(rf_quat a, rf_quat b)
     return 2 * atan2(sqrt(d.x * d.x + d.y * d.y + d.z * d.z), fabs(d.w));
 }
 
-void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations)
+/* Errors, status, max_error and reached from the current world transforms of the effectors and
+ * pivots. */
+static void report(rf_ikc_solve *s, uint32_t iterations)
 {
     rf_ik_result *res = s->res;
-    rf_ikc_fk(s);
-    if (apply_orientations(s))
-        rf_ikc_fk(s); /* the turned effectors' descendants */
     res->max_error = rf_ikc_errors(s);
     res->iterations = iterations;
     res->reached = true;
@@ -425,4 +575,29 @@ void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations)
                     ? angle_between(s->w->world[g->effector].r, rf_quat_normalize(g->orientation))
                     : 0.0;
     }
+}
+
+void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations)
+{
+    rf_ikc_fk(s);
+    if (apply_orientations(s))
+        rf_ikc_fk(s); /* the turned effectors' descendants */
+    report(s, iterations);
+}
+
+void rf_ikc_chain_finish(rf_ikc_solve *s, uint32_t m, uint32_t iterations)
+{
+    for (uint32_t k = 0; k <= m; k++) /* the pivot's ancestors are current */
+        rf_ikc_fk_joint(s, s->chain[k]);
+    const rf_ik_goal *g = rf_ikc_goal(s->pb, 0);
+    if (g->flags & RF_IK_GOAL_ORIENTATION) {
+        /* what rf_ikc_prepare would have set up for the effector's own limits */
+        uint32_t e = g->effector;
+        const rf_ik_constraint *c = rf_ikc_constraint(s->pb, e);
+        s->w->ref[e] = unit(s->pb->reference ? s->pb->reference[e].r : s->pb->pose[e].r);
+        if (c && (c->flags & (RF_IK_LIMIT_CONE | RF_IK_LIMIT_TWIST)))
+            s->w->bone_axis[e] = bone_axis_of(s, e, c);
+        apply_orientations(s);
+    }
+    report(s, iterations);
 }

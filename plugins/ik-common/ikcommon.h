@@ -36,7 +36,6 @@ typedef struct rf_ikc_work {
     rf_xform *rel;      /* [J] transform relative to the driver (constant: locked between) */
     int32_t *first;     /* [J] first path joint this joint drives, or -1 (list by `next`) */
     int32_t *next;      /* [J] next path joint with the same driver, or -1 */
-    uint32_t *chain;    /* [J] a solver's own ordering (e.g. one chain, pivot first) */
     rf_vec3 *acc;       /* [J] a solver's accumulators */
     rf_quat *turn;      /* [J] a solver's per-joint rotations */
     double *acc_w;      /* [J] */
@@ -46,6 +45,27 @@ typedef struct rf_ikc_work {
     double *reach;      /* [G] total bone length from pivot to effector */
     double *err;        /* [G] current position errors */
     rf_vec3 *eff;       /* [G] a solver's running effector positions */
+    /* A chain solver's arrays, indexed by position along the chain (pivot 0), not by joint. */
+    rf_vec3 *cpos;  /* [J] world positions */
+    rf_vec3 *coff;  /* [J] a bone vector to the next chain joint (world) */
+    rf_quat *crot;  /* [J] world rotations */
+    rf_quat *cpend; /* [J] turns not yet applied to crot */
+    double *clen;   /* [J] length of the bone from this chain joint to the next */
+    /* The plan: the structure of the last problem (parents, constraint flags, goals' effectors
+     * and chain roots) and what follows from it alone (flags, goals, driver, first, next and
+     * pivot above; the path of a single free chain). A problem with the same structure, the usual
+     * case of one solver state fed frame after frame, reuses it instead of walking its paths again.
+     */
+    uint32_t plan_joints, plan_goals; /* plan_joints 0: no plan */
+    int32_t *plan_parents;            /* [J] */
+    uint32_t *plan_limits;            /* [J] constraint flags */
+    uint32_t *plan_goal;              /* [2G] effector, chain_root */
+    bool plan_constrained, plan_branched;
+    bool plan_limited;   /* some joint has limit flags */
+    uint32_t *path;      /* [J] a single free chain: the pivot's ancestors (root first), then the
+                          * chain, pivot first, effector last */
+    uint32_t path_above; /* ancestors in path */
+    uint32_t path_bones; /* bones of the chain; 0: not a single free chain */
 } rf_ikc_work;
 
 bool rf_ikc_work_reserve(rf_ikc_work *w, uint32_t joints, uint32_t goals);
@@ -68,9 +88,14 @@ typedef struct rf_ikc_solve {
     rf_ikc_work *w;
     uint32_t n; /* joint count */
     uint32_t goal_count;
-    bool constrained; /* some movable joint has limits */
-    bool branched;    /* some path joint drives two or more path joints */
+    bool constrained;      /* some movable joint has limits */
+    bool branched;         /* some path joint drives two or more path joints */
+    const uint32_t *chain; /* a single free chain's joints, pivot first (rf_ikc_chain_begin) */
 } rf_ikc_solve;
+
+/* Tests turn this off to compare the solvers' fast paths with their general forms on the same
+ * problems. */
+extern bool rf_ikc_fast_paths;
 
 /* Sized-array access: arrays of size-prefixed structs are read with the stride of the first
  * element's size, so a caller built against an older header still works. */
@@ -80,15 +105,32 @@ const rf_ik_constraint *rf_ikc_constraint(const rf_ik_problem *pb, uint32_t j);
 /* Checks a problem without touching res->pose; false with res->message on refusal. */
 bool rf_ikc_check(const rf_ik_problem *pb, rf_ik_result *res);
 /* Checks the problem (message in res->message on refusal), grows the work area, copies the start
- * pose into res->pose and prepares paths, weights, reach and world transforms. */
+ * pose into res->pose (rotations unit) and sets up the problem's structure (paths, pivots,
+ * drivers: the plan, reused while the structure stays the same). */
+bool rf_ikc_start(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, rf_ikc_work *w);
+/* What depends on the pose: reference rotations, bone axes, world transforms, bone lengths,
+ * transforms relative to drivers, weights and reach. */
+void rf_ikc_prepare(rf_ikc_solve *s);
+/* rf_ikc_start, then rf_ikc_prepare. */
 bool rf_ikc_begin(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, rf_ikc_work *w);
 /* Applies orientation goals, recomputes world transforms and fills errors, status, max_error,
  * reached. */
 void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations);
 
-/* The path of goal i, pivot first, into w->chain; returns its bone count (chain[count] is the
- * effector). */
-uint32_t rf_ikc_collect_chain(rf_ikc_solve *s, uint32_t i);
+/* ---- a single free chain ----
+ * One goal on a chain with no limits and no locked joint: the shape where a solver can work on
+ * the chain's positions alone, with no per-joint lookups. After rf_ikc_start (no rf_ikc_prepare
+ * needed): */
+
+/* True when the problem is a single free chain (and fast paths are on). */
+bool rf_ikc_is_free_chain(const rf_ikc_solve *s);
+/* World transforms of the chain and the pivot's ancestors (only those), s->chain, the chain's
+ * positions into w->cpos, bone lengths into w->clen, reach into w->reach[0]. Returns the bone
+ * count m (s->chain[m] is the effector). */
+uint32_t rf_ikc_chain_begin(rf_ikc_solve *s);
+/* Forward kinematics of the chain from the solved local rotations, the orientation goal if any,
+ * then the result, as rf_ikc_finish does for any problem. */
+void rf_ikc_chain_finish(rf_ikc_solve *s, uint32_t m, uint32_t iterations);
 
 /* World transforms of every joint from res->pose. */
 void rf_ikc_fk(rf_ikc_solve *s);
@@ -127,6 +169,13 @@ static inline rf_quat rf_ikc_turn(rf_vec3 u, rf_vec3 v)
     rf_quat q = rf_quat_make(c.x, c.y, c.z, uv + d);
     double k = 1.0 / sqrt(rf_quat_dot(q, q));
     return rf_quat_make(q.x * k, q.y * k, q.z * k, q.w * k);
+}
+/* q scaled to unit length, skipping the square root and division when it is unit to 1e-15
+ * already, as a product of unit quaternions is to rounding. */
+static inline rf_quat rf_ikc_unit(rf_quat q)
+{
+    double n = rf_quat_dot(q, q);
+    return fabs(n - 1) < 1e-15 ? q : rf_quat_normalize(q);
 }
 /* Position errors of every goal from the current world transforms into w->err; returns the
  * largest. */

@@ -29,56 +29,112 @@ typedef struct fabrik_state {
     rf_ikc_work w;
 } fabrik_state;
 
-/* ---- a single unconstrained chain: positions only ---- */
+/* ---- a single free chain: positions only ---- */
 
-/* Puts p[k+1] on the line from p[k] towards `toward` at the bone's length. */
+/* Puts a point on the line from `from` towards `toward` at the bone's length. */
 static inline rf_vec3 place(rf_vec3 from, rf_vec3 toward, double len)
 {
     return rf_v3_add(from, rf_v3_scale(rf_v3_normalize(rf_v3_sub(toward, from)), len));
 }
 
+/* The factor that stretches a vector of squared length d2 to length len (0 for a zero vector, as
+ * rf_v3_normalize gives): len / |d| as sqrt(d2) * (len / d2), so that the square root and the
+ * division run side by side rather than one after the other. These placements, one after
+ * another, are the solver's whole cost on long chains. */
+static inline double stretch(double len, double d2)
+{
+    return d2 > 1e-300 ? sqrt(d2) * (len / d2) : 0;
+}
+
+/* place() for the iterations. */
+static inline rf_vec3 place_fast(rf_vec3 from, rf_vec3 toward, double len)
+{
+    rf_vec3 d = rf_v3_sub(toward, from);
+    return rf_v3_add(from, rf_v3_scale(d, stretch(len, rf_v3_len2(d))));
+}
+
+/* The iterations on the chain's positions p (w->cpos, pivot first) with bone lengths len.
+ * The forward pass stops below the pivot, which the backward pass puts back anyway; and its
+ * first placement, of p[m-1] from the target, is along the direction the last backward placement
+ * of p[m] found from p[m-1] (negated), so each iteration normalises 2m - 2 directions, not 2m.
+ * The running point stays in a register from one placement to the next. Iterations stop at the
+ * tolerance, the cap, or after 4 without improvement, as in the general form. */
 static uint32_t chain_iterate(rf_ikc_solve *s, uint32_t m)
 {
     rf_ikc_work *w = s->w;
-    const uint32_t *c = w->chain;
-    rf_vec3 *p = w->pos, t = rf_ikc_goal(s->pb, 0)->target, base;
-    for (uint32_t k = 0; k <= m; k++)
-        p[c[k]] = w->world[c[k]].t;
-    base = p[c[0]];
-    double tol2 = s->pb->tolerance * s->pb->tolerance;
-    if (rf_v3_len2(rf_v3_sub(p[c[m]], t)) <= tol2 || s->pb->max_iterations == 0)
+    rf_vec3 *p = w->cpos, t = rf_ikc_goal(s->pb, 0)->target, base = p[0];
+    const double *len = w->clen, last = w->clen[m - 1];
+    double tol2 = s->pb->tolerance * s->pb->tolerance, best = rf_v3_dist(p[m], t);
+    if (best * best <= tol2 || s->pb->max_iterations == 0)
         return 0;
     if (rf_v3_dist(base, t) >= w->reach[0]) { /* unreachable: the straight line, at once */
         for (uint32_t k = 0; k < m; k++)
-            p[c[k + 1]] = place(p[c[k]], t, w->bone_len[c[k + 1]]);
+            p[k + 1] = place(p[k], t, len[k]);
         return 1;
     }
-    uint32_t it = 0;
+    rf_vec3 d = rf_v3_sub(t, p[m - 1]); /* p[m] - p[m-1] as a backward pass would leave it */
+    double f = stretch(last, rf_v3_len2(d));
+    uint32_t it = 0, stalled = 0;
     while (it < s->pb->max_iterations) {
-        p[c[m]] = t; /* forward: effector on the target, towards the pivot */
-        for (uint32_t k = m; k-- > 0;)
-            p[c[k]] = place(p[c[k + 1]], p[c[k]], w->bone_len[c[k + 1]]);
-        p[c[0]] = base; /* backward: pivot back in place, out to the effector */
-        for (uint32_t k = 0; k < m; k++)
-            p[c[k + 1]] = place(p[c[k]], p[c[k + 1]], w->bone_len[c[k + 1]]);
+        rf_vec3 q = rf_v3_sub(t, rf_v3_scale(d, f)); /* forward, from the target */
+        if (m > 1)
+            p[m - 1] = q;
+        for (uint32_t k = m - 1; k-- > 1;)
+            p[k] = q = place_fast(q, p[k], len[k]);
+        q = base; /* backward, from the pivot (never moved) */
+        for (uint32_t k = 0; k + 1 < m; k++)
+            p[k + 1] = q = place_fast(q, p[k + 1], len[k]);
+        d = rf_v3_sub(t, q);
+        double d2 = rf_v3_len2(d);
+        f = stretch(last, d2);
+        p[m] = rf_v3_add(q, rf_v3_scale(d, f));
         it++;
-        if (rf_v3_len2(rf_v3_sub(p[c[m]], t)) <= tol2)
+        /* the effector is on the line from p[m-1] to the target, |d| from it: off it by
+         * | |d| - last | (by |d| when d is too short to have a direction) */
+        double dl = sqrt(d2), miss = fabs(d2 > 1e-300 ? dl - last : dl);
+        if (miss * miss <= tol2)
+            break;
+        stalled = miss < best - 1e-9 * (1 + best) ? 0 : stalled + 1;
+        best = fmin(best, miss);
+        if (stalled >= 4) /* a target the chain cannot reach although it is within its length */
             break;
     }
     return it;
 }
 
-/* Turns each chain joint, pivot first, so the next joint lands on its solved position. */
+/* Turns each chain joint, pivot first, by the minimal swing that points its bone (as the turns
+ * above it have carried it) at the solved position of the next joint. Bone k turns from u (its
+ * start direction in its parent's frame, w->acc[k], carried by the parent's new rotation) to
+ * v = p[k+1] - p[k]. Both are as long as the bone, len, to rounding (rotations keep lengths,
+ * placements put joints at the bone's length), so the turn is (u x v, len^2 + u.v) with no
+ * square root for |u||v|; it is normalised by its own length, computed, so it is exactly unit
+ * and rounding in len^2 cannot build up from one joint's rotation to the next. */
 static void chain_to_rotations(rf_ikc_solve *s, uint32_t m)
 {
     rf_ikc_work *w = s->w;
+    const uint32_t *c = s->chain;
+    for (uint32_t k = 0; k < m; k++) { /* independent of the turns: before the sequential part */
+        rf_vec3 bone = rf_v3_mul(w->world[c[k]].s, s->local[c[k + 1]].t);
+        w->acc[k] = rf_quat_rotate(s->local[c[k]].r, bone);
+        w->coff[k] = rf_v3_sub(w->cpos[k + 1], w->cpos[k]);
+    }
+    rf_quat parent = rf_ikc_parent_rot(s, c[0]);
     for (uint32_t k = 0; k < m; k++) {
-        uint32_t j = w->chain[k], c = w->chain[k + 1];
-        rf_ikc_fk_joint(s, j);
-        rf_ikc_fk_joint(s, c);
-        rf_vec3 u = rf_v3_sub(w->world[c].t, w->world[j].t);
-        rf_vec3 v = rf_v3_sub(w->pos[c], w->world[j].t);
-        rf_ikc_set_world_rot(s, j, rf_quat_mul(rf_ikc_turn(u, v), w->world[j].r));
+        uint32_t j = c[k];
+        rf_quat r = rf_quat_mul(parent, s->local[j].r); /* j's world rotation, carried */
+        rf_vec3 u = rf_quat_rotate(parent, w->acc[k]), v = w->coff[k];
+        double uv = w->clen[k] * w->clen[k], d = rf_v3_dot(u, v);
+        rf_quat turned = r; /* a bone of length 0 has no direction to turn */
+        if (uv > 1e-300 && d > -uv * (1 - 1e-12)) {
+            rf_vec3 x = rf_v3_cross(u, v);
+            rf_quat q = rf_quat_make(x.x, x.y, x.z, uv + d);
+            double h = rf_quat_dot(q, q), n = sqrt(h) * (1.0 / h); /* side by side */
+            turned = rf_quat_mul(rf_quat_make(q.x * n, q.y * n, q.z * n, q.w * n), r);
+        } else if (uv > 1e-300) {
+            turned = rf_quat_mul(rf_quat_from_two_vectors(u, v), r); /* opposite */
+        }
+        s->local[j].r = rf_ikc_unit(rf_quat_mul(rf_quat_conj(parent), turned));
+        parent = turned;
     }
 }
 
@@ -274,17 +330,18 @@ static bool fabrik_solve(void *state, const rf_ik_problem *pb, rf_ik_result *res
 {
     fabrik_state *st = state;
     rf_ikc_solve s;
-    if (!rf_ikc_begin(&s, pb, res, &st->w))
+    if (!rf_ikc_start(&s, pb, res, &st->w))
         return false;
-    uint32_t it = 0;
-    if (s.goal_count == 1 && !s.constrained && !s.branched) {
-        uint32_t m = rf_ikc_collect_chain(&s, 0);
-        it = chain_iterate(&s, m);
+    if (rf_ikc_is_free_chain(&s)) {
+        uint32_t m = rf_ikc_chain_begin(&s);
+        uint32_t it = chain_iterate(&s, m);
         if (it > 0)
             chain_to_rotations(&s, m);
-    } else if (s.goal_count > 0) {
-        it = tree_iterate(&s);
+        rf_ikc_chain_finish(&s, m, it);
+        return true;
     }
+    rf_ikc_prepare(&s);
+    uint32_t it = s.goal_count > 0 ? tree_iterate(&s) : 0;
     rf_ikc_finish(&s, it);
     return true;
 }

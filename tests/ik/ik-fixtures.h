@@ -8,7 +8,7 @@
 
 #include <rigflow/ik.h>
 
-#define FX_MAX_JOINTS 64
+#define FX_MAX_JOINTS 256
 
 typedef struct fx_problem {
     uint32_t n;

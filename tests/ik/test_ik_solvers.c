@@ -398,6 +398,179 @@ static void test_states_grow_past_their_config(void **unused)
     }
 }
 
+/* ---- fast paths against general forms ---- */
+
+/* The start poses the fast-path tests try: the straight chain; each joint turned a little
+ * (random axes, up to 0.6 rad) and scaled 0.8 to 1.2; and a zig-zag folded back on itself,
+ * whose first turns are nearly half turns. */
+enum start_kind { STRAIGHT, BENT, FOLDED };
+
+static void shaped_chain(fx_problem *f, uint32_t links, enum start_kind kind, fx_lcg *g)
+{
+    fx_chain(f, links);
+    for (uint32_t j = 0; kind == BENT && j <= links; j++) {
+        rf_vec3 axis = rf_v3(fx_rnd(g) - 0.5, fx_rnd(g) - 0.5, fx_rnd(g) - 0.5);
+        f->pose[j].r = rf_quat_from_axis_angle(axis, 0.6 * fx_rnd(g));
+        double k = 0.8 + 0.4 * fx_rnd(g);
+        f->pose[j].s = rf_v3(k, k, k);
+    }
+    for (uint32_t j = 1; kind == FOLDED && j < links; j++) /* each link back along the last */
+        f->pose[j].r = rf_quat_from_axis_angle(rf_v3(0.01 * j, 0, 1), RF_PI * (1 - 1e-7 * j));
+}
+
+/* Solves f with the fast paths on or off; its outputs stay in f. */
+static void solve_with(const rf_ik_solver_api *api, void *st, fx_problem *f, bool fast)
+{
+    rf_ikc_fast_paths = fast;
+    solve_ok(api, st, f);
+    rf_ikc_fast_paths = true;
+}
+
+/* Largest distance between the joints of two solved poses of the same problem, and the largest
+ * angle between their world rotations. */
+static void compare_poses(const fx_problem *a, const fx_problem *b, double *dist, double *angle)
+{
+    static rf_vec3 pa[FX_MAX_JOINTS], pb[FX_MAX_JOINTS];
+    static rf_quat ra[FX_MAX_JOINTS], rb[FX_MAX_JOINTS];
+    fx_world(a, pa, ra);
+    fx_world(b, pb, rb);
+    *dist = *angle = 0;
+    for (uint32_t j = 0; j < a->n; j++) {
+        *dist = fmax(*dist, rf_v3_dist(pa[j], pb[j]));
+        *angle = fmax(*angle, rf_quat_angle(ra[j], rb[j]));
+    }
+}
+
+/* One problem solved by the fast path and by the general form. CCD's two forms make the same
+ * turns, so they agree on iterations, positions and rotations; FABRIK's general form works on
+ * rotations where the fast path works on positions, so they agree on positions (not on the roll
+ * of each bone) and iterations where the target is reachable. Where it is not, the fast path puts
+ * the chain straight at once, the general form iterates until it stops gaining or reaches the
+ * cap, a little short of straight: the fast path's error is never the larger. */
+static void check_agreement(const rf_ik_solver_api *api, void *st, const fx_problem *f,
+                            const char *what, bool scaled)
+{
+    static fx_problem fast, slow;
+    fast = *f, slow = *f;
+    fx_wire(&fast, 1, f->pb.tolerance, f->pb.max_iterations);
+    fx_wire(&slow, 1, f->pb.tolerance, f->pb.max_iterations);
+    solve_with(api, st, &fast, true);
+    solve_with(api, st, &slow, false);
+    bool ccd = !strcmp(api->name, "ccd");
+    bool reachable = !(slow.status[0] & RF_IK_UNREACHABLE);
+    double dist, angle, scale = f->n;
+    compare_poses(&fast, &slow, &dist, &angle);
+    if ((ccd || reachable) && fast.res.iterations != slow.res.iterations)
+        fail_msg("%s, %s: %u iterations on the fast path, %u on the general one", api->name, what,
+                 fast.res.iterations, slow.res.iterations);
+    double tol_dist = 1e-9 * scale;
+    bool worse = ccd || reachable ? fabs(fast.errors[0] - slow.errors[0]) > tol_dist
+                                  : fast.errors[0] > slow.errors[0] + tol_dist;
+    if (fast.status[0] != slow.status[0] || worse)
+        fail_msg("%s, %s: status %u, error %g on the fast path; %u, %g on the general one",
+                 api->name, what, fast.status[0], fast.errors[0], slow.status[0], slow.errors[0]);
+    if (((ccd || reachable) && dist > tol_dist) || (ccd && angle > 1e-9 * scale))
+        fail_msg("%s, %s: the poses differ by %g (positions), %g rad (rotations)", api->name, what,
+                 dist, angle);
+    if (!scaled) /* assert_rigid takes bones to be as long as their offsets */
+        assert_rigid(&fast, api->name);
+}
+
+static void test_fast_paths_agree_with_general_forms(void **unused)
+{
+    (void)unused;
+    static const uint32_t links[] = {2, 3, 5, 10, 30};
+    static const char *const kinds[] = {"straight", "bent", "folded"};
+    const rf_ik_solver_api *apis[] = {&rf_ik_ccd_api, &rf_ik_fabrik_api};
+    for (size_t s = 0; s < 2; s++) {
+        void *st = make_state(apis[s]);
+        fx_lcg g = {11};
+        static fx_problem f;
+        for (size_t l = 0; l < 5; l++)
+            for (int kind = STRAIGHT; kind <= FOLDED; kind++)
+                for (int k = 0; k < 12; k++) {
+                    char what[80];
+                    shaped_chain(&f, links[l], (enum start_kind)kind, &g);
+                    /* the last targets out of reach; some goals turn only the lower links */
+                    double reach = k < 10 ? links[l] : 1.5 * links[l];
+                    f.goals[0].target = rf_v3_scale(fx_target(&g, 1), reach);
+                    if (k % 3 == 2)
+                        f.goals[0].chain_root = 1;
+                    fx_wire(&f, 1, 1e-4, k % 2 ? 10 : 200);
+                    snprintf(what, sizeof what, "%u links, %s, target %d", links[l], kinds[kind],
+                             k);
+                    check_agreement(apis[s], st, &f, what, kind == BENT);
+                }
+        apis[s]->destroy(st);
+    }
+}
+
+/* 200 links reaching 150 away: turns whose quaternions, unnormalised, multiply past the range
+ * of a double along the chain. */
+static void test_long_chains_stay_finite(void **unused)
+{
+    (void)unused;
+    const rf_ik_solver_api *apis[] = {&rf_ik_ccd_api, &rf_ik_fabrik_api};
+    static fx_problem f;
+    for (size_t s = 0; s < 2; s++) {
+        void *st = make_state(apis[s]);
+        fx_lcg g = {5};
+        for (int k = 0; k < 3; k++) {
+            shaped_chain(&f, 200, k == 2 ? FOLDED : BENT, &g);
+            f.goals[0].target = rf_v3_scale(fx_target(&g, 1), 150);
+            fx_wire(&f, 1, 1e-3, 30);
+            check_agreement(apis[s], st, &f, "200 links", k < 2);
+            assert_true(isfinite(f.out[0].r.w));
+        }
+        apis[s]->destroy(st);
+    }
+}
+
+/* One state fed problems of different shapes in turn gives each the result a fresh state
+ * gives it: what it remembers of the last problem's structure never leaks into the next. */
+static void test_states_follow_changing_problems(void **unused)
+{
+    (void)unused;
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        void *st = make_state(api);
+        uint32_t links = handles_links(api, 5) ? 5 : 2;
+        for (int round = 0; round < 8; round++) {
+            static fx_problem f, fresh;
+            fx_chain(&f, links);
+            f.goals[0].target = rf_v3(0.6, 0.5 * links, 0.4);
+            uint32_t goals = 1;
+            if (round % 4 == 1 && links > 2) /* the lower links only */
+                f.goals[0].chain_root = 2;
+            if (round % 4 == 2) /* a hinge */
+                f.limits[1].flags = RF_IK_LIMIT_HINGE, f.limits[1].axis = rf_v3(1, 0, 0),
+                f.limits[1].min_angle = -1, f.limits[1].max_angle = 1;
+            if (round % 4 == 3 && (api->capabilities & RF_IK_CAP_MULTI_GOAL)) {
+                fx_tree(&f);
+                goals = 2;
+            }
+            fx_wire(&f, goals, 1e-4, 100);
+            fresh = f;
+            fx_wire(&fresh, goals, 1e-4, 100);
+            solve_ok(api, st, &f);
+            void *other = make_state(api);
+            solve_ok(api, other, &fresh);
+            api->destroy(other);
+            assert_memory_equal(f.out, fresh.out, f.n * sizeof f.out[0]);
+            assert_int_equal(f.res.iterations, fresh.res.iterations);
+            /* a bad problem of the same shape is refused although its structure is known */
+            f.pose[1].t.x = NAN;
+            fx_wire(&f, goals, 1e-4, 100);
+            expect_refusal(api, st, &f, "not finite");
+            f.pose[1].t.x = 0;
+            f.parents[1] = 1;
+            fx_wire(&f, goals, 1e-4, 100);
+            expect_refusal(api, st, &f, "not an earlier joint");
+        }
+        api->destroy(st);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -412,6 +585,9 @@ int main(void)
         cmocka_unit_test(test_twobone_follows_the_law_of_cosines),
         cmocka_unit_test(test_twobone_refuses_other_chains),
         cmocka_unit_test(test_states_grow_past_their_config),
+        cmocka_unit_test(test_fast_paths_agree_with_general_forms),
+        cmocka_unit_test(test_long_chains_stay_finite),
+        cmocka_unit_test(test_states_follow_changing_problems),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
