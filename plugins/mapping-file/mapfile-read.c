@@ -324,7 +324,7 @@ rf_mapfile *rf_mapfile_parse(const char *data, size_t size, const char *name, ch
         return NULL;
     }
     rf_mapfile *f = calloc(1, sizeof *f);
-    if (!f)
+    if (!f || (name && !(f->name = rf_strdup_or_null(name))))
         rf_errs_add(&e, "out of memory");
     else if (header(&e, root))
         body(&e, f, root);
@@ -389,5 +389,6 @@ void rf_mapfile_free(rf_mapfile *f)
     free(f->sources);
     free(f->metric_names);
     free(f->target);
+    free(f->name);
     free(f);
 }

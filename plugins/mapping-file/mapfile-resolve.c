@@ -177,7 +177,7 @@ static bool resolver_init(rf_resolver *r, const rf_mapfile *f, const rf_skeleton
 {
     memset(r, 0, sizeof *r);
     r->f = f, r->target = target, r->sources = sources, r->source_count = n;
-    r->e = (rf_errs){err, err_size, 0, 0, "mapping"};
+    r->e = (rf_errs){err, err_size, 0, 0, f->name ? f->name : "mapping"};
     if (err && err_size)
         err[0] = '\0';
     r->six = calloc(n ? n : 1, sizeof *r->six);

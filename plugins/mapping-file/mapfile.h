@@ -1,6 +1,6 @@
 /* Mapping files (doc/formats/mapping.md): JSON that names joints, so a user can read a mapping,
  * edit it and feed it back, whole or as a partial file of overrides. The convenience library
- * libmapfile is linked by the mapping.read / mapping.write nodes, `rigflow map`, the tests and
+ * libmapfile is linked by the mapping.read / mapping.write nodes, the tests and
  * the fuzzers.
  *
  * Reading is two steps: parse (syntax and structure, no skeletons needed) and resolve (names
@@ -39,6 +39,7 @@ typedef struct rf_mapfile_joint {
 } rf_mapfile_joint;
 
 typedef struct rf_mapfile {
+    char *name;            /* the file as named when parsed (for messages), or NULL */
     char *target;          /* path of the target file, or NULL */
     uint32_t source_count; /* paths of the source files */
     char **sources;

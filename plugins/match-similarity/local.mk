@@ -1,6 +1,7 @@
 # The skeletal-similarity matcher (issue 4): libsimilarity (metrics, assignment, matching,
-# explanations; linked by the plugin, `rigflow map`, the tests and the benchmarks) and the
-# plugin, which links the analysis and names libraries statically.
+# explanations; linked by the plugin, the tests and the benchmark) and the plugin, which links
+# the analysis and names libraries statically. The pipelines: map (compute and save a mapping)
+# and map-edit (the same with a file of manual fixes applied on top).
 noinst_LTLIBRARIES += plugins/match-similarity/libsimilarity.la
 plugins_match_similarity_libsimilarity_la_SOURCES = \
 	plugins/match-similarity/similarity.h \
@@ -17,3 +18,5 @@ plugins_match_similarity_la_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins
 plugins_match_similarity_la_LDFLAGS = $(PLUGIN_LDFLAGS)
 plugins_match_similarity_la_LIBADD = plugins/match-similarity/libsimilarity.la \
 	plugins/match-names/libnames.la -lm
+
+dist_pipelines_DATA += pipelines/map.json pipelines/map-edit.json

@@ -6,7 +6,7 @@
  * section then takes the source section most of its joints chose, and the duplicate-bone removal
  * assigns joints along the two sections in order by dynamic programming (Tables 3-4); matches
  * under the threshold stay unmapped. The library is linked by the skeletal-similarity plugin,
- * `rigflow map`, the tests and the benchmarks.
+ * the tests and the benchmark.
  */
 #ifndef RF_SIMILARITY_H
 #define RF_SIMILARITY_H

@@ -43,6 +43,31 @@ expect 0 "pipelines/map.json on the same pair" -- "$rigflow" run "${RF_SRCDIR:?}
 if cmp -s "$tmp/fox.json" "$tmp/again.json"; then ok "command and pipeline agree"; else
     bad "command and pipeline agree"; fi
 
+# pipelines/map-edit.json: fixes on top of the automatic mapping, the rest kept.
+cat >"$tmp/fixes.json" <<'JSON'
+{"format": "rigflow.mapping", "version": 1, "joints": [
+  {"target": "b_Tail01_012", "inputs": [{"source": 0, "joint": "LowerBack", "reverse": true}]},
+  {"target": "b_Head_05", "inputs": []}]}
+JSON
+expect 0 "pipelines/map-edit.json applies fixes" -- "$rigflow" run \
+    "$RF_SRCDIR/pipelines/map-edit.json" -p source.path="$cmu" -p target.path="$fox" \
+    -p edit.path="$tmp/fixes.json" -p save.path="$tmp/edited.json"
+pairs() { # one line per joint and input, "TARGET SOURCE_JOINT" or "TARGET -" (written layout)
+    awk '/^      "target": /{t=$2} /"inputs": \[\]/{print t" -"} /"joint": /{print t" "$2}' "$1" |
+        tr -d '",'
+}
+pairs "$tmp/fox.json" >"$tmp/fox.pairs"
+pairs "$tmp/edited.json" >"$tmp/edited.pairs"
+contains "$tmp/edited.pairs" "^b_Tail01_012 LowerBack$" "a fix maps a joint"
+contains "$tmp/edited.pairs" "^b_Head_05 -$" "a fix unmaps a joint"
+if diff <(grep -v "^b_Tail01_012 \|^b_Head_05 " "$tmp/fox.pairs") \
+    <(grep -v "^b_Tail01_012 \|^b_Head_05 " "$tmp/edited.pairs") >/dev/null &&
+    [ "$(wc -l <"$tmp/edited.pairs")" -eq 24 ]; then
+    ok "joints without a fix keep the automatic entry"
+else
+    bad "joints without a fix keep the automatic entry"
+fi
+
 expect 1 "an unwritable -o fails" -- "$rigflow" map "$cmu" "$fox" -o "$tmp/no/such/dir.json"
 [ ! -e "$tmp/no" ] && ok "nothing left behind" || bad "nothing left behind"
 

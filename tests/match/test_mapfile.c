@@ -217,7 +217,9 @@ static void test_bad_files(void **state)
                                          "'wing'", NULL});
     expect_refused(HEAD "\"joints\": [{\"target\": \"root\", \"inputs\": [{\"source\": 0, "
                         "\"joint\": \"Pelvis\"}]}]}",
-                   (const char *const[]){"source 0 (walk.bvh) has no joint 'Pelvis'", NULL});
+                   (const char *const[]){"bad.json: at /joints/0/inputs/0: source 0 (walk.bvh) "
+                                         "has no joint 'Pelvis'",
+                                         NULL});
     expect_refused(HEAD "\"joints\": [{\"target\": \"root\", \"inputs\": [{\"source\": 3, "
                         "\"joint\": \"Hips\"}]}]}",
                    (const char *const[]){"source 3, but 1 source is connected", NULL});
