@@ -177,8 +177,10 @@ static void girdle_ends(rf_builder *b)
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t r = w->order[i];
         int32_t g = w->parent[r];
+        /* A root-chain joint lies above the body and already has its section: a limb hanging
+         * from it does not make it a girdle (found by fuzz_analysis: the spine listed it again). */
         if (w->limb_of[r] != (int32_t)r || g < 0 || !is_center(w, (uint32_t)g) ||
-            !substantial(b, r, longest))
+            w->root_chain[g] || !substantial(b, r, longest))
             continue;
         w->a->joints[g].flags |= RF_JI_GIRDLE;
         double kg = key(w, rf_an_pos(w, (uint32_t)g));
