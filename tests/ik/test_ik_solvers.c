@@ -505,6 +505,46 @@ static void test_fast_paths_agree_with_general_forms(void **unused)
     }
 }
 
+/* Damped least squares sums J J^T and J^T y joint by joint instead of building J: the same
+ * steps, so the same iterations and poses, on chains and on the tree, with free joints and
+ * hinges (one on the spine, which both arms' goals move, so the hinge adds to S's off-diagonal
+ * blocks). */
+static void test_direct_dls_agrees_with_the_jacobian(void **unused)
+{
+    (void)unused;
+    void *st = make_state(&rf_ik_dls_api);
+    static fx_problem f, fast, slow;
+    fx_lcg g = {17};
+    for (int k = 0; k < 60; k++) {
+        uint32_t goals = 1;
+        if (k < 40) {
+            static const uint32_t links[] = {2, 3, 5, 10};
+            shaped_chain(&f, links[k % 4], (enum start_kind)(k % 3), &g);
+            f.goals[0].target = fx_target(&g, links[k % 4]);
+        } else {
+            fx_tree(&f);
+            f.limits[1].flags = RF_IK_LIMIT_HINGE, f.limits[1].axis = rf_v3(1, 0.3, 0);
+            f.limits[1].min_angle = -3, f.limits[1].max_angle = 3;
+            f.limits[5] = f.limits[1], f.limits[9] = f.limits[1];
+            f.goals[0].target = rf_v3_add(rf_v3(1, 3, 0), fx_target(&g, 3));
+            f.goals[1].target = rf_v3_add(rf_v3(-1, 3, 0), fx_target(&g, 3));
+            f.goals[1].weight = 0.5;
+            goals = 2;
+        }
+        fast = f, slow = f;
+        fx_wire(&fast, goals, 1e-5, 100);
+        fx_wire(&slow, goals, 1e-5, 100);
+        solve_with(&rf_ik_dls_api, st, &fast, true);
+        solve_with(&rf_ik_dls_api, st, &slow, false);
+        double dist, angle;
+        compare_poses(&fast, &slow, &dist, &angle);
+        if (fast.res.iterations != slow.res.iterations || dist > 1e-9 * f.n || angle > 1e-9 * f.n)
+            fail_msg("dls, problem %d: %u and %u iterations, poses %g apart (%g rad)", k,
+                     fast.res.iterations, slow.res.iterations, dist, angle);
+    }
+    rf_ik_dls_api.destroy(st);
+}
+
 /* 200 links reaching 150 away: turns whose quaternions, unnormalised, multiply past the range
  * of a double along the chain. */
 static void test_long_chains_stay_finite(void **unused)
@@ -586,6 +626,7 @@ int main(void)
         cmocka_unit_test(test_twobone_refuses_other_chains),
         cmocka_unit_test(test_states_grow_past_their_config),
         cmocka_unit_test(test_fast_paths_agree_with_general_forms),
+        cmocka_unit_test(test_direct_dls_agrees_with_the_jacobian),
         cmocka_unit_test(test_long_chains_stay_finite),
         cmocka_unit_test(test_states_follow_changing_problems),
     };
