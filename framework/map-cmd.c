@@ -42,12 +42,14 @@ static char *rf_map_cmd_source_id(int i)
 static json_t *rf_map_cmd_graph(const rf_registry *reg, char **files, int nsources,
                                 const rf_map_cmd_opts *o)
 {
-    json_t *nodes = json_array(), *srcs = json_array();
+    json_t *nodes = json_array(), *srcs = json_array(), *clips = json_array();
     for (int i = 0; i < nsources; i++) {
         g_autofree char *id = rf_map_cmd_source_id(i);
         g_autofree char *port = g_strdup_printf("%s.skeleton", id);
+        g_autofree char *clip = g_strdup_printf("%s.animation", id);
         json_array_append_new(nodes, rf_map_cmd_import_node(reg, id, files[i]));
         json_array_append_new(srcs, json_string(port));
+        json_array_append_new(clips, json_string(clip));
     }
     json_array_append_new(nodes, rf_map_cmd_import_node(reg, "target", files[nsources]));
     json_t *params = json_object(); /* only what was asked: another matcher may lack these */
@@ -55,10 +57,16 @@ static json_t *rf_map_cmd_graph(const rf_registry *reg, char **files, int nsourc
         json_object_set_new(params, "explain", json_true());
     if (o->repeat > 1)
         json_object_set_new(params, "repeat", json_integer(o->repeat));
-    json_array_append_new(nodes, json_pack("{s:s, s:s, s:{s:s, s:O}, s:o}", "id", "map", "type",
+    json_t *inputs = json_pack("{s:s, s:O}", "target", "target.skeleton", "sources", srcs);
+    if (!o->matcher || strcmp(o->matcher, "skeletal-similarity") == 0) {
+        /* the clips give the pose to analyse when a rest pose is no body */
+        json_object_set_new(inputs, "target_animation", json_string("target.animation"));
+        json_object_set(inputs, "source_animations", clips);
+    }
+    json_decref(clips);
+    json_array_append_new(nodes, json_pack("{s:s, s:s, s:o, s:o}", "id", "map", "type",
                                            o->matcher ? o->matcher : "skeletal-similarity",
-                                           "inputs", "target", "target.skeleton", "sources", srcs,
-                                           "params", params));
+                                           "inputs", inputs, "params", params));
     if (o->output)
         json_array_append_new(nodes, json_pack("{s:s, s:s, s:{s:s, s:s, s:o}, s:{s:s}}", "id",
                                                "save", "type", "mapping.write", "inputs", "mapping",

@@ -73,6 +73,8 @@ enum rf_joint_info_flags {
     RF_JI_OFFSET = 1u << 6,      /* a limb's short first bone from the centerline (clavicle,
                                   * hip offset) */
     RF_JI_UNWEIGHTED = 1u << 7,  /* carries no skin weights, in a skeleton where others do */
+    RF_JI_PLACEMENT = 1u << 8,   /* a root far from its one child's body (a clip's frame may put
+                                  * the body metres from the origin): a helper, not in the body */
 };
 
 typedef struct rf_section {
@@ -166,6 +168,31 @@ bool rf_section_type_parse(const char *name, rf_section_type *type);
 /* Writes a human-readable report: axes and how sure, symmetry, sections with their joints.
  * `skeleton` gives joint names and may be NULL. */
 void rf_analysis_print(const rf_analysis *a, const rf_skeleton *skeleton, FILE *out);
+
+/* ---- poses (pose.c) ---- */
+
+/* Whether the rest pose is no body: a branched skeleton (three leaves or more) whose pivots all
+ * lie on one line, as Maya joint orients leave them at zero rotation (every bone along its local
+ * X). A straight chain (a strip, a fish) may be straight and is not degenerate. */
+bool rf_pose_degenerate(const rf_skeleton *skeleton);
+
+/* The skeleton posed at frame `frame` of `anim` (clamped to its frames): a copy whose joints
+ * rest in that frame's local transforms, without a bind pose, so an analysis sees that pose.
+ * Names are borrowed from `skeleton`, which must outlive the view. NULL when the animation is
+ * for another joint count, has no frames, or out of memory. (transfer full: rf_posed_free) */
+rf_skeleton *rf_posed_view(const rf_skeleton *skeleton, const rf_animation *anim, uint32_t frame);
+void rf_posed_free(rf_skeleton *view);
+
+/* The skeleton in its clip's mean pose: per joint the average rotation (quaternions summed in
+ * one hemisphere) and translation over every frame. A walk or run averages to a standing body,
+ * arms and legs swinging both ways evening out. Same terms as rf_posed_view. */
+rf_skeleton *rf_posed_mean(const rf_skeleton *skeleton, const rf_animation *anim);
+
+/* The pose of the clip that shows the body best, for a skeleton whose rest pose is no body: the
+ * mean pose or one of up to 16 frames spread over the clip, whichever puts the most joints in
+ * limbs that mirror a limb of as many bones (the mean on ties). *frame gets the frame, or -1
+ * for the mean pose. Same terms as rf_posed_view. */
+rf_skeleton *rf_posed_best(const rf_skeleton *skeleton, const rf_animation *anim, int32_t *frame);
 
 #ifdef __cplusplus
 }

@@ -31,8 +31,9 @@ static int32_t largest_child(const rf_awork *w, uint32_t j)
     return best;
 }
 
-/* A root-chain joint sits low (at the ground) with its body in one child and at most small
- * parts (IK feet) beside it. The chain only counts if it leads to a branching body. */
+/* A root-chain joint sits low (at the ground) or far from the body, with its body in one child
+ * and at most small parts (IK feet) beside it. The chain only counts if it leads to a branching
+ * body. */
 static void root_chain(rf_awork *w, uint32_t root)
 {
     rf_analysis *a = w->a;
@@ -47,7 +48,11 @@ static void root_chain(rf_awork *w, uint32_t root)
             small = (int32_t)c == b || w->sub_count[c] <= fmax(2, 0.1 * w->sub_count[b]);
         }
         bool low = rf_an_height(w, rf_an_pos(w, r)) <= a->ground + 0.15 * a->height;
-        if (!small || !low)
+        /* or a placement far from its body, whatever the axes say: a clip's first frame may
+         * leave the body metres from the origin's root */
+        bool far = rf_an_child_count(w, r) == 1 &&
+                   rf_v3_dist(rf_an_pos(w, r), rf_an_pos(w, (uint32_t)b)) > 0.5 * w->sub_len[b];
+        if (!small || !(low || far))
             break;
         r = (uint32_t)b, steps++;
     }

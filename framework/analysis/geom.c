@@ -43,7 +43,7 @@ static double extent(const rf_awork *w, bool all, bool want)
     uint32_t count = 0;
     for (uint32_t i = 0; i < w->n; i++) {
         bool unweighted = (w->skel->joints[i].flags & RF_JOINT_UNWEIGHTED) != 0;
-        if (!all && unweighted != want)
+        if ((!all && unweighted != want) || (w->a->joints[i].flags & RF_JI_PLACEMENT))
             continue;
         rf_vec3 p = w->a->joints[i].pos;
         lo = rf_v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
@@ -396,6 +396,48 @@ bool rf_an_build_tree(rf_awork *w)
 }
 
 /* Everything geometry needs before symmetry: pivots, the axis convention, tips, helpers. */
+/* Whether p lies clearly outside the box lo..hi: further from it than a tenth of its diagonal
+ * (a ground root between the feet is inside). */
+static bool outside(rf_vec3 p, rf_vec3 lo, rf_vec3 hi)
+{
+    rf_vec3 q = rf_v3(fmin(fmax(p.x, lo.x), hi.x), fmin(fmax(p.y, lo.y), hi.y),
+                      fmin(fmax(p.z, lo.z), hi.z));
+    return rf_v3_dist(p, q) > 0.1 * rf_v3_dist(lo, hi);
+}
+
+/* Roots placed away from their body: a root with one branching child, outside the box of the
+ * child's subtree (a clip's frame may put the body metres from the origin). Helpers; the size
+ * and tolerances are measured without them. */
+static void placements(rf_awork *w)
+{
+    rf_vec3 *lo = malloc((size_t)(w->n ? w->n : 1) * sizeof *lo);
+    rf_vec3 *hi = malloc((size_t)(w->n ? w->n : 1) * sizeof *hi);
+    bool any = false;
+    for (uint32_t i = 0; lo && hi && i < w->n; i++)
+        lo[i] = hi[i] = w->a->joints[i].pos;
+    for (uint32_t i = w->n; lo && hi && i-- > 0;) { /* children after parents */
+        int32_t p = w->file_parent[i];
+        if (p >= 0) {
+            lo[p] = rf_v3(fmin(lo[p].x, lo[i].x), fmin(lo[p].y, lo[i].y), fmin(lo[p].z, lo[i].z));
+            hi[p] = rf_v3(fmax(hi[p].x, hi[i].x), fmax(hi[p].y, hi[i].y), fmax(hi[p].z, hi[i].z));
+        }
+    }
+    for (uint32_t r = 0; lo && hi && r < w->n; r++) {
+        if (w->file_parent[r] >= 0 || rf_an_child_count(w, r) != 1 || w->helper[r])
+            continue;
+        uint32_t c = w->child_idx[w->child_off[r]];
+        if (rf_an_child_count(w, c) >= 2 && outside(rf_an_pos(w, r), lo[c], hi[c])) {
+            w->helper[r] = 1, any = true;
+            w->a->joints[r].flags |= RF_JI_PLACEMENT;
+            w->parent[c] = RF_NONE; /* the body's root, measured from its own pivot */
+        }
+    }
+    free(lo);
+    free(hi);
+    if (any)
+        bounding_size(w);
+}
+
 bool rf_an_prepare(rf_awork *w)
 {
     if (!rf_an_geometry(w) || !build_children(w, w->file_parent, NULL))
@@ -403,6 +445,7 @@ bool rf_an_prepare(rf_awork *w)
     convention(w);
     end_sites(w);
     rf_an_helpers(w);
+    placements(w);
     if (!rf_an_build_tree(w))
         return false;
     rf_an_tips(w);

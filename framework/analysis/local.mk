@@ -10,7 +10,8 @@ framework_analysis_libanalysis_la_SOURCES = \
 	framework/analysis/axes.c \
 	framework/analysis/body.c \
 	framework/analysis/sections.c \
-	framework/analysis/measure.c
+	framework/analysis/measure.c \
+	framework/analysis/pose.c
 framework_analysis_libanalysis_la_CFLAGS = $(AM_CFLAGS)
 framework_analysis_libanalysis_la_LIBADD = -lm
 

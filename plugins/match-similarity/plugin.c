@@ -90,6 +90,7 @@ typedef struct ms_params {
     const char *strategy;
     bool explain;
     int64_t repeat;
+    int64_t pose_frame;
 } ms_params;
 
 static bool read_axes(const rf_host *h, rf_node *node, rf_analysis_options *a, const char *up,
@@ -134,6 +135,7 @@ static bool read_params(const rf_host *h, rf_node *node, uint32_t n, ms_params *
         h->param_float(node, "leg_threshold");
     p->explain = h->param_bool(node, "explain");
     p->repeat = h->param_int(node, "repeat");
+    p->pose_frame = h->param_int(node, "pose_frame");
     if (!parse_disabled(h->param_string(node, "disable"), p->disabled, n)) {
         h->error(node, "disable: expected source indices below %u separated by commas", n);
         return false;
@@ -212,24 +214,19 @@ static bool gather(const rf_host *h, rf_node *node, const rf_skeleton **t, const
     return true;
 }
 
-static bool process(void *self, const rf_host *h, rf_node *node)
+static bool match_and_output(const rf_host *h, rf_node *node, const ms_params *p,
+                             const rf_skeleton *t, const rf_skeleton **s, uint32_t n)
 {
-    (void)self;
-    const rf_skeleton *t, *s[MAX_SOURCES];
-    uint32_t n;
-    ms_params p;
-    if (!gather(h, node, &t, s, &n) || !read_params(h, node, n, &p))
-        return false;
-    if (p.repeat > 1 && !time_repeats(h, node, &p, t, s, n))
+    if (p->repeat > 1 && !time_repeats(h, node, p, t, s, n))
         return false;
     rf_ms_explain ex = {0};
     char err[512];
-    rf_mapping *m = match_once(&p, t, s, n, p.explain ? &ex : NULL, err, sizeof err);
+    rf_mapping *m = match_once(p, t, s, n, p->explain ? &ex : NULL, err, sizeof err);
     if (!m) {
         h->error(node, "%s", err);
         return false;
     }
-    if (p.explain && ex.target) {
+    if (p->explain && ex.target) {
         rf_ms_explain_print(&ex, m, t, s, stdout);
         fflush(stdout);
     }
@@ -239,6 +236,63 @@ static bool process(void *self, const rf_host *h, rf_node *node)
         mapped += m->entries[j].input_count > 0;
     h->log(node, RF_LOG_INFO, "%u of %u target joints mapped", mapped, m->target_joint_count);
     return h->set_output(node, "mapping", m, rf_mapping_free);
+}
+
+/* The skeleton to analyse: `skel` itself, or a view of it in a pose of its connected clip
+ * (frame pose_frame, or the pose showing the body best when the rest pose is degenerate). */
+static const rf_skeleton *posed(const rf_host *h, rf_node *node, const ms_params *p,
+                                const rf_skeleton *skel, const rf_animation *anim, const char *what,
+                                rf_skeleton **view)
+{
+    *view = NULL;
+    if (!anim || (p->pose_frame < 0 && !rf_pose_degenerate(skel)))
+        return skel;
+    int32_t frame = (int32_t)p->pose_frame;
+    *view =
+        frame >= 0 ? rf_posed_view(skel, anim, (uint32_t)frame) : rf_posed_best(skel, anim, &frame);
+    if (!*view) {
+        h->log(node, RF_LOG_WARNING, "%s: its clip does not fit the skeleton; rest pose used",
+               what);
+        return skel;
+    }
+    char pose[64];
+    if (frame >= 0)
+        snprintf(pose, sizeof pose, "frame %u",
+                 frame < (int32_t)anim->frame_count ? (uint32_t)frame : anim->frame_count - 1);
+    else
+        snprintf(pose, sizeof pose, "the mean pose");
+    h->log(node, RF_LOG_INFO, "%s: analysed in %s of its clip%s", what, pose,
+           p->pose_frame < 0 ? " (the rest pose is no body: every bone on one line)" : "");
+    return *view;
+}
+
+static void pose_all(const rf_host *h, rf_node *node, const ms_params *p, const rf_skeleton **t,
+                     const rf_skeleton **s, uint32_t n, rf_skeleton **views)
+{
+    *t = posed(h, node, p, *t, h->input(node, "target_animation", 0), "target", &views[n]);
+    uint32_t na = h->input_count(node, "source_animations");
+    for (uint32_t k = 0; k < n; k++) {
+        char what[32];
+        snprintf(what, sizeof what, "source %u", k);
+        const rf_animation *a = k < na ? h->input(node, "source_animations", k) : NULL;
+        s[k] = posed(h, node, p, s[k], a, what, &views[k]);
+    }
+}
+
+static bool process(void *self, const rf_host *h, rf_node *node)
+{
+    (void)self;
+    const rf_skeleton *t, *s[MAX_SOURCES];
+    rf_skeleton *views[MAX_SOURCES + 1] = {0};
+    uint32_t n;
+    ms_params p;
+    if (!gather(h, node, &t, s, &n) || !read_params(h, node, n, &p))
+        return false;
+    pose_all(h, node, &p, &t, s, n, views);
+    bool ok = match_and_output(h, node, &p, t, s, n);
+    for (uint32_t k = 0; k <= n; k++)
+        rf_posed_free(views[k]);
+    return ok;
 }
 
 /* Self-test: a biped mapped onto itself turned to face the other way maps every joint to
@@ -296,6 +350,12 @@ static const rf_port_desc inputs[] = {
     {sizeof(rf_port_desc), "target", RF_TYPE_SKELETON, 0, "The skeleton to drive."},
     {sizeof(rf_port_desc), "sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE,
      "The skeletons whose motion will drive it, in order (the mapping's source indices)."},
+    {sizeof(rf_port_desc), "target_animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
+     "The target's clip: its frame gives the pose to analyse when the rest pose is no body "
+     "(see pose_frame)."},
+    {sizeof(rf_port_desc), "source_animations", RF_TYPE_ANIMATION,
+     RF_PORT_OPTIONAL | RF_PORT_MULTIPLE,
+     "The sources' clips, in the sources' order, for the same purpose."},
 };
 
 static const rf_port_desc outputs[] = {
@@ -347,6 +407,10 @@ static const rf_param_desc params[] = {
       "and sides found, on standard output."),
     P("repeat", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 1, NULL, 1, 1000000, NULL,
       "Map this many times and print map_us_median=<microseconds> on standard error."),
+    P("pose_frame", RF_PARAM_INT, RF_PARAM_HAS_RANGE, -1, NULL, -1, 1e9, NULL,
+      "The pose to analyse for skeletons whose clip is connected: -1 the rest pose, or when "
+      "that is no body (every bone on one line, as Maya joint orients leave it) the clip's mean "
+      "pose or most symmetric frame; N: frame N."),
 };
 
 static const rf_node_desc node_desc = {
@@ -358,7 +422,7 @@ static const rf_node_desc node_desc = {
            "are detected, every pair of joints is scored by weighted metrics (Weijden 2014, "
            "Table 1, plus body position and digit order), duplicate bones are removed along each "
            "section, and matches under the threshold stay unmapped. doc/matching.md.",
-    .input_count = 2,
+    .input_count = sizeof inputs / sizeof inputs[0],
     .inputs = inputs,
     .output_count = 1,
     .outputs = outputs,

@@ -29,7 +29,7 @@ typedef enum rf_ms_metric {
     RF_MS_CONTINUITY,    /* same source as the parent's match, parent matched to parent: 5 */
     RF_MS_PREFERENCE,    /* the preferred source: 10 in the prefer-N sets, else 0 */
     RF_MS_BODY_POSITION, /* limbs at the same place along the body (front legs, arms): 20 */
-    RF_MS_DIGIT_ORDER,   /* digits in the same order across their fan (thumb first): 10 */
+    RF_MS_DIGIT_ORDER,   /* digits in the same order across their fan (thumb first): 20 */
     RF_MS_METRIC_COUNT
 } rf_ms_metric;
 

@@ -329,6 +329,52 @@ static void test_partial_skin_and_fold(void **state)
     rf_skeleton_free(s);
 }
 
+/* A rest pose with every bone along +X (Maya joint orients at zero rotation) is no body; the
+ * clip shows it: its first frame repeats the line, the next two are the biped. */
+static void test_degenerate_rest(void **state)
+{
+    (void)state;
+    rf_skeleton *body = sb_build(sb_biped, SB_COUNT(sb_biped));
+    rf_skeleton *line = sb_build(sb_biped, SB_COUNT(sb_biped));
+    uint32_t n = line->joint_count;
+    for (uint32_t j = 1; j < n; j++)
+        line->joints[j].rest.t = rf_v3(rf_v3_len(body->joints[j].rest.t), 0, 0);
+    const sb_joint strip[] = {{"a", NULL, 0, 1, 0, 0}, {"b", "a", 0, 2, 0, 0}};
+    rf_skeleton *chain = sb_build(strip, 2);
+    assert_true(rf_pose_degenerate(line));
+    assert_false(rf_pose_degenerate(body));
+    assert_false(rf_pose_degenerate(chain)); /* a straight chain may be straight */
+    rf_animation *clip = rf_animation_new(n, 3, 30);
+    for (uint32_t f = 0; f < 3; f++)
+        for (uint32_t j = 0; j < n; j++) {
+            rf_vec3 t = (f == 0 ? line : body)->joints[j].rest.t;
+            float *r = clip->rotations + ((size_t)f * n + j) * 4,
+                  *x = clip->translations + ((size_t)f * n + j) * 3;
+            r[0] = r[1] = r[2] = 0, r[3] = 1;
+            x[0] = (float)t.x, x[1] = (float)t.y, x[2] = (float)t.z;
+        }
+    rf_skeleton *frame9 = rf_posed_view(line, clip, 9); /* clamped to the last frame */
+    assert_non_null(frame9);
+    assert_false(rf_pose_degenerate(frame9));
+    rf_animation *other = rf_animation_new(n - 1, 1, 30);
+    assert_null(rf_posed_view(line, other, 0)); /* made for another skeleton */
+    int32_t frame;
+    rf_skeleton *best = rf_posed_best(line, clip, &frame);
+    assert_non_null(best);
+    rf_analysis *a = rf_analyze(best, NULL);
+    check_consistent(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    check_biped_sections(a, best);
+    rf_analysis_free(a);
+    rf_posed_free(best);
+    rf_posed_free(frame9);
+    rf_animation_free(clip);
+    rf_animation_free(other);
+    rf_skeleton_free(body);
+    rf_skeleton_free(line);
+    rf_skeleton_free(chain);
+}
+
 /* Arms hanging to mid-thigh stay arms by default and become legs with a higher threshold. */
 static void test_leg_threshold(void **state)
 {
@@ -394,6 +440,7 @@ int main(void)
         cmocka_unit_test(test_leg_threshold),
         cmocka_unit_test(test_measures),
         cmocka_unit_test(test_partial_skin_and_fold),
+        cmocka_unit_test(test_degenerate_rest),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

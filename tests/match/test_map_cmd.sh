@@ -82,6 +82,14 @@ contains "$tmp/err" "^map_us_median=[0-9.]+$" "timing on stderr"
 
 expect 0 "two sources blended" -- "$rigflow" map "$cmu" "$bandai" "$fox" -p map.blend=true
 contains "$tmp/out" "<- 0:.* <- 1:" "joints driven by both sources"
+# Bandai's rest pose is no body: the command connects the clips, the matcher analyses a pose
+# of the clip (the *_L joints are on the body's left, checked in the clip's frames).
+if [ -f "$data/bvh/bandai_walk.bvh" ]; then
+    expect 0 "CMU onto Bandai (rest pose no body)" -- "$rigflow" map "$cmu" "$data/bvh/bandai_walk.bvh"
+    contains "$tmp/out" "^UpperLeg_L +<- 0:LeftUpLeg " "Bandai's left thigh from the left thigh"
+    contains "$tmp/out" "^Hand_R +<- 0:RightHand " "Bandai's right hand from the right hand"
+fi
+
 expect 0 "the names matcher" -- "$rigflow" map -m names "$cmu" "$fox"
 expect 3 "a bad parameter is a validation error" -- "$rigflow" map -p map.strategy=x "$cmu" "$fox"
 expect 1 "a missing file fails" -- "$rigflow" map "$cmu" "$tmp/missing.glb"

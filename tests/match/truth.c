@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "aimport.h"
+#include "analysis/analysis.h"
 #include "bvh.h"
 #include "truth.h"
 
@@ -92,6 +93,19 @@ void truth_free(truth *t)
     t->joints = NULL;
 }
 
+/* The matcher node's rule when a clip is connected: a rest pose that is no body is replaced
+ * by the pose of the clip that shows the body best. */
+static void use_clip_pose(rf_skeleton *s, const rf_animation *a)
+{
+    if (!rf_pose_degenerate(s))
+        return;
+    int32_t frame;
+    rf_skeleton *v = rf_posed_best(s, a, &frame);
+    for (uint32_t j = 0; v && j < s->joint_count; j++)
+        s->joints[j].rest = v->joints[j].rest;
+    rf_posed_free(v);
+}
+
 rf_skeleton *truth_load(const char *data_dir, const char *rel)
 {
     char path[1024], err[1024];
@@ -104,6 +118,7 @@ rf_skeleton *truth_load(const char *data_dir, const char *rel)
             fprintf(stderr, "%s\n", err);
             return NULL;
         }
+        use_clip_pose(s, a);
         rf_animation_free(a);
         return s;
     }

@@ -30,7 +30,9 @@ typedef struct truth {
 bool truth_read(const char *path, truth *t);
 void truth_free(truth *t);
 
-/* Loads a skeleton from RF_DATA_DIR/rel through the BVH or Assimp importer. (transfer full) */
+/* Loads a skeleton from RF_DATA_DIR/rel through the BVH or Assimp importer; a BVH rest pose
+ * that is no body is replaced by a frame of its clip, as the matcher node does with the clip
+ * connected (rf_posed_best). (transfer full) */
 rf_skeleton *truth_load(const char *data_dir, const char *rel);
 
 typedef struct truth_score {
