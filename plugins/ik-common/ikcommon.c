@@ -587,10 +587,14 @@ void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations)
 
 void rf_ikc_chain_finish(rf_ikc_solve *s, uint32_t m, uint32_t iterations)
 {
-    for (uint32_t k = 0; k <= m; k++) /* the pivot's ancestors are current */
-        rf_ikc_fk_joint(s, s->chain[k]);
     const rf_ik_goal *g = rf_ikc_goal(s->pb, 0);
-    if (g->flags & RF_IK_GOAL_ORIENTATION) {
+    if (!(g->flags & RF_IK_GOAL_ORIENTATION)) {
+        /* The solvers leave the effector's position in w->cpos[m], as the solved rotations put
+         * it to rounding: no forward kinematics just to measure the error. */
+        s->w->world[g->effector].t = s->w->cpos[m];
+    } else {
+        for (uint32_t k = 0; k <= m; k++) /* the pivot's ancestors are current */
+            rf_ikc_fk_joint(s, s->chain[k]);
         /* what rf_ikc_prepare would have set up for the effector's own limits */
         uint32_t e = g->effector;
         const rf_ik_constraint *c = rf_ikc_constraint(s->pb, e);

@@ -128,8 +128,9 @@ bool rf_ikc_is_free_chain(const rf_ikc_solve *s);
  * positions into w->cpos, bone lengths into w->clen, reach into w->reach[0]. Returns the bone
  * count m (s->chain[m] is the effector). */
 uint32_t rf_ikc_chain_begin(rf_ikc_solve *s);
-/* Forward kinematics of the chain from the solved local rotations, the orientation goal if any,
- * then the result, as rf_ikc_finish does for any problem. */
+/* The result, as rf_ikc_finish gives it for any problem, with the effector where w->cpos[m]
+ * says (the solver leaves it there: where its solved local rotations put it, to rounding); with
+ * an orientation goal, forward kinematics of the chain and the effector's turn first. */
 void rf_ikc_chain_finish(rf_ikc_solve *s, uint32_t m, uint32_t iterations);
 
 /* World transforms of every joint from res->pose. */
