@@ -139,7 +139,8 @@ typedef struct rf_analysis {
     double forward_confidence;
     double symmetry;            /* fraction of off-plane joints with a mirror image, 0 .. 1 */
     const char *up_source;      /* "forced", "limbs", "file", "default": (static) */
-    const char *forward_source; /* "forced", "feet", "knees", "head", "file", "default" */
+    const char *forward_source; /* "forced", "feet", "knees", "head", "elevation", "file",
+                                 * "lean" (the top of the centerline), "default" */
     rf_vec3 plane_normal;       /* symmetry plane (normal = left), through plane_point */
     rf_vec3 plane_point;
     double size;   /* diagonal of the bounding box of all pivots and tips, > 0 */

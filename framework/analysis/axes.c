@@ -392,6 +392,28 @@ static double vote_elevation(const rf_awork *w, rf_vec3 c)
     return dh > 0 ? 0.2 : -0.2;
 }
 
+/* The last resort, for bodies that give no other cue (an owl: one torso bone, a head, wings):
+ * the highest point of the centerline leans forward of the centerline's middle. */
+static double vote_lean(const rf_awork *w, rf_vec3 c)
+{
+    rf_vec3 sum = rf_v3(0, 0, 0), top = rf_v3(0, 0, 0);
+    double best = -INFINITY;
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (!w->center[j] || w->root_chain[j])
+            continue;
+        rf_vec3 p = rf_an_pos(w, j), t = w->a->joints[j].tip;
+        sum = rf_v3_add(sum, p), count++;
+        if (rf_an_height(w, t) > best)
+            best = rf_an_height(w, t), top = t;
+    }
+    if (count < 2)
+        return 0;
+    double along = rf_v3_dot(rf_v3_sub(top, rf_v3_scale(sum, 1.0 / count)), c);
+    return fabs(along) > 0.05 * w->a->size ? (along > 0 ? 0.1 : -0.1) : 0;
+}
+
 static double vote_file(const rf_awork *w, rf_vec3 c)
 {
     rf_vec3 ff = w->skel->forward;
@@ -408,12 +430,14 @@ static void detect_forward(rf_awork *w, rf_limbs *ls)
     rf_votes v = {0};
     uint32_t legs;
     vote_limbs(w, ls, c, &v, &legs);
-    static const char *const names[] = {"feet", "knees", "head", "elevation", "file"};
-    double cue[5] = {fmax(-1, fmin(1, v.feet)), v.knees, vote_head(w, ls, c), vote_elevation(w, c),
-                     vote_file(w, c)};
+    static const char *const names[] = {"feet", "knees", "head", "elevation", "file", "lean"};
+    double cue[6] = {fmax(-1, fmin(1, v.feet)), v.knees,         vote_head(w, ls, c),
+                     vote_elevation(w, c),      vote_file(w, c), 0};
+    if (cue[0] == 0 && cue[1] == 0 && cue[2] == 0 && cue[3] == 0 && cue[4] == 0)
+        cue[5] = vote_lean(w, c); /* only when nothing else says anything */
     double sum = 0, weight = 0;
     int strongest = -1;
-    for (int i = 0; i < 5; i++) {
+    for (int i = 0; i < 6; i++) {
         sum += cue[i], weight += fabs(cue[i]);
         if (cue[i] != 0 && (strongest < 0 || fabs(cue[i]) > fabs(cue[strongest])))
             strongest = i;

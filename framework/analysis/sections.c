@@ -154,17 +154,22 @@ static double max_reach(const rf_builder *b)
     return m;
 }
 
-/* A body limb, not an ear or an eye: long next to the longest limb. */
-static bool substantial(const rf_builder *b, uint32_t r, double longest)
-{
-    return b->reach[r] >= 0.5 * longest || (b->limb_joints[r] >= 2 && b->reach[r] >= 0.2 * longest);
-}
-
 static bool is_leg(const rf_builder *b, uint32_t r)
 {
     const rf_analysis *a = b->w->a;
     double t = b->w->opt.leg_threshold > 0 ? b->w->opt.leg_threshold : 0.25;
     return (b->lowest[r] - a->ground) <= t * a->height;
+}
+
+/* A body limb, not an ear or an eye: long next to the longest limb, or standing on the ground
+ * from well above it (a bird's one-bone leg beside its long wings). */
+static bool substantial(const rf_builder *b, uint32_t r, double longest)
+{
+    const rf_awork *w = b->w;
+    double drop = rf_an_height(w, rf_an_pos(w, r)) - b->lowest[r];
+    return b->reach[r] >= 0.5 * longest ||
+           (b->limb_joints[r] >= 2 && b->reach[r] >= 0.2 * longest) ||
+           (is_leg(b, r) && drop >= 0.1 * w->a->height);
 }
 
 /* ---- the spine path ---- */
