@@ -9,8 +9,9 @@
 #
 #   bench/ik/run.sh [BUILDDIR] [--quick]
 #
-# Our side runs twice (before and after the peers; the ratio uses the median of both), since
-# times on these shared machines drift by +-30% over a run. --quick runs only the CCD part of
+# Our side runs three times (before, between and after the peers; the ratio uses the median),
+# since times on these shared machines drift by +-30% over a run and one of two runs caught by a
+# burst of load would move the mean of two by half of it. --quick runs only the CCD part of
 # three's benchmark (bench_three.mjs --ccd-only, what run_three.sh runs for CCD) instead of the
 # whole run_three.sh (which also parses and retargets BVH files for minutes).
 # The peers need `npm install`: it happens once in a scratch copy ($IK_PEERS_DIR, default
@@ -54,7 +55,7 @@ ours() {
     "$rigflow" ik-bench -s ccd -s fabrik -s dls "${workloads[@]}" --min-time 0.3 --reps 3 \
         2>/dev/null >"$out/ours$1.csv"
 }
-echo "bench/ik: rigflow ik-bench (1/2)" >&2
+echo "bench/ik: rigflow ik-bench (1/3)" >&2
 ours 1
 if [ $quick = 1 ]; then
     echo "bench/ik: three.js CCDIKSolver (bench_three.mjs --ccd-only, 3 processes)" >&2
@@ -64,9 +65,10 @@ else
     echo "bench/ik: three.js (run_three.sh)" >&2
     (cd "$peers" && ./run_three.sh "$out" >/dev/null)
 fi
+echo "bench/ik: rigflow ik-bench (2/3)" >&2
+ours 2
 echo "bench/ik: closed-chain-ik (run_dls.sh)" >&2
 (cd "$peers" && ./run_dls.sh "$out" >/dev/null)
-echo "bench/ik: rigflow ik-bench (2/2)" >&2
-ours 2
-node "$top/bench/ik/ratios.mjs" "$out"/ours1.csv "$out"/ours2.csv -- "$out"/three_run*.txt \
-    "$out"/dls_run*.txt
+echo "bench/ik: rigflow ik-bench (3/3)" >&2
+ours 3
+node "$top/bench/ik/ratios.mjs" "$out"/ours[123].csv -- "$out"/three_run*.txt "$out"/dls_run*.txt

@@ -253,7 +253,7 @@ static bool ccd_solve(void *state, const rf_ik_problem *pb, rf_ik_result *res)
         return true;
     }
     rf_ikc_prepare(&s);
-    rf_ikc_finish(&s, s.goal_count > 0 ? ccd_iterate(&s) : 0);
+    rf_ikc_finish_current(&s, s.goal_count > 0 ? ccd_iterate(&s) : 0);
     return true;
 }
 

@@ -70,22 +70,6 @@ void rf_ikc_state_free(void *state)
     free(state);
 }
 
-const rf_ik_goal *rf_ikc_goal(const rf_ik_problem *pb, uint32_t i)
-{
-    size_t stride = pb->goals[0].size;
-    return (const rf_ik_goal *)((const char *)pb->goals + stride * i);
-}
-
-const rf_ik_constraint *rf_ikc_constraint(const rf_ik_problem *pb, uint32_t j)
-{
-    if (!pb->constraints)
-        return NULL;
-    size_t stride = pb->constraints[0].size;
-    const rf_ik_constraint *c =
-        (const rf_ik_constraint *)((const char *)pb->constraints + stride * j);
-    return c->flags ? c : NULL;
-}
-
 /* ---- checking ---- */
 
 #define REFUSE(res, ...) (snprintf((res)->message, sizeof(res)->message, __VA_ARGS__), false)
@@ -577,12 +561,17 @@ static void report(rf_ikc_solve *s, uint32_t iterations)
     }
 }
 
-void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations)
+void rf_ikc_finish_current(rf_ikc_solve *s, uint32_t iterations)
 {
-    rf_ikc_fk(s);
     if (apply_orientations(s))
         rf_ikc_fk(s); /* the turned effectors' descendants */
     report(s, iterations);
+}
+
+void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations)
+{
+    rf_ikc_fk(s);
+    rf_ikc_finish_current(s, iterations);
 }
 
 void rf_ikc_chain_finish(rf_ikc_solve *s, uint32_t m, uint32_t iterations)

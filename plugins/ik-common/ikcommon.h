@@ -99,8 +99,21 @@ extern bool rf_ikc_fast_paths;
 
 /* Sized-array access: arrays of size-prefixed structs are read with the stride of the first
  * element's size, so a caller built against an older header still works. */
-const rf_ik_goal *rf_ikc_goal(const rf_ik_problem *pb, uint32_t i);
-const rf_ik_constraint *rf_ikc_constraint(const rf_ik_problem *pb, uint32_t j);
+static inline const rf_ik_goal *rf_ikc_goal(const rf_ik_problem *pb, uint32_t i)
+{
+    size_t stride = pb->goals[0].size;
+    return (const rf_ik_goal *)((const char *)pb->goals + stride * i);
+}
+/* NULL for a free joint (no constraints, or no limit flags). */
+static inline const rf_ik_constraint *rf_ikc_constraint(const rf_ik_problem *pb, uint32_t j)
+{
+    if (!pb->constraints)
+        return NULL;
+    size_t stride = pb->constraints[0].size;
+    const rf_ik_constraint *c =
+        (const rf_ik_constraint *)((const char *)pb->constraints + stride * j);
+    return c->flags ? c : NULL;
+}
 
 /* Checks a problem without touching res->pose; false with res->message on refusal. */
 bool rf_ikc_check(const rf_ik_problem *pb, rf_ik_result *res);
@@ -116,6 +129,9 @@ bool rf_ikc_begin(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, r
 /* Applies orientation goals, recomputes world transforms and fills errors, status, max_error,
  * reached. */
 void rf_ikc_finish(rf_ikc_solve *s, uint32_t iterations);
+/* rf_ikc_finish for a solver that leaves every world transform current (the general forms of
+ * CCD, FABRIK and the Jacobian methods do): no forward kinematics again. */
+void rf_ikc_finish_current(rf_ikc_solve *s, uint32_t iterations);
 
 /* ---- a single free chain ----
  * One goal on a chain with no limits and no locked joint: the shape where a solver can work on

@@ -342,7 +342,7 @@ static bool fabrik_solve(void *state, const rf_ik_problem *pb, rf_ik_result *res
     }
     rf_ikc_prepare(&s);
     uint32_t it = s.goal_count > 0 ? tree_iterate(&s) : 0;
-    rf_ikc_finish(&s, it);
+    rf_ikc_finish_current(&s, it);
     return true;
 }
 

@@ -152,9 +152,9 @@ static void build_error(jac_state *st, rf_ikc_solve *s)
         const rf_ik_goal *g = rf_ikc_goal(s->pb, i);
         double sw = sqrt(g->weight);
         rf_vec3 d = rf_v3_sub(g->target, s->w->world[g->effector].t);
-        double len = rf_v3_len(d);
-        if (len > st->step)
-            d = rf_v3_scale(d, st->step / len);
+        double len2 = rf_v3_len2(d); /* the square root only for a step to clamp */
+        if (len2 > st->step * st->step)
+            d = rf_v3_scale(d, st->step / sqrt(len2));
         st->e[3 * i] = sw * d.x, st->e[3 * i + 1] = sw * d.y, st->e[3 * i + 2] = sw * d.z;
     }
 }
@@ -414,17 +414,18 @@ static void clamp_step(jac_state *st)
             st->dtheta[c] *= MAX_TURN / largest;
 }
 
-/* sin(x) / x and cos(x) for |x| <= 0.5 by their Taylor series to x^14 and x^16 (the next terms
- * are below 1e-19): a step turns each joint by at most 0.5 rad about each axis, so by at most
- * 0.87 rad, half of which is all the turn quaternion needs; libm's sincos otherwise. Apply_step
- * runs once per joint per try, and the library call was a tenth of a solve. */
-static void half_turn(double x, double *sinc, double *cosine)
+/* sin(x) / x and cos(x) from x^2 (both are even), for x^2 <= 0.25 by their Taylor series to
+ * x^14 and x^16 (the next terms are below 1e-19); libm's sin and cos beyond. A step turns each
+ * joint by at most 0.5 rad about each axis, so by at most 0.87 rad, and the turn quaternion
+ * needs half of that: the series serve every step, with no square root for the angle and no
+ * library call (which was a tenth of a solve). */
+static void half_turn(double x2, double *sinc, double *cosine)
 {
-    if (!(fabs(x) <= 0.5)) {
+    if (!(x2 <= 0.25)) {
+        double x = sqrt(x2);
         *sinc = sin(x) / x, *cosine = cos(x);
         return;
     }
-    double x2 = x * x;
     double sn = -1.0 / 1307674368000, cn = 1.0 / 20922789888000; /* x^14 / 15!, x^16 / 16! */
     sn = sn * x2 + 1.0 / 6227020800, cn = cn * x2 - 1.0 / 87178291200;
     sn = sn * x2 - 1.0 / 39916800, cn = cn * x2 + 1.0 / 479001600;
@@ -445,13 +446,13 @@ static void apply_step(jac_state *st, rf_ikc_solve *s, double scale)
             st->group[g + 1] - c == 1 /* a hinge, or a free joint's world axes */
                 ? rf_v3_scale(st->axis[c], scale * st->dtheta[c])
                 : rf_v3_scale(rf_v3(st->dtheta[c], st->dtheta[c + 1], st->dtheta[c + 2]), scale);
-        double angle = rf_v3_len(omega), k, cosine;
-        if (angle == 0)
+        double angle2 = rf_v3_len2(omega), k, cosine;
+        if (angle2 == 0)
             continue;
         /* A world-axis turn of joint j is, in its parent's frame, a turn about the axis seen
          * from the parent: local' = (parent^-1 omega) local. */
         rf_vec3 in_parent = rf_quat_rotate(rf_quat_conj(rf_ikc_parent_rot(s, j)), omega);
-        half_turn(0.5 * angle, &k, &cosine);
+        half_turn(0.25 * angle2, &k, &cosine);
         k *= 0.5; /* sin(angle / 2) / angle: the axis is omega / angle, no normalising */
         rf_quat turn = rf_quat_make(in_parent.x * k, in_parent.y * k, in_parent.z * k, cosine);
         rf_quat local = rf_quat_mul(turn, s->local[j].r);
@@ -572,7 +573,7 @@ static bool jac_solve(void *state, const rf_ik_problem *pb, rf_ik_result *res)
             it = jac_iterate(st, &s, lambda_min);
         }
     }
-    rf_ikc_finish(&s, it);
+    rf_ikc_finish_current(&s, it);
     return true;
 }
 
