@@ -75,6 +75,8 @@ enum rf_joint_info_flags {
     RF_JI_UNWEIGHTED = 1u << 7,  /* carries no skin weights, in a skeleton where others do */
     RF_JI_PLACEMENT = 1u << 8,   /* a root far from its one child's body (a clip's frame may put
                                   * the body metres from the origin): a helper, not in the body */
+    RF_JI_UNPAIRED = 1u << 9,    /* an off-center leaf with no mirror where its parent's mirror
+                                  * has fewer children (a weapon socket in one fist): a helper */
 };
 
 typedef struct rf_section {

@@ -120,6 +120,42 @@ out:
     free(parts);
 }
 
+/* Props: off-center leaves without a mirror image of their own whose parent's mirror has fewer
+ * children (a weapon socket in one fist of a symmetric body). Made helpers so the hand keeps its
+ * shape. Returns whether there were any. Only on clearly symmetric bodies. */
+static bool unpaired_leaves(rf_awork *w)
+{
+    bool any = false;
+    if (!w->have_plane || w->a->symmetry < 0.75)
+        return false;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        int32_t p = w->parent[j];
+        int32_t twin = w->a->joints[j].mirror; /* a twin is mutual; a socket's is a knuckle */
+        if (w->center[j] || !rf_an_is_leaf(w, j) || p < 0 ||
+            (twin >= 0 && w->a->joints[twin].mirror == (int32_t)j))
+            continue;
+        int32_t m = w->a->joints[p].mirror;
+        if (m >= 0 && rf_an_child_count(w, (uint32_t)m) < rf_an_child_count(w, (uint32_t)p)) {
+            w->helper[j] = 1, any = true;
+            w->a->joints[j].flags |= RF_JI_UNPAIRED;
+        }
+    }
+    return any;
+}
+
+static bool settle_tree(rf_awork *w)
+{
+    if (!rf_an_build_tree(w))
+        return false;
+    rf_an_grid_reset(w); /* a new order */
+    rf_an_tips(w);
+    rf_an_subtree_stats(w);
+    rf_an_classify(w);
+    rf_an_mirrors(w);
+    return true;
+}
+
 bool rf_an_body(rf_awork *w)
 {
     int32_t root = main_root(w);
@@ -131,12 +167,8 @@ bool rf_an_body(rf_awork *w)
             w->parent[j] >= 0 ? rf_an_pos(w, (uint32_t)w->parent[j]) : rf_an_pos(w, j);
     root_chain(w, (uint32_t)root);
     attach_detached(w, (uint32_t)root);
-    if (!rf_an_build_tree(w))
+    if (!settle_tree(w) || (unpaired_leaves(w) && !settle_tree(w)))
         return false;
-    rf_an_tips(w);
-    rf_an_subtree_stats(w);
-    rf_an_classify(w);
-    rf_an_mirrors(w);
     w->a->root = w->top;
     if (w->top >= 0)
         w->a->joints[w->top].flags |= RF_JI_ROOT;

@@ -375,6 +375,28 @@ static void test_degenerate_rest(void **state)
     rf_skeleton_free(chain);
 }
 
+/* A weapon socket in one hand (a short leaf the other hand lacks) is a prop, not a finger: the
+ * hands keep the same shape on both sides. */
+static void test_socket(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped) + 1];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++)
+        js[n++] = sb_biped[i];
+    js[n++] = (sb_joint){"r_socket", "r_hand", -0.75, 1.49, -0.03, 0};
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    assert_true(a->joints[sb_find(s, "r_socket")].flags & RF_JI_UNPAIRED);
+    assert_int_equal(section_of(a, s, "r_socket")->type, RF_SECTION_HELPER);
+    check_biped_sections(a, s);
+    assert_int_equal(section_of(a, s, "r_finger")->bone_count,
+                     section_of(a, s, "l_finger")->bone_count);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 /* Arms hanging to mid-thigh stay arms by default and become legs with a higher threshold. */
 static void test_leg_threshold(void **state)
 {
@@ -441,6 +463,7 @@ int main(void)
         cmocka_unit_test(test_measures),
         cmocka_unit_test(test_partial_skin_and_fold),
         cmocka_unit_test(test_degenerate_rest),
+        cmocka_unit_test(test_socket),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
