@@ -139,8 +139,8 @@ static bool chain_sweep(rf_ikc_solve *s, uint32_t m, uint32_t pending, rf_vec3 *
     double tol2 = s->pb->tolerance * s->pb->tolerance;
     for (uint32_t k = m; k-- > 0;) {
         rf_vec3 X = w->cpos[k], u = rf_v3_sub(*E, X), v = rf_v3_sub(T, X);
-        double lv = rf_v3_len2(v), inv_lv = 1.0 / lv; /* independent of E: off the chain */
-        double uv = sqrt(rf_v3_len2(u) * lv), d = rf_v3_dot(u, v);
+        double lv = rf_v3_len2(v), uv = sqrt(rf_v3_len2(u) * lv), d = rf_v3_dot(u, v);
+        rf_vec3 vs = rf_v3_scale(v, 1.0 / lv); /* independent of E: off the chain */
         rf_quat q = rf_quat_identity();
         double inv_qq = 1;
         if (uv > 1e-300) {
@@ -155,7 +155,7 @@ static bool chain_sweep(rf_ikc_solve *s, uint32_t m, uint32_t pending, rf_vec3 *
                 q = rf_quat_from_two_vectors(u, v); /* opposite: a unit half turn */
                 *moved = true;
             }
-            *E = rf_v3_add(X, rf_v3_scale(v, uv * inv_lv));
+            *E = rf_v3_add(X, rf_v3_scale(vs, uv));
         }
         w->turn[k] = q, w->acc_w[k] = inv_qq;
         if (k >= pending)
@@ -170,13 +170,25 @@ static bool chain_sweep(rf_ikc_solve *s, uint32_t m, uint32_t pending, rf_vec3 *
     return false;
 }
 
+/* v turned by the rotation of q, which need not be unit, given 1 / |q|^2: q v q* / |q|^2 with
+ * q = (c, w), that is ((w^2 - c.c) v + 2 (c.v) c + 2 w (c x v)) / |q|^2. No square root (the
+ * positions, which the next sweep waits for, need none), and every term scales with |q|^2, so
+ * it is as exact for small |q| as for unit ones. */
+static inline rf_vec3 rotate_scaled(rf_quat q, double inv_qq, rf_vec3 v)
+{
+    rf_vec3 c = rf_v3(q.x, q.y, q.z), cxv = rf_v3_cross(c, v);
+    double a = (q.w * q.w - rf_v3_len2(c)) * inv_qq, b = 2 * rf_v3_dot(c, v) * inv_qq;
+    double k = 2 * q.w * inv_qq;
+    return rf_v3(a * v.x + b * c.x + k * cxv.x, a * v.y + b * c.y + k * cxv.y,
+                 a * v.z + b * c.z + k * cxv.z);
+}
+
 /* Carries the sweep's turns into the chain's positions, and leaves them pending for the world
  * rotations. Joint k's new world rotation is q_first ... q_k R_k: its own turn came first, then
- * each joint above it turned it along. So one running product Q serves the whole chain,
- * normalised where it is used: it turns the bone vectors (the positions follow) and the world
- * rotations. Its norm is the product of the turns' norms, known from the sweep, so the product
- * itself is not normalised on its chain of dependent steps, only when its norm drifts far from
- * 1 (long chains). */
+ * each joint above it turned it along. So one running product Q serves the whole chain: it
+ * turns the bone vectors (the positions follow) and, normalised, the world rotations. Its norm
+ * is the product of the turns' norms, known from the sweep, so Q itself is normalised only when
+ * its norm drifts far from 1 (long chains). */
 static void chain_commit(rf_ikc_solve *s, uint32_t m, uint32_t first)
 {
     rf_ikc_work *w = s->w;
@@ -185,13 +197,12 @@ static void chain_commit(rf_ikc_solve *s, uint32_t m, uint32_t first)
     for (uint32_t k = first; k < m; k++) {
         if (k > first)
             Q = rf_quat_mul(Q, w->turn[k]), inv *= w->acc_w[k];
-        double n = sqrt(inv);
-        rf_quat unit = rf_quat_make(Q.x * n, Q.y * n, Q.z * n, Q.w * n);
-        if (!(inv > 1e-100 && inv < 1e100)) /* before it could overflow or underflow */
-            Q = unit, inv = 1;
-        w->coff[k] = rf_quat_rotate(unit, w->coff[k]);
+        w->coff[k] = rotate_scaled(Q, inv, w->coff[k]);
         w->cpos[k + 1] = rf_v3_add(w->cpos[k], w->coff[k]);
-        w->cpend[k] = unit;
+        double n = sqrt(inv); /* for the world rotations, which the next sweep does not wait for */
+        w->cpend[k] = rf_quat_make(Q.x * n, Q.y * n, Q.z * n, Q.w * n);
+        if (!(inv > 1e-100 && inv < 1e100)) /* before it could overflow or underflow */
+            Q = w->cpend[k], inv = 1;
     }
 }
 
