@@ -443,9 +443,13 @@ uint32_t rf_ikc_chain_begin(rf_ikc_solve *s)
     uint32_t m = w->path_bones;
     for (uint32_t k = 0; k < w->path_above; k++)
         rf_ikc_fk_joint(s, w->path[k]);
-    for (uint32_t k = 0; k <= m; k++) {
-        rf_ikc_fk_joint(s, c[k]);
-        w->cpos[k] = w->world[c[k]].t;
+    int32_t p = s->pb->parents[c[0]];
+    rf_xform x = p < 0 ? s->local[c[0]] : rf_ikc_fk_step(&w->world[p], &s->local[c[0]]);
+    for (uint32_t k = 0;; k++) { /* down the chain with the transform in registers */
+        w->world[c[k]] = x, w->cpos[k] = x.t;
+        if (k == m)
+            break;
+        x = rf_ikc_fk_step(&x, &s->local[c[k + 1]]);
     }
     double reach = 0; /* summed from the effector up, as measure_paths does */
     for (uint32_t k = m; k-- > 0;) {

@@ -152,21 +152,22 @@ void rf_ikc_chain_finish(rf_ikc_solve *s, uint32_t m, uint32_t iterations);
 /* World transforms of every joint from res->pose. */
 void rf_ikc_fk(rf_ikc_solve *s);
 /* World transform of joint j from its parent's (already current) world transform. */
+/* The world transform of a joint with local transform b under a parent whose world transform
+ * is a: rf_xform_mul without its renormalisation (local rotations are unit: begin and every
+ * update normalise them, and a product of a few hundred unit quaternions stays unit to
+ * rounding). FK runs once per joint per iteration, so the saved sqrt counts. */
+static inline rf_xform rf_ikc_fk_step(const rf_xform *a, const rf_xform *b)
+{
+    rf_xform out;
+    out.t = rf_v3_add(a->t, rf_quat_rotate(a->r, rf_v3_mul(a->s, b->t)));
+    out.r = rf_quat_mul(a->r, b->r);
+    out.s = rf_v3_mul(a->s, b->s);
+    return out;
+}
 static inline void rf_ikc_fk_joint(rf_ikc_solve *s, uint32_t j)
 {
     int32_t p = s->pb->parents[j];
-    if (p < 0) {
-        s->w->world[j] = s->local[j];
-        return;
-    }
-    /* rf_xform_mul without its renormalisation: local rotations are unit (begin and every
-     * update normalise them), and a product of a few hundred unit quaternions stays unit to
-     * rounding. FK runs once per joint per iteration, so the saved sqrt counts. */
-    const rf_xform *a = &s->w->world[p], *b = &s->local[j];
-    rf_xform *out = &s->w->world[j];
-    out->t = rf_v3_add(a->t, rf_quat_rotate(a->r, rf_v3_mul(a->s, b->t)));
-    out->r = rf_quat_mul(a->r, b->r);
-    out->s = rf_v3_mul(a->s, b->s);
+    s->w->world[j] = p < 0 ? s->local[j] : rf_ikc_fk_step(&s->w->world[p], &s->local[j]);
 }
 /* After joint j's local rotation changed: its world rotation (its origin does not move). */
 static inline void rf_ikc_fk_rot(rf_ikc_solve *s, uint32_t j)

@@ -76,14 +76,13 @@ static uint32_t chain_iterate(rf_ikc_solve *s, uint32_t m)
     double f = stretch(last, rf_v3_len2(d));
     uint32_t it = 0, stalled = 0;
     while (it < s->pb->max_iterations) {
-        rf_vec3 q = rf_v3_sub(t, rf_v3_scale(d, f)); /* forward, from the target */
-        if (m > 1)
-            p[m - 1] = q;
+        rf_vec3 q = rf_v3_sub(t, rf_v3_scale(d, f)), top = q; /* forward, from the target */
         for (uint32_t k = m - 1; k-- > 1;)
             p[k] = q = place_fast(q, p[k], len[k]);
-        q = base; /* backward, from the pivot (never moved) */
+        q = base; /* backward, from the pivot (never moved); the forward pass's p[m-1] from a
+                   * register, not from a store just made */
         for (uint32_t k = 0; k + 1 < m; k++)
-            p[k + 1] = q = place_fast(q, p[k + 1], len[k]);
+            p[k + 1] = q = place_fast(q, k + 2 == m ? top : p[k + 1], len[k]);
         d = rf_v3_sub(t, q);
         double d2 = rf_v3_len2(d);
         f = stretch(last, d2);
