@@ -1,9 +1,12 @@
 /* Mapping files: parsing and checking the structure (see mapfile.h). */
+#include <fcntl.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "mapfile-internal.h"
 
@@ -339,9 +342,20 @@ rf_mapfile *rf_mapfile_parse(const char *data, size_t size, const char *name, ch
 
 rf_mapfile *rf_mapfile_read(const char *path, char *err, size_t err_size)
 {
-    FILE *in = fopen(path, "rb");
+    /* Regular files only, and O_NONBLOCK so that a FIFO cannot hang the open: a FIFO or a device
+     * such as /dev/zero would block, or be read up to the size limit. */
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+    struct stat st;
+    if (fd >= 0 && (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode))) {
+        close(fd);
+        snprintf(err, err_size, "%s: not a regular file", path);
+        return NULL;
+    }
+    FILE *in = fd >= 0 ? fdopen(fd, "rb") : NULL;
     if (!in) {
         snprintf(err, err_size, "%s: cannot open: %s", path, strerror(errno));
+        if (fd >= 0)
+            close(fd);
         return NULL;
     }
     size_t cap = 1 << 16, n = 0;

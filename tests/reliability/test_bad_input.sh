@@ -233,6 +233,16 @@ mkfifo "$tmp/fifo.bvh" "$tmp/fifo.glb"
 row "a FIFO named .bvh (no hang)" 1 "fifo.bvh: not a regular file" "$tmp/fifo.bvh" "$o.glb"
 row "a FIFO named .glb (no hang)" 1 "fifo.glb: not a regular file" "$tmp/fifo.glb" "$o.bvh"
 row "a missing input" 1 "none.bvh" "$tmp/none.bvh" "$o.glb"
+mkfifo "$tmp/fifo.json"
+if [ -f "$src/pipelines/map-edit.json" ]; then # a mapping file of fixes (plugins/mapping-file)
+    rm -rf "$tmp/o" && mkdir -p "$tmp/o"
+    rf run "$src/pipelines/map-edit.json" -p source.path="$tmp/ok.bvh" -p target.path="$tmp/ok.bvh" \
+        -p edit.path="$tmp/fifo.json" -p save.path="$o.json"
+    [ "$code" = 1 ] && grep -q "fifo.json: not a regular file" "$tmp/err" && [ -z "$(leftovers "$tmp/o")" ] &&
+        ok "a FIFO as the mapping file (no hang)" || bad "a FIFO as the mapping file (exit $code)"
+else
+    skipped "a FIFO as the mapping file" "no pipelines/map-edit.json in this tree"
+fi
 cp "$tmp/ok.bvh" "$tmp/locked.bvh" && chmod 000 "$tmp/locked.bvh"
 if [ "$(id -u)" = 0 ]; then
     skipped "input without read permission" "running as root, who reads it anyway (the folder and FIFO rows cover refusals)"
