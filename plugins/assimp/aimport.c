@@ -1,6 +1,6 @@
 /* Assimp import: scene loading, joint selection, skeleton, rest poses and axes.
  *
- * Joint selection (doc/import.md): the skin bones, their ancestors up to the lowest common
+ * Joint selection (doc/formats.md): the skin bones, their ancestors up to the lowest common
  * ancestor of all bones (the skeleton root R), R's ancestors as long as they are animated (their
  * motion would be lost otherwise), and the animated helper nodes below R (IK targets, poles,
  * controls: kept, flagged unweighted). Everything above R is static and is baked into the root
@@ -671,7 +671,7 @@ static void rf_ai_axes(rf_ai_ctx *c, rf_skeleton *s)
     }
     /* Every other Assimp importer hands over Y-up, right-handed data (.x and B3D are converted
      * from left-handed by Assimp itself). Their formats declare no facing: report it unknown
-     * rather than guess (doc/import.md). */
+     * rather than guess (doc/formats.md). */
     s->up = rf_v3(0, 1, 0);
     s->forward = rf_v3(0, 0, 0);
     rf_ai_logf(c, 2, "%s: up +Y (Assimp's convention), facing not declared by the format", c->path);

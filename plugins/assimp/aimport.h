@@ -2,7 +2,7 @@
  *
  * Used by the assimp.import node, by the generic import node, by `rigflow inspect` and by the
  * tests, which link it directly. The options struct follows the ufbx shape: zero-initialise it
- * and every zero is a sensible default. doc/import.md describes what each format gives and how
+ * and every zero is a sensible default. doc/formats.md describes what each format gives and how
  * the traps (joint selection, bind versus node rest pose, B3D validation, millisecond ticks,
  * axes, meshes sharing a skeleton) are handled.
  */

@@ -8,7 +8,7 @@
  *           rest pose).
  *
  * The format-specific nodes (bvh.import, assimp.import, bvh.export) stay for pipelines that want
- * one format's options; these two only choose. doc/import.md and doc/formats/gltf.md describe
+ * one format's options; these two only choose. doc/formats.md and doc/formats/gltf.md describe
  * what each format keeps.
  */
 #include <stdio.h>
