@@ -101,7 +101,7 @@ check() {
     make -j"$(nproc)" check RF_NPM_DIR="$build/npm/node_modules"
 }
 
-# The reliability runs (issue 8, doc/reliability.md): a sanitizer build beside _build, fuzzing
+# The reliability runs (doc/reliability.md): a sanitizer build beside _build, fuzzing
 # and valgrind in _build.
 check_asan() {
     deps

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Import and export time of a 10k-frame clip, rigflow beside Assimp's CLI (issue 3).
+# Import and export time of a 10k-frame clip, rigflow beside Assimp's CLI.
 #
 #   bench/import-export.sh [BUILDDIR] [N=5]
 #

@@ -25,14 +25,14 @@ rigflow_LDADD = framework/librigflow.la $(GLIB_LIBS)
 
 dist_pipelines_DATA += pipelines/bvh-roundtrip.json
 
-# rigflow inspect FILE (issue 3): prints what an importer makes of a file.
+# rigflow inspect FILE: prints what an importer makes of a file.
 rigflow_SOURCES += framework/inspect.c framework/inspect.h
 rigflow_LDADD += $(JANSSON_LIBS)
 
-# rigflow ik-bench (issue 6): the IK solvers on the standard workloads.
+# rigflow ik-bench: the IK solvers on the standard workloads.
 rigflow_SOURCES += framework/ik-bench.c framework/ik-bench.h
 rigflow_CPPFLAGS += -I$(top_srcdir)/plugins/ik-common
 rigflow_LDADD += plugins/ik-common/libikworkload.la
 
-# rigflow map (issue 4): the graph of pipelines/map.json from the command line.
+# rigflow map: the graph of pipelines/map.json from the command line.
 rigflow_SOURCES += framework/map-cmd.c framework/map-cmd.h

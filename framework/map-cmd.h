@@ -1,4 +1,4 @@
-/* `rigflow map SOURCE... TARGET [-o OUT.json] [--explain] [--repeat N]` (issue 4): maps the
+/* `rigflow map SOURCE... TARGET [-o OUT.json] [--explain] [--repeat N]`: maps the
  * target's joints onto one or more source skeletons, the same graph as pipelines/map.json. */
 #ifndef RIGFLOW_MAP_CMD_H
 #define RIGFLOW_MAP_CMD_H

@@ -1,4 +1,4 @@
-# BVH import/export benchmark (issue 2): bench/bvh/bench_bvh, built only by `make bench-bvh`
+# BVH import/export benchmark: bench/bvh/bench_bvh, built only by `make bench-bvh`
 # (or `make bench`), and bench/bvh/run.sh, which runs it beside the three.js and Assimp peers.
 EXTRA_PROGRAMS += bench/bvh/bench_bvh
 bench_bvh_bench_bvh_SOURCES = bench/bvh/bench_bvh.c

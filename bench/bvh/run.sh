@@ -1,6 +1,6 @@
 #!/bin/sh
 # BVH import throughput of libbvh beside three.js's BVHLoader and Assimp's BVH import, measured
-# in the same run on the same files, with the ratios. (issue 2: goal >= 20x three.js, >= 10x
+# in the same run on the same files, with the ratios. (goal >= 20x three.js, >= 10x
 # Assimp in MB/s, peak memory <= 2x the decoded data)
 #
 # usage: bench/bvh/run.sh [BUILDDIR] [--quick] [--full]

@@ -1,5 +1,5 @@
 #!/bin/bash
-# IK solvers beside their peers, measured in one run (issue 6):
+# IK solvers beside their peers, measured in one run:
 #   rigflow ik-bench        our CCD, FABRIK, DLS, ... on the peers' workloads
 #   run_three.sh            three.js CCDIKSolver (chains of 2/5/10/30 links)
 #   run_dls.sh              closed-chain-ik damped least squares (chains of 2/5/10, 2-effector tree)

@@ -1,4 +1,4 @@
-/* Joint mapping speed (issue 4): the time of one rf_ms_match call, files imported once before,
+/* Joint mapping speed: the time of one rf_ms_match call, files imported once before,
  * for CMU onto the Fox, onto the fire dragon, the dragon onto the wyvern, CMU onto a synthetic
  * 200-joint creature, a 187-joint creature onto a 200-joint one (the thesis's largest case) and
  * larger creatures to show how the time grows. Both strategies: the default (similarity) and the

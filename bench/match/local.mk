@@ -1,4 +1,4 @@
-# Joint mapping speed (issue 4): bench/match/bench_match, built only by `make bench-match` (or
+# Joint mapping speed: bench/match/bench_match, built only by `make bench-match` (or
 # `make bench`); bench/match/run.sh runs it and `rigflow map --repeat` on the same pairs.
 EXTRA_PROGRAMS += bench/match/bench_match
 bench_match_bench_match_SOURCES = bench/match/bench_match.c tests/match/truth.c \

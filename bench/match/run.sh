@@ -1,5 +1,5 @@
 #!/bin/sh
-# Joint mapping speed (issue 4): bench_match times rf_ms_match alone (files imported once) on
+# Joint mapping speed: bench_match times rf_ms_match alone (files imported once) on
 # real and synthetic pairs; then `rigflow map --repeat` times the matcher node through the
 # engine on the real pairs. No peer does this job; the baseline is the thesis's Table 7
 # (0.47 s for 27 bones, 3.1 s for 187).

@@ -1,4 +1,4 @@
-/* Retargeting benchmark and peer comparison (issue 5), run by bench/retarget/run.sh.
+/* Retargeting benchmark and peer comparison, run by bench/retarget/run.sh.
  *
  *   bench_retarget speed [--reps N] [--min-ms MS] FILE.bvh...
  *       joint-frames per second of libretarget (no contact pass) onto the same kind of target

@@ -1,4 +1,4 @@
-# Retargeting benchmark (issue 5): bench/retarget/bench_retarget, built only by
+# Retargeting benchmark: bench/retarget/bench_retarget, built only by
 # `make bench-retarget` (or `make bench`), and bench/retarget/run.sh, which runs it beside
 # three.js retargetClip and the memory bandwidth floor, and compares quality on the same pairs.
 EXTRA_PROGRAMS += bench/retarget/bench_retarget

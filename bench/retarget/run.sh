@@ -1,5 +1,5 @@
 #!/bin/sh
-# Retargeting beside three.js SkeletonUtils.retargetClip, in the same run (issue 5):
+# Retargeting beside three.js SkeletonUtils.retargetClip, in the same run:
 #   speed    joint-frames per second of ours (no contact pass) and of three.js on the peers'
 #            clips, each onto the peers' kind of target (a copy of the source skeleton rescaled
 #            0.8-1.2x and rest-jittered), and the machine's memory bandwidth floor (32 bytes per

@@ -1,4 +1,4 @@
-# Skeleton analysis (issue 4): a convenience library linked statically into the matchers, the
+# Skeleton analysis: a convenience library linked statically into the matchers, the
 # retargeters and the riggers. It needs only the SDK headers and libm.
 noinst_LTLIBRARIES += framework/analysis/libanalysis.la
 framework_analysis_libanalysis_la_SOURCES = \

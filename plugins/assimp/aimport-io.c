@@ -1,4 +1,4 @@
-/* What Assimp may read, and the stack it runs on (issue 8).
+/* What Assimp may read, and the stack it runs on.
  *
  * Confinement: a model names other files (glTF buffers and images, an Ogre mesh's skeleton, an
  * OBJ's material library, textures). A model comes from anywhere, so those names are data from a

@@ -1,4 +1,4 @@
-# Mapping files (issue 4): libmapfile (reader, resolver, writer; linked by the nodes, `rigflow
+# Mapping files: libmapfile (reader, resolver, writer; linked by the nodes, `rigflow
 # map`, the tests and the fuzzers) and the mapping.read / mapping.write plugin.
 noinst_LTLIBRARIES += plugins/mapping-file/libmapfile.la
 plugins_mapping_file_libmapfile_la_SOURCES = \

@@ -1,4 +1,4 @@
-# The "names" matcher (issue 4): libnames (name normalisation and matching, also linked by the
+# The "names" matcher: libnames (name normalisation and matching, also linked by the
 # skeletal-similarity plugin for strategy=names) and the names plugin.
 noinst_LTLIBRARIES += plugins/match-names/libnames.la
 plugins_match_names_libnames_la_SOURCES = plugins/match-names/names.h plugins/match-names/names.c

@@ -1,4 +1,4 @@
-# The skeletal-similarity matcher (issue 4): libsimilarity (metrics, assignment, matching,
+# The skeletal-similarity matcher: libsimilarity (metrics, assignment, matching,
 # explanations; linked by the plugin, the tests and the benchmark) and the plugin, which links
 # the analysis and names libraries statically. The pipelines: map (compute and save a mapping)
 # and map-edit (the same with a file of manual fixes applied on top).

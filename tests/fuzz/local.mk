@@ -1,4 +1,4 @@
-# Fuzzing (issue 8): libFuzzer harnesses built with clang, whatever compiler configure chose.
+# Fuzzing: libFuzzer harnesses built with clang, whatever compiler configure chose.
 # `make fuzz FUZZ_SECONDS=N` builds each harness and runs it for N seconds on a scratch corpus
 # (FUZZ_WORK, default $(abs_top_builddir)/fuzz-work; see tests/fuzz/fuzz.sh and doc/reliability.md).
 FUZZ_SECONDS ?= 60

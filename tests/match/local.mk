@@ -1,4 +1,4 @@
-# Joint mapping tests (issue 4): analysis on hand-built skeletons, the matcher's metrics and
+# Joint mapping tests: analysis on hand-built skeletons, the matcher's metrics and
 # assignment, mapping files, name matching, accuracy on real skeletons against hand-written
 # ground truth (tests/match/truth) and on generated ones.
 MATCH_TEST_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins -I$(top_srcdir)/tests/match

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The rigflow map command (issue 4) on real files: the printed mapping, -o, --explain, --repeat,
+# The rigflow map command on real files: the printed mapping, -o, --explain, --repeat,
 # several sources, another matcher, exit codes. Expected joints come from looking at the files
 # (the Fox's left hind leg is a human's left leg), not from the command's output.
 set -u

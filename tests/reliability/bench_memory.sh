@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Memory against data size (issue 8): generates a BVH of about 100 MB with the shared peers'
+# Memory against data size: generates a BVH of about 100 MB with the shared peers'
 # generator (node /work/shared/peers/gen_bvh.mjs, beside the checkout) in a scratch folder, imports
 # it with bvh.import and reports the peak RSS beside the size of the decoded motion. A reader that
 # holds the file, or a per-frame structure, shows as RSS well above the motion's size.

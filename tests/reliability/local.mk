@@ -1,4 +1,4 @@
-# Reliability (issue 8): the bad-input matrix, the sanitizer check, and `make valgrind`.
+# Reliability: the bad-input matrix, the sanitizer check, and `make valgrind`.
 # doc/reliability.md says what each guarantees and what the runs found.
 check_LTLIBRARIES += tests/reliability/fx_overflow.la
 tests_reliability_fx_overflow_la_SOURCES = tests/reliability/fx_overflow.c

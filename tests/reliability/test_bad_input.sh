@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The bad-input matrix (issue 8; doc/reliability.md lists every row and where the rows that other
+# The bad-input matrix (doc/reliability.md lists every row and where the rows that other
 # tests already cover live). Each row feeds the rigflow command one hostile input or condition and
 # checks the exit code, the message, and that no output (nor a temporary file) is left behind.
 # Every input is made here, in a scratch folder; nothing comes from outside the repository except
