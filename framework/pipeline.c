@@ -196,7 +196,8 @@ static rf_pipeline *pipeline_from_json(json_t *root, const char *name, const cha
 {
     rf_pipeline *p = g_new0(rf_pipeline, 1);
     p->name = g_strdup(name);
-    p->dir = g_strdup(dir ? dir : ".");
+    /* absolute, so that paths resolve the same whatever the current folder is later */
+    p->dir = g_canonicalize_filename(dir ? dir : ".", NULL);
     p->root = root;
     p->nodes = g_ptr_array_new_with_free_func(node_free);
     p->by_id = g_hash_table_new(g_str_hash, g_str_equal);

@@ -342,6 +342,28 @@ static void overrides_are_typed_and_relative_to_cwd(void **state)
     rf_pipeline_free(p);
 }
 
+static void relative_pipeline_folder_made_absolute(void **state)
+{
+    fixture *f = *state;
+    g_autofree char *cwd = g_get_current_dir();
+    assert_int_equal(chdir(f->dir), 0);
+    assert_int_equal(g_mkdir("sub", 0755), 0);
+    g_autofree char *text = g_strdup_printf(
+        HEAD "{\"id\": \"s\", \"type\": \"test.source\"},"
+             "{\"id\": \"w\", \"type\": \"test.sink\", \"params\": {\"path\": \"r.txt\"}, "
+             "\"inputs\": {\"in\": \"s.value\"}}]}");
+    rf_pipeline *p = rf_pipeline_load_string(text, "sub/p.json", "sub", f->diags);
+    assert_true(rf_pipeline_validate(p, f->reg, f->diags));
+    assert_int_equal(chdir(cwd), 0); /* the folder given was relative to where we were */
+    assert_true(rf_pipeline_run(p, f->reg, NULL, f->diags));
+    g_autofree char *out = g_build_filename(f->dir, "sub", "r.txt", NULL);
+    assert_true(g_file_test(out, G_FILE_TEST_EXISTS));
+    g_unlink(out);
+    g_autofree char *sub = g_build_filename(f->dir, "sub", NULL);
+    g_rmdir(sub);
+    rf_pipeline_free(p);
+}
+
 static void relative_paths_resolve_against_pipeline_folder(void **state)
 {
     fixture *f = *state;
@@ -376,6 +398,7 @@ int main(void)
         T(cancelled_run_leaves_no_output),
         T(overrides_are_typed_and_relative_to_cwd),
         T(relative_paths_resolve_against_pipeline_folder),
+        T(relative_pipeline_folder_made_absolute),
     };
     return cmocka_run_group_tests_name("pipeline", tests, NULL, NULL);
 }
