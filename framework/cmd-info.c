@@ -29,7 +29,7 @@ static void describe_ports(const char *title, const rf_port_desc *ports, uint32_
     printf("%s:%s\n", title, count ? "" : " none");
     for (uint32_t i = 0; i < count; i++) {
         const rf_port_desc *p = &ports[i];
-        printf("  %-14s %-20s%s%s %s\n", p->name, p->type,
+        printf("  %-18s %-20s%s%s %s\n", p->name, p->type,
                (p->flags & RF_PORT_OPTIONAL) ? " optional" : "",
                (p->flags & RF_PORT_MULTIPLE) ? " multiple" : "", p->doc ? p->doc : "");
     }
@@ -56,7 +56,7 @@ static void describe_params(const rf_node_desc *d)
     printf("parameters:%s\n", d->param_count ? "" : " none");
     for (uint32_t i = 0; i < d->param_count; i++) {
         const rf_param_desc *p = &d->params[i];
-        printf("  %-14s %-12s ", p->name, rf_param_type_name(p->type));
+        printf("  %-18s %-12s ", p->name, rf_param_type_name(p->type));
         describe_default(p);
         printf("\n      %s\n", p->doc ? p->doc : "");
     }
