@@ -208,7 +208,8 @@ static uint32_t depth_of(const rf_awork *w, uint32_t j)
     return d;
 }
 
-static uint32_t lca(const rf_awork *w, uint32_t x, uint32_t y)
+/* The lowest common ancestor of x and y, or RF_NONE when they lie in different trees. */
+static int32_t lca(const rf_awork *w, uint32_t x, uint32_t y)
 {
     uint32_t dx = depth_of(w, x), dy = depth_of(w, y);
     while (dx > dy)
@@ -217,7 +218,7 @@ static uint32_t lca(const rf_awork *w, uint32_t x, uint32_t y)
         y = (uint32_t)w->parent[y], dy--;
     while (x != y && w->parent[x] >= 0 && w->parent[y] >= 0)
         x = (uint32_t)w->parent[x], y = (uint32_t)w->parent[y];
-    return x;
+    return x == y ? (int32_t)x : RF_NONE;
 }
 
 /* Appends the joints from `from` (exclusive) down to `to` (inclusive) in hierarchical order. */
@@ -345,6 +346,10 @@ static void center_sections(rf_builder *b)
         return;
     int32_t root_sec = b->count ? 0 : RF_NONE;
     int32_t top_attach = w->parent[top];
+    /* Girdles in different trees (a forest) have no spine between them: the spine path would
+     * run up one tree and list its joints again (found by fuzz_analysis). */
+    if (b->rear >= 0 && lca(w, (uint32_t)b->rear, (uint32_t)b->front) < 0)
+        b->rear = b->front = RF_NONE;
     if (b->rear < 0) {
         int32_t sec = new_section(b, RF_SECTION_SPINE, 0, root_sec, top_attach);
         for (int32_t j = top; j >= 0 && b->ok;) {
@@ -367,9 +372,9 @@ static void center_sections(rf_builder *b)
         return;
     }
     uint32_t rear = (uint32_t)b->rear, front = (uint32_t)b->front;
-    uint32_t l = lca(w, rear, front);
+    uint32_t l = (uint32_t)lca(w, rear, front);
     int32_t spine = new_section(b, RF_SECTION_SPINE, 0, root_sec, top_attach);
-    if (is_center(w, (uint32_t)top) && lca(w, (uint32_t)top, l) == (uint32_t)top) {
+    if (is_center(w, (uint32_t)top) && lca(w, (uint32_t)top, l) == top) {
         add_joint(b, spine, (uint32_t)top);
         b->on_path[top] = 1;
         add_down(b, spine, (uint32_t)top, l);
