@@ -150,6 +150,11 @@ static void collect_metrics(rf_errs *e, rf_mapfile *f, json_t *root, json_t *joi
     }
 }
 
+/* What a mapping file may give as an input's weight and delay. */
+#define RF_MAPFILE_WEIGHT_MIN 1e-6
+#define RF_MAPFILE_WEIGHT_MAX 1e6
+#define RF_MAPFILE_DELAY_MAX 1e6
+
 static bool finite_number(json_t *v, double *out)
 {
     if (!json_is_number(v))
@@ -179,10 +184,15 @@ static void parse_input(rf_errs *e, json_t *in, const char *where, rf_mapfile_in
         rf_errs_add(e, "at %s/joint: expected the source joint's name", where);
     else
         out->joint = rf_strdup_or_null(json_string_value(joint));
-    if (w && (!finite_number(w, &out->weight) || !(out->weight > 0)))
-        rf_errs_add(e, "at %s/weight: expected a number above 0", where);
-    if (d && (!finite_number(d, &out->delay) || out->delay < 0))
-        rf_errs_add(e, "at %s/delay: expected a number of seconds, 0 or more", where);
+    /* Bounded so that the mapping's float fields hold them: 1e103 would become inf, 1e-300 zero. */
+    if (w && (!finite_number(w, &out->weight) || out->weight < RF_MAPFILE_WEIGHT_MIN ||
+              out->weight > RF_MAPFILE_WEIGHT_MAX))
+        rf_errs_add(e, "at %s/weight: expected a number from %g to %g", where,
+                    RF_MAPFILE_WEIGHT_MIN, RF_MAPFILE_WEIGHT_MAX);
+    if (d &&
+        (!finite_number(d, &out->delay) || out->delay < 0 || out->delay > RF_MAPFILE_DELAY_MAX))
+        rf_errs_add(e, "at %s/delay: expected a number of seconds from 0 to %g", where,
+                    RF_MAPFILE_DELAY_MAX);
     if (rev && !json_is_boolean(rev))
         rf_errs_add(e, "at %s/reverse: expected true or false", where);
     if (mir && !json_is_boolean(mir))

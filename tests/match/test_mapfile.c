@@ -199,7 +199,14 @@ static void test_bad_files(void **state)
                    (const char *const[]){"/joints/0/inputs", NULL});
     expect_refused(HEAD "\"joints\": [{\"target\": \"root\", \"inputs\": [{\"source\": 0, "
                         "\"joint\": \"Hips\", \"weight\": 0}]}]}",
-                   (const char *const[]){"/joints/0/inputs/0/weight", "above 0", NULL});
+                   (const char *const[]){"/joints/0/inputs/0/weight", "from 1e-06", NULL});
+    /* finite as a double but not as the mapping's float: refused, not turned into inf or 0 */
+    expect_refused(HEAD "\"joints\": [{\"target\": \"root\", \"inputs\": [{\"source\": 0, "
+                        "\"joint\": \"Hips\", \"weight\": 1e103}]}]}",
+                   (const char *const[]){"/joints/0/inputs/0/weight", "to 1e+06", NULL});
+    expect_refused(HEAD "\"joints\": [{\"target\": \"root\", \"inputs\": [{\"source\": 0, "
+                        "\"joint\": \"Hips\", \"delay\": 1e300}]}]}",
+                   (const char *const[]){"/joints/0/inputs/0/delay", "from 0 to 1e+06", NULL});
     expect_refused(HEAD "\"joints\": [{\"target\": \"root\", \"inputs\": [{\"source\": 0, "
                         "\"joint\": \"Hips\", \"delay\": -1}]}]}",
                    (const char *const[]){"delay", NULL});
