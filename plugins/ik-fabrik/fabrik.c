@@ -29,6 +29,15 @@ typedef struct fabrik_state {
     rf_ikc_work w;
 } fabrik_state;
 
+/* Iterations without a new best error after which a solve gives up (an unreachable target, or
+ * one the limits keep out of reach): 4, and more where joints have limits. Under limits the error
+ * often stays flat for several iterations (a bone pressed against its cone or hinge stop) and
+ * then falls again once the joints above have turned enough. Giving up after 4 there cost a
+ * tenth of the converged targets (ik-bench it50-lim workloads, converged after 4 / 20 / never
+ * giving up: chain10 89% / 99% / 99.3%, chain5 85% / 97%, tree2 61% / 71% / 72%). */
+#define PATIENCE 4
+#define LIMITED_PATIENCE 20
+
 /* ---- a single free chain: positions only ---- */
 
 /* Puts a point on the line from `from` towards `toward` at the bone's length. */
@@ -58,7 +67,7 @@ static inline rf_vec3 place_fast(rf_vec3 from, rf_vec3 toward, double len)
  * first placement, of p[m-1] from the target, is along the direction the last backward placement
  * of p[m] found from p[m-1] (negated), so each iteration normalises 2m - 2 directions, not 2m.
  * The running point stays in a register from one placement to the next. Iterations stop at the
- * tolerance, the cap, or after 4 without improvement, as in the general form. */
+ * tolerance, the cap, or after PATIENCE without improvement, as in the general form. */
 static uint32_t chain_iterate(rf_ikc_solve *s, uint32_t m)
 {
     rf_ikc_work *w = s->w;
@@ -95,7 +104,7 @@ static uint32_t chain_iterate(rf_ikc_solve *s, uint32_t m)
             break;
         stalled = miss < best - 1e-9 * (1 + best) ? 0 : stalled + 1;
         best = fmin(best, miss);
-        if (stalled >= 4) /* a target the chain cannot reach although it is within its length */
+        if (stalled >= PATIENCE) /* a target the chain cannot reach though within its length */
             break;
     }
     return it;
@@ -302,7 +311,7 @@ static void backward_pass(rf_ikc_solve *s)
 static uint32_t tree_iterate(rf_ikc_solve *s)
 {
     double tol = s->pb->tolerance, err = rf_ikc_errors(s), best = err;
-    uint32_t it = 0, stalled = 0;
+    uint32_t it = 0, stalled = 0, patience = s->constrained ? LIMITED_PATIENCE : PATIENCE;
     while (err > tol && it < s->pb->max_iterations) {
         forward_pass(s);
         backward_pass(s);
@@ -312,7 +321,7 @@ static uint32_t tree_iterate(rf_ikc_solve *s)
         stalled = err < best - 1e-9 * (1 + best) ? 0 : stalled + 1;
         if (err < best)
             best = err;
-        if (stalled >= 4)
+        if (stalled >= patience)
             break;
     }
     return it;
