@@ -273,7 +273,7 @@ const rf_ik_solver_api rf_ik_ccd_api = {
     "ccd",
     "Cyclic Coordinate Descent, backward sweep (Kenwright), limits by projection",
     RF_IK_LIMIT_HINGE | RF_IK_LIMIT_CONE | RF_IK_LIMIT_TWIST | RF_IK_LOCKED,
-    RF_IK_CAP_MULTI_GOAL | RF_IK_CAP_ORIENTATION,
+    RF_IK_CAP_MULTI_GOAL | RF_IK_CAP_ORIENTATION | RF_IK_CAP_POLE,
     ccd_create,
     ccd_solve,
     rf_ikc_state_free,

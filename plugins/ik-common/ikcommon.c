@@ -433,7 +433,9 @@ bool rf_ikc_begin(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, r
 
 bool rf_ikc_is_free_chain(const rf_ikc_solve *s)
 {
-    return rf_ikc_fast_paths && s->w->path_bones > 0;
+    /* a pole is met at the end, on world transforms the fast paths do not keep */
+    return rf_ikc_fast_paths && s->w->path_bones > 0 &&
+           !(rf_ikc_goal(s->pb, 0)->flags & RF_IK_GOAL_POLE);
 }
 
 uint32_t rf_ikc_chain_begin(rf_ikc_solve *s)
@@ -528,6 +530,71 @@ static bool apply_orientations(rf_ikc_solve *s)
     return any;
 }
 
+/* ---- poles ---- */
+
+/* The joint that swivels goal i's chain: the highest movable joint of its path that no other
+ * goal's path holds and above no other goal's effector, so that turning it about the line from
+ * its origin to the effector moves this chain alone, and not the effector. -1 if none. */
+static int32_t swivel_joint(const rf_ikc_solve *s, uint32_t i)
+{
+    const rf_ik_goal *g = rf_ikc_goal(s->pb, i);
+    int32_t h = -1;
+    for (int32_t j = s->pb->parents[g->effector]; j >= 0; j = s->pb->parents[j]) {
+        if (s->w->goals[j] != 1ull << i)
+            break;
+        if (s->w->flags[j] & RF_IKC_MOVABLE)
+            h = j;
+        if ((uint32_t)j == s->w->pivot[i])
+            break;
+    }
+    for (uint32_t k = 0; h >= 0 && k < s->goal_count; k++)
+        if (k != i &&
+            is_ancestor_or_self(s->pb->parents, h, (int32_t)rf_ikc_goal(s->pb, k)->effector))
+            return -1;
+    return h;
+}
+
+/* Turns goal i's chain about the line from its swivel joint to the effector, so that the
+ * chain's bend (its inner joints' offsets from that line, summed; for two bones the middle
+ * joint's) points at the pole. The effector is on the line, so it does not move, and nothing
+ * but the swivel joint's rotation changes. Where that joint's limits do not allow the turn and
+ * their projection would take the effector off its target, the turn is not made: a pole never
+ * costs reach. World transforms current before and after. */
+static void swivel_to_pole(rf_ikc_solve *s, uint32_t i)
+{
+    const rf_ik_goal *g = rf_ikc_goal(s->pb, i);
+    int32_t h = swivel_joint(s, i);
+    if (h < 0)
+        return;
+    rf_ikc_work *w = s->w;
+    rf_vec3 H = w->world[h].t, axis = rf_v3_sub(w->world[g->effector].t, H), bend = {0, 0, 0};
+    if (rf_v3_len2(axis) < 1e-24)
+        return;
+    axis = rf_v3_normalize(axis);
+    for (int32_t j = s->pb->parents[g->effector]; j != h; j = s->pb->parents[j])
+        bend = rf_v3_add(bend, rf_v3_sub(w->world[j].t, H));
+    double turn = rf_ikc_angle_about(axis, bend, rf_v3_sub(g->pole, H));
+    if (turn == 0) /* a straight chain, or the pole on the line */
+        return;
+    double before = rf_v3_dist(w->world[g->effector].t, g->target);
+    rf_quat keep = s->local[h].r;
+    rf_ikc_set_world_rot(s, (uint32_t)h,
+                         rf_quat_mul(rf_quat_from_axis_angle(axis, turn), w->world[h].r));
+    rf_ikc_fk(s);
+    double after = rf_v3_dist(w->world[g->effector].t, g->target);
+    if (after > fmax(before, s->pb->tolerance) + 1e-9 * (1 + before)) {
+        s->local[h].r = keep;
+        rf_ikc_fk(s);
+    }
+}
+
+static void apply_poles(rf_ikc_solve *s)
+{
+    for (uint32_t i = 0; i < s->goal_count; i++)
+        if (rf_ikc_goal(s->pb, i)->flags & RF_IK_GOAL_POLE)
+            swivel_to_pole(s, i);
+}
+
 /* Rotation angle between two unit quaternions. atan2 of the difference's parts, not acos of the
  * dot product, which loses half the digits near zero. */
 static double angle_between(rf_quat a, rf_quat b)
@@ -567,6 +634,7 @@ static void report(rf_ikc_solve *s, uint32_t iterations)
 
 void rf_ikc_finish_current(rf_ikc_solve *s, uint32_t iterations)
 {
+    apply_poles(s);
     if (apply_orientations(s))
         rf_ikc_fk(s); /* the turned effectors' descendants */
     report(s, iterations);

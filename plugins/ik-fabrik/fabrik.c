@@ -359,7 +359,7 @@ const rf_ik_solver_api rf_ik_fabrik_api = {
     "fabrik",
     "FABRIK (Aristidou & Lasenby 2011): several effectors via sub-base centroids, limits",
     RF_IK_LIMIT_HINGE | RF_IK_LIMIT_CONE | RF_IK_LIMIT_TWIST | RF_IK_LOCKED,
-    RF_IK_CAP_MULTI_GOAL | RF_IK_CAP_ORIENTATION,
+    RF_IK_CAP_MULTI_GOAL | RF_IK_CAP_ORIENTATION | RF_IK_CAP_POLE,
     fabrik_create,
     fabrik_solve,
     rf_ikc_state_free,

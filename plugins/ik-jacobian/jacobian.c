@@ -591,7 +591,7 @@ static void *dls_create(const rf_ik_config *cfg, char *err, size_t n)
 }
 
 #define JAC_LIMITS (RF_IK_LIMIT_HINGE | RF_IK_LIMIT_CONE | RF_IK_LIMIT_TWIST | RF_IK_LOCKED)
-#define JAC_CAPS (RF_IK_CAP_MULTI_GOAL | RF_IK_CAP_ORIENTATION)
+#define JAC_CAPS (RF_IK_CAP_MULTI_GOAL | RF_IK_CAP_ORIENTATION | RF_IK_CAP_POLE)
 
 const rf_ik_solver_api rf_ik_jt_api = {sizeof(rf_ik_solver_api),
                                        "jacobian-transpose",

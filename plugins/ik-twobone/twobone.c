@@ -7,7 +7,8 @@
  *    closed form. With the axis normal to both bones this is the law of cosines; written this way
  *    it also serves a hinge whose axis is not normal to the bones.
  * 2. Swing the root so the effector lies on the line to the target.
- * 3. With a pole, turn the root about that line so the middle joint sits on the pole's side.
+ * 3. With a pole, turn the root about that line so the middle joint sits on the pole's side
+ *    (rf_ikc_finish does this, for every solver).
  *
  * The bend axis is the middle joint's hinge axis when it has one, else the normal of the plane
  * the bones are in (or, for a straight chain, of the plane through the target and the pole).
@@ -80,12 +81,6 @@ static void solve_goal(rf_ikc_solve *s, const rf_ik_goal *g)
     rf_quat aim = rf_quat_from_two_vectors(rf_v3_sub(w->world[e].t, R), rf_v3_sub(T, R));
     rf_ikc_set_world_rot(s, r, rf_quat_mul(aim, w->world[r].r));
     rf_ikc_fk_joint(s, m);
-    if (g->flags & RF_IK_GOAL_POLE) {
-        rf_vec3 a = rf_v3_normalize(rf_v3_sub(T, R));
-        double turn = rf_ikc_angle_about(a, rf_v3_sub(w->world[m].t, R), rf_v3_sub(g->pole, R));
-        rf_ikc_set_world_rot(s, r, rf_quat_mul(rf_quat_from_axis_angle(a, turn), w->world[r].r));
-        rf_ikc_fk_joint(s, m);
-    }
     rf_ikc_fk_joint(s, e);
 }
 

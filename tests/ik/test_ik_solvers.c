@@ -354,6 +354,106 @@ static void test_twobone_follows_the_law_of_cosines(void **unused)
     rf_ik_twobone_api.destroy(st);
 }
 
+/* The angle, about the line from joint h to the effector e, between the chain's bend (its inner
+ * joints' offsets from that line, summed) and the pole: worked out here from positions alone. */
+static double pole_miss(const fx_problem *f, uint32_t h, uint32_t e, rf_vec3 pole)
+{
+    rf_vec3 p[FX_MAX_JOINTS];
+    fx_world(f, p, NULL);
+    rf_vec3 a = rf_v3_normalize(rf_v3_sub(p[e], p[h])), bend = {0, 0, 0};
+    for (int32_t j = f->parents[e]; j != (int32_t)h; j = f->parents[j])
+        bend = rf_v3_add(bend, rf_v3_sub(p[j], p[h]));
+    rf_vec3 to_pole = rf_v3_sub(pole, p[h]);
+    bend = rf_v3_sub(bend, rf_v3_scale(a, rf_v3_dot(bend, a)));
+    to_pole = rf_v3_sub(to_pole, rf_v3_scale(a, rf_v3_dot(to_pole, a)));
+    return rf_v3_angle(bend, to_pole);
+}
+
+/* With a pole, every solver bends the chain towards it (a two-bone limb, a 4-link chain, one arm
+ * of the tree), still reaching the target; the other arm is left where it was. */
+static void test_every_solver_honours_the_pole(void **unused)
+{
+    (void)unused;
+    static const double lengths[2] = {3, 2};
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        assert_true(api->capabilities & RF_IK_CAP_POLE);
+        void *st = make_state(api);
+        fx_lcg g = {5};
+        for (int k = 0; k < 30; k++) {
+            static fx_problem f;
+            uint32_t links = k % 2 || !handles_links(api, 4) ? 2 : 4;
+            if (links == 2)
+                fx_chain_lengths(&f, lengths, 2); /* reach: 1 to 5 from the root */
+            else
+                fx_chain(&f, 4);
+            for (uint32_t j = 1; j < links; j++) /* slightly bent, as in the tree test */
+                f.pose[j].r = rf_quat_from_axis_angle(rf_v3(0.3, 0.5, 1), 0.2);
+            f.goals[0].target = fx_target(&g, links == 2 ? 5 : 4);
+            if (rf_v3_len(f.goals[0].target) < 1.2) /* the two-bone chain cannot fold closer */
+                f.goals[0].target = rf_v3_scale(rf_v3_normalize(f.goals[0].target), 1.2);
+            f.goals[0].flags = RF_IK_GOAL_POLE;
+            f.goals[0].pole = rf_v3_scale(fx_target(&g, 1), 10);
+            fx_wire(&f, 1, 1e-6, 500);
+            solve_ok(api, st, &f);
+            double miss = pole_miss(&f, 0, links, f.goals[0].pole);
+            if (!(f.status[0] & RF_IK_REACHED) || miss > 1e-6)
+                fail_msg("%s, %u links, target %d: error %g, bend %g rad from the pole", api->name,
+                         links, k, f.errors[0], miss);
+            assert_rigid(&f, api->name);
+        }
+        if (api->capabilities & RF_IK_CAP_MULTI_GOAL) {
+            static fx_problem f, plain;
+            fx_tree(&f);
+            f.goals[0].target = rf_v3(2.5, 4, 1), f.goals[1].target = rf_v3(-2.5, 4, 1);
+            plain = f;
+            f.goals[0].flags = RF_IK_GOAL_POLE, f.goals[0].pole = rf_v3(2, 3, -5);
+            fx_wire(&f, 2, 1e-6, 500);
+            fx_wire(&plain, 2, 1e-6, 500);
+            solve_ok(api, st, &f);
+            solve_ok(api, st, &plain);
+            rf_vec3 p[FX_MAX_JOINTS], q[FX_MAX_JOINTS];
+            fx_world(&f, p, NULL);
+            fx_world(&plain, q, NULL);
+            double miss = pole_miss(&f, 4, 7, f.goals[0].pole); /* the left arm from its base */
+            if (!f.res.reached || miss > 1e-6 || rf_v3_dist(p[11], q[11]) > 1e-9)
+                fail_msg("%s, tree: error %g, bend %g rad from the pole, right arm moved %g",
+                         api->name, f.res.max_error, miss, rf_v3_dist(p[11], q[11]));
+        }
+        api->destroy(st);
+    }
+}
+
+/* A pole the swivel joint's limits do not allow is not met at the cost of the target: the hip
+ * (a 10-degree cone) cannot swing the knee to the other side, so the leg stays as solved, its
+ * foot on the target. */
+static void test_a_pole_never_costs_reach(void **unused)
+{
+    (void)unused;
+    static const double lengths[2] = {3, 2};
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        void *st = make_state(api);
+        static fx_problem f;
+        fx_chain_lengths(&f, lengths, 2);
+        /* bent at the start: the foot at (3 + 2 cos 0.6, 0, 2 sin 0.6), so the hip-foot line
+         * rises towards +z and the knee, at (3, 0, 0), is on its -z side */
+        f.pose[1].r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), -0.6);
+        f.limits[0].size = sizeof f.limits[0];
+        f.limits[0].flags = RF_IK_LIMIT_CONE, f.limits[0].cone_angle = 10 * DEG;
+        rf_vec3 foot = rf_v3(3 + 2 * cos(0.6), 0, 2 * sin(0.6));
+        f.goals[0].target = rf_v3_scale(foot, 0.98); /* a little closer, along the same line */
+        f.goals[0].flags = RF_IK_GOAL_POLE;
+        f.goals[0].pole = rf_v3(0, 0, 10); /* the knee (now at -z) would swing half a turn */
+        fx_wire(&f, 1, 1e-6, 500);
+        solve_ok(api, st, &f);
+        double v = fx_limit_violation(&f.limits[0], rf_v3(1, 0, 0), f.pose[0].r, f.out[0].r);
+        if (!(f.status[0] & RF_IK_REACHED) || v > 1e-6)
+            fail_msg("%s: error %g, hip %g rad outside its cone", api->name, f.errors[0], v);
+        api->destroy(st);
+    }
+}
+
 static void test_twobone_refuses_other_chains(void **unused)
 {
     (void)unused;
@@ -624,6 +724,8 @@ int main(void)
         cmocka_unit_test(test_solves_in_place),
         cmocka_unit_test(test_twobone_follows_the_law_of_cosines),
         cmocka_unit_test(test_twobone_refuses_other_chains),
+        cmocka_unit_test(test_every_solver_honours_the_pole),
+        cmocka_unit_test(test_a_pole_never_costs_reach),
         cmocka_unit_test(test_states_grow_past_their_config),
         cmocka_unit_test(test_fast_paths_agree_with_general_forms),
         cmocka_unit_test(test_direct_dls_agrees_with_the_jacobian),
