@@ -258,4 +258,34 @@ bool rf_ikc_node_process(const rf_ik_solver_api *api, void *self, const rf_host 
                          rf_node *node);
 void rf_ikc_node_destroy(void *self);
 
+/* Defines `static const rf_node_desc ident##_node`: a node type of kind ik named `type`, whose
+ * run hands a solver made by `api` (an rf_ik_solver_api *) to its "solver" port and whose
+ * get_extension offers `api` as RF_IK_EXTENSION (how `rigflow ik-bench` finds solvers). `params`
+ * is a static array of rf_param_desc starting with RF_IKC_COMMON_PARAMS; `create` makes the
+ * node's rf_ik_config (rf_ikc_node_create, or one that reads more parameters after it). Needs
+ * <string.h>. Every solver plugin is these descriptors and its entry table. */
+#define RF_IKC_NODE_TYPE(ident, api, type, doc, params, create)                                    \
+    static bool ident##_process(void *self, const rf_host *host, rf_node *node)                    \
+    {                                                                                              \
+        return rf_ikc_node_process((api), self, host, node);                                       \
+    }                                                                                              \
+    static const void *ident##_extension(const char *id)                                           \
+    {                                                                                              \
+        return strcmp(id, RF_IK_EXTENSION) == 0 ? (const void *)(api) : NULL;                      \
+    }                                                                                              \
+    static const rf_node_desc ident##_node = {sizeof(rf_node_desc),                                \
+                                              (type),                                              \
+                                              RF_KIND_IK,                                          \
+                                              (doc),                                               \
+                                              0,                                                   \
+                                              NULL,                                                \
+                                              1,                                                   \
+                                              &rf_ikc_solver_output,                               \
+                                              sizeof(params) / sizeof((params)[0]),                \
+                                              (params),                                            \
+                                              (create),                                            \
+                                              ident##_process,                                     \
+                                              rf_ikc_node_destroy,                                 \
+                                              ident##_extension}
+
 #endif

@@ -33,85 +33,22 @@ static bool create_dls(const rf_host *host, rf_node *node, void **self)
     return true;
 }
 
-static bool process_jt(void *self, const rf_host *host, rf_node *node)
-{
-    return rf_ikc_node_process(&rf_ik_jt_api, self, host, node);
-}
-static bool process_pinv(void *self, const rf_host *host, rf_node *node)
-{
-    return rf_ikc_node_process(&rf_ik_pinv_api, self, host, node);
-}
-static bool process_dls(void *self, const rf_host *host, rf_node *node)
-{
-    return rf_ikc_node_process(&rf_ik_dls_api, self, host, node);
-}
+RF_IKC_NODE_TYPE(jt, &rf_ik_jt_api, "ik.jacobian-transpose",
+                 "Jacobian transpose inverse kinematics (Buss): steps along J^T e with the step "
+                 "length that minimises the linearised error; several goals; honours hinge, cone, "
+                 "twist limits and locked joints by projection.",
+                 step_params, create_step);
 
-static const void *ext_jt(const char *id)
-{
-    return strcmp(id, RF_IK_EXTENSION) == 0 ? &rf_ik_jt_api : NULL;
-}
-static const void *ext_pinv(const char *id)
-{
-    return strcmp(id, RF_IK_EXTENSION) == 0 ? &rf_ik_pinv_api : NULL;
-}
-static const void *ext_dls(const char *id)
-{
-    return strcmp(id, RF_IK_EXTENSION) == 0 ? &rf_ik_dls_api : NULL;
-}
+RF_IKC_NODE_TYPE(pinv, &rf_ik_pinv_api, "ik.jacobian-pinv",
+                 "Jacobian pseudoinverse inverse kinematics through the SVD (Buss); several goals; "
+                 "honours hinge, cone, twist limits and locked joints by projection.",
+                 step_params, create_step);
 
-#define COUNT(a) (sizeof(a) / sizeof((a)[0]))
-
-static const rf_node_desc jt_node = {
-    sizeof(rf_node_desc),
-    "ik.jacobian-transpose",
-    RF_KIND_IK,
-    "Jacobian transpose inverse kinematics (Buss): steps along J^T e with the step length that "
-    "minimises the linearised error; several goals; honours hinge, cone, twist limits and locked "
-    "joints by projection.",
-    0,
-    NULL,
-    1,
-    &rf_ikc_solver_output,
-    COUNT(step_params),
-    step_params,
-    create_step,
-    process_jt,
-    rf_ikc_node_destroy,
-    ext_jt};
-
-static const rf_node_desc pinv_node = {
-    sizeof(rf_node_desc),
-    "ik.jacobian-pinv",
-    RF_KIND_IK,
-    "Jacobian pseudoinverse inverse kinematics through the SVD (Buss); several goals; honours "
-    "hinge, cone, twist limits and locked joints by projection.",
-    0,
-    NULL,
-    1,
-    &rf_ikc_solver_output,
-    COUNT(step_params),
-    step_params,
-    create_step,
-    process_pinv,
-    rf_ikc_node_destroy,
-    ext_pinv};
-
-static const rf_node_desc dls_node = {
-    sizeof(rf_node_desc),
-    "ik.dls",
-    RF_KIND_IK,
-    "Damped least squares inverse kinematics (Buss): J^T (J J^T + lambda^2 I)^-1 e; several "
-    "goals; honours hinge, cone, twist limits and locked joints by projection.",
-    0,
-    NULL,
-    1,
-    &rf_ikc_solver_output,
-    COUNT(dls_params),
-    dls_params,
-    create_dls,
-    process_dls,
-    rf_ikc_node_destroy,
-    ext_dls};
+RF_IKC_NODE_TYPE(dls, &rf_ik_dls_api, "ik.dls",
+                 "Damped least squares inverse kinematics (Buss): J^T (J J^T + lambda^2 I)^-1 e; "
+                 "several goals; honours hinge, cone, twist limits and locked joints by "
+                 "projection.",
+                 dls_params, create_dls);
 
 static const rf_node_desc *const nodes[] = {&jt_node, &pinv_node, &dls_node};
 
@@ -124,6 +61,6 @@ RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
     "Jacobian transpose, pseudoinverse (SVD) and damped least squares inverse kinematics",
     NULL,
     NULL,
-    COUNT(nodes),
+    sizeof nodes / sizeof nodes[0],
     nodes,
 };
