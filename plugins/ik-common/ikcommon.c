@@ -82,6 +82,16 @@ static bool finite_xform(rf_xform x)
     return isfinite(sum) && x.s.x > 0 && x.s.y > 0 && x.s.z > 0;
 }
 
+/* Coordinates and scales beyond this are refused: the solvers square distances and multiply
+ * squares, which would overflow to infinity and then to NaN. No skeleton comes near (1e30 metres
+ * is far beyond the observable universe; in millimetres, a thousand times further still). */
+#define MAX_COORD 1e30
+
+static double max_abs(rf_vec3 v)
+{
+    return fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
+}
+
 static bool is_ancestor_or_self(const int32_t *parents, int32_t a, int32_t j)
 {
     while (j >= 0 && j != a)
@@ -131,6 +141,9 @@ static bool check_goal(const rf_ik_problem *pb, const rf_ik_goal *g, uint32_t i,
     if (!rf_v3_isfinite(g->target))
         return REFUSE(res, "goal %u: target (%g, %g, %g) is not finite", i, g->target.x,
                       g->target.y, g->target.z);
+    if (!(max_abs(g->target) <= MAX_COORD))
+        return REFUSE(res, "goal %u: target (%g, %g, %g) is out of range (coordinates up to %g)", i,
+                      g->target.x, g->target.y, g->target.z, MAX_COORD);
     if (!(g->weight > 0) || !isfinite(g->weight))
         return REFUSE(res, "goal %u: weight %g must be a positive number", i, g->weight);
     if (!known && g->chain_root != -1 &&
@@ -144,8 +157,9 @@ static bool check_goal(const rf_ik_problem *pb, const rf_ik_goal *g, uint32_t i,
     if ((g->flags & RF_IK_GOAL_ORIENTATION) &&
         (!isfinite(o.x + o.y + o.z + o.w) || rf_quat_dot(o, o) < 1e-12))
         return REFUSE(res, "goal %u: orientation is not a finite non-zero quaternion", i);
-    if ((g->flags & RF_IK_GOAL_POLE) && !rf_v3_isfinite(g->pole))
-        return REFUSE(res, "goal %u: pole is not finite", i);
+    if ((g->flags & RF_IK_GOAL_POLE) && !(max_abs(g->pole) <= MAX_COORD))
+        return REFUSE(res, "goal %u: pole is not finite or out of range (coordinates up to %g)", i,
+                      MAX_COORD);
     return true;
 }
 
@@ -350,6 +364,28 @@ static void build_plan(rf_ikc_solve *s)
     w->plan_joints = s->n;
 }
 
+/* How far from the origin the start pose can put each joint, and its world scale: at most its
+ * parent's distance plus its offset times the parent's largest scale (rotations keep lengths),
+ * both refused beyond MAX_COORD. w->bone_len and w->weight serve as scratch (rf_ikc_prepare
+ * fills them later). */
+static bool check_extent(const rf_ik_problem *pb, rf_ik_result *res, rf_ikc_work *w)
+{
+    for (uint32_t j = 0; j < pb->joint_count; j++) {
+        int32_t p = pb->parents[j];
+        double scale = p < 0 ? 1 : w->weight[p], far = p < 0 ? 0 : w->bone_len[p];
+        /* a vector is at most sqrt(3) times its largest component long */
+        far += 1.7320508075688772 * max_abs(pb->pose[j].t) * scale;
+        scale *= max_abs(pb->pose[j].s);
+        if (!(far <= MAX_COORD && scale <= MAX_COORD))
+            return REFUSE(res,
+                          "joint %u: the start pose puts it up to %g from the origin at a scale of "
+                          "%g (both are refused beyond %g)",
+                          j, far, scale, MAX_COORD);
+        w->bone_len[j] = far, w->weight[j] = scale;
+    }
+    return true;
+}
+
 bool rf_ikc_start(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, rf_ikc_work *w)
 {
     memset(s, 0, sizeof *s);
@@ -360,6 +396,8 @@ bool rf_ikc_start(rf_ikc_solve *s, const rf_ik_problem *pb, rf_ik_result *res, r
         return false;
     if (!known && !rf_ikc_work_reserve(w, pb->joint_count, pb->goal_count ? pb->goal_count : 1))
         return REFUSE(res, "out of memory for %u joints", pb->joint_count);
+    if (!check_extent(pb, res, w))
+        return false;
     s->pb = pb, s->res = res, s->local = res->pose, s->w = w;
     s->n = pb->joint_count, s->goal_count = pb->goal_count;
     for (uint32_t j = 0; j < s->n; j++) { /* one pass: may be in place */

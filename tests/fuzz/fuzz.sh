@@ -72,6 +72,15 @@ build_mapping() {
         -- $(pkg-config --libs jansson)
 }
 
+build_ik() {
+    local d srcs=() incs=()
+    for d in ik-common ik-ccd ik-fabrik ik-jacobian ik-twobone; do incs+=(-I"$src/plugins/$d"); done
+    srcs=("$src"/plugins/ik-common/{ikcommon,constraint,linalg}.c "$src"/plugins/ik-ccd/ccd.c
+        "$src"/plugins/ik-fabrik/fabrik.c "$src"/plugins/ik-jacobian/jacobian.c
+        "$src"/plugins/ik-twobone/twobone.c)
+    build fuzz_ik "${incs[@]}" "$src/tests/fuzz/fuzz_ik.c" "${srcs[@]}" --
+}
+
 # seed NAME: fills the scratch corpus of a harness (copies; the sources stay untouched).
 seed() {
     local name=$1 dir="$work/$1/corpus" f
@@ -116,7 +125,7 @@ run() {
     return $rc
 }
 
-harnesses=${FUZZ_ONLY:-"bvh pipeline analysis mapping"}
+harnesses=${FUZZ_ONLY:-"bvh pipeline analysis mapping ik"}
 plugins="$build/tests/fixtures/.libs/fx_good.so:$build/plugins"
 pass=0 fail=0 skipped=0
 for h in $harnesses; do
@@ -135,6 +144,7 @@ for h in $harnesses; do
             skipped=$((skipped + 1)); continue
         fi
         build_mapping && seed mapping && run mapping 16384 ;;
+    ik) build_ik && seed ik && run ik 1024 ;;
     *) say "unknown harness '$h'"; false ;;
     esac
     if [ $? = 0 ]; then pass=$((pass + 1)); else fail=$((fail + 1)); fi

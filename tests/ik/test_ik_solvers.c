@@ -262,6 +262,23 @@ static void test_bad_goals_are_refused(void **unused)
         f.goals[0].target = rf_v3(0.5, 0.5, 0);
         fx_wire(&f, 1, NAN, 10);
         expect_refusal(api, st, &f, "tolerance");
+        /* finite but beyond what squared distances hold (1e31 squared twice overflows) */
+        fx_chain(&f, 2);
+        f.goals[0].target = rf_v3(0, 1e31, 0);
+        fx_wire(&f, 1, 1e-3, 10);
+        expect_refusal(api, st, &f, "out of range");
+        fx_chain(&f, 2);
+        f.goals[0].flags = RF_IK_GOAL_POLE, f.goals[0].pole = rf_v3(-1e300, 0, 0);
+        fx_wire(&f, 1, 1e-3, 10);
+        expect_refusal(api, st, &f, "out of range");
+        fx_chain(&f, 2);
+        f.pose[2].t = rf_v3(0, 2e30, 0);
+        fx_wire(&f, 1, 1e-3, 10);
+        expect_refusal(api, st, &f, "joint 2: the start pose puts it up to");
+        fx_chain(&f, 2); /* each scale in range, their product not */
+        f.pose[0].s = f.pose[1].s = rf_v3(1e20, 1e20, 1e20);
+        fx_wire(&f, 1, 1e-3, 10);
+        expect_refusal(api, st, &f, "joint 1: the start pose puts it up to");
         api->destroy(st);
     }
 }

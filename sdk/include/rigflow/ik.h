@@ -166,8 +166,9 @@ typedef struct rf_ik_solver_api {
     /* A state for `config` (NULL: defaults), or NULL with a message in err. (transfer full) */
     void *(*create)(const rf_ik_config *config, char *err, size_t err_size);
     /* Solves `problem` from its start pose into result. Returns false, with result->message, when
-     * the problem is refused (bad index, non-finite value, unsupported shape): result->pose is
-     * then untouched. A goal not reached is not a refusal: see result->status. */
+     * the problem is refused (bad index, non-finite value, coordinates or scales beyond 1e30,
+     * unsupported shape): result->pose is then untouched. A goal not reached is not a refusal:
+     * see result->status. */
     bool (*solve)(void *state, const rf_ik_problem *problem, rf_ik_result *result);
     void (*destroy)(void *state);
 } rf_ik_solver_api;
