@@ -620,7 +620,7 @@ static void swivel_to_pole(rf_ikc_solve *s, uint32_t i)
                          rf_quat_mul(rf_quat_from_axis_angle(axis, turn), w->world[h].r));
     rf_ikc_fk(s);
     double after = rf_v3_dist(w->world[g->effector].t, g->target);
-    if (after > fmax(before, s->pb->tolerance) + 1e-9 * (1 + before)) {
+    if (!(after <= fmax(before, s->pb->tolerance) + 1e-9 * (1 + before))) {
         s->local[h].r = keep;
         rf_ikc_fk(s);
     }
