@@ -76,7 +76,8 @@ double rf_ikc_angle_about(rf_vec3 a, rf_vec3 u, rf_vec3 v)
 {
     rf_vec3 pu = rf_v3_sub(u, rf_v3_scale(a, rf_v3_dot(u, a)));
     rf_vec3 pv = rf_v3_sub(v, rf_v3_scale(a, rf_v3_dot(v, a)));
-    if (rf_v3_len2(pu) < 1e-24 || rf_v3_len2(pv) < 1e-24)
+    /* relative to u and v: any unit of length */
+    if (!(rf_v3_len2(pu) > 1e-24 * rf_v3_len2(u)) || !(rf_v3_len2(pv) > 1e-24 * rf_v3_len2(v)))
         return 0.0;
     return atan2(rf_v3_dot(a, rf_v3_cross(pu, pv)), rf_v3_dot(pu, pv));
 }

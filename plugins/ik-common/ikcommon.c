@@ -606,12 +606,15 @@ static void swivel_to_pole(rf_ikc_solve *s, uint32_t i)
         return;
     rf_ikc_work *w = s->w;
     rf_vec3 H = w->world[h].t, axis = rf_v3_sub(w->world[g->effector].t, H), bend = {0, 0, 0};
-    if (rf_v3_len2(axis) < 1e-24)
+    double size = w->reach[i]; /* the chain's length: what "straight" and "on the line" scale by */
+    if (!(size > 0 && rf_v3_len2(axis) > 1e-24 * size * size))
         return;
     axis = rf_v3_normalize(axis);
     for (int32_t j = s->pb->parents[g->effector]; j != h; j = s->pb->parents[j])
         bend = rf_v3_add(bend, rf_v3_sub(w->world[j].t, H));
-    double turn = rf_ikc_angle_about(axis, bend, rf_v3_sub(g->pole, H));
+    /* both in units of the chain's length, as rf_ikc_angle_about's threshold takes them */
+    double turn = rf_ikc_angle_about(axis, rf_v3_scale(bend, 1 / size),
+                                     rf_v3_scale(rf_v3_sub(g->pole, H), 1 / size));
     if (turn == 0) /* a straight chain, or the pole on the line */
         return;
     double before = rf_v3_dist(w->world[g->effector].t, g->target);
@@ -620,7 +623,7 @@ static void swivel_to_pole(rf_ikc_solve *s, uint32_t i)
                          rf_quat_mul(rf_quat_from_axis_angle(axis, turn), w->world[h].r));
     rf_ikc_fk(s);
     double after = rf_v3_dist(w->world[g->effector].t, g->target);
-    if (!(after <= fmax(before, s->pb->tolerance) + 1e-9 * (1 + before))) {
+    if (!(after <= fmax(before, s->pb->tolerance) * (1 + 1e-9))) { /* relative: any unit */
         s->local[h].r = keep;
         rf_ikc_fk(s);
     }

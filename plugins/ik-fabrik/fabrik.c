@@ -102,7 +102,7 @@ static uint32_t chain_iterate(rf_ikc_solve *s, uint32_t m)
         double dl = sqrt(d2), miss = fabs(d2 > 1e-300 ? dl - last : dl);
         if (miss * miss <= tol2)
             break;
-        stalled = miss < best - 1e-9 * (1 + best) ? 0 : stalled + 1;
+        stalled = miss < best * (1 - 1e-9) ? 0 : stalled + 1; /* relative: any unit */
         best = fmin(best, miss);
         if (stalled >= PATIENCE) /* a target the chain cannot reach though within its length */
             break;
@@ -251,7 +251,7 @@ static double best_roll(rf_ikc_solve *s, uint32_t c, rf_vec3 d, rf_vec3 a, rf_ve
     double A = rf_v3_dot(a_perp, want), B = rf_v3_dot(rf_v3_cross(d, a_perp), want);
     double C = rf_v3_dot(a_par, want) - rf_v3_len(want) * rf_v3_dot(a, rf_v3_normalize(u));
     double amp = hypot(A, B);
-    if (amp < 1e-12)
+    if (!(amp > 1e-12 * rf_v3_len(want)))
         return 0;
     double phi = atan2(B, A), delta = acos(fmax(-1.0, fmin(1.0, -C / amp)));
     rf_quat q = rf_quat_normalize(rf_quat_mul(rf_quat_conj(s->w->ref[c]), s->local[c].r));
@@ -285,10 +285,10 @@ static void hinge_roll(rf_ikc_solve *s, uint32_t j)
     rf_xform x = w->world[j];
     rf_vec3 Xc = rf_xform_point(x, w->rel[c].t), d = rf_v3_normalize(rf_v3_sub(Xc, x.t));
     rf_vec3 want = rf_v3_sub(w->pos[w->first[c]], Xc);
-    if (rf_v3_len2(d) == 0 || rf_v3_len2(want) < 1e-24)
+    rf_vec3 u = rf_quat_rotate(rf_quat_mul(x.r, s->local[c].r), w->rel[w->first[c]].t);
+    if (rf_v3_len2(d) == 0 || !(rf_v3_len2(want) > 1e-24 * rf_v3_len2(u))) /* u: c's bone */
         return;
     rf_vec3 a = rf_v3_normalize(rf_quat_rotate(rf_quat_mul(x.r, w->ref[c]), hc->axis));
-    rf_vec3 u = rf_quat_rotate(rf_quat_mul(x.r, s->local[c].r), w->rel[w->first[c]].t);
     double roll = best_roll(s, (uint32_t)c, d, a, u, want);
     if (roll != 0)
         rf_ikc_set_world_rot(s, j, rf_quat_mul(rf_quat_from_axis_angle(d, roll), x.r));
@@ -318,7 +318,7 @@ static uint32_t tree_iterate(rf_ikc_solve *s)
         it++;
         err = rf_ikc_errors(s);
         /* Unreachable or limit-bound goals stop improving: no point in spending the cap. */
-        stalled = err < best - 1e-9 * (1 + best) ? 0 : stalled + 1;
+        stalled = err < best * (1 - 1e-9) ? 0 : stalled + 1; /* relative: any unit */
         if (err < best)
             best = err;
         if (stalled >= patience)

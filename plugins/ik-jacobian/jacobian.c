@@ -534,7 +534,7 @@ static uint32_t jac_iterate(jac_state *st, rf_ikc_solve *s, double lambda_min)
         /* Damping adapts as in Levenberg-Marquardt: less after a good step (faster, and a
          * stretched chain can straighten fully), more after a failed one. */
         st->lambda = better ? fmax(lambda_min, 0.5 * st->lambda) : 4 * st->lambda;
-        stalled = err < best - 1e-12 * (1 + best) ? 0 : stalled + 1;
+        stalled = err < best * (1 - 1e-12) ? 0 : stalled + 1; /* relative: any unit */
         best = fmin(best, err);
         if (stalled >= 10) /* unreachable or limit-bound: nothing left to gain */
             break;

@@ -27,7 +27,7 @@ typedef struct twobone_state {
 static rf_vec3 any_normal(rf_vec3 d)
 {
     rf_vec3 n = rf_v3_cross(d, rf_v3(1, 0, 0));
-    return rf_v3_len2(n) > 1e-12 ? n : rf_v3_cross(d, rf_v3(0, 0, 1));
+    return rf_v3_len2(n) > 1e-12 * rf_v3_len2(d) ? n : rf_v3_cross(d, rf_v3(0, 0, 1));
 }
 
 /* The axis to bend the middle joint about (unit, problem space). */
@@ -45,7 +45,8 @@ static rf_vec3 bend_axis(rf_ikc_solve *s, const rf_ik_goal *g, uint32_t r, uint3
     if (g->flags & RF_IK_GOAL_POLE)
         toward = rf_v3_sub(g->pole, R);
     n = rf_v3_cross(bone, toward);
-    return rf_v3_normalize(rf_v3_len2(n) > 1e-18 ? n : any_normal(bone));
+    return rf_v3_normalize(
+        rf_v3_len2(n) > 1e-18 * rf_v3_len2(bone) * rf_v3_len2(toward) ? n : any_normal(bone));
 }
 
 /* The turn about unit axis k through M that brings E to distance d from R, closest to no turn. */
@@ -56,7 +57,7 @@ static double bend_angle(rf_vec3 R, rf_vec3 M, rf_vec3 E, rf_vec3 k, double d)
     double C = 0.5 * (rf_v3_len2(r) + rf_v3_len2(v) - d * d) - rf_v3_dot(r, v_par);
     double A = rf_v3_dot(r, v_perp), B = rf_v3_dot(r, rf_v3_cross(k, v_perp));
     double amp = hypot(A, B);
-    if (amp < 1e-12)
+    if (!(amp > 1e-12 * (rf_v3_len2(r) + rf_v3_len2(v))))
         return 0; /* the effector's circle is centred on the root's axis: every angle is equal */
     double phi = atan2(B, A), cosv = fmax(-1.0, fmin(1.0, C / amp)), delta = acos(cosv);
     double t1 = remainder(phi + delta, 2 * RF_PI), t2 = remainder(phi - delta, 2 * RF_PI);

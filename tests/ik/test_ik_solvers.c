@@ -397,27 +397,33 @@ static void test_every_solver_honours_the_pole(void **unused)
         assert_true(api->capabilities & RF_IK_CAP_POLE);
         void *st = make_state(api);
         fx_lcg g = {5};
-        for (int k = 0; k < 30; k++) {
+        for (int k = 0; k < 40; k++) {
             static fx_problem f;
             uint32_t links = k % 2 || !handles_links(api, 4) ? 2 : 4;
+            double unit = k < 30 ? 1 : 1e-9; /* the last ones in nanometres: no absolute limits */
+            double scaled[2] = {lengths[0] * unit, lengths[1] * unit};
             if (links == 2)
-                fx_chain_lengths(&f, lengths, 2); /* reach: 1 to 5 from the root */
+                fx_chain_lengths(&f, scaled, 2); /* reach: 1 to 5 units from the root */
             else
                 fx_chain(&f, 4);
+            for (uint32_t j = 1; j <= links; j++)
+                f.pose[j].t = rf_v3_scale(f.pose[j].t, links == 4 ? unit : 1);
             for (uint32_t j = 1; j < links; j++) /* slightly bent, as in the tree test */
                 f.pose[j].r = rf_quat_from_axis_angle(rf_v3(0.3, 0.5, 1), 0.2);
             f.goals[0].target = fx_target(&g, links == 2 ? 5 : 4);
             if (rf_v3_len(f.goals[0].target) < 1.2) /* the two-bone chain cannot fold closer */
                 f.goals[0].target = rf_v3_scale(rf_v3_normalize(f.goals[0].target), 1.2);
+            f.goals[0].target = rf_v3_scale(f.goals[0].target, unit);
             f.goals[0].flags = RF_IK_GOAL_POLE;
-            f.goals[0].pole = rf_v3_scale(fx_target(&g, 1), 10);
-            fx_wire(&f, 1, 1e-6, 500);
+            f.goals[0].pole = rf_v3_scale(fx_target(&g, 1), 10 * unit);
+            fx_wire(&f, 1, 1e-6 * unit, 500);
             solve_ok(api, st, &f);
             double miss = pole_miss(&f, 0, links, f.goals[0].pole);
             if (!(f.status[0] & RF_IK_REACHED) || miss > 1e-6)
-                fail_msg("%s, %u links, target %d: error %g, bend %g rad from the pole", api->name,
-                         links, k, f.errors[0], miss);
-            assert_rigid(&f, api->name);
+                fail_msg("%s, %u links of %g, target %d: error %g, bend %g rad from the pole",
+                         api->name, links, unit, k, f.errors[0], miss);
+            if (unit == 1)
+                assert_rigid(&f, api->name);
         }
         if (api->capabilities & RF_IK_CAP_MULTI_GOAL) {
             static fx_problem f, plain;
@@ -467,6 +473,54 @@ static void test_a_pole_never_costs_reach(void **unused)
         double v = fx_limit_violation(&f.limits[0], rf_v3(1, 0, 0), f.pose[0].r, f.out[0].r);
         if (!(f.status[0] & RF_IK_REACHED) || v > 1e-6)
             fail_msg("%s: error %g, hip %g rad outside its cone", api->name, f.errors[0], v);
+        api->destroy(st);
+    }
+}
+
+/* The same problem in another unit gives the same rotations: nothing in a solver may depend on
+ * the size of the numbers (a threshold of 1e-12 on a length, say), only on their ratios. Free
+ * and limited chains with a pole, in nanometres and in gigametres against metres. */
+static void test_solvers_work_in_any_unit(void **unused)
+{
+    (void)unused;
+    static const double units[2] = {1e-9, 1e9};
+    for (size_t s = 0; s < SOLVER_COUNT; s++) {
+        const rf_ik_solver_api *api = SOLVERS[s];
+        void *st = make_state(api);
+        fx_lcg g = {23};
+        for (int k = 0; k < 24; k++) {
+            static fx_problem base, f;
+            uint32_t links = handles_links(api, 5) ? (k % 2 ? 5 : 3) : 2;
+            if (links == 5 && k % 4 == 1)
+                limited_chain(&base);
+            else
+                fx_chain(&base, links);
+            for (uint32_t j = 1; j < links; j++)
+                base.pose[j].r = rf_quat_from_axis_angle(rf_v3(0.3, 0.5, 1), 0.2);
+            base.goals[0].target = fx_target(&g, links);
+            base.goals[0].flags = k % 3 ? RF_IK_GOAL_POLE : 0;
+            base.goals[0].pole = rf_v3_scale(fx_target(&g, 1), 10);
+            fx_wire(&base, 1, 1e-6, 100);
+            solve_ok(api, st, &base);
+            for (int u = 0; u < 2; u++) {
+                f = base;
+                for (uint32_t j = 0; j < f.n; j++)
+                    f.pose[j].t = rf_v3_scale(f.pose[j].t, units[u]);
+                f.goals[0].target = rf_v3_scale(f.goals[0].target, units[u]);
+                f.goals[0].pole = rf_v3_scale(f.goals[0].pole, units[u]);
+                fx_wire(&f, 1, 1e-6 * units[u], 100);
+                solve_ok(api, st, &f);
+                double worst = 0;
+                for (uint32_t j = 0; j < f.n; j++)
+                    worst = fmax(worst, rf_quat_angle(f.out[j].r, base.out[j].r));
+                if (worst > 1e-5 || f.status[0] != base.status[0] ||
+                    fabs(f.errors[0] / units[u] - base.errors[0]) > 1e-6)
+                    fail_msg("%s, %u links, problem %d, unit %g: rotations %g rad apart, status "
+                             "%u against %u, error %g against %g",
+                             api->name, links, k, units[u], worst, f.status[0], base.status[0],
+                             f.errors[0] / units[u], base.errors[0]);
+            }
+        }
         api->destroy(st);
     }
 }
@@ -743,6 +797,7 @@ int main(void)
         cmocka_unit_test(test_twobone_refuses_other_chains),
         cmocka_unit_test(test_every_solver_honours_the_pole),
         cmocka_unit_test(test_a_pole_never_costs_reach),
+        cmocka_unit_test(test_solvers_work_in_any_unit),
         cmocka_unit_test(test_states_grow_past_their_config),
         cmocka_unit_test(test_fast_paths_agree_with_general_forms),
         cmocka_unit_test(test_direct_dls_agrees_with_the_jacobian),
