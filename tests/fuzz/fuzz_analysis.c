@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "analysis.h"
+#include "fuzz-values.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -60,28 +61,9 @@ static rf_vec3 rf_fz_vec(uint8_t a, uint8_t b, uint8_t c)
     return rf_v3(rf_fz_value(a), rf_fz_value(b), rf_fz_value(c));
 }
 
-/* Identity, quarter turns, a non-unit and a zero quaternion, NaN. */
 static rf_quat rf_fz_quat(uint8_t b)
 {
-    const double h = sqrt(0.5);
-    switch (b & 7) {
-    case 1:
-        return rf_quat_make(h, 0, 0, h);
-    case 2:
-        return rf_quat_make(0, h, 0, h);
-    case 3:
-        return rf_quat_make(0, 0, h, h);
-    case 4:
-        return rf_quat_make(0.3, 0.1 * (b >> 3), 0.2, 0.9);
-    case 5:
-        return rf_quat_make(0, 0, 0, 0);
-    case 6:
-        return rf_quat_make(NAN, 0, 0, 1);
-    case 7:
-        return rf_quat_make(1, 0, 0, 0);
-    default:
-        return rf_quat_make(0, 0, 0, 1);
-    }
+    return rf_fz_quat_of(b, true);
 }
 
 typedef struct rf_fz_input {

@@ -13,7 +13,7 @@ fuzz: all tests/fixtures/fx_good.la
 	CLANG='$(CLANG)' $(SHELL) $(abs_top_srcdir)/tests/fuzz/fuzz.sh
 .PHONY: fuzz
 
-EXTRA_DIST += tests/fuzz/fuzz.sh tests/fuzz/fuzz_bvh.c tests/fuzz/fuzz_pipeline.c \
+EXTRA_DIST += tests/fuzz/fuzz.sh tests/fuzz/fuzz_bvh.c tests/fuzz/fuzz_pipeline.c tests/fuzz/fuzz-values.h \
 	tests/fuzz/fuzz_analysis.c tests/fuzz/fuzz_mapping.c tests/fuzz/fuzz_ik.c tests/fuzz/bvh.dict \
 	tests/fuzz/pipeline.dict tests/fuzz/mapping.dict tests/fuzz/seeds
 clean-local: clean-fuzz
