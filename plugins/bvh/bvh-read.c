@@ -138,6 +138,11 @@ static uint64_t source_offset(const source *s)
 /* ---- parser state ---- */
 
 enum { CH_XPOS, CH_YPOS, CH_ZPOS, CH_XROT, CH_YROT, CH_ZROT };
+
+/* Coordinates (offsets and position channels) beyond this are refused: the model keeps animated
+ * positions as floats (which end at 3.4e38) and what reads them squares distances. No motion
+ * capture comes near. */
+#define BVH_MAX_COORD 1e30
 static const char *const channel_names[6] = {"Xposition", "Yposition", "Zposition",
                                              "Xrotation", "Yrotation", "Zrotation"};
 
@@ -340,6 +345,12 @@ static bool read_offset(parser *ps, double out[3], const char *what)
             return ps->failed ? false : fail_expected(ps, NULL, coord[i]);
         if (!token_number(ps, &t, &out[i], coord[i]))
             return false;
+        if (!(fabs(out[i]) <= BVH_MAX_COORD)) {
+            char found[64];
+            describe(t.p, t.p + t.n, found, sizeof found);
+            return fail(ps, t.line, "%s is out of range: expected %s within +-%g", found, coord[i],
+                        BVH_MAX_COORD);
+        }
     }
     return true;
 }
@@ -709,6 +720,17 @@ static bool value_error(parser *ps, const char *line, const char *end, const cha
                 channel_names[j->ch[c]], f, found);
 }
 
+static bool range_error(parser *ps, const char *end, const char *p, uint32_t f, const pjoint *j,
+                        int c)
+{
+    char found[64];
+    describe(skip_spaces((char *)p, end), end, found, sizeof found);
+    return fail(ps, ps->src.line,
+                "%s is out of range (frame %" PRIu32 ", joint '%s', %s): expected a coordinate "
+                "within +-%g",
+                found, f, j->name, channel_names[j->ch[c]], BVH_MAX_COORD);
+}
+
 static bool frame_end_error(parser *ps, const char *line, const char *end, const char *p,
                             uint32_t f)
 {
@@ -782,6 +804,8 @@ static bool read_values(parser *ps, char *line, char *end, uint32_t f)
             const char *e = bvh_number_padded(p, v);
             if (!e || !is_separator(*e) || !isfinite(*v))
                 return value_error(ps, line, end, p, f + 1, j, c);
+            if (j->ch[c] <= CH_ZPOS && !(fabs(*v) <= BVH_MAX_COORD))
+                return range_error(ps, end, p, f + 1, j, c);
             p = (char *)e;
             v++;
         }

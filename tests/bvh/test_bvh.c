@@ -568,6 +568,11 @@ static void test_errors(void **state)
     error_case("5 6 7 90 90", "5 6 7 90 -inf", 20, "'-inf' is not a finite number");
     error_case("5 6 7 90 90", "5 6 7 90 1e999", 20, "'1e999' is not a finite number");
     error_case("OFFSET 0 10 0", "OFFSET 0 NaN 0", 8, "'NaN' is not a finite number");
+    /* finite, but beyond what the model's floats and squared distances hold */
+    error_case("OFFSET 0 10 0", "OFFSET 0 1e31 0", 8,
+               "'1e31' is out of range: expected the OFFSET's y within +-1e+30");
+    error_case("5 6 7 90", "5 6 -2e30 90", 20,
+               "'-2e30' is out of range (frame 2, joint 'Hips', Zposition): expected a coordinate");
     error_case("Frames: 2", "Frames: two", 17, "expected a whole number of frames after 'Frames:'");
     error_case("Frames: 2", "Frames: -1", 17, "expected a whole number of frames from 0");
     error_case("Frames: 2", "Frames: 2.5", 17, "expected a whole number of frames from 0");
