@@ -10,6 +10,21 @@
 
 enum { STEP_MATCH = 1, STEP_SKIP_TARGET = 2, STEP_SKIP_SOURCE = 3 };
 
+/* Walks the steps back from (n, m) to (0, 0), setting match[i] for every matched target bone.
+ * The first row and column hold skips, so the walk never leaves the table. */
+static void trace_back(const unsigned char *step, size_t w, uint32_t n, uint32_t m, int32_t *match)
+{
+    for (uint32_t i = n, k = m; i > 0 || k > 0;) {
+        unsigned char how = step[i * w + k];
+        if (how == STEP_MATCH)
+            match[i - 1] = (int32_t)(k - 1), i--, k--;
+        else if (how == STEP_SKIP_TARGET)
+            i--;
+        else
+            k--;
+    }
+}
+
 double rf_ms_assign(const double *cost, uint32_t n, uint32_t m, int32_t *match)
 {
     for (uint32_t i = 0; i < n; i++)
@@ -43,15 +58,7 @@ double rf_ms_assign(const double *cost, uint32_t n, uint32_t m, int32_t *match)
             *c = best, step[i * w + k] = how;
         }
     double total = f[n * w + m];
-    for (uint32_t i = n, k = m; i > 0 && k > 0;) {
-        unsigned char how = step[i * w + k];
-        if (how == STEP_MATCH)
-            match[i - 1] = (int32_t)(k - 1), i--, k--;
-        else if (how == STEP_SKIP_TARGET)
-            i--;
-        else
-            k--;
-    }
+    trace_back(step, w, n, m, match);
     free(f);
     free(step);
     return total;
@@ -84,15 +91,7 @@ double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int3
             f[i * w + k] = best, step[i * w + k] = how;
         }
     double total = f[n * w + m];
-    for (uint32_t i = n, k = m; i > 0 || k > 0;) {
-        unsigned char how = step[i * w + k];
-        if (how == STEP_MATCH)
-            match[i - 1] = (int32_t)(k - 1), i--, k--;
-        else if (how == STEP_SKIP_TARGET)
-            i--;
-        else
-            k--;
-    }
+    trace_back(step, w, n, m, match);
     free(f);
     free(step);
     return total;
