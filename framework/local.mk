@@ -36,3 +36,7 @@ rigflow_LDADD += plugins/ik-common/libikworkload.la
 
 # rigflow map: the graph of pipelines/map.json from the command line.
 rigflow_SOURCES += framework/map-cmd.c framework/map-cmd.h
+
+# rigflow batch: a pipeline over whole libraries, on a worker pool or a Slurm job array.
+rigflow_SOURCES += framework/batch.c framework/batch.h framework/batch-pool.c \
+	framework/batch-manifest.c framework/batch-slurm.c

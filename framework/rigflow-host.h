@@ -22,6 +22,8 @@ enum rf_exit {
     RF_EXIT_USAGE = 2,      /* bad command line */
     RF_EXIT_VALIDATION = 3, /* the pipeline is invalid (syntax, types, params, graph) */
     RF_EXIT_PLUGIN = 4,     /* a requested plugin could not be loaded */
+    RF_EXIT_LOCKED = 5,     /* rigflow batch: another batch holds the output folder */
+    RF_EXIT_QUEUED = 6,     /* rigflow batch --status: jobs still pending or running */
     RF_EXIT_CANCELLED = 130 /* interrupted by SIGINT */
 };
 
@@ -111,6 +113,14 @@ RF_HOST_API bool rf_pipeline_run(rf_pipeline *p, const rf_registry *reg, const r
  * freed), or NULL. For tests and embedding. */
 RF_HOST_API const void *rf_pipeline_result(const rf_pipeline *p, const char *node,
                                            const char *port);
+
+/* Calls fn for every output-path parameter of a validated pipeline, in file order: the node id,
+ * the parameter's name and the final path asked for ("" when unset). For batch runs, which name
+ * each job's outputs. */
+typedef void (*rf_output_param_fn)(const char *node, const char *param, const char *path,
+                                   void *data);
+RF_HOST_API void rf_pipeline_foreach_output(const rf_pipeline *p, rf_output_param_fn fn,
+                                            void *data);
 
 /* Creates and destroys one node of `type` with default parameters (a plugin's self-check).
  * Returns false with a diag when create fails. */

@@ -4,6 +4,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "batch.h"
 #include "commands.h"
 #include "config.h"
 #include "ik-bench.h"
@@ -135,6 +136,7 @@ static const command commands[] = {
     {"plugin-check", rf_cmd_plugin_check, "check plugin files, each check in its own process"},
     {"ik-bench", rf_cmd_ik_bench, "compare the IK solver plugins on standard workloads (CSV)"},
     {"map", rf_cmd_map, "map a target skeleton's joints onto source skeletons"},
+    {"batch", rf_cmd_batch, "run a pipeline over many inputs (worker pool or Slurm array)"},
 };
 
 static void print_help(void)
@@ -150,7 +152,8 @@ static void print_help(void)
            "  -h, --help         show this help (COMMAND --help for a command's)\n"
            "  --version          show the version\n\n"
            "Exit status: 0 ok, 1 run failed, 2 usage error, 3 invalid pipeline,\n"
-           "4 plugin could not be loaded, 130 interrupted.\n",
+           "4 plugin could not be loaded, 5 batch folder locked, 6 batch still queued,\n"
+           "130 interrupted.\n",
            RF_PLUGINSDIR);
 }
 

@@ -232,3 +232,14 @@ bool rf_node_type_try_create(const rf_registry *reg, const char *type, GPtrArray
     rf_pipeline_free(p); /* destroys what create made */
     return ok;
 }
+
+void rf_pipeline_foreach_output(const rf_pipeline *p, rf_output_param_fn fn, void *data)
+{
+    for (guint i = 0; p->valid && i < p->nodes->len; i++) {
+        const rf_node *n = g_ptr_array_index(p->nodes, i);
+        for (uint32_t k = 0; n->desc && n->params && k < n->desc->param_count; k++)
+            if (n->desc->params[k].type == RF_PARAM_OUTPUT_PATH)
+                fn(n->id, n->desc->params[k].name, n->params[k].target ? n->params[k].target : "",
+                   data);
+    }
+}

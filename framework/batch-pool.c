@@ -1,0 +1,457 @@
+/* The worker pool: processes forked from the command once its plugins are loaded, so a job costs
+ * a pipe message, a parse and a validation beyond its own work (no exec, no plugin loading), and
+ * a plugin that crashes takes down one job, not the batch.
+ *
+ * Each worker reads job indices from its own pipe and answers each with its manifest record
+ * (length-prefixed JSON) on another. The parent alone writes the manifest and the terminal. A
+ * worker that dies mid-job shows as end-of-file on its pipe: the job is recorded as crashed with
+ * the signal or exit status, and a fresh worker is forked in its place. Workers die with the
+ * parent (PR_SET_PDEATHSIG), so a killed batch leaves no orphan writing files. Ctrl-C (or the
+ * SIGTERM of a cancelled Slurm task) stops handing out jobs and interrupts the running ones,
+ * whose outputs the engine then removes; interrupted jobs are not recorded, a rerun does them.
+ */
+#define _GNU_SOURCE /* sched_getaffinity, pipe2 */
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <glib/gstdio.h>
+
+#include "batch.h"
+
+typedef struct worker {
+    pid_t pid;
+    int job_fd;        /* parent -> worker: job indices */
+    int result_fd;     /* worker -> parent: records */
+    rf_batch_job *job; /* the job it runs, or NULL when idle */
+} worker;
+
+static volatile int stop_requested; /* parent: SIGINT or SIGTERM */
+static volatile int job_cancelled;  /* worker: the engine's cancel flag */
+
+static void on_stop(int sig)
+{
+    stop_requested = 1;
+    if (sig == SIGINT)
+        signal(SIGINT, SIG_DFL); /* a second Ctrl-C ends the batch at once */
+}
+
+static void on_cancel(int sig)
+{
+    (void)sig;
+    job_cancelled = 1;
+}
+
+static void set_handler(int sig, void (*fn)(int))
+{
+    struct sigaction sa = {.sa_handler = fn}; /* no SA_RESTART: poll and read return EINTR */
+    sigemptyset(&sa.sa_mask);
+    sigaction(sig, &sa, NULL);
+}
+
+static bool read_full(int fd, void *buf, size_t n)
+{
+    for (size_t got = 0; got < n;) {
+        ssize_t r = read(fd, (char *)buf + got, n - got);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            return false;
+        got += (size_t)r;
+    }
+    return true;
+}
+
+static bool write_full(int fd, const void *buf, size_t n)
+{
+    for (size_t put = 0; put < n;) {
+        ssize_t w = write(fd, (const char *)buf + put, n - put);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return false;
+        put += (size_t)w;
+    }
+    return true;
+}
+
+/* ---- in the worker ---- */
+
+static json_t *hash_outputs(const rf_batch_job *job)
+{
+    json_t *a = json_array();
+    guchar buf[1 << 16];
+    for (guint i = 0; i < job->outputs->len; i++) {
+        const char *path = g_ptr_array_index(job->outputs, i);
+        int fd = g_open(path, O_RDONLY | O_CLOEXEC, 0);
+        g_autoptr(GChecksum) sum = g_checksum_new(G_CHECKSUM_SHA256);
+        json_int_t size = 0;
+        ssize_t n;
+        while (fd >= 0 && (n = read(fd, buf, sizeof buf)) > 0) {
+            g_checksum_update(sum, buf, n);
+            size += n;
+        }
+        if (fd >= 0)
+            close(fd);
+        json_array_append_new(a, json_pack("{s:s, s:I, s:s}", "path", path, "size", size, "sha256",
+                                           g_checksum_get_string(sum)));
+    }
+    return a;
+}
+
+/* Every diagnostic of the run on one line. */
+static char *join_diags(GPtrArray *diags)
+{
+    GString *s = g_string_new(NULL);
+    for (guint i = 0; i < diags->len; i++) {
+        g_autofree char *line = rf_diag_format(g_ptr_array_index(diags, i));
+        g_string_append_printf(s, "%s%s", i ? "; " : "", line);
+    }
+    return g_string_free(s, FALSE);
+}
+
+static bool run_pipeline(const rf_batch *b, const rf_registry *reg, const rf_batch_job *job,
+                         GPtrArray *diags)
+{
+    g_autofree char *dir = g_path_get_dirname(b->pipeline);
+    rf_pipeline *p = rf_pipeline_load_string(b->pipeline_text, b->pipeline, dir, diags);
+    for (guint i = 0; p && i < job->assign->len; i++)
+        rf_pipeline_override(p, g_ptr_array_index(job->assign, i), diags);
+    bool ok = p && diags->len == 0 && rf_pipeline_validate(p, reg, diags);
+    rf_run_options opts = {.cancel_flag = &job_cancelled};
+    ok = ok && rf_pipeline_run(p, reg, &opts, diags);
+    rf_pipeline_free(p);
+    return ok;
+}
+
+/* Runs one job with its stdout and stderr in its log file; returns its record. */
+static json_t *run_job(const rf_batch *b, const rf_registry *reg, const rf_batch_job *job)
+{
+    g_autofree char *file = g_strconcat(job->name, ".log", NULL);
+    g_autofree char *log = g_build_filename(b->state, "logs", file, NULL);
+    int saved_out = dup(1), saved_err = dup(2);
+    int fd = g_open(log, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+        dup2(fd, 1);
+        dup2(fd, 2);
+        close(fd);
+    }
+    gint64 t0 = g_get_monotonic_time();
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    bool ok = run_pipeline(b, reg, job, diags);
+    rf_print_diags(diags, "error");
+    fflush(stdout);
+    fflush(stderr);
+    dup2(saved_out, 1);
+    dup2(saved_err, 2);
+    close(saved_out);
+    close(saved_err);
+    double seconds = (double)(g_get_monotonic_time() - t0) / 1e6;
+    g_autofree char *error = ok ? NULL : join_diags(diags);
+    const char *status = ok ? "done" : job_cancelled ? "interrupted" : "failed";
+    return rf_batch_record(job, status, error, ok ? hash_outputs(job) : NULL, seconds);
+}
+
+static G_GNUC_NORETURN void worker_main(const rf_batch *b, const rf_registry *reg, int job_fd,
+                                        int result_fd, pid_t parent)
+{
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) /* the parent died before prctl took effect */
+        _exit(0);
+    set_handler(SIGINT, on_cancel);
+    set_handler(SIGTERM, on_cancel);
+    signal(SIGPIPE, SIG_IGN);
+    guint32 index;
+    while (read_full(job_fd, &index, sizeof index) && index < b->jobs->len) {
+        json_t *rec = run_job(b, reg, g_ptr_array_index(b->jobs, index));
+        char *text = json_dumps(rec, JSON_COMPACT | JSON_SORT_KEYS);
+        json_decref(rec);
+        guint32 len = (guint32)strlen(text);
+        bool sent = write_full(result_fd, &len, sizeof len) && write_full(result_fd, text, len);
+        free(text);
+        if (!sent)
+            break;
+    }
+    _exit(0); /* no atexit handlers: they belong to the parent (its stdio buffers, plugins) */
+}
+
+/* ---- in the parent ---- */
+
+typedef struct pool {
+    rf_batch *b;
+    const rf_registry *reg;
+    GArray *workers; /* worker */
+    int mfd;
+    rf_batch_stats *stats;
+    guint finished; /* jobs answered this run (any status) */
+    guint todo;
+    gint64 t0, last_progress;
+    bool tty;
+} pool;
+
+static bool spawn(pool *p, worker *w)
+{
+    int jobs[2], results[2];
+    if (pipe2(jobs, O_CLOEXEC) != 0)
+        return false;
+    if (pipe2(results, O_CLOEXEC) != 0) {
+        close(jobs[0]);
+        close(jobs[1]);
+        return false;
+    }
+    fflush(NULL); /* else the child's exit could write the parent's buffered output again */
+    pid_t parent = getpid(), pid = fork();
+    if (pid == 0) {
+        for (guint i = 0; i < p->workers->len; i++) { /* keep no other worker's pipe open */
+            worker *o = &g_array_index(p->workers, worker, i);
+            if (o != w && o->pid > 0) {
+                close(o->job_fd);
+                close(o->result_fd);
+            }
+        }
+        close(p->mfd);
+        close(jobs[1]);
+        close(results[0]);
+        worker_main(p->b, p->reg, jobs[0], results[1], parent);
+    }
+    close(jobs[0]);
+    close(results[1]);
+    if (pid < 0) {
+        close(jobs[1]);
+        close(results[0]);
+        return false;
+    }
+    *w = (worker){.pid = pid, .job_fd = jobs[1], .result_fd = results[0]};
+    return true;
+}
+
+static void clear_progress(pool *p)
+{
+    if (p->tty && !p->b->quiet)
+        fputs("\r\033[K", stderr);
+}
+
+static void format_duration(char *buf, size_t n, double s)
+{
+    if (s >= 3600)
+        g_snprintf(buf, n, "%dh%02dm", (int)(s / 3600), (int)(s / 60) % 60);
+    else
+        g_snprintf(buf, n, "%dm%02ds", (int)(s / 60), (int)s % 60);
+}
+
+/* On a terminal a line redrawn 5 times a second; elsewhere (logs, Slurm) a line every 10 s. */
+static void progress(pool *p, bool force)
+{
+    gint64 now = g_get_monotonic_time();
+    if (p->b->quiet || (!force && now - p->last_progress < (p->tty ? 200000 : 10000000)))
+        return;
+    p->last_progress = now;
+    double elapsed = (double)(now - p->t0) / 1e6;
+    double rate = elapsed > 0 ? p->finished / elapsed : 0;
+    char eta[32] = "?";
+    if (rate > 0)
+        format_duration(eta, sizeof eta, (p->todo - p->finished) / rate);
+    rf_batch_stats *s = p->stats;
+    fprintf(stderr, "%srigflow batch: %u/%u jobs, %u failed, %u crashed, %.2f jobs/s, ETA %s%s",
+            p->tty ? "\r\033[K" : "", p->finished, p->todo, s->failed, s->crashed, rate, eta,
+            p->tty ? "" : "\n");
+    fflush(stderr);
+}
+
+static void report_failure(pool *p, const char *what, const char *name, const char *error)
+{
+    char *line = g_strdup_printf("%s %s: %s", what, name, error ? error : "no reason given");
+    clear_progress(p);
+    fputs("rigflow batch: ", stderr);
+    rf_batch_print_escaped(stderr, line);
+    fputc('\n', stderr);
+    g_ptr_array_add(p->stats->failures, line);
+}
+
+static void record(pool *p, const rf_batch_job *job, json_t *rec)
+{
+    const char *status = json_string_value(json_object_get(rec, "status"));
+    p->finished++;
+    if (g_strcmp0(status, "interrupted") == 0) {
+        p->stats->interrupted++;
+        return; /* not in the manifest: a rerun does it */
+    }
+    rf_batch_manifest_append(p->mfd, rec);
+    if (g_strcmp0(status, "done") == 0) {
+        p->stats->done++;
+        return;
+    }
+    bool crashed = g_strcmp0(status, "crashed") == 0;
+    if (crashed)
+        p->stats->crashed++;
+    else
+        p->stats->failed++;
+    report_failure(p, crashed ? "crashed" : "failed", job->name,
+                   json_string_value(json_object_get(rec, "error")));
+}
+
+static char *death_reason(int status)
+{
+    if (WIFSIGNALED(status))
+        return g_strdup_printf("killed by signal %d (%s)", WTERMSIG(status),
+                               g_strsignal(WTERMSIG(status)));
+    return g_strdup_printf("exited with status %d", WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+}
+
+/* The worker's pipe closed: it died, during its job if it had one. */
+static void worker_died(pool *p, worker *w)
+{
+    int status = 0;
+    while (waitpid(w->pid, &status, 0) < 0 && errno == EINTR)
+        ;
+    close(w->job_fd);
+    close(w->result_fd);
+    w->pid = 0;
+    if (!w->job)
+        return;
+    g_autofree char *why = death_reason(status);
+    g_autofree char *error = g_strdup_printf("the worker process died: %s; its log: %s/logs/%s.log",
+                                             why, p->b->state, w->job->name);
+    rf_batch_clean_temps(p->b, w->job); /* the engine had no chance to */
+    json_t *rec = rf_batch_record(w->job, "crashed", error, NULL, 0);
+    record(p, w->job, rec);
+    json_decref(rec);
+    w->job = NULL;
+}
+
+static void receive(pool *p, worker *w)
+{
+    guint32 len;
+    g_autofree char *text = NULL;
+    bool ok = read_full(w->result_fd, &len, sizeof len);
+    if (ok) {
+        text = g_malloc((gsize)len + 1);
+        ok = read_full(w->result_fd, text, len);
+        text[len] = '\0';
+    }
+    json_t *rec = ok ? json_loads(text, 0, NULL) : NULL;
+    if (!rec) {
+        worker_died(p, w);
+        return;
+    }
+    record(p, w->job, rec);
+    json_decref(rec);
+    w->job = NULL;
+}
+
+static bool dispatch(pool *p, worker *w, rf_batch_job *job)
+{
+    if (w->pid == 0 && !spawn(p, w)) {
+        fprintf(stderr, "rigflow batch: cannot start a worker process: %s\n", g_strerror(errno));
+        return false;
+    }
+    guint32 index = job->index;
+    if (!write_full(w->job_fd, &index, sizeof index)) {
+        worker_died(p, w); /* died while idle: the job goes to a fresh worker */
+        return dispatch(p, w, job);
+    }
+    w->job = job;
+    return true;
+}
+
+static guint busy_count(pool *p)
+{
+    guint n = 0;
+    for (guint i = 0; i < p->workers->len; i++)
+        n += g_array_index(p->workers, worker, i).job != NULL;
+    return n;
+}
+
+static void interrupt_running(pool *p)
+{
+    for (guint i = 0; i < p->workers->len; i++) {
+        worker *w = &g_array_index(p->workers, worker, i);
+        if (w->job)
+            kill(w->pid, SIGINT);
+    }
+}
+
+static void wait_results(pool *p)
+{
+    struct pollfd fds[p->workers->len];
+    guint map[p->workers->len], n = 0;
+    for (guint i = 0; i < p->workers->len; i++) {
+        worker *w = &g_array_index(p->workers, worker, i);
+        if (w->job) {
+            fds[n] = (struct pollfd){.fd = w->result_fd, .events = POLLIN};
+            map[n++] = i;
+        }
+    }
+    if (poll(fds, n, 200) <= 0)
+        return; /* timeout or a signal: the caller looks at the flag and the clock */
+    for (guint k = 0; k < n; k++)
+        if (fds[k].revents)
+            receive(p, &g_array_index(p->workers, worker, map[k]));
+}
+
+static void shut_down(pool *p)
+{
+    for (guint i = 0; i < p->workers->len; i++) {
+        worker *w = &g_array_index(p->workers, worker, i);
+        if (w->pid == 0)
+            continue;
+        close(w->job_fd); /* end of file: the worker exits */
+        close(w->result_fd);
+        while (waitpid(w->pid, NULL, 0) < 0 && errno == EINTR)
+            ;
+    }
+}
+
+bool rf_batch_pool_run(rf_batch *b, const rf_registry *reg, GPtrArray *todo, int mfd,
+                       rf_batch_stats *stats)
+{
+    if (todo->len == 0)
+        return true;
+    guint n = MIN((guint)MAX(b->workers, 1), todo->len);
+    pool p = {.b = b,
+              .reg = reg,
+              .workers = g_array_sized_new(FALSE, TRUE, sizeof(worker), n),
+              .mfd = mfd,
+              .stats = stats,
+              .todo = todo->len,
+              .t0 = g_get_monotonic_time(),
+              .last_progress = g_get_monotonic_time(),
+              .tty = isatty(2) != 0};
+    g_array_set_size(p.workers, n);
+    stop_requested = 0;
+    set_handler(SIGINT, on_stop);
+    set_handler(SIGTERM, on_stop);
+    void (*old_pipe)(int) = signal(SIGPIPE, SIG_IGN);
+    bool forwarded = false, broken = false;
+    for (guint next = 0;;) {
+        for (guint i = 0; i < n && next < todo->len && !stop_requested && !broken; i++)
+            if (!g_array_index(p.workers, worker, i).job)
+                broken = !dispatch(&p, &g_array_index(p.workers, worker, i),
+                                   g_ptr_array_index(todo, next++));
+        if (busy_count(&p) == 0 && (stop_requested || broken || next == todo->len))
+            break;
+        if (stop_requested && !forwarded) {
+            interrupt_running(&p); /* when the signal came to this process alone */
+            forwarded = true;
+        }
+        wait_results(&p);
+        progress(&p, false);
+    }
+    if (p.tty)
+        clear_progress(&p);
+    else if (todo->len)
+        progress(&p, true);
+    shut_down(&p);
+    g_array_free(p.workers, TRUE);
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+    signal(SIGPIPE, old_pipe);
+    return !stop_requested && !broken;
+}

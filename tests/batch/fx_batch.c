@@ -1,0 +1,94 @@
+/* Test fixture for rigflow batch: a node that copies a small text file, and does what the file
+ * asks first, so one folder of inputs makes jobs that succeed, fail, crash or run long:
+ *   "fail ..."    the node fails with a message naming the file
+ *   "crash ..."   the process aborts, as a plugin with a fatal bug would
+ *   "sleep S ..." the node takes S seconds (watching for an interrupt), then copies
+ * Anything else is copied as is, after the line "copied by test.copy". */
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <rigflow/plugin.h>
+
+static char *read_small(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char *buf = calloc(1, 4097);
+    size_t n = fread(buf, 1, 4096, f);
+    buf[n] = '\0';
+    fclose(f);
+    return buf;
+}
+
+static bool wait_seconds(const rf_host *host, rf_node *node, double s)
+{
+    for (double t = 0; t < s; t += 0.01) {
+        if (host->cancelled(node))
+            return false;
+        usleep(10000);
+    }
+    return true;
+}
+
+static bool copy_process(void *self, const rf_host *host, rf_node *node)
+{
+    (void)self;
+    const char *in = host->param_string(node, "input");
+    char *text = read_small(in);
+    if (!text) {
+        host->error(node, "cannot read %s", in);
+        return false;
+    }
+    bool ok = true;
+    if (strncmp(text, "fail", 4) == 0) {
+        host->error(node, "%s asks to fail", in);
+        ok = false;
+    } else if (strncmp(text, "crash", 5) == 0) {
+        fprintf(stderr, "test.copy: crashing as %s asks\n", in);
+        abort();
+    } else if (strncmp(text, "sleep ", 6) == 0 && !wait_seconds(host, node, atof(text + 6))) {
+        host->error(node, "interrupted");
+        ok = false;
+    }
+    FILE *f = ok ? fopen(host->param_string(node, "output"), "wb") : NULL;
+    if (ok && (!f || fprintf(f, "copied by test.copy\n%s", text) < 0 || fclose(f) != 0)) {
+        host->error(node, "cannot write %s", host->param_output_target(node, "output"));
+        ok = false;
+    }
+    free(text);
+    return ok;
+}
+
+static const rf_param_desc copy_params[] = {
+    {sizeof(rf_param_desc), "input", RF_PARAM_INPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
+     "the text file to copy"},
+    {sizeof(rf_param_desc), "output", RF_PARAM_OUTPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
+     "the copy"},
+    {sizeof(rf_param_desc), "tag", RF_PARAM_STRING, 0, 0, "", 0, 0, NULL,
+     "any text (batch tests change it to see jobs redone)"}};
+
+static const rf_node_desc copy = {
+    .size = sizeof(rf_node_desc),
+    .type = "test.copy",
+    .kind = RF_KIND_EXPORTER,
+    .doc = "copies a small text file, failing, crashing or sleeping when the file says so",
+    .param_count = 3,
+    .params = copy_params,
+    .process = copy_process,
+};
+static const rf_node_desc *const nodes[] = {&copy};
+
+RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
+    .abi = RF_ABI_VERSION_INIT,
+    .size = sizeof(rf_plugin_entry),
+    .id = "org.rigflow.test.batch",
+    .name = "batch test fixture",
+    .version = "1.0",
+    .description = "a node whose input decides whether it succeeds, fails or crashes",
+    .node_count = 1,
+    .nodes = nodes,
+};

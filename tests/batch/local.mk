@@ -1,0 +1,8 @@
+# rigflow batch: the worker pool, manifest, resume and lock (test_batch.sh), and the Slurm
+# backend against a real one-node Slurm started for the test (test_batch_slurm.sh).
+check_LTLIBRARIES += tests/batch/fx_batch.la
+tests_batch_fx_batch_la_SOURCES = tests/batch/fx_batch.c
+tests_batch_fx_batch_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+TESTS += tests/batch/test_batch.sh
+dist_noinst_SCRIPTS += tests/batch/test_batch.sh
+EXTRA_DIST += tests/batch/copy.json

@@ -1,0 +1,190 @@
+#!/usr/bin/env bash
+# rigflow batch on the worker pool: output names, a batch with a failing and a crashing job, the
+# manifest (checked against sha256sum), resume after a rerun and after kill -9, the lock,
+# Ctrl-C; then a real retarget batch on the shared data, each output compared with a lone
+# `rigflow run` of the same job.
+set -u
+rigflow="${RF_RIGFLOW:-${RF_BUILDDIR:?}/rigflow}"
+fx="$RF_BUILDDIR/tests/batch/.libs"
+pipeline="${RF_SRCDIR:?}/tests/batch/copy.json"
+tmp=$(mktemp -d)
+bg=""
+cleanup() { [ -n "$bg" ] && kill -9 $bg 2>/dev/null; rm -rf "$tmp"; }
+trap cleanup EXIT
+pass=0 fail=0
+
+ok() { pass=$((pass + 1)); echo "ok - $1"; }
+bad() { fail=$((fail + 1)); echo "not ok - $1"; [ -f "$tmp/err" ] && sed 's/^/    stderr: /' "$tmp/err" | head -20; }
+expect() { # expect CODE NAME -- COMMAND...
+    local want=$1 name=$2
+    shift 3
+    "$@" >"$tmp/out" 2>"$tmp/err"
+    local got=$?
+    if [ "$got" = "$want" ]; then ok "$name"; else bad "$name (exit $got, expected $want)"; fi
+}
+contains() { # contains FILE TEXT NAME
+    if grep -qF -- "$2" "$1"; then ok "$3"; else bad "$3: '$2' not in $(basename "$1")"; fi
+}
+same() { # same GOT WANT NAME
+    if [ "$1" = "$2" ]; then ok "$3"; else bad "$3: got '$1', expected '$2'"; fi
+}
+batch() { "$rigflow" --plugin-path "$fx" batch "$pipeline" "$@"; }
+
+# ---- usage errors ----
+expect 0 "batch --help" -- "$rigflow" batch --help
+contains "$tmp/out" "Exit status" "--help documents exit codes"
+expect 2 "batch without --over" -- batch
+contains "$tmp/err" "at least one --over" "the missing --over is named"
+expect 2 "a glob that matches nothing" -- batch --over "copy.input=$tmp/none/*.txt" --out "$tmp/o"
+contains "$tmp/err" "matches no file" "the empty glob is named"
+expect 2 "a malformed --over" -- batch --over "nodot=$tmp/x" --out "$tmp/o"
+mkdir -p "$tmp/in"
+echo hello >"$tmp/in/a.txt"
+expect 3 "an invalid pipeline fails before any job" -- batch --over "copy.nosuch=$tmp/in/*.txt" \
+    --out "$tmp/o"
+[ ! -e "$tmp/o" ] && ok "an invalid pipeline creates no output folder" ||
+    bad "an invalid pipeline created $tmp/o"
+
+# ---- names: extension dropped, kept when stems collide, escaped, cross product ----
+mkdir -p "$tmp/names/sub" "$tmp/tags"
+for f in x.txt x.dat "my clip.txt" .hidden.txt sub/y.txt; do echo hi >"$tmp/names/$f"; done
+echo t >"$tmp/tags/t1.cfg"
+echo t >"$tmp/tags/t2.cfg"
+expect 0 "--list" -- batch --over "copy.input=$tmp/names/*" --out "$tmp/o" --list
+same "$(cut -f1 "$tmp/out" | tr '\n' ' ')" "my%20clip.txt x.dat x.txt " \
+    "stems that collide keep their extensions; other bytes are escaped"
+expect 0 "--list, nested" -- batch --over "copy.input=$tmp/names/*/*.txt" --over \
+    "copy.tag=$tmp/tags/*.cfg" --out "$tmp/o" --list
+same "$(cut -f1 "$tmp/out" | tr '\n' ' ')" "sub+y@t1 sub+y@t2 " "folders and the cross product"
+same "$(cut -f2 "$tmp/out" | head -1)" "$tmp/o/sub+y@t1.txt" "the output keeps the pipeline's extension"
+expect 0 "--list, a leading dot" -- batch --over "copy.input=$tmp/names/.h*" --out "$tmp/o" --list
+same "$(cut -f1 "$tmp/out")" "%2Ehidden" "a leading dot is escaped (no hidden outputs)"
+
+# ---- a batch: four good jobs, one failing, one crashing ----
+in="$tmp/lib" out="$tmp/run"
+mkdir -p "$in"
+for i in 1 2 3 4; do echo "clip $i" >"$in/good$i.txt"; done
+echo "fail please" >"$in/bad.txt"
+echo "crash please" >"$in/boom.txt"
+expect 1 "a batch with a failing and a crashing job exits 1" -- batch --over "copy.input=$in/*.txt" \
+    --out "$out" -j 2
+contains "$tmp/out" "6 jobs: 4 done, 1 failed, 1 crashed, 0 skipped" "the summary counts each outcome"
+contains "$tmp/out" "failed bad: " "the summary names the failed job"
+contains "$tmp/out" "bad.txt asks to fail" "with its error"
+contains "$tmp/out" "crashed boom: the worker process died: killed by signal 6" \
+    "the crash is reported as such, with the signal"
+for i in 1 2 3 4; do
+    printf 'copied by test.copy\nclip %s\n' "$i" | cmp -s - "$out/good$i.txt" ||
+        bad "good$i.txt: wrong or missing output"
+done
+ok "every good job wrote its output (checked byte for byte)"
+[ ! -e "$out/bad.txt" ] && [ ! -e "$out/boom.txt" ] && ok "failed jobs leave no output" ||
+    bad "a failed job left an output"
+same "$(ls -A "$out" | grep -c '\.rf-')" 0 "no temporary file is left"
+contains "$out/rigflow-batch/logs/boom.log" "crashing as" "the crashed job's log keeps what it printed"
+same "$(wc -l <"$out/rigflow-batch/manifest.jsonl" | tr -d ' ')" 6 "one manifest line per job"
+want=$(sha256sum "$out/good3.txt" | cut -d' ' -f1)
+contains "$out/rigflow-batch/manifest.jsonl" "\"sha256\":\"$want\"" "the manifest's SHA-256 is sha256sum's"
+size=$(stat -c %s "$in/good3.txt")
+contains "$out/rigflow-batch/manifest.jsonl" "\"path\":\"$in/good3.txt\",\"size\":$size" \
+    "the manifest records the input's size"
+contains "$out/rigflow-batch/manifest.jsonl" "\"status\":\"crashed\"" "the crash is in the manifest"
+
+# ---- rerun: finished jobs are skipped, failed ones redone, changed ones redone ----
+before=$(stat -c %Y.%y "$out/good1.txt")
+sleep 0.01
+expect 1 "a rerun" -- batch --over "copy.input=$in/*.txt" --out "$out" -j 2
+contains "$tmp/out" "0 done, 1 failed, 1 crashed, 4 skipped" "a rerun skips the finished jobs"
+same "$(stat -c %Y.%y "$out/good1.txt")" "$before" "a skipped job's output is untouched"
+echo "clip 2, changed" >"$in/good2.txt"
+echo "fixed" >"$in/bad.txt"
+rm "$in/boom.txt"
+expect 0 "a rerun after fixing the inputs" -- batch --over "copy.input=$in/*.txt" --out "$out"
+contains "$tmp/out" "5 jobs: 2 done, 0 failed, 0 crashed, 3 skipped" \
+    "a changed input and a fixed failure are redone, nothing else"
+contains "$out/good2.txt" "changed" "the changed input's output is new"
+rm "$out/good4.txt"
+expect 0 "a rerun after an output was deleted" -- batch --over "copy.input=$in/*.txt" --out "$out"
+contains "$tmp/out" "1 done, 0 failed, 0 crashed, 4 skipped" "a missing output is redone"
+expect 0 "a rerun with another parameter" -- batch --over "copy.input=$in/*.txt" --out "$out" \
+    -p copy.tag=v2
+contains "$tmp/out" "5 done, 0 failed, 0 crashed, 0 skipped" "changed parameters redo every job"
+
+# ---- the lock, and kill -9 in the middle ----
+in="$tmp/slow" out="$tmp/killed"
+mkdir -p "$in"
+for i in 01 02 03 04 05 06 07 08 09 10; do echo "sleep 0.25 $i" >"$in/s$i.txt"; done
+"$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$in/*.txt" --out "$out" -j 2 \
+    >"$tmp/bg.out" 2>&1 &
+bg=$!
+sleep 0.3
+expect 5 "a second batch on the same folder is refused" -- batch --over "copy.input=$in/*.txt" \
+    --out "$out"
+contains "$tmp/err" "in use by another batch (pid $bg on" "the refusal names the holding process"
+sleep 0.5
+kill -9 "$bg"
+wait "$bg" 2>/dev/null
+bg=""
+sleep 0.4 # the workers see their parent die and stop
+done_before=$(grep -c '"status":"done"' "$out/rigflow-batch/manifest.jsonl")
+[ "$done_before" -ge 2 ] && [ "$done_before" -lt 10 ] && ok "killed mid-batch ($done_before of 10 recorded)" ||
+    bad "kill -9 came at the wrong time: $done_before of 10 done"
+lost=0
+while read -r line; do
+    f=$(sed -n 's/.*"outputs":\[{"path":"\([^"]*\)".*"sha256":"\([0-9a-f]*\)".*/\1 \2/p' <<<"$line")
+    [ -n "$f" ] || continue
+    [ "$(sha256sum "${f% *}" 2>/dev/null | cut -d' ' -f1)" = "${f#* }" ] || lost=$((lost + 1))
+done <"$out/rigflow-batch/manifest.jsonl"
+same "$lost" 0 "every recorded output is there, as recorded"
+pids=$(sed -n 's/.*"pid":\([0-9]*\).*/\1/p' "$out/rigflow-batch/manifest.jsonl" | sort -u)
+alive=0
+for p in $pids; do # a zombie is dead (some containers' init never reaps orphans)
+    case "$(ps -o stat= -p "$p" 2>/dev/null)" in "" | Z*) ;; *) alive=$((alive + 1)) ;; esac
+done
+same "$alive" 0 "the workers died with their parent"
+expect 0 "the rerun after kill -9" -- batch --over "copy.input=$in/*.txt" --out "$out" -j 2
+contains "$tmp/out" "$((10 - done_before)) done, 0 failed, 0 crashed, $done_before skipped" \
+    "the rerun does exactly the unrecorded jobs"
+same "$(ls "$out" | grep -c '^s.*\.txt$')" 10 "every output exists after the rerun"
+same "$(ls -A "$out" | grep -c '\.rf-')" 0 "no temporary file is left"
+same "$(grep -c '"status":"done"' "$out/rigflow-batch/manifest.jsonl")" 10 \
+    "no job is recorded twice as done"
+
+# ---- Ctrl-C ----
+out="$tmp/interrupted"
+"$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$in/*.txt" --out "$out" -j 2 \
+    >"$tmp/int.out" 2>"$tmp/int.err" &
+bg=$!
+sleep 0.4
+kill -INT "$bg"
+wait "$bg"
+code=$?
+bg=""
+same "$code" 130 "Ctrl-C ends the batch with exit 130"
+contains "$tmp/int.out" "not finished (interrupted)" "the summary says it was interrupted"
+n=$(grep -c '"status":"done"' "$out/rigflow-batch/manifest.jsonl")
+same "$(ls "$out" | grep -c '^s.*\.txt$')" "$n" "only finished jobs have outputs"
+same "$(ls -A "$out" | grep -c '\.rf-')" 0 "an interrupted job leaves no temporary file"
+
+# ---- a real retarget batch ----
+data="${RF_DATA_DIR:-}"
+if [ -f "$data/bvh/cmu_01_01.bvh" ] && [ -f "$data/models/Fox.glb" ]; then
+    out="$tmp/retarget"
+    expect 0 "retarget 2 clips onto 2 characters" -- "$rigflow" batch \
+        "$RF_SRCDIR/pipelines/retarget.json" --over "source.path=$data/bvh/bandai_*k.bvh" \
+        --over "target.path=$data/models/[FR][oi][xg]*.glb" -p export.path=.glb --out "$out" -j 2
+    same "$(cd "$out" && ls *.glb | tr '\n' ' ')" \
+        "bandai_kick@Fox.glb bandai_kick@RiggedFigure.glb bandai_walk@Fox.glb bandai_walk@RiggedFigure.glb " "the retarget outputs"
+    expect 0 "the same job run alone" -- "$rigflow" run "$RF_SRCDIR/pipelines/retarget.json" \
+        -p source.path="$data/bvh/bandai_walk.bvh" -p target.path="$data/models/RiggedFigure.glb" \
+        -p export.path="$tmp/alone.glb"
+    cmp -s "$tmp/alone.glb" "$out/bandai_walk@RiggedFigure.glb" &&
+        ok "a batch job writes the same bytes as rigflow run" || bad "batch and run outputs differ"
+    contains "$out/rigflow-batch/logs/bandai_walk@RiggedFigure.log" "measure: direction fidelity" \
+        "a job's printed report is in its log"
+else
+    echo "# SKIP real retarget batch: no shared data in RF_DATA_DIR='${RF_DATA_DIR:-}'"
+fi
+
+echo "# $pass passed, $fail failed"
+[ "$fail" = 0 ]
