@@ -50,9 +50,12 @@ static char *self_path(void)
         return g_strdup("rigflow");
     g_autofree char *dir = g_path_get_dirname(exe);
     g_autofree char *base = g_path_get_basename(exe);
-    if (g_str_has_prefix(base, "lt-") && g_str_has_suffix(dir, "/.libs")) {
+    if (g_str_has_suffix(dir, "/.libs")) { /* .libs/rigflow or .libs/lt-rigflow */
         g_autofree char *up = g_path_get_dirname(dir);
-        return g_build_filename(up, base + 3, NULL);
+        char *wrapper = g_build_filename(up, base + (g_str_has_prefix(base, "lt-") ? 3 : 0), NULL);
+        if (g_file_test(wrapper, G_FILE_TEST_IS_EXECUTABLE))
+            return wrapper;
+        g_free(wrapper);
     }
     return g_steal_pointer(&exe);
 }
@@ -390,6 +393,32 @@ static bool load_status(status *s, const char *dir)
     return true;
 }
 
+/* "Slurm array tasks: 3 COMPLETED, 1 FAILED, 2 PENDING" */
+static void print_tasks(const status *s)
+{
+    if (s->shards <= 0)
+        return;
+    static const char *const live[] = {"unknown", "PENDING", "RUNNING", "ended"};
+    g_autoptr(GHashTable) count = g_hash_table_new(g_str_hash, g_str_equal);
+    g_autoptr(GPtrArray) order = g_ptr_array_new();
+    for (int k = 0; k < s->shards; k++) {
+        const char *word =
+            s->tasks[k] == TASK_ENDED && s->task_states[k] ? s->task_states[k] : live[s->tasks[k]];
+        gpointer n = g_hash_table_lookup(count, word);
+        if (!n)
+            g_ptr_array_add(order, (gpointer)word);
+        g_hash_table_insert(count, (gpointer)word, GINT_TO_POINTER(GPOINTER_TO_INT(n) + 1));
+    }
+    printf("Slurm array tasks:");
+    for (guint i = 0; i < order->len; i++)
+        printf("%s %d %s", i ? "," : "",
+               GPOINTER_TO_INT(g_hash_table_lookup(count, order->pdata[i])),
+               (char *)order->pdata[i]);
+    printf("%s\n", g_hash_table_contains(count, "unknown")
+                       ? " (unknown: Slurm no longer remembers them; see MinJobAge)"
+                       : "");
+}
+
 int rf_batch_status(const char *dir)
 {
     status s = {0};
@@ -404,6 +433,7 @@ int rf_batch_status(const char *dir)
         rf_batch_print_escaped(stdout, g_ptr_array_index(s.problems, i));
         printf("\n");
     }
+    print_tasks(&s);
     int code = s.running + s.pending  ? RF_EXIT_QUEUED
                : s.failed + s.missing ? RF_EXIT_RUN
                                       : RF_EXIT_OK;

@@ -1,0 +1,170 @@
+#!/usr/bin/env bash
+# rigflow batch --slurm against a real Slurm: a one-node cluster (munged, slurmctld, slurmd) on
+# 127.0.0.1, started in a temporary folder for this test and stopped after it. Submits an array
+# with one failing job, follows it with --status, fixes the input, --resubmit, and checks every
+# output. The daemons stopped are exactly those started here (their PIDs recorded at start: the
+# daemons delete their own pid files on exit). Skips (77) without slurm-wlm and munge, or when
+# not root (the daemons run as root with SlurmUser=root).
+set -u
+rigflow="${RF_RIGFLOW:-${RF_BUILDDIR:?}/rigflow}"
+fx="$RF_BUILDDIR/tests/batch/.libs"
+pipeline="${RF_SRCDIR:?}/tests/batch/copy.json"
+
+skip() { echo "# SKIP Slurm batch test: $1"; exit 77; }
+[ "$(id -u)" = 0 ] || skip "needs root to start munged, slurmctld and slurmd"
+for tool in /usr/sbin/munged /usr/sbin/slurmctld /usr/sbin/slurmd sbatch squeue scontrol sinfo; do
+    command -v "$tool" >/dev/null || skip "$tool not found (Debian packages slurm-wlm and munge)"
+done
+
+tmp=$(mktemp -d)
+chmod 0755 "$tmp"
+daemons=()
+stop_daemons() {
+    local p i
+    for ((i = ${#daemons[@]} - 1; i >= 0; i--)); do kill "${daemons[i]}" 2>/dev/null; done
+    for i in $(seq 50); do # up to 5 s for them to go
+        local left=0
+        for p in "${daemons[@]}"; do
+            case "$(ps -o stat= -p "$p" 2>/dev/null)" in "" | Z*) ;; *) left=1 ;; esac
+        done
+        [ "$left" = 0 ] && break
+        sleep 0.1
+    done
+    for p in "${daemons[@]}"; do kill -9 "$p" 2>/dev/null; done
+    daemons=()
+}
+trap 'stop_daemons; rm -rf "$tmp"' EXIT
+pass=0 fail=0
+ok() { pass=$((pass + 1)); echo "ok - $1"; }
+bad() { fail=$((fail + 1)); echo "not ok - $1"; [ -f "$tmp/err" ] && sed 's/^/    stderr: /' "$tmp/err" | head -20; }
+expect() { # expect CODE NAME -- COMMAND...
+    local want=$1 name=$2
+    shift 3
+    "$@" >"$tmp/out" 2>"$tmp/err"
+    local got=$?
+    if [ "$got" = "$want" ]; then ok "$name"; else bad "$name (exit $got, expected $want)"; fi
+}
+contains() { # contains FILE TEXT NAME
+    if grep -qF -- "$2" "$1"; then ok "$3"; else bad "$3: '$2' not in $(basename "$1")"; fi
+}
+fatal() { echo "Bail out! $1"; for f in "$tmp"/*.log "$tmp"/*.out; do [ -f "$f" ] && tail -5 "$f" | sed "s|^|    $(basename "$f"): |"; done; exit 99; }
+
+# ---- the cluster ----
+port_free() { ! (exec 3<>"/dev/tcp/127.0.0.1/$1") 2>/dev/null; }
+port=$((20000 + ($$ % 2000) * 10))
+while ! port_free "$port" || ! port_free $((port + 1)); do port=$((port + 2)); done
+node=$(hostname -s)
+mkdir -p "$tmp/munge" "$tmp/state" "$tmp/spool"
+chmod 0755 "$tmp/munge" # munged wants its socket folder world-searchable
+head -c 1024 /dev/urandom >"$tmp/munge/key"
+chmod 0400 "$tmp/munge/key"
+/usr/sbin/munged -F -S "$tmp/munge/socket" --key-file="$tmp/munge/key" --log-file="$tmp/munged.log" \
+    --pid-file="$tmp/munge/pid" --seed-file="$tmp/munge/seed" >"$tmp/munged.out" 2>&1 &
+daemons+=($!)
+for i in $(seq 50); do [ -S "$tmp/munge/socket" ] && break; sleep 0.1; done
+[ -S "$tmp/munge/socket" ] || fatal "munged did not start"
+cat >"$tmp/slurm.conf" <<EOF
+ClusterName=rigflowtest
+SlurmctldHost=$node(127.0.0.1)
+SlurmUser=root
+SlurmdUser=root
+SlurmctldPort=$port
+SlurmdPort=$((port + 1))
+AuthType=auth/munge
+AuthInfo=socket=$tmp/munge/socket
+CredType=cred/munge
+StateSaveLocation=$tmp/state
+SlurmdSpoolDir=$tmp/spool
+SlurmctldPidFile=$tmp/slurmctld.pid
+SlurmdPidFile=$tmp/slurmd.pid
+SlurmctldLogFile=$tmp/slurmctld.log
+SlurmdLogFile=$tmp/slurmd.log
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+MpiDefault=none
+SchedulerType=sched/builtin
+SchedulerParameters=batch_sched_delay=0
+SelectType=select/cons_tres
+SelectTypeParameters=CR_CPU
+MinJobAge=600
+ReturnToService=2
+JobAcctGatherType=jobacct_gather/none
+AccountingStorageType=accounting_storage/none
+NodeName=$node NodeAddr=127.0.0.1 CPUs=$(nproc) State=UNKNOWN
+PartitionName=rigflow Nodes=$node Default=YES MaxTime=INFINITE State=UP
+EOF
+export SLURM_CONF="$tmp/slurm.conf"
+/usr/sbin/slurmctld -D -i >"$tmp/slurmctld.out" 2>&1 &
+daemons+=($!)
+/usr/sbin/slurmd -D -N "$node" >"$tmp/slurmd.out" 2>&1 &
+daemons+=($!)
+for i in $(seq 100); do
+    [ "$(sinfo -h -o %t 2>/dev/null)" = idle ] && break
+    sleep 0.1
+done
+[ "$(sinfo -h -o %t 2>/dev/null)" = idle ] || fatal "the one-node cluster did not come up"
+ok "a one-node Slurm cluster is up on 127.0.0.1 (ports $port, $((port + 1)))"
+
+# Waits for the batch in $1 to leave Slurm's queue (squeue, polled: sbatch --wait polls slowly).
+wait_batch() {
+    local i
+    for i in $(seq 600); do
+        "$rigflow" batch --status "$1" >"$tmp/status" 2>&1
+        [ $? != 6 ] && return 0
+        sleep 0.1
+    done
+    return 1
+}
+
+# ---- submit an array with one failing job ----
+in="$tmp/in" out="$tmp/out-dir"
+mkdir -p "$in"
+echo "fail, until fixed" >"$in/bad.txt"
+for i in 1 2 3 4 5 6 7; do echo "clip $i" >"$in/c$i.txt"; done
+expect 0 "--slurm submits the array" -- "$rigflow" --plugin-path "$fx" batch "$pipeline" \
+    --over "copy.input=$in/*.txt" --out "$out" --slurm --array-size 4 --time 5
+contains "$tmp/out" "submitted 8 jobs as Slurm array" "the submission is reported"
+contains "$out/rigflow-batch/slurm.sbatch" "--shard \"\$SLURM_ARRAY_TASK_ID/4\"" \
+    "the script runs one shard per array task"
+contains "$out/rigflow-batch/slurm.sbatch" "#SBATCH --array=0-3" "four array tasks"
+t0=$(date +%s.%N)
+wait_batch "$out" || fatal "the array did not finish within 60 s"
+t1=$(date +%s.%N)
+echo "# the array ran in $(awk "BEGIN { printf \"%.1f\", $t1 - $t0 }") s"
+expect 1 "--status after the array: a job failed" -- "$rigflow" batch --status "$out"
+contains "$tmp/out" "8 jobs: 7 done, 1 failed, 0 running, 0 pending, 0 missing" "--status counts"
+contains "$tmp/out" "failed bad: " "--status names the failed job"
+contains "$tmp/out" "bad.txt asks to fail" "with its error"
+contains "$tmp/out" "Slurm array tasks: 1 FAILED, 3 COMPLETED" "scontrol's word on each task"
+good=0
+for i in 1 2 3 4 5 6 7; do
+    printf 'copied by test.copy\nclip %s\n' "$i" | cmp -s - "$out/c$i.txt" && good=$((good + 1))
+done
+[ "$good" = 7 ] && ok "every good job's output is right" || bad "$good of 7 outputs right"
+[ "$(ls "$out"/rigflow-batch/manifest-shard-*-of-4.jsonl | wc -l)" = 4 ] &&
+    ok "each shard kept its own manifest" || bad "expected 4 shard manifests"
+
+# ---- resubmit the failed task only ----
+echo "fixed" >"$in/bad.txt"
+expect 0 "--resubmit" -- "$rigflow" batch --resubmit "$out"
+contains "$tmp/out" "resubmitted 1 failed and 0 missing jobs" "--resubmit names what it sends"
+contains "$tmp/out" "(tasks 0)" "only the failed job's task is submitted"
+wait_batch "$out" || fatal "the resubmitted task did not finish within 60 s"
+expect 0 "--status after the resubmission: all done" -- "$rigflow" batch --status "$out"
+contains "$tmp/out" "8 jobs: 8 done, 0 failed" "--status counts every job done"
+contains "$out/bad.txt" "fixed" "the resubmitted job wrote its output"
+skips=$(grep -h "skipped (finished before)" "$out"/rigflow-batch/logs/slurm-*_0.out | tail -1)
+case "$skips" in *"2 jobs: 1 done, 0 failed, 0 crashed, 1 skipped"*) ok "the resubmitted shard redid only the failed job" ;;
+*) bad "the resubmitted shard: $skips" ;; esac
+expect 0 "--resubmit with nothing left" -- "$rigflow" batch --resubmit "$out"
+contains "$tmp/out" "nothing to resubmit" "--resubmit says so"
+
+started=("${daemons[@]}")
+stop_daemons
+left=0
+for p in "${started[@]}"; do
+    case "$(ps -o stat= -p "$p" 2>/dev/null)" in "" | Z*) ;; *) left=$((left + 1)) ;; esac
+done
+[ "$left" = 0 ] && ok "the daemons started here are stopped" || bad "$left daemons still run"
+echo "# $pass passed, $fail failed"
+[ "$fail" = 0 ]
