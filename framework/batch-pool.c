@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include <glib/gstdio.h>
+#include <nettle/sha2.h>
 
 #include "batch.h"
 
@@ -187,7 +188,8 @@ static G_GNUC_NORETURN void worker_main(const rf_batch *b, const rf_registry *re
 typedef struct pool {
     rf_batch *b;
     const rf_registry *reg;
-    GArray *workers; /* worker */
+    GArray *workers;    /* worker */
+    GPtrArray *pending; /* records received, not yet in the manifest */
     int mfd;
     rf_batch_stats *stats;
     guint finished; /* jobs answered this run (any status) */
@@ -275,9 +277,10 @@ static void report_failure(pool *p, const char *what, const char *name, const ch
     g_ptr_array_add(p->stats->failures, line);
 }
 
-static void record(pool *p, const rf_batch_job *job, json_t *rec)
+static void record(pool *p, json_t *rec)
 {
     const char *status = json_string_value(json_object_get(rec, "status"));
+    const char *name = json_string_value(json_object_get(rec, "job"));
     p->finished++;
     if (g_strcmp0(status, "interrupted") == 0) {
         p->stats->interrupted++;
@@ -293,8 +296,17 @@ static void record(pool *p, const rf_batch_job *job, json_t *rec)
         p->stats->crashed++;
     else
         p->stats->failed++;
-    report_failure(p, crashed ? "crashed" : "failed", job->name,
+    report_failure(p, crashed ? "crashed" : "failed", name ? name : "?",
                    json_string_value(json_object_get(rec, "error")));
+}
+
+/* Records what arrived. Called after the idle workers got their next job, so that the
+ * manifest's fsync overlaps their work instead of delaying it. */
+static void flush_pending(pool *p)
+{
+    for (guint i = 0; i < p->pending->len; i++)
+        record(p, g_ptr_array_index(p->pending, i));
+    g_ptr_array_set_size(p->pending, 0);
 }
 
 static char *death_reason(int status)
@@ -320,9 +332,7 @@ static void worker_died(pool *p, worker *w)
     g_autofree char *error = g_strdup_printf("the worker process died: %s; its log: %s/logs/%s.log",
                                              why, p->b->state, w->job->name);
     rf_batch_clean_temps(p->b, w->job); /* the engine had no chance to */
-    json_t *rec = rf_batch_record(w->job, "crashed", error, NULL, 0);
-    record(p, w->job, rec);
-    json_decref(rec);
+    g_ptr_array_add(p->pending, rf_batch_record(w->job, "crashed", error, NULL, 0));
     w->job = NULL;
 }
 
@@ -341,8 +351,7 @@ static void receive(pool *p, worker *w)
         worker_died(p, w);
         return;
     }
-    record(p, w->job, rec);
-    json_decref(rec);
+    g_ptr_array_add(p->pending, rec);
     w->job = NULL;
 }
 
@@ -418,6 +427,7 @@ bool rf_batch_pool_run(rf_batch *b, const rf_registry *reg, GPtrArray *todo, int
     pool p = {.b = b,
               .reg = reg,
               .workers = g_array_sized_new(FALSE, TRUE, sizeof(worker), n),
+              .pending = g_ptr_array_new_with_free_func((GDestroyNotify)json_decref),
               .mfd = mfd,
               .stats = stats,
               .todo = todo->len,
@@ -435,6 +445,7 @@ bool rf_batch_pool_run(rf_batch *b, const rf_registry *reg, GPtrArray *todo, int
             if (!g_array_index(p.workers, worker, i).job)
                 broken = !dispatch(&p, &g_array_index(p.workers, worker, i),
                                    g_ptr_array_index(todo, next++));
+        flush_pending(&p);
         if (busy_count(&p) == 0 && (stop_requested || broken || next == todo->len))
             break;
         if (stop_requested && !forwarded) {
@@ -449,6 +460,8 @@ bool rf_batch_pool_run(rf_batch *b, const rf_registry *reg, GPtrArray *todo, int
     else if (todo->len)
         progress(&p, true);
     shut_down(&p);
+    flush_pending(&p);
+    g_ptr_array_unref(p.pending);
     g_array_free(p.workers, TRUE);
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);

@@ -40,3 +40,5 @@ rigflow_SOURCES += framework/map-cmd.c framework/map-cmd.h
 # rigflow batch: a pipeline over whole libraries, on a worker pool or a Slurm job array.
 rigflow_SOURCES += framework/batch.c framework/batch.h framework/batch-pool.c \
 	framework/batch-manifest.c framework/batch-slurm.c
+rigflow_CFLAGS += $(NETTLE_CFLAGS)
+rigflow_LDADD += $(NETTLE_LIBS)

@@ -5,4 +5,4 @@ tests_batch_fx_batch_la_SOURCES = tests/batch/fx_batch.c
 tests_batch_fx_batch_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 TESTS += tests/batch/test_batch.sh tests/batch/test_batch_slurm.sh
 dist_noinst_SCRIPTS += tests/batch/test_batch.sh tests/batch/test_batch_slurm.sh
-EXTRA_DIST += tests/batch/copy.json
+EXTRA_DIST += tests/batch/copy.json tests/batch/slurm-cluster.sh

@@ -4,36 +4,17 @@
 # with one failing job, follows it with --status, fixes the input, --resubmit, and checks every
 # output. The daemons stopped are exactly those started here (their PIDs recorded at start: the
 # daemons delete their own pid files on exit). Skips (77) without slurm-wlm and munge, or when
-# not root (the daemons run as root with SlurmUser=root).
+# not root (the daemons run as root with SlurmUser=root). The cluster: slurm-cluster.sh.
 set -u
 rigflow="${RF_RIGFLOW:-${RF_BUILDDIR:?}/rigflow}"
 fx="$RF_BUILDDIR/tests/batch/.libs"
 pipeline="${RF_SRCDIR:?}/tests/batch/copy.json"
 
-skip() { echo "# SKIP Slurm batch test: $1"; exit 77; }
-[ "$(id -u)" = 0 ] || skip "needs root to start munged, slurmctld and slurmd"
-for tool in /usr/sbin/munged /usr/sbin/slurmctld /usr/sbin/slurmd sbatch squeue scontrol sinfo; do
-    command -v "$tool" >/dev/null || skip "$tool not found (Debian packages slurm-wlm and munge)"
-done
+. "$RF_SRCDIR/tests/batch/slurm-cluster.sh"
+why=$(slurm_cluster_check) || { echo "# SKIP Slurm batch test: $why"; exit 77; }
 
 tmp=$(mktemp -d)
-chmod 0755 "$tmp"
-daemons=()
-stop_daemons() {
-    local p i
-    for ((i = ${#daemons[@]} - 1; i >= 0; i--)); do kill "${daemons[i]}" 2>/dev/null; done
-    for i in $(seq 50); do # up to 5 s for them to go
-        local left=0
-        for p in "${daemons[@]}"; do
-            case "$(ps -o stat= -p "$p" 2>/dev/null)" in "" | Z*) ;; *) left=1 ;; esac
-        done
-        [ "$left" = 0 ] && break
-        sleep 0.1
-    done
-    for p in "${daemons[@]}"; do kill -9 "$p" 2>/dev/null; done
-    daemons=()
-}
-trap 'stop_daemons; rm -rf "$tmp"' EXIT
+trap 'slurm_cluster_stop; rm -rf "$tmp"' EXIT
 pass=0 fail=0
 ok() { pass=$((pass + 1)); echo "ok - $1"; }
 bad() { fail=$((fail + 1)); echo "not ok - $1"; [ -f "$tmp/err" ] && sed 's/^/    stderr: /' "$tmp/err" | head -20; }
@@ -47,63 +28,11 @@ expect() { # expect CODE NAME -- COMMAND...
 contains() { # contains FILE TEXT NAME
     if grep -qF -- "$2" "$1"; then ok "$3"; else bad "$3: '$2' not in $(basename "$1")"; fi
 }
-fatal() { echo "Bail out! $1"; for f in "$tmp"/*.log "$tmp"/*.out; do [ -f "$f" ] && tail -5 "$f" | sed "s|^|    $(basename "$f"): |"; done; exit 99; }
 
-# ---- the cluster ----
-port_free() { ! (exec 3<>"/dev/tcp/127.0.0.1/$1") 2>/dev/null; }
-port=$((20000 + ($$ % 2000) * 10))
-while ! port_free "$port" || ! port_free $((port + 1)); do port=$((port + 2)); done
-node=$(hostname -s)
-mkdir -p "$tmp/munge" "$tmp/state" "$tmp/spool"
-chmod 0755 "$tmp/munge" # munged wants its socket folder world-searchable
-head -c 1024 /dev/urandom >"$tmp/munge/key"
-chmod 0400 "$tmp/munge/key"
-/usr/sbin/munged -F -S "$tmp/munge/socket" --key-file="$tmp/munge/key" --log-file="$tmp/munged.log" \
-    --pid-file="$tmp/munge/pid" --seed-file="$tmp/munge/seed" >"$tmp/munged.out" 2>&1 &
-daemons+=($!)
-for i in $(seq 50); do [ -S "$tmp/munge/socket" ] && break; sleep 0.1; done
-[ -S "$tmp/munge/socket" ] || fatal "munged did not start"
-cat >"$tmp/slurm.conf" <<EOF
-ClusterName=rigflowtest
-SlurmctldHost=$node(127.0.0.1)
-SlurmUser=root
-SlurmdUser=root
-SlurmctldPort=$port
-SlurmdPort=$((port + 1))
-AuthType=auth/munge
-AuthInfo=socket=$tmp/munge/socket
-CredType=cred/munge
-StateSaveLocation=$tmp/state
-SlurmdSpoolDir=$tmp/spool
-SlurmctldPidFile=$tmp/slurmctld.pid
-SlurmdPidFile=$tmp/slurmd.pid
-SlurmctldLogFile=$tmp/slurmctld.log
-SlurmdLogFile=$tmp/slurmd.log
-ProctrackType=proctrack/linuxproc
-TaskPlugin=task/none
-MpiDefault=none
-SchedulerType=sched/builtin
-SchedulerParameters=batch_sched_delay=0
-SelectType=select/cons_tres
-SelectTypeParameters=CR_CPU
-MinJobAge=600
-ReturnToService=2
-JobAcctGatherType=jobacct_gather/none
-AccountingStorageType=accounting_storage/none
-NodeName=$node NodeAddr=127.0.0.1 CPUs=$(nproc) State=UNKNOWN
-PartitionName=rigflow Nodes=$node Default=YES MaxTime=INFINITE State=UP
-EOF
-export SLURM_CONF="$tmp/slurm.conf"
-/usr/sbin/slurmctld -D -i >"$tmp/slurmctld.out" 2>&1 &
-daemons+=($!)
-/usr/sbin/slurmd -D -N "$node" >"$tmp/slurmd.out" 2>&1 &
-daemons+=($!)
-for i in $(seq 100); do
-    [ "$(sinfo -h -o %t 2>/dev/null)" = idle ] && break
-    sleep 0.1
-done
-[ "$(sinfo -h -o %t 2>/dev/null)" = idle ] || fatal "the one-node cluster did not come up"
-ok "a one-node Slurm cluster is up on 127.0.0.1 (ports $port, $((port + 1)))"
+chmod 0755 "$tmp" # munged wants every folder above its socket searchable
+mkdir -p "$tmp/cluster"
+slurm_cluster_start "$tmp/cluster" >"$tmp/why" || { echo "Bail out! $(cat "$tmp/why")"; exit 99; }
+ok "a one-node Slurm cluster is up on 127.0.0.1 (port $slurm_port)"
 
 # Waits for the batch in $1 to leave Slurm's queue (squeue, polled: sbatch --wait polls slowly).
 wait_batch() {
@@ -128,7 +57,7 @@ contains "$out/rigflow-batch/slurm.sbatch" "--shard \"\$SLURM_ARRAY_TASK_ID/4\""
     "the script runs one shard per array task"
 contains "$out/rigflow-batch/slurm.sbatch" "#SBATCH --array=0-3" "four array tasks"
 t0=$(date +%s.%N)
-wait_batch "$out" || fatal "the array did not finish within 60 s"
+wait_batch "$out" || { echo "Bail out! the array did not finish within 60 s"; exit 99; }
 t1=$(date +%s.%N)
 echo "# the array ran in $(awk "BEGIN { printf \"%.1f\", $t1 - $t0 }") s"
 expect 1 "--status after the array: a job failed" -- "$rigflow" batch --status "$out"
@@ -149,7 +78,7 @@ echo "fixed" >"$in/bad.txt"
 expect 0 "--resubmit" -- "$rigflow" batch --resubmit "$out"
 contains "$tmp/out" "resubmitted 1 failed and 0 missing jobs" "--resubmit names what it sends"
 contains "$tmp/out" "(tasks 0)" "only the failed job's task is submitted"
-wait_batch "$out" || fatal "the resubmitted task did not finish within 60 s"
+wait_batch "$out" || { echo "Bail out! the resubmitted task did not finish within 60 s"; exit 99; }
 expect 0 "--status after the resubmission: all done" -- "$rigflow" batch --status "$out"
 contains "$tmp/out" "8 jobs: 8 done, 0 failed" "--status counts every job done"
 contains "$out/bad.txt" "fixed" "the resubmitted job wrote its output"
@@ -159,12 +88,10 @@ case "$skips" in *"2 jobs: 1 done, 0 failed, 0 crashed, 1 skipped"*) ok "the res
 expect 0 "--resubmit with nothing left" -- "$rigflow" batch --resubmit "$out"
 contains "$tmp/out" "nothing to resubmit" "--resubmit says so"
 
-started=("${daemons[@]}")
-stop_daemons
+started=("${slurm_daemons[@]}")
+slurm_cluster_stop
 left=0
-for p in "${started[@]}"; do
-    case "$(ps -o stat= -p "$p" 2>/dev/null)" in "" | Z*) ;; *) left=$((left + 1)) ;; esac
-done
+for p in "${started[@]}"; do slurm_alive "$p" && left=$((left + 1)); done
 [ "$left" = 0 ] && ok "the daemons started here are stopped" || bad "$left daemons still run"
 echo "# $pass passed, $fail failed"
 [ "$fail" = 0 ]
