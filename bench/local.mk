@@ -3,3 +3,9 @@
 EXTRA_DIST += bench/ik/run.sh bench/ik/ratios.mjs
 # BVH import beside three.js and Assimp: `make bench-bvh` runs bench/bvh/run.sh.
 include bench/bvh/local.mk
+# rigflow batch: -j 1, -j 2, one process per job and a local Slurm: `make bench-batch`.
+EXTRA_DIST += bench/batch/run.sh
+bench-batch: all
+	$(SHELL) $(srcdir)/bench/batch/run.sh '$(abs_top_builddir)' $(BENCH_BATCH_ARGS)
+bench: bench-batch
+.PHONY: bench-batch

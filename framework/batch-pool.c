@@ -20,6 +20,7 @@
 #include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <glib/gstdio.h>
@@ -132,6 +133,15 @@ static bool run_pipeline(const rf_batch *b, const rf_registry *reg, const rf_bat
     return ok;
 }
 
+/* This process's CPU time: beside the wall time, it tells waiting (I/O, a loaded machine) from
+ * work. */
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec / 1e9;
+}
+
 /* Runs one job with its stdout and stderr in its log file; returns its record. */
 static json_t *run_job(const rf_batch *b, const rf_registry *reg, const rf_batch_job *job)
 {
@@ -145,6 +155,7 @@ static json_t *run_job(const rf_batch *b, const rf_registry *reg, const rf_batch
         close(fd);
     }
     gint64 t0 = g_get_monotonic_time();
+    double cpu0 = cpu_seconds();
     g_autoptr(GPtrArray) diags = rf_diags_new();
     bool ok = run_pipeline(b, reg, job, diags);
     rf_print_diags(diags, "error");
@@ -157,7 +168,10 @@ static json_t *run_job(const rf_batch *b, const rf_registry *reg, const rf_batch
     double seconds = (double)(g_get_monotonic_time() - t0) / 1e6;
     g_autofree char *error = ok ? NULL : join_diags(diags);
     const char *status = ok ? "done" : job_cancelled ? "interrupted" : "failed";
-    return rf_batch_record(job, status, error, ok ? hash_outputs(job) : NULL, seconds);
+    double cpu = cpu_seconds() - cpu0;
+    json_t *rec = rf_batch_record(job, status, error, ok ? hash_outputs(job) : NULL, seconds);
+    json_object_set_new(rec, "cpu_seconds", json_real(cpu));
+    return rec;
 }
 
 static G_GNUC_NORETURN void worker_main(const rf_batch *b, const rf_registry *reg, int job_fd,
