@@ -2,6 +2,7 @@
  * asks first, so one folder of inputs makes jobs that succeed, fail, crash or run long:
  *   "fail ..."    the node fails with a message naming the file
  *   "crash ..."   the process aborts, as a plugin with a fatal bug would
+ *   "kill ..."    the process gets SIGKILL, as from the OOM killer
  *   "sleep S ..." the node takes S seconds (watching for an interrupt), then copies
  * Anything else is copied as is, after the line "copied by test.copy". */
 #include <signal.h>
@@ -50,6 +51,10 @@ static bool copy_process(void *self, const rf_host *host, rf_node *node)
     } else if (strncmp(text, "crash", 5) == 0) {
         fprintf(stderr, "test.copy: crashing as %s asks\n", in);
         abort();
+    } else if (strncmp(text, "kill", 4) == 0) {
+        fprintf(stderr, "test.copy: crashing as %s asks\n", in);
+        fflush(stderr);
+        raise(SIGKILL);
     } else if (strncmp(text, "sleep ", 6) == 0 && !wait_seconds(host, node, atof(text + 6))) {
         host->error(node, "interrupted");
         ok = false;

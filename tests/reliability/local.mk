@@ -13,6 +13,7 @@ EXTRA_DIST += tests/reliability/valgrind.supp
 # read or write, use of uninitialised memory or definite leak fails the run (tests/reliability/
 # valgrind.sh). Deep-nesting rows use 10 000 joints there: valgrind is ~50 times slower.
 VALGRIND_TESTS = tests/test_cli.sh tests/reliability/test_bad_input.sh
+VALGRIND_TESTS += tests/batch/test_batch.sh
 valgrind: all $(check_LTLIBRARIES)
 	@rm -rf '$(abs_top_builddir)/valgrind-logs'; \
 	fail=0; for t in $(VALGRIND_TESTS); do \
