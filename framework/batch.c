@@ -260,6 +260,14 @@ static void add_input(rf_batch_job *j, const char *path)
         g_ptr_array_add(j->inputs, g_canonicalize_filename(path, NULL));
 }
 
+static bool is_output(const rf_batch *b, const char *param)
+{
+    for (guint i = 0; i < b->outputs->len; i++)
+        if (strcmp(((rf_batch_output *)b->outputs->pdata[i])->param, param) == 0)
+            return true;
+    return false;
+}
+
 static void assign(rf_batch_job *j, const char *param, const char *value)
 {
     g_ptr_array_add(j->assign, g_strdup_printf("%s=%s", param, value));
@@ -280,7 +288,8 @@ static rf_batch_job *make_job(rf_batch *b, guint index, const guint *pick)
         const char *eq = strchr(*kv, '=');
         g_autofree char *param = g_strndup(*kv, (gsize)(eq - *kv));
         assign(j, param, eq + 1);
-        add_input(j, eq + 1);
+        if (!is_output(b, param)) /* an output's value only gives its extension */
+            add_input(j, eq + 1);
     }
     GString *name = g_string_new(NULL);
     for (guint i = 0; i < b->overs->len; i++) {
