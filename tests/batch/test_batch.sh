@@ -158,6 +158,25 @@ same "$(ls -A "$out" | grep -c '\.rf-')" 0 "no temporary file is left"
 same "$(grep -c '"status":"done"' "$out/rigflow-batch/manifest.jsonl")" 10 \
     "no job is recorded twice as done"
 
+# ---- --status on a local batch ----
+expect 0 "--status of a finished local batch" -- "$rigflow" batch --status "$out"
+contains "$tmp/out" "10 jobs: 10 done, 0 failed, 0 running, 0 pending, 0 missing" "--status counts"
+expect 2 "--status of a folder that holds no batch" -- "$rigflow" batch --status "$in"
+contains "$tmp/err" "is not a batch folder" "--status says why"
+expect 2 "--resubmit of a local batch" -- "$rigflow" batch --resubmit "$out"
+contains "$tmp/err" "was not submitted to Slurm" "--resubmit says why"
+
+# ---- the progress line on a terminal (script(1) gives the batch one) ----
+if command -v script >/dev/null && [ -z "${RF_VG_LOGS:-}" ]; then
+    script -qec "'$rigflow' --plugin-path '$fx' batch '$pipeline' --over 'copy.input=$in/*.txt' \
+        --out '$tmp/tty' -j 2" /dev/null >"$tmp/tty.out" 2>&1
+    grep -q $'\r\033\[Krigflow batch: [0-9]*/10 jobs, 0 failed, 0 crashed, .* jobs/s, ETA ' "$tmp/tty.out" &&
+        ok "on a terminal, a progress line is redrawn with counts, rate and ETA" ||
+        bad "no progress line on a terminal: $(head -c 300 "$tmp/tty.out" | od -c | head -5)"
+else
+    echo "# SKIP progress on a terminal: script(1) not found, or under valgrind"
+fi
+
 # ---- Ctrl-C ----
 out="$tmp/interrupted"
 "$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$in/*.txt" --out "$out" -j 2 \
