@@ -208,15 +208,23 @@ static task_state state_of(const char *s)
     return TASK_ENDED;
 }
 
+/* Runs a Slurm client and returns its output, or NULL. A busy controller makes clients time out
+ * now and then: those are retried, a refusal (a job Slurm forgot) is not. */
 static char *run_tool(const char *const *argv)
 {
-    g_autofree char *out = NULL;
-    int status = 0;
-    if (!g_spawn_sync(NULL, (char **)argv, NULL, G_SPAWN_SEARCH_PATH | G_SPAWN_STDERR_TO_DEV_NULL,
-                      NULL, NULL, &out, NULL, &status, NULL) ||
-        !g_spawn_check_wait_status(status, NULL))
-        return NULL;
-    return g_steal_pointer(&out);
+    for (int attempt = 0; attempt < 3; attempt++) {
+        g_autofree char *out = NULL, *err = NULL;
+        int status = 0;
+        if (!g_spawn_sync(NULL, (char **)argv, NULL, G_SPAWN_SEARCH_PATH, NULL, NULL, &out, &err,
+                          &status, NULL))
+            return NULL;
+        if (g_spawn_check_wait_status(status, NULL))
+            return g_steal_pointer(&out);
+        if (!err || (!strstr(err, "timed out") && !strstr(err, "Unable to contact")))
+            return NULL;
+        g_usleep(500000);
+    }
+    return NULL;
 }
 
 /* "3", "4-7", "1,3,5-6%2": calls set for each task index. */
