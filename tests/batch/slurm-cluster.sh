@@ -16,7 +16,7 @@ slurm_cluster_check() {
         return 1
     fi
     local tool
-    for tool in /usr/sbin/munged /usr/sbin/slurmctld /usr/sbin/slurmd sbatch squeue scontrol sinfo; do
+    for tool in /usr/sbin/munged /usr/sbin/slurmctld /usr/sbin/slurmd sbatch squeue scontrol scancel sinfo; do
         command -v "$tool" >/dev/null || {
             echo "$tool not found (Debian packages slurm-wlm and munge)"
             return 1

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # rigflow batch --slurm against a real Slurm: a one-node cluster (munged, slurmctld, slurmd) on
 # 127.0.0.1, started in a temporary folder for this test and stopped after it. Submits an array
-# with one failing job, follows it with --status, fixes the input, --resubmit, and checks every
-# output. The daemons stopped are exactly those started here (their PIDs recorded at start: the
+# with a failing job and a task cancelled mid-job, follows it with --status, fixes the inputs,
+# --resubmit, and checks every output. The daemons stopped are exactly those started here (their PIDs recorded at start: the
 # daemons delete their own pid files on exit). Skips (77) without slurm-wlm and munge, or when
 # not root (the daemons run as root with SlurmUser=root). The cluster: slurm-cluster.sh.
 set -u
@@ -45,49 +45,65 @@ wait_batch() {
     return 1
 }
 
-# ---- submit an array with one failing job ----
+# ---- submit an array: a failing job, and a long one whose task is cancelled ----
+# Jobs in name order: bad c1 c2 c3 c4 c5 c6 slow; task I of 4 runs jobs I and I+4, so task 0
+# holds the failing job and task 3 the long one.
 in="$tmp/in" out="$tmp/out-dir"
 mkdir -p "$in"
 echo "fail, until fixed" >"$in/bad.txt"
-for i in 1 2 3 4 5 6 7; do echo "clip $i" >"$in/c$i.txt"; done
+for i in 1 2 3 4 5 6; do echo "clip $i" >"$in/c$i.txt"; done
+echo "sleep 60" >"$in/slow.txt"
 expect 0 "--slurm submits the array" -- "$rigflow" --plugin-path "$fx" batch "$pipeline" \
     --over "copy.input=$in/*.txt" --out "$out" --slurm --array-size 4 --time 5
 contains "$tmp/out" "submitted 8 jobs as Slurm array" "the submission is reported"
+array=$(sed -n 's/.*as Slurm array \([0-9]*\) .*/\1/p' "$tmp/out")
 contains "$out/rigflow-batch/slurm.sbatch" "--shard \"\$SLURM_ARRAY_TASK_ID/4\"" \
     "the script runs one shard per array task"
 contains "$out/rigflow-batch/slurm.sbatch" "#SBATCH --array=0-3" "four array tasks"
+expect 6 "--status while the array is queued" -- "$rigflow" batch --status "$out"
+# cancel task 3 once it has recorded c3 and is running the long job
+for i in $(seq 600); do grep -qs '"job":"c3"' "$out"/rigflow-batch/manifest-shard-3-of-4.jsonl && break; sleep 0.1; done
+scancel "${array}_3"
 t0=$(date +%s.%N)
 wait_batch "$out" || { echo "Bail out! the array did not finish within 60 s"; exit 99; }
 t1=$(date +%s.%N)
-echo "# the array ran in $(awk "BEGIN { printf \"%.1f\", $t1 - $t0 }") s"
-expect 1 "--status after the array: a job failed" -- "$rigflow" batch --status "$out"
-contains "$tmp/out" "8 jobs: 7 done, 1 failed, 0 running, 0 pending, 0 missing" "--status counts"
+echo "# the array ended $(awk "BEGIN { printf \"%.1f\", $t1 - $t0 }") s after the cancellation"
+expect 1 "--status after the array: a job failed, one is missing" -- "$rigflow" batch --status "$out"
+sed 's/^/# status: /' "$tmp/out"
+contains "$tmp/out" "8 jobs: 6 done, 1 failed, 0 running, 0 pending, 1 missing" "--status counts"
 contains "$tmp/out" "failed bad: " "--status names the failed job"
 contains "$tmp/out" "bad.txt asks to fail" "with its error"
-sed 's/^/# status: /' "$tmp/out"
+contains "$tmp/out" "missing slow: its array task 3 ended CANCELLED" \
+    "--status names the missing job and how its task ended"
 tasks=$(grep "^Slurm array tasks:" "$tmp/out")
-case "$tasks" in *"1 FAILED"*"3 COMPLETED"* | *"3 COMPLETED"*"1 FAILED"*) ok "scontrol's word on each task" ;;
+case "$tasks" in *"1 FAILED"*"2 COMPLETED"*"1 CANCELLED"*) ok "scontrol's word on each task" ;;
 *) bad "scontrol's word on each task: '$tasks'" ;; esac
 good=0
-for i in 1 2 3 4 5 6 7; do
+for i in 1 2 3 4 5 6; do
     printf 'copied by test.copy\nclip %s\n' "$i" | cmp -s - "$out/c$i.txt" && good=$((good + 1))
 done
-[ "$good" = 7 ] && ok "every good job's output is right" || bad "$good of 7 outputs right"
+[ "$good" = 6 ] && ok "every good job's output is right" || bad "$good of 6 outputs right"
+[ ! -e "$out/slow.txt" ] && [ "$(ls -A "$out" | grep -c '\.rf-')" = 0 ] &&
+    ok "the cancelled job left no output, not even a temporary one" || bad "the cancelled job left a file"
 [ "$(ls "$out"/rigflow-batch/manifest-shard-*-of-4.jsonl | wc -l)" = 4 ] &&
     ok "each shard kept its own manifest" || bad "expected 4 shard manifests"
 
-# ---- resubmit the failed task only ----
+# ---- resubmit the failed and the missing job's tasks only ----
 echo "fixed" >"$in/bad.txt"
+echo "sleep 0.1" >"$in/slow.txt"
 expect 0 "--resubmit" -- "$rigflow" batch --resubmit "$out"
-contains "$tmp/out" "resubmitted 1 failed and 0 missing jobs" "--resubmit names what it sends"
-contains "$tmp/out" "(tasks 0)" "only the failed job's task is submitted"
-wait_batch "$out" || { echo "Bail out! the resubmitted task did not finish within 60 s"; exit 99; }
+contains "$tmp/out" "resubmitted 1 failed and 1 missing jobs" "--resubmit names what it sends"
+contains "$tmp/out" "(tasks 0,3)" "only the tasks of those jobs are submitted"
+wait_batch "$out" || { echo "Bail out! the resubmitted tasks did not finish within 60 s"; exit 99; }
 expect 0 "--status after the resubmission: all done" -- "$rigflow" batch --status "$out"
 contains "$tmp/out" "8 jobs: 8 done, 0 failed" "--status counts every job done"
-contains "$out/bad.txt" "fixed" "the resubmitted job wrote its output"
-skips=$(grep -h "skipped (finished before)" "$out"/rigflow-batch/logs/slurm-*_0.out | tail -1)
-case "$skips" in *"2 jobs: 1 done, 0 failed, 0 crashed, 1 skipped"*) ok "the resubmitted shard redid only the failed job" ;;
-*) bad "the resubmitted shard: $skips" ;; esac
+contains "$out/bad.txt" "fixed" "the resubmitted failed job wrote its output"
+contains "$out/slow.txt" "sleep 0.1" "the resubmitted missing job wrote its output"
+for task in 0 3; do
+    skips=$(grep -h "skipped (finished before)" "$out"/rigflow-batch/logs/slurm-*_$task.out | tail -1)
+    case "$skips" in *"2 jobs: 1 done, 0 failed, 0 crashed, 1 skipped"*) ok "resubmitted task $task redid only its unfinished job" ;;
+    *) bad "resubmitted task $task: $skips" ;; esac
+done
 expect 0 "--resubmit with nothing left" -- "$rigflow" batch --resubmit "$out"
 contains "$tmp/out" "nothing to resubmit" "--resubmit says so"
 
