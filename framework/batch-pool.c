@@ -480,5 +480,6 @@ bool rf_batch_pool_run(rf_batch *b, const rf_registry *reg, GPtrArray *todo, int
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);
     signal(SIGPIPE, old_pipe);
-    return !stop_requested && !broken;
+    stats->no_worker = broken;
+    return !stop_requested;
 }

@@ -453,8 +453,9 @@ static void print_summary(const rf_batch_stats *s, double seconds, bool interrup
     guint ran = s->done + s->failed + s->crashed;
     printf("rigflow batch: %u job%s: %u done, %u failed, %u crashed, %u skipped (finished before)",
            s->total, s->total == 1 ? "" : "s", s->done, s->failed, s->crashed, s->skipped);
-    if (interrupted)
-        printf(", %u not finished (interrupted)", s->total - ran - s->skipped);
+    if (interrupted || s->no_worker)
+        printf(", %u not finished (%s)", s->total - ran - s->skipped,
+               interrupted ? "interrupted" : "no worker process could start");
     printf("; %.1f s", seconds);
     if (ran && seconds > 0)
         printf(", %.2f jobs/s", ran / seconds);
@@ -499,9 +500,9 @@ static int run_local(rf_batch *b, const rf_registry *reg)
     print_summary(&stats, (double)(g_get_monotonic_time() - t0) / 1e6, !finished);
     close(mfd);
     close(lock);
-    int code = !finished                          ? RF_EXIT_CANCELLED
-               : stats.failed + stats.crashed > 0 ? RF_EXIT_RUN
-                                                  : RF_EXIT_OK;
+    int code = !finished                                             ? RF_EXIT_CANCELLED
+               : stats.failed + stats.crashed > 0 || stats.no_worker ? RF_EXIT_RUN
+                                                                     : RF_EXIT_OK;
     g_ptr_array_unref(stats.failures);
     return code;
 }

@@ -83,6 +83,7 @@ void rf_batch_clean_temps(const rf_batch *b, const rf_batch_job *job);
 typedef struct rf_batch_stats {
     guint done, failed, crashed, skipped, interrupted, total;
     GPtrArray *failures; /* "failed NAME: error" lines for the closing summary */
+    bool no_worker;      /* a worker process could not be started: the batch stopped */
 } rf_batch_stats;
 
 /* Runs `todo` (rf_batch_job*) on b->workers processes forked from this one, appending each
