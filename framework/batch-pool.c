@@ -369,19 +369,26 @@ static void receive(pool *p, worker *w)
     w->job = NULL;
 }
 
+/* Hands `job` to `w`, starting a worker first when the slot has none. A worker that died while
+ * idle (killed from outside) is replaced once; a fresh worker that cannot take a job means
+ * something is wrong with the machine, and the batch stops. */
 static bool dispatch(pool *p, worker *w, rf_batch_job *job)
 {
-    if (w->pid == 0 && !spawn(p, w)) {
-        fprintf(stderr, "rigflow batch: cannot start a worker process: %s\n", g_strerror(errno));
-        return false;
-    }
     guint32 index = job->index;
-    if (!write_full(w->job_fd, &index, sizeof index)) {
-        worker_died(p, w); /* died while idle: the job goes to a fresh worker */
-        return dispatch(p, w, job);
+    for (int attempt = 0; attempt < 2; attempt++) {
+        if (w->pid == 0 && !spawn(p, w)) {
+            fprintf(stderr, "rigflow batch: cannot start a worker process: %s\n",
+                    g_strerror(errno));
+            return false;
+        }
+        if (write_full(w->job_fd, &index, sizeof index)) {
+            w->job = job;
+            return true;
+        }
+        worker_died(p, w);
     }
-    w->job = job;
-    return true;
+    fprintf(stderr, "rigflow batch: worker processes die before taking a job\n");
+    return false;
 }
 
 static guint busy_count(pool *p)
