@@ -6,7 +6,7 @@
 
 #include "commands.h"
 #include "ik-bench.h"
-#include "workload.h"
+#include "rigflow/ik-workload.h"
 
 typedef struct bench_solver {
     const char *type; /* node type, e.g. "ik.fabrik" */

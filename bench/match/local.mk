@@ -6,7 +6,7 @@ bench_match_bench_match_SOURCES = bench/match/bench_match.c tests/match/truth.c 
 bench_match_bench_match_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins \
 	-I$(top_srcdir)/tests/match -I$(top_srcdir)/plugins/bvh -I$(top_srcdir)/plugins/assimp
 bench_match_bench_match_LDADD = plugins/match-similarity/libsimilarity.la \
-	framework/analysis/libanalysis.la plugins/bvh/libbvh.la plugins/assimp/librfassimp.la -lm
+	sdk/analysis/librigflow-analysis.la plugins/bvh/libbvh.la plugins/assimp/librfassimp.la -lm
 CLEANFILES += bench/match/bench_match$(EXEEXT)
 EXTRA_DIST += bench/match/run.sh
 

@@ -11,7 +11,7 @@
 #include <rigflow/ik.h>
 #include <rigflow/plugin.h>
 
-#include "workload.h"
+#include "rigflow/ik-workload.h"
 
 #define DEFAULT_WORKLOADS                                                                          \
     "chain2-it10,chain5-it10,chain5-it50,chain10-it10,chain10-it50,chain30-it50,tree2-it50,"       \

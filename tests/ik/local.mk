@@ -4,7 +4,7 @@ IK_TEST_CPPFLAGS = $(IK_CPPFLAGS) -I$(top_srcdir)/plugins/ik-fabrik \
 	-I$(top_srcdir)/plugins/ik-jacobian
 IK_TEST_LDADD = plugins/ik-fabrik/libikfabrik.la plugins/ik-ccd/libikccd.la \
 	plugins/ik-twobone/libiktwobone.la plugins/ik-jacobian/libikjacobian.la \
-	plugins/ik-common/libikcommon.la $(CMOCKA_LIBS) -lm
+	sdk/ik/librigflow-ik.la $(CMOCKA_LIBS) -lm
 
 check_PROGRAMS += tests/ik/test_ik_solvers
 TESTS += tests/ik/test_ik_solvers

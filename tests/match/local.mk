@@ -3,7 +3,7 @@
 # ground truth (tests/match/truth) and on generated ones.
 MATCH_TEST_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins -I$(top_srcdir)/tests/match
 MATCH_TEST_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
-MATCH_LIBS = plugins/match-similarity/libsimilarity.la framework/analysis/libanalysis.la \
+MATCH_LIBS = plugins/match-similarity/libsimilarity.la sdk/analysis/librigflow-analysis.la \
 	plugins/match-names/libnames.la -lm
 
 check_PROGRAMS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
@@ -17,7 +17,7 @@ EXTRA_DIST += tests/match/truth
 tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
 tests_match_test_analysis_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
 tests_match_test_analysis_CFLAGS = $(MATCH_TEST_CFLAGS)
-tests_match_test_analysis_LDADD = framework/analysis/libanalysis.la $(CMOCKA_LIBS) -lm
+tests_match_test_analysis_LDADD = sdk/analysis/librigflow-analysis.la $(CMOCKA_LIBS) -lm
 
 tests_match_test_accuracy_SOURCES = tests/match/test_accuracy.c tests/match/truth.c \
 	tests/match/truth.h

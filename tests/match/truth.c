@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "aimport.h"
-#include "analysis/analysis.h"
+#include "rigflow/analysis.h"
 #include "bvh.h"
 #include "truth.h"
 

@@ -3,9 +3,9 @@
 # (test_retarget_pipeline.sh, with the test.name-map fixture plugin). The contact pass runs
 # through the two-bone solver's library.
 RT_TEST_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/retarget \
-	-I$(top_srcdir)/plugins/ik-common -I$(top_srcdir)/plugins/ik-twobone
-RT_TEST_LDADD = plugins/retarget/libretarget.la plugins/ik-twobone/libiktwobone.la \
-	plugins/ik-common/libikcommon.la $(CMOCKA_LIBS) -lm
+	 -I$(top_srcdir)/plugins/ik-twobone
+RT_TEST_LDADD = plugins/retarget/libretarget.la sdk/analysis/librigflow-analysis.la plugins/ik-twobone/libiktwobone.la \
+	sdk/ik/librigflow-ik.la $(CMOCKA_LIBS) -lm
 
 check_PROGRAMS += tests/retarget/test_retarget tests/retarget/test_retarget_data
 TESTS += tests/retarget/test_retarget tests/retarget/test_retarget_data

@@ -2,7 +2,7 @@
  * run hands a freshly made solver to whichever nodes are connected to its "solver" port. */
 #include <stdlib.h>
 
-#include "ikcommon.h"
+#include "rigflow/ik-common.h"
 
 const rf_port_desc rf_ikc_solver_output = {
     sizeof(rf_port_desc), "solver", RF_TYPE_IK_SOLVER, 0,

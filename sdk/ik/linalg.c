@@ -4,7 +4,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "ikcommon.h"
+#include "rigflow/ik-common.h"
 
 /* Rotates columns p and q of an (rows)-long column-major matrix by (c, s). */
 static void rotate_cols(double *M, int rows, int p, int q, double c, double s)

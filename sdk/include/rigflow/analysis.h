@@ -1,6 +1,6 @@
 /* Skeleton analysis: what each joint of an arbitrary skeleton is for, from geometry and hierarchy
- * alone (never names). Shared by the matchers, the retargeters and the riggers, which link the
- * libanalysis convenience library statically (it needs only the SDK headers and libm).
+ * alone (never names). Shared by the matchers, the retargeters and the riggers, in tree or out:
+ * link `pkg-config --libs rigflow-analysis` (a static library needing only libm).
  *
  * What it finds (doc/matching.md explains how):
  * - up, forward and left axes, detected from the skeleton (limbs hanging to the ground, feet and

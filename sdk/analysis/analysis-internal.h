@@ -7,7 +7,7 @@
 #ifndef RF_ANALYSIS_INTERNAL_H
 #define RF_ANALYSIS_INTERNAL_H
 
-#include "analysis.h"
+#include "rigflow/analysis.h"
 
 #define RF_NONE (-1)
 

@@ -5,7 +5,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "workload.h"
+#include "rigflow/ik-workload.h"
 
 #define DEG (RF_PI / 180.0)
 

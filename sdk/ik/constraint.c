@@ -6,7 +6,7 @@
  * bone turns away from its reference direction (the cone limit), the twist angle the roll about
  * the bone (the twist limit); Aristidou et al. 2016 bound the same two quantities.
  */
-#include "ikcommon.h"
+#include "rigflow/ik-common.h"
 
 static double wrap_angle(double a)
 {

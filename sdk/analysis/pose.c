@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "analysis.h"
+#include "rigflow/analysis.h"
 
 static uint32_t leaf_count(const rf_skeleton *s)
 {

@@ -3,7 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ikcommon.h"
+#include "rigflow/ik-common.h"
 
 #define GROW(ptr, count) ((ptr) = realloc((ptr), (size_t)(count) * sizeof *(ptr)))
 
