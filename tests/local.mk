@@ -47,9 +47,11 @@ HOST_TEST_LIBS = framework/librigflow.la $(GLIB_LIBS) $(JANSSON_LIBS) $(CMOCKA_L
 check_PROGRAMS += tests/test_plugins tests/test_pipeline tests/test_math
 TESTS += tests/test_plugins tests/test_pipeline tests/test_math
 tests_test_plugins_SOURCES = tests/test_plugins.c tests/testutil.h
+tests_test_plugins_CPPFLAGS = $(HOST_CPPFLAGS)
 tests_test_plugins_CFLAGS = $(HOST_TEST_CFLAGS)
 tests_test_plugins_LDADD = $(HOST_TEST_LIBS)
 tests_test_pipeline_SOURCES = tests/test_pipeline.c tests/testutil.h
+tests_test_pipeline_CPPFLAGS = $(HOST_CPPFLAGS)
 tests_test_pipeline_CFLAGS = $(HOST_TEST_CFLAGS)
 tests_test_pipeline_LDADD = $(HOST_TEST_LIBS)
 tests_test_math_SOURCES = tests/test_math.c
@@ -57,8 +59,9 @@ tests_test_math_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_test_math_LDADD = $(CMOCKA_LIBS) -lm
 
 # The command end to end, with the bundled plugins.
-TESTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_sdk.sh
-dist_noinst_SCRIPTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh \
+TESTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_sdk.sh \
+	tests/test_layout.sh
+dist_noinst_SCRIPTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_layout.sh \
 	tests/test_sdk.sh
 EXTRA_DIST += sdk/examples/smooth/smooth.c sdk/examples/smooth/Makefile \
 	sdk/examples/match-nearest/match_nearest.c sdk/examples/match-nearest/Makefile

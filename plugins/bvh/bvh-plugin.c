@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "rigflow/plugin.h"
-#include "bvh.h"
+#include "rigflow/bvh.h"
 
 #define ERR_SIZE 1024
 

@@ -4,7 +4,7 @@
 
 #include <rigflow/rigflow.h>
 
-#include "names.h"
+#include "rigflow/match-names.h"
 
 #define MAX_SOURCES 64
 

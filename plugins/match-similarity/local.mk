@@ -14,9 +14,9 @@ plugins_match_similarity_libsimilarity_la_LIBADD = -lm
 
 plugins_LTLIBRARIES += plugins/match-similarity.la
 plugins_match_similarity_la_SOURCES = plugins/match-similarity/plugin.c
-plugins_match_similarity_la_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins
+
 plugins_match_similarity_la_LDFLAGS = $(PLUGIN_LDFLAGS)
 plugins_match_similarity_la_LIBADD = plugins/match-similarity/libsimilarity.la sdk/analysis/librigflow-analysis.la \
-	plugins/match-names/libnames.la -lm
+	sdk/match/librigflow-match.la -lm
 
 dist_pipelines_DATA += pipelines/map.json pipelines/map-edit.json

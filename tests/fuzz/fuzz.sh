@@ -45,11 +45,7 @@ build() {
 }
 
 build_bvh() {
-    local f srcs=()
-    for f in "$src"/plugins/bvh/bvh-*.c; do
-        [ "$(basename "$f")" = bvh-plugin.c ] || srcs+=("$f")
-    done
-    build fuzz_bvh -I"$src/plugins/bvh" "$src/tests/fuzz/fuzz_bvh.c" "${srcs[@]}" --
+    build fuzz_bvh -I"$src/sdk/formats/bvh" "$src/tests/fuzz/fuzz_bvh.c" "$src"/sdk/formats/bvh/bvh-*.c --
 }
 
 build_pipeline() {

@@ -19,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bvh.h"
+#include "rigflow/bvh.h"
 
 #define PROGRESS_FRAMES 1024u
 #define MAX_INDENT 32 /* deeper joints are not indented further: 100k levels stay readable */

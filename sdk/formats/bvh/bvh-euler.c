@@ -3,7 +3,7 @@
 #include <math.h>
 
 #include "bvh-math.h"
-#include "bvh.h"
+#include "rigflow/bvh.h"
 
 static const int order_axes[6][3] = {
     {2, 1, 0}, /* ZYX */

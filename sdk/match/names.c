@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "names.h"
+#include "rigflow/match-names.h"
 
 #define RF_MAX_TOKENS 16
 #define RF_TOKEN_SIZE 32

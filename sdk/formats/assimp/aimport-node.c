@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "aimport-node.h"
+#include "rigflow/aimport-node.h"
 
 const rf_param_desc rf_ai_node_params[RF_AI_NODE_PARAM_COUNT] = {
     {sizeof(rf_param_desc), "path", RF_PARAM_INPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,

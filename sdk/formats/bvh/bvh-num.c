@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "bvh-num.h"
-#include "bvh.h"
+#include "rigflow/bvh.h"
 
 const char *rf_bvh_parse_double(const char *s, double *out)
 {

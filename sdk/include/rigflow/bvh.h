@@ -18,7 +18,7 @@
 #include <stddef.h>
 #include <stdio.h>
 
-#include "rigflow/plugin.h" /* the data model, and RF_PRINTF */
+#include <rigflow/plugin.h> /* the data model, and RF_PRINTF */
 
 /* Called now and then during long reads and writes with the fraction done, in [0, 1]. Returning
  * false cancels the operation, which then fails with the message "cancelled". */

@@ -5,7 +5,7 @@
 
 #include <rigflow/rigflow.h>
 
-#include "aimport.h"
+#include <rigflow/aimport.h>
 
 #define RF_AI_NODE_PARAM_COUNT 5
 #define RF_AI_NODE_OUTPUT_COUNT 4

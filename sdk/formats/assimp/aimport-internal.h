@@ -7,7 +7,7 @@
 
 #include <assimp/scene.h>
 
-#include "aimport.h"
+#include "rigflow/aimport.h"
 
 typedef struct rf_ai_ctx {
     const char *path;

@@ -17,7 +17,7 @@
 
 #include <jansson.h>
 
-#include "gltf-write.h"
+#include "rigflow/gltf-write.h"
 
 enum {
     RF_GL_UNSIGNED_BYTE = 5121,

@@ -26,7 +26,7 @@
 
 #include "bvh-math.h"
 #include "bvh-num.h"
-#include "bvh.h"
+#include "rigflow/bvh.h"
 
 #define CHUNK_SMALL (1u << 16) /* bytes read at a time: small files keep memory low */
 #define CHUNK_LARGE (1u << 18) /* and large ones give the threads batches of many lines */
