@@ -172,6 +172,12 @@ static FILE *open_output(const rf_host *host, rf_node *node, const char *param)
 static bool process(void *self, const rf_host *host, rf_node *node)
 {
     (void)self;
+    for (uint32_t i = 0; i < host->input_count(node, "solvers"); i++)
+        if (!rf_ik_solver_usable(host->input(node, "solvers", i))) {
+            host->error(node, "solver %u on input 'solvers' is incomplete (its size or functions)",
+                        i);
+            return false;
+        }
     const char *bvh = host->param_string(node, "bvh");
     FILE *csv = open_output(host, node, "csv");
     if (!csv)

@@ -113,7 +113,7 @@ static bool check_joints(const rf_ik_problem *pb, rf_ik_result *res, bool known)
 
 static bool check_constraint(const rf_ik_constraint *c, uint32_t j, rf_ik_result *res)
 {
-    if (c->size < sizeof(rf_ik_constraint))
+    if (c->size < RF_IK_CONSTRAINT_SIZE_1_0)
         return REFUSE(res, "joint %u: constraint size %u is too small", j, c->size);
     if ((c->flags & RF_IK_LIMIT_HINGE) && (c->flags & (RF_IK_LIMIT_CONE | RF_IK_LIMIT_TWIST)))
         return REFUSE(res, "joint %u: a hinge cannot also have cone or twist limits", j);
@@ -133,7 +133,7 @@ static bool check_constraint(const rf_ik_constraint *c, uint32_t j, rf_ik_result
 static bool check_goal(const rf_ik_problem *pb, const rf_ik_goal *g, uint32_t i, rf_ik_result *res,
                        bool known)
 {
-    if (g->size < sizeof(rf_ik_goal))
+    if (g->size < RF_IK_GOAL_SIZE_1_0)
         return REFUSE(res, "goal %u: size %u is too small", i, g->size);
     if (!known && g->effector >= pb->joint_count)
         return REFUSE(res, "goal %u: effector joint %u does not exist (the problem has %u joints)",
@@ -166,10 +166,10 @@ static bool check_goal(const rf_ik_problem *pb, const rf_ik_goal *g, uint32_t i,
 /* What every problem is checked for before its arrays are read. */
 static bool check_header(const rf_ik_problem *pb, rf_ik_result *res)
 {
-    if (!res || res->size < sizeof(rf_ik_result))
+    if (!res || res->size < RF_IK_RESULT_SIZE_1_0)
         return false; /* nowhere to say why */
     res->message[0] = '\0';
-    if (!pb || pb->size < sizeof(rf_ik_problem))
+    if (!pb || pb->size < RF_IK_PROBLEM_SIZE_1_0)
         return REFUSE(res, "problem missing or its size is too small");
     if (pb->joint_count == 0 || !pb->parents || !pb->pose)
         return REFUSE(res, "problem has no joints (joint_count, parents and pose are required)");
