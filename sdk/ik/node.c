@@ -4,9 +4,9 @@
 
 #include "rigflow/ik-common.h"
 
-const rf_port_desc rf_ikc_solver_output = {
-    sizeof(rf_port_desc), "solver", RF_TYPE_IK_SOLVER, 0,
-    "the configured solver, for nodes that take a rigflow.ik-solver input"};
+const rf_port_desc rf_ikc_solver_output =
+    RF_PORT_DESC("solver", RF_TYPE_IK_SOLVER, 0,
+                 "the configured solver, for nodes that take a rigflow.ik-solver input");
 
 bool rf_ikc_node_create(const rf_host *host, rf_node *node, void **self)
 {

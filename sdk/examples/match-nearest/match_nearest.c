@@ -97,32 +97,24 @@ static bool nearest_process(void *self, const rf_host *host, rf_node *node)
 }
 
 static const rf_port_desc in_ports[] = {
-    {sizeof(rf_port_desc), "target", RF_TYPE_SKELETON, 0, "skeleton to map onto"},
-    {sizeof(rf_port_desc), "sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE, "skeletons to map from"}};
+    RF_PORT_DESC("target", RF_TYPE_SKELETON, 0, "skeleton to map onto"),
+    RF_PORT_DESC("sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE, "skeletons to map from")};
 static const rf_port_desc out_ports[] = {
-    {sizeof(rf_port_desc), "mapping", RF_TYPE_MAPPING, 0, "nearest source joint per target joint"}};
+    RF_PORT_DESC("mapping", RF_TYPE_MAPPING, 0, "nearest source joint per target joint")};
 
 static const rf_node_desc nearest = {
     .size = sizeof(rf_node_desc),
     .type = "example.match-nearest",
     .kind = RF_KIND_MATCHER,
-    .doc = "Maps each target joint to the nearest source joint on its side, rest poses seen in the body's own frame.",
-    .input_count = 2,
-    .inputs = in_ports,
-    .output_count = 1,
-    .outputs = out_ports,
+    .doc = "Maps each target joint to the nearest source joint on its side, rest poses seen in the "
+           "body's own frame.",
+    RF_NODE_INPUTS(in_ports),
+    RF_NODE_OUTPUTS(out_ports),
     .process = nearest_process,
 };
 
 static const rf_node_desc *const nodes[] = {&nearest};
 
-RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
-    .abi = RF_ABI_VERSION_INIT,
-    .size = sizeof(rf_plugin_entry),
-    .id = "org.example.match-nearest",
-    .name = "Nearest-joint matcher example",
-    .version = "1.0",
-    .description = "An out-of-tree matcher plugin: nearest joint on the same side, in the body's frame",
-    .node_count = 1,
-    .nodes = nodes,
-};
+RF_PLUGIN_DEFINE(
+    "org.example.match-nearest", "Nearest-joint matcher example", "1.0",
+    "An out-of-tree matcher plugin: nearest joint on the same side, in the body's frame", nodes);

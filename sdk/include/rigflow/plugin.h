@@ -222,6 +222,81 @@ typedef struct rf_plugin_entry {
     const rf_node_desc *const *nodes; /* (static) */
 } rf_plugin_entry;
 
+/* ---- descriptor builders ----
+ * Designated initialisers that set the size and leave every field not named zero (no default,
+ * no range, no flags), so a descriptor reads as what it declares and survives appended fields:
+ *
+ *   static const rf_param_desc params[] = {
+ *       RF_PARAM_DESC_INT("window", 5, 1, 99, "frames averaged around each frame"),
+ *       RF_PARAM_DESC_ENUM("mode", "fast", "fast|exact", "how the average is taken"),
+ *       RF_PARAM_DESC(.name = "path", .type = RF_PARAM_INPUT_PATH, .flags = RF_PARAM_REQUIRED,
+ *                     .doc = "the file to read"),
+ *   };
+ *   static const rf_port_desc inputs[] = {RF_PORT_DESC("animation", RF_TYPE_ANIMATION, 0, "...")};
+ *   static const rf_node_desc smooth = {
+ *       .size = sizeof(rf_node_desc), .type = "example.smooth", .kind = RF_KIND_FILTER,
+ *       RF_NODE_INPUTS(inputs), RF_NODE_OUTPUTS(outputs), RF_NODE_PARAMS(params),
+ *       .process = smooth_process,
+ *   };
+ */
+#define RF_COUNT_OF(array) ((uint32_t)(sizeof(array) / sizeof((array)[0])))
+
+#define RF_PARAM_DESC(...) {.size = sizeof(rf_param_desc), __VA_ARGS__}
+#define RF_PARAM_DESC_BOOL(name_, default_, doc_)                                                  \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_BOOL, .default_number = (default_),          \
+                  .doc = (doc_))
+#define RF_PARAM_DESC_INT(name_, default_, min_, max_, doc_)                                       \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_INT, .flags = RF_PARAM_HAS_RANGE,            \
+                  .default_number = (default_), .min = (min_), .max = (max_), .doc = (doc_))
+#define RF_PARAM_DESC_FLOAT(name_, default_, min_, max_, doc_)                                     \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_FLOAT, .flags = RF_PARAM_HAS_RANGE,          \
+                  .default_number = (default_), .min = (min_), .max = (max_), .doc = (doc_))
+#define RF_PARAM_DESC_STRING(name_, default_, doc_)                                                \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_STRING, .default_string = (default_),        \
+                  .doc = (doc_))
+#define RF_PARAM_DESC_ENUM(name_, default_, choices_, doc_)                                        \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_ENUM, .default_string = (default_),          \
+                  .choices = (choices_), .doc = (doc_))
+/* A file the node reads or writes; `flags` RF_PARAM_REQUIRED or 0 (optional: "" when unset). */
+#define RF_PARAM_DESC_INPUT_PATH(name_, flags_, doc_)                                              \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_INPUT_PATH, .flags = (flags_), .doc = (doc_))
+#define RF_PARAM_DESC_OUTPUT_PATH(name_, flags_, doc_)                                             \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_OUTPUT_PATH, .flags = (flags_), .doc = (doc_))
+
+#define RF_PORT_DESC(name_, type_, flags_, doc_)                                                   \
+    {.size = sizeof(rf_port_desc), .name = (name_), .type = (type_), .flags = (flags_),          \
+     .doc = (doc_)}
+
+/* A node descriptor's counted arrays, counted by the compiler. */
+#define RF_NODE_INPUTS(array) .input_count = RF_COUNT_OF(array), .inputs = (array)
+#define RF_NODE_OUTPUTS(array) .output_count = RF_COUNT_OF(array), .outputs = (array)
+#define RF_NODE_PARAMS(array) .param_count = RF_COUNT_OF(array), .params = (array)
+
+/* A get_extension function named `fn` that offers the self-test `run` (and nothing else):
+ *   static bool my_selftest(const rf_host *host, char *err, size_t err_size) { ... }
+ *   RF_SELFTEST_GET_EXTENSION(my_get_extension, my_selftest)
+ *   ... .get_extension = my_get_extension, ... */
+#define RF_SELFTEST_GET_EXTENSION(fn, run)                                                         \
+    static const rf_selftest fn##_selftest = {sizeof(rf_selftest), (run)};                         \
+    static const void *fn(const char *id)                                                         \
+    {                                                                                              \
+        return strcmp(id, RF_SELFTEST_EXTENSION) == 0 ? &fn##_selftest : NULL;                     \
+    }
+
+/* The plugin's one exported symbol, its node types counted from the array `nodes_`
+ * (`static const rf_node_desc *const nodes_[] = {&a, &b};`). */
+#define RF_PLUGIN_DEFINE(id_, name_, version_, description_, nodes_)                              \
+    RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {                                \
+        .abi = RF_ABI_VERSION_INIT,                                                                \
+        .size = sizeof(rf_plugin_entry),                                                           \
+        .id = (id_),                                                                               \
+        .name = (name_),                                                                           \
+        .version = (version_),                                                                     \
+        .description = (description_),                                                            \
+        .node_count = RF_COUNT_OF(nodes_),                                                         \
+        .nodes = (nodes_),                                                                         \
+    }
+
 /* The 1.0 layout of each struct, the smallest a host accepts (see the growth rules above). */
 #define RF_PLUGIN_ENTRY_SIZE_1_0 RF_SIZE_THROUGH(rf_plugin_entry, nodes)
 #define RF_NODE_DESC_SIZE_1_0 RF_SIZE_THROUGH(rf_node_desc, get_extension)
