@@ -199,6 +199,8 @@ static void *model_view(rf_node *node, const char *port, const char *type, void 
             return data;
         void *view = g_malloc0(model_layouts[k].size);
         memcpy(view, data, size);
+        uint32_t ours = (uint32_t)model_layouts[k].size; /* the copy is a struct of this build */
+        memcpy(view, &ours, sizeof ours);
         return view;
     }
     return data;

@@ -113,11 +113,14 @@ static bool size_ok(uint32_t size, size_t min, const char *what, GString *why)
     return false;
 }
 
-/* `src`'s first min(size, dst_size) bytes into a zeroed `dst`. */
-static void copy_prefix(void *dst, size_t dst_size, const void *src, uint32_t size)
+/* `src`'s first min(size, dst_size) bytes into a zeroed `dst`, whose uint32_t size field at
+ * `size_at` then says what it now is: a struct of this build. */
+static void copy_prefix(void *dst, size_t dst_size, const void *src, uint32_t size, size_t size_at)
 {
     memset(dst, 0, dst_size);
     memcpy(dst, src, MIN((size_t)size, dst_size));
+    uint32_t ours = (uint32_t)dst_size;
+    memcpy((char *)dst + size_at, &ours, sizeof ours);
 }
 
 /* A plugin's array of `n` elements, each starting with its own size, walked by those sizes and
@@ -138,7 +141,7 @@ static void *copy_array(rf_plugin *p, const void *raw, uint32_t n, size_t elem, 
                                    size);
             return NULL;
         }
-        copy_prefix(out + i * elem, elem, at, size);
+        copy_prefix(out + i * elem, elem, at, size, 0);
         at += size;
     }
     return out;
@@ -178,7 +181,7 @@ static rf_node_desc *normalise_node(rf_plugin *p, const rf_node_desc *raw, GStri
         return NULL;
     rf_node_desc *d = g_malloc(sizeof *d);
     g_ptr_array_add(p->owned, d);
-    copy_prefix(d, sizeof *d, raw, raw->size);
+    copy_prefix(d, sizeof *d, raw, raw->size, offsetof(rf_node_desc, size));
     if (!d->type || !d->process) {
         g_string_append(why, "a node type lacks its type id or process function");
         return NULL;
@@ -217,7 +220,7 @@ static bool normalise(rf_plugin *p, GString *why)
     const rf_plugin_entry *raw = p->raw;
     if (!size_ok(raw->size, RF_PLUGIN_ENTRY_SIZE_1_0, "its entry", why))
         return false;
-    copy_prefix(&p->copy, sizeof p->copy, raw, raw->size);
+    copy_prefix(&p->copy, sizeof p->copy, raw, raw->size, offsetof(rf_plugin_entry, size));
     rf_plugin_entry *e = &p->copy;
     if (!e->id || !e->name) {
         g_string_append(why, "its entry lacks its id or name");

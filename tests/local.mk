@@ -5,7 +5,8 @@ FIXTURE_SRC = tests/fixtures/fixture.c
 check_LTLIBRARIES += tests/fixtures/fx_good.la tests/fixtures/fx_major.la \
 	tests/fixtures/fx_minor.la tests/fixtures/fx_noentry.la tests/fixtures/fx_initfail.la \
 	tests/fixtures/fx_dup.la tests/fixtures/fx_unresolved.la tests/fixtures/fx_baddefault.la \
-	tests/fixtures/fx_crash.la tests/fixtures/fx_selftest.la tests/fixtures/fx_old.la
+	tests/fixtures/fx_crash.la tests/fixtures/fx_selftest.la tests/fixtures/fx_old.la \
+	tests/fixtures/fx_abi10.la tests/fixtures/fx_wide.la
 tests_fixtures_fx_good_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_good_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_major_la_SOURCES = $(FIXTURE_SRC)
@@ -31,6 +32,13 @@ tests_fixtures_fx_unresolved_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_old_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_old_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_MINOR=0 -DFX_ID='"org.rigflow.test.old"'
 tests_fixtures_fx_old_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+# Built against the frozen ABI 1.0 headers only (tests/abi-1.0), as a plugin from then was.
+tests_fixtures_fx_abi10_la_SOURCES = tests/fixtures/fx_abi10.c
+tests_fixtures_fx_abi10_la_CPPFLAGS = -I$(top_srcdir)/tests/abi-1.0
+tests_fixtures_fx_abi10_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+tests_fixtures_fx_wide_la_SOURCES = tests/fixtures/fx_wide.c
+tests_fixtures_fx_wide_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+EXTRA_DIST += tests/abi-1.0
 tests_fixtures_fx_baddefault_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_baddefault_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_VALUE_DEFAULT=250
 tests_fixtures_fx_baddefault_la_LDFLAGS = $(FIXTURE_LDFLAGS)
