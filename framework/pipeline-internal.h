@@ -72,11 +72,6 @@ struct rf_pipeline {
     GPtrArray *temp_files; /* outputs written during a run, removed unless it succeeds */
 };
 
-/* `text` with control characters other than newline and tab written as \xHH: messages quote
- * bytes from files, and a hostile file must not drive the terminal (escape sequences, carriage
- * returns). (transfer full) */
-char *rf_printable(const char *text);
-
 /* Index of a declared param / input / output port by name, or -1. */
 int rf_desc_param_index(const rf_node_desc *d, const char *name);
 int rf_desc_input_index(const rf_node_desc *d, const char *name);

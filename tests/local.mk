@@ -52,8 +52,8 @@ tests_fixtures_fx_selftest_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 HOST_TEST_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS) $(CMOCKA_CFLAGS)
 HOST_TEST_LIBS = framework/librigflow.la $(GLIB_LIBS) $(JANSSON_LIBS) $(CMOCKA_LIBS)
 
-check_PROGRAMS += tests/test_plugins tests/test_pipeline tests/test_math
-TESTS += tests/test_plugins tests/test_pipeline tests/test_math
+check_PROGRAMS += tests/test_plugins tests/test_pipeline tests/test_math tests/test_sdk_helpers
+TESTS += tests/test_plugins tests/test_pipeline tests/test_math tests/test_sdk_helpers
 tests_test_plugins_SOURCES = tests/test_plugins.c tests/testutil.h
 tests_test_plugins_CPPFLAGS = $(HOST_CPPFLAGS)
 tests_test_plugins_CFLAGS = $(HOST_TEST_CFLAGS)
@@ -65,6 +65,9 @@ tests_test_pipeline_LDADD = $(HOST_TEST_LIBS)
 tests_test_math_SOURCES = tests/test_math.c
 tests_test_math_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_test_math_LDADD = $(CMOCKA_LIBS) -lm
+tests_test_sdk_helpers_SOURCES = tests/test_sdk_helpers.c
+tests_test_sdk_helpers_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_test_sdk_helpers_LDADD = $(CMOCKA_LIBS) -lm
 
 # The command end to end, with the bundled plugins.
 TESTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_sdk.sh \

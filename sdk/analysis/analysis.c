@@ -3,6 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <rigflow/text.h>
+
 #include "analysis-internal.h"
 
 static void empty_axes(rf_analysis *a)
@@ -163,14 +165,6 @@ const char *rf_side_name(rf_side side)
     return side == RF_SIDE_LEFT ? "left" : side == RF_SIDE_RIGHT ? "right" : "center";
 }
 
-static const char *joint_name(const rf_skeleton *s, uint32_t j, char *buf, size_t size)
-{
-    if (s && j < s->joint_count && s->joints[j].name)
-        return s->joints[j].name;
-    snprintf(buf, size, "#%u", j);
-    return buf;
-}
-
 static void print_section(const rf_analysis *a, const rf_skeleton *skel, uint32_t s, FILE *out)
 {
     const rf_section *sec = &a->sections[s];
@@ -191,7 +185,7 @@ static void print_section(const rf_analysis *a, const rf_skeleton *skel, uint32_
     for (uint32_t k = 0; k < sec->bone_count; k++) {
         uint32_t j = a->section_joints[sec->first + k];
         const rf_joint_info *ji = &a->joints[j];
-        fprintf(out, " %s", joint_name(skel, j, buf, sizeof buf));
+        fprintf(out, " %s", rf_joint_label(skel, j, buf, sizeof buf));
         if (ji->flags & (RF_JI_CONTROL | RF_JI_END_MARKER))
             fputs(ji->flags & RF_JI_CONTROL ? "(ctrl)" : "(end)", out);
     }
