@@ -82,6 +82,12 @@ RF_HOST_API const rf_node_desc *rf_registry_find(const rf_registry *reg, const c
                                                  const rf_plugin **plugin);
 
 /* "importer", "exporter", ... or "unknown". */
+/* The importer for the file `path`: the node type of kind importer whose rigflow.importer/1
+ * extension lists the file's suffix, else the first that reads anything ("*"); NULL when none
+ * does. *path_param receives the parameter that takes the file's path. (borrowed) */
+RF_HOST_API const rf_node_desc *rf_registry_importer_for(const rf_registry *reg, const char *path,
+                                                         const char **path_param);
+
 RF_HOST_API const char *rf_kind_name(rf_node_kind kind);
 RF_HOST_API const char *rf_param_type_name(rf_param_type type);
 
