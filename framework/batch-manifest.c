@@ -24,6 +24,55 @@ static char *shard_suffix(const rf_batch *b)
     return b->shards ? g_strdup_printf("-shard-%d-of-%d", b->shard, b->shards) : g_strdup("");
 }
 
+/* Who holds the lock on fd: the file names its holder; else the kernel's pid. */
+static void describe_holder(int fd, char *holder, size_t n)
+{
+    ssize_t got = pread(fd, holder, n - 1, 0);
+    holder[got > 0 ? got : 0] = '\0';
+    g_strchomp(holder);
+    struct flock who = {.l_type = F_WRLCK, .l_whence = SEEK_SET};
+    if (!*holder && fcntl(fd, F_GETLK, &who) == 0 && who.l_type != F_UNLCK)
+        g_snprintf(holder, n, "pid %ld", (long)who.l_pid);
+    if (!*holder)
+        g_strlcpy(holder, "holder unknown", n);
+}
+
+static void refuse(const rf_batch *b, const char *path, int fd)
+{
+    char holder[256];
+    describe_holder(fd, holder, sizeof holder);
+    fprintf(stderr, "rigflow batch: %s is in use by another batch (%s); lock: %s\n", b->out, holder,
+            path);
+}
+
+/* True, after saying so, when another process holds the lock file `name` in the state folder. */
+static bool held_elsewhere(const rf_batch *b, const char *name)
+{
+    g_autofree char *path = g_build_filename(b->state, name, NULL);
+    int fd = g_open(path, O_RDONLY | O_CLOEXEC, 0);
+    if (fd < 0)
+        return false;
+    struct flock who = {.l_type = F_WRLCK, .l_whence = SEEK_SET};
+    bool held = fcntl(fd, F_GETLK, &who) == 0 && who.l_type != F_UNLCK;
+    if (held)
+        refuse(b, path, fd);
+    close(fd);
+    return held;
+}
+
+/* A whole batch and the shards of a Slurm array on the same DIR exclude each other too. */
+static bool others_running(const rf_batch *b)
+{
+    if (b->shards)
+        return held_elsewhere(b, "lock");
+    g_autoptr(GDir) dir = g_dir_open(b->state, 0, NULL);
+    const char *name;
+    while (dir && (name = g_dir_read_name(dir)))
+        if (g_str_has_prefix(name, "lock-shard-") && held_elsewhere(b, name))
+            return true;
+    return false;
+}
+
 int rf_batch_lock(const rf_batch *b)
 {
     g_autofree char *suffix = shard_suffix(b);
@@ -36,15 +85,11 @@ int rf_batch_lock(const rf_batch *b)
     }
     struct flock fl = {.l_type = F_WRLCK, .l_whence = SEEK_SET};
     if (fcntl(fd, F_SETLK, &fl) != 0) {
-        char holder[256] = "";
-        ssize_t n = pread(fd, holder, sizeof holder - 1, 0);
-        holder[n > 0 ? n : 0] = '\0';
-        g_strchomp(holder);
-        struct flock who = {.l_type = F_WRLCK, .l_whence = SEEK_SET};
-        if (!*holder && fcntl(fd, F_GETLK, &who) == 0 && who.l_type != F_UNLCK)
-            g_snprintf(holder, sizeof holder, "pid %ld", (long)who.l_pid);
-        fprintf(stderr, "rigflow batch: %s is in use by another batch (%s); lock: %s\n", b->out,
-                *holder ? holder : "holder unknown", path);
+        refuse(b, path, fd);
+        close(fd);
+        return -1;
+    }
+    if (others_running(b)) {
         close(fd);
         return -1;
     }

@@ -128,6 +128,8 @@ wait_lines "$out/rigflow-batch/lock" 1
 expect 5 "a second batch on the same folder is refused" -- batch --over "copy.input=$in/*.txt" \
     --out "$out"
 contains "$tmp/err" "in use by another batch (pid $bg on" "the refusal names the holding process"
+expect 5 "a shard of a Slurm array on the same folder is refused too" -- batch \
+    --over "copy.input=$in/*.txt" --out "$out" --shard 0/2
 wait_lines "$out/rigflow-batch/manifest.jsonl" 2
 kill -9 "$bg"
 wait "$bg" 2>/dev/null
