@@ -312,6 +312,32 @@ static rf_batch_job *make_job(rf_batch *b, guint index, const guint *pick)
     return j;
 }
 
+/* No job may write a file another job writes or any job reads (--out DIR inside an input
+ * folder, with the inputs' extension). */
+static bool outputs_distinct(const rf_batch *b, const rf_batch_job *j, GHashTable *seen)
+{
+    for (guint k = 0; k < j->outputs->len; k++) {
+        const char *out = g_ptr_array_index(j->outputs, k);
+        for (guint i = 0; i < b->overs->len; i++) {
+            GPtrArray *paths = ((rf_batch_over *)b->overs->pdata[i])->paths;
+            if (g_ptr_array_find_with_equal_func(paths, out, g_str_equal, NULL)) {
+                fprintf(stderr,
+                        "rigflow batch: job %s would overwrite its input %s: choose "
+                        "another --out\n",
+                        j->name, out);
+                return false;
+            }
+        }
+        if (!g_hash_table_add(seen, (gpointer)out)) {
+            fprintf(stderr,
+                    "rigflow batch: two jobs would write %s: give outputs distinct extensions\n",
+                    out);
+            return false;
+        }
+    }
+    return true;
+}
+
 static bool make_jobs(rf_batch *b)
 {
     guint n = b->overs->len;
@@ -320,14 +346,8 @@ static bool make_jobs(rf_batch *b)
     for (guint index = 0;; index++) {
         rf_batch_job *j = make_job(b, index, pick);
         g_ptr_array_add(b->jobs, j);
-        for (guint k = 0; k < j->outputs->len; k++)
-            if (!g_hash_table_add(seen, g_ptr_array_index(j->outputs, k))) {
-                fprintf(stderr,
-                        "rigflow batch: two jobs would write %s: give outputs distinct "
-                        "extensions\n",
-                        (char *)g_ptr_array_index(j->outputs, k));
-                return false;
-            }
+        if (!outputs_distinct(b, j, seen))
+            return false;
         guint i = n; /* odometer: the last --over varies fastest */
         while (i > 0) {
             rf_batch_over *o = g_ptr_array_index(b->overs, i - 1);

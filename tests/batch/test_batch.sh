@@ -45,6 +45,11 @@ expect 3 "an invalid pipeline fails before any job" -- batch --over "copy.nosuch
 [ ! -e "$tmp/o" ] && ok "an invalid pipeline creates no output folder" ||
     bad "an invalid pipeline created $tmp/o"
 
+expect 2 "a batch that would overwrite its own input" -- batch --over "copy.input=$tmp/in/*.txt" \
+    --out "$tmp/in"
+contains "$tmp/err" "would overwrite its input $tmp/in/a.txt" "the refusal names the input"
+same "$(cat "$tmp/in/a.txt")" hello "the input is untouched"
+
 # ---- names: extension dropped, kept when stems collide, escaped, cross product ----
 mkdir -p "$tmp/names/sub" "$tmp/tags"
 for f in x.txt x.dat "my clip.txt" .hidden.txt sub/y.txt; do echo hi >"$tmp/names/$f"; done
