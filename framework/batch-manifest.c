@@ -45,19 +45,30 @@ static void refuse(const rf_batch *b, const char *path, int fd)
             path);
 }
 
-/* True, after saying so, when another process holds the lock file `name` in the state folder. */
-static bool held_elsewhere(const rf_batch *b, const char *name)
+bool rf_batch_lock_holder(const char *state, const char *name, char *holder, size_t n)
 {
-    g_autofree char *path = g_build_filename(b->state, name, NULL);
+    g_autofree char *path = g_build_filename(state, name, NULL);
     int fd = g_open(path, O_RDONLY | O_CLOEXEC, 0);
     if (fd < 0)
         return false;
     struct flock who = {.l_type = F_WRLCK, .l_whence = SEEK_SET};
     bool held = fcntl(fd, F_GETLK, &who) == 0 && who.l_type != F_UNLCK;
     if (held)
-        refuse(b, path, fd);
+        describe_holder(fd, holder, n);
     close(fd);
     return held;
+}
+
+/* True, after saying so, when another process holds the lock file `name` in the state folder. */
+static bool held_elsewhere(const rf_batch *b, const char *name)
+{
+    char holder[256];
+    if (!rf_batch_lock_holder(b->state, name, holder, sizeof holder))
+        return false;
+    g_autofree char *path = g_build_filename(b->state, name, NULL);
+    fprintf(stderr, "rigflow batch: %s is in use by another batch (%s); lock: %s\n", b->out, holder,
+            path);
+    return true;
 }
 
 /* A whole batch and the shards of a Slurm array on the same DIR exclude each other too. */

@@ -292,6 +292,7 @@ typedef struct status {
     json_t *plan, *slurm;
     GHashTable *records;
     int shards;
+    char local[256];    /* who runs the whole batch here now, or "" */
     task_state *tasks;  /* [shards], from the newest submission that ran each task */
     char **task_states; /* [shards] Slurm's word for ended tasks, or NULL */
     guint done, failed, running, pending, missing;
@@ -351,7 +352,7 @@ static void classify(status *s, const char *name, int index)
     json_t *rec = g_hash_table_lookup(s->records, name);
     const char *st = json_string_value(json_object_get(rec, "status"));
     int shard = s->shards ? index % s->shards : -1;
-    task_state task = shard >= 0 ? s->tasks[shard] : TASK_UNKNOWN;
+    task_state task = shard >= 0 ? s->tasks[shard] : *s->local ? TASK_RUNNING : TASK_UNKNOWN;
     if (g_strcmp0(st, "done") == 0) {
         s->done++;
     } else if (task == TASK_RUNNING) {
@@ -394,6 +395,8 @@ static bool load_status(status *s, const char *dir)
     s->redo = g_array_new(FALSE, FALSE, sizeof(int));
     if (s->shards > 0)
         ask_slurm(s);
+    else if (!rf_batch_lock_holder(s->state, "lock", s->local, sizeof s->local))
+        *s->local = '\0';
     size_t i;
     json_t *name;
     json_array_foreach(json_object_get(s->plan, "jobs"), i, name)
@@ -442,6 +445,8 @@ int rf_batch_status(const char *dir)
         printf("\n");
     }
     print_tasks(&s);
+    if (*s.local)
+        printf("a batch runs on this folder now (%s)\n", s.local);
     int code = s.running + s.pending  ? RF_EXIT_QUEUED
                : s.failed + s.missing ? RF_EXIT_RUN
                                       : RF_EXIT_OK;

@@ -61,6 +61,9 @@ void rf_batch_free(rf_batch *b);
 /* Takes the lock of this batch (or shard) in b->state. Returns the lock's descriptor, or -1
  * after printing which process holds it. The lock goes with the process (kill -9 included). */
 int rf_batch_lock(const rf_batch *b);
+/* True when another process holds the lock file `name` of the state folder; `holder` (n bytes)
+ * then says who ("pid 123 on node7"). */
+bool rf_batch_lock_holder(const char *state, const char *name, char *holder, size_t n);
 /* The manifest this process appends to, opened for appending (O_APPEND), or -1 with a message. */
 int rf_batch_manifest_open(const rf_batch *b);
 /* Appends one record as one line with one write, then fsyncs: a crash keeps whole lines. */

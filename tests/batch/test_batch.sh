@@ -136,6 +136,8 @@ contains "$tmp/err" "in use by another batch (pid $bg on" "the refusal names the
 expect 5 "a shard of a Slurm array on the same folder is refused too" -- batch \
     --over "copy.input=$in/*.txt" --out "$out" --shard 0/2
 wait_lines "$out/rigflow-batch/manifest.jsonl" 2
+expect 6 "--status while a local batch runs" -- "$rigflow" batch --status "$out"
+contains "$tmp/out" "a batch runs on this folder now (pid $bg on" "--status names the running batch"
 kill -9 "$bg"
 wait "$bg" 2>/dev/null
 bg=""
