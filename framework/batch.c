@@ -399,7 +399,7 @@ static int make_plan(const rf_registry *reg, const char *pipeline, char **overs,
     if (!g_file_get_contents(b->pipeline, &b->pipeline_text, NULL, &error)) {
         fprintf(stderr, "rigflow batch: cannot read pipeline: %s\n", error->message);
         rf_batch_free(b);
-        return RF_EXIT_USAGE;
+        return RF_EXIT_VALIDATION; /* as rigflow run */
     }
     for (char **kv = params; kv && *kv; kv++) {
         const char *eq = strchr(*kv, '='), *dot = strchr(*kv, '.');
