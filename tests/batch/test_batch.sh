@@ -118,6 +118,18 @@ expect 0 "a rerun with another parameter" -- batch --over "copy.input=$in/*.txt"
     -p copy.tag=v2
 contains "$tmp/out" "5 done, 0 failed, 0 crashed, 0 skipped" "changed parameters redo every job"
 
+cp "$pipeline" "$tmp/copy.json"
+expect 0 "a batch of a pipeline copy" -- "$rigflow" --plugin-path "$fx" batch "$tmp/copy.json" \
+    --over "copy.input=$in/*.txt" --out "$tmp/pcopy"
+sed -i 's/"description": "/"description": "edited: /' "$tmp/copy.json"
+expect 0 "a rerun after the pipeline was edited" -- "$rigflow" --plugin-path "$fx" batch \
+    "$tmp/copy.json" --over "copy.input=$in/*.txt" --out "$tmp/pcopy"
+contains "$tmp/out" "5 done, 0 failed, 0 crashed, 0 skipped" "an edited pipeline redoes every job"
+expect 0 "--list --shard 1/3" -- batch --over "copy.input=$in/*.txt" --out "$out" --list --shard 1/3
+same "$(cut -f1 "$tmp/out" | tr '\n' ' ')" "good1 good4 " "a shard holds the jobs whose index modulo N is I (bad good1 good2 good3 good4: 1 and 4)"
+expect 2 "a bad --shard" -- batch --over "copy.input=$in/*.txt" --out "$out" --shard 3/3
+contains "$tmp/err" "expected I/N with 0 <= I < N" "--shard says what it expects"
+
 # ---- the lock, and kill -9 in the middle ----
 in="$tmp/slow" out="$tmp/killed"
 mkdir -p "$in"
