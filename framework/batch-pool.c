@@ -33,6 +33,8 @@ typedef struct worker {
     int job_fd;        /* parent -> worker: job indices */
     int result_fd;     /* worker -> parent: records */
     rf_batch_job *job; /* the job it runs, or NULL when idle */
+    gint64 started;    /* monotonic µs when the job was handed over */
+    bool timed_out;    /* killed for running longer than --job-timeout */
 } worker;
 
 static volatile int stop_requested; /* parent: SIGINT or SIGTERM */
@@ -342,12 +344,19 @@ static void worker_died(pool *p, worker *w)
     w->pid = 0;
     if (!w->job)
         return;
-    g_autofree char *why = death_reason(status);
-    g_autofree char *error = g_strdup_printf("the worker process died: %s; its log: %s/logs/%s.log",
-                                             why, p->b->state, w->job->name);
+    g_autofree char *why =
+        w->timed_out ? g_strdup_printf("stopped after running longer than --job-timeout %g s",
+                                       p->b->job_timeout)
+                     : death_reason(status);
+    g_autofree char *error = g_strdup_printf("%s%s; its log: %s/logs/%s.log",
+                                             w->timed_out ? "" : "the worker process died: ", why,
+                                             p->b->state, w->job->name);
     rf_batch_clean_temps(p->b, w->job); /* the engine had no chance to */
-    g_ptr_array_add(p->pending, rf_batch_record(w->job, "crashed", error, NULL, 0));
+    double seconds = (double)(g_get_monotonic_time() - w->started) / 1e6;
+    g_ptr_array_add(p->pending, rf_batch_record(w->job, w->timed_out ? "failed" : "crashed", error,
+                                                NULL, seconds));
     w->job = NULL;
+    w->timed_out = false;
 }
 
 static void receive(pool *p, worker *w)
@@ -383,6 +392,7 @@ static bool dispatch(pool *p, worker *w, rf_batch_job *job)
         }
         if (write_full(w->job_fd, &index, sizeof index)) {
             w->job = job;
+            w->started = g_get_monotonic_time();
             return true;
         }
         worker_died(p, w);
@@ -405,6 +415,22 @@ static void interrupt_running(pool *p)
         worker *w = &g_array_index(p->workers, worker, i);
         if (w->job)
             kill(w->pid, SIGINT);
+    }
+}
+
+/* A job past --job-timeout is stopped by killing its worker: a plugin stuck in a loop may never
+ * look at the cancel flag. The worker's death then records the job as failed. */
+static void stop_overdue(pool *p)
+{
+    if (p->b->job_timeout <= 0)
+        return;
+    gint64 now = g_get_monotonic_time();
+    for (guint i = 0; i < p->workers->len; i++) {
+        worker *w = &g_array_index(p->workers, worker, i);
+        if (w->job && !w->timed_out && (double)(now - w->started) > p->b->job_timeout * 1e6) {
+            w->timed_out = true;
+            kill(w->pid, SIGKILL);
+        }
     }
 }
 
@@ -474,6 +500,7 @@ bool rf_batch_pool_run(rf_batch *b, const rf_registry *reg, GPtrArray *todo, int
             forwarded = true;
         }
         wait_results(&p);
+        stop_overdue(&p);
         progress(&p, false);
     }
     if (p.tty)

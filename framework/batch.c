@@ -548,6 +548,7 @@ typedef struct batch_args {
     char **params, **overs;
     char *out, *shard, *status, *resubmit;
     int jobs;
+    double job_timeout;
     gboolean slurm, list, quiet;
     rf_slurm_options slurm_opts;
 } batch_args;
@@ -585,6 +586,8 @@ static bool parse_args(batch_args *a, int *argc, char ***argv)
         {"out", 'o', 0, G_OPTION_ARG_FILENAME, &a->out, "Output folder (default: batch-out)",
          "DIR"},
         {"jobs", 'j', 0, G_OPTION_ARG_INT, &a->jobs, "Jobs at a time (default: the cores)", "N"},
+        {"job-timeout", 0, 0, G_OPTION_ARG_DOUBLE, &a->job_timeout,
+         "Stop a job that runs longer (recorded as failed; default: no limit)", "SECONDS"},
         {"list", 0, 0, G_OPTION_ARG_NONE, &a->list, "Print each job's name and outputs; run none",
          NULL},
         {"shard", 0, 0, G_OPTION_ARG_STRING, &a->shard, "Run only jobs whose index % N is I",
@@ -624,11 +627,10 @@ int rf_cmd_batch(rf_registry *reg, int argc, char **argv)
                         "(see rigflow batch --help)\n");
         goto done;
     }
-    if (a.jobs < 0 || (a.shard && a.slurm)) {
+    if (a.jobs < 0 || a.job_timeout < 0 || (a.shard && a.slurm)) {
         fprintf(stderr, "rigflow batch: %s\n",
-                a.jobs < 0 ? "-j expects a positive number"
-                           : "--shard and --slurm exclude "
-                             "each other");
+                a.shard && a.slurm ? "--shard and --slurm exclude each other"
+                                   : "-j and --job-timeout expect positive numbers");
         goto done;
     }
     code = make_plan(reg, argv[1], a.overs, a.params, a.out ? a.out : "batch-out", &b);
@@ -640,6 +642,7 @@ int rf_cmd_batch(rf_registry *reg, int argc, char **argv)
         goto done;
     }
     b->workers = a.jobs > 0 ? a.jobs : default_workers();
+    b->job_timeout = a.job_timeout;
     b->quiet = a.quiet || g_getenv("RIGFLOW_QUIET") != NULL;
     if (a.list)
         list_jobs(b);

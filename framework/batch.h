@@ -51,6 +51,7 @@ typedef struct rf_batch {
     GPtrArray *jobs;     /* rf_batch_job*, the full cross product */
     int shard, shards;   /* this process's shard of `shards` (shards 0: all jobs) */
     int workers;         /* -j */
+    double job_timeout;  /* --job-timeout: seconds a job may run before it is stopped; 0: none */
     bool quiet;
 } rf_batch;
 

@@ -130,6 +130,18 @@ same "$(cut -f1 "$tmp/out" | tr '\n' ' ')" "good1 good4 " "a shard holds the job
 expect 2 "a bad --shard" -- batch --over "copy.input=$in/*.txt" --out "$out" --shard 3/3
 contains "$tmp/err" "expected I/N with 0 <= I < N" "--shard says what it expects"
 
+# ---- --job-timeout: a job that runs too long is stopped, the others finish ----
+mkdir -p "$tmp/hang"
+echo "sleep 30" >"$tmp/hang/hang.txt"
+echo "quick" >"$tmp/hang/quick.txt"
+expect 1 "--job-timeout stops a job that runs too long" -- batch --over "copy.input=$tmp/hang/*.txt" \
+    --out "$tmp/hang-out" -j 2 --job-timeout 1
+contains "$tmp/out" "1 done, 1 failed, 0 crashed" "the overdue job is recorded as failed, the other done"
+contains "$tmp/out" "failed hang: stopped after running longer than --job-timeout 1 s" \
+    "the summary says why"
+[ ! -e "$tmp/hang-out/hang.txt" ] && [ "$(ls -A "$tmp/hang-out" | grep -c '\.rf-')" = 0 ] &&
+    ok "the stopped job left no file" || bad "the stopped job left a file"
+
 # ---- the lock, and kill -9 in the middle ----
 in="$tmp/slow" out="$tmp/killed"
 mkdir -p "$in"
