@@ -1,0 +1,135 @@
+/* The rig.general plugin: node type rig.general (kind rigger), mesh in, skeleton and skinned mesh
+ * out. The work is in librigauto (rig.h); doc/autorig.md explains the method. */
+#include <stdio.h>
+
+#include <rigflow/rigflow.h>
+
+#include "rig.h"
+
+static const rf_port_desc rf_rig_inputs[] = {
+    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, 0,
+     "the mesh to rig (any skin it has is ignored): one body, loose parts allowed"},
+};
+
+static const rf_port_desc rf_rig_outputs[] = {
+    {sizeof(rf_port_desc), "skeleton", RF_TYPE_SKELETON, 0,
+     "the curve skeleton cut into joints; rest = bind pose, joints unrotated, names from the "
+     "skeleton analysis (e.g. leg_l0_1)"},
+    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, 0,
+     "the input mesh skinned to it by bone heat (every vertex weighted, at most 4 joints)"},
+    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0, "one frame of the rest pose"},
+};
+
+static const rf_param_desc rf_rig_params[] = {
+    {sizeof(rf_param_desc), "resolution", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 96, NULL, 16, 256,
+     NULL, "voxels along the longest bounding-box edge for the skeleton (default 96)"},
+    {sizeof(rf_param_desc), "proxy_triangles", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 20000, NULL,
+     1000, 1000000, NULL, "meshes above this are simplified into a proxy for the weights"},
+    {sizeof(rf_param_desc), "speck_size", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.02, NULL, 0, 0.5,
+     NULL, "loose parts smaller than this fraction of the mesh's diagonal are specks"},
+    {sizeof(rf_param_desc), "segment", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.12, NULL, 0.02, 1,
+     NULL, "longest bone, as a fraction of the longest bounding-box edge"},
+    {sizeof(rf_param_desc), "visibility", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
+     "heat a vertex only from bones it can see (ray casting); false: from the nearest bone"},
+};
+
+typedef struct rf_rig_node_ctx {
+    const rf_host *host;
+    rf_node *node;
+} rf_rig_node_ctx;
+
+static void rf_rig_node_progress(void *user, double f)
+{
+    rf_rig_node_ctx *c = user;
+    c->host->progress(c->node, f);
+}
+
+/* One frame holding the rest pose, so exporters and retargeters have an animation to start from. */
+static rf_animation *rf_rig_rest_clip(const rf_skeleton *s)
+{
+    rf_animation *a = rf_animation_new(s->joint_count, 1, 30);
+    for (uint32_t j = 0; a && j < s->joint_count; j++) {
+        rf_animation_set_translation(a, 0, j, s->joints[j].rest.t);
+        rf_animation_set_rotation(a, 0, j, s->joints[j].rest.r);
+    }
+    return a;
+}
+
+static bool rf_rig_process(void *self, const rf_host *host, rf_node *node)
+{
+    (void)self;
+    const rf_mesh *in = host->input(node, "mesh", 0);
+    rf_rig_options o = {
+        .resolution = (uint32_t)host->param_int(node, "resolution"),
+        .proxy_triangles = (uint32_t)host->param_int(node, "proxy_triangles"),
+        .speck_size = host->param_float(node, "speck_size"),
+        .segment = host->param_float(node, "segment"),
+        .no_visibility = !host->param_bool(node, "visibility"),
+    };
+    rf_skeleton *s = NULL;
+    rf_mesh *m = NULL;
+    rf_rig_stats st;
+    char err[512];
+    rf_rig_node_ctx ctx = {host, node};
+    if (!in) {
+        host->error(node, "no mesh on input 'mesh'");
+        return false;
+    }
+    if (!rf_rig_general(in, &o, &s, &m, &st, rf_rig_node_progress, &ctx, err, sizeof err)) {
+        host->error(node, "cannot rig the mesh%s%s: %s", in->name ? " " : "",
+                    in->name ? "(named in the file)" : "", err);
+        return false;
+    }
+    host->log(node, RF_LOG_INFO,
+              "%u joints; %u vertices (%u welded), %u loose parts of which %u specks, heat on %u "
+              "triangles: %u vertices by heat, %u by nearest bone, %u saw no bone",
+              st.joints, st.vertices, st.welded, st.parts, st.specks, st.proxy_triangles,
+              st.heat_vertices, st.fallback_vertices, st.unseen_vertices);
+    if (st.joints < 3)
+        host->log(node, RF_LOG_WARNING,
+                  "only %u joints: the mesh has no limbs the voxel skeleton can separate (a blob?)",
+                  st.joints);
+    rf_animation *a = rf_rig_rest_clip(s);
+    if (!a) {
+        rf_skeleton_free(s), rf_mesh_free(m);
+        host->error(node, "out of memory");
+        return false;
+    }
+    bool ok = host->set_output(node, "skeleton", s, rf_skeleton_free);
+    ok = host->set_output(node, "mesh", m, rf_mesh_free) && ok;
+    ok = host->set_output(node, "animation", a, rf_animation_free) && ok;
+    if (!ok)
+        host->error(node, "the host refused an output");
+    return ok;
+}
+
+static const rf_node_desc rf_rig_general_node = {
+    .size = sizeof(rf_node_desc),
+    .type = "rig.general",
+    .kind = RF_KIND_RIGGER,
+    .doc = "Rigs any body from its mesh: a curve skeleton from the voxelised volume (geodesic "
+           "level sets from its thickest point), pruned and cut into joints at junctions, bends "
+           "and even lengths, named by the skeleton analysis; skin weights by bone heat "
+           "(visibility by Embree, solved with CHOLMOD). Welds, sets specks aside, simplifies "
+           "big scans into a proxy. See doc/autorig.md.",
+    .input_count = 1,
+    .inputs = rf_rig_inputs,
+    .output_count = 3,
+    .outputs = rf_rig_outputs,
+    .param_count = 5,
+    .params = rf_rig_params,
+    .process = rf_rig_process,
+};
+
+static const rf_node_desc *const rf_rig_nodes[] = {&rf_rig_general_node};
+
+RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
+    .abi = RF_ABI_VERSION_INIT,
+    .size = sizeof(rf_plugin_entry),
+    .id = "org.rigflow.rig-general",
+    .name = "General auto-rigger",
+    .version = "0.1.0",
+    .description = "skeleton and skin weights for an unrigged mesh of any body",
+    .node_count = 1,
+    .nodes = rf_rig_nodes,
+};

@@ -1,0 +1,8 @@
+# The auto-rigger: librigauto on the shared models and on made-up bad input, the pipelines end to
+# end. rig-dump and rig-view.py draw a rig for a person to look at (doc/autorig.md).
+noinst_PROGRAMS += tests/rig/rig-dump
+tests_rig_rig_dump_SOURCES = tests/rig/rig-dump.c
+tests_rig_rig_dump_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/assimp \
+	-I$(top_srcdir)/plugins/rig-general
+tests_rig_rig_dump_LDADD = plugins/assimp/librfassimp.la plugins/rig-general/librigauto.la -lm
+EXTRA_DIST += tests/rig/rig-view.py
