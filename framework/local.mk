@@ -36,3 +36,9 @@ rigflow_LDADD += plugins/ik-common/libikworkload.la
 
 # rigflow map: the graph of pipelines/map.json from the command line.
 rigflow_SOURCES += framework/map-cmd.c framework/map-cmd.h
+
+# rigflow rig-bench: the rigger plugins against artists' rigs (doc/autorig.md); it imports the
+# models with librfassimp and matches joints with the skeletal-similarity matcher's library.
+rigflow_SOURCES += framework/rig-bench.c framework/rig-bench.h
+rigflow_CPPFLAGS += -I$(top_srcdir)/plugins/assimp -I$(top_srcdir)/plugins/match-similarity
+rigflow_LDADD += plugins/assimp/librfassimp.la plugins/match-similarity/libsimilarity.la

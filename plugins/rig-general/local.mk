@@ -15,5 +15,7 @@ plugins_rig_general_librigauto_la_LIBADD = framework/analysis/libanalysis.la \
 
 plugins_LTLIBRARIES += plugins/rig-general.la
 plugins_rig_general_la_SOURCES = plugins/rig-general/plugin.c
-plugins_rig_general_la_LDFLAGS = $(PLUGIN_LDFLAGS)
+# Embree's task threads (TBB) outlive a call and run library code until the process exits:
+# the plugin, and with it Embree, must stay loaded when the host closes its plugins.
+plugins_rig_general_la_LDFLAGS = $(PLUGIN_LDFLAGS) -Wl,-z,nodelete
 plugins_rig_general_la_LIBADD = plugins/rig-general/librigauto.la

@@ -1,8 +1,10 @@
 /* The rig.general plugin: node type rig.general (kind rigger), mesh in, skeleton and skinned mesh
  * out. The work is in librigauto (rig.h); doc/autorig.md explains the method. */
 #include <stdio.h>
+#include <string.h>
 
 #include <rigflow/rigflow.h>
+#include <rigflow/rigger.h>
 
 #include "rig.h"
 
@@ -103,6 +105,24 @@ static bool rf_rig_process(void *self, const rf_host *host, rf_node *node)
     return ok;
 }
 
+static bool rf_rig_api_rig(const rf_mesh *mesh, rf_skeleton **skeleton, rf_mesh **skinned,
+                           char *err, size_t err_size)
+{
+    return rf_rig_general(mesh, NULL, skeleton, skinned, NULL, NULL, NULL, err, err_size);
+}
+
+static const rf_rigger_api rf_rig_api = {
+    .size = sizeof(rf_rigger_api),
+    .name = "general",
+    .doc = "voxel curve skeleton from geodesic level sets, bone-heat weights",
+    .rig = rf_rig_api_rig,
+};
+
+static const void *rf_rig_extension(const char *id)
+{
+    return strcmp(id, RF_RIGGER_EXTENSION) == 0 ? &rf_rig_api : NULL;
+}
+
 static const rf_node_desc rf_rig_general_node = {
     .size = sizeof(rf_node_desc),
     .type = "rig.general",
@@ -119,6 +139,7 @@ static const rf_node_desc rf_rig_general_node = {
     .param_count = 5,
     .params = rf_rig_params,
     .process = rf_rig_process,
+    .get_extension = rf_rig_extension,
 };
 
 static const rf_node_desc *const rf_rig_nodes[] = {&rf_rig_general_node};

@@ -104,6 +104,31 @@ static bool rf_rig_flood(const rf_rig_grid *g, const uint8_t *wall, uint8_t *out
     return true;
 }
 
+/* Counts, per voxel, the axis directions (of six) in which a surface voxel lies between it and
+ * the grid's edge, into votes. */
+static void rf_rig_votes(const rf_rig_grid *g, const uint8_t *surf, uint8_t *votes)
+{
+    int dims[3] = {g->nx, g->ny, g->nz};
+    size_t stride[3] = {1, (size_t)g->nx, (size_t)g->nx * g->ny};
+    memset(votes, 0, g->n);
+    for (int ax = 0; ax < 3; ax++) {
+        int a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
+        for (int u = 0; u < dims[a1]; u++)
+            for (int w = 0; w < dims[a2]; w++) {
+                size_t base = (size_t)u * stride[a1] + (size_t)w * stride[a2];
+                int first = -1, last = -1;
+                for (int i = 0; i < dims[ax]; i++)
+                    if (surf[base + (size_t)i * stride[ax]]) {
+                        last = i;
+                        if (first < 0)
+                            first = i;
+                    }
+                for (int i = 0; first >= 0 && i < dims[ax]; i++)
+                    votes[base + (size_t)i * stride[ax]] += (i > first) + (i < last);
+            }
+    }
+}
+
 /* Solid = the closed inside: the surface thickened by one voxel stops the flood from the corner
  * (sealing small holes), then the thickening is taken back where the flood touches it. */
 static bool rf_rig_voxelise(rf_rig_grid *g, const rf_rig_geo *m)
@@ -138,6 +163,16 @@ static bool rf_rig_voxelise(rf_rig_grid *g, const rf_rig_geo *m)
                             touches = out[rf_rig_at(g, x + dx, y + dy, z + dz)];
                 g->solid[i] = !touches || surf[i];
             }
+    /* A mesh with holes wider than the thickening lets the flood in. Where the surface lies
+     * between a voxel and the grid's edge in five of the six axis directions, the voxel is inside
+     * all the same (a hole blocks one direction at most; the space between two legs is open in
+     * three). */
+    uint8_t *votes = ok ? out : NULL; /* the flood's array is no longer needed */
+    if (votes) {
+        rf_rig_votes(g, surf, votes);
+        for (size_t i = 0; i < g->n; i++)
+            g->solid[i] |= votes[i] >= 5;
+    }
     free(surf);
     free(thick);
     free(out);

@@ -286,6 +286,15 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
         ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
     }
     if (ok) {
+        /* a joint whose bone won no vertex says so, as artists' helper joints do */
+        uint8_t *used = calloc(k.n + 1, 1);
+        for (size_t i = 0; used && i < (size_t)m->vertex_count * 4; i++)
+            if (m->skin_weights[i] > 0)
+                used[m->skin_joints[i]] = 1;
+        for (uint32_t j = 0; used && j < k.n; j++)
+            if (!used[j])
+                s->joints[j].flags |= RF_JOINT_UNWEIGHTED;
+        free(used);
         st->joints = k.n;
         *skeleton = s, *skinned = m;
     } else {

@@ -6,3 +6,14 @@ tests_rig_rig_dump_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/assimp \
 	-I$(top_srcdir)/plugins/rig-general
 tests_rig_rig_dump_LDADD = plugins/assimp/librfassimp.la plugins/rig-general/librigauto.la -lm
 EXTRA_DIST += tests/rig/rig-view.py
+
+check_PROGRAMS += tests/rig/test_rig
+TESTS += tests/rig/test_rig
+tests_rig_test_rig_SOURCES = tests/rig/test_rig.c
+tests_rig_test_rig_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
+tests_rig_test_rig_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_rig_test_rig_LDADD = plugins/assimp/librfassimp.la plugins/rig-general/librigauto.la \
+	$(CMOCKA_LIBS) -lm
+
+TESTS += tests/rig/test_rig_pipeline.sh
+EXTRA_DIST += tests/rig/test_rig_pipeline.sh
