@@ -167,11 +167,7 @@ static void rb_map_joints(const rf_skeleton *pred, const rb_rig *p, const rf_ske
     o.source_analysis.use_bind_pose = true;
     char err[200];
     const rf_skeleton *sources[1] = {art};
-    rf_mapping *m = g_getenv("RB_EUCLID") ? NULL : rf_ms_match(pred, sources, 1, &o, NULL, err, sizeof err);
-    if (m && g_getenv("RB_DEBUG"))
-        for (uint32_t j = 0; j < pred->joint_count; j++)
-            fprintf(stderr, "%s -> %s\n", pred->joints[j].name,
-                    m->entries[j].input_count ? art->joints[m->entries[j].inputs[0].joint].name : "-");
+    rf_mapping *m = rf_ms_match(pred, sources, 1, &o, NULL, err, sizeof err);
     for (uint32_t j = 0; j < pred->joint_count; j++) {
         int32_t k = (int32_t)j;
         while (k >= 0 && !(m && m->entries[k].input_count))
@@ -320,6 +316,9 @@ static void rb_one(const rb_rigger *r, const char *path, const rf_ai_result *art
         rb_rig_free(&g);
         return;
     }
+    /* the file's axes, as pipelines/autorig.json hands them to the rigger through its axes port */
+    if (rf_v3_len(art->skeleton->up) > 0)
+        ps->up = art->skeleton->up, ps->forward = art->skeleton->forward;
     rb_rig_make(ps, pm, false, &p);
     double L = rb_longest(art->mesh);
     cd[0] = rb_chamfer(&p, &g, false, false) / L;

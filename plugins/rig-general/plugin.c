@@ -11,6 +11,9 @@
 static const rf_port_desc rf_rig_inputs[] = {
     {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, 0,
      "the mesh to rig (any skin it has is ignored): one body, loose parts allowed"},
+    {sizeof(rf_port_desc), "axes", RF_TYPE_SKELETON, RF_PORT_OPTIONAL,
+     "the importer's skeleton (even an empty one): its up and forward, as the file declares "
+     "them, are kept; without it they come from the skeleton analysis"},
 };
 
 static const rf_port_desc rf_rig_outputs[] = {
@@ -68,6 +71,9 @@ static bool rf_rig_process(void *self, const rf_host *host, rf_node *node)
         .segment = host->param_float(node, "segment"),
         .no_visibility = !host->param_bool(node, "visibility"),
     };
+    const rf_skeleton *axes = host->input_count(node, "axes") ? host->input(node, "axes", 0) : NULL;
+    if (axes)
+        o.up = axes->up, o.forward = axes->forward;
     rf_skeleton *s = NULL;
     rf_mesh *m = NULL;
     rf_rig_stats st;
@@ -132,7 +138,7 @@ static const rf_node_desc rf_rig_general_node = {
            "and even lengths, named by the skeleton analysis; skin weights by bone heat "
            "(visibility by Embree, solved with CHOLMOD). Welds, sets specks aside, simplifies "
            "big scans into a proxy. See doc/autorig.md.",
-    .input_count = 1,
+    .input_count = 2,
     .inputs = rf_rig_inputs,
     .output_count = 3,
     .outputs = rf_rig_outputs,

@@ -421,6 +421,7 @@ typedef struct rf_rig_tree {
     double (*pos)[3];   /* world centroid per node */
     double *radius;     /* world thickness per node */
     uint32_t main_comp; /* the largest solid component */
+    double seg;         /* bone length, world units */
 } rf_rig_tree;
 
 static double rf_rig_dist3(const double *a, const double *b)
@@ -440,9 +441,46 @@ static void rf_rig_count_children(rf_rig_tree *t)
 
 /* Prunes the shortest side branch shorter than the body is thick where it leaves; false when
  * none is left to prune. */
-static bool rf_rig_prune_one(rf_rig_tree *t)
+/* The farthest band each live node's subtree reaches, into reach[], and its leaf count (capped
+ * at 2: a chain or not) into leaves[]. */
+static void rf_rig_reach(const rf_rig_tree *t, uint32_t *reach, uint8_t *leaves)
+{
+    const rf_rig_node *v = t->ns->v;
+    for (uint32_t i = 0; i < t->ns->n; i++)
+        reach[i] = v[i].band, leaves[i] = 0;
+    for (uint32_t i = 0; i < t->ns->n; i++) {
+        if (v[i].dead || v[i].children)
+            continue;
+        for (int32_t k = (int32_t)i; k >= 0; k = v[k].parent) {
+            reach[k] = reach[k] > v[i].band ? reach[k] : v[i].band;
+            leaves[k] = leaves[k] < 2 ? leaves[k] + 1 : 2;
+        }
+    }
+}
+
+/* True when j sits at an extremity (all its branches end without branching again) and the
+ * branch through its child c is shorter than half a bone and reaches less than 40% as far as
+ * another: a heel beside the toes, an ear beside the top of the head. */
+static bool rf_rig_twig(const rf_rig_tree *t, const uint32_t *reach, const uint8_t *leaves,
+                        uint32_t j, uint32_t c)
+{
+    const rf_rig_node *v = t->ns->v;
+    uint32_t mine = reach[c] - v[j].band, most = 0;
+    for (uint32_t k = 0; k < t->ns->n; k++) {
+        if (v[k].dead || v[k].parent != (int32_t)j)
+            continue;
+        if (leaves[k] > 1)
+            return false;
+        if (k != c && reach[k] - v[j].band > most)
+            most = reach[k] - v[j].band;
+    }
+    return mine * 10 < most * 4 && mine * RF_RIG_BAND * t->g->h < 0.5 * t->seg;
+}
+
+static bool rf_rig_prune_one(rf_rig_tree *t, uint32_t *reach, uint8_t *leaves)
 {
     rf_rig_node *v = t->ns->v;
+    rf_rig_reach(t, reach, leaves);
     double best = INFINITY;
     uint32_t best_leaf = RF_RIG_NONE;
     for (uint32_t i = 0; i < t->ns->n; i++) {
@@ -464,12 +502,10 @@ static bool rf_rig_prune_one(rf_rig_tree *t)
         len = (double)(v[i].band - v[junction].band) * RF_RIG_BAND * t->g->h + t->radius[i];
         if (v[junction].children < 2)
             continue;
-        if (getenv("RF_RIG_DEBUG"))
-            fprintf(stderr, "leaf %u junction %u len %g jr %g thick %g n %u\n", i, junction, len,
-                    t->radius[junction], thick, count);
         /* a bump: shorter than the body is thick where it leaves, or than 2.5 times its own
          * mean thickness (a limb is long and thin; a belly or a cheek is short and wide) */
-        if ((len < t->radius[junction] || len < 2.5 * thick) && len < best)
+        bool twig = rf_rig_twig(t, reach, leaves, junction, k);
+        if ((len < t->radius[junction] || len < 2.5 * thick || twig) && len < best)
             best = len, best_leaf = i;
     }
     if (best_leaf == RF_RIG_NONE)
@@ -505,7 +541,7 @@ static void rf_rig_attach(rf_rig_tree *t)
 typedef struct rf_rig_build {
     rf_rig_tree *t;
     rf_rig_skel *s;
-    double tol, seg; /* bend tolerance and longest bone, world units */
+    double seg;      /* bone length, world units */
     uint32_t *path;  /* scratch */
 } rf_rig_build;
 
@@ -518,62 +554,9 @@ static uint32_t rf_rig_joint_add(rf_rig_skel *s, const double p[3], int32_t pare
     return j;
 }
 
-/* Marks with `cut` the path points where Douglas-Peucker finds a bend above tol. */
-static void rf_rig_bends(const rf_rig_build *b, const uint32_t *path, uint32_t lo, uint32_t hi,
-                         uint8_t *cut)
-{
-    if (hi <= lo + 1)
-        return;
-    const double *a = b->t->pos[path[lo]], *c = b->t->pos[path[hi]];
-    double ac[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double l2 = ac[0] * ac[0] + ac[1] * ac[1] + ac[2] * ac[2];
-    double worst = 0;
-    uint32_t at = lo;
-    for (uint32_t i = lo + 1; i < hi; i++) {
-        const double *p = b->t->pos[path[i]];
-        double ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
-        double u = l2 > 0 ? (ap[0] * ac[0] + ap[1] * ac[1] + ap[2] * ac[2]) / l2 : 0;
-        u = fmin(1, fmax(0, u));
-        double q[3] = {a[0] + ac[0] * u, a[1] + ac[1] * u, a[2] + ac[2] * u};
-        double d = rf_rig_dist3(p, q);
-        if (d > worst)
-            worst = d, at = i;
-    }
-    if (worst <= b->tol)
-        return;
-    cut[at] = 1;
-    rf_rig_bends(b, path, lo, at, cut);
-    rf_rig_bends(b, path, at, hi, cut);
-}
-
-/* Adds cuts at even lengths so no piece between cuts is longer than seg. */
-static void rf_rig_even(const rf_rig_build *b, const uint32_t *path, uint32_t len, uint8_t *cut,
-                        const double *arc)
-{
-    uint32_t lo = 0;
-    for (uint32_t i = 1; i < len; i++) {
-        if (!cut[i] && i != len - 1)
-            continue;
-        double span = arc[i] - arc[lo];
-        int pieces = (int)ceil(span / b->seg - 1e-9);
-        for (int k = 1; k < pieces; k++) {
-            double want = arc[lo] + span * k / pieces;
-            uint32_t best = lo;
-            for (uint32_t m = lo; m <= i; m++)
-                if (fabs(arc[m] - want) < fabs(arc[best] - want))
-                    best = m;
-            if (best > lo && best < i)
-                cut[best] = 1;
-        }
-        lo = i;
-    }
-    (void)path;
-}
-
-/* One chain of the node tree, from key node `from` (joint `from_joint`) down to key node `to`:
- * cut into joints. Returns the joint at `to` (or the last joint, for a leaf whose node becomes
- * a tip). */
-static uint32_t rf_rig_chain(rf_rig_build *b, uint32_t to, uint32_t from_joint, bool leaf)
+/* The path of a chain, from the key node above down to key node `to`, into b->path; returns its
+ * point count and its length along the centroids into *arc_len. */
+static uint32_t rf_rig_chain_path(rf_rig_build *b, uint32_t to, double *arc_len)
 {
     rf_rig_node *v = b->t->ns->v;
     uint32_t len = 0;
@@ -582,31 +565,35 @@ static uint32_t rf_rig_chain(rf_rig_build *b, uint32_t to, uint32_t from_joint, 
         if (v[k].parent < 0 || (len > 1 && v[k].children != 1))
             break;
     }
-    /* path runs from `to` up to the key node above: reverse it to run downwards */
     for (uint32_t i = 0; i < len / 2; i++) {
         uint32_t x = b->path[i];
         b->path[i] = b->path[len - 1 - i], b->path[len - 1 - i] = x;
     }
-    uint8_t *cut = calloc(len, 1);
-    double *arc = malloc(len * sizeof *arc);
-    if (!cut || !arc) {
-        free(cut), free(arc);
-        return from_joint;
-    }
-    arc[0] = 0;
+    *arc_len = 0;
     for (uint32_t i = 1; i < len; i++)
-        arc[i] = arc[i - 1] + rf_rig_dist3(b->t->pos[b->path[i]], b->t->pos[b->path[i - 1]]);
-    rf_rig_bends(b, b->path, 0, len - 1, cut);
-    rf_rig_even(b, b->path, len, cut, arc);
-    bool any = false;
-    for (uint32_t i = 1; i + 1 < len; i++)
-        any = any || cut[i];
-    if (leaf && !any && len > 2)
-        cut[len / 2] = 1; /* a leaf needs a joint of its own to carry its tip */
-    uint32_t joint = from_joint;
-    for (uint32_t i = 1; i + 1 < len; i++)
-        if (cut[i])
+        *arc_len += rf_rig_dist3(b->t->pos[b->path[i]], b->t->pos[b->path[i - 1]]);
+    return len;
+}
+
+/* One chain cut into `pieces` bones of even length, hanging from joint from_joint. Returns the
+ * joint at `to`, or for a leaf the last joint, which carries the leaf as its tip. */
+static uint32_t rf_rig_chain(rf_rig_build *b, uint32_t to, uint32_t from_joint, bool leaf,
+                             uint32_t pieces)
+{
+    double total;
+    uint32_t len = rf_rig_chain_path(b, to, &total), joint = from_joint;
+    double arc = 0;
+    uint32_t next = 1; /* the next cut wanted, in pieces */
+    for (uint32_t i = 1; i + 1 < len && next < pieces; i++) {
+        arc += rf_rig_dist3(b->t->pos[b->path[i]], b->t->pos[b->path[i - 1]]);
+        double step = rf_rig_dist3(b->t->pos[b->path[i + 1]], b->t->pos[b->path[i]]);
+        double want = total * next / pieces;
+        /* cut at the path point nearest the wanted length */
+        if (arc >= want || arc + step / 2 >= want) {
             joint = rf_rig_joint_add(b->s, b->t->pos[b->path[i]], (int32_t)joint);
+            next++;
+        }
+    }
     const double *end = b->t->pos[b->path[len - 1]];
     if (leaf && joint != from_joint) {
         memcpy(b->s->tip + (size_t)joint * 3, end, 3 * sizeof(double));
@@ -614,9 +601,28 @@ static uint32_t rf_rig_chain(rf_rig_build *b, uint32_t to, uint32_t from_joint, 
     } else {
         joint = rf_rig_joint_add(b->s, end, (int32_t)joint);
     }
-    free(cut);
-    free(arc);
     return joint;
+}
+
+/* Bones per chain: its length over the bone length, rounded, at least 2 for a leaf (one joint
+ * of its own to carry the tip). Sibling leaf chains of lengths within a quarter of each other
+ * get the same count, so mirrored limbs come out with the same joints, which is what the
+ * skeleton analysis pairs them by. */
+static void rf_rig_pieces_of(rf_rig_build *b, const uint32_t *ends, uint32_t n, uint32_t *pieces)
+{
+    rf_rig_node *v = b->t->ns->v;
+    double len[64];
+    for (uint32_t i = 0; i < n && i < 64; i++) {
+        rf_rig_chain_path(b, ends[i], &len[i]);
+        pieces[i] = (uint32_t)fmax(1, floor(len[i] / b->seg + 0.5));
+        if (!v[ends[i]].children && pieces[i] < 2)
+            pieces[i] = 2;
+    }
+    for (uint32_t i = 0; i < n && i < 64; i++)
+        for (uint32_t j = 0; j < n && j < 64; j++)
+            if (!v[ends[i]].children && !v[ends[j]].children &&
+                fabs(len[i] - len[j]) < 0.25 * fmax(len[i], len[j]) && pieces[j] > pieces[i])
+                pieces[i] = pieces[j];
 }
 
 /* Walks the live tree from `root` depth-first without recursion, emitting joints chain by chain;
@@ -627,8 +633,9 @@ static bool rf_rig_emit(rf_rig_build *b, uint32_t root)
     rf_rig_node *v = ns->v;
     uint32_t *stack = malloc((size_t)ns->n * 2 * sizeof *stack);
     uint32_t *first = calloc((size_t)ns->n + 1, sizeof *first), *kids = malloc(ns->n * sizeof *kids);
-    if (!stack || !first || !kids) {
-        free(stack), free(first), free(kids);
+    uint32_t *fill = malloc(ns->n * sizeof *fill);
+    if (!stack || !first || !kids || !fill) {
+        free(stack), free(first), free(kids), free(fill);
         return false;
     }
     for (uint32_t i = 0; i < ns->n; i++)
@@ -636,7 +643,6 @@ static bool rf_rig_emit(rf_rig_build *b, uint32_t root)
             first[v[i].parent + 1]++;
     for (uint32_t i = 0; i < ns->n; i++)
         first[i + 1] += first[i];
-    uint32_t *fill = b->path; /* reuse as a cursor array, then restore */
     memcpy(fill, first, ns->n * sizeof *fill);
     for (uint32_t i = 0; i < ns->n; i++)
         if (!v[i].dead && v[i].parent >= 0)
@@ -645,17 +651,33 @@ static bool rf_rig_emit(rf_rig_build *b, uint32_t root)
     stack[sp++] = root, stack[sp++] = rf_rig_joint_add(b->s, b->t->pos[root], -1);
     while (sp) {
         uint32_t joint = stack[--sp], key = stack[--sp];
-        for (uint32_t e = first[key]; e < first[key + 1]; e++) {
-            /* follow the single-child run down to the next key node */
-            uint32_t k = kids[e];
-            while (v[k].children == 1)
-                k = kids[first[k]];
-            uint32_t j = rf_rig_chain(b, k, joint, v[k].children == 0);
-            if (v[k].children)
-                stack[sp++] = k, stack[sp++] = j;
+        uint32_t ends[64], pieces[64], n = 0;
+        /* the key nodes below: a junction a short chain away is merged into this one (limbs
+         * leave a body one band apart, the left a little before the right) */
+        uint32_t todo[64], nt = 0;
+        todo[nt++] = key;
+        while (nt && n < 64) {
+            uint32_t from = todo[--nt];
+            for (uint32_t e = first[from]; e < first[from + 1] && n < 64; e++) {
+                uint32_t k = kids[e];
+                while (v[k].children == 1)
+                    k = kids[first[k]];
+                double len;
+                rf_rig_chain_path(b, k, &len);
+                if (v[k].children && len < fmax(1.5 * b->t->radius[key], 0.75 * b->seg) && nt < 64)
+                    todo[nt++] = k;
+                else
+                    ends[n++] = k;
+            }
+        }
+        rf_rig_pieces_of(b, ends, n, pieces);
+        for (uint32_t i = 0; i < n; i++) {
+            uint32_t j = rf_rig_chain(b, ends[i], joint, v[ends[i]].children == 0, pieces[i]);
+            if (v[ends[i]].children)
+                stack[sp++] = ends[i], stack[sp++] = j;
         }
     }
-    free(stack), free(first), free(kids);
+    free(stack), free(first), free(kids), free(fill);
     return true;
 }
 
@@ -731,10 +753,14 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
         ok = rf_rig_fail(err, n, "the mesh encloses no volume at %u voxels across", o->resolution);
         goto done;
     }
+    t.seg = o->segment * p->longest;
     rf_rig_attach(&t);
     rf_rig_count_children(&t);
-    while (rf_rig_prune_one(&t))
+    uint32_t *reach = malloc((size_t)ns.n * sizeof *reach);
+    uint8_t *leaves = malloc(ns.n);
+    while (reach && leaves && rf_rig_prune_one(&t, reach, leaves))
         ;
+    free(reach), free(leaves);
     uint32_t root = RF_RIG_NONE;
     for (uint32_t i = 0; i < ns.n; i++)
         if (ns.v[i].parent < 0 && !ns.v[i].dead && ns.v[i].comp == t.main_comp)
@@ -744,7 +770,7 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
     out->tip = calloc((size_t)ns.n * 3, sizeof *out->tip);
     out->parent = malloc((size_t)ns.n * sizeof *out->parent);
     out->has_tip = calloc(ns.n, 1);
-    rf_rig_build b = {.t = &t, .s = out, .tol = 0.03 * p->longest, .seg = o->segment * p->longest};
+    rf_rig_build b = {.t = &t, .s = out, .seg = o->segment * p->longest};
     b.path = malloc((size_t)ns.n * sizeof *b.path);
     ok = out->pos && out->tip && out->parent && out->has_tip && b.path && root != RF_RIG_NONE &&
          rf_rig_emit(&b, root);

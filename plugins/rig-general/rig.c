@@ -17,8 +17,9 @@ static char *rf_rig_strdup(const char *s)
 
 /* Joint names say what the skeleton analysis found (section, side, rank, place in the chain),
  * e.g. leg_l0_1, so a person reading the rig sees its layout; the matcher never reads them. */
-static bool rf_rig_name(rf_skeleton *s)
+static bool rf_rig_name(rf_skeleton *s, rf_vec3 up, rf_vec3 forward)
 {
+    s->up = up, s->forward = forward; /* hints for the analysis, as a file's axes are */
     rf_analysis *a = rf_analyze(s, NULL);
     if (!a)
         return false;
@@ -40,13 +41,15 @@ static bool rf_rig_name(rf_skeleton *s)
         }
         ok = (s->joints[j].name = rf_rig_strdup(name)) != NULL;
     }
-    s->up = a->up;
-    s->forward = a->forward_confidence >= 0.3 ? a->forward : rf_v3(0, 0, 0);
+    if (rf_v3_len(up) == 0) {
+        s->up = a->up;
+        s->forward = a->forward_confidence >= 0.3 ? a->forward : rf_v3(0, 0, 0);
+    }
     rf_analysis_free(a);
     return ok;
 }
 
-static rf_skeleton *rf_rig_skeleton(const rf_rig_skel *k, bool named)
+static rf_skeleton *rf_rig_skeleton(const rf_rig_skel *k, const rf_rig_options *named)
 {
     rf_skeleton *s = rf_skeleton_new(k->n);
     if (!s)
@@ -70,7 +73,7 @@ static rf_skeleton *rf_rig_skeleton(const rf_rig_skel *k, bool named)
         }
         s->bind[j] = s->joints[j].rest;
     }
-    if (named && !rf_rig_name(s)) {
+    if (named && !rf_rig_name(s, named->up, named->forward)) {
         rf_skeleton_free(s);
         return NULL;
     }
@@ -112,7 +115,7 @@ static uint32_t rf_rig_lca(const rf_rig_skel *k, uint32_t a, uint32_t b)
  * two low leaves meet. */
 uint32_t rf_rig_pick_root(const rf_rig_skel *k)
 {
-    rf_skeleton *s = rf_rig_skeleton(k, false);
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
     rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
     rf_vec3 up = a ? a->up : rf_v3(0, 1, 0);
     rf_analysis_free(a);
@@ -280,7 +283,7 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
     ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
     if (ok && progress)
         progress(user, 0.9);
-    rf_skeleton *s = ok ? rf_rig_skeleton(&k, true) : NULL;
+    rf_skeleton *s = ok ? rf_rig_skeleton(&k, &o) : NULL;
     rf_mesh *m = s ? rf_rig_mesh_copy(mesh) : NULL;
     if (ok && (!m || !rf_rig_skin(mesh, &p, &k, w, m, st))) {
         ok = rf_rig_fail(err, err_size, "out of memory writing the rig");

@@ -25,6 +25,8 @@ typedef struct rf_rig_options {
                                * mesh's bounding-box diagonal is a speck; 0 means 0.02 */
     double segment;           /* the longest bone as a fraction of the longest edge; 0 means 0.12 */
     bool no_visibility;       /* heat every vertex from its nearest bone, seen or not */
+    rf_vec3 up, forward;      /* the axes the file declares (zero: unknown); the skeleton keeps
+                               * them and the analysis naming its joints starts from them */
 } rf_rig_options;
 
 /* What happened, for logs and the benchmark. */
