@@ -159,15 +159,16 @@ static double rb_chamfer(const rb_rig *p, const rb_rig *g, bool from_bones, bool
 /* ---- skinning ---- */
 
 /* Which artist joint each predicted joint stands for: the matcher's answer; unmapped joints
- * take their nearest mapped ancestor's, else the nearest artist joint. */
+ * take their nearest mapped ancestor's, else the nearest artist joint. With `nearest`, every
+ * joint takes the nearest artist joint (the skin compared without the matcher's judgement). */
 static void rb_map_joints(const rf_skeleton *pred, const rb_rig *p, const rf_skeleton *art,
-                          const rb_rig *g, uint32_t *to)
+                          const rb_rig *g, bool nearest, uint32_t *to)
 {
     rf_ms_options o = {0};
     o.source_analysis.use_bind_pose = true;
     char err[200];
     const rf_skeleton *sources[1] = {art};
-    rf_mapping *m = rf_ms_match(pred, sources, 1, &o, NULL, err, sizeof err);
+    rf_mapping *m = nearest ? NULL : rf_ms_match(pred, sources, 1, &o, NULL, err, sizeof err);
     for (uint32_t j = 0; j < pred->joint_count; j++) {
         int32_t k = (int32_t)j;
         while (k >= 0 && !(m && m->entries[k].input_count))
@@ -293,7 +294,7 @@ static void rb_row(const rb_rigger *r, const char *model, const char *body, uint
     fflush(stdout);
 }
 
-static void rb_one(const rb_rigger *r, const char *path, const rf_ai_result *art)
+static void rb_one(const rb_rigger *r, const char *path, const rf_ai_result *art, bool nearest)
 {
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     const char *body = rb_body(art->skeleton);
@@ -325,7 +326,7 @@ static void rb_one(const rb_rigger *r, const char *path, const rf_ai_result *art
     cd[1] = 0.5 * (rb_mean(&p, &g, false, true) + rb_mean(&g, &p, false, true)) / L;
     cd[2] = rb_chamfer(&p, &g, true, true) / L;
     uint32_t *to = g_new(uint32_t, ps->joint_count + 1);
-    rb_map_joints(ps, &p, art->skeleton, &g, to);
+    rb_map_joints(ps, &p, art->skeleton, &g, nearest, to);
     rb_skin_compare(art->mesh, pm, to, art->skeleton->joint_count, &sk);
     rb_row(r, base, body, g.n, ps->joint_count, cd, &sk, secs, "ok");
     g_free(to);
@@ -333,7 +334,7 @@ static void rb_one(const rb_rigger *r, const char *path, const rf_ai_result *art
     rf_skeleton_free(ps), rf_mesh_free(pm);
 }
 
-static int rb_run(GArray *riggers, int nfiles, char **files)
+static int rb_run(GArray *riggers, int nfiles, char **files, bool nearest)
 {
     printf("rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,cd_b2b,precision,recall,l1,"
            "unweighted,seconds,status\n");
@@ -354,7 +355,7 @@ static int rb_run(GArray *riggers, int nfiles, char **files)
             continue;
         }
         for (guint k = 0; k < riggers->len; k++)
-            rb_one(&g_array_index(riggers, rb_rigger, k), files[i], &art);
+            rb_one(&g_array_index(riggers, rb_rigger, k), files[i], &art, nearest);
         rf_ai_result_clear(&art);
     }
     return bad ? RF_EXIT_RUN : RF_EXIT_OK;
@@ -364,7 +365,12 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
 {
     g_auto(GStrv) names = NULL;
     gboolean list = FALSE;
+    g_autofree char *joint_map = NULL;
     const GOptionEntry entries[] = {
+        {"joint-map", 0, 0, G_OPTION_ARG_STRING, &joint_map,
+         "How predicted joints are matched to the artist's for the skinning columns: matcher "
+         "(default: the skeletal-similarity matcher) or nearest (the nearest artist joint)",
+         "HOW"},
         {"rigger", 'r', 0, G_OPTION_ARG_STRING_ARRAY, &names,
          "A rigger by name or node type (repeatable; default: every rigger found)", "NAME"},
         {"list", 0, 0, G_OPTION_ARG_NONE, &list, "List the riggers", NULL},
@@ -377,6 +383,11 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
                           "(vertices without weights),seconds,status.",
                           entries, &argc, &argv))
         return RF_EXIT_USAGE;
+    bool nearest = joint_map && !strcmp(joint_map, "nearest");
+    if (joint_map && !nearest && strcmp(joint_map, "matcher")) {
+        fprintf(stderr, "rigflow rig-bench: --joint-map: expected matcher or nearest\n");
+        return RF_EXIT_USAGE;
+    }
     GArray *riggers = rb_find_riggers(reg, names);
     int code = RF_EXIT_OK;
     if (list) {
@@ -392,7 +403,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         fprintf(stderr, "rigflow rig-bench: name the rigged models to measure (see --help)\n");
         code = RF_EXIT_USAGE;
     } else {
-        code = rb_run(riggers, argc - 1, argv + 1);
+        code = rb_run(riggers, argc - 1, argv + 1, nearest);
     }
     g_array_free(riggers, TRUE);
     return code;
