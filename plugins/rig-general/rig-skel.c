@@ -20,6 +20,7 @@ typedef struct rf_rig_grid {
     uint32_t *comp; /* solid component, NONE outside */
     double *geo;    /* geodesic distance from the component's root, in voxels */
     uint32_t *node; /* band piece */
+    uint32_t main;  /* the main solid component: the seed's, else the largest */
 } rf_rig_grid;
 
 typedef struct rf_rig_node {
@@ -249,35 +250,35 @@ static bool rf_rig_neighbour(const rf_rig_grid *g, size_t i, int k, size_t *j)
 }
 
 /* Labels solid components and grows geodesic distance in each from its thickest voxel. */
-static bool rf_rig_geodesic(rf_rig_grid *g, const double *seed, uint32_t *ncomp)
+/* The solid voxel nearest the seed, preferring thick ones: a junction's centroid can lie between
+ * the legs, outside, and its nearest voxel in one thigh. */
+static size_t rf_rig_seed_voxel(const rf_rig_grid *g, const double *seed)
 {
-    size_t seed_at = SIZE_MAX;
-    if (seed) {
-        /* the solid voxel nearest the seed, preferring thick ones: a junction's centroid can lie
-         * between the legs, outside, and its nearest voxel in one thigh */
-        double best = INFINITY;
-        for (size_t i = 0; i < g->n; i++) {
-            if (!g->solid[i])
-                continue;
-            int x, y, z;
-            rf_rig_xyz(g, i, &x, &y, &z);
-            double d[3] = {g->org[0] + (x + 0.5) * g->h - seed[0],
-                           g->org[1] + (y + 0.5) * g->h - seed[1],
-                           g->org[2] + (z + 0.5) * g->h - seed[2]};
-            double score = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g->df[i] / 3.0 * g->h;
-            if (score < best)
-                best = score, seed_at = i;
-        }
+    size_t at = SIZE_MAX;
+    double best = INFINITY;
+    for (size_t i = 0; seed && i < g->n; i++) {
+        if (!g->solid[i])
+            continue;
+        int x, y, z;
+        rf_rig_xyz(g, i, &x, &y, &z);
+        double d[3] = {g->org[0] + (x + 0.5) * g->h - seed[0], g->org[1] + (y + 0.5) * g->h - seed[1],
+                       g->org[2] + (z + 0.5) * g->h - seed[2]};
+        double score = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g->df[i] / 3.0 * g->h;
+        if (score < best)
+            best = score, at = i;
     }
-    g->comp = malloc(g->n * sizeof *g->comp);
-    g->geo = malloc(g->n * sizeof *g->geo);
-    size_t *queue = malloc(g->n * sizeof *queue);
-    rf_rig_heap h = {0};
-    bool ok = g->comp && g->geo && queue;
+    return at;
+}
+
+/* Labels the solid's components (26-connected) into g->comp; their count into *ncomp, the
+ * largest into g->main, each one's thickest voxel into thick[] (g->n entries, caller's). */
+static bool rf_rig_components(rf_rig_grid *g, size_t *queue, size_t *thick, uint32_t *ncomp)
+{
+    size_t best = 0;
     *ncomp = 0;
-    for (size_t i = 0; ok && i < g->n; i++)
+    for (size_t i = 0; i < g->n; i++)
         g->comp[i] = RF_RIG_NONE, g->geo[i] = INFINITY;
-    for (size_t s = 0; ok && s < g->n; s++) {
+    for (size_t s = 0; s < g->n; s++) {
         if (!g->solid[s] || g->comp[s] != RF_RIG_NONE)
             continue;
         size_t head = 0, tail = 0, root = s;
@@ -290,25 +291,80 @@ static bool rf_rig_geodesic(rf_rig_grid *g, const double *seed, uint32_t *ncomp)
                 if (rf_rig_neighbour(g, i, k, &j) && g->solid[j] && g->comp[j] == RF_RIG_NONE)
                     g->comp[j] = *ncomp, queue[tail++] = j;
         }
+        thick[*ncomp] = root;
+        if (tail > best)
+            best = tail, g->main = *ncomp;
         (*ncomp)++;
-        if (seed_at != SIZE_MAX && g->comp[seed_at] == g->comp[s])
-            root = seed_at;
-        g->geo[root] = 0;
-        ok = rf_rig_heap_push(&h, 0, (uint32_t)root);
-        double d;
-        uint32_t i;
-        while (ok && rf_rig_heap_pop(&h, &d, &i)) {
-            if (d > g->geo[i])
-                continue;
-            size_t j;
-            for (int k = 0; k < 26 && ok; k++)
-                if (rf_rig_neighbour(g, i, k, &j) && g->solid[j] && d + rf_rig_l26[k] < g->geo[j]) {
-                    g->geo[j] = d + rf_rig_l26[k];
-                    ok = rf_rig_heap_push(&h, g->geo[j], (uint32_t)j);
-                }
-        }
     }
-    free(queue);
+    return true;
+}
+
+/* Each other component grows from its voxel nearest the main component (breadth-first through
+ * the whole grid), where it meets the body: a separate leg of a robot from its hip, not from its
+ * thickest point. Overwrites thick[] for those components. */
+static bool rf_rig_near_main(rf_rig_grid *g, size_t *queue, size_t *thick, uint32_t ncomp)
+{
+    uint32_t *dist = malloc(g->n * sizeof *dist);
+    uint32_t *best = malloc((size_t)(ncomp ? ncomp : 1) * sizeof *best);
+    if (!dist || !best) {
+        free(dist), free(best);
+        return false;
+    }
+    size_t head = 0, tail = 0;
+    for (size_t i = 0; i < g->n; i++) {
+        dist[i] = g->comp[i] == g->main ? 0 : UINT32_MAX;
+        if (!dist[i])
+            queue[tail++] = i;
+    }
+    while (head < tail) {
+        size_t i = queue[head++], j;
+        for (int k = 0; k < 26; k++)
+            if (rf_rig_neighbour(g, i, k, &j) && dist[j] == UINT32_MAX)
+                dist[j] = dist[i] + 1, queue[tail++] = j;
+    }
+    for (uint32_t c = 0; c < ncomp; c++)
+        best[c] = UINT32_MAX;
+    for (size_t i = 0; i < g->n; i++) {
+        uint32_t c = g->comp[i];
+        if (c != RF_RIG_NONE && c != g->main && dist[i] < best[c])
+            best[c] = dist[i], thick[c] = i;
+    }
+    free(dist), free(best);
+    return true;
+}
+
+/* Geodesic distance inside each component from its root: the seed's voxel (or the thickest)
+ * for the main one, the voxel nearest the main one for the others. */
+static bool rf_rig_geodesic(rf_rig_grid *g, const double *seed, uint32_t *ncomp)
+{
+    g->comp = malloc(g->n * sizeof *g->comp);
+    g->geo = malloc(g->n * sizeof *g->geo);
+    size_t *queue = malloc(g->n * sizeof *queue), *root = malloc(g->n * sizeof *root);
+    rf_rig_heap h = {0};
+    bool ok = g->comp && g->geo && queue && root && rf_rig_components(g, queue, root, ncomp) &&
+              rf_rig_near_main(g, queue, root, *ncomp);
+    size_t seed_at = ok ? rf_rig_seed_voxel(g, seed) : SIZE_MAX;
+    if (seed_at != SIZE_MAX) {
+        g->main = g->comp[seed_at];
+        root[g->main] = seed_at;
+    }
+    for (uint32_t c = 0; ok && c < *ncomp; c++) {
+        g->geo[root[c]] = 0;
+        ok = rf_rig_heap_push(&h, 0, (uint32_t)root[c]);
+    }
+    double d;
+    uint32_t i;
+    while (ok && rf_rig_heap_pop(&h, &d, &i)) {
+        if (d > g->geo[i])
+            continue;
+        size_t j;
+        for (int k = 0; k < 26 && ok; k++)
+            if (rf_rig_neighbour(g, i, k, &j) && g->solid[j] && d + rf_rig_l26[k] < g->geo[j]) {
+                g->geo[j] = d + rf_rig_l26[k];
+                ok = rf_rig_heap_push(&h, g->geo[j], (uint32_t)j);
+            }
+    }
+    free(queue), free(root);
     rf_rig_heap_free(&h);
     return ok;
 }
@@ -520,20 +576,36 @@ static bool rf_rig_prune_one(rf_rig_tree *t, uint32_t *reach, uint8_t *leaves)
     return true;
 }
 
-/* Pieces of other solid components hang from the nearest node of the main one. */
-static void rf_rig_attach(rf_rig_tree *t)
+/* Pieces of other solid components hang, nearest first, from the nearest node of the tree grown
+ * so far (Prim's order): a robot's separate legs from its torso, its torso from its head, rather
+ * than everything from the largest part. */
+static bool rf_rig_attach(rf_rig_tree *t)
 {
     rf_rig_node *v = t->ns->v;
-    for (uint32_t i = 0; i < t->ns->n; i++) {
-        if (v[i].parent >= 0 || v[i].comp == t->main_comp || v[i].dead)
-            continue;
+    uint32_t n = t->ns->n, nc = 0;
+    for (uint32_t i = 0; i < n; i++)
+        nc = v[i].comp + 1 > nc ? v[i].comp + 1 : nc;
+    uint8_t *in = calloc(nc + 1, 1);
+    if (!in)
+        return false;
+    in[t->main_comp] = 1;
+    for (;;) {
         double best = INFINITY;
-        int32_t to = -1;
-        for (uint32_t k = 0; k < t->ns->n; k++)
-            if (v[k].comp == t->main_comp && !v[k].dead && rf_rig_dist3(t->pos[i], t->pos[k]) < best)
-                best = rf_rig_dist3(t->pos[i], t->pos[k]), to = (int32_t)k;
-        v[i].parent = to;
+        uint32_t child = RF_RIG_NONE, to = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            if (v[i].parent >= 0 || v[i].dead || in[v[i].comp])
+                continue;
+            for (uint32_t k = 0; k < n; k++)
+                if (!v[k].dead && in[v[k].comp] && rf_rig_dist3(t->pos[i], t->pos[k]) < best)
+                    best = rf_rig_dist3(t->pos[i], t->pos[k]), child = i, to = k;
+        }
+        if (child == RF_RIG_NONE)
+            break;
+        v[child].parent = (int32_t)to;
+        in[v[child].comp] = 1;
     }
+    free(in);
+    return true;
 }
 
 /* ---- joints ---- */
@@ -664,7 +736,8 @@ static bool rf_rig_emit(rf_rig_build *b, uint32_t root)
                     k = kids[first[k]];
                 double len;
                 rf_rig_chain_path(b, k, &len);
-                if (v[k].children && len < fmax(1.5 * b->t->radius[key], 0.75 * b->seg) && nt < 64)
+                double r = fmin(b->t->radius[key], b->t->radius[k]);
+                if (v[k].children && len < fmax(1.5 * r, 0.75 * b->seg) && nt < 64)
                     todo[nt++] = k;
                 else
                     ends[n++] = k;
@@ -720,10 +793,7 @@ static bool rf_rig_tree_make(rf_rig_tree *t, const rf_rig_grid *g, rf_rig_nodes 
         if (ns->v[i].comp < ns->n)
             size[ns->v[i].comp] += ns->v[i].count;
     }
-    t->main_comp = 0;
-    for (uint32_t c = 0; c < ns->n; c++)
-        if (size[c] > size[t->main_comp])
-            t->main_comp = c;
+    t->main_comp = g->main;
     /* components too small to carry a bone of their own: heat reaches them from nearby bones */
     for (uint32_t i = 0; i < ns->n; i++)
         if (ns->v[i].comp != t->main_comp && size[ns->v[i].comp] < 64)
@@ -754,7 +824,10 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
         goto done;
     }
     t.seg = o->segment * p->longest;
-    rf_rig_attach(&t);
+    if (!rf_rig_attach(&t)) {
+        ok = rf_rig_fail(err, n, "out of memory linking the mesh's parts");
+        goto done;
+    }
     rf_rig_count_children(&t);
     uint32_t *reach = malloc((size_t)ns.n * sizeof *reach);
     uint8_t *leaves = malloc(ns.n);

@@ -1,7 +1,7 @@
 #!/bin/sh
 # The auto-rigging pipelines end to end and rig-bench's regression thresholds.
-# - pipelines/autorig.json on Debian's WusonOBJ.obj: a skinned GLB the Khronos glTF-Validator
-#   accepts; a flat mesh is refused with a reason and leaves no file behind.
+# - pipelines/autorig.json on Debian's WusonOBJ.obj and spider.obj turned into STL: skinned GLBs
+#   the Khronos glTF-Validator accepts; a flat mesh is refused with a reason and leaves no file.
 # - pipelines/scan-to-animation.json: spider.obj (eight legs, no rig) walks the CMU walk; the GLB
 #   validates and holds the clip.
 # - rigflow rig-bench on three rigged models with their rigs ignored: every vertex weighted and
@@ -36,6 +36,13 @@ if autorig "$models/WusonOBJ.obj" "$tmp/wuson.glb"; then ok; else ko "autorig Wu
 valid "$tmp/wuson.glb"
 inspect_has "$tmp/wuson.glb" "skinned (4 weights per vertex)"
 inspect_has "$tmp/wuson.glb" "leg_"
+# STL keeps no shared vertices (every triangle its own three): welding makes it one body again
+if command -v assimp >/dev/null && assimp export "$models/spider.obj" "$tmp/spider.stl" >/dev/null 2>&1; then
+    if autorig "$tmp/spider.stl" "$tmp/spider.glb" 2>"$tmp/err"; then ok; else cat "$tmp/err"; ko "autorig spider.stl"; fi
+    valid "$tmp/spider.glb"
+else
+    echo "assimp command (assimp-utils) not found: the STL case skipped"
+fi
 
 if [ ! -f "$data/bvh/cmu_01_01.bvh" ]; then
     echo "RF_DATA_DIR not found (../shared/data): the rest skipped"
