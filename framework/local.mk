@@ -31,14 +31,13 @@ rigflow_LDADD += $(JANSSON_LIBS)
 
 # rigflow ik-bench: the IK solvers on the standard workloads.
 rigflow_SOURCES += framework/ik-bench.c framework/ik-bench.h
-rigflow_CPPFLAGS += -I$(top_srcdir)/plugins/ik-common
-rigflow_LDADD += plugins/ik-common/libikworkload.la
+rigflow_CPPFLAGS +=
+rigflow_LDADD += sdk/ik/librigflow-ik.la
 
 # rigflow map: the graph of pipelines/map.json from the command line.
 rigflow_SOURCES += framework/map-cmd.c framework/map-cmd.h
 
-# rigflow rig-bench: the rigger plugins against artists' rigs (doc/autorig.md); it imports the
-# models with librfassimp and matches joints with the skeletal-similarity matcher's library.
+# rigflow rig-bench: the rigger plugins against artists' rigs (doc/autorig.md), through pipelines
+# it builds in memory; the skeleton analysis tells humanoids from other bodies.
 rigflow_SOURCES += framework/rig-bench.c framework/rig-bench.h
-rigflow_CPPFLAGS += -I$(top_srcdir)/plugins/assimp -I$(top_srcdir)/plugins/match-similarity
-rigflow_LDADD += plugins/assimp/librfassimp.la plugins/match-similarity/libsimilarity.la
+rigflow_LDADD += sdk/analysis/librigflow-analysis.la

@@ -1,21 +1,23 @@
-/* `rigflow rig-bench`: the riggers against artists' rigs. Each model is imported twice over:
- * its artist rig and skin are the answer, its bare mesh is what every rigger plugin offering
- * "rigflow.rigger/1" is handed. Joint distances follow RigNet's and UniRig's evaluation (chamfer
- * distances normalised by the mesh's longest bounding-box edge); skinning is compared after the
- * skeletal-similarity matcher maps each predicted joint to an artist joint. doc/autorig.md. */
+/* `rigflow rig-bench`: the riggers against artists' rigs. For each model and each rigger plugin
+ * offering "rigflow.rigger/1" a pipeline is built in memory and run by the engine: the model
+ * imported as it is (the artist's rig and skin: the answer) and with its rig ignored (the bare
+ * mesh), the rigger on the bare mesh, and the skeletal-similarity matcher mapping the rigger's
+ * joints onto the artist's. Joint distances follow RigNet's and UniRig's evaluation (chamfer
+ * distances normalised by the mesh's longest bounding-box edge); skinning is compared through
+ * the matcher's mapping. The rigger is timed on its own through its extension. doc/autorig.md. */
+#include <jansson.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+#include <rigflow/analysis.h>
 #include <rigflow/rigger.h>
 
-#include "aimport.h"
 #include "commands.h"
 #include "rig-bench.h"
-#include "similarity.h"
 
 typedef struct rb_rigger {
-    const char *type;
+    const rf_node_desc *desc;
     const rf_rigger_api *api;
 } rb_rigger;
 
@@ -49,7 +51,7 @@ static GArray *rb_find_riggers(rf_registry *reg, char **names)
                                            : NULL;
             if (!api || rf_registry_find(reg, d->type, NULL) != d || !rb_wanted(names, d, api))
                 continue;
-            rb_rigger r = {d->type, api};
+            rb_rigger r = {d, api};
             g_array_append_val(out, r);
         }
     }
@@ -158,17 +160,15 @@ static double rb_chamfer(const rb_rig *p, const rb_rig *g, bool from_bones, bool
 
 /* ---- skinning ---- */
 
-/* Which artist joint each predicted joint stands for: the matcher's answer; unmapped joints
- * take their nearest mapped ancestor's, else the nearest artist joint. With `nearest`, every
- * joint takes the nearest artist joint (the skin compared without the matcher's judgement). */
-static void rb_map_joints(const rf_skeleton *pred, const rb_rig *p, const rf_skeleton *art,
+/* Which artist joint each predicted joint stands for: the matcher's answer (m, may be NULL);
+ * unmapped joints take their nearest mapped ancestor's, else the nearest artist joint. With
+ * `nearest`, every joint takes the nearest artist joint (the skin compared without the
+ * matcher's judgement). */
+static void rb_map_joints(const rf_skeleton *pred, const rb_rig *p, const rf_mapping *m,
                           const rb_rig *g, bool nearest, uint32_t *to)
 {
-    rf_ms_options o = {0};
-    o.source_analysis.use_bind_pose = true;
-    char err[200];
-    const rf_skeleton *sources[1] = {art};
-    rf_mapping *m = nearest ? NULL : rf_ms_match(pred, sources, 1, &o, NULL, err, sizeof err);
+    if (nearest || (m && m->target_joint_count != pred->joint_count))
+        m = NULL;
     for (uint32_t j = 0; j < pred->joint_count; j++) {
         int32_t k = (int32_t)j;
         while (k >= 0 && !(m && m->entries[k].input_count))
@@ -185,7 +185,6 @@ static void rb_map_joints(const rf_skeleton *pred, const rb_rig *p, const rf_ske
                 best = d, to[j] = g->joint[i];
         }
     }
-    rf_mapping_free(m);
 }
 
 typedef struct rb_skin {
@@ -294,70 +293,136 @@ static void rb_row(const rb_rigger *r, const char *model, const char *body, uint
     fflush(stdout);
 }
 
-static void rb_one(const rb_rigger *r, const char *path, const rf_ai_result *art, bool nearest)
+static bool rb_has_input(const rf_node_desc *d, const char *name)
 {
-    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    const char *body = rb_body(art->skeleton);
-    rf_mesh bare = *art->mesh; /* borrowed arrays, the skin hidden from the rigger */
+    for (uint32_t i = 0; i < d->input_count; i++)
+        if (!strcmp(d->inputs[i].name, name))
+            return true;
+    return false;
+}
+
+static bool rb_has_param(const rf_node_desc *d, const char *name)
+{
+    for (uint32_t i = 0; i < d->param_count; i++)
+        if (!strcmp(d->params[i].name, name))
+            return true;
+    return false;
+}
+
+/* The graph for one model and one rigger (see the file comment), validated; NULL with a reason
+ * in why. */
+static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, const char *path,
+                                char *why, size_t n)
+{
+    const char *param = NULL;
+    const rf_node_desc *imp = rf_registry_importer_for(reg, path, &param);
+    if (!imp || !rb_has_param(imp, "ignore_rig")) {
+        snprintf(why, n, "%s", imp ? "its importer cannot ignore a rig" : "no importer reads it");
+        return NULL;
+    }
+    json_t *rig_in = json_pack("{s:s}", "mesh", "mesh.mesh");
+    if (rb_has_input(r->desc, "axes"))
+        json_object_set_new(rig_in, "axes", json_string("mesh.skeleton"));
+    json_t *graph = json_pack(
+        "{s:s, s:i, s:[{s:s, s:s, s:{s:s}}, {s:s, s:s, s:{s:s, s:b, s:b}}, {s:s, s:s, s:o}, "
+        "{s:s, s:s, s:{s:s, s:[s]}}]}",
+        "format", "rigflow.pipeline", "version", 1, "nodes", "id", "artist", "type", imp->type,
+        "params", param, path, "id", "mesh", "type", imp->type, "params", param, path,
+        "ignore_rig", 1, "require_skeleton", 0, "id", "rig", "type", r->desc->type, "inputs",
+        rig_in, "id", "map", "type", "skeletal-similarity", "inputs", "target", "rig.skeleton",
+        "sources", "artist.skeleton");
+    char *text = graph ? json_dumps(graph, JSON_COMPACT) : NULL;
+    json_decref(graph);
+    g_autofree char *cwd = g_get_current_dir();
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    rf_pipeline *p = text ? rf_pipeline_load_string(text, "rig-bench", cwd, diags) : NULL;
+    free(text);
+    if (!p || !rf_pipeline_validate(p, reg, diags) || diags->len) {
+        g_autofree char *msg = diags->len ? rf_diag_format(g_ptr_array_index(diags, 0)) : NULL;
+        snprintf(why, n, "%s", msg ? msg : "the graph could not be built");
+        rf_pipeline_free(p);
+        return NULL;
+    }
+    return p;
+}
+
+/* Seconds the rigger's core takes on the bare mesh, called directly as ik-bench calls solvers. */
+static double rb_time(const rb_rigger *r, const rf_mesh *mesh)
+{
+    rf_mesh bare = *mesh; /* borrowed arrays, the skin hidden from the rigger */
     bare.skin_joints = NULL, bare.skin_weights = NULL, bare.inverse_bind = NULL, bare.bind_count = 0;
-    rf_skeleton *ps = NULL;
-    rf_mesh *pm = NULL;
-    char err[512] = "";
+    rf_skeleton *s = NULL;
+    rf_mesh *m = NULL;
+    char err[256];
     gint64 t0 = g_get_monotonic_time();
-    bool ok = r->api->rig(&bare, &ps, &pm, err, sizeof err);
+    bool ok = r->api->rig(&bare, &s, &m, err, sizeof err);
     double secs = (g_get_monotonic_time() - t0) / 1e6;
+    rf_skeleton_free(s), rf_mesh_free(m);
+    return ok ? secs : NAN;
+}
+
+static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *pl, bool nearest)
+{
+    const rf_skeleton *as = rf_pipeline_result(pl, "artist", "skeleton");
+    const rf_mesh *am = rf_pipeline_result(pl, "artist", "mesh");
+    const rf_skeleton *ps = rf_pipeline_result(pl, "rig", "skeleton");
+    const rf_mesh *pm = rf_pipeline_result(pl, "rig", "mesh");
+    const rf_mapping *map = rf_pipeline_result(pl, "map", "mapping");
     double cd[3] = {NAN, NAN, NAN};
     rb_skin sk = {NAN, NAN, NAN, 0};
-    rb_rig g = {0}, p = {0};
-    rb_rig_make(art->skeleton, art->mesh, true, &g);
-    if (!ok) {
-        char status[600];
-        snprintf(status, sizeof status, "refused: %s", err);
-        rb_row(r, base, body, g.n, 0, cd, &sk, secs, status);
-        rb_rig_free(&g);
+    if (!as || !am || !am->skin_weights || !ps || !pm || !pm->skin_weights) {
+        rb_row(r, base, "-", 0, 0, cd, &sk, NAN, "skipped: no skinned mesh to compare with");
         return;
     }
-    /* the file's axes, as pipelines/autorig.json hands them to the rigger through its axes port */
-    if (rf_v3_len(art->skeleton->up) > 0)
-        ps->up = art->skeleton->up, ps->forward = art->skeleton->forward;
+    rb_rig g = {0}, p = {0};
+    rb_rig_make(as, am, true, &g);
     rb_rig_make(ps, pm, false, &p);
-    double L = rb_longest(art->mesh);
+    double L = rb_longest(am);
     cd[0] = rb_chamfer(&p, &g, false, false) / L;
     cd[1] = 0.5 * (rb_mean(&p, &g, false, true) + rb_mean(&g, &p, false, true)) / L;
     cd[2] = rb_chamfer(&p, &g, true, true) / L;
     uint32_t *to = g_new(uint32_t, ps->joint_count + 1);
-    rb_map_joints(ps, &p, art->skeleton, &g, nearest, to);
-    rb_skin_compare(art->mesh, pm, to, art->skeleton->joint_count, &sk);
-    rb_row(r, base, body, g.n, ps->joint_count, cd, &sk, secs, "ok");
+    rb_map_joints(ps, &p, map, &g, nearest, to);
+    rb_skin_compare(am, pm, to, as->joint_count, &sk);
+    rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, rb_time(r, am), "ok");
     g_free(to);
     rb_rig_free(&g), rb_rig_free(&p);
-    rf_skeleton_free(ps), rf_mesh_free(pm);
 }
 
-static int rb_run(GArray *riggers, int nfiles, char **files, bool nearest)
+/* One model through one rigger: a row, whatever happens. False when the model could not be
+ * read at all. */
+static bool rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, bool nearest)
+{
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    double cd[3] = {NAN, NAN, NAN};
+    rb_skin sk = {NAN, NAN, NAN, 0};
+    char why[600];
+    rf_pipeline *p = rb_pipeline(reg, r, path, why, sizeof why);
+    if (!p) {
+        fprintf(stderr, "rigflow rig-bench: %s: %s\n", path, why);
+        return false;
+    }
+    rf_run_options run = {.quiet = true};
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    if (rf_pipeline_run(p, reg, &run, diags)) {
+        rb_measure(r, base, p, nearest);
+    } else {
+        g_autofree char *msg = diags->len ? rf_diag_format(g_ptr_array_index(diags, 0)) : NULL;
+        snprintf(why, sizeof why, "refused: %s", msg ? msg : "the run failed");
+        rb_row(r, base, "-", 0, 0, cd, &sk, NAN, why);
+    }
+    rf_pipeline_free(p);
+    return true;
+}
+
+static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **files, bool nearest)
 {
     printf("rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,cd_b2b,precision,recall,l1,"
            "unweighted,seconds,status\n");
     int bad = 0;
-    for (int i = 0; i < nfiles; i++) {
-        rf_ai_options o = {.require_skeleton = true};
-        rf_ai_result art;
-        char err[1024];
-        if (!rf_ai_import(files[i], &o, &art, NULL, NULL, err, sizeof err)) {
-            fprintf(stderr, "rigflow rig-bench: %s\n", err);
-            bad++;
-            continue;
-        }
-        if (!art.mesh || !art.mesh->skin_weights) {
-            fprintf(stderr, "rigflow rig-bench: %s: no skinned mesh to compare with, skipped\n",
-                    files[i]);
-            rf_ai_result_clear(&art);
-            continue;
-        }
+    for (int i = 0; i < nfiles; i++)
         for (guint k = 0; k < riggers->len; k++)
-            rb_one(&g_array_index(riggers, rb_rigger, k), files[i], &art, nearest);
-        rf_ai_result_clear(&art);
-    }
+            bad += !rb_one(reg, &g_array_index(riggers, rb_rigger, k), files[i], nearest);
     return bad ? RF_EXIT_RUN : RF_EXIT_OK;
 }
 
@@ -393,7 +458,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
     if (list) {
         for (guint i = 0; i < riggers->len; i++) {
             rb_rigger *r = &g_array_index(riggers, rb_rigger, i);
-            printf("%-12s %-16s %s\n", r->api->name, r->type, r->api->doc ? r->api->doc : "");
+            printf("%-12s %-16s %s\n", r->api->name, r->desc->type, r->api->doc ? r->api->doc : "");
         }
     } else if (riggers->len == 0) {
         fprintf(stderr, "rigflow rig-bench: no rigger plugin found%s\n",
@@ -403,7 +468,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         fprintf(stderr, "rigflow rig-bench: name the rigged models to measure (see --help)\n");
         code = RF_EXIT_USAGE;
     } else {
-        code = rb_run(riggers, argc - 1, argv + 1, nearest);
+        code = rb_run(reg, riggers, argc - 1, argv + 1, nearest);
     }
     g_array_free(riggers, TRUE);
     return code;

@@ -9,33 +9,35 @@
 #include "rig.h"
 
 static const rf_port_desc rf_rig_inputs[] = {
-    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, 0,
-     "the mesh to rig (any skin it has is ignored): one body, loose parts allowed"},
-    {sizeof(rf_port_desc), "axes", RF_TYPE_SKELETON, RF_PORT_OPTIONAL,
-     "the importer's skeleton (even an empty one): its up and forward, as the file declares "
-     "them, are kept; without it they come from the skeleton analysis"},
+    RF_PORT_DESC("mesh", RF_TYPE_MESH, 0,
+                 "the mesh to rig (any skin it has is ignored): one body, loose parts allowed"),
+    RF_PORT_DESC("axes", RF_TYPE_SKELETON, RF_PORT_OPTIONAL,
+                 "the importer's skeleton (even an empty one): its up and forward, as the file "
+                 "declares them, are kept; without it they come from the skeleton analysis"),
 };
 
 static const rf_port_desc rf_rig_outputs[] = {
-    {sizeof(rf_port_desc), "skeleton", RF_TYPE_SKELETON, 0,
-     "the curve skeleton cut into joints; rest = bind pose, joints unrotated, names from the "
-     "skeleton analysis (e.g. leg_l0_1)"},
-    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, 0,
-     "the input mesh skinned to it by bone heat (every vertex weighted, at most 4 joints)"},
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0, "one frame of the rest pose"},
+    RF_PORT_DESC("skeleton", RF_TYPE_SKELETON, 0,
+                 "the curve skeleton cut into joints; rest = bind pose, joints unrotated, names "
+                 "from the skeleton analysis (e.g. leg_l0_1)"),
+    RF_PORT_DESC("mesh", RF_TYPE_MESH, 0,
+                 "the input mesh skinned to it by bone heat (every vertex weighted, at most 4 "
+                 "joints)"),
+    RF_PORT_DESC("animation", RF_TYPE_ANIMATION, 0, "one frame of the rest pose"),
 };
 
 static const rf_param_desc rf_rig_params[] = {
-    {sizeof(rf_param_desc), "resolution", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 96, NULL, 16, 256,
-     NULL, "voxels along the longest bounding-box edge for the skeleton (default 96)"},
-    {sizeof(rf_param_desc), "proxy_triangles", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 20000, NULL,
-     1000, 1000000, NULL, "meshes above this are simplified into a proxy for the weights"},
-    {sizeof(rf_param_desc), "speck_size", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.02, NULL, 0, 0.5,
-     NULL, "loose parts smaller than this fraction of the mesh's diagonal are specks"},
-    {sizeof(rf_param_desc), "segment", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.12, NULL, 0.02, 1,
-     NULL, "longest bone, as a fraction of the longest bounding-box edge"},
-    {sizeof(rf_param_desc), "visibility", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
-     "heat a vertex only from bones it can see (ray casting); false: from the nearest bone"},
+    RF_PARAM_DESC_INT("resolution", 96, 16, 256,
+                      "voxels along the longest bounding-box edge for the skeleton (default 96)"),
+    RF_PARAM_DESC_INT("proxy_triangles", 20000, 1000, 1000000,
+                      "meshes above this are simplified into a proxy for the weights"),
+    RF_PARAM_DESC_FLOAT("speck_size", 0.02, 0, 0.5,
+                        "loose parts smaller than this fraction of the mesh's diagonal are specks"),
+    RF_PARAM_DESC_FLOAT("segment", 0.12, 0.02, 1,
+                        "bone length, as a fraction of the longest bounding-box edge"),
+    RF_PARAM_DESC_BOOL("visibility", 1,
+                       "heat a vertex only from bones it can see (ray casting); false: from the "
+                       "nearest bone"),
 };
 
 typedef struct rf_rig_node_ctx {
@@ -138,25 +140,14 @@ static const rf_node_desc rf_rig_general_node = {
            "and even lengths, named by the skeleton analysis; skin weights by bone heat "
            "(visibility by Embree, solved with CHOLMOD). Welds, sets specks aside, simplifies "
            "big scans into a proxy. See doc/autorig.md.",
-    .input_count = 2,
-    .inputs = rf_rig_inputs,
-    .output_count = 3,
-    .outputs = rf_rig_outputs,
-    .param_count = 5,
-    .params = rf_rig_params,
+    RF_NODE_INPUTS(rf_rig_inputs),
+    RF_NODE_OUTPUTS(rf_rig_outputs),
+    RF_NODE_PARAMS(rf_rig_params),
     .process = rf_rig_process,
     .get_extension = rf_rig_extension,
 };
 
 static const rf_node_desc *const rf_rig_nodes[] = {&rf_rig_general_node};
 
-RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
-    .abi = RF_ABI_VERSION_INIT,
-    .size = sizeof(rf_plugin_entry),
-    .id = "org.rigflow.rig-general",
-    .name = "General auto-rigger",
-    .version = "0.1.0",
-    .description = "skeleton and skin weights for an unrigged mesh of any body",
-    .node_count = 1,
-    .nodes = rf_rig_nodes,
-};
+RF_PLUGIN_DEFINE("org.rigflow.rig-general", "General auto-rigger", "0.1.0",
+                 "skeleton and skin weights for an unrigged mesh of any body", rf_rig_nodes);

@@ -5,7 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "analysis/analysis.h"
+#include <rigflow/analysis.h>
+
 #include "rig-internal.h"
 
 static char *rf_rig_strdup(const char *s)

@@ -3,7 +3,8 @@
  * tests/rig/rig-view.py to draw. A development aid; the tests check the same data. */
 #include <stdio.h>
 
-#include "aimport.h"
+#include <rigflow/aimport.h>
+
 #include "rig.h"
 
 int main(int argc, char **argv)

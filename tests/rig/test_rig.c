@@ -12,7 +12,8 @@
 
 #include <cmocka.h>
 
-#include "aimport.h"
+#include <rigflow/aimport.h>
+
 #include "rig.h"
 
 /* The invariants every rig must hold: parents first, one root, finite joints, every vertex
