@@ -6,15 +6,9 @@
 #include <string.h>
 
 #include <rigflow/analysis.h>
+#include <rigflow/model-copy.h>
 
 #include "rig-internal.h"
-
-static char *rf_rig_strdup(const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *d = malloc(n);
-    return d ? memcpy(d, s, n) : NULL;
-}
 
 /* Joint names say what the skeleton analysis found (section, side, rank, place in the chain),
  * e.g. leg_l0_1, so a person reading the rig sees its layout; the matcher never reads them. */
@@ -40,7 +34,7 @@ static bool rf_rig_name(rf_skeleton *s, rf_vec3 up, rf_vec3 forward)
             size_t l = strlen(name);
             snprintf(name + l, sizeof name - l, ".%u", j);
         }
-        ok = (s->joints[j].name = rf_rig_strdup(name)) != NULL;
+        ok = (s->joints[j].name = rf_strdup(name)) != NULL;
     }
     if (rf_v3_len(up) == 0) {
         s->up = a->up;
@@ -57,7 +51,7 @@ static rf_skeleton *rf_rig_skeleton(const rf_rig_skel *k, const rf_rig_options *
         return NULL;
     s->bind = malloc((size_t)k->n * sizeof *s->bind);
     s->rest_source = RF_REST_BIND;
-    if (!s->bind || !(s->name = rf_rig_strdup("rig.general"))) {
+    if (!s->bind || !(s->name = rf_strdup("rig.general"))) {
         rf_skeleton_free(s);
         return NULL;
     }
@@ -147,42 +141,12 @@ uint32_t rf_rig_pick_root(const rf_rig_skel *k)
     return root;
 }
 
-static void *rf_rig_dup(const void *src, size_t bytes)
-{
-    if (!src)
-        return NULL;
-    void *d = malloc(bytes ? bytes : 1);
-    return d ? memcpy(d, src, bytes) : NULL;
-}
-
 /* A copy of the input's geometry (positions, normals, triangles, parts) without any skin. */
 static rf_mesh *rf_rig_mesh_copy(const rf_mesh *in)
 {
-    rf_mesh *m = rf_mesh_new();
-    if (!m)
-        return NULL;
-    size_t nv = in->vertex_count, nt = in->triangle_count;
-    m->vertex_count = in->vertex_count, m->triangle_count = in->triangle_count;
-    m->name = in->name ? rf_rig_strdup(in->name) : NULL;
-    m->positions = rf_rig_dup(in->positions, nv * 3 * sizeof(float));
-    m->normals = rf_rig_dup(in->normals, nv * 3 * sizeof(float));
-    m->triangles = rf_rig_dup(in->triangles, nt * 3 * sizeof(uint32_t));
-    bool ok = m->positions && m->triangles && (!in->name || m->name) && (!in->normals || m->normals);
-    if (ok && RF_HAS_FIELD(in, rf_mesh, parts) && in->parts && in->part_count) {
-        m->parts = calloc(in->part_count, sizeof *m->parts);
-        ok = m->parts != NULL;
-        for (uint32_t i = 0; ok && i < in->part_count; i++) {
-            m->parts[i] = in->parts[i];
-            m->parts[i].name = in->parts[i].name ? rf_rig_strdup(in->parts[i].name) : NULL;
-            ok = !in->parts[i].name || m->parts[i].name;
-            m->part_count = i + 1;
-        }
-    }
-    if (!ok) {
-        rf_mesh_free(m);
-        return NULL;
-    }
-    return m;
+    rf_mesh bare = *in; /* borrowed arrays: the skin left out of the copy */
+    bare.skin_joints = NULL, bare.skin_weights = NULL, bare.inverse_bind = NULL, bare.bind_count = 0;
+    return rf_mesh_copy(&bare);
 }
 
 /* Up to four largest weights of a row, renormalised, into the mesh's skin arrays. */
