@@ -31,7 +31,7 @@ static const rf_param_desc rf_rig_params[] = {
                       "voxels along the longest bounding-box edge for the skeleton (default 96)"),
     RF_PARAM_DESC_INT("proxy_triangles", 20000, 1000, 1000000,
                       "meshes above this are simplified into a proxy for the weights"),
-    RF_PARAM_DESC_FLOAT("speck_size", 0.02, 0, 0.5,
+    RF_PARAM_DESC_FLOAT("speck_size", 0.02, 0.001, 0.5,
                         "loose parts smaller than this fraction of the mesh's diagonal are specks"),
     RF_PARAM_DESC_FLOAT("segment", 0.12, 0.02, 1,
                         "bone length, as a fraction of the longest bounding-box edge"),
@@ -136,7 +136,7 @@ static const rf_node_desc rf_rig_general_node = {
     .type = "rig.general",
     .kind = RF_KIND_RIGGER,
     .doc = "Rigs any body from its mesh: a curve skeleton from the voxelised volume (geodesic "
-           "level sets from its thickest point), pruned and cut into joints at junctions, bends "
+           "level sets grown from where the feet meet), pruned and cut into joints at junctions "
            "and even lengths, named by the skeleton analysis; skin weights by bone heat "
            "(visibility by Embree, solved with CHOLMOD). Welds, sets specks aside, simplifies "
            "big scans into a proxy. See doc/autorig.md.",

@@ -1,9 +1,10 @@
 /* Curve skeleton from the volume. The proxy is voxelised and closed (holes narrower than two
- * voxels sealed), a chamfer distance field finds its thickest point, geodesic distance from
- * there is cut into bands, and every connected piece of a band becomes a node at its centroid,
- * linked to the piece of the band below it touches most. Pieces split where limbs leave the body,
- * so junctions appear by themselves; short side branches (bumps) are pruned against the body's
- * thickness; chains are cut into joints at bends and at even lengths. */
+ * voxels sealed, and axis votes where wider ones let the flood in), a chamfer distance field
+ * gives the thickness, geodesic distance from a root (the thickest point, or a seed) is cut into
+ * bands, and every connected piece of a band becomes a node at its centroid, linked to the piece
+ * of the band below it touches most. Pieces split where limbs leave the body, so junctions appear
+ * by themselves; short side branches (bumps) are pruned against the body's thickness; chains are
+ * cut into joints at even lengths, mirrored limbs alike. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

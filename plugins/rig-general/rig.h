@@ -3,9 +3,9 @@
  * the tests.
  *
  * Steps: clean the mesh (weld, split into loose parts, set specks aside, simplify a proxy when it
- * is big), voxelise the closed volume, grow geodesic level sets from its thickest point, link
- * their pieces into a curve skeleton, prune it and cut it into joints at junctions, bends and even
- * lengths; then weight the mesh by bone heat. Everything is measured relative to the mesh's
+ * is big), voxelise the closed volume, grow geodesic level sets (from the thickest point, then
+ * again from where the feet meet), link their pieces into a curve skeleton, prune it and cut it
+ * into joints at junctions and even lengths; then weight the mesh by bone heat. Everything is measured relative to the mesh's
  * bounding box, so any unit and any facing behave alike.
  */
 #ifndef RF_RIG_H
