@@ -107,7 +107,7 @@ static uint32_t rf_rig_lca(const rf_rig_skel *k, uint32_t a, uint32_t b)
  * analysis finds), the pair whose common ancestor is highest: the hips of a biped (not the ankle,
  * where heel and toe meet), a girdle or the spine of a quadruped, the body of a spider. That is
  * the root an animator expects, where the thickest point (the chest, often) is not. NONE when no
- * two low leaves meet. */
+ * two low leaves meet above the lowest fifth. */
 uint32_t rf_rig_pick_root(const rf_rig_skel *k)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
@@ -138,7 +138,9 @@ uint32_t rf_rig_pick_root(const rf_rig_skel *k)
                 best = h, root = m;
         }
     free(inner);
-    return root;
+    /* feet that meet near the floor are a heel and its toes (the legs merged into one column,
+     * under a skirt): no hips found, keep the thickest point */
+    return best > lo + 0.2 * (hi - lo) ? root : RF_RIG_NONE;
 }
 
 /* A copy of the input's geometry (positions, normals, triangles, parts) without any skin. */
