@@ -18,3 +18,5 @@ plugins_rig_general_la_SOURCES = plugins/rig-general/plugin.c
 # the plugin, and with it Embree, must stay loaded when the host closes its plugins.
 plugins_rig_general_la_LDFLAGS = $(PLUGIN_LDFLAGS) -Wl,-z,nodelete
 plugins_rig_general_la_LIBADD = plugins/rig-general/librigauto.la sdk/analysis/librigflow-analysis.la
+
+dist_pipelines_DATA += pipelines/autorig.json pipelines/scan-to-animation.json
