@@ -252,7 +252,8 @@ static const char *rb_body(const rf_skeleton *s)
     rf_analysis *a = rf_analyze(s, &o);
     uint32_t arms = 0, legs = 0;
     for (uint32_t i = 0; a && i < a->section_count; i++)
-        arms += a->sections[i].type == RF_SECTION_ARM, legs += a->sections[i].type == RF_SECTION_LEG;
+        arms += a->sections[i].type == RF_SECTION_ARM,
+            legs += a->sections[i].type == RF_SECTION_LEG;
     rf_analysis_free(a);
     return arms == 2 && legs == 2 ? "humanoid" : "other";
 }
@@ -262,7 +263,8 @@ static double rb_longest(const rf_mesh *m)
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, l = 0;
     for (uint32_t v = 0; v < m->vertex_count; v++)
         for (int a = 0; a < 3; a++)
-            lo[a] = fmin(lo[a], m->positions[v * 3 + a]), hi[a] = fmax(hi[a], m->positions[v * 3 + a]);
+            lo[a] = fmin(lo[a], m->positions[v * 3 + a]),
+            hi[a] = fmax(hi[a], m->positions[v * 3 + a]);
     for (int a = 0; a < 3; a++)
         l = fmax(l, hi[a] - lo[a]);
     return l;
@@ -327,10 +329,10 @@ static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, cons
         "{s:s, s:i, s:[{s:s, s:s, s:{s:s}}, {s:s, s:s, s:{s:s, s:b, s:b}}, {s:s, s:s, s:o}, "
         "{s:s, s:s, s:{s:s, s:[s]}}]}",
         "format", "rigflow.pipeline", "version", 1, "nodes", "id", "artist", "type", imp->type,
-        "params", param, path, "id", "mesh", "type", imp->type, "params", param, path,
-        "ignore_rig", 1, "require_skeleton", 0, "id", "rig", "type", r->desc->type, "inputs",
-        rig_in, "id", "map", "type", "skeletal-similarity", "inputs", "target", "rig.skeleton",
-        "sources", "artist.skeleton");
+        "params", param, path, "id", "mesh", "type", imp->type, "params", param, path, "ignore_rig",
+        1, "require_skeleton", 0, "id", "rig", "type", r->desc->type, "inputs", rig_in, "id", "map",
+        "type", "skeletal-similarity", "inputs", "target", "rig.skeleton", "sources",
+        "artist.skeleton");
     char *text = graph ? json_dumps(graph, JSON_COMPACT) : NULL;
     json_decref(graph);
     g_autofree char *cwd = g_get_current_dir();
@@ -350,7 +352,8 @@ static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, cons
 static double rb_time(const rb_rigger *r, const rf_mesh *mesh)
 {
     rf_mesh bare = *mesh; /* borrowed arrays, the skin hidden from the rigger */
-    bare.skin_joints = NULL, bare.skin_weights = NULL, bare.inverse_bind = NULL, bare.bind_count = 0;
+    bare.skin_joints = NULL, bare.skin_weights = NULL, bare.inverse_bind = NULL,
+    bare.bind_count = 0;
     rf_skeleton *s = NULL;
     rf_mesh *m = NULL;
     char err[256];

@@ -109,7 +109,8 @@ static bool rf_rig_sees(const rf_rig_rays *r, const double p[3], const double q[
         return true;
     struct RTCRay ray = {0};
     ray.org_x = (float)p[0], ray.org_y = (float)p[1], ray.org_z = (float)p[2];
-    ray.dir_x = (float)(d[0] / len), ray.dir_y = (float)(d[1] / len), ray.dir_z = (float)(d[2] / len);
+    ray.dir_x = (float)(d[0] / len), ray.dir_y = (float)(d[1] / len),
+    ray.dir_z = (float)(d[2] / len);
     ray.tnear = (float)eps, ray.tfar = (float)(len - eps);
     ray.mask = UINT32_MAX;
     struct RTCIntersectContext ctx;
@@ -248,8 +249,10 @@ static bool rf_rig_solve(const rf_rig_geo *g, const rf_rig_src *src, uint32_t nj
                 w[(size_t)i * nj + j] = xx[(size_t)j * g->nv + i];
     } else {
         ok = false;
-        rf_rig_fail(err, n, "the bone-heat system of %u vertices could not be solved (CHOLMOD "
-                    "status %d)", g->nv, cc.status);
+        rf_rig_fail(err, n,
+                    "the bone-heat system of %u vertices could not be solved (CHOLMOD "
+                    "status %d)",
+                    g->nv, cc.status);
     }
     cholmod_free_dense(&X, &cc), cholmod_free_dense(&B, &cc);
     cholmod_free_factor(&L, &cc), cholmod_free_sparse(&A, &cc), cholmod_free_triplet(&T, &cc);

@@ -95,8 +95,8 @@ static bool rf_rig_check_input(const rf_mesh *m, char *err, size_t n)
             return rf_rig_fail(err, n, "vertex %zu has a non-finite or huge coordinate", i / 3);
     for (size_t i = 0; i < (size_t)m->triangle_count * 3; i++)
         if (m->triangles[i] >= m->vertex_count)
-            return rf_rig_fail(err, n, "triangle %zu names vertex %u of %u", i / 3,
-                               m->triangles[i], m->vertex_count);
+            return rf_rig_fail(err, n, "triangle %zu names vertex %u of %u", i / 3, m->triangles[i],
+                               m->vertex_count);
     return true;
 }
 
@@ -174,13 +174,13 @@ static void rf_rig_union(uint32_t *up, uint32_t a, uint32_t b)
 /* The working state of rf_rig_prepare. */
 typedef struct rf_rig_clean {
     const rf_mesh *m;
-    uint32_t *weld;  /* [input vertex] welded index */
-    uint32_t nw;     /* welded vertices */
-    double *wp;      /* [nw][3] welded positions */
-    uint32_t *tris;  /* welded, non-degenerate triangles */
+    uint32_t *weld; /* [input vertex] welded index */
+    uint32_t nw;    /* welded vertices */
+    double *wp;     /* [nw][3] welded positions */
+    uint32_t *tris; /* welded, non-degenerate triangles */
     uint32_t nt;
-    uint32_t *part;  /* [nw] loose part (root of the union), NONE for stray vertices */
-    uint8_t *speck;  /* [nw] 1 where the vertex belongs to a speck */
+    uint32_t *part; /* [nw] loose part (root of the union), NONE for stray vertices */
+    uint8_t *speck; /* [nw] 1 where the vertex belongs to a speck */
 } rf_rig_clean;
 
 static bool rf_rig_welded_triangles(rf_rig_clean *c)
@@ -223,7 +223,8 @@ static bool rf_rig_parts(rf_rig_clean *c, double speck_size, uint32_t *parts, ui
             rf_rig_union(up, x[0], x[1]), rf_rig_union(up, x[1], x[2]);
             used[x[0]] = used[x[1]] = used[x[2]] = 1;
         }
-        double all_lo[3] = {INFINITY, INFINITY, INFINITY}, all_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        double all_lo[3] = {INFINITY, INFINITY, INFINITY},
+               all_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (uint32_t v = 0; v < c->nw; v++)
             for (int a = 0; a < 3; a++)
                 box[v * 6 + a] = INFINITY, box[v * 6 + 3 + a] = -INFINITY;
@@ -476,7 +477,8 @@ bool rf_rig_prepare(const rf_mesh *m, const rf_rig_options *o, rf_rig_prep *out,
     }
     ok = (b2p = malloc((size_t)body.nv * sizeof *b2p)) != NULL;
     if (ok && body.nt > o->proxy_triangles) {
-        ok = rf_rig_simplify(&body, o->proxy_triangles, &out->proxy, b2p) && rf_rig_carry(&body, b2p);
+        ok = rf_rig_simplify(&body, o->proxy_triangles, &out->proxy, b2p) &&
+             rf_rig_carry(&body, b2p);
     } else if (ok) {
         for (uint32_t v = 0; v < body.nv; v++)
             b2p[v] = v;

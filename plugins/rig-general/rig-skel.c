@@ -88,7 +88,8 @@ static bool rf_rig_flood(const rf_rig_grid *g, const uint8_t *wall, uint8_t *out
     size_t head = 0, tail = 0;
     memset(out, 0, g->n);
     out[0] = 1, queue[tail++] = 0;
-    static const int d6[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const int d6[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                 {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
     while (head < tail) {
         int x, y, z;
         rf_rig_xyz(g, queue[head++], &x, &y, &z);
@@ -261,7 +262,8 @@ static size_t rf_rig_seed_voxel(const rf_rig_grid *g, const double *seed)
             continue;
         int x, y, z;
         rf_rig_xyz(g, i, &x, &y, &z);
-        double d[3] = {g->org[0] + (x + 0.5) * g->h - seed[0], g->org[1] + (y + 0.5) * g->h - seed[1],
+        double d[3] = {g->org[0] + (x + 0.5) * g->h - seed[0],
+                       g->org[1] + (y + 0.5) * g->h - seed[1],
                        g->org[2] + (z + 0.5) * g->h - seed[2]};
         double score = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g->df[i] / 3.0 * g->h;
         if (score < best)
@@ -613,8 +615,8 @@ static bool rf_rig_attach(rf_rig_tree *t)
 typedef struct rf_rig_build {
     rf_rig_tree *t;
     rf_rig_skel *s;
-    double seg;      /* bone length, world units */
-    uint32_t *path;  /* scratch */
+    double seg;     /* bone length, world units */
+    uint32_t *path; /* scratch */
 } rf_rig_build;
 
 static uint32_t rf_rig_joint_add(rf_rig_skel *s, const double p[3], int32_t parent)
@@ -704,7 +706,8 @@ static bool rf_rig_emit(rf_rig_build *b, uint32_t root)
     rf_rig_nodes *ns = b->t->ns;
     rf_rig_node *v = ns->v;
     uint32_t *stack = malloc((size_t)ns->n * 2 * sizeof *stack);
-    uint32_t *first = calloc((size_t)ns->n + 1, sizeof *first), *kids = malloc(ns->n * sizeof *kids);
+    uint32_t *first = calloc((size_t)ns->n + 1, sizeof *first),
+             *kids = malloc(ns->n * sizeof *kids);
     uint32_t *fill = malloc(ns->n * sizeof *fill);
     if (!stack || !first || !kids || !fill) {
         free(stack), free(first), free(kids), free(fill);

@@ -26,7 +26,9 @@ static bool rf_rig_name(rf_skeleton *s, rf_vec3 up, rf_vec3 forward)
             snprintf(name, sizeof name, "joint%u", j);
         } else {
             const rf_section *sec = &a->sections[ji->section];
-            const char side = sec->side == RF_SIDE_LEFT ? 'l' : sec->side == RF_SIDE_RIGHT ? 'r' : 'c';
+            const char side = sec->side == RF_SIDE_LEFT    ? 'l'
+                              : sec->side == RF_SIDE_RIGHT ? 'r'
+                                                           : 'c';
             snprintf(name, sizeof name, "%s_%c%u_%u", rf_section_type_name(sec->type), side,
                      sec->pair_rank, ji->index);
         }
@@ -60,7 +62,8 @@ static rf_skeleton *rf_rig_skeleton(const rf_rig_skel *k, const rf_rig_options *
         int32_t par = k->parent[j];
         const double *q = par >= 0 ? k->pos + (size_t)par * 3 : NULL;
         s->joints[j].parent = par;
-        s->joints[j].rest.t = q ? rf_v3(p[0] - q[0], p[1] - q[1], p[2] - q[2]) : rf_v3(p[0], p[1], p[2]);
+        s->joints[j].rest.t =
+            q ? rf_v3(p[0] - q[0], p[1] - q[1], p[2] - q[2]) : rf_v3(p[0], p[1], p[2]);
         if (k->has_tip[j]) {
             const double *t = k->tip + (size_t)j * 3;
             s->joints[j].end_site = rf_v3(t[0] - p[0], t[1] - p[1], t[2] - p[2]);
@@ -147,7 +150,8 @@ uint32_t rf_rig_pick_root(const rf_rig_skel *k)
 static rf_mesh *rf_rig_mesh_copy(const rf_mesh *in)
 {
     rf_mesh bare = *in; /* borrowed arrays: the skin left out of the copy */
-    bare.skin_joints = NULL, bare.skin_weights = NULL, bare.inverse_bind = NULL, bare.bind_count = 0;
+    bare.skin_joints = NULL, bare.skin_weights = NULL, bare.inverse_bind = NULL,
+    bare.bind_count = 0;
     return rf_mesh_copy(&bare);
 }
 
@@ -189,7 +193,8 @@ static bool rf_rig_skin(const rf_mesh *in, const rf_rig_prep *p, const rf_rig_sk
     for (uint32_t v = 0; ok && v < in->vertex_count; v++) {
         const double *src = p->to_proxy[v] != RF_RIG_NONE ? w + (size_t)p->to_proxy[v] * nj : NULL;
         if (!src) {
-            double q[3] = {in->positions[v * 3], in->positions[v * 3 + 1], in->positions[v * 3 + 2]};
+            double q[3] = {in->positions[v * 3], in->positions[v * 3 + 1],
+                           in->positions[v * 3 + 2]};
             double c[3], best = INFINITY;
             memset(row, 0, nj * sizeof *row);
             uint32_t to = 0;
@@ -216,8 +221,8 @@ static bool rf_rig_skin(const rf_mesh *in, const rf_rig_prep *p, const rf_rig_sk
 }
 
 bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
-                    rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress,
-                    void *user, char *err, size_t err_size)
+                    rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
+                    char *err, size_t err_size)
 {
     rf_rig_options o = opts ? *opts : (rf_rig_options){0};
     o.resolution = o.resolution ? o.resolution : 96;

@@ -5,8 +5,8 @@
  * Steps: clean the mesh (weld, split into loose parts, set specks aside, simplify a proxy when it
  * is big), voxelise the closed volume, grow geodesic level sets (from the thickest point, then
  * again from where the feet meet), link their pieces into a curve skeleton, prune it and cut it
- * into joints at junctions and even lengths; then weight the mesh by bone heat. Everything is measured relative to the mesh's
- * bounding box, so any unit and any facing behave alike.
+ * into joints at junctions and even lengths; then weight the mesh by bone heat. Everything is
+ * measured relative to the mesh's bounding box, so any unit and any facing behave alike.
  */
 #ifndef RF_RIG_H
 #define RF_RIG_H
@@ -31,13 +31,13 @@ typedef struct rf_rig_options {
 
 /* What happened, for logs and the benchmark. */
 typedef struct rf_rig_stats {
-    uint32_t vertices, welded;    /* input vertices, after welding */
-    uint32_t parts, specks;       /* loose parts, of which specks */
-    uint32_t proxy_triangles;     /* triangles the heat was solved on */
+    uint32_t vertices, welded; /* input vertices, after welding */
+    uint32_t parts, specks;    /* loose parts, of which specks */
+    uint32_t proxy_triangles;  /* triangles the heat was solved on */
     uint32_t joints;
-    uint32_t heat_vertices;       /* proxy vertices weighted by heat */
-    uint32_t fallback_vertices;   /* vertices weighted by the nearest bone instead */
-    uint32_t unseen_vertices;     /* proxy vertices that saw no bone (heated by their neighbours) */
+    uint32_t heat_vertices;     /* proxy vertices weighted by heat */
+    uint32_t fallback_vertices; /* vertices weighted by the nearest bone instead */
+    uint32_t unseen_vertices;   /* proxy vertices that saw no bone (heated by their neighbours) */
 } rf_rig_stats;
 
 /* Called with the fraction done; may be NULL. */
@@ -48,7 +48,7 @@ typedef void (*rf_rig_progress_fn)(void *user, double fraction);
  * On failure returns false with a reason in err and nothing allocated. `opts`, `stats` and
  * `progress` may be NULL. */
 bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
-                    rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress,
-                    void *user, char *err, size_t err_size);
+                    rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
+                    char *err, size_t err_size);
 
 #endif

@@ -27,12 +27,12 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 enum {
-    RF_FZ_NAN = 1u << 0,       /* one coordinate is NaN */
-    RF_FZ_HUGE = 1u << 1,      /* coordinates scaled by 1e20 */
-    RF_FZ_TINY = 1u << 2,      /* coordinates scaled by 1e-6 */
-    RF_FZ_RAW_INDEX = 1u << 3, /* triangle indices not reduced modulo the vertex count */
-    RF_FZ_FLAT = 1u << 4,      /* every z is 0 */
-    RF_FZ_NO_VIS = 1u << 5,    /* no visibility rays */
+    RF_FZ_NAN = 1u << 0,         /* one coordinate is NaN */
+    RF_FZ_HUGE = 1u << 1,        /* coordinates scaled by 1e20 */
+    RF_FZ_TINY = 1u << 2,        /* coordinates scaled by 1e-6 */
+    RF_FZ_RAW_INDEX = 1u << 3,   /* triangle indices not reduced modulo the vertex count */
+    RF_FZ_FLAT = 1u << 4,        /* every z is 0 */
+    RF_FZ_NO_VIS = 1u << 5,      /* no visibility rays */
     RF_FZ_SMALL_PROXY = 1u << 6, /* simplify above 1000 triangles... and the speck size at 0.3 */
 };
 

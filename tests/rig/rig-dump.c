@@ -36,9 +36,11 @@ int main(int argc, char **argv)
     for (uint32_t v = 0; v < m->vertex_count; v++)
         printf("V %g %g %g %u\n", m->positions[v * 3], m->positions[v * 3 + 1],
                m->positions[v * 3 + 2], m->skin_joints[v * 4]);
-    fprintf(stderr, "%u joints, %u vertices, %u welded, %u proxy triangles, %u parts (%u specks), %u heat, %u fallback, %u unseen\n",
-            st.joints, st.vertices, st.welded, st.proxy_triangles, st.parts, st.specks, st.heat_vertices, st.fallback_vertices,
-            st.unseen_vertices);
+    fprintf(stderr,
+            "%u joints, %u vertices, %u welded, %u proxy triangles, %u parts (%u specks), %u heat, "
+            "%u fallback, %u unseen\n",
+            st.joints, st.vertices, st.welded, st.proxy_triangles, st.parts, st.specks,
+            st.heat_vertices, st.fallback_vertices, st.unseen_vertices);
     free(w);
     rf_skeleton_free(s);
     rf_mesh_free(m);

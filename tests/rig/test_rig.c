@@ -101,15 +101,30 @@ static void test_shared_models(void **state)
         printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
         skip();
     }
-    static const char *const models[] = {
-        "Fox.glb", "RiggedFigure.glb", "RobotExpressive.glb", "Wizard.glb", "girl.glb",
-        "greenman.glb", "BCN_Epileptic.X", "Testwuson.X", "huesitos.fbx",
-        "animation_with_skeleton.fbx", "spider.fbx", "ogre/ninja.mesh", "ogre/fish.mesh",
-        "creatures/animala_horse.b3d", "creatures/animalia_angelfish.b3d",
-        "creatures/animalia_bat.b3d", "creatures/animalia_bird.b3d",
-        "creatures/animalia_bull_frog.b3d", "creatures/animalia_cat.b3d",
-        "creatures/animalia_fox.b3d", "creatures/animalia_owl.b3d", "creatures/animalia_wolf.b3d",
-        "creatures/draconis_fire_dragon.b3d", "creatures/draconis_jungle_wyvern.b3d"};
+    static const char *const models[] = {"Fox.glb",
+                                         "RiggedFigure.glb",
+                                         "RobotExpressive.glb",
+                                         "Wizard.glb",
+                                         "girl.glb",
+                                         "greenman.glb",
+                                         "BCN_Epileptic.X",
+                                         "Testwuson.X",
+                                         "huesitos.fbx",
+                                         "animation_with_skeleton.fbx",
+                                         "spider.fbx",
+                                         "ogre/ninja.mesh",
+                                         "ogre/fish.mesh",
+                                         "creatures/animala_horse.b3d",
+                                         "creatures/animalia_angelfish.b3d",
+                                         "creatures/animalia_bat.b3d",
+                                         "creatures/animalia_bird.b3d",
+                                         "creatures/animalia_bull_frog.b3d",
+                                         "creatures/animalia_cat.b3d",
+                                         "creatures/animalia_fox.b3d",
+                                         "creatures/animalia_owl.b3d",
+                                         "creatures/animalia_wolf.b3d",
+                                         "creatures/draconis_fire_dragon.b3d",
+                                         "creatures/draconis_jungle_wyvern.b3d"};
     char path[4096];
     for (size_t i = 0; i < sizeof models / sizeof *models; i++) {
         snprintf(path, sizeof path, "%s/models/%s", d, models[i]);
@@ -165,7 +180,7 @@ static rf_mesh *table_creature(double scale, double turn)
     rf_mesh *m = rf_mesh_new();
     m->positions = calloc(6 * 8 * 3, sizeof(float));
     m->triangles = calloc(6 * 12 * 3, sizeof(uint32_t));
-    add_box(m, -1, 1, -0.4, 1, 1.4, 0.4);       /* body, 2 long, on legs 1 high */
+    add_box(m, -1, 1, -0.4, 1, 1.4, 0.4);         /* body, 2 long, on legs 1 high */
     add_box(m, 0.95, 1.2, -0.25, 1.5, 1.7, 0.25); /* a head, so the body has a front */
     add_box(m, -1, 0, -0.4, -0.8, 1.05, -0.2);
     add_box(m, 0.8, 0, -0.4, 1, 1.05, -0.2);
@@ -337,8 +352,8 @@ static void test_loose_parts(void **state)
     memcpy(m2->positions, in->positions, (size_t)in->vertex_count * 3 * sizeof(float));
     memcpy(m2->triangles, in->triangles, (size_t)in->triangle_count * 3 * sizeof(uint32_t));
     m2->vertex_count = in->vertex_count, m2->triangle_count = in->triangle_count;
-    add_box(m2, 2, 2, 2, 2.01, 2.01, 2.01);          /* a speck far off */
-    add_box(m2, -0.2, 1.5, -0.2, 0.2, 1.9, 0.2);     /* a hat floating above the body */
+    add_box(m2, 2, 2, 2, 2.01, 2.01, 2.01);      /* a speck far off */
+    add_box(m2, -0.2, 1.5, -0.2, 0.2, 1.9, 0.2); /* a hat floating above the body */
     rf_skeleton *s;
     rf_mesh *m;
     rf_rig_stats st;
@@ -390,9 +405,9 @@ static void test_big_scan(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_bad_input),   cmocka_unit_test(test_any_scale),
-        cmocka_unit_test(test_any_facing),  cmocka_unit_test(test_loose_parts),
-        cmocka_unit_test(test_big_scan),    cmocka_unit_test(test_testmodels),
+        cmocka_unit_test(test_bad_input),     cmocka_unit_test(test_any_scale),
+        cmocka_unit_test(test_any_facing),    cmocka_unit_test(test_loose_parts),
+        cmocka_unit_test(test_big_scan),      cmocka_unit_test(test_testmodels),
         cmocka_unit_test(test_shared_models),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
