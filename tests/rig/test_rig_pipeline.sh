@@ -62,7 +62,7 @@ cat "$tmp/bench.csv"
 rows=$(tail -n +2 "$tmp/bench.csv" | wc -l)
 [ "$rows" -eq 3 ] && ok || ko "rig-bench: $rows rows, expected 3"
 tail -n +2 "$tmp/bench.csv" | while IFS=, read -r rigger model body nart nj j2j j2b b2b p r l1 unw secs status; do
-    limit=0.060
+    limit=0.065
     awk -v v="$j2j" -v l="$limit" 'BEGIN { exit !(v < l) }' || echo "FAIL: $model cd_j2j $j2j >= $limit"
     [ "$unw" = 0 ] || echo "FAIL: $model: $unw vertices without weights"
     [ "$status" = '"ok"' ] || echo "FAIL: $model: $status"
