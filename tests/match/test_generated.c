@@ -33,9 +33,34 @@ static void explain_wrong(const gen_skel *t, const gen_skel *s, uint32_t j, int3
                s->label[got].digit, s->label[got].place);
 }
 
-/* Maps one random pair; adds its joints, right ones and swaps. */
-static void one_pair(const kind *k, uint64_t seed, int *joints, int *right, int *swaps,
-                     bool verbose)
+/* Classes of joints, as the second generator's test reports them (test_rigs.c). */
+enum { CLS_FINGERS, CLS_CHAINS, CLS_LIMBS, CLS_HELPERS, CLS_BODY, CLS_COUNT };
+static const char *const class_names[CLS_COUNT] = {"fingers", "chains", "limbs", "helpers", "body"};
+
+static int class_of(const gen_label *l)
+{
+    switch (l->part) {
+    case GEN_HELPER:
+    case GEN_GROUND:
+        return CLS_HELPERS;
+    case GEN_SPINE:
+    case GEN_NECK:
+    case GEN_TAIL:
+        return CLS_CHAINS;
+    case GEN_FORE:
+    case GEN_HIND:
+    case GEN_WING:
+        return CLS_LIMBS;
+    case GEN_DIGIT:
+        return l->wing ? CLS_LIMBS : CLS_FINGERS;
+    default:
+        return CLS_BODY;
+    }
+}
+
+/* Maps one random pair; adds its joints, right ones and swaps, per class too. */
+static void one_pair(const kind *k, uint64_t seed, int *joints, int *right, int *swaps, int *cj,
+                     int *cr, bool verbose)
 {
     gen_skel s = gen_make(k->source, seed * 2 + 1), t = gen_make(k->target, seed * 2 + 2);
     char err[256];
@@ -45,6 +70,7 @@ static void one_pair(const kind *k, uint64_t seed, int *joints, int *right, int 
         int32_t got = m->entries[j].input_count ? (int32_t)m->entries[j].inputs[0].joint : -1;
         bool ok = gen_accepts(&t, j, &s, got);
         *joints += 1, *right += ok;
+        cj[class_of(&t.label[j])]++, cr[class_of(&t.label[j])] += ok;
         *swaps += gen_swapped(&t, j, &s, got);
         if (!ok && verbose)
             explain_wrong(&t, &s, j, got);
@@ -71,15 +97,20 @@ int main(void)
     bool ok = true;
     int all_swaps = 0;
     for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
-        int joints = 0, right = 0, swaps = 0;
+        int joints = 0, right = 0, swaps = 0, cj[CLS_COUNT] = {0}, cr[CLS_COUNT] = {0};
         for (int p = 0; p < pairs; p++) {
             if (verbose)
                 printf("  %s, seed %d\n", kinds[k].name, p);
-            one_pair(&kinds[k], (uint64_t)(1000 * k + p), &joints, &right, &swaps, verbose);
+            one_pair(&kinds[k], (uint64_t)(1000 * k + p), &joints, &right, &swaps, cj, cr, verbose);
         }
         double acc = joints ? (double)right / joints : 1;
         printf("%-26s %3d pairs %6d joints: %5.1f%% right (bar %.0f%%), %d sides swapped\n",
                kinds[k].name, pairs, joints, 100 * acc, 100 * kinds[k].bar, swaps);
+        printf("   ");
+        for (int c = 0; c < CLS_COUNT; c++)
+            if (cj[c])
+                printf(" %s %.1f%% (%d)", class_names[c], 100.0 * cr[c] / cj[c], cj[c]);
+        printf("\n");
         ok = ok && acc >= kinds[k].bar;
         all_swaps += swaps;
     }
