@@ -197,6 +197,51 @@ rf_skeleton *rf_posed_mean(const rf_skeleton *skeleton, const rf_animation *anim
  * for the mean pose. Same terms as rf_posed_view. */
 rf_skeleton *rf_posed_best(const rf_skeleton *skeleton, const rf_animation *anim, int32_t *frame);
 
+/* ---- joint roles (roles.c) ---- */
+
+/* What a joint is for in a rigged character, beside the body's own joints. Found from geometry,
+ * skin weights and motion (weighted or not, ever turned by a clip, on or off the body), never
+ * from names. Placement and axis-conversion nodes never drive or receive body motion; helpers
+ * are placed from the body joint they belong to. */
+typedef enum rf_joint_role {
+    RF_ROLE_BODY = 0,  /* carries skin, or moves joints that do */
+    RF_ROLE_PLACEMENT, /* an unweighted joint above the body that only places it: never turned by
+                        * a clip, or (without clips) standing on the floor below the body */
+    RF_ROLE_AXIS,      /* an unweighted, never-turned joint above or inside the body whose rest
+                        * only turns or scales what hangs from it (an axis or unit conversion) */
+    RF_ROLE_IK_TARGET, /* an unweighted joint carrying no body that sits on a body joint at rest
+                        * (where an engine's IK pulls that joint) */
+    RF_ROLE_IK_POLE,   /* an unweighted joint carrying no body, off the body, nearest the middle
+                        * joint of a limb (where the knee or elbow points) */
+    RF_ROLE_HELPER,    /* any other unweighted joint carrying no body (sockets, end markers) */
+    RF_ROLE_COUNT
+} rf_joint_role;
+
+typedef struct rf_joint_roles {
+    uint32_t joint_count;
+    uint8_t *role;       /* [joint_count] rf_joint_role */
+    int32_t *body_joint; /* [joint_count] IK targets, poles and helpers: the body joint they sit
+                          * on or next to at rest (-1 when the skeleton has no body); -1 for the
+                          * others */
+    uint8_t *weighted;   /* [joint_count] 1 when it carries skin (or nothing says otherwise) */
+    uint8_t *turned;     /* [joint_count] 1 when a clip changes its rotation */
+} rf_joint_roles;
+
+/* The roles of every joint of `s`. `mesh` (may be NULL) says which joints carry skin weights
+ * (without it, rf_joint.flags do; without either every joint is weighted); `clips` (clip_count
+ * of them, may be NULL; clips for another joint count are skipped) say which joints move.
+ * NULL only when out of memory. (transfer full: rf_joint_roles_free) */
+rf_joint_roles *rf_joint_roles_find(const rf_skeleton *s, const rf_mesh *mesh,
+                                    const rf_animation *const *clips, uint32_t clip_count);
+void rf_joint_roles_free(rf_joint_roles *r);
+/* "body", "placement", "axis", "ik-target", "ik-pole", "helper" (static) */
+const char *rf_joint_role_name(rf_joint_role role);
+/* Whether the role keeps a joint out of body motion (placement, axis conversion). */
+static inline bool rf_joint_role_is_frame(rf_joint_role role)
+{
+    return role == RF_ROLE_PLACEMENT || role == RF_ROLE_AXIS;
+}
+
 #ifdef __cplusplus
 }
 #endif

@@ -11,7 +11,8 @@ framework_analysis_libanalysis_la_SOURCES = \
 	framework/analysis/body.c \
 	framework/analysis/sections.c \
 	framework/analysis/measure.c \
-	framework/analysis/pose.c
+	framework/analysis/pose.c \
+	framework/analysis/roles.c
 framework_analysis_libanalysis_la_CFLAGS = $(AM_CFLAGS)
 framework_analysis_libanalysis_la_LIBADD = -lm
 

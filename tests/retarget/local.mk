@@ -21,6 +21,15 @@ tests_retarget_test_retarget_data_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_retarget_test_retarget_data_LDADD = plugins/bvh/libbvh.la plugins/assimp/librfassimp.la \
 	$(RT_TEST_LDADD)
 
+check_PROGRAMS += tests/retarget/test_roles
+TESTS += tests/retarget/test_roles
+tests_retarget_test_roles_SOURCES = tests/retarget/test_roles.c tests/retarget/rt-fixtures.h
+tests_retarget_test_roles_CPPFLAGS = $(RT_TEST_CPPFLAGS) -I$(top_srcdir)/framework \
+	-I$(top_srcdir)/plugins/assimp
+tests_retarget_test_roles_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_retarget_test_roles_LDADD = plugins/assimp/librfassimp.la framework/analysis/libanalysis.la \
+	$(CMOCKA_LIBS) -lm
+
 check_LTLIBRARIES += tests/retarget/fx_namemap.la
 tests_retarget_fx_namemap_la_SOURCES = tests/retarget/fx_namemap.c
 tests_retarget_fx_namemap_la_LDFLAGS = $(FIXTURE_LDFLAGS)
