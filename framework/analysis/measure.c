@@ -31,6 +31,25 @@ static rf_side section_side(const rf_awork *w, const rf_section *s, uint32_t fir
     return side_of_point(w, c, 0.1 * w->tol);
 }
 
+/* Whether a fan's digits are measured from the wrist, the pivot of the bone they hang from: a
+ * hand bone (no longer than one and a half digits, and well short of the forearm before it), so
+ * a palm bone starting at the wrist and a finger starting at the knuckle keep apart (the
+ * knuckle lies half-way along the hand, not at its start). Digits on a forearm (a rig without
+ * hand bones) start at its end, the wrist. */
+static bool fan_from_wrist(const rf_awork *w, const rf_section *s)
+{
+    if (!(s->flags & RF_SECFL_FAN) || s->attach_joint < 0)
+        return false;
+    const rf_analysis *a = w->a;
+    const uint32_t *js = a->section_joints + s->first;
+    double reach = a->joints[js[s->bone_count - 1]].length;
+    for (uint32_t k = 0; k + 1 < s->bone_count; k++)
+        reach += rf_v3_dist(a->joints[js[k + 1]].pos, a->joints[js[k]].pos);
+    const rf_joint_info *hand = &a->joints[s->attach_joint];
+    int32_t p = hand->logical_parent;
+    return hand->length <= 1.5 * reach && (p < 0 || hand->length <= 0.6 * a->joints[p].length);
+}
+
 /* Where a section's length is measured from: its own first pivot for the root chain and the
  * spine, else the point where it leaves its parent. */
 static rf_vec3 start_point(const rf_awork *w, const rf_section *s, uint32_t first)
@@ -40,6 +59,8 @@ static rf_vec3 start_point(const rf_awork *w, const rf_section *s, uint32_t firs
                w->parent[first] < 0;
     if (own)
         return rf_an_pos(w, first);
+    if (fan_from_wrist(w, s))
+        return w->a->joints[s->attach_joint].pos;
     /* digits start where the bone they fan out of ends (the wrist, not the elbow), and so does
      * the neck (at the top of the last spine bone, not at its pivot) */
     if (((s->flags & RF_SECFL_FAN) || s->type == RF_SECTION_HEAD) && s->attach_joint >= 0)
@@ -303,8 +324,13 @@ static bool extend_by_digits(rf_awork *w)
         return false;
     for (uint32_t s = 0; s < a->section_count; s++) {
         const rf_section *sec = &a->sections[s];
-        if ((sec->flags & RF_SECFL_FAN) && sec->attach_joint >= 0)
-            longest[sec->attach_joint] = fmax(longest[sec->attach_joint], sec->length);
+        if ((sec->flags & RF_SECFL_FAN) && sec->attach_joint >= 0) {
+            /* beyond the hand bone's tip, where the limb's own length ends */
+            double from_tip = sec->length;
+            if (fan_from_wrist(w, sec))
+                from_tip = fmax(0, from_tip - a->joints[sec->attach_joint].length);
+            longest[sec->attach_joint] = fmax(longest[sec->attach_joint], from_tip);
+        }
     }
     for (uint32_t s = 0; s < a->section_count; s++) {
         rf_section *sec = &a->sections[s];

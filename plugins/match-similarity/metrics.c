@@ -129,12 +129,23 @@ static void main_digits(rf_ms_skel *s)
 
 /* Joints counted along a section from its first real bone: a limb's thigh is 0, shin 1, foot 2
  * whether or not a hip offset comes first (-1), and an unweighted link in the middle of a leg
- * (a rig's mechanism) shares the place of the bone after it. */
+ * (a rig's mechanism) shares the place of the bone after it. A digit counts from the wrist: a
+ * palm bone starting there is 0, a finger's first joint at the knuckle 1, with a palm bone
+ * before it or not (digits are measured from the wrist, so the knuckle lies well along; the
+ * hand's middle finger tells whether its fingers start at the knuckles or at the wrist). A
+ * thumb counts from its first joint wherever that sits: rigs start it at the wrist or beside the
+ * knuckles for the same bone. */
 static void steps(rf_ms_skel *s, uint32_t k)
 {
     const rf_analysis *a = s->a;
     const uint32_t *js = rf_section_joints(a, k);
     int32_t count = 0;
+    const rf_section *sec = &a->sections[k];
+    if ((sec->flags & RF_SECFL_FAN) && !(sec->flags & RF_SECFL_THUMB) && sec->attach_joint >= 0) {
+        int32_t md = s->main_digit[sec->attach_joint];
+        if (md >= 0 && a->joints[rf_section_joints(a, (uint32_t)md)[0]].u0 > 0.45)
+            count = 1;
+    }
     for (uint32_t i = 0; i < a->sections[k].bone_count; i++) {
         const rf_joint_info *ji = &a->joints[js[i]];
         if (ji->flags & RF_JI_OFFSET) {

@@ -188,7 +188,8 @@ static void digits(rb *b, int hand, rf_vec3 wrist, rf_vec3 dir, rf_vec3 across, 
             fdir = rf_v3_normalize(rf_v3_add(dir, rf_v3_scale(across, spread * 0.3)));
         }
         rigs_label l = lab(RIGS_DIGIT, side, role, 0);
-        l.count = (uint8_t)h->count, l.digit = (uint8_t)d, l.thumb = thumb, l.foot = h->foot;
+        l.count = (uint8_t)fingers, l.digit = (uint8_t)(thumb ? 0 : rank), l.thumb = thumb,
+        l.foot = h->foot;
         int at = hand;
         if (h->palm && !thumb) { /* a palm bone from the wrist to the knuckle */
             at =
@@ -653,7 +654,7 @@ static bool chain_fit(const rigs_label *x, const rigs_label *y)
 
 static int fingers_of(const rigs_label *l)
 {
-    return l->count - l->thumb;
+    return l->count;
 }
 
 static bool digit_fit(const rigs_skel *t, const rigs_label *x, const rigs_skel *s,
@@ -665,7 +666,7 @@ static bool digit_fit(const rigs_skel *t, const rigs_label *x, const rigs_skel *
         return x->seg == y->seg;
     if (x->seg != y->seg || x->thumb)
         return x->seg == y->seg;
-    int n = fingers_of(x), m = fingers_of(y), i = x->digit - x->thumb, k = y->digit - y->thumb;
+    int n = fingers_of(x), m = fingers_of(y), i = x->digit, k = y->digit;
     if (n == 1 || m == 1)
         return true;
     double a = (double)i / (n - 1), c = (double)k / (m - 1);

@@ -62,8 +62,8 @@ typedef struct rigs_label {
     uint8_t role;  /* limbs and digits: rigs_role */
     uint8_t seg;   /* limb segment, digit segment */
     uint8_t index; /* chains: place in the chain from its root end */
-    uint8_t count; /* chains: joints in the chain; digits: fingers of the fan (thumb counted) */
-    uint8_t digit; /* digit rank across the fan, thumb 0 */
+    uint8_t count; /* chains: joints in the chain; digits: fingers of the fan, thumb aside */
+    uint8_t digit; /* rank among the fingers across the fan (a thumb: 0) */
     bool thumb;    /* an opposable digit (set apart from the others) */
     bool twist;    /* a twist or roll joint inside segment `seg` */
     bool foot;     /* a digit of a foot (toes) */

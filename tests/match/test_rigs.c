@@ -55,10 +55,10 @@ typedef struct cmu_joint {
         {S "Arm", CL(RIGS_LIMB, side, RIGS_FORE, 1, 0, 0, 0, false)},                              \
         {S "ForeArm", CL(RIGS_LIMB, side, RIGS_FORE, 2, 0, 0, 0, false)},                          \
         {S "Hand", CL(RIGS_LIMB, side, RIGS_FORE, 3, 0, 0, 0, false)},                             \
-        {S "FingerBase", CL(RIGS_DIGIT, side, RIGS_FORE, 0, 0, 2, 1, false)},                      \
-        {L "Fingers", CL(RIGS_DIGIT, side, RIGS_FORE, 1, 0, 2, 1, false)},                         \
+        {S "FingerBase", CL(RIGS_DIGIT, side, RIGS_FORE, 0, 0, 1, 0, false)},                      \
+        {L "Fingers", CL(RIGS_DIGIT, side, RIGS_FORE, 1, 0, 1, 0, false)},                         \
     {                                                                                              \
-        L "Thumb", CL(RIGS_DIGIT, side, RIGS_FORE, 1, 0, 2, 0, true)                               \
+        L "Thumb", CL(RIGS_DIGIT, side, RIGS_FORE, 1, 0, 1, 0, true)                               \
     }
 
 static const cmu_joint cmu[] = {
@@ -190,10 +190,10 @@ static void add_tally(tally *a, const tally *b)
 int main(void)
 {
     const kind kinds[] = {
-        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.65, 0},
+        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.72, 0},
         {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.78, 1},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.45, 20},
-        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.64, 2},
+        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.66, 2},
         {"CMU onto birds", -1, RIGS_BIRD, 40, 0.54, 14},
         {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.72, 1},
         {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.55, 11},
