@@ -595,6 +595,7 @@ rigs_skel rigs_make(rigs_plan plan, uint64_t seed)
     if (rnd(b) < 0.3) /* Z up */
         f.rot = rf_quat_mul(rf_quat_from_axis_angle(v(1, 0, 0), RF_PI / 2), f.rot);
     f.offset = rf_v3_scale(f.offset, f.scale);
+    g.up = rf_quat_rotate(f.rot, v(0, 1, 0)), g.forward = rf_quat_rotate(f.rot, v(0, 0, 1));
     g.s = emit(b, &f);
     g.plan = plan;
     g.label = malloc((size_t)b->n * sizeof *g.label);

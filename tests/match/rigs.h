@@ -75,6 +75,7 @@ typedef struct rigs_skel {
     rigs_plan plan;
     bool helpers; /* built with helpers */
     int facing;   /* 0 +Z, 1 +X, 2 -Z, 3 -X */
+    rf_vec3 up, forward; /* the body's axes as built, in the skeleton's space */
 } rigs_skel;
 
 /* A random skeleton of `plan` from `seed`. (transfer full: rigs_free) */
