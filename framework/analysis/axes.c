@@ -513,11 +513,11 @@ static void detect_forward(rf_awork *w, rf_limbs *ls)
         cue[5] = vote_lean(w, c); /* only when nothing else says anything */
     double sum = 0, weight = 0;
     int strongest = -1;
-    for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++) {
+    for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
         sum += cue[i], weight += fabs(cue[i]);
-        if (cue[i] != 0 && (strongest < 0 || fabs(cue[i]) > fabs(cue[strongest])))
+    for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++) /* the source: the strongest that agrees */
+        if (cue[i] * sum > 0 && (strongest < 0 || fabs(cue[i]) > fabs(cue[strongest])))
             strongest = i;
-    }
     a->forward = rf_v3_scale(c, sum < 0 ? -1 : 1);
     a->forward_confidence = weight > 0 ? fabs(sum) / (weight + 0.25) : 0;
     a->forward_source = strongest >= 0 ? rf_forward_cue_names[strongest] : "default";

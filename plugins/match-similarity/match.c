@@ -666,6 +666,7 @@ static void keep_explanation(rf_ms_ctx *c, rf_ms_pass *p, rf_ms_explain *e)
     e->joint_count = e->target->joint_count;
     e->top = p->top, p->top = NULL;
     e->top_count = p->top_count, p->top_count = NULL;
+    e->threshold = c->threshold;
 }
 
 static rf_mapping *match_all(rf_ms_ctx *c, rf_ms_explain *explain, char *err, size_t err_size)
