@@ -197,6 +197,39 @@ static bool per_section(rf_ms_skel *s, bool thesis)
     return true;
 }
 
+/* Placement roots, axis-conversion nodes, IK targets, poles and other unweighted helpers
+ * (rf_joint_roles_find) neither drive nor take body motion. Only a rig that marks unweighted
+ * joints can have them: without marks the roles are all body and are not looked for. */
+static void leave_out_non_body(rf_ms_skel *s)
+{
+    bool marked = false;
+    for (uint32_t j = 0; j < s->skel->joint_count && !marked; j++)
+        marked = (s->skel->joints[j].flags & RF_JOINT_UNWEIGHTED) != 0;
+    rf_joint_roles *r = marked ? rf_joint_roles_find(s->skel, NULL, NULL, 0) : NULL;
+    if (!r)
+        return;
+    const rf_analysis *a = s->a;
+    uint32_t n = r->joint_count < a->joint_count ? r->joint_count : a->joint_count;
+    double lo = INFINITY, hi = -INFINITY;
+    for (uint32_t j = 0; j < n; j++)
+        if (r->role[j] == RF_ROLE_BODY) {
+            double h = rf_v3_dot(a->joints[j].pos, a->up);
+            lo = fmin(lo, h), hi = fmax(hi, h);
+        }
+    for (uint32_t j = 0; j < n; j++) {
+        if (r->role[j] == RF_ROLE_BODY)
+            continue;
+        /* A placement or axis node is left out where it lies off the body (on the floor, above
+         * it): an unweighted root inside it is the body's own first joint (a pelvis bone that
+         * happens to carry no skin, its rest turned by the rig's bone axis). */
+        double h = rf_v3_dot(a->joints[j].pos, a->up), tol = 0.1 * (hi - lo);
+        bool off = !(h > lo + tol && h < hi + 0.1 * tol);
+        if (!rf_joint_role_is_frame((rf_joint_role)r->role[j]) || off)
+            s->matchable[j] = 0;
+    }
+    rf_joint_roles_free(r);
+}
+
 /* Joints a mapping can drive: not helpers, not control joints sitting on their child. */
 static void per_joint(rf_ms_skel *s)
 {
@@ -208,6 +241,7 @@ static void per_joint(rf_ms_skel *s)
         s->bdir[j] = rf_v3(rf_v3_dot(ji->dir, a->left), rf_v3_dot(ji->dir, a->up),
                            rf_v3_dot(ji->dir, a->forward));
     }
+    leave_out_non_body(s);
     for (uint32_t j = 0; j < a->joint_count; j++) {
         int32_t p = a->joints[j].logical_parent;
         for (uint32_t step = 0; p >= 0 && !s->matchable[p] && step < a->joint_count; step++)
