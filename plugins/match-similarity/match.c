@@ -340,12 +340,13 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
     for (; marks; marks &= marks - 1)
         cost += 0.25;
     /* limbs and digits: bones counted from the first real one (thigh, shin, foot whatever their
-     * proportions, plantigrade or not); digits, whose segments vary most in length, count
-     * twice: their first joints (at the knuckle or the wrist alike) anchor them */
+     * proportions, plantigrade or not); digits, whose segments vary most in length, and limbs of
+     * one bone count twice: their first joints (at the knuckle or the wrist alike; a one-bone
+     * leg and a thigh) anchor them */
     bool digit = (at->sections[a->section].flags & RF_SECFL_FAN) != 0;
     if (type != RF_SECTION_SPINE && type != RF_SECTION_HEAD && type != RF_SECTION_TAIL &&
         type != RF_SECTION_ROOT)
-        cost += (digit ? 0.6 : 0.3) * abs(tl->step[i] - sl->step[q]);
+        cost += (digit || tl->n == 1 || sl->n == 1 ? 0.6 : 0.3) * abs(tl->step[i] - sl->step[q]);
     return cost;
 }
 

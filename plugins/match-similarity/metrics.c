@@ -250,6 +250,33 @@ static void per_joint(rf_ms_skel *s)
     }
 }
 
+/* A section whose first joints are left out (a control root above a one-bone torso) is
+ * measured from its first matchable joint: places along it are the body's, so the torso's pivot
+ * at the hips lines up with a pelvis. Places run to 1 at the section's end. */
+static void measure_from_body(rf_ms_skel *s)
+{
+    rf_analysis *a = s->a;
+    for (uint32_t k = 0; k < a->section_count; k++) {
+        const rf_section *sec = &a->sections[k];
+        const uint32_t *js = rf_section_joints(a, k);
+        uint32_t f = 0, m = sec->bone_count;
+        while (f < m && !s->matchable[js[f]])
+            f++;
+        uint32_t g = f;
+        if (g == m || f == 0 || a->joints[js[g]].u0 == 0)
+            continue;
+        double shift = a->joints[js[g]].u0, end = 1;
+        for (uint32_t i = g; i < m; i++)
+            end = fmax(end, a->joints[js[i]].u1);
+        if (end - shift <= 1e-9)
+            continue;
+        for (uint32_t i = f; i < m; i++) {
+            rf_joint_info *ji = &a->joints[js[i]];
+            ji->u0 = (ji->u0 - shift) / (end - shift), ji->u1 = (ji->u1 - shift) / (end - shift);
+        }
+    }
+}
+
 bool rf_ms_skel_init(rf_ms_skel *s, const rf_skeleton *skel, const rf_analysis_options *ao,
                      bool thesis)
 {
@@ -273,6 +300,8 @@ bool rf_ms_skel_init(rf_ms_skel *s, const rf_skeleton *skel, const rf_analysis_o
         !s->ends || !s->step || !s->main_digit)
         return false;
     per_joint(s);
+    if (!thesis)
+        measure_from_body(s);
     main_digits(s);
     return per_section(s, thesis);
 }
