@@ -332,13 +332,17 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
      * the end of the neck */
     uint32_t marks = (a->flags ^ b->flags) & RF_JI_OFFSET;
     rf_section_type type = at->sections[a->section].type;
-    uint8_t ends = c->tgt.ends[t] ^ c->src[k].ends[j];
+    /* a chain of one joint is anchored at its start: a one-bone tail is the tail's root */
+    uint8_t et = tl->n == 1 ? 2 : c->tgt.ends[t], es = sl->n == 1 ? 2 : c->src[k].ends[j];
+    uint8_t ends = et ^ es;
     if (type == RF_SECTION_SPINE && !(at->sections[a->section].flags & RF_SECFL_REVERSE))
         marks |= (uint32_t)ends << 8;
     if (type == RF_SECTION_HEAD)
         marks |= (uint32_t)(ends & 1) << 8;
-    for (; marks; marks &= marks - 1)
-        cost += 0.25;
+    if (type == RF_SECTION_TAIL) /* tails of any length: root to root, tip to tip */
+        marks |= (uint32_t)ends << 8;
+    for (; marks; marks &= marks - 1) /* twice for a chain of one joint: only its anchor */
+        cost += tl->n == 1 || sl->n == 1 ? 0.5 : 0.25;
     /* limbs and digits: bones counted from the first real one (thigh, shin, foot whatever their
      * proportions, plantigrade or not); digits, whose segments vary most in length, and limbs of
      * one bone count twice: their first joints (at the knuckle or the wrist alike; a one-bone
