@@ -146,6 +146,29 @@ static void test_facing_dissent(void **state)
     rf_skeleton_free(s);
 }
 
+/* Twist leaves inside the forearms and thighs (Unreal's mannequin) are part of their segment:
+ * helpers, not digits, and the hands keep their two digits. A thumb at the wrist is no roll. */
+static void test_roll_leaves(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped) + 4];
+    memcpy(js, sb_biped, sizeof sb_biped);
+    size_t n = SB_COUNT(sb_biped);
+    js[n++] = (sb_joint){"l_fore_twist", "l_forearm", 0.62, 1.50, -0.03, 0};
+    js[n++] = (sb_joint){".", "l_fore_twist", 0.68, 1.50, -0.025, 0};
+    js[n++] = (sb_joint){"r_fore_twist", "r_forearm", -0.62, 1.50, -0.03, 0};
+    js[n++] = (sb_joint){".", "r_fore_twist", -0.68, 1.50, -0.025, 0};
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    assert_int_equal(section_of(a, s, "l_fore_twist")->type, RF_SECTION_HELPER);
+    assert_int_equal(section_of(a, s, "r_fore_twist")->type, RF_SECTION_HELPER);
+    assert_section(a, s, "l_hand", RF_SECTION_ARM, RF_SIDE_LEFT);
+    assert_section(a, s, "l_thumb", RF_SECTION_HAND, RF_SIDE_LEFT);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 static void test_strip(void **state)
 {
     (void)state;
@@ -484,6 +507,7 @@ int main(void)
         cmocka_unit_test(test_biped_facing),
         cmocka_unit_test(test_quadruped),
         cmocka_unit_test(test_facing_dissent),
+        cmocka_unit_test(test_roll_leaves),
         cmocka_unit_test(test_strip),
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_large),

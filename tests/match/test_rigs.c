@@ -204,12 +204,12 @@ static void add_tally(tally *a, const tally *b)
 int main(void)
 {
     const kind kinds[] = {
-        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.72, 0},
-        {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.78, 1},
+        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.74, 0},
+        {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.80, 1},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.58, 14},
         {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.66, 2},
         {"CMU onto birds", -1, RIGS_BIRD, 40, 0.55, 13},
-        {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.72, 1},
+        {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.74, 1},
         {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.55, 12},
     };
     const char *env = getenv("RF_RIGS_PAIRS"), *data = getenv("RF_DATA_DIR");
