@@ -4,8 +4,9 @@
  * joint (fingers, chains, limbs, twist, helpers, body), side swaps per joint and per skeleton, and
  * fails below the floors or on any side swap. The CMU pairs need $RF_DATA_DIR (skipped with a
  * message when absent; the creature pairs still run). RF_RIGS_PAIRS scales the pairs per kind;
- * RF_RIGS_VERBOSE=1 prints every wrong joint; RF_RIGS_DUMP=DIR writes every target as BVH (to look
- * at it, or to map it with `rigflow map --explain`). */
+ * RF_RIGS_VERBOSE=1 prints every wrong joint, RF_RIGS_EXPLAIN=1 what `rigflow map --explain` would;
+ * RF_RIGS_DUMP=DIR writes every target as BVH (to look at it, or to map it with `rigflow map
+ * --explain`). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -129,7 +130,12 @@ static void one_pair(const rigs_skel *s, const rigs_skel *t, tally *y, bool verb
 {
     char err[256];
     const rf_skeleton *src[1] = {s->s};
-    rf_mapping *m = rf_ms_match(t->s, src, 1, NULL, NULL, err, sizeof err);
+    rf_ms_explain ex = {0};
+    bool explain = getenv("RF_RIGS_EXPLAIN") != NULL;
+    rf_mapping *m = rf_ms_match(t->s, src, 1, NULL, explain ? &ex : NULL, err, sizeof err);
+    if (explain && m)
+        rf_ms_explain_print(&ex, m, t->s, src, stdout);
+    rf_ms_explain_clear(&ex);
     if (!m) {
         printf("  no mapping: %s\n", err);
         y->joints += (int)t->s->joint_count;
@@ -156,8 +162,8 @@ static void one_pair(const rigs_skel *s, const rigs_skel *t, tally *y, bool verb
         y->forward_wrong += up && rf_v3_dot(a->forward, t->forward) < 0.9;
         if (verbose && (!up || rf_v3_dot(a->forward, t->forward) < 0.9))
             printf("    axes: up %s, forward %s (%s, confidence %.2f)\n", up ? "right" : "wrong",
-                   rf_v3_dot(a->forward, t->forward) > 0.9 ? "right" : "wrong",
-                   a->forward_source, a->forward_confidence);
+                   rf_v3_dot(a->forward, t->forward) > 0.9 ? "right" : "wrong", a->forward_source,
+                   a->forward_confidence);
     }
     rf_analysis_free(a);
 }
