@@ -212,11 +212,11 @@ int main(void)
     const kind kinds[] = {
         {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.74, 0},
         {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.80, 1},
-        {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.58, 14},
+        {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.57, 15},
         {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.66, 2},
-        {"CMU onto birds", -1, RIGS_BIRD, 40, 0.55, 13},
+        {"CMU onto birds", -1, RIGS_BIRD, 40, 0.56, 11},
         {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.74, 1},
-        {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.55, 12},
+        {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.58, 8},
     };
     const char *env = getenv("RF_RIGS_PAIRS"), *data = getenv("RF_DATA_DIR");
     double scale = env ? atof(env) : 1;
