@@ -142,8 +142,13 @@ static void steps(rf_ms_skel *s, uint32_t k)
     int32_t count = 0;
     const rf_section *sec = &a->sections[k];
     if ((sec->flags & RF_SECFL_FAN) && !(sec->flags & RF_SECFL_THUMB) && sec->attach_joint >= 0) {
+        /* at the knuckle: well along the digit's reach from the wrist, and at the far end of
+         * the hand bone (a palm bone starts beside the wrist, however short the hand) */
         int32_t md = s->main_digit[sec->attach_joint];
-        if (md >= 0 && a->joints[rf_section_joints(a, (uint32_t)md)[0]].u0 > 0.45)
+        const rf_joint_info *hand = &a->joints[sec->attach_joint];
+        const rf_joint_info *first =
+            md >= 0 ? &a->joints[rf_section_joints(a, (uint32_t)md)[0]] : NULL;
+        if (first && first->u0 >= 0.25 && rf_v3_dist(first->pos, hand->pos) >= 0.6 * hand->length)
             count = 1;
     }
     for (uint32_t i = 0; i < a->sections[k].bone_count; i++) {
