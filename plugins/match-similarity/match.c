@@ -337,8 +337,8 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
     uint8_t ends = et ^ es;
     if (type == RF_SECTION_SPINE && !(at->sections[a->section].flags & RF_SECFL_REVERSE))
         marks |= (uint32_t)ends << 8;
-    if (type == RF_SECTION_HEAD)
-        marks |= (uint32_t)(ends & 1) << 8;
+    if (type == RF_SECTION_HEAD) /* the skull, and the neck's ends on either side */
+        marks |= (uint32_t)(ends & 7) << 8;
     if (type == RF_SECTION_TAIL) /* tails of any length: root to root, tip to tip */
         marks |= (uint32_t)ends << 8;
     for (; marks; marks &= marks - 1) /* twice for a chain of one joint: only its anchor */

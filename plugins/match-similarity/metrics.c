@@ -174,10 +174,11 @@ static bool per_section(rf_ms_skel *s, bool thesis)
             thumbs[a->sections[k].attach_joint] = 1;
     for (uint32_t k = 0; k < a->section_count; k++) {
         const rf_section *sec = &a->sections[k];
-        for (uint32_t i = sec->bone_count; i-- > 0;)
+        uint32_t found = 0; /* the last matchable joint, and in a head the neck's end before it */
+        for (uint32_t i = sec->bone_count; i-- > 0 && found < 2;)
             if (s->matchable[rf_section_joints(a, k)[i]]) {
-                s->ends[rf_section_joints(a, k)[i]] |= 1;
-                break;
+                s->ends[rf_section_joints(a, k)[i]] |= found ? 4 : 1;
+                found += found || sec->type == RF_SECTION_HEAD ? 1 : 2;
             }
         for (uint32_t i = 0; i < sec->bone_count; i++)
             if (s->matchable[rf_section_joints(a, k)[i]]) {
