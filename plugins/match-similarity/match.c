@@ -346,11 +346,14 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
     /* limbs and digits: bones counted from the first real one (thigh, shin, foot whatever their
      * proportions, plantigrade or not); digits, whose segments vary most in length, and limbs of
      * one bone count twice: their first joints (at the knuckle or the wrist alike; a one-bone
-     * leg and a thigh) anchor them */
+     * leg and a thigh) anchor them. Steps beyond the first cost a quarter: a segment cut in two
+     * for twist (a thigh and its second half) shifts the count of every bone after it, not
+     * their places. */
     bool digit = (at->sections[a->section].flags & RF_SECFL_FAN) != 0;
     if (type != RF_SECTION_SPINE && type != RF_SECTION_HEAD && type != RF_SECTION_TAIL &&
         type != RF_SECTION_ROOT)
-        cost += (digit || tl->n == 1 || sl->n == 1 ? 0.6 : 0.3) * abs(tl->step[i] - sl->step[q]);
+        cost += (digit || tl->n == 1 || sl->n == 1 ? 0.6 : 0.3) *
+                (tl->step[i] == sl->step[q] ? 0 : 1 + 0.25 * (abs(tl->step[i] - sl->step[q]) - 1));
     return cost;
 }
 

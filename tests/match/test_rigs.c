@@ -210,7 +210,7 @@ static void add_tally(tally *a, const tally *b)
 int main(void)
 {
     const kind kinds[] = {
-        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.79, 0},
+        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.82, 0},
         {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.82, 1},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.57, 15},
         {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.66, 2},
