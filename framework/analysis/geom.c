@@ -347,8 +347,8 @@ static bool roll_leaf(const rf_awork *w, uint32_t j)
     rf_vec3 pj = w->a->joints[j].pos, pp = w->a->joints[p].pos;
     for (uint32_t k = w->child_off[p]; k < w->child_off[p + 1]; k++) {
         uint32_t c = w->child_idx[k];
-        if (c == j || rf_an_is_leaf(w, c))
-            continue; /* the bone continues into a joint with children of its own */
+        if (c == j)
+            continue;
         rf_vec3 bone = rf_v3_sub(w->a->joints[c].pos, pp);
         double len = rf_v3_len(bone);
         if (len <= w->eps)
@@ -358,7 +358,10 @@ static bool roll_leaf(const rf_awork *w, uint32_t j)
         double off = rf_v3_len(rf_v3_sub(rel, rf_v3_scale(d, t * len)));
         if (t < 0.05 || t > 0.95 || off > 0.03 * len)
             continue;
-        rf_vec3 own = rf_v3_sub(w->a->joints[j].tip, pj);
+        /* its own bone: the end site, or the rig's bone axis (tips come later) */
+        rf_vec3 own = w->tip_set[j]       ? rf_v3_sub(w->a->joints[j].tip, pj)
+                      : w->conv_axis >= 0 ? rf_an_axis_dir(w, j, axis_sign(w, j))
+                                          : rf_v3(0, 0, 0);
         if (rf_v3_len(own) > w->eps && rf_v3_dot(own, d) < 0.94 * rf_v3_len(own))
             continue; /* a side branch (a thumb, a weapon) leaves the line */
         return true;
