@@ -198,7 +198,8 @@ static void digits(rb *b, int hand, rf_vec3 wrist, rf_vec3 dir, rf_vec3 across, 
         }
         rf_vec3 p = knuckle;
         for (int s = 0; s < h->segs[d]; s++) {
-            l.seg = (uint8_t)(s + 1);
+            /* a wing's membrane fingers start at its wrist: their first bone is a palm bone */
+            l.seg = (uint8_t)(role == RIGS_WINGS ? s : s + 1);
             at = add(b, at, mir(p, side), l, s > 0 || (h->palm && !thumb));
             p = rf_v3_add(p, rf_v3_scale(fdir, h->flen / h->segs[d] * (thumb ? 0.8 : 1)));
         }

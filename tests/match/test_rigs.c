@@ -210,11 +210,11 @@ static void add_tally(tally *a, const tally *b)
 int main(void)
 {
     const kind kinds[] = {
-        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.87, 0},
+        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.89, 0},
         {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.86, 1},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.57, 15},
-        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.72, 2},
-        {"CMU onto birds", -1, RIGS_BIRD, 40, 0.56, 11},
+        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.82, 2},
+        {"CMU onto birds", -1, RIGS_BIRD, 40, 0.68, 11},
         {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.80, 0},
         {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.58, 8},
     };
