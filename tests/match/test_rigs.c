@@ -32,6 +32,7 @@ typedef struct kind {
 
 typedef struct tally {
     int joints, right, swaps, swapped_skels, skels, up_wrong, forward_wrong;
+    int axes_ok_joints, axes_ok_right; /* on skeletons whose axes were read right */
     int cj[CLS_COUNT], cr[CLS_COUNT];
 } tally;
 
@@ -141,12 +142,12 @@ static void one_pair(const rigs_skel *s, const rigs_skel *t, tally *y, bool verb
         y->joints += (int)t->s->joint_count;
         return;
     }
-    int swaps = 0;
+    int swaps = 0, right = 0;
     for (uint32_t j = 0; j < t->s->joint_count; j++) {
         int32_t got = m->entries[j].input_count ? (int32_t)m->entries[j].inputs[0].joint : -1;
         bool ok = rigs_accepts(t, j, s, got);
         int c = class_of(&t->label[j]);
-        y->joints++, y->right += ok, y->cj[c]++, y->cr[c] += ok;
+        y->joints++, y->right += ok, y->cj[c]++, y->cr[c] += ok, right += ok;
         swaps += rigs_swapped(t, j, s, got);
         if (!ok && verbose)
             wrong(t, s, j, got);
@@ -159,7 +160,10 @@ static void one_pair(const rigs_skel *s, const rigs_skel *t, tally *y, bool verb
     if (a) {
         bool up = rf_v3_dot(a->up, t->up) > 0.9;
         y->up_wrong += !up;
-        y->forward_wrong += up && rf_v3_dot(a->forward, t->forward) < 0.9;
+        bool fw = rf_v3_dot(a->forward, t->forward) > 0.9;
+        y->forward_wrong += up && !fw;
+        if (up && fw)
+            y->axes_ok_joints += (int)t->s->joint_count, y->axes_ok_right += right;
         if (verbose && (!up || rf_v3_dot(a->forward, t->forward) < 0.9))
             printf("    axes: up %s, forward %s (%s, confidence %.2f)\n", up ? "right" : "wrong",
                    rf_v3_dot(a->forward, t->forward) > 0.9 ? "right" : "wrong", a->forward_source,
@@ -189,9 +193,10 @@ static double pct(int a, int b)
 static void print_tally(const char *name, int pairs, const tally *y, double floor)
 {
     printf("%-26s %3d pairs %6d joints: %5.1f%% right (floor %.0f%%), %d joints swapped in %d "
-           "skeletons; axes misread: up %d, forward %d of %d\n   ",
+           "skeletons; axes misread: up %d, forward %d of %d (%.1f%% right where read right)\n   ",
            name, pairs, y->joints, pct(y->right, y->joints), 100 * floor, y->swaps,
-           y->swapped_skels, y->up_wrong, y->forward_wrong, y->skels);
+           y->swapped_skels, y->up_wrong, y->forward_wrong, y->skels,
+           pct(y->axes_ok_right, y->axes_ok_joints));
     for (int c = 0; c < CLS_COUNT; c++)
         if (y->cj[c])
             printf(" %s %.1f%% (%d)", class_names[c], pct(y->cr[c], y->cj[c]), y->cj[c]);
@@ -202,6 +207,7 @@ static void add_tally(tally *a, const tally *b)
 {
     a->joints += b->joints, a->right += b->right, a->swaps += b->swaps;
     a->skels += b->skels, a->up_wrong += b->up_wrong, a->forward_wrong += b->forward_wrong;
+    a->axes_ok_joints += b->axes_ok_joints, a->axes_ok_right += b->axes_ok_right;
     a->swapped_skels += b->swapped_skels;
     for (int c = 0; c < CLS_COUNT; c++)
         a->cj[c] += b->cj[c], a->cr[c] += b->cr[c];
