@@ -32,7 +32,7 @@ static rf_side section_side(const rf_awork *w, const rf_section *s, uint32_t fir
 }
 
 /* Whether a fan's digits are measured from the wrist, the pivot of the bone they hang from: a
- * hand bone (no longer than one and a half digits, and well short of the forearm before it), so
+ * hand bone (no longer than three digits, and well short of the forearm before it), so
  * a palm bone starting at the wrist and a finger starting at the knuckle keep apart (the
  * knuckle lies half-way along the hand, not at its start). Digits on a forearm (a rig without
  * hand bones) start at its end, the wrist. */
@@ -47,7 +47,7 @@ static bool fan_from_wrist(const rf_awork *w, const rf_section *s)
         reach += rf_v3_dist(a->joints[js[k + 1]].pos, a->joints[js[k]].pos);
     const rf_joint_info *hand = &a->joints[s->attach_joint];
     int32_t p = hand->logical_parent;
-    return hand->length <= 1.5 * reach && (p < 0 || hand->length <= 0.6 * a->joints[p].length);
+    return hand->length <= 3 * reach && (p < 0 || hand->length <= 0.6 * a->joints[p].length);
 }
 
 /* Where a section's length is measured from: its own first pivot for the root chain and the

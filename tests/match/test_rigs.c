@@ -216,7 +216,7 @@ static void add_tally(tally *a, const tally *b)
 int main(void)
 {
     const kind kinds[] = {
-        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.89, 0},
+        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.91, 0},
         {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.86, 1},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.57, 15},
         {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.82, 2},
