@@ -313,6 +313,48 @@ static int32_t line_digit(const rf_ms_skel *s, uint32_t sec, rf_ms_line *l)
     return d;
 }
 
+/* What a bone of difference in the count from the limb's start costs: digits and chains of one
+ * bone anchor on it (0.6); limbs line up by it (0.3), unless the one with more real bones has a
+ * bone cut in two (two in a straight line, as rigs cut a thigh or forearm for twist): past the
+ * cut the count is off and places decide (0.1). */
+static int32_t last_step(const rf_ms_line *l)
+{
+    int32_t most = 0;
+    for (uint32_t i = 0; i < l->n; i++)
+        most = l->step[i] > most ? l->step[i] : most;
+    return most;
+}
+
+/* Whether a line has two real bones in a straight line, one continuing the other (under half a
+ * degree), while it bends elsewhere (two degrees or more): a bone cut in two. */
+static bool has_cut(const rf_analysis *a, const rf_ms_line *l)
+{
+    bool straight = false, bent = false;
+    for (uint32_t i = 1; i < l->n; i++) {
+        const rf_joint_info *p = &a->joints[l->joint[i - 1]], *j = &a->joints[l->joint[i]];
+        if (l->step[i - 1] < 0 || p->length <= 0 || j->length <= 0 ||
+            ((p->flags | j->flags) & RF_JI_ZERO_LENGTH))
+            continue;
+        double d = rf_v3_dot(p->dir, j->dir);
+        straight |= d > cos(0.5 * RF_PI / 180.0);
+        bent |= d < cos(2.0 * RF_PI / 180.0);
+    }
+    /* an arm held straight throughout (motion capture's T-pose) has no cut */
+    return straight && bent;
+}
+
+static double step_weight(const rf_ms_ctx *c, bool digit, const rf_ms_line *tl, uint32_t k,
+                          const rf_ms_line *sl)
+{
+    if (digit || tl->n == 1 || sl->n == 1)
+        return 0.6;
+    int32_t rt = last_step(tl), rs = last_step(sl);
+    if (rt == rs)
+        return 0.3;
+    bool cut = rt > rs ? has_cut(c->tgt.a, tl) : has_cut(c->src[k].a, sl);
+    return cut ? 0.1 : 0.3;
+}
+
 /* The DP's cost of entry i of the target line against entry q of the source line: the thesis
  * compares bone length ratios; here pivot and tip places along the sections, bone counts along
  * limbs and digits, and landmarks, which only fit landmarks. */
@@ -352,7 +394,7 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
     bool digit = (at->sections[a->section].flags & RF_SECFL_FAN) != 0;
     if (type != RF_SECTION_SPINE && type != RF_SECTION_HEAD && type != RF_SECTION_TAIL &&
         type != RF_SECTION_ROOT)
-        cost += (digit || tl->n == 1 || sl->n == 1 ? 0.6 : 0.3) *
+        cost += step_weight(c, digit, tl, k, sl) *
                 (tl->step[i] == sl->step[q] ? 0 : 1 + 0.25 * (abs(tl->step[i] - sl->step[q]) - 1));
     return cost;
 }

@@ -216,12 +216,12 @@ static void add_tally(tally *a, const tally *b)
 int main(void)
 {
     const kind kinds[] = {
-        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.91, 0},
-        {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.86, 1},
+        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.92, 0},
+        {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.87, 1},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.57, 15},
-        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.82, 2},
+        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.83, 2},
         {"CMU onto birds", -1, RIGS_BIRD, 40, 0.68, 11},
-        {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.80, 0},
+        {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.83, 0},
         {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.58, 8},
     };
     const char *env = getenv("RF_RIGS_PAIRS"), *data = getenv("RF_DATA_DIR");
