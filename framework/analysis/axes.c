@@ -115,7 +115,7 @@ static double up_score(const rf_awork *w, const rf_limbs *ls, rf_vec3 u, int can
         grounded++;
         flat += fabs(rf_v3_dot(d, u)) < 0.8;
     }
-    double bonus = grounded >= 2 ? 0.15 * fmin(grounded, 4) + 0.3 * flat / grounded : 0;
+    double bonus = grounded >= 2 ? 0.15 * fmin(grounded, 4) + 0.45 * flat / grounded : 0;
     return (reach > 0 ? hang / reach : 0) + bonus;
 }
 

@@ -220,9 +220,9 @@ int main(void)
         {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.87, 1},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.57, 15},
         {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.83, 2},
-        {"CMU onto birds", -1, RIGS_BIRD, 40, 0.68, 11},
+        {"CMU onto birds", -1, RIGS_BIRD, 40, 0.74, 5},
         {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.83, 0},
-        {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.58, 8},
+        {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.62, 7},
     };
     const char *env = getenv("RF_RIGS_PAIRS"), *data = getenv("RF_DATA_DIR");
     double scale = env ? atof(env) : 1;
