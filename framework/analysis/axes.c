@@ -445,7 +445,9 @@ static double vote_girdles(const rf_awork *w, const rf_limbs *ls, rf_vec3 c)
 
 /* Rigs are built from the hips outwards: the body's root is the rear girdle (or near it) and
  * the hierarchy runs forward through the spine to the front girdle. The girdle deepest in the
- * hierarchy is the front one; weak, as a rig rooted at the chest reads backwards. */
+ * hierarchy is the front one. It outweighs the elevation of the ends (0.25 against 0.2: an
+ * insect carries its abdomen higher or lower than its head) but not the feet or the head marks,
+ * as a rig rooted at the chest reads backwards. */
 static double vote_hierarchy(const rf_awork *w, rf_vec3 c)
 {
     uint32_t *depth = calloc(w->n ? w->n : 1, sizeof *depth);
@@ -469,7 +471,7 @@ static double vote_hierarchy(const rf_awork *w, rf_vec3 c)
     if (shallow >= 0 && deep != shallow && !upright(w)) {
         double d =
             rf_v3_dot(rf_v3_sub(rf_an_pos(w, (uint32_t)deep), rf_an_pos(w, (uint32_t)shallow)), c);
-        vote = fabs(d) > 0.05 * w->a->size ? (d > 0 ? 0.15 : -0.15) : 0;
+        vote = fabs(d) > 0.05 * w->a->size ? (d > 0 ? 0.25 : -0.25) : 0;
     }
     free(depth);
     return vote;

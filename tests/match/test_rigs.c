@@ -217,8 +217,8 @@ int main(void)
 {
     const kind kinds[] = {
         {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.92, 0},
-        {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.87, 1},
-        {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.57, 15},
+        {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.88, 0},
+        {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.70, 9},
         {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.83, 2},
         {"CMU onto birds", -1, RIGS_BIRD, 40, 0.74, 5},
         {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.83, 0},
