@@ -327,20 +327,42 @@ static int32_t last_step(const rf_ms_line *l)
 
 /* Whether a line has two real bones in a straight line, one continuing the other (under half a
  * degree), while it bends elsewhere (two degrees or more): a bone cut in two. */
+/* The cosine of the angle between real bones i - 1 and i of a line, or 2 when either is no real
+ * bone (an offset, zero length). */
+static double turn_cos(const rf_analysis *a, const rf_ms_line *l, uint32_t i)
+{
+    const rf_joint_info *p = &a->joints[l->joint[i - 1]], *j = &a->joints[l->joint[i]];
+    if (l->step[i - 1] < 0 || p->length <= 0 || j->length <= 0 ||
+        ((p->flags | j->flags) & RF_JI_ZERO_LENGTH))
+        return 2;
+    return rf_v3_dot(p->dir, j->dir);
+}
+
 static bool has_cut(const rf_analysis *a, const rf_ms_line *l)
 {
     bool straight = false, bent = false;
     for (uint32_t i = 1; i < l->n; i++) {
-        const rf_joint_info *p = &a->joints[l->joint[i - 1]], *j = &a->joints[l->joint[i]];
-        if (l->step[i - 1] < 0 || p->length <= 0 || j->length <= 0 ||
-            ((p->flags | j->flags) & RF_JI_ZERO_LENGTH))
-            continue;
-        double d = rf_v3_dot(p->dir, j->dir);
-        straight |= d > cos(0.5 * RF_PI / 180.0);
+        double d = turn_cos(a, l, i);
+        straight |= d <= 1 && d > cos(0.5 * RF_PI / 180.0);
         bent |= d < cos(2.0 * RF_PI / 180.0);
     }
     /* an arm held straight throughout (motion capture's T-pose) has no cut */
     return straight && bent;
+}
+
+/* What leaving each bone of a limb out costs: the second half of a bone cut in two is often on
+ * one side only, so leaving it out is cheap. */
+static void skip_prices(const rf_analysis *a, const rf_ms_line *l, double *out)
+{
+    const rf_section *sec = l->n ? &a->sections[a->joints[l->joint[0]].section] : NULL;
+    bool limb = sec && (sec->type == RF_SECTION_ARM || sec->type == RF_SECTION_LEG) &&
+                !(sec->flags & RF_SECFL_FAN);
+    bool cut = limb && has_cut(a, l);
+    for (uint32_t i = 0; i < l->n; i++) {
+        out[i] = RF_MS_SKIP_COST;
+        if (cut && i > 0 && turn_cos(a, l, i) <= 1 && turn_cos(a, l, i) > cos(0.5 * RF_PI / 180.0))
+            out[i] = 0.1;
+    }
 }
 
 static double step_weight(const rf_ms_ctx *c, bool digit, const rf_ms_line *tl, uint32_t k,
@@ -463,16 +485,21 @@ static bool remove_duplicates(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_lin
 {
     uint32_t n = tl->n, m = sl->n;
     double *cost = malloc((size_t)(n ? n : 1) * (m ? m : 1) * sizeof *cost);
+    double *skip = malloc((size_t)(n + m ? n + m : 1) * sizeof *skip);
     int32_t *match = malloc((size_t)(n ? n : 1) * sizeof *match);
-    bool ok = cost && match;
+    bool ok = cost && match && skip;
     if (ok) {
         for (uint32_t i = 0; i < n; i++)
             for (uint32_t q = 0; q < m; q++)
                 cost[(size_t)i * m + q] =
                     pair_cost(c, tl, i, k, sl, q) + 1e-6 * fabs((double)i / n - (double)q / m);
-        ok = (c->o->thesis ? rf_ms_assign(cost, n, m, match)
-                           : rf_ms_align(cost, n, m, RF_MS_SKIP_COST, match)) >= 0;
+        skip_prices(c->tgt.a, tl, skip);
+        skip_prices(c->src[k].a, sl, skip + n);
+        ok = (c->o->thesis
+                  ? rf_ms_assign(cost, n, m, match)
+                  : rf_ms_align_priced(cost, n, m, RF_MS_SKIP_COST, skip, skip + n, match)) >= 0;
     }
+    free(skip);
     for (uint32_t i = 0; ok && i < n; i++)
         p->final[tl->joint[i]] =
             match[i] >= 0 ? (rf_ms_candidate){k, sl->joint[match[i]], 0, {0}} : no_candidate;

@@ -114,6 +114,9 @@ double rf_ms_assign(const double *cost, uint32_t n, uint32_t m, int32_t *match);
  * either side may leave any bone out at a price of `skip` (an alignment), so extra bones on both
  * sides (a hip offset here, a toe there) need not shift the rest. */
 double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int32_t *match);
+/* The same with a price per bone for leaving it out (skip_t[n], skip_s[m]; NULL: `skip`). */
+double rf_ms_align_priced(const double *cost, uint32_t n, uint32_t m, double skip,
+                          const double *skip_t, const double *skip_s, int32_t *match);
 
 /* The price of leaving a bone out in the matcher's assignment (a match costs 0 for bones at the
  * same place, about 0.3 per bone of shift or per landmark it crosses). */

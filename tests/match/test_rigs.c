@@ -216,12 +216,12 @@ static void add_tally(tally *a, const tally *b)
 int main(void)
 {
     const kind kinds[] = {
-        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.92, 0},
-        {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.88, 0},
+        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.93, 0},
+        {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.89, 0},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.70, 9},
-        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.83, 2},
+        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.84, 2},
         {"CMU onto birds", -1, RIGS_BIRD, 40, 0.74, 5},
-        {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.83, 0},
+        {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.85, 0},
         {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.62, 7},
     };
     const char *env = getenv("RF_RIGS_PAIRS"), *data = getenv("RF_DATA_DIR");
