@@ -381,7 +381,14 @@ void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t
     memset(m, 0, RF_MS_METRIC_COUNT * sizeof *m);
     m[RF_MS_SAME_SIDE] = side == sc->side ? w[RF_MS_SAME_SIDE] : 0;
     m[RF_MS_SAME_TYPE] = kt == ks ? w[RF_MS_SAME_TYPE] : 0;
-    m[RF_MS_SIMILAR_TYPE] = kt != ks ? w[RF_MS_SIMILAR_TYPE] * kind_similarity(kt, ks) : 0;
+    double similar = kind_similarity(kt, ks);
+    /* toes and fingers are alike only in the thesis: a bird's toes are not a dragon's wing
+     * fingers, which hang from another limb */
+    bool digits = (kt == RF_MK_FORE_DIGIT && ks == RF_MK_HIND_DIGIT) ||
+                  (kt == RF_MK_HIND_DIGIT && ks == RF_MK_FORE_DIGIT);
+    if (digits && !c->o->thesis)
+        similar = 0.3;
+    m[RF_MS_SIMILAR_TYPE] = kt != ks ? w[RF_MS_SIMILAR_TYPE] * similar : 0;
     m[RF_MS_BONE_COUNT] = t->count[ts] == s->count[ss] ? w[RF_MS_BONE_COUNT] : 0;
     m[RF_MS_PREFERENCE] = k == c->o->preferred_source ? w[RF_MS_PREFERENCE] : 0;
     if ((limb_kind(kt) || kt == RF_MK_APPENDAGE) && (limb_kind(ks) || ks == RF_MK_APPENDAGE)) {

@@ -220,9 +220,9 @@ int main(void)
         {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.89, 0},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.70, 9},
         {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.84, 2},
-        {"CMU onto birds", -1, RIGS_BIRD, 40, 0.74, 5},
+        {"CMU onto birds", -1, RIGS_BIRD, 40, 0.77, 5},
         {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.85, 0},
-        {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.62, 7},
+        {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.69, 7},
     };
     const char *env = getenv("RF_RIGS_PAIRS"), *data = getenv("RF_DATA_DIR");
     double scale = env ? atof(env) : 1;
