@@ -2,21 +2,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "similarity.h"
+#include <rigflow/text.h>
 
-static const char *name_of(const rf_skeleton *s, uint32_t j, char *buf, size_t size)
-{
-    if (s && j < s->joint_count && s->joints[j].name)
-        return s->joints[j].name;
-    snprintf(buf, size, "#%u", j);
-    return buf;
-}
+#include "similarity.h"
 
 static void print_candidate(const rf_ms_candidate *c, const rf_skeleton *const *sources, FILE *out)
 {
-    char buf[32];
+    char buf[256];
     fprintf(out, "      %u:%-22s %7.2f  ", c->source,
-            name_of(sources ? sources[c->source] : NULL, c->joint, buf, sizeof buf), c->total);
+            rf_joint_label(sources ? sources[c->source] : NULL, c->joint, buf, sizeof buf),
+            c->total);
     for (int i = 0; i < RF_MS_METRIC_COUNT; i++)
         if (c->metrics[i] != 0)
             fprintf(out, " %s=%.4g", rf_ms_metric_names[i], c->metrics[i]);
@@ -40,7 +35,7 @@ static int deciding_metric(const rf_ms_candidate *a, const rf_ms_candidate *b, d
 static void print_why(const rf_ms_explain *e, const rf_map_entry *en,
                       const rf_skeleton *const *sources, uint32_t j, FILE *out)
 {
-    char buf[32];
+    char buf[256];
     uint8_t n = e->top_count ? e->top_count[j] : 0;
     const rf_ms_candidate *top = e->top ? &e->top[(size_t)j * 3] : NULL;
     const rf_map_input *in = en && en->input_count ? &en->inputs[0] : NULL;
@@ -51,7 +46,7 @@ static void print_why(const rf_ms_explain *e, const rf_map_entry *en,
         return;
     }
     const char *best =
-        name_of(sources ? sources[top[0].source] : NULL, top[0].joint, buf, sizeof buf);
+        rf_joint_label(sources ? sources[top[0].source] : NULL, top[0].joint, buf, sizeof buf);
     if (!in) {
         if (top[0].total < e->threshold)
             fprintf(out, "its best candidate, %u:%s, scores %.2f, under the threshold %.0f\n",
@@ -77,7 +72,7 @@ static void print_why(const rf_ms_explain *e, const rf_map_entry *en,
     double by = 0;
     int m = deciding_metric(&top[0], &top[1], &by);
     fprintf(out, "beat %u:%s by %.2f", top[1].source,
-            name_of(sources ? sources[top[1].source] : NULL, top[1].joint, buf, sizeof buf),
+            rf_joint_label(sources ? sources[top[1].source] : NULL, top[1].joint, buf, sizeof buf),
             top[0].total - top[1].total);
     if (m >= 0)
         fprintf(out, ", decided by %s (+%.2f)", rf_ms_metric_names[m], by);
@@ -87,16 +82,17 @@ static void print_why(const rf_ms_explain *e, const rf_map_entry *en,
 static void print_joint(const rf_ms_explain *e, const rf_mapping *m, const rf_skeleton *target,
                         const rf_skeleton *const *sources, uint32_t j, FILE *out)
 {
-    char buf[32];
+    char buf[256];
     const rf_joint_info *ji = &e->target->joints[j];
     const char *type =
         ji->section >= 0 ? rf_section_type_name(e->target->sections[ji->section].type) : "none";
-    fprintf(out, "%s (%s %s)", name_of(target, j, buf, sizeof buf), rf_side_name(ji->side), type);
+    fprintf(out, "%s (%s %s)", rf_joint_label(target, j, buf, sizeof buf), rf_side_name(ji->side),
+            type);
     const rf_map_entry *en = m && j < m->target_joint_count ? &m->entries[j] : NULL;
     if (en && en->input_count) {
         const rf_map_input *in = &en->inputs[0];
         fprintf(out, " <- %u:%s, score %.2f%s%s\n", in->source,
-                name_of(sources ? sources[in->source] : NULL, in->joint, buf, sizeof buf),
+                rf_joint_label(sources ? sources[in->source] : NULL, in->joint, buf, sizeof buf),
                 en->score, in->flags & RF_MAP_REVERSE ? ", reversed" : "",
                 in->flags & RF_MAP_MIRROR ? ", mirrored" : "");
     } else {
@@ -136,11 +132,14 @@ void rf_ms_explain_print(const rf_ms_explain *e, const rf_mapping *m, const rf_s
                  "metrics):\n");
     for (uint32_t j = 0; j < e->joint_count; j++)
         print_joint(e, m, target, sources, j, out);
-    fprintf(out, "\nTarget %s:\n", target && target->name ? target->name : "skeleton");
+    fputs("\nTarget ", out);
+    rf_text_fputs(target && target->name ? target->name : "skeleton", out, 0);
+    fputs(":\n", out);
     rf_analysis_print(e->target, target, out);
     for (uint32_t k = 0; k < e->source_count; k++) {
-        fprintf(out, "\nSource %u %s:\n", k,
-                sources && sources[k]->name ? sources[k]->name : "skeleton");
+        fprintf(out, "\nSource %u ", k);
+        rf_text_fputs(sources && sources[k]->name ? sources[k]->name : "skeleton", out, 0);
+        fputs(":\n", out);
         rf_analysis_print(e->sources[k], sources ? sources[k] : NULL, out);
     }
 }

@@ -12,7 +12,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "bvh.h"
+#include "rigflow/bvh.h"
 #include "match-similarity/similarity.h"
 #include "rigs.h"
 #include "truth.h"
