@@ -86,8 +86,9 @@ static double descent(const rf_awork *w, const rf_limb *l, rf_vec3 u)
 
 /* How well u explains the limbs as hanging down (0..1), plus 0.15 per limb (up to four) when two
  * or more reach the lowest level (feet on the ground: four legs say more than two wing tips) and
- * up to 0.15 more as their end bones lie flat (feet, not tips pointing down). The lowest level is
- * the lowest limb's: a mesh node or ground root at the origin says nothing. */
+ * up to 0.45 more as their end bones lie flat (feet, not tips pointing down: a bird's flat toes
+ * outvote its longer folded wings). The lowest level is the lowest limb's: a mesh node or
+ * ground root at the origin says nothing. */
 static double up_score(const rf_awork *w, const rf_limbs *ls, rf_vec3 u, int cand)
 {
     double hang = 0, reach = 0, lo = INFINITY, hi = -INFINITY;
