@@ -33,10 +33,10 @@ tests_match_test_corr_CFLAGS = $(MATCH_TEST_CFLAGS) $(JANSSON_CFLAGS)
 tests_match_test_corr_LDADD = $(tests_match_test_accuracy_LDADD) $(JANSSON_LIBS)
 
 tests_match_test_generated_SOURCES = tests/match/test_generated.c tests/match/gen.c \
-	tests/match/gen.h
-tests_match_test_generated_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
+	tests/match/gen.h tests/match/truth.c tests/match/truth.h
+tests_match_test_generated_CPPFLAGS = $(tests_match_test_accuracy_CPPFLAGS)
 tests_match_test_generated_CFLAGS = $(MATCH_TEST_CFLAGS)
-tests_match_test_generated_LDADD = $(MATCH_LIBS)
+tests_match_test_generated_LDADD = $(tests_match_test_accuracy_LDADD)
 
 # The second generator (rigs.h: skeletons built the way production rigs are), CMU as source.
 tests_match_test_rigs_SOURCES = tests/match/test_rigs.c tests/match/rigs.c tests/match/rigs.h \
