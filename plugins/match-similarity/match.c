@@ -392,6 +392,9 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
     }
     double cost =
         fabs(tl->u0[i] - sl->u0[q]) + 0.5 * fabs(fmin(tl->u1[i], 1.5) - fmin(sl->u1[q], 1.5));
+    /* a tail of one bone has no place along a tail to compare: its root anchors it (below) */
+    if (at->sections[a->section].type == RF_SECTION_TAIL && (tl->n == 1 || sl->n == 1))
+        cost *= 0.25;
     /* the spine's ends (pelvis, chest), a limb's offset bone (clavicle, hip offset), the skull at
      * the end of the neck */
     uint32_t marks = (a->flags ^ b->flags) & RF_JI_OFFSET;
