@@ -366,6 +366,51 @@ static void mark_offsets(rf_awork *w)
     }
 }
 
+/* Real bones of a leg down to its ground contact: offsets and a last bone lying flat on the
+ * ground (a toe) left out. */
+static uint32_t leg_bones(const rf_awork *w, const rf_section *sec)
+{
+    const rf_analysis *a = w->a;
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < sec->bone_count; k++) {
+        const rf_joint_info *ji = &a->joints[a->section_joints[sec->first + k]];
+        bool toe = k + 1 == sec->bone_count && fabs(rf_v3_dot(ji->dir, a->up)) < 0.5;
+        n += !(ji->flags & RF_JI_OFFSET) && !toe && ji->length > w->eps;
+    }
+    return n;
+}
+
+/* A quadruped's foreleg with one real bone more than the hind leg on its side, beginning at the
+ * top of the body and running forward and down to a bone running back: that first bone is the
+ * scapula, a girdle bone like a clavicle (forelegs hang from a shoulder blade; hind legs join
+ * the pelvis directly). */
+static void mark_scapulae(rf_awork *w)
+{
+    rf_analysis *a = w->a;
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        const rf_section *fore = &a->sections[s];
+        if (fore->type != RF_SECTION_LEG || (fore->flags & RF_SECFL_FAN) || fore->bone_count < 3)
+            continue;
+        for (uint32_t h = 0; h < a->section_count; h++) {
+            const rf_section *hind = &a->sections[h];
+            if (h == s || hind->type != RF_SECTION_LEG || (hind->flags & RF_SECFL_FAN) ||
+                hind->side != fore->side || hind->body_pos > fore->body_pos - 0.5)
+                continue;
+            rf_joint_info *first = &a->joints[a->section_joints[fore->first]];
+            const rf_joint_info *second = &a->joints[a->section_joints[fore->first + 1]];
+            bool down = rf_v3_dot(first->dir, a->up) < -0.5;
+            bool top = rf_an_height(w, first->pos) >= a->ground + 0.75 * a->height;
+            /* the shoulder blade slopes forward and down to the shoulder joint, the upper arm
+             * back and down to the elbow */
+            bool vee =
+                rf_v3_dot(first->dir, a->forward) > 0.1 && rf_v3_dot(second->dir, a->forward) < 0;
+            if (!(first->flags & RF_JI_OFFSET) && down && top && vee &&
+                leg_bones(w, fore) == leg_bones(w, hind) + 1)
+                first->flags |= RF_JI_OFFSET;
+        }
+    }
+}
+
 bool rf_an_measure(rf_awork *w)
 {
     rf_analysis *a = w->a;
@@ -388,6 +433,7 @@ bool rf_an_measure(rf_awork *w)
     if (!extend_by_digits(w))
         return false;
     mark_offsets(w);
+    mark_scapulae(w);
     mirror_sections(w);
     return ranks(w) && fan_ranks(w);
 }
