@@ -358,17 +358,21 @@
     picked.textContent += ': drives no target joint';
     poseAll(frame);
   }
+  /* the joint under canvas pixel (x, y): {ch, joint}, or null */
+  function pick(x, y) {
+    var ray = new THREE.Raycaster();
+    ray.setFromCamera(new THREE.Vector2(x / canvas.clientWidth * 2 - 1, -y / canvas.clientHeight * 2 + 1), camera);
+    var hit = ray.intersectObjects(pickables)[0];
+    return hit ? { ch: chars[hit.object.userData.ch], joint: hit.object.userData.joint } : null;
+  }
   var down = null;
   canvas.addEventListener('pointerdown', function (e) { down = [e.clientX, e.clientY]; });
   canvas.addEventListener('pointerup', function (e) {
     if (!down || Math.abs(e.clientX - down[0]) + Math.abs(e.clientY - down[1]) > 4) return;
     var r = canvas.getBoundingClientRect();
-    var ray = new THREE.Raycaster();
-    ray.setFromCamera(new THREE.Vector2((e.clientX - r.left) / r.width * 2 - 1, -(e.clientY - r.top) / r.height * 2 + 1), camera);
-    var hit = ray.intersectObjects(pickables)[0];
+    var hit = pick(e.clientX - r.left, e.clientY - r.top);
     if (!hit) return;
-    var ch = chars[hit.object.userData.ch], j = hit.object.userData.joint;
-    if (ch === target) selectTarget(j, true); else selectSource(ch, j);
+    if (hit.ch === target) selectTarget(hit.joint, true); else selectSource(hit.ch, hit.joint);
   });
 
   /* ---- legend ---- */
@@ -489,6 +493,19 @@
     targetJoints: target ? target.joints.length : 0,
     setFrame: function (k) { setFrame(k); },
     selectTarget: function (j) { selectTarget(j, true); },
+    /* canvas pixel of a joint ('source' or 'target'), or null when off screen */
+    screenOf: function (role, j) {
+      var ch = role === 'target' ? target : sources[0];
+      if (!ch || !ch.spheres[j]) return null;
+      var p = ch.spheres[j].getWorldPosition(new THREE.Vector3()).project(camera);
+      if (Math.abs(p.x) > 0.98 || Math.abs(p.y) > 0.98 || p.z > 1) return null;
+      return { x: (p.x + 1) / 2 * canvas.clientWidth, y: (1 - p.y) / 2 * canvas.clientHeight };
+    },
+    /* the target joint under a canvas pixel, or -1 */
+    jointAt: function (x, y) {
+      var hit = pick(x, y);
+      return hit && hit.ch === target ? hit.joint : -1;
+    },
     /* the largest distance, in target heights, between a joint drawn and the same-named bone of
      * the embedded mesh at the frame shown: the two views must agree (-1 without a mesh) */
     meshJointError: function () {
