@@ -93,9 +93,27 @@
   });
   var sources = chars.filter(function (c) { return c.role === 'source'; });
   var target = chars.filter(function (c) { return c.role === 'target'; })[0];
-  var spacing = 1.6;
-  sources.forEach(function (ch, i) { ch.slot = -0.8 - spacing * i; });
-  if (target) target.slot = sources.length ? 0.8 : 0;
+  /* side by side: each character as wide as it is (in its heights, across its facing), apart by 0.4
+   * heights, the sources on the left */
+  function halfWidth(ch) {
+    var up = new THREE.Vector3().fromArray(ch.up).normalize();
+    var left = new THREE.Vector3().crossVectors(up, new THREE.Vector3().fromArray(ch.forward).normalize()).normalize();
+    var pts = ch.anim || ch.rest, lo = Infinity, hi = -Infinity;
+    for (var i = 0; i < ch.np; i++) {
+      var d = left.x * pts[3 * i] + left.y * pts[3 * i + 1] + left.z * pts[3 * i + 2];
+      lo = Math.min(lo, d); hi = Math.max(hi, d);
+    }
+    /* the mesh reaches past the joints (wing membranes, hands): a margin */
+    var w = isFinite(hi - lo) ? 1.3 * (hi - lo) / 2 / (ch.height > 0 ? ch.height : 1) : 0.5;
+    return Math.min(Math.max(w, 0.15), 3);
+  }
+  var gap = 0.4, x = -gap / 2, span = gap;
+  sources.forEach(function (ch) { var w = halfWidth(ch); ch.slot = x - w; x -= 2 * w + gap; span += 2 * w + gap; });
+  if (target) { var tw = halfWidth(target); target.slot = sources.length ? gap / 2 + tw : 0; span += 2 * tw; }
+  var middle = (x + gap + (target ? target.slot + halfWidth(target) : 0)) / 2;
+  camera.position.set(middle + 0.2, 1.3, Math.max(3.2, span * 1.1));
+  controls.target.set(middle, 0.45, 0);
+  controls.update();
 
   var sphereGeo = new THREE.SphereBufferGeometry(1, 10, 8);
   var pickables = [];
