@@ -241,7 +241,7 @@
         pointOf(ch, k, j, s.position);
         var sel = isSelected(ch, j), touching = ch === target && contacts[j];
         s.material.color.set(sel ? HIGHLIGHT : touching ? CONTACT : s.userData.base);
-        s.scale.setScalar(s.userData.r * (sel ? 2.6 : touching ? 1.8 : 1));
+        s.scale.setScalar(s.userData.r * (sel ? 3.5 : touching ? 1.8 : 1));
       });
       var pos = ch.bones.geometry.attributes.position;
       ch.pairs.forEach(function (p, i) {
@@ -512,8 +512,16 @@
     setFrame: function (k) { setFrame(k); },
     selectTarget: function (j) { selectTarget(j, true); },
     /* canvas pixel of a joint ('source' or 'target'), or null when off screen */
+    /* canvas pixels of the selected joints: {target: [x, y] or null, sources: [[x, y]...]} */
+    selectedOnScreen: function () {
+      var api = window.rigflowReport;
+      return {
+        target: selected.target >= 0 ? api.screenOf('target', selected.target) : null,
+        sources: selected.sources.map(function (l) { return api.screenOf(l.src, l.sj); })
+      };
+    },
     screenOf: function (role, j) {
-      var ch = role === 'target' ? target : sources[0];
+      var ch = role === 'target' ? target : typeof role === 'object' ? role : sources[0];
       if (!ch || !ch.spheres[j]) return null;
       var p = ch.spheres[j].getWorldPosition(new THREE.Vector3()).project(camera);
       if (Math.abs(p.x) > 0.98 || Math.abs(p.y) > 0.98 || p.z > 1) return null;

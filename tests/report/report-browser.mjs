@@ -74,6 +74,16 @@ function stats(px, bg = BACKGROUND) {
   const mean = sum / count;
   return { variance: sum2 / count - mean * mean, foreground: fg / count, magentaLeft, magentaRight };
 }
+// magenta pixels within 10 pixels of p (the highlight colour, used for nothing else)
+function magentaNear(px, p) {
+  let hits = 0;
+  for (let y = Math.max(0, Math.round(p.y) - 10); y <= Math.min(px.h - 1, Math.round(p.y) + 10); y++)
+    for (let x = Math.max(0, Math.round(p.x) - 10); x <= Math.min(px.w - 1, Math.round(p.x) + 10); x++) {
+      const i = 4 * (y * px.w + x);
+      if (px.data[i] > 200 && px.data[i + 1] < 70 && px.data[i + 2] > 200) hits++;
+    }
+  return hits;
+}
 function differing(a, b) {
   let d = 0;
   for (let i = 0; i < a.data.length; i += 4)
@@ -120,10 +130,13 @@ async function full(name, file, joints) {
   await page.uncheck('#lines'); // the joints alone carry the highlight
   await mapped.first().click();
   await page.waitForTimeout(150);
-  const sel = stats(await shot(page, art('selected')));
+  const selPx = await shot(page, art('selected'));
   check(await mapped.first().evaluate((r) => r.classList.contains('selected')), `${name}: the clicked row is selected`);
-  check(sel.magentaLeft > 20 && sel.magentaRight > 20,
-    `${name}: row ${rowIndex} highlights the source joint (left: ${sel.magentaLeft} magenta pixels) and the target joint (right: ${sel.magentaRight})`);
+  const where = await page.evaluate(() => rigflowReport.selectedOnScreen());
+  const tHits = where.target ? magentaNear(selPx, where.target) : 0;
+  const sHits = where.sources.length && where.sources[0] ? magentaNear(selPx, where.sources[0]) : 0;
+  check(tHits >= 12 && sHits >= 12,
+    `${name}: row ${rowIndex} turns its source joint magenta (${sHits} pixels there) and its target joint (${tHits} pixels)`);
 
   // a click on a target joint selects its row
   const pick = await page.evaluate(() => {
