@@ -476,33 +476,64 @@ static bool rf_rep_write_glb(rf_rep *r, FILE *f, const char *out_path)
 
 /* ---- the page ---- */
 
-static bool rf_rep_three(rf_rep *r, FILE *f)
+static const char *const rf_rep_three_files[] = {"build/three.min.js",
+                                                 "examples/js/controls/OrbitControls.js",
+                                                 "examples/js/loaders/GLTFLoader.js"};
+#define RF_REP_THREE_FILES (sizeof rf_rep_three_files / sizeof rf_rep_three_files[0])
+
+/* Path of three.js file i (malloc'd), from the node's `three` or configure's folder. */
+static char *rf_rep_three_path(const rf_host *host, rf_node *node, size_t i)
 {
-    const char *dir = r->host->param_string(r->node, "three");
+    const char *dir = host->param_string(node, "three");
     if (!*dir)
         dir = RF_THREE_DIR;
-    static const char *const files[] = {"build/three.min.js",
-                                        "examples/js/controls/OrbitControls.js",
-                                        "examples/js/loaders/GLTFLoader.js"};
-    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
-        size_t len = strlen(dir) + strlen(files[i]) + 2;
-        char *path = malloc(len);
+    size_t len = strlen(dir) + strlen(rf_rep_three_files[i]) + 2;
+    char *path = malloc(len);
+    if (path)
+        snprintf(path, len, "%s/%s", dir, rf_rep_three_files[i]);
+    return path;
+}
+
+static void rf_rep_three_missing(const rf_host *host, rf_node *node, const char *path)
+{
+    host->error(node,
+                "cannot read three.js file %s (install Debian's libjs-three, or point "
+                "report.three or configure --with-three at a folder holding build/, examples/js/)",
+                path);
+}
+
+static bool rf_rep_three(rf_rep *r, FILE *f)
+{
+    for (size_t i = 0; i < RF_REP_THREE_FILES; i++) {
+        char *path = rf_rep_three_path(r->host, r->node, i);
         if (!path)
             return false;
-        snprintf(path, len, "%s/%s", dir, files[i]);
         fputs("<script>\n", f);
         int bad = rf_html_copy_file(f, path);
         fputs("\n</script>\n", f);
-        if (bad) {
-            r->host->error(r->node,
-                           "cannot read three.js file %s (install Debian's libjs-three, or point "
-                           "report.three or configure --with-three at a folder holding build/, "
-                           "examples/js/)",
-                           path);
-            free(path);
-            return false;
-        }
+        if (bad)
+            rf_rep_three_missing(r->host, r->node, path);
         free(path);
+        if (bad)
+            return false;
+    }
+    return true;
+}
+
+/* three.js is checked before any node runs, so a missing file fails in milliseconds. */
+static bool html_create(const rf_host *host, rf_node *node, void **self)
+{
+    *self = NULL;
+    if (!*host->param_string(node, "path"))
+        return true;
+    for (size_t i = 0; i < RF_REP_THREE_FILES; i++) {
+        char *path = rf_rep_three_path(host, node, i);
+        bool readable = path && access(path, R_OK) == 0;
+        if (!readable)
+            rf_rep_three_missing(host, node, path ? path : "(out of memory)");
+        free(path);
+        if (!readable)
+            return false;
     }
     return true;
 }
@@ -623,5 +654,6 @@ const rf_node_desc rf_report_html_node = {
     .inputs = html_inputs,
     .param_count = sizeof html_params / sizeof html_params[0],
     .params = html_params,
+    .create = html_create,
     .process = html_process,
 };
