@@ -550,5 +550,8 @@
     }
   };
   requestAnimationFrame(tick);
-  if (!(data.glb && target)) ready();
+  if (!(data.glb && target)) {
+    document.getElementById('mesh').disabled = true;
+    ready();
+  }
 })();
