@@ -31,6 +31,8 @@ typedef struct rf_rep_char {
     const rf_skeleton *s;
     const rf_animation *a; /* may be NULL: the rest pose stands still */
     rf_analysis *an;
+    bool posed;         /* the rest pose is no body: analysed in a pose of the clip instead */
+    int32_t pose_frame; /* that pose's frame, or -1 for the clip's mean pose */
 } rf_rep_char;
 
 /* The page's timeline: `total` frames at `fps`, every `step`th shown. */
@@ -70,10 +72,11 @@ static bool rf_rep_gather(rf_rep *r)
     }
     uint32_t clips = h->input_count(n, "source_animations");
     for (uint32_t k = 0; k < r->source_count; k++)
-        r->chars[k] = (rf_rep_char){"source", h->input(n, "sources", k),
-                                    k < clips ? h->input(n, "source_animations", k) : NULL, NULL};
-    *rf_rep_target(r) =
-        (rf_rep_char){"target", h->input(n, "target", 0), h->input(n, "animation", 0), NULL};
+        r->chars[k] = (rf_rep_char){.role = "source",
+                                    .s = h->input(n, "sources", k),
+                                    .a = k < clips ? h->input(n, "source_animations", k) : NULL};
+    *rf_rep_target(r) = (rf_rep_char){
+        .role = "target", .s = h->input(n, "target", 0), .a = h->input(n, "animation", 0)};
     r->mapping = h->input(n, "mapping", 0);
     r->mesh = h->input(n, "mesh", 0);
     r->measure_count = h->input_count(n, "measures");
@@ -336,6 +339,19 @@ static void rf_rep_warn_axes(FILE *f, const rf_rep_char *ch, bool *first)
 {
     const rf_analysis *an = ch->an;
     char line[256];
+    if (ch->posed) {
+        if (ch->pose_frame >= 0)
+            snprintf(line, sizeof line,
+                     "%s: its rest pose is no body (all pivots on one line); sections and axes "
+                     "from frame %d of its clip",
+                     ch->role, ch->pose_frame);
+        else
+            snprintf(line, sizeof line,
+                     "%s: its rest pose is no body (all pivots on one line); sections and axes "
+                     "from its clip's mean pose",
+                     ch->role);
+        fputs(*first ? "" : ",", f), rf_html_json_string(f, line), *first = false;
+    }
     if (an->up_confidence < 0.5) {
         snprintf(line, sizeof line, "%s: the up axis is a guess (from %s, confidence %.2f)",
                  ch->role, an->up_source, an->up_confidence);
@@ -569,11 +585,19 @@ static bool rf_rep_write(rf_rep *r, FILE *f, const char *path)
     return true;
 }
 
+/* Sections and axes as the matcher finds them: from the rest pose, or, where the rest pose is no
+ * body (every pivot on one line), from the pose of the clip that shows the body best. */
 static bool rf_rep_analyze(rf_rep *r)
 {
     for (uint32_t c = 0; c <= r->source_count; c++) {
-        r->chars[c].an = rf_analyze(r->chars[c].s, NULL);
-        if (!r->chars[c].an) {
+        rf_rep_char *ch = &r->chars[c];
+        rf_skeleton *view = NULL;
+        if (ch->a && ch->a->frame_count && rf_pose_degenerate(ch->s))
+            view = rf_posed_best(ch->s, ch->a, &ch->pose_frame);
+        ch->posed = view != NULL;
+        ch->an = rf_analyze(view ? view : ch->s, NULL);
+        rf_posed_free(view);
+        if (!ch->an) {
             r->host->error(r->node, "out of memory");
             return false;
         }

@@ -439,7 +439,8 @@
         var g = c.getContext('2d'), w = c.width, h = c.height;
         g.clearRect(0, 0, w, h);
         if (n) {
-          var span = hi - lo || 1;
+          /* from zero (or the lowest value below it), so a steady figure draws a flat line */
+          var base = Math.min(lo, 0), span = Math.max(hi, 0) - base || 1;
           g.strokeStyle = '#1a5fb4'; g.beginPath();
           var started = false;
           for (var x = 0; x < w; x++) {
@@ -447,7 +448,7 @@
             var a = Math.floor(x * v.length / w), bnd = Math.max(a + 1, Math.floor((x + 1) * v.length / w)), best = NaN;
             for (var k = a; k < bnd && k < v.length; k++) if (isFinite(v[k]) && !(best >= v[k])) best = v[k];
             if (!isFinite(best)) { started = false; continue; }
-            var y = h - 4 - (best - lo) / span * (h - 8);
+            var y = h - 4 - (best - base) / span * (h - 8);
             if (started) g.lineTo(x, y); else { g.moveTo(x, y); started = true; }
           }
           g.stroke();
