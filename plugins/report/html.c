@@ -18,10 +18,12 @@
 
 #include <rigflow/plugin.h>
 
-#include "analysis/analysis.h"
-#include "../gltf/gltf-write.h"
+#include <rigflow/analysis.h>
+#include <rigflow/gltf-write.h>
+
 #include "html-out.h"
-#include "report-assets.h"
+/* generated in the build tree from viewer.js, viewer.css and viewer.html (embed.sh) */
+#include <report-assets.h>
 
 #define RF_REPORT_MAX_SOURCES 16
 

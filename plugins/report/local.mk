@@ -8,7 +8,8 @@ plugins_report_la_SOURCES = plugins/report/summary.c plugins/report/html.c \
 nodist_plugins_report_la_SOURCES = plugins/report/report-assets.h
 plugins_report_la_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_builddir)/plugins/report
 plugins_report_la_LDFLAGS = $(PLUGIN_LDFLAGS)
-plugins_report_la_LIBADD = plugins/gltf/librfgltf.la framework/analysis/libanalysis.la -lm
+plugins_report_la_LIBADD = sdk/formats/gltf/librigflow-gltf.la sdk/analysis/librigflow-analysis.la \
+	$(JANSSON_LIBS) -lm
 BUILT_SOURCES += plugins/report/report-assets.h
 CLEANFILES += plugins/report/report-assets.h
 RF_REPORT_ASSETS = plugins/report/viewer.js plugins/report/viewer.css plugins/report/viewer.html

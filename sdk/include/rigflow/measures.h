@@ -18,6 +18,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <rigflow/model-copy.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -79,15 +81,6 @@ static inline void rf_measures_free(void *measures)
     free(m);
 }
 
-static inline char *rf_measures_strdup_(const char *s)
-{
-    size_t n = strlen(s ? s : "") + 1;
-    char *d = (char *)malloc(n);
-    if (d)
-        memcpy(d, s ? s : "", n);
-    return d;
-}
-
 /* Appends a series with every value NAN and returns its values to fill in, or NULL when out of
  * memory (the measures are unchanged then). */
 static inline float *rf_measures_add(rf_measures *m, const char *name, const char *unit,
@@ -97,7 +90,7 @@ static inline float *rf_measures_add(rf_measures *m, const char *name, const cha
     if (!grown)
         return NULL;
     m->series = grown;
-    rf_series s = {rf_measures_strdup_(name), rf_measures_strdup_(unit), joint, flags,
+    rf_series s = {rf_strdup(name ? name : ""), rf_strdup(unit ? unit : ""), joint, flags,
                    (float *)malloc((m->frame_count ? m->frame_count : 1) * sizeof(float))};
     if (!s.name || !s.unit || !s.values) {
         free(s.name), free(s.unit), free(s.values);
@@ -126,7 +119,7 @@ static inline bool rf_measures_warn(rf_measures *m, const char *fmt, ...)
     if (!grown)
         return false;
     m->warnings = grown;
-    if (!(grown[m->warning_count] = rf_measures_strdup_(line)))
+    if (!(grown[m->warning_count] = rf_strdup(line)))
         return false;
     m->warning_count++;
     return true;

@@ -7,5 +7,6 @@
 #include "model.h"
 #include "measures.h"
 #include "plugin.h"
+#include "model-copy.h"
 
 #endif
