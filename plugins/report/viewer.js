@@ -57,6 +57,10 @@
   var controls = new THREE.OrbitControls(camera, canvas);
   controls.target.set(0, 0.45, 0);
   controls.update();
+  /* drawn only when something changed: software WebGL on a busy machine has no frames to spare */
+  var dirty = true;
+  function requestRender() { dirty = true; }
+  controls.addEventListener('change', requestRender);
   scene.add(new THREE.HemisphereLight(0xffffff, 0x444444, 1.0));
   var sun = new THREE.DirectionalLight(0xffffff, 0.7);
   sun.position.set(2, 4, 3);
@@ -261,6 +265,7 @@
     });
     lp.needsUpdate = true; lc.needsUpdate = true;
     if (mixer) mixer.setTime(k / sampledFps);
+    requestRender();
   }
 
   /* the camera follows the characters' mean root on the floor */
@@ -306,8 +311,8 @@
     last = null;
   });
   document.getElementById('speed').addEventListener('change', function (e) { speed = Number(e.target.value); });
-  document.getElementById('lines').addEventListener('change', function (e) { linkLines.visible = e.target.checked; });
-  document.getElementById('mesh').addEventListener('change', function (e) { if (meshRoot) meshRoot.visible = e.target.checked; });
+  document.getElementById('lines').addEventListener('change', function (e) { linkLines.visible = e.target.checked; requestRender(); });
+  document.getElementById('mesh').addEventListener('change', function (e) { if (meshRoot) meshRoot.visible = e.target.checked; requestRender(); });
 
   /* ---- the mapping table ---- */
   var table = document.getElementById('mapping');
@@ -379,6 +384,7 @@
   /* the joint under canvas pixel (x, y): {ch, joint}, or null */
   function pick(x, y) {
     var ray = new THREE.Raycaster();
+    camera.updateMatrixWorld();
     ray.setFromCamera(new THREE.Vector2(x / canvas.clientWidth * 2 - 1, -y / canvas.clientHeight * 2 + 1), camera);
     var hit = ray.intersectObjects(pickables)[0];
     return hit ? { ch: chars[hit.object.userData.ch], joint: hit.object.userData.joint } : null;
@@ -500,8 +506,10 @@
       }
       last = now;
     }
-    controls.update();
-    renderer.render(scene, camera);
+    if (dirty) {
+      dirty = false;
+      renderer.render(scene, camera);
+    }
     requestAnimationFrame(tick);
   }
   setFrame(0);
@@ -524,6 +532,7 @@
     screenOf: function (role, j) {
       var ch = role === 'target' ? target : typeof role === 'object' ? role : sources[0];
       if (!ch || !ch.spheres[j]) return null;
+      camera.updateMatrixWorld();
       var p = ch.spheres[j].getWorldPosition(new THREE.Vector3()).project(camera);
       if (Math.abs(p.x) > 0.98 || Math.abs(p.y) > 0.98 || p.z > 1) return null;
       return { x: (p.x + 1) / 2 * canvas.clientWidth, y: (1 - p.y) / 2 * canvas.clientHeight };

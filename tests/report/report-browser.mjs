@@ -45,10 +45,45 @@ await context.route('**/*', (route) => {
   badRequests.push(url);
   return route.abort();
 });
-// Pixels of a PNG, decoded by the browser itself (a WebGL canvas reads blank through toDataURL
-// without preserveDrawingBuffer, so pixels come from element screenshots).
+// Pixels of a PNG, decoded by the browser itself in a page of its own (a WebGL canvas reads blank
+// through toDataURL without preserveDrawingBuffer, so pixels come from element screenshots). The
+// pixels stay in that page; the measures below run there and return numbers.
 const decoder = await context.newPage();
 await decoder.setContent('<canvas id="c"></canvas>');
+await decoder.evaluate(() => {
+  window.imgs = [];
+  // luminance variance, share of pixels away from the background, magenta pixels near a point
+  window.stats = (id, bg) => {
+    const px = window.imgs[id], d = px.data, count = px.width * px.height;
+    let sum = 0, sum2 = 0, fg = 0, magenta = 0;
+    for (let i = 0; i < count; i++) {
+      const r = d[4 * i], g = d[4 * i + 1], b = d[4 * i + 2];
+      const y = 0.299 * r + 0.587 * g + 0.114 * b;
+      sum += y; sum2 += y * y;
+      if (Math.abs(r - bg[0]) + Math.abs(g - bg[1]) + Math.abs(b - bg[2]) > 40) fg++;
+      if (r > 200 && g < 70 && b > 200) magenta++;
+    }
+    const mean = sum / count;
+    return { variance: sum2 / count - mean * mean, foreground: fg / count, magenta };
+  };
+  window.magentaNear = (id, p) => {
+    const px = window.imgs[id], d = px.data;
+    let hits = 0;
+    for (let y = Math.max(0, Math.round(p.y) - 10); y <= Math.min(px.height - 1, Math.round(p.y) + 10); y++)
+      for (let x = Math.max(0, Math.round(p.x) - 10); x <= Math.min(px.width - 1, Math.round(p.x) + 10); x++) {
+        const i = 4 * (y * px.width + x);
+        if (d[i] > 200 && d[i + 1] < 70 && d[i + 2] > 200) hits++;
+      }
+    return hits;
+  };
+  window.differing = (ia, ib) => {
+    const a = window.imgs[ia].data, b = window.imgs[ib].data;
+    let n = 0;
+    for (let i = 0; i < a.length; i += 4)
+      if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 30) n++;
+    return n / (a.length / 4);
+  };
+});
 async function pixels(png) {
   return decoder.evaluate(async (b64) => {
     const img = new Image();
@@ -58,38 +93,13 @@ async function pixels(png) {
     c.width = img.width; c.height = img.height;
     const g = c.getContext('2d');
     g.drawImage(img, 0, 0);
-    return { w: img.width, h: img.height, data: Array.from(g.getImageData(0, 0, img.width, img.height).data) };
+    window.imgs.push(g.getImageData(0, 0, img.width, img.height));
+    return window.imgs.length - 1;
   }, png.toString('base64'));
 }
-function stats(px, bg = BACKGROUND) {
-  let sum = 0, sum2 = 0, fg = 0, magentaLeft = 0, magentaRight = 0;
-  const count = px.w * px.h;
-  for (let i = 0; i < count; i++) {
-    const r = px.data[4 * i], g = px.data[4 * i + 1], b = px.data[4 * i + 2];
-    const y = 0.299 * r + 0.587 * g + 0.114 * b;
-    sum += y; sum2 += y * y;
-    if (Math.abs(r - bg[0]) + Math.abs(g - bg[1]) + Math.abs(b - bg[2]) > 40) fg++;
-    if (r > 200 && g < 70 && b > 200) (i % px.w < px.w / 2 ? magentaLeft++ : magentaRight++);
-  }
-  const mean = sum / count;
-  return { variance: sum2 / count - mean * mean, foreground: fg / count, magentaLeft, magentaRight };
-}
-// magenta pixels within 10 pixels of p (the highlight colour, used for nothing else)
-function magentaNear(px, p) {
-  let hits = 0;
-  for (let y = Math.max(0, Math.round(p.y) - 10); y <= Math.min(px.h - 1, Math.round(p.y) + 10); y++)
-    for (let x = Math.max(0, Math.round(p.x) - 10); x <= Math.min(px.w - 1, Math.round(p.x) + 10); x++) {
-      const i = 4 * (y * px.w + x);
-      if (px.data[i] > 200 && px.data[i + 1] < 70 && px.data[i + 2] > 200) hits++;
-    }
-  return hits;
-}
-function differing(a, b) {
-  let d = 0;
-  for (let i = 0; i < a.data.length; i += 4)
-    if (Math.abs(a.data[i] - b.data[i]) + Math.abs(a.data[i + 1] - b.data[i + 1]) + Math.abs(a.data[i + 2] - b.data[i + 2]) > 30) d++;
-  return d / (a.w * a.h);
-}
+const stats = (id, bg = BACKGROUND) => decoder.evaluate(([i, b]) => window.stats(i, b), [id, bg]);
+const magentaNear = (id, p) => decoder.evaluate(([i, q]) => window.magentaNear(i, q), [id, p]);
+const differing = (a, b) => decoder.evaluate(([x, y]) => window.differing(x, y), [a, b]);
 
 async function open(file, label) {
   const page = await context.newPage();
@@ -97,6 +107,7 @@ async function open(file, label) {
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
   page.on('pageerror', (e) => errors.push(e.message));
   page.on('dialog', (d) => { errors.push('a dialog opened: ' + d.message()); d.dismiss(); });
+  page.on('crash', () => console.log(`# ${label}: the page crashed`));
   const t0 = Date.now();
   await page.goto(pathToFileURL(file).href);
   await page.waitForSelector('body[data-ready]', { timeout: 30000 });
@@ -115,10 +126,10 @@ async function full(name, file, joints) {
   const art = (s) => `${artefacts}/${name}-${s}.png`;
   await page.screenshot({ path: art('page'), fullPage: false });
   const first = await shot(page, art('initial'));
-  const s0 = stats(first);
+  const s0 = await stats(first);
   check(s0.variance > 100 && s0.foreground > 0.01,
     `${name}: the canvas shows something (luminance variance ${s0.variance.toFixed(0)}, ${(100 * s0.foreground).toFixed(1)}% not background)`);
-  check(s0.magentaLeft + s0.magentaRight === 0, `${name}: nothing highlighted before a click`);
+  check(s0.magenta === 0, `${name}: nothing highlighted before a click`);
   const rows = await page.locator('#mapping tbody tr').count();
   check(rows === joints, `${name}: one table row per target joint (${rows} rows, ${joints} joints)`);
   const meshError = await page.evaluate(() => rigflowReport.meshJointError());
@@ -133,8 +144,8 @@ async function full(name, file, joints) {
   const selPx = await shot(page, art('selected'));
   check(await mapped.first().evaluate((r) => r.classList.contains('selected')), `${name}: the clicked row is selected`);
   const where = await page.evaluate(() => rigflowReport.selectedOnScreen());
-  const tHits = where.target ? magentaNear(selPx, where.target) : 0;
-  const sHits = where.sources.length && where.sources[0] ? magentaNear(selPx, where.sources[0]) : 0;
+  const tHits = where.target ? await magentaNear(selPx, where.target) : 0;
+  const sHits = where.sources.length && where.sources[0] ? await magentaNear(selPx, where.sources[0]) : 0;
   check(tHits >= 12 && sHits >= 12,
     `${name}: row ${rowIndex} turns its source joint magenta (${sHits} pixels there) and its target joint (${tHits} pixels)`);
 
@@ -166,7 +177,8 @@ async function full(name, file, joints) {
   const played = Number(await page.locator('#frame').getAttribute('data-frame'));
   const after = await shot(page, art('playing'));
   check(played > 0, `${name}: playback advanced to frame ${played}`);
-  check(differing(before, after) > 0.002, `${name}: the picture changed while playing (${(100 * differing(before, after)).toFixed(2)}% of pixels)`);
+  const moved = await differing(before, after);
+  check(moved > 0.002, `${name}: the picture changed while playing (${(100 * moved).toFixed(2)}% of pixels)`);
 
   // scrubbing shows the frame asked for, the same picture each time
   const max = Number(await page.locator('#scrub').getAttribute('max'));
@@ -182,8 +194,9 @@ async function full(name, file, joints) {
   await page.locator('#scrub').fill(String(k));
   const b = await shot(page, art('scrubbed-again'));
   check(shown === k * step, `${name}: scrubbing to position ${k} shows frame ${shown} (expected ${k * step})`);
-  check(differing(zero, a) > 0.002, `${name}: frame ${shown} looks different from frame 0 (${(100 * differing(zero, a)).toFixed(2)}%)`);
-  check(differing(a, b) < 0.001, `${name}: frame ${shown} looks the same when scrubbed to again`);
+  const fromZero = await differing(zero, a), again = await differing(a, b);
+  check(fromZero > 0.002, `${name}: frame ${shown} looks different from frame 0 (${(100 * fromZero).toFixed(2)}%)`);
+  check(again < 0.001, `${name}: frame ${shown} looks the same when scrubbed to again (${(100 * again).toFixed(3)}% differ)`);
   const meshError2 = await page.evaluate(() => rigflowReport.meshJointError());
   check(meshError2 < 1e-3, `${name}: mesh and joints agree at frame ${shown} (off by ${meshError2} heights)`);
 
@@ -228,7 +241,7 @@ async function large(name, file, joints) {
   const notice = await page.locator('#notice').textContent();
   const step = await page.evaluate(() => rigflowReport.step);
   check(step > 1 && /sampled/.test(notice), `${name}: every ${step}th frame shown, and the page says so ('${notice.slice(0, 60)}...')`);
-  const s = stats(await shot(page, `${artefacts}/${name}-initial.png`));
+  const s = await stats(await shot(page, `${artefacts}/${name}-initial.png`));
   check(s.variance > 50 && s.foreground > 0.005, `${name}: the canvas shows something`);
   check(errors.length === 0, `${name}: no console or page errors${errors.length ? ': ' + errors.join(' | ') : ''}`);
   await page.close();
