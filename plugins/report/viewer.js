@@ -428,7 +428,7 @@
     box.appendChild(el('div', title + (n ? ': mean ' + fmt(sum / n, 3) + ', max ' + fmt(hi, 3) : ': not measured')));
     var c = el('canvas');
     c.width = 360; c.height = 70;
-    box.appendChild(c);
+    if (n) box.appendChild(c);
     if (worst >= 0) {
       var b = el('button', 'worst: frame ' + worst + ' (' + fmt(v[worst], 3) + ')');
       b.type = 'button';
