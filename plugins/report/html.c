@@ -87,7 +87,9 @@ static bool rf_rep_gather(rf_rep *r)
     for (uint32_t i = 0; i < r->measure_count; i++)
         r->measures[i] = h->input(n, "measures", i);
     for (uint32_t c = 0; c <= r->source_count; c++) {
-        const rf_rep_char *ch = &r->chars[c];
+        rf_rep_char *ch = &r->chars[c];
+        if (ch->a && ch->a->frame_count == 0)
+            ch->a = NULL; /* a clip without frames: the rest pose stands still */
         if (!ch->s) {
             h->error(n, "no %s skeleton reached the report", ch->role);
             return false;
