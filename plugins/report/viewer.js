@@ -68,6 +68,16 @@
   var grid = new THREE.GridHelper(40, 80, 0x6a7080, 0x3a3f4a);
   scene.add(grid);
 
+  /* The height (along up) drawn on the floor: a source clip's lowest point over the clip (its
+   * feet touch its own ground); for the target, its rest pose's lowest point, so a retargeted
+   * character that sinks or floats is seen doing so. */
+  function floorOf(ch, up) {
+    var pts = ch.role === 'source' && ch.anim ? ch.anim : ch.rest, lo = Infinity;
+    for (var i = 0; i + 2 < pts.length; i += 3)
+      lo = Math.min(lo, up.x * pts[i] + up.y * pts[i + 1] + up.z * pts[i + 2]);
+    return isFinite(lo) ? lo : ch.ground;
+  }
+
   /* Each character in a group that puts its up on +Y, its forward on +Z, its height at 1 and its
    * rest on the floor at its slot along X. */
   function displayMatrix(ch, slotX) {
@@ -83,14 +93,13 @@
     if (n) c.multiplyScalar(1 / n);
     c.applyMatrix4(rot);
     var m = new THREE.Matrix4().makeScale(k, k, k).multiply(rot);
-    var t = new THREE.Matrix4().makeTranslation(slotX - c.x * k, -ch.ground * k, -c.z * k);
+    var t = new THREE.Matrix4().makeTranslation(slotX - c.x * k, -floorOf(ch, up) * k, -c.z * k);
     return t.multiply(m);
   }
 
   var chars = data.characters.map(function (ch, ci) {
     ch.index = ci;
-    ch.restArr = floats(ch.rest);
-    ch.rest = Array.prototype.slice.call(ch.restArr);
+    ch.rest = Array.prototype.slice.call(floats(ch.rest));
     ch.anim = floats(ch.frames);
     ch.np = ch.rest.length / 3;
     return ch;
