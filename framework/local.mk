@@ -36,3 +36,8 @@ rigflow_LDADD += sdk/ik/librigflow-ik.la
 
 # rigflow map: the graph of pipelines/map.json from the command line.
 rigflow_SOURCES += framework/map-cmd.c framework/map-cmd.h
+
+# rigflow report: pipelines/retarget.json with its HTML report (doc/report.md).
+rigflow_SOURCES += framework/report-cmd.c framework/report-cmd.h
+rigflow_CPPFLAGS += -DRF_PIPELINESDIR='"$(pipelinesdir)"' \
+	-DRF_SRC_PIPELINESDIR='"$(abs_top_srcdir)/pipelines"'

@@ -9,6 +9,7 @@
 #include "ik-bench.h"
 #include "inspect.h"
 #include "map-cmd.h"
+#include "report-cmd.h"
 
 static volatile int interrupted;
 
@@ -135,6 +136,7 @@ static const command commands[] = {
     {"plugin-check", rf_cmd_plugin_check, "check plugin files, each check in its own process"},
     {"ik-bench", rf_cmd_ik_bench, "compare the IK solver plugins on standard workloads (CSV)"},
     {"map", rf_cmd_map, "map a target skeleton's joints onto source skeletons"},
+    {"report", rf_cmd_report, "retarget a clip and write an HTML page to look at the result"},
 };
 
 static void print_help(void)

@@ -49,4 +49,13 @@ left=$(find "$tmp" -name 'none*' | wc -l)
 if run >"$tmp/log" 2>&1 && [ -z "$(find "$tmp" -name '*.html' ! -name r.html)" ]; then
     ok "no report.path, no report"
 else bad "a run without report.path failed or wrote a page"; fi
+# rigflow report: the retarget pipeline with its page, no GLB unless asked; -o is required
+if "$rigflow" -q report "$tmp/plain.bvh" "$tmp/names.bvh" -o "$tmp/cmd.html" >"$tmp/log" 2>&1 &&
+    grep -q 'id="rf-data"' "$tmp/cmd.html" && [ -z "$(find "$tmp" -name '*.glb')" ]; then
+    ok "rigflow report writes the page and no GLB"
+else bad "rigflow report:"; sed 's/^/    /' "$tmp/log"; fi
+"$rigflow" report "$tmp/plain.bvh" "$tmp/names.bvh" >"$tmp/log" 2>&1
+code=$?
+[ "$code" = 2 ] && grep -q -- "-o OUT.html is required" "$tmp/log" && ok "rigflow report without -o: usage error" ||
+    bad "rigflow report without -o exited $code: $(cat "$tmp/log")"
 exit $fail
