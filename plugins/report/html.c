@@ -414,12 +414,8 @@ static void rf_rep_write_texts(rf_rep *r, FILE *f)
     line[0] = 0;
     if (r->tl.step > 1)
         snprintf(line, sizeof line,
-                 "Frames are sampled to keep the page fast: %u of %u shown (every %u%s frame)%s.",
+                 "Frames are sampled to keep the page fast: %u of %u shown (one in %u)%s.",
                  r->tl.shown, r->tl.total, r->tl.step,
-                 r->tl.step % 10 == 1 && r->tl.step % 100 != 11   ? "st"
-                 : r->tl.step % 10 == 2 && r->tl.step % 100 != 12 ? "nd"
-                 : r->tl.step % 10 == 3 && r->tl.step % 100 != 13 ? "rd"
-                                                                  : "th",
                  r->measure_count ? "; the measure plots keep every frame" : "");
     if (!r->mesh || !r->mesh->vertex_count)
         strncat(line,

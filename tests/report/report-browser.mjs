@@ -240,7 +240,7 @@ async function large(name, file, joints) {
   // both inputs have more frames than a page shows (10,000; 2,752 at 120 fps): sampled, and said so
   const notice = await page.locator('#notice').textContent();
   const step = await page.evaluate(() => rigflowReport.step);
-  check(step > 1 && /sampled/.test(notice), `${name}: every ${step}th frame shown, and the page says so ('${notice.slice(0, 60)}...')`);
+  check(step > 1 && /sampled/.test(notice), `${name}: one frame in ${step} shown, and the page says so ('${notice.slice(0, 60)}...')`);
   const s = await stats(await shot(page, `${artefacts}/${name}-initial.png`));
   check(s.variance > 50 && s.foreground > 0.005, `${name}: the canvas shows something`);
   check(errors.length === 0, `${name}: no console or page errors${errors.length ? ': ' + errors.join(' | ') : ''}`);
