@@ -254,7 +254,7 @@
         pointOf(ch, k, j, s.position);
         var sel = isSelected(ch, j), touching = ch === target && contacts[j];
         s.material.color.set(sel ? HIGHLIGHT : touching ? CONTACT : s.userData.base);
-        s.scale.setScalar(s.userData.r * (sel ? 3.5 : touching ? 1.8 : 1));
+        s.scale.setScalar(s.userData.r * (sel ? 3.5 : touching ? 2.6 : 1));
       });
       var pos = ch.bones.geometry.attributes.position;
       ch.pairs.forEach(function (p, i) {
@@ -530,6 +530,8 @@
     setFrame: function (k) { setFrame(k); },
     selectTarget: function (j) { selectTarget(j, true); },
     /* canvas pixel of a joint ('source' or 'target'), or null when off screen */
+    /* the target joints in contact at shown frame k, from the measures */
+    contactsAt: function (k) { return Object.keys(contactsAt(k)).map(Number); },
     /* canvas pixels of the selected joints: {target: [x, y] or null, sources: [[x, y]...]} */
     selectedOnScreen: function () {
       var api = window.rigflowReport;

@@ -66,16 +66,18 @@ await decoder.evaluate(() => {
     const mean = sum / count;
     return { variance: sum2 / count - mean * mean, foreground: fg / count, magenta };
   };
-  window.magentaNear = (id, p) => {
+  window.near = (id, p, test) => {
     const px = window.imgs[id], d = px.data;
     let hits = 0;
     for (let y = Math.max(0, Math.round(p.y) - 10); y <= Math.min(px.height - 1, Math.round(p.y) + 10); y++)
       for (let x = Math.max(0, Math.round(p.x) - 10); x <= Math.min(px.width - 1, Math.round(p.x) + 10); x++) {
         const i = 4 * (y * px.width + x);
-        if (d[i] > 200 && d[i + 1] < 70 && d[i + 2] > 200) hits++;
+        if (test(d[i], d[i + 1], d[i + 2])) hits++;
       }
     return hits;
   };
+  window.magentaNear = (id, p) => window.near(id, p, (r, g, b) => r > 200 && g < 70 && b > 200);
+  window.redNear = (id, p) => window.near(id, p, (r, g, b) => r > 200 && g < 70 && b < 70);
   window.differing = (ia, ib) => {
     const a = window.imgs[ia].data, b = window.imgs[ib].data;
     let n = 0;
@@ -99,6 +101,7 @@ async function pixels(png) {
 }
 const stats = (id, bg = BACKGROUND) => decoder.evaluate(([i, b]) => window.stats(i, b), [id, bg]);
 const magentaNear = (id, p) => decoder.evaluate(([i, q]) => window.magentaNear(i, q), [id, p]);
+const redNear = (id, p) => decoder.evaluate(([i, q]) => window.redNear(i, q), [id, p]);
 const differing = (a, b) => decoder.evaluate(([x, y]) => window.differing(x, y), [a, b]);
 
 async function open(file, label) {
@@ -199,6 +202,21 @@ async function full(name, file, joints) {
   check(again < 0.001, `${name}: frame ${shown} looks the same when scrubbed to again (${(100 * again).toFixed(3)}% differ)`);
   const meshError2 = await page.evaluate(() => rigflowReport.meshJointError());
   check(meshError2 < 1e-3, `${name}: mesh and joints agree at frame ${shown} (off by ${meshError2} heights)`);
+
+  // feet in contact turn red: the first shown frame with a contact, around that foot
+  const contact = await page.evaluate(() => {
+    for (let k = 0; k < rigflowReport.shown; k++) {
+      const on = rigflowReport.contactsAt(k);
+      if (on.length) return { k, j: on[0] };
+    }
+    return null;
+  });
+  if (check(contact !== null, `${name}: the measures mark contacts`)) {
+    await page.locator('#scrub').fill(String(contact.k));
+    const at = await page.evaluate((j) => rigflowReport.screenOf('target', j), contact.j);
+    const red = at ? await redNear(await shot(page, art('contact')), at) : 0;
+    check(red >= 12, `${name}: target joint ${contact.j}, in contact at position ${contact.k}, drawn red (${red} pixels)`);
+  }
 
   // worst frame one click away
   const worst = page.locator('.plot button').first();
