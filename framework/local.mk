@@ -41,3 +41,8 @@ rigflow_SOURCES += framework/map-cmd.c framework/map-cmd.h
 rigflow_SOURCES += framework/report-cmd.c framework/report-cmd.h
 rigflow_CPPFLAGS += -DRF_PIPELINESDIR='"$(pipelinesdir)"' \
 	-DRF_SRC_PIPELINESDIR='"$(abs_top_srcdir)/pipelines"'
+
+# rigflow rig-bench: the rigger plugins against artists' rigs (doc/autorig.md), through pipelines
+# it builds in memory; the skeleton analysis tells humanoids from other bodies.
+rigflow_SOURCES += framework/rig-bench.c framework/rig-bench.h
+rigflow_LDADD += sdk/analysis/librigflow-analysis.la
