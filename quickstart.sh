@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # rigflow quick start. One command per job:
 #   ./quickstart.sh          install what is missing, build, retarget a mocap walk onto a quadruped
+#                            (out/walk.glb, and out/walk.html to look at it in a browser)
 #   ./quickstart.sh check    install what is missing, build with -Werror, run the whole test suite
 #   ./quickstart.sh deps     only install what is missing (Debian packages; npm tools for tests)
 #   ./quickstart.sh build    only configure and build (into _build/)
@@ -16,7 +17,8 @@ build="$top/_build"
 debs=(build-essential autoconf automake libtool pkg-config libltdl-dev libassimp-dev
       libjansson-dev libglib2.0-dev libcmocka-dev assimp-utils assimp-testmodels nodejs npm
       clang libclang-rt-14-dev valgrind strace
-      libsuitesparse-dev libembree-dev libmeshoptimizer-dev slurm-wlm munge nettle-dev)
+      libsuitesparse-dev libembree-dev libmeshoptimizer-dev chromium libjs-three slurm-wlm munge
+      nettle-dev)
 
 say() { printf '==> %s\n' "$*" >&2; }
 
@@ -87,12 +89,14 @@ demo() {
     deps
     configure_build
     mkdir -p "$top/out"
-    local motion target out="$top/out/walk.glb"
+    local motion target out="$top/out/walk.glb" page="$top/out/walk.html"
     read -r motion target <<<"$(sample_data)"
     say "retargeting $(basename "$motion") onto $(basename "$target") (pipelines/retarget.json)"
     "$build/rigflow" run "$top/pipelines/retarget.json" \
-        -p source.path="$motion" -p target.path="$target" -p export.path="$out"
+        -p source.path="$motion" -p target.path="$target" -p export.path="$out" \
+        -p report.path="$page"
     say "wrote $out"
+    say "wrote $page (open it in a web browser: skeletons, mapping, both motions, measures; doc/report.md)"
 }
 
 check() {

@@ -3,6 +3,12 @@
 EXTRA_DIST += bench/ik/run.sh bench/ik/ratios.mjs
 # BVH import beside three.js and Assimp: `make bench-bvh` runs bench/bvh/run.sh.
 include bench/bvh/local.mk
+# report.html opening time in chromium: `make bench-report` runs bench/report/run.sh.
+EXTRA_DIST += bench/report/run.sh bench/report/open.mjs
+bench-report: all
+	$(SHELL) $(srcdir)/bench/report/run.sh '$(abs_top_builddir)'
+bench: bench-report
+.PHONY: bench-report
 # rigflow batch: -j 1, -j 2, one process per job and a local Slurm: `make bench-batch`.
 EXTRA_DIST += bench/batch/run.sh
 bench-batch: all

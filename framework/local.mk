@@ -37,6 +37,11 @@ rigflow_LDADD += sdk/ik/librigflow-ik.la
 # rigflow map: the graph of pipelines/map.json from the command line.
 rigflow_SOURCES += framework/map-cmd.c framework/map-cmd.h
 
+# rigflow report: pipelines/retarget.json with its HTML report (doc/report.md).
+rigflow_SOURCES += framework/report-cmd.c framework/report-cmd.h
+rigflow_CPPFLAGS += -DRF_PIPELINESDIR='"$(pipelinesdir)"' \
+	-DRF_SRC_PIPELINESDIR='"$(abs_top_srcdir)/pipelines"'
+
 # rigflow rig-bench: the rigger plugins against artists' rigs (doc/autorig.md), through pipelines
 # it builds in memory; the skeleton analysis tells humanoids from other bodies.
 rigflow_SOURCES += framework/rig-bench.c framework/rig-bench.h

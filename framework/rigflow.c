@@ -11,6 +11,7 @@
 #include "rig-bench.h"
 #include "inspect.h"
 #include "map-cmd.h"
+#include "report-cmd.h"
 
 static volatile int interrupted;
 
@@ -138,6 +139,7 @@ static const command commands[] = {
     {"ik-bench", rf_cmd_ik_bench, "compare the IK solver plugins on standard workloads (CSV)"},
     {"rig-bench", rf_cmd_rig_bench, "compare the rigger plugins with artists' rigs (CSV)"},
     {"map", rf_cmd_map, "map a target skeleton's joints onto source skeletons"},
+    {"report", rf_cmd_report, "retarget a clip and write an HTML page to look at the result"},
     {"batch", rf_cmd_batch, "run a pipeline over many inputs (worker pool or Slurm array)"},
 };
 

@@ -83,7 +83,9 @@ static const rf_node_desc summary_node = {
     .process = summary_process,
 };
 
-static const rf_node_desc *const report_nodes[] = {&summary_node};
+extern const rf_node_desc rf_report_html_node; /* html.c */
+
+static const rf_node_desc *const report_nodes[] = {&summary_node, &rf_report_html_node};
 
 RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
     .abi = RF_ABI_VERSION_INIT,
@@ -91,7 +93,7 @@ RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
     .id = "org.rigflow.report",
     .name = "Reports",
     .version = PACKAGE_VERSION,
-    .description = "Summaries of skeletons, clips and mappings",
-    .node_count = 1,
+    .description = "Summaries of skeletons, clips and mappings: one line, or an HTML page",
+    .node_count = 2,
     .nodes = report_nodes,
 };

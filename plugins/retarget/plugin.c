@@ -310,16 +310,23 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
     char err[ERR_SIZE];
     rf_retarget *rt = rf_retarget_new(src, count, target, mapping, &o, err, sizeof err);
     rf_rt_report r;
+    const rf_animation *anim = host->input(node, "animation", 0);
+    rf_measures *series = anim ? rf_measures_new(anim->frame_count, anim->fps) : NULL;
     double start = src[0].animation && src[0].animation->fps > 0
                        ? host->param_int(node, "first_frame") / src[0].animation->fps
                        : 0;
-    bool ok = rt && rf_retarget_measure(rt, host->input(node, "animation", 0), start, &r, err,
-                                        sizeof err);
+    bool ok =
+        rt && series && rf_retarget_measure_series(rt, anim, start, &r, series, err, sizeof err);
     rf_retarget_free(rt);
     if (!ok) {
+        if (rt && !series)
+            snprintf(err, sizeof err, "out of memory");
         host->error(node, "%s", err);
+        rf_measures_free(series);
         return false;
     }
+    if (!host->set_output(node, "measures", series, rf_measures_free))
+        return false;
     const char *label = host->param_string(node, "label");
     printf("%s: direction fidelity %.2f deg mean (p95 %.2f, max %.2f) over %u bones x %u frames; "
            "foot skate %.4f leg/s (source %.4f) over %u contact frames; ground error %.3f leg\n",
@@ -334,6 +341,11 @@ static const rf_port_desc rt_measure_inputs[] = {
     RT_SOURCE_PORTS,
     {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0,
      "the target clip to measure (from retarget, or any other tool)"},
+};
+
+static const rf_port_desc rt_measure_outputs[] = {
+    {sizeof(rf_port_desc), "measures", RF_TYPE_MEASURES, 0,
+     "the figures per frame (direction error, contacts, foot skate) for a report"},
 };
 
 static const rf_param_desc rt_measure_params[] = {
@@ -356,6 +368,8 @@ static const rf_node_desc rt_measure_node = {
            "contact, in leg lengths per second). Same definitions as the tests and benchmarks.",
     .input_count = sizeof rt_measure_inputs / sizeof rt_measure_inputs[0],
     .inputs = rt_measure_inputs,
+    .output_count = 1,
+    .outputs = rt_measure_outputs,
     .param_count = sizeof rt_measure_params / sizeof rt_measure_params[0],
     .params = rt_measure_params,
     .process = rt_measure_process,

@@ -178,6 +178,11 @@ typedef struct rf_rt_report {
  * out. */
 bool rf_retarget_measure(rf_retarget *rt, const rf_animation *anim, double start,
                          rf_rt_report *report, char *err, size_t err_size);
+/* The same, also appending the per-frame figures to `series` (may be NULL) when it is made for
+ * anim's frames: direction error (mean and worst bone), each foot's contacts, foot skate. */
+bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, double start,
+                                rf_rt_report *report, rf_measures *series, char *err,
+                                size_t err_size);
 
 #ifdef __cplusplus
 }

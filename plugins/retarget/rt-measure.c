@@ -115,7 +115,7 @@ static void rt_frame_ground(const rf_retarget *rt, rt_measure_work *w, uint32_t 
 /* Skate: effector speeds while in contact, the target's positions read from its FK, the
  * source's from the contact detection. */
 static void rt_skate(const rf_retarget *rt, const rf_animation *anim, rt_measure_work *w,
-                     rf_rt_report *r)
+                     rf_rt_report *r, float *per_frame)
 {
     uint32_t frames = anim->frame_count, count = 0;
     double t_sum = 0, s_sum = 0;
@@ -133,7 +133,11 @@ static void rt_skate(const rf_retarget *rt, const rf_animation *anim, rt_measure
                 const rf_rt_src *src = &rt->src[k];
                 rf_vec3 dt = rf_rt_horizontal(rt->up, rf_v3_sub(p, prev[e]));
                 rf_vec3 ds = rf_rt_horizontal(src->up, rf_v3_sub(w->src_pos[i], w->src_pos[i - 1]));
-                t_sum += rf_v3_len(dt) * anim->fps / rt->leg_target;
+                double speed = rf_v3_len(dt) * anim->fps / rt->leg_target;
+                t_sum += speed;
+                if (per_frame)
+                    per_frame[f] =
+                        isnan(per_frame[f]) ? (float)speed : fmaxf(per_frame[f], (float)speed);
                 s_sum += rf_v3_len(ds) * anim->fps / src->leg;
                 count++;
             }
@@ -146,8 +150,46 @@ static void rt_skate(const rf_retarget *rt, const rf_animation *anim, rt_measure
     r->skate_source = count ? s_sum / count : 0;
 }
 
+/* The per-frame figures behind the report, as series for the nodes after the measure. */
+static bool rt_series(const rf_retarget *rt, const rt_measure_work *w, uint32_t frames,
+                      rf_measures *out)
+{
+    float *mean =
+        rf_measures_add(out, "direction error, mean over bones", "deg", -1, RF_SERIES_HIGHER_WORSE);
+    float *max = mean ? rf_measures_add(out, "direction error, worst bone", "deg", -1,
+                                        RF_SERIES_HIGHER_WORSE)
+                      : NULL;
+    if (!max)
+        return false;
+    for (uint32_t f = 0; f < frames && rt->bone_count; f++) {
+        const double *a = w->angles + (size_t)f * rt->bone_count;
+        double sum = 0, worst = 0;
+        for (uint32_t b = 0; b < rt->bone_count; b++)
+            sum += a[b], worst = fmax(worst, a[b]);
+        mean[f] = (float)(sum / rt->bone_count), max[f] = (float)worst;
+    }
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        float *c =
+            rf_measures_add(out, "contact", "", (int32_t)rt->effectors[e], RF_SERIES_CONTACT);
+        if (!c)
+            return false;
+        for (uint32_t f = 0; f < frames; f++)
+            c[f] = w->contact[(size_t)e * frames + f] ? 1.0f : 0.0f;
+    }
+    if (!rt->effector_count)
+        rf_measures_warn(out, "no feet found on the target: foot skate and contacts not measured");
+    return true;
+}
+
 bool rf_retarget_measure(rf_retarget *rt, const rf_animation *anim, double start,
                          rf_rt_report *report, char *err, size_t err_size)
+{
+    return rf_retarget_measure_series(rt, anim, start, report, NULL, err, err_size);
+}
+
+bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, double start,
+                                rf_rt_report *report, rf_measures *series, char *err,
+                                size_t err_size)
 {
     memset(report, 0, sizeof *report);
     if (!anim || anim->joint_count != rt->n || !(anim->fps > 0)) {
@@ -177,8 +219,16 @@ bool rf_retarget_measure(rf_retarget *rt, const rf_animation *anim, double start
     }
     report->ground_error = grounded ? ground / grounded : 0;
     report->frames = frames;
-    rt_fidelity(rt, &w, frames, report);
-    rt_skate(rt, anim, &w, report);
+    float *skate = NULL;
+    if (series && (!rt_series(rt, &w, frames, series) ||
+                   !(skate = rf_measures_add(series, "foot skate, fastest foot in contact", "leg/s",
+                                             -1, RF_SERIES_HIGHER_WORSE)))) {
+        rt_mw_free(&w, rt->source_count);
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    rt_fidelity(rt, &w, frames, report); /* sorts the angles: after the series */
+    rt_skate(rt, anim, &w, report, skate);
     rt_mw_free(&w, rt->source_count);
     return true;
 }

@@ -5,6 +5,7 @@
 #include "version.h"
 #include "rfmath.h"
 #include "model.h"
+#include "measures.h"
 #include "plugin.h"
 #include "model-copy.h"
 

@@ -1,0 +1,8 @@
+# report.html in a real browser: Debian's chromium driven by npm's playwright-core (tests/npm-tools.txt).
+TESTS += tests/report/test_report_node.sh tests/report/test_report_browser.sh
+EXTRA_DIST += tests/report/test_report_node.sh tests/report/test_report_browser.sh tests/report/report-browser.mjs \
+	tests/report/make-bvh.mjs
+clean-local: clean-report-artefacts
+clean-report-artefacts:
+	-rm -rf tests/report/artefacts
+.PHONY: clean-report-artefacts

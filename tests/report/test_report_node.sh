@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# report.html without a browser: the data block holds no '<' and parses back to the joint names
+# given (markup and control characters included); a missing three.js fails the run with a message
+# and leaves no file; without report.path nothing is written. Needs node for the JSON checks.
+set -u
+rigflow="${RF_BUILDDIR:?}/rigflow"
+src="${RF_SRCDIR:?}"
+command -v node >/dev/null || { echo "SKIP: node not found (apt-get install nodejs)"; exit 77; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+ok() { echo "ok - $*"; }
+bad() { echo "not ok - $*"; fail=1; }
+
+node "$src/tests/report/make-bvh.mjs" names >"$tmp/names.bvh"
+node "$src/tests/report/make-bvh.mjs" tail 40 >"$tmp/plain.bvh"
+run() { "$rigflow" run "$src/pipelines/map.json" -p source.path="$tmp/plain.bvh" \
+    -p target.path="$tmp/names.bvh" -p save.path="$tmp/map.json" "$@"; }
+
+if run -p report.path="$tmp/r.html" >"$tmp/log" 2>&1; then ok "map pipeline with a report"
+else bad "map pipeline with a report failed:"; sed 's/^/    /' "$tmp/log"; fi
+# the data block: between the rf-data script's '>' and the next '</script>'
+node -e '
+  const fs = require("fs");
+  const html = fs.readFileSync(process.argv[1], "latin1");
+  const start = html.indexOf("id=\"rf-data\">") + 13, end = html.indexOf("</script>", start);
+  const block = html.slice(start, end);
+  const want = JSON.parse(require("child_process").execFileSync("node", [process.argv[2], "names-json"]));
+  const fail = (m) => { console.log("not ok - " + m); process.exitCode = 1; };
+  if (block.includes("<")) fail("a raw < in the data block");
+  else console.log("ok - no raw < in the data block (" + block.length + " bytes)");
+  const data = JSON.parse(Buffer.from(block, "latin1").toString("utf8"));
+  const target = data.characters.find((c) => c.role === "target");
+  const names = target.joints.map((j) => j.name);
+  for (const w of want)
+    if (names.includes(w)) console.log("ok - " + JSON.stringify(w) + " round-trips");
+    else fail(JSON.stringify(w) + " not among " + JSON.stringify(names));
+  if (target.joints.length !== 22) fail(target.joints.length + " target joints, expected 22");
+' "$tmp/r.html" "$src/tests/report/make-bvh.mjs" || fail=1
+
+if run -p report.path="$tmp/none.html" -p report.three="$tmp/nothing" >"$tmp/log" 2>&1; then
+    bad "a missing three.js was not noticed"
+elif grep -q "three.js" "$tmp/log" && grep -q "libjs-three" "$tmp/log"; then
+    ok "a missing three.js fails the run: $(grep -m1 three.js "$tmp/log")"
+else bad "no clear message for a missing three.js:"; sed 's/^/    /' "$tmp/log"; fi
+left=$(find "$tmp" -name 'none*' | wc -l)
+[ "$left" = 0 ] && ok "no file left behind" || { bad "files left: $(ls "$tmp")"; }
+
+if run >"$tmp/log" 2>&1 && [ -z "$(find "$tmp" -name '*.html' ! -name r.html)" ]; then
+    ok "no report.path, no report"
+else bad "a run without report.path failed or wrote a page"; fi
+# rigflow report: the retarget pipeline with its page, no GLB unless asked; -o is required
+if "$rigflow" -q report "$tmp/plain.bvh" "$tmp/names.bvh" -o "$tmp/cmd.html" >"$tmp/log" 2>&1 &&
+    grep -q 'id="rf-data"' "$tmp/cmd.html" && [ -z "$(find "$tmp" -name '*.glb')" ]; then
+    ok "rigflow report writes the page and no GLB"
+else bad "rigflow report:"; sed 's/^/    /' "$tmp/log"; fi
+"$rigflow" report "$tmp/plain.bvh" "$tmp/names.bvh" >"$tmp/log" 2>&1
+code=$?
+[ "$code" = 2 ] && grep -q -- "-o OUT.html is required" "$tmp/log" && ok "rigflow report without -o: usage error" ||
+    bad "rigflow report without -o exited $code: $(cat "$tmp/log")"
+exit $fail
