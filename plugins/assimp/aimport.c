@@ -129,9 +129,9 @@ rf_mat4 rf_ai_joint_node_local(const rf_ai_ctx *c, unsigned j)
 static const struct aiScene *rf_ai_load(rf_ai_ctx *c)
 {
     /* Assimp reads only the model and files in its folder (aimport-io.c). */
-    rf_ai_confine cf;
-    struct aiFileIO io;
-    if (!rf_ai_confine_init(&cf, c->path, &io)) {
+    rf_ai_confine *cf = &c->confine;
+    struct aiFileIO *io = &c->io;
+    if (!rf_ai_confine_init(cf, c->path, io)) {
         rf_ai_fail(c, "cannot resolve the model's folder: %s", strerror(errno));
         return NULL;
     }
@@ -140,26 +140,27 @@ static const struct aiScene *rf_ai_load(rf_ai_ctx *c)
     aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, 0);
     unsigned flags = aiProcess_Triangulate | aiProcess_SortByPType;
     const struct aiScene *s =
-        aiImportFileExWithProperties(c->path, flags | aiProcess_ValidateDataStructure, &io, props);
+        aiImportFileExWithProperties(c->path, flags | aiProcess_ValidateDataStructure, io, props);
     if (!s) {
         /* Some files (every B3D creature here) fail validation only for keys past the clip's end;
          * import without the step and clamp the keys while resampling. */
         char first[512];
         snprintf(first, sizeof first, "%s", aiGetErrorString());
-        s = aiImportFileExWithProperties(c->path, flags, &io, props);
+        s = aiImportFileExWithProperties(c->path, flags, io, props);
         if (s)
             rf_ai_logf(c, 1,
                        "%s: Assimp's validation failed (%s); imported without it, keys outside a "
                        "clip are clamped",
                        c->path, first);
         else
-            rf_ai_fail(c, "Assimp cannot read it: %s%s%s", first, cf.refused[0] ? "; " : "",
-                       cf.refused);
+            rf_ai_fail(c, "Assimp cannot read it: %s%s%s", first, cf->refused[0] ? "; " : "",
+                       cf->refused);
     }
-    if (s && cf.refused[0])
-        rf_ai_logf(c, 1, "%s: %s (%u reads refused)", c->path, cf.refused, cf.refused_count);
+    if (s && cf->refused[0])
+        rf_ai_logf(c, 1, "%s: %s (%u reads refused)", c->path, cf->refused, cf->refused_count);
     aiReleasePropertyStore(props);
-    rf_ai_confine_clear(&cf);
+    /* the confinement stays for the textures (aimport-look.c); rf_ai_ctx_free clears it */
+    cf->refused[0] = '\0', cf->refused_count = 0;
     return s;
 }
 
@@ -353,6 +354,7 @@ static void rf_ai_ctx_free(rf_ai_ctx *c)
     free(c->bind_global);
     free(c->mesh_space);
     free(c->by_name);
+    rf_ai_confine_clear(&c->confine);
     if (c->scene)
         aiReleaseImport(c->scene);
 }

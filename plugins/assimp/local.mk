@@ -6,6 +6,7 @@ plugins_assimp_librfassimp_la_SOURCES = \
 	plugins/assimp/aimport-internal.h \
 	plugins/assimp/aimport.c \
 	plugins/assimp/aimport-mesh.c \
+	plugins/assimp/aimport-look.c \
 	plugins/assimp/aimport-anim.c \
 	plugins/assimp/aimport-node.h \
 	plugins/assimp/aimport-node.c \
