@@ -108,6 +108,34 @@ static void rf_inspect_clips(const rf_clip_list *clips, const rf_animation *a)
                (int32_t)i == clips->selected ? "  [imported]" : "");
 }
 
+/* Materials and images by number (their names are bytes from the file: not printed here). */
+static void rf_inspect_look(const rf_mesh *m)
+{
+    static const char *const modes[] = {"opaque", "mask", "blend"};
+    if (!RF_HAS_FIELD(m, rf_mesh, images))
+        return;
+    printf("look: %u materials, %u images, %u UV sets, %s, %s\n", m->material_count,
+           m->image_count, m->uv_set_count, m->colors ? "vertex colours" : "no vertex colours",
+           m->tangents ? "tangents" : "no tangents");
+    for (uint32_t i = 0; i < m->material_count && m->materials; i++) {
+        const rf_material *t = m->materials[i];
+        if (!t)
+            continue;
+        printf("  %-2u base colour %.3g %.3g %.3g %.3g", i, t->base_color[0], t->base_color[1],
+               t->base_color[2], t->base_color[3]);
+        if (t->base_color_texture.image >= 0 && (uint32_t)t->base_color_texture.image < m->image_count)
+            printf(" x image %d (%s, %zu bytes)", t->base_color_texture.image,
+                   m->images[t->base_color_texture.image]->mime_type,
+                   m->images[t->base_color_texture.image]->byte_count);
+        printf(", metallic %.3g, roughness %.3g%s%s%s, %s%s\n", t->metallic, t->roughness,
+               t->normal_texture.image >= 0 ? ", normal map" : "",
+               t->occlusion_texture.image >= 0 ? ", occlusion map" : "",
+               t->emissive_texture.image >= 0 ? ", emissive map" : "",
+               modes[t->alpha_mode <= 2 ? t->alpha_mode : 0],
+               t->double_sided ? ", double-sided" : "");
+    }
+}
+
 static void rf_inspect_mesh(const rf_mesh *m)
 {
     if (!m || !m->vertex_count) {
@@ -121,6 +149,7 @@ static void rf_inspect_mesh(const rf_mesh *m)
         printf("  %-2u %-32s %u vertices, %u triangles\n", i,
                m->parts[i].name ? m->parts[i].name : "", m->parts[i].vertex_count,
                m->parts[i].triangle_count);
+    rf_inspect_look(m);
 }
 
 /* ---- the command ---- */

@@ -713,9 +713,13 @@ void rf_ai_result_clear(rf_ai_result *r)
     rf_skeleton_free(r->skeleton);
     rf_animation_free(r->animation);
     rf_mesh_free(r->mesh);
-    for (unsigned i = 0; i < r->clip_count; i++)
+    for (unsigned i = 0; i < r->clip_count; i++) {
         free(r->clips[i].name);
+        if (r->clip_animations)
+            rf_animation_free(r->clip_animations[i]);
+    }
     free(r->clips);
+    free(r->clip_animations);
     memset(r, 0, sizeof *r);
     r->selected_clip = -1;
 }
@@ -736,9 +740,19 @@ static bool rf_ai_run(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
     rf_ai_axes(c, r->skeleton);
     if (!rf_ai_list_clips(c, o, r) || !rf_ai_select_clip(c, o->clip, &r->selected_clip))
         return false;
-    return rf_ai_build_animation(c, r->skeleton, r->selected_clip,
-                                 r->selected_clip >= 0 ? &r->clips[r->selected_clip] : NULL,
-                                 &r->animation);
+    if (!rf_ai_build_animation(c, r->skeleton, r->selected_clip,
+                               r->selected_clip >= 0 ? &r->clips[r->selected_clip] : NULL,
+                               &r->animation))
+        return false;
+    if (!o->clip || strcmp(o->clip, RF_AI_ALL_CLIPS) != 0 || !r->clip_count)
+        return true;
+    r->clip_animations = calloc(r->clip_count, sizeof *r->clip_animations);
+    if (!r->clip_animations)
+        return rf_ai_fail(c, "out of memory for %u clips", r->clip_count);
+    for (unsigned i = 0; i < r->clip_count; i++)
+        if (!rf_ai_build_animation(c, r->skeleton, (int)i, &r->clips[i], &r->clip_animations[i]))
+            return false;
+    return true;
 }
 
 typedef struct rf_ai_job {
