@@ -31,3 +31,7 @@ EXTRA_DIST += tests/import/test_convert.sh
 # counted against Assimp, read by three.js; bad textures left out with warnings.
 TESTS += tests/gltf/test_export.sh
 EXTRA_DIST += tests/gltf/test_export.sh tests/gltf/look.js tests/fixtures/textures/textured-sheet.gltf
+
+# Blender's glTF importer on the exports (one headless run, a few seconds).
+TESTS += tests/gltf/test_blender.sh
+EXTRA_DIST += tests/gltf/test_blender.sh tests/gltf/blender_check.py
