@@ -33,6 +33,21 @@ function imageBytes(g, i) {
     return g.bin.subarray(v.byteOffset || 0, (v.byteOffset || 0) + v.byteLength);
 }
 
+// The float values of an accessor (tightly packed or strided), or null.
+function floats(g, index) {
+    if (index === undefined) return null;
+    const acc = g.json.accessors[index];
+    if (acc.componentType !== 5126 || acc.bufferView === undefined) return null;
+    const v = g.json.bufferViews[acc.bufferView];
+    const n = { SCALAR: 1, VEC2: 2, VEC3: 3, VEC4: 4 }[acc.type];
+    const stride = v.byteStride || n * 4;
+    const base = (v.byteOffset || 0) + (acc.byteOffset || 0);
+    const out = new Float32Array(acc.count * n);
+    for (let i = 0; i < acc.count; i++)
+        for (let c = 0; c < n; c++) out[i * n + c] = g.bin.readFloatLE(base + i * stride + c * 4);
+    return out;
+}
+
 function animationDuration(g, a) {
     let d = 0;
     for (const s of a.samplers) d = Math.max(d, g.json.accessors[s.input].max[0]);
@@ -97,8 +112,23 @@ function same(fa, fb) {
         const x = JSON.stringify(ma[i]), y = JSON.stringify(mb[i]);
         if (x !== y) problems.push(`material ${i}:\n  ${x}\n  ${y}`);
     }
+    // Texture coordinates, primitive by primitive where both files have the same primitives
+    // (a single-mesh source keeps its vertex order through rigflow): equal to 1e-6.
+    const pa = (a.json.meshes || []).flatMap((m) => m.primitives);
+    const pb = (b.json.meshes || []).flatMap((m) => m.primitives);
+    let uvCompared = 0;
+    if (pa.length === pb.length)
+        for (let i = 0; i < pa.length; i++) {
+            const ua = floats(a, pa[i].attributes.TEXCOORD_0), ub = floats(b, pb[i].attributes.TEXCOORD_0);
+            if (!ua || !ub || ua.length !== ub.length) continue;
+            let worst = 0;
+            for (let k = 0; k < ua.length; k++) worst = Math.max(worst, Math.abs(ua[k] - ub[k]));
+            if (worst > 1e-6) problems.push(`primitive ${i}: TEXCOORD_0 differs by up to ${worst}`);
+            uvCompared++;
+        }
     for (const p of problems) console.log(`${fb}: ${p}`);
-    console.log(`${fb}: ${ia.length} images, ${ma.length} materials compared, ${problems.length} differences`);
+    console.log(`${fb}: ${ia.length} images, ${ma.length} materials, ${uvCompared} primitives' ` +
+                `texture coordinates compared, ${problems.length} differences`);
     return problems.length ? 1 : 0;
 }
 
