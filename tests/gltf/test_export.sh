@@ -6,7 +6,8 @@
 # Round trips GLB -> rigflow -> GLB keep every image's bytes and every material's factors; three.js's
 # GLTFLoader loads every export; clips: the Fox keeps its three, three BVH files retargeted onto the
 # Wizard give three named animations, a one-frame BVH gives a valid file with a skin. Bad textures
-# (missing, outside the model's folder, not an image) are left out with a warning naming them.
+# (missing, outside the model's folder, a link leading out, not an image) are left out with a
+# warning naming them.
 # Parts that need a tool (node + gltf-validator, three, assimp) say so and are skipped; the test
 # as a whole is skipped (77) only when the data or node is missing.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
@@ -42,6 +43,7 @@ png=iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGAWjR9
 printf '%s' "$png" | base64 -d >"$model/good.png"
 printf '%s' "$png" | base64 -d >"$tmp/outside.png"
 echo "this is not an image" >"$model/notimage.png"
+ln -s ../outside.png "$model/link.png" # a link leading out of the folder
 if run "$convert_p" -p "source.path=$model/textured-sheet.gltf" -p "export.path=$tmp/sheet.glb" 2>"$tmp/err"; then
     ok
 else
@@ -50,7 +52,8 @@ fi
 for want in "texture 'missing.png' left out: no such file" \
             "texture '../outside.png' left out: refused to read" \
             "outside the model's folder" \
-            "texture 'notimage.png' is not a PNG or JPEG"; do
+            "texture 'notimage.png' is not a PNG or JPEG" \
+            "texture 'link.png' left out: refused to read"; do
     if grep -q "$want" "$tmp/err"; then ok; else ko "no warning: $want"; cat "$tmp/err"; fi
 done
 if "$node" "$look" counts "$tmp/sheet.glb" | grep -q "materials=1 images=1 uvsets=1"; then ok; else
