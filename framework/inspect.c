@@ -114,9 +114,10 @@ static void rf_inspect_look(const rf_mesh *m)
     static const char *const modes[] = {"opaque", "mask", "blend"};
     if (!RF_HAS_FIELD(m, rf_mesh, images))
         return;
-    printf("look: %u materials, %u images, %u UV sets, %s, %s\n", m->material_count,
-           m->image_count, m->uv_set_count, m->colors ? "vertex colours" : "no vertex colours",
-           m->tangents ? "tangents" : "no tangents");
+    printf("look: %u materials, %u images, %u UV sets, %s, %s, %u morph targets\n",
+           m->material_count, m->image_count, m->uv_set_count,
+           m->colors ? "vertex colours" : "no vertex colours", m->tangents ? "tangents" : "no tangents",
+           RF_HAS_FIELD(m, rf_mesh, morph_targets) ? m->morph_target_count : 0);
     for (uint32_t i = 0; i < m->material_count && m->materials; i++) {
         const rf_material *t = m->materials[i];
         if (!t)

@@ -9,6 +9,7 @@
  * weights keep the four largest per vertex, normalised to sum to 1.
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,6 +26,7 @@ typedef struct rf_ai_mesh_build {
     uint32_t uv_sets;    /* texture coordinate sets kept (the most any part has, at most 2) */
     bool colors;         /* some part has vertex colours */
     bool tangents;       /* every part has tangents and normals */
+    bool morphs_capped;  /* morph targets past the memory bound were left out */
 } rf_ai_mesh_build;
 
 static uint32_t rf_ai_uv_sets(const struct aiMesh *mesh)
@@ -169,6 +171,69 @@ static void rf_ai_copy_look(rf_ai_mesh_build *b, const struct aiMesh *mesh, rf_m
     }
 }
 
+#define RF_AI_MORPH_BYTES_MAX ((size_t)1 << 30) /* all targets' displacements together */
+
+/* The merged mesh's target named `name`, made (zero everywhere) when new; NULL when out of memory
+ * or past the memory bound (warned once). */
+static rf_morph_target *rf_ai_morph_target(rf_ai_mesh_build *b, const char *name, bool normals)
+{
+    rf_mesh *m = b->m;
+    for (uint32_t i = 0; i < m->morph_target_count; i++)
+        if (strcmp(m->morph_targets[i]->name, name) == 0)
+            return m->morph_targets[i];
+    size_t bytes = (size_t)m->vertex_count * 24;
+    if ((size_t)(m->morph_target_count + 1) * bytes > RF_AI_MORPH_BYTES_MAX) {
+        if (!b->morphs_capped)
+            rf_ai_logf(b->c, 1, "%s: morph target '%s' and later ones left out: more than 1 GiB of "
+                       "displacements", b->c->path, name);
+        b->morphs_capped = true;
+        return NULL;
+    }
+    rf_morph_target **grown =
+        realloc(m->morph_targets, (m->morph_target_count + 1) * sizeof *grown);
+    if (!grown)
+        return NULL;
+    m->morph_targets = grown;
+    rf_morph_target *t = rf_morph_target_new(name, m->vertex_count);
+    if (t && normals && !(t->normals = calloc((size_t)m->vertex_count * 3 + 3, sizeof(float)))) {
+        rf_morph_target_free(t);
+        t = NULL;
+    }
+    if (t)
+        m->morph_targets[m->morph_target_count++] = t;
+    return t;
+}
+
+/* Morph targets: Assimp gives each as a whole replacement mesh (aiAnimMesh); rigflow keeps the
+ * displacement from the base, in model space, merged by name across parts. */
+static void rf_ai_copy_morphs(rf_ai_mesh_build *b, const struct aiMesh *mesh, rf_mat4 to_model)
+{
+    for (unsigned k = 0; k < mesh->mNumAnimMeshes; k++) {
+        const struct aiAnimMesh *am = mesh->mAnimMeshes[k];
+        if (!am || !am->mVertices || am->mNumVertices != mesh->mNumVertices)
+            continue;
+        char name[64];
+        snprintf(name, sizeof name, "morph%u", k);
+        bool normals = am->mNormals && mesh->mNormals;
+        rf_morph_target *t = rf_ai_morph_target(b, am->mName.data[0] ? am->mName.data : name, normals);
+        if (!t)
+            return;
+        t->weight = isfinite(am->mWeight) ? am->mWeight : 0.0f;
+        for (unsigned i = 0; i < mesh->mNumVertices; i++) {
+            const struct aiVector3D *p = &am->mVertices[i], *q = &mesh->mVertices[i];
+            rf_vec3 d = rf_mat4_dir(to_model, rf_v3(p->x - q->x, p->y - q->y, p->z - q->z));
+            float *dst = t->positions + (size_t)(b->v + i) * 3;
+            dst[0] = (float)d.x, dst[1] = (float)d.y, dst[2] = (float)d.z;
+            if (!normals || !t->normals)
+                continue;
+            const struct aiVector3D *n = &am->mNormals[i], *n0 = &mesh->mNormals[i];
+            rf_vec3 dn = rf_mat4_dir(to_model, rf_v3(n->x - n0->x, n->y - n0->y, n->z - n0->z));
+            float *nd = t->normals + (size_t)(b->v + i) * 3;
+            nd[0] = (float)dn.x, nd[1] = (float)dn.y, nd[2] = (float)dn.z;
+        }
+    }
+}
+
 static bool rf_ai_copy_triangles(rf_ai_mesh_build *b, const struct aiMesh *mesh)
 {
     for (unsigned f = 0; f < mesh->mNumFaces; f++) {
@@ -230,6 +295,7 @@ static bool rf_ai_add_instance(rf_ai_mesh_build *b, int node, unsigned mesh_inde
     rf_mat4 to_model = rf_ai_mesh_to_model(b->c, node, mesh_index);
     rf_ai_copy_vertices(b, mesh, to_model);
     rf_ai_copy_look(b, mesh, to_model);
+    rf_ai_copy_morphs(b, mesh, to_model);
     if (!rf_ai_copy_triangles(b, mesh))
         return false;
     part->triangle_count = b->t - part->first_triangle;

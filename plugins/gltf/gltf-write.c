@@ -35,6 +35,9 @@ typedef struct rf_gw {
     json_t *images, *samplers, *textures; /* filled by the materials (rf_gw_materials) */
     int *image_index;                     /* [mesh image] glTF image index, or -1 when left out */
     uint32_t uv_sets;                     /* TEXCOORD_n written */
+    uint32_t morphs;                      /* morph targets written */
+    const rf_morph_target **morph;        /* [morphs] the mesh's targets written */
+    int *morph_view;                      /* [morphs * 2] POSITION and NORMAL views (or -1) */
     bool oom;
 } rf_gw;
 
@@ -413,6 +416,88 @@ static bool rf_gw_parts_usable(const rf_mesh *m)
     return true;
 }
 
+static bool rf_gw_all_finite(const float *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return false;
+    return true;
+}
+
+/* The mesh's morph targets as buffer views (NORMAL displacements only beside written normals);
+ * targets holding a non-finite value are left out. */
+static void rf_gw_morph_views(rf_gw *g, const rf_mesh *m, bool normals)
+{
+    if (!RF_HAS_FIELD(m, rf_mesh, morph_targets) || !m->morph_targets || !m->morph_target_count)
+        return;
+    g->morph = calloc(m->morph_target_count, sizeof *g->morph);
+    g->morph_view = calloc((size_t)m->morph_target_count * 2, sizeof *g->morph_view);
+    if (!g->morph || !g->morph_view) {
+        g->oom = true;
+        return;
+    }
+    size_t n = (size_t)m->vertex_count * 3;
+    for (uint32_t i = 0; i < m->morph_target_count; i++) {
+        const rf_morph_target *t = m->morph_targets[i];
+        if (!t || !t->positions || !rf_gw_all_finite(t->positions, n) ||
+            (t->normals && !rf_gw_all_finite(t->normals, n)))
+            continue;
+        int *views = g->morph_view + (size_t)g->morphs * 2;
+        g->morph[g->morphs++] = t;
+        views[0] = rf_gw_view(g, t->positions, n * sizeof(float), RF_GL_ARRAY_BUFFER);
+        views[1] = normals && t->normals
+                       ? rf_gw_view(g, t->normals, n * sizeof(float), RF_GL_ARRAY_BUFFER)
+                       : -1;
+        for (int k = 0; k < 2; k++) {
+            json_t *v = views[k] >= 0 ? json_array_get(g->views, (size_t)views[k]) : NULL;
+            if (v)
+                json_object_set_new(v, "byteStride", json_integer(12));
+        }
+    }
+}
+
+/* A VEC3 float accessor over vertices [first, first + count) of a morph view, with the bounds
+ * POSITION targets need; one without a buffer view (all zeros, as glTF defines it) where the part
+ * does not move. */
+static int rf_gw_morph_accessor(rf_gw *g, int view, const float *v, uint32_t first, uint32_t count)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    bool moves = false;
+    for (size_t i = first; i < (size_t)first + count; i++)
+        for (int c = 0; c < 3; c++) {
+            float x = v[i * 3 + (size_t)c];
+            moves |= x != 0;
+            lo[c] = x < lo[c] ? x : lo[c], hi[c] = x > hi[c] ? x : hi[c];
+        }
+    json_t *a = json_pack("{s:i, s:I, s:s, s:o, s:o}", "componentType", RF_GL_FLOAT, "count",
+                          (json_int_t)count, "type", "VEC3", "min", rf_gw_vec(lo, 3), "max",
+                          rf_gw_vec(hi, 3));
+    if (a && moves) {
+        json_object_set_new(a, "bufferView", json_integer(view));
+        if (first)
+            json_object_set_new(a, "byteOffset", json_integer((json_int_t)first * 12));
+    }
+    if (!a || json_array_append_new(g->accessors, a))
+        g->oom = true;
+    return (int)json_array_size(g->accessors) - 1;
+}
+
+static json_t *rf_gw_part_targets(rf_gw *g, uint32_t first, uint32_t count)
+{
+    json_t *targets = json_array();
+    for (uint32_t i = 0; i < g->morphs; i++) {
+        const int *views = g->morph_view + (size_t)i * 2;
+        json_t *t = json_pack("{s:i}", "POSITION",
+                              rf_gw_morph_accessor(g, views[0], g->morph[i]->positions, first, count));
+        if (views[1] >= 0)
+            json_object_set_new(t, "NORMAL",
+                                json_integer(rf_gw_morph_accessor(g, views[1], g->morph[i]->normals,
+                                                                  first, count)));
+        json_array_append_new(targets, t);
+    }
+    return targets;
+}
+
 /* One primitive per part, each with its material; the whole mesh as one primitive when the
  * parts cannot be (none, or triangles crossing between them). */
 static json_t *rf_gw_primitives(rf_gw *g, const rf_mesh *m, const rf_gw_attrs *as)
@@ -431,6 +516,9 @@ static json_t *rf_gw_primitives(rf_gw *g, const rf_mesh *m, const rf_gw_attrs *a
         int32_t mat = parts ? rf_gw_part_material(m, p) : -1;
         if (mat >= 0)
             json_object_set_new(prim, "material", json_integer(mat));
+        if (g->morphs) /* every primitive has every target (glTF requires the same list) */
+            json_object_set_new(prim, "targets",
+                                rf_gw_part_targets(g, pt->first_vertex, pt->vertex_count));
         json_array_append_new(prims, prim);
     }
     return prims;
@@ -444,8 +532,20 @@ static json_t *rf_gw_mesh(rf_gw *g, const rf_mesh *m, uint32_t joints, bool skin
     rf_gw_look_attributes(g, m, as.n == 2, &as);
     if (skinned)
         rf_gw_skin_attributes(g, m, joints, &as);
-    return json_pack("{s:s, s:o}", "name", m->name ? m->name : "mesh", "primitives",
-                     rf_gw_primitives(g, m, &as));
+    rf_gw_morph_views(g, m, as.n >= 2 && strcmp(as.a[1].name, "NORMAL") == 0);
+    json_t *mesh = json_pack("{s:s, s:o}", "name", m->name ? m->name : "mesh", "primitives",
+                             rf_gw_primitives(g, m, &as));
+    if (g->morphs) { /* weights at rest, and the names readers (Blender, three.js) show */
+        json_t *weights = json_array(), *names = json_array();
+        for (uint32_t i = 0; i < g->morphs; i++) {
+            json_array_append_new(weights, json_real(isfinite(g->morph[i]->weight) ? g->morph[i]->weight : 0));
+            json_t *name = json_string(g->morph[i]->name ? g->morph[i]->name : "");
+            json_array_append_new(names, name ? name : json_string("")); /* not UTF-8: unnamed */
+        }
+        json_object_set_new(mesh, "weights", weights);
+        json_object_set_new(mesh, "extras", json_pack("{s:o}", "targetNames", names));
+    }
+    return mesh;
 }
 
 /* ---- materials, textures, images ---- */
@@ -918,6 +1018,7 @@ bool rf_gltf_write_clips(const char *path, const char *name, const rf_skeleton *
     json_decref(doc), json_decref(g.views), json_decref(g.accessors);
     json_decref(g.images), json_decref(g.samplers), json_decref(g.textures);
     free(g.image_index);
+    free(g.morph), free(g.morph_view);
     free(g.buf);
     return ok;
 }

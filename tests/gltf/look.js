@@ -1,7 +1,8 @@
 // What a GLB carries besides its skeleton, read from the file itself (not through rigflow), for
 // the export tests:
 //   node look.js counts FILE.glb        prints "materials=M images=I uvsets=U animations=A
-//                                       skins=S meshes=N" and one "animation NAME DURATION" line
+//                                       skins=S meshes=N", one "animation NAME DURATION" line per
+//                                       clip, one "morph NAME WEIGHT LARGEST-DISPLACEMENT" per target
 //   node look.js same A.glb B.glb       exit 1 unless B has A's images (same bytes, same order) and
 //                                       A's materials (every factor, texture slot and flag, glTF
 //                                       defaults applied; images compared by content)
@@ -67,6 +68,19 @@ function counts(file) {
                 `animations=${n('animations')} skins=${n('skins')} meshes=${n('meshes')}`);
     for (const a of j.animations || [])
         console.log(`animation ${a.name} ${animationDuration(g, a).toFixed(3)}`);
+    // morph targets: name, rest weight, the largest displacement over every primitive
+    for (const m of j.meshes || []) {
+        const names = (m.extras && m.extras.targetNames) || [];
+        const count = m.primitives.length ? (m.primitives[0].targets || []).length : 0;
+        for (let t = 0; t < count; t++) {
+            let most = 0;
+            for (const p of m.primitives) {
+                const v = p.targets && p.targets[t] ? floats(g, p.targets[t].POSITION) : null;
+                for (const x of v || []) most = Math.max(most, Math.abs(x));
+            }
+            console.log(`morph ${names[t] || t} ${((m.weights || [])[t] || 0).toFixed(3)} ${most.toFixed(3)}`);
+        }
+    }
 }
 
 // A material as a reader sees it: glTF defaults filled in, textures by image content.

@@ -5,7 +5,8 @@
 # Assimp itself reads from the source (counted from `assimp dump`'s XML, not through rigflow).
 # Round trips GLB -> rigflow -> GLB keep every image's bytes and every material's factors; three.js's
 # GLTFLoader loads every export; clips: the Fox keeps its three, three BVH files retargeted onto the
-# Wizard give three named animations, a one-frame BVH gives a valid file with a skin. Bad textures
+# Wizard give three named animations, a one-frame BVH gives a valid file with a skin, a morph
+# target survives (a fixture: none of the data's models has one). Bad textures
 # (missing, outside the model's folder, a link leading out, not an image) are left out with a
 # warning naming them.
 # Parts that need a tool (node + gltf-validator, three, assimp) say so and are skipped; the test
@@ -58,6 +59,9 @@ for want in "texture 'missing.png' left out: no such file" \
 done
 if "$node" "$look" counts "$tmp/sheet.glb" | grep -q "materials=1 images=1 uvsets=1"; then ok; else
     ko "sheet.glb: expected 1 material, the one good image, 1 UV set"; "$node" "$look" counts "$tmp/sheet.glb"; fi
+# its one morph target (the fixture's "lift": weight 0.25, the first vertex raised by 1)
+if "$node" "$look" counts "$tmp/sheet.glb" | grep -q "^morph lift 0.250 1.000$"; then ok; else
+    ko "sheet.glb: morph target 'lift' not kept"; "$node" "$look" counts "$tmp/sheet.glb"; fi
 if grep -a -q '"baseColorFactor":\[0.25,0.5,0.75,1' "$tmp/sheet.glb" &&
    grep -a -q '"metallicFactor":0.125,"roughnessFactor":0.625' "$tmp/sheet.glb" &&
    grep -a -q '"emissiveTexture"' "$tmp/sheet.glb" && ! grep -a -q '"baseColorTexture"' "$tmp/sheet.glb"; then

@@ -262,6 +262,8 @@ typedef struct rf_mesh {
     struct rf_material **materials; /* [material_count] owned */
     uint32_t image_count;
     struct rf_image **images;       /* [image_count] owned; textures name them by index */
+    uint32_t morph_target_count;
+    struct rf_morph_target **morph_targets; /* [morph_target_count] owned (blend shapes) */
 } rf_mesh;
 
 /* glTF sampler values (OpenGL enums): 0 leaves the reader's default (repeat, its own filters). */
@@ -315,6 +317,45 @@ typedef struct rf_image {
     size_t byte_count;
     unsigned char *bytes;   /* [byte_count] owned */
 } rf_image;
+
+/* A morph target (blend shape): per-vertex displacements over the whole mesh, zero where a part
+ * does not have it, added to the base mesh times the target's weight. */
+typedef struct rf_morph_target {
+    uint32_t size;
+    char *name;       /* unique within the mesh; owned */
+    float weight;     /* the weight at rest, usually 0 */
+    float *positions; /* [vertex][3] displacement of the position, in the mesh's space */
+    float *normals;   /* [vertex][3] displacement of the normal, or NULL */
+} rf_morph_target;
+
+/* A target of `vertex_count` zero displacements (no normals), or NULL when out of memory.
+ * (transfer full: free with rf_morph_target_free) */
+static inline rf_morph_target *rf_morph_target_new(const char *name, uint32_t vertex_count)
+{
+    rf_morph_target *t = (rf_morph_target *)calloc(1, sizeof *t);
+    if (!t)
+        return NULL;
+    t->size = sizeof *t;
+    t->positions = (float *)calloc(vertex_count ? (size_t)vertex_count * 3 : 3, sizeof(float));
+    t->name = (char *)malloc(strlen(name) + 1);
+    if (!t->positions || !t->name) {
+        free(t->positions), free(t->name), free(t);
+        return NULL;
+    }
+    strcpy(t->name, name);
+    return t;
+}
+
+static inline void rf_morph_target_free(void *target)
+{
+    rf_morph_target *t = (rf_morph_target *)target;
+    if (t) {
+        free(t->name);
+        free(t->positions);
+        free(t->normals);
+    }
+    free(t);
+}
 
 static inline rf_texture_ref rf_texture_ref_none(void)
 {
@@ -430,6 +471,11 @@ static inline void rf_mesh_free(void *mesh)
         for (uint32_t i = 0; m->images && i < m->image_count; i++)
             rf_image_free(m->images[i]);
         free(m->images);
+    }
+    if (RF_HAS_FIELD(m, rf_mesh, morph_targets)) {
+        for (uint32_t i = 0; m->morph_targets && i < m->morph_target_count; i++)
+            rf_morph_target_free(m->morph_targets[i]);
+        free(m->morph_targets);
     }
     free(m);
 }
