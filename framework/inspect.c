@@ -83,32 +83,36 @@ static void rf_inspect_skeleton(const rf_skeleton *s)
     for (uint32_t j = 0; j < s->joint_count; j++) {
         const rf_joint *jt = &s->joints[j];
         depth[j] = jt->parent >= 0 ? depth[jt->parent] + 1 : 0;
-        g_autofree char *tree = g_strdup_printf("%*s%s", depth[j] * 2, "", jt->name);
+        g_autofree char *name = rf_printable(jt->name);
+        g_autofree char *parent = rf_printable(jt->parent >= 0 ? s->joints[jt->parent].name : "-");
+        g_autofree char *tree = g_strdup_printf("%*s%s", depth[j] * 2, "", name);
         g_autofree char *local =
             g_strdup_printf("(%.4f %.4f %.4f)", jt->rest.t.x, jt->rest.t.y, jt->rest.t.z);
-        printf("  %-4u %-32s %-24s %-30s (%.4f %.4f %.4f)%s\n", j, tree,
-               jt->parent >= 0 ? s->joints[jt->parent].name : "-", local, world[j].t.x,
-               world[j].t.y, world[j].t.z, jt->flags & RF_JOINT_UNWEIGHTED ? " unweighted" : "");
+        printf("  %-4u %-32s %-24s %-30s (%.4f %.4f %.4f)%s\n", j, tree, parent, local,
+               world[j].t.x, world[j].t.y, world[j].t.z,
+               jt->flags & RF_JOINT_UNWEIGHTED ? " unweighted" : "");
     }
 }
 
 static void rf_inspect_clips(const rf_clip_list *clips, const rf_animation *a)
 {
     if (!clips) { /* importers without a clip list (BVH) have one clip: the animation */
+        g_autofree char *name = rf_printable(a && a->name ? a->name : "motion");
         if (a)
-            printf("clips: 1\n  0 %-24s %u frames at %g fps (%.3f s)\n",
-                   a->name ? a->name : "motion", a->frame_count, a->fps,
-                   a->frame_count > 1 ? (a->frame_count - 1) / a->fps : 0.0);
+            printf("clips: 1\n  0 %-24s %u frames at %g fps (%.3f s)\n", name, a->frame_count,
+                   a->fps, a->frame_count > 1 ? (a->frame_count - 1) / a->fps : 0.0);
         return;
     }
     printf("clips: %u%s\n", clips->count, clips->count ? "" : " (none: the rest pose only)");
-    for (uint32_t i = 0; i < clips->count; i++)
-        printf("  %-2u %-24s %u frames at %g fps (%.3f s)%s\n", i, clips->clips[i].name,
-               clips->clips[i].frames, clips->clips[i].fps, clips->clips[i].duration,
+    for (uint32_t i = 0; i < clips->count; i++) {
+        g_autofree char *name = rf_printable(clips->clips[i].name);
+        printf("  %-2u %-24s %u frames at %g fps (%.3f s)%s\n", i, name, clips->clips[i].frames,
+               clips->clips[i].fps, clips->clips[i].duration,
                (int32_t)i == clips->selected ? "  [imported]" : "");
+    }
 }
 
-/* Materials and images by number (their names are bytes from the file: not printed here). */
+/* The look: counts, then one line per material (its name escaped: bytes from the file). */
 static void rf_inspect_look(const rf_mesh *m)
 {
     static const char *const modes[] = {"opaque", "mask", "blend"};
@@ -122,8 +126,9 @@ static void rf_inspect_look(const rf_mesh *m)
         const rf_material *t = m->materials[i];
         if (!t)
             continue;
-        printf("  %-2u base colour %.3g %.3g %.3g %.3g", i, t->base_color[0], t->base_color[1],
-               t->base_color[2], t->base_color[3]);
+        g_autofree char *name = rf_printable(t->name ? t->name : "");
+        printf("  %-2u %-24s base colour %.3g %.3g %.3g %.3g", i, name, t->base_color[0],
+               t->base_color[1], t->base_color[2], t->base_color[3]);
         if (t->base_color_texture.image >= 0 && (uint32_t)t->base_color_texture.image < m->image_count)
             printf(" x image %d (%s, %zu bytes)", t->base_color_texture.image,
                    m->images[t->base_color_texture.image]->mime_type,
@@ -146,10 +151,11 @@ static void rf_inspect_mesh(const rf_mesh *m)
     uint32_t parts = RF_HAS_FIELD(m, rf_mesh, parts) ? m->part_count : 0;
     printf("meshes: %u merged, %u vertices, %u triangles, %s\n", parts ? parts : 1, m->vertex_count,
            m->triangle_count, m->skin_joints ? "skinned (4 weights per vertex)" : "not skinned");
-    for (uint32_t i = 0; i < parts; i++)
-        printf("  %-2u %-32s %u vertices, %u triangles\n", i,
-               m->parts[i].name ? m->parts[i].name : "", m->parts[i].vertex_count,
+    for (uint32_t i = 0; i < parts; i++) {
+        g_autofree char *name = rf_printable(m->parts[i].name);
+        printf("  %-2u %-32s %u vertices, %u triangles\n", i, name, m->parts[i].vertex_count,
                m->parts[i].triangle_count);
+    }
     rf_inspect_look(m);
 }
 
@@ -175,7 +181,8 @@ static int rf_inspect_run(rf_registry *reg, const char *file, const rf_inspect_o
         rf_pipeline_free(p);
         return RF_EXIT_RUN;
     }
-    printf("%s (read by %s)\n", file, type);
+    g_autofree char *shown = rf_printable(file);
+    printf("%s (read by %s)\n", shown, type);
     const rf_skeleton *s = rf_pipeline_result(p, "source", "skeleton");
     if (s)
         rf_inspect_skeleton(s);

@@ -92,11 +92,13 @@ static void rf_map_cmd_print(const rf_pipeline *p, int nsources)
     uint32_t mapped = 0;
     for (uint32_t j = 0; j < m->target_joint_count && j < t->joint_count; j++) {
         const rf_map_entry *e = &m->entries[j];
-        printf("%-28s", t->joints[j].name);
+        g_autofree char *target = rf_printable(t->joints[j].name);
+        printf("%-28s", target);
         for (uint32_t k = 0; k < e->input_count; k++) {
             const rf_map_input *in = &e->inputs[k];
             const rf_skeleton *s = in->source < 64 ? src[in->source] : NULL;
-            const char *name = s && in->joint < s->joint_count ? s->joints[in->joint].name : "?";
+            g_autofree char *name =
+                rf_printable(s && in->joint < s->joint_count ? s->joints[in->joint].name : "?");
             printf(" <- %u:%s%s", in->source, name, in->flags & RF_MAP_REVERSE ? " (reverse)" : "");
         }
         printf(e->input_count ? "  score %.1f\n" : " (unmapped)\n", e->score);

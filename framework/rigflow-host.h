@@ -45,6 +45,12 @@ RF_HOST_API void rf_diags_add(GPtrArray *diags, const char *file, int line, int 
 /* "file:line:col: node 'id' at /pointer: message" with the parts that are present. */
 RF_HOST_API char *rf_diag_format(const rf_diag *d);
 
+/* `text` (NULL reads as "") with every byte that is not printable UTF-8 (controls other than
+ * newline and tab, C1 controls, invalid sequences) written as \xNN, as rigflow/text.h escapes:
+ * messages and listings quote names from files, and a hostile file must not drive the terminal.
+ * (transfer full) */
+RF_HOST_API char *rf_printable(const char *text);
+
 /* ---- plugins and the registry ---- */
 
 typedef struct rf_plugin rf_plugin; /* one loaded shared object */

@@ -1,7 +1,7 @@
 /* The Assimp importer plugin: node type assimp.import. The work is in librfassimp (aimport.c). */
 #include <rigflow/rigflow.h>
 
-#include "aimport-node.h"
+#include "rigflow/aimport-node.h"
 
 static bool rf_assimp_process(void *self, const rf_host *host, rf_node *node)
 {

@@ -18,9 +18,9 @@
 
 #include <rigflow/rigflow.h>
 
-#include "../assimp/aimport-node.h"
-#include "../bvh/bvh.h"
-#include "../gltf/gltf-write.h"
+#include "rigflow/aimport-node.h"
+#include "rigflow/bvh.h"
+#include "rigflow/gltf-write.h"
 
 static const char *rf_cv_ext(const char *path)
 {

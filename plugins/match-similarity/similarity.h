@@ -17,7 +17,7 @@
 
 #include <rigflow/model.h>
 
-#include "analysis/analysis.h"
+#include "rigflow/analysis.h"
 
 typedef enum rf_ms_metric {
     RF_MS_SAME_SIDE = 0, /* both on the same side (left, center, right): 30 */

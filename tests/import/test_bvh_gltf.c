@@ -16,9 +16,9 @@
 
 #include <cmocka.h>
 
-#include "aimport.h"
-#include "bvh.h"
-#include "gltf-write.h"
+#include "rigflow/aimport.h"
+#include "rigflow/bvh.h"
+#include "rigflow/gltf-write.h"
 
 /* Angle between two rotations, accurate near zero (2 acos of a dot product near 1 is not). */
 static double rf_rot_diff(rf_quat a, rf_quat b)

@@ -30,8 +30,8 @@
 
 #include <cmocka.h>
 
-#include "aimport.h"
-#include "gltf-write.h"
+#include "rigflow/aimport.h"
+#include "rigflow/gltf-write.h"
 
 typedef struct rf_expected_pos {
     const char *joint;

@@ -111,6 +111,25 @@ printf 'HIERARCHY\nROOT \033[2J\033]0;pwned\007\n{\nOFFSET 0 0 0\nCHANNELS 1 Zro
 row "control characters from a file are escaped in messages" 1 \
     "duplicate joint name '\\x1b[2J\\x1b]0;pwned\\x07'" "$tmp/esc.bvh" "$o.glb"
 if grep -q "$(printf '\033')" "$tmp/err"; then bad "... an escape byte reached the terminal"; else ok "... none reaches the terminal"; fi
+# A valid file whose joint names carry ESC and C1 (8-bit CSI) sequences: the listings of inspect
+# and map --explain show them escaped, and no raw control byte reaches the terminal.
+{
+    printf 'HIERARCHY\nROOT Hips\033]0;pwned\007\n{\nOFFSET 0 0 0\nCHANNELS 3 Xrotation Yrotation Zrotation\n'
+    printf 'JOINT Leg\302\2331m\n{\nOFFSET 0 -1 0\nCHANNELS 3 Xrotation Yrotation Zrotation\n'
+    printf 'End Site\n{\nOFFSET 0 -1 0\n}\n}\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0 0 0 0\n'
+} >"$tmp/names.bvh"
+controls="$(printf '\033\007\302\233')"
+rfv inspect "$tmp/names.bvh"
+if [ "$code" != 0 ]; then bad "inspect lists hostile joint names: exit $code"
+elif grep -q "[$controls]" "$tmp/out" "$tmp/err"; then bad "inspect: a control byte reached the terminal"
+elif ! grep -qF 'Hips\x1b]0;pwned\x07' "$tmp/out" || ! grep -qF 'Leg\xc2\x9b1m' "$tmp/out"; then
+    bad "inspect: names not shown escaped: $(head -c 300 "$tmp/out")"
+else ok "inspect shows hostile joint names escaped"; fi
+rfv map --explain "$tmp/names.bvh" "$tmp/names.bvh"
+if [ "$code" != 0 ]; then bad "map --explain lists hostile joint names: exit $code"
+elif grep -q "[$controls]" "$tmp/out" "$tmp/err"; then bad "map --explain: a control byte reached the terminal"
+elif ! grep -qF 'Leg\xc2\x9b1m' "$tmp/out"; then bad "map --explain: names not shown escaped"
+else ok "map --explain shows hostile joint names escaped"; fi
 
 # ---- joint names that repeat ----
 cat >"$tmp/dup.bvh" <<'EOF'
