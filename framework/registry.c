@@ -438,6 +438,48 @@ const rf_node_desc *rf_registry_find(const rf_registry *reg, const char *type,
     return NULL;
 }
 
+/* How well an importer's suffix list fits `path`: 2 it names the suffix, 1 it reads anything. */
+static int suffix_fit(const char *suffixes, const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    const char *slash = strrchr(path, '/');
+    const char *ext = dot && (!slash || dot > slash) ? dot + 1 : NULL;
+    int fit = 0;
+    g_auto(GStrv) list = g_strsplit(suffixes, "|", -1);
+    for (char **s = list; *s; s++) {
+        if (strcmp(*s, "*") == 0)
+            fit = MAX(fit, 1);
+        else if (ext && g_ascii_strcasecmp(*s, ext) == 0)
+            fit = 2;
+    }
+    return fit;
+}
+
+const rf_node_desc *rf_registry_importer_for(const rf_registry *reg, const char *path,
+                                             const char **path_param)
+{
+    const rf_node_desc *best = NULL;
+    int best_fit = 0;
+    for (guint i = 0; i < reg->plugins->len; i++) {
+        const rf_plugin_entry *e = ((rf_plugin *)g_ptr_array_index(reg->plugins, i))->entry;
+        for (uint32_t k = 0; k < e->node_count; k++) {
+            const rf_node_desc *d = e->nodes[k];
+            const rf_importer_info *info = d->kind == RF_KIND_IMPORTER && d->get_extension
+                                               ? d->get_extension(RF_IMPORTER_EXTENSION)
+                                               : NULL;
+            if (!info || info->size < RF_IMPORTER_INFO_SIZE_1_0 || !info->suffixes ||
+                !info->path_param || rf_registry_find(reg, d->type, NULL) != d)
+                continue; /* incomplete, or shadowed by an earlier folder on the path */
+            int fit = suffix_fit(info->suffixes, path);
+            if (fit > best_fit) {
+                best = d, best_fit = fit;
+                *path_param = info->path_param;
+            }
+        }
+    }
+    return best;
+}
+
 const char *rf_kind_name(rf_node_kind kind)
 {
     static const char *const names[] = {"unknown", "importer", "exporter", "matcher", "retargeter",

@@ -102,6 +102,13 @@ static bool selftest_run(const rf_host *host, char *err, size_t err_size)
 
 RF_SELFTEST_GET_EXTENSION(get_extension, selftest_run)
 
+static const rf_importer_info importer = {sizeof(rf_importer_info), "bvh", "path"};
+
+static const void *import_extension(const char *id)
+{
+    return strcmp(id, RF_IMPORTER_EXTENSION) == 0 ? &importer : get_extension(id);
+}
+
 /* ---- bvh.import ---- */
 
 static bool import_process(void *self, const rf_host *host, rf_node *node)
@@ -154,7 +161,7 @@ static const rf_node_desc import_node = {
     RF_NODE_OUTPUTS(import_outputs),
     RF_NODE_PARAMS(import_params),
     .process = import_process,
-    .get_extension = get_extension,
+    .get_extension = import_extension,
 };
 
 /* ---- bvh.export ---- */

@@ -9,8 +9,8 @@
 # target survives (a fixture: none of the data's models has one). Bad textures
 # (missing, outside the model's folder, a link leading out, not an image) are left out with a
 # warning naming them.
-# Parts that need a tool (node + gltf-validator, three, assimp) say so and are skipped; the test
-# as a whole is skipped (77) only when the data or node is missing.
+# Parts that need a tool (gltf-validator, three, assimp) say so; the test then ends as skipped
+# (77) unless something failed.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
 src="${RF_SRCDIR:-.}"
 convert_p="$src/pipelines/convert.json"
@@ -25,6 +25,7 @@ trap 'rm -rf "$tmp"' EXIT
 pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 ko() { fail=$((fail + 1)); printf 'FAIL: %s\n' "$*"; }
+. "$src/tests/gltf/valid.sh" # gltf_skipped and gltf_exit: a check a tool was missing for is a skip
 run() { RIGFLOW_QUIET=1 "$rigflow" run "$@"; }
 
 if [ ! -f "$data/models/Fox.glb" ]; then
@@ -86,7 +87,10 @@ expect_look() { # source file -> "materials=M images=I uvsets=U" as Assimp reads
     echo "materials=$m images=$i uvsets=$u"
 }
 have_assimp=yes
-command -v assimp >/dev/null 2>&1 || { have_assimp=no; echo "assimp (assimp-utils) not found: counts not compared"; }
+command -v assimp >/dev/null 2>&1 || {
+    have_assimp=no; gltf_skipped=$((gltf_skipped + 1))
+    echo "SKIP: assimp (assimp-utils) not found: counts not compared"
+}
 for f in "$data"/models/*.* "$data"/models/*/*.b3d "$data"/models/ogre/*.mesh; do
     case "$f" in *spider.fbx) continue ;; esac # no skeleton: refused, tested in test_convert.sh
     b=$(basename "$f"); b=${b%.*}
@@ -134,15 +138,15 @@ done
 "$node" "$validate" $outs >"$tmp/v" 2>&1
 case $? in
 0) ok ;;
-77) echo "glTF-Validator not found: validation skipped" ;;
+77) gltf_skipped=$((gltf_skipped + 1)); echo "SKIP: glTF-Validator not installed: nothing validated" ;;
 *) grep -B1 "error" "$tmp/v" | head -40; ko "validator errors (above)" ;;
 esac
 # shellcheck disable=SC2086
 "$node" "$look" three $outs >"$tmp/t" 2>&1
 case $? in
 0) ok ;;
-77) cat "$tmp/t" ;;
+77) gltf_skipped=$((gltf_skipped + 1)); cat "$tmp/t" ;;
 *) grep -v " clips$" "$tmp/t" | head -20; ko "three.js GLTFLoader (above)" ;;
 esac
 echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+gltf_exit "$fail"

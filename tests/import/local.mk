@@ -3,11 +3,11 @@
 check_PROGRAMS += tests/import/test_import
 TESTS += tests/import/test_import
 tests_import_test_import_SOURCES = tests/import/test_import.c
-tests_import_test_import_CPPFLAGS = $(AM_CPPFLAGS) -DRF_NODE='"$(NODE)"'
+tests_import_test_import_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/gltf -DRF_NODE='"$(NODE)"'
 tests_import_test_import_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_import_test_import_LDADD = sdk/formats/assimp/librigflow-assimp.la sdk/formats/gltf/librigflow-gltf.la \
 	$(CMOCKA_LIBS) -lm
-EXTRA_DIST += tests/gltf/validate.js tests/import/expected.py
+EXTRA_DIST += tests/gltf/validate.js tests/gltf/validate.h tests/gltf/valid.sh tests/import/expected.py
 
 # rigflow inspect: output and exit codes.
 TESTS += tests/import/test_inspect.sh

@@ -75,7 +75,16 @@ row "BVH cut inside the motion" 1 "cut-motion.bvh:" "$tmp/cut-motion.bvh" "$o.gl
 : >"$tmp/empty.glb"
 row "empty GLB" 1 "empty.glb: Assimp cannot read it" "$tmp/empty.glb" "$o.bvh"
 head -c "$(($(wc -c <"$tmp/ok.glb") / 2))" "$tmp/ok.glb" >"$tmp/cut.glb"
-row "GLB cut in half" 1 "cut.glb: Assimp cannot read it" "$tmp/cut.glb" "$o.bvh"
+glb_size=$(wc -c <"$tmp/ok.glb")
+row "GLB cut in half" 1 \
+    "cut.glb: the GLB header declares a length of $glb_size bytes but the file has $((glb_size / 2))" \
+    "$tmp/cut.glb" "$o.bvh"
+# a header that claims 0x7FFFFFFF bytes, as a corrupt download may: refused with both lengths
+cp "$tmp/ok.glb" "$tmp/long.glb"
+printf '\377\377\377\177' | dd of="$tmp/long.glb" bs=1 seek=8 conv=notrunc status=none
+row "GLB whose header declares another length" 1 \
+    "long.glb: the GLB header declares a length of 2147483647 bytes but the file has $glb_size" \
+    "$tmp/long.glb" "$o.bvh"
 
 # ---- wrong format behind a known extension ----
 cp "$tmp/ok.glb" "$tmp/glb-inside.bvh"

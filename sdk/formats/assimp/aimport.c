@@ -10,11 +10,14 @@
  */
 #include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <assimp/cfileio.h>
 #include <assimp/cimport.h>
@@ -126,8 +129,35 @@ rf_mat4 rf_ai_joint_node_local(const rf_ai_ctx *c, unsigned j)
 
 /* ---- loading ---- */
 
+/* A GLB states its own length in its header; one that disagrees with the file (a truncated or
+ * corrupt download) is refused with both lengths, as the glTF validator does, before Assimp
+ * reads whatever part of it is there. True for every file that is not a GLB. */
+static bool rf_ai_glb_length_ok(rf_ai_ctx *c)
+{
+    int fd = open(c->path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0)
+        return true; /* the import says why it cannot read it */
+    unsigned char h[12];
+    struct stat st;
+    bool glb = fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && read(fd, h, sizeof h) == 12 &&
+               memcmp(h, "glTF", 4) == 0;
+    close(fd);
+    if (!glb)
+        return true;
+    uint32_t declared = (uint32_t)h[8] | (uint32_t)h[9] << 8 | (uint32_t)h[10] << 16 |
+                        (uint32_t)h[11] << 24;
+    if ((long long)declared == (long long)st.st_size)
+        return true;
+    return rf_ai_fail(c,
+                      "the GLB header declares a length of %u bytes but the file has %lld: "
+                      "truncated or corrupt",
+                      declared, (long long)st.st_size);
+}
+
 static const struct aiScene *rf_ai_load(rf_ai_ctx *c)
 {
+    if (!rf_ai_glb_length_ok(c))
+        return NULL;
     /* Assimp reads only the model and files in its folder (aimport-io.c). */
     rf_ai_confine *cf = &c->confine;
     struct aiFileIO *io = &c->io;

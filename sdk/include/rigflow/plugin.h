@@ -205,6 +205,19 @@ typedef struct rf_selftest {
     bool (*run)(const rf_host *host, char *err, size_t err_size); /* [main-thread] */
 } rf_selftest;
 
+/* What an importer reads, offered by a node type of kind RF_KIND_IMPORTER through
+ * get_extension(RF_IMPORTER_EXTENSION), so that a host can pick the importer for a file from its
+ * name (`rigflow inspect`, `rigflow map`) without knowing any plugin: a node type that lists the
+ * file's suffix is preferred to one that reads anything ("*"), and among equals the first loaded. */
+#define RF_IMPORTER_EXTENSION "rigflow.importer/1"
+typedef struct rf_importer_info {
+    uint32_t size;          /* sizeof(rf_importer_info) */
+    const char *suffixes;   /* file name endings read, '|'-separated, without the dot, matched
+                             * without regard to case ("bvh", "glb|gltf"), or "*" for whatever
+                             * the node's library reads */
+    const char *path_param; /* the node's INPUT_PATH parameter that names the file */
+} rf_importer_info;
+
 /* The one exported symbol: `RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry`. */
 typedef struct rf_plugin_entry {
     rf_version abi;          /* RF_ABI_VERSION_INIT: always the first field */
@@ -304,6 +317,7 @@ typedef struct rf_plugin_entry {
 #define RF_PARAM_DESC_SIZE_1_0 RF_SIZE_THROUGH(rf_param_desc, doc)
 #define RF_HOST_SIZE_1_0 RF_SIZE_THROUGH(rf_host, set_output)
 #define RF_SELFTEST_SIZE_1_0 RF_SIZE_THROUGH(rf_selftest, run)
+#define RF_IMPORTER_INFO_SIZE_1_0 RF_SIZE_THROUGH(rf_importer_info, path_param)
 
 #ifdef __cplusplus
 }
