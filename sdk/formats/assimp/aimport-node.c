@@ -28,7 +28,8 @@ const rf_port_desc rf_ai_node_outputs[RF_AI_NODE_OUTPUT_COUNT] = {
     {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0,
      "the chosen clip resampled to a fixed rate (one rest frame when the file has no clip)"},
     {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, 0,
-     "every mesh merged, skinned to the skeleton (top 4 weights), inverse binds; may be empty"},
+     "every mesh merged, skinned to the skeleton (top 4 weights), inverse binds, with its "
+     "materials, images, UV sets, colours, tangents and morph targets; may be empty"},
     {sizeof(rf_port_desc), "clips", RF_TYPE_CLIPS, 0,
      "every clip in the file and which was used; with clip *, each one's motion too"},
 };
