@@ -120,7 +120,8 @@ static void rf_inspect_look(const rf_mesh *m)
         return;
     printf("look: %u materials, %u images, %u UV sets, %s, %s, %u morph targets\n",
            m->material_count, m->image_count, m->uv_set_count,
-           m->colors ? "vertex colours" : "no vertex colours", m->tangents ? "tangents" : "no tangents",
+           m->colors ? "vertex colours" : "no vertex colours",
+           m->tangents ? "tangents" : "no tangents",
            RF_HAS_FIELD(m, rf_mesh, morph_targets) ? m->morph_target_count : 0);
     for (uint32_t i = 0; i < m->material_count && m->materials; i++) {
         const rf_material *t = m->materials[i];
@@ -129,7 +130,8 @@ static void rf_inspect_look(const rf_mesh *m)
         g_autofree char *name = rf_printable(t->name ? t->name : "");
         printf("  %-2u %-24s base colour %.3g %.3g %.3g %.3g", i, name, t->base_color[0],
                t->base_color[1], t->base_color[2], t->base_color[3]);
-        if (t->base_color_texture.image >= 0 && (uint32_t)t->base_color_texture.image < m->image_count)
+        if (t->base_color_texture.image >= 0 &&
+            (uint32_t)t->base_color_texture.image < m->image_count)
             printf(" x image %d (%s, %zu bytes)", t->base_color_texture.image,
                    m->images[t->base_color_texture.image]->mime_type,
                    m->images[t->base_color_texture.image]->byte_count);

@@ -174,8 +174,8 @@ static int32_t rf_ai_image_for(rf_ai_look *L, const char *name, const char *mate
         if (strcmp(L->seen[i].key, name) == 0)
             return L->seen[i].image;
     int t = rf_ai_embedded_index(L->c, name);
-    int32_t image = t >= 0 ? rf_ai_embedded_image(L, t, name, material)
-                           : rf_ai_file_image(L, name, material);
+    int32_t image =
+        t >= 0 ? rf_ai_embedded_image(L, t, name, material) : rf_ai_file_image(L, name, material);
     if (L->seen_count == L->seen_cap) {
         unsigned cap = L->seen_cap ? L->seen_cap * 2 : 8;
         rf_ai_seen *grown = realloc(L->seen, cap * sizeof *grown);
@@ -256,14 +256,14 @@ static void rf_ai_factors(const struct aiMaterial *am, rf_material *m)
         m->base_color[2] = rf_ai_unit(col.b), m->base_color[3] = rf_ai_unit(col.a);
     }
     float f;
-    m->metallic = aiGetMaterialFloatArray(am, AI_MATKEY_METALLIC_FACTOR, &f, NULL) ==
-                          aiReturn_SUCCESS
-                      ? rf_ai_unit(f)
-                      : 0.0f;
-    m->roughness = aiGetMaterialFloatArray(am, AI_MATKEY_ROUGHNESS_FACTOR, &f, NULL) ==
-                           aiReturn_SUCCESS
-                       ? rf_ai_unit(f)
-                       : 1.0f;
+    m->metallic =
+        aiGetMaterialFloatArray(am, AI_MATKEY_METALLIC_FACTOR, &f, NULL) == aiReturn_SUCCESS
+            ? rf_ai_unit(f)
+            : 0.0f;
+    m->roughness =
+        aiGetMaterialFloatArray(am, AI_MATKEY_ROUGHNESS_FACTOR, &f, NULL) == aiReturn_SUCCESS
+            ? rf_ai_unit(f)
+            : 1.0f;
     if (aiGetMaterialColor(am, AI_MATKEY_COLOR_EMISSIVE, &col) == aiReturn_SUCCESS)
         m->emissive[0] = rf_ai_unit(col.r), m->emissive[1] = rf_ai_unit(col.g),
         m->emissive[2] = rf_ai_unit(col.b);
@@ -289,12 +289,10 @@ static rf_material *rf_ai_material(rf_ai_look *L, const struct aiMaterial *am)
 {
     static const enum aiTextureType base[] = {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE};
     static const enum aiTextureType mr[] = {aiTextureType_UNKNOWN};
-    static const enum aiTextureType normal[] = {aiTextureType_NORMALS,
-                                                aiTextureType_NORMAL_CAMERA};
+    static const enum aiTextureType normal[] = {aiTextureType_NORMALS, aiTextureType_NORMAL_CAMERA};
     static const enum aiTextureType occl[] = {aiTextureType_LIGHTMAP,
                                               aiTextureType_AMBIENT_OCCLUSION};
-    static const enum aiTextureType emis[] = {aiTextureType_EMISSIVE,
-                                              aiTextureType_EMISSION_COLOR};
+    static const enum aiTextureType emis[] = {aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR};
     rf_material *m = rf_material_new();
     struct aiString name;
     if (!m)

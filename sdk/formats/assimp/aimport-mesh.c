@@ -145,7 +145,8 @@ static void rf_ai_copy_look(rf_ai_mesh_build *b, const struct aiMesh *mesh, rf_m
     for (unsigned i = 0; i < mesh->mNumVertices; i++) {
         size_t v = b->v + i;
         for (uint32_t k = 0; k < b->uv_sets; k++) {
-            const struct aiVector3D *uv = mesh->mTextureCoords[k] ? &mesh->mTextureCoords[k][i] : NULL;
+            const struct aiVector3D *uv =
+                mesh->mTextureCoords[k] ? &mesh->mTextureCoords[k][i] : NULL;
             m->uvs[k][v * 2] = uv ? uv->x : 0.0f;
             m->uvs[k][v * 2 + 1] = uv ? 1.0f - uv->y : 0.0f;
         }
@@ -184,8 +185,10 @@ static rf_morph_target *rf_ai_morph_target(rf_ai_mesh_build *b, const char *name
     size_t bytes = (size_t)m->vertex_count * 24;
     if ((size_t)(m->morph_target_count + 1) * bytes > RF_AI_MORPH_BYTES_MAX) {
         if (!b->morphs_capped)
-            rf_ai_logf(b->c, 1, "%s: morph target '%s' and later ones left out: more than 1 GiB of "
-                       "displacements", b->c->path, name);
+            rf_ai_logf(b->c, 1,
+                       "%s: morph target '%s' and later ones left out: more than 1 GiB of "
+                       "displacements",
+                       b->c->path, name);
         b->morphs_capped = true;
         return NULL;
     }
@@ -215,7 +218,8 @@ static void rf_ai_copy_morphs(rf_ai_mesh_build *b, const struct aiMesh *mesh, rf
         char name[64];
         snprintf(name, sizeof name, "morph%u", k);
         bool normals = am->mNormals && mesh->mNormals;
-        rf_morph_target *t = rf_ai_morph_target(b, am->mName.data[0] ? am->mName.data : name, normals);
+        rf_morph_target *t =
+            rf_ai_morph_target(b, am->mName.data[0] ? am->mName.data : name, normals);
         if (!t)
             return;
         t->weight = isfinite(am->mWeight) ? am->mWeight : 0.0f;

@@ -229,8 +229,8 @@ static void rf_gw_attr_add(rf_gw *g, rf_gw_attrs *as, const char *name, const vo
 }
 
 /* The indices of `count` triangles from `first`, relative to vertex `base`. */
-static int rf_gw_indices(rf_gw *g, const rf_mesh *m, uint32_t first, uint32_t count,
-                         uint32_t base, uint32_t vertices)
+static int rf_gw_indices(rf_gw *g, const rf_mesh *m, uint32_t first, uint32_t count, uint32_t base,
+                         uint32_t vertices)
 {
     size_t n = (size_t)count * 3;
     const uint32_t *tri = m->triangles + (size_t)first * 3;
@@ -487,8 +487,9 @@ static json_t *rf_gw_part_targets(rf_gw *g, uint32_t first, uint32_t count)
     json_t *targets = json_array();
     for (uint32_t i = 0; i < g->morphs; i++) {
         const int *views = g->morph_view + (size_t)i * 2;
-        json_t *t = json_pack("{s:i}", "POSITION",
-                              rf_gw_morph_accessor(g, views[0], g->morph[i]->positions, first, count));
+        json_t *t =
+            json_pack("{s:i}", "POSITION",
+                      rf_gw_morph_accessor(g, views[0], g->morph[i]->positions, first, count));
         if (views[1] >= 0)
             json_object_set_new(t, "NORMAL",
                                 json_integer(rf_gw_morph_accessor(g, views[1], g->morph[i]->normals,
@@ -538,7 +539,8 @@ static json_t *rf_gw_mesh(rf_gw *g, const rf_mesh *m, uint32_t joints, bool skin
     if (g->morphs) { /* weights at rest, and the names readers (Blender, three.js) show */
         json_t *weights = json_array(), *names = json_array();
         for (uint32_t i = 0; i < g->morphs; i++) {
-            json_array_append_new(weights, json_real(isfinite(g->morph[i]->weight) ? g->morph[i]->weight : 0));
+            json_array_append_new(
+                weights, json_real(isfinite(g->morph[i]->weight) ? g->morph[i]->weight : 0));
             json_t *name = json_string(g->morph[i]->name ? g->morph[i]->name : "");
             json_array_append_new(names, name ? name : json_string("")); /* not UTF-8: unnamed */
         }
@@ -663,7 +665,8 @@ static json_t *rf_gw_material(rf_gw *g, const rf_mesh *m, const rf_material *mat
         em[i] = (float)rf_gw_unit(mat->emissive[i]);
     json_object_set_new(j, "emissiveFactor", rf_gw_floats_json(em, 3));
     static const char *const modes[] = {"OPAQUE", "MASK", "BLEND"};
-    json_object_set_new(j, "alphaMode", json_string(modes[mat->alpha_mode <= 2 ? mat->alpha_mode : 0]));
+    json_object_set_new(j, "alphaMode",
+                        json_string(modes[mat->alpha_mode <= 2 ? mat->alpha_mode : 0]));
     if (mat->alpha_mode == RF_ALPHA_MASK)
         json_object_set_new(j, "alphaCutoff",
                             json_real(mat->alpha_cutoff >= 0 ? mat->alpha_cutoff : 0.5));
@@ -930,8 +933,8 @@ static bool rf_gw_check(const rf_skeleton *s, const rf_animation *const *clips, 
         const rf_animation *a = clips[i];
         const char *clip = a && a->name ? a->name : "";
         if (a && a->joint_count != s->joint_count) {
-            snprintf(err, err_size, "%s: animation %u '%s' has %u joints, the skeleton %u", name,
-                     i, clip, a->joint_count, s->joint_count);
+            snprintf(err, err_size, "%s: animation %u '%s' has %u joints, the skeleton %u", name, i,
+                     clip, a->joint_count, s->joint_count);
             return false;
         }
         if (a && a->frame_count && !(a->fps > 0)) {
@@ -990,8 +993,8 @@ bool rf_gltf_write_file(const char *path, const char *name, const rf_skeleton *s
                         const rf_animation *animation, const rf_mesh *mesh,
                         const rf_gltf_write_opts *opts, char *err, size_t err_size)
 {
-    return rf_gltf_write_clips(path, name, skeleton, &animation, animation ? 1 : 0, mesh, opts,
-                               err, err_size);
+    return rf_gltf_write_clips(path, name, skeleton, &animation, animation ? 1 : 0, mesh, opts, err,
+                               err_size);
 }
 
 bool rf_gltf_write_clips(const char *path, const char *name, const rf_skeleton *skeleton,
@@ -1009,8 +1012,11 @@ bool rf_gltf_write_clips(const char *path, const char *name, const rf_skeleton *
         mesh = NULL;
     if (!rf_gw_check(skeleton, animations, animation_count, mesh, name, err, err_size))
         return false;
-    rf_gw g = {.views = json_array(), .accessors = json_array(), .images = json_array(),
-               .samplers = json_array(), .textures = json_array()};
+    rf_gw g = {.views = json_array(),
+               .accessors = json_array(),
+               .images = json_array(),
+               .samplers = json_array(),
+               .textures = json_array()};
     json_t *doc = rf_gw_document(&g, skeleton, animations, animation_count, mesh, &o);
     bool ok = doc && !g.oom && rf_gw_emit(path, name, doc, &g, o.binary, err, err_size);
     if (!ok && (!doc || g.oom))

@@ -161,8 +161,7 @@ static inline bool rf_mesh_copy_look(rf_mesh *c, const rf_mesh *m)
         c->uvs[k] = (float *)rf_memdup(m->uvs[k], nv * 2, sizeof(float), &ok);
     c->colors = (float *)rf_memdup(m->colors, nv * 4, sizeof(float), &ok);
     c->tangents = (float *)rf_memdup(m->tangents, nv * 4, sizeof(float), &ok);
-    c->part_material =
-        (int32_t *)rf_memdup(m->part_material, m->part_count, sizeof(int32_t), &ok);
+    c->part_material = (int32_t *)rf_memdup(m->part_material, m->part_count, sizeof(int32_t), &ok);
     if (m->materials && m->material_count) {
         c->materials = (rf_material **)calloc(m->material_count, sizeof *c->materials);
         c->material_count = c->materials ? m->material_count : 0;

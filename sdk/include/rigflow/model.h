@@ -252,18 +252,18 @@ typedef struct rf_mesh {
     uint32_t part_count;     /* source meshes merged into this one, or 0 */
     struct rf_mesh_part *parts; /* [part_count], or NULL; owned */
     /* Appended in 1.2, the look (check with RF_HAS_FIELD before reading): */
-    uint32_t uv_set_count;   /* texture coordinate sets in uvs, 0 to RF_MESH_MAX_UV_SETS */
-    float *uvs[RF_MESH_MAX_UV_SETS];         /* [set][vertex][2] in glTF's convention: (0, 0) is the image's
-                              * top-left corner, v grows downwards; or NULL */
-    float *colors;           /* [vertex][4] linear RGBA vertex colours, or NULL */
-    float *tangents;         /* [vertex][4] unit tangent xyz and the bitangent's sign w (+-1), as
-                              * glTF's TANGENT; NULL when the source has none (or no normals) */
-    int32_t *part_material;  /* [part_count] index into materials of each part, -1 for none; or
-                              * NULL (no part has a material) */
+    uint32_t uv_set_count;           /* texture coordinate sets in uvs, 0 to RF_MESH_MAX_UV_SETS */
+    float *uvs[RF_MESH_MAX_UV_SETS]; /* [set][vertex][2] in glTF's convention: (0, 0) is the image's
+                                      * top-left corner, v grows downwards; or NULL */
+    float *colors;                   /* [vertex][4] linear RGBA vertex colours, or NULL */
+    float *tangents;        /* [vertex][4] unit tangent xyz and the bitangent's sign w (+-1), as
+                             * glTF's TANGENT; NULL when the source has none (or no normals) */
+    int32_t *part_material; /* [part_count] index into materials of each part, -1 for none; or
+                             * NULL (no part has a material) */
     uint32_t material_count;
     struct rf_material **materials; /* [material_count] owned */
     uint32_t image_count;
-    struct rf_image **images;       /* [image_count] owned; textures name them by index */
+    struct rf_image **images; /* [image_count] owned; textures name them by index */
     uint32_t morph_target_count;
     struct rf_morph_target **morph_targets; /* [morph_target_count] owned (blend shapes) */
 } rf_mesh;
@@ -280,10 +280,10 @@ enum rf_texture_sampler {
 
 /* A texture a material uses: an image, the coordinate set that maps it, and how it is sampled. */
 typedef struct rf_texture_ref {
-    int32_t image;   /* index into rf_mesh.images, or -1 for no texture */
-    uint32_t uv_set; /* index of the texture coordinate set, < rf_mesh.uv_set_count */
-    float scale;     /* normal map: the normal scale; occlusion: the strength; others: 1 */
-    uint16_t wrap_s, wrap_t;         /* rf_texture_sampler wrap mode, or 0 */
+    int32_t image;           /* index into rf_mesh.images, or -1 for no texture */
+    uint32_t uv_set;         /* index of the texture coordinate set, < rf_mesh.uv_set_count */
+    float scale;             /* normal map: the normal scale; occlusion: the strength; others: 1 */
+    uint16_t wrap_s, wrap_t; /* rf_texture_sampler wrap mode, or 0 */
     uint16_t mag_filter, min_filter; /* rf_texture_sampler filter, or 0 */
 } rf_texture_ref;
 
@@ -297,27 +297,27 @@ typedef enum rf_alpha_mode {
  * on import (diffuse colour and texture become the base colour; doc/formats.md). */
 typedef struct rf_material {
     uint32_t size;
-    char *name;                 /* may be NULL; owned */
-    float base_color[4];        /* linear RGBA factor, multiplied with the texture */
+    char *name;          /* may be NULL; owned */
+    float base_color[4]; /* linear RGBA factor, multiplied with the texture */
     rf_texture_ref base_color_texture;
-    float metallic, roughness;  /* factors in [0, 1] */
+    float metallic, roughness;                 /* factors in [0, 1] */
     rf_texture_ref metallic_roughness_texture; /* roughness in G, metalness in B */
     rf_texture_ref normal_texture;
-    rf_texture_ref occlusion_texture;          /* occlusion in R */
+    rf_texture_ref occlusion_texture; /* occlusion in R */
     rf_texture_ref emissive_texture;
-    float emissive[3];          /* linear RGB factor */
-    uint32_t alpha_mode;        /* rf_alpha_mode */
-    float alpha_cutoff;         /* RF_ALPHA_MASK only */
-    uint32_t double_sided;      /* non-zero: both faces are drawn */
+    float emissive[3];     /* linear RGB factor */
+    uint32_t alpha_mode;   /* rf_alpha_mode */
+    float alpha_cutoff;    /* RF_ALPHA_MASK only */
+    uint32_t double_sided; /* non-zero: both faces are drawn */
 } rf_material;
 
 /* An image file's bytes as found in the source (never decoded). */
 typedef struct rf_image {
     uint32_t size;
-    char *name;             /* where it came from (file name or embedded name), may be NULL; owned */
-    char *mime_type;        /* "image/png" or "image/jpeg"; owned */
+    char *name;      /* where it came from (file name or embedded name), may be NULL; owned */
+    char *mime_type; /* "image/png" or "image/jpeg"; owned */
     size_t byte_count;
-    unsigned char *bytes;   /* [byte_count] owned */
+    unsigned char *bytes; /* [byte_count] owned */
 } rf_image;
 
 /* A morph target (blend shape): per-vertex displacements over the whole mesh, zero where a part
@@ -392,8 +392,8 @@ static inline void rf_material_free(void *material)
 
 /* An image holding a copy of `bytes`, or NULL when out of memory. name may be NULL.
  * (transfer full: free with rf_image_free) */
-static inline rf_image *rf_image_new(const char *name, const char *mime_type,
-                                     const void *bytes, size_t byte_count)
+static inline rf_image *rf_image_new(const char *name, const char *mime_type, const void *bytes,
+                                     size_t byte_count)
 {
     rf_image *im = (rf_image *)calloc(1, sizeof *im);
     if (!im)
