@@ -24,6 +24,10 @@
 
 #define RF_AI_IMAGE_MAX ((size_t)256 << 20) /* bytes: larger files are refused, not read */
 
+/* Distinct texture names read at most: a real model names a few dozen, a hostile one could name a
+ * file per material and have each looked up. */
+#define RF_AI_TEXTURE_NAMES_MAX 1024u
+
 /* A texture name seen before: the image it became, or -1 when it was left out. */
 typedef struct rf_ai_seen {
     char *key;
@@ -33,9 +37,21 @@ typedef struct rf_ai_seen {
 typedef struct rf_ai_look {
     rf_ai_ctx *c;
     rf_mesh *m;
-    rf_ai_seen *seen;
-    unsigned seen_count, seen_cap;
+    rf_ai_seen seen[RF_AI_TEXTURE_NAMES_MAX * 2]; /* open addressing, at most half full */
+    unsigned seen_count;
+    bool capped; /* names past the bound were left out (warned once) */
 } rf_ai_look;
+
+static rf_ai_seen *rf_ai_seen_slot(rf_ai_look *L, const char *name)
+{
+    uint64_t h = 1469598103934665603u; /* FNV-1a */
+    for (const unsigned char *p = (const unsigned char *)name; *p; p++)
+        h = (h ^ *p) * 1099511628211u;
+    size_t mask = RF_AI_TEXTURE_NAMES_MAX * 2 - 1, i = (size_t)h & mask;
+    while (L->seen[i].key && strcmp(L->seen[i].key, name) != 0)
+        i = (i + 1) & mask;
+    return &L->seen[i];
+}
 
 static const char *rf_ai_sniff_mime(const unsigned char *b, size_t n)
 {
@@ -170,22 +186,21 @@ static int32_t rf_ai_file_image(rf_ai_look *L, const char *name, const char *mat
 /* The image a texture name stands for, read once per name. */
 static int32_t rf_ai_image_for(rf_ai_look *L, const char *name, const char *material)
 {
-    for (unsigned i = 0; i < L->seen_count; i++)
-        if (strcmp(L->seen[i].key, name) == 0)
-            return L->seen[i].image;
+    rf_ai_seen *slot = rf_ai_seen_slot(L, name);
+    if (slot->key)
+        return slot->image;
+    if (L->seen_count == RF_AI_TEXTURE_NAMES_MAX) {
+        if (!L->capped)
+            rf_ai_logf(L->c, 1, "%s: more than %u texture names: '%s' and later ones left out",
+                       L->c->path, RF_AI_TEXTURE_NAMES_MAX, name);
+        L->capped = true;
+        return -1;
+    }
     int t = rf_ai_embedded_index(L->c, name);
     int32_t image =
         t >= 0 ? rf_ai_embedded_image(L, t, name, material) : rf_ai_file_image(L, name, material);
-    if (L->seen_count == L->seen_cap) {
-        unsigned cap = L->seen_cap ? L->seen_cap * 2 : 8;
-        rf_ai_seen *grown = realloc(L->seen, cap * sizeof *grown);
-        if (!grown)
-            return image;
-        L->seen = grown, L->seen_cap = cap;
-    }
-    char *key = rf_ai_strdup(name);
-    if (key)
-        L->seen[L->seen_count++] = (rf_ai_seen){key, image};
+    if ((slot->key = rf_ai_strdup(name)))
+        slot->image = image, L->seen_count++;
     return image;
 }
 
@@ -314,7 +329,10 @@ static rf_material *rf_ai_material(rf_ai_look *L, const struct aiMaterial *am)
 bool rf_ai_build_materials(rf_ai_ctx *c, rf_mesh *m, const unsigned *part_mesh)
 {
     const struct aiScene *s = c->scene;
-    rf_ai_look L = {.c = c, .m = m};
+    rf_ai_look *L = calloc(1, sizeof *L); /* 16 KiB of slots: not on the stack */
+    if (!L)
+        return rf_ai_fail(c, "out of memory for the materials");
+    L->c = c, L->m = m;
     int32_t *of = malloc((s->mNumMaterials + 1) * sizeof *of); /* scene material to ours */
     m->part_material = calloc(m->part_count ? m->part_count : 1, sizeof *m->part_material);
     m->materials = calloc(s->mNumMaterials + 1, sizeof *m->materials);
@@ -329,7 +347,7 @@ bool rf_ai_build_materials(rf_ai_ctx *c, rf_mesh *m, const unsigned *part_mesh)
             continue;
         }
         if (of[mi] < 0) {
-            rf_material *mat = rf_ai_material(&L, s->mMaterials[mi]);
+            rf_material *mat = rf_ai_material(L, s->mMaterials[mi]);
             if (!mat) {
                 ok = false;
                 break;
@@ -339,9 +357,9 @@ bool rf_ai_build_materials(rf_ai_ctx *c, rf_mesh *m, const unsigned *part_mesh)
         }
         m->part_material[p] = of[mi];
     }
-    for (unsigned i = 0; i < L.seen_count; i++)
-        free(L.seen[i].key);
-    free(L.seen);
+    for (unsigned i = 0; i < RF_AI_TEXTURE_NAMES_MAX * 2; i++)
+        free(L->seen[i].key);
+    free(L);
     free(of);
     return ok ? true : rf_ai_fail(c, "out of memory for the materials");
 }

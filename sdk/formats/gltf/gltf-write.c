@@ -33,6 +33,7 @@ typedef struct rf_gw {
     size_t len, cap;
     json_t *views, *accessors;
     json_t *images, *samplers, *textures; /* filled by the materials (rf_gw_materials) */
+    json_t *texture_of;                   /* "image:sampler" -> texture index (a hash table) */
     int *image_index;                     /* [mesh image] glTF image index, or -1 when left out */
     uint32_t uv_sets;                     /* TEXCOORD_n written */
     uint32_t morphs;                      /* morph targets written */
@@ -576,20 +577,32 @@ static void rf_gw_images(rf_gw *g, const rf_mesh *m)
     }
 }
 
+static uint16_t rf_gw_wrap(uint16_t w)
+{
+    return w == RF_TEX_REPEAT || w == RF_TEX_CLAMP_TO_EDGE || w == RF_TEX_MIRRORED_REPEAT ? w : 0;
+}
+
 /* The index of a sampler with these settings, added when new; -1 for all defaults. */
 static int rf_gw_sampler(rf_gw *g, const rf_texture_ref *t)
 {
-    if (!t->wrap_s && !t->wrap_t && !t->mag_filter && !t->min_filter)
+    /* Only the values glTF allows (anything else is the reader's default): they are few, so
+     * the samplers stay few and the linear search below stays short. */
+    uint16_t mag = t->mag_filter == 9728 || t->mag_filter == 9729 ? t->mag_filter : 0;
+    uint16_t min = t->min_filter >= 9728 && t->min_filter <= 9729   ? t->min_filter
+                   : t->min_filter >= 9984 && t->min_filter <= 9987 ? t->min_filter
+                                                                    : 0;
+    uint16_t ws = rf_gw_wrap(t->wrap_s), wt = rf_gw_wrap(t->wrap_t);
+    if (!ws && !wt && !mag && !min)
         return -1;
     json_t *want = json_object();
-    if (t->mag_filter)
-        json_object_set_new(want, "magFilter", json_integer(t->mag_filter));
-    if (t->min_filter)
-        json_object_set_new(want, "minFilter", json_integer(t->min_filter));
-    if (t->wrap_s)
-        json_object_set_new(want, "wrapS", json_integer(t->wrap_s));
-    if (t->wrap_t)
-        json_object_set_new(want, "wrapT", json_integer(t->wrap_t));
+    if (mag)
+        json_object_set_new(want, "magFilter", json_integer(mag));
+    if (min)
+        json_object_set_new(want, "minFilter", json_integer(min));
+    if (ws)
+        json_object_set_new(want, "wrapS", json_integer(ws));
+    if (wt)
+        json_object_set_new(want, "wrapT", json_integer(wt));
     for (size_t i = 0; i < json_array_size(g->samplers); i++)
         if (json_equal(json_array_get(g->samplers, i), want)) {
             json_decref(want);
@@ -605,17 +618,20 @@ static json_t *rf_gw_texture_info(rf_gw *g, const rf_mesh *m, const rf_texture_r
     if (t->image < 0 || (uint32_t)t->image >= m->image_count || g->image_index[t->image] < 0 ||
         t->uv_set >= g->uv_sets)
         return NULL;
-    json_t *want = json_pack("{s:i}", "source", g->image_index[t->image]);
     int sampler = rf_gw_sampler(g, t);
-    if (sampler >= 0)
-        json_object_set_new(want, "sampler", json_integer(sampler));
-    size_t i = 0;
-    while (i < json_array_size(g->textures) && !json_equal(json_array_get(g->textures, i), want))
-        i++;
-    if (i == json_array_size(g->textures))
-        json_array_append(g->textures, want);
-    json_decref(want);
-    return json_pack("{s:I, s:I}", "index", (json_int_t)i, "texCoord", (json_int_t)t->uv_set);
+    char key[32];
+    snprintf(key, sizeof key, "%d:%d", g->image_index[t->image], sampler);
+    json_t *known = json_object_get(g->texture_of, key);
+    json_int_t index = known ? json_integer_value(known) : (json_int_t)json_array_size(g->textures);
+    if (!known) {
+        json_t *tex = json_pack("{s:i}", "source", g->image_index[t->image]);
+        if (tex && sampler >= 0)
+            json_object_set_new(tex, "sampler", json_integer(sampler));
+        if (!tex || json_array_append_new(g->textures, tex) ||
+            json_object_set_new(g->texture_of, key, json_integer(index)))
+            g->oom = true;
+    }
+    return json_pack("{s:I, s:I}", "index", index, "texCoord", (json_int_t)t->uv_set);
 }
 
 static json_t *rf_gw_floats_json(const float *v, int n)
@@ -1016,13 +1032,15 @@ bool rf_gltf_write_clips(const char *path, const char *name, const rf_skeleton *
                .accessors = json_array(),
                .images = json_array(),
                .samplers = json_array(),
-               .textures = json_array()};
+               .textures = json_array(),
+               .texture_of = json_object()};
     json_t *doc = rf_gw_document(&g, skeleton, animations, animation_count, mesh, &o);
     bool ok = doc && !g.oom && rf_gw_emit(path, name, doc, &g, o.binary, err, err_size);
     if (!ok && (!doc || g.oom))
         snprintf(err, err_size, "%s: out of memory while building the glTF document", name);
     json_decref(doc), json_decref(g.views), json_decref(g.accessors);
     json_decref(g.images), json_decref(g.samplers), json_decref(g.textures);
+    json_decref(g.texture_of);
     free(g.image_index);
     free(g.morph), free(g.morph_view);
     free(g.buf);
