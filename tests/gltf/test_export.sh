@@ -111,6 +111,14 @@ done
 if "$node" "$look" counts "$tmp/Fox.glb" | grep -q "animations=3" &&
    "$node" "$look" counts "$tmp/Fox.glb" | grep -q "^animation Walk "; then ok; else
     ko "Fox.glb: expected its three clips"; fi
+# one clip by name still gives that clip alone; BVH keeps the first of several, and says so
+if run "$convert_p" -p "source.path=$data/models/Fox.glb" -p source.clip=Walk -p "export.path=$tmp/walk.glb" &&
+   "$node" "$look" counts "$tmp/walk.glb" | grep -q "animations=1" &&
+   "$node" "$look" counts "$tmp/walk.glb" | grep -q "^animation Walk "; then ok; else
+    ko "Fox.glb with clip Walk: expected the Walk clip alone"; fi
+if run "$convert_p" -p "source.path=$data/models/Fox.glb" -p "export.path=$tmp/fox.bvh" 2>"$tmp/err" &&
+   grep -q "BVH holds one clip; the first of 3 is written" "$tmp/err"; then ok; else
+    ko "Fox.glb to BVH: no warning about the clips left out"; cat "$tmp/err"; fi
 if run "$many_p" -p "target.path=$data/models/Wizard.glb" -p "source_a.path=$data/bvh/cmu_01_01.bvh" \
     -p "source_b.path=$data/bvh/bandai_walk.bvh" -p "source_c.path=$data/bvh/bandai_kick.bvh" \
     -p "export.path=$tmp/wizard3.glb" >/dev/null 2>"$tmp/err"; then ok; else ko "retarget-many: $(cat "$tmp/err")"; fi
