@@ -12,7 +12,7 @@ check_PROGRAMS += tests/match/test_analysis tests/match/test_similarity tests/ma
 TESTS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
 	tests/match/test_generated tests/match/test_mapfile tests/match/test_names \
 	tests/match/test_map_pipeline tests/match/test_corr
-EXTRA_DIST += tests/match/truth
+EXTRA_DIST += tests/match/truth/
 
 tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
 tests_match_test_analysis_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
