@@ -51,7 +51,7 @@ if run "$convert_p" -p "source.path=$model/textured-sheet.gltf" -p "export.path=
 else
     ko "a model with bad textures did not convert: $(cat "$tmp/err")"
 fi
-for want in "texture 'missing.png' left out: no such file" \
+for want in "texture 'missing.png' left out: not found beside the model" \
             "texture '../outside.png' left out: refused to read" \
             "outside the model's folder" \
             "texture 'notimage.png' is not a PNG or JPEG" \

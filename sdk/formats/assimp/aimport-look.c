@@ -166,8 +166,10 @@ static int32_t rf_ai_file_image(rf_ai_look *L, const char *name, const char *mat
         rf_ai_logf(c, 1, "%s: material '%s': texture '%s' left out: %s", c->path, material, name,
                    c->confine.refused);
     else if (!f)
-        rf_ai_logf(c, 1, "%s: material '%s': texture '%s' left out: no such file beside the model",
-                   c->path, material, name);
+        rf_ai_logf(
+            c, 1,
+            "%s: material '%s': texture '%s' left out: not found beside the model, or not readable",
+            c->path, material, name);
     size_t n = 0;
     unsigned char *bytes = f ? rf_ai_read_all(&c->io, f, &n) : NULL;
     if (f && !bytes)
