@@ -8,7 +8,8 @@
 # Wizard give three named animations, a one-frame BVH gives a valid file with a skin, a morph
 # target survives (a fixture: none of the data's models has one). Bad textures
 # (missing, outside the model's folder, a link leading out, not an image) are left out with a
-# warning naming them.
+# warning naming them; one named by a path from another machine (C:\textures\good.png) is found
+# by its file name beside the model, with a warning.
 # Parts that need a tool (gltf-validator, three, assimp) say so; the test then ends as skipped
 # (77) unless something failed.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
@@ -55,7 +56,8 @@ for want in "texture 'missing.png' left out: not found beside the model" \
             "texture '../outside.png' left out: refused to read" \
             "outside the model's folder" \
             "texture 'notimage.png' is not a PNG or JPEG" \
-            "texture 'link.png' left out: refused to read"; do
+            "texture 'link.png' left out: refused to read" \
+            "its file name good.png was found beside the model and is used"; do
     if grep -q "$want" "$tmp/err"; then ok; else ko "no warning: $want"; cat "$tmp/err"; fi
 done
 if "$node" "$look" counts "$tmp/sheet.glb" | grep -q "materials=1 images=1 uvsets=1"; then ok; else

@@ -120,6 +120,16 @@ static int32_t rf_ai_embedded_image(rf_ai_look *L, int t, const char *name, cons
                            (const unsigned char *)tex->pcData, tex->mWidth);
 }
 
+/* The file name at the end of a texture path written on any system ('/', '\\' or a drive's ':'). */
+static const char *rf_ai_base_name(const char *name)
+{
+    const char *base = name;
+    for (const char *p = name; *p; p++)
+        if (*p == '/' || *p == '\\' || *p == ':')
+            base = p + 1;
+    return base;
+}
+
 /* The texture file's path: relative names are relative to the model's folder; Windows
  * separators are read as '/'. (transfer full) */
 static char *rf_ai_texture_path(const rf_ai_ctx *c, const char *name)
@@ -150,17 +160,49 @@ static unsigned char *rf_ai_read_all(struct aiFileIO *io, struct aiFile *f, size
     return b;
 }
 
+/* Opens a texture named `name`: as written, relative to the model's folder; when that file is
+ * missing (not refused) and the name has folders, by its file name beside the model, which is
+ * where a model carried from its author's machine (an FBX naming D:\\art\\skin.png) has it; a
+ * warning says so, since it is not the path the file names. NULL when neither is had.
+ * *path is the path opened or tried first. (transfer full: *path) */
+static struct aiFile *rf_ai_texture_open(rf_ai_look *L, const char *name, const char *material,
+                                         char **path)
+{
+    rf_ai_ctx *c = L->c;
+    unsigned refused = c->confine.refused_count;
+    struct aiFile *f =
+        (*path = rf_ai_texture_path(c, name)) ? c->io.OpenProc(&c->io, *path, "rb") : NULL;
+    const char *base = rf_ai_base_name(name);
+    if (f || !*path || c->confine.refused_count != refused || base == name || !*base)
+        return f;
+    char *beside = rf_ai_texture_path(c, base);
+    f = beside ? c->io.OpenProc(&c->io, beside, "rb") : NULL;
+    if (f) {
+        rf_ai_logf(c, 1,
+                   "%s: material '%s': texture '%s' is not where it says: its file name %s was "
+                   "found beside the model and is used",
+                   c->path, material, name, base);
+        free(*path);
+        *path = beside;
+    } else {
+        free(beside);
+    }
+    return f;
+}
+
 static int32_t rf_ai_file_image(rf_ai_look *L, const char *name, const char *material)
 {
     rf_ai_ctx *c = L->c;
-    char *path = rf_ai_texture_path(c, name);
-    if (!path)
-        return -1;
     unsigned refused = c->confine.refused_count;
     char before[sizeof c->confine.refused];
     memcpy(before, c->confine.refused, sizeof before);
     c->confine.refused[0] = '\0'; /* to hear this texture's own refusal */
-    struct aiFile *f = c->io.OpenProc(&c->io, path, "rb");
+    char *path = NULL;
+    struct aiFile *f = rf_ai_texture_open(L, name, material, &path);
+    if (!path) {
+        memcpy(c->confine.refused, before, sizeof before);
+        return -1;
+    }
     int32_t image = -1;
     if (!f && c->confine.refused_count != refused)
         rf_ai_logf(c, 1, "%s: material '%s': texture '%s' left out: %s", c->path, material, name,
