@@ -11,7 +11,8 @@ sdk_analysis_librigflow_analysis_la_SOURCES = \
 	sdk/analysis/body.c \
 	sdk/analysis/sections.c \
 	sdk/analysis/measure.c \
-	sdk/analysis/pose.c
+	sdk/analysis/pose.c \
+	sdk/analysis/roles.c
 sdk_analysis_librigflow_analysis_la_CFLAGS = $(AM_CFLAGS) $(SDK_LIB_CFLAGS)
 sdk_analysis_librigflow_analysis_la_LDFLAGS = $(SDK_LIB_LDFLAGS)
 sdk_analysis_librigflow_analysis_la_LIBADD = -lm

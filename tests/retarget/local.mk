@@ -20,6 +20,14 @@ tests_retarget_test_retarget_data_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_retarget_test_retarget_data_LDADD = sdk/formats/bvh/librigflow-bvh.la sdk/formats/assimp/librigflow-assimp.la \
 	$(RT_TEST_LDADD)
 
+check_PROGRAMS += tests/retarget/test_roles
+TESTS += tests/retarget/test_roles
+tests_retarget_test_roles_SOURCES = tests/retarget/test_roles.c tests/retarget/rt-fixtures.h
+tests_retarget_test_roles_CPPFLAGS = $(RT_TEST_CPPFLAGS)
+tests_retarget_test_roles_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_retarget_test_roles_LDADD = sdk/formats/assimp/librigflow-assimp.la \
+	sdk/analysis/librigflow-analysis.la $(CMOCKA_LIBS) -lm
+
 check_LTLIBRARIES += tests/retarget/fx_namemap.la
 tests_retarget_fx_namemap_la_SOURCES = tests/retarget/fx_namemap.c
 tests_retarget_fx_namemap_la_LDFLAGS = $(FIXTURE_LDFLAGS)

@@ -129,6 +129,9 @@ typedef struct rf_analysis_options {
     bool ignore_file_axes; /* do not use rf_skeleton.up/forward even as a hint */
 } rf_analysis_options;
 
+/* The cues facing is voted from (axes.c). */
+#define RF_FORWARD_CUE_COUNT 8
+
 typedef struct rf_analysis {
     uint32_t joint_count;
     rf_joint_info *joints; /* [joint_count] */
@@ -142,14 +145,23 @@ typedef struct rf_analysis {
     double symmetry;            /* fraction of off-plane joints with a mirror image, 0 .. 1 */
     const char *up_source;      /* "forced", "limbs", "file", "default": (static) */
     const char *forward_source; /* "forced", "feet", "knees", "head", "elevation", "file",
-                                 * "lean" (the top of the centerline), "default" */
+                                 * "lean" (the top of the centerline), "girdles", "hierarchy",
+                                 * "default" */
     rf_vec3 plane_normal;       /* symmetry plane (normal = left), through plane_point */
     rf_vec3 plane_point;
     double size;   /* diagonal of the bounding box of all pivots and tips, > 0 */
     double height; /* extent along up, > 0 */
     double ground; /* lowest height along up */
     int32_t root;  /* the root of the body tree, -1 when there are no joints */
+    /* How each facing cue voted, along the forward chosen: positive agreed, negative voted the
+     * other way, 0 said nothing; in the order of rf_forward_cue_names. All zero when forced. */
+    double forward_cues[RF_FORWARD_CUE_COUNT];
 } rf_analysis;
+
+/* "feet", "knees", "head", "elevation", "file", "lean", "girdles", "hierarchy" (static) */
+extern const char *const rf_forward_cue_names[RF_FORWARD_CUE_COUNT];
+/* The strongest cue that voted against the chosen forward, or -1 when none did. */
+int rf_forward_dissent(const rf_analysis *a);
 
 /* Analyses a skeleton. `opts` may be NULL. Returns NULL only when out of memory.
  * (transfer full: free with rf_analysis_free) */
@@ -196,6 +208,51 @@ rf_skeleton *rf_posed_mean(const rf_skeleton *skeleton, const rf_animation *anim
  * limbs that mirror a limb of as many bones (the mean on ties). *frame gets the frame, or -1
  * for the mean pose. Same terms as rf_posed_view. */
 rf_skeleton *rf_posed_best(const rf_skeleton *skeleton, const rf_animation *anim, int32_t *frame);
+
+/* ---- joint roles (roles.c) ---- */
+
+/* What a joint is for in a rigged character, beside the body's own joints. Found from geometry,
+ * skin weights and motion (weighted or not, ever turned by a clip, on or off the body), never
+ * from names. Placement and axis-conversion nodes never drive or receive body motion; helpers
+ * are placed from the body joint they belong to. */
+typedef enum rf_joint_role {
+    RF_ROLE_BODY = 0,  /* carries skin, or moves joints that do */
+    RF_ROLE_PLACEMENT, /* an unweighted joint above the body that only places it: never turned by
+                        * a clip, or (without clips) standing on the floor below the body */
+    RF_ROLE_AXIS,      /* an unweighted, never-turned joint above or inside the body whose rest
+                        * only turns or scales what hangs from it (an axis or unit conversion) */
+    RF_ROLE_IK_TARGET, /* an unweighted joint carrying no body that sits on a body joint at rest
+                        * (where an engine's IK pulls that joint) */
+    RF_ROLE_IK_POLE,   /* an unweighted joint carrying no body, off the body, nearest the middle
+                        * joint of a limb (where the knee or elbow points) */
+    RF_ROLE_HELPER,    /* any other unweighted joint carrying no body (sockets, end markers) */
+    RF_ROLE_COUNT
+} rf_joint_role;
+
+typedef struct rf_joint_roles {
+    uint32_t joint_count;
+    uint8_t *role;       /* [joint_count] rf_joint_role */
+    int32_t *body_joint; /* [joint_count] IK targets, poles and helpers: the body joint they sit
+                          * on or next to at rest (-1 when the skeleton has no body); -1 for the
+                          * others */
+    uint8_t *weighted;   /* [joint_count] 1 when it carries skin (or nothing says otherwise) */
+    uint8_t *turned;     /* [joint_count] 1 when a clip changes its rotation */
+} rf_joint_roles;
+
+/* The roles of every joint of `s`. `mesh` (may be NULL) says which joints carry skin weights
+ * (without it, rf_joint.flags do; without either every joint is weighted); `clips` (clip_count
+ * of them, may be NULL; clips for another joint count are skipped) say which joints move.
+ * NULL only when out of memory. (transfer full: rf_joint_roles_free) */
+rf_joint_roles *rf_joint_roles_find(const rf_skeleton *s, const rf_mesh *mesh,
+                                    const rf_animation *const *clips, uint32_t clip_count);
+void rf_joint_roles_free(rf_joint_roles *r);
+/* "body", "placement", "axis", "ik-target", "ik-pole", "helper" (static) */
+const char *rf_joint_role_name(rf_joint_role role);
+/* Whether the role keeps a joint out of body motion (placement, axis conversion). */
+static inline bool rf_joint_role_is_frame(rf_joint_role role)
+{
+    return role == RF_ROLE_PLACEMENT || role == RF_ROLE_AXIS;
+}
 
 #ifdef __cplusplus
 }
