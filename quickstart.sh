@@ -18,7 +18,7 @@ debs=(build-essential autoconf automake libtool pkg-config libltdl-dev libassimp
       libjansson-dev libglib2.0-dev libcmocka-dev assimp-utils assimp-testmodels nodejs npm
       clang libclang-rt-14-dev valgrind strace
       libsuitesparse-dev libembree-dev libmeshoptimizer-dev chromium libjs-three slurm-wlm munge
-      nettle-dev)
+      nettle-dev blender)
 
 say() { printf '==> %s\n' "$*" >&2; }
 

@@ -112,6 +112,38 @@ static void rf_inspect_clips(const rf_clip_list *clips, const rf_animation *a)
     }
 }
 
+/* The look: counts, then one line per material (its name escaped: bytes from the file). */
+static void rf_inspect_look(const rf_mesh *m)
+{
+    static const char *const modes[] = {"opaque", "mask", "blend"};
+    if (!RF_HAS_FIELD(m, rf_mesh, images))
+        return;
+    printf("look: %u materials, %u images, %u UV sets, %s, %s, %u morph targets\n",
+           m->material_count, m->image_count, m->uv_set_count,
+           m->colors ? "vertex colours" : "no vertex colours",
+           m->tangents ? "tangents" : "no tangents",
+           RF_HAS_FIELD(m, rf_mesh, morph_targets) ? m->morph_target_count : 0);
+    for (uint32_t i = 0; i < m->material_count && m->materials; i++) {
+        const rf_material *t = m->materials[i];
+        if (!t)
+            continue;
+        g_autofree char *name = rf_printable(t->name ? t->name : "");
+        printf("  %-2u %-24s base colour %.3g %.3g %.3g %.3g", i, name, t->base_color[0],
+               t->base_color[1], t->base_color[2], t->base_color[3]);
+        if (t->base_color_texture.image >= 0 &&
+            (uint32_t)t->base_color_texture.image < m->image_count)
+            printf(" x image %d (%s, %zu bytes)", t->base_color_texture.image,
+                   m->images[t->base_color_texture.image]->mime_type,
+                   m->images[t->base_color_texture.image]->byte_count);
+        printf(", metallic %.3g, roughness %.3g%s%s%s, %s%s\n", t->metallic, t->roughness,
+               t->normal_texture.image >= 0 ? ", normal map" : "",
+               t->occlusion_texture.image >= 0 ? ", occlusion map" : "",
+               t->emissive_texture.image >= 0 ? ", emissive map" : "",
+               modes[t->alpha_mode <= 2 ? t->alpha_mode : 0],
+               t->double_sided ? ", double-sided" : "");
+    }
+}
+
 static void rf_inspect_mesh(const rf_mesh *m)
 {
     if (!m || !m->vertex_count) {
@@ -126,6 +158,7 @@ static void rf_inspect_mesh(const rf_mesh *m)
         printf("  %-2u %-32s %u vertices, %u triangles\n", i, name, m->parts[i].vertex_count,
                m->parts[i].triangle_count);
     }
+    rf_inspect_look(m);
 }
 
 /* ---- the command ---- */

@@ -22,8 +22,10 @@ static const rf_node_desc rf_assimp_import = {
     .type = "assimp.import",
     .kind = RF_KIND_IMPORTER,
     .doc = "Imports a rigged model through Assimp: skeleton (skin bones, their ancestors and "
-           "animated helpers, flagged unweighted), one clip resampled to a fixed rate, every mesh "
-           "merged and skinned to that skeleton, and the list of clips. See doc/formats.md.",
+           "animated helpers, flagged unweighted), one clip (or, with clip *, every clip) "
+           "resampled to a fixed rate, every mesh merged and skinned to that skeleton with its "
+           "materials, textures, UV sets, colours and morph targets, and the list of clips. See "
+           "doc/formats.md.",
     .output_count = RF_AI_NODE_OUTPUT_COUNT,
     .outputs = rf_ai_node_outputs,
     .param_count = RF_AI_NODE_PARAM_COUNT,

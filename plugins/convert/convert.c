@@ -12,6 +12,7 @@
  * what each format keeps.
  */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
@@ -99,11 +100,33 @@ static const rf_node_desc rf_cv_import_desc = {
 
 static const rf_port_desc rf_cv_export_inputs[] = {
     {sizeof(rf_port_desc), "skeleton", RF_TYPE_SKELETON, 0, "the skeleton to write"},
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
-     "its motion (without it: the rest pose)"},
+    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL | RF_PORT_MULTIPLE,
+     "its motion, one or more clips (glTF writes each as a named animation; BVH takes one); "
+     "without it: the rest pose"},
     {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
-     "a mesh skinned to the skeleton (glTF only; BVH has no meshes)"},
+     "a mesh skinned to the skeleton, with its materials and textures (glTF only; BVH has no "
+     "meshes)"},
+    {sizeof(rf_port_desc), "clips", RF_TYPE_CLIPS, RF_PORT_OPTIONAL,
+     "an importer's clip list: when it holds every clip's motion (clip *), those clips are "
+     "written instead of the animation input"},
 };
+
+/* The clips to write: the clip list's motions when it holds any, else the animation inputs.
+ * (transfer container: the array is the caller's, the clips are borrowed) */
+static const rf_animation **rf_cv_export_clips(const rf_host *host, rf_node *node, uint32_t *count)
+{
+    const rf_clip_list *l = host->input_count(node, "clips") ? host->input(node, "clips", 0) : NULL;
+    bool from_list = l && RF_HAS_FIELD(l, rf_clip_list, animations) && l->animations;
+    uint32_t n = from_list ? l->count : host->input_count(node, "animation");
+    const rf_animation **a = calloc(n ? n : 1, sizeof *a);
+    *count = 0;
+    for (uint32_t i = 0; a && i < n; i++) {
+        const rf_animation *clip = from_list ? l->animations[i] : host->input(node, "animation", i);
+        if (clip)
+            a[(*count)++] = clip;
+    }
+    return a;
+}
 
 static const rf_param_desc rf_cv_export_params[] = {
     {sizeof(rf_param_desc), "path", RF_PARAM_OUTPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
@@ -130,8 +153,6 @@ static bool rf_cv_export(void *self, const rf_host *host, rf_node *node)
     const char *target = host->param_output_target(node, "path");
     const char *ext = rf_cv_ext(target && *target ? target : path);
     const rf_skeleton *s = host->input(node, "skeleton", 0);
-    const rf_animation *a =
-        host->input_count(node, "animation") ? host->input(node, "animation", 0) : NULL;
     const rf_mesh *m = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
     char err[1024];
     bool ok;
@@ -139,18 +160,31 @@ static bool rf_cv_export(void *self, const rf_host *host, rf_node *node)
         host->error(node, "no skeleton on input 'skeleton'");
         return false;
     }
+    uint32_t n;
+    const rf_animation **a = rf_cv_export_clips(host, node, &n);
+    if (!a) {
+        host->error(node, "out of memory");
+        return false;
+    }
     if (strcasecmp(ext, ".glb") == 0 || strcasecmp(ext, ".gltf") == 0) {
         rf_gltf_write_opts o = {.binary = strcasecmp(ext, ".glb") == 0};
-        ok = rf_gltf_write_file(path, target, s, a, m, &o, err, sizeof err);
+        ok = rf_gltf_write_clips(path, target, s, a, n, m, &o, err, sizeof err);
     } else if (strcasecmp(ext, ".bvh") == 0) {
         if (m && m->vertex_count)
             host->log(node, RF_LOG_INFO, "%s: BVH keeps no mesh; the mesh is left out", target);
-        ok = rf_bvh_write_file(path, target, s, a, NULL, err, sizeof err);
+        if (n > 1)
+            host->log(node, RF_LOG_WARNING,
+                      "%s: BVH holds one clip; the first of %u is written, the others are left "
+                      "out (write .glb to keep them all)",
+                      target, n);
+        ok = rf_bvh_write_file(path, target, s, n ? a[0] : NULL, NULL, err, sizeof err);
     } else {
         host->error(node, "%s: unknown output format '%s': expected .glb, .gltf or .bvh", target,
                     ext);
+        free(a);
         return false;
     }
+    free(a);
     if (!ok)
         host->error(node, "%s", err);
     return ok;
@@ -161,9 +195,10 @@ static const rf_node_desc rf_cv_export_desc = {
     .type = "export",
     .kind = RF_KIND_EXPORTER,
     .doc = "Writes a skeleton with its motion (and mesh, for glTF) in the format the output's "
-           "extension names: .glb or .gltf (glTF 2.0: nodes, skin, skinned mesh, animation) or "
-           ".bvh (rest rotations baked in: the zero-rotation pose is the rest pose).",
-    .input_count = 3,
+           "extension names: .glb or .gltf (glTF 2.0: nodes, skin, skinned mesh with materials "
+           "and embedded images, one named animation per clip) or .bvh (one clip; rest "
+           "rotations baked in: the zero-rotation pose is the rest pose).",
+    .input_count = sizeof rf_cv_export_inputs / sizeof rf_cv_export_inputs[0],
     .inputs = rf_cv_export_inputs,
     .param_count = 1,
     .params = rf_cv_export_params,

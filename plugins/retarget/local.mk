@@ -18,4 +18,4 @@ plugins_retarget_la_SOURCES = plugins/retarget/plugin.c
 plugins_retarget_la_LDFLAGS = $(PLUGIN_LDFLAGS)
 plugins_retarget_la_LIBADD = plugins/retarget/libretarget.la sdk/analysis/librigflow-analysis.la
 
-dist_pipelines_DATA += pipelines/retarget.json
+dist_pipelines_DATA += pipelines/retarget.json pipelines/retarget-many.json

@@ -25,3 +25,12 @@ tests_import_test_bvh_gltf_LDADD = sdk/formats/assimp/librigflow-assimp.la sdk/f
 # pipelines/convert.json end to end (import and export nodes of plugins/convert).
 TESTS += tests/import/test_convert.sh
 EXTRA_DIST += tests/import/test_convert.sh
+
+# GLB exports keep the look and every clip: every model converted and retargeted, validated,
+# counted against Assimp, read by three.js; bad textures left out with warnings.
+TESTS += tests/gltf/test_export.sh
+EXTRA_DIST += tests/gltf/test_export.sh tests/gltf/look.js tests/fixtures/textures/textured-sheet.gltf
+
+# Blender's glTF importer on the exports (one headless run, a few seconds).
+TESTS += tests/gltf/test_blender.sh
+EXTRA_DIST += tests/gltf/test_blender.sh tests/gltf/blender_check.py

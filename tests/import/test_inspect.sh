@@ -30,6 +30,10 @@ if [ -f "$data/Fox.glb" ]; then
     check "unknown clip" 1 "no clip 'Gallop'" "$rigflow" inspect --clip Gallop "$data/Fox.glb"
     check "spider meshes" 0 "skeleton: 0 joints" "$rigflow" inspect "$data/spider.fbx"
     check "BCN meshes" 0 "meshes: 3 merged" "$rigflow" inspect "$data/BCN_Epileptic.X"
+    # Fox.glb's JSON: one material (metallic 0, roughness 0.58) with a PNG base colour texture
+    check "Fox look" 0 "look: 1 materials, 1 images, 1 UV sets" "$rigflow" inspect "$data/Fox.glb"
+    check "Fox material" 0 "fox_material .* x image 0 (image/png, .*metallic 0, roughness 0.58, opaque" \
+        "$rigflow" inspect "$data/Fox.glb"
 else
     echo "RF_DATA_DIR/models not found (../shared/data): data checks skipped"
 fi

@@ -139,8 +139,8 @@ bool rf_ai_select_clip(rf_ai_ctx *c, const char *spec, int *index)
     const struct aiScene *s = c->scene;
     unsigned n = s->mNumAnimations;
     *index = n ? 0 : -1;
-    if (!spec || !*spec)
-        return true;
+    if (!spec || !*spec || strcmp(spec, RF_AI_ALL_CLIPS) == 0)
+        return true; /* every clip: the first is the one on the animation output */
     bool digits = true;
     for (const char *p = spec; *p; p++)
         digits = digits && isdigit((unsigned char)*p);

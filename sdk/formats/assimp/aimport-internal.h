@@ -5,8 +5,10 @@
 
 #include <stdint.h>
 
+#include <assimp/cfileio.h>
 #include <assimp/scene.h>
 
+#include "aimport-io.h"
 #include "rigflow/aimport.h"
 
 typedef struct rf_ai_ctx {
@@ -16,6 +18,8 @@ typedef struct rf_ai_ctx {
     void *user;
     char *err;
     size_t err_size;
+    rf_ai_confine confine; /* what Assimp, and the texture reader, may open */
+    struct aiFileIO io;
 
     /* Every node of the scene in depth-first pre-order (parents before children). */
     unsigned node_count;
@@ -53,6 +57,10 @@ rf_mat4 rf_ai_joint_node_local(const rf_ai_ctx *c, unsigned j);
 /* aimport-mesh.c: merges every mesh instance into one mesh; NULL result with true when the scene
  * has no triangles. */
 bool rf_ai_build_mesh(rf_ai_ctx *c, rf_mesh **out);
+
+/* aimport-look.c: the materials of the parts (part_mesh: [part] aiMesh index) and their images
+ * into m; textures that cannot be had are left out with a warning. False when out of memory. */
+bool rf_ai_build_materials(rf_ai_ctx *c, rf_mesh *m, const unsigned *part_mesh);
 
 /* aimport-anim.c */
 bool rf_ai_list_clips(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r);

@@ -9,6 +9,7 @@
  * weights keep the four largest per vertex, normalised to sum to 1.
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,7 +22,20 @@ typedef struct rf_ai_mesh_build {
     uint32_t v, t, p;    /* vertices, triangles and parts written so far */
     uint32_t unweighted; /* skinned vertices that had no weight at all */
     bool any_normals;
+    unsigned *part_mesh; /* [part] the aiMesh each part came from */
+    uint32_t uv_sets;    /* texture coordinate sets kept (the most any part has, at most 2) */
+    bool colors;         /* some part has vertex colours */
+    bool tangents;       /* every part has tangents and normals */
+    bool morphs_capped;  /* morph targets past the memory bound were left out */
 } rf_ai_mesh_build;
+
+static uint32_t rf_ai_uv_sets(const struct aiMesh *mesh)
+{
+    uint32_t n = 0;
+    while (n < RF_MESH_MAX_UV_SETS && mesh->mTextureCoords[n])
+        n++;
+    return n;
+}
 
 static bool rf_ai_has_triangles(const struct aiMesh *mesh)
 {
@@ -51,7 +65,17 @@ static bool rf_ai_mesh_alloc(rf_ai_mesh_build *b, size_t verts, size_t tris, uns
     m->normals = calloc(verts * 3, sizeof(float));
     m->triangles = calloc(tris ? tris * 3 : 1, sizeof(uint32_t));
     m->parts = calloc(parts, sizeof *m->parts);
-    bool ok = m->positions && m->normals && m->triangles && m->parts;
+    for (uint32_t k = 0; k < b->uv_sets; k++)
+        m->uvs[k] = calloc(verts ? verts * 2 : 2, sizeof(float));
+    m->uv_set_count = b->uv_sets;
+    if (b->colors)
+        m->colors = calloc(verts ? verts * 4 : 4, sizeof(float));
+    if (b->tangents)
+        m->tangents = calloc(verts ? verts * 4 : 4, sizeof(float));
+    b->part_mesh = calloc(parts, sizeof *b->part_mesh);
+    bool ok = m->positions && m->normals && m->triangles && m->parts && b->part_mesh &&
+              (!b->uv_sets || m->uvs[0]) && (b->uv_sets < 2 || m->uvs[1]) &&
+              (!b->colors || m->colors) && (!b->tangents || m->tangents);
     if (b->skinned) {
         m->skin_joints = calloc(verts * 4, sizeof(uint16_t));
         m->skin_weights = calloc(verts * 4, sizeof(float));
@@ -113,6 +137,107 @@ static void rf_ai_copy_vertices(rf_ai_mesh_build *b, const struct aiMesh *mesh, 
     }
 }
 
+/* Texture coordinates (glTF's origin: Assimp's v runs upwards, glTF's downwards), vertex
+ * colours (white where a part has none) and tangents with their handedness. */
+static void rf_ai_copy_look(rf_ai_mesh_build *b, const struct aiMesh *mesh, rf_mat4 to_model)
+{
+    rf_mesh *m = b->m;
+    for (unsigned i = 0; i < mesh->mNumVertices; i++) {
+        size_t v = b->v + i;
+        for (uint32_t k = 0; k < b->uv_sets; k++) {
+            const struct aiVector3D *uv =
+                mesh->mTextureCoords[k] ? &mesh->mTextureCoords[k][i] : NULL;
+            m->uvs[k][v * 2] = uv ? uv->x : 0.0f;
+            m->uvs[k][v * 2 + 1] = uv ? 1.0f - uv->y : 0.0f;
+        }
+        if (b->colors) {
+            const struct aiColor4D *col = mesh->mColors[0] ? &mesh->mColors[0][i] : NULL;
+            float *d = m->colors + v * 4;
+            d[0] = col ? col->r : 1.0f, d[1] = col ? col->g : 1.0f;
+            d[2] = col ? col->b : 1.0f, d[3] = col ? col->a : 1.0f;
+        }
+        if (b->tangents) {
+            const struct aiVector3D *t = &mesh->mTangents[i], *n = &mesh->mNormals[i];
+            rf_vec3 tv = rf_v3_normalize(rf_mat4_dir(to_model, rf_v3(t->x, t->y, t->z)));
+            rf_vec3 nv = rf_mat4_dir(to_model, rf_v3(n->x, n->y, n->z));
+            double w = 1.0;
+            if (mesh->mBitangents) {
+                const struct aiVector3D *bt = &mesh->mBitangents[i];
+                rf_vec3 bv = rf_mat4_dir(to_model, rf_v3(bt->x, bt->y, bt->z));
+                w = rf_v3_dot(rf_v3_cross(nv, tv), bv) < 0 ? -1.0 : 1.0;
+            }
+            float *d = m->tangents + v * 4;
+            d[0] = (float)tv.x, d[1] = (float)tv.y, d[2] = (float)tv.z, d[3] = (float)w;
+        }
+    }
+}
+
+#define RF_AI_MORPH_BYTES_MAX ((size_t)1 << 30) /* all targets' displacements together */
+
+/* The merged mesh's target named `name`, made (zero everywhere) when new; NULL when out of memory
+ * or past the memory bound (warned once). */
+static rf_morph_target *rf_ai_morph_target(rf_ai_mesh_build *b, const char *name, bool normals)
+{
+    rf_mesh *m = b->m;
+    for (uint32_t i = 0; i < m->morph_target_count; i++)
+        if (strcmp(m->morph_targets[i]->name, name) == 0)
+            return m->morph_targets[i];
+    size_t bytes = (size_t)m->vertex_count * 24;
+    if ((size_t)(m->morph_target_count + 1) * bytes > RF_AI_MORPH_BYTES_MAX) {
+        if (!b->morphs_capped)
+            rf_ai_logf(b->c, 1,
+                       "%s: morph target '%s' and later ones left out: more than 1 GiB of "
+                       "displacements",
+                       b->c->path, name);
+        b->morphs_capped = true;
+        return NULL;
+    }
+    rf_morph_target **grown =
+        realloc(m->morph_targets, (m->morph_target_count + 1) * sizeof *grown);
+    if (!grown)
+        return NULL;
+    m->morph_targets = grown;
+    rf_morph_target *t = rf_morph_target_new(name, m->vertex_count);
+    if (t && normals && !(t->normals = calloc((size_t)m->vertex_count * 3 + 3, sizeof(float)))) {
+        rf_morph_target_free(t);
+        t = NULL;
+    }
+    if (t)
+        m->morph_targets[m->morph_target_count++] = t;
+    return t;
+}
+
+/* Morph targets: Assimp gives each as a whole replacement mesh (aiAnimMesh); rigflow keeps the
+ * displacement from the base, in model space, merged by name across parts. */
+static void rf_ai_copy_morphs(rf_ai_mesh_build *b, const struct aiMesh *mesh, rf_mat4 to_model)
+{
+    for (unsigned k = 0; k < mesh->mNumAnimMeshes; k++) {
+        const struct aiAnimMesh *am = mesh->mAnimMeshes[k];
+        if (!am || !am->mVertices || am->mNumVertices != mesh->mNumVertices)
+            continue;
+        char name[64];
+        snprintf(name, sizeof name, "morph%u", k);
+        bool normals = am->mNormals && mesh->mNormals;
+        rf_morph_target *t =
+            rf_ai_morph_target(b, am->mName.data[0] ? am->mName.data : name, normals);
+        if (!t)
+            return;
+        t->weight = isfinite(am->mWeight) ? am->mWeight : 0.0f;
+        for (unsigned i = 0; i < mesh->mNumVertices; i++) {
+            const struct aiVector3D *p = &am->mVertices[i], *q = &mesh->mVertices[i];
+            rf_vec3 d = rf_mat4_dir(to_model, rf_v3(p->x - q->x, p->y - q->y, p->z - q->z));
+            float *dst = t->positions + (size_t)(b->v + i) * 3;
+            dst[0] = (float)d.x, dst[1] = (float)d.y, dst[2] = (float)d.z;
+            if (!normals || !t->normals)
+                continue;
+            const struct aiVector3D *n = &am->mNormals[i], *n0 = &mesh->mNormals[i];
+            rf_vec3 dn = rf_mat4_dir(to_model, rf_v3(n->x - n0->x, n->y - n0->y, n->z - n0->z));
+            float *nd = t->normals + (size_t)(b->v + i) * 3;
+            nd[0] = (float)dn.x, nd[1] = (float)dn.y, nd[2] = (float)dn.z;
+        }
+    }
+}
+
 static bool rf_ai_copy_triangles(rf_ai_mesh_build *b, const struct aiMesh *mesh)
 {
     for (unsigned f = 0; f < mesh->mNumFaces; f++) {
@@ -164,13 +289,17 @@ static void rf_ai_copy_skin(rf_ai_mesh_build *b, int node, const struct aiMesh *
 static bool rf_ai_add_instance(rf_ai_mesh_build *b, int node, unsigned mesh_index)
 {
     const struct aiMesh *mesh = b->c->scene->mMeshes[mesh_index];
+    b->part_mesh[b->p] = mesh_index;
     rf_mesh_part *part = &b->m->parts[b->p++];
     const char *name = mesh->mName.data[0] ? mesh->mName.data : b->c->nodes[node]->mName.data;
     part->name = rf_ai_strdup(name);
     b->any_normals |= mesh->mNormals != NULL;
     part->first_vertex = b->v, part->vertex_count = mesh->mNumVertices;
     part->first_triangle = b->t;
-    rf_ai_copy_vertices(b, mesh, rf_ai_mesh_to_model(b->c, node, mesh_index));
+    rf_mat4 to_model = rf_ai_mesh_to_model(b->c, node, mesh_index);
+    rf_ai_copy_vertices(b, mesh, to_model);
+    rf_ai_copy_look(b, mesh, to_model);
+    rf_ai_copy_morphs(b, mesh, to_model);
     if (!rf_ai_copy_triangles(b, mesh))
         return false;
     part->triangle_count = b->t - part->first_triangle;
@@ -196,6 +325,7 @@ bool rf_ai_build_mesh(rf_ai_ctx *c, rf_mesh **out)
     const struct aiScene *s = c->scene;
     size_t verts = 0, tris = 0;
     unsigned parts = 0;
+    rf_ai_mesh_build b = {.c = c, .skinned = c->joint_count > 0, .tangents = true};
     *out = NULL;
     for (unsigned i = 0; i < c->node_count; i++)
         for (unsigned k = 0; k < c->nodes[i]->mNumMeshes; k++) {
@@ -205,13 +335,16 @@ bool rf_ai_build_mesh(rf_ai_ctx *c, rf_mesh **out)
                                   s->mNumMeshes);
             if (!rf_ai_has_triangles(s->mMeshes[mi]))
                 continue;
+            const struct aiMesh *mesh = s->mMeshes[mi];
+            b.uv_sets = rf_ai_uv_sets(mesh) > b.uv_sets ? rf_ai_uv_sets(mesh) : b.uv_sets;
+            b.colors |= mesh->mColors[0] != NULL;
+            b.tangents &= mesh->mTangents && mesh->mNormals;
             verts += s->mMeshes[mi]->mNumVertices;
             tris += rf_ai_triangle_count(s->mMeshes[mi]);
             parts++;
         }
     if (!parts)
         return true;
-    rf_ai_mesh_build b = {.c = c, .skinned = c->joint_count > 0};
     bool ok = rf_ai_mesh_alloc(&b, verts, tris, parts);
     for (unsigned i = 0; ok && i < c->node_count; i++)
         for (unsigned k = 0; ok && k < c->nodes[i]->mNumMeshes; k++) {
@@ -219,11 +352,15 @@ bool rf_ai_build_mesh(rf_ai_ctx *c, rf_mesh **out)
             if (rf_ai_has_triangles(s->mMeshes[mi]))
                 ok = rf_ai_add_instance(&b, (int)i, mi);
         }
+    if (ok) {
+        b.m->part_count = b.p;
+        ok = rf_ai_build_materials(c, b.m, b.part_mesh);
+    }
+    free(b.part_mesh);
     if (!ok) {
         rf_mesh_free(b.m);
         return false;
     }
-    b.m->part_count = b.p;
     if (!b.any_normals) {
         free(b.m->normals);
         b.m->normals = NULL;

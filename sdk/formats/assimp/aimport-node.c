@@ -10,7 +10,8 @@ const rf_param_desc rf_ai_node_params[RF_AI_NODE_PARAM_COUNT] = {
     {sizeof(rf_param_desc), "path", RF_PARAM_INPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
      "the model file (anything Assimp reads: glTF/GLB, FBX, .x, Collada, B3D, Ogre, MD5...)"},
     {sizeof(rf_param_desc), "clip", RF_PARAM_STRING, 0, 0, "", 0, 0, NULL,
-     "the clip to import, by name or index; empty for the first (the clips output lists them)"},
+     "the clip to import, by name or index; empty for the first (the clips output lists them); "
+     "* imports every clip onto the clips output (the first is also the animation)"},
     {sizeof(rf_param_desc), "rest_pose", RF_PARAM_ENUM, 0, 0, "bind", 0, 0, "bind|node",
      "rest pose: bind (default: the pose the mesh was skinned in, so the skeleton fits the mesh) "
      "or node (the scene nodes' transforms); both are kept in the skeleton's bind field"},
@@ -29,8 +30,10 @@ const rf_port_desc rf_ai_node_outputs[RF_AI_NODE_OUTPUT_COUNT] = {
     {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0,
      "the chosen clip resampled to a fixed rate (one rest frame when the file has no clip)"},
     {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, 0,
-     "every mesh merged, skinned to the skeleton (top 4 weights), inverse binds; may be empty"},
-    {sizeof(rf_port_desc), "clips", RF_TYPE_CLIPS, 0, "every clip in the file and which was used"},
+     "every mesh merged, skinned to the skeleton (top 4 weights), inverse binds, with its "
+     "materials, images, UV sets, colours, tangents and morph targets; may be empty"},
+    {sizeof(rf_port_desc), "clips", RF_TYPE_CLIPS, 0,
+     "every clip in the file and which was used; with clip *, each one's motion too"},
 };
 
 typedef struct rf_ai_node_log {
@@ -50,6 +53,8 @@ static rf_clip_list *rf_ai_node_clips(rf_ai_result *r)
     if (!l)
         return NULL;
     l->selected = r->selected_clip;
+    l->animations = r->clip_animations; /* moved too (NULL unless every clip was imported) */
+    r->clip_animations = NULL;
     for (uint32_t i = 0; i < r->clip_count; i++) {
         l->clips[i].name = r->clips[i].name; /* moved: the result forgets them below */
         r->clips[i].name = NULL;

@@ -159,9 +159,9 @@ static const struct aiScene *rf_ai_load(rf_ai_ctx *c)
     if (!rf_ai_glb_length_ok(c))
         return NULL;
     /* Assimp reads only the model and files in its folder (aimport-io.c). */
-    rf_ai_confine cf;
-    struct aiFileIO io;
-    if (!rf_ai_confine_init(&cf, c->path, &io)) {
+    rf_ai_confine *cf = &c->confine;
+    struct aiFileIO *io = &c->io;
+    if (!rf_ai_confine_init(cf, c->path, io)) {
         rf_ai_fail(c, "cannot resolve the model's folder: %s", strerror(errno));
         return NULL;
     }
@@ -170,26 +170,27 @@ static const struct aiScene *rf_ai_load(rf_ai_ctx *c)
     aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, 0);
     unsigned flags = aiProcess_Triangulate | aiProcess_SortByPType;
     const struct aiScene *s =
-        aiImportFileExWithProperties(c->path, flags | aiProcess_ValidateDataStructure, &io, props);
+        aiImportFileExWithProperties(c->path, flags | aiProcess_ValidateDataStructure, io, props);
     if (!s) {
         /* Some files (every B3D creature here) fail validation only for keys past the clip's end;
          * import without the step and clamp the keys while resampling. */
         char first[512];
         snprintf(first, sizeof first, "%s", aiGetErrorString());
-        s = aiImportFileExWithProperties(c->path, flags, &io, props);
+        s = aiImportFileExWithProperties(c->path, flags, io, props);
         if (s)
             rf_ai_logf(c, 1,
                        "%s: Assimp's validation failed (%s); imported without it, keys outside a "
                        "clip are clamped",
                        c->path, first);
         else
-            rf_ai_fail(c, "Assimp cannot read it: %s%s%s", first, cf.refused[0] ? "; " : "",
-                       cf.refused);
+            rf_ai_fail(c, "Assimp cannot read it: %s%s%s", first, cf->refused[0] ? "; " : "",
+                       cf->refused);
     }
-    if (s && cf.refused[0])
-        rf_ai_logf(c, 1, "%s: %s (%u reads refused)", c->path, cf.refused, cf.refused_count);
+    if (s && cf->refused[0])
+        rf_ai_logf(c, 1, "%s: %s (%u reads refused)", c->path, cf->refused, cf->refused_count);
     aiReleasePropertyStore(props);
-    rf_ai_confine_clear(&cf);
+    /* the confinement stays for the textures (aimport-look.c); rf_ai_ctx_free clears it */
+    cf->refused[0] = '\0', cf->refused_count = 0;
     return s;
 }
 
@@ -383,6 +384,7 @@ static void rf_ai_ctx_free(rf_ai_ctx *c)
     free(c->bind_global);
     free(c->mesh_space);
     free(c->by_name);
+    rf_ai_confine_clear(&c->confine);
     if (c->scene)
         aiReleaseImport(c->scene);
 }
@@ -741,9 +743,13 @@ void rf_ai_result_clear(rf_ai_result *r)
     rf_skeleton_free(r->skeleton);
     rf_animation_free(r->animation);
     rf_mesh_free(r->mesh);
-    for (unsigned i = 0; i < r->clip_count; i++)
+    for (unsigned i = 0; i < r->clip_count; i++) {
         free(r->clips[i].name);
+        if (r->clip_animations)
+            rf_animation_free(r->clip_animations[i]);
+    }
     free(r->clips);
+    free(r->clip_animations);
     memset(r, 0, sizeof *r);
     r->selected_clip = -1;
 }
@@ -788,9 +794,19 @@ static bool rf_ai_run(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
     rf_ai_axes(c, r->skeleton);
     if (!rf_ai_list_clips(c, o, r) || !rf_ai_select_clip(c, o->clip, &r->selected_clip))
         return false;
-    return rf_ai_build_animation(c, r->skeleton, r->selected_clip,
-                                 r->selected_clip >= 0 ? &r->clips[r->selected_clip] : NULL,
-                                 &r->animation);
+    if (!rf_ai_build_animation(c, r->skeleton, r->selected_clip,
+                               r->selected_clip >= 0 ? &r->clips[r->selected_clip] : NULL,
+                               &r->animation))
+        return false;
+    if (!o->clip || strcmp(o->clip, RF_AI_ALL_CLIPS) != 0 || !r->clip_count)
+        return true;
+    r->clip_animations = calloc(r->clip_count, sizeof *r->clip_animations);
+    if (!r->clip_animations)
+        return rf_ai_fail(c, "out of memory for %u clips", r->clip_count);
+    for (unsigned i = 0; i < r->clip_count; i++)
+        if (!rf_ai_build_animation(c, r->skeleton, (int)i, &r->clips[i], &r->clip_animations[i]))
+            return false;
+    return true;
 }
 
 typedef struct rf_ai_job {

@@ -6,6 +6,7 @@ sdk_formats_assimp_librigflow_assimp_la_SOURCES = \
 	sdk/formats/assimp/aimport-internal.h \
 	sdk/formats/assimp/aimport.c \
 	sdk/formats/assimp/aimport-mesh.c \
+	sdk/formats/assimp/aimport-look.c \
 	sdk/formats/assimp/aimport-anim.c \
 	sdk/formats/assimp/aimport-node.c \
 	sdk/formats/assimp/aimport-io.h \

@@ -32,6 +32,13 @@ typedef struct rf_gw {
     unsigned char *buf;
     size_t len, cap;
     json_t *views, *accessors;
+    json_t *images, *samplers, *textures; /* filled by the materials (rf_gw_materials) */
+    json_t *texture_of;                   /* "image:sampler" -> texture index (a hash table) */
+    int *image_index;                     /* [mesh image] glTF image index, or -1 when left out */
+    uint32_t uv_sets;                     /* TEXCOORD_n written */
+    uint32_t morphs;                      /* morph targets written */
+    const rf_morph_target **morph;        /* [morphs] the mesh's targets written */
+    int *morph_view;                      /* [morphs * 2] POSITION and NORMAL views (or -1) */
     bool oom;
 } rf_gw;
 
@@ -192,52 +199,85 @@ static int rf_gw_ibms(rf_gw *g, const rf_skeleton *s, const rf_mesh *m)
 
 /* ---- mesh ---- */
 
-static int rf_gw_indices(rf_gw *g, const rf_mesh *m)
+/* A vertex attribute written once as a buffer view; each primitive reads its part of it through
+ * an accessor of its own (byteOffset), so parts share no vertices and readers that copy a
+ * primitive's whole accessors (Assimp) do not multiply them. */
+typedef struct rf_gw_attr {
+    const char *name; /* "POSITION", "NORMAL", ... */
+    int view;
+    int ctype;        /* componentType */
+    size_t bytes;     /* per vertex */
+    const char *type; /* "VEC3", ... */
+} rf_gw_attr;
+
+#define RF_GW_MAX_ATTRS 8
+
+typedef struct rf_gw_attrs {
+    rf_gw_attr a[RF_GW_MAX_ATTRS];
+    int n;
+} rf_gw_attrs;
+
+static void rf_gw_attr_add(rf_gw *g, rf_gw_attrs *as, const char *name, const void *data,
+                           size_t count, int ctype, size_t bytes, const char *type)
 {
-    size_t n = (size_t)m->triangle_count * 3;
-    if (m->vertex_count <= 65535) {
-        uint16_t *idx = malloc(n * sizeof *idx);
-        if (!idx) {
-            g->oom = true;
-            return -1;
-        }
-        for (size_t i = 0; i < n; i++)
-            idx[i] = (uint16_t)m->triangles[i];
-        int view = rf_gw_view(g, idx, n * sizeof *idx, RF_GL_ELEMENT_ARRAY_BUFFER);
-        free(idx);
-        return rf_gw_accessor(g, view, RF_GL_UNSIGNED_SHORT, n, "SCALAR", NULL, NULL);
+    if (as->n == RF_GW_MAX_ATTRS)
+        return;
+    int view = rf_gw_view(g, data, count * bytes, RF_GL_ARRAY_BUFFER);
+    json_t *v = json_array_get(g->views, (size_t)view); /* parts' accessors share it */
+    if (v)
+        json_object_set_new(v, "byteStride", json_integer((json_int_t)bytes));
+    as->a[as->n++] = (rf_gw_attr){name, view, ctype, bytes, type};
+}
+
+/* The indices of `count` triangles from `first`, relative to vertex `base`. */
+static int rf_gw_indices(rf_gw *g, const rf_mesh *m, uint32_t first, uint32_t count, uint32_t base,
+                         uint32_t vertices)
+{
+    size_t n = (size_t)count * 3;
+    const uint32_t *tri = m->triangles + (size_t)first * 3;
+    bool shorts = vertices <= 65535;
+    void *idx = malloc(n * (shorts ? sizeof(uint16_t) : sizeof(uint32_t)));
+    if (!idx) {
+        g->oom = true;
+        return -1;
     }
-    int view = rf_gw_view(g, m->triangles, n * sizeof(uint32_t), RF_GL_ELEMENT_ARRAY_BUFFER);
-    return rf_gw_accessor(g, view, RF_GL_UNSIGNED_INT, n, "SCALAR", NULL, NULL);
+    for (size_t i = 0; i < n; i++)
+        if (shorts)
+            ((uint16_t *)idx)[i] = (uint16_t)(tri[i] - base);
+        else
+            ((uint32_t *)idx)[i] = tri[i] - base;
+    int view = rf_gw_view(g, idx, n * (shorts ? 2 : 4), RF_GL_ELEMENT_ARRAY_BUFFER);
+    free(idx);
+    return rf_gw_accessor(g, view, shorts ? RF_GL_UNSIGNED_SHORT : RF_GL_UNSIGNED_INT, n, "SCALAR",
+                          NULL, NULL);
 }
 
 /* Normals only when every one is a usable direction: the validator rejects non-unit normals and
  * a reader computes its own without them. */
-static int rf_gw_normals(rf_gw *g, const rf_mesh *m)
+static void rf_gw_normals(rf_gw *g, const rf_mesh *m, rf_gw_attrs *as)
 {
     if (!m->normals)
-        return -1;
+        return;
     float *nv = malloc((size_t)m->vertex_count * 3 * sizeof *nv);
     if (!nv) {
         g->oom = true;
-        return -1;
+        return;
     }
     for (uint32_t i = 0; i < m->vertex_count; i++) {
         const float *s = m->normals + (size_t)i * 3;
         rf_vec3 n = rf_v3_normalize(rf_v3(s[0], s[1], s[2]));
         if (rf_v3_len2(n) == 0 || !rf_v3_isfinite(n)) {
             free(nv);
-            return -1;
+            return;
         }
         nv[i * 3] = (float)n.x, nv[i * 3 + 1] = (float)n.y, nv[i * 3 + 2] = (float)n.z;
     }
-    int acc = rf_gw_floats(g, nv, m->vertex_count, 3, "VEC3", false, RF_GL_ARRAY_BUFFER);
+    rf_gw_attr_add(g, as, "NORMAL", nv, m->vertex_count, RF_GL_FLOAT, 12, "VEC3");
     free(nv);
-    return acc;
 }
 
 /* JOINTS_0 and WEIGHTS_0: weights renormalised in float32, an unused slot points at joint 0. */
-static bool rf_gw_skin_attributes(rf_gw *g, const rf_mesh *m, uint32_t joints, json_t *attrs)
+static void rf_gw_skin_attributes(rf_gw *g, const rf_mesh *m, uint32_t joints, rf_gw_attrs *as)
 {
     size_t n = (size_t)m->vertex_count * 4;
     uint16_t *js = malloc(n * sizeof *js);
@@ -245,7 +285,7 @@ static bool rf_gw_skin_attributes(rf_gw *g, const rf_mesh *m, uint32_t joints, j
     if (!js || !ws) {
         free(js), free(ws);
         g->oom = true;
-        return false;
+        return;
     }
     for (size_t v = 0; v < m->vertex_count; v++) {
         double sum = 0;
@@ -260,27 +300,415 @@ static bool rf_gw_skin_attributes(rf_gw *g, const rf_mesh *m, uint32_t joints, j
         if (!(sum > 0))
             ws[v * 4] = 1.0f; /* a vertex nothing moves follows the first joint */
     }
-    int jview = rf_gw_view(g, js, n * sizeof *js, RF_GL_ARRAY_BUFFER);
-    int jacc = rf_gw_accessor(g, jview, RF_GL_UNSIGNED_SHORT, m->vertex_count, "VEC4", NULL, NULL);
-    int wacc = rf_gw_floats(g, ws, m->vertex_count, 4, "VEC4", false, RF_GL_ARRAY_BUFFER);
+    rf_gw_attr_add(g, as, "JOINTS_0", js, m->vertex_count, RF_GL_UNSIGNED_SHORT, 8, "VEC4");
+    rf_gw_attr_add(g, as, "WEIGHTS_0", ws, m->vertex_count, RF_GL_FLOAT, 16, "VEC4");
     free(js), free(ws);
-    json_object_set_new(attrs, "JOINTS_0", json_integer(jacc));
-    json_object_set_new(attrs, "WEIGHTS_0", json_integer(wacc));
+}
+
+/* Tangents only beside written normals, and only when every one is a unit direction with a
+ * handedness of +-1 (what the validator demands). */
+static void rf_gw_tangents(rf_gw *g, const rf_mesh *m, rf_gw_attrs *as)
+{
+    float *tv = malloc((size_t)m->vertex_count * 4 * sizeof *tv);
+    if (!tv) {
+        g->oom = true;
+        return;
+    }
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        const float *s = m->tangents + (size_t)i * 4;
+        rf_vec3 t = rf_v3_normalize(rf_v3(s[0], s[1], s[2]));
+        if (rf_v3_len2(t) == 0 || !rf_v3_isfinite(t) || !isfinite(s[3])) {
+            free(tv);
+            return;
+        }
+        tv[i * 4] = (float)t.x, tv[i * 4 + 1] = (float)t.y, tv[i * 4 + 2] = (float)t.z;
+        tv[i * 4 + 3] = s[3] < 0 ? -1.0f : 1.0f;
+    }
+    rf_gw_attr_add(g, as, "TANGENT", tv, m->vertex_count, RF_GL_FLOAT, 16, "VEC4");
+    free(tv);
+}
+
+/* Texture coordinates and vertex colours (clamped to [0, 1], as COLOR_0 requires), finite only. */
+static void rf_gw_look_attributes(rf_gw *g, const rf_mesh *m, bool normals, rf_gw_attrs *as)
+{
+    static const char *const uv_names[RF_MESH_MAX_UV_SETS] = {"TEXCOORD_0", "TEXCOORD_1"};
+    if (!RF_HAS_FIELD(m, rf_mesh, images))
+        return;
+    size_t n = m->vertex_count;
+    for (uint32_t k = 0; k < m->uv_set_count && k < RF_MESH_MAX_UV_SETS && m->uvs[k]; k++) {
+        bool finite = true;
+        for (size_t i = 0; i < n * 2 && finite; i++)
+            finite = isfinite(m->uvs[k][i]);
+        if (!finite)
+            break;
+        rf_gw_attr_add(g, as, uv_names[k], m->uvs[k], n, RF_GL_FLOAT, 8, "VEC2");
+        g->uv_sets = k + 1;
+    }
+    if (m->colors) {
+        float *c = malloc(n * 4 * sizeof *c);
+        if (!c) {
+            g->oom = true;
+            return;
+        }
+        for (size_t i = 0; i < n * 4; i++)
+            c[i] = m->colors[i] > 0 ? (m->colors[i] < 1 ? m->colors[i] : 1.0f) : 0.0f;
+        rf_gw_attr_add(g, as, "COLOR_0", c, n, RF_GL_FLOAT, 16, "VEC4");
+        free(c);
+    }
+    if (normals && m->tangents)
+        rf_gw_tangents(g, m, as);
+}
+
+/* The accessors of vertices [first, first + count) of every attribute (POSITION with bounds). */
+static json_t *rf_gw_part_attributes(rf_gw *g, const rf_mesh *m, const rf_gw_attrs *as,
+                                     uint32_t first, uint32_t count)
+{
+    json_t *attrs = json_object();
+    for (int i = 0; i < as->n; i++) {
+        const rf_gw_attr *a = &as->a[i];
+        json_t *min = NULL, *max = NULL;
+        if (strcmp(a->name, "POSITION") == 0) {
+            min = json_array(), max = json_array();
+            for (int c = 0; c < 3; c++) {
+                float lo = INFINITY, hi = -INFINITY;
+                for (size_t v = first; v < (size_t)first + count; v++) {
+                    float x = m->positions[v * 3 + (size_t)c];
+                    lo = x < lo ? x : lo, hi = x > hi ? x : hi;
+                }
+                json_array_append_new(min, json_real(count ? lo : 0));
+                json_array_append_new(max, json_real(count ? hi : 0));
+            }
+        }
+        int acc = rf_gw_accessor(g, a->view, a->ctype, count, a->type, min, max);
+        json_t *aj = json_array_get(g->accessors, (size_t)acc);
+        if (first && aj)
+            json_object_set_new(aj, "byteOffset", json_integer((json_int_t)(first * a->bytes)));
+        json_object_set_new(attrs, a->name, json_integer(acc));
+    }
+    return attrs;
+}
+
+static int32_t rf_gw_part_material(const rf_mesh *m, uint32_t p)
+{
+    if (!RF_HAS_FIELD(m, rf_mesh, images) || !m->part_material)
+        return -1;
+    int32_t k = m->part_material[p];
+    return k >= 0 && (uint32_t)k < m->material_count && m->materials && m->materials[k] ? k : -1;
+}
+
+/* Parts usable as primitives: each a vertex range its triangles stay inside. */
+static bool rf_gw_parts_usable(const rf_mesh *m)
+{
+    if (!RF_HAS_FIELD(m, rf_mesh, parts) || !m->parts || !m->part_count)
+        return false;
+    for (uint32_t p = 0; p < m->part_count; p++) {
+        const rf_mesh_part *pt = &m->parts[p];
+        if (pt->first_vertex > m->vertex_count ||
+            pt->vertex_count > m->vertex_count - pt->first_vertex ||
+            pt->first_triangle > m->triangle_count ||
+            pt->triangle_count > m->triangle_count - pt->first_triangle)
+            return false;
+        for (size_t i = (size_t)pt->first_triangle * 3;
+             i < ((size_t)pt->first_triangle + pt->triangle_count) * 3; i++)
+            if (m->triangles[i] < pt->first_vertex ||
+                m->triangles[i] - pt->first_vertex >= pt->vertex_count)
+                return false;
+    }
     return true;
+}
+
+static bool rf_gw_all_finite(const float *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return false;
+    return true;
+}
+
+/* The mesh's morph targets as buffer views (NORMAL displacements only beside written normals);
+ * targets holding a non-finite value are left out. */
+static void rf_gw_morph_views(rf_gw *g, const rf_mesh *m, bool normals)
+{
+    if (!RF_HAS_FIELD(m, rf_mesh, morph_targets) || !m->morph_targets || !m->morph_target_count)
+        return;
+    g->morph = calloc(m->morph_target_count, sizeof *g->morph);
+    g->morph_view = calloc((size_t)m->morph_target_count * 2, sizeof *g->morph_view);
+    if (!g->morph || !g->morph_view) {
+        g->oom = true;
+        return;
+    }
+    size_t n = (size_t)m->vertex_count * 3;
+    for (uint32_t i = 0; i < m->morph_target_count; i++) {
+        const rf_morph_target *t = m->morph_targets[i];
+        if (!t || !t->positions || !rf_gw_all_finite(t->positions, n) ||
+            (t->normals && !rf_gw_all_finite(t->normals, n)))
+            continue;
+        int *views = g->morph_view + (size_t)g->morphs * 2;
+        g->morph[g->morphs++] = t;
+        views[0] = rf_gw_view(g, t->positions, n * sizeof(float), RF_GL_ARRAY_BUFFER);
+        views[1] = normals && t->normals
+                       ? rf_gw_view(g, t->normals, n * sizeof(float), RF_GL_ARRAY_BUFFER)
+                       : -1;
+        for (int k = 0; k < 2; k++) {
+            json_t *v = views[k] >= 0 ? json_array_get(g->views, (size_t)views[k]) : NULL;
+            if (v)
+                json_object_set_new(v, "byteStride", json_integer(12));
+        }
+    }
+}
+
+/* A VEC3 float accessor over vertices [first, first + count) of a morph view, with the bounds
+ * POSITION targets need; one without a buffer view (all zeros, as glTF defines it) where the part
+ * does not move. */
+static int rf_gw_morph_accessor(rf_gw *g, int view, const float *v, uint32_t first, uint32_t count)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    bool moves = false;
+    for (size_t i = first; i < (size_t)first + count; i++)
+        for (int c = 0; c < 3; c++) {
+            float x = v[i * 3 + (size_t)c];
+            moves |= x != 0;
+            lo[c] = x < lo[c] ? x : lo[c], hi[c] = x > hi[c] ? x : hi[c];
+        }
+    json_t *a = json_pack("{s:i, s:I, s:s, s:o, s:o}", "componentType", RF_GL_FLOAT, "count",
+                          (json_int_t)count, "type", "VEC3", "min", rf_gw_vec(lo, 3), "max",
+                          rf_gw_vec(hi, 3));
+    if (a && moves) {
+        json_object_set_new(a, "bufferView", json_integer(view));
+        if (first)
+            json_object_set_new(a, "byteOffset", json_integer((json_int_t)first * 12));
+    }
+    if (!a || json_array_append_new(g->accessors, a))
+        g->oom = true;
+    return (int)json_array_size(g->accessors) - 1;
+}
+
+static json_t *rf_gw_part_targets(rf_gw *g, uint32_t first, uint32_t count)
+{
+    json_t *targets = json_array();
+    for (uint32_t i = 0; i < g->morphs; i++) {
+        const int *views = g->morph_view + (size_t)i * 2;
+        json_t *t =
+            json_pack("{s:i}", "POSITION",
+                      rf_gw_morph_accessor(g, views[0], g->morph[i]->positions, first, count));
+        if (views[1] >= 0)
+            json_object_set_new(t, "NORMAL",
+                                json_integer(rf_gw_morph_accessor(g, views[1], g->morph[i]->normals,
+                                                                  first, count)));
+        json_array_append_new(targets, t);
+    }
+    return targets;
+}
+
+/* One primitive per part, each with its material; the whole mesh as one primitive when the
+ * parts cannot be (none, or triangles crossing between them). */
+static json_t *rf_gw_primitives(rf_gw *g, const rf_mesh *m, const rf_gw_attrs *as)
+{
+    json_t *prims = json_array();
+    bool parts = rf_gw_parts_usable(m);
+    for (uint32_t p = 0; p < (parts ? m->part_count : 1); p++) {
+        const rf_mesh_part whole = {NULL, 0, m->vertex_count, 0, m->triangle_count};
+        const rf_mesh_part *pt = parts ? &m->parts[p] : &whole;
+        if (!pt->triangle_count)
+            continue;
+        json_t *attrs = rf_gw_part_attributes(g, m, as, pt->first_vertex, pt->vertex_count);
+        int idx = rf_gw_indices(g, m, pt->first_triangle, pt->triangle_count, pt->first_vertex,
+                                pt->vertex_count);
+        json_t *prim = json_pack("{s:o, s:i}", "attributes", attrs, "indices", idx);
+        int32_t mat = parts ? rf_gw_part_material(m, p) : -1;
+        if (mat >= 0)
+            json_object_set_new(prim, "material", json_integer(mat));
+        if (g->morphs) /* every primitive has every target (glTF requires the same list) */
+            json_object_set_new(prim, "targets",
+                                rf_gw_part_targets(g, pt->first_vertex, pt->vertex_count));
+        json_array_append_new(prims, prim);
+    }
+    return prims;
 }
 
 static json_t *rf_gw_mesh(rf_gw *g, const rf_mesh *m, uint32_t joints, bool skinned)
 {
-    json_t *attrs = json_object();
-    int pos = rf_gw_floats(g, m->positions, m->vertex_count, 3, "VEC3", true, RF_GL_ARRAY_BUFFER);
-    json_object_set_new(attrs, "POSITION", json_integer(pos));
-    int nrm = rf_gw_normals(g, m);
-    if (nrm >= 0)
-        json_object_set_new(attrs, "NORMAL", json_integer(nrm));
+    rf_gw_attrs as = {.n = 0};
+    rf_gw_attr_add(g, &as, "POSITION", m->positions, m->vertex_count, RF_GL_FLOAT, 12, "VEC3");
+    rf_gw_normals(g, m, &as);
+    rf_gw_look_attributes(g, m, as.n == 2, &as);
     if (skinned)
-        rf_gw_skin_attributes(g, m, joints, attrs);
-    json_t *prim = json_pack("{s:o, s:i}", "attributes", attrs, "indices", rf_gw_indices(g, m));
-    return json_pack("{s:s, s:[o]}", "name", m->name ? m->name : "mesh", "primitives", prim);
+        rf_gw_skin_attributes(g, m, joints, &as);
+    rf_gw_morph_views(g, m, as.n >= 2 && strcmp(as.a[1].name, "NORMAL") == 0);
+    json_t *mesh = json_pack("{s:s, s:o}", "name", m->name ? m->name : "mesh", "primitives",
+                             rf_gw_primitives(g, m, &as));
+    if (g->morphs) { /* weights at rest, and the names readers (Blender, three.js) show */
+        json_t *weights = json_array(), *names = json_array();
+        for (uint32_t i = 0; i < g->morphs; i++) {
+            json_array_append_new(
+                weights, json_real(isfinite(g->morph[i]->weight) ? g->morph[i]->weight : 0));
+            json_t *name = json_string(g->morph[i]->name ? g->morph[i]->name : "");
+            json_array_append_new(names, name ? name : json_string("")); /* not UTF-8: unnamed */
+        }
+        json_object_set_new(mesh, "weights", weights);
+        json_object_set_new(mesh, "extras", json_pack("{s:o}", "targetNames", names));
+    }
+    return mesh;
+}
+
+/* ---- materials, textures, images ---- */
+
+/* Every image glTF can carry (PNG, JPEG) as a buffer view; g->image_index maps ours to theirs. */
+static void rf_gw_images(rf_gw *g, const rf_mesh *m)
+{
+    g->image_index = calloc(m->image_count ? m->image_count : 1, sizeof *g->image_index);
+    if (!g->image_index) {
+        g->oom = true;
+        return;
+    }
+    for (uint32_t i = 0; i < m->image_count; i++) {
+        const rf_image *im = m->images ? m->images[i] : NULL;
+        g->image_index[i] = -1;
+        if (!im || !im->bytes || !im->byte_count || !im->mime_type ||
+            (strcmp(im->mime_type, "image/png") != 0 && strcmp(im->mime_type, "image/jpeg") != 0))
+            continue;
+        int view = rf_gw_view(g, im->bytes, im->byte_count, 0);
+        json_t *j = json_pack("{s:i, s:s}", "bufferView", view, "mimeType", im->mime_type);
+        if (im->name && *im->name)
+            json_object_set_new(j, "name", json_string(im->name));
+        if (!j || json_array_append_new(g->images, j))
+            g->oom = true;
+        g->image_index[i] = (int)json_array_size(g->images) - 1;
+    }
+}
+
+static uint16_t rf_gw_wrap(uint16_t w)
+{
+    return w == RF_TEX_REPEAT || w == RF_TEX_CLAMP_TO_EDGE || w == RF_TEX_MIRRORED_REPEAT ? w : 0;
+}
+
+/* The index of a sampler with these settings, added when new; -1 for all defaults. */
+static int rf_gw_sampler(rf_gw *g, const rf_texture_ref *t)
+{
+    /* Only the values glTF allows (anything else is the reader's default): they are few, so
+     * the samplers stay few and the linear search below stays short. */
+    uint16_t mag = t->mag_filter == 9728 || t->mag_filter == 9729 ? t->mag_filter : 0;
+    uint16_t min = t->min_filter >= 9728 && t->min_filter <= 9729   ? t->min_filter
+                   : t->min_filter >= 9984 && t->min_filter <= 9987 ? t->min_filter
+                                                                    : 0;
+    uint16_t ws = rf_gw_wrap(t->wrap_s), wt = rf_gw_wrap(t->wrap_t);
+    if (!ws && !wt && !mag && !min)
+        return -1;
+    json_t *want = json_object();
+    if (mag)
+        json_object_set_new(want, "magFilter", json_integer(mag));
+    if (min)
+        json_object_set_new(want, "minFilter", json_integer(min));
+    if (ws)
+        json_object_set_new(want, "wrapS", json_integer(ws));
+    if (wt)
+        json_object_set_new(want, "wrapT", json_integer(wt));
+    for (size_t i = 0; i < json_array_size(g->samplers); i++)
+        if (json_equal(json_array_get(g->samplers, i), want)) {
+            json_decref(want);
+            return (int)i;
+        }
+    json_array_append_new(g->samplers, want);
+    return (int)json_array_size(g->samplers) - 1;
+}
+
+/* {"index", "texCoord"} for a texture reference, or NULL when it names nothing writable. */
+static json_t *rf_gw_texture_info(rf_gw *g, const rf_mesh *m, const rf_texture_ref *t)
+{
+    if (t->image < 0 || (uint32_t)t->image >= m->image_count || g->image_index[t->image] < 0 ||
+        t->uv_set >= g->uv_sets)
+        return NULL;
+    int sampler = rf_gw_sampler(g, t);
+    char key[32];
+    snprintf(key, sizeof key, "%d:%d", g->image_index[t->image], sampler);
+    json_t *known = json_object_get(g->texture_of, key);
+    json_int_t index = known ? json_integer_value(known) : (json_int_t)json_array_size(g->textures);
+    if (!known) {
+        json_t *tex = json_pack("{s:i}", "source", g->image_index[t->image]);
+        if (tex && sampler >= 0)
+            json_object_set_new(tex, "sampler", json_integer(sampler));
+        if (!tex || json_array_append_new(g->textures, tex) ||
+            json_object_set_new(g->texture_of, key, json_integer(index)))
+            g->oom = true;
+    }
+    return json_pack("{s:I, s:I}", "index", index, "texCoord", (json_int_t)t->uv_set);
+}
+
+static json_t *rf_gw_floats_json(const float *v, int n)
+{
+    json_t *a = json_array();
+    for (int i = 0; i < n; i++)
+        json_array_append_new(a, json_real(isfinite(v[i]) ? v[i] : 0.0));
+    return a;
+}
+
+static double rf_gw_unit(float v)
+{
+    return v > 0 ? (v < 1 ? v : 1) : 0;
+}
+
+static json_t *rf_gw_material(rf_gw *g, const rf_mesh *m, const rf_material *mat)
+{
+    json_t *j = json_object();
+    if (!mat)
+        return j; /* glTF's default material keeps the indices of the others */
+    if (mat->name && *mat->name)
+        json_object_set_new(j, "name", json_string(mat->name));
+    float base[4];
+    for (int i = 0; i < 4; i++)
+        base[i] = (float)rf_gw_unit(mat->base_color[i]);
+    json_t *pbr = json_pack("{s:o, s:f, s:f}", "baseColorFactor", rf_gw_floats_json(base, 4),
+                            "metallicFactor", rf_gw_unit(mat->metallic), "roughnessFactor",
+                            rf_gw_unit(mat->roughness));
+    json_t *t = rf_gw_texture_info(g, m, &mat->base_color_texture);
+    if (t)
+        json_object_set_new(pbr, "baseColorTexture", t);
+    if ((t = rf_gw_texture_info(g, m, &mat->metallic_roughness_texture)))
+        json_object_set_new(pbr, "metallicRoughnessTexture", t);
+    json_object_set_new(j, "pbrMetallicRoughness", pbr);
+    if ((t = rf_gw_texture_info(g, m, &mat->normal_texture))) {
+        json_object_set_new(t, "scale", json_real(mat->normal_texture.scale));
+        json_object_set_new(j, "normalTexture", t);
+    }
+    if ((t = rf_gw_texture_info(g, m, &mat->occlusion_texture))) {
+        json_object_set_new(t, "strength", json_real(rf_gw_unit(mat->occlusion_texture.scale)));
+        json_object_set_new(j, "occlusionTexture", t);
+    }
+    if ((t = rf_gw_texture_info(g, m, &mat->emissive_texture)))
+        json_object_set_new(j, "emissiveTexture", t);
+    float em[3];
+    for (int i = 0; i < 3; i++)
+        em[i] = (float)rf_gw_unit(mat->emissive[i]);
+    json_object_set_new(j, "emissiveFactor", rf_gw_floats_json(em, 3));
+    static const char *const modes[] = {"OPAQUE", "MASK", "BLEND"};
+    json_object_set_new(j, "alphaMode",
+                        json_string(modes[mat->alpha_mode <= 2 ? mat->alpha_mode : 0]));
+    if (mat->alpha_mode == RF_ALPHA_MASK)
+        json_object_set_new(j, "alphaCutoff",
+                            json_real(mat->alpha_cutoff >= 0 ? mat->alpha_cutoff : 0.5));
+    json_object_set_new(j, "doubleSided", json_boolean(mat->double_sided != 0));
+    return j;
+}
+
+/* materials, textures, samplers and images of the document (after the mesh: texture
+ * coordinates must be known to be written). */
+static void rf_gw_materials(rf_gw *g, const rf_mesh *m, json_t *doc)
+{
+    if (!RF_HAS_FIELD(m, rf_mesh, images) || !m->material_count || !m->materials)
+        return;
+    rf_gw_images(g, m);
+    if (g->oom)
+        return;
+    json_t *mats = json_array();
+    for (uint32_t i = 0; i < m->material_count; i++)
+        json_array_append_new(mats, rf_gw_material(g, m, m->materials[i]));
+    json_object_set_new(doc, "materials", mats);
+    if (json_array_size(g->textures))
+        json_object_set_new(doc, "textures", json_incref(g->textures));
+    if (json_array_size(g->samplers))
+        json_object_set_new(doc, "samplers", json_incref(g->samplers));
+    if (json_array_size(g->images))
+        json_object_set_new(doc, "images", json_incref(g->images));
 }
 
 /* ---- animation ---- */
@@ -351,13 +779,19 @@ static void rf_gw_channel(json_t *samplers, json_t *channels, int input, int out
                                               "node", (json_int_t)node, "path", path));
 }
 
-/* The animation, or NULL when no channel moves (glTF forbids an animation without channels). */
+/* The animation, or NULL without joints. A clip in which nothing moves (a one-frame rest pose, a
+ * held pose) still gets the first joint's rotation, so the clip, its name and its length
+ * survive: glTF forbids an animation without channels. */
 static json_t *rf_gw_animation(rf_gw *g, const rf_animation *a, const rf_skeleton *s, double eps)
 {
     json_t *samplers = json_array(), *channels = json_array();
     int input = -1;
-    for (uint32_t j = 0; j < s->joint_count; j++) {
-        bool rot = rf_gw_rotation_moves(a, s, j, eps), tr = rf_gw_translation_moves(a, s, j, eps);
+    /* One pass past the last joint gives a motionless clip its one channel (on joint 0). */
+    for (uint32_t k = 0; k <= s->joint_count && !g->oom; k++) {
+        bool past = k == s->joint_count;
+        uint32_t j = past ? 0 : k;
+        bool rot = past ? input < 0 : rf_gw_rotation_moves(a, s, j, eps);
+        bool tr = !past && rf_gw_translation_moves(a, s, j, eps);
         if ((rot || tr) && input < 0) {
             /* One time accessor for every sampler: the clip has one sampling rate. */
             float *t = malloc((size_t)a->frame_count * sizeof *t);
@@ -376,7 +810,7 @@ static json_t *rf_gw_animation(rf_gw *g, const rf_animation *a, const rf_skeleto
             rf_gw_channel(samplers, channels, input, rf_gw_translation_output(g, a, j), j,
                           "translation");
     }
-    if (!json_array_size(channels)) {
+    if (!json_array_size(channels) || g->oom) {
         json_decref(samplers), json_decref(channels);
         return NULL;
     }
@@ -386,8 +820,23 @@ static json_t *rf_gw_animation(rf_gw *g, const rf_animation *a, const rf_skeleto
 
 /* ---- document ---- */
 
-static json_t *rf_gw_document(rf_gw *g, const rf_skeleton *s, const rf_animation *a,
-                              const rf_mesh *m, const rf_gltf_write_opts *o)
+/* A skin of every joint: the mesh's, or one of its own without a mesh, so that readers build an
+ * armature rather than a tree of empties. */
+static json_t *rf_gw_skin(rf_gw *g, const rf_skeleton *s, const rf_mesh *m)
+{
+    json_t *joints = json_array();
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        json_array_append_new(joints, json_integer(j));
+    static const rf_mesh none = {.size = sizeof none};
+    json_t *skin = json_pack("{s:o, s:i}", "joints", joints, "inverseBindMatrices",
+                             rf_gw_ibms(g, s, m ? m : &none));
+    if (rf_gw_root_count(s) == 1)
+        json_object_set_new(skin, "skeleton", json_integer(0));
+    return skin;
+}
+
+static json_t *rf_gw_document(rf_gw *g, const rf_skeleton *s, const rf_animation *const *clips,
+                              uint32_t count, const rf_mesh *m, const rf_gltf_write_opts *o)
 {
     json_t *nodes = json_array(), *scene_nodes = json_array();
     json_t *doc = json_pack("{s:{s:s, s:s}, s:i}", "asset", "version", "2.0", "generator",
@@ -411,22 +860,28 @@ static json_t *rf_gw_document(rf_gw *g, const rf_skeleton *s, const rf_animation
         json_object_set_new(doc, "meshes",
                             json_pack("[o]", rf_gw_mesh(g, m, s->joint_count, skinned)));
         if (skinned) {
-            json_t *joints = json_array();
-            for (uint32_t j = 0; j < s->joint_count; j++)
-                json_array_append_new(joints, json_integer(j));
-            json_t *skin = json_pack("{s:o, s:i}", "joints", joints, "inverseBindMatrices",
-                                     rf_gw_ibms(g, s, m));
-            if (rf_gw_root_count(s) == 1)
-                json_object_set_new(skin, "skeleton", json_integer(0));
-            json_object_set_new(doc, "skins", json_pack("[o]", skin));
+            json_object_set_new(doc, "skins", json_pack("[o]", rf_gw_skin(g, s, m)));
             json_object_set_new(mesh_node, "skin", json_integer(0));
         }
         json_array_append_new(nodes, mesh_node);
         json_array_append_new(scene_nodes, json_integer((json_int_t)json_array_size(nodes) - 1));
+    } else if (s->joint_count) {
+        json_object_set_new(doc, "skins", json_pack("[o]", rf_gw_skin(g, s, NULL)));
     }
-    json_t *anim = a && a->frame_count ? rf_gw_animation(g, a, s, o->epsilon) : NULL;
-    if (anim)
-        json_object_set_new(doc, "animations", json_pack("[o]", anim));
+    if (m)
+        rf_gw_materials(g, m, doc);
+    json_t *anims = json_array();
+    for (uint32_t i = 0; i < count; i++) {
+        json_t *anim = clips[i] && clips[i]->frame_count && s->joint_count
+                           ? rf_gw_animation(g, clips[i], s, o->epsilon)
+                           : NULL;
+        if (anim)
+            json_array_append_new(anims, anim);
+    }
+    if (json_array_size(anims))
+        json_object_set_new(doc, "animations", anims);
+    else
+        json_decref(anims);
     json_object_set_new(doc, "nodes", nodes);
     json_object_set_new(doc, "scenes", json_pack("[{s:o}]", "nodes", scene_nodes));
     return doc;
@@ -487,17 +942,22 @@ static bool rf_gw_has_ext(const char *path, const char *ext)
     return true;
 }
 
-static bool rf_gw_check(const rf_skeleton *s, const rf_animation *a, const rf_mesh *m,
-                        const char *name, char *err, size_t err_size)
+static bool rf_gw_check(const rf_skeleton *s, const rf_animation *const *clips, uint32_t count,
+                        const rf_mesh *m, const char *name, char *err, size_t err_size)
 {
-    if (a && a->joint_count != s->joint_count) {
-        snprintf(err, err_size, "%s: the animation has %u joints, the skeleton %u", name,
-                 a->joint_count, s->joint_count);
-        return false;
-    }
-    if (a && a->frame_count && !(a->fps > 0)) {
-        snprintf(err, err_size, "%s: the animation's fps must be > 0 (got %g)", name, a->fps);
-        return false;
+    for (uint32_t i = 0; i < count; i++) {
+        const rf_animation *a = clips[i];
+        const char *clip = a && a->name ? a->name : "";
+        if (a && a->joint_count != s->joint_count) {
+            snprintf(err, err_size, "%s: animation %u '%s' has %u joints, the skeleton %u", name, i,
+                     clip, a->joint_count, s->joint_count);
+            return false;
+        }
+        if (a && a->frame_count && !(a->fps > 0)) {
+            snprintf(err, err_size, "%s: animation %u '%s': fps must be > 0 (got %g)", name, i,
+                     clip, a->fps);
+            return false;
+        }
     }
     for (size_t i = 0; m && i < (size_t)m->triangle_count * 3; i++)
         if (m->triangles[i] >= m->vertex_count) {
@@ -549,6 +1009,15 @@ bool rf_gltf_write_file(const char *path, const char *name, const rf_skeleton *s
                         const rf_animation *animation, const rf_mesh *mesh,
                         const rf_gltf_write_opts *opts, char *err, size_t err_size)
 {
+    return rf_gltf_write_clips(path, name, skeleton, &animation, animation ? 1 : 0, mesh, opts, err,
+                               err_size);
+}
+
+bool rf_gltf_write_clips(const char *path, const char *name, const rf_skeleton *skeleton,
+                         const rf_animation *const *animations, uint32_t animation_count,
+                         const rf_mesh *mesh, const rf_gltf_write_opts *opts, char *err,
+                         size_t err_size)
+{
     rf_gltf_write_opts o = {.binary = rf_gw_has_ext(path, ".glb")};
     if (opts)
         o = *opts;
@@ -557,14 +1026,23 @@ bool rf_gltf_write_file(const char *path, const char *name, const rf_skeleton *s
     name = name ? name : path;
     if (mesh && (!mesh->vertex_count || !mesh->triangle_count))
         mesh = NULL;
-    if (!rf_gw_check(skeleton, animation, mesh, name, err, err_size))
+    if (!rf_gw_check(skeleton, animations, animation_count, mesh, name, err, err_size))
         return false;
-    rf_gw g = {.views = json_array(), .accessors = json_array()};
-    json_t *doc = rf_gw_document(&g, skeleton, animation, mesh, &o);
+    rf_gw g = {.views = json_array(),
+               .accessors = json_array(),
+               .images = json_array(),
+               .samplers = json_array(),
+               .textures = json_array(),
+               .texture_of = json_object()};
+    json_t *doc = rf_gw_document(&g, skeleton, animations, animation_count, mesh, &o);
     bool ok = doc && !g.oom && rf_gw_emit(path, name, doc, &g, o.binary, err, err_size);
     if (!ok && (!doc || g.oom))
         snprintf(err, err_size, "%s: out of memory while building the glTF document", name);
     json_decref(doc), json_decref(g.views), json_decref(g.accessors);
+    json_decref(g.images), json_decref(g.samplers), json_decref(g.textures);
+    json_decref(g.texture_of);
+    free(g.image_index);
+    free(g.morph), free(g.morph_view);
     free(g.buf);
     return ok;
 }

@@ -19,8 +19,12 @@ typedef enum rf_ai_rest {
     RF_AI_REST_NODE,     /* the scene nodes' own transforms */
 } rf_ai_rest;
 
+/* The clip option asking for every clip (rf_ai_result.clip_animations). */
+#define RF_AI_ALL_CLIPS "*"
+
 typedef struct rf_ai_options {
-    const char *clip;      /* clip name, or its decimal index; NULL or "" for the first */
+    const char *clip;      /* clip name, or its decimal index; NULL or "" for the first; "*" for
+                            * every clip (the first is also the animation) */
     rf_ai_rest rest;       /* which pose becomes rf_joint.rest */
     double fps;            /* resampling rate; 0 picks the clip's own key rate (see aimport.c) */
     bool require_skeleton; /* refuse a file in which no skeleton is found */
@@ -43,6 +47,7 @@ typedef struct rf_ai_result {
     unsigned clip_count;
     rf_ai_clip *clips; /* [clip_count] */
     int selected_clip; /* index into clips, or -1 when the file has none */
+    rf_animation **clip_animations; /* [clip_count] every clip when asked for "*", else NULL */
 } rf_ai_result;
 
 /* Receives warnings (level 1) and information (level 2) while importing. */

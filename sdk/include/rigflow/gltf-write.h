@@ -1,8 +1,9 @@
 /* glTF 2.0 writer (.gltf with the buffer embedded, or .glb): convenience library librfgltf.
  *
- * Writes a skeleton as a node tree, a skinned mesh with its skin (inverse bind matrices) when a
- * mesh is given, and one animation whose samplers share a single time accessor (one sampling
- * rate), keeping only the channels that differ from the rest pose. doc/formats/gltf.md says why
+ * Writes a skeleton as a node tree with a skin (inverse bind matrices; without a mesh too, so
+ * readers build an armature), a skinned mesh with its materials and embedded images when a mesh
+ * is given, and animations whose samplers share one time accessor each (one sampling rate),
+ * keeping only the channels that differ from the rest pose. doc/formats/gltf.md says why
  * this is our own writer rather than Assimp's exporter.
  */
 #ifndef RF_GLTF_WRITE_H
@@ -28,5 +29,13 @@ typedef struct rf_gltf_write_opts {
 bool rf_gltf_write_file(const char *path, const char *name, const rf_skeleton *skeleton,
                         const rf_animation *animation, const rf_mesh *mesh,
                         const rf_gltf_write_opts *opts, char *err, size_t err_size);
+
+/* As rf_gltf_write_file with several clips, written as one named glTF animation each (NULL
+ * entries are skipped). The mesh's materials, textures (images embedded), texture coordinates,
+ * vertex colours and tangents are written too. */
+bool rf_gltf_write_clips(const char *path, const char *name, const rf_skeleton *skeleton,
+                         const rf_animation *const *animations, uint32_t animation_count,
+                         const rf_mesh *mesh, const rf_gltf_write_opts *opts, char *err,
+                         size_t err_size);
 
 #endif

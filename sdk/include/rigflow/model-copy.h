@@ -109,6 +109,88 @@ static inline rf_animation *rf_animation_copy(const rf_animation *a)
     return c;
 }
 
+static inline rf_material *rf_material_copy(const rf_material *m)
+{
+    rf_material *c = m ? rf_material_new() : NULL;
+    if (!c)
+        return NULL;
+    size_t n = m->size < sizeof *c ? m->size : sizeof *c; /* an older producer's: zero tail */
+    memcpy(c, m, n);
+    c->size = sizeof *c;
+    c->name = rf_strdup(m->name);
+    if (m->name && !c->name) {
+        rf_material_free(c);
+        return NULL;
+    }
+    return c;
+}
+
+static inline rf_image *rf_image_copy(const rf_image *im)
+{
+    return im ? rf_image_new(im->name, im->mime_type ? im->mime_type : "", im->bytes,
+                             im->byte_count)
+              : NULL;
+}
+
+static inline rf_morph_target *rf_morph_target_copy(const rf_morph_target *t, uint32_t vertices)
+{
+    rf_morph_target *c = t ? rf_morph_target_new(t->name ? t->name : "", vertices) : NULL;
+    bool ok = c != NULL;
+    if (c) {
+        c->weight = t->weight;
+        if (t->positions)
+            memcpy(c->positions, t->positions, (size_t)vertices * 3 * sizeof(float));
+        c->normals = (float *)rf_memdup(t->normals, (size_t)vertices * 3, sizeof(float), &ok);
+    }
+    if (!ok) {
+        rf_morph_target_free(c);
+        return NULL;
+    }
+    return c;
+}
+
+/* The look and the morph targets of `m` (1.2) into `c`; false when out of memory. */
+static inline bool rf_mesh_copy_look(rf_mesh *c, const rf_mesh *m)
+{
+    bool ok = true;
+    size_t nv = m->vertex_count;
+    if (!RF_HAS_FIELD(m, rf_mesh, morph_targets))
+        return true;
+    c->uv_set_count = m->uv_set_count;
+    for (uint32_t k = 0; k < RF_MESH_MAX_UV_SETS; k++)
+        c->uvs[k] = (float *)rf_memdup(m->uvs[k], nv * 2, sizeof(float), &ok);
+    c->colors = (float *)rf_memdup(m->colors, nv * 4, sizeof(float), &ok);
+    c->tangents = (float *)rf_memdup(m->tangents, nv * 4, sizeof(float), &ok);
+    c->part_material = (int32_t *)rf_memdup(m->part_material, m->part_count, sizeof(int32_t), &ok);
+    if (m->materials && m->material_count) {
+        c->materials = (rf_material **)calloc(m->material_count, sizeof *c->materials);
+        c->material_count = c->materials ? m->material_count : 0;
+        for (uint32_t i = 0; i < c->material_count; i++)
+            if (m->materials[i] && !(c->materials[i] = rf_material_copy(m->materials[i])))
+                ok = false;
+        ok = ok && c->materials;
+    }
+    if (m->images && m->image_count) {
+        c->images = (rf_image **)calloc(m->image_count, sizeof *c->images);
+        c->image_count = c->images ? m->image_count : 0;
+        for (uint32_t i = 0; i < c->image_count; i++)
+            if (m->images[i] && !(c->images[i] = rf_image_copy(m->images[i])))
+                ok = false;
+        ok = ok && c->images;
+    }
+    if (m->morph_targets && m->morph_target_count) {
+        c->morph_targets =
+            (rf_morph_target **)calloc(m->morph_target_count, sizeof *c->morph_targets);
+        c->morph_target_count = c->morph_targets ? m->morph_target_count : 0;
+        for (uint32_t i = 0; i < c->morph_target_count; i++)
+            if (m->morph_targets[i] &&
+                !(c->morph_targets[i] = rf_morph_target_copy(m->morph_targets[i], m->vertex_count)))
+                ok = false;
+        ok = ok && c->morph_targets;
+    }
+    return ok;
+}
+
 static inline rf_mesh *rf_mesh_copy(const rf_mesh *m)
 {
     rf_mesh *c = m ? rf_mesh_new() : NULL;
@@ -135,6 +217,8 @@ static inline rf_mesh *rf_mesh_copy(const rf_mesh *m)
             if (m->parts[i].name && !(c->parts[i].name = rf_strdup(m->parts[i].name)))
                 ok = false;
     }
+    if (!rf_mesh_copy_look(c, m))
+        ok = false;
     if (!ok) {
         rf_mesh_free(c);
         return NULL;

@@ -234,6 +234,7 @@ static inline void rf_animation_local_pose(const rf_animation *a, const rf_skele
 /* ---- mesh ---- */
 
 #define RF_MESH_MAX_INFLUENCES 4
+#define RF_MESH_MAX_UV_SETS 2
 
 typedef struct rf_mesh {
     uint32_t size;
@@ -250,7 +251,180 @@ typedef struct rf_mesh {
     /* Appended in 1.1 (check with RF_HAS_FIELD before reading): */
     uint32_t part_count;     /* source meshes merged into this one, or 0 */
     struct rf_mesh_part *parts; /* [part_count], or NULL; owned */
+    /* Appended in 1.2, the look (check with RF_HAS_FIELD before reading): */
+    uint32_t uv_set_count;           /* texture coordinate sets in uvs, 0 to RF_MESH_MAX_UV_SETS */
+    float *uvs[RF_MESH_MAX_UV_SETS]; /* [set][vertex][2] in glTF's convention: (0, 0) is the image's
+                                      * top-left corner, v grows downwards; or NULL */
+    float *colors;                   /* [vertex][4] linear RGBA vertex colours, or NULL */
+    float *tangents;        /* [vertex][4] unit tangent xyz and the bitangent's sign w (+-1), as
+                             * glTF's TANGENT; NULL when the source has none (or no normals) */
+    int32_t *part_material; /* [part_count] index into materials of each part, -1 for none; or
+                             * NULL (no part has a material) */
+    uint32_t material_count;
+    struct rf_material **materials; /* [material_count] owned */
+    uint32_t image_count;
+    struct rf_image **images; /* [image_count] owned; textures name them by index */
+    uint32_t morph_target_count;
+    struct rf_morph_target **morph_targets; /* [morph_target_count] owned (blend shapes) */
 } rf_mesh;
+
+/* glTF sampler values (OpenGL enums): 0 leaves the reader's default (repeat, its own filters). */
+enum rf_texture_sampler {
+    RF_TEX_NEAREST = 9728,
+    RF_TEX_LINEAR = 9729,
+    RF_TEX_LINEAR_MIPMAP_LINEAR = 9987,
+    RF_TEX_REPEAT = 10497,
+    RF_TEX_CLAMP_TO_EDGE = 33071,
+    RF_TEX_MIRRORED_REPEAT = 33648,
+};
+
+/* A texture a material uses: an image, the coordinate set that maps it, and how it is sampled. */
+typedef struct rf_texture_ref {
+    int32_t image;           /* index into rf_mesh.images, or -1 for no texture */
+    uint32_t uv_set;         /* index of the texture coordinate set, < rf_mesh.uv_set_count */
+    float scale;             /* normal map: the normal scale; occlusion: the strength; others: 1 */
+    uint16_t wrap_s, wrap_t; /* rf_texture_sampler wrap mode, or 0 */
+    uint16_t mag_filter, min_filter; /* rf_texture_sampler filter, or 0 */
+} rf_texture_ref;
+
+typedef enum rf_alpha_mode {
+    RF_ALPHA_OPAQUE = 0,
+    RF_ALPHA_MASK,  /* transparent below alpha_cutoff, opaque above */
+    RF_ALPHA_BLEND, /* blended by alpha */
+} rf_alpha_mode;
+
+/* A surface in glTF's metallic-roughness terms. Formats with other shading models map onto it
+ * on import (diffuse colour and texture become the base colour; doc/formats.md). */
+typedef struct rf_material {
+    uint32_t size;
+    char *name;          /* may be NULL; owned */
+    float base_color[4]; /* linear RGBA factor, multiplied with the texture */
+    rf_texture_ref base_color_texture;
+    float metallic, roughness;                 /* factors in [0, 1] */
+    rf_texture_ref metallic_roughness_texture; /* roughness in G, metalness in B */
+    rf_texture_ref normal_texture;
+    rf_texture_ref occlusion_texture; /* occlusion in R */
+    rf_texture_ref emissive_texture;
+    float emissive[3];     /* linear RGB factor */
+    uint32_t alpha_mode;   /* rf_alpha_mode */
+    float alpha_cutoff;    /* RF_ALPHA_MASK only */
+    uint32_t double_sided; /* non-zero: both faces are drawn */
+} rf_material;
+
+/* An image file's bytes as found in the source (never decoded). */
+typedef struct rf_image {
+    uint32_t size;
+    char *name;      /* where it came from (file name or embedded name), may be NULL; owned */
+    char *mime_type; /* "image/png" or "image/jpeg"; owned */
+    size_t byte_count;
+    unsigned char *bytes; /* [byte_count] owned */
+} rf_image;
+
+/* A morph target (blend shape): per-vertex displacements over the whole mesh, zero where a part
+ * does not have it, added to the base mesh times the target's weight. */
+typedef struct rf_morph_target {
+    uint32_t size;
+    char *name;       /* unique within the mesh; owned */
+    float weight;     /* the weight at rest, usually 0 */
+    float *positions; /* [vertex][3] displacement of the position, in the mesh's space */
+    float *normals;   /* [vertex][3] displacement of the normal, or NULL */
+} rf_morph_target;
+
+/* A target of `vertex_count` zero displacements (no normals), or NULL when out of memory.
+ * (transfer full: free with rf_morph_target_free) */
+static inline rf_morph_target *rf_morph_target_new(const char *name, uint32_t vertex_count)
+{
+    rf_morph_target *t = (rf_morph_target *)calloc(1, sizeof *t);
+    if (!t)
+        return NULL;
+    t->size = sizeof *t;
+    t->positions = (float *)calloc(vertex_count ? (size_t)vertex_count * 3 : 3, sizeof(float));
+    t->name = (char *)malloc(strlen(name) + 1);
+    if (!t->positions || !t->name) {
+        free(t->positions), free(t->name), free(t);
+        return NULL;
+    }
+    strcpy(t->name, name);
+    return t;
+}
+
+static inline void rf_morph_target_free(void *target)
+{
+    rf_morph_target *t = (rf_morph_target *)target;
+    if (t) {
+        free(t->name);
+        free(t->positions);
+        free(t->normals);
+    }
+    free(t);
+}
+
+static inline rf_texture_ref rf_texture_ref_none(void)
+{
+    rf_texture_ref t = {-1, 0, 1.0f, 0, 0, 0, 0};
+    return t;
+}
+
+/* A material with glTF's defaults (white, metallic 1, roughness 1, opaque, cutoff 0.5, no
+ * textures), or NULL when out of memory. (transfer full: free with rf_material_free) */
+static inline rf_material *rf_material_new(void)
+{
+    rf_material *m = (rf_material *)calloc(1, sizeof *m);
+    if (!m)
+        return NULL;
+    m->size = sizeof *m;
+    for (int i = 0; i < 4; i++)
+        m->base_color[i] = 1.0f;
+    m->metallic = m->roughness = 1.0f;
+    m->alpha_cutoff = 0.5f;
+    m->base_color_texture = m->metallic_roughness_texture = rf_texture_ref_none();
+    m->normal_texture = m->occlusion_texture = m->emissive_texture = rf_texture_ref_none();
+    return m;
+}
+
+static inline void rf_material_free(void *material)
+{
+    rf_material *m = (rf_material *)material;
+    if (m)
+        free(m->name);
+    free(m);
+}
+
+/* An image holding a copy of `bytes`, or NULL when out of memory. name may be NULL.
+ * (transfer full: free with rf_image_free) */
+static inline rf_image *rf_image_new(const char *name, const char *mime_type, const void *bytes,
+                                     size_t byte_count)
+{
+    rf_image *im = (rf_image *)calloc(1, sizeof *im);
+    if (!im)
+        return NULL;
+    im->size = sizeof *im;
+    im->byte_count = byte_count;
+    im->bytes = (unsigned char *)malloc(byte_count ? byte_count : 1);
+    im->mime_type = (char *)malloc(strlen(mime_type) + 1);
+    im->name = name ? (char *)malloc(strlen(name) + 1) : NULL;
+    if (!im->bytes || !im->mime_type || (name && !im->name)) {
+        free(im->bytes), free(im->mime_type), free(im->name), free(im);
+        return NULL;
+    }
+    if (byte_count)
+        memcpy(im->bytes, bytes, byte_count);
+    strcpy(im->mime_type, mime_type);
+    if (name)
+        strcpy(im->name, name);
+    return im;
+}
+
+static inline void rf_image_free(void *image)
+{
+    rf_image *im = (rf_image *)image;
+    if (im) {
+        free(im->name);
+        free(im->mime_type);
+        free(im->bytes);
+    }
+    free(im);
+}
 
 /* One source mesh inside a merged rf_mesh: a contiguous run of vertices and triangles. */
 typedef struct rf_mesh_part {
@@ -287,6 +461,24 @@ static inline void rf_mesh_free(void *mesh)
             free(m->parts[i].name);
         free(m->parts);
     }
+    if (RF_HAS_FIELD(m, rf_mesh, images)) {
+        for (uint32_t i = 0; i < RF_MESH_MAX_UV_SETS; i++)
+            free(m->uvs[i]);
+        free(m->colors);
+        free(m->tangents);
+        free(m->part_material);
+        for (uint32_t i = 0; m->materials && i < m->material_count; i++)
+            rf_material_free(m->materials[i]);
+        free(m->materials);
+        for (uint32_t i = 0; m->images && i < m->image_count; i++)
+            rf_image_free(m->images[i]);
+        free(m->images);
+    }
+    if (RF_HAS_FIELD(m, rf_mesh, morph_targets)) {
+        for (uint32_t i = 0; m->morph_targets && i < m->morph_target_count; i++)
+            rf_morph_target_free(m->morph_targets[i]);
+        free(m->morph_targets);
+    }
     free(m);
 }
 
@@ -308,6 +500,10 @@ typedef struct rf_clip_list {
     uint32_t count;
     rf_clip_info *clips; /* [count], owned */
     int32_t selected;    /* index of the clip the importer output, or -1 */
+    /* Appended in 1.2 (check with RF_HAS_FIELD before reading): */
+    rf_animation **animations; /* [count] each clip's motion where it was imported (every clip
+                                * when asked for all, clip "*"), NULL entries for the others; or
+                                * NULL; owned */
 } rf_clip_list;
 
 /* A list of `count` clips with NULL names (the producer fills them in), or NULL when out of memory.
@@ -337,6 +533,11 @@ static inline void rf_clip_list_free(void *list)
     for (uint32_t i = 0; i < l->count; i++)
         free(l->clips[i].name);
     free(l->clips);
+    if (RF_HAS_FIELD(l, rf_clip_list, animations) && l->animations) {
+        for (uint32_t i = 0; i < l->count; i++)
+            rf_animation_free(l->animations[i]);
+        free(l->animations);
+    }
     free(l);
 }
 

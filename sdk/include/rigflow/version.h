@@ -18,9 +18,11 @@ extern "C" {
 /* History (minors only append):
  *   1.0  plugin entry, node descriptors, host table; skeleton, animation, mesh, mapping
  *   1.1  skeleton bind pose and rest source; mesh parts; clip lists; the self-test extension;
- *        mapping sections and sides */
+ *        mapping sections and sides
+ *   1.2  the mesh's look (UV sets, colours, tangents, part materials, materials, images) and
+ *        morph targets; every clip's motion on a clip list */
 #define RF_ABI_VERSION_MAJOR 1
-#define RF_ABI_VERSION_MINOR 1
+#define RF_ABI_VERSION_MINOR 2
 #define RF_ABI_VERSION_PATCH 0
 
 typedef struct rf_version {
