@@ -81,6 +81,8 @@ typedef struct rt_axes {
     rf_vec3 up, forward, left, center;
     double size;
     uint8_t *centerline; /* [n] or NULL: joints the analysis puts on the centerline */
+    int32_t *logical;    /* [n] or NULL: parents in the analysed tree (a part hanging from a
+                          * placement root or a root of its own, attached where it sits) */
 } rt_axes;
 
 static bool rt_analyse(const rf_skeleton *s, const rf_xform *local, const rf_xform *world,
@@ -120,6 +122,8 @@ static bool rt_analyse(const rf_skeleton *s, const rf_xform *local, const rf_xfo
     axes->size = a->size > 0 ? a->size : 1;
     for (uint32_t j = 0; axes->centerline && j < s->joint_count; j++)
         axes->centerline[j] = a->joints[j].side == RF_SIDE_CENTER;
+    for (uint32_t j = 0; axes->logical && j < s->joint_count; j++)
+        axes->logical[j] = a->joints[j].logical_parent;
     rf_analysis_free(a);
     return true;
 }
@@ -181,7 +185,7 @@ bool rf_rt_sources_prepare(rf_retarget *rt, char *err, size_t err_size)
             src->parent[j] = src->skel->joints[j].parent;
         if (!rt_source_rest(rt, src, err, err_size))
             return false;
-        rt_axes axes = {.centerline = NULL};
+        rt_axes axes = {.centerline = NULL, .logical = NULL};
         if (!rt_analyse(src->skel, src->rest_local, src->rest_world, src->tip, &axes)) {
             rf_rt_fail(err, err_size, "out of memory");
             return false;
@@ -200,7 +204,8 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
     rt->t_rest_world = malloc(n * sizeof *rt->t_rest_world);
     rt->t_tip = calloc(n, sizeof *rt->t_tip);
     rt->t_centerline = calloc(n, 1);
-    if (!local || !rt->t_rest_world || !rt->t_tip || !rt->t_centerline) {
+    rt->t_logical = malloc(n * sizeof *rt->t_logical);
+    if (!local || !rt->t_rest_world || !rt->t_tip || !rt->t_centerline || !rt->t_logical) {
         free(local);
         rf_rt_fail(err, err_size, "out of memory");
         return false;
@@ -208,7 +213,7 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
     for (uint32_t j = 0; j < rt->n; j++)
         local[j] = t->joints[j].rest;
     rt_world(t, local, rt->t_rest_world);
-    rt_axes axes = {.centerline = rt->t_centerline};
+    rt_axes axes = {.centerline = rt->t_centerline, .logical = rt->t_logical};
     bool ok = rt_analyse(t, local, rt->t_rest_world, rt->t_tip, &axes);
     free(local);
     if (!ok) {
@@ -531,8 +536,8 @@ static double rt_median(double *v, uint32_t count)
 
 /* How far the target's feet in contact sit from where the source's say they should (their soles
  * over the target floor as the source's over theirs, in leg lengths): the median over one frame
- * in 16 (at least 16, at most 128) spread over the clip, contacts read on that coarser timeline. False (and no figure)
- * without a contact in those frames or when out of memory. */
+ * in 16 (at least 16, at most 128) spread over the clip, contacts read on that coarser timeline.
+ * False (and no figure) without a contact in those frames or when out of memory. */
 static bool rt_contact_shift(rf_retarget *rt, const rf_animation *out, double *shift)
 {
     uint32_t frames = out->frame_count, aim = frames / 16;

@@ -37,9 +37,11 @@ bool rf_rt_effectors_prepare(rf_retarget *rt)
         free(mp);
         return false;
     }
-    for (uint32_t j = 0; j < rt->n; j++) {
-        int32_t p = rt->tj[j].parent;
-        mp[j] = p < 0 ? RF_RT_NONE : rt->tj[p].kind == RF_RT_MAPPED ? p : mp[p];
+    for (uint32_t j = 0; j < rt->n; j++) { /* along body parents: an anchored foot's is its shin */
+        int32_t p = rt->lparent[j];
+        for (uint32_t guard = 0; p >= 0 && rt->tj[p].kind != RF_RT_MAPPED && guard < rt->n; guard++)
+            p = rt->lparent[p];
+        mp[j] = p;
     }
     const double low = 0.25;
     for (uint32_t e = 0; e < rt->n; e++) {
@@ -49,8 +51,8 @@ bool rf_rt_effectors_prepare(rf_retarget *rt)
         uint32_t f = e;
         while (mp[f] >= 0 && rt_source_height(rt, (uint32_t)mp[f]) <= low)
             f = (uint32_t)mp[f];
-        int32_t p = rt->tj[f].parent;
-        if (p < 0 || rt->tj[p].parent < 0 || rt->tj[f].root_motion)
+        int32_t p = rt->lparent[f];
+        if (p < 0 || rt->lparent[p] < 0 || rt->tj[f].root_motion)
             continue;
         bool seen = false;
         for (uint32_t i = 0; i < rt->effector_count; i++)
@@ -171,6 +173,14 @@ uint8_t *rf_rt_detect_contacts(const rf_retarget *rt, uint32_t frames, double fp
 typedef struct rt_pin_work {
     rf_xform *local, *world, *before;
     int32_t *parents;
+    /* The IK problem: chains of two bones up each effector's body parents, three joints a goal,
+     * posed from the frame's world transforms (so a foot placed from its shin under a placement
+     * root solves as one hanging from it). */
+    uint32_t *chain;  /* [eff * 3] target joints: hip, knee, effector */
+    int32_t *cparent; /* [eff * 3] */
+    rf_xform *clocal; /* [eff * 3] */
+    rf_xform *want;   /* [n] solved world transforms */
+    uint8_t *solved;  /* [n] */
     rf_ik_goal *goals;
     rf_vec3 *target_pos; /* [eff][frames] target effector positions before pinning */
     double *target_sole; /* [eff][frames] heights of the target feet's soles */
@@ -181,6 +191,7 @@ typedef struct rt_pin_work {
 static void rt_pin_work_free(rt_pin_work *w)
 {
     free(w->local), free(w->world), free(w->before), free(w->parents), free(w->goals);
+    free(w->chain), free(w->cparent), free(w->clocal), free(w->want), free(w->solved);
     free(w->target_pos), free(w->target_sole), free(w->src_sole), free(w->pin);
 }
 
@@ -196,8 +207,15 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
     w->target_sole = malloc((ef ? ef : 1) * sizeof *w->target_sole);
     w->src_sole = malloc((ef ? ef : 1) * sizeof *w->src_sole);
     w->pin = malloc((ef ? ef : 1) * sizeof *w->pin);
+    size_t c = (rt->effector_count ? rt->effector_count : 1) * 3;
+    w->chain = malloc(c * sizeof *w->chain);
+    w->cparent = malloc(c * sizeof *w->cparent);
+    w->clocal = malloc(c * sizeof *w->clocal);
+    w->want = malloc(n * sizeof *w->want);
+    w->solved = malloc(n ? n : 1);
     if (!w->local || !w->world || !w->before || !w->parents || !w->goals || !w->target_pos ||
-        !w->target_sole || !w->src_sole || !w->pin)
+        !w->target_sole || !w->src_sole || !w->pin || !w->chain || !w->cparent || !w->clocal ||
+        !w->want || !w->solved)
         return false;
     for (uint32_t j = 0; j < n; j++)
         w->parents[j] = rt->target->joints[j].parent;
@@ -255,31 +273,81 @@ static void rt_fk(const rf_retarget *rt, const rf_xform *local, rf_xform *world)
     }
 }
 
-/* Solves frame f's goals and writes the chains back; each effector keeps its world rotation. */
-static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t frames,
-                           const rf_ik_solver *solver, rt_pin_work *w, rf_rt_contact_stats *st,
-                           char *err, size_t err_size)
+/* The transform of `child` in `parent`'s frame. */
+static rf_xform rt_relative(rf_xform parent, rf_xform child)
+{
+    return rf_xform_mul(rf_xform_invert(parent), child);
+}
+
+/* Poses the problem's chains from the frame's world transforms: one goal per pinned effector. */
+static uint32_t rt_chains_pose(const rf_retarget *rt, uint32_t f, uint32_t frames, rt_pin_work *w)
 {
     uint32_t count = 0;
     for (uint32_t e = 0; e < rt->effector_count; e++) {
         rf_vec3 pin = w->pin[(size_t)e * frames + f];
         if (isnan(pin.x))
             continue;
-        uint32_t eff = rt->effectors[e];
-        w->goals[count] = rf_ik_goal_make(eff, pin);
-        w->goals[count++].chain_root = rt->target->joints[rt->target->joints[eff].parent].parent;
+        uint32_t eff = rt->effectors[e], knee = (uint32_t)rt->lparent[eff];
+        uint32_t hip = (uint32_t)rt->lparent[knee], b = count * 3;
+        w->chain[b] = hip, w->chain[b + 1] = knee, w->chain[b + 2] = eff;
+        w->cparent[b] = -1, w->cparent[b + 1] = (int32_t)b, w->cparent[b + 2] = (int32_t)b + 1;
+        w->clocal[b] = w->before[hip];
+        w->clocal[b + 1] = rt_relative(w->before[hip], w->before[knee]);
+        w->clocal[b + 2] = rt_relative(w->before[knee], w->before[eff]);
+        w->goals[count] = rf_ik_goal_make(b + 2, pin);
+        w->goals[count++].chain_root = (int32_t)b;
     }
-    if (!count)
-        return true;
+    return count;
+}
+
+/* Writes the solved chains back into the hierarchy's local pose of frame f (each effector keeps
+ * its world rotation), then places the anchored joints again from their moved body joints. */
+static void rt_chains_write(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t count,
+                            rt_pin_work *w)
+{
+    memset(w->solved, 0, rt->n);
+    for (uint32_t g = 0; g < count; g++) {
+        uint32_t b = g * 3;
+        rf_xform hip = w->clocal[b], knee = rf_xform_mul(hip, w->clocal[b + 1]);
+        rf_xform eff = rf_xform_mul(knee, w->clocal[b + 2]);
+        eff.r = w->before[w->chain[b + 2]].r;
+        w->want[w->chain[b]] = hip, w->want[w->chain[b + 1]] = knee, w->want[w->chain[b + 2]] = eff;
+        w->solved[w->chain[b]] = w->solved[w->chain[b + 1]] = w->solved[w->chain[b + 2]] = 1;
+    }
+    for (uint32_t j = 0; j < rt->n; j++) {
+        int32_t p = rt->target->joints[j].parent;
+        rf_xform pw = p >= 0 ? w->world[p] : rf_xform_identity();
+        if (w->solved[j]) {
+            rf_xform l = rt_relative(pw, w->want[j]);
+            w->local[j].t = l.t, w->local[j].r = rf_quat_normalize(l.r);
+        }
+        w->world[j] = p >= 0 ? rf_xform_mul(pw, w->local[j]) : w->local[j];
+        rf_animation_set_rotation(a, f, j, w->local[j].r);
+        rf_animation_set_translation(a, f, j, w->local[j].t);
+    }
+    if (rt->anchored)
+        rf_rt_place_anchored(rt, a->rotations + (size_t)f * rt->n * 4,
+                             a->translations + (size_t)f * rt->n * 3, NULL, w->world);
+}
+
+/* Solves frame f's goals through the connected solver. */
+static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t frames,
+                           const rf_ik_solver *solver, rt_pin_work *w, rf_rt_contact_stats *st,
+                           char *err, size_t err_size)
+{
     rt_pose_of(rt, a, f, w->local);
     rt_fk(rt, w->local, w->before);
-    rf_ik_problem pb = {
-        sizeof pb, rt->n, w->parents, w->local, NULL, NULL, count, w->goals, 1e-4 * rt->leg_target,
-        32};
+    uint32_t count = rt_chains_pose(rt, f, frames, w);
+    if (!count)
+        return true;
+    rf_ik_problem pb = {sizeof pb, count * 3, w->cparent,
+                        w->clocal, NULL,      NULL,
+                        count,     w->goals,  1e-4 * rt->leg_target,
+                        32};
     rf_ik_result res;
     memset(&res, 0, sizeof res);
     res.size = sizeof res;
-    res.pose = w->local;
+    res.pose = w->clocal;
     st->solves++;
     if (!solver->api->solve(solver->state, &pb, &res)) {
         st->failures++;
@@ -287,16 +355,8 @@ static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, u
         return false;
     }
     st->max_error = fmax(st->max_error, res.max_error);
-    rt_fk(rt, w->local, w->world);
-    for (uint32_t j = 0; j < rt->n; j++) {
-        rf_quat r = w->local[j].r;
-        for (uint32_t g = 0; g < count; g++)
-            if (w->goals[g].effector == j) { /* keep the foot's orientation */
-                int32_t p = rt->target->joints[j].parent;
-                r = rf_quat_mul(rf_quat_conj(w->world[p].r), w->before[j].r);
-            }
-        rf_animation_set_rotation(a, f, j, rf_quat_normalize(r));
-    }
+    memcpy(w->world, w->before, rt->n * sizeof *w->world);
+    rt_chains_write(rt, a, f, count, w);
     return true;
 }
 

@@ -100,12 +100,16 @@ static bool rt_check(const rf_rt_source *sources, uint32_t count, const rf_skele
 
 /* ---- the mapped tree ---- */
 
-/* Nearest mapped proper ancestor of every target joint, or -1. */
+/* Nearest mapped proper ancestor of every target joint along its body parents (an anchored
+ * foot's is its shin, not the placement root it hangs from), or -1. */
 static void rt_mapped_parents(const rf_retarget *rt, int32_t *mp)
 {
     for (uint32_t j = 0; j < rt->n; j++) {
-        int32_t p = rt->target->joints[j].parent;
-        mp[j] = p < 0 ? RF_RT_NONE : rt->mapping->entries[p].input_count ? p : mp[p];
+        int32_t p = rt->lparent[j];
+        for (uint32_t guard = 0; p >= 0 && !rt->mapping->entries[p].input_count && guard < rt->n;
+             guard++)
+            p = rt->lparent[p];
+        mp[j] = p >= 0 && rt->mapping->entries[p].input_count ? p : RF_RT_NONE;
     }
 }
 
@@ -113,9 +117,12 @@ static void rt_mapped_parents(const rf_retarget *rt, int32_t *mp)
 static void rt_mapped_weight(const rf_retarget *rt, const int32_t *mp, uint32_t *w)
 {
     memset(w, 0, rt->n * sizeof *w);
-    for (uint32_t j = rt->n; j-- > 0;)
-        if (rt->mapping->entries[j].input_count && mp[j] >= 0)
-            w[mp[j]] += w[j] + 1;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        if (!rt->mapping->entries[j].input_count)
+            continue;
+        for (int32_t a = mp[j], guard = 0; a >= 0 && guard < (int32_t)rt->n; a = mp[a], guard++)
+            w[a]++;
+    }
 }
 
 static rf_vec3 rt_tpos(const rf_retarget *rt, uint32_t j)
@@ -134,7 +141,7 @@ static int32_t rt_primary_child(const rf_retarget *rt, uint32_t j, const int32_t
         in = rf_v3_normalize(rf_v3_sub(rt_tpos(rt, j), rt_tpos(rt, (uint32_t)mp[j])));
     int32_t best = RF_RT_NONE;
     double best_score = -INFINITY;
-    for (uint32_t c = j + 1; c < rt->n; c++) {
+    for (uint32_t c = 0; c < rt->n; c++) {
         if (mp[c] != (int32_t)j || !rt->mapping->entries[c].input_count)
             continue;
         rf_vec3 d = rf_v3_sub(rt_tpos(rt, c), rt_tpos(rt, j));
@@ -216,7 +223,7 @@ static uint32_t rt_pairs(const rf_retarget *rt, uint32_t j, const rf_map_input *
     uint32_t count = 0;
     int32_t first = RF_RT_NONE, longest = RF_RT_NONE;
     bool has_child = false;
-    for (uint32_t c = j + 1; c < rt->n && count < max; c++) {
+    for (uint32_t c = 0; c < rt->n && count < max; c++) {
         if (mp[c] != (int32_t)j || !rt->mapping->entries[c].input_count)
             continue;
         has_child = true;
@@ -433,6 +440,8 @@ static bool rt_chains(rf_retarget *rt, const int32_t *primary)
         if (tj->kind != RF_RT_MAPPED || primary[j] < 0)
             continue;
         uint32_t c = (uint32_t)primary[j], n = 0;
+        if (!rf_rt_carries(rt->target, (int32_t)j, c))
+            continue; /* an anchored child: placed from j, no chain between */
         for (int32_t u = rt->target->joints[c].parent; u != (int32_t)j;
              u = rt->target->joints[u].parent)
             n++; /* the unmapped joints between j and c (c descends from j) */
@@ -490,8 +499,8 @@ static void rt_root_motion(rf_retarget *rt, const int32_t *mp)
         tj->parent = rt->target->joints[j].parent;
         tj->rest_local = rf_quat_normalize(rt->target->joints[j].rest.r);
         tj->rest_world = rt->t_rest_world[j].r;
-        tj->root_motion = tj->kind == RF_RT_MAPPED && mp[j] < 0;
-        for (uint32_t i = 0; !tj->root_motion && i < tj->input_count; i++) {
+        tj->root_motion = tj->kind == RF_RT_MAPPED && mp[j] < 0 && rt->anchor[j] < 0;
+        for (uint32_t i = 0; !tj->root_motion && rt->anchor[j] < 0 && i < tj->input_count; i++) {
             const rf_rt_input *in = &rt->in[tj->first_input + i];
             tj->translate = tj->translate || rt_translation_moves(&rt->src[in->source], in->joint);
         }
@@ -529,7 +538,7 @@ static bool rt_bones(rf_retarget *rt, const int32_t *mp)
         if (!rt_plain(rt, j))
             continue;
         uint32_t kids = 0, only = 0;
-        for (uint32_t c = j + 1; c < rt->n; c++)
+        for (uint32_t c = 0; c < rt->n; c++)
             if (mp[c] == (int32_t)j && rt->mapping->entries[c].input_count)
                 kids++, only = c;
         bool child_ok =
@@ -592,6 +601,14 @@ static bool rt_plan(rf_retarget *rt, char *err, size_t err_size)
     return ok;
 }
 
+static bool rt_any_mapped(const rf_mapping *m)
+{
+    for (uint32_t j = 0; j < m->target_joint_count; j++)
+        if (m->entries[j].input_count)
+            return true;
+    return false;
+}
+
 static bool rt_wants_cycle(const rf_mapping *m)
 {
     for (uint32_t j = 0; j < m->target_joint_count; j++)
@@ -627,7 +644,15 @@ rf_retarget *rf_retarget_new(const rf_rt_source *sources, uint32_t source_count,
         if (rt->src[k].n > rt->max_src_n)
             rt->max_src_n = rt->src[k].n;
     }
-    bool ok = rf_rt_sources_prepare(rt, err, err_size) && rf_rt_target_prepare(rt, err, err_size);
+    bool ok = rf_rt_sources_prepare(rt, err, err_size) && rf_rt_target_prepare(rt, err, err_size) &&
+              rf_rt_roles_prepare(rt, err, err_size);
+    if (ok && !rt_any_mapped(rt->mapping)) {
+        rf_rt_fail(err, err_size,
+                   "the mapping maps only placement, axis-conversion or helper joints (%u "
+                   "inputs dropped): no body joint is driven",
+                   rt->dropped);
+        ok = false;
+    }
     if (ok && rt_wants_cycle(mapping))
         rt->cycle = rt->opt.cycle > 0 ? rt->opt.cycle : rf_rt_detect_cycle(rt, 0);
     ok = ok && rt_plan(rt, err, err_size);
@@ -655,7 +680,9 @@ void rf_retarget_free(rf_retarget *rt)
     free(rt->src), free(rt->tj), free(rt->in), free(rt->links), free(rt->slots);
     free(rt->t_rest_world), free(rt->t_tip), free(rt->t_aligned), free(rt->t_centerline);
     free(rt->t_above), free(rt->bones), free(rt->effectors), free(rt->hot), free(rt->rest_tr);
-    free(rt->w0);
+    free(rt->w0), free(rt->t_logical), free(rt->t_role), free(rt->lparent), free(rt->anchor);
+    free(rt->anchor_off), free(rt->lorder);
+    rf_mapping_free(rt->own_map);
     free(rt);
 }
 
