@@ -11,7 +11,8 @@ plugins_retarget_libretarget_la_SOURCES = \
 	plugins/retarget/rt-clip.c \
 	plugins/retarget/rt-contact.c \
 	plugins/retarget/rt-measure.c \
-	plugins/retarget/rt-roles.c
+	plugins/retarget/rt-roles.c \
+	plugins/retarget/rt-mesh.c
 plugins_retarget_libretarget_la_LIBADD = framework/analysis/libanalysis.la -lpthread -lm
 
 plugins_LTLIBRARIES += plugins/retarget.la

@@ -179,6 +179,46 @@ typedef struct rf_rt_report {
 bool rf_retarget_measure(rf_retarget *rt, const rf_animation *anim, double start,
                          rf_rt_report *report, char *err, size_t err_size);
 
+/* ---- measures on the skinned mesh (rt-mesh.c) ---- */
+
+/* What a person sees of a clip on a skinned character, from sampled frames (linear blend
+ * skinning of the mesh by the clip's poses). Lengths are fractions of the mesh's rest height
+ * (its extent along up when skinned in the skeleton's rest pose). */
+typedef struct rf_rt_mesh_report {
+    uint32_t frames; /* frames sampled */
+    double height;   /* rest height of the mesh, model units */
+    uint32_t seams;  /* pairs of vertices close at rest that follow different joints */
+    double seam_p99; /* torn limbs: p99 over seams and frames of how far apart each pair
+                      * drifted from its rest distance */
+    double seam_max;
+    double floor_median; /* the lowest vertex over the rest floor (lowest rest vertex), per frame,
+                          * signed (negative: sinking): the median frame */
+    double floor_p95;    /* p95 over frames of its distance from the floor, either way */
+    double floating;     /* fraction of frames whose lowest vertex is over 3% above the floor */
+    double sinking;      /* ... over 3% below it */
+    double parts_below;  /* fraction of frames where a part high at rest (over 15% of the height:
+                          * not a foot; a wing, a tail, a head) goes over 1% under the floor */
+    double parts_depth;  /* the deepest such part, under the floor */
+    uint32_t edges;      /* mesh edges measured */
+    double stretch_p99;  /* p99 over edges and frames of |length / rest length - 1| */
+} rf_rt_mesh_report;
+
+/* Puts a clip of this plan (rf_retarget_clip's output) on the floor of the target's skinned
+ * mesh: the lowest vertex of the median sampled frame (up to 32 frames spread over the clip) is
+ * brought to the lowest vertex of the mesh at rest, by moving the root-motion joints along up
+ * (anchored joints follow). Bone tips and joints say where a foot ends only roughly; the mesh
+ * is what stands on the floor. *shift gets the move (target units along up, may be NULL). False
+ * with a message when the mesh is not skinned to the target (the clip is left as it was). */
+bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
+                            char *err, size_t err_size);
+
+/* Measures `anim` (a clip for `skeleton`) on `mesh` skinned to it, over at most `max_frames`
+ * frames spread over the clip (0: 24). `up` is the skeleton's up (zero: the skeleton's own, or
+ * +Y). False with a message when the mesh is not skinned to this skeleton or memory runs out. */
+bool rf_rt_mesh_measure(const rf_skeleton *skeleton, const rf_mesh *mesh, const rf_animation *anim,
+                        rf_vec3 up, uint32_t max_frames, rf_rt_mesh_report *report, char *err,
+                        size_t err_size);
+
 #ifdef __cplusplus
 }
 #endif

@@ -588,15 +588,32 @@ bool rf_rt_ground_fix(rf_retarget *rt, rf_animation *out)
         shift = (low_s - low_t) * rt->leg_target;
     }
     rt->ground_shift = shift;
+    return rf_rt_lift(rt, out, shift);
+}
+
+bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift)
+{
     rf_vec3 lift = rf_v3_scale(rt->up, shift);
+    bool moved = false;
     for (uint32_t j = 0; j < rt->n; j++) {
         if (!rt->tj[j].root_motion)
             continue;
         rf_vec3 d = rf_quat_rotate(rt->tj[j].parent_world_inv.r, lift);
         d = rf_v3_mul(rt->tj[j].parent_world_inv.s, d);
+        moved = true;
         for (uint32_t f = 0; f < out->frame_count; f++)
             rf_animation_set_translation(out, f, j,
                                          rf_v3_add(rf_animation_translation(out, f, j), d));
     }
+    if (!moved || !rt->anchored)
+        return true;
+    /* Anchored joints hang from placement joints that did not move: place them again. */
+    rf_xform *tw = malloc(rt->n * sizeof *tw);
+    if (!tw)
+        return false;
+    for (uint32_t f = 0; f < out->frame_count; f++)
+        rf_rt_place_anchored(rt, out->rotations + (size_t)f * rt->n * 4,
+                             out->translations + (size_t)f * rt->n * 3, NULL, tw);
+    free(tw);
     return true;
 }

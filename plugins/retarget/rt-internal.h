@@ -186,6 +186,9 @@ bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size);
 /* Moves the root-motion joints of a clip up or down so its lowest points sit over the target's
  * floor as the source's do over theirs. False when out of memory. */
 bool rf_rt_ground_fix(rf_retarget *rt, rf_animation *out);
+/* Moves the root-motion joints of every frame of `out` by `shift` along up (the anchored joints
+ * placed again after). False when out of memory. */
+bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift);
 /* Height of the lowest point of joint j and everything below it (joints and bone tips, `tip`
  * in each joint's frame): the sole of a foot, toes included. */
 double rf_rt_sole(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
