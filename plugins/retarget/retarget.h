@@ -173,9 +173,10 @@ typedef struct rf_rt_report {
 } rf_rt_report;
 
 /* Measures `anim` (a clip for the plan's target whose frame 0 is at time `start` of the source
- * clips, at its own fps) against the plan's sources. Works on any such clip, ours or another
- * tool's. Returns false with a message when the clip does not fit the target or memory runs
- * out. */
+ * clips, at its own fps) against the plan's sources; a clip longer than 1024 frames on one frame
+ * in k (at most 1024 frames, contacts and speeds read on that timeline; `frames` says how many).
+ * Works on any such clip, ours or another tool's. Returns false with a message when the clip does
+ * not fit the target or memory runs out. */
 bool rf_retarget_measure(rf_retarget *rt, const rf_animation *anim, double start,
                          rf_rt_report *report, char *err, size_t err_size);
 

@@ -140,6 +140,7 @@ struct rf_retarget {
     rf_xform *anchor_off;   /* [n] anchored joints: rest transform in the anchor's frame */
     uint32_t *lorder;       /* [n] every joint after its hierarchy parent and its anchor */
     uint32_t anchored;      /* joints with an anchor */
+    uint8_t *t_need;        /* [n] world transforms the placement reads (anchors, parents) */
     uint32_t dropped;       /* mapping inputs dropped (on or from placement and axis joints) */
     bool t_degenerate;      /* the target's rest is no body: align every bone */
     bool plan_differs;      /* the bodies lie differently (an upright biped onto a level

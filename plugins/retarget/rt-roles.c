@@ -129,6 +129,20 @@ static void rt_anchors(rf_retarget *rt, const rf_joint_roles *r)
     }
 }
 
+/* The joints whose world transform placing the anchored joints reads: the anchors, the
+ * anchored joints' hierarchy parents, and their ancestors. */
+static void rt_needs(rf_retarget *rt)
+{
+    for (uint32_t j = 0; j < rt->n; j++) {
+        if (rt->anchor[j] < 0)
+            continue;
+        int32_t from[2] = {rt->anchor[j], rt->target->joints[j].parent};
+        for (int i = 0; i < 2; i++)
+            for (int32_t a = from[i]; a >= 0 && !rt->t_need[a]; a = rt->target->joints[a].parent)
+                rt->t_need[a] = 1;
+    }
+}
+
 bool rf_rt_roles_prepare(rf_retarget *rt, char *err, size_t err_size)
 {
     uint32_t n = rt->n;
@@ -139,7 +153,9 @@ bool rf_rt_roles_prepare(rf_retarget *rt, char *err, size_t err_size)
     rt->anchor = malloc(n * sizeof *rt->anchor);
     rt->anchor_off = malloc(n * sizeof *rt->anchor_off);
     rt->lorder = malloc(n * sizeof *rt->lorder);
-    bool ok = tr && sr && rt->t_role && rt->lparent && rt->anchor && rt->anchor_off && rt->lorder;
+    rt->t_need = calloc(n, 1);
+    bool ok = tr && sr && rt->t_role && rt->lparent && rt->anchor && rt->anchor_off && rt->lorder &&
+              rt->t_need;
     for (uint32_t k = 0; ok && k < rt->source_count; k++) {
         const rf_animation *clip = rt->src[k].anim;
         ok = (sr[k] = rf_joint_roles_find(rt->src[k].skel, NULL, &clip, 1)) != NULL;
@@ -156,6 +172,7 @@ bool rf_rt_roles_prepare(rf_retarget *rt, char *err, size_t err_size)
             rt->anchored = 0;
             rt_order(rt);
         }
+        rt_needs(rt);
     }
     for (uint32_t k = 0; sr && k < rt->source_count; k++)
         rf_joint_roles_free(sr[k]);
@@ -177,7 +194,8 @@ void rf_rt_place_anchored(const rf_retarget *rt, float *rotations, float *transl
                           rt->target->joints[j].rest.s};
         rf_xform pw = p >= 0 ? tw[p] : rf_xform_identity();
         if (a < 0) {
-            tw[j] = p >= 0 ? rf_xform_mul(pw, local) : local;
+            if (rt->t_need[j])
+                tw[j] = p >= 0 ? rf_xform_mul(pw, local) : local;
             continue;
         }
         rf_xform want = rf_xform_mul(tw[a], rt->anchor_off[j]);
