@@ -131,6 +131,7 @@ struct rf_retarget {
     uint8_t *t_centerline;         /* [n] the joint lies on the target's centerline (analysis) */
     int32_t *t_logical;            /* [n] parents in the target's analysed tree */
     uint8_t *t_role;               /* [n] rf_joint_role of every target joint */
+    struct rf_joint_roles *t_roles; /* the target's roles while the plan is made */
 
     /* Joints their hierarchy parent does not carry (rt-roles.c): a foot under a placement root,
      * a limb that is a root of its own, an IK target or pole. Each is placed every frame from
@@ -141,6 +142,7 @@ struct rf_retarget {
     uint32_t *lorder;       /* [n] every joint after its hierarchy parent and its anchor */
     uint32_t anchored;      /* joints with an anchor */
     uint8_t *t_need;        /* [n] world transforms the placement reads (anchors, parents) */
+    uint8_t *t_tip_set;     /* [n] tips set to where a part placed from the joint begins */
     uint32_t dropped;       /* mapping inputs dropped (on or from placement and axis joints) */
     bool t_degenerate;      /* the target's rest is no body: align every bone */
     bool plan_differs;      /* the bodies lie differently (an upright biped onto a level

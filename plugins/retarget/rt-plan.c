@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "analysis/analysis.h"
 #include "rt-internal.h"
 
 void rf_rt_fail(char *err, size_t err_size, const char *fmt, ...)
@@ -485,9 +486,12 @@ static bool rt_chains(rf_retarget *rt, const int32_t *primary)
         uint32_t c = (uint32_t)primary[j], n = 0;
         if (!rf_rt_carries(rt->target, (int32_t)j, c))
             continue; /* an anchored child: placed from j, no chain between */
+        bool body = true;
         for (int32_t u = rt->target->joints[c].parent; u != (int32_t)j;
              u = rt->target->joints[u].parent)
-            n++; /* the unmapped joints between j and c (c descends from j) */
+            n++, body = body && rt->t_role[u] == RF_ROLE_BODY;
+        if (!body)
+            continue; /* an axis node between: it never moves, c is turned on its own */
         if (!n)
             continue; /* the mapped child hangs from j directly: no chain */
         tj->owner = (int32_t)j;
@@ -724,8 +728,9 @@ void rf_retarget_free(rf_retarget *rt)
     free(rt->t_rest_world), free(rt->t_tip), free(rt->t_aligned), free(rt->t_centerline);
     free(rt->t_above), free(rt->bones), free(rt->effectors), free(rt->hot), free(rt->rest_tr);
     free(rt->w0), free(rt->t_logical), free(rt->t_role), free(rt->lparent), free(rt->anchor);
-    free(rt->anchor_off), free(rt->lorder), free(rt->t_need);
+    free(rt->anchor_off), free(rt->lorder), free(rt->t_need), free(rt->t_tip_set);
     rf_mapping_free(rt->own_map);
+    rf_joint_roles_free(rt->t_roles);
     free(rt);
 }
 

@@ -59,10 +59,69 @@ static bool rt_filter_mapping(rf_retarget *rt, rf_joint_roles *const *sroles)
     return true;
 }
 
-/* The body joint j hangs from: for a body joint its parent in the analysed tree, past placement,
- * axis and helper joints (-1 at the top of the body); for a helper the body joint it sits on or
+/* Distance from p to the segment a-b. */
+static double rt_seg_dist(rf_vec3 p, rf_vec3 a, rf_vec3 b)
+{
+    rf_vec3 ab = rf_v3_sub(b, a);
+    double l2 = rf_v3_len2(ab), t = l2 > 0 ? rf_v3_dot(rf_v3_sub(p, a), ab) / l2 : 0;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    return rf_v3_dist(p, rf_v3_add(a, rf_v3_scale(ab, t)));
+}
+
+/* The joint of the main body (the top's subtree) whose bones (pivot to each child's pivot, or the
+ * pivot alone) pass nearest j's pivot: where a part hanging from a placement root sits on the
+ * body. Guessed tips do not count (the analysis guesses a knee's toward whatever it attached
+ * there by proximity). -1 when there is none. */
+static int32_t rt_nearest_body(const rf_retarget *rt, const rf_joint_roles *r, uint32_t j,
+                               int32_t top)
+{
+    rf_vec3 p = rt->t_rest_world[j].t;
+    int32_t best = RF_RT_NONE;
+    double best_d = INFINITY;
+    for (uint32_t b = 0; b < rt->n; b++) {
+        if (r->role[b] != RF_ROLE_BODY || !rf_rt_carries(rt->target, top, b))
+            continue;
+        double d = rf_v3_dist(p, rt->t_rest_world[b].t);
+        int32_t up = rt->target->joints[b].parent; /* the bone from b's parent to b */
+        if (up >= 0 && r->role[up] == RF_ROLE_BODY)
+            d = fmin(d, rt_seg_dist(p, rt->t_rest_world[up].t, rt->t_rest_world[b].t));
+        if (d < best_d)
+            best_d = d, best = d < rf_v3_dist(p, rt->t_rest_world[b].t) ? up : (int32_t)b;
+    }
+    return best;
+}
+
+/* Body joints below each joint in the hierarchy, and the top of the body: the body joint hanging
+ * from no body joint that carries the most of them (the others hanging so are parts placed
+ * elsewhere: feet under a placement root, legs that are roots of their own). */
+static int32_t rt_body_top(const rf_retarget *rt, const rf_joint_roles *r)
+{
+    uint32_t *count = calloc(rt->n, sizeof *count), best_count = 0;
+    int32_t best = RF_RT_NONE;
+    if (!count)
+        return RF_RT_NONE;
+    for (uint32_t j = rt->n; j-- > 0;) {
+        count[j] += r->role[j] == RF_ROLE_BODY;
+        int32_t p = rt->target->joints[j].parent;
+        if (p >= 0)
+            count[p] += count[j];
+    }
+    for (uint32_t j = 0; j < rt->n; j++) {
+        int32_t p = rt->target->joints[j].parent;
+        bool root = r->role[j] == RF_ROLE_BODY && (p < 0 || r->role[p] != RF_ROLE_BODY);
+        if (root && count[j] > best_count)
+            best_count = count[j], best = (int32_t)j;
+    }
+    free(count);
+    return best;
+}
+
+/* The body joint j hangs from: for a body joint its parent in the analysed tree, carried on past
+ * axis nodes (which move with their own parents); past a placement root or helper, the body
+ * joint it sits next to (-1 at the top of the body). For a helper the body joint it sits on or
  * next to; -1 for placement and axis joints. */
-static int32_t rt_body_parent(const rf_retarget *rt, const rf_joint_roles *r, uint32_t j)
+static int32_t rt_body_parent(const rf_retarget *rt, const rf_joint_roles *r, uint32_t j,
+                              int32_t top)
 {
     uint8_t role = r->role[j];
     if (rt_is_helper(role))
@@ -70,9 +129,11 @@ static int32_t rt_body_parent(const rf_retarget *rt, const rf_joint_roles *r, ui
     if (role != RF_ROLE_BODY)
         return RF_RT_NONE;
     int32_t p = rt->t_logical[j];
-    for (uint32_t guard = 0; p >= 0 && r->role[p] != RF_ROLE_BODY && guard < rt->n; guard++)
-        p = rt->t_logical[p];
-    return p >= 0 && r->role[p] == RF_ROLE_BODY ? p : RF_RT_NONE;
+    for (uint32_t guard = 0; p >= 0 && r->role[p] == RF_ROLE_AXIS && guard < rt->n; guard++)
+        p = rt->target->joints[p].parent;
+    if (p < 0 || r->role[p] == RF_ROLE_BODY)
+        return p;
+    return (int32_t)j == top || top < 0 ? RF_RT_NONE : rt_nearest_body(rt, r, j, top);
 }
 
 /* An order in which every joint comes after its hierarchy parent and its anchor: levels relaxed
@@ -115,9 +176,10 @@ static bool rt_order(rf_retarget *rt)
 /* Anchors: a joint whose body parent its hierarchy does not carry through is placed from it. */
 static void rt_anchors(rf_retarget *rt, const rf_joint_roles *r)
 {
+    int32_t top = rt_body_top(rt, r);
     rt->anchored = 0;
     for (uint32_t j = 0; j < rt->n; j++) {
-        int32_t p = rt->target->joints[j].parent, b = rt_body_parent(rt, r, j);
+        int32_t p = rt->target->joints[j].parent, b = rt_body_parent(rt, r, j, top);
         rt->anchor[j] = RF_RT_NONE;
         rt->lparent[j] = p;
         /* Carried already, or hanging from j itself (it cannot place its own ancestor). */
@@ -143,10 +205,34 @@ static void rt_needs(rf_retarget *rt)
     }
 }
 
+/* A body joint whose bone ends where a part placed from it begins (a knee whose foot hangs from
+ * a placement root) has its tip there: the analysis guessed it from the tree it built, where the
+ * placement root itself may hang from the knee by proximity. */
+static void rt_tips(rf_retarget *rt)
+{
+    for (uint32_t c = 0; c < rt->n; c++) {
+        int32_t b = rt->anchor[c];
+        if (b < 0 || rt->t_role[c] != RF_ROLE_BODY || rt->t_role[b] != RF_ROLE_BODY)
+            continue;
+        bool has_child = false;
+        for (uint32_t k = 0; k < rt->n && !has_child; k++)
+            has_child = rt->target->joints[k].parent == b && rt->t_role[k] == RF_ROLE_BODY;
+        if (has_child)
+            continue;
+        rf_xform inv = rf_xform_invert(rt->t_rest_world[b]);
+        rf_vec3 tip = rf_xform_point(inv, rt->t_rest_world[c].t);
+        rf_vec3 old = rt->t_tip[b];
+        /* The nearest such part when there are several. */
+        if (rf_v3_len2(old) == 0 || rt->t_tip_set[b] == 0 || rf_v3_len2(tip) < rf_v3_len2(old))
+            rt->t_tip[b] = tip, rt->t_tip_set[b] = 1;
+    }
+}
+
 bool rf_rt_roles_prepare(rf_retarget *rt, char *err, size_t err_size)
 {
     uint32_t n = rt->n;
-    rf_joint_roles *tr = rf_joint_roles_find(rt->target, NULL, NULL, 0);
+    rf_joint_roles *tr = rt->t_roles; /* found with the target's analysis */
+    rt->t_roles = NULL;
     rf_joint_roles **sr = calloc(rt->source_count, sizeof *sr);
     rt->t_role = malloc(n);
     rt->lparent = malloc(n * sizeof *rt->lparent);
@@ -154,8 +240,9 @@ bool rf_rt_roles_prepare(rf_retarget *rt, char *err, size_t err_size)
     rt->anchor_off = malloc(n * sizeof *rt->anchor_off);
     rt->lorder = malloc(n * sizeof *rt->lorder);
     rt->t_need = calloc(n, 1);
+    rt->t_tip_set = calloc(n, 1);
     bool ok = tr && sr && rt->t_role && rt->lparent && rt->anchor && rt->anchor_off && rt->lorder &&
-              rt->t_need;
+              rt->t_need && rt->t_tip_set;
     for (uint32_t k = 0; ok && k < rt->source_count; k++) {
         const rf_animation *clip = rt->src[k].anim;
         ok = (sr[k] = rf_joint_roles_find(rt->src[k].skel, NULL, &clip, 1)) != NULL;
@@ -173,6 +260,7 @@ bool rf_rt_roles_prepare(rf_retarget *rt, char *err, size_t err_size)
             rt_order(rt);
         }
         rt_needs(rt);
+        rt_tips(rt);
     }
     for (uint32_t k = 0; sr && k < rt->source_count; k++)
         rf_joint_roles_free(sr[k]);

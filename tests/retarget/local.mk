@@ -21,8 +21,15 @@ tests_retarget_test_retarget_data_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_retarget_test_retarget_data_LDADD = plugins/bvh/libbvh.la plugins/assimp/librfassimp.la \
 	$(RT_TEST_LDADD)
 
-check_PROGRAMS += tests/retarget/test_roles
-TESTS += tests/retarget/test_roles
+check_PROGRAMS += tests/retarget/test_roles tests/retarget/test_retarget_rerig
+TESTS += tests/retarget/test_roles tests/retarget/test_retarget_rerig
+tests_retarget_test_retarget_rerig_SOURCES = tests/retarget/test_retarget_rerig.c \
+	tests/retarget/rt-maps.h
+tests_retarget_test_retarget_rerig_CPPFLAGS = $(RT_TEST_CPPFLAGS) -I$(top_srcdir)/plugins/bvh \
+	-I$(top_srcdir)/plugins/assimp
+tests_retarget_test_retarget_rerig_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_retarget_test_retarget_rerig_LDADD = plugins/bvh/libbvh.la plugins/assimp/librfassimp.la \
+	$(RT_TEST_LDADD)
 tests_retarget_test_roles_SOURCES = tests/retarget/test_roles.c tests/retarget/rt-fixtures.h
 tests_retarget_test_roles_CPPFLAGS = $(RT_TEST_CPPFLAGS) -I$(top_srcdir)/framework \
 	-I$(top_srcdir)/plugins/assimp
