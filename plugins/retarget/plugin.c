@@ -1,6 +1,7 @@
 /* The retarget plugin: node types "retarget" (source clips onto a target skeleton through a
  * mapping, with an optional contact pass through any IK solver) and "retarget.measure" (direction
  * fidelity and foot skate of any target clip). The work is in libretarget. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -145,9 +146,14 @@ static bool rt_contact_pass(rf_retarget *rt, rf_animation *out, const rf_retarge
         host->error(node, "contact pass (%s): %s", solver->api->name, err);
         return false;
     }
-    host->log(node, RF_LOG_INFO,
-              "contact pass (%s): %u feet, %u foot-frames pinned, %u solves, largest miss %.3g",
-              solver->api->name, st.effectors, st.contact_frames, st.solves, st.max_error);
+    if (!st.effectors)
+        host->log(node, RF_LOG_INFO,
+                  "contact pass: no foot to pin (no mapped chain ends near the source's floor "
+                  "with two bones above it): feet follow the clip unpinned");
+    else
+        host->log(node, RF_LOG_INFO,
+                  "contact pass (%s): %u feet, %u foot-frames pinned, %u solves, largest miss %.3g",
+                  solver->api->name, st.effectors, st.contact_frames, st.solves, st.max_error);
     return true;
 }
 
@@ -164,6 +170,25 @@ static void rt_mesh_floor(rf_retarget *rt, rf_animation *out, const rf_host *hos
         host->log(node, RF_LOG_INFO, "floor from the skeleton only: %s", err);
     else
         host->log(node, RF_LOG_INFO, "on the mesh's floor: root moved %.4g along up", shift);
+}
+
+/* A clip with a non-finite value is refused, naming where, rather than written. */
+static bool rt_finite(const rf_animation *a, const rf_host *host, rf_node *node)
+{
+    size_t n = (size_t)a->frame_count * a->joint_count;
+    for (size_t i = 0; i < n; i++) {
+        const float *q = a->rotations + i * 4, *t = a->translations + i * 3;
+        bool ok = isfinite(q[0]) && isfinite(q[1]) && isfinite(q[2]) && isfinite(q[3]) &&
+                  isfinite(t[0]) && isfinite(t[1]) && isfinite(t[2]);
+        if (ok)
+            continue;
+        host->error(node,
+                    "the retargeted clip has a non-finite value at frame %zu, joint %zu: "
+                    "not written",
+                    i / a->joint_count, i % a->joint_count);
+        return false;
+    }
+    return true;
 }
 
 static bool rt_process(void *self, const rf_host *host, rf_node *node)
@@ -198,8 +223,13 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
               "(root motion x%.4g); source rest: %s",
               info.mapped, target->joint_count, info.shared, info.leg_source, info.leg_target,
               info.root_scale, rest);
+    if (info.dropped || info.anchored)
+        host->log(node, RF_LOG_INFO,
+                  "%u mapping inputs on or from placement, axis-conversion or helper joints "
+                  "dropped; %u joints placed from the body joint they belong to",
+                  info.dropped, info.anchored);
     rt_mesh_floor(rt, out, host, node);
-    bool ok = rt_contact_pass(rt, out, o, host, node);
+    bool ok = rt_contact_pass(rt, out, o, host, node) && rt_finite(out, host, node);
     rf_retarget_free(rt);
     if (!ok) {
         rf_animation_free(out);

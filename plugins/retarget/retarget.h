@@ -147,6 +147,10 @@ typedef struct rf_rt_info {
     uint32_t mapped;     /* target joints with inputs */
     uint32_t shared;     /* unmapped target joints sharing a chain's rotation */
     uint32_t effectors;  /* candidate end effectors for the contact pass */
+    uint32_t dropped;    /* mapping inputs dropped: on target placement, axis or helper joints,
+                          * or from source placement or axis joints */
+    uint32_t anchored;   /* target joints placed from the body joint they belong to (their
+                          * hierarchy parent does not carry them) */
 } rf_rt_info;
 
 void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info);

@@ -101,7 +101,8 @@ bool rf_rt_hot_init(rf_retarget *rt)
         const rf_rt_hot *p = h->parent >= 0 ? &rt->hot[h->parent] : NULL;
         const rf_rt_src *src = h->mode == RT_HOT_FAST ? &rt->src[rt->slots[h->slot].source] : NULL;
         if (src && p && (p->mode == RT_HOT_FAST || p->mode == RT_HOT_LOCAL) && p->slot == h->slot &&
-            src->parent[h->joint] == (int32_t)p->joint && !h->moves && rt->anchor[j] < 0) {
+            src->parent[h->joint] == (int32_t)p->joint && !h->moves && rt->anchor[j] < 0 &&
+            rt->anchor[h->parent] < 0) {
             h->mode = RT_HOT_LOCAL;
             h->kp = rf_quat_conj(p->k);
         }

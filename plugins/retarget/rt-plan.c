@@ -761,4 +761,6 @@ void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info)
         info->shared += rt->tj[j].kind == RF_RT_SHARED;
     }
     info->effectors = rt->effector_count;
+    info->dropped = rt->dropped;
+    info->anchored = rt->anchored;
 }

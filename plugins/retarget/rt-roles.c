@@ -282,6 +282,16 @@ void rf_rt_place_anchored(const rf_retarget *rt, float *rotations, float *transl
                           rt->target->joints[j].rest.s};
         rf_xform pw = p >= 0 ? tw[p] : rf_xform_identity();
         if (a < 0) {
+            /* A driven joint under an anchored undriven one (whose rotation the placement just
+             * changed) was turned against the parent's old rotation: its own world rotation
+             * (from its inputs: such a joint is never in the local-only fast form), against the
+             * placed parent. */
+            if (q && p >= 0 && rt->anchor[p] >= 0 && rt->tj[p].kind != RF_RT_MAPPED &&
+                rt->tj[j].kind != RF_RT_REST) {
+                local.r = rf_quat_normalize(rf_quat_mul(rf_quat_conj(pw.r), q[j]));
+                r[0] = (float)local.r.x, r[1] = (float)local.r.y, r[2] = (float)local.r.z;
+                r[3] = (float)local.r.w;
+            }
             if (rt->t_need[j])
                 tw[j] = p >= 0 ? rf_xform_mul(pw, local) : local;
             continue;
