@@ -79,6 +79,24 @@ static uint32_t rt_effector_slot(const rf_retarget *rt, uint32_t e)
     return rt->in[rt->tj[rt->effectors[e]].first_input].slot;
 }
 
+/* The source joints the tracks of slot s read: each effector's source joint, everything below
+ * it (its sole) and its ancestors. */
+static void rt_track_need(const rf_retarget *rt, uint32_t s, uint8_t *need)
+{
+    const rf_rt_src *src = &rt->src[rt->slots[s].source];
+    memset(need, 0, src->n);
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        if (rt_effector_slot(rt, e) != s)
+            continue;
+        int32_t j = (int32_t)rt->in[rt->tj[rt->effectors[e]].first_input].joint;
+        for (int32_t a = j; a >= 0 && !need[a]; a = src->parent[a])
+            need[a] = 1;
+        for (uint32_t c = (uint32_t)j + 1; c < src->n; c++)
+            need[c] = need[c] || (src->parent[c] >= j && need[src->parent[c]] &&
+                                  rf_rt_carries(src->skel, j, c));
+    }
+}
+
 /* World positions of every effector's source joint at each output frame, and the heights of
  * their soles over the source floor in source leg lengths, each at its input's sample time
  * (half a cycle away for a mirrored input). */
@@ -88,16 +106,19 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
     size_t m = rt->max_src_n;
     rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
     float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
-    bool ok = local && world && rot && tr;
+    uint8_t *need = malloc(m ? m : 1);
+    bool ok = local && world && rot && tr && need;
     for (uint32_t s = 0; ok && s < rt->slot_count; s++) {
         bool used = false;
         for (uint32_t e = 0; e < rt->effector_count; e++)
             used = used || rt_effector_slot(rt, e) == s;
+        if (used)
+            rt_track_need(rt, s, need);
         for (uint32_t f = 0; used && f < frames; f++) {
             uint32_t k = rt->slots[s].source;
             const rf_rt_src *src = &rt->src[k];
-            rf_rt_source_world(rt, k, rf_rt_slot_time(rt, s, start + f / fps), local, world, rot,
-                               tr);
+            rf_rt_source_world_some(rt, k, rf_rt_slot_time(rt, s, start + f / fps), local, world,
+                                    rot, tr, need);
             for (uint32_t e = 0; e < rt->effector_count; e++) {
                 if (rt_effector_slot(rt, e) != s)
                     continue;
@@ -108,7 +129,7 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
             }
         }
     }
-    free(local), free(world), free(rot), free(tr);
+    free(local), free(world), free(rot), free(tr), free(need);
     return ok;
 }
 

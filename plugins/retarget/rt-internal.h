@@ -126,11 +126,11 @@ struct rf_retarget {
     rf_rt_slot *slots;
     uint32_t slot_count;
 
-    rf_vec3 up;                    /* the target's up (unit) */
-    rf_vec3 forward, left, center; /* the target's body axes and symmetry plane */
-    uint8_t *t_centerline;         /* [n] the joint lies on the target's centerline (analysis) */
-    int32_t *t_logical;            /* [n] parents in the target's analysed tree */
-    uint8_t *t_role;               /* [n] rf_joint_role of every target joint */
+    rf_vec3 up;                     /* the target's up (unit) */
+    rf_vec3 forward, left, center;  /* the target's body axes and symmetry plane */
+    uint8_t *t_centerline;          /* [n] the joint lies on the target's centerline (analysis) */
+    int32_t *t_logical;             /* [n] parents in the target's analysed tree */
+    uint8_t *t_role;                /* [n] rf_joint_role of every target joint */
     struct rf_joint_roles *t_roles; /* the target's roles while the plan is made */
 
     /* Joints their hierarchy parent does not carry (rt-roles.c): a foot under a placement root,
@@ -258,6 +258,9 @@ void rf_rt_target_fk(const rf_retarget *rt, const rf_animation *anim, uint32_t f
 /* World transforms of source k at time t (sampled), into world (scratch local of n entries). */
 void rf_rt_source_world(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
                         rf_xform *world, float *rot, float *tr);
+/* The same for the joints in `need` only (a joint's ancestors must be in it; NULL: all). */
+void rf_rt_source_world_some(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
+                             rf_xform *world, float *rot, float *tr, const uint8_t *need);
 
 /* ---- rt-contact.c ---- */
 /* Per effector and output frame: 1 when the source counterpart is in contact ([eff][frames],
