@@ -322,7 +322,7 @@ static enum verdict selftest_one(const char *file, rf_registry *reg, const rf_no
 {
     (void)reg;
     const rf_selftest *t = d->get_extension ? d->get_extension(RF_SELFTEST_EXTENSION) : NULL;
-    if (!t || t->size < sizeof(rf_selftest) || !t->run) {
+    if (!t || t->size < RF_SELFTEST_SIZE_1_0 || !t->run) {
         report(PASS, file, "selftest", "%s: declares no self-test", d->type);
         return PASS;
     }

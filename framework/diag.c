@@ -2,6 +2,8 @@
  * can be reported at once with the file, line, node and JSON pointer it concerns. */
 #include <string.h>
 
+#include <rigflow/text.h>
+
 #include "pipeline-internal.h"
 
 static void diag_free(gpointer data)
@@ -16,13 +18,10 @@ static void diag_free(gpointer data)
 
 char *rf_printable(const char *text)
 {
-    GString *s = g_string_sized_new(strlen(text));
-    for (const unsigned char *c = (const unsigned char *)text; *c; c++)
-        if ((*c < 0x20 && *c != '\n' && *c != '\t') || *c == 0x7f)
-            g_string_append_printf(s, "\\x%02x", *c);
-        else
-            g_string_append_c(s, (char)*c);
-    return g_string_free(s, FALSE);
+    size_t n = rf_text_escape(text, NULL, 0, RF_TEXT_KEEP_LINES);
+    char *out = g_malloc(n + 1);
+    rf_text_escape(text, out, n + 1, RF_TEXT_KEEP_LINES);
+    return out;
 }
 
 GPtrArray *rf_diags_new(void)

@@ -70,9 +70,10 @@ static const char *host_node_id(rf_node *node)
     return node->id;
 }
 
-/* The value of a declared parameter, or NULL (logged) for a name or type the node never declared:
- * a plugin bug, not a user error. */
-static const rf_pvalue *param_value(rf_node *node, const char *name, bool want_string)
+/* The value of a declared parameter when its declared type is one `getter` reads, or NULL
+ * (logged) for a name or type the node never declared: a plugin bug, not a user error. */
+static const rf_pvalue *param_value(rf_node *node, const char *name, const char *getter,
+                                    bool (*reads)(uint32_t type))
 {
     int i = rf_desc_param_index(node->desc, name);
     if (i < 0 || !node->params) {
@@ -80,40 +81,63 @@ static const rf_pvalue *param_value(rf_node *node, const char *name, bool want_s
                  node->type, name);
         return NULL;
     }
-    bool is_string = node->desc->params[i].type >= RF_PARAM_STRING;
-    if (is_string != want_string) {
-        host_log(node, RF_LOG_ERROR, "plugin bug: parameter '%s' read with the wrong type", name);
+    const rf_pvalue *v = &node->params[i];
+    if (!reads(v->type)) {
+        host_log(node, RF_LOG_ERROR,
+                 "plugin bug: %s parameter '%s' of node type %s read with %s; it reads 0",
+                 rf_param_type_name(v->type), name, node->type, getter);
         return NULL;
     }
-    return &node->params[i];
+    return v;
+}
+
+static bool is_bool(uint32_t t)
+{
+    return t == RF_PARAM_BOOL;
+}
+static bool is_int(uint32_t t)
+{
+    return t == RF_PARAM_INT;
+}
+/* An integer parameter reads as a float too: the conversion is exact enough and loses no sign. */
+static bool is_number(uint32_t t)
+{
+    return t == RF_PARAM_INT || t == RF_PARAM_FLOAT;
+}
+static bool is_text(uint32_t t)
+{
+    return t >= RF_PARAM_STRING && t <= RF_PARAM_OUTPUT_PATH;
+}
+static bool is_output(uint32_t t)
+{
+    return t == RF_PARAM_OUTPUT_PATH;
 }
 
 static bool host_param_bool(rf_node *node, const char *name)
 {
-    const rf_pvalue *v = param_value(node, name, false);
+    const rf_pvalue *v = param_value(node, name, "param_bool", is_bool);
     return v ? v->b : false;
 }
 static int64_t host_param_int(rf_node *node, const char *name)
 {
-    const rf_pvalue *v = param_value(node, name, false);
+    const rf_pvalue *v = param_value(node, name, "param_int", is_int);
     return v ? v->i : 0;
 }
 static double host_param_float(rf_node *node, const char *name)
 {
-    const rf_pvalue *v = param_value(node, name, false);
+    const rf_pvalue *v = param_value(node, name, "param_float", is_number);
     if (!v)
         return 0;
-    int i = rf_desc_param_index(node->desc, name);
-    return node->desc->params[i].type == RF_PARAM_INT ? (double)v->i : v->f;
+    return v->type == RF_PARAM_INT ? (double)v->i : v->f;
 }
 static const char *host_param_string(rf_node *node, const char *name)
 {
-    const rf_pvalue *v = param_value(node, name, true);
+    const rf_pvalue *v = param_value(node, name, "param_string", is_text);
     return v && v->s ? v->s : "";
 }
 static const char *host_param_output_target(rf_node *node, const char *name)
 {
-    const rf_pvalue *v = param_value(node, name, true);
+    const rf_pvalue *v = param_value(node, name, "param_output_target", is_output);
     return v && v->target ? v->target : "";
 }
 
@@ -143,6 +167,54 @@ static const void *host_input(rf_node *node, const char *port, uint32_t index)
     return conn->src->outputs[conn->src_port].data;
 }
 
+/* The data model's structs by port type, with their oldest layout. */
+static const struct {
+    const char *type;
+    size_t size, min;
+} model_layouts[] = {
+    {RF_TYPE_SKELETON, sizeof(rf_skeleton), RF_SKELETON_SIZE_1_0},
+    {RF_TYPE_ANIMATION, sizeof(rf_animation), RF_ANIMATION_SIZE_1_0},
+    {RF_TYPE_MESH, sizeof(rf_mesh), RF_MESH_SIZE_1_0},
+    {RF_TYPE_MAPPING, sizeof(rf_mapping), RF_MAPPING_SIZE_1_0},
+    {RF_TYPE_CLIPS, sizeof(rf_clip_list), RF_CLIP_LIST_SIZE_1_1},
+};
+
+/* What consumers of a value of port type `type` read: the value itself, or, when a plugin of an
+ * older minor made it smaller than this build's struct, a copy of its head with the appended
+ * fields zero (they still point into the original, which the producer's destroy frees). NULL
+ * for a value smaller than its type's oldest layout. */
+static void *model_view(rf_node *node, const char *port, const char *type, void *data)
+{
+    for (size_t k = 0; data && k < G_N_ELEMENTS(model_layouts); k++) {
+        if (strcmp(type, model_layouts[k].type) != 0)
+            continue;
+        uint32_t size;
+        memcpy(&size, data, sizeof size); /* every model struct starts with its size */
+        if (size < model_layouts[k].min) {
+            host_log(node, RF_LOG_ERROR, "plugin bug: output '%s' (%s) declares size %u, below "
+                     "the %zu bytes of its oldest layout", port, type, size, model_layouts[k].min);
+            return NULL;
+        }
+        if (size >= model_layouts[k].size)
+            return data;
+        void *view = g_malloc0(model_layouts[k].size);
+        memcpy(view, data, size);
+        uint32_t ours = (uint32_t)model_layouts[k].size; /* the copy is a struct of this build */
+        memcpy(view, &ours, sizeof ours);
+        return view;
+    }
+    return data;
+}
+
+void rf_output_clear(rf_output *o)
+{
+    if (o->data && o->data != o->owned)
+        g_free(o->data);
+    if (o->owned && o->destroy)
+        o->destroy(o->owned);
+    *o = (rf_output){0};
+}
+
 static bool host_set_output(rf_node *node, const char *port, void *data, rf_destroy_fn destroy)
 {
     int i = rf_desc_output_index(node->desc, port);
@@ -153,7 +225,13 @@ static bool host_set_output(rf_node *node, const char *port, void *data, rf_dest
             destroy(data);
         return false;
     }
-    node->outputs[i] = (rf_output){data, destroy, true};
+    void *view = model_view(node, port, node->desc->outputs[i].type, data);
+    if (data && !view) {
+        if (destroy)
+            destroy(data);
+        return false;
+    }
+    node->outputs[i] = (rf_output){view, destroy, true, data};
     return true;
 }
 

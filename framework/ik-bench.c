@@ -6,7 +6,7 @@
 
 #include "commands.h"
 #include "ik-bench.h"
-#include "workload.h"
+#include "rigflow/ik-workload.h"
 
 typedef struct bench_solver {
     const char *type; /* node type, e.g. "ik.fabrik" */
@@ -36,7 +36,7 @@ static GArray *find_solvers(rf_registry *reg, char **names)
                                               ? d->get_extension(RF_IK_EXTENSION)
                                               : NULL;
             /* a type shadowed by an earlier folder on the path is not the one in use */
-            if (!api || rf_registry_find(reg, d->type, NULL) != d ||
+            if (!rf_ik_api_usable(api) || rf_registry_find(reg, d->type, NULL) != d ||
                 !wanted(names, d->type, api->name))
                 continue;
             bench_solver s = {d->type, api, NULL};

@@ -1,7 +1,8 @@
-/* `rigflow inspect FILE`. Runs a one-node pipeline with the importer the file needs (bvh.import
- * for .bvh, assimp.import for everything else, with require_skeleton off so unrigged files still
- * show their meshes) and prints its outputs. Going through the pipeline engine rather than
- * linking the importers keeps the command free of Assimp and shows exactly what a pipeline gets.
+/* `rigflow inspect FILE`. Runs a one-node pipeline with the importer the plugins say reads the
+ * file (rf_registry_importer_for; with require_skeleton off where the importer has it, so
+ * unrigged files still show their meshes) and prints its outputs. Going through the pipeline engine
+ * rather than linking the importers keeps the command free of Assimp and shows exactly what a
+ * pipeline gets.
  */
 #include <stdio.h>
 #include <string.h>
@@ -16,29 +17,28 @@ typedef struct rf_inspect_opts {
     char *rest;
 } rf_inspect_opts;
 
-/* bvh.import for .bvh, assimp.import for the rest; the generic import node (plugins/convert)
- * when the specific one is not installed. */
-static const char *rf_inspect_node_type(const rf_registry *reg, const char *path)
+static bool rf_inspect_declares(const rf_node_desc *d, const char *param)
 {
-    const char *dot = strrchr(path, '.');
-    const char *type = dot && g_ascii_strcasecmp(dot, ".bvh") == 0 ? "bvh.import" : "assimp.import";
-    if (!rf_registry_find(reg, type, NULL) && rf_registry_find(reg, "import", NULL))
-        return "import";
-    return type;
+    for (uint32_t i = 0; i < d->param_count; i++)
+        if (strcmp(d->params[i].name, param) == 0)
+            return true;
+    return false;
 }
 
-static char *rf_inspect_pipeline_json(const char *type, const char *path, const rf_inspect_opts *o)
+/* The one-node pipeline; the options are set only where the importer declares them. */
+static char *rf_inspect_pipeline_json(const rf_node_desc *d, const char *path_param,
+                                      const char *path, const rf_inspect_opts *o)
 {
-    json_t *params = json_pack("{s:s}", "path", path);
-    if (strcmp(type, "bvh.import") != 0) { /* assimp.import and import share these params */
+    json_t *params = json_pack("{s:s}", path_param, path);
+    if (rf_inspect_declares(d, "require_skeleton"))
         json_object_set_new(params, "require_skeleton", json_false());
-        if (o->clip)
-            json_object_set_new(params, "clip", json_string(o->clip));
-        if (o->rest)
-            json_object_set_new(params, "rest_pose", json_string(o->rest));
-    }
-    json_t *doc = json_pack("{s:s, s:i, s:[{s:s, s:s, s:o}]}", "format", "rigflow.pipeline",
-                            "version", 1, "nodes", "id", "source", "type", type, "params", params);
+    if (o->clip && rf_inspect_declares(d, "clip"))
+        json_object_set_new(params, "clip", json_string(o->clip));
+    if (o->rest && rf_inspect_declares(d, "rest_pose"))
+        json_object_set_new(params, "rest_pose", json_string(o->rest));
+    json_t *doc =
+        json_pack("{s:s, s:i, s:[{s:s, s:s, s:o}]}", "format", "rigflow.pipeline", "version", 1,
+                  "nodes", "id", "source", "type", d->type, "params", params);
     char *text = json_dumps(doc, JSON_COMPACT);
     json_decref(doc);
     return text;
@@ -83,29 +83,33 @@ static void rf_inspect_skeleton(const rf_skeleton *s)
     for (uint32_t j = 0; j < s->joint_count; j++) {
         const rf_joint *jt = &s->joints[j];
         depth[j] = jt->parent >= 0 ? depth[jt->parent] + 1 : 0;
-        g_autofree char *tree = g_strdup_printf("%*s%s", depth[j] * 2, "", jt->name);
+        g_autofree char *name = rf_printable(jt->name);
+        g_autofree char *parent = rf_printable(jt->parent >= 0 ? s->joints[jt->parent].name : "-");
+        g_autofree char *tree = g_strdup_printf("%*s%s", depth[j] * 2, "", name);
         g_autofree char *local =
             g_strdup_printf("(%.4f %.4f %.4f)", jt->rest.t.x, jt->rest.t.y, jt->rest.t.z);
-        printf("  %-4u %-32s %-24s %-30s (%.4f %.4f %.4f)%s\n", j, tree,
-               jt->parent >= 0 ? s->joints[jt->parent].name : "-", local, world[j].t.x,
-               world[j].t.y, world[j].t.z, jt->flags & RF_JOINT_UNWEIGHTED ? " unweighted" : "");
+        printf("  %-4u %-32s %-24s %-30s (%.4f %.4f %.4f)%s\n", j, tree, parent, local,
+               world[j].t.x, world[j].t.y, world[j].t.z,
+               jt->flags & RF_JOINT_UNWEIGHTED ? " unweighted" : "");
     }
 }
 
 static void rf_inspect_clips(const rf_clip_list *clips, const rf_animation *a)
 {
     if (!clips) { /* importers without a clip list (BVH) have one clip: the animation */
+        g_autofree char *name = rf_printable(a && a->name ? a->name : "motion");
         if (a)
-            printf("clips: 1\n  0 %-24s %u frames at %g fps (%.3f s)\n",
-                   a->name ? a->name : "motion", a->frame_count, a->fps,
-                   a->frame_count > 1 ? (a->frame_count - 1) / a->fps : 0.0);
+            printf("clips: 1\n  0 %-24s %u frames at %g fps (%.3f s)\n", name, a->frame_count,
+                   a->fps, a->frame_count > 1 ? (a->frame_count - 1) / a->fps : 0.0);
         return;
     }
     printf("clips: %u%s\n", clips->count, clips->count ? "" : " (none: the rest pose only)");
-    for (uint32_t i = 0; i < clips->count; i++)
-        printf("  %-2u %-24s %u frames at %g fps (%.3f s)%s\n", i, clips->clips[i].name,
-               clips->clips[i].frames, clips->clips[i].fps, clips->clips[i].duration,
+    for (uint32_t i = 0; i < clips->count; i++) {
+        g_autofree char *name = rf_printable(clips->clips[i].name);
+        printf("  %-2u %-24s %u frames at %g fps (%.3f s)%s\n", i, name, clips->clips[i].frames,
+               clips->clips[i].fps, clips->clips[i].duration,
                (int32_t)i == clips->selected ? "  [imported]" : "");
+    }
 }
 
 static void rf_inspect_mesh(const rf_mesh *m)
@@ -117,24 +121,30 @@ static void rf_inspect_mesh(const rf_mesh *m)
     uint32_t parts = RF_HAS_FIELD(m, rf_mesh, parts) ? m->part_count : 0;
     printf("meshes: %u merged, %u vertices, %u triangles, %s\n", parts ? parts : 1, m->vertex_count,
            m->triangle_count, m->skin_joints ? "skinned (4 weights per vertex)" : "not skinned");
-    for (uint32_t i = 0; i < parts; i++)
-        printf("  %-2u %-32s %u vertices, %u triangles\n", i,
-               m->parts[i].name ? m->parts[i].name : "", m->parts[i].vertex_count,
+    for (uint32_t i = 0; i < parts; i++) {
+        g_autofree char *name = rf_printable(m->parts[i].name);
+        printf("  %-2u %-32s %u vertices, %u triangles\n", i, name, m->parts[i].vertex_count,
                m->parts[i].triangle_count);
+    }
 }
 
 /* ---- the command ---- */
 
 static int rf_inspect_run(rf_registry *reg, const char *file, const rf_inspect_opts *o)
 {
-    const char *type = rf_inspect_node_type(reg, file);
-    if (!rf_registry_find(reg, type, NULL)) {
-        fprintf(stderr, "rigflow inspect: %s: node type %s not found (plugin not installed?)\n",
-                file, type);
+    const char *path_param = NULL;
+    const rf_node_desc *d = rf_registry_importer_for(reg, file, &path_param);
+    g_autofree char *shown = rf_printable(file);
+    if (!d) {
+        fprintf(stderr,
+                "rigflow inspect: %s: no installed importer reads this file (see rigflow "
+                "plugins)\n",
+                shown);
         return RF_EXIT_RUN;
     }
+    const char *type = d->type;
     g_autofree char *cwd = g_get_current_dir();
-    char *text = rf_inspect_pipeline_json(type, file, o);
+    char *text = rf_inspect_pipeline_json(d, path_param, file, o);
     g_autoptr(GPtrArray) diags = rf_diags_new();
     rf_pipeline *p = text ? rf_pipeline_load_string(text, "inspect", cwd, diags) : NULL;
     free(text);
@@ -145,7 +155,7 @@ static int rf_inspect_run(rf_registry *reg, const char *file, const rf_inspect_o
         rf_pipeline_free(p);
         return RF_EXIT_RUN;
     }
-    printf("%s (read by %s)\n", file, type);
+    printf("%s (read by %s)\n", shown, type);
     const rf_skeleton *s = rf_pipeline_result(p, "source", "skeleton");
     if (s)
         rf_inspect_skeleton(s);

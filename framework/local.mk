@@ -31,8 +31,8 @@ rigflow_LDADD += $(JANSSON_LIBS)
 
 # rigflow ik-bench: the IK solvers on the standard workloads.
 rigflow_SOURCES += framework/ik-bench.c framework/ik-bench.h
-rigflow_CPPFLAGS += -I$(top_srcdir)/plugins/ik-common
-rigflow_LDADD += plugins/ik-common/libikworkload.la
+rigflow_CPPFLAGS +=
+rigflow_LDADD += sdk/ik/librigflow-ik.la
 
 # rigflow map: the graph of pipelines/map.json from the command line.
 rigflow_SOURCES += framework/map-cmd.c framework/map-cmd.h

@@ -17,19 +17,21 @@ typedef struct rf_map_cmd_opts {
     char **params;
 } rf_map_cmd_opts;
 
-/* The generic import node (plugins/convert) when installed, else the format's own importer. */
-static const char *rf_map_cmd_importer(const rf_registry *reg, const char *path)
-{
-    if (rf_registry_find(reg, "import", NULL))
-        return "import";
-    const char *dot = strrchr(path, '.');
-    return dot && g_ascii_strcasecmp(dot, ".bvh") == 0 ? "bvh.import" : "assimp.import";
-}
-
+/* An import node for `path` with the importer the plugins say reads it (see
+ * rf_registry_importer_for), or NULL after saying that none does. */
 static json_t *rf_map_cmd_import_node(const rf_registry *reg, const char *id, const char *path)
 {
-    return json_pack("{s:s, s:s, s:{s:s}}", "id", id, "type", rf_map_cmd_importer(reg, path),
-                     "params", "path", path);
+    const char *param = NULL;
+    const rf_node_desc *d = rf_registry_importer_for(reg, path, &param);
+    if (!d) {
+        g_autofree char *shown = rf_printable(path);
+        fprintf(stderr,
+                "rigflow map: %s: no installed importer reads this file (see rigflow "
+                "plugins)\n",
+                shown);
+        return NULL;
+    }
+    return json_pack("{s:s, s:s, s:{s:s}}", "id", id, "type", d->type, "params", param, path);
 }
 
 /* Node ids follow pipelines/map.json: source (then source2, source3...), target, map, save; so
@@ -43,15 +45,23 @@ static json_t *rf_map_cmd_graph(const rf_registry *reg, char **files, int nsourc
                                 const rf_map_cmd_opts *o)
 {
     json_t *nodes = json_array(), *srcs = json_array(), *clips = json_array();
+    bool found = true;
     for (int i = 0; i < nsources; i++) {
         g_autofree char *id = rf_map_cmd_source_id(i);
         g_autofree char *port = g_strdup_printf("%s.skeleton", id);
         g_autofree char *clip = g_strdup_printf("%s.animation", id);
-        json_array_append_new(nodes, rf_map_cmd_import_node(reg, id, files[i]));
+        json_t *node = rf_map_cmd_import_node(reg, id, files[i]);
+        found = found && node;
+        json_array_append_new(nodes, node ? node : json_null());
         json_array_append_new(srcs, json_string(port));
         json_array_append_new(clips, json_string(clip));
     }
-    json_array_append_new(nodes, rf_map_cmd_import_node(reg, "target", files[nsources]));
+    json_t *target = rf_map_cmd_import_node(reg, "target", files[nsources]);
+    if (!found || !target) {
+        json_decref(target), json_decref(nodes), json_decref(srcs), json_decref(clips);
+        return NULL;
+    }
+    json_array_append_new(nodes, target);
     json_t *params = json_object(); /* only what was asked: another matcher may lack these */
     if (o->explain)
         json_object_set_new(params, "explain", json_true());
@@ -92,11 +102,13 @@ static void rf_map_cmd_print(const rf_pipeline *p, int nsources)
     uint32_t mapped = 0;
     for (uint32_t j = 0; j < m->target_joint_count && j < t->joint_count; j++) {
         const rf_map_entry *e = &m->entries[j];
-        printf("%-28s", t->joints[j].name);
+        g_autofree char *target = rf_printable(t->joints[j].name);
+        printf("%-28s", target);
         for (uint32_t k = 0; k < e->input_count; k++) {
             const rf_map_input *in = &e->inputs[k];
             const rf_skeleton *s = in->source < 64 ? src[in->source] : NULL;
-            const char *name = s && in->joint < s->joint_count ? s->joints[in->joint].name : "?";
+            g_autofree char *name =
+                rf_printable(s && in->joint < s->joint_count ? s->joints[in->joint].name : "?");
             printf(" <- %u:%s%s", in->source, name, in->flags & RF_MAP_REVERSE ? " (reverse)" : "");
         }
         printf(e->input_count ? "  score %.1f\n" : " (unmapped)\n", e->score);

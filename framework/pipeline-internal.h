@@ -22,6 +22,7 @@ typedef struct rf_conn {
 
 /* A parameter's value after validation, defaults filled in. */
 typedef struct rf_pvalue {
+    uint32_t type; /* rf_param_type of the declaration: the getters read their own type only */
     bool b;
     int64_t i;
     double f;
@@ -30,9 +31,10 @@ typedef struct rf_pvalue {
 } rf_pvalue;
 
 typedef struct rf_output {
-    void *data;
-    rf_destroy_fn destroy;
+    void *data;            /* what consumers read: `owned`, or its copy in this build's layout */
+    rf_destroy_fn destroy; /* the producer's, for `owned` */
     bool set;
+    void *owned;           /* what the producer handed over */
 } rf_output;
 
 struct rf_node {
@@ -70,11 +72,6 @@ struct rf_pipeline {
     GPtrArray *temp_files; /* outputs written during a run, removed unless it succeeds */
 };
 
-/* `text` with control characters other than newline and tab written as \xHH: messages quote
- * bytes from files, and a hostile file must not drive the terminal (escape sequences, carriage
- * returns). (transfer full) */
-char *rf_printable(const char *text);
-
 /* Index of a declared param / input / output port by name, or -1. */
 int rf_desc_param_index(const rf_node_desc *d, const char *name);
 int rf_desc_input_index(const rf_node_desc *d, const char *name);
@@ -85,5 +82,7 @@ void rf_node_clear_bindings(rf_node *n);
 
 /* Releases everything a run produced (outputs, node state, parameter values). */
 void rf_pipeline_reset_run(rf_pipeline *p);
+/* Frees an output value (and its copy in this build's layout, if one was made) and clears it. */
+void rf_output_clear(rf_output *o);
 
 #endif

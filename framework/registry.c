@@ -16,7 +16,10 @@
 struct rf_plugin {
     char *path;
     lt_dlhandle handle;
-    const rf_plugin_entry *entry;
+    const rf_plugin_entry *raw;   /* the plugin's own entry, in the layout it was built with */
+    const rf_plugin_entry *entry; /* the same in this build's layout (see normalise), or NULL */
+    rf_plugin_entry copy;         /* what `entry` points to once normalised */
+    GPtrArray *owned;             /* the normalised descriptors and their arrays (g_free) */
 };
 
 struct rf_registry {
@@ -43,6 +46,8 @@ rf_registry *rf_registry_new(void)
 
 static void plugin_unload(rf_plugin *p, bool deinit)
 {
+    if (p->owned)
+        g_ptr_array_free(p->owned, TRUE);
     if (deinit && p->entry && p->entry->deinit)
         p->entry->deinit();
     if (p->handle) {
@@ -93,10 +98,59 @@ static lt_dlhandle open_bound(const char *path, char **why)
     return h;
 }
 
+/* Normalisation: every descriptor a plugin gives is copied into a zeroed struct of this build,
+ * min(its size, ours) bytes, so fields appended after the plugin was built read as zero and the
+ * rest of the host never looks at the plugin's own layout. A size below the struct's 1.0 layout,
+ * or beyond any layout this ABI could reach, is refused. */
+#define RF_MAX_STRUCT_SIZE 65536u
+
+static bool size_ok(uint32_t size, size_t min, const char *what, GString *why)
+{
+    if (size >= min && size <= RF_MAX_STRUCT_SIZE)
+        return true;
+    g_string_append_printf(why, "%s declares size %u; ABI 1.x needs %zu to %u bytes", what, size,
+                           min, RF_MAX_STRUCT_SIZE);
+    return false;
+}
+
+/* `src`'s first min(size, dst_size) bytes into a zeroed `dst`, whose uint32_t size field at
+ * `size_at` then says what it now is: a struct of this build. */
+static void copy_prefix(void *dst, size_t dst_size, const void *src, uint32_t size, size_t size_at)
+{
+    memset(dst, 0, dst_size);
+    memcpy(dst, src, MIN((size_t)size, dst_size));
+    uint32_t ours = (uint32_t)dst_size;
+    memcpy((char *)dst + size_at, &ours, sizeof ours);
+}
+
+/* A plugin's array of `n` elements, each starting with its own size, walked by those sizes and
+ * copied into an array of this build's elements (`elem` bytes each). NULL after saying why. */
+static void *copy_array(rf_plugin *p, const void *raw, uint32_t n, size_t elem, size_t min,
+                        const char *what, GString *why)
+{
+    char *out = g_malloc0(elem * (n ? n : 1));
+    g_ptr_array_add(p->owned, out);
+    const char *at = raw;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t size;
+        memcpy(&size, at, sizeof size);
+        if (!size_ok(size, min, what, why))
+            return NULL;
+        if (size % sizeof(void *) != 0) {
+            g_string_append_printf(why, "%s declares size %u, not a whole array element", what,
+                                   size);
+            return NULL;
+        }
+        copy_prefix(out + i * elem, elem, at, size, 0);
+        at += size;
+    }
+    return out;
+}
+
 static bool port_ok(const rf_port_desc *p, GString *why)
 {
-    if (p->size < sizeof(rf_port_desc) || !p->name || !p->type) {
-        g_string_append_printf(why, "a port lacks its size, name or type");
+    if (!p->name || !p->type) {
+        g_string_append_printf(why, "a port lacks its name or type");
         return false;
     }
     return true;
@@ -104,12 +158,12 @@ static bool port_ok(const rf_port_desc *p, GString *why)
 
 static bool param_ok(const rf_param_desc *p, GString *why)
 {
-    if (p->size < sizeof(rf_param_desc) || !p->name) {
-        g_string_append(why, "a parameter lacks its size or name");
+    if (!p->name) {
+        g_string_append(why, "a parameter lacks its name");
         return false;
     }
     if (p->type < RF_PARAM_BOOL || p->type > RF_PARAM_OUTPUT_PATH) {
-        g_string_append_printf(why, "parameter '%s' has unknown type %d", p->name, (int)p->type);
+        g_string_append_printf(why, "parameter '%s' has unknown type %u", p->name, p->type);
         return false;
     }
     if (p->type == RF_PARAM_ENUM && !p->choices) {
@@ -119,44 +173,70 @@ static bool param_ok(const rf_param_desc *p, GString *why)
     return true;
 }
 
-/* Checks one node descriptor is complete enough to be driven; says why not in `why`. */
-static bool node_desc_ok(const rf_node_desc *d, GString *why)
+/* One node descriptor and its port and parameter arrays in this build's layout, checked
+ * complete enough to be driven; NULL after saying why. */
+static rf_node_desc *normalise_node(rf_plugin *p, const rf_node_desc *raw, GString *why)
 {
-    if (!d || d->size < sizeof(rf_node_desc) || !d->type || !d->process) {
-        g_string_append(why, "a node type lacks its size, type id or process function");
-        return false;
+    if (!raw || !size_ok(raw->size, RF_NODE_DESC_SIZE_1_0, "a node type", why))
+        return NULL;
+    rf_node_desc *d = g_malloc(sizeof *d);
+    g_ptr_array_add(p->owned, d);
+    copy_prefix(d, sizeof *d, raw, raw->size, offsetof(rf_node_desc, size));
+    if (!d->type || !d->process) {
+        g_string_append(why, "a node type lacks its type id or process function");
+        return NULL;
     }
     if ((d->input_count && !d->inputs) || (d->output_count && !d->outputs) ||
         (d->param_count && !d->params)) {
         g_string_append_printf(why, "node type '%s' counts ports or params it does not list",
                                d->type);
-        return false;
+        return NULL;
     }
+    d->inputs = copy_array(p, raw->inputs, d->input_count, sizeof(rf_port_desc),
+                           RF_PORT_DESC_SIZE_1_0, "a port", why);
+    d->outputs = d->inputs ? copy_array(p, raw->outputs, d->output_count, sizeof(rf_port_desc),
+                                        RF_PORT_DESC_SIZE_1_0, "a port", why)
+                           : NULL;
+    d->params = d->outputs ? copy_array(p, raw->params, d->param_count, sizeof(rf_param_desc),
+                                        RF_PARAM_DESC_SIZE_1_0, "a parameter", why)
+                           : NULL;
+    if (!d->params)
+        return NULL;
     for (uint32_t i = 0; i < d->input_count; i++)
         if (!port_ok(&d->inputs[i], why))
-            return false;
+            return NULL;
     for (uint32_t i = 0; i < d->output_count; i++)
         if (!port_ok(&d->outputs[i], why))
-            return false;
+            return NULL;
     for (uint32_t i = 0; i < d->param_count; i++)
         if (!param_ok(&d->params[i], why))
-            return false;
-    return true;
+            return NULL;
+    return d;
 }
 
-static bool entry_ok(const rf_plugin_entry *e, GString *why)
+/* The plugin's entry and every descriptor under it in this build's layout (p->entry). */
+static bool normalise(rf_plugin *p, GString *why)
 {
-    if (e->size < sizeof(rf_plugin_entry) || !e->id || !e->name) {
-        g_string_append(why, "its entry lacks its size, id or name");
+    const rf_plugin_entry *raw = p->raw;
+    if (!size_ok(raw->size, RF_PLUGIN_ENTRY_SIZE_1_0, "its entry", why))
+        return false;
+    copy_prefix(&p->copy, sizeof p->copy, raw, raw->size, offsetof(rf_plugin_entry, size));
+    rf_plugin_entry *e = &p->copy;
+    if (!e->id || !e->name) {
+        g_string_append(why, "its entry lacks its id or name");
         return false;
     }
     if (e->node_count && !e->nodes) {
         g_string_append(why, "its entry counts node types it does not list");
         return false;
     }
+    const rf_node_desc **nodes = g_new0(const rf_node_desc *, e->node_count ? e->node_count : 1);
+    g_ptr_array_add(p->owned, nodes);
     for (uint32_t i = 0; i < e->node_count; i++)
-        if (!node_desc_ok(e->nodes[i], why))
+        if (!(nodes[i] = normalise_node(p, raw->nodes[i], why)))
             return false;
+    e->nodes = nodes;
+    p->entry = e;
     return true;
 }
 
@@ -177,7 +257,7 @@ static bool already_loaded(rf_registry *reg, const rf_plugin_entry *e)
 {
     for (guint i = 0; i < reg->plugins->len; i++) {
         rf_plugin *p = g_ptr_array_index(reg->plugins, i);
-        if (p->entry == e || strcmp(p->entry->id, e->id) == 0)
+        if (p->raw == e || (e->id && strcmp(p->entry->id, e->id) == 0))
             return true;
     }
     return false;
@@ -186,7 +266,7 @@ static bool already_loaded(rf_registry *reg, const rf_plugin_entry *e)
 /* The ABI, descriptor and init checks on an opened plugin. Returns false with a diag. */
 static bool admit(rf_registry *reg, rf_plugin *p, GPtrArray *diags)
 {
-    const rf_plugin_entry *e = p->entry;
+    const rf_plugin_entry *e = p->raw;
     rf_version host = RF_ABI_VERSION_INIT;
     if (!rf_version_compatible(host, e->abi)) {
         rf_diags_add(diags, p->path, 0, 0, NULL, NULL,
@@ -197,10 +277,11 @@ static bool admit(rf_registry *reg, rf_plugin *p, GPtrArray *diags)
         return false;
     }
     g_autoptr(GString) why = g_string_new(NULL);
-    if (!entry_ok(e, why)) {
+    if (!normalise(p, why)) {
         rf_diags_add(diags, p->path, 0, 0, NULL, NULL, "malformed rigflow plugin: %s", why->str);
         return false;
     }
+    e = p->entry;
     const char *type = NULL;
     rf_plugin *other = type_clash(reg, e, &type);
     if (other) {
@@ -231,16 +312,17 @@ bool rf_registry_load_file(rf_registry *reg, const char *path, GPtrArray *diags)
     p->path = g_strdup(path);
     p->handle = h;
     g_mutex_lock(&ltdl_lock);
-    p->entry = lt_dlsym(h, "rigflow_plugin_entry");
+    p->raw = lt_dlsym(h, "rigflow_plugin_entry");
     g_mutex_unlock(&ltdl_lock);
-    if (!p->entry) {
+    p->owned = g_ptr_array_new_with_free_func(g_free);
+    if (!p->raw) {
         rf_diags_add(diags, path, 0, 0, NULL, NULL,
                      "not a rigflow plugin: it does not export the symbol %s",
                      RF_PLUGIN_ENTRY_SYMBOL);
         plugin_unload(p, false);
         return false;
     }
-    if (already_loaded(reg, p->entry)) { /* the same plugin later on the search path: shadowed */
+    if (already_loaded(reg, p->raw)) { /* the same plugin later on the search path: shadowed */
         plugin_unload(p, false);
         return true;
     }
@@ -354,6 +436,48 @@ const rf_node_desc *rf_registry_find(const rf_registry *reg, const char *type,
         if (strcmp(p->entry->nodes[i]->type, type) == 0)
             return p->entry->nodes[i];
     return NULL;
+}
+
+/* How well an importer's suffix list fits `path`: 2 it names the suffix, 1 it reads anything. */
+static int suffix_fit(const char *suffixes, const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    const char *slash = strrchr(path, '/');
+    const char *ext = dot && (!slash || dot > slash) ? dot + 1 : NULL;
+    int fit = 0;
+    g_auto(GStrv) list = g_strsplit(suffixes, "|", -1);
+    for (char **s = list; *s; s++) {
+        if (strcmp(*s, "*") == 0)
+            fit = MAX(fit, 1);
+        else if (ext && g_ascii_strcasecmp(*s, ext) == 0)
+            fit = 2;
+    }
+    return fit;
+}
+
+const rf_node_desc *rf_registry_importer_for(const rf_registry *reg, const char *path,
+                                             const char **path_param)
+{
+    const rf_node_desc *best = NULL;
+    int best_fit = 0;
+    for (guint i = 0; i < reg->plugins->len; i++) {
+        const rf_plugin_entry *e = ((rf_plugin *)g_ptr_array_index(reg->plugins, i))->entry;
+        for (uint32_t k = 0; k < e->node_count; k++) {
+            const rf_node_desc *d = e->nodes[k];
+            const rf_importer_info *info = d->kind == RF_KIND_IMPORTER && d->get_extension
+                                               ? d->get_extension(RF_IMPORTER_EXTENSION)
+                                               : NULL;
+            if (!info || info->size < RF_IMPORTER_INFO_SIZE_1_0 || !info->suffixes ||
+                !info->path_param || rf_registry_find(reg, d->type, NULL) != d)
+                continue; /* incomplete, or shadowed by an earlier folder on the path */
+            int fit = suffix_fit(info->suffixes, path);
+            if (fit > best_fit) {
+                best = d, best_fit = fit;
+                *path_param = info->path_param;
+            }
+        }
+    }
+    return best;
 }
 
 const char *rf_kind_name(rf_node_kind kind)

@@ -45,6 +45,12 @@ RF_HOST_API void rf_diags_add(GPtrArray *diags, const char *file, int line, int 
 /* "file:line:col: node 'id' at /pointer: message" with the parts that are present. */
 RF_HOST_API char *rf_diag_format(const rf_diag *d);
 
+/* `text` (NULL reads as "") with every byte that is not printable UTF-8 (controls other than
+ * newline and tab, C1 controls, invalid sequences) written as \xNN, as rigflow/text.h escapes:
+ * messages and listings quote names from files, and a hostile file must not drive the terminal.
+ * (transfer full) */
+RF_HOST_API char *rf_printable(const char *text);
+
 /* ---- plugins and the registry ---- */
 
 typedef struct rf_plugin rf_plugin; /* one loaded shared object */
@@ -76,6 +82,12 @@ RF_HOST_API const rf_node_desc *rf_registry_find(const rf_registry *reg, const c
                                                  const rf_plugin **plugin);
 
 /* "importer", "exporter", ... or "unknown". */
+/* The importer for the file `path`: the node type of kind importer whose rigflow.importer/1
+ * extension lists the file's suffix, else the first that reads anything ("*"); NULL when none
+ * does. *path_param receives the parameter that takes the file's path. (borrowed) */
+RF_HOST_API const rf_node_desc *rf_registry_importer_for(const rf_registry *reg, const char *path,
+                                                         const char **path_param);
+
 RF_HOST_API const char *rf_kind_name(rf_node_kind kind);
 RF_HOST_API const char *rf_param_type_name(rf_param_type type);
 
@@ -98,7 +110,11 @@ RF_HOST_API rf_pipeline *rf_pipeline_load(const char *path, GPtrArray *diags);
 RF_HOST_API rf_pipeline *rf_pipeline_load_string(const char *text, const char *name,
                                                  const char *dir, GPtrArray *diags);
 RF_HOST_API void rf_pipeline_free(rf_pipeline *p);
-/* Applies "node.param=value" (value parsed as JSON when it parses, else taken as a string).
+/* Applies "node.param=value". The value is kept as text and typed at validation by the
+ * parameter's declaration (bool: true, false, 1 or 0; int and float: a whole decimal number;
+ * strings, enums and paths: the text as it is, a relative path resolved against the current
+ * folder, not the pipeline's), so "-p x.name=123" stays the string "123" for a string
+ * parameter. A value that does not read as the declared type fails validation, naming it.
  * Returns false with a diag for a malformed override or an unknown node. */
 RF_HOST_API bool rf_pipeline_override(rf_pipeline *p, const char *assignment, GPtrArray *diags);
 /* Staged validation against the registry. Adds every problem found to diags; true when none. */

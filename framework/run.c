@@ -33,8 +33,7 @@ void rf_pipeline_reset_run(rf_pipeline *p)
         n->created = false;
         n->self = NULL;
         for (uint32_t k = 0; n->outputs && k < n->desc->output_count; k++)
-            if (n->outputs[k].data && n->outputs[k].destroy)
-                n->outputs[k].destroy(n->outputs[k].data);
+            rf_output_clear(&n->outputs[k]);
         g_clear_pointer(&n->outputs, g_free);
         g_clear_pointer(&n->error, g_free);
     }

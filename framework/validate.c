@@ -170,6 +170,7 @@ static void bind_default(rf_node *n, uint32_t idx, const char *base)
 {
     const rf_param_desc *d = &n->desc->params[idx];
     rf_pvalue *pv = &n->params[idx];
+    pv->type = d->type;
     pv->b = d->default_number != 0;
     pv->i = (int64_t)d->default_number;
     pv->f = d->default_number;

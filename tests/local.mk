@@ -5,7 +5,8 @@ FIXTURE_SRC = tests/fixtures/fixture.c
 check_LTLIBRARIES += tests/fixtures/fx_good.la tests/fixtures/fx_major.la \
 	tests/fixtures/fx_minor.la tests/fixtures/fx_noentry.la tests/fixtures/fx_initfail.la \
 	tests/fixtures/fx_dup.la tests/fixtures/fx_unresolved.la tests/fixtures/fx_baddefault.la \
-	tests/fixtures/fx_crash.la tests/fixtures/fx_selftest.la tests/fixtures/fx_old.la
+	tests/fixtures/fx_crash.la tests/fixtures/fx_selftest.la tests/fixtures/fx_old.la \
+	tests/fixtures/fx_abi10.la tests/fixtures/fx_wide.la
 tests_fixtures_fx_good_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_good_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_major_la_SOURCES = $(FIXTURE_SRC)
@@ -31,6 +32,13 @@ tests_fixtures_fx_unresolved_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_old_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_old_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_MINOR=0 -DFX_ID='"org.rigflow.test.old"'
 tests_fixtures_fx_old_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+# Built against the frozen ABI 1.0 headers only (tests/abi-1.0), as a plugin from then was.
+tests_fixtures_fx_abi10_la_SOURCES = tests/fixtures/fx_abi10.c
+tests_fixtures_fx_abi10_la_CPPFLAGS = -I$(top_srcdir)/tests/abi-1.0
+tests_fixtures_fx_abi10_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+tests_fixtures_fx_wide_la_SOURCES = tests/fixtures/fx_wide.c
+tests_fixtures_fx_wide_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+EXTRA_DIST += tests/abi-1.0
 tests_fixtures_fx_baddefault_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_baddefault_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_VALUE_DEFAULT=250
 tests_fixtures_fx_baddefault_la_LDFLAGS = $(FIXTURE_LDFLAGS)
@@ -44,21 +52,27 @@ tests_fixtures_fx_selftest_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 HOST_TEST_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS) $(CMOCKA_CFLAGS)
 HOST_TEST_LIBS = framework/librigflow.la $(GLIB_LIBS) $(JANSSON_LIBS) $(CMOCKA_LIBS)
 
-check_PROGRAMS += tests/test_plugins tests/test_pipeline tests/test_math
-TESTS += tests/test_plugins tests/test_pipeline tests/test_math
+check_PROGRAMS += tests/test_plugins tests/test_pipeline tests/test_math tests/test_sdk_helpers
+TESTS += tests/test_plugins tests/test_pipeline tests/test_math tests/test_sdk_helpers
 tests_test_plugins_SOURCES = tests/test_plugins.c tests/testutil.h
+tests_test_plugins_CPPFLAGS = $(HOST_CPPFLAGS)
 tests_test_plugins_CFLAGS = $(HOST_TEST_CFLAGS)
 tests_test_plugins_LDADD = $(HOST_TEST_LIBS)
 tests_test_pipeline_SOURCES = tests/test_pipeline.c tests/testutil.h
+tests_test_pipeline_CPPFLAGS = $(HOST_CPPFLAGS)
 tests_test_pipeline_CFLAGS = $(HOST_TEST_CFLAGS)
 tests_test_pipeline_LDADD = $(HOST_TEST_LIBS)
 tests_test_math_SOURCES = tests/test_math.c
 tests_test_math_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_test_math_LDADD = $(CMOCKA_LIBS) -lm
+tests_test_sdk_helpers_SOURCES = tests/test_sdk_helpers.c
+tests_test_sdk_helpers_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_test_sdk_helpers_LDADD = $(CMOCKA_LIBS) -lm
 
 # The command end to end, with the bundled plugins.
-TESTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_sdk.sh
-dist_noinst_SCRIPTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh \
+TESTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_sdk.sh \
+	tests/test_layout.sh
+dist_noinst_SCRIPTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_layout.sh \
 	tests/test_sdk.sh
 EXTRA_DIST += sdk/examples/smooth/smooth.c sdk/examples/smooth/Makefile \
 	sdk/examples/match-nearest/match_nearest.c sdk/examples/match-nearest/Makefile

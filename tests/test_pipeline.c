@@ -377,6 +377,25 @@ static void relative_paths_resolve_against_pipeline_folder(void **state)
     rf_pipeline_free(p);
 }
 
+/* A parameter read with a getter of another type reads 0, never a stale default or another
+ * field of the value (a FLOAT of 7.9 read with param_int used to give the default, 1). */
+static void getters_read_their_own_type_only(void **state)
+{
+    fixture *f = *state;
+    rf_pipeline *p = check(f,
+                           "{\"id\": \"g\", \"type\": \"test.getters\", \"params\": "
+                           "{\"f\": 7.9, \"i\": 5, \"b\": true}}",
+                           true);
+    assert_true(rf_pipeline_run(p, f->reg, NULL, f->diags));
+    const double *v = rf_pipeline_result(p, "g", "values");
+    assert_non_null(v);
+    assert_true(v[0] == 0); /* FLOAT 7.9 read with param_int */
+    assert_true(v[1] == 0); /* INT 5 read with param_bool */
+    assert_true(v[2] == 0); /* BOOL true read with param_float */
+    assert_true(v[3] == 5); /* INT read with param_float: its value */
+    rf_pipeline_free(p);
+}
+
 int main(void)
 {
 #define T(fn) cmocka_unit_test_setup_teardown(fn, setup, teardown)
@@ -398,6 +417,7 @@ int main(void)
         T(cancelled_run_leaves_no_output),
         T(overrides_are_typed_and_relative_to_cwd),
         T(relative_paths_resolve_against_pipeline_folder),
+        T(getters_read_their_own_type_only),
         T(relative_pipeline_folder_made_absolute),
     };
     return cmocka_run_group_tests_name("pipeline", tests, NULL, NULL);

@@ -93,6 +93,72 @@ static void older_struct_read_safely(void **state)
     rf_skeleton_free(n);
 }
 
+/* Loads `text` as a pipeline, validates and runs it against the fixture's registry. */
+static rf_pipeline *run_text(fixture *f, const char *text)
+{
+    rf_pipeline *p = rf_pipeline_load_string(text, "abi.json", ".", f->diags);
+    assert_non_null(p);
+    assert_true(rf_pipeline_validate(p, f->reg, f->diags));
+    assert_true(rf_pipeline_run(p, f->reg, NULL, f->diags));
+    return p;
+}
+
+/* A plugin built against the frozen 1.0 headers (tests/abi-1.0) loads, reads as declared and
+ * runs in this host; its 1.0-sized skeleton reaches consumers in this build's layout, the
+ * fields appended since 1.0 zero. */
+static void frozen_abi10_plugin_loads_and_runs(void **state)
+{
+    fixture *f = *state;
+    assert_true(load(f, "fx_abi10"));
+    assert_int_equal(f->diags->len, 0);
+    const rf_node_desc *d = rf_registry_find(f->reg, "abi10.chain", NULL);
+    assert_non_null(d);
+    assert_int_equal(d->kind, RF_KIND_IMPORTER);
+    assert_int_equal(d->param_count, 3);
+    assert_string_equal(d->params[2].name, "prefix");
+    assert_string_equal(d->params[2].default_string, "bone");
+    assert_true(d->params[1].max == 10);
+    assert_string_equal(d->outputs[0].type, RF_TYPE_SKELETON);
+    rf_pipeline *p =
+        run_text(f, "{\"format\": \"rigflow.pipeline\", \"version\": 1, \"nodes\": ["
+                    "{\"id\": \"make\", \"type\": \"abi10.chain\", \"params\": {\"joints\": 4}},"
+                    "{\"id\": \"count\", \"type\": \"abi10.count\", \"params\": {\"expect\": 4},"
+                    " \"inputs\": {\"skeleton\": \"make.skeleton\"}}]}");
+    const rf_skeleton *s = rf_pipeline_result(p, "make", "skeleton");
+    assert_non_null(s);
+    assert_int_equal(s->size, sizeof(rf_skeleton));
+    assert_true(RF_HAS_FIELD(s, rf_skeleton, rest_source));
+    assert_null(s->bind);
+    assert_int_equal(s->rest_source, 0);
+    assert_string_equal(s->joints[3].name, "bone3");
+    rf_pipeline_free(p);
+}
+
+/* Descriptors with a field appended after this host's layout (a wider element in every array)
+ * are walked by their own size: every parameter reads as declared, and the node runs. */
+static void wider_descriptors_walked_by_their_size(void **state)
+{
+    fixture *f = *state;
+    assert_true(load(f, "fx_wide"));
+    assert_int_equal(f->diags->len, 0);
+    const rf_node_desc *d = rf_registry_find(f->reg, "wide.sum", NULL);
+    assert_non_null(d);
+    assert_int_equal(d->size, sizeof(rf_node_desc));
+    assert_int_equal(d->param_count, 3);
+    assert_string_equal(d->params[1].name, "b");
+    assert_true(d->params[1].max == 50);
+    assert_string_equal(d->params[2].name, "c");
+    assert_int_equal(d->params[2].size, sizeof(rf_param_desc));
+    assert_string_equal(d->outputs[0].name, "value");
+    rf_pipeline *p =
+        run_text(f, "{\"format\": \"rigflow.pipeline\", \"version\": 1, \"nodes\": ["
+                    "{\"id\": \"sum\", \"type\": \"wide.sum\", \"params\": {\"b\": 7}}]}");
+    const double *v = rf_pipeline_result(p, "sum", "value");
+    assert_non_null(v);
+    assert_true(*v == 1.5 + 7 + 100);
+    rf_pipeline_free(p);
+}
+
 static void missing_entry_refused(void **state)
 {
     fixture *f = *state;
@@ -180,6 +246,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(newer_minor_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(older_minor_loads, setup, teardown),
         cmocka_unit_test_setup_teardown(older_struct_read_safely, setup, teardown),
+        cmocka_unit_test_setup_teardown(frozen_abi10_plugin_loads_and_runs, setup, teardown),
+        cmocka_unit_test_setup_teardown(wider_descriptors_walked_by_their_size, setup, teardown),
         cmocka_unit_test_setup_teardown(missing_entry_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(failed_init_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(duplicate_type_refused, setup, teardown),

@@ -18,7 +18,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "bvh.h"
+#include "rigflow/bvh.h"
 
 static int reps = 5;
 static double min_ms = 300;

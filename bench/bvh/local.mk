@@ -2,8 +2,8 @@
 # (or `make bench`), and bench/bvh/run.sh, which runs it beside the three.js and Assimp peers.
 EXTRA_PROGRAMS += bench/bvh/bench_bvh
 bench_bvh_bench_bvh_SOURCES = bench/bvh/bench_bvh.c
-bench_bvh_bench_bvh_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/bvh
-bench_bvh_bench_bvh_LDADD = plugins/bvh/libbvh.la -lm
+bench_bvh_bench_bvh_CPPFLAGS = $(AM_CPPFLAGS)
+bench_bvh_bench_bvh_LDADD = sdk/formats/bvh/librigflow-bvh.la -lm
 CLEANFILES += bench/bvh/bench_bvh$(EXEEXT)
 EXTRA_DIST += bench/bvh/run.sh bench/bvh/ratios.mjs bench/README.md
 

@@ -4,9 +4,9 @@ EXTRA_PROGRAMS += bench/match/bench_match
 bench_match_bench_match_SOURCES = bench/match/bench_match.c tests/match/truth.c \
 	tests/match/truth.h
 bench_match_bench_match_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins \
-	-I$(top_srcdir)/tests/match -I$(top_srcdir)/plugins/bvh -I$(top_srcdir)/plugins/assimp
+	-I$(top_srcdir)/tests/match
 bench_match_bench_match_LDADD = plugins/match-similarity/libsimilarity.la \
-	framework/analysis/libanalysis.la plugins/bvh/libbvh.la plugins/assimp/librfassimp.la -lm
+	sdk/analysis/librigflow-analysis.la sdk/formats/bvh/librigflow-bvh.la sdk/formats/assimp/librigflow-assimp.la -lm
 CLEANFILES += bench/match/bench_match$(EXEEXT)
 EXTRA_DIST += bench/match/run.sh
 

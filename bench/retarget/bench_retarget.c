@@ -23,8 +23,8 @@
 #include <strings.h>
 #include <time.h>
 
-#include "aimport.h"
-#include "bvh.h"
+#include "rigflow/aimport.h"
+#include "rigflow/bvh.h"
 #include "retarget.h"
 #include "rt-maps.h"
 #include "twobone.h"

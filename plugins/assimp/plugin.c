@@ -1,12 +1,20 @@
 /* The Assimp importer plugin: node type assimp.import. The work is in librfassimp (aimport.c). */
 #include <rigflow/rigflow.h>
 
-#include "aimport-node.h"
+#include "rigflow/aimport-node.h"
 
 static bool rf_assimp_process(void *self, const rf_host *host, rf_node *node)
 {
     (void)self;
     return rf_ai_node_import(host, node);
+}
+
+/* Whatever Assimp reads: the host then prefers an importer that names a file's suffix. */
+static const rf_importer_info rf_assimp_importer = {sizeof(rf_importer_info), "*", "path"};
+
+static const void *rf_assimp_extension(const char *id)
+{
+    return strcmp(id, RF_IMPORTER_EXTENSION) == 0 ? &rf_assimp_importer : NULL;
 }
 
 static const rf_node_desc rf_assimp_import = {
@@ -21,6 +29,7 @@ static const rf_node_desc rf_assimp_import = {
     .param_count = RF_AI_NODE_PARAM_COUNT,
     .params = rf_ai_node_params,
     .process = rf_assimp_process,
+    .get_extension = rf_assimp_extension,
 };
 
 static const rf_node_desc *const rf_assimp_nodes[] = {&rf_assimp_import};

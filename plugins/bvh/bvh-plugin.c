@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "rigflow/plugin.h"
-#include "bvh.h"
+#include "rigflow/bvh.h"
 
 #define ERR_SIZE 1024
 
@@ -100,11 +100,13 @@ static bool selftest_run(const rf_host *host, char *err, size_t err_size)
     return ok;
 }
 
-static const rf_selftest selftest = {sizeof(rf_selftest), selftest_run};
+RF_SELFTEST_GET_EXTENSION(get_extension, selftest_run)
 
-static const void *get_extension(const char *id)
+static const rf_importer_info importer = {sizeof(rf_importer_info), "bvh", "path"};
+
+static const void *import_extension(const char *id)
 {
-    return strcmp(id, RF_SELFTEST_EXTENSION) == 0 ? &selftest : NULL;
+    return strcmp(id, RF_IMPORTER_EXTENSION) == 0 ? &importer : get_extension(id);
 }
 
 /* ---- bvh.import ---- */
@@ -134,17 +136,19 @@ static bool import_process(void *self, const rf_host *host, rf_node *node)
 }
 
 static const rf_port_desc import_outputs[] = {
-    {sizeof(rf_port_desc), "skeleton", RF_TYPE_SKELETON, 0,
-     "The joints in file order: names, parents, OFFSETs as rest translations with identity rest "
-     "rotations, End Sites as end_site."},
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0,
-     "Every frame's local rotations (Euler channels in degrees, composed in their listed order) "
-     "and translations (the position channels, else the OFFSET); fps is 1 / Frame Time."},
+    RF_PORT_DESC("skeleton", RF_TYPE_SKELETON, 0,
+                 "The joints in file order: names, parents, OFFSETs as rest translations with "
+                 "identity rest rotations, End Sites as end_site."),
+    RF_PORT_DESC(
+        "animation", RF_TYPE_ANIMATION, 0,
+        "Every frame's local rotations (Euler channels in degrees, composed in their listed order) "
+        "and translations (the position channels, else the OFFSET); fps is 1 / Frame Time."),
 };
 
 static const rf_param_desc import_params[] = {
-    {sizeof(rf_param_desc), "path", RF_PARAM_INPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
-     "The BVH file to read (any channel order, 3 or 6 channels per joint, LF or CRLF)."},
+    RF_PARAM_DESC_INPUT_PATH(
+        "path", RF_PARAM_REQUIRED,
+        "The BVH file to read (any channel order, 3 or 6 channels per joint, LF or CRLF)."),
 };
 
 static const rf_node_desc import_node = {
@@ -154,12 +158,10 @@ static const rf_node_desc import_node = {
     .doc = "Reads a Biovision Hierarchy (.bvh) motion capture file into a skeleton and its "
            "animation. The rest pose is the zero-rotation pose with the OFFSETs; malformed "
            "files are refused with the line and what was expected.",
-    .output_count = 2,
-    .outputs = import_outputs,
-    .param_count = 1,
-    .params = import_params,
+    RF_NODE_OUTPUTS(import_outputs),
+    RF_NODE_PARAMS(import_params),
     .process = import_process,
-    .get_extension = get_extension,
+    .get_extension = import_extension,
 };
 
 /* ---- bvh.export ---- */
@@ -194,23 +196,22 @@ static bool export_process(void *self, const rf_host *host, rf_node *node)
 }
 
 static const rf_port_desc export_inputs[] = {
-    {sizeof(rf_port_desc), "skeleton", RF_TYPE_SKELETON, 0,
-     "The skeleton to write; rest rotations are folded into the motion so the zero-rotation "
-     "pose is the rest pose."},
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
-     "The motion for that skeleton; without it one frame of the rest pose is written."},
+    RF_PORT_DESC("skeleton", RF_TYPE_SKELETON, 0,
+                 "The skeleton to write; rest rotations are folded into the motion so the "
+                 "zero-rotation pose is the rest pose."),
+    RF_PORT_DESC("animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
+                 "The motion for that skeleton; without it one frame of the rest pose is written."),
 };
 
 static const rf_param_desc export_params[] = {
-    {sizeof(rf_param_desc), "path", RF_PARAM_OUTPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
-     "The BVH file to write."},
-    {sizeof(rf_param_desc), "precision", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 9, NULL, 3, 17, NULL,
-     "Significant digits of every number; 9 keeps float data exact on re-import."},
-    {sizeof(rf_param_desc), "rotation_order", RF_PARAM_ENUM, 0, 0, "ZYX", 0, 0,
-     "ZYX|ZXY|YXZ|YZX|XYZ|XZY", "Rotation channel order, composed left to right (ZYX: Rz Ry Rx)."},
-    {sizeof(rf_param_desc), "all_positions", RF_PARAM_BOOL, 0, 0, NULL, 0, 0, NULL,
-     "Give every joint position channels (6 channels), not only roots and joints whose "
-     "translation is animated."},
+    RF_PARAM_DESC_OUTPUT_PATH("path", RF_PARAM_REQUIRED, "The BVH file to write."),
+    RF_PARAM_DESC_INT("precision", 9, 3, 17,
+                      "Significant digits of every number; 9 keeps float data exact on re-import."),
+    RF_PARAM_DESC_ENUM("rotation_order", "ZYX", "ZYX|ZXY|YXZ|YZX|XYZ|XZY",
+                       "Rotation channel order, composed left to right (ZYX: Rz Ry Rx)."),
+    RF_PARAM_DESC_BOOL("all_positions", 0,
+                       "Give every joint position channels (6 channels), not only roots and joints "
+                       "whose translation is animated."),
 };
 
 static const rf_node_desc export_node = {
@@ -220,23 +221,13 @@ static const rf_node_desc export_node = {
     .doc = "Writes a skeleton and its animation as a BVH file that re-imports to the same "
            "skeleton and motion. Skeletons with rotated rest joints (glTF, FBX rigs) are written "
            "with world-aligned OFFSETs, keeping every frame's world pose.",
-    .input_count = 2,
-    .inputs = export_inputs,
-    .param_count = 4,
-    .params = export_params,
+    RF_NODE_INPUTS(export_inputs),
+    RF_NODE_PARAMS(export_params),
     .process = export_process,
     .get_extension = get_extension,
 };
 
 static const rf_node_desc *const nodes[] = {&import_node, &export_node};
 
-RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
-    .abi = RF_ABI_VERSION_INIT,
-    .size = sizeof(rf_plugin_entry),
-    .id = "org.rigflow.bvh",
-    .name = "BVH",
-    .version = "0.1.0",
-    .description = "Biovision Hierarchy (.bvh) motion capture import and export",
-    .node_count = 2,
-    .nodes = nodes,
-};
+RF_PLUGIN_DEFINE("org.rigflow.bvh", "BVH", "0.1.0",
+                 "Biovision Hierarchy (.bvh) motion capture import and export", nodes);

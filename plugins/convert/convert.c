@@ -17,9 +17,9 @@
 
 #include <rigflow/rigflow.h>
 
-#include "../assimp/aimport-node.h"
-#include "../bvh/bvh.h"
-#include "../gltf/gltf-write.h"
+#include "rigflow/aimport-node.h"
+#include "rigflow/bvh.h"
+#include "rigflow/gltf-write.h"
 
 static const char *rf_cv_ext(const char *path)
 {
@@ -73,6 +73,13 @@ static bool rf_cv_import(void *self, const rf_host *host, rf_node *node)
     return rf_ai_node_import(host, node);
 }
 
+static const rf_importer_info rf_cv_importer = {sizeof(rf_importer_info), "*", "path"};
+
+static const void *rf_cv_import_extension(const char *id)
+{
+    return strcmp(id, RF_IMPORTER_EXTENSION) == 0 ? &rf_cv_importer : NULL;
+}
+
 static const rf_node_desc rf_cv_import_desc = {
     .size = sizeof(rf_node_desc),
     .type = "import",
@@ -85,6 +92,7 @@ static const rf_node_desc rf_cv_import_desc = {
     .param_count = RF_AI_NODE_PARAM_COUNT,
     .params = rf_ai_node_params,
     .process = rf_cv_import,
+    .get_extension = rf_cv_import_extension,
 };
 
 /* ---- export ---- */

@@ -2,7 +2,7 @@
 #ifndef RIGFLOW_IK_CCD_H
 #define RIGFLOW_IK_CCD_H
 
-#include "ikcommon.h"
+#include "rigflow/ik-common.h"
 
 extern const rf_ik_solver_api rf_ik_ccd_api;
 

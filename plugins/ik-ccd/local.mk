@@ -7,4 +7,4 @@ plugins_LTLIBRARIES += plugins/ik-ccd.la
 plugins_ik_ccd_la_SOURCES = plugins/ik-ccd/plugin.c
 plugins_ik_ccd_la_CPPFLAGS = $(IK_CPPFLAGS)
 plugins_ik_ccd_la_LDFLAGS = $(PLUGIN_LDFLAGS)
-plugins_ik_ccd_la_LIBADD = plugins/ik-ccd/libikccd.la plugins/ik-common/libikcommon.la -lm
+plugins_ik_ccd_la_LIBADD = plugins/ik-ccd/libikccd.la sdk/ik/librigflow-ik.la -lm

@@ -14,15 +14,5 @@ RF_IKC_NODE_TYPE(
 
 static const rf_node_desc *const nodes[] = {&ccd_node};
 
-RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
-    RF_ABI_VERSION_INIT,
-    sizeof(rf_plugin_entry),
-    "org.rigflow.ik-ccd",
-    "CCD IK solver",
-    "0.1.0",
-    "Cyclic Coordinate Descent inverse kinematics",
-    NULL,
-    NULL,
-    1,
-    nodes,
-};
+RF_PLUGIN_DEFINE("org.rigflow.ik-ccd", "CCD IK solver", "0.1.0",
+                 "Cyclic Coordinate Descent inverse kinematics", nodes);

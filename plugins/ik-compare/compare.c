@@ -11,34 +11,37 @@
 #include <rigflow/ik.h>
 #include <rigflow/plugin.h>
 
-#include "workload.h"
+#include "rigflow/ik-workload.h"
 
 #define DEFAULT_WORKLOADS                                                                          \
     "chain2-it10,chain5-it10,chain5-it50,chain10-it10,chain10-it50,chain30-it50,tree2-it50,"       \
     "chain10-it50-lim,tree2-it50-lim,arm-it50,leg-it50,arm-it50-lim"
 
 static const rf_port_desc inputs[] = {
-    {sizeof(rf_port_desc), "solvers", RF_TYPE_IK_SOLVER, RF_PORT_MULTIPLE,
-     "the solvers to compare, each a node of kind ik"},
+    RF_PORT_DESC("solvers", RF_TYPE_IK_SOLVER, RF_PORT_MULTIPLE,
+                 "the solvers to compare, each a node of kind ik"),
 };
 
 static const rf_param_desc params[] = {
-    {sizeof(rf_param_desc), "csv", RF_PARAM_OUTPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
-     "the table: solver,workload,us_per_solve,converged,mean_error,mean_iterations"},
-    {sizeof(rf_param_desc), "svg", RF_PARAM_OUTPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
-     "the chart: mean error against the iteration cap, per solver"},
-    {sizeof(rf_param_desc), "workloads", RF_PARAM_STRING, 0, 0, DEFAULT_WORKLOADS, 0, 0, NULL,
-     "comma-separated workload names or families (see rigflow ik-bench --list)"},
-    {sizeof(rf_param_desc), "bvh", RF_PARAM_INPUT_PATH, 0, 0, NULL, 0, 0, NULL,
-     "skeleton for the limb workloads (arm, leg, spinearm); they are skipped without it"},
-    {sizeof(rf_param_desc), "chart", RF_PARAM_STRING, 0, 0, "chain10", 0, 0, NULL,
-     "the workload family the chart runs at each iteration cap (chainN, tree2, arm, leg, ...)"},
-    {sizeof(rf_param_desc), "chart-tolerance", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 1e-6, NULL,
-     1e-12, 1, NULL, "tolerance for the chart's solves (small, so the caps show convergence)"},
-    {sizeof(rf_param_desc), "chart-samples", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 200, NULL, 1, 100000,
-     NULL, "targets per point of the chart"},
-    {sizeof(rf_param_desc), "min-time", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.02, NULL, 0, 60, NULL,
-     "seconds each timing repetition lasts at least (0: no timing)"},
+    RF_PARAM_DESC_OUTPUT_PATH(
+        "csv", RF_PARAM_REQUIRED,
+        "the table: solver,workload,us_per_solve,converged,mean_error,mean_iterations"),
+    RF_PARAM_DESC_OUTPUT_PATH("svg", RF_PARAM_REQUIRED,
+                              "the chart: mean error against the iteration cap, per solver"),
+    RF_PARAM_DESC_STRING(
+        "workloads", DEFAULT_WORKLOADS,
+        "comma-separated workload names or families (see rigflow ik-bench --list)"),
+    RF_PARAM_DESC_INPUT_PATH(
+        "bvh", 0,
+        "skeleton for the limb workloads (arm, leg, spinearm); they are skipped without it"),
+    RF_PARAM_DESC_STRING(
+        "chart", "chain10",
+        "the workload family the chart runs at each iteration cap (chainN, tree2, arm, leg, ...)"),
+    RF_PARAM_DESC_FLOAT("chart-tolerance", 1e-6, 1e-12, 1,
+                        "tolerance for the chart's solves (small, so the caps show convergence)"),
+    RF_PARAM_DESC_INT("chart-samples", 200, 1, 100000, "targets per point of the chart"),
+    RF_PARAM_DESC_FLOAT("min-time", 0.02, 0, 60,
+                        "seconds each timing repetition lasts at least (0: no timing)"),
 };
 
 static const char *solver_label(const rf_ik_solver *s)
@@ -172,6 +175,12 @@ static FILE *open_output(const rf_host *host, rf_node *node, const char *param)
 static bool process(void *self, const rf_host *host, rf_node *node)
 {
     (void)self;
+    for (uint32_t i = 0; i < host->input_count(node, "solvers"); i++)
+        if (!rf_ik_solver_usable(host->input(node, "solvers", i))) {
+            host->error(node, "solver %u on input 'solvers' is incomplete (its size or functions)",
+                        i);
+            return false;
+        }
     const char *bvh = host->param_string(node, "bvh");
     FILE *csv = open_output(host, node, "csv");
     if (!csv)
@@ -215,15 +224,5 @@ static const rf_node_desc compare_node = {
 
 static const rf_node_desc *const nodes[] = {&compare_node};
 
-RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
-    RF_ABI_VERSION_INIT,
-    sizeof(rf_plugin_entry),
-    "org.rigflow.ik-compare",
-    "IK comparison report",
-    "0.1.0",
-    "Compares IK solvers on standard workloads: CSV table and SVG chart",
-    NULL,
-    NULL,
-    1,
-    nodes,
-};
+RF_PLUGIN_DEFINE("org.rigflow.ik-compare", "IK comparison report", "0.1.0",
+                 "Compares IK solvers on standard workloads: CSV table and SVG chart", nodes);

@@ -2,7 +2,7 @@
 #ifndef RIGFLOW_IK_FABRIK_H
 #define RIGFLOW_IK_FABRIK_H
 
-#include "ikcommon.h"
+#include "rigflow/ik-common.h"
 
 extern const rf_ik_solver_api rf_ik_fabrik_api;
 

@@ -7,4 +7,4 @@ plugins_LTLIBRARIES += plugins/ik-fabrik.la
 plugins_ik_fabrik_la_SOURCES = plugins/ik-fabrik/plugin.c
 plugins_ik_fabrik_la_CPPFLAGS = $(IK_CPPFLAGS)
 plugins_ik_fabrik_la_LDFLAGS = $(PLUGIN_LDFLAGS)
-plugins_ik_fabrik_la_LIBADD = plugins/ik-fabrik/libikfabrik.la plugins/ik-common/libikcommon.la -lm
+plugins_ik_fabrik_la_LIBADD = plugins/ik-fabrik/libikfabrik.la sdk/ik/librigflow-ik.la -lm

@@ -14,15 +14,5 @@ RF_IKC_NODE_TYPE(
 
 static const rf_node_desc *const nodes[] = {&fabrik_node};
 
-RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
-    RF_ABI_VERSION_INIT,
-    sizeof(rf_plugin_entry),
-    "org.rigflow.ik-fabrik",
-    "FABRIK IK solver",
-    "0.1.0",
-    "FABRIK inverse kinematics with several end effectors and joint limits",
-    NULL,
-    NULL,
-    1,
-    nodes,
-};
+RF_PLUGIN_DEFINE("org.rigflow.ik-fabrik", "FABRIK IK solver", "0.1.0",
+                 "FABRIK inverse kinematics with several end effectors and joint limits", nodes);

@@ -3,7 +3,7 @@
 #ifndef RIGFLOW_IK_JACOBIAN_H
 #define RIGFLOW_IK_JACOBIAN_H
 
-#include "ikcommon.h"
+#include "rigflow/ik-common.h"
 
 extern const rf_ik_solver_api rf_ik_jt_api;
 extern const rf_ik_solver_api rf_ik_pinv_api;

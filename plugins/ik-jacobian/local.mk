@@ -10,4 +10,4 @@ plugins_ik_jacobian_la_SOURCES = plugins/ik-jacobian/plugin.c
 plugins_ik_jacobian_la_CPPFLAGS = $(IK_CPPFLAGS)
 plugins_ik_jacobian_la_LDFLAGS = $(PLUGIN_LDFLAGS)
 plugins_ik_jacobian_la_LIBADD = plugins/ik-jacobian/libikjacobian.la \
-	plugins/ik-common/libikcommon.la -lm
+	sdk/ik/librigflow-ik.la -lm

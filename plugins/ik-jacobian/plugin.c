@@ -13,8 +13,8 @@ static const rf_param_desc step_params[] = {RF_IKC_COMMON_PARAMS, MAX_STEP_PARAM
 static const rf_param_desc dls_params[] = {
     RF_IKC_COMMON_PARAMS,
     MAX_STEP_PARAM,
-    {sizeof(rf_param_desc), "damping", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1e9, NULL,
-     "damping lambda, length units (0: 0.1 x the mean bone length)"},
+    RF_PARAM_DESC_FLOAT("damping", 0, 0, 1e9,
+                        "damping lambda, length units (0: 0.1 x the mean bone length)"),
 };
 
 static bool create_step(const rf_host *host, rf_node *node, void **self)
@@ -52,15 +52,6 @@ RF_IKC_NODE_TYPE(dls, &rf_ik_dls_api, "ik.dls",
 
 static const rf_node_desc *const nodes[] = {&jt_node, &pinv_node, &dls_node};
 
-RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
-    RF_ABI_VERSION_INIT,
-    sizeof(rf_plugin_entry),
-    "org.rigflow.ik-jacobian",
-    "Jacobian IK solvers",
-    "0.1.0",
-    "Jacobian transpose, pseudoinverse (SVD) and damped least squares inverse kinematics",
-    NULL,
-    NULL,
-    sizeof nodes / sizeof nodes[0],
-    nodes,
-};
+RF_PLUGIN_DEFINE(
+    "org.rigflow.ik-jacobian", "Jacobian IK solvers", "0.1.0",
+    "Jacobian transpose, pseudoinverse (SVD) and damped least squares inverse kinematics", nodes);

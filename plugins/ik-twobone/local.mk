@@ -7,4 +7,4 @@ plugins_LTLIBRARIES += plugins/ik-twobone.la
 plugins_ik_twobone_la_SOURCES = plugins/ik-twobone/plugin.c
 plugins_ik_twobone_la_CPPFLAGS = $(IK_CPPFLAGS)
 plugins_ik_twobone_la_LDFLAGS = $(PLUGIN_LDFLAGS)
-plugins_ik_twobone_la_LIBADD = plugins/ik-twobone/libiktwobone.la plugins/ik-common/libikcommon.la -lm
+plugins_ik_twobone_la_LIBADD = plugins/ik-twobone/libiktwobone.la sdk/ik/librigflow-ik.la -lm

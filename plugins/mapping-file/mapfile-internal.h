@@ -20,7 +20,6 @@ typedef struct rf_errs {
 
 void rf_errs_add(rf_errs *e, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 void rf_errs_finish(rf_errs *e);
-char *rf_strdup_or_null(const char *s);
 
 /* Joint index by name for one skeleton, in O(1) per lookup. */
 typedef struct rf_name_index {

@@ -36,17 +36,6 @@ void rf_errs_finish(rf_errs *e)
                  e->count - RF_ERRS_MAX);
 }
 
-char *rf_strdup_or_null(const char *s)
-{
-    if (!s)
-        return NULL;
-    size_t n = strlen(s) + 1;
-    char *d = malloc(n);
-    if (d)
-        memcpy(d, s, n);
-    return d;
-}
-
 /* Every key of `obj` must be one of `allowed`: a typo must not be silently ignored. */
 static void check_keys(rf_errs *e, json_t *obj, const char *where, const char *const *allowed)
 {
@@ -109,7 +98,7 @@ static char **string_list(rf_errs *e, json_t *arr, const char *where, uint32_t *
         if (!json_is_string(s))
             rf_errs_add(e, "at %s/%zu: expected a string", where, i);
         else
-            out[i] = rf_strdup_or_null(json_string_value(s));
+            out[i] = rf_strdup(json_string_value(s));
     }
     *count = (uint32_t)n;
     return out;
@@ -126,7 +115,7 @@ static uint32_t metric_index(rf_mapfile *f, const char *name, bool add)
     if (!names)
         return UINT32_MAX;
     f->metric_names = names;
-    names[f->metric_count] = rf_strdup_or_null(name);
+    names[f->metric_count] = rf_strdup(name);
     return f->metric_count++;
 }
 
@@ -183,7 +172,7 @@ static void parse_input(rf_errs *e, json_t *in, const char *where, rf_mapfile_in
     if (!json_is_string(joint) || !*json_string_value(joint))
         rf_errs_add(e, "at %s/joint: expected the source joint's name", where);
     else
-        out->joint = rf_strdup_or_null(json_string_value(joint));
+        out->joint = rf_strdup(json_string_value(joint));
     /* Bounded so that the mapping's float fields hold them: 1e103 would become inf, 1e-300 zero. */
     if (w && (!finite_number(w, &out->weight) || out->weight < RF_MAPFILE_WEIGHT_MIN ||
               out->weight > RF_MAPFILE_WEIGHT_MAX))
@@ -233,7 +222,7 @@ static void optional_string(rf_errs *e, json_t *v, const char *where, const char
     if (!json_is_string(v))
         rf_errs_add(e, "at %s/%s: expected a string", where, key);
     else
-        *out = rf_strdup_or_null(json_string_value(v));
+        *out = rf_strdup(json_string_value(v));
 }
 
 static void parse_joint(rf_errs *e, rf_mapfile *f, json_t *j, size_t i, rf_mapfile_joint *out)
@@ -252,7 +241,7 @@ static void parse_joint(rf_errs *e, rf_mapfile *f, json_t *j, size_t i, rf_mapfi
     if (!json_is_string(t) || !*json_string_value(t))
         rf_errs_add(e, "at %s/target: expected the target joint's name", where);
     else
-        out->target = rf_strdup_or_null(json_string_value(t));
+        out->target = rf_strdup(json_string_value(t));
     if (!json_is_array(ins)) {
         rf_errs_add(e, "at %s/inputs: expected a list of inputs ([] leaves the joint unmapped)",
                     where);
@@ -337,7 +326,7 @@ rf_mapfile *rf_mapfile_parse(const char *data, size_t size, const char *name, ch
         return NULL;
     }
     rf_mapfile *f = calloc(1, sizeof *f);
-    if (!f || (name && !(f->name = rf_strdup_or_null(name))))
+    if (!f || (name && !(f->name = rf_strdup(name))))
         rf_errs_add(&e, "out of memory");
     else if (header(&e, root))
         body(&e, f, root);

@@ -49,60 +49,6 @@ void rf_name_index_clear(rf_name_index *ix)
     ix->slot = NULL;
 }
 
-/* ---- copies ---- */
-
-static bool copy_entry(rf_map_entry *d, const rf_map_entry *s, uint32_t metric_count)
-{
-    *d = *s;
-    d->inputs = NULL, d->metrics = NULL;
-    if (s->input_count) {
-        d->inputs = malloc(s->input_count * sizeof *d->inputs);
-        if (!d->inputs)
-            return false;
-        memcpy(d->inputs, s->inputs, s->input_count * sizeof *d->inputs);
-    }
-    if (s->metrics && metric_count) {
-        d->metrics = malloc(metric_count * sizeof *d->metrics);
-        if (!d->metrics)
-            return false;
-        memcpy(d->metrics, s->metrics, metric_count * sizeof *d->metrics);
-    }
-    return true;
-}
-
-static char **copy_strings(char *const *v, uint32_t n, bool *ok)
-{
-    if (!v)
-        return NULL;
-    char **out = calloc(n ? n : 1, sizeof *out);
-    *ok = *ok && out;
-    for (uint32_t i = 0; out && i < n; i++)
-        if (v[i] && !(out[i] = rf_strdup_or_null(v[i])))
-            *ok = false;
-    return out;
-}
-
-rf_mapping *rf_mapping_copy(const rf_mapping *m)
-{
-    rf_mapping *c = m ? rf_mapping_new(m->target_joint_count, m->source_count) : NULL;
-    if (!c)
-        return NULL;
-    bool ok = true;
-    c->metric_count = m->metric_count;
-    c->metric_names = copy_strings(m->metric_names, m->metric_count, &ok);
-    if (RF_HAS_FIELD(m, rf_mapping, sides)) {
-        c->sections = copy_strings(m->sections, m->target_joint_count, &ok);
-        c->sides = copy_strings(m->sides, m->target_joint_count, &ok);
-    }
-    for (uint32_t j = 0; ok && j < m->target_joint_count; j++)
-        ok = copy_entry(&c->entries[j], &m->entries[j], m->metric_count);
-    if (!ok) {
-        rf_mapping_free(c);
-        return NULL;
-    }
-    return c;
-}
-
 /* ---- resolving ---- */
 
 typedef struct rf_resolver {
@@ -239,7 +185,7 @@ static bool label(char **slot, const char *value)
     if (!value)
         return true;
     free(*slot);
-    return (*slot = rf_strdup_or_null(value)) != NULL;
+    return (*slot = rf_strdup(value)) != NULL;
 }
 
 static bool fill_all(const rf_resolver *r, rf_mapping *m)
@@ -263,7 +209,7 @@ static rf_mapping *empty_mapping(const rf_mapfile *f, uint32_t joints, uint32_t 
     bool ok = m != NULL;
     if (ok) {
         m->metric_count = f->metric_count;
-        m->metric_names = copy_strings(f->metric_names, f->metric_count, &ok);
+        m->metric_names = rf_strv_dup(f->metric_names, f->metric_count, &ok);
         m->sections = calloc(joints ? joints : 1, sizeof(char *));
         m->sides = calloc(joints ? joints : 1, sizeof(char *));
         ok = ok && m->sections && m->sides;

@@ -16,6 +16,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include <rigflow/model-copy.h>
 #include <rigflow/model.h>
 
 #define RF_MAPFILE_FORMAT "rigflow.mapping"
@@ -79,7 +80,5 @@ bool rf_mapfile_write_path(const char *path, const rf_mapping *m, const rf_skele
                            const rf_skeleton *const *sources, uint32_t source_count, char *err,
                            size_t err_size);
 
-/* A deep copy. (transfer full) */
-rf_mapping *rf_mapping_copy(const rf_mapping *m);
 
 #endif

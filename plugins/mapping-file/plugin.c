@@ -113,29 +113,23 @@ static bool selftest_run(const rf_host *host, char *err, size_t err_size)
     return ok;
 }
 
-static const rf_selftest selftest = {sizeof(rf_selftest), selftest_run};
-
-static const void *get_extension(const char *id)
-{
-    return strcmp(id, RF_SELFTEST_EXTENSION) == 0 ? &selftest : NULL;
-}
+RF_SELFTEST_GET_EXTENSION(get_extension, selftest_run)
 
 #define SKELETON_INPUTS                                                                            \
-    {sizeof(rf_port_desc), "target", RF_TYPE_SKELETON, 0,                                          \
-     "The target skeleton (joint names and order)."},                                              \
+    RF_PORT_DESC("target", RF_TYPE_SKELETON, 0, "The target skeleton (joint names and order)."),   \
     {                                                                                              \
         sizeof(rf_port_desc), "sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE | RF_PORT_OPTIONAL,    \
             "The source skeletons, in the mapping's source order."                                 \
     }
 
 static const rf_port_desc write_inputs[] = {
-    {sizeof(rf_port_desc), "mapping", RF_TYPE_MAPPING, 0, "The mapping to save."},
+    RF_PORT_DESC("mapping", RF_TYPE_MAPPING, 0, "The mapping to save."),
     SKELETON_INPUTS,
 };
 
 static const rf_param_desc write_params[] = {
-    {sizeof(rf_param_desc), "path", RF_PARAM_OUTPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
-     "The mapping file to write (JSON, doc/formats/mapping.md)."},
+    RF_PARAM_DESC_OUTPUT_PATH("path", RF_PARAM_REQUIRED,
+                              "The mapping file to write (JSON, doc/formats/mapping.md)."),
 };
 
 static const rf_node_desc write_node = {
@@ -145,28 +139,27 @@ static const rf_node_desc write_node = {
     .doc = "Saves a mapping as a rigflow.mapping JSON file: one entry for every target joint, with "
            "its inputs by name, weight, delay, reverse and mirror, score, per-metric breakdown, "
            "section and side, for people to read and edit.",
-    .input_count = 3,
-    .inputs = write_inputs,
-    .param_count = 1,
-    .params = write_params,
+    RF_NODE_INPUTS(write_inputs),
+    RF_NODE_PARAMS(write_params),
     .process = write_process,
     .get_extension = get_extension,
 };
 
 static const rf_port_desc read_inputs[] = {
     SKELETON_INPUTS,
-    {sizeof(rf_port_desc), "base", RF_TYPE_MAPPING, RF_PORT_OPTIONAL,
-     "When connected, the file holds overrides: the joints it lists replace base's entries."},
+    RF_PORT_DESC(
+        "base", RF_TYPE_MAPPING, RF_PORT_OPTIONAL,
+        "When connected, the file holds overrides: the joints it lists replace base's entries."),
 };
 
 static const rf_port_desc read_outputs[] = {
-    {sizeof(rf_port_desc), "mapping", RF_TYPE_MAPPING, 0,
-     "The mapping: the file alone (unlisted joints unmapped), or base with the overrides."},
+    RF_PORT_DESC(
+        "mapping", RF_TYPE_MAPPING, 0,
+        "The mapping: the file alone (unlisted joints unmapped), or base with the overrides."),
 };
 
 static const rf_param_desc read_params[] = {
-    {sizeof(rf_param_desc), "path", RF_PARAM_INPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
-     "The mapping file to read."},
+    RF_PARAM_DESC_INPUT_PATH("path", RF_PARAM_REQUIRED, "The mapping file to read."),
 };
 
 static const rf_node_desc read_node = {
@@ -176,25 +169,14 @@ static const rf_node_desc read_node = {
     .doc = "Loads a mapping file instead of computing one, or applies a partial file of manual "
            "overrides on top of a computed mapping (connect 'base'). Unknown joint names, bad "
            "values and other versions are refused, every problem listed.",
-    .input_count = 3,
-    .inputs = read_inputs,
-    .output_count = 1,
-    .outputs = read_outputs,
-    .param_count = 1,
-    .params = read_params,
+    RF_NODE_INPUTS(read_inputs),
+    RF_NODE_OUTPUTS(read_outputs),
+    RF_NODE_PARAMS(read_params),
     .process = read_process,
     .get_extension = get_extension,
 };
 
 static const rf_node_desc *const nodes[] = {&read_node, &write_node};
 
-RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
-    .abi = RF_ABI_VERSION_INIT,
-    .size = sizeof(rf_plugin_entry),
-    .id = "org.rigflow.mapping-file",
-    .name = "mapping files",
-    .version = "0.1.0",
-    .description = "Read and write joint mappings as editable JSON files",
-    .node_count = 2,
-    .nodes = nodes,
-};
+RF_PLUGIN_DEFINE("org.rigflow.mapping-file", "mapping files", "0.1.0",
+                 "Read and write joint mappings as editable JSON files", nodes);

@@ -4,7 +4,7 @@
 
 #include <rigflow/rigflow.h>
 
-#include "names.h"
+#include "rigflow/match-names.h"
 
 #define MAX_SOURCES 64
 
@@ -56,27 +56,23 @@ static bool selftest_run(const rf_host *host, char *err, size_t err_size)
     return true;
 }
 
-static const rf_selftest selftest = {sizeof(rf_selftest), selftest_run};
-
-static const void *get_extension(const char *id)
-{
-    return strcmp(id, RF_SELFTEST_EXTENSION) == 0 ? &selftest : NULL;
-}
+RF_SELFTEST_GET_EXTENSION(get_extension, selftest_run)
 
 static const rf_port_desc inputs[] = {
-    {sizeof(rf_port_desc), "target", RF_TYPE_SKELETON, 0, "The skeleton to drive."},
-    {sizeof(rf_port_desc), "sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE,
-     "The skeletons whose motion will drive it, in order."},
+    RF_PORT_DESC("target", RF_TYPE_SKELETON, 0, "The skeleton to drive."),
+    RF_PORT_DESC("sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE,
+                 "The skeletons whose motion will drive it, in order."),
 };
 
 static const rf_port_desc outputs[] = {
-    {sizeof(rf_port_desc), "mapping", RF_TYPE_MAPPING, 0,
-     "One entry per target joint; its one metric, 'name', is the name similarity in percent."},
+    RF_PORT_DESC(
+        "mapping", RF_TYPE_MAPPING, 0,
+        "One entry per target joint; its one metric, 'name', is the name similarity in percent."),
 };
 
 static const rf_param_desc params[] = {
-    {sizeof(rf_param_desc), "min_similarity", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.5, NULL, 0, 1,
-     NULL, "Names less alike than this (0..1) leave the joint unmapped."},
+    RF_PARAM_DESC_FLOAT("min_similarity", 0.5, 0, 1,
+                        "Names less alike than this (0..1) leave the joint unmapped."),
 };
 
 static const rf_node_desc node_desc = {
@@ -87,25 +83,14 @@ static const rf_node_desc node_desc = {
            "names split at separators, case changes and digits, sides read from L/R/Left/.L/_l, "
            "synonyms folded (pelvis/hips, upperarm/arm, collar/clavicle). Useless on meaningless "
            "names (Joint1...): compare with skeletal-similarity. doc/matching.md.",
-    .input_count = 2,
-    .inputs = inputs,
-    .output_count = 1,
-    .outputs = outputs,
-    .param_count = 1,
-    .params = params,
+    RF_NODE_INPUTS(inputs),
+    RF_NODE_OUTPUTS(outputs),
+    RF_NODE_PARAMS(params),
     .process = process,
     .get_extension = get_extension,
 };
 
 static const rf_node_desc *const nodes[] = {&node_desc};
 
-RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
-    .abi = RF_ABI_VERSION_INIT,
-    .size = sizeof(rf_plugin_entry),
-    .id = "org.rigflow.match-names",
-    .name = "names",
-    .version = "0.1.0",
-    .description = "Joint mapping by normalised joint names",
-    .node_count = 1,
-    .nodes = nodes,
-};
+RF_PLUGIN_DEFINE("org.rigflow.match-names", "names", "0.1.0",
+                 "Joint mapping by normalised joint names", nodes);

@@ -70,6 +70,11 @@ double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int3
 {
     for (uint32_t i = 0; i < n; i++)
         match[i] = -1;
+    /* A finite price keeps every cell of the first row and column reachable by skips, which the
+     * walk back relies on: an infinite or NaN one left cells with no step, and the walk ran off
+     * the table. */
+    if (!(skip >= 0 && isfinite(skip)))
+        return -1;
     size_t w = (size_t)m + 1;
     double *f = malloc((size_t)(n + 1) * w * sizeof *f);
     unsigned char *step = malloc((size_t)(n + 1) * w);

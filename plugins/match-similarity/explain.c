@@ -2,21 +2,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "similarity.h"
+#include <rigflow/text.h>
 
-static const char *name_of(const rf_skeleton *s, uint32_t j, char *buf, size_t size)
-{
-    if (s && j < s->joint_count && s->joints[j].name)
-        return s->joints[j].name;
-    snprintf(buf, size, "#%u", j);
-    return buf;
-}
+#include "similarity.h"
 
 static void print_candidate(const rf_ms_candidate *c, const rf_skeleton *const *sources, FILE *out)
 {
-    char buf[32];
+    char buf[256];
     fprintf(out, "      %u:%-22s %7.2f  ", c->source,
-            name_of(sources ? sources[c->source] : NULL, c->joint, buf, sizeof buf), c->total);
+            rf_joint_label(sources ? sources[c->source] : NULL, c->joint, buf, sizeof buf), c->total);
     for (int i = 0; i < RF_MS_METRIC_COUNT; i++)
         if (c->metrics[i] != 0)
             fprintf(out, " %s=%.4g", rf_ms_metric_names[i], c->metrics[i]);
@@ -26,16 +20,16 @@ static void print_candidate(const rf_ms_candidate *c, const rf_skeleton *const *
 static void print_joint(const rf_ms_explain *e, const rf_mapping *m, const rf_skeleton *target,
                         const rf_skeleton *const *sources, uint32_t j, FILE *out)
 {
-    char buf[32];
+    char buf[256];
     const rf_joint_info *ji = &e->target->joints[j];
     const char *type =
         ji->section >= 0 ? rf_section_type_name(e->target->sections[ji->section].type) : "none";
-    fprintf(out, "%s (%s %s)", name_of(target, j, buf, sizeof buf), rf_side_name(ji->side), type);
+    fprintf(out, "%s (%s %s)", rf_joint_label(target, j, buf, sizeof buf), rf_side_name(ji->side), type);
     const rf_map_entry *en = m && j < m->target_joint_count ? &m->entries[j] : NULL;
     if (en && en->input_count) {
         const rf_map_input *in = &en->inputs[0];
         fprintf(out, " <- %u:%s, score %.2f%s%s\n", in->source,
-                name_of(sources ? sources[in->source] : NULL, in->joint, buf, sizeof buf),
+                rf_joint_label(sources ? sources[in->source] : NULL, in->joint, buf, sizeof buf),
                 en->score, in->flags & RF_MAP_REVERSE ? ", reversed" : "",
                 in->flags & RF_MAP_MIRROR ? ", mirrored" : "");
     } else {
@@ -54,11 +48,14 @@ void rf_ms_explain_print(const rf_ms_explain *e, const rf_mapping *m, const rf_s
                  "metrics):\n");
     for (uint32_t j = 0; j < e->joint_count; j++)
         print_joint(e, m, target, sources, j, out);
-    fprintf(out, "\nTarget %s:\n", target && target->name ? target->name : "skeleton");
+    fputs("\nTarget ", out);
+    rf_text_fputs(target && target->name ? target->name : "skeleton", out, 0);
+    fputs(":\n", out);
     rf_analysis_print(e->target, target, out);
     for (uint32_t k = 0; k < e->source_count; k++) {
-        fprintf(out, "\nSource %u %s:\n", k,
-                sources && sources[k]->name ? sources[k]->name : "skeleton");
+        fprintf(out, "\nSource %u ", k);
+        rf_text_fputs(sources && sources[k]->name ? sources[k]->name : "skeleton", out, 0);
+        fputs(":\n", out);
         rf_analysis_print(e->sources[k], sources ? sources[k] : NULL, out);
     }
 }

@@ -10,13 +10,13 @@ plugins_match_similarity_libsimilarity_la_SOURCES = \
 	plugins/match-similarity/assign.c \
 	plugins/match-similarity/match.c \
 	plugins/match-similarity/explain.c
-plugins_match_similarity_libsimilarity_la_LIBADD = framework/analysis/libanalysis.la -lm
+plugins_match_similarity_libsimilarity_la_LIBADD = -lm
 
 plugins_LTLIBRARIES += plugins/match-similarity.la
 plugins_match_similarity_la_SOURCES = plugins/match-similarity/plugin.c
-plugins_match_similarity_la_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins
+
 plugins_match_similarity_la_LDFLAGS = $(PLUGIN_LDFLAGS)
-plugins_match_similarity_la_LIBADD = plugins/match-similarity/libsimilarity.la \
-	plugins/match-names/libnames.la -lm
+plugins_match_similarity_la_LIBADD = plugins/match-similarity/libsimilarity.la sdk/analysis/librigflow-analysis.la \
+	sdk/match/librigflow-match.la -lm
 
 dist_pipelines_DATA += pipelines/map.json pipelines/map-edit.json

@@ -8,7 +8,7 @@
 
 #include <rigflow/rigflow.h>
 
-#include "match-names/names.h"
+#include "rigflow/match-names.h"
 #include "similarity.h"
 
 #define MAX_SOURCES 64

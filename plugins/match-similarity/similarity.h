@@ -17,7 +17,7 @@
 
 #include <rigflow/model.h>
 
-#include "analysis/analysis.h"
+#include "rigflow/analysis.h"
 
 typedef enum rf_ms_metric {
     RF_MS_SAME_SIDE = 0, /* both on the same side (left, center, right): 30 */
@@ -109,7 +109,8 @@ double rf_ms_assign(const double *cost, uint32_t n, uint32_t m, int32_t *match);
 
 /* The assignment this matcher uses beyond the thesis: the same order-preserving matching, but
  * either side may leave any bone out at a price of `skip` (an alignment), so extra bones on both
- * sides (a hip offset here, a toe there) need not shift the rest. */
+ * sides (a hip offset here, a toe there) need not shift the rest. Returns -1 (every match -1)
+ * when out of memory or when `skip` is not a finite number >= 0. */
 double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int32_t *match);
 
 /* The price of leaving a bone out in the matcher's assignment (a match costs 0 for bones at the

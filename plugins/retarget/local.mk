@@ -13,11 +13,11 @@ plugins_retarget_libretarget_la_SOURCES = \
 	plugins/retarget/rt-measure.c \
 	plugins/retarget/rt-roles.c \
 	plugins/retarget/rt-mesh.c
-plugins_retarget_libretarget_la_LIBADD = framework/analysis/libanalysis.la -lpthread -lm
+plugins_retarget_libretarget_la_LIBADD = -lpthread -lm
 
 plugins_LTLIBRARIES += plugins/retarget.la
 plugins_retarget_la_SOURCES = plugins/retarget/plugin.c
 plugins_retarget_la_LDFLAGS = $(PLUGIN_LDFLAGS)
-plugins_retarget_la_LIBADD = plugins/retarget/libretarget.la
+plugins_retarget_la_LIBADD = plugins/retarget/libretarget.la sdk/analysis/librigflow-analysis.la
 
 dist_pipelines_DATA += pipelines/retarget.json

@@ -140,6 +140,10 @@ static bool rt_contact_pass(rf_retarget *rt, rf_animation *out, const rf_retarge
         host->log(node, RF_LOG_INFO, "no IK solver on input 'ik': contact pass skipped");
         return true;
     }
+    if (!rf_ik_solver_usable(solver)) {
+        host->error(node, "the IK solver on input 'ik' is incomplete (its size or functions)");
+        return false;
+    }
     rf_rt_contact_stats st;
     char err[ERR_SIZE];
     if (!rf_retarget_contacts(rt, out, solver, &st, err, sizeof err)) {

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "analysis/analysis.h"
+#include "rigflow/analysis.h"
 #include "rt-internal.h"
 
 /* The dominant direction of the bones of a pose, and the fraction of their summed length lying

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "analysis/analysis.h"
+#include "rigflow/analysis.h"
 #include "rt-internal.h"
 
 void rf_rt_fail(char *err, size_t err_size, const char *fmt, ...)

@@ -1,4 +1,4 @@
-/* What each joint is for, on both sides (framework/analysis roles): placement roots and axis
+/* What each joint is for, on both sides (rigflow/analysis.h roles): placement roots and axis
  * conversion nodes neither drive nor receive body motion, so their mapping inputs are dropped;
  * joints their hierarchy parent does not carry (a foot under a placement root, a limb that is a
  * root of its own, IK targets and poles) are anchored to the body joint they belong to and
@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "analysis/analysis.h"
+#include "rigflow/analysis.h"
 #include "rt-internal.h"
 
 bool rf_rt_carries(const rf_skeleton *s, int32_t a, uint32_t j)

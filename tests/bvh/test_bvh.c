@@ -22,7 +22,7 @@
 
 #include "bvh-math.h"
 #include "bvh-num.h"
-#include "bvh.h"
+#include "rigflow/bvh.h"
 #include "rigflow/plugin.h"
 
 #define S2 0.70710678118654752440 /* sqrt(1/2) */

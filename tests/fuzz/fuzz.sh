@@ -45,11 +45,7 @@ build() {
 }
 
 build_bvh() {
-    local f srcs=()
-    for f in "$src"/plugins/bvh/bvh-*.c; do
-        [ "$(basename "$f")" = bvh-plugin.c ] || srcs+=("$f")
-    done
-    build fuzz_bvh -I"$src/plugins/bvh" "$src/tests/fuzz/fuzz_bvh.c" "${srcs[@]}" --
+    build fuzz_bvh -I"$src/sdk/formats/bvh" "$src/tests/fuzz/fuzz_bvh.c" "$src"/sdk/formats/bvh/bvh-*.c --
 }
 
 build_pipeline() {
@@ -61,8 +57,8 @@ build_pipeline() {
 }
 
 build_analysis() {
-    build fuzz_analysis -I"$src/framework/analysis" "$src/tests/fuzz/fuzz_analysis.c" \
-        "$src"/framework/analysis/*.c --
+    build fuzz_analysis -I"$src/sdk/analysis" "$src/tests/fuzz/fuzz_analysis.c" \
+        "$src"/sdk/analysis/*.c --
 }
 
 build_mapping() {
@@ -74,8 +70,8 @@ build_mapping() {
 
 build_ik() {
     local d srcs=() incs=()
-    for d in ik-common ik-ccd ik-fabrik ik-jacobian ik-twobone; do incs+=(-I"$src/plugins/$d"); done
-    srcs=("$src"/plugins/ik-common/{ikcommon,constraint,linalg}.c "$src"/plugins/ik-ccd/ccd.c
+    for d in ik-ccd ik-fabrik ik-jacobian ik-twobone; do incs+=(-I"$src/plugins/$d"); done
+    srcs=("$src"/sdk/ik/{ikcommon,constraint,linalg}.c "$src"/plugins/ik-ccd/ccd.c
         "$src"/plugins/ik-fabrik/fabrik.c "$src"/plugins/ik-jacobian/jacobian.c
         "$src"/plugins/ik-twobone/twobone.c)
     build fuzz_ik "${incs[@]}" "$src/tests/fuzz/fuzz_ik.c" "${srcs[@]}" --
@@ -133,8 +129,8 @@ for h in $harnesses; do
     bvh) build_bvh && seed bvh && run bvh 65536 ;;
     pipeline) build_pipeline && seed pipeline && run pipeline 16384 RF_FUZZ_PLUGINS="$plugins" ;;
     analysis)
-        if [ ! -f "$src/framework/analysis/analysis.c" ]; then
-            say "skipped analysis: framework/analysis is not in this tree yet"
+        if [ ! -f "$src/sdk/analysis/analysis.c" ]; then
+            say "skipped analysis: sdk/analysis is not in this tree yet"
             skipped=$((skipped + 1)); continue
         fi
         build_analysis && seed analysis && run analysis 16384 ;;

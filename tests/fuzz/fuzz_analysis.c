@@ -19,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "analysis.h"
+#include "rigflow/analysis.h"
 #include "fuzz-values.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

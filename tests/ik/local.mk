@@ -4,7 +4,7 @@ IK_TEST_CPPFLAGS = $(IK_CPPFLAGS) -I$(top_srcdir)/plugins/ik-fabrik \
 	-I$(top_srcdir)/plugins/ik-jacobian
 IK_TEST_LDADD = plugins/ik-fabrik/libikfabrik.la plugins/ik-ccd/libikccd.la \
 	plugins/ik-twobone/libiktwobone.la plugins/ik-jacobian/libikjacobian.la \
-	plugins/ik-common/libikcommon.la $(CMOCKA_LIBS) -lm
+	sdk/ik/librigflow-ik.la $(CMOCKA_LIBS) -lm
 
 check_PROGRAMS += tests/ik/test_ik_solvers
 TESTS += tests/ik/test_ik_solvers
@@ -26,6 +26,7 @@ tests_ik_test_ik_common_LDADD = $(IK_TEST_LDADD)
 check_PROGRAMS += tests/ik/test_ik_pipeline
 TESTS += tests/ik/test_ik_pipeline
 tests_ik_test_ik_pipeline_SOURCES = tests/ik/test_ik_pipeline.c
+tests_ik_test_ik_pipeline_CPPFLAGS = $(HOST_CPPFLAGS)
 tests_ik_test_ik_pipeline_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS) $(CMOCKA_CFLAGS)
 tests_ik_test_ik_pipeline_LDADD = framework/librigflow.la $(GLIB_LIBS) $(CMOCKA_LIBS) -lm
 

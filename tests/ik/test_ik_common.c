@@ -9,7 +9,7 @@
 #include <cmocka.h>
 
 #include "ik-fixtures.h"
-#include "ikcommon.h"
+#include "rigflow/ik-common.h"
 
 #define DEG (RF_PI / 180.0)
 

@@ -3,12 +3,11 @@
 check_PROGRAMS += tests/import/test_import
 TESTS += tests/import/test_import
 tests_import_test_import_SOURCES = tests/import/test_import.c
-tests_import_test_import_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/assimp \
-	-I$(top_srcdir)/plugins/gltf -DRF_NODE='"$(NODE)"'
+tests_import_test_import_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/gltf -DRF_NODE='"$(NODE)"'
 tests_import_test_import_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
-tests_import_test_import_LDADD = plugins/assimp/librfassimp.la plugins/gltf/librfgltf.la \
+tests_import_test_import_LDADD = sdk/formats/assimp/librigflow-assimp.la sdk/formats/gltf/librigflow-gltf.la \
 	$(CMOCKA_LIBS) -lm
-EXTRA_DIST += tests/gltf/validate.js tests/import/expected.py
+EXTRA_DIST += tests/gltf/validate.js tests/gltf/validate.h tests/gltf/valid.sh tests/import/expected.py
 
 # rigflow inspect: output and exit codes.
 TESTS += tests/import/test_inspect.sh
@@ -18,10 +17,10 @@ EXTRA_DIST += tests/import/test_inspect.sh
 check_PROGRAMS += tests/import/test_bvh_gltf
 TESTS += tests/import/test_bvh_gltf
 tests_import_test_bvh_gltf_SOURCES = tests/import/test_bvh_gltf.c
-tests_import_test_bvh_gltf_CPPFLAGS = $(tests_import_test_import_CPPFLAGS) -I$(top_srcdir)/plugins/bvh
+tests_import_test_bvh_gltf_CPPFLAGS = $(tests_import_test_import_CPPFLAGS)
 tests_import_test_bvh_gltf_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
-tests_import_test_bvh_gltf_LDADD = plugins/assimp/librfassimp.la plugins/gltf/librfgltf.la \
-	plugins/bvh/libbvh.la $(CMOCKA_LIBS) -lm
+tests_import_test_bvh_gltf_LDADD = sdk/formats/assimp/librigflow-assimp.la sdk/formats/gltf/librigflow-gltf.la \
+	sdk/formats/bvh/librigflow-bvh.la $(CMOCKA_LIBS) -lm
 
 # pipelines/convert.json end to end (import and export nodes of plugins/convert).
 TESTS += tests/import/test_convert.sh

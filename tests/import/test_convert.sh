@@ -4,19 +4,14 @@
 # 2752 frames at 120 fps); GLB outputs go through the Khronos glTF-Validator when it is installed.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
 pipeline="${RF_SRCDIR:-.}/pipelines/convert.json"
-validate="${RF_SRCDIR:-.}/tests/gltf/validate.js"
 data="${RF_DATA_DIR:-}"
-node="${RF_NODE:-node}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 ko() { fail=$((fail + 1)); printf 'FAIL: %s\n' "$*"; }
 convert() { RIGFLOW_QUIET=1 "$rigflow" run "$pipeline" -p "source.path=$1" -p "export.path=$2"; }
-valid() { # a GLB the validator accepts (exit 77: not installed, counted as passed with a note)
-    "$node" "$validate" "$1"
-    case $? in 0) ok ;; 77) echo "validation of $1 skipped"; ok ;; *) ko "validator: $1" ;; esac
-}
+. "${RF_SRCDIR:-.}/tests/gltf/valid.sh"
 inspect_has() { # file, pattern
     if "$rigflow" inspect "$1" 2>&1 | grep -q -- "$2"; then ok; else ko "inspect $1: no /$2/"; fi
 }
@@ -27,10 +22,10 @@ if [ ! -f "$data/models/Fox.glb" ]; then
     exit 77
 fi
 if convert "$data/models/Fox.glb" "$tmp/fox.glb"; then ok; else ko "Fox.glb to GLB"; fi
-valid "$tmp/fox.glb"
+gltf_valid "$tmp/fox.glb"
 inspect_has "$tmp/fox.glb" "skeleton: 24 joints"
 if convert "$data/bvh/cmu_01_01.bvh" "$tmp/cmu.glb"; then ok; else ko "cmu_01_01.bvh to GLB"; fi
-valid "$tmp/cmu.glb"
+gltf_valid "$tmp/cmu.glb"
 inspect_has "$tmp/cmu.glb" "skeleton: 31 joints"
 inspect_has "$tmp/cmu.glb" "2752 frames at 120"
 if convert "$data/models/Fox.glb" "$tmp/fox.gltf"; then ok; else ko "Fox.glb to glTF"; fi
@@ -44,4 +39,4 @@ if grep -q "spider.fbx: no skeleton" "$tmp/err" && [ ! -e "$tmp/spider.glb" ]; t
 if convert "$data/models/Fox.glb" "$tmp/fox.obj" 2>"$tmp/err"; then ko ".obj accepted"; else ok; fi
 if grep -q "expected .glb, .gltf or .bvh" "$tmp/err" && [ ! -e "$tmp/fox.obj" ]; then ok; else ko ".obj message or leftover"; fi
 echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+gltf_exit "$fail"

@@ -20,6 +20,9 @@ check "help" 0 "FILE" "$rigflow" inspect --help
 check "no file" 2 "expected one FILE" "$rigflow" inspect
 check "missing file" 1 "nonexistent.glb" "$rigflow" inspect /nonexistent.glb
 if [ -f "$data/Fox.glb" ]; then
+    # the importer is the one whose rigflow.importer/1 extension fits the file, never a name
+    check "glTF read by the importer reading anything" 0 "Fox.glb (read by assimp.import)" "$rigflow" inspect "$data/Fox.glb"
+    check "BVH read by the importer naming .bvh" 0 "(read by bvh.import)" "$rigflow" inspect "${RF_DATA_DIR}/bvh/cmu_01_01.bvh"
     check "Fox joints" 0 "skeleton: 24 joints" "$rigflow" inspect "$data/Fox.glb"
     check "Fox tree" 0 "b_Tail02_013 *b_Tail01_012" "$rigflow" inspect "$data/Fox.glb"
     check "Fox clips" 0 "1  Walk" "$rigflow" inspect "$data/Fox.glb"

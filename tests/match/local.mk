@@ -3,8 +3,8 @@
 # ground truth (tests/match/truth) and on generated ones.
 MATCH_TEST_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins -I$(top_srcdir)/tests/match
 MATCH_TEST_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
-MATCH_LIBS = plugins/match-similarity/libsimilarity.la framework/analysis/libanalysis.la \
-	plugins/match-names/libnames.la -lm
+MATCH_LIBS = plugins/match-similarity/libsimilarity.la sdk/analysis/librigflow-analysis.la \
+	sdk/match/librigflow-match.la -lm
 
 check_PROGRAMS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
 	tests/match/test_generated tests/match/test_mapfile tests/match/test_names \
@@ -12,20 +12,19 @@ check_PROGRAMS += tests/match/test_analysis tests/match/test_similarity tests/ma
 TESTS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
 	tests/match/test_generated tests/match/test_mapfile tests/match/test_names \
 	tests/match/test_map_pipeline tests/match/test_corr
-EXTRA_DIST += tests/match/truth
+EXTRA_DIST += tests/match/truth/
 
 tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
 tests_match_test_analysis_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
 tests_match_test_analysis_CFLAGS = $(MATCH_TEST_CFLAGS)
-tests_match_test_analysis_LDADD = framework/analysis/libanalysis.la $(CMOCKA_LIBS) -lm
+tests_match_test_analysis_LDADD = sdk/analysis/librigflow-analysis.la $(CMOCKA_LIBS) -lm
 
 tests_match_test_accuracy_SOURCES = tests/match/test_accuracy.c tests/match/truth.c \
 	tests/match/truth.h
-tests_match_test_accuracy_CPPFLAGS = $(MATCH_TEST_CPPFLAGS) -I$(top_srcdir)/plugins/assimp \
-	-I$(top_srcdir)/plugins/bvh
+tests_match_test_accuracy_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
 tests_match_test_accuracy_CFLAGS = $(MATCH_TEST_CFLAGS)
-tests_match_test_accuracy_LDADD = $(MATCH_LIBS) plugins/assimp/librfassimp.la \
-	plugins/bvh/libbvh.la
+tests_match_test_accuracy_LDADD = $(MATCH_LIBS) sdk/formats/assimp/librigflow-assimp.la \
+	sdk/formats/bvh/librigflow-bvh.la
 
 # Against the name maps of ../shared/data/correspondences.
 tests_match_test_corr_SOURCES = tests/match/test_corr.c tests/match/truth.c tests/match/truth.h
@@ -52,11 +51,11 @@ tests_match_test_mapfile_LDADD = plugins/mapping-file/libmapfile.la $(CMOCKA_LIB
 tests_match_test_names_SOURCES = tests/match/test_names.c
 tests_match_test_names_CPPFLAGS = $(MATCH_TEST_CPPFLAGS) -D_POSIX_C_SOURCE=200809L
 tests_match_test_names_CFLAGS = $(MATCH_TEST_CFLAGS)
-tests_match_test_names_LDADD = plugins/match-names/libnames.la $(CMOCKA_LIBS)
+tests_match_test_names_LDADD = sdk/match/librigflow-match.la $(CMOCKA_LIBS)
 
 # Through the host with the bundled plugins: every data file, strategies, overrides.
 tests_match_test_map_pipeline_SOURCES = tests/match/test_map_pipeline.c
-tests_match_test_map_pipeline_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
+tests_match_test_map_pipeline_CPPFLAGS = $(MATCH_TEST_CPPFLAGS) -I$(top_srcdir)/framework
 tests_match_test_map_pipeline_CFLAGS = $(MATCH_TEST_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS)
 tests_match_test_map_pipeline_LDADD = framework/librigflow.la plugins/mapping-file/libmapfile.la \
 	$(GLIB_LIBS) $(CMOCKA_LIBS)

@@ -10,7 +10,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "match-names/names.h"
+#include "rigflow/match-names.h"
 #include "match-similarity/similarity.h"
 #include "truth.h"
 

@@ -10,7 +10,7 @@
 
 #include <cmocka.h>
 
-#include "analysis/analysis.h"
+#include "rigflow/analysis.h"
 #include "skel-build.h"
 
 static const rf_section *section_of(const rf_analysis *a, const rf_skeleton *s, const char *name)

@@ -10,7 +10,7 @@
 
 #include <cmocka.h>
 
-#include "match-names/names.h"
+#include "rigflow/match-names.h"
 
 static void assert_key(const char *name, int side, const char *words)
 {

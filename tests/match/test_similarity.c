@@ -178,6 +178,23 @@ static void test_assign_brute_force(void **state)
     assert_true(rf_ms_assign(NULL, 0, 3, none) == 0);
 }
 
+/* A price for skipping that is not a finite number >= 0 is refused, every match -1 (an infinite
+ * one left the walk back without a step and it read beyond the table). */
+static void test_align_refuses_bad_skip(void **state)
+{
+    (void)state;
+    const double cost[6] = {0.1, 0.5, 0.9, 0.4, 0.2, 0.7};
+    const double bad[] = {INFINITY, -INFINITY, NAN, -0.5};
+    for (size_t b = 0; b < sizeof bad / sizeof bad[0]; b++) {
+        int32_t match[3] = {7, 7, 7};
+        assert_true(rf_ms_align(cost, 3, 2, bad[b], match) == -1);
+        assert_int_equal(match[0], -1);
+        assert_int_equal(match[2], -1);
+    }
+    int32_t match[3];
+    assert_true(rf_ms_align(cost, 3, 2, 0.0, match) >= 0);
+}
+
 /* ---- metrics ---- */
 
 /* A body mapped onto itself: every joint to itself, each metric at its full weight. */
@@ -531,6 +548,7 @@ int main(void)
         cmocka_unit_test(test_weight_sets),
         cmocka_unit_test(test_assign_thesis_tables),
         cmocka_unit_test(test_assign_brute_force),
+        cmocka_unit_test(test_align_refuses_bad_skip),
         cmocka_unit_test(test_identity_and_metrics),
         cmocka_unit_test(test_orientation_falloff),
         cmocka_unit_test(test_facing),

@@ -3,9 +3,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "aimport.h"
-#include "analysis/analysis.h"
-#include "bvh.h"
+#include "rigflow/aimport.h"
+#include "rigflow/analysis.h"
+#include "rigflow/bvh.h"
 #include "truth.h"
 
 const char *const truth_type_names[16] = {

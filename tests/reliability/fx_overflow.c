@@ -27,17 +27,15 @@ static bool overflow_process(void *self, const rf_host *host, rf_node *node)
 }
 
 static const rf_param_desc overflow_params[] = {
-    {sizeof(rf_param_desc), "bug", RF_PARAM_ENUM, 0, 0, "heap", 0, 0, "heap|signed",
-     "which bug to commit"},
-    {sizeof(rf_param_desc), "by", RF_PARAM_INT, 0, 1, NULL, 0, 0, NULL, "how far past"}};
+    RF_PARAM_DESC_ENUM("bug", "heap", "heap|signed", "which bug to commit"),
+    RF_PARAM_DESC(.name = "by", .type = RF_PARAM_INT, .default_number = 1, .doc = "how far past")};
 
 static const rf_node_desc overflow_node = {
     .size = sizeof(rf_node_desc),
     .type = "test.overflow",
     .kind = RF_KIND_FILTER,
     .doc = "commits a memory bug",
-    .param_count = 2,
-    .params = overflow_params,
+    RF_NODE_PARAMS(overflow_params),
     .process = overflow_process,
 };
 

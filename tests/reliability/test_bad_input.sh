@@ -75,7 +75,16 @@ row "BVH cut inside the motion" 1 "cut-motion.bvh:" "$tmp/cut-motion.bvh" "$o.gl
 : >"$tmp/empty.glb"
 row "empty GLB" 1 "empty.glb: Assimp cannot read it" "$tmp/empty.glb" "$o.bvh"
 head -c "$(($(wc -c <"$tmp/ok.glb") / 2))" "$tmp/ok.glb" >"$tmp/cut.glb"
-row "GLB cut in half" 1 "cut.glb: Assimp cannot read it" "$tmp/cut.glb" "$o.bvh"
+glb_size=$(wc -c <"$tmp/ok.glb")
+row "GLB cut in half" 1 \
+    "cut.glb: the GLB header declares a length of $glb_size bytes but the file has $((glb_size / 2))" \
+    "$tmp/cut.glb" "$o.bvh"
+# a header that claims 0x7FFFFFFF bytes, as a corrupt download may: refused with both lengths
+cp "$tmp/ok.glb" "$tmp/long.glb"
+printf '\377\377\377\177' | dd of="$tmp/long.glb" bs=1 seek=8 conv=notrunc status=none
+row "GLB whose header declares another length" 1 \
+    "long.glb: the GLB header declares a length of 2147483647 bytes but the file has $glb_size" \
+    "$tmp/long.glb" "$o.bvh"
 
 # ---- wrong format behind a known extension ----
 cp "$tmp/ok.glb" "$tmp/glb-inside.bvh"
@@ -111,6 +120,25 @@ printf 'HIERARCHY\nROOT \033[2J\033]0;pwned\007\n{\nOFFSET 0 0 0\nCHANNELS 1 Zro
 row "control characters from a file are escaped in messages" 1 \
     "duplicate joint name '\\x1b[2J\\x1b]0;pwned\\x07'" "$tmp/esc.bvh" "$o.glb"
 if grep -q "$(printf '\033')" "$tmp/err"; then bad "... an escape byte reached the terminal"; else ok "... none reaches the terminal"; fi
+# A valid file whose joint names carry ESC and C1 (8-bit CSI) sequences: the listings of inspect
+# and map --explain show them escaped, and no raw control byte reaches the terminal.
+{
+    printf 'HIERARCHY\nROOT Hips\033]0;pwned\007\n{\nOFFSET 0 0 0\nCHANNELS 3 Xrotation Yrotation Zrotation\n'
+    printf 'JOINT Leg\302\2331m\n{\nOFFSET 0 -1 0\nCHANNELS 3 Xrotation Yrotation Zrotation\n'
+    printf 'End Site\n{\nOFFSET 0 -1 0\n}\n}\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0 0 0 0\n'
+} >"$tmp/names.bvh"
+controls="$(printf '\033\007\302\233')"
+rfv inspect "$tmp/names.bvh"
+if [ "$code" != 0 ]; then bad "inspect lists hostile joint names: exit $code"
+elif grep -q "[$controls]" "$tmp/out" "$tmp/err"; then bad "inspect: a control byte reached the terminal"
+elif ! grep -qF 'Hips\x1b]0;pwned\x07' "$tmp/out" || ! grep -qF 'Leg\xc2\x9b1m' "$tmp/out"; then
+    bad "inspect: names not shown escaped: $(head -c 300 "$tmp/out")"
+else ok "inspect shows hostile joint names escaped"; fi
+rfv map --explain "$tmp/names.bvh" "$tmp/names.bvh"
+if [ "$code" != 0 ]; then bad "map --explain lists hostile joint names: exit $code"
+elif grep -q "[$controls]" "$tmp/out" "$tmp/err"; then bad "map --explain: a control byte reached the terminal"
+elif ! grep -qF 'Leg\xc2\x9b1m' "$tmp/out"; then bad "map --explain: names not shown escaped"
+else ok "map --explain shows hostile joint names escaped"; fi
 
 # ---- joint names that repeat ----
 cat >"$tmp/dup.bvh" <<'EOF'

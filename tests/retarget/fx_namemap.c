@@ -46,27 +46,24 @@ static bool fx_process(void *self, const rf_host *host, rf_node *node)
 }
 
 static const rf_port_desc fx_inputs[] = {
-    {sizeof(rf_port_desc), "target", RF_TYPE_SKELETON, 0, "target skeleton"},
-    {sizeof(rf_port_desc), "sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE, "source skeletons"},
+    RF_PORT_DESC("target", RF_TYPE_SKELETON, 0, "target skeleton"),
+    RF_PORT_DESC("sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE, "source skeletons"),
 };
 static const rf_port_desc fx_outputs[] = {
-    {sizeof(rf_port_desc), "mapping", RF_TYPE_MAPPING, 0, "the mapping"},
+    RF_PORT_DESC("mapping", RF_TYPE_MAPPING, 0, "the mapping"),
 };
 static const rf_param_desc fx_params[] = {
-    {sizeof(rf_param_desc), "pairs", RF_PARAM_STRING, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
-     "target=source joint names, comma separated (source 0)"},
+    RF_PARAM_DESC(.name = "pairs", .type = RF_PARAM_STRING, .flags = RF_PARAM_REQUIRED,
+                  .doc = "target=source joint names, comma separated (source 0)"),
 };
 static const rf_node_desc fx_node = {
     .size = sizeof(rf_node_desc),
     .type = "test.name-map",
     .kind = RF_KIND_MATCHER,
     .doc = "Test fixture: a mapping from name pairs.",
-    .input_count = 2,
-    .inputs = fx_inputs,
-    .output_count = 1,
-    .outputs = fx_outputs,
-    .param_count = 1,
-    .params = fx_params,
+    RF_NODE_INPUTS(fx_inputs),
+    RF_NODE_OUTPUTS(fx_outputs),
+    RF_NODE_PARAMS(fx_params),
     .process = fx_process,
 };
 static const rf_node_desc *const fx_nodes[] = {&fx_node};

@@ -3,9 +3,9 @@
 # (test_retarget_pipeline.sh, with the test.name-map fixture plugin). The contact pass runs
 # through the two-bone solver's library.
 RT_TEST_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/retarget \
-	-I$(top_srcdir)/plugins/ik-common -I$(top_srcdir)/plugins/ik-twobone
-RT_TEST_LDADD = plugins/retarget/libretarget.la plugins/ik-twobone/libiktwobone.la \
-	plugins/ik-common/libikcommon.la $(CMOCKA_LIBS) -lm
+	-I$(top_srcdir)/plugins/ik-twobone
+RT_TEST_LDADD = plugins/retarget/libretarget.la sdk/analysis/librigflow-analysis.la plugins/ik-twobone/libiktwobone.la \
+	sdk/ik/librigflow-ik.la $(CMOCKA_LIBS) -lm
 
 check_PROGRAMS += tests/retarget/test_retarget tests/retarget/test_retarget_data
 TESTS += tests/retarget/test_retarget tests/retarget/test_retarget_data
@@ -15,27 +15,24 @@ tests_retarget_test_retarget_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_retarget_test_retarget_LDADD = $(RT_TEST_LDADD)
 tests_retarget_test_retarget_data_SOURCES = tests/retarget/test_retarget_data.c \
 	tests/retarget/rt-maps.h
-tests_retarget_test_retarget_data_CPPFLAGS = $(RT_TEST_CPPFLAGS) -I$(top_srcdir)/plugins/bvh \
-	-I$(top_srcdir)/plugins/assimp
+tests_retarget_test_retarget_data_CPPFLAGS = $(RT_TEST_CPPFLAGS)
 tests_retarget_test_retarget_data_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
-tests_retarget_test_retarget_data_LDADD = plugins/bvh/libbvh.la plugins/assimp/librfassimp.la \
+tests_retarget_test_retarget_data_LDADD = sdk/formats/bvh/librigflow-bvh.la sdk/formats/assimp/librigflow-assimp.la \
 	$(RT_TEST_LDADD)
 
 check_PROGRAMS += tests/retarget/test_roles tests/retarget/test_retarget_rerig
 TESTS += tests/retarget/test_roles tests/retarget/test_retarget_rerig
 tests_retarget_test_retarget_rerig_SOURCES = tests/retarget/test_retarget_rerig.c \
 	tests/retarget/rt-maps.h
-tests_retarget_test_retarget_rerig_CPPFLAGS = $(RT_TEST_CPPFLAGS) -I$(top_srcdir)/plugins/bvh \
-	-I$(top_srcdir)/plugins/assimp
+tests_retarget_test_retarget_rerig_CPPFLAGS = $(RT_TEST_CPPFLAGS)
 tests_retarget_test_retarget_rerig_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
-tests_retarget_test_retarget_rerig_LDADD = plugins/bvh/libbvh.la plugins/assimp/librfassimp.la \
-	$(RT_TEST_LDADD)
+tests_retarget_test_retarget_rerig_LDADD = sdk/formats/bvh/librigflow-bvh.la \
+	sdk/formats/assimp/librigflow-assimp.la $(RT_TEST_LDADD)
 tests_retarget_test_roles_SOURCES = tests/retarget/test_roles.c tests/retarget/rt-fixtures.h
-tests_retarget_test_roles_CPPFLAGS = $(RT_TEST_CPPFLAGS) -I$(top_srcdir)/framework \
-	-I$(top_srcdir)/plugins/assimp
+tests_retarget_test_roles_CPPFLAGS = $(RT_TEST_CPPFLAGS)
 tests_retarget_test_roles_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
-tests_retarget_test_roles_LDADD = plugins/assimp/librfassimp.la framework/analysis/libanalysis.la \
-	$(CMOCKA_LIBS) -lm
+tests_retarget_test_roles_LDADD = sdk/formats/assimp/librigflow-assimp.la \
+	sdk/analysis/librigflow-analysis.la $(CMOCKA_LIBS) -lm
 
 check_LTLIBRARIES += tests/retarget/fx_namemap.la
 tests_retarget_fx_namemap_la_SOURCES = tests/retarget/fx_namemap.c

@@ -18,8 +18,8 @@
 
 #include <cmocka.h>
 
-#include "aimport.h"
-#include "bvh.h"
+#include "rigflow/aimport.h"
+#include "rigflow/bvh.h"
 #include "retarget.h"
 #include "rt-maps.h"
 #include "twobone.h"

@@ -6,19 +6,14 @@
 # too once that matcher is installed. Skips without ../shared/data.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
 fixtures="${RF_BUILDDIR:-.}/tests/retarget/.libs"
-validate="${RF_SRCDIR:-.}/tests/gltf/validate.js"
 pipeline="${RF_SRCDIR:-.}/pipelines/retarget.json"
 data="${RF_DATA_DIR:-}"
-node="${RF_NODE:-node}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 ko() { fail=$((fail + 1)); printf 'FAIL: %s\n' "$*"; }
-valid() { # a GLB the validator accepts (exit 77: not installed, counted as passed with a note)
-    "$node" "$validate" "$1"
-    case $? in 0) ok ;; 77) echo "validation of $1 skipped"; ok ;; *) ko "validator: $1" ;; esac
-}
+. "${RF_SRCDIR:-.}/tests/gltf/valid.sh"
 has() { # file, pattern
     if grep -q -- "$2" "$1"; then ok; else ko "$1: no /$2/"; cat "$1"; fi
 }
@@ -63,7 +58,7 @@ figure="$figure,nodes[3]=$R,nodes[4]=RightLeg,nodes[5]=RightFoot,nodes[6]=RightT
 if run "$data/models/RiggedFigure.glb" "$figure" "$tmp/figure.glb"; then ok; else ko "onto RiggedFigure"; cat "$tmp/out"; fi
 has "$tmp/out" "direction fidelity [0-4][.][0-9]* deg mean"
 has "$tmp/out" "contact pass (twobone)"
-valid "$tmp/figure.glb"
+gltf_valid "$tmp/figure.glb"
 "$rigflow" inspect "$tmp/figure.glb" >"$tmp/inspect" 2>&1
 has "$tmp/inspect" "skeleton: 19 joints"
 has "$tmp/inspect" "2752 frames"
@@ -79,7 +74,7 @@ fox="$fox,b_LeftLeg01_015=$L,b_LeftLeg02_016=LeftLeg,b_LeftFoot01_017=LeftFoot"
 fox="$fox,b_LeftFoot02_018=LeftToeBase,b_RightLeg01_019=$R,b_RightLeg02_020=RightLeg"
 fox="$fox,b_RightFoot01_021=RightFoot,b_RightFoot02_022=RightToeBase"
 if run "$data/models/Fox.glb" "$fox" "$tmp/fox.glb" -p retarget.in_place=true; then ok; else ko "onto Fox"; cat "$tmp/out"; fi
-valid "$tmp/fox.glb"
+gltf_valid "$tmp/fox.glb"
 
 # A clip and a skeleton count that disagree are refused, and nothing is written.
 cat >"$tmp/bad.json" <<EOF
@@ -105,7 +100,7 @@ if "$rigflow" describe skeletal-similarity >/dev/null 2>&1; then
     if "$rigflow" run "$pipeline" -p "source.path=$data/bvh/cmu_01_01.bvh" \
         -p "target.path=$data/models/Fox.glb" -p "export.path=$tmp/shipped.glb" >"$tmp/out" 2>&1
     then ok; else ko "pipelines/retarget.json"; cat "$tmp/out"; fi
-    valid "$tmp/shipped.glb"
+    gltf_valid "$tmp/shipped.glb"
     if "$rigflow" run "$pipeline" -p "source.path=$data/bvh/cmu_01_01.bvh" \
         -p "target.path=$data/models/RiggedFigure.glb" -p "export.path=$tmp/shipped.bvh" \
         >"$tmp/out" 2>&1
@@ -115,4 +110,4 @@ else
 fi
 
 echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+gltf_exit "$fail"

@@ -1,4 +1,4 @@
-/* Joint roles (framework/analysis/roles.c) on a hand-built IK-style biped whose answers are known
+/* Joint roles (sdk/analysis/roles.c) on a hand-built IK-style biped whose answers are known
  * by construction: a placement root on the floor carrying the feet, a pole in front of a knee, an
  * IK target on a foot, a socket on the head, an axis-and-unit conversion node inside the spine;
  * the same roles with the names removed; a clip that turns the root makes it body. Then the
@@ -12,8 +12,8 @@
 
 #include <cmocka.h>
 
-#include "aimport.h"
-#include "analysis/analysis.h"
+#include "rigflow/aimport.h"
+#include "rigflow/analysis.h"
 #include "rt-fixtures.h"
 
 enum {

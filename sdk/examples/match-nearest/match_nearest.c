@@ -1,45 +1,53 @@
-/* example.match-nearest: a matcher plugin built out of tree against the installed SDK.
- * A geometric baseline: each skeleton's rest pose is scaled into a unit box (keeping its aspect),
- * and every target joint is mapped to the nearest source joint in that box. It knows nothing of
- * limbs or sides, which is what makes it a useful yardstick for real matchers. */
+/* example.match-nearest: a matcher plugin built out of tree against the installed SDK and its
+ * skeleton analysis library (pkg-config rigflow-plugin rigflow-analysis).
+ * A geometric baseline: each skeleton's rest pose is seen in its body's own frame (the analysis
+ * finds up, forward and the sides), scaled by its height, and every target joint is mapped to the
+ * nearest source joint on its side. It knows nothing of limbs or chains, which is what makes it a
+ * useful yardstick for real matchers. */
 #include <stdio.h>
 
+#include <rigflow/analysis.h>
 #include <rigflow/rigflow.h>
 
-/* World rest positions scaled so the skeleton's largest extent is 1, from its box's minimum. */
-static rf_vec3 *unit_positions(const rf_skeleton *s)
+/* A joint seen in its body's own frame: left, up and forward from the skeleton analysis (the
+ * installed rigflow-analysis library), in heights above the ground, so facing, scale and the
+ * file's axes do not matter; and its side, so a left hand never maps to a right one. */
+typedef struct body_point {
+    rf_vec3 at;
+    rf_side side;
+} body_point;
+
+static body_point *body_points(const rf_skeleton *s)
 {
-    rf_xform *w = calloc(s->joint_count ? s->joint_count : 1, sizeof *w);
-    rf_vec3 *p = calloc(s->joint_count ? s->joint_count : 1, sizeof *p);
-    if (!w || !p) {
-        free(w), free(p);
+    rf_analysis *a = rf_analyze(s, NULL);
+    body_point *p = calloc(s->joint_count ? s->joint_count : 1, sizeof *p);
+    if (!a || !p) {
+        rf_analysis_free(a), free(p);
         return NULL;
     }
-    rf_skeleton_world_rest(s, w);
-    rf_vec3 lo = w[0].t, hi = w[0].t;
     for (uint32_t i = 0; i < s->joint_count; i++) {
-        lo = rf_v3(fmin(lo.x, w[i].t.x), fmin(lo.y, w[i].t.y), fmin(lo.z, w[i].t.z));
-        hi = rf_v3(fmax(hi.x, w[i].t.x), fmax(hi.y, w[i].t.y), fmax(hi.z, w[i].t.z));
+        rf_vec3 d = rf_v3_scale(a->joints[i].pos, 1.0 / a->height);
+        p[i].at = rf_v3(rf_v3_dot(d, a->left), rf_v3_dot(d, a->up) - a->ground / a->height,
+                        rf_v3_dot(d, a->forward));
+        p[i].side = a->joints[i].side;
     }
-    rf_vec3 ext = rf_v3_sub(hi, lo);
-    double size = fmax(ext.x, fmax(ext.y, ext.z));
-    for (uint32_t i = 0; i < s->joint_count; i++)
-        p[i] = rf_v3_scale(rf_v3_sub(w[i].t, lo), size > 0 ? 1.0 / size : 0.0);
-    free(w);
+    rf_analysis_free(a);
     return p;
 }
 
-static bool map_joint(rf_map_entry *e, rf_vec3 at, rf_vec3 *const *src, const uint32_t *counts,
-                      uint32_t nsrc)
+/* The nearest source joint on the same side, or on any side when that side has none. */
+static bool map_joint(rf_map_entry *e, body_point at, body_point *const *src,
+                      const uint32_t *counts, uint32_t nsrc)
 {
     double best = INFINITY;
     rf_map_input in = {0, 0, 1.0f, 0.0f, 0};
-    for (uint32_t s = 0; s < nsrc; s++)
-        for (uint32_t j = 0; j < counts[s]; j++) {
-            double d = rf_v3_dist(at, src[s][j]);
-            if (d < best)
-                best = d, in.source = s, in.joint = j;
-        }
+    for (int any_side = 0; any_side < 2 && !isfinite(best); any_side++)
+        for (uint32_t s = 0; s < nsrc; s++)
+            for (uint32_t j = 0; j < counts[s]; j++) {
+                double d = rf_v3_dist(at.at, src[s][j].at);
+                if ((any_side || src[s][j].side == at.side) && d < best)
+                    best = d, in.source = s, in.joint = j;
+            }
     if (!isfinite(best))
         return true; /* no source joints: leave unmapped */
     e->inputs = malloc(sizeof *e->inputs);
@@ -58,19 +66,19 @@ static bool nearest_process(void *self, const rf_host *host, rf_node *node)
     (void)self;
     const rf_skeleton *target = host->input(node, "target", 0);
     uint32_t nsrc = host->input_count(node, "sources");
-    rf_vec3 *src[64] = {0};
+    body_point *src[64] = {0};
     uint32_t counts[64] = {0};
     if (nsrc > 64) {
         host->error(node, "%u sources given; this example handles up to 64", nsrc);
         return false;
     }
     rf_mapping *m = rf_mapping_new(target->joint_count, nsrc);
-    rf_vec3 *tp = unit_positions(target);
+    body_point *tp = body_points(target);
     bool ok = m && tp;
     for (uint32_t s = 0; ok && s < nsrc; s++) {
         const rf_skeleton *sk = host->input(node, "sources", s);
         counts[s] = sk->joint_count;
-        ok = (src[s] = unit_positions(sk)) != NULL;
+        ok = (src[s] = body_points(sk)) != NULL;
     }
     if (ok && (m->metric_names = calloc(1, sizeof(char *))) &&
         (m->metric_names[0] = malloc(sizeof "distance")))
@@ -89,32 +97,24 @@ static bool nearest_process(void *self, const rf_host *host, rf_node *node)
 }
 
 static const rf_port_desc in_ports[] = {
-    {sizeof(rf_port_desc), "target", RF_TYPE_SKELETON, 0, "skeleton to map onto"},
-    {sizeof(rf_port_desc), "sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE, "skeletons to map from"}};
+    RF_PORT_DESC("target", RF_TYPE_SKELETON, 0, "skeleton to map onto"),
+    RF_PORT_DESC("sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE, "skeletons to map from")};
 static const rf_port_desc out_ports[] = {
-    {sizeof(rf_port_desc), "mapping", RF_TYPE_MAPPING, 0, "nearest source joint per target joint"}};
+    RF_PORT_DESC("mapping", RF_TYPE_MAPPING, 0, "nearest source joint per target joint")};
 
 static const rf_node_desc nearest = {
     .size = sizeof(rf_node_desc),
     .type = "example.match-nearest",
     .kind = RF_KIND_MATCHER,
-    .doc = "Maps each target joint to the nearest source joint, rest poses scaled to a unit box.",
-    .input_count = 2,
-    .inputs = in_ports,
-    .output_count = 1,
-    .outputs = out_ports,
+    .doc = "Maps each target joint to the nearest source joint on its side, rest poses seen in the "
+           "body's own frame.",
+    RF_NODE_INPUTS(in_ports),
+    RF_NODE_OUTPUTS(out_ports),
     .process = nearest_process,
 };
 
 static const rf_node_desc *const nodes[] = {&nearest};
 
-RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
-    .abi = RF_ABI_VERSION_INIT,
-    .size = sizeof(rf_plugin_entry),
-    .id = "org.example.match-nearest",
-    .name = "Nearest-joint matcher example",
-    .version = "1.0",
-    .description = "An out-of-tree matcher plugin: nearest joint in a unit box",
-    .node_count = 1,
-    .nodes = nodes,
-};
+RF_PLUGIN_DEFINE(
+    "org.example.match-nearest", "Nearest-joint matcher example", "1.0",
+    "An out-of-tree matcher plugin: nearest joint on the same side, in the body's frame", nodes);

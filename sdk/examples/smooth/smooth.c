@@ -50,36 +50,24 @@ static bool smooth_process(void *self, const rf_host *host, rf_node *node)
 }
 
 static const rf_port_desc in_ports[] = {
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0, "clip to smooth"}};
+    RF_PORT_DESC("animation", RF_TYPE_ANIMATION, 0, "clip to smooth")};
 static const rf_port_desc out_ports[] = {
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0, "smoothed clip"}};
-static const rf_param_desc params[] = {
-    {sizeof(rf_param_desc), "window", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 5, NULL, 1, 61, NULL,
-     "frames averaged around each frame (odd; 1 leaves the clip as it is)"}};
+    RF_PORT_DESC("animation", RF_TYPE_ANIMATION, 0, "smoothed clip")};
+static const rf_param_desc params[] = {RF_PARAM_DESC_INT(
+    "window", 5, 1, 61, "frames averaged around each frame (odd; 1 leaves the clip as it is)")};
 
 static const rf_node_desc smooth = {
     .size = sizeof(rf_node_desc),
     .type = "example.smooth",
     .kind = RF_KIND_FILTER,
     .doc = "Smooths joint rotations with a moving average over a window of frames.",
-    .input_count = 1,
-    .inputs = in_ports,
-    .output_count = 1,
-    .outputs = out_ports,
-    .param_count = 1,
-    .params = params,
+    RF_NODE_INPUTS(in_ports),
+    RF_NODE_OUTPUTS(out_ports),
+    RF_NODE_PARAMS(params),
     .process = smooth_process,
 };
 
 static const rf_node_desc *const nodes[] = {&smooth};
 
-RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {
-    .abi = RF_ABI_VERSION_INIT,
-    .size = sizeof(rf_plugin_entry),
-    .id = "org.example.smooth",
-    .name = "Smoothing example",
-    .version = "1.0",
-    .description = "An out-of-tree filter plugin: moving-average rotation smoothing",
-    .node_count = 1,
-    .nodes = nodes,
-};
+RF_PLUGIN_DEFINE("org.example.smooth", "Smoothing example", "1.0",
+                 "An out-of-tree filter plugin: moving-average rotation smoothing", nodes);

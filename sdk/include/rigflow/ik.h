@@ -232,6 +232,30 @@ static inline rf_ik_goal rf_ik_goal_make(uint32_t effector, rf_vec3 target)
     return g;
 }
 
+/* The 1.0 layout of each struct, the smallest a solver or caller accepts: fields appended later
+ * are read only when the struct's size covers them (RF_HAS_FIELD), and goal and constraint arrays
+ * are walked by their elements' own size. */
+#define RF_IK_CONSTRAINT_SIZE_1_0 RF_SIZE_THROUGH(rf_ik_constraint, twist_max)
+#define RF_IK_GOAL_SIZE_1_0 RF_SIZE_THROUGH(rf_ik_goal, weight)
+#define RF_IK_PROBLEM_SIZE_1_0 RF_SIZE_THROUGH(rf_ik_problem, max_iterations)
+#define RF_IK_RESULT_SIZE_1_0 RF_SIZE_THROUGH(rf_ik_result, message)
+#define RF_IK_CONFIG_SIZE_1_0 RF_SIZE_THROUGH(rf_ik_config, max_step)
+#define RF_IK_SOLVER_API_SIZE_1_0 RF_SIZE_THROUGH(rf_ik_solver_api, destroy)
+#define RF_IK_SOLVER_SIZE_1_0 RF_SIZE_THROUGH(rf_ik_solver, label)
+
+/* True when `api` (a get_extension(RF_IK_EXTENSION) answer) is complete enough to drive. */
+static inline bool rf_ik_api_usable(const rf_ik_solver_api *api)
+{
+    return api && api->size >= RF_IK_SOLVER_API_SIZE_1_0 && api->create && api->solve &&
+           api->destroy;
+}
+
+/* True when `s` (a value on an RF_TYPE_IK_SOLVER port) is complete enough to drive. */
+static inline bool rf_ik_solver_usable(const rf_ik_solver *s)
+{
+    return s && s->size >= RF_IK_SOLVER_SIZE_1_0 && rf_ik_api_usable(s->api);
+}
+
 #ifdef __cplusplus
 }
 #endif

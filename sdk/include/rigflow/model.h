@@ -32,9 +32,11 @@ extern "C" {
 #define RF_TYPE_MESH "rigflow.mesh"
 #define RF_TYPE_MAPPING "rigflow.mapping"
 
+/* The size of `type` up to and including `field`: a struct of an older layout ends there. */
+#define RF_SIZE_THROUGH(type, field) (offsetof(type, field) + sizeof(((type *)0)->field))
+
 /* True when a struct whose leading size field says `s->size` contains `field`. */
-#define RF_HAS_FIELD(s, type, field)                                                               \
-    ((s)->size >= offsetof(type, field) + sizeof(((type *)0)->field))
+#define RF_HAS_FIELD(s, type, field) ((s)->size >= RF_SIZE_THROUGH(type, field))
 
 /* ---- skeleton ---- */
 
@@ -369,7 +371,7 @@ typedef struct rf_mapping {
     rf_map_entry *entries; /* one per target joint, in the target skeleton's order */
     uint32_t metric_count;
     char **metric_names;   /* [metric_count], owned */
-    /* Appended in 1.0 (check with RF_HAS_FIELD before reading): */
+    /* Appended in 1.1 (check with RF_HAS_FIELD before reading): */
     char **sections; /* [target_joint_count] where the matcher placed each target joint: a section
                       * type ("spine", "head", "tail", "arm", "hand", "leg", "foot", "appendage",
                       * "root", "helper"; doc/matching.md), NULL entries allowed; or NULL; owned */
@@ -419,6 +421,19 @@ static inline void rf_mapping_free(void *mapping)
     free(m->entries);
     free(m);
 }
+
+/* ---- growth ---- */
+
+/* The 1.0 layout of each struct (1.1 for the clip list, which 1.1 added), the smallest a consumer
+ * may be handed. The host gives a consumer nothing smaller than its own build's structs: a value
+ * an older plugin produced reaches it as a copy whose appended fields are zero. Array elements
+ * without a size (rf_joint, rf_map_input, rf_map_entry, rf_clip_info, rf_mesh_part) never grow:
+ * what they would gain goes into a new array appended to the struct that holds them. */
+#define RF_SKELETON_SIZE_1_0 RF_SIZE_THROUGH(rf_skeleton, forward)
+#define RF_ANIMATION_SIZE_1_0 RF_SIZE_THROUGH(rf_animation, channels)
+#define RF_MESH_SIZE_1_0 RF_SIZE_THROUGH(rf_mesh, inverse_bind)
+#define RF_MAPPING_SIZE_1_0 RF_SIZE_THROUGH(rf_mapping, metric_names)
+#define RF_CLIP_LIST_SIZE_1_1 RF_SIZE_THROUGH(rf_clip_list, selected)
 
 #ifdef __cplusplus
 }

@@ -10,11 +10,25 @@
  *
  * Growth rules: every struct that crosses the boundary starts with a size field (sizeof at the
  * producer's build, except rf_plugin_entry, whose first field is the ABI version); fields and
- * table functions are only ever appended, in a new minor version. A reader checks RF_HAS_FIELD
- * before using a field a peer may lack.
+ * table functions are only ever appended, in a new minor version. Each struct's 1.0 layout is its
+ * minimum (the RF_*_SIZE_1_0 constants below): the host refuses anything smaller, copies what a
+ * plugin gives it (min(size, sizeof)) into a zeroed struct of its own build, so a field appended
+ * after the plugin was built reads as zero, and walks a plugin's descriptor arrays by their
+ * elements' own size, never by its own sizeof. Kinds and types are fixed-width integers, never
+ * enums, whose size is the compiler's choice. A reader checks RF_HAS_FIELD before using a field a
+ * peer may lack.
  *
- * Threading: in ABI 1.0 the host calls every plugin function from one thread at a time; a plugin
- * needs no locking for state reached only through its own functions.
+ * Threading, marked on every function below:
+ *   [main-thread]  called by the host from the thread that loaded the plugin (init, deinit,
+ *                  get_extension), never concurrently with another call into the same plugin;
+ *   [node-thread]  called for one node at a time: create, process and destroy of one node never
+ *                  overlap, but a host running several pipelines at once (a batch of runs in
+ *                  threads, a live loop beside an offline run) may call them for different nodes
+ *                  from different threads at once, so state shared between nodes must be
+ *                  read-only or locked;
+ *   [thread-safe]  host services a plugin may call from any thread during the call it was
+ *                  handed the host in.
+ * Separate processes (batch workers) share nothing and need no care.
  *
  * Annotations: (borrowed) the caller keeps ownership and the pointer is valid only for the call
  * unless said otherwise; (transfer full) the receiver owns it; (static) valid while the plugin is
@@ -45,6 +59,7 @@ extern "C" {
 /* The name of the one symbol a plugin exports. */
 #define RF_PLUGIN_ENTRY_SYMBOL "rigflow_plugin_entry"
 
+/* Values of rf_node_desc.kind (a uint32_t in the struct: an enum's size is the compiler's). */
 typedef enum rf_node_kind {
     RF_KIND_IMPORTER = 1, /* reads files into data */
     RF_KIND_EXPORTER,     /* writes data to files */
@@ -56,6 +71,7 @@ typedef enum rf_node_kind {
     RF_KIND_REPORT,       /* measures and summarises */
 } rf_node_kind;
 
+/* Values of rf_param_desc.type (a uint32_t in the struct). */
 typedef enum rf_param_type {
     RF_PARAM_BOOL = 1,    /* JSON true/false */
     RF_PARAM_INT,         /* JSON integer; range in min/max when RF_PARAM_HAS_RANGE */
@@ -76,7 +92,7 @@ enum rf_param_flags {
 typedef struct rf_param_desc {
     uint32_t size;              /* sizeof(rf_param_desc) */
     const char *name;           /* [a-z0-9_-]+, unique within the node type */
-    rf_param_type type;
+    uint32_t type;              /* rf_param_type */
     uint32_t flags;             /* rf_param_flags */
     double default_number;      /* BOOL (0/1), INT, FLOAT default */
     const char *default_string; /* STRING, ENUM or path default; NULL means "" */
@@ -116,20 +132,22 @@ typedef struct rf_host {
     uint32_t size;  /* sizeof(rf_host) at the host's build */
     rf_version abi; /* the host's ABI version */
 
-    /* Log a message, prefixed with the node's id (node may be NULL). */
+    /* [thread-safe] Log a message, prefixed with the node's id (node may be NULL). */
     void (*log)(rf_node *node, rf_log_level level, const char *fmt, ...) RF_PRINTF(3, 4);
-    /* Record why the node failed; the host reports it with the node's id when process or create
+    /* [thread-safe] Record why the node failed; the host reports it with the node's id when process or create
      * returns false. The last call wins. */
     void (*error)(rf_node *node, const char *fmt, ...) RF_PRINTF(2, 3);
-    /* Report progress of long work, fraction in [0, 1]; cheap to call per frame. */
+    /* [thread-safe] Report progress of long work, fraction in [0, 1]; cheap to call per frame. */
     void (*progress)(rf_node *node, double fraction);
-    /* True once the user asked to stop (SIGINT): return false from process soon after. */
+    /* [thread-safe] True once the user asked to stop (SIGINT): return false from process soon
+     * after. */
     bool (*cancelled)(rf_node *node);
-    /* The node's id in the pipeline. (static for the run) */
+    /* [thread-safe] The node's id in the pipeline. (static for the run) */
     const char *(*node_id)(rf_node *node);
 
-    /* Parameter values, already validated against the declaration, defaults filled in. Asking
-     * for a name the node type did not declare, or with the wrong type, is a programming error:
+    /* [thread-safe] Parameter values, already validated against the declaration, defaults filled
+     * in. Each getter reads its own type only (param_float also reads an INT parameter): asking
+     * for a name the node type did not declare, or with another type, is a programming error:
      * the host logs it and returns 0/false/"". Strings are (borrowed, valid for the run). */
     bool (*param_bool)(rf_node *node, const char *name);
     int64_t (*param_int)(rf_node *node, const char *name);
@@ -140,12 +158,12 @@ typedef struct rf_host {
     /* For an OUTPUT_PATH param: the final path the user asked for, to name in messages. */
     const char *(*param_output_target)(rf_node *node, const char *name);
 
-    /* Number of connections on an input port (0 for an unconnected optional port). */
+    /* [thread-safe] Number of connections on an input port (0 for an unconnected optional port). */
     uint32_t (*input_count)(rf_node *node, const char *port);
-    /* The value on connection `index` of an input port, or NULL. (borrowed, read-only, valid
+    /* [thread-safe] The value on connection `index` of an input port, or NULL. (borrowed, read-only, valid
      * until process returns) */
     const void *(*input)(rf_node *node, const char *port, uint32_t index);
-    /* Hand the value of an output port to the host, which frees it with `destroy` when the run
+    /* [thread-safe] Hand the value of an output port to the host, which frees it with `destroy` when the run
      * no longer needs it. Returns false (and frees it at once) for an undeclared port or a port
      * set twice. (transfer full) */
     bool (*set_output)(rf_node *node, const char *port, void *data, rf_destroy_fn destroy);
@@ -157,7 +175,7 @@ typedef struct rf_host {
 typedef struct rf_node_desc {
     uint32_t size;    /* sizeof(rf_node_desc) */
     const char *type; /* unique across all plugins, e.g. "bvh.import" */
-    rf_node_kind kind;
+    uint32_t kind;    /* rf_node_kind */
     const char *doc;  /* one paragraph for `rigflow describe` */
     uint32_t input_count;
     const rf_port_desc *inputs;
@@ -166,15 +184,15 @@ typedef struct rf_node_desc {
     uint32_t param_count;
     const rf_param_desc *params;
 
-    /* Optional. Make the node's state into *self from its parameters. Return false after
+    /* [node-thread] Optional. Make the node's state into *self from its parameters. Return false after
      * host->error on failure (nothing to destroy then). */
     bool (*create)(const rf_host *host, rf_node *node, void **self);
-    /* Required. Read inputs, set every output, return true; or call host->error and return
+    /* [node-thread] Required. Read inputs, set every output, return true; or call host->error and return
      * false. `self` is what create made, or NULL without create. */
     bool (*process)(void *self, const rf_host *host, rf_node *node);
-    /* Optional. Free what create made. */
+    /* [node-thread] Optional. Free what create made. */
     void (*destroy)(void *self);
-    /* Optional. A capability table by reverse-DNS id (e.g. "rigflow.ik/1"), or NULL. (static) */
+    /* [main-thread] Optional. A capability table by reverse-DNS id (e.g. "rigflow.ik/1"), or NULL. (static) */
     const void *(*get_extension)(const char *id);
 } rf_node_desc;
 
@@ -184,8 +202,21 @@ typedef struct rf_node_desc {
 #define RF_SELFTEST_EXTENSION "rigflow.selftest/1"
 typedef struct rf_selftest {
     uint32_t size; /* sizeof(rf_selftest) */
-    bool (*run)(const rf_host *host, char *err, size_t err_size);
+    bool (*run)(const rf_host *host, char *err, size_t err_size); /* [main-thread] */
 } rf_selftest;
+
+/* What an importer reads, offered by a node type of kind RF_KIND_IMPORTER through
+ * get_extension(RF_IMPORTER_EXTENSION), so that a host can pick the importer for a file from its
+ * name (`rigflow inspect`, `rigflow map`) without knowing any plugin: a node type that lists the
+ * file's suffix is preferred to one that reads anything ("*"), and among equals the first loaded. */
+#define RF_IMPORTER_EXTENSION "rigflow.importer/1"
+typedef struct rf_importer_info {
+    uint32_t size;          /* sizeof(rf_importer_info) */
+    const char *suffixes;   /* file name endings read, '|'-separated, without the dot, matched
+                             * without regard to case ("bvh", "glb|gltf"), or "*" for whatever
+                             * the node's library reads */
+    const char *path_param; /* the node's INPUT_PATH parameter that names the file */
+} rf_importer_info;
 
 /* The one exported symbol: `RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry`. */
 typedef struct rf_plugin_entry {
@@ -195,14 +226,98 @@ typedef struct rf_plugin_entry {
     const char *name;        /* human name */
     const char *version;     /* the plugin's own version */
     const char *description; /* one line */
-    /* Optional. Called once after loading. Return false with a message in err (err_size bytes,
+    /* [main-thread] Optional. Called once after loading. Return false with a message in err (err_size bytes,
      * NUL-terminated) to refuse loading. */
     bool (*init)(const rf_host *host, char *err, size_t err_size);
-    /* Optional. Called once before unloading, only if init succeeded or was absent. */
+    /* [main-thread] Optional. Called once before unloading, only if init succeeded or was absent. */
     void (*deinit)(void);
     uint32_t node_count;
     const rf_node_desc *const *nodes; /* (static) */
 } rf_plugin_entry;
+
+/* ---- descriptor builders ----
+ * Designated initialisers that set the size and leave every field not named zero (no default,
+ * no range, no flags), so a descriptor reads as what it declares and survives appended fields:
+ *
+ *   static const rf_param_desc params[] = {
+ *       RF_PARAM_DESC_INT("window", 5, 1, 99, "frames averaged around each frame"),
+ *       RF_PARAM_DESC_ENUM("mode", "fast", "fast|exact", "how the average is taken"),
+ *       RF_PARAM_DESC(.name = "path", .type = RF_PARAM_INPUT_PATH, .flags = RF_PARAM_REQUIRED,
+ *                     .doc = "the file to read"),
+ *   };
+ *   static const rf_port_desc inputs[] = {RF_PORT_DESC("animation", RF_TYPE_ANIMATION, 0, "...")};
+ *   static const rf_node_desc smooth = {
+ *       .size = sizeof(rf_node_desc), .type = "example.smooth", .kind = RF_KIND_FILTER,
+ *       RF_NODE_INPUTS(inputs), RF_NODE_OUTPUTS(outputs), RF_NODE_PARAMS(params),
+ *       .process = smooth_process,
+ *   };
+ */
+#define RF_COUNT_OF(array) ((uint32_t)(sizeof(array) / sizeof((array)[0])))
+
+#define RF_PARAM_DESC(...) {.size = sizeof(rf_param_desc), __VA_ARGS__}
+#define RF_PARAM_DESC_BOOL(name_, default_, doc_)                                                  \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_BOOL, .default_number = (default_),          \
+                  .doc = (doc_))
+#define RF_PARAM_DESC_INT(name_, default_, min_, max_, doc_)                                       \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_INT, .flags = RF_PARAM_HAS_RANGE,            \
+                  .default_number = (default_), .min = (min_), .max = (max_), .doc = (doc_))
+#define RF_PARAM_DESC_FLOAT(name_, default_, min_, max_, doc_)                                     \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_FLOAT, .flags = RF_PARAM_HAS_RANGE,          \
+                  .default_number = (default_), .min = (min_), .max = (max_), .doc = (doc_))
+#define RF_PARAM_DESC_STRING(name_, default_, doc_)                                                \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_STRING, .default_string = (default_),        \
+                  .doc = (doc_))
+#define RF_PARAM_DESC_ENUM(name_, default_, choices_, doc_)                                        \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_ENUM, .default_string = (default_),          \
+                  .choices = (choices_), .doc = (doc_))
+/* A file the node reads or writes; `flags` RF_PARAM_REQUIRED or 0 (optional: "" when unset). */
+#define RF_PARAM_DESC_INPUT_PATH(name_, flags_, doc_)                                              \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_INPUT_PATH, .flags = (flags_), .doc = (doc_))
+#define RF_PARAM_DESC_OUTPUT_PATH(name_, flags_, doc_)                                             \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_OUTPUT_PATH, .flags = (flags_), .doc = (doc_))
+
+#define RF_PORT_DESC(name_, type_, flags_, doc_)                                                   \
+    {.size = sizeof(rf_port_desc), .name = (name_), .type = (type_), .flags = (flags_),          \
+     .doc = (doc_)}
+
+/* A node descriptor's counted arrays, counted by the compiler. */
+#define RF_NODE_INPUTS(array) .input_count = RF_COUNT_OF(array), .inputs = (array)
+#define RF_NODE_OUTPUTS(array) .output_count = RF_COUNT_OF(array), .outputs = (array)
+#define RF_NODE_PARAMS(array) .param_count = RF_COUNT_OF(array), .params = (array)
+
+/* A get_extension function named `fn` that offers the self-test `run` (and nothing else):
+ *   static bool my_selftest(const rf_host *host, char *err, size_t err_size) { ... }
+ *   RF_SELFTEST_GET_EXTENSION(my_get_extension, my_selftest)
+ *   ... .get_extension = my_get_extension, ... */
+#define RF_SELFTEST_GET_EXTENSION(fn, run)                                                         \
+    static const rf_selftest fn##_selftest = {sizeof(rf_selftest), (run)};                         \
+    static const void *fn(const char *id)                                                         \
+    {                                                                                              \
+        return strcmp(id, RF_SELFTEST_EXTENSION) == 0 ? &fn##_selftest : NULL;                     \
+    }
+
+/* The plugin's one exported symbol, its node types counted from the array `nodes_`
+ * (`static const rf_node_desc *const nodes_[] = {&a, &b};`). */
+#define RF_PLUGIN_DEFINE(id_, name_, version_, description_, nodes_)                              \
+    RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {                                \
+        .abi = RF_ABI_VERSION_INIT,                                                                \
+        .size = sizeof(rf_plugin_entry),                                                           \
+        .id = (id_),                                                                               \
+        .name = (name_),                                                                           \
+        .version = (version_),                                                                     \
+        .description = (description_),                                                            \
+        .node_count = RF_COUNT_OF(nodes_),                                                         \
+        .nodes = (nodes_),                                                                         \
+    }
+
+/* The 1.0 layout of each struct, the smallest a host accepts (see the growth rules above). */
+#define RF_PLUGIN_ENTRY_SIZE_1_0 RF_SIZE_THROUGH(rf_plugin_entry, nodes)
+#define RF_NODE_DESC_SIZE_1_0 RF_SIZE_THROUGH(rf_node_desc, get_extension)
+#define RF_PORT_DESC_SIZE_1_0 RF_SIZE_THROUGH(rf_port_desc, doc)
+#define RF_PARAM_DESC_SIZE_1_0 RF_SIZE_THROUGH(rf_param_desc, doc)
+#define RF_HOST_SIZE_1_0 RF_SIZE_THROUGH(rf_host, set_output)
+#define RF_SELFTEST_SIZE_1_0 RF_SIZE_THROUGH(rf_selftest, run)
+#define RF_IMPORTER_INFO_SIZE_1_0 RF_SIZE_THROUGH(rf_importer_info, path_param)
 
 #ifdef __cplusplus
 }

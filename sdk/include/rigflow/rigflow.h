@@ -6,5 +6,6 @@
 #include "rfmath.h"
 #include "model.h"
 #include "plugin.h"
+#include "model-copy.h"
 
 #endif

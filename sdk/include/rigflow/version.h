@@ -17,7 +17,8 @@ extern "C" {
 
 /* History (minors only append):
  *   1.0  plugin entry, node descriptors, host table; skeleton, animation, mesh, mapping
- *   1.1  skeleton bind pose and rest source; mesh parts; clip lists; the self-test extension */
+ *   1.1  skeleton bind pose and rest source; mesh parts; clip lists; the self-test extension;
+ *        mapping sections and sides */
 #define RF_ABI_VERSION_MAJOR 1
 #define RF_ABI_VERSION_MINOR 1
 #define RF_ABI_VERSION_PATCH 0

@@ -1,0 +1,102 @@
+/* Node glue shared by assimp.import and the generic import node: parameters in, outputs out.
+ * (Part of librfassimp so both plugins declare the same parameters and behave alike.) */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rigflow/aimport-node.h"
+
+const rf_param_desc rf_ai_node_params[RF_AI_NODE_PARAM_COUNT] = {
+    {sizeof(rf_param_desc), "path", RF_PARAM_INPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
+     "the model file (anything Assimp reads: glTF/GLB, FBX, .x, Collada, B3D, Ogre, MD5...)"},
+    {sizeof(rf_param_desc), "clip", RF_PARAM_STRING, 0, 0, "", 0, 0, NULL,
+     "the clip to import, by name or index; empty for the first (the clips output lists them)"},
+    {sizeof(rf_param_desc), "rest_pose", RF_PARAM_ENUM, 0, 0, "bind", 0, 0, "bind|node",
+     "rest pose: bind (default: the pose the mesh was skinned in, so the skeleton fits the mesh) "
+     "or node (the scene nodes' transforms); both are kept in the skeleton's bind field"},
+    {sizeof(rf_param_desc), "fps", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1000, NULL,
+     "resampling rate; 0 (default) keeps the clip's own key rate when its keys are regular, "
+     "else 30"},
+    {sizeof(rf_param_desc), "require_skeleton", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
+     "refuse a file without a skeleton (default); false imports meshes of unrigged files"},
+};
+
+const rf_port_desc rf_ai_node_outputs[RF_AI_NODE_OUTPUT_COUNT] = {
+    {sizeof(rf_port_desc), "skeleton", RF_TYPE_SKELETON, 0,
+     "joints with unique names; rest pose as chosen, bind pose in the bind field; up and forward"},
+    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0,
+     "the chosen clip resampled to a fixed rate (one rest frame when the file has no clip)"},
+    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, 0,
+     "every mesh merged, skinned to the skeleton (top 4 weights), inverse binds; may be empty"},
+    {sizeof(rf_port_desc), "clips", RF_TYPE_CLIPS, 0, "every clip in the file and which was used"},
+};
+
+typedef struct rf_ai_node_log {
+    const rf_host *host;
+    rf_node *node;
+} rf_ai_node_log;
+
+static void rf_ai_node_log_fn(void *user, int level, const char *message)
+{
+    rf_ai_node_log *l = user;
+    l->host->log(l->node, level <= 1 ? RF_LOG_WARNING : RF_LOG_INFO, "%s", message);
+}
+
+static rf_clip_list *rf_ai_node_clips(rf_ai_result *r)
+{
+    rf_clip_list *l = rf_clip_list_new(r->clip_count);
+    if (!l)
+        return NULL;
+    l->selected = r->selected_clip;
+    for (uint32_t i = 0; i < r->clip_count; i++) {
+        l->clips[i].name = r->clips[i].name; /* moved: the result forgets them below */
+        r->clips[i].name = NULL;
+        l->clips[i].duration = r->clips[i].duration;
+        l->clips[i].fps = r->clips[i].fps;
+        l->clips[i].frames = r->clips[i].frames;
+    }
+    return l;
+}
+
+bool rf_ai_node_outputs_set(const rf_host *host, rf_node *node, rf_ai_result *r)
+{
+    rf_clip_list *clips = rf_ai_node_clips(r);
+    rf_mesh *mesh = r->mesh ? r->mesh : rf_mesh_new();
+    if (!clips || !mesh) {
+        rf_clip_list_free(clips);
+        if (mesh != r->mesh)
+            rf_mesh_free(mesh);
+        host->error(node, "out of memory");
+        return false;
+    }
+    bool ok = host->set_output(node, "skeleton", r->skeleton, rf_skeleton_free);
+    ok = host->set_output(node, "animation", r->animation, rf_animation_free) && ok;
+    ok = host->set_output(node, "mesh", mesh, rf_mesh_free) && ok;
+    ok = host->set_output(node, "clips", clips, rf_clip_list_free) && ok;
+    r->skeleton = NULL, r->animation = NULL, r->mesh = NULL; /* the host owns them now */
+    rf_ai_result_clear(r);
+    if (!ok)
+        host->error(node, "the host refused an output");
+    return ok;
+}
+
+bool rf_ai_node_import(const rf_host *host, rf_node *node)
+{
+    rf_ai_options o = {0};
+    const char *path = host->param_string(node, "path");
+    o.clip = host->param_string(node, "clip");
+    o.fps = host->param_float(node, "fps");
+    o.require_skeleton = host->param_bool(node, "require_skeleton");
+    if (!rf_ai_rest_parse(host->param_string(node, "rest_pose"), &o.rest)) {
+        host->error(node, "rest_pose: expected bind or node");
+        return false;
+    }
+    rf_ai_node_log l = {host, node};
+    rf_ai_result r;
+    char err[1024];
+    if (!rf_ai_import(path, &o, &r, rf_ai_node_log_fn, &l, err, sizeof err)) {
+        host->error(node, "%s", err);
+        return false;
+    }
+    return rf_ai_node_outputs_set(host, node, &r);
+}

@@ -1,0 +1,333 @@
+/* rigflow SDK: the data model that flows between nodes: skeleton, animation, mesh, mapping.
+ *
+ * Port type ids (checked when a pipeline is validated, never by C type identity):
+ *   "rigflow.skeleton"  rf_skeleton      "rigflow.animation" rf_animation
+ *   "rigflow.mesh"      rf_mesh          "rigflow.mapping"   rf_mapping
+ *
+ * Every struct starts with its size (sizeof at the producer's build) so that fields can be appended
+ * in later minor versions: a consumer reads a field only when `size` covers it (RF_HAS_FIELD).
+ *
+ * Memory: the constructors and destructors here are header-only and use the C library's
+ * calloc/free, so any plugin can create or free any value without linking the host. A value handed
+ * to the host through set_output belongs to the host from then on; values read through input() are
+ * borrowed and read-only.
+ */
+#ifndef RIGFLOW_MODEL_H
+#define RIGFLOW_MODEL_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rfmath.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define RF_TYPE_SKELETON "rigflow.skeleton"
+#define RF_TYPE_ANIMATION "rigflow.animation"
+#define RF_TYPE_MESH "rigflow.mesh"
+#define RF_TYPE_MAPPING "rigflow.mapping"
+
+/* True when a struct whose leading size field says `s->size` contains `field`. */
+#define RF_HAS_FIELD(s, type, field)                                                               \
+    ((s)->size >= offsetof(type, field) + sizeof(((type *)0)->field))
+
+/* ---- skeleton ---- */
+
+enum rf_joint_flags {
+    RF_JOINT_HAS_END_SITE = 1u << 0, /* end_site holds the tip of a leaf bone */
+    RF_JOINT_UNWEIGHTED = 1u << 1,   /* a helper (IK target, pole, control): no skin weights */
+};
+
+typedef struct rf_joint {
+    char *name;       /* unique within the skeleton; owned by the skeleton */
+    int32_t parent;   /* index of the parent, always less than this joint's index; -1 for a root */
+    uint32_t flags;   /* rf_joint_flags */
+    rf_xform rest;    /* rest pose, local to the parent */
+    rf_vec3 end_site; /* tip of a leaf bone in this joint's local space (RF_JOINT_HAS_END_SITE) */
+} rf_joint;
+
+typedef struct rf_skeleton {
+    uint32_t size;
+    uint32_t joint_count;
+    rf_joint *joints; /* joint_count entries, parents before children */
+    char *name;       /* where the skeleton came from (file name), may be NULL; owned */
+    rf_vec3 up;       /* up axis as found in the source, or zero when unknown */
+    rf_vec3 forward;  /* facing as found in the source, or zero when unknown */
+} rf_skeleton;
+
+/* A skeleton of `joint_count` joints, all roots with identity rest and no names, or NULL when out
+ * of memory. (transfer full: free with rf_skeleton_free) */
+static inline rf_skeleton *rf_skeleton_new(uint32_t joint_count)
+{
+    rf_skeleton *s = (rf_skeleton *)calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->size = sizeof *s;
+    s->joint_count = joint_count;
+    s->joints = (rf_joint *)calloc(joint_count ? joint_count : 1, sizeof *s->joints);
+    if (!s->joints) {
+        free(s);
+        return NULL;
+    }
+    for (uint32_t i = 0; i < joint_count; i++) {
+        s->joints[i].parent = -1;
+        s->joints[i].rest = rf_xform_identity();
+    }
+    return s;
+}
+
+/* Frees a skeleton, its joints and their names. NULL is allowed. Usable as a set_output destroy. */
+static inline void rf_skeleton_free(void *skeleton)
+{
+    rf_skeleton *s = (rf_skeleton *)skeleton;
+    if (!s)
+        return;
+    for (uint32_t i = 0; i < s->joint_count; i++)
+        free(s->joints[i].name);
+    free(s->joints);
+    free(s->name);
+    free(s);
+}
+
+/* Index of the joint named `name`, or -1. Linear: look names up once, then work with indices. */
+static inline int32_t rf_skeleton_find(const rf_skeleton *s, const char *name)
+{
+    for (uint32_t i = 0; i < s->joint_count; i++)
+        if (s->joints[i].name && strcmp(s->joints[i].name, name) == 0)
+            return (int32_t)i;
+    return -1;
+}
+
+/* World (model-space) rest transform of every joint into `world` (joint_count entries, caller's). */
+static inline void rf_skeleton_world_rest(const rf_skeleton *s, rf_xform *world)
+{
+    for (uint32_t i = 0; i < s->joint_count; i++) {
+        int32_t p = s->joints[i].parent;
+        world[i] = p < 0 ? s->joints[i].rest : rf_xform_mul(world[p], s->joints[i].rest);
+    }
+}
+
+/* ---- animation ---- */
+
+enum rf_channel_flags {
+    RF_CHANNEL_ROTATION = 1u << 0,    /* the joint's rotation is keyed by the source */
+    RF_CHANNEL_TRANSLATION = 1u << 1, /* the joint's translation is keyed by the source */
+};
+
+/* Sampled local motion, frames x joints, in two flat arrays (never one allocation per key). */
+typedef struct rf_animation {
+    uint32_t size;
+    uint32_t joint_count; /* matches the skeleton the animation was made for */
+    uint32_t frame_count;
+    double fps;            /* frames per second, > 0 */
+    char *name;            /* clip name, may be NULL; owned */
+    float *rotations;      /* [frame][joint][4]: local rotation quaternion x, y, z, w */
+    float *translations;   /* [frame][joint][3]: local translation (the rest one where not keyed) */
+    uint8_t *channels;     /* [joint]: rf_channel_flags, what the source keyed */
+} rf_animation;
+
+/* An animation with all rotations identity and translations zero, or NULL when out of memory or
+ * when frames x joints overflows. (transfer full: free with rf_animation_free) */
+static inline rf_animation *rf_animation_new(uint32_t joint_count, uint32_t frame_count, double fps)
+{
+    size_t n = (size_t)joint_count * (size_t)frame_count;
+    if (joint_count && n / joint_count != frame_count)
+        return NULL;
+    if (n > SIZE_MAX / (4 * sizeof(float)))
+        return NULL;
+    rf_animation *a = (rf_animation *)calloc(1, sizeof *a);
+    if (!a)
+        return NULL;
+    a->size = sizeof *a;
+    a->joint_count = joint_count;
+    a->frame_count = frame_count;
+    a->fps = fps;
+    a->rotations = (float *)malloc((n ? n : 1) * 4 * sizeof(float));
+    a->translations = (float *)calloc(n ? n : 1, 3 * sizeof(float));
+    a->channels = (uint8_t *)calloc(joint_count ? joint_count : 1, 1);
+    if (!a->rotations || !a->translations || !a->channels) {
+        free(a->rotations);
+        free(a->translations);
+        free(a->channels);
+        free(a);
+        return NULL;
+    }
+    for (size_t i = 0; i < n; i++) {
+        float *q = a->rotations + i * 4;
+        q[0] = q[1] = q[2] = 0.0f;
+        q[3] = 1.0f;
+    }
+    return a;
+}
+
+/* Frees an animation. NULL is allowed. Usable as a set_output destroy. */
+static inline void rf_animation_free(void *animation)
+{
+    rf_animation *a = (rf_animation *)animation;
+    if (!a)
+        return;
+    free(a->rotations);
+    free(a->translations);
+    free(a->channels);
+    free(a->name);
+    free(a);
+}
+
+static inline rf_quat rf_animation_rotation(const rf_animation *a, uint32_t frame, uint32_t joint)
+{
+    const float *q = a->rotations + ((size_t)frame * a->joint_count + joint) * 4;
+    return rf_quat_make(q[0], q[1], q[2], q[3]);
+}
+static inline void rf_animation_set_rotation(rf_animation *a, uint32_t frame, uint32_t joint,
+                                             rf_quat r)
+{
+    float *q = a->rotations + ((size_t)frame * a->joint_count + joint) * 4;
+    q[0] = (float)r.x, q[1] = (float)r.y, q[2] = (float)r.z, q[3] = (float)r.w;
+}
+static inline rf_vec3 rf_animation_translation(const rf_animation *a, uint32_t frame,
+                                               uint32_t joint)
+{
+    const float *t = a->translations + ((size_t)frame * a->joint_count + joint) * 3;
+    return rf_v3(t[0], t[1], t[2]);
+}
+static inline void rf_animation_set_translation(rf_animation *a, uint32_t frame, uint32_t joint,
+                                                rf_vec3 v)
+{
+    float *t = a->translations + ((size_t)frame * a->joint_count + joint) * 3;
+    t[0] = (float)v.x, t[1] = (float)v.y, t[2] = (float)v.z;
+}
+
+/* Local pose of one frame as transforms (scale taken from the skeleton's rest), into `local`
+ * (joint_count entries, caller's). */
+static inline void rf_animation_local_pose(const rf_animation *a, const rf_skeleton *s,
+                                           uint32_t frame, rf_xform *local)
+{
+    for (uint32_t j = 0; j < a->joint_count && j < s->joint_count; j++) {
+        local[j].t = rf_animation_translation(a, frame, j);
+        local[j].r = rf_animation_rotation(a, frame, j);
+        local[j].s = s->joints[j].rest.s;
+    }
+}
+
+/* ---- mesh ---- */
+
+#define RF_MESH_MAX_INFLUENCES 4
+
+typedef struct rf_mesh {
+    uint32_t size;
+    char *name;              /* may be NULL; owned */
+    uint32_t vertex_count;
+    uint32_t triangle_count;
+    float *positions;        /* [vertex][3] */
+    float *normals;          /* [vertex][3], or NULL */
+    uint32_t *triangles;     /* [triangle][3] vertex indices */
+    uint16_t *skin_joints;   /* [vertex][4] joint indices, or NULL when the mesh is not skinned */
+    float *skin_weights;     /* [vertex][4] weights summing to 1, or NULL */
+    uint32_t bind_count;     /* entries in inverse_bind (the skeleton's joint count), or 0 */
+    rf_mat4 *inverse_bind;   /* [joint] model space to joint space at bind time, or NULL */
+} rf_mesh;
+
+/* An empty mesh (no vertices, no arrays) with its size set, or NULL when out of memory.
+ * (transfer full: free with rf_mesh_free) */
+static inline rf_mesh *rf_mesh_new(void)
+{
+    rf_mesh *m = (rf_mesh *)calloc(1, sizeof *m);
+    if (m)
+        m->size = sizeof *m;
+    return m;
+}
+
+/* Frees a mesh and every array it holds. NULL is allowed. Usable as a set_output destroy. */
+static inline void rf_mesh_free(void *mesh)
+{
+    rf_mesh *m = (rf_mesh *)mesh;
+    if (!m)
+        return;
+    free(m->name);
+    free(m->positions);
+    free(m->normals);
+    free(m->triangles);
+    free(m->skin_joints);
+    free(m->skin_weights);
+    free(m->inverse_bind);
+    free(m);
+}
+
+/* ---- mapping ---- */
+
+enum rf_map_flags {
+    RF_MAP_REVERSE = 1u << 0, /* play the source joint's rotation reversed (inverse) */
+    RF_MAP_MIRROR = 1u << 1,  /* opposite phase: sample the source half a cycle away, mirrored */
+};
+
+/* One source joint driving a target joint. */
+typedef struct rf_map_input {
+    uint32_t source; /* index of the source skeleton (order of the matcher's inputs) */
+    uint32_t joint;  /* joint index in that source skeleton */
+    float weight;    /* blend weight among a target joint's inputs, > 0 */
+    float delay;     /* seconds: the source is sampled this much earlier */
+    uint32_t flags;  /* rf_map_flags */
+} rf_map_input;
+
+/* What drives one target joint: zero inputs leaves it to the retargeter (unmapped). */
+typedef struct rf_map_entry {
+    uint32_t input_count;
+    rf_map_input *inputs; /* owned by the mapping */
+    double score;         /* the matcher's total score for the best input; 0 when unmapped */
+    double *metrics;      /* [mapping->metric_count] per-metric breakdown, or NULL */
+} rf_map_entry;
+
+typedef struct rf_mapping {
+    uint32_t size;
+    uint32_t source_count;
+    uint32_t target_joint_count;
+    rf_map_entry *entries; /* one per target joint, in the target skeleton's order */
+    uint32_t metric_count;
+    char **metric_names;   /* [metric_count], owned */
+} rf_mapping;
+
+/* A mapping with every target joint unmapped, or NULL when out of memory.
+ * (transfer full: free with rf_mapping_free) */
+static inline rf_mapping *rf_mapping_new(uint32_t target_joint_count, uint32_t source_count)
+{
+    rf_mapping *m = (rf_mapping *)calloc(1, sizeof *m);
+    if (!m)
+        return NULL;
+    m->size = sizeof *m;
+    m->source_count = source_count;
+    m->target_joint_count = target_joint_count;
+    m->entries = (rf_map_entry *)calloc(target_joint_count ? target_joint_count : 1,
+                                        sizeof *m->entries);
+    if (!m->entries) {
+        free(m);
+        return NULL;
+    }
+    return m;
+}
+
+/* Frees a mapping, its entries, inputs, metrics and names. NULL is allowed. */
+static inline void rf_mapping_free(void *mapping)
+{
+    rf_mapping *m = (rf_mapping *)mapping;
+    if (!m)
+        return;
+    for (uint32_t i = 0; i < m->target_joint_count; i++) {
+        free(m->entries[i].inputs);
+        free(m->entries[i].metrics);
+    }
+    for (uint32_t i = 0; i < m->metric_count; i++)
+        free(m->metric_names[i]);
+    free(m->metric_names);
+    free(m->entries);
+    free(m);
+}
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,41 @@
+/* rigflow SDK: the plugin ABI version.
+ *
+ * A plugin records the version it was built against in its entry (see plugin.h). The host accepts
+ * a plugin whose major equals the host's major and whose minor is not greater than the host's
+ * minor: minors only ever append fields and functions, so an older plugin sees a prefix of what
+ * the host offers. The patch number never affects compatibility.
+ */
+#ifndef RIGFLOW_VERSION_H
+#define RIGFLOW_VERSION_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define RF_ABI_VERSION_MAJOR 1
+#define RF_ABI_VERSION_MINOR 0
+#define RF_ABI_VERSION_PATCH 0
+
+typedef struct rf_version {
+    uint32_t major;
+    uint32_t minor;
+    uint32_t patch;
+} rf_version;
+
+/* The version this header describes, for initialising an entry's `abi` field. */
+#define RF_ABI_VERSION_INIT {RF_ABI_VERSION_MAJOR, RF_ABI_VERSION_MINOR, RF_ABI_VERSION_PATCH}
+
+/* True when a plugin built against `plugin` may be loaded by a host built against `host`. */
+static inline bool rf_version_compatible(rf_version host, rf_version plugin)
+{
+    return plugin.major == host.major && plugin.minor <= host.minor;
+}
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,188 @@
+/* The SDK's header-only helpers: text escaping (rigflow/text.h) and deep copies of the data
+ * model (rigflow/model-copy.h). Expected strings are written out by hand from the rules. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <rigflow/model-copy.h>
+#include <rigflow/text.h>
+
+static void escaped_is(const char *in, const char *want, uint32_t flags)
+{
+    char out[128];
+    size_t n = rf_text_escape(in, out, sizeof out, flags);
+    assert_string_equal(out, want);
+    assert_int_equal(n, strlen(want));
+}
+
+static void controls_are_escaped(void **state)
+{
+    (void)state;
+    escaped_is("Hips", "Hips", 0);
+    escaped_is("\x1b]0;owned\x07", "\\x1b]0;owned\\x07", 0); /* OSC: set the title */
+    escaped_is("a\x1b[31mred", "a\\x1b[31mred", 0);          /* CSI: colours */
+    escaped_is("x\x7fy", "x\\x7fy", 0);                      /* DEL */
+    escaped_is("line\nnext\tcol", "line\\x0anext\\x09col", 0);
+    escaped_is("line\nnext\tcol", "line\nnext\tcol", RF_TEXT_KEEP_LINES);
+    escaped_is("\r", "\\x0d", RF_TEXT_KEEP_LINES);
+    escaped_is(NULL, "", 0);
+}
+
+static void c1_and_invalid_utf8_are_escaped(void **state)
+{
+    (void)state;
+    escaped_is("\xc2\x9b"
+               "31m",
+               "\\xc2\\x9b31m", 0); /* U+009B, the 8-bit CSI, in UTF-8 */
+    escaped_is("\x9b"
+               "31m",
+               "\\x9b31m", 0);                                 /* a raw 8-bit CSI byte */
+    escaped_is("\xc0\xaf", "\\xc0\\xaf", 0);                   /* overlong '/' */
+    escaped_is("\xed\xa0\x80", "\\xed\\xa0\\x80", 0);          /* a surrogate */
+    escaped_is("\xf4\x90\x80\x80", "\\xf4\\x90\\x80\\x80", 0); /* beyond U+10FFFF */
+    escaped_is("\xe9\xaa", "\\xe9\\xaa", 0);                   /* cut short */
+}
+
+static void printable_utf8_is_kept(void **state)
+{
+    (void)state;
+    escaped_is("Oberschenkel_\xc3\xa4", "Oberschenkel_\xc3\xa4", 0); /* a-umlaut */
+    escaped_is("\xe9\xaa\xa8", "\xe9\xaa\xa8", 0);                   /* a CJK character */
+    escaped_is("\xc2\xa0nbsp", "\xc2\xa0nbsp", 0);                   /* U+00A0, just past C1 */
+    escaped_is("\xf0\x9f\xa6\xb4", "\xf0\x9f\xa6\xb4", 0);           /* U+1F9B4 */
+}
+
+static void escape_truncates_between_characters(void **state)
+{
+    (void)state;
+    char out[6];
+    assert_int_equal(rf_text_escape("ab\x1b"
+                                    "cd",
+                                    out, sizeof out, 0),
+                     8);
+    assert_string_equal(out, "ab"); /* "\x1b" does not fit whole: nothing of it is written */
+    assert_int_equal(rf_text_escape("abc", out, 0, 0), 3);
+    char label[16];
+    rf_skeleton *s = rf_skeleton_new(2);
+    s->joints[0].name = rf_strdup("\x1b[2J");
+    assert_string_equal(rf_joint_label(s, 0, label, sizeof label), "\\x1b[2J");
+    assert_string_equal(rf_joint_label(s, 1, label, sizeof label), "#1");
+    assert_string_equal(rf_joint_label(NULL, 7, label, sizeof label), "#7");
+    rf_skeleton_free(s);
+}
+
+static rf_skeleton *two_joints(void)
+{
+    rf_skeleton *s = rf_skeleton_new(2);
+    s->joints[0].name = rf_strdup("root");
+    s->joints[1].name = rf_strdup("tip");
+    s->joints[1].parent = 0;
+    s->joints[1].rest.t = rf_v3(0, 2, 0);
+    s->name = rf_strdup("two.bvh");
+    s->bind = calloc(2, sizeof *s->bind);
+    s->bind[1] = s->joints[1].rest;
+    s->rest_source = RF_REST_BIND;
+    return s;
+}
+
+static void skeleton_copy_is_deep(void **state)
+{
+    (void)state;
+    rf_skeleton *s = two_joints();
+    rf_skeleton *c = rf_skeleton_copy(s);
+    assert_non_null(c);
+    assert_int_equal(c->joint_count, 2);
+    assert_string_equal(c->joints[1].name, "tip");
+    assert_ptr_not_equal(c->joints[1].name, s->joints[1].name);
+    assert_int_equal(c->joints[1].parent, 0);
+    assert_true(c->joints[1].rest.t.y == 2);
+    assert_string_equal(c->name, "two.bvh");
+    assert_non_null(c->bind);
+    assert_ptr_not_equal(c->bind, s->bind);
+    assert_true(c->bind[1].t.y == 2);
+    assert_int_equal(c->rest_source, RF_REST_BIND);
+    /* A 1.0 skeleton (no bind fields): the copy is of this build, its bind absent. */
+    s->size = RF_SKELETON_SIZE_1_0;
+    rf_skeleton *old = rf_skeleton_copy(s);
+    assert_int_equal(old->size, sizeof(rf_skeleton));
+    assert_null(old->bind);
+    assert_int_equal(old->rest_source, 0);
+    s->size = sizeof *s;
+    rf_skeleton_free(old), rf_skeleton_free(c), rf_skeleton_free(s);
+    assert_null(rf_skeleton_copy(NULL));
+}
+
+static void animation_mesh_mapping_copies(void **state)
+{
+    (void)state;
+    rf_animation *a = rf_animation_new(2, 3, 30);
+    rf_animation_set_rotation(a, 2, 1, rf_quat_make(0, 0, 1, 0));
+    a->name = rf_strdup("walk");
+    a->channels[1] = RF_CHANNEL_ROTATION;
+    rf_animation *ac = rf_animation_copy(a);
+    assert_int_equal(ac->frame_count, 3);
+    assert_true(ac->fps == 30);
+    assert_true(rf_animation_rotation(ac, 2, 1).z == 1);
+    assert_string_equal(ac->name, "walk");
+    assert_int_equal(ac->channels[1], RF_CHANNEL_ROTATION);
+    rf_animation_free(ac), rf_animation_free(a);
+
+    rf_mesh *m = rf_mesh_new();
+    m->vertex_count = 3, m->triangle_count = 1;
+    m->positions = calloc(9, sizeof(float));
+    m->positions[4] = 5;
+    m->triangles = calloc(3, sizeof(uint32_t));
+    m->triangles[2] = 2;
+    m->part_count = 1;
+    m->parts = calloc(1, sizeof *m->parts);
+    m->parts[0].name = rf_strdup("body");
+    m->parts[0].vertex_count = 3;
+    rf_mesh *mc = rf_mesh_copy(m);
+    assert_true(mc->positions[4] == 5);
+    assert_int_equal(mc->triangles[2], 2);
+    assert_null(mc->normals);
+    assert_null(mc->skin_joints);
+    assert_string_equal(mc->parts[0].name, "body");
+    assert_ptr_not_equal(mc->parts[0].name, m->parts[0].name);
+    rf_mesh_free(mc), rf_mesh_free(m);
+
+    rf_mapping *p = rf_mapping_new(2, 1);
+    p->metric_count = 1;
+    p->metric_names = calloc(1, sizeof(char *));
+    p->metric_names[0] = rf_strdup("distance");
+    p->entries[1].input_count = 1;
+    p->entries[1].inputs = calloc(1, sizeof(rf_map_input));
+    p->entries[1].inputs[0] = (rf_map_input){0, 1, 1.0f, 0.0f, RF_MAP_REVERSE};
+    p->entries[1].metrics = calloc(1, sizeof(double));
+    p->entries[1].metrics[0] = 0.25;
+    p->entries[1].score = 9;
+    p->sides = calloc(2, sizeof(char *));
+    p->sides[1] = rf_strdup("left");
+    rf_mapping *pc = rf_mapping_copy(p);
+    assert_int_equal(pc->entries[1].inputs[0].joint, 1);
+    assert_int_equal(pc->entries[1].inputs[0].flags, RF_MAP_REVERSE);
+    assert_true(pc->entries[1].metrics[0] == 0.25);
+    assert_true(pc->entries[1].score == 9);
+    assert_int_equal(pc->entries[0].input_count, 0);
+    assert_string_equal(pc->metric_names[0], "distance");
+    assert_null(pc->sections);
+    assert_null(pc->sides[0]);
+    assert_string_equal(pc->sides[1], "left");
+    rf_mapping_free(pc), rf_mapping_free(p);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(controls_are_escaped),
+        cmocka_unit_test(c1_and_invalid_utf8_are_escaped),
+        cmocka_unit_test(printable_utf8_is_kept),
+        cmocka_unit_test(escape_truncates_between_characters),
+        cmocka_unit_test(skeleton_copy_is_deep),
+        cmocka_unit_test(animation_mesh_mapping_copies),
+    };
+    return cmocka_run_group_tests_name("sdk helpers", tests, NULL, NULL);
+}
