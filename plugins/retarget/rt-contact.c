@@ -197,11 +197,15 @@ typedef struct rt_pin_work {
     /* The IK problem: chains of two bones up each effector's body parents, three joints a goal,
      * posed from the frame's world transforms (so a foot placed from its shin under a placement
      * root solves as one hanging from it). */
-    uint32_t *chain;  /* [eff * 3] target joints: hip, knee, effector */
-    int32_t *cparent; /* [eff * 3] */
-    rf_xform *clocal; /* [eff * 3] */
-    rf_xform *want;   /* [n] solved world transforms */
-    uint8_t *solved;  /* [n] */
+    uint32_t *chain;    /* [eff * 3] target joints: hip, knee, effector */
+    int32_t *cparent;   /* [eff * 3] */
+    rf_xform *clocal;   /* [eff * 3] */
+    rf_xform *want;     /* [n] solved world transforms */
+    uint8_t *solved;    /* [n] */
+    uint8_t *need;      /* [n] joints whose world the pass reads: the feet, what is below them
+                         * (their soles), their chains and the ancestors of all these */
+    uint32_t *below;    /* each effector's joints below it, itself first, effector after effector */
+    uint32_t *below_at; /* [eff + 1] where each effector's run starts in below */
     rf_ik_goal *goals;
     rf_vec3 *target_pos; /* [eff][frames] target effector positions before pinning */
     double *target_sole; /* [eff][frames] heights of the target feet's soles */
@@ -213,7 +217,46 @@ static void rt_pin_work_free(rt_pin_work *w)
 {
     free(w->local), free(w->world), free(w->before), free(w->parents), free(w->goals);
     free(w->chain), free(w->cparent), free(w->clocal), free(w->want), free(w->solved);
+    free(w->need), free(w->below), free(w->below_at);
     free(w->target_pos), free(w->target_sole), free(w->src_sole), free(w->pin);
+}
+
+/* Marks j and its hierarchy ancestors in need. */
+static void rt_need_up(const rf_retarget *rt, uint8_t *need, int32_t j)
+{
+    for (; j >= 0 && !need[j]; j = rt->target->joints[j].parent)
+        need[j] = 1;
+}
+
+/* The joints the pass reads, and each effector's joints below it. */
+static void rt_pin_need(const rf_retarget *rt, rt_pin_work *w)
+{
+    uint32_t at = 0;
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        int32_t eff = (int32_t)rt->effectors[e], knee = rt->lparent[eff];
+        rt_need_up(rt, w->need, eff);
+        rt_need_up(rt, w->need, knee);
+        rt_need_up(rt, w->need, knee >= 0 ? rt->lparent[knee] : RF_RT_NONE);
+        w->below_at[e] = at;
+        for (uint32_t c = (uint32_t)eff; c < rt->n; c++)
+            if (rf_rt_carries(rt->target, eff, c))
+                w->below[at++] = c, w->need[c] = 1;
+    }
+    w->below_at[rt->effector_count] = at;
+}
+
+/* The lowest height of effector e's joints and tips (its sole) in world. */
+static double rt_pin_sole(const rf_retarget *rt, const rt_pin_work *w, uint32_t e,
+                          const rf_xform *world)
+{
+    double low = INFINITY;
+    for (uint32_t i = w->below_at[e]; i < w->below_at[e + 1]; i++) {
+        uint32_t c = w->below[i];
+        low = fmin(low, rf_rt_height(rt->up, world[c].t));
+        if (rf_v3_len2(rt->t_tip[c]) > 0)
+            low = fmin(low, rf_rt_height(rt->up, rf_xform_point(world[c], rt->t_tip[c])));
+    }
+    return low;
 }
 
 static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t frames)
@@ -234,10 +277,14 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
     w->clocal = malloc(c * sizeof *w->clocal);
     w->want = malloc(n * sizeof *w->want);
     w->solved = malloc(n ? n : 1);
+    w->need = calloc(n ? n : 1, 1);
+    w->below = malloc((c / 3 * n + 1) * sizeof *w->below);
+    w->below_at = malloc((c / 3 + 1) * sizeof *w->below_at);
     if (!w->local || !w->world || !w->before || !w->parents || !w->goals || !w->target_pos ||
         !w->target_sole || !w->src_sole || !w->pin || !w->chain || !w->cparent || !w->clocal ||
-        !w->want || !w->solved)
+        !w->want || !w->solved || !w->need || !w->below || !w->below_at)
         return false;
+    rt_pin_need(rt, w);
     for (uint32_t j = 0; j < n; j++)
         w->parents[j] = rt->target->joints[j].parent;
     return true;
@@ -277,18 +324,24 @@ static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t fram
     }
 }
 
-static void rt_pose_of(const rf_retarget *rt, const rf_animation *a, uint32_t f, rf_xform *local)
+static void rt_pose_of(const rf_retarget *rt, const rf_animation *a, uint32_t f, rf_xform *local,
+                       const uint8_t *need)
 {
     for (uint32_t j = 0; j < rt->n; j++) {
+        if (!need[j])
+            continue;
         local[j].t = rf_animation_translation(a, f, j);
         local[j].r = rf_quat_normalize(rf_animation_rotation(a, f, j));
         local[j].s = rt->target->joints[j].rest.s;
     }
 }
 
-static void rt_fk(const rf_retarget *rt, const rf_xform *local, rf_xform *world)
+static void rt_fk(const rf_retarget *rt, const rf_xform *local, rf_xform *world,
+                  const uint8_t *need)
 {
     for (uint32_t j = 0; j < rt->n; j++) {
+        if (!need[j])
+            continue;
         int32_t p = rt->target->joints[j].parent;
         world[j] = p < 0 ? local[j] : rf_xform_mul(world[p], local[j]);
     }
@@ -336,15 +389,17 @@ static void rt_chains_write(const rf_retarget *rt, rf_animation *a, uint32_t f, 
         w->solved[w->chain[b]] = w->solved[w->chain[b + 1]] = w->solved[w->chain[b + 2]] = 1;
     }
     for (uint32_t j = 0; j < rt->n; j++) {
+        if (!w->need[j])
+            continue; /* neither solved nor under a solved joint's parent chain */
         int32_t p = rt->target->joints[j].parent;
         rf_xform pw = p >= 0 ? w->world[p] : rf_xform_identity();
         if (w->solved[j]) {
             rf_xform l = rt_relative(pw, w->want[j]);
             w->local[j].t = l.t, w->local[j].r = rf_quat_normalize(l.r);
+            rf_animation_set_rotation(a, f, j, w->local[j].r);
+            rf_animation_set_translation(a, f, j, w->local[j].t);
         }
         w->world[j] = p >= 0 ? rf_xform_mul(pw, w->local[j]) : w->local[j];
-        rf_animation_set_rotation(a, f, j, w->local[j].r);
-        rf_animation_set_translation(a, f, j, w->local[j].t);
     }
     if (rt->anchored)
         rf_rt_place_anchored(rt, a->rotations + (size_t)f * rt->n * 4,
@@ -356,8 +411,8 @@ static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, u
                            const rf_ik_solver *solver, rt_pin_work *w, rf_rt_contact_stats *st,
                            char *err, size_t err_size)
 {
-    rt_pose_of(rt, a, f, w->local);
-    rt_fk(rt, w->local, w->before);
+    rt_pose_of(rt, a, f, w->local, w->need);
+    rt_fk(rt, w->local, w->before, w->need);
     uint32_t count = rt_chains_pose(rt, f, frames, w);
     if (!count)
         return true;
@@ -400,13 +455,12 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
         return false;
     }
     for (uint32_t f = 0; f < frames; f++) {
-        rt_pose_of(rt, anim, f, w.local);
-        rt_fk(rt, w.local, w.world);
+        rt_pose_of(rt, anim, f, w.local, w.need);
+        rt_fk(rt, w.local, w.world, w.need);
         for (uint32_t e = 0; e < rt->effector_count; e++) {
             uint32_t j = rt->effectors[e];
             w.target_pos[(size_t)e * frames + f] = w.world[j].t;
-            w.target_sole[(size_t)e * frames + f] =
-                rf_rt_sole(rt->target, w.world, rt->t_tip, rt->up, j);
+            w.target_sole[(size_t)e * frames + f] = rt_pin_sole(rt, &w, e, w.world);
         }
     }
     for (size_t i = 0; i < (size_t)rt->effector_count * frames; i++)
