@@ -176,6 +176,21 @@ static void rt_mesh_floor(rf_retarget *rt, rf_animation *out, const rf_host *hos
         host->log(node, RF_LOG_INFO, "on the mesh's floor: root moved %.4g along up", shift);
 }
 
+/* Parts that are not feet kept above the floor, and how often that was needed. */
+static bool rt_parts_pass(rf_retarget *rt, rf_animation *out, const rf_host *host, rf_node *node)
+{
+    rf_rt_parts_stats st;
+    if (!rf_retarget_parts_above(rt, out, &st)) {
+        host->error(node, "out of memory");
+        return false;
+    }
+    if (st.frames)
+        host->log(node, RF_LOG_INFO,
+                  "parts that are not feet lifted over the floor in %u of %u frames (%u turns)",
+                  st.frames, out->frame_count, st.turns);
+    return true;
+}
+
 /* A clip with a non-finite value is refused, naming where, rather than written. */
 static bool rt_finite(const rf_animation *a, const rf_host *host, rf_node *node)
 {
@@ -233,7 +248,8 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
                   "dropped; %u joints placed from the body joint they belong to",
                   info.dropped, info.anchored);
     rt_mesh_floor(rt, out, host, node);
-    bool ok = rt_contact_pass(rt, out, o, host, node) && rt_finite(out, host, node);
+    bool ok = rt_contact_pass(rt, out, o, host, node) && rt_parts_pass(rt, out, host, node) &&
+              rt_finite(out, host, node);
     rf_retarget_free(rt);
     if (!ok) {
         rf_animation_free(out);

@@ -132,6 +132,18 @@ typedef struct rf_rt_contact_stats {
 bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solver *solver,
                           rf_rt_contact_stats *stats, char *err, size_t err_size);
 
+/* What keeping the parts that are not feet above the floor did. */
+typedef struct rf_rt_parts_stats {
+    uint32_t frames; /* frames in which a part was lifted */
+    uint32_t turns;  /* joints turned to lift one */
+} rf_rt_parts_stats;
+
+/* Keeps driven joints that are not feet (high in the aligned rest: wings, tails, a quadruped's
+ * chest or head, hands) above the target's floor: a joint whose pivot goes under it is lifted
+ * onto it by turning its nearest driven ancestor standing over the floor, the part keeping its
+ * horizontal direction. Run after the contact pass on its output. False when out of memory. */
+bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *stats);
+
 /* ---- facts found at set-up ---- */
 
 typedef struct rf_rt_info {

@@ -472,3 +472,90 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
     rt_pin_work_free(&w);
     return ok;
 }
+
+/* ---- parts that are not feet stay above the floor ---- */
+
+/* The largest turn that lifts a part (radians). */
+#define RT_LIFT_MAX (30.0 * RF_PI / 180.0)
+
+/* Marks the joints that may touch the floor: each foot, what is below it and its chain. */
+static void rt_feet_mask(const rf_retarget *rt, uint8_t *foot)
+{
+    memset(foot, 0, rt->n);
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        int32_t eff = (int32_t)rt->effectors[e], knee = rt->lparent[eff];
+        for (uint32_t c = 0; c < rt->n; c++)
+            foot[c] = foot[c] || rf_rt_carries(rt->target, eff, c);
+        if (knee >= 0)
+            foot[knee] = 1;
+    }
+}
+
+/* Lifts point p of frame f (world `world`, local `local`) to the floor by turning joint a (an
+ * ancestor of the part) about its pivot, keeping the part's horizontal direction; false when the
+ * floor is out of the turn's reach. */
+static bool rt_lift_turn(const rf_retarget *rt, rf_xform *local, const rf_xform *world, uint32_t a,
+                         rf_vec3 p, double floor_h)
+{
+    rf_vec3 v = rf_v3_sub(p, world[a].t);
+    double len = rf_v3_len(v), want = floor_h - rf_rt_height(rt->up, world[a].t);
+    rf_vec3 h = rf_rt_horizontal(rt->up, v);
+    if (!(len > 0) || fabs(want) >= len || rf_v3_len2(h) == 0)
+        return false;
+    rf_vec3 to = rf_v3_add(rf_v3_scale(rf_v3_normalize(h), sqrt(len * len - want * want)),
+                           rf_v3_scale(rt->up, want));
+    if (rf_v3_angle(v, to) > RT_LIFT_MAX)
+        return false; /* a turn this large would fold the part: leave it, the measure says so */
+    rf_quat turn = rf_quat_from_two_vectors(v, to);
+    int32_t pa = rt->target->joints[a].parent;
+    rf_quat pr = pa >= 0 ? world[pa].r : rf_quat_identity();
+    local[a].r = rf_quat_normalize(rf_quat_mul(rf_quat_conj(pr), rf_quat_mul(turn, world[a].r)));
+    return true;
+}
+
+bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *st)
+{
+    memset(st, 0, sizeof *st);
+    uint32_t n = rt->n;
+    uint8_t *foot = malloc(n ? n : 1), *part = malloc(n ? n : 1), *all = malloc(n ? n : 1);
+    rf_xform *local = malloc((n ? n : 1) * sizeof *local),
+             *world = malloc((n ? n : 1) * sizeof *world);
+    if (!foot || !part || !all || !local || !world) {
+        free(foot), free(part), free(all), free(local), free(world);
+        return false;
+    }
+    memset(all, 1, n);
+    rt_feet_mask(rt, foot);
+    /* Parts high in the aligned rest (a quarter of the leg over its lowest point) and driven. */
+    for (uint32_t j = 0; j < n; j++)
+        part[j] = !foot[j] && rt->tj[j].kind != RF_RT_REST && !rt->tj[j].root_motion &&
+                  rf_rt_height(rt->up, rt->t_aligned[j]) - rt->aligned_low > 0.25 * rt->leg_target;
+    double eps = 1e-3 * rt->leg_target;
+    for (uint32_t f = 0; f < anim->frame_count; f++) {
+        rt_pose_of(rt, anim, f, local, all);
+        rt_fk(rt, local, world, all);
+        bool lifted = false;
+        for (uint32_t j = 0; j < n; j++) {
+            if (!part[j] || rf_rt_height(rt->up, world[j].t) >= rt->floor_target)
+                continue;
+            /* Turn the part's nearest driven ancestor that stands over the floor. */
+            int32_t a = rt->lparent[j];
+            while (a >= 0 && (rt->tj[a].kind == RF_RT_REST ||
+                              rf_rt_height(rt->up, world[a].t) < rt->floor_target + eps))
+                a = rt->lparent[a];
+            if (a < 0 || rt->anchor[j] >= 0 || !rf_rt_carries(rt->target, a, j))
+                continue;
+            if (rt_lift_turn(rt, local, world, (uint32_t)a, world[j].t, rt->floor_target + eps)) {
+                rt_fk(rt, local, world, all);
+                rf_animation_set_rotation(anim, f, (uint32_t)a, local[a].r);
+                lifted = true, st->turns++;
+            }
+        }
+        st->frames += lifted;
+        if (lifted && rt->anchored)
+            rf_rt_place_anchored(rt, anim->rotations + (size_t)f * n * 4,
+                                 anim->translations + (size_t)f * n * 3, NULL, world);
+    }
+    free(foot), free(part), free(all), free(local), free(world);
+    return true;
+}

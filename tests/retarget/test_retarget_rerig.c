@@ -242,6 +242,8 @@ static rf_animation *run(const rf_skeleton *src, const rf_animation *clip, const
     rf_ik_solver *solver = rf_ik_solver_new(api, api->create(NULL, err, sizeof err), "twobone");
     rf_rt_contact_stats st;
     assert_true(rf_retarget_contacts(rt, out, solver, &st, err, sizeof err));
+    rf_rt_parts_stats ps;
+    assert_true(rf_retarget_parts_above(rt, out, &ps));
     rf_ik_solver_free(solver);
     rf_retarget_free(rt);
     return out;
