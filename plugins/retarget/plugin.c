@@ -411,8 +411,8 @@ static void rt_mesh_line(const char *label, const rt_mesh_figures *m)
 
 /* The mesh measures, when a skinned mesh is connected: a mesh that cannot be measured is said
  * in one line and does not fail the node. */
-static void rt_measure_mesh(const rf_host *host, rf_node *node, const rf_skeleton *target,
-                            rt_mesh_figures *m)
+static void rt_measure_mesh(const rf_host *host, rf_node *node, rf_retarget *rt, double start,
+                            const rf_skeleton *target, rt_mesh_figures *m)
 {
     const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
     if (!mesh)
@@ -423,8 +423,8 @@ static void rt_measure_mesh(const rf_host *host, rf_node *node, const rf_skeleto
     char err[ERR_SIZE];
     const char *label = host->param_string(node, "label");
     label = *label ? label : host->node_id(node);
-    m->have = rf_rt_mesh_measure(target, mesh, host->input(node, "animation", 0), rf_v3(0, 0, 0),
-                                 frames, &m->clip, err, sizeof err);
+    m->have = rf_retarget_mesh_measure(rt, mesh, host->input(node, "animation", 0), start, frames,
+                                       &m->clip, err, sizeof err);
     if (!m->have) {
         host->log(node, RF_LOG_INFO, "no mesh measures: %s", err);
         return;
@@ -456,8 +456,8 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
                        : 0;
     bool ok = rt && rf_retarget_measure(rt, host->input(node, "animation", 0), start, &r, err,
                                         sizeof err);
-    rf_retarget_free(rt);
     if (!ok) {
+        rf_retarget_free(rt);
         host->error(node, "%s", err);
         return false;
     }
@@ -468,7 +468,8 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
            r.fidelity_bones, r.frames, r.skate_target, r.skate_source, r.contact_frames,
            r.ground_error);
     rt_mesh_figures mf = {0};
-    rt_measure_mesh(host, node, target, &mf);
+    rt_measure_mesh(host, node, rt, start, target, &mf);
+    rf_retarget_free(rt);
     fflush(stdout);
     return rt_write_report(host, node, &r, &mf);
 }

@@ -229,6 +229,14 @@ typedef struct rf_rt_mesh_report {
 bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
                             char *err, size_t err_size);
 
+/* rf_rt_mesh_measure of a clip of this plan (frame 0 at time `start` of the sources), its floor
+ * figures counted from where the source is: in each sampled frame the target's lowest vertex is
+ * compared with the floor raised by how far the source's lowest point is over its own floor,
+ * scaled by the legs (a jump is in the air on both sides, and is no float). */
+bool rf_retarget_mesh_measure(rf_retarget *rt, const rf_mesh *mesh, const rf_animation *anim,
+                              double start, uint32_t max_frames, rf_rt_mesh_report *report,
+                              char *err, size_t err_size);
+
 /* Measures `anim` (a clip for `skeleton`) on `mesh` skinned to it, over at most `max_frames`
  * frames spread over the clip (0: 24). `up` is the skeleton's up (zero: the skeleton's own, or
  * +Y). False with a message when the mesh is not skinned to this skeleton or memory runs out. */

@@ -28,6 +28,8 @@ typedef struct rt_mesh_work {
     uint32_t seams;
     uint32_t *edge; /* [edges * 2] */
     uint32_t edges;
+    const double *expect; /* [sampled frame] how far over the floor the source is, scaled to the
+                           * target (a jump), or NULL: the floor figures count from there */
 } rt_mesh_work;
 
 static int rt_cmp_double(const void *a, const void *b)
@@ -325,6 +327,8 @@ static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t fram
         rt_mesh_skin(w, w->pos);
         rt_mesh_frame(w, height, lo, high, &low[i], &part_low[i], drift + (size_t)i * w->seams,
                       stretch + (size_t)i * w->edges);
+        if (w->expect)
+            low[i] -= w->expect[i] / height;
     }
     if (ok) {
         r->frames = frames, r->seams = w->seams, r->edges = w->edges;
@@ -414,4 +418,56 @@ bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *
         return false;
     }
     return true;
+}
+
+/* How far over its floor source 0's lowest point is (joints and tips, unweighted helpers and
+ * joints above the hips left out) at each of `frames` frames spread over `anim`, scaled by the
+ * legs into target units: where the target should be in the air too (a jump). */
+static bool rt_source_clearance(rf_retarget *rt, const rf_animation *anim, double start,
+                                uint32_t frames, double *expect)
+{
+    const rf_rt_src *src = &rt->src[0];
+    size_t m = rt->max_src_n ? rt->max_src_n : 1;
+    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
+    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
+    bool ok = local && world && rot && tr;
+    for (uint32_t i = 0; ok && i < frames; i++) {
+        uint32_t f =
+            frames > 1 ? (uint32_t)((uint64_t)i * (anim->frame_count - 1) / (frames - 1)) : 0;
+        rf_rt_source_world(rt, 0, start + f / anim->fps, local, world, rot, tr);
+        double low = INFINITY;
+        for (uint32_t j = 0; j < src->n; j++) {
+            if (src->skel->joints[j].flags & RF_JOINT_UNWEIGHTED)
+                continue;
+            low = fmin(low, rf_rt_height(src->up, world[j].t));
+            if (rf_v3_len2(src->tip[j]) > 0)
+                low = fmin(low, rf_rt_height(src->up, rf_xform_point(world[j], src->tip[j])));
+        }
+        double clear = isfinite(low) ? fmax(0, low - src->floor) : 0;
+        expect[i] = clear * rt->leg_target / src->leg;
+    }
+    free(local), free(world), free(rot), free(tr);
+    return ok;
+}
+
+bool rf_retarget_mesh_measure(rf_retarget *rt, const rf_mesh *mesh, const rf_animation *anim,
+                              double start, uint32_t max_frames, rf_rt_mesh_report *report,
+                              char *err, size_t err_size)
+{
+    memset(report, 0, sizeof *report);
+    if (!rt_mesh_check(rt->target, mesh, anim, err, err_size))
+        return false;
+    rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n, .nv = mesh->vertex_count};
+    w.up = rt->up;
+    uint32_t frames = max_frames ? max_frames : 24;
+    frames = frames < anim->frame_count ? frames : anim->frame_count;
+    double *expect = malloc((frames ? frames : 1) * sizeof *expect);
+    bool ok = expect && rt_source_clearance(rt, anim, start, frames, expect);
+    w.expect = expect;
+    ok = ok && rt_mesh_prepare(&w) && rt_mesh_run(&w, anim, frames, report);
+    rt_mw_free(&w);
+    free(expect);
+    if (!ok)
+        rf_rt_fail(err, err_size, "out of memory");
+    return ok;
 }
