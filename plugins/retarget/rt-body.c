@@ -382,12 +382,21 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
 /* Lowest height along up of the joints of `s` posed in `world` and of their tips; unweighted
  * helpers (IK targets, sockets) and the joints in `above` (placement roots above the hips, may
  * be NULL) do not count. */
+bool rf_rt_weights_known(const rf_skeleton *s)
+{
+    uint32_t weighted = 0;
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        weighted += !(s->joints[j].flags & RF_JOINT_UNWEIGHTED);
+    return weighted * 4 >= s->joint_count;
+}
+
 static double rt_lowest(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
                         const uint8_t *above)
 {
     double low = INFINITY;
+    bool known = rf_rt_weights_known(s);
     for (uint32_t j = 0; j < s->joint_count; j++) {
-        if ((s->joints[j].flags & RF_JOINT_UNWEIGHTED) || (above && above[j]))
+        if ((known && (s->joints[j].flags & RF_JOINT_UNWEIGHTED)) || (above && above[j]))
             continue;
         low = fmin(low, rf_rt_height(up, world[j].t));
         if (rf_v3_len2(tip[j]) > 0)

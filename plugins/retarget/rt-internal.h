@@ -189,6 +189,10 @@ bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size);
 /* Moves the root-motion joints of a clip up or down so its lowest points sit over the target's
  * floor as the source's do over theirs. False when out of memory. */
 bool rf_rt_ground_fix(rf_retarget *rt, rf_animation *out);
+/* Whether the skeleton's unweighted flags say which joints are body: a skin on fewer than a
+ * quarter of the joints (a node tree with a mesh hung on one or two nodes) says nothing, and
+ * every joint then counts. */
+bool rf_rt_weights_known(const rf_skeleton *s);
 /* Moves the root-motion joints of every frame of `out` by `shift` along up (the anchored joints
  * placed again after). False when out of memory. */
 bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift);

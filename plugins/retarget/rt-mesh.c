@@ -223,12 +223,28 @@ static bool rt_mesh_check(const rf_skeleton *s, const rf_mesh *m, const rf_anima
                    m->bind_count, s->joint_count);
         return false;
     }
-    for (size_t i = 0; i < (size_t)m->vertex_count * RF_MESH_MAX_INFLUENCES; i++)
-        if (m->skin_weights[i] > 0 && m->skin_joints[i] >= s->joint_count) {
+    uint8_t *used = calloc(s->joint_count ? s->joint_count : 1, 1);
+    uint32_t skinned = 0;
+    for (size_t i = 0; used && i < (size_t)m->vertex_count * RF_MESH_MAX_INFLUENCES; i++) {
+        if (!(m->skin_weights[i] > 0))
+            continue;
+        if (m->skin_joints[i] >= s->joint_count) {
             rf_rt_fail(err, err_size, "vertex %zu is weighted to joint %u of %u", i / 4,
                        m->skin_joints[i], s->joint_count);
+            free(used);
             return false;
         }
+        skinned += !used[m->skin_joints[i]], used[m->skin_joints[i]] = 1;
+    }
+    free(used);
+    /* A mesh hung on a node or two (a node tree's rigid parts) does not stand for the body. */
+    if (skinned < 2 || skinned * 4 < s->joint_count) {
+        rf_rt_fail(err, err_size,
+                   "the mesh is skinned to %u of the %u joints, too few to stand for "
+                   "the body",
+                   skinned, s->joint_count);
+        return false;
+    }
     return true;
 }
 
@@ -430,14 +446,14 @@ static bool rt_source_clearance(rf_retarget *rt, const rf_animation *anim, doubl
     size_t m = rt->max_src_n ? rt->max_src_n : 1;
     rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
     float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
-    bool ok = local && world && rot && tr;
+    bool ok = local && world && rot && tr, known = rf_rt_weights_known(src->skel);
     for (uint32_t i = 0; ok && i < frames; i++) {
         uint32_t f =
             frames > 1 ? (uint32_t)((uint64_t)i * (anim->frame_count - 1) / (frames - 1)) : 0;
         rf_rt_source_world(rt, 0, start + f / anim->fps, local, world, rot, tr);
         double low = INFINITY;
         for (uint32_t j = 0; j < src->n; j++) {
-            if (src->skel->joints[j].flags & RF_JOINT_UNWEIGHTED)
+            if (known && (src->skel->joints[j].flags & RF_JOINT_UNWEIGHTED))
                 continue;
             low = fmin(low, rf_rt_height(src->up, world[j].t));
             if (rf_v3_len2(src->tip[j]) > 0)
