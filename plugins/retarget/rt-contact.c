@@ -476,7 +476,7 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
 /* ---- parts that are not feet stay above the floor ---- */
 
 /* The largest turn that lifts a part (radians). */
-#define RT_LIFT_MAX (30.0 * RF_PI / 180.0)
+#define RT_LIFT_MAX (60.0 * RF_PI / 180.0)
 
 /* Marks the joints that may touch the floor: each foot, what is below it and its chain. */
 static void rt_feet_mask(const rf_retarget *rt, uint8_t *foot)
@@ -513,6 +513,54 @@ static bool rt_lift_turn(const rf_retarget *rt, rf_xform *local, const rf_xform 
     return true;
 }
 
+/* The sources' poses of one output frame, made when first asked for. */
+typedef struct rt_src_poses {
+    uint32_t frame;
+    uint8_t *made;    /* [slot] */
+    rf_xform **world; /* [slot][source n] */
+    rf_xform *local;
+    float *rot, *tr;
+} rt_src_poses;
+
+static void rt_src_poses_free(const rf_retarget *rt, rt_src_poses *sp)
+{
+    for (uint32_t s = 0; sp->world && s < rt->slot_count; s++)
+        free(sp->world[s]);
+    free(sp->made), free(sp->world), free(sp->local), free(sp->rot), free(sp->tr);
+}
+
+static bool rt_src_poses_init(const rf_retarget *rt, rt_src_poses *sp)
+{
+    size_t m = rt->max_src_n ? rt->max_src_n : 1, slots = rt->slot_count ? rt->slot_count : 1;
+    sp->made = calloc(slots, 1), sp->world = calloc(slots, sizeof *sp->world);
+    sp->local = malloc(m * sizeof *sp->local);
+    sp->rot = malloc(m * 4 * sizeof *sp->rot), sp->tr = malloc(m * 3 * sizeof *sp->tr);
+    bool ok = sp->made && sp->world && sp->local && sp->rot && sp->tr;
+    for (uint32_t s = 0; ok && s < rt->slot_count; s++)
+        ok = (sp->world[s] = malloc(m * sizeof **sp->world)) != NULL;
+    if (!ok)
+        rt_src_poses_free(rt, sp);
+    return ok;
+}
+
+/* Whether target joint j's source joint is down on its own floor at output frame f (its sole
+ * within contact_height leg lengths of it). */
+static bool rt_source_down(const rf_retarget *rt, rt_src_poses *sp, const rf_animation *anim,
+                           uint32_t f, uint32_t j)
+{
+    const rf_rt_input *in = rt->in + rt->tj[j].first_input;
+    const rf_rt_src *src = &rt->src[in->source];
+    if (sp->frame != f)
+        memset(sp->made, 0, rt->slot_count), sp->frame = f;
+    if (!sp->made[in->slot]) {
+        double t = rf_rt_slot_time(rt, in->slot, rf_retarget_start_time(rt) + f / anim->fps);
+        rf_rt_source_world(rt, in->source, t, sp->local, sp->world[in->slot], sp->rot, sp->tr);
+        sp->made[in->slot] = 1;
+    }
+    double sole = rf_rt_sole(src->skel, sp->world[in->slot], src->tip, src->up, in->joint);
+    return (sole - src->floor) / src->leg <= rt->opt.contact_height;
+}
+
 bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *st)
 {
     memset(st, 0, sizeof *st);
@@ -526,25 +574,42 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
     }
     memset(all, 1, n);
     rt_feet_mask(rt, foot);
+    uint8_t *holds = calloc(n ? n : 1, 1); /* carries a foot in the hierarchy or body tree */
+    for (uint32_t e = 0; holds && e < rt->effector_count; e++)
+        for (int32_t a = rt->lparent[rt->effectors[e]], g = 0; a >= 0 && g < (int32_t)n;
+             a = rt->lparent[a], g++)
+            holds[a] = 1;
+    for (uint32_t e = 0; holds && e < rt->effector_count; e++)
+        for (int32_t a = rt->target->joints[rt->effectors[e]].parent; a >= 0;
+             a = rt->target->joints[a].parent)
+            holds[a] = 1;
     /* Parts high in the aligned rest (a quarter of the leg over its lowest point) and driven. */
     for (uint32_t j = 0; j < n; j++)
         part[j] = !foot[j] && rt->tj[j].kind != RF_RT_REST && !rt->tj[j].root_motion &&
                   rf_rt_height(rt->up, rt->t_aligned[j]) - rt->aligned_low > 0.25 * rt->leg_target;
     double eps = 1e-3 * rt->leg_target;
+    rt_src_poses sp = {0};
+    if (!holds || !rt_src_poses_init(rt, &sp)) {
+        free(foot), free(part), free(all), free(local), free(world), free(holds);
+        return false;
+    }
     for (uint32_t f = 0; f < anim->frame_count; f++) {
         rt_pose_of(rt, anim, f, local, all);
         rt_fk(rt, local, world, all);
         bool lifted = false;
+        sp.frame = UINT32_MAX;
         for (uint32_t j = 0; j < n; j++) {
             if (!part[j] || rf_rt_height(rt->up, world[j].t) >= rt->floor_target)
                 continue;
+            if (rt_source_down(rt, &sp, anim, f, j))
+                continue; /* its source touches its own floor: so may it (a hand on all fours) */
             /* Turn the part's nearest driven ancestor that stands over the floor. */
             int32_t a = rt->lparent[j];
             while (a >= 0 && (rt->tj[a].kind == RF_RT_REST ||
                               rf_rt_height(rt->up, world[a].t) < rt->floor_target + eps))
                 a = rt->lparent[a];
-            if (a < 0 || rt->anchor[j] >= 0 || !rf_rt_carries(rt->target, a, j))
-                continue;
+            if (a < 0 || rt->anchor[j] >= 0 || !rf_rt_carries(rt->target, a, j) || holds[a])
+                continue; /* turning a joint that carries a foot would lift the foot */
             if (rt_lift_turn(rt, local, world, (uint32_t)a, world[j].t, rt->floor_target + eps)) {
                 rt_fk(rt, local, world, all);
                 rf_animation_set_rotation(anim, f, (uint32_t)a, local[a].r);
@@ -556,6 +621,7 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
             rf_rt_place_anchored(rt, anim->rotations + (size_t)f * n * 4,
                                  anim->translations + (size_t)f * n * 3, NULL, world);
     }
-    free(foot), free(part), free(all), free(local), free(world);
+    rt_src_poses_free(rt, &sp);
+    free(foot), free(part), free(all), free(local), free(world), free(holds);
     return true;
 }
