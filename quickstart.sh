@@ -15,7 +15,8 @@ build="$top/_build"
 
 debs=(build-essential autoconf automake libtool pkg-config libltdl-dev libassimp-dev
       libjansson-dev libglib2.0-dev libcmocka-dev assimp-utils assimp-testmodels nodejs npm
-      clang libclang-rt-14-dev valgrind strace)
+      clang libclang-rt-14-dev valgrind strace
+      libsuitesparse-dev libembree-dev libmeshoptimizer-dev)
 
 say() { printf '==> %s\n' "$*" >&2; }
 

@@ -36,3 +36,8 @@ rigflow_LDADD += sdk/ik/librigflow-ik.la
 
 # rigflow map: the graph of pipelines/map.json from the command line.
 rigflow_SOURCES += framework/map-cmd.c framework/map-cmd.h
+
+# rigflow rig-bench: the rigger plugins against artists' rigs (doc/autorig.md), through pipelines
+# it builds in memory; the skeleton analysis tells humanoids from other bodies.
+rigflow_SOURCES += framework/rig-bench.c framework/rig-bench.h
+rigflow_LDADD += sdk/analysis/librigflow-analysis.la

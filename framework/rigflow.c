@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "config.h"
 #include "ik-bench.h"
+#include "rig-bench.h"
 #include "inspect.h"
 #include "map-cmd.h"
 
@@ -134,6 +135,7 @@ static const command commands[] = {
     {"inspect", rf_cmd_inspect, "show what a model or motion file imports as"},
     {"plugin-check", rf_cmd_plugin_check, "check plugin files, each check in its own process"},
     {"ik-bench", rf_cmd_ik_bench, "compare the IK solver plugins on standard workloads (CSV)"},
+    {"rig-bench", rf_cmd_rig_bench, "compare the rigger plugins with artists' rigs (CSV)"},
     {"map", rf_cmd_map, "map a target skeleton's joints onto source skeletons"},
 };
 

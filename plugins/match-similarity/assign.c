@@ -65,8 +65,10 @@ double rf_ms_assign(const double *cost, uint32_t n, uint32_t m, int32_t *match)
 }
 
 /* The same with a price for leaving a bone out on either side: an alignment, as between two
- * strings, where matching costs cost[i * m + k] and each bone left out costs `skip`. */
-double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int32_t *match)
+ * strings, where matching costs cost[i * m + k] and leaving target bone i out costs skip_t[i],
+ * source bone k skip_s[k] (NULL: `skip` for every bone). */
+double rf_ms_align_priced(const double *cost, uint32_t n, uint32_t m, double skip,
+                          const double *skip_t, const double *skip_s, int32_t *match)
 {
     for (uint32_t i = 0; i < n; i++)
         match[i] = -1;
@@ -75,6 +77,12 @@ double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int3
      * the table. */
     if (!(skip >= 0 && isfinite(skip)))
         return -1;
+    for (uint32_t i = 0; skip_t && i < n; i++)
+        if (!(skip_t[i] >= 0 && isfinite(skip_t[i])))
+            return -1;
+    for (uint32_t k = 0; skip_s && k < m; k++)
+        if (!(skip_s[k] >= 0 && isfinite(skip_s[k])))
+            return -1;
     size_t w = (size_t)m + 1;
     double *f = malloc((size_t)(n + 1) * w * sizeof *f);
     unsigned char *step = malloc((size_t)(n + 1) * w);
@@ -87,12 +95,14 @@ double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int3
         for (uint32_t k = 0; k <= m; k++) {
             double best = i == 0 && k == 0 ? 0 : INFINITY;
             unsigned char how = 0;
+            double st = i ? (skip_t ? skip_t[i - 1] : skip) : 0;
+            double ss = k ? (skip_s ? skip_s[k - 1] : skip) : 0;
             if (i && k && f[(i - 1) * w + k - 1] + cost[(size_t)(i - 1) * m + k - 1] < best)
                 best = f[(i - 1) * w + k - 1] + cost[(size_t)(i - 1) * m + k - 1], how = STEP_MATCH;
-            if (i && f[(i - 1) * w + k] + skip < best)
-                best = f[(i - 1) * w + k] + skip, how = STEP_SKIP_TARGET;
-            if (k && f[i * w + k - 1] + skip < best)
-                best = f[i * w + k - 1] + skip, how = STEP_SKIP_SOURCE;
+            if (i && f[(i - 1) * w + k] + st < best)
+                best = f[(i - 1) * w + k] + st, how = STEP_SKIP_TARGET;
+            if (k && f[i * w + k - 1] + ss < best)
+                best = f[i * w + k - 1] + ss, how = STEP_SKIP_SOURCE;
             f[i * w + k] = best, step[i * w + k] = how;
         }
     double total = f[n * w + m];
@@ -100,4 +110,9 @@ double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int3
     free(f);
     free(step);
     return total;
+}
+
+double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int32_t *match)
+{
+    return rf_ms_align_priced(cost, n, m, skip, NULL, NULL, match);
 }

@@ -313,6 +313,70 @@ static int32_t line_digit(const rf_ms_skel *s, uint32_t sec, rf_ms_line *l)
     return d;
 }
 
+/* What a bone of difference in the count from the limb's start costs: digits and chains of one
+ * bone anchor on it (0.6); limbs line up by it (0.3), unless the one with more real bones has a
+ * bone cut in two (two in a straight line, as rigs cut a thigh or forearm for twist): past the
+ * cut the count is off and places decide (0.1). */
+static int32_t last_step(const rf_ms_line *l)
+{
+    int32_t most = 0;
+    for (uint32_t i = 0; i < l->n; i++)
+        most = l->step[i] > most ? l->step[i] : most;
+    return most;
+}
+
+/* Whether a line has two real bones in a straight line, one continuing the other (under half a
+ * degree), while it bends elsewhere (two degrees or more): a bone cut in two. */
+/* The cosine of the angle between real bones i - 1 and i of a line, or 2 when either is no real
+ * bone (an offset, zero length). */
+static double turn_cos(const rf_analysis *a, const rf_ms_line *l, uint32_t i)
+{
+    const rf_joint_info *p = &a->joints[l->joint[i - 1]], *j = &a->joints[l->joint[i]];
+    if (l->step[i - 1] < 0 || p->length <= 0 || j->length <= 0 ||
+        ((p->flags | j->flags) & RF_JI_ZERO_LENGTH))
+        return 2;
+    return rf_v3_dot(p->dir, j->dir);
+}
+
+static bool has_cut(const rf_analysis *a, const rf_ms_line *l)
+{
+    bool straight = false, bent = false;
+    for (uint32_t i = 1; i < l->n; i++) {
+        double d = turn_cos(a, l, i);
+        straight |= d <= 1 && d > cos(0.5 * RF_PI / 180.0);
+        bent |= d < cos(2.0 * RF_PI / 180.0);
+    }
+    /* an arm held straight throughout (motion capture's T-pose) has no cut */
+    return straight && bent;
+}
+
+/* What leaving each bone of a limb out costs: the second half of a bone cut in two is often on
+ * one side only, so leaving it out is cheap. */
+static void skip_prices(const rf_analysis *a, const rf_ms_line *l, double *out)
+{
+    const rf_section *sec = l->n ? &a->sections[a->joints[l->joint[0]].section] : NULL;
+    bool limb = sec && (sec->type == RF_SECTION_ARM || sec->type == RF_SECTION_LEG) &&
+                !(sec->flags & RF_SECFL_FAN);
+    bool cut = limb && has_cut(a, l);
+    for (uint32_t i = 0; i < l->n; i++) {
+        out[i] = RF_MS_SKIP_COST;
+        if (cut && i > 0 && turn_cos(a, l, i) <= 1 && turn_cos(a, l, i) > cos(0.5 * RF_PI / 180.0))
+            out[i] = 0.1;
+    }
+}
+
+static double step_weight(const rf_ms_ctx *c, bool digit, const rf_ms_line *tl, uint32_t k,
+                          const rf_ms_line *sl)
+{
+    if (digit || tl->n == 1 || sl->n == 1)
+        return 0.6;
+    int32_t rt = last_step(tl), rs = last_step(sl);
+    if (rt == rs)
+        return 0.3;
+    bool cut = rt > rs ? has_cut(c->tgt.a, tl) : has_cut(c->src[k].a, sl);
+    return cut ? 0.1 : 0.3;
+}
+
 /* The DP's cost of entry i of the target line against entry q of the source line: the thesis
  * compares bone length ratios; here pivot and tip places along the sections, bone counts along
  * limbs and digits, and landmarks, which only fit landmarks. */
@@ -328,22 +392,35 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
     }
     double cost =
         fabs(tl->u0[i] - sl->u0[q]) + 0.5 * fabs(fmin(tl->u1[i], 1.5) - fmin(sl->u1[q], 1.5));
+    /* a tail of one bone has no place along a tail to compare: its root anchors it (below) */
+    if (at->sections[a->section].type == RF_SECTION_TAIL && (tl->n == 1 || sl->n == 1))
+        cost *= 0.25;
     /* the spine's ends (pelvis, chest), a limb's offset bone (clavicle, hip offset), the skull at
      * the end of the neck */
     uint32_t marks = (a->flags ^ b->flags) & RF_JI_OFFSET;
     rf_section_type type = at->sections[a->section].type;
-    uint8_t ends = c->tgt.ends[t] ^ c->src[k].ends[j];
+    /* a chain of one joint is anchored at its start: a one-bone tail is the tail's root */
+    uint8_t et = tl->n == 1 ? 2 : c->tgt.ends[t], es = sl->n == 1 ? 2 : c->src[k].ends[j];
+    uint8_t ends = et ^ es;
     if (type == RF_SECTION_SPINE && !(at->sections[a->section].flags & RF_SECFL_REVERSE))
         marks |= (uint32_t)ends << 8;
-    if (type == RF_SECTION_HEAD)
-        marks |= (uint32_t)(ends & 1) << 8;
-    for (; marks; marks &= marks - 1)
-        cost += 0.25;
+    if (type == RF_SECTION_HEAD) /* the skull, and the neck's ends on either side */
+        marks |= (uint32_t)(ends & 7) << 8;
+    if (type == RF_SECTION_TAIL) /* tails of any length: root to root, tip to tip */
+        marks |= (uint32_t)ends << 8;
+    for (; marks; marks &= marks - 1) /* twice for a chain of one joint: only its anchor */
+        cost += tl->n == 1 || sl->n == 1 ? 0.5 : 0.25;
     /* limbs and digits: bones counted from the first real one (thigh, shin, foot whatever their
-     * proportions, plantigrade or not) */
+     * proportions, plantigrade or not); digits, whose segments vary most in length, and limbs of
+     * one bone count twice: their first joints (at the knuckle or the wrist alike; a one-bone
+     * leg and a thigh) anchor them. Steps beyond the first cost a quarter: a segment cut in two
+     * for twist (a thigh and its second half) shifts the count of every bone after it, not
+     * their places. */
+    bool digit = (at->sections[a->section].flags & RF_SECFL_FAN) != 0;
     if (type != RF_SECTION_SPINE && type != RF_SECTION_HEAD && type != RF_SECTION_TAIL &&
         type != RF_SECTION_ROOT)
-        cost += 0.3 * abs(tl->step[i] - sl->step[q]);
+        cost += step_weight(c, digit, tl, k, sl) *
+                (tl->step[i] == sl->step[q] ? 0 : 1 + 0.25 * (abs(tl->step[i] - sl->step[q]) - 1));
     return cost;
 }
 
@@ -411,16 +488,21 @@ static bool remove_duplicates(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_lin
 {
     uint32_t n = tl->n, m = sl->n;
     double *cost = malloc((size_t)(n ? n : 1) * (m ? m : 1) * sizeof *cost);
+    double *skip = malloc((size_t)(n + m ? n + m : 1) * sizeof *skip);
     int32_t *match = malloc((size_t)(n ? n : 1) * sizeof *match);
-    bool ok = cost && match;
+    bool ok = cost && match && skip;
     if (ok) {
         for (uint32_t i = 0; i < n; i++)
             for (uint32_t q = 0; q < m; q++)
                 cost[(size_t)i * m + q] =
                     pair_cost(c, tl, i, k, sl, q) + 1e-6 * fabs((double)i / n - (double)q / m);
-        ok = (c->o->thesis ? rf_ms_assign(cost, n, m, match)
-                           : rf_ms_align(cost, n, m, RF_MS_SKIP_COST, match)) >= 0;
+        skip_prices(c->tgt.a, tl, skip);
+        skip_prices(c->src[k].a, sl, skip + n);
+        ok = (c->o->thesis
+                  ? rf_ms_assign(cost, n, m, match)
+                  : rf_ms_align_priced(cost, n, m, RF_MS_SKIP_COST, skip, skip + n, match)) >= 0;
     }
+    free(skip);
     for (uint32_t i = 0; ok && i < n; i++)
         p->final[tl->joint[i]] =
             match[i] >= 0 ? (rf_ms_candidate){k, sl->joint[match[i]], 0, {0}} : no_candidate;
@@ -664,6 +746,7 @@ static void keep_explanation(rf_ms_ctx *c, rf_ms_pass *p, rf_ms_explain *e)
     e->joint_count = e->target->joint_count;
     e->top = p->top, p->top = NULL;
     e->top_count = p->top_count, p->top_count = NULL;
+    e->threshold = c->threshold;
 }
 
 static rf_mapping *match_all(rf_ms_ctx *c, rf_ms_explain *explain, char *err, size_t err_size)

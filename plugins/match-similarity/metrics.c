@@ -129,12 +129,28 @@ static void main_digits(rf_ms_skel *s)
 
 /* Joints counted along a section from its first real bone: a limb's thigh is 0, shin 1, foot 2
  * whether or not a hip offset comes first (-1), and an unweighted link in the middle of a leg
- * (a rig's mechanism) shares the place of the bone after it. */
+ * (a rig's mechanism) shares the place of the bone after it. A digit counts from the wrist: a
+ * palm bone starting there is 0, a finger's first joint at the knuckle 1, with a palm bone
+ * before it or not (digits are measured from the wrist, so the knuckle lies well along; the
+ * hand's middle finger tells whether its fingers start at the knuckles or at the wrist). A
+ * thumb counts from its first joint wherever that sits: rigs start it at the wrist or beside the
+ * knuckles for the same bone. */
 static void steps(rf_ms_skel *s, uint32_t k)
 {
     const rf_analysis *a = s->a;
     const uint32_t *js = rf_section_joints(a, k);
     int32_t count = 0;
+    const rf_section *sec = &a->sections[k];
+    if ((sec->flags & RF_SECFL_FAN) && !(sec->flags & RF_SECFL_THUMB) && sec->attach_joint >= 0) {
+        /* at the knuckle: well along the digit's reach from the wrist, and at the far end of
+         * the hand bone (a palm bone starts beside the wrist, however short the hand) */
+        int32_t md = s->main_digit[sec->attach_joint];
+        const rf_joint_info *hand = &a->joints[sec->attach_joint];
+        const rf_joint_info *first =
+            md >= 0 ? &a->joints[rf_section_joints(a, (uint32_t)md)[0]] : NULL;
+        if (first && first->u0 >= 0.25 && rf_v3_dist(first->pos, hand->pos) >= 0.6 * hand->length)
+            count = 1;
+    }
     for (uint32_t i = 0; i < a->sections[k].bone_count; i++) {
         const rf_joint_info *ji = &a->joints[js[i]];
         if (ji->flags & RF_JI_OFFSET) {
@@ -158,10 +174,11 @@ static bool per_section(rf_ms_skel *s, bool thesis)
             thumbs[a->sections[k].attach_joint] = 1;
     for (uint32_t k = 0; k < a->section_count; k++) {
         const rf_section *sec = &a->sections[k];
-        for (uint32_t i = sec->bone_count; i-- > 0;)
+        uint32_t found = 0; /* the last matchable joint, and in a head the neck's end before it */
+        for (uint32_t i = sec->bone_count; i-- > 0 && found < 2;)
             if (s->matchable[rf_section_joints(a, k)[i]]) {
-                s->ends[rf_section_joints(a, k)[i]] |= 1;
-                break;
+                s->ends[rf_section_joints(a, k)[i]] |= found ? 4 : 1;
+                found += found || sec->type == RF_SECTION_HEAD ? 1 : 2;
             }
         for (uint32_t i = 0; i < sec->bone_count; i++)
             if (s->matchable[rf_section_joints(a, k)[i]]) {
@@ -186,6 +203,39 @@ static bool per_section(rf_ms_skel *s, bool thesis)
     return true;
 }
 
+/* Placement roots, axis-conversion nodes, IK targets, poles and other unweighted helpers
+ * (rf_joint_roles_find) neither drive nor take body motion. Only a rig that marks unweighted
+ * joints can have them: without marks the roles are all body and are not looked for. */
+static void leave_out_non_body(rf_ms_skel *s)
+{
+    bool marked = false;
+    for (uint32_t j = 0; j < s->skel->joint_count && !marked; j++)
+        marked = (s->skel->joints[j].flags & RF_JOINT_UNWEIGHTED) != 0;
+    rf_joint_roles *r = marked ? rf_joint_roles_find(s->skel, NULL, NULL, 0) : NULL;
+    if (!r)
+        return;
+    const rf_analysis *a = s->a;
+    uint32_t n = r->joint_count < a->joint_count ? r->joint_count : a->joint_count;
+    double lo = INFINITY, hi = -INFINITY;
+    for (uint32_t j = 0; j < n; j++)
+        if (r->role[j] == RF_ROLE_BODY) {
+            double h = rf_v3_dot(a->joints[j].pos, a->up);
+            lo = fmin(lo, h), hi = fmax(hi, h);
+        }
+    for (uint32_t j = 0; j < n; j++) {
+        if (r->role[j] == RF_ROLE_BODY)
+            continue;
+        /* A placement or axis node is left out where it lies off the body (on the floor, above
+         * it): an unweighted root inside it is the body's own first joint (a pelvis bone that
+         * happens to carry no skin, its rest turned by the rig's bone axis). */
+        double h = rf_v3_dot(a->joints[j].pos, a->up), tol = 0.1 * (hi - lo);
+        bool off = !(h > lo + tol && h < hi + 0.1 * tol);
+        if (!rf_joint_role_is_frame((rf_joint_role)r->role[j]) || off)
+            s->matchable[j] = 0;
+    }
+    rf_joint_roles_free(r);
+}
+
 /* Joints a mapping can drive: not helpers, not control joints sitting on their child. */
 static void per_joint(rf_ms_skel *s)
 {
@@ -197,11 +247,39 @@ static void per_joint(rf_ms_skel *s)
         s->bdir[j] = rf_v3(rf_v3_dot(ji->dir, a->left), rf_v3_dot(ji->dir, a->up),
                            rf_v3_dot(ji->dir, a->forward));
     }
+    leave_out_non_body(s);
     for (uint32_t j = 0; j < a->joint_count; j++) {
         int32_t p = a->joints[j].logical_parent;
         for (uint32_t step = 0; p >= 0 && !s->matchable[p] && step < a->joint_count; step++)
             p = a->joints[p].logical_parent;
         s->anc[j] = p >= 0 && s->matchable[p] ? p : -1;
+    }
+}
+
+/* A section whose first joints are left out (a control root above a one-bone torso) is
+ * measured from its first matchable joint: places along it are the body's, so the torso's pivot
+ * at the hips lines up with a pelvis. Places run to 1 at the section's end. */
+static void measure_from_body(rf_ms_skel *s)
+{
+    rf_analysis *a = s->a;
+    for (uint32_t k = 0; k < a->section_count; k++) {
+        const rf_section *sec = &a->sections[k];
+        const uint32_t *js = rf_section_joints(a, k);
+        uint32_t f = 0, m = sec->bone_count;
+        while (f < m && !s->matchable[js[f]])
+            f++;
+        uint32_t g = f;
+        if (g == m || f == 0 || a->joints[js[g]].u0 == 0)
+            continue;
+        double shift = a->joints[js[g]].u0, end = 1;
+        for (uint32_t i = g; i < m; i++)
+            end = fmax(end, a->joints[js[i]].u1);
+        if (end - shift <= 1e-9)
+            continue;
+        for (uint32_t i = f; i < m; i++) {
+            rf_joint_info *ji = &a->joints[js[i]];
+            ji->u0 = (ji->u0 - shift) / (end - shift), ji->u1 = (ji->u1 - shift) / (end - shift);
+        }
     }
 }
 
@@ -228,6 +306,8 @@ bool rf_ms_skel_init(rf_ms_skel *s, const rf_skeleton *skel, const rf_analysis_o
         !s->ends || !s->step || !s->main_digit)
         return false;
     per_joint(s);
+    if (!thesis)
+        measure_from_body(s);
     main_digits(s);
     return per_section(s, thesis);
 }
@@ -301,7 +381,14 @@ void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t
     memset(m, 0, RF_MS_METRIC_COUNT * sizeof *m);
     m[RF_MS_SAME_SIDE] = side == sc->side ? w[RF_MS_SAME_SIDE] : 0;
     m[RF_MS_SAME_TYPE] = kt == ks ? w[RF_MS_SAME_TYPE] : 0;
-    m[RF_MS_SIMILAR_TYPE] = kt != ks ? w[RF_MS_SIMILAR_TYPE] * kind_similarity(kt, ks) : 0;
+    double similar = kind_similarity(kt, ks);
+    /* toes and fingers are alike only in the thesis: a bird's toes are not a dragon's wing
+     * fingers, which hang from another limb */
+    bool digits = (kt == RF_MK_FORE_DIGIT && ks == RF_MK_HIND_DIGIT) ||
+                  (kt == RF_MK_HIND_DIGIT && ks == RF_MK_FORE_DIGIT);
+    if (digits && !c->o->thesis)
+        similar = 0.3;
+    m[RF_MS_SIMILAR_TYPE] = kt != ks ? w[RF_MS_SIMILAR_TYPE] * similar : 0;
     m[RF_MS_BONE_COUNT] = t->count[ts] == s->count[ss] ? w[RF_MS_BONE_COUNT] : 0;
     m[RF_MS_PREFERENCE] = k == c->o->preferred_source ? w[RF_MS_PREFERENCE] : 0;
     if ((limb_kind(kt) || kt == RF_MK_APPENDAGE) && (limb_kind(ks) || ks == RF_MK_APPENDAGE)) {

@@ -86,6 +86,7 @@ typedef struct rf_ms_explain {
     uint32_t joint_count;
     rf_ms_candidate *top; /* [joint_count * 3] */
     uint8_t *top_count;   /* [joint_count] */
+    double threshold;     /* the score a match needed */
 } rf_ms_explain;
 
 /* Maps the target's joints onto the sources'. Returns NULL with a message in err when out of
@@ -95,8 +96,10 @@ rf_mapping *rf_ms_match(const rf_skeleton *target, const rf_skeleton *const *sou
                         uint32_t source_count, const rf_ms_options *opts, rf_ms_explain *explain,
                         char *err, size_t err_size);
 
-/* Per target joint: its section and side, the three best candidates with every metric, and
- * what it was mapped to; then the analyses of all skeletons. */
+/* Warnings first (facing cues that disagree); per target joint: its section and side, what it
+ * was mapped to and why (the metric that put the winner ahead of the runner-up, or the section
+ * alignment, or the threshold), the three best candidates with every metric; then the analyses
+ * of all skeletons. */
 void rf_ms_explain_print(const rf_ms_explain *e, const rf_mapping *m, const rf_skeleton *target,
                          const rf_skeleton *const *sources, FILE *out);
 void rf_ms_explain_clear(rf_ms_explain *e);
@@ -112,6 +115,9 @@ double rf_ms_assign(const double *cost, uint32_t n, uint32_t m, int32_t *match);
  * sides (a hip offset here, a toe there) need not shift the rest. Returns -1 (every match -1)
  * when out of memory or when `skip` is not a finite number >= 0. */
 double rf_ms_align(const double *cost, uint32_t n, uint32_t m, double skip, int32_t *match);
+/* The same with a price per bone for leaving it out (skip_t[n], skip_s[m]; NULL: `skip`). */
+double rf_ms_align_priced(const double *cost, uint32_t n, uint32_t m, double skip,
+                          const double *skip_t, const double *skip_s, int32_t *match);
 
 /* The price of leaving a bone out in the matcher's assignment (a match costs 0 for bones at the
  * same place, about 0.3 per bone of shift or per landmark it crosses). */

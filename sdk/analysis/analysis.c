@@ -198,6 +198,17 @@ void rf_analysis_print(const rf_analysis *a, const rf_skeleton *skeleton, FILE *
             a->up_source, a->up_confidence);
     fprintf(out, "forward (%.3f %.3f %.3f) from %s, confidence %.2f\n", a->forward.x, a->forward.y,
             a->forward.z, a->forward_source, a->forward_confidence);
+    fputs("        cues:", out);
+    for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
+        if (a->forward_cues[i] != 0)
+            fprintf(out, " %s %+.2f", rf_forward_cue_names[i], a->forward_cues[i]);
+    fputc('\n', out);
+    int dissent = rf_forward_dissent(a);
+    if (dissent >= 0)
+        fprintf(out,
+                "warning: facing cues disagree (%s votes the other way): check forward, or "
+                "force it\n",
+                rf_forward_cue_names[dissent]);
     fprintf(out, "left    (%.3f %.3f %.3f); symmetry %.2f; size %.4g, height %.4g\n", a->left.x,
             a->left.y, a->left.z, a->symmetry, a->size, a->height);
     fprintf(out, "%u sections:\n", a->section_count);

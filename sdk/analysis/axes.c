@@ -86,8 +86,9 @@ static double descent(const rf_awork *w, const rf_limb *l, rf_vec3 u)
 
 /* How well u explains the limbs as hanging down (0..1), plus 0.15 per limb (up to four) when two
  * or more reach the lowest level (feet on the ground: four legs say more than two wing tips) and
- * up to 0.15 more as their end bones lie flat (feet, not tips pointing down). The lowest level is
- * the lowest limb's: a mesh node or ground root at the origin says nothing. */
+ * up to 0.45 more as their end bones lie flat (feet, not tips pointing down: a bird's flat toes
+ * outvote its longer folded wings). The lowest level is the lowest limb's: a mesh node or
+ * ground root at the origin says nothing. */
 static double up_score(const rf_awork *w, const rf_limbs *ls, rf_vec3 u, int cand)
 {
     double hang = 0, reach = 0, lo = INFINITY, hi = -INFINITY;
@@ -115,7 +116,7 @@ static double up_score(const rf_awork *w, const rf_limbs *ls, rf_vec3 u, int can
         grounded++;
         flat += fabs(rf_v3_dot(d, u)) < 0.8;
     }
-    double bonus = grounded >= 2 ? 0.15 * fmin(grounded, 4) + 0.15 * flat / grounded : 0;
+    double bonus = grounded >= 2 ? 0.15 * fmin(grounded, 4) + 0.45 * flat / grounded : 0;
     return (reach > 0 ? hang / reach : 0) + bonus;
 }
 
@@ -414,6 +415,81 @@ static double vote_lean(const rf_awork *w, rf_vec3 c)
     return fabs(along) > 0.05 * w->a->size ? (along > 0 ? 0.1 : -0.1) : 0;
 }
 
+/* Girdles carry what the body needs at each end: limbs that do not reach the ground (arms,
+ * wings) hang at the front of a horizontal body, the legs it stands on behind or under them (a
+ * bird, a dragon, a centaur); measured from where each kind of limb leaves the body. */
+static double vote_girdles(const rf_awork *w, const rf_limbs *ls, rf_vec3 c)
+{
+    double free_sum = 0, leg_sum = 0, longest = 0;
+    uint32_t frees = 0, legs = 0;
+    for (uint32_t i = 0; i < ls->n; i++)
+        longest = fmax(longest, ls->v[i].reach);
+    for (uint32_t i = 0; i < ls->n; i++) {
+        const rf_limb *l = &ls->v[i];
+        if (l->reach < 0.4 * longest || l->joints < 2)
+            continue; /* ears, eyes, a control: too small to be a limb pair */
+        double x = rf_v3_dot(l->attach, c), low = INFINITY;
+        rf_vec3 pts[64];
+        uint32_t np = limb_path(w, l, pts, 64);
+        for (uint32_t k = 0; k < np; k++)
+            low = fmin(low, rf_an_height(w, pts[k]));
+        if (l->leg)
+            leg_sum += x, legs++;
+        else if (low > w->a->ground + 0.5 * w->a->height) /* held up, not a short leg */
+            free_sum += x, frees++;
+    }
+    if (frees < 2 || legs < 2 || upright(w))
+        return 0;
+    double d = free_sum / frees - leg_sum / legs;
+    return fabs(d) > 0.05 * w->a->size ? (d > 0 ? 0.3 : -0.3) : 0;
+}
+
+/* Rigs are built from the hips outwards: the body's root is the rear girdle (or near it) and
+ * the hierarchy runs forward through the spine to the front girdle. The girdle deepest in the
+ * hierarchy is the front one. It outweighs the elevation of the ends (0.25 against 0.2: an
+ * insect carries its abdomen higher or lower than its head) but not the feet or the head marks,
+ * as a rig rooted at the chest reads backwards. */
+static double vote_hierarchy(const rf_awork *w, rf_vec3 c)
+{
+    uint32_t *depth = calloc(w->n ? w->n : 1, sizeof *depth);
+    if (!depth)
+        return 0;
+    int32_t shallow = RF_NONE, deep = RF_NONE;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        depth[j] = w->parent[j] >= 0 ? depth[w->parent[j]] + 1 : 0;
+        bool girdle = false;
+        for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++)
+            girdle |= !w->center[w->child_idx[k]] && w->limb_of[w->child_idx[k]] >= 0;
+        if (!w->center[j] || w->root_chain[j] || !girdle)
+            continue;
+        if (shallow < 0 || depth[j] < depth[shallow])
+            shallow = (int32_t)j;
+        if (deep < 0 || depth[j] > depth[deep])
+            deep = (int32_t)j;
+    }
+    double vote = 0;
+    if (shallow >= 0 && deep != shallow && !upright(w)) {
+        double d =
+            rf_v3_dot(rf_v3_sub(rf_an_pos(w, (uint32_t)deep), rf_an_pos(w, (uint32_t)shallow)), c);
+        vote = fabs(d) > 0.05 * w->a->size ? (d > 0 ? 0.25 : -0.25) : 0;
+    }
+    free(depth);
+    return vote;
+}
+
+const char *const rf_forward_cue_names[RF_FORWARD_CUE_COUNT] = {
+    "feet", "knees", "head", "elevation", "file", "lean", "girdles", "hierarchy"};
+
+int rf_forward_dissent(const rf_analysis *a)
+{
+    int worst = -1;
+    for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
+        if (a->forward_cues[i] < 0 && (worst < 0 || a->forward_cues[i] < a->forward_cues[worst]))
+            worst = i;
+    return worst;
+}
+
 static double vote_file(const rf_awork *w, rf_vec3 c)
 {
     rf_vec3 ff = w->skel->forward;
@@ -430,21 +506,26 @@ static void detect_forward(rf_awork *w, rf_limbs *ls)
     rf_votes v = {0};
     uint32_t legs;
     vote_limbs(w, ls, c, &v, &legs);
-    static const char *const names[] = {"feet", "knees", "head", "elevation", "file", "lean"};
-    double cue[6] = {fmax(-1, fmin(1, v.feet)), v.knees,         vote_head(w, ls, c),
-                     vote_elevation(w, c),      vote_file(w, c), 0};
-    if (cue[0] == 0 && cue[1] == 0 && cue[2] == 0 && cue[3] == 0 && cue[4] == 0)
+    double cue[RF_FORWARD_CUE_COUNT] = {
+        fmax(-1, fmin(1, v.feet)), v.knees, vote_head(w, ls, c),    vote_elevation(w, c),
+        vote_file(w, c),           0,       vote_girdles(w, ls, c), vote_hierarchy(w, c)};
+    bool silent = true;
+    for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
+        silent = silent && cue[i] == 0;
+    if (silent)
         cue[5] = vote_lean(w, c); /* only when nothing else says anything */
     double sum = 0, weight = 0;
     int strongest = -1;
-    for (int i = 0; i < 6; i++) {
+    for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
         sum += cue[i], weight += fabs(cue[i]);
-        if (cue[i] != 0 && (strongest < 0 || fabs(cue[i]) > fabs(cue[strongest])))
+    for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++) /* the source: the strongest that agrees */
+        if (cue[i] * sum > 0 && (strongest < 0 || fabs(cue[i]) > fabs(cue[strongest])))
             strongest = i;
-    }
     a->forward = rf_v3_scale(c, sum < 0 ? -1 : 1);
     a->forward_confidence = weight > 0 ? fabs(sum) / (weight + 0.25) : 0;
-    a->forward_source = strongest >= 0 ? names[strongest] : "default";
+    a->forward_source = strongest >= 0 ? rf_forward_cue_names[strongest] : "default";
+    for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
+        a->forward_cues[i] = sum < 0 ? -cue[i] : cue[i];
     if (strongest < 0 || sum == 0) /* nothing to go by: +Z (glTF) when it is a choice */
         a->forward = rf_v3_scale(c, c.z < 0 ? -1 : 1);
 }

@@ -95,6 +95,25 @@ static void attach(rf_awork *w, uint32_t d, const uint8_t *body)
     w->detached[d] = 1;
 }
 
+/* A single leaf hanging from the root chain on a body joint's pivot (an IK target on the ankle)
+ * or far from every one (a pole before the knee) is a helper, weights or not: a foot parented
+ * to the ground root continues its shin from the shin's end, where no pivot is. */
+static bool ik_leaf(rf_awork *w, uint32_t d, const uint8_t *body)
+{
+    int32_t p = w->parent[d];
+    if (p < 0 || !w->root_chain[p] || !rf_an_is_leaf(w, d))
+        return false;
+    double nearest = INFINITY;
+    rf_vec3 at = rf_an_pos(w, d);
+    for (uint32_t i = 0; i < w->order_count; i++)
+        if (body[w->order[i]])
+            nearest = fmin(nearest, rf_v3_dist(at, rf_an_pos(w, w->order[i])));
+    if (!(nearest <= 1e-3 * w->a->size || (isfinite(nearest) && nearest > 0.2 * w->a->size)))
+        return false;
+    w->helper[d] = 1;
+    return true;
+}
+
 /* Roots other than the main one, and small parts hanging from the root chain, attach to the
  * nearest body bone. */
 static void attach_detached(rf_awork *w, uint32_t root)
@@ -114,7 +133,8 @@ static void attach_detached(rf_awork *w, uint32_t root)
         body[j] = !part && !w->root_chain[j] && (p < 0 ? j == root : body[p] || w->root_chain[p]);
     }
     for (uint32_t i = 0; i < count && i < RF_MAX_DETACHED; i++)
-        attach(w, parts[i], body);
+        if (!ik_leaf(w, parts[i], body))
+            attach(w, parts[i], body);
 out:
     free(body);
     free(parts);

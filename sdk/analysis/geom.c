@@ -335,11 +335,49 @@ static bool end_marker(rf_awork *w, uint32_t j)
     return true;
 }
 
+/* A twist or roll leaf: a leaf lying inside its parent's bone, on the line from the parent to
+ * the child the bone continues into, and pointing along it (Unreal's upperarm_twist_01 beside
+ * lowerarm). It only spreads its segment's twist over the skin: it is part of that segment, not
+ * a digit or a limb of its own, and stays still with it when unmapped. */
+static bool roll_leaf(const rf_awork *w, uint32_t j)
+{
+    int32_t p = w->file_parent[j];
+    if (p < 0 || !rf_an_is_leaf(w, j) || rf_an_child_count(w, (uint32_t)p) < 2)
+        return false;
+    rf_vec3 pj = w->a->joints[j].pos, pp = w->a->joints[p].pos;
+    for (uint32_t k = w->child_off[p]; k < w->child_off[p + 1]; k++) {
+        uint32_t c = w->child_idx[k];
+        if (c == j)
+            continue;
+        rf_vec3 bone = rf_v3_sub(w->a->joints[c].pos, pp);
+        double len = rf_v3_len(bone);
+        if (len <= w->eps)
+            continue;
+        rf_vec3 d = rf_v3_scale(bone, 1.0 / len), rel = rf_v3_sub(pj, pp);
+        double t = rf_v3_dot(rel, d) / len;
+        double off = rf_v3_len(rf_v3_sub(rel, rf_v3_scale(d, t * len)));
+        if (t < 0.05 || t > 0.95 || off > 0.03 * len)
+            continue;
+        /* its own bone: the end site, or the rig's bone axis (tips come later) */
+        rf_vec3 own = w->tip_set[j]       ? rf_v3_sub(w->a->joints[j].tip, pj)
+                      : w->conv_axis >= 0 ? rf_an_axis_dir(w, j, axis_sign(w, j))
+                                          : rf_v3(0, 0, 0);
+        if (rf_v3_len(own) > w->eps && rf_v3_dot(own, d) < 0.94 * rf_v3_len(own))
+            continue; /* a side branch (a thumb, a weapon) leaves the line */
+        return true;
+    }
+    return false;
+}
+
 /* Helpers from skin weights (only when the skeleton says which joints have them): end markers,
  * unweighted leaves (IK targets, poles, sockets) and wholly unweighted subtrees (control rigs).
- * Unweighted joints sitting on their only child are control joints: kept, never driven. */
+ * Unweighted joints sitting on their only child are control joints: kept, never driven. Roll
+ * leaves are helpers with or without weights. */
 void rf_an_helpers(rf_awork *w)
 {
+    for (uint32_t j = 0; j < w->n; j++)
+        if (roll_leaf(w, j))
+            w->helper[j] = 1;
     if (!w->weights_known)
         return;
     uint8_t *all_unweighted = calloc(w->n ? w->n : 1, 1);

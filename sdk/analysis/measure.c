@@ -31,6 +31,25 @@ static rf_side section_side(const rf_awork *w, const rf_section *s, uint32_t fir
     return side_of_point(w, c, 0.1 * w->tol);
 }
 
+/* Whether a fan's digits are measured from the wrist, the pivot of the bone they hang from: a
+ * hand bone (no longer than three digits, and well short of the forearm before it), so
+ * a palm bone starting at the wrist and a finger starting at the knuckle keep apart (the
+ * knuckle lies half-way along the hand, not at its start). Digits on a forearm (a rig without
+ * hand bones) start at its end, the wrist. */
+static bool fan_from_wrist(const rf_awork *w, const rf_section *s)
+{
+    if (!(s->flags & RF_SECFL_FAN) || s->attach_joint < 0)
+        return false;
+    const rf_analysis *a = w->a;
+    const uint32_t *js = a->section_joints + s->first;
+    double reach = a->joints[js[s->bone_count - 1]].length;
+    for (uint32_t k = 0; k + 1 < s->bone_count; k++)
+        reach += rf_v3_dist(a->joints[js[k + 1]].pos, a->joints[js[k]].pos);
+    const rf_joint_info *hand = &a->joints[s->attach_joint];
+    int32_t p = hand->logical_parent;
+    return hand->length <= 3 * reach && (p < 0 || hand->length <= 0.6 * a->joints[p].length);
+}
+
 /* Where a section's length is measured from: its own first pivot for the root chain and the
  * spine, else the point where it leaves its parent. */
 static rf_vec3 start_point(const rf_awork *w, const rf_section *s, uint32_t first)
@@ -40,6 +59,8 @@ static rf_vec3 start_point(const rf_awork *w, const rf_section *s, uint32_t firs
                w->parent[first] < 0;
     if (own)
         return rf_an_pos(w, first);
+    if (fan_from_wrist(w, s))
+        return w->a->joints[s->attach_joint].pos;
     /* digits start where the bone they fan out of ends (the wrist, not the elbow), and so does
      * the neck (at the top of the last spine bone, not at its pivot) */
     if (((s->flags & RF_SECFL_FAN) || s->type == RF_SECTION_HEAD) && s->attach_joint >= 0)
@@ -303,8 +324,13 @@ static bool extend_by_digits(rf_awork *w)
         return false;
     for (uint32_t s = 0; s < a->section_count; s++) {
         const rf_section *sec = &a->sections[s];
-        if ((sec->flags & RF_SECFL_FAN) && sec->attach_joint >= 0)
-            longest[sec->attach_joint] = fmax(longest[sec->attach_joint], sec->length);
+        if ((sec->flags & RF_SECFL_FAN) && sec->attach_joint >= 0) {
+            /* beyond the hand bone's tip, where the limb's own length ends */
+            double from_tip = sec->length;
+            if (fan_from_wrist(w, sec))
+                from_tip = fmax(0, from_tip - a->joints[sec->attach_joint].length);
+            longest[sec->attach_joint] = fmax(longest[sec->attach_joint], from_tip);
+        }
     }
     for (uint32_t s = 0; s < a->section_count; s++) {
         rf_section *sec = &a->sections[s];
@@ -340,6 +366,51 @@ static void mark_offsets(rf_awork *w)
     }
 }
 
+/* Real bones of a leg down to its ground contact: offsets and a last bone lying flat on the
+ * ground (a toe) left out. */
+static uint32_t leg_bones(const rf_awork *w, const rf_section *sec)
+{
+    const rf_analysis *a = w->a;
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < sec->bone_count; k++) {
+        const rf_joint_info *ji = &a->joints[a->section_joints[sec->first + k]];
+        bool toe = k + 1 == sec->bone_count && fabs(rf_v3_dot(ji->dir, a->up)) < 0.5;
+        n += !(ji->flags & RF_JI_OFFSET) && !toe && ji->length > w->eps;
+    }
+    return n;
+}
+
+/* A quadruped's foreleg with one real bone more than the hind leg on its side, beginning at the
+ * top of the body and running forward and down to a bone running back: that first bone is the
+ * scapula, a girdle bone like a clavicle (forelegs hang from a shoulder blade; hind legs join
+ * the pelvis directly). */
+static void mark_scapulae(rf_awork *w)
+{
+    rf_analysis *a = w->a;
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        const rf_section *fore = &a->sections[s];
+        if (fore->type != RF_SECTION_LEG || (fore->flags & RF_SECFL_FAN) || fore->bone_count < 3)
+            continue;
+        for (uint32_t h = 0; h < a->section_count; h++) {
+            const rf_section *hind = &a->sections[h];
+            if (h == s || hind->type != RF_SECTION_LEG || (hind->flags & RF_SECFL_FAN) ||
+                hind->side != fore->side || hind->body_pos > fore->body_pos - 0.5)
+                continue;
+            rf_joint_info *first = &a->joints[a->section_joints[fore->first]];
+            const rf_joint_info *second = &a->joints[a->section_joints[fore->first + 1]];
+            bool down = rf_v3_dot(first->dir, a->up) < -0.5;
+            bool top = rf_an_height(w, first->pos) >= a->ground + 0.75 * a->height;
+            /* the shoulder blade slopes forward and down to the shoulder joint, the upper arm
+             * back and down to the elbow */
+            bool vee =
+                rf_v3_dot(first->dir, a->forward) > 0.1 && rf_v3_dot(second->dir, a->forward) < 0;
+            if (!(first->flags & RF_JI_OFFSET) && down && top && vee &&
+                leg_bones(w, fore) == leg_bones(w, hind) + 1)
+                first->flags |= RF_JI_OFFSET;
+        }
+    }
+}
+
 bool rf_an_measure(rf_awork *w)
 {
     rf_analysis *a = w->a;
@@ -362,6 +433,7 @@ bool rf_an_measure(rf_awork *w)
     if (!extend_by_digits(w))
         return false;
     mark_offsets(w);
+    mark_scapulae(w);
     mirror_sections(w);
     return ranks(w) && fan_ranks(w);
 }

@@ -312,7 +312,12 @@ static void beyond(rf_builder *b, uint32_t end, rf_section_type type, int32_t pa
         uint32_t c = w->child_idx[k];
         if (!is_center(w, c) || b->sec_of[c] >= 0 || b->on_path[c])
             continue;
-        double kc = key(w, rf_v3_scale(w->sub_sum[c], 1.0 / w->sub_count[c])) - k_end;
+        rf_vec3 mid = rf_v3_scale(w->sub_sum[c], 1.0 / w->sub_count[c]);
+        double kc = key(w, mid) - k_end;
+        /* a tail lies behind the girdle, however high it is carried (a raised tail is higher
+         * than the one body joint it hangs from, like a neck) */
+        if (side_sign < 0)
+            kc = rf_v3_dot(rf_v3_sub(mid, rf_an_pos(w, end)), w->a->forward);
         if (side_sign && kc * side_sign < 0)
             continue;
         if (main < 0 || b->down[c] > b->down[main])
@@ -389,7 +394,7 @@ static void center_sections(rf_builder *b)
     }
     int32_t rear_sec = b->sec_of[rear];
     if (front == rear) { /* one girdle: split what lies beyond by direction */
-        beyond(b, front, RF_SECTION_HEAD, spine, 1);
+        beyond(b, front, RF_SECTION_HEAD, spine, 1); /* the head first: it takes the neck */
         beyond(b, rear, RF_SECTION_TAIL, spine, -1);
     } else {
         beyond(b, front, RF_SECTION_HEAD, spine, 0);

@@ -78,6 +78,12 @@ build_ik() {
 }
 
 # seed NAME: fills the scratch corpus of a harness (copies; the sources stay untouched).
+build_rig() {
+    build fuzz_rig -I"$src/plugins/rig-general" "$src/tests/fuzz/fuzz_rig.c" \
+        "$src"/plugins/rig-general/rig*.c "$src"/sdk/analysis/*.c \
+        -- -lcholmod -lembree3 -lmeshoptimizer
+}
+
 seed() {
     local name=$1 dir="$work/$1/corpus" f
     mkdir -p "$dir"
@@ -121,7 +127,7 @@ run() {
     return $rc
 }
 
-harnesses=${FUZZ_ONLY:-"bvh pipeline analysis mapping ik"}
+harnesses=${FUZZ_ONLY:-"bvh pipeline analysis mapping ik rig"}
 plugins="$build/tests/fixtures/.libs/fx_good.so:$build/plugins"
 pass=0 fail=0 skipped=0
 for h in $harnesses; do
@@ -141,6 +147,7 @@ for h in $harnesses; do
         fi
         build_mapping && seed mapping && run mapping 16384 ;;
     ik) build_ik && seed ik && run ik 1024 ;;
+    rig) build_rig && seed rig && run rig 4096 ;;
     *) say "unknown harness '$h'"; false ;;
     esac
     if [ $? = 0 ]; then pass=$((pass + 1)); else fail=$((fail + 1)); fi

@@ -14,10 +14,10 @@ fuzz: all tests/fixtures/fx_good.la
 .PHONY: fuzz
 
 EXTRA_DIST += tests/fuzz/fuzz.sh tests/fuzz/fuzz_bvh.c tests/fuzz/fuzz_pipeline.c tests/fuzz/fuzz-values.h \
-	tests/fuzz/fuzz_analysis.c tests/fuzz/fuzz_mapping.c tests/fuzz/fuzz_ik.c tests/fuzz/bvh.dict \
+	tests/fuzz/fuzz_analysis.c tests/fuzz/fuzz_mapping.c tests/fuzz/fuzz_ik.c tests/fuzz/fuzz_rig.c tests/fuzz/bvh.dict \
 	tests/fuzz/pipeline.dict tests/fuzz/mapping.dict tests/fuzz/seeds
 clean-local: clean-fuzz
 clean-fuzz:
 	rm -rf tests/fuzz/fuzz_bvh tests/fuzz/fuzz_pipeline tests/fuzz/fuzz_analysis \
-		tests/fuzz/fuzz_mapping tests/fuzz/fuzz_ik tests/fuzz/*.log
+		tests/fuzz/fuzz_mapping tests/fuzz/fuzz_ik tests/fuzz/fuzz_rig tests/fuzz/*.log
 .PHONY: clean-fuzz

@@ -8,10 +8,10 @@ MATCH_LIBS = plugins/match-similarity/libsimilarity.la sdk/analysis/librigflow-a
 
 check_PROGRAMS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
 	tests/match/test_generated tests/match/test_mapfile tests/match/test_names \
-	tests/match/test_map_pipeline tests/match/test_corr
+	tests/match/test_map_pipeline tests/match/test_corr tests/match/test_rigs
 TESTS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
 	tests/match/test_generated tests/match/test_mapfile tests/match/test_names \
-	tests/match/test_map_pipeline tests/match/test_corr
+	tests/match/test_map_pipeline tests/match/test_corr tests/match/test_rigs
 EXTRA_DIST += tests/match/truth/
 
 tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
@@ -33,10 +33,17 @@ tests_match_test_corr_CFLAGS = $(MATCH_TEST_CFLAGS) $(JANSSON_CFLAGS)
 tests_match_test_corr_LDADD = $(tests_match_test_accuracy_LDADD) $(JANSSON_LIBS)
 
 tests_match_test_generated_SOURCES = tests/match/test_generated.c tests/match/gen.c \
-	tests/match/gen.h
-tests_match_test_generated_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
+	tests/match/gen.h tests/match/truth.c tests/match/truth.h
+tests_match_test_generated_CPPFLAGS = $(tests_match_test_accuracy_CPPFLAGS)
 tests_match_test_generated_CFLAGS = $(MATCH_TEST_CFLAGS)
-tests_match_test_generated_LDADD = $(MATCH_LIBS)
+tests_match_test_generated_LDADD = $(tests_match_test_accuracy_LDADD)
+
+# The second generator (rigs.h: skeletons built the way production rigs are), CMU as source.
+tests_match_test_rigs_SOURCES = tests/match/test_rigs.c tests/match/rigs.c tests/match/rigs.h \
+	tests/match/truth.c tests/match/truth.h
+tests_match_test_rigs_CPPFLAGS = $(tests_match_test_accuracy_CPPFLAGS)
+tests_match_test_rigs_CFLAGS = $(MATCH_TEST_CFLAGS)
+tests_match_test_rigs_LDADD = $(tests_match_test_accuracy_LDADD)
 
 tests_match_test_similarity_SOURCES = tests/match/test_similarity.c tests/match/skel-build.h
 tests_match_test_similarity_CPPFLAGS = $(MATCH_TEST_CPPFLAGS) -D_POSIX_C_SOURCE=200809L

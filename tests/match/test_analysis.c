@@ -117,6 +117,58 @@ static void test_quadruped(void **state)
     rf_skeleton_free(s);
 }
 
+/* The quadruped with its tail raised high above its head: the elevation cue votes backwards,
+ * the feet forwards; the feet win, the dissent is kept and named. */
+static void test_facing_dissent(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_quadruped)];
+    memcpy(js, sb_quadruped, sizeof js);
+    for (size_t i = 0; i < SB_COUNT(js); i++)
+        if (strncmp(js[i].name, "tail", 4) == 0 ||
+            (js[i].parent && strcmp(js[i].parent, "tail3") == 0))
+            js[i].y += 1.0 + 0.3 * (double)(js[i].z - 0.5);
+    rf_skeleton *s = sb_build(js, SB_COUNT(js));
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    assert_near_dir(a->forward, rf_v3(0, 0, -1));
+    int d = rf_forward_dissent(a);
+    assert_true(d >= 0);
+    assert_string_equal(rf_forward_cue_names[d], "elevation");
+    assert_true(a->forward_cues[0] > 0); /* the feet agreed */
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    /* the plain quadruped: every cue agrees */
+    s = sb_build(sb_quadruped, SB_COUNT(sb_quadruped));
+    a = rf_analyze(s, NULL);
+    assert_int_equal(rf_forward_dissent(a), -1);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* Twist leaves inside the forearms and thighs (Unreal's mannequin) are part of their segment:
+ * helpers, not digits, and the hands keep their two digits. A thumb at the wrist is no roll. */
+static void test_roll_leaves(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped) + 4];
+    memcpy(js, sb_biped, sizeof sb_biped);
+    size_t n = SB_COUNT(sb_biped);
+    js[n++] = (sb_joint){"l_fore_twist", "l_forearm", 0.62, 1.50, -0.03, 0};
+    js[n++] = (sb_joint){".", "l_fore_twist", 0.68, 1.50, -0.025, 0};
+    js[n++] = (sb_joint){"r_fore_twist", "r_forearm", -0.62, 1.50, -0.03, 0};
+    js[n++] = (sb_joint){".", "r_fore_twist", -0.68, 1.50, -0.025, 0};
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    assert_int_equal(section_of(a, s, "l_fore_twist")->type, RF_SECTION_HELPER);
+    assert_int_equal(section_of(a, s, "r_fore_twist")->type, RF_SECTION_HELPER);
+    assert_section(a, s, "l_hand", RF_SECTION_ARM, RF_SIDE_LEFT);
+    assert_section(a, s, "l_thumb", RF_SECTION_HAND, RF_SIDE_LEFT);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 static void test_strip(void **state)
 {
     (void)state;
@@ -454,6 +506,8 @@ int main(void)
         cmocka_unit_test(test_biped),
         cmocka_unit_test(test_biped_facing),
         cmocka_unit_test(test_quadruped),
+        cmocka_unit_test(test_facing_dissent),
+        cmocka_unit_test(test_roll_leaves),
         cmocka_unit_test(test_strip),
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_large),

@@ -76,6 +76,12 @@ contains "$tmp/out" "three best candidates" "explain header"
 contains "$tmp/out" "same_side=30 same_type=50" "explain shows metrics"
 contains "$tmp/out" "^up +\(.*\) from " "explain shows the detected up axis"
 contains "$tmp/out" "sections:" "explain shows sections"
+# every target joint says why it got its source: the Fox has 24 joints
+whys=$(grep -c "^    why: " "$tmp/out" || true)
+[ "$whys" -eq 24 ] && ok "explain gives a reason for each of the 24 joints" ||
+    bad "explain gives a reason for each of the 24 joints (got $whys)"
+contains "$tmp/out" "why: beat 0:[A-Za-z0-9]* by [0-9.]*, decided by [a-z_]* [(][+]" \
+    "explain names the metric that decided"
 
 expect 0 "--repeat" -- "$rigflow" map --repeat 5 "$cmu" "$fox"
 contains "$tmp/err" "^map_us_median=[0-9.]+$" "timing on stderr"

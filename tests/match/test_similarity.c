@@ -542,12 +542,32 @@ static void test_degenerate(void **state)
     rf_skeleton_free(one), rf_skeleton_free(none), rf_skeleton_free(s);
 }
 
+/* Per-bone prices for leaving bones out (worked by hand): target bones a, b against source x,
+ * a-x costs 0.3, b-x 0.2. At 0.4 a bone, leaving a out and matching b (0.6) beats the reverse
+ * (0.7); when b costs 0.1 to leave out, matching a (0.4) wins. NULL prices are the flat ones. */
+static void test_align_priced(void **state)
+{
+    (void)state;
+    const double cost[2] = {0.3, 0.2};
+    int32_t match[2];
+    assert_true(fabs(rf_ms_align(cost, 2, 1, 0.4, match) - 0.6) < 1e-12);
+    assert_int_equal(match[0], -1);
+    assert_int_equal(match[1], 0);
+    assert_true(fabs(rf_ms_align_priced(cost, 2, 1, 0.4, NULL, NULL, match) - 0.6) < 1e-12);
+    assert_int_equal(match[1], 0);
+    const double skip_t[2] = {0.4, 0.1}, skip_s[1] = {0.4};
+    assert_true(fabs(rf_ms_align_priced(cost, 2, 1, 0.4, skip_t, skip_s, match) - 0.4) < 1e-12);
+    assert_int_equal(match[0], 0);
+    assert_int_equal(match[1], -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_weight_sets),
         cmocka_unit_test(test_assign_thesis_tables),
         cmocka_unit_test(test_assign_brute_force),
+        cmocka_unit_test(test_align_priced),
         cmocka_unit_test(test_align_refuses_bad_skip),
         cmocka_unit_test(test_identity_and_metrics),
         cmocka_unit_test(test_orientation_falloff),

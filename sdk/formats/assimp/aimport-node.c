@@ -19,6 +19,8 @@ const rf_param_desc rf_ai_node_params[RF_AI_NODE_PARAM_COUNT] = {
      "else 30"},
     {sizeof(rf_param_desc), "require_skeleton", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
      "refuse a file without a skeleton (default); false imports meshes of unrigged files"},
+    {sizeof(rf_param_desc), "ignore_rig", RF_PARAM_BOOL, 0, 0, NULL, 0, 0, NULL,
+     "import the bare mesh (bind pose, no skin, no joints, no clips) for a rigger"},
 };
 
 const rf_port_desc rf_ai_node_outputs[RF_AI_NODE_OUTPUT_COUNT] = {
@@ -87,6 +89,7 @@ bool rf_ai_node_import(const rf_host *host, rf_node *node)
     o.clip = host->param_string(node, "clip");
     o.fps = host->param_float(node, "fps");
     o.require_skeleton = host->param_bool(node, "require_skeleton");
+    o.ignore_rig = host->param_bool(node, "ignore_rig");
     if (!rf_ai_rest_parse(host->param_string(node, "rest_pose"), &o.rest)) {
         host->error(node, "rest_pose: expected bind or node");
         return false;

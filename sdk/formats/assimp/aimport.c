@@ -748,11 +748,35 @@ void rf_ai_result_clear(rf_ai_result *r)
     r->selected_clip = -1;
 }
 
+/* The mesh alone: placed as the rig bound it (so a rigged file's artist rig fits it), with its
+ * skin dropped, an empty skeleton and one empty rest frame. */
+static bool rf_ai_run_bare(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
+{
+    /* the skeleton is built and dropped: building it works out the bind pose the mesh uses */
+    rf_skeleton *rig = NULL;
+    bool ok = rf_ai_build_skeleton(c, o, &rig) && rf_ai_build_mesh(c, &r->mesh);
+    rf_skeleton_free(rig);
+    if (!ok)
+        return false;
+    if (r->mesh) {
+        free(r->mesh->skin_joints), r->mesh->skin_joints = NULL;
+        free(r->mesh->skin_weights), r->mesh->skin_weights = NULL;
+        free(r->mesh->inverse_bind), r->mesh->inverse_bind = NULL;
+        r->mesh->bind_count = 0;
+    }
+    if (!(r->skeleton = rf_skeleton_new(0)))
+        return rf_ai_fail(c, "out of memory");
+    rf_ai_axes(c, r->skeleton);
+    return rf_ai_build_animation(c, r->skeleton, -1, NULL, &r->animation);
+}
+
 static bool rf_ai_run(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
 {
     if (!(c->scene = rf_ai_load(c)) || !rf_ai_build_table(c))
         return false;
     rf_ai_select_joints(c);
+    if (o->ignore_rig)
+        return rf_ai_run_bare(c, o, r);
     if (!c->joint_count && o->require_skeleton)
         return rf_ai_fail(c,
                           "no skeleton: no skinned bones, animated nodes or node hierarchy "

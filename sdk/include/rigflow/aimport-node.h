@@ -7,10 +7,10 @@
 
 #include <rigflow/aimport.h>
 
-#define RF_AI_NODE_PARAM_COUNT 5
+#define RF_AI_NODE_PARAM_COUNT 6
 #define RF_AI_NODE_OUTPUT_COUNT 4
 
-/* path, clip, rest_pose, fps, require_skeleton. (static) */
+/* path, clip, rest_pose, fps, require_skeleton, ignore_rig. (static) */
 extern const rf_param_desc rf_ai_node_params[RF_AI_NODE_PARAM_COUNT];
 /* skeleton, animation, mesh, clips. (static) */
 extern const rf_port_desc rf_ai_node_outputs[RF_AI_NODE_OUTPUT_COUNT];

@@ -24,6 +24,8 @@ typedef struct rf_ai_options {
     rf_ai_rest rest;       /* which pose becomes rf_joint.rest */
     double fps;            /* resampling rate; 0 picks the clip's own key rate (see aimport.c) */
     bool require_skeleton; /* refuse a file in which no skeleton is found */
+    bool ignore_rig;       /* give the bare mesh (in its bind pose, unskinned), no joints, no clips:
+                            * what a rigger starts from; a rigged file's rig is then the answer */
 } rf_ai_options;
 
 /* One animation clip of the file, as listed (whether or not it was selected). */

@@ -129,6 +129,9 @@ typedef struct rf_analysis_options {
     bool ignore_file_axes; /* do not use rf_skeleton.up/forward even as a hint */
 } rf_analysis_options;
 
+/* The cues facing is voted from (axes.c). */
+#define RF_FORWARD_CUE_COUNT 8
+
 typedef struct rf_analysis {
     uint32_t joint_count;
     rf_joint_info *joints; /* [joint_count] */
@@ -142,14 +145,23 @@ typedef struct rf_analysis {
     double symmetry;            /* fraction of off-plane joints with a mirror image, 0 .. 1 */
     const char *up_source;      /* "forced", "limbs", "file", "default": (static) */
     const char *forward_source; /* "forced", "feet", "knees", "head", "elevation", "file",
-                                 * "lean" (the top of the centerline), "default" */
+                                 * "lean" (the top of the centerline), "girdles", "hierarchy",
+                                 * "default" */
     rf_vec3 plane_normal;       /* symmetry plane (normal = left), through plane_point */
     rf_vec3 plane_point;
     double size;   /* diagonal of the bounding box of all pivots and tips, > 0 */
     double height; /* extent along up, > 0 */
     double ground; /* lowest height along up */
     int32_t root;  /* the root of the body tree, -1 when there are no joints */
+    /* How each facing cue voted, along the forward chosen: positive agreed, negative voted the
+     * other way, 0 said nothing; in the order of rf_forward_cue_names. All zero when forced. */
+    double forward_cues[RF_FORWARD_CUE_COUNT];
 } rf_analysis;
+
+/* "feet", "knees", "head", "elevation", "file", "lean", "girdles", "hierarchy" (static) */
+extern const char *const rf_forward_cue_names[RF_FORWARD_CUE_COUNT];
+/* The strongest cue that voted against the chosen forward, or -1 when none did. */
+int rf_forward_dissent(const rf_analysis *a);
 
 /* Analyses a skeleton. `opts` may be NULL. Returns NULL only when out of memory.
  * (transfer full: free with rf_analysis_free) */

@@ -1,0 +1,478 @@
+/* `rigflow rig-bench`: the riggers against artists' rigs. For each model and each rigger plugin
+ * offering "rigflow.rigger/1" a pipeline is built in memory and run by the engine: the model
+ * imported as it is (the artist's rig and skin: the answer) and with its rig ignored (the bare
+ * mesh), the rigger on the bare mesh, and the skeletal-similarity matcher mapping the rigger's
+ * joints onto the artist's. Joint distances follow RigNet's and UniRig's evaluation (chamfer
+ * distances normalised by the mesh's longest bounding-box edge); skinning is compared through
+ * the matcher's mapping. The rigger is timed on its own through its extension. doc/autorig.md. */
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <rigflow/analysis.h>
+#include <rigflow/rigger.h>
+
+#include "commands.h"
+#include "rig-bench.h"
+
+typedef struct rb_rigger {
+    const rf_node_desc *desc;
+    const rf_rigger_api *api;
+} rb_rigger;
+
+/* Joints as points and bones as segments, in model space. */
+typedef struct rb_rig {
+    uint32_t n;
+    rf_vec3 *pos;
+    int32_t *parent; /* within this set, -1 for roots */
+    uint32_t *joint; /* [n] index in the skeleton */
+} rb_rig;
+
+static bool rb_wanted(char **names, const rf_node_desc *d, const rf_rigger_api *api)
+{
+    if (!names || !*names)
+        return true;
+    for (char **n = names; *n; n++)
+        if (!strcmp(*n, d->type) || !strcmp(*n, api->name))
+            return true;
+    return false;
+}
+
+static GArray *rb_find_riggers(rf_registry *reg, char **names)
+{
+    GArray *out = g_array_new(FALSE, TRUE, sizeof(rb_rigger));
+    for (guint i = 0; i < rf_registry_plugin_count(reg); i++) {
+        const rf_plugin_entry *e = rf_plugin_entry_of(rf_registry_plugin(reg, i));
+        for (uint32_t k = 0; k < e->node_count; k++) {
+            const rf_node_desc *d = e->nodes[k];
+            const rf_rigger_api *api = d->kind == RF_KIND_RIGGER && d->get_extension
+                                           ? d->get_extension(RF_RIGGER_EXTENSION)
+                                           : NULL;
+            if (!api || rf_registry_find(reg, d->type, NULL) != d || !rb_wanted(names, d, api))
+                continue;
+            rb_rigger r = {d, api};
+            g_array_append_val(out, r);
+        }
+    }
+    return out;
+}
+
+/* ---- rigs as points and segments ---- */
+
+static void rb_rig_free(rb_rig *r)
+{
+    g_free(r->pos), g_free(r->parent), g_free(r->joint);
+    memset(r, 0, sizeof *r);
+}
+
+/* World joint positions of a skinned model: from the mesh's inverse binds (the pose the skin was
+ * made in) where it has them, else the rest pose. */
+static void rb_world(const rf_skeleton *s, const rf_mesh *m, rf_vec3 *out)
+{
+    rf_xform *w = g_new(rf_xform, s->joint_count + 1);
+    rf_skeleton_world_rest(s, w);
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        rf_mat4 b;
+        out[j] = w[j].t;
+        if (m && m->inverse_bind && m->bind_count == s->joint_count &&
+            rf_mat4_invert(m->inverse_bind[j], &b))
+            out[j] = rf_v3(b.m[12], b.m[13], b.m[14]);
+    }
+    g_free(w);
+}
+
+/* The joints that carry skin (helpers, IK targets and poles left out), linked to their nearest
+ * kept ancestor. */
+static void rb_rig_make(const rf_skeleton *s, const rf_mesh *m, bool skinned_only, rb_rig *r)
+{
+    rf_vec3 *world = g_new(rf_vec3, s->joint_count + 1);
+    int32_t *kept = g_new(int32_t, s->joint_count + 1);
+    rb_world(s, m, world);
+    r->pos = g_new(rf_vec3, s->joint_count + 1);
+    r->parent = g_new(int32_t, s->joint_count + 1);
+    r->joint = g_new(uint32_t, s->joint_count + 1);
+    r->n = 0;
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        kept[j] = -1;
+        if (skinned_only && (s->joints[j].flags & RF_JOINT_UNWEIGHTED))
+            continue;
+        int32_t p = s->joints[j].parent;
+        while (p >= 0 && kept[p] < 0)
+            p = s->joints[p].parent;
+        kept[j] = (int32_t)r->n;
+        r->pos[r->n] = world[j];
+        r->parent[r->n] = p >= 0 ? kept[p] : -1;
+        r->joint[r->n++] = j;
+    }
+    g_free(world), g_free(kept);
+}
+
+static double rb_seg_dist(rf_vec3 q, rf_vec3 a, rf_vec3 b)
+{
+    rf_vec3 ab = rf_v3_sub(b, a);
+    double l2 = rf_v3_dot(ab, ab);
+    double u = l2 > 0 ? fmin(1, fmax(0, rf_v3_dot(rf_v3_sub(q, a), ab) / l2)) : 0;
+    return rf_v3_len(rf_v3_sub(q, rf_v3_add(a, rf_v3_scale(ab, u))));
+}
+
+/* Distance from q to the nearest joint (bones false) or bone (bones true) of r; a rig with no
+ * bone falls back to its joints. */
+static double rb_nearest(rf_vec3 q, const rb_rig *r, bool bones)
+{
+    double best = INFINITY;
+    bool any = false;
+    for (uint32_t j = 0; bones && j < r->n; j++)
+        if (r->parent[j] >= 0) {
+            best = fmin(best, rb_seg_dist(q, r->pos[r->parent[j]], r->pos[j]));
+            any = true;
+        }
+    for (uint32_t j = 0; !any && j < r->n; j++)
+        best = fmin(best, rf_v3_len(rf_v3_sub(q, r->pos[j])));
+    return best;
+}
+
+/* Mean over a's joints (or points sampled along a's bones) of the distance to b's joints/bones. */
+static double rb_mean(const rb_rig *a, const rb_rig *b, bool from_bones, bool to_bones)
+{
+    double sum = 0;
+    uint32_t count = 0;
+    for (uint32_t j = 0; j < a->n; j++) {
+        if (!from_bones || a->parent[j] < 0) {
+            if (!from_bones)
+                sum += rb_nearest(a->pos[j], b, to_bones), count++;
+            continue;
+        }
+        for (int k = 0; k <= 10; k++) {
+            rf_vec3 q = rf_v3_lerp(a->pos[a->parent[j]], a->pos[j], k / 10.0);
+            sum += rb_nearest(q, b, to_bones), count++;
+        }
+    }
+    if (from_bones && !count)
+        return rb_mean(a, b, false, to_bones);
+    return count ? sum / count : NAN;
+}
+
+static double rb_chamfer(const rb_rig *p, const rb_rig *g, bool from_bones, bool to_bones)
+{
+    return 0.5 * (rb_mean(p, g, from_bones, to_bones) + rb_mean(g, p, from_bones, to_bones));
+}
+
+/* ---- skinning ---- */
+
+/* Which artist joint each predicted joint stands for: the matcher's answer (m, may be NULL);
+ * unmapped joints take their nearest mapped ancestor's, else the nearest artist joint. With
+ * `nearest`, every joint takes the nearest artist joint (the skin compared without the
+ * matcher's judgement). */
+static void rb_map_joints(const rf_skeleton *pred, const rb_rig *p, const rf_mapping *m,
+                          const rb_rig *g, bool nearest, uint32_t *to)
+{
+    if (nearest || (m && m->target_joint_count != pred->joint_count))
+        m = NULL;
+    for (uint32_t j = 0; j < pred->joint_count; j++) {
+        int32_t k = (int32_t)j;
+        while (k >= 0 && !(m && m->entries[k].input_count))
+            k = pred->joints[k].parent;
+        if (k >= 0) {
+            to[j] = m->entries[k].inputs[0].joint;
+            continue;
+        }
+        double best = INFINITY;
+        to[j] = g->n ? g->joint[0] : 0;
+        for (uint32_t i = 0; i < g->n; i++) {
+            double d = rf_v3_len(rf_v3_sub(p->pos[j], g->pos[i]));
+            if (d < best)
+                best = d, to[j] = g->joint[i];
+        }
+    }
+}
+
+typedef struct rb_skin {
+    double precision, recall, l1;
+    uint32_t unweighted;
+} rb_skin;
+
+/* Weights under 0.15 of the vertex's largest dropped, the rest renormalised. */
+static void rb_prune(double *w, uint32_t n)
+{
+    double mx = 0, sum = 0;
+    for (uint32_t j = 0; j < n; j++)
+        mx = fmax(mx, w[j]);
+    for (uint32_t j = 0; j < n; j++)
+        sum += w[j] = w[j] < 0.15 * mx ? 0 : w[j];
+    for (uint32_t j = 0; sum > 0 && j < n; j++)
+        w[j] /= sum;
+}
+
+static void rb_skin_compare(const rf_mesh *art, const rf_mesh *pred, const uint32_t *to,
+                            uint32_t nj, rb_skin *out)
+{
+    double *wg = g_new0(double, nj + 1), *wp = g_new0(double, nj + 1);
+    double sp = 0, sr = 0, sl = 0;
+    uint32_t counted = 0;
+    memset(out, 0, sizeof *out);
+    for (uint32_t v = 0; v < art->vertex_count && v < pred->vertex_count; v++) {
+        memset(wg, 0, nj * sizeof *wg), memset(wp, 0, nj * sizeof *wp);
+        double tp = 0;
+        for (int k = 0; k < 4; k++) {
+            uint16_t a = art->skin_joints[v * 4 + k], b = pred->skin_joints[v * 4 + k];
+            if (a < nj)
+                wg[a] += art->skin_weights[v * 4 + k];
+            tp += pred->skin_weights[v * 4 + k];
+            if (to[b] < nj)
+                wp[to[b]] += pred->skin_weights[v * 4 + k];
+        }
+        if (!(tp > 0)) {
+            out->unweighted++;
+            continue;
+        }
+        rb_prune(wg, nj), rb_prune(wp, nj);
+        uint32_t np = 0, ng = 0, both = 0;
+        double l1 = 0;
+        for (uint32_t j = 0; j < nj; j++) {
+            np += wp[j] > 0, ng += wg[j] > 0, both += wp[j] > 0 && wg[j] > 0;
+            l1 += fabs(wp[j] - wg[j]);
+        }
+        if (!ng)
+            continue; /* the artist left it unweighted: nothing to compare */
+        sp += np ? (double)both / np : 0, sr += (double)both / ng, sl += l1, counted++;
+    }
+    out->precision = counted ? sp / counted : NAN;
+    out->recall = counted ? sr / counted : NAN;
+    out->l1 = counted ? sl / counted : NAN;
+    g_free(wg), g_free(wp);
+}
+
+/* ---- one model ---- */
+
+/* "humanoid" when the artist's rig has two arms and two legs, else "other". */
+static const char *rb_body(const rf_skeleton *s)
+{
+    rf_analysis_options o = {.use_bind_pose = true};
+    rf_analysis *a = rf_analyze(s, &o);
+    uint32_t arms = 0, legs = 0;
+    for (uint32_t i = 0; a && i < a->section_count; i++)
+        arms += a->sections[i].type == RF_SECTION_ARM,
+            legs += a->sections[i].type == RF_SECTION_LEG;
+    rf_analysis_free(a);
+    return arms == 2 && legs == 2 ? "humanoid" : "other";
+}
+
+static double rb_longest(const rf_mesh *m)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, l = 0;
+    for (uint32_t v = 0; v < m->vertex_count; v++)
+        for (int a = 0; a < 3; a++)
+            lo[a] = fmin(lo[a], m->positions[v * 3 + a]),
+            hi[a] = fmax(hi[a], m->positions[v * 3 + a]);
+    for (int a = 0; a < 3; a++)
+        l = fmax(l, hi[a] - lo[a]);
+    return l;
+}
+
+static void rb_csv_text(const char *s)
+{
+    /* file names and messages are data: quote them, double any quote, drop control bytes */
+    putchar('"');
+    for (; *s; s++)
+        if (*s == '"')
+            fputs("\"\"", stdout);
+        else if ((unsigned char)*s >= 0x20 && *s != 0x7f)
+            putchar(*s);
+    putchar('"');
+}
+
+static void rb_row(const rb_rigger *r, const char *model, const char *body, uint32_t nart,
+                   uint32_t npred, const double *cd, const rb_skin *sk, double secs,
+                   const char *status)
+{
+    printf("%s,", r->api->name);
+    rb_csv_text(model);
+    printf(",%s,%u,%u,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%u,%.3f,", body, nart, npred, cd[0], cd[1],
+           cd[2], sk->precision, sk->recall, sk->l1, sk->unweighted, secs);
+    rb_csv_text(status);
+    putchar('\n');
+    fflush(stdout);
+}
+
+static bool rb_has_input(const rf_node_desc *d, const char *name)
+{
+    for (uint32_t i = 0; i < d->input_count; i++)
+        if (!strcmp(d->inputs[i].name, name))
+            return true;
+    return false;
+}
+
+static bool rb_has_param(const rf_node_desc *d, const char *name)
+{
+    for (uint32_t i = 0; i < d->param_count; i++)
+        if (!strcmp(d->params[i].name, name))
+            return true;
+    return false;
+}
+
+/* The graph for one model and one rigger (see the file comment), validated; NULL with a reason
+ * in why. */
+static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, const char *path,
+                                char *why, size_t n)
+{
+    const char *param = NULL;
+    const rf_node_desc *imp = rf_registry_importer_for(reg, path, &param);
+    if (!imp || !rb_has_param(imp, "ignore_rig")) {
+        snprintf(why, n, "%s", imp ? "its importer cannot ignore a rig" : "no importer reads it");
+        return NULL;
+    }
+    json_t *rig_in = json_pack("{s:s}", "mesh", "mesh.mesh");
+    if (rb_has_input(r->desc, "axes"))
+        json_object_set_new(rig_in, "axes", json_string("mesh.skeleton"));
+    json_t *graph = json_pack(
+        "{s:s, s:i, s:[{s:s, s:s, s:{s:s}}, {s:s, s:s, s:{s:s, s:b, s:b}}, {s:s, s:s, s:o}, "
+        "{s:s, s:s, s:{s:s, s:[s]}}]}",
+        "format", "rigflow.pipeline", "version", 1, "nodes", "id", "artist", "type", imp->type,
+        "params", param, path, "id", "mesh", "type", imp->type, "params", param, path, "ignore_rig",
+        1, "require_skeleton", 0, "id", "rig", "type", r->desc->type, "inputs", rig_in, "id", "map",
+        "type", "skeletal-similarity", "inputs", "target", "rig.skeleton", "sources",
+        "artist.skeleton");
+    char *text = graph ? json_dumps(graph, JSON_COMPACT) : NULL;
+    json_decref(graph);
+    g_autofree char *cwd = g_get_current_dir();
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    rf_pipeline *p = text ? rf_pipeline_load_string(text, "rig-bench", cwd, diags) : NULL;
+    free(text);
+    if (!p || !rf_pipeline_validate(p, reg, diags) || diags->len) {
+        g_autofree char *msg = diags->len ? rf_diag_format(g_ptr_array_index(diags, 0)) : NULL;
+        snprintf(why, n, "%s", msg ? msg : "the graph could not be built");
+        rf_pipeline_free(p);
+        return NULL;
+    }
+    return p;
+}
+
+/* Seconds the rigger's core takes on the bare mesh, called directly as ik-bench calls solvers. */
+static double rb_time(const rb_rigger *r, const rf_mesh *mesh)
+{
+    rf_mesh bare = *mesh; /* borrowed arrays, the skin hidden from the rigger */
+    bare.skin_joints = NULL, bare.skin_weights = NULL, bare.inverse_bind = NULL,
+    bare.bind_count = 0;
+    rf_skeleton *s = NULL;
+    rf_mesh *m = NULL;
+    char err[256];
+    gint64 t0 = g_get_monotonic_time();
+    bool ok = r->api->rig(&bare, &s, &m, err, sizeof err);
+    double secs = (g_get_monotonic_time() - t0) / 1e6;
+    rf_skeleton_free(s), rf_mesh_free(m);
+    return ok ? secs : NAN;
+}
+
+static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *pl, bool nearest)
+{
+    const rf_skeleton *as = rf_pipeline_result(pl, "artist", "skeleton");
+    const rf_mesh *am = rf_pipeline_result(pl, "artist", "mesh");
+    const rf_skeleton *ps = rf_pipeline_result(pl, "rig", "skeleton");
+    const rf_mesh *pm = rf_pipeline_result(pl, "rig", "mesh");
+    const rf_mapping *map = rf_pipeline_result(pl, "map", "mapping");
+    double cd[3] = {NAN, NAN, NAN};
+    rb_skin sk = {NAN, NAN, NAN, 0};
+    if (!as || !am || !am->skin_weights || !ps || !pm || !pm->skin_weights) {
+        rb_row(r, base, "-", 0, 0, cd, &sk, NAN, "skipped: no skinned mesh to compare with");
+        return;
+    }
+    rb_rig g = {0}, p = {0};
+    rb_rig_make(as, am, true, &g);
+    rb_rig_make(ps, pm, false, &p);
+    double L = rb_longest(am);
+    cd[0] = rb_chamfer(&p, &g, false, false) / L;
+    cd[1] = 0.5 * (rb_mean(&p, &g, false, true) + rb_mean(&g, &p, false, true)) / L;
+    cd[2] = rb_chamfer(&p, &g, true, true) / L;
+    uint32_t *to = g_new(uint32_t, ps->joint_count + 1);
+    rb_map_joints(ps, &p, map, &g, nearest, to);
+    rb_skin_compare(am, pm, to, as->joint_count, &sk);
+    rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, rb_time(r, am), "ok");
+    g_free(to);
+    rb_rig_free(&g), rb_rig_free(&p);
+}
+
+/* One model through one rigger: a row, whatever happens. False when the model could not be
+ * read at all. */
+static bool rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, bool nearest)
+{
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    double cd[3] = {NAN, NAN, NAN};
+    rb_skin sk = {NAN, NAN, NAN, 0};
+    char why[600];
+    rf_pipeline *p = rb_pipeline(reg, r, path, why, sizeof why);
+    if (!p) {
+        fprintf(stderr, "rigflow rig-bench: %s: %s\n", path, why);
+        return false;
+    }
+    rf_run_options run = {.quiet = true};
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    if (rf_pipeline_run(p, reg, &run, diags)) {
+        rb_measure(r, base, p, nearest);
+    } else {
+        g_autofree char *msg = diags->len ? rf_diag_format(g_ptr_array_index(diags, 0)) : NULL;
+        snprintf(why, sizeof why, "refused: %s", msg ? msg : "the run failed");
+        rb_row(r, base, "-", 0, 0, cd, &sk, NAN, why);
+    }
+    rf_pipeline_free(p);
+    return true;
+}
+
+static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **files, bool nearest)
+{
+    printf("rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,cd_b2b,precision,recall,l1,"
+           "unweighted,seconds,status\n");
+    int bad = 0;
+    for (int i = 0; i < nfiles; i++)
+        for (guint k = 0; k < riggers->len; k++)
+            bad += !rb_one(reg, &g_array_index(riggers, rb_rigger, k), files[i], nearest);
+    return bad ? RF_EXIT_RUN : RF_EXIT_OK;
+}
+
+int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
+{
+    g_auto(GStrv) names = NULL;
+    gboolean list = FALSE;
+    g_autofree char *joint_map = NULL;
+    const GOptionEntry entries[] = {
+        {"joint-map", 0, 0, G_OPTION_ARG_STRING, &joint_map,
+         "How predicted joints are matched to the artist's for the skinning columns: matcher "
+         "(default: the skeletal-similarity matcher) or nearest (the nearest artist joint)",
+         "HOW"},
+        {"rigger", 'r', 0, G_OPTION_ARG_STRING_ARRAY, &names,
+         "A rigger by name or node type (repeatable; default: every rigger found)", "NAME"},
+        {"list", 0, 0, G_OPTION_ARG_NONE, &list, "List the riggers", NULL},
+        {NULL, 0, 0, 0, NULL, NULL, NULL}};
+    if (!rf_parse_options("rig-bench", "MODEL...",
+                          "Rig each rigged MODEL with its rig ignored and compare with the "
+                          "artist's: CSV of rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,"
+                          "cd_b2b (fractions of the longest bounding-box edge),precision,recall,l1 "
+                          "(skinning, weights under 0.15 of a vertex's largest pruned),unweighted "
+                          "(vertices without weights),seconds,status.",
+                          entries, &argc, &argv))
+        return RF_EXIT_USAGE;
+    bool nearest = joint_map && !strcmp(joint_map, "nearest");
+    if (joint_map && !nearest && strcmp(joint_map, "matcher")) {
+        fprintf(stderr, "rigflow rig-bench: --joint-map: expected matcher or nearest\n");
+        return RF_EXIT_USAGE;
+    }
+    GArray *riggers = rb_find_riggers(reg, names);
+    int code = RF_EXIT_OK;
+    if (list) {
+        for (guint i = 0; i < riggers->len; i++) {
+            rb_rigger *r = &g_array_index(riggers, rb_rigger, i);
+            printf("%-12s %-16s %s\n", r->api->name, r->desc->type, r->api->doc ? r->api->doc : "");
+        }
+    } else if (riggers->len == 0) {
+        fprintf(stderr, "rigflow rig-bench: no rigger plugin found%s\n",
+                names ? " under those names" : " (set RIGFLOW_PLUGIN_PATH)");
+        code = RF_EXIT_USAGE;
+    } else if (argc < 2) {
+        fprintf(stderr, "rigflow rig-bench: name the rigged models to measure (see --help)\n");
+        code = RF_EXIT_USAGE;
+    } else {
+        code = rb_run(reg, riggers, argc - 1, argv + 1, nearest);
+    }
+    g_array_free(riggers, TRUE);
+    return code;
+}

@@ -1,0 +1,317 @@
+/* Skin weights by bone heat (Baran and Popovic 2007): each joint's weight is the steady
+ * temperature of the surface when the bones of that joint are held at 1 and the others at 0, heat
+ * flowing into each vertex from the nearest bone it can see. The cotangent Laplacian plus the
+ * heat terms make one sparse symmetric system, factored once with CHOLMOD and solved for all
+ * joints at once; Embree answers "can this vertex see that bone". Loose parts that see no bone
+ * at all (an eye inside a head) take heat from their nearest bone, so every part has a solution
+ * and no vertex is left without weights. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <embree3/rtcore.h>
+#include <suitesparse/cholmod.h>
+
+#include "rig-internal.h"
+
+uint32_t rf_rig_bones(const rf_rig_skel *s, rf_rig_bone **out)
+{
+    rf_rig_bone *b = malloc((size_t)(2 * s->n + 1) * sizeof *b);
+    uint8_t *has_child = calloc(s->n + 1, 1);
+    uint32_t n = 0;
+    if (!b || !has_child) {
+        free(b), free(has_child);
+        return 0;
+    }
+    for (uint32_t j = 0; j < s->n; j++) {
+        int32_t p = s->parent[j];
+        if (p < 0)
+            continue;
+        has_child[p] = 1;
+        memcpy(b[n].a, s->pos + (size_t)p * 3, sizeof b[n].a);
+        memcpy(b[n].b, s->pos + (size_t)j * 3, sizeof b[n].b);
+        b[n++].joint = (uint32_t)p;
+    }
+    for (uint32_t j = 0; j < s->n; j++) {
+        if (!s->has_tip[j] && has_child[j])
+            continue;
+        memcpy(b[n].a, s->pos + (size_t)j * 3, sizeof b[n].a);
+        memcpy(b[n].b, s->has_tip[j] ? s->tip + (size_t)j * 3 : s->pos + (size_t)j * 3,
+               sizeof b[n].b);
+        b[n++].joint = j;
+    }
+    free(has_child);
+    *out = b;
+    return n;
+}
+
+double rf_rig_seg_dist(const double q[3], const rf_rig_bone *b, double c[3])
+{
+    double ab[3], aq[3], l2 = 0, dot = 0;
+    for (int k = 0; k < 3; k++) {
+        ab[k] = b->b[k] - b->a[k], aq[k] = q[k] - b->a[k];
+        l2 += ab[k] * ab[k], dot += ab[k] * aq[k];
+    }
+    double u = l2 > 0 ? fmin(1, fmax(0, dot / l2)) : 0, d = 0;
+    for (int k = 0; k < 3; k++) {
+        c[k] = b->a[k] + ab[k] * u;
+        d += (q[k] - c[k]) * (q[k] - c[k]);
+    }
+    return sqrt(d);
+}
+
+/* ---- visibility ---- */
+
+typedef struct rf_rig_rays {
+    RTCDevice dev;
+    RTCScene scene;
+} rf_rig_rays;
+
+static bool rf_rig_rays_make(rf_rig_rays *r, const rf_rig_geo *g)
+{
+    memset(r, 0, sizeof *r);
+    if (!(r->dev = rtcNewDevice("threads=1,set_affinity=0")))
+        return false;
+    r->scene = rtcNewScene(r->dev);
+    RTCGeometry geo = rtcNewGeometry(r->dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *vb = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                        3 * sizeof(float), g->nv);
+    unsigned *ib = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                           3 * sizeof(unsigned), g->nt);
+    if (!vb || !ib) {
+        rtcReleaseGeometry(geo);
+        return false;
+    }
+    for (size_t i = 0; i < (size_t)g->nv * 3; i++)
+        vb[i] = (float)g->p[i];
+    memcpy(ib, g->t, (size_t)g->nt * 3 * sizeof *ib);
+    rtcCommitGeometry(geo);
+    rtcAttachGeometry(r->scene, geo);
+    rtcReleaseGeometry(geo);
+    rtcCommitScene(r->scene);
+    return rtcGetDeviceError(r->dev) == RTC_ERROR_NONE;
+}
+
+static void rf_rig_rays_free(rf_rig_rays *r)
+{
+    if (r->scene)
+        rtcReleaseScene(r->scene);
+    if (r->dev)
+        rtcReleaseDevice(r->dev);
+}
+
+/* True when the segment from p to q crosses no triangle (ends excluded by eps). */
+static bool rf_rig_sees(const rf_rig_rays *r, const double p[3], const double q[3], double eps)
+{
+    double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+    double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (len <= 2 * eps)
+        return true;
+    struct RTCRay ray = {0};
+    ray.org_x = (float)p[0], ray.org_y = (float)p[1], ray.org_z = (float)p[2];
+    ray.dir_x = (float)(d[0] / len), ray.dir_y = (float)(d[1] / len),
+    ray.dir_z = (float)(d[2] / len);
+    ray.tnear = (float)eps, ray.tfar = (float)(len - eps);
+    ray.mask = UINT32_MAX;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    rtcOccluded1(r->scene, &ctx, &ray);
+    return ray.tfar >= 0;
+}
+
+/* ---- heat sources ---- */
+
+typedef struct rf_rig_src {
+    double h;       /* heat coefficient 1/d^2 (before the vertex area) */
+    uint32_t joint; /* the joint whose bone heats the vertex */
+} rf_rig_src;
+
+typedef struct rf_rig_bd {
+    double d;
+    uint32_t b;
+} rf_rig_bd;
+
+static int rf_rig_bd_cmp(const void *pa, const void *pb)
+{
+    const rf_rig_bd *a = pa, *b = pb;
+    return a->d < b->d ? -1 : a->d > b->d;
+}
+
+/* The nearest bone each vertex sees (trying the 8 nearest); src[i].h = 0 when it sees none. A
+ * loose part where no vertex sees a bone takes its nearest bones unseen. */
+static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint32_t nb,
+                           const rf_rig_rays *rays, rf_rig_src *src, rf_rig_bd *bd, uint8_t *lit,
+                           rf_rig_stats *st)
+{
+    double eps = 1e-5 * p->longest, floor_d = 1e-3 * p->longest;
+    st->unseen_vertices = 0;
+    for (uint32_t i = 0; i < p->proxy.nv; i++) {
+        const double *q = p->proxy.p + (size_t)i * 3;
+        double c[3];
+        for (uint32_t b = 0; b < nb; b++)
+            bd[b].d = rf_rig_seg_dist(q, &bones[b], c), bd[b].b = b;
+        qsort(bd, nb, sizeof *bd, rf_rig_bd_cmp);
+        double d0 = fmax(bd[0].d, floor_d);
+        src[i].h = 0, src[i].joint = bones[bd[0].b].joint;
+        for (uint32_t k = 0; k < nb && k < 8; k++) {
+            rf_rig_seg_dist(q, &bones[bd[k].b], c);
+            if (!rays || rf_rig_sees(rays, q, c, eps)) {
+                double d = fmax(bd[k].d, floor_d);
+                src[i].h = 1.0 / (d * d), src[i].joint = bones[bd[k].b].joint;
+                lit[p->proxy_part[i]] = 1;
+                break;
+            }
+        }
+        if (src[i].h == 0) {
+            st->unseen_vertices++;
+            src[i].h = -1.0 / (d0 * d0); /* kept for the part fallback below */
+        }
+    }
+    for (uint32_t i = 0; i < p->proxy.nv; i++)
+        src[i].h = src[i].h < 0 ? (lit[p->proxy_part[i]] ? 0 : -src[i].h) : src[i].h;
+}
+
+/* ---- the system ---- */
+
+/* Area of triangle t and the cotangents of its three corners into cot[]. */
+static double rf_rig_tri(const rf_rig_geo *g, uint32_t t, double cot[3])
+{
+    const double *v[3];
+    for (int k = 0; k < 3; k++)
+        v[k] = g->p + (size_t)g->t[t * 3 + k] * 3;
+    double area = 0;
+    for (int k = 0; k < 3; k++) {
+        const double *o = v[k], *a = v[(k + 1) % 3], *b = v[(k + 2) % 3];
+        double e1[3] = {a[0] - o[0], a[1] - o[1], a[2] - o[2]};
+        double e2[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
+        double dot = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+        double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                        e1[0] * e2[1] - e1[1] * e2[0]};
+        double s = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        area = s / 2;
+        /* obtuse corners and slivers would break the maximum principle (weights outside 0..1)
+         * and the factorisation: keep each cotangent in [0, 1000] */
+        cot[k] = s > 0 ? fmin(1000, fmax(0, dot / s)) : 0;
+    }
+    return area;
+}
+
+/* Builds L + A H (upper triangle) and solves it for every joint's right-hand side A H p_j. */
+static bool rf_rig_solve(const rf_rig_geo *g, const rf_rig_src *src, uint32_t nj, double *w,
+                         char *err, size_t n)
+{
+    cholmod_common cc;
+    cholmod_start(&cc);
+    cc.print = 0;
+    size_t nnz = (size_t)g->nv + (size_t)g->nt * 6;
+    cholmod_triplet *T = cholmod_allocate_triplet(g->nv, g->nv, nnz, 1, CHOLMOD_REAL, &cc);
+    double *area = calloc(g->nv, sizeof *area);
+    bool ok = T && area;
+    size_t k = 0;
+    int *ti = ok ? T->i : NULL, *tj = ok ? T->j : NULL;
+    double *tx = ok ? T->x : NULL;
+    double *diag = ok ? calloc(g->nv, sizeof *diag) : NULL;
+    ok = ok && diag;
+    for (uint32_t t = 0; ok && t < g->nt; t++) {
+        double cot[3], a = rf_rig_tri(g, t, cot);
+        for (int c = 0; c < 3; c++) {
+            uint32_t u = g->t[t * 3 + (c + 1) % 3], v = g->t[t * 3 + (c + 2) % 3];
+            /* the edge opposite corner c; a small uniform term keeps every edge connected */
+            double e = cot[c] / 2 + 1e-3;
+            ti[k] = (int)(u < v ? u : v), tj[k] = (int)(u < v ? v : u), tx[k++] = -e;
+            diag[u] += e, diag[v] += e;
+            area[g->t[t * 3 + c]] += a / 3;
+        }
+    }
+    double mean = 0;
+    for (uint32_t i = 0; ok && i < g->nv; i++)
+        mean += diag[i] / g->nv;
+    for (uint32_t i = 0; ok && i < g->nv; i++) {
+        ti[k] = tj[k] = (int)i;
+        tx[k++] = diag[i] + area[i] * src[i].h + 1e-9 * mean;
+    }
+    if (T)
+        T->nnz = k;
+    cholmod_sparse *A = ok ? cholmod_triplet_to_sparse(T, k, &cc) : NULL;
+    cholmod_factor *L = A ? cholmod_analyze(A, &cc) : NULL;
+    ok = L && cholmod_factorize(A, L, &cc) && cc.status == CHOLMOD_OK;
+    cholmod_dense *B = ok ? cholmod_zeros(g->nv, nj, CHOLMOD_REAL, &cc) : NULL, *X = NULL;
+    if (B) {
+        double *bx = B->x;
+        for (uint32_t i = 0; i < g->nv; i++)
+            bx[(size_t)src[i].joint * g->nv + i] = area[i] * src[i].h;
+        X = cholmod_solve(CHOLMOD_A, L, B, &cc);
+    }
+    if (X) {
+        const double *xx = X->x;
+        for (uint32_t i = 0; i < g->nv; i++)
+            for (uint32_t j = 0; j < nj; j++)
+                w[(size_t)i * nj + j] = xx[(size_t)j * g->nv + i];
+    } else {
+        ok = false;
+        rf_rig_fail(err, n,
+                    "the bone-heat system of %u vertices could not be solved (CHOLMOD "
+                    "status %d)",
+                    g->nv, cc.status);
+    }
+    cholmod_free_dense(&X, &cc), cholmod_free_dense(&B, &cc);
+    cholmod_free_factor(&L, &cc), cholmod_free_sparse(&A, &cc), cholmod_free_triplet(&T, &cc);
+    cholmod_finish(&cc);
+    free(area), free(diag);
+    return ok;
+}
+
+/* Rows made non-negative and summing to 1; a row with no heat at all takes its nearest bone. */
+static void rf_rig_normalise(const rf_rig_prep *p, const rf_rig_bone *bones, uint32_t nb,
+                             uint32_t nj, double *w, rf_rig_stats *st)
+{
+    for (uint32_t i = 0; i < p->proxy.nv; i++) {
+        double *row = w + (size_t)i * nj, sum = 0;
+        for (uint32_t j = 0; j < nj; j++)
+            sum += row[j] = row[j] > 1e-6 ? row[j] : 0;
+        if (sum > 1e-9 && isfinite(sum)) {
+            for (uint32_t j = 0; j < nj; j++)
+                row[j] /= sum;
+            st->heat_vertices++;
+            continue;
+        }
+        double c[3], best = INFINITY;
+        uint32_t to = 0;
+        for (uint32_t b = 0; b < nb; b++) {
+            double d = rf_rig_seg_dist(p->proxy.p + (size_t)i * 3, &bones[b], c);
+            if (d < best)
+                best = d, to = bones[b].joint;
+        }
+        memset(row, 0, nj * sizeof *row);
+        row[to] = 1;
+        st->fallback_vertices++;
+    }
+}
+
+bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_options *o, double **w,
+                 rf_rig_stats *st, char *err, size_t n)
+{
+    rf_rig_bone *bones = NULL;
+    uint32_t nb = rf_rig_bones(s, &bones), nj = s->n;
+    rf_rig_src *src = malloc((size_t)p->proxy.nv * sizeof *src);
+    rf_rig_bd *bd = malloc((size_t)(nb ? nb : 1) * sizeof *bd);
+    uint8_t *lit = calloc(p->proxy_parts + 1, 1);
+    *w = calloc((size_t)p->proxy.nv * nj, sizeof **w);
+    rf_rig_rays rays = {0};
+    bool ok = nb && src && bd && lit && *w;
+    if (!ok)
+        rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
+    if (ok && !o->no_visibility && !rf_rig_rays_make(&rays, &p->proxy))
+        ok = rf_rig_fail(err, n, "Embree could not build the ray-casting scene");
+    if (ok) {
+        rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, src, bd, lit, st);
+        ok = rf_rig_solve(&p->proxy, src, nj, *w, err, n);
+    }
+    if (ok)
+        rf_rig_normalise(p, bones, nb, nj, *w, st);
+    rf_rig_rays_free(&rays);
+    free(bones), free(src), free(bd), free(lit);
+    if (!ok)
+        free(*w), *w = NULL;
+    return ok;
+}

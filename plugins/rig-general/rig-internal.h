@@ -1,0 +1,88 @@
+/* Internal interfaces of librigauto, between mesh clean-up, skeleton extraction and bone heat. */
+#ifndef RF_RIG_INTERNAL_H
+#define RF_RIG_INTERNAL_H
+
+#include <stdio.h>
+
+#include "rig.h"
+
+#define RF_RIG_NONE UINT32_MAX
+
+#if defined(__GNUC__) || defined(__clang__)
+#define RF_RIG_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define RF_RIG_PRINTF(a, b)
+#endif
+
+/* A triangle mesh in doubles. */
+typedef struct rf_rig_geo {
+    uint32_t nv, nt;
+    double *p;   /* [nv][3] */
+    uint32_t *t; /* [nt][3] */
+} rf_rig_geo;
+
+/* The cleaned mesh and how each input vertex reaches the proxy the work is done on. */
+typedef struct rf_rig_prep {
+    rf_rig_geo proxy;     /* welded, specks removed, simplified when big */
+    uint32_t *to_proxy;   /* [input vertex] proxy vertex whose weights it takes, or NONE (speck,
+                           * stray vertex: weighted by the nearest bone) */
+    double lo[3], hi[3];  /* bounding box of the proxy */
+    double longest;       /* its longest edge, > 0 */
+    uint32_t *proxy_part; /* [proxy vertex] loose part */
+    uint32_t proxy_parts;
+} rf_rig_prep;
+
+/* The skeleton in world positions while it is built. */
+typedef struct rf_rig_skel {
+    uint32_t n;
+    double *pos;     /* [n][3] world pivot */
+    int32_t *parent; /* [n], parents first */
+    double *tip;     /* [n][3] end of a leaf's bone */
+    uint8_t *has_tip;
+} rf_rig_skel;
+
+/* A bone for weighting: the segment a..b moved by joint `joint`. */
+typedef struct rf_rig_bone {
+    double a[3], b[3];
+    uint32_t joint;
+} rf_rig_bone;
+
+/* A binary min-heap of (key, id) for Dijkstra's algorithm; stale entries are skipped by the
+ * caller (lazy deletion). */
+typedef struct rf_rig_heap {
+    size_t n, cap;
+    double *key;
+    uint32_t *id;
+} rf_rig_heap;
+bool rf_rig_heap_push(rf_rig_heap *h, double key, uint32_t id);
+bool rf_rig_heap_pop(rf_rig_heap *h, double *key, uint32_t *id);
+void rf_rig_heap_free(rf_rig_heap *h);
+
+/* printf into err; returns false so callers can `return rf_rig_fail(...)`. */
+bool rf_rig_fail(char *err, size_t n, const char *fmt, ...) RF_RIG_PRINTF(3, 4);
+
+bool rf_rig_prepare(const rf_mesh *m, const rf_rig_options *o, rf_rig_prep *out, rf_rig_stats *st,
+                    char *err, size_t n);
+void rf_rig_prep_free(rf_rig_prep *p);
+
+/* The curve skeleton; its root at the thickest point, or at the solid voxel nearest `seed` when
+ * seed is not NULL. */
+bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double *seed,
+                    rf_rig_skel *out, char *err, size_t n);
+void rf_rig_skel_free(rf_rig_skel *s);
+
+/* Where the skeleton's two lowest leaves meet, or NONE (rig.c). */
+uint32_t rf_rig_pick_root(const rf_rig_skel *k);
+
+/* The bones of a skeleton (one per parent-child pair and per leaf tip; a lone joint is a point).
+ * Returns the count, *out malloc'd, or 0 when out of memory. */
+uint32_t rf_rig_bones(const rf_rig_skel *s, rf_rig_bone **out);
+
+/* Distance from point q to segment b, and the closest point into c. */
+double rf_rig_seg_dist(const double q[3], const rf_rig_bone *b, double c[3]);
+
+/* Bone-heat weights on the proxy: w[vertex * joints + joint], rows summing to 1. */
+bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_options *o, double **w,
+                 rf_rig_stats *st, char *err, size_t n);
+
+#endif

@@ -1,0 +1,868 @@
+/* Curve skeleton from the volume. The proxy is voxelised and closed (holes narrower than two
+ * voxels sealed, and axis votes where wider ones let the flood in), a chamfer distance field
+ * gives the thickness, geodesic distance from a root (the thickest point, or a seed) is cut into
+ * bands, and every connected piece of a band becomes a node at its centroid, linked to the piece
+ * of the band below it touches most. Pieces split where limbs leave the body, so junctions appear
+ * by themselves; short side branches (bumps) are pruned against the body's thickness; chains are
+ * cut into joints at even lengths, mirrored limbs alike. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rig-internal.h"
+
+typedef struct rf_rig_grid {
+    int nx, ny, nz;
+    size_t n;
+    double org[3], h;
+    uint8_t *solid;
+    int32_t *df;    /* chamfer 3-4-5 distance to the outside, in thirds of a voxel */
+    uint32_t *comp; /* solid component, NONE outside */
+    double *geo;    /* geodesic distance from the component's root, in voxels */
+    uint32_t *node; /* band piece */
+    uint32_t main;  /* the main solid component: the seed's, else the largest */
+} rf_rig_grid;
+
+typedef struct rf_rig_node {
+    double sum[3];
+    uint32_t count;
+    uint32_t band, comp;
+    int32_t maxdf;
+    int32_t parent;
+    uint32_t children; /* live children, while pruning */
+    uint8_t dead;
+} rf_rig_node;
+
+typedef struct rf_rig_nodes {
+    rf_rig_node *v;
+    uint32_t n, cap;
+} rf_rig_nodes;
+
+static size_t rf_rig_at(const rf_rig_grid *g, int x, int y, int z)
+{
+    return ((size_t)z * g->ny + y) * g->nx + x;
+}
+
+static void rf_rig_xyz(const rf_rig_grid *g, size_t i, int *x, int *y, int *z)
+{
+    *x = (int)(i % g->nx), *y = (int)((i / g->nx) % g->ny), *z = (int)(i / ((size_t)g->nx * g->ny));
+}
+
+/* ---- voxelisation ---- */
+
+static void rf_rig_mark(rf_rig_grid *g, uint8_t *surf, const double p[3])
+{
+    int c[3];
+    for (int a = 0; a < 3; a++)
+        c[a] = (int)floor((p[a] - g->org[a]) / g->h);
+    if (c[0] >= 0 && c[1] >= 0 && c[2] >= 0 && c[0] < g->nx && c[1] < g->ny && c[2] < g->nz)
+        surf[rf_rig_at(g, c[0], c[1], c[2])] = 1;
+}
+
+/* Every voxel a triangle passes through, sampled at a third of a voxel. */
+static void rf_rig_raster(rf_rig_grid *g, const rf_rig_geo *m, uint8_t *surf)
+{
+    for (uint32_t t = 0; t < m->nt; t++) {
+        const double *a = m->p + (size_t)m->t[t * 3] * 3, *b = m->p + (size_t)m->t[t * 3 + 1] * 3,
+                     *c = m->p + (size_t)m->t[t * 3 + 2] * 3;
+        double e = 0;
+        for (int k = 0; k < 3; k++)
+            e = fmax(e, fmax(fabs(b[k] - a[k]), fmax(fabs(c[k] - a[k]), fabs(c[k] - b[k]))));
+        int s = (int)ceil(e / (g->h / 3)) + 1;
+        for (int i = 0; i <= s; i++)
+            for (int j = 0; i + j <= s; j++) {
+                double u = (double)i / s, v = (double)j / s, q[3];
+                for (int k = 0; k < 3; k++)
+                    q[k] = a[k] + (b[k] - a[k]) * u + (c[k] - a[k]) * v;
+                rf_rig_mark(g, surf, q);
+            }
+    }
+}
+
+/* Marks in `out` every voxel reachable from the corner through 6-neighbours not in `wall`. */
+static bool rf_rig_flood(const rf_rig_grid *g, const uint8_t *wall, uint8_t *out)
+{
+    size_t *queue = malloc(g->n * sizeof *queue);
+    if (!queue)
+        return false;
+    size_t head = 0, tail = 0;
+    memset(out, 0, g->n);
+    out[0] = 1, queue[tail++] = 0;
+    static const int d6[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                 {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+    while (head < tail) {
+        int x, y, z;
+        rf_rig_xyz(g, queue[head++], &x, &y, &z);
+        for (int k = 0; k < 6; k++) {
+            int a = x + d6[k][0], b = y + d6[k][1], c = z + d6[k][2];
+            if (a < 0 || b < 0 || c < 0 || a >= g->nx || b >= g->ny || c >= g->nz)
+                continue;
+            size_t j = rf_rig_at(g, a, b, c);
+            if (!out[j] && !wall[j])
+                out[j] = 1, queue[tail++] = j;
+        }
+    }
+    free(queue);
+    return true;
+}
+
+/* Counts, per voxel, the axis directions (of six) in which a surface voxel lies between it and
+ * the grid's edge, into votes. */
+static void rf_rig_votes(const rf_rig_grid *g, const uint8_t *surf, uint8_t *votes)
+{
+    int dims[3] = {g->nx, g->ny, g->nz};
+    size_t stride[3] = {1, (size_t)g->nx, (size_t)g->nx * g->ny};
+    memset(votes, 0, g->n);
+    for (int ax = 0; ax < 3; ax++) {
+        int a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
+        for (int u = 0; u < dims[a1]; u++)
+            for (int w = 0; w < dims[a2]; w++) {
+                size_t base = (size_t)u * stride[a1] + (size_t)w * stride[a2];
+                int first = -1, last = -1;
+                for (int i = 0; i < dims[ax]; i++)
+                    if (surf[base + (size_t)i * stride[ax]]) {
+                        last = i;
+                        if (first < 0)
+                            first = i;
+                    }
+                for (int i = 0; first >= 0 && i < dims[ax]; i++)
+                    votes[base + (size_t)i * stride[ax]] += (i > first) + (i < last);
+            }
+    }
+}
+
+/* Solid = the closed inside: the surface thickened by one voxel stops the flood from the corner
+ * (sealing small holes), then the thickening is taken back where the flood touches it. */
+static bool rf_rig_voxelise(rf_rig_grid *g, const rf_rig_geo *m)
+{
+    uint8_t *surf = calloc(g->n, 1), *thick = calloc(g->n, 1), *out = malloc(g->n);
+    g->solid = calloc(g->n, 1);
+    bool ok = surf && thick && out && g->solid;
+    if (ok) {
+        rf_rig_raster(g, m, surf);
+        for (int z = 1; z < g->nz - 1; z++)
+            for (int y = 1; y < g->ny - 1; y++)
+                for (int x = 1; x < g->nx - 1; x++) {
+                    if (!surf[rf_rig_at(g, x, y, z)])
+                        continue;
+                    for (int dz = -1; dz <= 1; dz++)
+                        for (int dy = -1; dy <= 1; dy++)
+                            for (int dx = -1; dx <= 1; dx++)
+                                thick[rf_rig_at(g, x + dx, y + dy, z + dz)] = 1;
+                }
+        ok = rf_rig_flood(g, thick, out);
+    }
+    for (int z = 1; ok && z < g->nz - 1; z++)
+        for (int y = 1; y < g->ny - 1; y++)
+            for (int x = 1; x < g->nx - 1; x++) {
+                size_t i = rf_rig_at(g, x, y, z);
+                if (out[i])
+                    continue;
+                bool touches = false;
+                for (int dz = -1; dz <= 1 && !touches; dz++)
+                    for (int dy = -1; dy <= 1 && !touches; dy++)
+                        for (int dx = -1; dx <= 1 && !touches; dx++)
+                            touches = out[rf_rig_at(g, x + dx, y + dy, z + dz)];
+                g->solid[i] = !touches || surf[i];
+            }
+    /* A mesh with holes wider than the thickening lets the flood in. Where the surface lies
+     * between a voxel and the grid's edge in five of the six axis directions, the voxel is inside
+     * all the same (a hole blocks one direction at most; the space between two legs is open in
+     * three). */
+    uint8_t *votes = ok ? out : NULL; /* the flood's array is no longer needed */
+    if (votes) {
+        rf_rig_votes(g, surf, votes);
+        for (size_t i = 0; i < g->n; i++)
+            g->solid[i] |= votes[i] >= 5;
+    }
+    free(surf);
+    free(thick);
+    free(out);
+    return ok;
+}
+
+/* ---- distance field ---- */
+
+static void rf_rig_chamfer_pass(rf_rig_grid *g, int dir)
+{
+    int z0 = dir > 0 ? 0 : g->nz - 1, y0 = dir > 0 ? 0 : g->ny - 1, x0 = dir > 0 ? 0 : g->nx - 1;
+    for (int z = z0; z >= 0 && z < g->nz; z += dir)
+        for (int y = y0; y >= 0 && y < g->ny; y += dir)
+            for (int x = x0; x >= 0 && x < g->nx; x += dir) {
+                size_t i = rf_rig_at(g, x, y, z);
+                if (!g->df[i])
+                    continue;
+                int32_t best = g->df[i];
+                for (int dz = -1; dz <= 0; dz++)
+                    for (int dy = -1; dy <= 1; dy++)
+                        for (int dx = -1; dx <= 1; dx++) {
+                            if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0)))
+                                continue; /* only neighbours already visited in this pass */
+                            int a = x + dx * dir, b = y + dy * dir, c = z + dz * dir;
+                            if (a < 0 || b < 0 || c < 0 || a >= g->nx || b >= g->ny || c >= g->nz)
+                                continue;
+                            int k = abs(dx) + abs(dy) + abs(dz);
+                            int32_t w = k == 1 ? 3 : k == 2 ? 4 : 5;
+                            int32_t v = g->df[rf_rig_at(g, a, b, c)] + w;
+                            best = v < best ? v : best;
+                        }
+                g->df[i] = best;
+            }
+}
+
+static bool rf_rig_distance(rf_rig_grid *g)
+{
+    if (!(g->df = malloc(g->n * sizeof *g->df)))
+        return false;
+    for (size_t i = 0; i < g->n; i++)
+        g->df[i] = g->solid[i] ? INT32_MAX / 2 : 0;
+    rf_rig_chamfer_pass(g, 1);
+    rf_rig_chamfer_pass(g, -1);
+    return true;
+}
+
+/* ---- geodesic bands ---- */
+
+/* The 26 neighbour offsets and their lengths. */
+static int rf_rig_d26[26][3];
+static double rf_rig_l26[26];
+static void rf_rig_init26(void)
+{
+    int k = 0;
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                if (!dx && !dy && !dz)
+                    continue;
+                rf_rig_d26[k][0] = dx, rf_rig_d26[k][1] = dy, rf_rig_d26[k][2] = dz;
+                rf_rig_l26[k++] = sqrt((double)(dx * dx + dy * dy + dz * dz));
+            }
+}
+
+static bool rf_rig_neighbour(const rf_rig_grid *g, size_t i, int k, size_t *j)
+{
+    int x, y, z;
+    rf_rig_xyz(g, i, &x, &y, &z);
+    x += rf_rig_d26[k][0], y += rf_rig_d26[k][1], z += rf_rig_d26[k][2];
+    if (x < 0 || y < 0 || z < 0 || x >= g->nx || y >= g->ny || z >= g->nz)
+        return false;
+    *j = rf_rig_at(g, x, y, z);
+    return true;
+}
+
+/* Labels solid components and grows geodesic distance in each from its thickest voxel. */
+/* The solid voxel nearest the seed, preferring thick ones: a junction's centroid can lie between
+ * the legs, outside, and its nearest voxel in one thigh. */
+static size_t rf_rig_seed_voxel(const rf_rig_grid *g, const double *seed)
+{
+    size_t at = SIZE_MAX;
+    double best = INFINITY;
+    for (size_t i = 0; seed && i < g->n; i++) {
+        if (!g->solid[i])
+            continue;
+        int x, y, z;
+        rf_rig_xyz(g, i, &x, &y, &z);
+        double d[3] = {g->org[0] + (x + 0.5) * g->h - seed[0],
+                       g->org[1] + (y + 0.5) * g->h - seed[1],
+                       g->org[2] + (z + 0.5) * g->h - seed[2]};
+        double score = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g->df[i] / 3.0 * g->h;
+        if (score < best)
+            best = score, at = i;
+    }
+    return at;
+}
+
+/* Labels the solid's components (26-connected) into g->comp; their count into *ncomp, the
+ * largest into g->main, each one's thickest voxel into thick[] (g->n entries, caller's). */
+static bool rf_rig_components(rf_rig_grid *g, size_t *queue, size_t *thick, uint32_t *ncomp)
+{
+    size_t best = 0;
+    *ncomp = 0;
+    for (size_t i = 0; i < g->n; i++)
+        g->comp[i] = RF_RIG_NONE, g->geo[i] = INFINITY;
+    for (size_t s = 0; s < g->n; s++) {
+        if (!g->solid[s] || g->comp[s] != RF_RIG_NONE)
+            continue;
+        size_t head = 0, tail = 0, root = s;
+        g->comp[s] = *ncomp, queue[tail++] = s;
+        while (head < tail) {
+            size_t i = queue[head++], j;
+            if (g->df[i] > g->df[root])
+                root = i;
+            for (int k = 0; k < 26; k++)
+                if (rf_rig_neighbour(g, i, k, &j) && g->solid[j] && g->comp[j] == RF_RIG_NONE)
+                    g->comp[j] = *ncomp, queue[tail++] = j;
+        }
+        thick[*ncomp] = root;
+        if (tail > best)
+            best = tail, g->main = *ncomp;
+        (*ncomp)++;
+    }
+    return true;
+}
+
+/* Each other component grows from its voxel nearest the main component (breadth-first through
+ * the whole grid), where it meets the body: a separate leg of a robot from its hip, not from its
+ * thickest point. Overwrites thick[] for those components. */
+static bool rf_rig_near_main(rf_rig_grid *g, size_t *queue, size_t *thick, uint32_t ncomp)
+{
+    uint32_t *dist = malloc(g->n * sizeof *dist);
+    uint32_t *best = malloc((size_t)(ncomp ? ncomp : 1) * sizeof *best);
+    if (!dist || !best) {
+        free(dist), free(best);
+        return false;
+    }
+    size_t head = 0, tail = 0;
+    for (size_t i = 0; i < g->n; i++) {
+        dist[i] = g->comp[i] == g->main ? 0 : UINT32_MAX;
+        if (!dist[i])
+            queue[tail++] = i;
+    }
+    while (head < tail) {
+        size_t i = queue[head++], j;
+        for (int k = 0; k < 26; k++)
+            if (rf_rig_neighbour(g, i, k, &j) && dist[j] == UINT32_MAX)
+                dist[j] = dist[i] + 1, queue[tail++] = j;
+    }
+    for (uint32_t c = 0; c < ncomp; c++)
+        best[c] = UINT32_MAX;
+    for (size_t i = 0; i < g->n; i++) {
+        uint32_t c = g->comp[i];
+        if (c != RF_RIG_NONE && c != g->main && dist[i] < best[c])
+            best[c] = dist[i], thick[c] = i;
+    }
+    free(dist), free(best);
+    return true;
+}
+
+/* Geodesic distance inside each component from its root: the seed's voxel (or the thickest)
+ * for the main one, the voxel nearest the main one for the others. */
+static bool rf_rig_geodesic(rf_rig_grid *g, const double *seed, uint32_t *ncomp)
+{
+    g->comp = malloc(g->n * sizeof *g->comp);
+    g->geo = malloc(g->n * sizeof *g->geo);
+    size_t *queue = malloc(g->n * sizeof *queue), *root = malloc(g->n * sizeof *root);
+    rf_rig_heap h = {0};
+    bool ok = g->comp && g->geo && queue && root && rf_rig_components(g, queue, root, ncomp) &&
+              rf_rig_near_main(g, queue, root, *ncomp);
+    size_t seed_at = ok ? rf_rig_seed_voxel(g, seed) : SIZE_MAX;
+    if (seed_at != SIZE_MAX) {
+        g->main = g->comp[seed_at];
+        root[g->main] = seed_at;
+    }
+    for (uint32_t c = 0; ok && c < *ncomp; c++) {
+        g->geo[root[c]] = 0;
+        ok = rf_rig_heap_push(&h, 0, (uint32_t)root[c]);
+    }
+    double d;
+    uint32_t i;
+    while (ok && rf_rig_heap_pop(&h, &d, &i)) {
+        if (d > g->geo[i])
+            continue;
+        size_t j;
+        for (int k = 0; k < 26 && ok; k++)
+            if (rf_rig_neighbour(g, i, k, &j) && g->solid[j] && d + rf_rig_l26[k] < g->geo[j]) {
+                g->geo[j] = d + rf_rig_l26[k];
+                ok = rf_rig_heap_push(&h, g->geo[j], (uint32_t)j);
+            }
+    }
+    free(queue), free(root);
+    rf_rig_heap_free(&h);
+    return ok;
+}
+
+#define RF_RIG_BAND 2.0 /* voxels of geodesic distance per band */
+
+static uint32_t rf_rig_band(const rf_rig_grid *g, size_t i)
+{
+    return (uint32_t)(g->geo[i] / RF_RIG_BAND);
+}
+
+static bool rf_rig_node_add(rf_rig_nodes *ns, uint32_t band, uint32_t comp)
+{
+    if (ns->n == ns->cap) {
+        uint32_t cap = ns->cap ? ns->cap * 2 : 256;
+        rf_rig_node *v = realloc(ns->v, cap * sizeof *v);
+        if (!v)
+            return false;
+        ns->v = v, ns->cap = cap;
+    }
+    rf_rig_node *nd = &ns->v[ns->n++];
+    memset(nd, 0, sizeof *nd);
+    nd->band = band, nd->comp = comp, nd->parent = -1;
+    return true;
+}
+
+/* Every connected piece of a band is a node. */
+static bool rf_rig_pieces(rf_rig_grid *g, rf_rig_nodes *ns)
+{
+    g->node = malloc(g->n * sizeof *g->node);
+    size_t *queue = malloc(g->n * sizeof *queue);
+    bool ok = g->node && queue;
+    for (size_t i = 0; ok && i < g->n; i++)
+        g->node[i] = RF_RIG_NONE;
+    for (size_t s = 0; ok && s < g->n; s++) {
+        if (!g->solid[s] || g->node[s] != RF_RIG_NONE || !isfinite(g->geo[s]))
+            continue;
+        uint32_t band = rf_rig_band(g, s), id = ns->n;
+        if (!(ok = rf_rig_node_add(ns, band, g->comp[s])))
+            break;
+        size_t head = 0, tail = 0;
+        g->node[s] = id, queue[tail++] = s;
+        while (head < tail) {
+            size_t i = queue[head++], j;
+            rf_rig_node *nd = &ns->v[id];
+            int x, y, z;
+            rf_rig_xyz(g, i, &x, &y, &z);
+            nd->sum[0] += x, nd->sum[1] += y, nd->sum[2] += z;
+            nd->count++;
+            nd->maxdf = g->df[i] > nd->maxdf ? g->df[i] : nd->maxdf;
+            for (int k = 0; k < 26; k++)
+                if (rf_rig_neighbour(g, i, k, &j) && g->solid[j] && g->node[j] == RF_RIG_NONE &&
+                    isfinite(g->geo[j]) && rf_rig_band(g, j) == band)
+                    g->node[j] = id, queue[tail++] = j;
+        }
+    }
+    free(queue);
+    return ok;
+}
+
+static int rf_rig_u64_cmp(const void *pa, const void *pb)
+{
+    uint64_t a = *(const uint64_t *)pa, b = *(const uint64_t *)pb;
+    return a < b ? -1 : a > b;
+}
+
+/* Each node's parent: the piece of the band below that its voxels touch most. */
+static bool rf_rig_link(const rf_rig_grid *g, rf_rig_nodes *ns)
+{
+    uint64_t *pairs = malloc(g->n * sizeof *pairs);
+    if (!pairs)
+        return false;
+    size_t np = 0;
+    for (size_t i = 0; i < g->n; i++) {
+        if (g->node[i] == RF_RIG_NONE)
+            continue;
+        uint32_t me = g->node[i], band = ns->v[me].band;
+        size_t j;
+        for (int k = 0; k < 26 && band > 0; k++)
+            if (rf_rig_neighbour(g, i, k, &j) && g->node[j] != RF_RIG_NONE &&
+                ns->v[g->node[j]].band == band - 1) {
+                pairs[np++] = (uint64_t)me << 32 | g->node[j];
+                break;
+            }
+    }
+    qsort(pairs, np, sizeof *pairs, rf_rig_u64_cmp);
+    uint32_t best_count = 0;
+    for (size_t i = 0; i < np;) {
+        size_t e = i;
+        while (e < np && pairs[e] == pairs[i])
+            e++;
+        uint32_t child = (uint32_t)(pairs[i] >> 32);
+        if (i == 0 || (uint32_t)(pairs[i - 1] >> 32) != child)
+            best_count = 0;
+        if (e - i > best_count) {
+            best_count = (uint32_t)(e - i);
+            ns->v[child].parent = (int32_t)(uint32_t)pairs[i];
+        }
+        i = e;
+    }
+    free(pairs);
+    return true;
+}
+
+/* ---- the node tree ---- */
+
+typedef struct rf_rig_tree {
+    const rf_rig_grid *g;
+    rf_rig_nodes *ns;
+    double (*pos)[3];   /* world centroid per node */
+    double *radius;     /* world thickness per node */
+    uint32_t main_comp; /* the largest solid component */
+    double seg;         /* bone length, world units */
+} rf_rig_tree;
+
+static double rf_rig_dist3(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+static void rf_rig_count_children(rf_rig_tree *t)
+{
+    for (uint32_t i = 0; i < t->ns->n; i++)
+        t->ns->v[i].children = 0;
+    for (uint32_t i = 0; i < t->ns->n; i++)
+        if (!t->ns->v[i].dead && t->ns->v[i].parent >= 0)
+            t->ns->v[t->ns->v[i].parent].children++;
+}
+
+/* Prunes the shortest side branch shorter than the body is thick where it leaves; false when
+ * none is left to prune. */
+/* The farthest band each live node's subtree reaches, into reach[], and its leaf count (capped
+ * at 2: a chain or not) into leaves[]. */
+static void rf_rig_reach(const rf_rig_tree *t, uint32_t *reach, uint8_t *leaves)
+{
+    const rf_rig_node *v = t->ns->v;
+    for (uint32_t i = 0; i < t->ns->n; i++)
+        reach[i] = v[i].band, leaves[i] = 0;
+    for (uint32_t i = 0; i < t->ns->n; i++) {
+        if (v[i].dead || v[i].children)
+            continue;
+        for (int32_t k = (int32_t)i; k >= 0; k = v[k].parent) {
+            reach[k] = reach[k] > v[i].band ? reach[k] : v[i].band;
+            leaves[k] = leaves[k] < 2 ? leaves[k] + 1 : 2;
+        }
+    }
+}
+
+/* True when j sits at an extremity (all its branches end without branching again) and the
+ * branch through its child c is shorter than half a bone and reaches less than 40% as far as
+ * another: a heel beside the toes, an ear beside the top of the head. */
+static bool rf_rig_twig(const rf_rig_tree *t, const uint32_t *reach, const uint8_t *leaves,
+                        uint32_t j, uint32_t c)
+{
+    const rf_rig_node *v = t->ns->v;
+    uint32_t mine = reach[c] - v[j].band, most = 0;
+    for (uint32_t k = 0; k < t->ns->n; k++) {
+        if (v[k].dead || v[k].parent != (int32_t)j)
+            continue;
+        if (leaves[k] > 1)
+            return false;
+        if (k != c && reach[k] - v[j].band > most)
+            most = reach[k] - v[j].band;
+    }
+    return mine * 10 < most * 4 && mine * RF_RIG_BAND * t->g->h < 0.5 * t->seg;
+}
+
+static bool rf_rig_prune_one(rf_rig_tree *t, uint32_t *reach, uint8_t *leaves)
+{
+    rf_rig_node *v = t->ns->v;
+    rf_rig_reach(t, reach, leaves);
+    double best = INFINITY;
+    uint32_t best_leaf = RF_RIG_NONE;
+    for (uint32_t i = 0; i < t->ns->n; i++) {
+        if (v[i].dead || v[i].children || v[i].parent < 0)
+            continue;
+        double len = 0, thick = t->radius[i];
+        uint32_t k = i, count = 1;
+        while (v[k].parent >= 0 && v[v[k].parent].children == 1 && v[v[k].parent].parent >= 0) {
+            len += rf_rig_dist3(t->pos[k], t->pos[v[k].parent]);
+            k = (uint32_t)v[k].parent;
+            thick += t->radius[k], count++;
+        }
+        thick /= count;
+        if (v[k].parent < 0)
+            continue;
+        uint32_t junction = (uint32_t)v[k].parent;
+        /* how far the branch reaches beyond its junction along the body: its bands (centroid
+         * distances mislead where a thin piece of a band lies far from the band's middle) */
+        len = (double)(v[i].band - v[junction].band) * RF_RIG_BAND * t->g->h + t->radius[i];
+        if (v[junction].children < 2)
+            continue;
+        /* a bump: shorter than the body is thick where it leaves, or than 2.5 times its own
+         * mean thickness (a limb is long and thin; a belly or a cheek is short and wide) */
+        bool twig = rf_rig_twig(t, reach, leaves, junction, k);
+        if ((len < t->radius[junction] || len < 2.5 * thick || twig) && len < best)
+            best = len, best_leaf = i;
+    }
+    if (best_leaf == RF_RIG_NONE)
+        return false;
+    uint32_t k = best_leaf;
+    while (v[k].parent >= 0 && v[v[k].parent].children == 1 && v[v[k].parent].parent >= 0) {
+        v[k].dead = 1;
+        k = (uint32_t)v[k].parent;
+    }
+    v[k].dead = 1;
+    rf_rig_count_children(t);
+    return true;
+}
+
+/* Pieces of other solid components hang, nearest first, from the nearest node of the tree grown
+ * so far (Prim's order): a robot's separate legs from its torso, its torso from its head, rather
+ * than everything from the largest part. */
+static bool rf_rig_attach(rf_rig_tree *t)
+{
+    rf_rig_node *v = t->ns->v;
+    uint32_t n = t->ns->n, nc = 0;
+    for (uint32_t i = 0; i < n; i++)
+        nc = v[i].comp + 1 > nc ? v[i].comp + 1 : nc;
+    uint8_t *in = calloc(nc + 1, 1);
+    if (!in)
+        return false;
+    in[t->main_comp] = 1;
+    for (;;) {
+        double best = INFINITY;
+        uint32_t child = RF_RIG_NONE, to = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            if (v[i].parent >= 0 || v[i].dead || in[v[i].comp])
+                continue;
+            for (uint32_t k = 0; k < n; k++)
+                if (!v[k].dead && in[v[k].comp] && rf_rig_dist3(t->pos[i], t->pos[k]) < best)
+                    best = rf_rig_dist3(t->pos[i], t->pos[k]), child = i, to = k;
+        }
+        if (child == RF_RIG_NONE)
+            break;
+        v[child].parent = (int32_t)to;
+        in[v[child].comp] = 1;
+    }
+    free(in);
+    return true;
+}
+
+/* ---- joints ---- */
+
+typedef struct rf_rig_build {
+    rf_rig_tree *t;
+    rf_rig_skel *s;
+    double seg;     /* bone length, world units */
+    uint32_t *path; /* scratch */
+} rf_rig_build;
+
+static uint32_t rf_rig_joint_add(rf_rig_skel *s, const double p[3], int32_t parent)
+{
+    uint32_t j = s->n++;
+    memcpy(s->pos + (size_t)j * 3, p, 3 * sizeof(double));
+    s->parent[j] = parent;
+    s->has_tip[j] = 0;
+    return j;
+}
+
+/* The path of a chain, from the key node above down to key node `to`, into b->path; returns its
+ * point count and its length along the centroids into *arc_len. */
+static uint32_t rf_rig_chain_path(rf_rig_build *b, uint32_t to, double *arc_len)
+{
+    rf_rig_node *v = b->t->ns->v;
+    uint32_t len = 0;
+    for (uint32_t k = to;; k = (uint32_t)v[k].parent) {
+        b->path[len++] = k;
+        if (v[k].parent < 0 || (len > 1 && v[k].children != 1))
+            break;
+    }
+    for (uint32_t i = 0; i < len / 2; i++) {
+        uint32_t x = b->path[i];
+        b->path[i] = b->path[len - 1 - i], b->path[len - 1 - i] = x;
+    }
+    *arc_len = 0;
+    for (uint32_t i = 1; i < len; i++)
+        *arc_len += rf_rig_dist3(b->t->pos[b->path[i]], b->t->pos[b->path[i - 1]]);
+    return len;
+}
+
+/* One chain cut into `pieces` bones of even length, hanging from joint from_joint. Returns the
+ * joint at `to`, or for a leaf the last joint, which carries the leaf as its tip. */
+static uint32_t rf_rig_chain(rf_rig_build *b, uint32_t to, uint32_t from_joint, bool leaf,
+                             uint32_t pieces)
+{
+    double total;
+    uint32_t len = rf_rig_chain_path(b, to, &total), joint = from_joint;
+    double arc = 0;
+    uint32_t next = 1; /* the next cut wanted, in pieces */
+    for (uint32_t i = 1; i + 1 < len && next < pieces; i++) {
+        arc += rf_rig_dist3(b->t->pos[b->path[i]], b->t->pos[b->path[i - 1]]);
+        double step = rf_rig_dist3(b->t->pos[b->path[i + 1]], b->t->pos[b->path[i]]);
+        double want = total * next / pieces;
+        /* cut at the path point nearest the wanted length */
+        if (arc >= want || arc + step / 2 >= want) {
+            joint = rf_rig_joint_add(b->s, b->t->pos[b->path[i]], (int32_t)joint);
+            next++;
+        }
+    }
+    const double *end = b->t->pos[b->path[len - 1]];
+    if (leaf && joint != from_joint) {
+        memcpy(b->s->tip + (size_t)joint * 3, end, 3 * sizeof(double));
+        b->s->has_tip[joint] = 1;
+    } else {
+        joint = rf_rig_joint_add(b->s, end, (int32_t)joint);
+    }
+    return joint;
+}
+
+/* Bones per chain: its length over the bone length, rounded, at least 2 for a leaf (one joint
+ * of its own to carry the tip). Sibling leaf chains of lengths within a quarter of each other
+ * get the same count, so mirrored limbs come out with the same joints, which is what the
+ * skeleton analysis pairs them by. */
+static void rf_rig_pieces_of(rf_rig_build *b, const uint32_t *ends, uint32_t n, uint32_t *pieces)
+{
+    rf_rig_node *v = b->t->ns->v;
+    double len[64];
+    for (uint32_t i = 0; i < n && i < 64; i++) {
+        rf_rig_chain_path(b, ends[i], &len[i]);
+        pieces[i] = (uint32_t)fmax(1, floor(len[i] / b->seg + 0.5));
+        if (!v[ends[i]].children && pieces[i] < 2)
+            pieces[i] = 2;
+    }
+    for (uint32_t i = 0; i < n && i < 64; i++)
+        for (uint32_t j = 0; j < n && j < 64; j++)
+            if (!v[ends[i]].children && !v[ends[j]].children &&
+                fabs(len[i] - len[j]) < 0.25 * fmax(len[i], len[j]) && pieces[j] > pieces[i])
+                pieces[i] = pieces[j];
+}
+
+/* Walks the live tree from `root` depth-first without recursion, emitting joints chain by chain;
+ * parents always precede children. */
+static bool rf_rig_emit(rf_rig_build *b, uint32_t root)
+{
+    rf_rig_nodes *ns = b->t->ns;
+    rf_rig_node *v = ns->v;
+    uint32_t *stack = malloc((size_t)ns->n * 2 * sizeof *stack);
+    uint32_t *first = calloc((size_t)ns->n + 1, sizeof *first),
+             *kids = malloc(ns->n * sizeof *kids);
+    uint32_t *fill = malloc(ns->n * sizeof *fill);
+    if (!stack || !first || !kids || !fill) {
+        free(stack), free(first), free(kids), free(fill);
+        return false;
+    }
+    for (uint32_t i = 0; i < ns->n; i++)
+        if (!v[i].dead && v[i].parent >= 0)
+            first[v[i].parent + 1]++;
+    for (uint32_t i = 0; i < ns->n; i++)
+        first[i + 1] += first[i];
+    memcpy(fill, first, ns->n * sizeof *fill);
+    for (uint32_t i = 0; i < ns->n; i++)
+        if (!v[i].dead && v[i].parent >= 0)
+            kids[fill[v[i].parent]++] = i;
+    size_t sp = 0;
+    stack[sp++] = root, stack[sp++] = rf_rig_joint_add(b->s, b->t->pos[root], -1);
+    while (sp) {
+        uint32_t joint = stack[--sp], key = stack[--sp];
+        uint32_t ends[64], pieces[64], n = 0;
+        /* the key nodes below: a junction a short chain away is merged into this one (limbs
+         * leave a body one band apart, the left a little before the right) */
+        uint32_t todo[64], nt = 0;
+        todo[nt++] = key;
+        while (nt && n < 64) {
+            uint32_t from = todo[--nt];
+            for (uint32_t e = first[from]; e < first[from + 1] && n < 64; e++) {
+                uint32_t k = kids[e];
+                while (v[k].children == 1)
+                    k = kids[first[k]];
+                double len;
+                rf_rig_chain_path(b, k, &len);
+                double r = fmin(b->t->radius[key], b->t->radius[k]);
+                if (v[k].children && len < fmax(1.5 * r, 0.75 * b->seg) && nt < 64)
+                    todo[nt++] = k;
+                else
+                    ends[n++] = k;
+            }
+        }
+        rf_rig_pieces_of(b, ends, n, pieces);
+        for (uint32_t i = 0; i < n; i++) {
+            uint32_t j = rf_rig_chain(b, ends[i], joint, v[ends[i]].children == 0, pieces[i]);
+            if (v[ends[i]].children)
+                stack[sp++] = ends[i], stack[sp++] = j;
+        }
+    }
+    free(stack), free(first), free(kids), free(fill);
+    return true;
+}
+
+/* ---- entry ---- */
+
+static void rf_rig_grid_free(rf_rig_grid *g)
+{
+    free(g->solid), free(g->df), free(g->comp), free(g->geo), free(g->node);
+    memset(g, 0, sizeof *g);
+}
+
+static bool rf_rig_grid_make(rf_rig_grid *g, const rf_rig_prep *p, uint32_t res)
+{
+    memset(g, 0, sizeof *g);
+    g->h = p->longest / res;
+    int d[3];
+    for (int a = 0; a < 3; a++) {
+        d[a] = (int)ceil((p->hi[a] - p->lo[a]) / g->h) + 5;
+        g->org[a] = p->lo[a] - 2.5 * g->h;
+    }
+    g->nx = d[0], g->ny = d[1], g->nz = d[2];
+    g->n = (size_t)d[0] * d[1] * d[2];
+    return true;
+}
+
+static bool rf_rig_tree_make(rf_rig_tree *t, const rf_rig_grid *g, rf_rig_nodes *ns)
+{
+    t->g = g, t->ns = ns;
+    t->pos = malloc((size_t)(ns->n ? ns->n : 1) * sizeof *t->pos);
+    t->radius = malloc((size_t)(ns->n ? ns->n : 1) * sizeof *t->radius);
+    if (!t->pos || !t->radius)
+        return false;
+    uint32_t *size = calloc(ns->n + 1, sizeof *size);
+    if (!size)
+        return false;
+    for (uint32_t i = 0; i < ns->n; i++) {
+        for (int a = 0; a < 3; a++)
+            t->pos[i][a] = g->org[a] + (ns->v[i].sum[a] / ns->v[i].count + 0.5) * g->h;
+        t->radius[i] = ns->v[i].maxdf / 3.0 * g->h;
+        if (ns->v[i].comp < ns->n)
+            size[ns->v[i].comp] += ns->v[i].count;
+    }
+    t->main_comp = g->main;
+    /* components too small to carry a bone of their own: heat reaches them from nearby bones */
+    for (uint32_t i = 0; i < ns->n; i++)
+        if (ns->v[i].comp != t->main_comp && size[ns->v[i].comp] < 64)
+            ns->v[i].dead = 1;
+    free(size);
+    return true;
+}
+
+bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double *seed,
+                    rf_rig_skel *out, char *err, size_t n)
+{
+    memset(out, 0, sizeof *out);
+    rf_rig_init26();
+    rf_rig_grid g;
+    rf_rig_nodes ns = {0};
+    rf_rig_tree t = {0};
+    uint32_t ncomp = 0;
+    rf_rig_grid_make(&g, p, o->resolution);
+    bool ok = rf_rig_voxelise(&g, &p->proxy) && rf_rig_distance(&g) &&
+              rf_rig_geodesic(&g, seed, &ncomp) && rf_rig_pieces(&g, &ns) && rf_rig_link(&g, &ns) &&
+              rf_rig_tree_make(&t, &g, &ns);
+    if (!ok) {
+        rf_rig_fail(err, n, "out of memory on a %dx%dx%d voxel grid", g.nx, g.ny, g.nz);
+        goto done;
+    }
+    if (!ns.n) {
+        ok = rf_rig_fail(err, n, "the mesh encloses no volume at %u voxels across", o->resolution);
+        goto done;
+    }
+    t.seg = o->segment * p->longest;
+    if (!rf_rig_attach(&t)) {
+        ok = rf_rig_fail(err, n, "out of memory linking the mesh's parts");
+        goto done;
+    }
+    rf_rig_count_children(&t);
+    uint32_t *reach = malloc((size_t)ns.n * sizeof *reach);
+    uint8_t *leaves = malloc(ns.n);
+    while (reach && leaves && rf_rig_prune_one(&t, reach, leaves))
+        ;
+    free(reach), free(leaves);
+    uint32_t root = RF_RIG_NONE;
+    for (uint32_t i = 0; i < ns.n; i++)
+        if (ns.v[i].parent < 0 && !ns.v[i].dead && ns.v[i].comp == t.main_comp)
+            root = i;
+    /* the seed's component is the main one when there is a seed */
+    out->pos = malloc((size_t)ns.n * 3 * sizeof *out->pos);
+    out->tip = calloc((size_t)ns.n * 3, sizeof *out->tip);
+    out->parent = malloc((size_t)ns.n * sizeof *out->parent);
+    out->has_tip = calloc(ns.n, 1);
+    rf_rig_build b = {.t = &t, .s = out, .seg = o->segment * p->longest};
+    b.path = malloc((size_t)ns.n * sizeof *b.path);
+    ok = out->pos && out->tip && out->parent && out->has_tip && b.path && root != RF_RIG_NONE &&
+         rf_rig_emit(&b, root);
+    free(b.path);
+    if (!ok)
+        rf_rig_fail(err, n, "out of memory building the skeleton");
+done:
+    free(t.pos), free(t.radius), free(ns.v);
+    rf_rig_grid_free(&g);
+    if (!ok)
+        rf_rig_skel_free(out);
+    return ok;
+}
+
+void rf_rig_skel_free(rf_rig_skel *s)
+{
+    free(s->pos), free(s->parent), free(s->tip), free(s->has_tip);
+    memset(s, 0, sizeof *s);
+}

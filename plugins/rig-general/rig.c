@@ -1,0 +1,283 @@
+/* rf_rig_general: clean-up, skeleton, names from the skeleton analysis, bone heat, and the
+ * skinned copy of the input mesh. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <rigflow/analysis.h>
+#include <rigflow/model-copy.h>
+
+#include "rig-internal.h"
+
+/* Joint names say what the skeleton analysis found (section, side, rank, place in the chain),
+ * e.g. leg_l0_1, so a person reading the rig sees its layout; the matcher never reads them. */
+static bool rf_rig_name(rf_skeleton *s, rf_vec3 up, rf_vec3 forward)
+{
+    s->up = up, s->forward = forward; /* hints for the analysis, as a file's axes are */
+    rf_analysis *a = rf_analyze(s, NULL);
+    if (!a)
+        return false;
+    bool ok = true;
+    for (uint32_t j = 0; ok && j < s->joint_count; j++) {
+        char name[96];
+        const rf_joint_info *ji = &a->joints[j];
+        if (ji->section < 0) {
+            snprintf(name, sizeof name, "joint%u", j);
+        } else {
+            const rf_section *sec = &a->sections[ji->section];
+            const char side = sec->side == RF_SIDE_LEFT    ? 'l'
+                              : sec->side == RF_SIDE_RIGHT ? 'r'
+                                                           : 'c';
+            snprintf(name, sizeof name, "%s_%c%u_%u", rf_section_type_name(sec->type), side,
+                     sec->pair_rank, ji->index);
+        }
+        if (rf_skeleton_find(s, name) >= 0) {
+            size_t l = strlen(name);
+            snprintf(name + l, sizeof name - l, ".%u", j);
+        }
+        ok = (s->joints[j].name = rf_strdup(name)) != NULL;
+    }
+    if (rf_v3_len(up) == 0) {
+        s->up = a->up;
+        s->forward = a->forward_confidence >= 0.3 ? a->forward : rf_v3(0, 0, 0);
+    }
+    rf_analysis_free(a);
+    return ok;
+}
+
+static rf_skeleton *rf_rig_skeleton(const rf_rig_skel *k, const rf_rig_options *named)
+{
+    rf_skeleton *s = rf_skeleton_new(k->n);
+    if (!s)
+        return NULL;
+    s->bind = malloc((size_t)k->n * sizeof *s->bind);
+    s->rest_source = RF_REST_BIND;
+    if (!s->bind || !(s->name = rf_strdup("rig.general"))) {
+        rf_skeleton_free(s);
+        return NULL;
+    }
+    for (uint32_t j = 0; j < k->n; j++) {
+        const double *p = k->pos + (size_t)j * 3;
+        int32_t par = k->parent[j];
+        const double *q = par >= 0 ? k->pos + (size_t)par * 3 : NULL;
+        s->joints[j].parent = par;
+        s->joints[j].rest.t =
+            q ? rf_v3(p[0] - q[0], p[1] - q[1], p[2] - q[2]) : rf_v3(p[0], p[1], p[2]);
+        if (k->has_tip[j]) {
+            const double *t = k->tip + (size_t)j * 3;
+            s->joints[j].end_site = rf_v3(t[0] - p[0], t[1] - p[1], t[2] - p[2]);
+            s->joints[j].flags |= RF_JOINT_HAS_END_SITE;
+        }
+        s->bind[j] = s->joints[j].rest;
+    }
+    if (named && !rf_rig_name(s, named->up, named->forward)) {
+        rf_skeleton_free(s);
+        return NULL;
+    }
+    return s;
+}
+
+/* ---- root ---- */
+
+static double rf_rig_height(const rf_rig_skel *k, uint32_t j, rf_vec3 up)
+{
+    const double *p = k->has_tip[j] ? k->tip + (size_t)j * 3 : k->pos + (size_t)j * 3;
+    return p[0] * up.x + p[1] * up.y + p[2] * up.z;
+}
+
+static uint32_t rf_rig_depth(const rf_rig_skel *k, uint32_t j)
+{
+    uint32_t d = 0;
+    for (int32_t p = k->parent[j]; p >= 0; p = k->parent[p])
+        d++;
+    return d;
+}
+
+static uint32_t rf_rig_lca(const rf_rig_skel *k, uint32_t a, uint32_t b)
+{
+    uint32_t da = rf_rig_depth(k, a), db = rf_rig_depth(k, b);
+    for (; da > db; da--)
+        a = (uint32_t)k->parent[a];
+    for (; db > da; db--)
+        b = (uint32_t)k->parent[b];
+    while (a != b)
+        a = (uint32_t)k->parent[a], b = (uint32_t)k->parent[b];
+    return a;
+}
+
+/* Where the feet meet: of the leaves in the lowest fifth of the body (along the up the skeleton
+ * analysis finds), the pair whose common ancestor is highest: the hips of a biped (not the ankle,
+ * where heel and toe meet), a girdle or the spine of a quadruped, the body of a spider. That is
+ * the root an animator expects, where the thickest point (the chest, often) is not. NONE when no
+ * two low leaves meet above the lowest fifth. */
+uint32_t rf_rig_pick_root(const rf_rig_skel *k)
+{
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
+    rf_vec3 up = a ? a->up : rf_v3(0, 1, 0);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    uint8_t *inner = calloc(k->n + 1, 1);
+    if (!inner)
+        return RF_RIG_NONE;
+    double lo = INFINITY, hi = -INFINITY;
+    for (uint32_t j = 0; j < k->n; j++) {
+        if (k->parent[j] >= 0)
+            inner[k->parent[j]] = 1;
+        lo = fmin(lo, rf_rig_height(k, j, up)), hi = fmax(hi, rf_rig_height(k, j, up));
+    }
+    double low = lo + 0.2 * (hi - lo), best = -INFINITY;
+    uint32_t root = RF_RIG_NONE;
+    for (uint32_t i = 0; i < k->n; i++)
+        for (uint32_t j = i + 1; j < k->n; j++) {
+            if (inner[i] || inner[j] || rf_rig_height(k, i, up) > low ||
+                rf_rig_height(k, j, up) > low)
+                continue;
+            uint32_t m = rf_rig_lca(k, i, j);
+            const double *p = k->pos + (size_t)m * 3;
+            double h = p[0] * up.x + p[1] * up.y + p[2] * up.z;
+            if (h > best)
+                best = h, root = m;
+        }
+    free(inner);
+    /* feet that meet near the floor are a heel and its toes (the legs merged into one column,
+     * under a skirt): no hips found, keep the thickest point */
+    return best > lo + 0.2 * (hi - lo) ? root : RF_RIG_NONE;
+}
+
+/* A copy of the input's geometry (positions, normals, triangles, parts) without any skin. */
+static rf_mesh *rf_rig_mesh_copy(const rf_mesh *in)
+{
+    rf_mesh bare = *in; /* borrowed arrays: the skin left out of the copy */
+    bare.skin_joints = NULL, bare.skin_weights = NULL, bare.inverse_bind = NULL,
+    bare.bind_count = 0;
+    return rf_mesh_copy(&bare);
+}
+
+/* Up to four largest weights of a row, renormalised, into the mesh's skin arrays. */
+static void rf_rig_top4(const double *row, uint32_t nj, uint16_t *js, float *ws)
+{
+    double w[4] = {0};
+    uint32_t id[4] = {0};
+    for (uint32_t j = 0; j < nj; j++) {
+        int at = 4;
+        while (at > 0 && row[j] > w[at - 1])
+            at--;
+        if (at == 4)
+            continue;
+        for (int k = 3; k > at; k--)
+            w[k] = w[k - 1], id[k] = id[k - 1];
+        w[at] = row[j], id[at] = j;
+    }
+    double sum = w[0] + w[1] + w[2] + w[3];
+    for (int k = 0; k < 4; k++) {
+        js[k] = (uint16_t)id[k];
+        ws[k] = sum > 0 ? (float)(w[k] / sum) : (k == 0);
+    }
+}
+
+/* The skin: each input vertex takes its proxy vertex's weights, or (specks, stray vertices) its
+ * nearest bone's. */
+static bool rf_rig_skin(const rf_mesh *in, const rf_rig_prep *p, const rf_rig_skel *k,
+                        const double *w, rf_mesh *m, rf_rig_stats *st)
+{
+    uint32_t nj = k->n;
+    rf_rig_bone *bones = NULL;
+    uint32_t nb = rf_rig_bones(k, &bones);
+    double *row = malloc((size_t)nj * sizeof *row);
+    m->skin_joints = malloc((size_t)in->vertex_count * 4 * sizeof *m->skin_joints);
+    m->skin_weights = malloc((size_t)in->vertex_count * 4 * sizeof *m->skin_weights);
+    m->inverse_bind = malloc((size_t)nj * sizeof *m->inverse_bind);
+    bool ok = nb && row && m->skin_joints && m->skin_weights && m->inverse_bind;
+    for (uint32_t v = 0; ok && v < in->vertex_count; v++) {
+        const double *src = p->to_proxy[v] != RF_RIG_NONE ? w + (size_t)p->to_proxy[v] * nj : NULL;
+        if (!src) {
+            double q[3] = {in->positions[v * 3], in->positions[v * 3 + 1],
+                           in->positions[v * 3 + 2]};
+            double c[3], best = INFINITY;
+            memset(row, 0, nj * sizeof *row);
+            uint32_t to = 0;
+            for (uint32_t b = 0; b < nb; b++) {
+                double d = rf_rig_seg_dist(q, &bones[b], c);
+                if (d < best)
+                    best = d, to = bones[b].joint;
+            }
+            row[to] = 1;
+            st->fallback_vertices++;
+            src = row;
+        }
+        rf_rig_top4(src, nj, m->skin_joints + (size_t)v * 4, m->skin_weights + (size_t)v * 4);
+    }
+    for (uint32_t j = 0; ok && j < nj; j++) {
+        const double *q = k->pos + (size_t)j * 3;
+        rf_xform inv = rf_xform_identity();
+        inv.t = rf_v3(-q[0], -q[1], -q[2]); /* joints are unrotated: the inverse is a shift */
+        m->inverse_bind[j] = rf_xform_to_mat4(inv);
+    }
+    m->bind_count = nj;
+    free(bones), free(row);
+    return ok;
+}
+
+bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
+                    rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
+                    char *err, size_t err_size)
+{
+    rf_rig_options o = opts ? *opts : (rf_rig_options){0};
+    o.resolution = o.resolution ? o.resolution : 96;
+    o.proxy_triangles = o.proxy_triangles ? o.proxy_triangles : 20000;
+    o.speck_size = o.speck_size > 0 ? o.speck_size : 0.02;
+    o.segment = o.segment > 0 ? o.segment : 0.12;
+    rf_rig_stats st_local, *st = stats ? stats : &st_local;
+    memset(st, 0, sizeof *st);
+    *skeleton = NULL, *skinned = NULL;
+    rf_rig_prep p;
+    rf_rig_skel k = {0};
+    double *w = NULL;
+    if (!rf_rig_prepare(mesh, &o, &p, st, err, err_size))
+        return false;
+    if (progress)
+        progress(user, 0.1);
+    bool ok = rf_rig_extract(&p, &o, NULL, &k, err, err_size);
+    /* Level sets grown from the hips cut the body square to its length (shoulders level, limbs
+     * leaving symmetrically); from the thickest point they would ring the chest. So a second pass
+     * starts where the first pass's two lowest leaves meet. */
+    uint32_t r = ok ? rf_rig_pick_root(&k) : RF_RIG_NONE;
+    if (r != RF_RIG_NONE && k.parent[r] >= 0) {
+        double seed[3];
+        memcpy(seed, k.pos + (size_t)r * 3, sizeof seed);
+        rf_rig_skel_free(&k);
+        ok = rf_rig_extract(&p, &o, seed, &k, err, err_size);
+    }
+    if (ok && progress)
+        progress(user, 0.4);
+    ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
+    if (ok && progress)
+        progress(user, 0.9);
+    rf_skeleton *s = ok ? rf_rig_skeleton(&k, &o) : NULL;
+    rf_mesh *m = s ? rf_rig_mesh_copy(mesh) : NULL;
+    if (ok && (!m || !rf_rig_skin(mesh, &p, &k, w, m, st))) {
+        ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
+    }
+    if (ok) {
+        /* a joint whose bone won no vertex says so, as artists' helper joints do */
+        uint8_t *used = calloc(k.n + 1, 1);
+        for (size_t i = 0; used && i < (size_t)m->vertex_count * 4; i++)
+            if (m->skin_weights[i] > 0)
+                used[m->skin_joints[i]] = 1;
+        for (uint32_t j = 0; used && j < k.n; j++)
+            if (!used[j])
+                s->joints[j].flags |= RF_JOINT_UNWEIGHTED;
+        free(used);
+        st->joints = k.n;
+        *skeleton = s, *skinned = m;
+    } else {
+        rf_skeleton_free(s);
+        rf_mesh_free(m);
+    }
+    free(w);
+    rf_rig_skel_free(&k);
+    rf_rig_prep_free(&p);
+    return ok;
+}

@@ -1,0 +1,54 @@
+/* The general auto-rigger (librigauto): an unrigged mesh in, a skeleton and the mesh skinned to it
+ * out, for any body (doc/autorig.md). Linked by the rig.general plugin, `rigflow rig-bench` and
+ * the tests.
+ *
+ * Steps: clean the mesh (weld, split into loose parts, set specks aside, simplify a proxy when it
+ * is big), voxelise the closed volume, grow geodesic level sets (from the thickest point, then
+ * again from where the feet meet), link their pieces into a curve skeleton, prune it and cut it
+ * into joints at junctions and even lengths; then weight the mesh by bone heat. Everything is
+ * measured relative to the mesh's bounding box, so any unit and any facing behave alike.
+ */
+#ifndef RF_RIG_H
+#define RF_RIG_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <rigflow/model.h>
+
+/* Zero-initialised is the default everywhere. */
+typedef struct rf_rig_options {
+    uint32_t resolution;      /* voxels along the longest bounding-box edge; 0 means 96 */
+    uint32_t proxy_triangles; /* simplify a proxy above this many triangles; 0 means 20000 */
+    double speck_size;        /* a loose part spanning less than this fraction of the whole
+                               * mesh's bounding-box diagonal is a speck; 0 means 0.02 */
+    double segment;           /* the longest bone as a fraction of the longest edge; 0 means 0.12 */
+    bool no_visibility;       /* heat every vertex from its nearest bone, seen or not */
+    rf_vec3 up, forward;      /* the axes the file declares (zero: unknown); the skeleton keeps
+                               * them and the analysis naming its joints starts from them */
+} rf_rig_options;
+
+/* What happened, for logs and the benchmark. */
+typedef struct rf_rig_stats {
+    uint32_t vertices, welded; /* input vertices, after welding */
+    uint32_t parts, specks;    /* loose parts, of which specks */
+    uint32_t proxy_triangles;  /* triangles the heat was solved on */
+    uint32_t joints;
+    uint32_t heat_vertices;     /* proxy vertices weighted by heat */
+    uint32_t fallback_vertices; /* vertices weighted by the nearest bone instead */
+    uint32_t unseen_vertices;   /* proxy vertices that saw no bone (heated by their neighbours) */
+} rf_rig_stats;
+
+/* Called with the fraction done; may be NULL. */
+typedef void (*rf_rig_progress_fn)(void *user, double fraction);
+
+/* Rigs `mesh`. On success returns true with a new skeleton (rest pose = bind pose, identity
+ * rotations) and a copy of the mesh skinned to it (every vertex weighted, inverse binds set).
+ * On failure returns false with a reason in err and nothing allocated. `opts`, `stats` and
+ * `progress` may be NULL. */
+bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
+                    rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
+                    char *err, size_t err_size);
+
+#endif

@@ -1,0 +1,36 @@
+/* rigflow SDK: the rigger capability. A node type of kind RF_KIND_RIGGER may offer this table
+ * through get_extension(RF_RIGGER_EXTENSION), so `rigflow rig-bench` (and any host) can call the
+ * rigger's core directly on meshes it loads itself, timing the plugin's own code. */
+#ifndef RIGFLOW_RIGGER_H
+#define RIGFLOW_RIGGER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define RF_RIGGER_EXTENSION "rigflow.rigger/1"
+
+typedef struct rf_rigger_api {
+    uint32_t size;    /* sizeof(rf_rigger_api) */
+    const char *name; /* short name for tables, e.g. "general" */
+    const char *doc;  /* one line */
+    /* Rigs `mesh` (borrowed; any skin it has must be ignored) with the node type's default
+     * parameters. On success returns true with a new skeleton (its rest pose is the pose the mesh
+     * is bound in) and a new copy of the mesh skinned to it, every vertex weighted; on failure
+     * false with a message in err (err_size bytes) and nothing allocated. (transfer full: free
+     * with rf_skeleton_free and rf_mesh_free) */
+    bool (*rig)(const rf_mesh *mesh, rf_skeleton **skeleton, rf_mesh **skinned, char *err,
+                size_t err_size);
+} rf_rigger_api;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

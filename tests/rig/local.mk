@@ -1,0 +1,19 @@
+# The auto-rigger: librigauto on the shared models and on made-up bad input, the pipelines end to
+# end. rig-dump and rig-view.py draw a rig for a person to look at (doc/autorig.md).
+noinst_PROGRAMS += tests/rig/rig-dump
+tests_rig_rig_dump_SOURCES = tests/rig/rig-dump.c
+tests_rig_rig_dump_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/rig-general
+tests_rig_rig_dump_LDADD = sdk/formats/assimp/librigflow-assimp.la plugins/rig-general/librigauto.la \
+	sdk/analysis/librigflow-analysis.la -lm
+EXTRA_DIST += tests/rig/rig-view.py
+
+check_PROGRAMS += tests/rig/test_rig
+TESTS += tests/rig/test_rig
+tests_rig_test_rig_SOURCES = tests/rig/test_rig.c
+tests_rig_test_rig_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
+tests_rig_test_rig_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_rig_test_rig_LDADD = sdk/formats/assimp/librigflow-assimp.la plugins/rig-general/librigauto.la \
+	sdk/analysis/librigflow-analysis.la $(CMOCKA_LIBS) -lm
+
+TESTS += tests/rig/test_rig_pipeline.sh
+EXTRA_DIST += tests/rig/test_rig_pipeline.sh

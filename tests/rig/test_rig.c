@@ -1,0 +1,414 @@
+/* librigauto: every mesh of the shared data and Debian's assimp-testmodels is rigged or refused
+ * with a reason, never with a vertex left unweighted; the rig does not depend on the unit or the
+ * facing; bad input (empty, a point cloud, a sheet, nothing but specks, broken numbers) is
+ * refused with a message and nothing allocated; a big scan goes through the simplified proxy. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include <rigflow/aimport.h>
+
+#include "rig.h"
+
+/* The invariants every rig must hold: parents first, one root, finite joints, every vertex
+ * weighted by at most four existing joints, weights summing to 1. */
+static void check_rig(const char *what, const rf_mesh *in, const rf_skeleton *s, const rf_mesh *m)
+{
+    assert_non_null(s);
+    assert_non_null(m);
+    assert_true(s->joint_count >= 1);
+    uint32_t roots = 0;
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        assert_true(s->joints[j].parent < (int32_t)j);
+        roots += s->joints[j].parent < 0;
+        assert_non_null(s->joints[j].name);
+        assert_true(isfinite(s->joints[j].rest.t.x) && isfinite(s->joints[j].rest.t.y) &&
+                    isfinite(s->joints[j].rest.t.z));
+    }
+    assert_int_equal(roots, 1);
+    assert_int_equal(m->vertex_count, in->vertex_count);
+    assert_int_equal(m->triangle_count, in->triangle_count);
+    assert_int_equal(m->bind_count, s->joint_count);
+    uint32_t unweighted = 0;
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        double sum = 0;
+        for (int k = 0; k < 4; k++) {
+            float w = m->skin_weights[v * 4 + k];
+            assert_true(w >= 0 && w <= 1.0001f);
+            assert_true(m->skin_joints[v * 4 + k] < s->joint_count);
+            sum += w;
+        }
+        unweighted += !(fabs(sum - 1) < 1e-4);
+    }
+    if (unweighted)
+        fail_msg("%s: %u vertices without weights summing to 1", what, unweighted);
+}
+
+static bool rig_file(const char *path, bool must_rig)
+{
+    rf_ai_options o = {.ignore_rig = true};
+    rf_ai_result r;
+    char err[1024];
+    if (!rf_ai_import(path, &o, &r, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    assert_int_equal(r.skeleton->joint_count, 0);
+    rf_skeleton *s = NULL;
+    rf_mesh *m = NULL;
+    rf_rig_stats st;
+    bool ok = r.mesh && rf_rig_general(r.mesh, NULL, &s, &m, &st, NULL, NULL, err, sizeof err);
+    if (ok) {
+        check_rig(path, r.mesh, s, m);
+        printf("# %s: %u joints, %u vertices (%u parts, %u specks), %u by nearest bone\n", path,
+               st.joints, st.vertices, st.parts, st.specks, st.fallback_vertices);
+    } else {
+        assert_null(s);
+        assert_null(m);
+        assert_true(strlen(err) > 10);
+        printf("# %s: refused: %s\n", path, err);
+        if (must_rig)
+            fail_msg("%s refused: %s", path, err);
+    }
+    rf_skeleton_free(s);
+    rf_mesh_free(m);
+    rf_ai_result_clear(&r);
+    return ok;
+}
+
+static const char *data_dir(void)
+{
+    const char *d = getenv("RF_DATA_DIR");
+    static char path[4096];
+    snprintf(path, sizeof path, "%s/models/Fox.glb", d ? d : "");
+    FILE *f = d ? fopen(path, "rb") : NULL;
+    if (!f)
+        return NULL;
+    fclose(f);
+    return d;
+}
+
+/* Every model of the shared data: the two flat or empty ones are refused, the rest rigged. */
+static void test_shared_models(void **state)
+{
+    (void)state;
+    const char *d = data_dir();
+    if (!d) {
+        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
+        skip();
+    }
+    static const char *const models[] = {"Fox.glb",
+                                         "RiggedFigure.glb",
+                                         "RobotExpressive.glb",
+                                         "Wizard.glb",
+                                         "girl.glb",
+                                         "greenman.glb",
+                                         "BCN_Epileptic.X",
+                                         "Testwuson.X",
+                                         "huesitos.fbx",
+                                         "animation_with_skeleton.fbx",
+                                         "spider.fbx",
+                                         "ogre/ninja.mesh",
+                                         "ogre/fish.mesh",
+                                         "creatures/animala_horse.b3d",
+                                         "creatures/animalia_angelfish.b3d",
+                                         "creatures/animalia_bat.b3d",
+                                         "creatures/animalia_bird.b3d",
+                                         "creatures/animalia_bull_frog.b3d",
+                                         "creatures/animalia_cat.b3d",
+                                         "creatures/animalia_fox.b3d",
+                                         "creatures/animalia_owl.b3d",
+                                         "creatures/animalia_wolf.b3d",
+                                         "creatures/draconis_fire_dragon.b3d",
+                                         "creatures/draconis_jungle_wyvern.b3d"};
+    char path[4096];
+    for (size_t i = 0; i < sizeof models / sizeof *models; i++) {
+        snprintf(path, sizeof path, "%s/models/%s", d, models[i]);
+        rig_file(path, true);
+    }
+    /* simple_skin is a flat strip, vrm_sample's only mesh is degenerate: refused with reasons */
+    snprintf(path, sizeof path, "%s/models/simple_skin.gltf", d);
+    assert_false(rig_file(path, false));
+    snprintf(path, sizeof path, "%s/models/vrm_sample.glb", d);
+    assert_false(rig_file(path, false));
+}
+
+static void test_testmodels(void **state)
+{
+    (void)state;
+    static const char *const paths[] = {"/usr/share/assimp/models/OBJ/WusonOBJ.obj",
+                                        "/usr/share/assimp/models/OBJ/spider.obj"};
+    FILE *f = fopen(paths[0], "rb");
+    if (!f) {
+        printf("# assimp-testmodels not installed: skipped\n");
+        skip();
+    }
+    fclose(f);
+    for (size_t i = 0; i < 2; i++)
+        rig_file(paths[i], true);
+}
+
+/* ---- made-up meshes ---- */
+
+/* Boxes: add_box appends one; table_creature is a box body on four box legs with a box head,
+ * scaled and turned about +Y. */
+static void add_box(rf_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1)
+{
+    static const int corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                     {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    static const uint32_t face[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
+                                         {0, 1, 5}, {0, 5, 4}, {3, 6, 2}, {3, 7, 6},
+                                         {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+    uint32_t base = m->vertex_count;
+    for (int c = 0; c < 8; c++) {
+        float *p = m->positions + (size_t)(base + c) * 3;
+        p[0] = (float)(corner[c][0] ? x1 : x0), p[1] = (float)(corner[c][1] ? y1 : y0);
+        p[2] = (float)(corner[c][2] ? z1 : z0);
+    }
+    for (int t = 0; t < 12; t++)
+        for (int k = 0; k < 3; k++)
+            m->triangles[(size_t)(m->triangle_count + t) * 3 + k] = base + face[t][k];
+    m->vertex_count += 8, m->triangle_count += 12;
+}
+
+static rf_mesh *table_creature(double scale, double turn)
+{
+    rf_mesh *m = rf_mesh_new();
+    m->positions = calloc(6 * 8 * 3, sizeof(float));
+    m->triangles = calloc(6 * 12 * 3, sizeof(uint32_t));
+    add_box(m, -1, 1, -0.4, 1, 1.4, 0.4);         /* body, 2 long, on legs 1 high */
+    add_box(m, 0.95, 1.2, -0.25, 1.5, 1.7, 0.25); /* a head, so the body has a front */
+    add_box(m, -1, 0, -0.4, -0.8, 1.05, -0.2);
+    add_box(m, 0.8, 0, -0.4, 1, 1.05, -0.2);
+    add_box(m, -1, 0, 0.2, -0.8, 1.05, 0.4);
+    add_box(m, 0.8, 0, 0.2, 1, 1.05, 0.4);
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        float *p = m->positions + v * 3;
+        double x = p[0], z = p[2];
+        p[0] = (float)(scale * (x * cos(turn) + z * sin(turn)));
+        p[1] = (float)(scale * p[1]);
+        p[2] = (float)(scale * (-x * sin(turn) + z * cos(turn)));
+    }
+    return m;
+}
+
+static void world_joints(const rf_skeleton *s, rf_vec3 *out)
+{
+    rf_xform *w = calloc(s->joint_count, sizeof *w);
+    rf_skeleton_world_rest(s, w);
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        out[j] = w[j].t;
+    free(w);
+}
+
+/* The same body at 1 cm and at 100 m gives the same rig, scaled; at every scale four feet. */
+static void test_any_scale(void **state)
+{
+    (void)state;
+    static const double scales[] = {0.01, 1, 100};
+    rf_vec3 ref[256];
+    uint32_t ref_n = 0;
+    for (int i = 0; i < 3; i++) {
+        rf_mesh *in = table_creature(scales[i], 0);
+        rf_skeleton *s;
+        rf_mesh *m;
+        char err[256];
+        if (!rf_rig_general(in, NULL, &s, &m, NULL, NULL, NULL, err, sizeof err))
+            fail_msg("scale %g: %s", scales[i], err);
+        check_rig("table creature", in, s, m);
+        assert_true(s->joint_count < 256);
+        rf_vec3 w[256];
+        world_joints(s, w);
+        if (i == 0) {
+            ref_n = s->joint_count;
+            memcpy(ref, w, ref_n * sizeof *w);
+            /* four legs: four leaves near the floor, each heavier on the foot's vertices */
+            uint32_t low = 0;
+            for (uint32_t j = 0; j < s->joint_count; j++)
+                low += w[j].y < 0.5 * scales[i];
+            assert_true(low >= 4);
+        } else {
+            assert_int_equal(s->joint_count, ref_n);
+            for (uint32_t j = 0; j < ref_n; j++)
+                assert_true(rf_v3_len(rf_v3_sub(rf_v3_scale(ref[j], scales[i] / scales[0]), w[j])) <
+                            1e-3 * scales[i]);
+        }
+        rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
+    }
+}
+
+/* Turned a quarter and an eighth about up, the rig turns with the body: the joints of the
+ * turned rig, turned back, lie near the upright one's (the voxels do not turn with it, so the
+ * rig may differ by a voxel or where a symmetric body leaves a choice). */
+static void test_any_facing(void **state)
+{
+    (void)state;
+    rf_vec3 ref[256], w[256];
+    uint32_t ref_n = 0;
+    static const double turns[] = {0, M_PI / 2, M_PI / 4};
+    for (int i = 0; i < 3; i++) {
+        rf_mesh *in = table_creature(1, turns[i]);
+        rf_skeleton *s;
+        rf_mesh *m;
+        char err[256];
+        if (!rf_rig_general(in, NULL, &s, &m, NULL, NULL, NULL, err, sizeof err))
+            fail_msg("turn %g: %s", turns[i], err);
+        check_rig("turned table creature", in, s, m);
+        world_joints(s, w);
+        for (uint32_t j = 0; j < s->joint_count; j++) {
+            double t = -turns[i], x = w[j].x, z = w[j].z;
+            w[j].x = x * cos(t) + z * sin(t), w[j].z = -x * sin(t) + z * cos(t);
+        }
+        if (i == 0) {
+            ref_n = s->joint_count;
+            memcpy(ref, w, ref_n * sizeof *w);
+        }
+        double sum = 0, worst = 0;
+        for (uint32_t j = 0; j < s->joint_count; j++) {
+            double best = INFINITY;
+            for (uint32_t k = 0; k < ref_n; k++)
+                best = fmin(best, rf_v3_len(rf_v3_sub(w[j], ref[k])));
+            sum += best, worst = fmax(worst, best);
+        }
+        /* the body is 2.5 long: joints on average within 3% of it (a box corner may grow a twig
+         * in one voxelisation and not in the other, so the worst is only reported) */
+        if (sum / s->joint_count > 0.03 * 2.5)
+            fail_msg("turn %g: joints %g from the upright rig on average, %g at worst", turns[i],
+                     sum / s->joint_count, worst);
+        rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
+    }
+}
+
+/* ---- bad input ---- */
+
+static void expect_refusal(const rf_mesh *in, const char *words)
+{
+    rf_skeleton *s = (rf_skeleton *)1;
+    rf_mesh *m = (rf_mesh *)1;
+    char err[512] = "";
+    assert_false(rf_rig_general(in, NULL, &s, &m, NULL, NULL, NULL, err, sizeof err));
+    assert_null(s);
+    assert_null(m);
+    if (!strstr(err, words))
+        fail_msg("expected \"%s\" in \"%s\"", words, err);
+}
+
+static void test_bad_input(void **state)
+{
+    (void)state;
+    rf_mesh *m = rf_mesh_new();
+    expect_refusal(NULL, "empty");
+    expect_refusal(m, "empty");
+    /* a point cloud */
+    m->vertex_count = 100;
+    m->positions = calloc(300, sizeof(float));
+    for (int i = 0; i < 300; i++)
+        m->positions[i] = (float)((i * 7919) % 101) / 100.0f;
+    expect_refusal(m, "no triangles");
+    /* a sheet: a grid of triangles in a plane */
+    m->triangles = calloc(98 * 3, sizeof(uint32_t));
+    for (uint32_t i = 0; i < 100; i++) {
+        m->positions[i * 3] = (float)(i % 10), m->positions[i * 3 + 1] = 0;
+        m->positions[i * 3 + 2] = (float)(i / 10);
+    }
+    m->triangle_count = 0;
+    for (uint32_t y = 0; y < 9; y++)
+        for (uint32_t x = 0; x < 9 && m->triangle_count < 98; x++) {
+            uint32_t *t = m->triangles + m->triangle_count++ * 3;
+            t[0] = y * 10 + x, t[1] = y * 10 + x + 1, t[2] = y * 10 + x + 10;
+        }
+    expect_refusal(m, "flat");
+    /* broken numbers and indices */
+    m->positions[5] = NAN;
+    expect_refusal(m, "non-finite");
+    m->positions[5] = 0;
+    m->triangles[7] = 100;
+    expect_refusal(m, "names vertex 100");
+    rf_mesh_free(m);
+    /* nothing but specks: 50 tiny boxes scattered over a large space */
+    m = rf_mesh_new();
+    m->positions = calloc(50 * 8 * 3, sizeof(float));
+    m->triangles = calloc(50 * 12 * 3, sizeof(uint32_t));
+    for (int i = 0; i < 50; i++) {
+        double x = (i % 5) * 10, y = ((i / 5) % 5) * 10, z = (i / 25) * 10;
+        add_box(m, x, y, z, x + 0.1, y + 0.1, z + 0.1);
+    }
+    expect_refusal(m, "nothing but specks");
+    rf_mesh_free(m);
+}
+
+/* A body with a speck beside it and a loose part of its own: every vertex weighted. */
+static void test_loose_parts(void **state)
+{
+    (void)state;
+    rf_mesh *in = table_creature(1, 0);
+    rf_mesh *m2 = rf_mesh_new();
+    m2->positions = calloc(8 * 8 * 3, sizeof(float));
+    m2->triangles = calloc(8 * 12 * 3, sizeof(uint32_t));
+    memcpy(m2->positions, in->positions, (size_t)in->vertex_count * 3 * sizeof(float));
+    memcpy(m2->triangles, in->triangles, (size_t)in->triangle_count * 3 * sizeof(uint32_t));
+    m2->vertex_count = in->vertex_count, m2->triangle_count = in->triangle_count;
+    add_box(m2, 2, 2, 2, 2.01, 2.01, 2.01);      /* a speck far off */
+    add_box(m2, -0.2, 1.5, -0.2, 0.2, 1.9, 0.2); /* a hat floating above the body */
+    rf_skeleton *s;
+    rf_mesh *m;
+    rf_rig_stats st;
+    char err[256];
+    if (!rf_rig_general(m2, NULL, &s, &m, &st, NULL, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    check_rig("loose parts", m2, s, m);
+    assert_true(st.parts >= 3);
+    assert_int_equal(st.specks, 1);
+    rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(m2), rf_mesh_free(in);
+}
+
+/* A scan-sized mesh (a finely tessellated capsule of 200 000 triangles) is simplified into a
+ * proxy and every original vertex still gets weights. */
+static void test_big_scan(void **state)
+{
+    (void)state;
+    const uint32_t rings = 400, segs = 250;
+    rf_mesh *in = rf_mesh_new();
+    in->vertex_count = rings * segs;
+    in->positions = malloc((size_t)in->vertex_count * 3 * sizeof(float));
+    in->triangles = malloc((size_t)(rings - 1) * segs * 6 * sizeof(uint32_t));
+    for (uint32_t r = 0; r < rings; r++)
+        for (uint32_t k = 0; k < segs; k++) {
+            double a = 2 * M_PI * k / segs, t = (double)r / (rings - 1);
+            double rad = 0.2 * sqrt(fmax(0, 1 - pow(2 * t - 1, 8))) + 1e-3;
+            float *p = in->positions + ((size_t)r * segs + k) * 3;
+            p[0] = (float)(rad * cos(a)), p[1] = (float)(2 * t), p[2] = (float)(rad * sin(a));
+        }
+    for (uint32_t r = 0; r + 1 < rings; r++)
+        for (uint32_t k = 0; k < segs; k++) {
+            uint32_t a = r * segs + k, b = r * segs + (k + 1) % segs, c = a + segs, d = b + segs;
+            uint32_t *t = in->triangles + (size_t)in->triangle_count * 3;
+            t[0] = a, t[1] = c, t[2] = b, t[3] = b, t[4] = c, t[5] = d;
+            in->triangle_count += 2;
+        }
+    rf_skeleton *s;
+    rf_mesh *m;
+    rf_rig_stats st;
+    char err[256];
+    if (!rf_rig_general(in, NULL, &s, &m, &st, NULL, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    check_rig("big scan", in, s, m);
+    assert_true(in->triangle_count > 190000);
+    assert_true(st.proxy_triangles <= 30000);
+    rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_bad_input),     cmocka_unit_test(test_any_scale),
+        cmocka_unit_test(test_any_facing),    cmocka_unit_test(test_loose_parts),
+        cmocka_unit_test(test_big_scan),      cmocka_unit_test(test_testmodels),
+        cmocka_unit_test(test_shared_models),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
