@@ -9,7 +9,8 @@ bench_retarget_bench_retarget_LDADD = plugins/retarget/libretarget.la sdk/analys
 	sdk/formats/assimp/librigflow-assimp.la plugins/ik-twobone/libiktwobone.la \
 	sdk/ik/librigflow-ik.la -lm
 CLEANFILES += bench/retarget/bench_retarget$(EXEEXT)
-EXTRA_DIST += bench/retarget/run.sh bench/retarget/ratios.mjs bench/retarget/three_retarget.mjs
+EXTRA_DIST += bench/retarget/run.sh bench/retarget/ratios.mjs bench/retarget/three_retarget.mjs \
+	bench/retarget/pipeline.sh
 
 bench-retarget: bench/retarget/bench_retarget$(EXEEXT)
 	$(SHELL) $(srcdir)/bench/retarget/run.sh '$(abs_top_builddir)' $(BENCH_RETARGET_ARGS)

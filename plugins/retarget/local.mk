@@ -10,7 +10,9 @@ plugins_retarget_libretarget_la_SOURCES = \
 	plugins/retarget/rt-frame.c \
 	plugins/retarget/rt-clip.c \
 	plugins/retarget/rt-contact.c \
-	plugins/retarget/rt-measure.c
+	plugins/retarget/rt-measure.c \
+	plugins/retarget/rt-roles.c \
+	plugins/retarget/rt-mesh.c
 plugins_retarget_libretarget_la_LIBADD = -lpthread -lm
 
 plugins_LTLIBRARIES += plugins/retarget.la

@@ -1,6 +1,7 @@
 /* The retarget plugin: node types "retarget" (source clips onto a target skeleton through a
  * mapping, with an optional contact pass through any IK solver) and "retarget.measure" (direction
  * fidelity and foot skate of any target clip). The work is in libretarget. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -149,9 +150,63 @@ static bool rt_contact_pass(rf_retarget *rt, rf_animation *out, const rf_retarge
         host->error(node, "contact pass (%s): %s", solver->api->name, err);
         return false;
     }
-    host->log(node, RF_LOG_INFO,
-              "contact pass (%s): %u feet, %u foot-frames pinned, %u solves, largest miss %.3g",
-              solver->api->name, st.effectors, st.contact_frames, st.solves, st.max_error);
+    if (!st.effectors)
+        host->log(node, RF_LOG_INFO,
+                  "contact pass: no foot to pin (no mapped chain ends near the source's floor "
+                  "with two bones above it): feet follow the clip unpinned");
+    else
+        host->log(node, RF_LOG_INFO,
+                  "contact pass (%s): %u feet, %u foot-frames pinned, %u solves, largest miss %.3g",
+                  solver->api->name, st.effectors, st.contact_frames, st.solves, st.max_error);
+    return true;
+}
+
+/* With the target's skinned mesh connected, the clip stands on the mesh's floor. A mesh that
+ * cannot be used is said in one line; the clip keeps the skeleton's floor. */
+static void rt_mesh_floor(rf_retarget *rt, rf_animation *out, const rf_host *host, rf_node *node)
+{
+    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
+    char err[ERR_SIZE];
+    double shift;
+    if (!mesh)
+        return;
+    if (!rf_retarget_mesh_floor(rt, out, mesh, &shift, err, sizeof err))
+        host->log(node, RF_LOG_INFO, "floor from the skeleton only: %s", err);
+    else
+        host->log(node, RF_LOG_INFO, "on the mesh's floor: root moved %.4g along up", shift);
+}
+
+/* Parts that are not feet kept above the floor, and how often that was needed. */
+static bool rt_parts_pass(rf_retarget *rt, rf_animation *out, const rf_host *host, rf_node *node)
+{
+    rf_rt_parts_stats st;
+    if (!rf_retarget_parts_above(rt, out, &st)) {
+        host->error(node, "out of memory");
+        return false;
+    }
+    if (st.frames)
+        host->log(node, RF_LOG_INFO,
+                  "parts that are not feet lifted over the floor in %u of %u frames (%u turns)",
+                  st.frames, out->frame_count, st.turns);
+    return true;
+}
+
+/* A clip with a non-finite value is refused, naming where, rather than written. */
+static bool rt_finite(const rf_animation *a, const rf_host *host, rf_node *node)
+{
+    size_t n = (size_t)a->frame_count * a->joint_count;
+    for (size_t i = 0; i < n; i++) {
+        const float *q = a->rotations + i * 4, *t = a->translations + i * 3;
+        bool ok = isfinite(q[0]) && isfinite(q[1]) && isfinite(q[2]) && isfinite(q[3]) &&
+                  isfinite(t[0]) && isfinite(t[1]) && isfinite(t[2]);
+        if (ok)
+            continue;
+        host->error(node,
+                    "the retargeted clip has a non-finite value at frame %zu, joint %zu: "
+                    "not written",
+                    i / a->joint_count, i % a->joint_count);
+        return false;
+    }
     return true;
 }
 
@@ -187,7 +242,14 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
               "(root motion x%.4g); source rest: %s",
               info.mapped, target->joint_count, info.shared, info.leg_source, info.leg_target,
               info.root_scale, rest);
-    bool ok = rt_contact_pass(rt, out, o, host, node);
+    if (info.dropped || info.anchored)
+        host->log(node, RF_LOG_INFO,
+                  "%u mapping inputs on or from placement, axis-conversion or helper joints "
+                  "dropped; %u joints placed from the body joint they belong to",
+                  info.dropped, info.anchored);
+    rt_mesh_floor(rt, out, host, node);
+    bool ok = rt_contact_pass(rt, out, o, host, node) && rt_parts_pass(rt, out, host, node) &&
+              rt_finite(out, host, node);
     rf_retarget_free(rt);
     if (!ok) {
         rf_animation_free(out);
@@ -200,6 +262,9 @@ static const rf_port_desc rt_inputs[] = {
     RT_SOURCE_PORTS,
     {sizeof(rf_port_desc), "ik", RF_TYPE_IK_SOLVER, RF_PORT_OPTIONAL,
      "an IK solver (any node of kind ik) for the contact pass; without it feet are not pinned"},
+    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
+     "the target's skinned mesh: the clip is put on its floor (its lowest vertex in the median "
+     "frame on the lowest at rest), not only on the skeleton's"},
 };
 
 static const rf_port_desc rt_outputs[] = {
@@ -266,17 +331,45 @@ static const rf_node_desc rt_node = {
 
 /* ---- retarget.measure ---- */
 
-static void rt_report_json(FILE *f, const rf_rt_report *r)
+/* The mesh measures of one clip as a JSON object. */
+static void rt_mesh_json(FILE *f, const rf_rt_mesh_report *m)
+{
+    fprintf(f,
+            "{\"frames\": %u, \"height\": %.6g, \"seams\": %u, \"seam_p99\": %.6g, "
+            "\"seam_max\": %.6g, \"floor_median\": %.6g, \"floor_p95\": %.6g, \"floating\": "
+            "%.6g, \"sinking\": %.6g, \"parts_below\": %.6g, \"parts_depth\": %.6g, "
+            "\"edges\": %u, \"stretch_p99\": %.6g}",
+            m->frames, m->height, m->seams, m->seam_p99, m->seam_max, m->floor_median, m->floor_p95,
+            m->floating, m->sinking, m->parts_below, m->parts_depth, m->edges, m->stretch_p99);
+}
+
+/* What the mesh measures found, for this clip and the character's own clip (the reference). */
+typedef struct rt_mesh_figures {
+    bool have, have_ref;
+    rf_rt_mesh_report clip, ref;
+} rt_mesh_figures;
+
+static void rt_report_json(FILE *f, const rf_rt_report *r, const rt_mesh_figures *m)
 {
     fprintf(f,
             "{\"fidelity_mean_deg\": %.6g, \"fidelity_p95_deg\": %.6g, \"fidelity_max_deg\": "
             "%.6g, \"bones\": %u, \"skate_target\": %.6g, \"skate_source\": %.6g, "
-            "\"contact_frames\": %u, \"ground_error\": %.6g, \"frames\": %u}\n",
+            "\"contact_frames\": %u, \"ground_error\": %.6g, \"frames\": %u",
             r->fidelity_mean, r->fidelity_p95, r->fidelity_max, r->fidelity_bones, r->skate_target,
             r->skate_source, r->contact_frames, r->ground_error, r->frames);
+    if (m->have) {
+        fputs(", \"mesh\": ", f);
+        rt_mesh_json(f, &m->clip);
+    }
+    if (m->have_ref) {
+        fputs(", \"mesh_reference\": ", f);
+        rt_mesh_json(f, &m->ref);
+    }
+    fputs("}\n", f);
 }
 
-static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_report *r)
+static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_report *r,
+                            const rt_mesh_figures *m)
 {
     const char *path = host->param_string(node, "path");
     if (!*path)
@@ -286,12 +379,60 @@ static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_repo
         host->error(node, "cannot write %s", host->param_output_target(node, "path"));
         return false;
     }
-    rt_report_json(f, r);
+    rt_report_json(f, r, m);
     if (fclose(f) != 0) {
         host->error(node, "cannot write %s", host->param_output_target(node, "path"));
         return false;
     }
     return true;
+}
+
+/* One line of mesh figures: this clip's, and beside each the reference clip's. */
+static void rt_mesh_line(const char *label, const rt_mesh_figures *m)
+{
+    const rf_rt_mesh_report *c = &m->clip, *r = m->have_ref ? &m->ref : NULL;
+    printf("%s: mesh (%u frames, %% of height%s): torn p99 %.2f%s", label, c->frames,
+           r ? ", own clip in brackets" : "", 100 * c->seam_p99, r ? "" : "");
+    if (r)
+        printf(" [%.2f]", 100 * r->seam_p99);
+    printf("; floor median %+.1f p95 %.1f", 100 * c->floor_median, 100 * c->floor_p95);
+    if (r)
+        printf(" [%+.1f, %.1f]", 100 * r->floor_median, 100 * r->floor_p95);
+    printf(" (floating %.0f%%, sinking %.0f%% of frames); parts under the floor %.0f%% of "
+           "frames, %.1f deep",
+           100 * c->floating, 100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
+    if (r)
+        printf(" [%.0f%%]", 100 * r->parts_below);
+    printf("; stretch p99 %.1f", 100 * c->stretch_p99);
+    if (r)
+        printf(" [%.1f]", 100 * r->stretch_p99);
+    printf("\n");
+}
+
+/* The mesh measures, when a skinned mesh is connected: a mesh that cannot be measured is said
+ * in one line and does not fail the node. */
+static void rt_measure_mesh(const rf_host *host, rf_node *node, rf_retarget *rt, double start,
+                            const rf_skeleton *target, rt_mesh_figures *m)
+{
+    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
+    if (!mesh)
+        return;
+    const rf_animation *ref =
+        host->input_count(node, "reference") ? host->input(node, "reference", 0) : NULL;
+    uint32_t frames = (uint32_t)host->param_int(node, "mesh_frames");
+    char err[ERR_SIZE];
+    const char *label = host->param_string(node, "label");
+    label = *label ? label : host->node_id(node);
+    m->have = rf_retarget_mesh_measure(rt, mesh, host->input(node, "animation", 0), start, frames,
+                                       &m->clip, err, sizeof err);
+    if (!m->have) {
+        host->log(node, RF_LOG_INFO, "no mesh measures: %s", err);
+        return;
+    }
+    m->have_ref =
+        ref && ref->frame_count > 1 &&
+        rf_rt_mesh_measure(target, mesh, ref, rf_v3(0, 0, 0), frames, &m->ref, err, sizeof err);
+    rt_mesh_line(label, m);
 }
 
 static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
@@ -317,30 +458,39 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
                        : 0;
     bool ok =
         rt && series && rf_retarget_measure_series(rt, anim, start, &r, series, err, sizeof err);
-    rf_retarget_free(rt);
     if (!ok) {
         if (rt && !series)
             snprintf(err, sizeof err, "out of memory");
+        rf_retarget_free(rt);
         host->error(node, "%s", err);
         rf_measures_free(series);
         return false;
     }
-    if (!host->set_output(node, "measures", series, rf_measures_free))
+    if (!host->set_output(node, "measures", series, rf_measures_free)) {
+        rf_retarget_free(rt);
         return false;
+    }
     const char *label = host->param_string(node, "label");
     printf("%s: direction fidelity %.2f deg mean (p95 %.2f, max %.2f) over %u bones x %u frames; "
            "foot skate %.4f leg/s (source %.4f) over %u contact frames; ground error %.3f leg\n",
            *label ? label : host->node_id(node), r.fidelity_mean, r.fidelity_p95, r.fidelity_max,
            r.fidelity_bones, r.frames, r.skate_target, r.skate_source, r.contact_frames,
            r.ground_error);
+    rt_mesh_figures mf = {0};
+    rt_measure_mesh(host, node, rt, start, target, &mf);
+    rf_retarget_free(rt);
     fflush(stdout);
-    return rt_write_report(host, node, &r);
+    return rt_write_report(host, node, &r, &mf);
 }
 
 static const rf_port_desc rt_measure_inputs[] = {
     RT_SOURCE_PORTS,
     {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0,
      "the target clip to measure (from retarget, or any other tool)"},
+    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
+     "the target's skinned mesh: adds the measures on the mesh (torn limbs, floor, stretch)"},
+    {sizeof(rf_port_desc), "reference", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
+     "a clip of the target's own, measured on the mesh the same way as the reference"},
 };
 
 static const rf_port_desc rt_measure_outputs[] = {
@@ -352,6 +502,8 @@ static const rf_param_desc rt_measure_params[] = {
     RT_PLAN_PARAMS,
     {sizeof(rf_param_desc), "first_frame", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1e9, NULL,
      "the source frame the measured clip starts at (retarget's first_frame)"},
+    {sizeof(rf_param_desc), "mesh_frames", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 24, NULL, 1, 1e6, NULL,
+     "frames spread over the clip that the mesh measures skin (they cost a skinning each)"},
     {sizeof(rf_param_desc), "label", RF_PARAM_STRING, 0, 0, "", 0, 0, NULL,
      "text before the figures (default: the node id)"},
     {sizeof(rf_param_desc), "path", RF_PARAM_OUTPUT_PATH, 0, 0, "", 0, 0, NULL,

@@ -132,6 +132,18 @@ typedef struct rf_rt_contact_stats {
 bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solver *solver,
                           rf_rt_contact_stats *stats, char *err, size_t err_size);
 
+/* What keeping the parts that are not feet above the floor did. */
+typedef struct rf_rt_parts_stats {
+    uint32_t frames; /* frames in which a part was lifted */
+    uint32_t turns;  /* joints turned to lift one */
+} rf_rt_parts_stats;
+
+/* Keeps driven joints that are not feet (high in the aligned rest: wings, tails, a quadruped's
+ * chest or head, hands) above the target's floor: a joint whose pivot goes under it is lifted
+ * onto it by turning its nearest driven ancestor standing over the floor, the part keeping its
+ * horizontal direction. Run after the contact pass on its output. False when out of memory. */
+bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *stats);
+
 /* ---- facts found at set-up ---- */
 
 typedef struct rf_rt_info {
@@ -147,6 +159,10 @@ typedef struct rf_rt_info {
     uint32_t mapped;     /* target joints with inputs */
     uint32_t shared;     /* unmapped target joints sharing a chain's rotation */
     uint32_t effectors;  /* candidate end effectors for the contact pass */
+    uint32_t dropped;    /* mapping inputs dropped: on target placement, axis or helper joints,
+                          * or from source placement or axis joints */
+    uint32_t anchored;   /* target joints placed from the body joint they belong to (their
+                          * hierarchy parent does not carry them) */
 } rf_rt_info;
 
 void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info);
@@ -173,9 +189,10 @@ typedef struct rf_rt_report {
 } rf_rt_report;
 
 /* Measures `anim` (a clip for the plan's target whose frame 0 is at time `start` of the source
- * clips, at its own fps) against the plan's sources. Works on any such clip, ours or another
- * tool's. Returns false with a message when the clip does not fit the target or memory runs
- * out. */
+ * clips, at its own fps) against the plan's sources; a clip longer than 1024 frames on one frame
+ * in k (at most 1024 frames, contacts and speeds read on that timeline; `frames` says how many).
+ * Works on any such clip, ours or another tool's. Returns false with a message when the clip does
+ * not fit the target or memory runs out. */
 bool rf_retarget_measure(rf_retarget *rt, const rf_animation *anim, double start,
                          rf_rt_report *report, char *err, size_t err_size);
 /* The same, also appending the per-frame figures to `series` (may be NULL) when it is made for
@@ -183,6 +200,54 @@ bool rf_retarget_measure(rf_retarget *rt, const rf_animation *anim, double start
 bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, double start,
                                 rf_rt_report *report, rf_measures *series, char *err,
                                 size_t err_size);
+
+/* ---- measures on the skinned mesh (rt-mesh.c) ---- */
+
+/* What a person sees of a clip on a skinned character, from sampled frames (linear blend
+ * skinning of the mesh by the clip's poses). Lengths are fractions of the mesh's rest height
+ * (its extent along up when skinned in the skeleton's rest pose). */
+typedef struct rf_rt_mesh_report {
+    uint32_t frames; /* frames sampled */
+    double height;   /* rest height of the mesh, model units */
+    uint32_t seams;  /* pairs of vertices close at rest that follow different joints */
+    double seam_p99; /* torn limbs: p99 over seams and frames of how far apart each pair
+                      * drifted from its rest distance */
+    double seam_max;
+    double floor_median; /* the lowest vertex over the rest floor (lowest rest vertex), per frame,
+                          * signed (negative: sinking): the median frame */
+    double floor_p95;    /* p95 over frames of its distance from the floor, either way */
+    double floating;     /* fraction of frames whose lowest vertex is over 3% above the floor */
+    double sinking;      /* ... over 3% below it */
+    double parts_below;  /* fraction of frames where a part high at rest (over 15% of the height:
+                          * not a foot; a wing, a tail, a head) goes over 1% under the floor */
+    double parts_depth;  /* the deepest such part, under the floor */
+    uint32_t edges;      /* mesh edges measured */
+    double stretch_p99;  /* p99 over edges and frames of |length / rest length - 1| */
+} rf_rt_mesh_report;
+
+/* Puts a clip of this plan (rf_retarget_clip's output) on the floor of the target's skinned
+ * mesh: the lowest vertex of the median sampled frame (up to 32 frames spread over the clip) is
+ * brought to the lowest vertex of the mesh at rest, by moving the root-motion joints along up
+ * (anchored joints follow). Bone tips and joints say where a foot ends only roughly; the mesh
+ * is what stands on the floor. *shift gets the move (target units along up, may be NULL). False
+ * with a message when the mesh is not skinned to the target (the clip is left as it was). */
+bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
+                            char *err, size_t err_size);
+
+/* rf_rt_mesh_measure of a clip of this plan (frame 0 at time `start` of the sources), its floor
+ * figures counted from where the source is: in each sampled frame the target's lowest vertex is
+ * compared with the floor raised by how far the source's lowest point is over its own floor,
+ * scaled by the legs (a jump is in the air on both sides, and is no float). */
+bool rf_retarget_mesh_measure(rf_retarget *rt, const rf_mesh *mesh, const rf_animation *anim,
+                              double start, uint32_t max_frames, rf_rt_mesh_report *report,
+                              char *err, size_t err_size);
+
+/* Measures `anim` (a clip for `skeleton`) on `mesh` skinned to it, over at most `max_frames`
+ * frames spread over the clip (0: 24). `up` is the skeleton's up (zero: the skeleton's own, or
+ * +Y). False with a message when the mesh is not skinned to this skeleton or memory runs out. */
+bool rf_rt_mesh_measure(const rf_skeleton *skeleton, const rf_mesh *mesh, const rf_animation *anim,
+                        rf_vec3 up, uint32_t max_frames, rf_rt_mesh_report *report, char *err,
+                        size_t err_size);
 
 #ifdef __cplusplus
 }

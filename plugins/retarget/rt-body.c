@@ -81,6 +81,8 @@ typedef struct rt_axes {
     rf_vec3 up, forward, left, center;
     double size;
     uint8_t *centerline; /* [n] or NULL: joints the analysis puts on the centerline */
+    int32_t *logical;    /* [n] or NULL: parents in the analysed tree (a part hanging from a
+                          * placement root or a root of its own, attached where it sits) */
 } rt_axes;
 
 static bool rt_analyse(const rf_skeleton *s, const rf_xform *local, const rf_xform *world,
@@ -120,6 +122,8 @@ static bool rt_analyse(const rf_skeleton *s, const rf_xform *local, const rf_xfo
     axes->size = a->size > 0 ? a->size : 1;
     for (uint32_t j = 0; axes->centerline && j < s->joint_count; j++)
         axes->centerline[j] = a->joints[j].side == RF_SIDE_CENTER;
+    for (uint32_t j = 0; axes->logical && j < s->joint_count; j++)
+        axes->logical[j] = a->joints[j].logical_parent;
     rf_analysis_free(a);
     return true;
 }
@@ -181,7 +185,7 @@ bool rf_rt_sources_prepare(rf_retarget *rt, char *err, size_t err_size)
             src->parent[j] = src->skel->joints[j].parent;
         if (!rt_source_rest(rt, src, err, err_size))
             return false;
-        rt_axes axes = {.centerline = NULL};
+        rt_axes axes = {.centerline = NULL, .logical = NULL};
         if (!rt_analyse(src->skel, src->rest_local, src->rest_world, src->tip, &axes)) {
             rf_rt_fail(err, err_size, "out of memory");
             return false;
@@ -192,6 +196,144 @@ bool rf_rt_sources_prepare(rf_retarget *rt, char *err, size_t err_size)
     return true;
 }
 
+/* A skeleton of the target's body joints only: from[k] is the target joint of joint k, parent[k]
+ * its parent (an index in the same list, always smaller), each at the same world rest. */
+typedef struct rt_body_view {
+    rf_skeleton skel;
+    rf_joint *joints;
+    rf_xform *local, *world;
+    uint32_t *from;
+} rt_body_view;
+
+static void rt_body_view_free(rt_body_view *v)
+{
+    free(v->joints), free(v->local), free(v->world), free(v->from);
+}
+
+/* The body joints `from` (count of them, in an order where each parent in `bparent`, a target
+ * joint or -1, comes first) as a skeleton. */
+static bool rt_body_view_make(const rf_retarget *rt, const uint32_t *order, const int32_t *bparent,
+                              uint32_t count, rt_body_view *v)
+{
+    const rf_skeleton *t = rt->target;
+    int32_t *at = malloc(rt->n * sizeof *at);
+    v->joints = malloc(count * sizeof *v->joints);
+    v->local = malloc(count * sizeof *v->local), v->world = malloc(count * sizeof *v->world);
+    v->from = malloc(count * sizeof *v->from);
+    if (!at || !v->joints || !v->local || !v->world || !v->from) {
+        free(at);
+        return false;
+    }
+    for (uint32_t k = 0; k < count; k++)
+        at[order[k]] = (int32_t)k;
+    for (uint32_t k = 0; k < count; k++) {
+        uint32_t j = order[k];
+        int32_t p = bparent[j];
+        v->from[k] = j;
+        v->joints[k] = t->joints[j];
+        v->joints[k].parent = p >= 0 ? at[p] : RF_RT_NONE;
+        v->world[k] = rt->t_rest_world[j];
+        v->local[k] = v->joints[k].rest =
+            p >= 0 ? rf_xform_mul(rf_xform_invert(rt->t_rest_world[p]), v->world[k]) : v->world[k];
+    }
+    free(at);
+    v->skel = *t;
+    v->skel.joint_count = count, v->skel.joints = v->joints;
+    if (RF_HAS_FIELD(t, rf_skeleton, bind))
+        v->skel.bind = NULL;
+    return true;
+}
+
+/* Orders the body joints so each comes after its parent in `bparent` (a parent that would come
+ * after is dropped). */
+static uint32_t rt_body_order(const rf_retarget *rt, int32_t *bparent, uint32_t *order)
+{
+    const uint8_t *role = rt->t_roles->role;
+    uint8_t *placed = calloc(rt->n, 1);
+    uint32_t count = 0, want = 0;
+    if (!placed)
+        return 0;
+    for (uint32_t j = 0; j < rt->n; j++)
+        want += role[j] == RF_ROLE_BODY;
+    for (uint32_t pass = 0; count < want; pass++) {
+        uint32_t before = count;
+        for (uint32_t j = 0; j < rt->n; j++)
+            if (role[j] == RF_ROLE_BODY && !placed[j] && (bparent[j] < 0 || placed[bparent[j]]))
+                order[count++] = j, placed[j] = 1;
+        if (count == before) /* a cycle: the rest hang from nothing */
+            for (uint32_t j = 0; j < rt->n; j++)
+                if (role[j] == RF_ROLE_BODY && !placed[j])
+                    bparent[j] = RF_RT_NONE;
+    }
+    free(placed);
+    return count;
+}
+
+/* Analyses one body view, results mapped back to the target's joints. */
+static bool rt_body_analyse(rf_retarget *rt, rt_body_view *v, uint32_t count, rt_axes *axes)
+{
+    int32_t *logical = malloc(count * sizeof *logical);
+    rf_vec3 *tip = calloc(count, sizeof *tip);
+    uint8_t *center = calloc(count, 1);
+    rt_axes ba = {.centerline = center, .logical = logical};
+    bool ok = logical && tip && center && rt_analyse(&v->skel, v->local, v->world, tip, &ba);
+    for (uint32_t j = 0; ok && j < rt->n; j++) {
+        rt->t_tip[j] = rf_v3(0, 0, 0), rt->t_centerline[j] = 0;
+        rt->t_logical[j] = rt->target->joints[j].parent;
+    }
+    for (uint32_t k = 0; ok && k < count; k++) {
+        uint32_t j = v->from[k];
+        rt->t_tip[j] = tip[k], rt->t_centerline[j] = center[k];
+        rt->t_logical[j] = logical[k] >= 0 ? (int32_t)v->from[logical[k]] : RF_RT_NONE;
+    }
+    if (ok)
+        *axes = (rt_axes){ba.up,   ba.forward,       ba.left,      ba.center,
+                          ba.size, axes->centerline, axes->logical};
+    free(logical), free(tip), free(center);
+    return ok;
+}
+
+/* The target analysed on its body alone: placement roots, axis nodes and helpers left out, each
+ * body joint hung from its nearest body ancestor, then (a second time) a part hanging from no
+ * body joint (a foot under a placement root, a leg that is a root of its own) hung from where
+ * the first analysis attached it, always at the same world rest. The tips, axes and tree the
+ * analysis finds are then the plain rig's however the body is rigged around: an IK rig's
+ * placement root at the feet would otherwise hang from a knee by proximity and turn its tip,
+ * and feet as roots change the rig's bone-axis vote. */
+static bool rt_target_analyse(rf_retarget *rt, const rf_xform *local, rt_axes *axes)
+{
+    const rf_skeleton *t = rt->target;
+    const uint8_t *role = rt->t_roles->role;
+    uint32_t n = rt->n, nb = 0, roots = 0;
+    for (uint32_t j = 0; j < n; j++)
+        nb += role[j] == RF_ROLE_BODY;
+    if (!nb || nb == n)
+        return rt_analyse(t, local, rt->t_rest_world, rt->t_tip, axes);
+    int32_t *bparent = malloc(n * sizeof *bparent);
+    uint32_t *order = malloc(n * sizeof *order);
+    bool ok = bparent && order;
+    for (uint32_t j = 0; ok && j < n; j++) {
+        int32_t p = t->joints[j].parent;
+        while (p >= 0 && role[p] != RF_ROLE_BODY)
+            p = t->joints[p].parent;
+        bparent[j] = p;
+        roots += role[j] == RF_ROLE_BODY && p < 0;
+    }
+    for (int pass = 0; ok && pass < (roots > 1 ? 2 : 1); pass++) {
+        rt_body_view v = {0};
+        uint32_t count = rt_body_order(rt, bparent, order);
+        ok = count && rt_body_view_make(rt, order, bparent, count, &v) &&
+             rt_body_analyse(rt, &v, count, axes);
+        rt_body_view_free(&v);
+        for (uint32_t j = 0; ok && pass == 0 && j < n; j++) /* roots hung where attached */
+            if (role[j] == RF_ROLE_BODY && bparent[j] < 0 && rt->t_logical[j] >= 0 &&
+                !rf_rt_carries(t, (int32_t)j, (uint32_t)rt->t_logical[j]))
+                bparent[j] = rt->t_logical[j];
+    }
+    free(bparent), free(order);
+    return ok;
+}
+
 bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
 {
     const rf_skeleton *t = rt->target;
@@ -200,7 +342,8 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
     rt->t_rest_world = malloc(n * sizeof *rt->t_rest_world);
     rt->t_tip = calloc(n, sizeof *rt->t_tip);
     rt->t_centerline = calloc(n, 1);
-    if (!local || !rt->t_rest_world || !rt->t_tip || !rt->t_centerline) {
+    rt->t_logical = malloc(n * sizeof *rt->t_logical);
+    if (!local || !rt->t_rest_world || !rt->t_tip || !rt->t_centerline || !rt->t_logical) {
         free(local);
         rf_rt_fail(err, err_size, "out of memory");
         return false;
@@ -208,8 +351,9 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
     for (uint32_t j = 0; j < rt->n; j++)
         local[j] = t->joints[j].rest;
     rt_world(t, local, rt->t_rest_world);
-    rt_axes axes = {.centerline = rt->t_centerline};
-    bool ok = rt_analyse(t, local, rt->t_rest_world, rt->t_tip, &axes);
+    rt_axes axes = {.centerline = rt->t_centerline, .logical = rt->t_logical};
+    rt->t_roles = rf_joint_roles_find(t, NULL, NULL, 0);
+    bool ok = rt->t_roles && rt_target_analyse(rt, local, &axes);
     free(local);
     if (!ok) {
         rf_rt_fail(err, err_size, "out of memory");
@@ -238,12 +382,21 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
 /* Lowest height along up of the joints of `s` posed in `world` and of their tips; unweighted
  * helpers (IK targets, sockets) and the joints in `above` (placement roots above the hips, may
  * be NULL) do not count. */
+bool rf_rt_weights_known(const rf_skeleton *s)
+{
+    uint32_t weighted = 0;
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        weighted += !(s->joints[j].flags & RF_JOINT_UNWEIGHTED);
+    return weighted * 4 >= s->joint_count;
+}
+
 static double rt_lowest(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
                         const uint8_t *above)
 {
     double low = INFINITY;
+    bool known = rf_rt_weights_known(s);
     for (uint32_t j = 0; j < s->joint_count; j++) {
-        if ((s->joints[j].flags & RF_JOINT_UNWEIGHTED) || (above && above[j]))
+        if ((known && (s->joints[j].flags & RF_JOINT_UNWEIGHTED)) || (above && above[j]))
             continue;
         low = fmin(low, rf_rt_height(up, world[j].t));
         if (rf_v3_len2(tip[j]) > 0)
@@ -252,25 +405,26 @@ static double rt_lowest(const rf_skeleton *s, const rf_xform *world, const rf_ve
     return isfinite(low) ? low : 0;
 }
 
-/* Whether joint j has children. */
-static bool rt_has_children(const rf_skeleton *s, uint32_t j)
+/* Whether joint j has children (parents given per joint). */
+static bool rt_has_children(const rf_skeleton *s, const int32_t *parent, uint32_t j)
 {
-    for (uint32_t c = j + 1; c < s->joint_count; c++)
-        if (s->joints[c].parent == (int32_t)j)
+    for (uint32_t c = 0; c < s->joint_count; c++)
+        if (parent[c] == (int32_t)j)
             return true;
     return false;
 }
 
 /* The joint whose height is the hip height: from j down while it has exactly one child besides
  * unweighted leaves (placement roots, armature nodes and ground roots sit above the hips; IK
- * targets and sockets hang from them). */
-static uint32_t rt_hip_below(const rf_skeleton *s, uint32_t j)
+ * targets and sockets hang from them). `parent` is the tree to walk: the file's, or the body
+ * parents that carry a leg hanging elsewhere (a forest's, a placement root's) back to its hips. */
+static uint32_t rt_hip_below(const rf_skeleton *s, const int32_t *parent, uint32_t j)
 {
     for (int guard = 0; guard < 64; guard++) {
         uint32_t only = 0, count = 0;
-        for (uint32_t c = j + 1; c < s->joint_count; c++)
-            if (s->joints[c].parent == (int32_t)j &&
-                (!(s->joints[c].flags & RF_JOINT_UNWEIGHTED) || rt_has_children(s, c)))
+        for (uint32_t c = 0; c < s->joint_count; c++)
+            if (parent[c] == (int32_t)j &&
+                (!(s->joints[c].flags & RF_JOINT_UNWEIGHTED) || rt_has_children(s, parent, c)))
                 only = c, count++;
         if (count != 1)
             break;
@@ -358,7 +512,7 @@ static bool rt_source_ground(rf_retarget *rt, uint32_t k)
     if (!above)
         return false;
     int32_t hip = rt_hip_of(rt, k);
-    uint32_t h = rt_hip_below(src->skel, hip >= 0 ? (uint32_t)hip : 0);
+    uint32_t h = rt_hip_below(src->skel, src->parent, hip >= 0 ? (uint32_t)hip : 0);
     rt_mark_above(src->skel, h, above);
     double lowest = rt_lowest(src->skel, src->rest_world, src->tip, src->up, above);
     src->leg = rf_rt_height(src->up, src->rest_world[h].t) - lowest;
@@ -428,7 +582,7 @@ static bool rt_target_leg(rf_retarget *rt, double *leg)
         world[j] = p < 0 ? x : rf_xform_mul(world[p], x);
     }
     int32_t hip = rt_target_hip(rt);
-    uint32_t h = rt_hip_below(rt->target, hip >= 0 ? (uint32_t)hip : 0);
+    uint32_t h = rt_hip_below(rt->target, rt->lparent, hip >= 0 ? (uint32_t)hip : 0);
     rt_mark_above(rt->target, h, rt->t_above);
     double lowest = rt_lowest(rt->target, world, rt->t_tip, rt->up, rt->t_above);
     *leg = rf_rt_height(rt->up, world[h].t) - lowest;
@@ -502,7 +656,8 @@ static bool rt_clip_lows(rf_retarget *rt, const rf_animation *out, double *low_t
     bool ok = lt && ls && local && world && rot && tr && above && samples;
     if (ok) {
         int32_t hip = rt_hip_of(rt, 0);
-        rt_mark_above(src->skel, rt_hip_below(src->skel, hip >= 0 ? (uint32_t)hip : 0), above);
+        rt_mark_above(src->skel, rt_hip_below(src->skel, src->parent, hip >= 0 ? (uint32_t)hip : 0),
+                      above);
         double start = rf_retarget_start_time(rt);
         for (uint32_t i = 0; i < samples; i++) {
             uint32_t f = samples > 1 ? (uint32_t)((uint64_t)i * (frames - 1) / (samples - 1)) : 0;
@@ -531,8 +686,8 @@ static double rt_median(double *v, uint32_t count)
 
 /* How far the target's feet in contact sit from where the source's say they should (their soles
  * over the target floor as the source's over theirs, in leg lengths): the median over one frame
- * in 16 (at least 16, at most 128) spread over the clip, contacts read on that coarser timeline. False (and no figure)
- * without a contact in those frames or when out of memory. */
+ * in 16 (at least 16, at most 128) spread over the clip, contacts read on that coarser timeline.
+ * False (and no figure) without a contact in those frames or when out of memory. */
 static bool rt_contact_shift(rf_retarget *rt, const rf_animation *out, double *shift)
 {
     uint32_t frames = out->frame_count, aim = frames / 16;
@@ -583,15 +738,32 @@ bool rf_rt_ground_fix(rf_retarget *rt, rf_animation *out)
         shift = (low_s - low_t) * rt->leg_target;
     }
     rt->ground_shift = shift;
+    return rf_rt_lift(rt, out, shift);
+}
+
+bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift)
+{
     rf_vec3 lift = rf_v3_scale(rt->up, shift);
+    bool moved = false;
     for (uint32_t j = 0; j < rt->n; j++) {
         if (!rt->tj[j].root_motion)
             continue;
         rf_vec3 d = rf_quat_rotate(rt->tj[j].parent_world_inv.r, lift);
         d = rf_v3_mul(rt->tj[j].parent_world_inv.s, d);
+        moved = true;
         for (uint32_t f = 0; f < out->frame_count; f++)
             rf_animation_set_translation(out, f, j,
                                          rf_v3_add(rf_animation_translation(out, f, j), d));
     }
+    if (!moved || !rt->anchored)
+        return true;
+    /* Anchored joints hang from placement joints that did not move: place them again. */
+    rf_xform *tw = malloc(rt->n * sizeof *tw);
+    if (!tw)
+        return false;
+    for (uint32_t f = 0; f < out->frame_count; f++)
+        rf_rt_place_anchored(rt, out->rotations + (size_t)f * rt->n * 4,
+                             out->translations + (size_t)f * rt->n * 3, NULL, tw);
+    free(tw);
     return true;
 }

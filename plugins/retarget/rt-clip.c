@@ -223,9 +223,17 @@ void rf_rt_target_fk(const rf_retarget *rt, const rf_animation *anim, uint32_t f
 void rf_rt_source_world(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
                         rf_xform *world, float *rot, float *tr)
 {
+    rf_rt_source_world_some(rt, k, t, local, world, rot, tr, NULL);
+}
+
+void rf_rt_source_world_some(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
+                             rf_xform *world, float *rot, float *tr, const uint8_t *need)
+{
     const rf_rt_src *src = &rt->src[k];
     rf_rt_sample(src->anim, t, rot, tr);
     for (uint32_t j = 0; j < src->n; j++) {
+        if (need && !need[j])
+            continue;
         const float *q = rot + j * 4, *p = tr + j * 3;
         local[j].r = rf_quat_normalize(rf_quat_make(q[0], q[1], q[2], q[3]));
         local[j].t = rf_v3(p[0], p[1], p[2]);

@@ -37,9 +37,11 @@ bool rf_rt_effectors_prepare(rf_retarget *rt)
         free(mp);
         return false;
     }
-    for (uint32_t j = 0; j < rt->n; j++) {
-        int32_t p = rt->tj[j].parent;
-        mp[j] = p < 0 ? RF_RT_NONE : rt->tj[p].kind == RF_RT_MAPPED ? p : mp[p];
+    for (uint32_t j = 0; j < rt->n; j++) { /* along body parents: an anchored foot's is its shin */
+        int32_t p = rt->lparent[j];
+        for (uint32_t guard = 0; p >= 0 && rt->tj[p].kind != RF_RT_MAPPED && guard < rt->n; guard++)
+            p = rt->lparent[p];
+        mp[j] = p;
     }
     const double low = 0.25;
     for (uint32_t e = 0; e < rt->n; e++) {
@@ -49,8 +51,8 @@ bool rf_rt_effectors_prepare(rf_retarget *rt)
         uint32_t f = e;
         while (mp[f] >= 0 && rt_source_height(rt, (uint32_t)mp[f]) <= low)
             f = (uint32_t)mp[f];
-        int32_t p = rt->tj[f].parent;
-        if (p < 0 || rt->tj[p].parent < 0 || rt->tj[f].root_motion)
+        int32_t p = rt->lparent[f];
+        if (p < 0 || rt->lparent[p] < 0 || rt->tj[f].root_motion)
             continue;
         bool seen = false;
         for (uint32_t i = 0; i < rt->effector_count; i++)
@@ -77,6 +79,24 @@ static uint32_t rt_effector_slot(const rf_retarget *rt, uint32_t e)
     return rt->in[rt->tj[rt->effectors[e]].first_input].slot;
 }
 
+/* The source joints the tracks of slot s read: each effector's source joint, everything below
+ * it (its sole) and its ancestors. */
+static void rt_track_need(const rf_retarget *rt, uint32_t s, uint8_t *need)
+{
+    const rf_rt_src *src = &rt->src[rt->slots[s].source];
+    memset(need, 0, src->n);
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        if (rt_effector_slot(rt, e) != s)
+            continue;
+        int32_t j = (int32_t)rt->in[rt->tj[rt->effectors[e]].first_input].joint;
+        for (int32_t a = j; a >= 0 && !need[a]; a = src->parent[a])
+            need[a] = 1;
+        for (uint32_t c = (uint32_t)j + 1; c < src->n; c++)
+            need[c] = need[c] || (src->parent[c] >= j && need[src->parent[c]] &&
+                                  rf_rt_carries(src->skel, j, c));
+    }
+}
+
 /* World positions of every effector's source joint at each output frame, and the heights of
  * their soles over the source floor in source leg lengths, each at its input's sample time
  * (half a cycle away for a mirrored input). */
@@ -86,16 +106,19 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
     size_t m = rt->max_src_n;
     rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
     float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
-    bool ok = local && world && rot && tr;
+    uint8_t *need = malloc(m ? m : 1);
+    bool ok = local && world && rot && tr && need;
     for (uint32_t s = 0; ok && s < rt->slot_count; s++) {
         bool used = false;
         for (uint32_t e = 0; e < rt->effector_count; e++)
             used = used || rt_effector_slot(rt, e) == s;
+        if (used)
+            rt_track_need(rt, s, need);
         for (uint32_t f = 0; used && f < frames; f++) {
             uint32_t k = rt->slots[s].source;
             const rf_rt_src *src = &rt->src[k];
-            rf_rt_source_world(rt, k, rf_rt_slot_time(rt, s, start + f / fps), local, world, rot,
-                               tr);
+            rf_rt_source_world_some(rt, k, rf_rt_slot_time(rt, s, start + f / fps), local, world,
+                                    rot, tr, need);
             for (uint32_t e = 0; e < rt->effector_count; e++) {
                 if (rt_effector_slot(rt, e) != s)
                     continue;
@@ -106,7 +129,7 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
             }
         }
     }
-    free(local), free(world), free(rot), free(tr);
+    free(local), free(world), free(rot), free(tr), free(need);
     return ok;
 }
 
@@ -171,6 +194,18 @@ uint8_t *rf_rt_detect_contacts(const rf_retarget *rt, uint32_t frames, double fp
 typedef struct rt_pin_work {
     rf_xform *local, *world, *before;
     int32_t *parents;
+    /* The IK problem: chains of two bones up each effector's body parents, three joints a goal,
+     * posed from the frame's world transforms (so a foot placed from its shin under a placement
+     * root solves as one hanging from it). */
+    uint32_t *chain;    /* [eff * 3] target joints: hip, knee, effector */
+    int32_t *cparent;   /* [eff * 3] */
+    rf_xform *clocal;   /* [eff * 3] */
+    rf_xform *want;     /* [n] solved world transforms */
+    uint8_t *solved;    /* [n] */
+    uint8_t *need;      /* [n] joints whose world the pass reads: the feet, what is below them
+                         * (their soles), their chains and the ancestors of all these */
+    uint32_t *below;    /* each effector's joints below it, itself first, effector after effector */
+    uint32_t *below_at; /* [eff + 1] where each effector's run starts in below */
     rf_ik_goal *goals;
     rf_vec3 *target_pos; /* [eff][frames] target effector positions before pinning */
     double *target_sole; /* [eff][frames] heights of the target feet's soles */
@@ -181,7 +216,47 @@ typedef struct rt_pin_work {
 static void rt_pin_work_free(rt_pin_work *w)
 {
     free(w->local), free(w->world), free(w->before), free(w->parents), free(w->goals);
+    free(w->chain), free(w->cparent), free(w->clocal), free(w->want), free(w->solved);
+    free(w->need), free(w->below), free(w->below_at);
     free(w->target_pos), free(w->target_sole), free(w->src_sole), free(w->pin);
+}
+
+/* Marks j and its hierarchy ancestors in need. */
+static void rt_need_up(const rf_retarget *rt, uint8_t *need, int32_t j)
+{
+    for (; j >= 0 && !need[j]; j = rt->target->joints[j].parent)
+        need[j] = 1;
+}
+
+/* The joints the pass reads, and each effector's joints below it. */
+static void rt_pin_need(const rf_retarget *rt, rt_pin_work *w)
+{
+    uint32_t at = 0;
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        int32_t eff = (int32_t)rt->effectors[e], knee = rt->lparent[eff];
+        rt_need_up(rt, w->need, eff);
+        rt_need_up(rt, w->need, knee);
+        rt_need_up(rt, w->need, knee >= 0 ? rt->lparent[knee] : RF_RT_NONE);
+        w->below_at[e] = at;
+        for (uint32_t c = (uint32_t)eff; c < rt->n; c++)
+            if (rf_rt_carries(rt->target, eff, c))
+                w->below[at++] = c, w->need[c] = 1;
+    }
+    w->below_at[rt->effector_count] = at;
+}
+
+/* The lowest height of effector e's joints and tips (its sole) in world. */
+static double rt_pin_sole(const rf_retarget *rt, const rt_pin_work *w, uint32_t e,
+                          const rf_xform *world)
+{
+    double low = INFINITY;
+    for (uint32_t i = w->below_at[e]; i < w->below_at[e + 1]; i++) {
+        uint32_t c = w->below[i];
+        low = fmin(low, rf_rt_height(rt->up, world[c].t));
+        if (rf_v3_len2(rt->t_tip[c]) > 0)
+            low = fmin(low, rf_rt_height(rt->up, rf_xform_point(world[c], rt->t_tip[c])));
+    }
+    return low;
 }
 
 static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t frames)
@@ -196,9 +271,20 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
     w->target_sole = malloc((ef ? ef : 1) * sizeof *w->target_sole);
     w->src_sole = malloc((ef ? ef : 1) * sizeof *w->src_sole);
     w->pin = malloc((ef ? ef : 1) * sizeof *w->pin);
+    size_t c = (rt->effector_count ? rt->effector_count : 1) * 3;
+    w->chain = malloc(c * sizeof *w->chain);
+    w->cparent = malloc(c * sizeof *w->cparent);
+    w->clocal = malloc(c * sizeof *w->clocal);
+    w->want = malloc(n * sizeof *w->want);
+    w->solved = malloc(n ? n : 1);
+    w->need = calloc(n ? n : 1, 1);
+    w->below = malloc((c / 3 * n + 1) * sizeof *w->below);
+    w->below_at = malloc((c / 3 + 1) * sizeof *w->below_at);
     if (!w->local || !w->world || !w->before || !w->parents || !w->goals || !w->target_pos ||
-        !w->target_sole || !w->src_sole || !w->pin)
+        !w->target_sole || !w->src_sole || !w->pin || !w->chain || !w->cparent || !w->clocal ||
+        !w->want || !w->solved || !w->need || !w->below || !w->below_at)
         return false;
+    rt_pin_need(rt, w);
     for (uint32_t j = 0; j < n; j++)
         w->parents[j] = rt->target->joints[j].parent;
     return true;
@@ -238,48 +324,106 @@ static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t fram
     }
 }
 
-static void rt_pose_of(const rf_retarget *rt, const rf_animation *a, uint32_t f, rf_xform *local)
+static void rt_pose_of(const rf_retarget *rt, const rf_animation *a, uint32_t f, rf_xform *local,
+                       const uint8_t *need)
 {
     for (uint32_t j = 0; j < rt->n; j++) {
+        if (!need[j])
+            continue;
         local[j].t = rf_animation_translation(a, f, j);
         local[j].r = rf_quat_normalize(rf_animation_rotation(a, f, j));
         local[j].s = rt->target->joints[j].rest.s;
     }
 }
 
-static void rt_fk(const rf_retarget *rt, const rf_xform *local, rf_xform *world)
+static void rt_fk(const rf_retarget *rt, const rf_xform *local, rf_xform *world,
+                  const uint8_t *need)
 {
     for (uint32_t j = 0; j < rt->n; j++) {
+        if (!need[j])
+            continue;
         int32_t p = rt->target->joints[j].parent;
         world[j] = p < 0 ? local[j] : rf_xform_mul(world[p], local[j]);
     }
 }
 
-/* Solves frame f's goals and writes the chains back; each effector keeps its world rotation. */
-static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t frames,
-                           const rf_ik_solver *solver, rt_pin_work *w, rf_rt_contact_stats *st,
-                           char *err, size_t err_size)
+/* The transform of `child` in `parent`'s frame. */
+static rf_xform rt_relative(rf_xform parent, rf_xform child)
+{
+    return rf_xform_mul(rf_xform_invert(parent), child);
+}
+
+/* Poses the problem's chains from the frame's world transforms: one goal per pinned effector. */
+static uint32_t rt_chains_pose(const rf_retarget *rt, uint32_t f, uint32_t frames, rt_pin_work *w)
 {
     uint32_t count = 0;
     for (uint32_t e = 0; e < rt->effector_count; e++) {
         rf_vec3 pin = w->pin[(size_t)e * frames + f];
         if (isnan(pin.x))
             continue;
-        uint32_t eff = rt->effectors[e];
-        w->goals[count] = rf_ik_goal_make(eff, pin);
-        w->goals[count++].chain_root = rt->target->joints[rt->target->joints[eff].parent].parent;
+        uint32_t eff = rt->effectors[e], knee = (uint32_t)rt->lparent[eff];
+        uint32_t hip = (uint32_t)rt->lparent[knee], b = count * 3;
+        w->chain[b] = hip, w->chain[b + 1] = knee, w->chain[b + 2] = eff;
+        w->cparent[b] = -1, w->cparent[b + 1] = (int32_t)b, w->cparent[b + 2] = (int32_t)b + 1;
+        w->clocal[b] = w->before[hip];
+        w->clocal[b + 1] = rt_relative(w->before[hip], w->before[knee]);
+        w->clocal[b + 2] = rt_relative(w->before[knee], w->before[eff]);
+        w->goals[count] = rf_ik_goal_make(b + 2, pin);
+        w->goals[count++].chain_root = (int32_t)b;
     }
+    return count;
+}
+
+/* Writes the solved chains back into the hierarchy's local pose of frame f (each effector keeps
+ * its world rotation), then places the anchored joints again from their moved body joints. */
+static void rt_chains_write(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t count,
+                            rt_pin_work *w)
+{
+    memset(w->solved, 0, rt->n);
+    for (uint32_t g = 0; g < count; g++) {
+        uint32_t b = g * 3;
+        rf_xform hip = w->clocal[b], knee = rf_xform_mul(hip, w->clocal[b + 1]);
+        rf_xform eff = rf_xform_mul(knee, w->clocal[b + 2]);
+        eff.r = w->before[w->chain[b + 2]].r;
+        w->want[w->chain[b]] = hip, w->want[w->chain[b + 1]] = knee, w->want[w->chain[b + 2]] = eff;
+        w->solved[w->chain[b]] = w->solved[w->chain[b + 1]] = w->solved[w->chain[b + 2]] = 1;
+    }
+    for (uint32_t j = 0; j < rt->n; j++) {
+        if (!w->need[j])
+            continue; /* neither solved nor under a solved joint's parent chain */
+        int32_t p = rt->target->joints[j].parent;
+        rf_xform pw = p >= 0 ? w->world[p] : rf_xform_identity();
+        if (w->solved[j]) {
+            rf_xform l = rt_relative(pw, w->want[j]);
+            w->local[j].t = l.t, w->local[j].r = rf_quat_normalize(l.r);
+            rf_animation_set_rotation(a, f, j, w->local[j].r);
+            rf_animation_set_translation(a, f, j, w->local[j].t);
+        }
+        w->world[j] = p >= 0 ? rf_xform_mul(pw, w->local[j]) : w->local[j];
+    }
+    if (rt->anchored)
+        rf_rt_place_anchored(rt, a->rotations + (size_t)f * rt->n * 4,
+                             a->translations + (size_t)f * rt->n * 3, NULL, w->world);
+}
+
+/* Solves frame f's goals through the connected solver. */
+static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t frames,
+                           const rf_ik_solver *solver, rt_pin_work *w, rf_rt_contact_stats *st,
+                           char *err, size_t err_size)
+{
+    rt_pose_of(rt, a, f, w->local, w->need);
+    rt_fk(rt, w->local, w->before, w->need);
+    uint32_t count = rt_chains_pose(rt, f, frames, w);
     if (!count)
         return true;
-    rt_pose_of(rt, a, f, w->local);
-    rt_fk(rt, w->local, w->before);
-    rf_ik_problem pb = {
-        sizeof pb, rt->n, w->parents, w->local, NULL, NULL, count, w->goals, 1e-4 * rt->leg_target,
-        32};
+    rf_ik_problem pb = {sizeof pb, count * 3, w->cparent,
+                        w->clocal, NULL,      NULL,
+                        count,     w->goals,  1e-4 * rt->leg_target,
+                        32};
     rf_ik_result res;
     memset(&res, 0, sizeof res);
     res.size = sizeof res;
-    res.pose = w->local;
+    res.pose = w->clocal;
     st->solves++;
     if (!solver->api->solve(solver->state, &pb, &res)) {
         st->failures++;
@@ -287,16 +431,8 @@ static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, u
         return false;
     }
     st->max_error = fmax(st->max_error, res.max_error);
-    rt_fk(rt, w->local, w->world);
-    for (uint32_t j = 0; j < rt->n; j++) {
-        rf_quat r = w->local[j].r;
-        for (uint32_t g = 0; g < count; g++)
-            if (w->goals[g].effector == j) { /* keep the foot's orientation */
-                int32_t p = rt->target->joints[j].parent;
-                r = rf_quat_mul(rf_quat_conj(w->world[p].r), w->before[j].r);
-            }
-        rf_animation_set_rotation(a, f, j, rf_quat_normalize(r));
-    }
+    memcpy(w->world, w->before, rt->n * sizeof *w->world);
+    rt_chains_write(rt, a, f, count, w);
     return true;
 }
 
@@ -319,13 +455,12 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
         return false;
     }
     for (uint32_t f = 0; f < frames; f++) {
-        rt_pose_of(rt, anim, f, w.local);
-        rt_fk(rt, w.local, w.world);
+        rt_pose_of(rt, anim, f, w.local, w.need);
+        rt_fk(rt, w.local, w.world, w.need);
         for (uint32_t e = 0; e < rt->effector_count; e++) {
             uint32_t j = rt->effectors[e];
             w.target_pos[(size_t)e * frames + f] = w.world[j].t;
-            w.target_sole[(size_t)e * frames + f] =
-                rf_rt_sole(rt->target, w.world, rt->t_tip, rt->up, j);
+            w.target_sole[(size_t)e * frames + f] = rt_pin_sole(rt, &w, e, w.world);
         }
     }
     for (size_t i = 0; i < (size_t)rt->effector_count * frames; i++)
@@ -336,4 +471,157 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
     free(contact);
     rt_pin_work_free(&w);
     return ok;
+}
+
+/* ---- parts that are not feet stay above the floor ---- */
+
+/* The largest turn that lifts a part (radians). */
+#define RT_LIFT_MAX (60.0 * RF_PI / 180.0)
+
+/* Marks the joints that may touch the floor: each foot, what is below it and its chain. */
+static void rt_feet_mask(const rf_retarget *rt, uint8_t *foot)
+{
+    memset(foot, 0, rt->n);
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        int32_t eff = (int32_t)rt->effectors[e], knee = rt->lparent[eff];
+        for (uint32_t c = 0; c < rt->n; c++)
+            foot[c] = foot[c] || rf_rt_carries(rt->target, eff, c);
+        if (knee >= 0)
+            foot[knee] = 1;
+    }
+}
+
+/* Lifts point p of frame f (world `world`, local `local`) to the floor by turning joint a (an
+ * ancestor of the part) about its pivot, keeping the part's horizontal direction; false when the
+ * floor is out of the turn's reach. */
+static bool rt_lift_turn(const rf_retarget *rt, rf_xform *local, const rf_xform *world, uint32_t a,
+                         rf_vec3 p, double floor_h)
+{
+    rf_vec3 v = rf_v3_sub(p, world[a].t);
+    double len = rf_v3_len(v), want = floor_h - rf_rt_height(rt->up, world[a].t);
+    rf_vec3 h = rf_rt_horizontal(rt->up, v);
+    if (!(len > 0) || fabs(want) >= len || rf_v3_len2(h) == 0)
+        return false;
+    rf_vec3 to = rf_v3_add(rf_v3_scale(rf_v3_normalize(h), sqrt(len * len - want * want)),
+                           rf_v3_scale(rt->up, want));
+    if (rf_v3_angle(v, to) > RT_LIFT_MAX)
+        return false; /* a turn this large would fold the part: leave it, the measure says so */
+    rf_quat turn = rf_quat_from_two_vectors(v, to);
+    int32_t pa = rt->target->joints[a].parent;
+    rf_quat pr = pa >= 0 ? world[pa].r : rf_quat_identity();
+    local[a].r = rf_quat_normalize(rf_quat_mul(rf_quat_conj(pr), rf_quat_mul(turn, world[a].r)));
+    return true;
+}
+
+/* The sources' poses of one output frame, made when first asked for. */
+typedef struct rt_src_poses {
+    uint32_t frame;
+    uint8_t *made;    /* [slot] */
+    rf_xform **world; /* [slot][source n] */
+    rf_xform *local;
+    float *rot, *tr;
+} rt_src_poses;
+
+static void rt_src_poses_free(const rf_retarget *rt, rt_src_poses *sp)
+{
+    for (uint32_t s = 0; sp->world && s < rt->slot_count; s++)
+        free(sp->world[s]);
+    free(sp->made), free(sp->world), free(sp->local), free(sp->rot), free(sp->tr);
+}
+
+static bool rt_src_poses_init(const rf_retarget *rt, rt_src_poses *sp)
+{
+    size_t m = rt->max_src_n ? rt->max_src_n : 1, slots = rt->slot_count ? rt->slot_count : 1;
+    sp->made = calloc(slots, 1), sp->world = calloc(slots, sizeof *sp->world);
+    sp->local = malloc(m * sizeof *sp->local);
+    sp->rot = malloc(m * 4 * sizeof *sp->rot), sp->tr = malloc(m * 3 * sizeof *sp->tr);
+    bool ok = sp->made && sp->world && sp->local && sp->rot && sp->tr;
+    for (uint32_t s = 0; ok && s < rt->slot_count; s++)
+        ok = (sp->world[s] = malloc(m * sizeof **sp->world)) != NULL;
+    if (!ok)
+        rt_src_poses_free(rt, sp);
+    return ok;
+}
+
+/* Whether target joint j's source joint is down on its own floor at output frame f (its sole
+ * within contact_height leg lengths of it). */
+static bool rt_source_down(const rf_retarget *rt, rt_src_poses *sp, const rf_animation *anim,
+                           uint32_t f, uint32_t j)
+{
+    const rf_rt_input *in = rt->in + rt->tj[j].first_input;
+    const rf_rt_src *src = &rt->src[in->source];
+    if (sp->frame != f)
+        memset(sp->made, 0, rt->slot_count), sp->frame = f;
+    if (!sp->made[in->slot]) {
+        double t = rf_rt_slot_time(rt, in->slot, rf_retarget_start_time(rt) + f / anim->fps);
+        rf_rt_source_world(rt, in->source, t, sp->local, sp->world[in->slot], sp->rot, sp->tr);
+        sp->made[in->slot] = 1;
+    }
+    double sole = rf_rt_sole(src->skel, sp->world[in->slot], src->tip, src->up, in->joint);
+    return (sole - src->floor) / src->leg <= rt->opt.contact_height;
+}
+
+bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *st)
+{
+    memset(st, 0, sizeof *st);
+    uint32_t n = rt->n;
+    uint8_t *foot = malloc(n ? n : 1), *part = malloc(n ? n : 1), *all = malloc(n ? n : 1);
+    rf_xform *local = malloc((n ? n : 1) * sizeof *local),
+             *world = malloc((n ? n : 1) * sizeof *world);
+    if (!foot || !part || !all || !local || !world) {
+        free(foot), free(part), free(all), free(local), free(world);
+        return false;
+    }
+    memset(all, 1, n);
+    rt_feet_mask(rt, foot);
+    uint8_t *holds = calloc(n ? n : 1, 1); /* carries a foot in the hierarchy or body tree */
+    for (uint32_t e = 0; holds && e < rt->effector_count; e++)
+        for (int32_t a = rt->lparent[rt->effectors[e]], g = 0; a >= 0 && g < (int32_t)n;
+             a = rt->lparent[a], g++)
+            holds[a] = 1;
+    for (uint32_t e = 0; holds && e < rt->effector_count; e++)
+        for (int32_t a = rt->target->joints[rt->effectors[e]].parent; a >= 0;
+             a = rt->target->joints[a].parent)
+            holds[a] = 1;
+    /* Parts high in the aligned rest (a quarter of the leg over its lowest point) and driven. */
+    for (uint32_t j = 0; j < n; j++)
+        part[j] = !foot[j] && rt->tj[j].kind != RF_RT_REST && !rt->tj[j].root_motion &&
+                  rf_rt_height(rt->up, rt->t_aligned[j]) - rt->aligned_low > 0.25 * rt->leg_target;
+    double eps = 1e-3 * rt->leg_target;
+    rt_src_poses sp = {0};
+    if (!holds || !rt_src_poses_init(rt, &sp)) {
+        free(foot), free(part), free(all), free(local), free(world), free(holds);
+        return false;
+    }
+    for (uint32_t f = 0; f < anim->frame_count; f++) {
+        rt_pose_of(rt, anim, f, local, all);
+        rt_fk(rt, local, world, all);
+        bool lifted = false;
+        sp.frame = UINT32_MAX;
+        for (uint32_t j = 0; j < n; j++) {
+            if (!part[j] || rf_rt_height(rt->up, world[j].t) >= rt->floor_target)
+                continue;
+            if (rt_source_down(rt, &sp, anim, f, j))
+                continue; /* its source touches its own floor: so may it (a hand on all fours) */
+            /* Turn the part's nearest driven ancestor that stands over the floor. */
+            int32_t a = rt->lparent[j];
+            while (a >= 0 && (rt->tj[a].kind == RF_RT_REST ||
+                              rf_rt_height(rt->up, world[a].t) < rt->floor_target + eps))
+                a = rt->lparent[a];
+            if (a < 0 || rt->anchor[j] >= 0 || !rf_rt_carries(rt->target, a, j) || holds[a])
+                continue; /* turning a joint that carries a foot would lift the foot */
+            if (rt_lift_turn(rt, local, world, (uint32_t)a, world[j].t, rt->floor_target + eps)) {
+                rt_fk(rt, local, world, all);
+                rf_animation_set_rotation(anim, f, (uint32_t)a, local[a].r);
+                lifted = true, st->turns++;
+            }
+        }
+        st->frames += lifted;
+        if (lifted && rt->anchored)
+            rf_rt_place_anchored(rt, anim->rotations + (size_t)f * n * 4,
+                                 anim->translations + (size_t)f * n * 3, NULL, world);
+    }
+    rt_src_poses_free(rt, &sp);
+    free(foot), free(part), free(all), free(local), free(world), free(holds);
+    return true;
 }

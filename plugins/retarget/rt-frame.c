@@ -101,7 +101,8 @@ bool rf_rt_hot_init(rf_retarget *rt)
         const rf_rt_hot *p = h->parent >= 0 ? &rt->hot[h->parent] : NULL;
         const rf_rt_src *src = h->mode == RT_HOT_FAST ? &rt->src[rt->slots[h->slot].source] : NULL;
         if (src && p && (p->mode == RT_HOT_FAST || p->mode == RT_HOT_LOCAL) && p->slot == h->slot &&
-            src->parent[h->joint] == (int32_t)p->joint && !h->moves) {
+            src->parent[h->joint] == (int32_t)p->joint && !h->moves && rt->anchor[j] < 0 &&
+            rt->anchor[h->parent] < 0) {
             h->mode = RT_HOT_LOCAL;
             h->kp = rf_quat_conj(p->k);
         }
@@ -109,7 +110,8 @@ bool rf_rt_hot_init(rf_retarget *rt)
     /* World rotations: every joint that is not LOCAL makes one (and its output reads its
      * parent's), and a world rotation is made from the parent's: children before parents. */
     for (uint32_t j = 0; j < rt->n; j++)
-        rt->hot[j].world = rt->hot[j].mode != RT_HOT_LOCAL || rt->hot[j].moves;
+        rt->hot[j].world =
+            rt->hot[j].mode != RT_HOT_LOCAL || rt->hot[j].moves || rt->anchor[j] >= 0;
     for (uint32_t j = rt->n; j-- > 0;)
         if (rt->hot[j].world && rt->hot[j].parent >= 0)
             rt->hot[rt->hot[j].parent].world = 1;
@@ -135,8 +137,9 @@ bool rf_rt_work_init(const rf_retarget *rt, rf_rt_work *w)
     w->poses = calloc(slots, sizeof *w->poses);
     w->scratch_rot = malloc(slots * m * 4 * sizeof *w->scratch_rot);
     w->scratch_tr = malloc(slots * m * 3 * sizeof *w->scratch_tr);
+    w->tw = malloc(n * sizeof *w->tw);
     bool ok = w->q && w->chain_rot && w->chain_base && w->s_rot && w->s_pos && w->poses &&
-              w->scratch_rot && w->scratch_tr;
+              w->scratch_rot && w->scratch_tr && w->tw;
     for (uint32_t s = 0; ok && s < rt->slot_count; s++) {
         w->s_rot[s] = malloc(m * sizeof **w->s_rot);
         w->s_pos[s] = malloc(m * sizeof **w->s_pos);
@@ -154,7 +157,7 @@ void rf_rt_work_free(const rf_retarget *rt, rf_rt_work *w)
             free(w->s_pos[s]);
     }
     free(w->q), free(w->chain_rot), free(w->chain_base), free(w->s_rot), free(w->s_pos);
-    free(w->poses), free(w->scratch_rot), free(w->scratch_tr);
+    free(w->poses), free(w->scratch_rot), free(w->scratch_tr), free(w->tw);
     memset(w, 0, sizeof *w);
 }
 
@@ -380,6 +383,8 @@ void rf_rt_frame(const rf_retarget *rt, rf_rt_work *w, const rf_rt_pose *poses, 
         float *out = translations + (size_t)j * 3;
         out[0] = (float)t.x, out[1] = (float)t.y, out[2] = (float)t.z;
     }
+    if (rt->anchored)
+        rf_rt_place_anchored(rt, rotations, translations, q, w->tw);
 }
 
 void rf_retarget_frame(rf_retarget *rt, const rf_rt_pose *poses, float *rotations,

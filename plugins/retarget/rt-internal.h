@@ -105,12 +105,15 @@ typedef struct rf_rt_work {
     rf_rt_pose *poses;   /* [slot] the clip driver's poses */
     float *scratch_rot;  /* [slot][max source n][4] sampled poses */
     float *scratch_tr;   /* [slot][max source n][3] */
+    rf_xform *tw;        /* [n] target world transforms (the placement of anchored joints) */
 } rf_rt_work;
 
 struct rf_retarget {
     rf_retarget_options opt;
     const rf_skeleton *target;
-    const rf_mapping *mapping;
+    const rf_mapping *mapping; /* the caller's, less inputs on or from placement and axis
+                                * joints (own_map) */
+    rf_mapping *own_map;
     uint32_t source_count;
     rf_rt_src *src;
 
@@ -123,20 +126,35 @@ struct rf_retarget {
     rf_rt_slot *slots;
     uint32_t slot_count;
 
-    rf_vec3 up;                    /* the target's up (unit) */
-    rf_vec3 forward, left, center; /* the target's body axes and symmetry plane */
-    uint8_t *t_centerline;         /* [n] the joint lies on the target's centerline (analysis) */
-    bool t_degenerate;             /* the target's rest is no body: align every bone */
-    bool plan_differs;             /* the bodies lie differently (an upright biped onto a level
-                                    * quadruped): centerline bones keep their own rest directions */
-    double size;                   /* extent of the target's rest (tolerances) */
-    rf_xform *t_rest_world;        /* [n] the target's rest */
-    rf_vec3 *t_tip;     /* [n] target bone tips in the joint's local frame, zero when none */
-    double leg_target;  /* hip height in the aligned rest */
-    rf_vec3 *t_aligned; /* [n] world positions in the aligned rest (the target posed like the
-                         * sources' rests) */
-    double aligned_low; /* lowest height of that pose */
-    uint8_t *t_above;   /* [n] placement joints above the target's hips */
+    rf_vec3 up;                     /* the target's up (unit) */
+    rf_vec3 forward, left, center;  /* the target's body axes and symmetry plane */
+    uint8_t *t_centerline;          /* [n] the joint lies on the target's centerline (analysis) */
+    int32_t *t_logical;             /* [n] parents in the target's analysed tree */
+    uint8_t *t_role;                /* [n] rf_joint_role of every target joint */
+    struct rf_joint_roles *t_roles; /* the target's roles while the plan is made */
+
+    /* Joints their hierarchy parent does not carry (rt-roles.c): a foot under a placement root,
+     * a limb that is a root of its own, an IK target or pole. Each is placed every frame from
+     * the body joint it belongs to, rigidly as at rest. */
+    int32_t *lparent;       /* [n] the body parent: the anchor, or the hierarchy parent */
+    int32_t *anchor;        /* [n] the body joint placing it, or -1 (its parent carries it) */
+    rf_xform *anchor_off;   /* [n] anchored joints: rest transform in the anchor's frame */
+    uint32_t *lorder;       /* [n] every joint after its hierarchy parent and its anchor */
+    uint32_t anchored;      /* joints with an anchor */
+    uint8_t *t_need;        /* [n] world transforms the placement reads (anchors, parents) */
+    uint8_t *t_tip_set;     /* [n] tips set to where a part placed from the joint begins */
+    uint32_t dropped;       /* mapping inputs dropped (on or from placement and axis joints) */
+    bool t_degenerate;      /* the target's rest is no body: align every bone */
+    bool plan_differs;      /* the bodies lie differently (an upright biped onto a level
+                             * quadruped): centerline bones keep their own rest directions */
+    double size;            /* extent of the target's rest (tolerances) */
+    rf_xform *t_rest_world; /* [n] the target's rest */
+    rf_vec3 *t_tip;         /* [n] target bone tips in the joint's local frame, zero when none */
+    double leg_target;      /* hip height in the aligned rest */
+    rf_vec3 *t_aligned;     /* [n] world positions in the aligned rest (the target posed like the
+                             * sources' rests) */
+    double aligned_low;     /* lowest height of that pose */
+    uint8_t *t_above;       /* [n] placement joints above the target's hips */
     double floor_target;
     double ground_shift; /* the clip's vertical correction (rf_rt_ground_fix), target units */
     double cycle;
@@ -171,6 +189,13 @@ bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size);
 /* Moves the root-motion joints of a clip up or down so its lowest points sit over the target's
  * floor as the source's do over theirs. False when out of memory. */
 bool rf_rt_ground_fix(rf_retarget *rt, rf_animation *out);
+/* Whether the skeleton's unweighted flags say which joints are body: a skin on fewer than a
+ * quarter of the joints (a node tree with a mesh hung on one or two nodes) says nothing, and
+ * every joint then counts. */
+bool rf_rt_weights_known(const rf_skeleton *s);
+/* Moves the root-motion joints of every frame of `out` by `shift` along up (the anchored joints
+ * placed again after). False when out of memory. */
+bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift);
 /* Height of the lowest point of joint j and everything below it (joints and bone tips, `tip`
  * in each joint's frame): the sole of a foot, toes included. */
 double rf_rt_sole(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
@@ -185,6 +210,18 @@ static inline rf_vec3 rf_rt_horizontal(rf_vec3 up, rf_vec3 p)
 {
     return rf_v3_sub(p, rf_v3_scale(up, rf_v3_dot(up, p)));
 }
+
+/* ---- rt-roles.c ---- */
+/* Joint roles of the target and the sources, the mapping without placement and axis joints,
+ * body parents and anchors. */
+bool rf_rt_roles_prepare(rf_retarget *rt, char *err, size_t err_size);
+/* Places the anchored joints of one frame: `rotations`/`translations` hold the hierarchy local
+ * pose (rf_animation layout), `q` the world rotations of the mapped joints; world transforms go
+ * to `tw`. Rewrites the anchored joints' local pose. */
+void rf_rt_place_anchored(const rf_retarget *rt, float *rotations, float *translations,
+                          const rf_quat *q, rf_xform *tw);
+/* True when joint a is j or a hierarchy ancestor of j. */
+bool rf_rt_carries(const rf_skeleton *s, int32_t a, uint32_t j);
 
 /* ---- rt-frame.c ---- */
 /* Allocates w for the plan (false when out of memory); frees it. */
@@ -225,6 +262,9 @@ void rf_rt_target_fk(const rf_retarget *rt, const rf_animation *anim, uint32_t f
 /* World transforms of source k at time t (sampled), into world (scratch local of n entries). */
 void rf_rt_source_world(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
                         rf_xform *world, float *rot, float *tr);
+/* The same for the joints in `need` only (a joint's ancestors must be in it; NULL: all). */
+void rf_rt_source_world_some(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
+                             rf_xform *world, float *rot, float *tr, const uint8_t *need);
 
 /* ---- rt-contact.c ---- */
 /* Per effector and output frame: 1 when the source counterpart is in contact ([eff][frames],

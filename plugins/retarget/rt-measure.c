@@ -8,6 +8,9 @@
 
 #include "rt-internal.h"
 
+/* Frames a clip is measured on at most. */
+#define RT_MEASURE_FRAMES 1024u
+
 typedef struct rt_measure_work {
     rf_xform *t_world;
     rf_xform **s_local, **s_world;
@@ -113,17 +116,20 @@ static void rt_frame_ground(const rf_retarget *rt, rt_measure_work *w, uint32_t 
 }
 
 /* Skate: effector speeds while in contact, the target's positions read from its FK, the
- * source's from the contact detection. */
-static void rt_skate(const rf_retarget *rt, const rf_animation *anim, rt_measure_work *w,
-                     rf_rt_report *r, float *per_frame)
+ * source's from the contact detection; `frames` samples one frame in `step` of the clip, `fps`
+ * the samples' rate; `per_frame`, when given, gets the fastest foot in contact at each sampled
+ * frame of the clip. */
+static void rt_skate(const rf_retarget *rt, const rf_animation *anim, uint32_t frames,
+                     uint32_t step, double fps, rt_measure_work *w, rf_rt_report *r,
+                     float *per_frame)
 {
-    uint32_t frames = anim->frame_count, count = 0;
+    uint32_t count = 0;
     double t_sum = 0, s_sum = 0;
     rf_vec3 *prev = malloc((rt->effector_count ? rt->effector_count : 1) * sizeof *prev);
     if (!prev)
         return;
     for (uint32_t f = 0; f < frames; f++) {
-        rf_rt_target_fk(rt, anim, f, w->t_world);
+        rf_rt_target_fk(rt, anim, f * step, w->t_world);
         for (uint32_t e = 0; e < rt->effector_count; e++) {
             size_t i = (size_t)e * frames + f;
             rf_vec3 p = w->t_world[rt->effectors[e]].t;
@@ -133,12 +139,12 @@ static void rt_skate(const rf_retarget *rt, const rf_animation *anim, rt_measure
                 const rf_rt_src *src = &rt->src[k];
                 rf_vec3 dt = rf_rt_horizontal(rt->up, rf_v3_sub(p, prev[e]));
                 rf_vec3 ds = rf_rt_horizontal(src->up, rf_v3_sub(w->src_pos[i], w->src_pos[i - 1]));
-                double speed = rf_v3_len(dt) * anim->fps / rt->leg_target;
+                double speed = rf_v3_len(dt) * fps / rt->leg_target;
+                float *at = per_frame ? &per_frame[(size_t)f * step] : NULL;
                 t_sum += speed;
-                if (per_frame)
-                    per_frame[f] =
-                        isnan(per_frame[f]) ? (float)speed : fmaxf(per_frame[f], (float)speed);
-                s_sum += rf_v3_len(ds) * anim->fps / src->leg;
+                if (at)
+                    *at = isnan(*at) ? (float)speed : fmaxf(*at, (float)speed);
+                s_sum += rf_v3_len(ds) * fps / src->leg;
                 count++;
             }
             prev[e] = p;
@@ -152,7 +158,7 @@ static void rt_skate(const rf_retarget *rt, const rf_animation *anim, rt_measure
 
 /* The per-frame figures behind the report, as series for the nodes after the measure. */
 static bool rt_series(const rf_retarget *rt, const rt_measure_work *w, uint32_t frames,
-                      rf_measures *out)
+                      uint32_t step, rf_measures *out)
 {
     float *mean =
         rf_measures_add(out, "direction error, mean over bones", "deg", -1, RF_SERIES_HIGHER_WORSE);
@@ -166,7 +172,8 @@ static bool rt_series(const rf_retarget *rt, const rt_measure_work *w, uint32_t 
         double sum = 0, worst = 0;
         for (uint32_t b = 0; b < rt->bone_count; b++)
             sum += a[b], worst = fmax(worst, a[b]);
-        mean[f] = (float)(sum / rt->bone_count), max[f] = (float)worst;
+        mean[(size_t)f * step] = (float)(sum / rt->bone_count);
+        max[(size_t)f * step] = (float)worst;
     }
     for (uint32_t e = 0; e < rt->effector_count; e++) {
         float *c =
@@ -174,7 +181,7 @@ static bool rt_series(const rf_retarget *rt, const rt_measure_work *w, uint32_t 
         if (!c)
             return false;
         for (uint32_t f = 0; f < frames; f++)
-            c[f] = w->contact[(size_t)e * frames + f] ? 1.0f : 0.0f;
+            c[(size_t)f * step] = w->contact[(size_t)e * frames + f] ? 1.0f : 0.0f;
     }
     if (!rt->effector_count)
         rf_measures_warn(out, "no feet found on the target: foot skate and contacts not measured");
@@ -197,11 +204,15 @@ bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, doubl
                    anim ? anim->joint_count : 0, rt->n);
         return false;
     }
-    uint32_t frames = anim->frame_count;
+    /* A long clip is measured on one frame in `step` (at most RT_MEASURE_FRAMES of them), so the
+     * measure stays a small part of a run; contacts and speeds are read on that timeline. */
+    uint32_t step = (anim->frame_count + RT_MEASURE_FRAMES - 1) / RT_MEASURE_FRAMES;
+    step = step ? step : 1;
+    uint32_t frames = (anim->frame_count + step - 1) / step;
+    double fps = anim->fps / step;
     rt_measure_work w = {0};
-    bool ok =
-        rt_mw_alloc(&w, rt, frames) &&
-        (w.contact = rf_rt_detect_contacts(rt, frames, anim->fps, start, w.src_pos, w.src_sole));
+    bool ok = rt_mw_alloc(&w, rt, frames) &&
+              (w.contact = rf_rt_detect_contacts(rt, frames, fps, start, w.src_pos, w.src_sole));
     if (!ok) {
         rt_mw_free(&w, rt->source_count);
         rf_rt_fail(err, err_size, "out of memory");
@@ -210,17 +221,16 @@ bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, doubl
     double ground = 0;
     uint32_t grounded = 0;
     for (uint32_t f = 0; f < frames; f++) {
-        rf_rt_target_fk(rt, anim, f, w.t_world);
+        rf_rt_target_fk(rt, anim, f * step, w.t_world);
         for (uint32_t k = 0; k < rt->source_count; k++)
-            rf_rt_source_world(rt, k, start + f / anim->fps, w.s_local[k], w.s_world[k], w.rot,
-                               w.tr);
+            rf_rt_source_world(rt, k, start + f / fps, w.s_local[k], w.s_world[k], w.rot, w.tr);
         rt_frame_angles(rt, &w, w.angles + (size_t)f * rt->bone_count);
         rt_frame_ground(rt, &w, f, frames, &ground, &grounded);
     }
     report->ground_error = grounded ? ground / grounded : 0;
     report->frames = frames;
     float *skate = NULL;
-    if (series && (!rt_series(rt, &w, frames, series) ||
+    if (series && (!rt_series(rt, &w, frames, step, series) ||
                    !(skate = rf_measures_add(series, "foot skate, fastest foot in contact", "leg/s",
                                              -1, RF_SERIES_HIGHER_WORSE)))) {
         rt_mw_free(&w, rt->source_count);
@@ -228,7 +238,7 @@ bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, doubl
         return false;
     }
     rt_fidelity(rt, &w, frames, report); /* sorts the angles: after the series */
-    rt_skate(rt, anim, &w, report, skate);
+    rt_skate(rt, anim, frames, step, fps, &w, report, skate);
     rt_mw_free(&w, rt->source_count);
     return true;
 }

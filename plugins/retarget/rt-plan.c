@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rigflow/analysis.h"
 #include "rt-internal.h"
 
 void rf_rt_fail(char *err, size_t err_size, const char *fmt, ...)
@@ -100,12 +101,16 @@ static bool rt_check(const rf_rt_source *sources, uint32_t count, const rf_skele
 
 /* ---- the mapped tree ---- */
 
-/* Nearest mapped proper ancestor of every target joint, or -1. */
+/* Nearest mapped proper ancestor of every target joint along its body parents (an anchored
+ * foot's is its shin, not the placement root it hangs from), or -1. */
 static void rt_mapped_parents(const rf_retarget *rt, int32_t *mp)
 {
     for (uint32_t j = 0; j < rt->n; j++) {
-        int32_t p = rt->target->joints[j].parent;
-        mp[j] = p < 0 ? RF_RT_NONE : rt->mapping->entries[p].input_count ? p : mp[p];
+        int32_t p = rt->lparent[j];
+        for (uint32_t guard = 0; p >= 0 && !rt->mapping->entries[p].input_count && guard < rt->n;
+             guard++)
+            p = rt->lparent[p];
+        mp[j] = p >= 0 && rt->mapping->entries[p].input_count ? p : RF_RT_NONE;
     }
 }
 
@@ -113,9 +118,12 @@ static void rt_mapped_parents(const rf_retarget *rt, int32_t *mp)
 static void rt_mapped_weight(const rf_retarget *rt, const int32_t *mp, uint32_t *w)
 {
     memset(w, 0, rt->n * sizeof *w);
-    for (uint32_t j = rt->n; j-- > 0;)
-        if (rt->mapping->entries[j].input_count && mp[j] >= 0)
-            w[mp[j]] += w[j] + 1;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        if (!rt->mapping->entries[j].input_count)
+            continue;
+        for (int32_t a = mp[j], guard = 0; a >= 0 && guard < (int32_t)rt->n; a = mp[a], guard++)
+            w[a]++;
+    }
 }
 
 static rf_vec3 rt_tpos(const rf_retarget *rt, uint32_t j)
@@ -134,7 +142,7 @@ static int32_t rt_primary_child(const rf_retarget *rt, uint32_t j, const int32_t
         in = rf_v3_normalize(rf_v3_sub(rt_tpos(rt, j), rt_tpos(rt, (uint32_t)mp[j])));
     int32_t best = RF_RT_NONE;
     double best_score = -INFINITY;
-    for (uint32_t c = j + 1; c < rt->n; c++) {
+    for (uint32_t c = 0; c < rt->n; c++) {
         if (mp[c] != (int32_t)j || !rt->mapping->entries[c].input_count)
             continue;
         rf_vec3 d = rf_v3_sub(rt_tpos(rt, c), rt_tpos(rt, j));
@@ -216,7 +224,7 @@ static uint32_t rt_pairs(const rf_retarget *rt, uint32_t j, const rf_map_input *
     uint32_t count = 0;
     int32_t first = RF_RT_NONE, longest = RF_RT_NONE;
     bool has_child = false;
-    for (uint32_t c = j + 1; c < rt->n && count < max; c++) {
+    for (uint32_t c = 0; c < rt->n && count < max; c++) {
         if (mp[c] != (int32_t)j || !rt->mapping->entries[c].input_count)
             continue;
         has_child = true;
@@ -254,6 +262,43 @@ double rf_rt_twist_fit(rf_vec3 n, const rf_vec3 *a, const rf_vec3 *b, uint32_t c
  * joint on the centerline) and the source's, once the body frames are aligned, the bodies have
  * different plans (a level quadruped spine under an upright biped's), not different poses. */
 #define RT_BODY_PLAN_ANGLE (45.0 * RF_PI / 180.0)
+
+/* The rotation that best turns the unit directions of every pair onto the source's (Horn's
+ * quaternion method: the top eigenvector of his 4x4 matrix, by power iteration). */
+static rf_quat rt_fit_all(const rt_pair *pairs, uint32_t count, rf_quat ref)
+{
+    double S[3][3] = {{0}};
+    for (uint32_t i = 0; i < count; i++) {
+        rf_vec3 a = rf_v3_normalize(pairs[i].t), b = rf_v3_normalize(pairs[i].s);
+        double av[3] = {a.x, a.y, a.z}, bv[3] = {b.x, b.y, b.z};
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                S[r][c] += av[r] * bv[c];
+    }
+    double N[4][4] = {
+        {S[0][0] + S[1][1] + S[2][2], S[1][2] - S[2][1], S[2][0] - S[0][2], S[0][1] - S[1][0]},
+        {S[1][2] - S[2][1], S[0][0] - S[1][1] - S[2][2], S[0][1] + S[1][0], S[2][0] + S[0][2]},
+        {S[2][0] - S[0][2], S[0][1] + S[1][0], -S[0][0] + S[1][1] - S[2][2], S[1][2] + S[2][1]},
+        {S[0][1] - S[1][0], S[2][0] + S[0][2], S[1][2] + S[2][1], -S[0][0] - S[1][1] + S[2][2]}};
+    for (int d = 0; d < 4; d++)
+        N[d][d] += count; /* eigenvalues lie in [-count, count]: shift them positive */
+    double v[4] = {ref.w, ref.x, ref.y, ref.z}; /* start from the body turn */
+    for (int it = 0; it < 200; it++) {
+        double y[4] = {0}, len = 0;
+        for (int r = 0; r < 4; r++) {
+            for (int c = 0; c < 4; c++)
+                y[r] += N[r][c] * v[c];
+            len += y[r] * y[r];
+        }
+        len = sqrt(len);
+        if (!(len > 0))
+            return ref;
+        for (int r = 0; r < 4; r++)
+            v[r] = y[r] / len;
+    }
+    /* Horn's matrix is built for the rotation taking a onto b written (w, x, y, z). */
+    return rf_quat_normalize(rf_quat_make(v[1], v[2], v[3], v[0]));
+}
 
 /* The rotation turning the target's rest directions onto the source's: the primary pair
  * exactly, starting from the parent's alignment (so the twist follows the body's), then turned
@@ -321,7 +366,13 @@ static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in
             pairs[i].s = rf_rt_reflect_v(pairs[i].s, src->left);
     }
     bool keep = rt->t_centerline[j] && rt->plan_differs;
-    out->align = rt_align(pairs, count, rt_parent_align(rt, j, in->source, mp), keep);
+    rf_quat ref = rt_parent_align(rt, j, in->source, mp);
+    /* A top joint with three directions or more (a quadruped's hips: legs, spine, tail) is laid
+     * onto the source's by all of them: matching one exactly (a tail rising where the source's
+     * hangs) would tilt the whole body. */
+    out->align = mp[j] < 0 && count >= 3 && !keep && !rt->t_degenerate
+                     ? rt_fit_all(pairs, count, ref)
+                     : rt_align(pairs, count, ref, keep);
     rf_quat rs = src->rest_world[in->joint].r;
     for (uint32_t i = 0; i < count; i++) {
         if (!pairs[i].primary || pairs[i].end < 0 || (out->flags & RF_MAP_REVERSE))
@@ -433,9 +484,14 @@ static bool rt_chains(rf_retarget *rt, const int32_t *primary)
         if (tj->kind != RF_RT_MAPPED || primary[j] < 0)
             continue;
         uint32_t c = (uint32_t)primary[j], n = 0;
+        if (!rf_rt_carries(rt->target, (int32_t)j, c))
+            continue; /* an anchored child: placed from j, no chain between */
+        bool body = true;
         for (int32_t u = rt->target->joints[c].parent; u != (int32_t)j;
              u = rt->target->joints[u].parent)
-            n++; /* the unmapped joints between j and c (c descends from j) */
+            n++, body = body && rt->t_role[u] == RF_ROLE_BODY;
+        if (!body)
+            continue; /* an axis node between: it never moves, c is turned on its own */
         if (!n)
             continue; /* the mapped child hangs from j directly: no chain */
         tj->owner = (int32_t)j;
@@ -490,8 +546,8 @@ static void rt_root_motion(rf_retarget *rt, const int32_t *mp)
         tj->parent = rt->target->joints[j].parent;
         tj->rest_local = rf_quat_normalize(rt->target->joints[j].rest.r);
         tj->rest_world = rt->t_rest_world[j].r;
-        tj->root_motion = tj->kind == RF_RT_MAPPED && mp[j] < 0;
-        for (uint32_t i = 0; !tj->root_motion && i < tj->input_count; i++) {
+        tj->root_motion = tj->kind == RF_RT_MAPPED && mp[j] < 0 && rt->anchor[j] < 0;
+        for (uint32_t i = 0; !tj->root_motion && rt->anchor[j] < 0 && i < tj->input_count; i++) {
             const rf_rt_input *in = &rt->in[tj->first_input + i];
             tj->translate = tj->translate || rt_translation_moves(&rt->src[in->source], in->joint);
         }
@@ -529,7 +585,7 @@ static bool rt_bones(rf_retarget *rt, const int32_t *mp)
         if (!rt_plain(rt, j))
             continue;
         uint32_t kids = 0, only = 0;
-        for (uint32_t c = j + 1; c < rt->n; c++)
+        for (uint32_t c = 0; c < rt->n; c++)
             if (mp[c] == (int32_t)j && rt->mapping->entries[c].input_count)
                 kids++, only = c;
         bool child_ok =
@@ -592,6 +648,14 @@ static bool rt_plan(rf_retarget *rt, char *err, size_t err_size)
     return ok;
 }
 
+static bool rt_any_mapped(const rf_mapping *m)
+{
+    for (uint32_t j = 0; j < m->target_joint_count; j++)
+        if (m->entries[j].input_count)
+            return true;
+    return false;
+}
+
 static bool rt_wants_cycle(const rf_mapping *m)
 {
     for (uint32_t j = 0; j < m->target_joint_count; j++)
@@ -627,7 +691,15 @@ rf_retarget *rf_retarget_new(const rf_rt_source *sources, uint32_t source_count,
         if (rt->src[k].n > rt->max_src_n)
             rt->max_src_n = rt->src[k].n;
     }
-    bool ok = rf_rt_sources_prepare(rt, err, err_size) && rf_rt_target_prepare(rt, err, err_size);
+    bool ok = rf_rt_sources_prepare(rt, err, err_size) && rf_rt_target_prepare(rt, err, err_size) &&
+              rf_rt_roles_prepare(rt, err, err_size);
+    if (ok && !rt_any_mapped(rt->mapping)) {
+        rf_rt_fail(err, err_size,
+                   "the mapping maps only placement, axis-conversion or helper joints (%u "
+                   "inputs dropped): no body joint is driven",
+                   rt->dropped);
+        ok = false;
+    }
     if (ok && rt_wants_cycle(mapping))
         rt->cycle = rt->opt.cycle > 0 ? rt->opt.cycle : rf_rt_detect_cycle(rt, 0);
     ok = ok && rt_plan(rt, err, err_size);
@@ -655,7 +727,10 @@ void rf_retarget_free(rf_retarget *rt)
     free(rt->src), free(rt->tj), free(rt->in), free(rt->links), free(rt->slots);
     free(rt->t_rest_world), free(rt->t_tip), free(rt->t_aligned), free(rt->t_centerline);
     free(rt->t_above), free(rt->bones), free(rt->effectors), free(rt->hot), free(rt->rest_tr);
-    free(rt->w0);
+    free(rt->w0), free(rt->t_logical), free(rt->t_role), free(rt->lparent), free(rt->anchor);
+    free(rt->anchor_off), free(rt->lorder), free(rt->t_need), free(rt->t_tip_set);
+    rf_mapping_free(rt->own_map);
+    rf_joint_roles_free(rt->t_roles);
     free(rt);
 }
 
@@ -686,4 +761,6 @@ void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info)
         info->shared += rt->tj[j].kind == RF_RT_SHARED;
     }
     info->effectors = rt->effector_count;
+    info->dropped = rt->dropped;
+    info->anchored = rt->anchored;
 }

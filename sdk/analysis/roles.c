@@ -32,6 +32,8 @@ typedef struct roles_work {
     uint8_t *carries;     /* weighted, or a descendant is */
     uint8_t *w_above;     /* a proper ancestor is weighted */
     uint8_t *has_body;    /* a child carries body (the joint is inside a limb, not its end) */
+    uint32_t *wcount;     /* weighted joints in the subtree */
+    uint32_t wtotal;
     rf_vec3 up;
     double height, low; /* extent of the weighted pivots along up, their lowest height */
     bool have_clips;
@@ -87,8 +89,10 @@ static bool roles_prepare(roles_work *w, const uint8_t *weighted)
     w->parent = malloc(m * sizeof *w->parent);
     w->pos = malloc(m * sizeof *w->pos);
     w->carries = calloc(m, 1), w->w_above = calloc(m, 1), w->has_body = calloc(m, 1);
+    w->wcount = calloc(m, sizeof *w->wcount);
     rf_xform *world = malloc(m * sizeof *world);
-    if (!w->parent || !w->pos || !w->carries || !w->w_above || !w->has_body || !world) {
+    if (!w->parent || !w->pos || !w->carries || !w->w_above || !w->has_body || !w->wcount ||
+        !world) {
         free(world);
         return false;
     }
@@ -101,6 +105,10 @@ static bool roles_prepare(roles_work *w, const uint8_t *weighted)
     }
     free(world);
     for (uint32_t j = n; j-- > 0;) {
+        w->wcount[j] += weighted[j];
+        w->wtotal += weighted[j];
+        if (w->parent[j] >= 0)
+            w->wcount[w->parent[j]] += w->wcount[j];
         w->carries[j] = w->carries[j] || weighted[j];
         if (w->parent[j] >= 0 && w->carries[j])
             w->carries[w->parent[j]] = 1, w->has_body[w->parent[j]] = 1;
@@ -133,6 +141,24 @@ static bool roles_converts(const rf_joint *jt)
     return turns || scales;
 }
 
+/* Whether the rest only swaps axes: a turn by quarter turns (every entry of its matrix 0 or +-1)
+ * or a scale. An unweighted bone inside a limb at any other angle is a bone, not a conversion. */
+static bool roles_swaps_axes(const rf_joint *jt)
+{
+    rf_vec3 s = jt->rest.s;
+    if (fabs(s.x - 1) > 1e-3 || fabs(s.y - 1) > 1e-3 || fabs(s.z - 1) > 1e-3)
+        return true;
+    rf_mat4 m =
+        rf_xform_to_mat4((rf_xform){rf_v3(0, 0, 0), rf_quat_normalize(jt->rest.r), rf_v3(1, 1, 1)});
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            double v = fabs(m.m[c * 4 + r]);
+            if (fmin(v, fabs(v - 1)) > 0.02)
+                return false;
+        }
+    return true;
+}
+
 /* Whether j's pivot sits on its parent's or on every child's (a node inserted into a bone). */
 static bool roles_coincident(const roles_work *w, uint32_t j)
 {
@@ -157,10 +183,15 @@ static rf_joint_role roles_frame(const roles_work *w, uint32_t j, const uint8_t 
     if (w->have_clips && turned[j])
         return RF_ROLE_BODY; /* it moves the body */
     bool above = !w->w_above[j];
-    if (roles_converts(&w->s->joints[j]) && (above || roles_coincident(w, j)))
+    /* Above the body, a conversion carries all of it (a hip joint beside the torso carries one
+     * leg); inside, it sits in a bone and only swaps axes or scales. */
+    const rf_joint *jt = &w->s->joints[j];
+    bool all = w->wcount[j] == w->wtotal;
+    if (roles_converts(jt) && ((above && all) || (roles_coincident(w, j) && roles_swaps_axes(jt))))
         return RF_ROLE_AXIS;
-    if (!above)
-        return RF_ROLE_BODY; /* an unweighted joint of the body's own chain */
+    if (!above || (!all && w->parent[j] >= 0))
+        return RF_ROLE_BODY; /* an unweighted joint of the body's own chain, or a limb's root
+                              * beside the rest of the body */
     /* Without clips, only a root standing on the floor under the body is surely placement: an
      * unweighted pelvis at hip height moves the body in any clip. */
     bool on_floor = rf_v3_dot(w->pos[j], w->up) - w->low <= 0.1 * w->height;
@@ -256,6 +287,7 @@ rf_joint_roles *rf_joint_roles_find(const rf_skeleton *s, const rf_mesh *mesh,
         if (!r->weighted[j] && !w.carries[j])
             r->role[j] = (uint8_t)roles_helper(&w, j, r->role, &r->body_joint[j]);
     free(w.parent), free(w.pos), free(w.carries), free(w.w_above), free(w.has_body);
+    free(w.wcount);
     rf_analysis_free(a);
     if (!ok) {
         rf_joint_roles_free(r);

@@ -20,8 +20,14 @@ tests_retarget_test_retarget_data_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_retarget_test_retarget_data_LDADD = sdk/formats/bvh/librigflow-bvh.la sdk/formats/assimp/librigflow-assimp.la \
 	$(RT_TEST_LDADD)
 
-check_PROGRAMS += tests/retarget/test_roles
-TESTS += tests/retarget/test_roles
+check_PROGRAMS += tests/retarget/test_roles tests/retarget/test_retarget_rerig
+TESTS += tests/retarget/test_roles tests/retarget/test_retarget_rerig
+tests_retarget_test_retarget_rerig_SOURCES = tests/retarget/test_retarget_rerig.c \
+	tests/retarget/rt-maps.h
+tests_retarget_test_retarget_rerig_CPPFLAGS = $(RT_TEST_CPPFLAGS)
+tests_retarget_test_retarget_rerig_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_retarget_test_retarget_rerig_LDADD = sdk/formats/bvh/librigflow-bvh.la \
+	sdk/formats/assimp/librigflow-assimp.la $(RT_TEST_LDADD)
 tests_retarget_test_roles_SOURCES = tests/retarget/test_roles.c tests/retarget/rt-fixtures.h
 tests_retarget_test_roles_CPPFLAGS = $(RT_TEST_CPPFLAGS)
 tests_retarget_test_roles_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
@@ -32,6 +38,8 @@ check_LTLIBRARIES += tests/retarget/fx_namemap.la
 tests_retarget_fx_namemap_la_SOURCES = tests/retarget/fx_namemap.c
 tests_retarget_fx_namemap_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 
-TESTS += tests/retarget/test_retarget_pipeline.sh
-dist_noinst_SCRIPTS += tests/retarget/test_retarget_pipeline.sh
+TESTS += tests/retarget/test_retarget_pipeline.sh tests/retarget/test_retarget_sweep.sh
+dist_noinst_SCRIPTS += tests/retarget/test_retarget_pipeline.sh \
+	tests/retarget/test_retarget_sweep.sh
+EXTRA_DIST += tests/retarget/sweep.mjs
 EXTRA_DIST += tests/retarget/maps

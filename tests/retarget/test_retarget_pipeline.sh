@@ -76,6 +76,36 @@ fox="$fox,b_RightFoot01_021=RightFoot,b_RightFoot02_022=RightToeBase"
 if run "$data/models/Fox.glb" "$fox" "$tmp/fox.glb" -p retarget.in_place=true; then ok; else ko "onto Fox"; cat "$tmp/out"; fi
 gltf_valid "$tmp/fox.glb"
 
+# Bad input the run gets through, saying in one line what it could not do: a mapping that leaves
+# no foot (the upper body only), and a mesh that is not skinned to the target (the Fox's, given
+# with the figure's skeleton) for the floor and the mesh measures.
+upper="nodes[2]=Hips,nodes[11]=Spine,nodes[12]=Spine1,nodes[16]=LeftArm,nodes[13]=RightArm"
+cat >"$tmp/nofoot.json" <<EOF
+{ "format": "rigflow.pipeline", "version": 1, "nodes": [
+  { "id": "source", "type": "import", "params": { "path": "$data/bvh/cmu_01_01.bvh" } },
+  { "id": "target", "type": "import", "params": { "path": "$data/models/RiggedFigure.glb" } },
+  { "id": "other", "type": "import", "params": { "path": "$data/models/Fox.glb" } },
+  { "id": "map", "type": "test.name-map", "params": { "pairs": "$upper" },
+    "inputs": { "target": "target.skeleton", "sources": ["source.skeleton"] } },
+  { "id": "ik", "type": "ik.twobone" },
+  { "id": "retarget", "type": "retarget",
+    "inputs": { "sources": ["source.animation"], "source_skeletons": ["source.skeleton"],
+                "target": "target.skeleton", "mapping": "map.mapping", "ik": "ik.solver",
+                "mesh": "other.mesh" } },
+  { "id": "measure", "type": "retarget.measure",
+    "inputs": { "sources": ["source.animation"], "source_skeletons": ["source.skeleton"],
+                "target": "target.skeleton", "mapping": "map.mapping",
+                "animation": "retarget.animation", "mesh": "other.mesh" } },
+  { "id": "export", "type": "export", "params": { "path": "$tmp/nofoot.glb" },
+    "inputs": { "skeleton": "target.skeleton", "animation": "retarget.animation" } } ] }
+EOF
+if "$rigflow" --plugin-path "$fixtures" run "$tmp/nofoot.json" >"$tmp/out" 2>&1; then ok
+else ko "no foot and a foreign mesh refused"; cat "$tmp/out"; fi
+has "$tmp/out" "no foot to pin"
+has "$tmp/out" "floor from the skeleton only: the mesh is bound to 24 joints, the skeleton has 19"
+has "$tmp/out" "no mesh measures: the mesh is bound to 24 joints"
+[ -s "$tmp/nofoot.glb" ] && ok || ko "nofoot.glb not written"
+
 # A clip and a skeleton count that disagree are refused, and nothing is written.
 cat >"$tmp/bad.json" <<EOF
 { "format": "rigflow.pipeline", "version": 1, "nodes": [

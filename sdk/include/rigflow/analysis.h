@@ -216,11 +216,15 @@ rf_skeleton *rf_posed_best(const rf_skeleton *skeleton, const rf_animation *anim
  * from names. Placement and axis-conversion nodes never drive or receive body motion; helpers
  * are placed from the body joint they belong to. */
 typedef enum rf_joint_role {
-    RF_ROLE_BODY = 0,  /* carries skin, or moves joints that do */
-    RF_ROLE_PLACEMENT, /* an unweighted joint above the body that only places it: never turned by
-                        * a clip, or (without clips) standing on the floor below the body */
-    RF_ROLE_AXIS,      /* an unweighted, never-turned joint above or inside the body whose rest
-                        * only turns or scales what hangs from it (an axis or unit conversion) */
+    RF_ROLE_BODY = 0,  /* carries skin, or moves joints that do (turned by a clip, inside the
+                        * body's chain, or a limb's root beside the torso) */
+    RF_ROLE_PLACEMENT, /* an unweighted joint above the body carrying all of it, or a root of its
+                        * own, that only places it: never turned by the clips given, or (without
+                        * clips) standing on the floor below the body */
+    RF_ROLE_AXIS,      /* an unweighted, never-turned joint whose rest only turns or scales what
+                        * hangs from it (an axis or unit conversion): above the body carrying all
+                        * of it, or inside it on a bone's pivot swapping axes (quarter turns) or
+                        * scaling */
     RF_ROLE_IK_TARGET, /* an unweighted joint carrying no body that sits on a body joint at rest
                         * (where an engine's IK pulls that joint) */
     RF_ROLE_IK_POLE,   /* an unweighted joint carrying no body, off the body, nearest the middle
@@ -235,7 +239,8 @@ typedef struct rf_joint_roles {
     int32_t *body_joint; /* [joint_count] IK targets, poles and helpers: the body joint they sit
                           * on or next to at rest (-1 when the skeleton has no body); -1 for the
                           * others */
-    uint8_t *weighted;   /* [joint_count] 1 when it carries skin (or nothing says otherwise) */
+    uint8_t *weighted;   /* [joint_count] 1 when it carries skin, or when the skin says nothing
+                          * (it covers fewer than a quarter of the joints, or there is none) */
     uint8_t *turned;     /* [joint_count] 1 when a clip changes its rotation */
 } rf_joint_roles;
 

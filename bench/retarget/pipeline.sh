@@ -1,0 +1,42 @@
+#!/bin/sh
+# The whole retarget pipeline beside three.js, on the 10,000-frame benchmark clip: the wall time
+# of `rigflow run pipelines/retarget.json` (one process: import, matcher, retarget with the
+# contact pass and the mesh floor, export, summary and the measures, mesh measures included)
+# against three.js's BVHLoader.parse plus SkeletonUtils.retargetClip in one node process (the
+# peers' bench_three.mjs, medians of its reps). Medians of 5 rigflow processes.
+#
+# usage: bench/retarget/pipeline.sh [BUILDDIR] [TARGET]
+#   BUILDDIR  a built tree (default: the current directory); three.js is looked for where
+#             `make bench-retarget` installs it (BUILDDIR/bench-retarget/peers)
+#   TARGET    the model retargeted onto (default: ../shared/data/models/RiggedFigure.glb)
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+src=$(cd "$here/../.." && pwd)
+build=$(cd "${1:-.}" && pwd)
+shared=${RF_SHARED_DIR:-$src/../shared}
+data=${RF_DATA_DIR:-$shared/data}
+target=${2:-$data/models/RiggedFigure.glb}
+work=$build/bench-retarget
+mkdir -p "$work"
+synth=$work/synth_cmu31_10k.bvh
+[ -f "$synth" ] || node "$shared/peers/gen_bvh.mjs" 10000 120 "$synth" >&2
+tpeers=${THREE_PEERS:-$work/peers}
+[ -d "$tpeers/node_modules/three" ] || {
+    echo "pipeline.sh: three.js not installed in $tpeers (run make bench-retarget once)" >&2
+    exit 1
+}
+export RIGFLOW_PLUGIN_PATH="$build/plugins"
+times=""
+for i in 1 2 3 4 5; do
+    t0=$(date +%s%N)
+    "$build/rigflow" -q run "$src/pipelines/retarget.json" -p "source.path=$synth" \
+        -p "target.path=$target" -p "export.path=$work/pipeline_out.glb" >/dev/null
+    t1=$(date +%s%N)
+    times="$times $(((t1 - t0) / 1000000))"
+done
+ours=$(printf '%s\n' $times | sort -n | sed -n 3p)
+three=$(cd "$tpeers" && MIN_MS=300 node bench_three.mjs "$synth" 3 2>/dev/null |
+    awk '/^parse: median/ {p = $3} /^retargetClip: median/ {r = $3} END {print p + r}')
+echo "rigflow pipeline (whole process, median of 5):$times -> $ours ms"
+echo "three.js parse + retargetClip (in-process medians): $three ms"
+echo "ratio: $(echo "$three $ours" | awk '{printf "%.1f", $1 / $2}')x"

@@ -1,0 +1,489 @@
+/* Measures of what a person sees: the character's mesh skinned by a clip (linear blend skinning,
+ * on frames spread over the clip so the measure stays cheap) for torn limbs (vertices close at
+ * rest that follow different joints drifting apart), the floor (the lowest vertex against the
+ * rest floor; parts high at rest going under it) and stretch (edges against their rest length).
+ * Any clip for the skeleton can be measured, so a character's own clips give the reference. */
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rt-internal.h"
+
+#define RT_MESH_MAX_SEAMS 40000u
+#define RT_MESH_MAX_EDGES 40000u
+
+typedef struct rt_mesh_work {
+    const rf_skeleton *s;
+    const rf_mesh *m;
+    uint32_t n, nv;
+    rf_vec3 up;
+    rf_mat4 *ibind;  /* [n] model space to joint space at bind time */
+    rf_mat4 *skin;   /* [n] this pose's skinning matrices */
+    rf_xform *local; /* [n] */
+    rf_xform *world; /* [n] */
+    rf_vec3 *rest;   /* [nv] the mesh skinned in the skeleton's rest pose */
+    rf_vec3 *pos;    /* [nv] this frame's */
+    uint32_t *seam;  /* [seams * 2] */
+    uint32_t seams;
+    uint32_t *edge; /* [edges * 2] */
+    uint32_t edges;
+    const double *expect; /* [sampled frame] how far over the floor the source is, scaled to the
+                           * target (a jump), or NULL: the floor figures count from there */
+} rt_mesh_work;
+
+static int rt_cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The k-th smallest of `count` values (reordered around it): Hoare's selection, linear on
+ * average, where sorting a million drifts was most of the measure's time. */
+static double rt_select(double *v, size_t count, size_t k)
+{
+    ptrdiff_t lo = 0, hi = (ptrdiff_t)count - 1, kk = (ptrdiff_t)k;
+    while (lo < hi) {
+        double pivot = v[lo + (hi - lo) / 2];
+        ptrdiff_t i = lo, j = hi;
+        while (i <= j) {
+            while (v[i] < pivot)
+                i++;
+            while (v[j] > pivot)
+                j--;
+            if (i <= j) {
+                double t = v[i];
+                v[i++] = v[j], v[j--] = t;
+            }
+        }
+        if (kk <= j)
+            hi = j;
+        else if (kk >= i)
+            lo = i;
+        else
+            break; /* between the halves: equal to the pivot */
+    }
+    return v[kk];
+}
+
+/* The q-quantile of `count` values (reordered); 0 without values. */
+static double rt_quantile(double *v, size_t count, double q)
+{
+    return count ? rt_select(v, count, (size_t)(q * (double)(count - 1))) : 0;
+}
+
+/* The largest of `count` values, 0 without values. */
+static double rt_max(const double *v, size_t count)
+{
+    double m = 0;
+    for (size_t i = 0; i < count; i++)
+        m = fmax(m, v[i]);
+    return m;
+}
+
+static void rt_mw_free(rt_mesh_work *w)
+{
+    free(w->ibind), free(w->skin), free(w->local), free(w->world), free(w->rest), free(w->pos);
+    free(w->seam), free(w->edge);
+}
+
+static void rt_mesh_fk(rt_mesh_work *w)
+{
+    for (uint32_t j = 0; j < w->n; j++) {
+        int32_t p = w->s->joints[j].parent;
+        w->world[j] = p < 0 ? w->local[j] : rf_xform_mul(w->world[p], w->local[j]);
+    }
+}
+
+/* Skins the mesh in the pose held by w->world into `out`. */
+static void rt_mesh_skin(rt_mesh_work *w, rf_vec3 *out)
+{
+    for (uint32_t j = 0; j < w->n; j++)
+        w->skin[j] = rf_mat4_mul(rf_xform_to_mat4(w->world[j]), w->ibind[j]);
+    const rf_mesh *m = w->m;
+    for (uint32_t v = 0; v < w->nv; v++) {
+        const float *p = m->positions + (size_t)v * 3;
+        rf_vec3 bind = rf_v3(p[0], p[1], p[2]), sum = rf_v3(0, 0, 0);
+        double wsum = 0;
+        for (uint32_t i = 0; i < RF_MESH_MAX_INFLUENCES; i++) {
+            size_t k = (size_t)v * RF_MESH_MAX_INFLUENCES + i;
+            double wt = m->skin_weights[k];
+            if (!(wt > 0))
+                continue;
+            sum = rf_v3_add(sum, rf_v3_scale(rf_mat4_point(w->skin[m->skin_joints[k]], bind), wt));
+            wsum += wt;
+        }
+        out[v] = wsum > 0 ? rf_v3_scale(sum, 1.0 / wsum) : bind;
+    }
+}
+
+/* The joint with the largest weight on vertex v. */
+static uint32_t rt_dominant(const rf_mesh *m, uint32_t v)
+{
+    uint32_t best = 0;
+    for (uint32_t i = 1; i < RF_MESH_MAX_INFLUENCES; i++)
+        if (m->skin_weights[(size_t)v * 4 + i] > m->skin_weights[(size_t)v * 4 + best])
+            best = i;
+    return m->skin_joints[(size_t)v * 4 + best];
+}
+
+typedef struct rt_cell {
+    uint64_t key;
+    uint32_t v;
+} rt_cell;
+
+static int rt_cmp_cell(const void *a, const void *b)
+{
+    uint64_t x = ((const rt_cell *)a)->key, y = ((const rt_cell *)b)->key;
+    return (x > y) - (x < y);
+}
+
+static uint64_t rt_cell_key(int64_t x, int64_t y, int64_t z)
+{
+    return ((uint64_t)(x & 0x1fffff) << 42) | ((uint64_t)(y & 0x1fffff) << 21) |
+           (uint64_t)(z & 0x1fffff);
+}
+
+/* Seams: pairs of vertices within 1% of the height at rest whose dominant joints differ, found
+ * through a grid of that cell size (the 27 cells around each vertex). */
+static bool rt_mesh_seams(rt_mesh_work *w, double height)
+{
+    double eps = 0.01 * height;
+    rt_cell *cells = malloc((w->nv ? w->nv : 1) * sizeof *cells);
+    w->seam = malloc(RT_MESH_MAX_SEAMS * 2 * sizeof *w->seam);
+    if (!cells || !w->seam) {
+        free(cells);
+        return false;
+    }
+    for (uint32_t v = 0; v < w->nv; v++) {
+        rf_vec3 p = w->rest[v];
+        cells[v].key = rt_cell_key((int64_t)floor(p.x / eps), (int64_t)floor(p.y / eps),
+                                   (int64_t)floor(p.z / eps));
+        cells[v].v = v;
+    }
+    qsort(cells, w->nv, sizeof *cells, rt_cmp_cell);
+    for (uint32_t i = 0; i < w->nv && w->seams < RT_MESH_MAX_SEAMS; i++) {
+        uint32_t a = cells[i].v, ja = rt_dominant(w->m, a);
+        rf_vec3 p = w->rest[a];
+        int64_t cx = (int64_t)floor(p.x / eps), cy = (int64_t)floor(p.y / eps),
+                cz = (int64_t)floor(p.z / eps);
+        for (int d = 0; d < 27 && w->seams < RT_MESH_MAX_SEAMS; d++) {
+            rt_cell probe = {rt_cell_key(cx + d % 3 - 1, cy + d / 3 % 3 - 1, cz + d / 9 - 1), 0};
+            rt_cell *hit = bsearch(&probe, cells, w->nv, sizeof *cells, rt_cmp_cell);
+            while (hit && hit > cells && hit[-1].key == probe.key)
+                hit--;
+            for (; hit && hit < cells + w->nv && hit->key == probe.key; hit++) {
+                uint32_t b = hit->v;
+                if (b <= a || rt_dominant(w->m, b) == ja || rf_v3_dist(p, w->rest[b]) > eps)
+                    continue;
+                w->seam[w->seams * 2] = a, w->seam[w->seams * 2 + 1] = b;
+                if (++w->seams == RT_MESH_MAX_SEAMS)
+                    break;
+            }
+        }
+    }
+    free(cells);
+    return true;
+}
+
+/* Edges of the triangles, one in `stride` when there are many. */
+static bool rt_mesh_edges(rt_mesh_work *w, double height)
+{
+    const rf_mesh *m = w->m;
+    size_t total = (size_t)m->triangle_count * 3;
+    size_t stride =
+        total > RT_MESH_MAX_EDGES ? (total + RT_MESH_MAX_EDGES - 1) / RT_MESH_MAX_EDGES : 1;
+    w->edge = malloc((RT_MESH_MAX_EDGES + 1) * 2 * sizeof *w->edge);
+    if (!w->edge)
+        return false;
+    for (size_t e = 0; e < total && w->edges < RT_MESH_MAX_EDGES; e += stride) {
+        const uint32_t *t = m->triangles + e / 3 * 3;
+        uint32_t a = t[e % 3], b = t[(e + 1) % 3];
+        if (a >= w->nv || b >= w->nv || rf_v3_dist(w->rest[a], w->rest[b]) <= 1e-6 * height)
+            continue;
+        w->edge[w->edges * 2] = a, w->edge[w->edges * 2 + 1] = b;
+        w->edges++;
+    }
+    return true;
+}
+
+static bool rt_mesh_check(const rf_skeleton *s, const rf_mesh *m, const rf_animation *a, char *err,
+                          size_t err_size)
+{
+    if (!m || !m->vertex_count || !m->positions || !m->skin_joints || !m->skin_weights) {
+        rf_rt_fail(err, err_size, "the mesh is not skinned");
+        return false;
+    }
+    if (!a || a->joint_count != s->joint_count || !a->frame_count) {
+        rf_rt_fail(err, err_size, "the clip measured on the mesh does not fit its skeleton");
+        return false;
+    }
+    if (m->inverse_bind && m->bind_count != s->joint_count) {
+        rf_rt_fail(err, err_size, "the mesh is bound to %u joints, the skeleton has %u",
+                   m->bind_count, s->joint_count);
+        return false;
+    }
+    uint8_t *used = calloc(s->joint_count ? s->joint_count : 1, 1);
+    uint32_t skinned = 0;
+    for (size_t i = 0; used && i < (size_t)m->vertex_count * RF_MESH_MAX_INFLUENCES; i++) {
+        if (!(m->skin_weights[i] > 0))
+            continue;
+        if (m->skin_joints[i] >= s->joint_count) {
+            rf_rt_fail(err, err_size, "vertex %zu is weighted to joint %u of %u", i / 4,
+                       m->skin_joints[i], s->joint_count);
+            free(used);
+            return false;
+        }
+        skinned += !used[m->skin_joints[i]], used[m->skin_joints[i]] = 1;
+    }
+    free(used);
+    /* A mesh hung on a node or two (a node tree's rigid parts) does not stand for the body. */
+    if (skinned < 2 || skinned * 4 < s->joint_count) {
+        rf_rt_fail(err, err_size,
+                   "the mesh is skinned to %u of the %u joints, too few to stand for "
+                   "the body",
+                   skinned, s->joint_count);
+        return false;
+    }
+    return true;
+}
+
+static bool rt_mesh_prepare(rt_mesh_work *w)
+{
+    size_t n = w->n ? w->n : 1, nv = w->nv;
+    w->ibind = malloc(n * sizeof *w->ibind), w->skin = malloc(n * sizeof *w->skin);
+    w->local = malloc(n * sizeof *w->local), w->world = malloc(n * sizeof *w->world);
+    w->rest = malloc(nv * sizeof *w->rest), w->pos = malloc(nv * sizeof *w->pos);
+    if (!w->ibind || !w->skin || !w->local || !w->world || !w->rest || !w->pos)
+        return false;
+    for (uint32_t j = 0; j < w->n; j++)
+        w->local[j] = w->s->joints[j].rest;
+    rt_mesh_fk(w);
+    for (uint32_t j = 0; j < w->n; j++)
+        if (!w->m->inverse_bind && !rf_mat4_invert(rf_xform_to_mat4(w->world[j]), &w->ibind[j]))
+            w->ibind[j] = rf_mat4_identity();
+    if (w->m->inverse_bind)
+        memcpy(w->ibind, w->m->inverse_bind, w->n * sizeof *w->ibind);
+    rt_mesh_skin(w, w->rest);
+    return true;
+}
+
+/* Per frame figures: the lowest vertex, the lowest vertex of the parts high at rest, and the
+ * drift of every seam and stretch of every edge into the caller's arrays. */
+static void rt_mesh_frame(rt_mesh_work *w, double height, double floor_h, const uint8_t *high,
+                          double *low, double *part_low, double *drift, double *stretch)
+{
+    *low = INFINITY, *part_low = INFINITY;
+    for (uint32_t v = 0; v < w->nv; v++) {
+        double h = rf_v3_dot(w->pos[v], w->up);
+        *low = fmin(*low, h);
+        if (high[v])
+            *part_low = fmin(*part_low, h);
+    }
+    *low = (*low - floor_h) / height;
+    *part_low = isfinite(*part_low) ? (*part_low - floor_h) / height : 0;
+    for (uint32_t i = 0; i < w->seams; i++) {
+        uint32_t a = w->seam[i * 2], b = w->seam[i * 2 + 1];
+        double d0 = rf_v3_dist(w->rest[a], w->rest[b]), d = rf_v3_dist(w->pos[a], w->pos[b]);
+        drift[i] = fabs(d - d0) / height;
+    }
+    for (uint32_t i = 0; i < w->edges; i++) {
+        uint32_t a = w->edge[i * 2], b = w->edge[i * 2 + 1];
+        stretch[i] =
+            fabs(rf_v3_dist(w->pos[a], w->pos[b]) / rf_v3_dist(w->rest[a], w->rest[b]) - 1);
+    }
+}
+
+/* The floor figures from the per-frame lowest points. */
+static void rt_mesh_floor(rf_rt_mesh_report *r, double *low, const double *part_low,
+                          uint32_t frames)
+{
+    uint32_t below = 0;
+    double depth = 0;
+    for (uint32_t i = 0; i < frames; i++) {
+        r->floating += low[i] > 0.03;
+        r->sinking += low[i] < -0.03;
+        below += part_low[i] < -0.01;
+        depth = fmax(depth, -part_low[i]);
+    }
+    r->floating /= frames, r->sinking /= frames;
+    r->parts_below = (double)below / frames;
+    r->parts_depth = depth;
+    r->floor_median = rt_quantile(low, frames, 0.5);
+    for (uint32_t i = 0; i < frames; i++)
+        low[i] = fabs(low[i]);
+    r->floor_p95 = rt_quantile(low, frames, 0.95);
+}
+
+static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t frames,
+                        rf_rt_mesh_report *r)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (uint32_t v = 0; v < w->nv; v++) {
+        double h = rf_v3_dot(w->rest[v], w->up);
+        lo = fmin(lo, h), hi = fmax(hi, h);
+    }
+    double height = hi > lo ? hi - lo : 1;
+    r->height = height;
+    uint8_t *high = malloc(w->nv);
+    double *low = malloc(frames * sizeof *low), *part_low = malloc(frames * sizeof *part_low);
+    bool ok = high && low && part_low && rt_mesh_seams(w, height) && rt_mesh_edges(w, height);
+    double *drift = ok ? malloc(((size_t)w->seams * frames + 1) * sizeof *drift) : NULL;
+    double *stretch = ok ? malloc(((size_t)w->edges * frames + 1) * sizeof *stretch) : NULL;
+    ok = ok && drift && stretch;
+    for (uint32_t v = 0; ok && v < w->nv; v++)
+        high[v] = rf_v3_dot(w->rest[v], w->up) > lo + 0.15 * height;
+    for (uint32_t i = 0; ok && i < frames; i++) {
+        uint32_t f =
+            frames > 1 ? (uint32_t)((uint64_t)i * (anim->frame_count - 1) / (frames - 1)) : 0;
+        rf_animation_local_pose(anim, w->s, f, w->local);
+        for (uint32_t j = 0; j < w->n; j++)
+            w->local[j].r = rf_quat_normalize(w->local[j].r);
+        rt_mesh_fk(w);
+        rt_mesh_skin(w, w->pos);
+        rt_mesh_frame(w, height, lo, high, &low[i], &part_low[i], drift + (size_t)i * w->seams,
+                      stretch + (size_t)i * w->edges);
+        if (w->expect)
+            low[i] -= w->expect[i] / height;
+    }
+    if (ok) {
+        r->frames = frames, r->seams = w->seams, r->edges = w->edges;
+        rt_mesh_floor(r, low, part_low, frames);
+        size_t ns = (size_t)w->seams * frames;
+        r->seam_max = rt_max(drift, ns);
+        r->seam_p99 = rt_quantile(drift, ns, 0.99);
+        r->stretch_p99 = rt_quantile(stretch, (size_t)w->edges * frames, 0.99);
+    }
+    free(high), free(low), free(part_low), free(drift), free(stretch);
+    return ok;
+}
+
+bool rf_rt_mesh_measure(const rf_skeleton *skeleton, const rf_mesh *mesh, const rf_animation *anim,
+                        rf_vec3 up, uint32_t max_frames, rf_rt_mesh_report *report, char *err,
+                        size_t err_size)
+{
+    memset(report, 0, sizeof *report);
+    if (!rt_mesh_check(skeleton, mesh, anim, err, err_size))
+        return false;
+    rt_mesh_work w = {.s = skeleton, .m = mesh, .n = skeleton->joint_count};
+    w.nv = mesh->vertex_count;
+    w.up = rf_v3_len2(up) > 0               ? rf_v3_normalize(up)
+           : rf_v3_len2(skeleton->up) > 0.5 ? rf_v3_normalize(skeleton->up)
+                                            : rf_v3(0, 1, 0);
+    uint32_t frames = max_frames ? max_frames : 24;
+    frames = frames < anim->frame_count ? frames : anim->frame_count;
+    bool ok = rt_mesh_prepare(&w) && rt_mesh_run(&w, anim, frames, report);
+    rt_mw_free(&w);
+    if (!ok)
+        rf_rt_fail(err, err_size, "out of memory");
+    return ok;
+}
+
+/* The lowest vertex of each of `count` frames spread over the clip, over the rest mesh's
+ * lowest, into low (sorted). */
+static void rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t count, double *low)
+{
+    double floor_h = INFINITY;
+    for (uint32_t v = 0; v < w->nv; v++)
+        floor_h = fmin(floor_h, rf_v3_dot(w->rest[v], w->up));
+    for (uint32_t i = 0; i < count; i++) {
+        uint32_t f =
+            count > 1 ? (uint32_t)((uint64_t)i * (anim->frame_count - 1) / (count - 1)) : 0;
+        rf_animation_local_pose(anim, w->s, f, w->local);
+        for (uint32_t j = 0; j < w->n; j++)
+            w->local[j].r = rf_quat_normalize(w->local[j].r);
+        rt_mesh_fk(w);
+        rt_mesh_skin(w, w->pos);
+        low[i] = INFINITY;
+        for (uint32_t v = 0; v < w->nv; v++)
+            low[i] = fmin(low[i], rf_v3_dot(w->pos[v], w->up));
+        low[i] -= floor_h;
+    }
+    qsort(low, count, sizeof *low, rt_cmp_double);
+}
+
+bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
+                            char *err, size_t err_size)
+{
+    if (shift)
+        *shift = 0;
+    if (!rt_mesh_check(rt->target, mesh, anim, err, err_size))
+        return false;
+    rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n, .nv = mesh->vertex_count};
+    w.up = rt->up;
+    uint32_t count = anim->frame_count < 32 ? anim->frame_count : 32;
+    double low[32];
+    bool ok = rt_mesh_prepare(&w);
+    if (ok)
+        rt_mesh_lows(&w, anim, count, low);
+    rt_mw_free(&w);
+    if (!ok) {
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    double lift = -(count % 2 ? low[count / 2] : 0.5 * (low[count / 2 - 1] + low[count / 2]));
+    if (!isfinite(lift))
+        return true;
+    if (shift)
+        *shift = lift;
+    /* The skeleton's floor was off by as much: the contact pass reads soles from joints and
+     * bone tips, so its floor moves with the body. */
+    rt->floor_target += lift;
+    if (!rf_rt_lift(rt, anim, lift)) {
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    return true;
+}
+
+/* How far over its floor source 0's lowest point is (joints and tips, unweighted helpers and
+ * joints above the hips left out) at each of `frames` frames spread over `anim`, scaled by the
+ * legs into target units: where the target should be in the air too (a jump). */
+static bool rt_source_clearance(rf_retarget *rt, const rf_animation *anim, double start,
+                                uint32_t frames, double *expect)
+{
+    const rf_rt_src *src = &rt->src[0];
+    size_t m = rt->max_src_n ? rt->max_src_n : 1;
+    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
+    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
+    bool ok = local && world && rot && tr, known = rf_rt_weights_known(src->skel);
+    for (uint32_t i = 0; ok && i < frames; i++) {
+        uint32_t f =
+            frames > 1 ? (uint32_t)((uint64_t)i * (anim->frame_count - 1) / (frames - 1)) : 0;
+        rf_rt_source_world(rt, 0, start + f / anim->fps, local, world, rot, tr);
+        double low = INFINITY;
+        for (uint32_t j = 0; j < src->n; j++) {
+            if (known && (src->skel->joints[j].flags & RF_JOINT_UNWEIGHTED))
+                continue;
+            low = fmin(low, rf_rt_height(src->up, world[j].t));
+            if (rf_v3_len2(src->tip[j]) > 0)
+                low = fmin(low, rf_rt_height(src->up, rf_xform_point(world[j], src->tip[j])));
+        }
+        double clear = isfinite(low) ? fmax(0, low - src->floor) : 0;
+        expect[i] = clear * rt->leg_target / src->leg;
+    }
+    free(local), free(world), free(rot), free(tr);
+    return ok;
+}
+
+bool rf_retarget_mesh_measure(rf_retarget *rt, const rf_mesh *mesh, const rf_animation *anim,
+                              double start, uint32_t max_frames, rf_rt_mesh_report *report,
+                              char *err, size_t err_size)
+{
+    memset(report, 0, sizeof *report);
+    if (!rt_mesh_check(rt->target, mesh, anim, err, err_size))
+        return false;
+    rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n, .nv = mesh->vertex_count};
+    w.up = rt->up;
+    uint32_t frames = max_frames ? max_frames : 24;
+    frames = frames < anim->frame_count ? frames : anim->frame_count;
+    double *expect = malloc((frames ? frames : 1) * sizeof *expect);
+    bool ok = expect && rt_source_clearance(rt, anim, start, frames, expect);
+    w.expect = expect;
+    ok = ok && rt_mesh_prepare(&w) && rt_mesh_run(&w, anim, frames, report);
+    rt_mw_free(&w);
+    free(expect);
+    if (!ok)
+        rf_rt_fail(err, err_size, "out of memory");
+    return ok;
+}
