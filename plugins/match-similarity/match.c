@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <rigflow/model-copy.h>
+
 #include "ms-internal.h"
 
 #define RF_MS_DEFAULT_THRESHOLD 80.0
@@ -656,15 +658,6 @@ static uint32_t input_flags(const rf_ms_ctx *c, uint32_t t, const rf_ms_candidat
     return flags;
 }
 
-static char *dup_str(const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *d = malloc(n);
-    if (d)
-        memcpy(d, s, n);
-    return d;
-}
-
 static bool mapping_labels(rf_mapping *m, const rf_analysis *a)
 {
     m->metric_count = RF_MS_METRIC_COUNT;
@@ -674,13 +667,13 @@ static bool mapping_labels(rf_mapping *m, const rf_analysis *a)
     if (!m->metric_names || !m->sections || !m->sides)
         return false;
     for (int i = 0; i < RF_MS_METRIC_COUNT; i++)
-        if (!(m->metric_names[i] = dup_str(rf_ms_metric_names[i])))
+        if (!(m->metric_names[i] = rf_strdup(rf_ms_metric_names[i])))
             return false;
     for (uint32_t j = 0; j < m->target_joint_count; j++) {
         const rf_joint_info *ji = &a->joints[j];
         rf_section_type t = ji->section >= 0 ? a->sections[ji->section].type : RF_SECTION_NONE;
-        m->sections[j] = dup_str(rf_section_type_name(t));
-        m->sides[j] = dup_str(rf_side_name(ji->side));
+        m->sections[j] = rf_strdup(rf_section_type_name(t));
+        m->sides[j] = rf_strdup(rf_side_name(ji->side));
         if (!m->sections[j] || !m->sides[j])
             return false;
     }

@@ -121,7 +121,7 @@ bool rf_ai_list_clips(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
         rf_ai_clip *clip = &r->clips[i];
         char name[64];
         snprintf(name, sizeof name, "clip%u", i);
-        clip->name = rf_ai_strdup(a->mName.data[0] ? a->mName.data : name);
+        clip->name = rf_strdup(a->mName.data[0] ? a->mName.data : name);
         if (!clip->name)
             return rf_ai_fail(c, "out of memory");
         clip->duration = a->mDuration > 0 ? a->mDuration / rf_ai_tps(a) : 0;
@@ -287,7 +287,7 @@ static unsigned rf_ai_late_keys(const struct aiAnimation *a)
 static bool rf_ai_rest_animation(rf_ai_ctx *c, const rf_skeleton *s, rf_animation **out)
 {
     rf_animation *anim = rf_animation_new(s->joint_count, 1, RF_AI_DEFAULT_FPS);
-    if (!anim || !(anim->name = rf_ai_strdup("rest"))) {
+    if (!anim || !(anim->name = rf_strdup("rest"))) {
         rf_animation_free(anim);
         return rf_ai_fail(c, "out of memory");
     }
@@ -319,7 +319,7 @@ bool rf_ai_build_animation(rf_ai_ctx *c, const rf_skeleton *s, int clip, const r
                           need / 1e9, 2 * half / 1e9);
     rf_animation *anim = rf_animation_new(s->joint_count, info->frames, info->fps);
     rf_ai_track *tracks = calloc(s->joint_count ? s->joint_count : 1, sizeof *tracks);
-    if (!anim || !tracks || !(anim->name = rf_ai_strdup(info->name))) {
+    if (!anim || !tracks || !(anim->name = rf_strdup(info->name))) {
         rf_animation_free(anim), free(tracks);
         return rf_ai_fail(c, "out of memory for %u frames of %u joints", info->frames,
                           s->joint_count);

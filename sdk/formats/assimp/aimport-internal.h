@@ -10,6 +10,7 @@
 
 #include "aimport-io.h"
 #include "rigflow/aimport.h"
+#include <rigflow/model-copy.h>
 
 typedef struct rf_ai_ctx {
     const char *path;
@@ -44,7 +45,6 @@ typedef struct rf_ai_ctx {
 bool rf_ai_fail(rf_ai_ctx *c, const char *fmt, ...) RF_PRINTF(2, 3);
 void rf_ai_logf(rf_ai_ctx *c, int level, const char *fmt, ...) RF_PRINTF(3, 4);
 
-char *rf_ai_strdup(const char *s);
 rf_mat4 rf_ai_mat4(const struct aiMatrix4x4 *m);
 /* Index of the node named `name`, or -1 (linear: call once per bone or channel). */
 int rf_ai_find_node(const rf_ai_ctx *c, const char *name);

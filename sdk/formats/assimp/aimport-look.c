@@ -243,7 +243,7 @@ static int32_t rf_ai_image_for(rf_ai_look *L, const char *name, const char *mate
     int t = rf_ai_embedded_index(L->c, name);
     int32_t image =
         t >= 0 ? rf_ai_embedded_image(L, t, name, material) : rf_ai_file_image(L, name, material);
-    if ((slot->key = rf_ai_strdup(name)))
+    if ((slot->key = rf_strdup(name)))
         slot->image = image, L->seen_count++;
     return image;
 }
@@ -357,7 +357,7 @@ static rf_material *rf_ai_material(rf_ai_look *L, const struct aiMaterial *am)
     if (!m)
         return NULL;
     if (aiGetMaterialString(am, AI_MATKEY_NAME, &name) == aiReturn_SUCCESS && name.data[0])
-        m->name = rf_ai_strdup(name.data);
+        m->name = rf_strdup(name.data);
     const char *label = m->name ? m->name : "";
     rf_ai_factors(am, m);
     m->base_color_texture = rf_ai_texture(L, am, base, 2, label);

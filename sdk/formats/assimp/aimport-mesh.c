@@ -292,7 +292,7 @@ static bool rf_ai_add_instance(rf_ai_mesh_build *b, int node, unsigned mesh_inde
     b->part_mesh[b->p] = mesh_index;
     rf_mesh_part *part = &b->m->parts[b->p++];
     const char *name = mesh->mName.data[0] ? mesh->mName.data : b->c->nodes[node]->mName.data;
-    part->name = rf_ai_strdup(name);
+    part->name = rf_strdup(name);
     b->any_normals |= mesh->mNormals != NULL;
     part->first_vertex = b->v, part->vertex_count = mesh->mNumVertices;
     part->first_triangle = b->t;

@@ -498,15 +498,6 @@ static void rf_ai_select_joints(rf_ai_ctx *c)
 
 /* ---- skeleton ---- */
 
-char *rf_ai_strdup(const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *d = malloc(n);
-    if (d)
-        memcpy(d, s, n);
-    return d;
-}
-
 /* The joint names given so far, with the next suffix to try for each: open addressing over a
  * power-of-two table at most half full, so that uniqueness costs constant time per joint (a
  * search of the skeleton per joint, and per suffix, would be quadratic). */
@@ -552,7 +543,7 @@ static bool rf_ai_name_joints(rf_ai_ctx *c, rf_skeleton *s)
         }
         if (strcmp(buf, src) != 0 && src[0])
             rf_ai_logf(c, 1, "%s: duplicate joint name '%s' renamed '%s'", c->path, src, buf);
-        s->joints[j].name = rf_ai_strdup(buf);
+        s->joints[j].name = rf_strdup(buf);
         if (!s->joints[j].name) {
             free(table);
             return rf_ai_fail(c, "out of memory");
@@ -627,7 +618,7 @@ static bool rf_ai_build_skeleton(rf_ai_ctx *c, const rf_ai_options *o, rf_skelet
         s->joints[j].parent = p >= 0 ? c->joint_of[p] : -1;
     }
     const char *slash = strrchr(c->path, '/');
-    s->name = rf_ai_strdup(slash ? slash + 1 : c->path);
+    s->name = rf_strdup(slash ? slash + 1 : c->path);
     if (!s->name) {
         rf_skeleton_free(s);
         return rf_ai_fail(c, "out of memory");
