@@ -41,6 +41,11 @@ contains "$tmp/out" "bvh.export" "plugins lists bvh.export"
 expect 0 "describe bvh.import" -- "$rigflow" describe bvh.import
 contains "$tmp/out" "skeleton" "describe shows outputs"
 contains "$tmp/out" "path" "describe shows params"
+# a plugin built against the frozen ABI 1.0 headers (tests/abi-1.0) is described like any other
+mkdir -p "$tmp/abi10" && cp "$fixtures/fx_abi10.so" "$tmp/abi10/"
+expect 0 "describe a plugin built for ABI 1.0" -- "$rigflow" --plugin-path "$tmp/abi10" describe abi10.chain
+contains "$tmp/out" "prefix" "the 1.0 plugin's third parameter reads as declared"
+contains "$tmp/out" 'default "bone"' "the 1.0 plugin's string default reads as declared"
 expect 2 "describe an unknown type" -- "$rigflow" describe no.such
 contains "$tmp/err" "plugin not installed: no.such" "describe names the missing type"
 

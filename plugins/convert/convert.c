@@ -50,11 +50,9 @@ static bool rf_cv_import_bvh(const rf_host *host, rf_node *node, const char *pat
     rf_ai_clip clip = {.name = NULL, .fps = r.animation->fps, .frames = r.animation->frame_count};
     clip.duration = r.animation->frame_count > 1 ? (r.animation->frame_count - 1) / clip.fps : 0;
     const char *name = r.animation->name ? r.animation->name : "motion";
-    clip.name = malloc(strlen(name) + 1);
-    if (clip.name) {
-        memcpy(clip.name, name, strlen(name) + 1);
+    clip.name = rf_strdup(name);
+    if (clip.name)
         r.clips = malloc(sizeof *r.clips);
-    }
     if (!clip.name || !r.clips) {
         free(clip.name);
         rf_ai_result_clear(&r);
@@ -88,10 +86,8 @@ static const rf_node_desc rf_cv_import_desc = {
     .doc = "Imports any supported file, choosing by extension: .bvh with the native BVH reader "
            "(clip, rest_pose and require_skeleton do not apply), everything else through Assimp "
            "as assimp.import does. Outputs are the same for every format.",
-    .output_count = RF_AI_NODE_OUTPUT_COUNT,
-    .outputs = rf_ai_node_outputs,
-    .param_count = RF_AI_NODE_PARAM_COUNT,
-    .params = rf_ai_node_params,
+    RF_NODE_OUTPUTS(rf_ai_node_outputs),
+    RF_NODE_PARAMS(rf_ai_node_params),
     .process = rf_cv_import,
     .get_extension = rf_cv_import_extension,
 };
@@ -99,16 +95,16 @@ static const rf_node_desc rf_cv_import_desc = {
 /* ---- export ---- */
 
 static const rf_port_desc rf_cv_export_inputs[] = {
-    {sizeof(rf_port_desc), "skeleton", RF_TYPE_SKELETON, 0, "the skeleton to write"},
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL | RF_PORT_MULTIPLE,
-     "its motion, one or more clips (glTF writes each as a named animation; BVH takes one); "
-     "without it: the rest pose"},
-    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
-     "a mesh skinned to the skeleton, with its materials and textures (glTF only; BVH has no "
-     "meshes)"},
-    {sizeof(rf_port_desc), "clips", RF_TYPE_CLIPS, RF_PORT_OPTIONAL,
-     "an importer's clip list: when it holds every clip's motion (clip *), those clips are "
-     "written instead of the animation input"},
+    RF_PORT_DESC("skeleton", RF_TYPE_SKELETON, 0, "the skeleton to write"),
+    RF_PORT_DESC("animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL | RF_PORT_MULTIPLE,
+                 "its motion, one or more clips (glTF writes each as a named animation; BVH takes "
+                 "one); without it: the rest pose"),
+    RF_PORT_DESC("mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
+                 "a mesh skinned to the skeleton, with its materials and textures (glTF only; BVH "
+                 "has no meshes)"),
+    RF_PORT_DESC("clips", RF_TYPE_CLIPS, RF_PORT_OPTIONAL,
+                 "an importer's clip list: when it holds every clip's motion (clip *), those clips "
+                 "are written instead of the animation input"),
 };
 
 /* The clips to write: the clip list's motions when it holds any, else the animation inputs.
@@ -129,8 +125,9 @@ static const rf_animation **rf_cv_export_clips(const rf_host *host, rf_node *nod
 }
 
 static const rf_param_desc rf_cv_export_params[] = {
-    {sizeof(rf_param_desc), "path", RF_PARAM_OUTPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
-     "the file to write; its extension picks the format: .glb, .gltf or .bvh"},
+    RF_PARAM_DESC_OUTPUT_PATH(
+        "path", RF_PARAM_REQUIRED,
+        "the file to write; its extension picks the format: .glb, .gltf or .bvh"),
 };
 
 /* Refuses an unknown extension when the pipeline is set up, before any import runs. */
@@ -198,10 +195,8 @@ static const rf_node_desc rf_cv_export_desc = {
            "extension names: .glb or .gltf (glTF 2.0: nodes, skin, skinned mesh with materials "
            "and embedded images, one named animation per clip) or .bvh (one clip; rest "
            "rotations baked in: the zero-rotation pose is the rest pose).",
-    .input_count = sizeof rf_cv_export_inputs / sizeof rf_cv_export_inputs[0],
-    .inputs = rf_cv_export_inputs,
-    .param_count = 1,
-    .params = rf_cv_export_params,
+    RF_NODE_INPUTS(rf_cv_export_inputs),
+    RF_NODE_PARAMS(rf_cv_export_params),
     .create = rf_cv_export_create,
     .process = rf_cv_export,
 };

@@ -117,10 +117,8 @@ RF_SELFTEST_GET_EXTENSION(get_extension, selftest_run)
 
 #define SKELETON_INPUTS                                                                            \
     RF_PORT_DESC("target", RF_TYPE_SKELETON, 0, "The target skeleton (joint names and order)."),   \
-    {                                                                                              \
-        sizeof(rf_port_desc), "sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE | RF_PORT_OPTIONAL,    \
-            "The source skeletons, in the mapping's source order."                                 \
-    }
+        RF_PORT_DESC("sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE | RF_PORT_OPTIONAL,             \
+                     "The source skeletons, in the mapping's source order.")
 
 static const rf_port_desc write_inputs[] = {
     RF_PORT_DESC("mapping", RF_TYPE_MAPPING, 0, "The mapping to save."),

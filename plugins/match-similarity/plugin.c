@@ -347,27 +347,29 @@ static const void *get_extension(const char *id)
 }
 
 static const rf_port_desc inputs[] = {
-    {sizeof(rf_port_desc), "target", RF_TYPE_SKELETON, 0, "The skeleton to drive."},
-    {sizeof(rf_port_desc), "sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE,
-     "The skeletons whose motion will drive it, in order (the mapping's source indices)."},
-    {sizeof(rf_port_desc), "target_animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
-     "The target's clip: its frame gives the pose to analyse when the rest pose is no body "
-     "(see pose_frame)."},
-    {sizeof(rf_port_desc), "source_animations", RF_TYPE_ANIMATION,
-     RF_PORT_OPTIONAL | RF_PORT_MULTIPLE,
-     "The sources' clips, in the sources' order, for the same purpose."},
+    RF_PORT_DESC("target", RF_TYPE_SKELETON, 0, "The skeleton to drive."),
+    RF_PORT_DESC(
+        "sources", RF_TYPE_SKELETON, RF_PORT_MULTIPLE,
+        "The skeletons whose motion will drive it, in order (the mapping's source indices)."),
+    RF_PORT_DESC("target_animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
+                 "The target's clip: its frame gives the pose to analyse when the rest pose is no "
+                 "body (see pose_frame)."),
+    RF_PORT_DESC("source_animations", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL | RF_PORT_MULTIPLE,
+                 "The sources' clips, in the sources' order, for the same purpose."),
 };
 
 static const rf_port_desc outputs[] = {
-    {sizeof(rf_port_desc), "mapping", RF_TYPE_MAPPING, 0,
-     "One entry per target joint: its input (or none), score, per-metric breakdown, section and "
-     "side."},
+    RF_PORT_DESC("mapping", RF_TYPE_MAPPING, 0,
+                 "One entry per target joint: its input (or none), score, per-metric breakdown, "
+                 "section and side."),
 };
 
-#define P(name, type, flags, num, str, lo, hi, choices, doc)                                       \
-    {                                                                                              \
-        sizeof(rf_param_desc), name, type, flags, num, str, lo, hi, choices, doc                   \
-    }
+/* The matcher's many parameters, one line each: name, type, flags, default number and string,
+ * range, choices, doc; a designated initialiser underneath. */
+#define P(name_, type_, flags_, num, str, lo, hi, choices_, doc_)                                  \
+    RF_PARAM_DESC(.name = (name_), .type = (type_), .flags = (flags_), .default_number = (num),    \
+                  .default_string = (str), .min = (lo), .max = (hi), .choices = (choices_),        \
+                  .doc = (doc_))
 
 static const rf_param_desc params[] = {
     P("strategy", RF_PARAM_ENUM, 0, 0, "similarity", 0, 0, "similarity|thesis|names",
@@ -422,12 +424,9 @@ static const rf_node_desc node_desc = {
            "are detected, every pair of joints is scored by weighted metrics (Weijden 2014, "
            "Table 1, plus body position and digit order), duplicate bones are removed along each "
            "section, and matches under the threshold stay unmapped. doc/matching.md.",
-    .input_count = sizeof inputs / sizeof inputs[0],
-    .inputs = inputs,
-    .output_count = 1,
-    .outputs = outputs,
-    .param_count = sizeof params / sizeof params[0],
-    .params = params,
+    RF_NODE_INPUTS(inputs),
+    RF_NODE_OUTPUTS(outputs),
+    RF_NODE_PARAMS(params),
     .process = process,
     .get_extension = get_extension,
 };

@@ -637,33 +637,32 @@ static bool html_process(void *self, const rf_host *host, rf_node *node)
 }
 
 static const rf_port_desc html_inputs[] = {
-    {sizeof(rf_port_desc), "target", RF_TYPE_SKELETON, 0, "the skeleton driven"},
-    {sizeof(rf_port_desc), "sources", RF_TYPE_SKELETON, RF_PORT_OPTIONAL | RF_PORT_MULTIPLE,
-     "the source skeletons, in the mapping's order"},
-    {sizeof(rf_port_desc), "source_animations", RF_TYPE_ANIMATION,
-     RF_PORT_OPTIONAL | RF_PORT_MULTIPLE, "their clips, played beside the target's"},
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
-     "the target's (retargeted) clip"},
-    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
-     "the target's skinned mesh, embedded as GLB"},
-    {sizeof(rf_port_desc), "mapping", RF_TYPE_MAPPING, RF_PORT_OPTIONAL,
-     "the mapping: lines, table, scores"},
-    {sizeof(rf_port_desc), "measures", RF_TYPE_MEASURES, RF_PORT_OPTIONAL | RF_PORT_MULTIPLE,
-     "measures over time (retarget.measure, ...): every series is plotted, warnings shown"},
+    RF_PORT_DESC("target", RF_TYPE_SKELETON, 0, "the skeleton driven"),
+    RF_PORT_DESC("sources", RF_TYPE_SKELETON, RF_PORT_OPTIONAL | RF_PORT_MULTIPLE,
+                 "the source skeletons, in the mapping's order"),
+    RF_PORT_DESC("source_animations", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL | RF_PORT_MULTIPLE,
+                 "their clips, played beside the target's"),
+    RF_PORT_DESC("animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
+                 "the target's (retargeted) clip"),
+    RF_PORT_DESC("mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
+                 "the target's skinned mesh, embedded as GLB"),
+    RF_PORT_DESC("mapping", RF_TYPE_MAPPING, RF_PORT_OPTIONAL, "the mapping: lines, table, scores"),
+    RF_PORT_DESC(
+        "measures", RF_TYPE_MEASURES, RF_PORT_OPTIONAL | RF_PORT_MULTIPLE,
+        "measures over time (retarget.measure, ...): every series is plotted, warnings shown"),
 };
 
 static const rf_param_desc html_params[] = {
-    {sizeof(rf_param_desc), "path", RF_PARAM_OUTPUT_PATH, 0, 0, "", 0, 0, NULL,
-     "the HTML file to write; empty: the node does nothing"},
-    {sizeof(rf_param_desc), "title", RF_PARAM_STRING, 0, 0, "", 0, 0, NULL,
-     "the page's title (default: the target's file name)"},
-    {sizeof(rf_param_desc), "fps", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 30, NULL, 0, 1000, NULL,
-     "show at most this many frames per second of the clip (0: all)"},
-    {sizeof(rf_param_desc), "max_frames", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 1500, NULL, 0, 1e7,
-     NULL, "show at most this many frames, sampled evenly (0: no limit)"},
-    {sizeof(rf_param_desc), "three", RF_PARAM_STRING, 0, 0, "", 0, 0, NULL,
-     "folder of three.js r111 (build/three.min.js, examples/js/); default: configure's "
-     "--with-three"},
+    RF_PARAM_DESC(.name = "path", .type = RF_PARAM_OUTPUT_PATH, .default_string = "",
+                  .doc = "the HTML file to write; empty: the node does nothing"),
+    RF_PARAM_DESC_STRING("title", "", "the page's title (default: the target's file name)"),
+    RF_PARAM_DESC_FLOAT("fps", 30, 0, 1000,
+                        "show at most this many frames per second of the clip (0: all)"),
+    RF_PARAM_DESC_INT("max_frames", 1500, 0, 1e7,
+                      "show at most this many frames, sampled evenly (0: no limit)"),
+    RF_PARAM_DESC_STRING("three", "",
+                         "folder of three.js r111 (build/three.min.js, examples/js/); default: "
+                         "configure's --with-three"),
 };
 
 const rf_node_desc rf_report_html_node = {
@@ -674,10 +673,8 @@ const rf_node_desc rf_report_html_node = {
            "skeletons side by side in 3D with their sections and axes, the target's skinned "
            "mesh, mapping lines and a table of every target joint with its scores, the motions "
            "playing in sync, the measures over time and the run's warnings. doc/report.md.",
-    .input_count = sizeof html_inputs / sizeof html_inputs[0],
-    .inputs = html_inputs,
-    .param_count = sizeof html_params / sizeof html_params[0],
-    .params = html_params,
+    RF_NODE_INPUTS(html_inputs),
+    RF_NODE_PARAMS(html_params),
     .create = html_create,
     .process = html_process,
 };

@@ -61,14 +61,13 @@ static bool summary_process(void *self, const rf_host *host, rf_node *node)
 }
 
 static const rf_port_desc summary_inputs[] = {
-    {sizeof(rf_port_desc), "skeleton", RF_TYPE_SKELETON, RF_PORT_OPTIONAL, "skeleton to count"},
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL, "clip to measure"},
-    {sizeof(rf_port_desc), "mapping", RF_TYPE_MAPPING, RF_PORT_OPTIONAL, "mapping to count"},
+    RF_PORT_DESC("skeleton", RF_TYPE_SKELETON, RF_PORT_OPTIONAL, "skeleton to count"),
+    RF_PORT_DESC("animation", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL, "clip to measure"),
+    RF_PORT_DESC("mapping", RF_TYPE_MAPPING, RF_PORT_OPTIONAL, "mapping to count"),
 };
 
 static const rf_param_desc summary_params[] = {
-    {sizeof(rf_param_desc), "label", RF_PARAM_STRING, 0, 0, "", 0, 0, NULL,
-     "text before the summary (default: the node id)"},
+    RF_PARAM_DESC_STRING("label", "", "text before the summary (default: the node id)"),
 };
 
 static const rf_node_desc summary_node = {
@@ -76,10 +75,8 @@ static const rf_node_desc summary_node = {
     .type = "report.summary",
     .kind = RF_KIND_REPORT,
     .doc = "Prints one line on stdout: joint count, frames and duration, mapped joints.",
-    .input_count = 3,
-    .inputs = summary_inputs,
-    .param_count = 1,
-    .params = summary_params,
+    RF_NODE_INPUTS(summary_inputs),
+    RF_NODE_PARAMS(summary_params),
     .process = summary_process,
 };
 

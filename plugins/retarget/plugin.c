@@ -16,34 +16,24 @@
 /* ---- shared inputs and parameters ---- */
 
 #define RT_SOURCE_PORTS                                                                            \
-    {sizeof(rf_port_desc), "sources", RF_TYPE_ANIMATION, RF_PORT_MULTIPLE,                         \
-     "the source clips, one per source (several sources drive one target together)"},              \
-        {sizeof(rf_port_desc), "source_skeletons", RF_TYPE_SKELETON, RF_PORT_MULTIPLE,             \
-         "the skeleton of each source clip, in the same order (the mapping's source indices)"},    \
-        {sizeof(rf_port_desc), "target", RF_TYPE_SKELETON, 0, "the skeleton to animate"},          \
-    {                                                                                              \
-        sizeof(rf_port_desc), "mapping", RF_TYPE_MAPPING, 0,                                       \
-            "what drives each target joint (a matcher's output or a mapping file)"                 \
-    }
+    RF_PORT_DESC("sources", RF_TYPE_ANIMATION, RF_PORT_MULTIPLE,                                   \
+                 "the source clips, one per source (several sources drive one target together)"),  \
+        RF_PORT_DESC("source_skeletons", RF_TYPE_SKELETON, RF_PORT_MULTIPLE,                       \
+                     "the skeleton of each source clip, in the same order (the mapping's source "  \
+                     "indices)"),                                                                  \
+        RF_PORT_DESC("target", RF_TYPE_SKELETON, 0, "the skeleton to animate"),                    \
+        RF_PORT_DESC("mapping", RF_TYPE_MAPPING, 0,                                                \
+                     "what drives each target joint (a matcher's output or a mapping file)")
 
 #define RT_PLAN_PARAMS                                                                             \
-    {sizeof(rf_param_desc),                                                                        \
-     "rest_frame",                                                                                 \
-     RF_PARAM_INT,                                                                                 \
-     RF_PARAM_HAS_RANGE,                                                                           \
-     -1,                                                                                           \
-     NULL,                                                                                         \
-     -1,                                                                                           \
-     1e9,                                                                                          \
-     NULL,                                                                                         \
-     "source rest pose: -1 the skeleton's, or frame 0 when that pose is degenerate (every bone "   \
-     "on one line, e.g. Maya joint orients); N: frame N of every source clip"},                    \
-    {                                                                                              \
-        sizeof(rf_param_desc), "ground", RF_PARAM_ENUM, 0, 0, "auto", 0, 0, "auto|rest|world",     \
-            "floors: auto (a rest hanging from the origin stands on the origin's plane, any "      \
-            "other on its lowest point), rest (lowest rest points; the source's from its clip), "  \
-            "world (the origin's plane for both)"                                                  \
-    }
+    RF_PARAM_DESC_INT("rest_frame", -1, -1, 1e9,                                                   \
+                      "source rest pose: -1 the skeleton's, or frame 0 when that pose is "         \
+                      "degenerate (every bone on one line, e.g. Maya joint orients); N: frame N "  \
+                      "of every source clip"),                                                     \
+        RF_PARAM_DESC_ENUM("ground", "auto", "auto|rest|world",                                    \
+                           "floors: auto (a rest hanging from the origin stands on the origin's "  \
+                           "plane, any other on its lowest point), rest (lowest rest points; the " \
+                           "source's from its clip), world (the origin's plane for both)")
 
 /* Reads the inputs shared by both node types. False after host->error. */
 static bool rt_gather(const rf_host *host, rf_node *node, rf_rt_source *src, uint32_t max,
@@ -260,40 +250,45 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
 
 static const rf_port_desc rt_inputs[] = {
     RT_SOURCE_PORTS,
-    {sizeof(rf_port_desc), "ik", RF_TYPE_IK_SOLVER, RF_PORT_OPTIONAL,
-     "an IK solver (any node of kind ik) for the contact pass; without it feet are not pinned"},
-    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
-     "the target's skinned mesh: the clip is put on its floor (its lowest vertex in the median "
-     "frame on the lowest at rest), not only on the skeleton's"},
+    RF_PORT_DESC(
+        "ik", RF_TYPE_IK_SOLVER, RF_PORT_OPTIONAL,
+        "an IK solver (any node of kind ik) for the contact pass; without it feet are not pinned"),
+    RF_PORT_DESC("mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
+                 "the target's skinned mesh: the clip is put on its floor (its lowest vertex in "
+                 "the median frame on the lowest at rest), not only on the skeleton's"),
 };
 
 static const rf_port_desc rt_outputs[] = {
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0,
-     "the target's clip: local rotations of every joint, the root's translation"},
+    RF_PORT_DESC("animation", RF_TYPE_ANIMATION, 0,
+                 "the target's clip: local rotations of every joint, the root's translation"),
 };
 
 static const rf_param_desc rt_params[] = {
     RT_PLAN_PARAMS,
-    {sizeof(rf_param_desc), "first_frame", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1e9, NULL,
-     "first source frame to retarget (of the first source's clip)"},
-    {sizeof(rf_param_desc), "last_frame", RF_PARAM_INT, RF_PARAM_HAS_RANGE, -1, NULL, -1, 1e9, NULL,
-     "last source frame, inclusive; -1 for the clip's last"},
-    {sizeof(rf_param_desc), "fps", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1000, NULL,
-     "output frame rate (resampled with slerp); 0 keeps the first source's"},
-    {sizeof(rf_param_desc), "in_place", RF_PARAM_BOOL, 0, 0, NULL, 0, 0, NULL,
-     "no horizontal root motion: the target stays where it stands (its height still moves)"},
-    {sizeof(rf_param_desc), "root_scale", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1e6, NULL,
-     "scale of the root motion; 0 uses the ratio of the legs (hip heights)"},
-    {sizeof(rf_param_desc), "cycle", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1e6, NULL,
-     "seconds of one motion cycle, for mirrored inputs (half a cycle apart); 0 detects it"},
-    {sizeof(rf_param_desc), "contact", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
-     "pin the target's feet while the source's touch the ground (needs the ik input)"},
-    {sizeof(rf_param_desc), "contact_height", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.12, NULL, 0, 10,
-     NULL, "a source foot is in contact when this low over its lowest, in leg lengths"},
-    {sizeof(rf_param_desc), "contact_speed", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.6, NULL, 0, 100,
-     NULL, "... and this slow horizontally, in leg lengths per second"},
-    {sizeof(rf_param_desc), "contact_blend", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0.15, NULL, 0, 10,
-     NULL, "seconds over which a released foot eases back to the retargeted motion"},
+    RF_PARAM_DESC_INT("first_frame", 0, 0, 1e9,
+                      "first source frame to retarget (of the first source's clip)"),
+    RF_PARAM_DESC_INT("last_frame", -1, -1, 1e9,
+                      "last source frame, inclusive; -1 for the clip's last"),
+    RF_PARAM_DESC_FLOAT("fps", 0, 0, 1000,
+                        "output frame rate (resampled with slerp); 0 keeps the first source's"),
+    RF_PARAM_DESC_BOOL(
+        "in_place", 0,
+        "no horizontal root motion: the target stays where it stands (its height still moves)"),
+    RF_PARAM_DESC_FLOAT("root_scale", 0, 0, 1e6,
+                        "scale of the root motion; 0 uses the ratio of the legs (hip heights)"),
+    RF_PARAM_DESC_FLOAT(
+        "cycle", 0, 0, 1e6,
+        "seconds of one motion cycle, for mirrored inputs (half a cycle apart); 0 detects it"),
+    RF_PARAM_DESC_BOOL(
+        "contact", 1,
+        "pin the target's feet while the source's touch the ground (needs the ik input)"),
+    RF_PARAM_DESC_FLOAT(
+        "contact_height", 0.12, 0, 10,
+        "a source foot is in contact when this low over its lowest, in leg lengths"),
+    RF_PARAM_DESC_FLOAT("contact_speed", 0.6, 0, 100,
+                        "... and this slow horizontally, in leg lengths per second"),
+    RF_PARAM_DESC_FLOAT("contact_blend", 0.15, 0, 10,
+                        "seconds over which a released foot eases back to the retargeted motion"),
 };
 
 /* A T-pose arm driving an A-pose arm must point the same way. */
@@ -317,12 +312,9 @@ static const rf_node_desc rt_node = {
            "legs and kept on the ground, the mapping's weights, delays, reverse and mirror; "
            "with an IK solver on 'ik', feet are pinned while the source's touch the ground. See "
            "doc/retargeting.md.",
-    .input_count = sizeof rt_inputs / sizeof rt_inputs[0],
-    .inputs = rt_inputs,
-    .output_count = 1,
-    .outputs = rt_outputs,
-    .param_count = sizeof rt_params / sizeof rt_params[0],
-    .params = rt_params,
+    RF_NODE_INPUTS(rt_inputs),
+    RF_NODE_OUTPUTS(rt_outputs),
+    RF_NODE_PARAMS(rt_params),
     .create = rt_create,
     .process = rt_process,
     .destroy = free,
@@ -485,29 +477,30 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
 
 static const rf_port_desc rt_measure_inputs[] = {
     RT_SOURCE_PORTS,
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0,
-     "the target clip to measure (from retarget, or any other tool)"},
-    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
-     "the target's skinned mesh: adds the measures on the mesh (torn limbs, floor, stretch)"},
-    {sizeof(rf_port_desc), "reference", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
-     "a clip of the target's own, measured on the mesh the same way as the reference"},
+    RF_PORT_DESC("animation", RF_TYPE_ANIMATION, 0,
+                 "the target clip to measure (from retarget, or any other tool)"),
+    RF_PORT_DESC(
+        "mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
+        "the target's skinned mesh: adds the measures on the mesh (torn limbs, floor, stretch)"),
+    RF_PORT_DESC("reference", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
+                 "a clip of the target's own, measured on the mesh the same way as the reference"),
 };
 
 static const rf_port_desc rt_measure_outputs[] = {
-    {sizeof(rf_port_desc), "measures", RF_TYPE_MEASURES, 0,
-     "the figures per frame (direction error, contacts, foot skate) for a report"},
+    RF_PORT_DESC("measures", RF_TYPE_MEASURES, 0,
+                 "the figures per frame (direction error, contacts, foot skate) for a report"),
 };
 
 static const rf_param_desc rt_measure_params[] = {
     RT_PLAN_PARAMS,
-    {sizeof(rf_param_desc), "first_frame", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1e9, NULL,
-     "the source frame the measured clip starts at (retarget's first_frame)"},
-    {sizeof(rf_param_desc), "mesh_frames", RF_PARAM_INT, RF_PARAM_HAS_RANGE, 24, NULL, 1, 1e6, NULL,
-     "frames spread over the clip that the mesh measures skin (they cost a skinning each)"},
-    {sizeof(rf_param_desc), "label", RF_PARAM_STRING, 0, 0, "", 0, 0, NULL,
-     "text before the figures (default: the node id)"},
-    {sizeof(rf_param_desc), "path", RF_PARAM_OUTPUT_PATH, 0, 0, "", 0, 0, NULL,
-     "also write the figures as JSON to this file (optional)"},
+    RF_PARAM_DESC_INT("first_frame", 0, 0, 1e9,
+                      "the source frame the measured clip starts at (retarget's first_frame)"),
+    RF_PARAM_DESC_INT(
+        "mesh_frames", 24, 1, 1e6,
+        "frames spread over the clip that the mesh measures skin (they cost a skinning each)"),
+    RF_PARAM_DESC_STRING("label", "", "text before the figures (default: the node id)"),
+    RF_PARAM_DESC(.name = "path", .type = RF_PARAM_OUTPUT_PATH, .default_string = "",
+                  .doc = "also write the figures as JSON to this file (optional)"),
 };
 
 static const rf_node_desc rt_measure_node = {
@@ -518,12 +511,9 @@ static const rf_node_desc rt_measure_node = {
            "(angle between each mapped target bone's world direction and its source bone's, per "
            "frame) and foot skate (horizontal speed of target feet while the source's are in "
            "contact, in leg lengths per second). Same definitions as the tests and benchmarks.",
-    .input_count = sizeof rt_measure_inputs / sizeof rt_measure_inputs[0],
-    .inputs = rt_measure_inputs,
-    .output_count = 1,
-    .outputs = rt_measure_outputs,
-    .param_count = sizeof rt_measure_params / sizeof rt_measure_params[0],
-    .params = rt_measure_params,
+    RF_NODE_INPUTS(rt_measure_inputs),
+    RF_NODE_OUTPUTS(rt_measure_outputs),
+    RF_NODE_PARAMS(rt_measure_params),
     .process = rt_measure_process,
 };
 

@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <rigflow/model-copy.h>
+
 #include "rt-internal.h"
 
 /* Position of time t in a clip, in frames, clamped; snapped to a whole frame when within
@@ -113,8 +115,7 @@ static rf_animation *rt_output_new(const rf_retarget *rt, uint32_t frames)
     out->translations = malloc((n ? n : 1) * 3 * sizeof *out->translations);
     out->channels = calloc(rt->n ? rt->n : 1, 1);
     const char *name = rt->src[0].anim->name;
-    if (name && (out->name = malloc(strlen(name) + 1)))
-        memcpy(out->name, name, strlen(name) + 1);
+    out->name = rf_strdup(name);
     if (!out->rotations || !out->translations || !out->channels || (name && !out->name)) {
         rf_animation_free(out);
         return NULL;

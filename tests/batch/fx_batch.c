@@ -69,20 +69,16 @@ static bool copy_process(void *self, const rf_host *host, rf_node *node)
 }
 
 static const rf_param_desc copy_params[] = {
-    {sizeof(rf_param_desc), "input", RF_PARAM_INPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
-     "the text file to copy"},
-    {sizeof(rf_param_desc), "output", RF_PARAM_OUTPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
-     "the copy"},
-    {sizeof(rf_param_desc), "tag", RF_PARAM_STRING, 0, 0, "", 0, 0, NULL,
-     "any text (batch tests change it to see jobs redone)"}};
+    RF_PARAM_DESC_INPUT_PATH("input", RF_PARAM_REQUIRED, "the text file to copy"),
+    RF_PARAM_DESC_OUTPUT_PATH("output", RF_PARAM_REQUIRED, "the copy"),
+    RF_PARAM_DESC_STRING("tag", "", "any text (batch tests change it to see jobs redone)")};
 
 static const rf_node_desc copy = {
     .size = sizeof(rf_node_desc),
     .type = "test.copy",
     .kind = RF_KIND_EXPORTER,
     .doc = "copies a small text file, failing, crashing or sleeping when the file says so",
-    .param_count = 3,
-    .params = copy_params,
+    RF_NODE_PARAMS(copy_params),
     .process = copy_process,
 };
 static const rf_node_desc *const nodes[] = {&copy};

@@ -7,33 +7,41 @@
 #include "rigflow/aimport-node.h"
 
 const rf_param_desc rf_ai_node_params[RF_AI_NODE_PARAM_COUNT] = {
-    {sizeof(rf_param_desc), "path", RF_PARAM_INPUT_PATH, RF_PARAM_REQUIRED, 0, NULL, 0, 0, NULL,
-     "the model file (anything Assimp reads: glTF/GLB, FBX, .x, Collada, B3D, Ogre, MD5...)"},
-    {sizeof(rf_param_desc), "clip", RF_PARAM_STRING, 0, 0, "", 0, 0, NULL,
-     "the clip to import, by name or index; empty for the first (the clips output lists them); "
-     "* imports every clip onto the clips output (the first is also the animation)"},
-    {sizeof(rf_param_desc), "rest_pose", RF_PARAM_ENUM, 0, 0, "bind", 0, 0, "bind|node",
-     "rest pose: bind (default: the pose the mesh was skinned in, so the skeleton fits the mesh) "
-     "or node (the scene nodes' transforms); both are kept in the skeleton's bind field"},
-    {sizeof(rf_param_desc), "fps", RF_PARAM_FLOAT, RF_PARAM_HAS_RANGE, 0, NULL, 0, 1000, NULL,
-     "resampling rate; 0 (default) keeps the clip's own key rate when its keys are regular, "
-     "else 30"},
-    {sizeof(rf_param_desc), "require_skeleton", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
-     "refuse a file without a skeleton (default); false imports meshes of unrigged files"},
-    {sizeof(rf_param_desc), "ignore_rig", RF_PARAM_BOOL, 0, 0, NULL, 0, 0, NULL,
-     "import the bare mesh (bind pose, no skin, no joints, no clips) for a rigger"},
+    RF_PARAM_DESC_INPUT_PATH(
+        "path", RF_PARAM_REQUIRED,
+        "the model file (anything Assimp reads: glTF/GLB, FBX, .x, Collada, B3D, Ogre, MD5...)"),
+    RF_PARAM_DESC_STRING(
+        "clip", "",
+        "the clip to import, by name or index; empty for the first (the clips output lists them); "
+        "* imports every clip onto the clips output (the first is also the animation)"),
+    RF_PARAM_DESC_ENUM(
+        "rest_pose", "bind", "bind|node",
+        "rest pose: bind (default: the pose the mesh was skinned in, so the skeleton fits the "
+        "mesh) or node (the scene nodes' transforms); both are kept in the skeleton's bind field"),
+    RF_PARAM_DESC_FLOAT("fps", 0, 0, 1000,
+                        "resampling rate; 0 (default) keeps the clip's own key rate when its keys "
+                        "are regular, else 30"),
+    RF_PARAM_DESC_BOOL(
+        "require_skeleton", 1,
+        "refuse a file without a skeleton (default); false imports meshes of unrigged files"),
+    RF_PARAM_DESC_BOOL(
+        "ignore_rig", 0,
+        "import the bare mesh (bind pose, no skin, no joints, no clips) for a rigger"),
 };
 
 const rf_port_desc rf_ai_node_outputs[RF_AI_NODE_OUTPUT_COUNT] = {
-    {sizeof(rf_port_desc), "skeleton", RF_TYPE_SKELETON, 0,
-     "joints with unique names; rest pose as chosen, bind pose in the bind field; up and forward"},
-    {sizeof(rf_port_desc), "animation", RF_TYPE_ANIMATION, 0,
-     "the chosen clip resampled to a fixed rate (one rest frame when the file has no clip)"},
-    {sizeof(rf_port_desc), "mesh", RF_TYPE_MESH, 0,
-     "every mesh merged, skinned to the skeleton (top 4 weights), inverse binds, with its "
-     "materials, images, UV sets, colours, tangents and morph targets; may be empty"},
-    {sizeof(rf_port_desc), "clips", RF_TYPE_CLIPS, 0,
-     "every clip in the file and which was used; with clip *, each one's motion too"},
+    RF_PORT_DESC("skeleton", RF_TYPE_SKELETON, 0,
+                 "joints with unique names; rest pose as chosen, bind pose in the bind field; up "
+                 "and forward"),
+    RF_PORT_DESC(
+        "animation", RF_TYPE_ANIMATION, 0,
+        "the chosen clip resampled to a fixed rate (one rest frame when the file has no clip)"),
+    RF_PORT_DESC(
+        "mesh", RF_TYPE_MESH, 0,
+        "every mesh merged, skinned to the skeleton (top 4 weights), inverse binds, with its "
+        "materials, images, UV sets, colours, tangents and morph targets; may be empty"),
+    RF_PORT_DESC("clips", RF_TYPE_CLIPS, 0,
+                 "every clip in the file and which was used; with clip *, each one's motion too"),
 };
 
 typedef struct rf_ai_node_log {
