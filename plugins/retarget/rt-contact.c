@@ -411,6 +411,11 @@ static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, u
                            const rf_ik_solver *solver, rt_pin_work *w, rf_rt_contact_stats *st,
                            char *err, size_t err_size)
 {
+    bool pinned = false; /* most frames of most clips pin nothing: skip their pose */
+    for (uint32_t e = 0; e < rt->effector_count && !pinned; e++)
+        pinned = !isnan(w->pin[(size_t)e * frames + f].x);
+    if (!pinned)
+        return true;
     rt_pose_of(rt, a, f, w->local, w->need);
     rt_fk(rt, w->local, w->before, w->need);
     uint32_t count = rt_chains_pose(rt, f, frames, w);
