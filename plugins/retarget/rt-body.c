@@ -626,11 +626,21 @@ bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size)
 double rf_rt_sole(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
                   uint32_t j)
 {
+    /* Runs for every foot at every frame of the contact pass: since parents come before their
+     * children, "c is j or below it" is one look at c's parent's flag, not a walk up the tree. */
+    enum { RT_SOLE_FLAGS = 1024 };
+    uint8_t flag[RT_SOLE_FLAGS];
     double low = INFINITY;
     for (uint32_t c = j; c < s->joint_count; c++) {
+        int32_t p = s->joints[c].parent;
         bool below = c == j;
-        for (int32_t p = s->joints[c].parent; !below && p >= (int32_t)j; p = s->joints[p].parent)
-            below = p == (int32_t)j;
+        if (c - j < RT_SOLE_FLAGS) {
+            below = below || (p >= (int32_t)j && flag[p - (int32_t)j]);
+            flag[c - j] = below;
+        } else {
+            for (; !below && p >= (int32_t)j; p = s->joints[p].parent)
+                below = p == (int32_t)j;
+        }
         if (!below)
             continue;
         low = fmin(low, rf_rt_height(up, world[c].t));
