@@ -5,6 +5,8 @@ framework_librigflow_la_SOURCES = \
 	framework/rigflow-host.h \
 	framework/diag.c \
 	framework/registry.c \
+	framework/plugin-index.c \
+	framework/plugin-index.h \
 	framework/host.c \
 	framework/pipeline.c \
 	framework/validate.c \

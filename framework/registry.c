@@ -11,6 +11,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "plugin-index.h"
 #include "rigflow-host.h"
 
 struct rf_plugin {
@@ -20,11 +21,29 @@ struct rf_plugin {
     const rf_plugin_entry *entry; /* the same in this build's layout (see normalise), or NULL */
     rf_plugin_entry copy;         /* what `entry` points to once normalised */
     GPtrArray *owned;             /* the normalised descriptors and their arrays (g_free) */
+    guint seq;                    /* its file's place on the search path */
 };
 
+/* A plugin file the index vouches for, not opened yet (lazy loading). */
+typedef struct rf_pending {
+    rf_index_entry *entry;
+    guint seq;
+    bool done; /* opened since (or tried) */
+} rf_pending;
+
 struct rf_registry {
-    GPtrArray *plugins; /* rf_plugin*, in load order */
+    GPtrArray *plugins; /* rf_plugin*, in search-path order */
     GHashTable *types;  /* node type id -> rf_plugin* (borrowed) */
+    guint seq;          /* search-path place of the next file */
+    /* Lazy loading (rf_registry_set_lazy): files known from the index wait here until one of
+     * their node types is asked for, or every plugin is listed. To everything else (shadowing,
+     * duplicate types) they count as loaded, so the answers are those of loading everything. */
+    bool lazy;
+    GPtrArray *pending;         /* rf_pending*, in search-path order */
+    GHashTable *pending_types;  /* node type -> rf_pending* (borrowed) */
+    GHashTable *pending_ids;    /* plugin id -> rf_pending* (borrowed) */
+    GPtrArray *late;            /* refusals met while opening them */
+    GRecMutex lock;             /* opening them changes a registry callers treat as read-only */
 };
 
 /* libltdl keeps process-wide state and is not thread-safe: this lock and its init count are the
@@ -41,6 +60,11 @@ rf_registry *rf_registry_new(void)
     rf_registry *reg = g_new0(rf_registry, 1);
     reg->plugins = g_ptr_array_new();
     reg->types = g_hash_table_new(g_str_hash, g_str_equal);
+    reg->pending = g_ptr_array_new();
+    reg->pending_types = g_hash_table_new(g_str_hash, g_str_equal);
+    reg->pending_ids = g_hash_table_new(g_str_hash, g_str_equal);
+    reg->late = rf_diags_new();
+    g_rec_mutex_init(&reg->lock);
     return reg;
 }
 
@@ -67,6 +91,16 @@ void rf_registry_free(rf_registry *reg)
         plugin_unload(g_ptr_array_index(reg->plugins, i), true);
     g_ptr_array_free(reg->plugins, TRUE);
     g_hash_table_destroy(reg->types);
+    for (guint i = 0; i < reg->pending->len; i++) {
+        rf_pending *d = g_ptr_array_index(reg->pending, i);
+        rf_index_entry_free(d->entry);
+        g_free(d);
+    }
+    g_ptr_array_free(reg->pending, TRUE);
+    g_hash_table_destroy(reg->pending_types);
+    g_hash_table_destroy(reg->pending_ids);
+    g_ptr_array_free(reg->late, TRUE);
+    g_rec_mutex_clear(&reg->lock);
     g_free(reg);
     g_mutex_lock(&ltdl_lock);
     if (--ltdl_users == 0)
@@ -240,27 +274,34 @@ static bool normalise(rf_plugin *p, GString *why)
     return true;
 }
 
-/* The already loaded plugin providing one of `e`'s node types, or NULL. */
-static rf_plugin *type_clash(rf_registry *reg, const rf_plugin_entry *e, const char **type)
+/* The path of the plugin, loaded or waiting, that provides one of `e`'s node types, or NULL. */
+static const char *type_clash(rf_registry *reg, const rf_plugin_entry *e, const char **type)
 {
     for (uint32_t i = 0; i < e->node_count; i++) {
         rf_plugin *other = g_hash_table_lookup(reg->types, e->nodes[i]->type);
-        if (other) {
+        rf_pending *waiting = g_hash_table_lookup(reg->pending_types, e->nodes[i]->type);
+        if (other || waiting) {
             *type = e->nodes[i]->type;
-            return other;
+            return other ? other->path : waiting->entry->path;
         }
     }
     return NULL;
 }
 
+static bool id_known(rf_registry *reg, const char *id)
+{
+    for (guint i = 0; id && i < reg->plugins->len; i++)
+        if (strcmp(((rf_plugin *)g_ptr_array_index(reg->plugins, i))->entry->id, id) == 0)
+            return true;
+    return id && g_hash_table_contains(reg->pending_ids, id);
+}
+
 static bool already_loaded(rf_registry *reg, const rf_plugin_entry *e)
 {
-    for (guint i = 0; i < reg->plugins->len; i++) {
-        rf_plugin *p = g_ptr_array_index(reg->plugins, i);
-        if (p->raw == e || (e->id && strcmp(p->entry->id, e->id) == 0))
+    for (guint i = 0; i < reg->plugins->len; i++)
+        if (((rf_plugin *)g_ptr_array_index(reg->plugins, i))->raw == e)
             return true;
-    }
-    return false;
+    return id_known(reg, e->id);
 }
 
 /* The ABI, descriptor and init checks on an opened plugin. Returns false with a diag. */
@@ -283,10 +324,10 @@ static bool admit(rf_registry *reg, rf_plugin *p, GPtrArray *diags)
     }
     e = p->entry;
     const char *type = NULL;
-    rf_plugin *other = type_clash(reg, e, &type);
+    const char *other = type_clash(reg, e, &type);
     if (other) {
         rf_diags_add(diags, p->path, 0, 0, NULL, NULL,
-                     "duplicate node type '%s': already provided by %s", type, other->path);
+                     "duplicate node type '%s': already provided by %s", type, other);
         return false;
     }
     char err[512] = "";
@@ -299,7 +340,21 @@ static bool admit(rf_registry *reg, rf_plugin *p, GPtrArray *diags)
     return true;
 }
 
-bool rf_registry_load_file(rf_registry *reg, const char *path, GPtrArray *diags)
+/* In search-path order whatever order the files were opened in. */
+static void add_plugin(rf_registry *reg, rf_plugin *p)
+{
+    guint at = reg->plugins->len;
+    while (at > 0 && ((rf_plugin *)g_ptr_array_index(reg->plugins, at - 1))->seq > p->seq)
+        at--;
+    g_ptr_array_insert(reg->plugins, (gint)at, p);
+    for (uint32_t i = 0; i < p->entry->node_count; i++)
+        g_hash_table_insert(reg->types, (gpointer)p->entry->nodes[i]->type, p);
+}
+
+/* rf_registry_load_file for the file at search-path place `seq`; *shadow (may be NULL) gets the
+ * id of a plugin shadowed by an earlier one of that id (g_free). */
+static bool load_file_at(rf_registry *reg, const char *path, GPtrArray *diags, guint seq,
+                         char **shadow)
 {
     char *why = NULL;
     lt_dlhandle h = open_bound(path, &why);
@@ -323,6 +378,8 @@ bool rf_registry_load_file(rf_registry *reg, const char *path, GPtrArray *diags)
         return false;
     }
     if (already_loaded(reg, p->raw)) { /* the same plugin later on the search path: shadowed */
+        if (shadow && p->raw->id)
+            *shadow = g_strdup(p->raw->id);
         plugin_unload(p, false);
         return true;
     }
@@ -330,10 +387,112 @@ bool rf_registry_load_file(rf_registry *reg, const char *path, GPtrArray *diags)
         plugin_unload(p, false);
         return false;
     }
-    for (uint32_t i = 0; i < p->entry->node_count; i++)
-        g_hash_table_insert(reg->types, (gpointer)p->entry->nodes[i]->type, p);
-    g_ptr_array_add(reg->plugins, p);
+    p->seq = seq;
+    add_plugin(reg, p);
     return true;
+}
+
+bool rf_registry_load_file(rf_registry *reg, const char *path, GPtrArray *diags)
+{
+    g_rec_mutex_lock(&reg->lock);
+    bool ok = load_file_at(reg, path, diags, reg->seq++, NULL);
+    g_rec_mutex_unlock(&reg->lock);
+    return ok;
+}
+
+/* ---- lazy loading ---- */
+
+void rf_registry_set_lazy(rf_registry *reg, bool lazy)
+{
+    reg->lazy = lazy;
+}
+
+static void open_pending(rf_registry *reg, rf_pending *d)
+{
+    if (d->done)
+        return;
+    d->done = true;
+    for (char **t = d->entry->types; *t; t++)
+        if (g_hash_table_lookup(reg->pending_types, *t) == d)
+            g_hash_table_remove(reg->pending_types, *t);
+    if (g_hash_table_lookup(reg->pending_ids, d->entry->id) == d)
+        g_hash_table_remove(reg->pending_ids, d->entry->id);
+    load_file_at(reg, d->entry->path, reg->late, d->seq, NULL);
+}
+
+/* Every plugin still waiting, in search-path order: for whoever walks the whole registry. */
+static void open_all(const rf_registry *creg)
+{
+    rf_registry *reg = (rf_registry *)creg; /* loading adds answers, changes none given */
+    g_rec_mutex_lock(&reg->lock);
+    for (guint i = 0; i < reg->pending->len; i++)
+        open_pending(reg, g_ptr_array_index(reg->pending, i));
+    g_rec_mutex_unlock(&reg->lock);
+}
+
+void rf_registry_take_diags(rf_registry *reg, GPtrArray *diags)
+{
+    g_rec_mutex_lock(&reg->lock);
+    while (reg->late->len)
+        g_ptr_array_add(diags, g_ptr_array_steal_index(reg->late, 0));
+    g_rec_mutex_unlock(&reg->lock);
+}
+
+/* Leaves the file unopened when its index entry `e` (current) says enough: its plugin is then
+ * shadowed by an earlier one of its id, or waits for one of its types to be asked for. False
+ * when it must be opened now: a record of a shadowed file whose shadow is gone, or a type that
+ * an earlier plugin provides too (opened, it is refused with the usual message). */
+static bool defer(rf_registry *reg, const rf_index_entry *e)
+{
+    if (id_known(reg, e->id))
+        return true;
+    if (!e->types[0])
+        return false;
+    for (char **t = e->types; *t; t++)
+        if (g_hash_table_contains(reg->types, *t) || g_hash_table_contains(reg->pending_types, *t))
+            return false;
+    rf_pending *d = g_new0(rf_pending, 1);
+    d->entry = rf_index_entry_dup(e);
+    d->seq = reg->seq++;
+    g_ptr_array_add(reg->pending, d);
+    g_hash_table_insert(reg->pending_ids, d->entry->id, d);
+    for (char **t = d->entry->types; *t; t++)
+        g_hash_table_insert(reg->pending_types, *t, d);
+    return true;
+}
+
+/* One file of the search path with the index at hand: left waiting when the index knows it,
+ * else opened and, once admitted (or found shadowed), entered in the index. */
+static bool load_indexed(rf_registry *reg, const char *path, GPtrArray *diags, GHashTable *index,
+                         bool *dirty)
+{
+    struct stat st;
+    const rf_index_entry *e = g_hash_table_lookup(index, path);
+    bool current = stat(path, &st) == 0;
+    if (e && current && rf_index_entry_matches(e, &st) && defer(reg, e))
+        return true;
+    guint before = reg->plugins->len;
+    g_autofree char *shadow = NULL;
+    bool ok = load_file_at(reg, path, diags, reg->seq++, &shadow);
+    if (!ok || !current)
+        return ok;
+    const rf_plugin *p = NULL;
+    for (guint i = 0; i < reg->plugins->len && reg->plugins->len > before; i++)
+        if (strcmp(((rf_plugin *)g_ptr_array_index(reg->plugins, i))->path, path) == 0)
+            p = g_ptr_array_index(reg->plugins, i);
+    g_autoptr(GPtrArray) types = g_ptr_array_new();
+    for (uint32_t i = 0; p && i < p->entry->node_count; i++)
+        g_ptr_array_add(types, (gpointer)p->entry->nodes[i]->type);
+    g_ptr_array_add(types, NULL);
+    rf_index_entry *n = rf_index_entry_new(path, &st, p ? p->entry->id : shadow,
+                                           (const char *const *)types->pdata);
+    if (n && (p ? p->entry->node_count > 0 : shadow != NULL)) {
+        g_hash_table_replace(index, n->path, n);
+        *dirty = true;
+    } else {
+        rf_index_entry_free(n);
+    }
+    return ok;
 }
 
 /* A folder or file others may write to could plant code in this process: refuse it. */
@@ -364,7 +523,8 @@ static GPtrArray *list_modules(const char *dir)
     return files;
 }
 
-int rf_registry_load_dir(rf_registry *reg, const char *dir, GPtrArray *diags)
+static int load_dir(rf_registry *reg, const char *dir, GPtrArray *diags, GHashTable *index,
+                    bool *dirty)
 {
     if (!g_file_test(dir, G_FILE_TEST_IS_DIR))
         return 0;
@@ -377,7 +537,7 @@ int rf_registry_load_dir(rf_registry *reg, const char *dir, GPtrArray *diags)
     /* In a libtool build tree the modules sit in .libs/ beside their .la files. */
     g_autofree char *libs = g_build_filename(dir, ".libs", NULL);
     if (files->len == 0 && g_file_test(libs, G_FILE_TEST_IS_DIR))
-        return rf_registry_load_dir(reg, libs, diags);
+        return load_dir(reg, libs, diags, index, dirty);
     int loaded = 0;
     for (guint i = 0; i < files->len; i++) {
         const char *f = g_ptr_array_index(files, i);
@@ -386,32 +546,49 @@ int rf_registry_load_dir(rf_registry *reg, const char *dir, GPtrArray *diags)
                          "plugin refused: the file is writable by other users");
             continue;
         }
-        loaded += rf_registry_load_file(reg, f, diags);
+        loaded += index ? load_indexed(reg, f, diags, index, dirty)
+                        : rf_registry_load_file(reg, f, diags);
     }
     return loaded;
 }
 
+int rf_registry_load_dir(rf_registry *reg, const char *dir, GPtrArray *diags)
+{
+    return load_dir(reg, dir, diags, NULL, NULL);
+}
+
 void rf_registry_load_search_path(rf_registry *reg, const char *const *extra, GPtrArray *diags)
 {
+    g_autofree char *file = reg->lazy ? rf_plugin_index_file() : NULL;
+    GHashTable *index = file ? rf_plugin_index_read(file) : NULL;
+    bool dirty = false;
+    g_rec_mutex_lock(&reg->lock);
     for (const char *const *d = extra; d && *d; d++)
-        rf_registry_load_dir(reg, *d, diags);
+        load_dir(reg, *d, diags, index, &dirty);
     const char *env = g_getenv("RIGFLOW_PLUGIN_PATH");
     if (env && *env) {
         g_auto(GStrv) dirs = g_strsplit(env, ":", -1);
         for (char **d = dirs; *d; d++)
             if (**d)
-                rf_registry_load_dir(reg, *d, diags);
+                load_dir(reg, *d, diags, index, &dirty);
     }
-    rf_registry_load_dir(reg, RF_PLUGINSDIR, diags);
+    load_dir(reg, RF_PLUGINSDIR, diags, index, &dirty);
+    g_rec_mutex_unlock(&reg->lock);
+    if (dirty)
+        rf_plugin_index_write(file, index);
+    if (index)
+        g_hash_table_destroy(index);
 }
 
 guint rf_registry_plugin_count(const rf_registry *reg)
 {
+    open_all(reg);
     return reg->plugins->len;
 }
 
 const rf_plugin *rf_registry_plugin(const rf_registry *reg, guint index)
 {
+    open_all(reg);
     return index < reg->plugins->len ? g_ptr_array_index(reg->plugins, index) : NULL;
 }
 
@@ -424,10 +601,21 @@ const char *rf_plugin_path(const rf_plugin *p)
     return p->path;
 }
 
-const rf_node_desc *rf_registry_find(const rf_registry *reg, const char *type,
+const rf_node_desc *rf_registry_find(const rf_registry *creg, const char *type,
                                      const rf_plugin **plugin)
 {
+    rf_registry *reg = (rf_registry *)creg; /* loading adds answers, changes none given */
+    g_rec_mutex_lock(&reg->lock);
     rf_plugin *p = g_hash_table_lookup(reg->types, type);
+    rf_pending *waiting = p ? NULL : g_hash_table_lookup(reg->pending_types, type);
+    if (waiting) {
+        open_pending(reg, waiting);
+        if (!(p = g_hash_table_lookup(reg->types, type))) { /* the file broke its index entry */
+            open_all(reg);
+            p = g_hash_table_lookup(reg->types, type);
+        }
+    }
+    g_rec_mutex_unlock(&reg->lock);
     if (plugin)
         *plugin = p;
     if (!p)
@@ -460,6 +648,7 @@ const rf_node_desc *rf_registry_importer_for(const rf_registry *reg, const char 
 {
     const rf_node_desc *best = NULL;
     int best_fit = 0;
+    open_all(reg);
     for (guint i = 0; i < reg->plugins->len; i++) {
         const rf_plugin_entry *e = ((rf_plugin *)g_ptr_array_index(reg->plugins, i))->entry;
         for (uint32_t k = 0; k < e->node_count; k++) {

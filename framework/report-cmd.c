@@ -68,7 +68,9 @@ static int rf_report_run(rf_registry *reg, const char *source, const char *targe
             rf_pipeline_override(p, fixed[i], diags);
     for (char **kv = params; p && kv && *kv; kv++)
         rf_pipeline_override(p, *kv, diags);
-    if (!p || !rf_pipeline_validate(p, reg, diags) || diags->len) {
+    bool valid = p && rf_pipeline_validate(p, reg, diags);
+    rf_registry_take_diags(reg, diags); /* a plugin opened for the pipeline and refused */
+    if (!valid || diags->len) {
         rf_print_diags(diags, "error");
         rf_pipeline_free(p);
         return RF_EXIT_VALIDATION;

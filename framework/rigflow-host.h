@@ -74,6 +74,15 @@ RF_HOST_API int rf_registry_load_dir(rf_registry *reg, const char *dir, GPtrArra
 RF_HOST_API void rf_registry_load_search_path(rf_registry *reg, const char *const *extra,
                                               GPtrArray *diags);
 
+/* Lazy loading, for commands that need only the node types they name (`rigflow run`): set
+ * before rf_registry_load_search_path, it leaves the plugin files the plugin index knows
+ * (framework/plugin-index.c) unopened until one of their node types is looked up, and opens all
+ * of them when the plugins are listed (rf_registry_plugin_count, rf_registry_plugin,
+ * rf_registry_importer_for). Files the index does not know are opened at once and entered. */
+RF_HOST_API void rf_registry_set_lazy(rf_registry *reg, bool lazy);
+/* Moves into diags the refusals met while opening plugins on demand (lazy loading). */
+RF_HOST_API void rf_registry_take_diags(rf_registry *reg, GPtrArray *diags);
+
 RF_HOST_API guint rf_registry_plugin_count(const rf_registry *reg);
 RF_HOST_API const rf_plugin *rf_registry_plugin(const rf_registry *reg, guint index);
 RF_HOST_API const rf_plugin_entry *rf_plugin_entry_of(const rf_plugin *p);

@@ -57,6 +57,7 @@ static rf_pipeline *prepare(rf_registry *reg, const char *path, char **params, i
         rf_pipeline_override(p, *kv, diags);
     if (p) /* validated even after a bad override, so every problem is listed at once */
         rf_pipeline_validate(p, reg, diags);
+    rf_registry_take_diags(reg, diags); /* a plugin opened for the pipeline and refused */
     if (p && diags->len == 0)
         return p;
     rf_print_diags(diags, "error");
@@ -242,6 +243,9 @@ int main(int argc, char **argv)
     g_ptr_array_add(plugin_path, NULL);
     rf_registry *reg = rf_registry_new();
     g_autoptr(GPtrArray) diags = rf_diags_new();
+    /* Commands that look up only the node types of their pipeline open only those plugins. */
+    rf_registry_set_lazy(reg, strcmp(cmd->name, "run") == 0 || strcmp(cmd->name, "validate") == 0 ||
+                                  strcmp(cmd->name, "report") == 0);
     rf_registry_load_search_path(reg, (const char *const *)plugin_path->pdata, diags);
     if (quiet) /* --quiet also applies to the command's own logging */
         g_setenv("RIGFLOW_QUIET", "1", TRUE);
