@@ -112,8 +112,8 @@ static rf_index_entry *parse_line(const char *line)
 
 GHashTable *rf_plugin_index_read(const char *file)
 {
-    GHashTable *entries = g_hash_table_new_full(g_str_hash, g_str_equal, NULL,
-                                                (GDestroyNotify)rf_index_entry_free);
+    GHashTable *entries =
+        g_hash_table_new_full(g_str_hash, g_str_equal, NULL, (GDestroyNotify)rf_index_entry_free);
     g_autofree char *text = NULL;
     if (!file || !g_file_get_contents(file, &text, NULL, NULL))
         return entries;
@@ -159,5 +159,6 @@ void rf_plugin_index_write(const char *file, GHashTable *entries)
     }
     g_autofree char *dir = g_path_get_dirname(file);
     if (g_mkdir_with_parents(dir, 0700) == 0)
-        (void)g_file_set_contents(file, out->str, (gssize)out->len, NULL); /* a cache: best effort */
+        /* a cache: best effort */
+        (void)g_file_set_contents(file, out->str, (gssize)out->len, NULL);
 }

@@ -39,11 +39,11 @@ struct rf_registry {
      * their node types is asked for, or every plugin is listed. To everything else (shadowing,
      * duplicate types) they count as loaded, so the answers are those of loading everything. */
     bool lazy;
-    GPtrArray *pending;         /* rf_pending*, in search-path order */
-    GHashTable *pending_types;  /* node type -> rf_pending* (borrowed) */
-    GHashTable *pending_ids;    /* plugin id -> rf_pending* (borrowed) */
-    GPtrArray *late;            /* refusals met while opening them */
-    GRecMutex lock;             /* opening them changes a registry callers treat as read-only */
+    GPtrArray *pending;        /* rf_pending*, in search-path order */
+    GHashTable *pending_types; /* node type -> rf_pending* (borrowed) */
+    GHashTable *pending_ids;   /* plugin id -> rf_pending* (borrowed) */
+    GPtrArray *late;           /* refusals met while opening them */
+    GRecMutex lock;            /* opening them changes a registry callers treat as read-only */
 };
 
 /* libltdl keeps process-wide state and is not thread-safe: this lock and its init count are the
@@ -484,8 +484,8 @@ static bool load_indexed(rf_registry *reg, const char *path, GPtrArray *diags, G
     for (uint32_t i = 0; p && i < p->entry->node_count; i++)
         g_ptr_array_add(types, (gpointer)p->entry->nodes[i]->type);
     g_ptr_array_add(types, NULL);
-    rf_index_entry *n = rf_index_entry_new(path, &st, p ? p->entry->id : shadow,
-                                           (const char *const *)types->pdata);
+    rf_index_entry *n =
+        rf_index_entry_new(path, &st, p ? p->entry->id : shadow, (const char *const *)types->pdata);
     if (n && (p ? p->entry->node_count > 0 : shadow != NULL)) {
         g_hash_table_replace(index, n->path, n);
         *dirty = true;
