@@ -290,6 +290,27 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
     return true;
 }
 
+/* The frames rt_pins reads a foot's position and sole at, of any foot: during its contacts and
+ * the contact_blend after each. */
+static uint8_t *rt_pins_read(const rf_retarget *rt, const uint8_t *contact, uint32_t frames,
+                             double fps)
+{
+    uint32_t blend = (uint32_t)ceil(rt->opt.contact_blend * fps);
+    uint8_t *read = calloc(frames ? frames : 1, 1);
+    for (uint32_t e = 0; read && e < rt->effector_count; e++) {
+        const uint8_t *c = contact + (size_t)e * frames;
+        uint32_t since = UINT32_MAX; /* as in rt_pins */
+        for (uint32_t f = 0; f < frames; f++) {
+            if (c[f])
+                since = 0;
+            else if (since != UINT32_MAX)
+                since++;
+            read[f] |= since <= blend;
+        }
+    }
+    return read;
+}
+
 /* The goal of every effector at every frame: during a contact, the horizontal position where it
  * began, and no lower than the height that puts its sole over the target's floor as the
  * source's is over its own (the foot can still roll); for contact_blend seconds after it, easing
@@ -461,7 +482,15 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
         rf_rt_fail(err, err_size, "out of memory");
         return false;
     }
-    for (uint32_t f = 0; f < frames; f++) {
+    uint8_t *read = rt_pins_read(rt, contact, frames, anim->fps);
+    for (uint32_t f = 0; read && f < frames; f++) {
+        if (!read[f]) { /* nothing pinned: the values are never read */
+            for (uint32_t e = 0; e < rt->effector_count; e++) {
+                w.target_pos[(size_t)e * frames + f] = rf_v3(0, 0, 0);
+                w.target_sole[(size_t)e * frames + f] = 0;
+            }
+            continue;
+        }
         rt_pose_of(rt, anim, f, w.local, w.need);
         rt_fk(rt, w.local, w.world, w.need);
         for (uint32_t e = 0; e < rt->effector_count; e++) {
@@ -470,6 +499,13 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
             w.target_sole[(size_t)e * frames + f] = rt_pin_sole(rt, &w, e, w.world);
         }
     }
+    if (!read) {
+        free(contact);
+        rt_pin_work_free(&w);
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    free(read);
     for (size_t i = 0; i < (size_t)rt->effector_count * frames; i++)
         stats->contact_frames += contact[i];
     rt_pins(rt, contact, frames, anim->fps, &w);
