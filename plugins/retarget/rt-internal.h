@@ -196,6 +196,8 @@ bool rf_rt_weights_known(const rf_skeleton *s);
 /* Moves the root-motion joints of every frame of `out` by `shift` along up (the anchored joints
  * placed again after). False when out of memory. */
 bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift);
+/* The k-th smallest of `count` values, reordering them (rt-mesh.c). */
+double rf_rt_select(double *v, size_t count, size_t k);
 /* Height of the lowest point of joint j and everything below it (joints and bone tips, `tip`
  * in each joint's frame): the sole of a foot, toes included. */
 double rf_rt_sole(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,

@@ -79,12 +79,6 @@ static void rt_frame_angles(const rf_retarget *rt, rt_measure_work *w, double *a
     }
 }
 
-static int rt_cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static void rt_fidelity(const rf_retarget *rt, rt_measure_work *w, uint32_t frames, rf_rt_report *r)
 {
     size_t count = (size_t)frames * rt->bone_count;
@@ -94,10 +88,9 @@ static void rt_fidelity(const rf_retarget *rt, rt_measure_work *w, uint32_t fram
     double sum = 0, max = 0;
     for (size_t i = 0; i < count; i++)
         sum += w->angles[i], max = fmax(max, w->angles[i]);
-    qsort(w->angles, count, sizeof *w->angles, rt_cmp_double);
     r->fidelity_mean = sum / count;
     r->fidelity_max = max;
-    r->fidelity_p95 = w->angles[(size_t)(0.95 * (count - 1))];
+    r->fidelity_p95 = rf_rt_select(w->angles, count, (size_t)(0.95 * (count - 1)));
 }
 
 /* Ground at one frame: for each effector in contact, how far its sole is over the target's
@@ -237,7 +230,7 @@ bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, doubl
         rf_rt_fail(err, err_size, "out of memory");
         return false;
     }
-    rt_fidelity(rt, &w, frames, report); /* sorts the angles: after the series */
+    rt_fidelity(rt, &w, frames, report); /* reorders the angles: after the series */
     rt_skate(rt, anim, frames, step, fps, &w, report, skate);
     rt_mw_free(&w, rt->source_count);
     return true;

@@ -40,7 +40,7 @@ static int rt_cmp_double(const void *a, const void *b)
 
 /* The k-th smallest of `count` values (reordered around it): Hoare's selection, linear on
  * average, where sorting a million drifts was most of the measure's time. */
-static double rt_select(double *v, size_t count, size_t k)
+double rf_rt_select(double *v, size_t count, size_t k)
 {
     ptrdiff_t lo = 0, hi = (ptrdiff_t)count - 1, kk = (ptrdiff_t)k;
     while (lo < hi) {
@@ -69,7 +69,7 @@ static double rt_select(double *v, size_t count, size_t k)
 /* The q-quantile of `count` values (reordered); 0 without values. */
 static double rt_quantile(double *v, size_t count, double q)
 {
-    return count ? rt_select(v, count, (size_t)(q * (double)(count - 1))) : 0;
+    return count ? rf_rt_select(v, count, (size_t)(q * (double)(count - 1))) : 0;
 }
 
 /* The largest of `count` values, 0 without values. */
