@@ -107,9 +107,13 @@ static int cmd_run(rf_registry *reg, int argc, char **argv)
         return RF_EXIT_USAGE;
     }
     int code = RF_EXIT_OK;
+    gint64 t0 = g_get_monotonic_time();
     rf_pipeline *p = prepare(reg, argv[1], params, &code);
     if (!p)
         return code;
+    if (profile) /* validation opens the plugins of the pipeline's node types (lazy loading) */
+        fprintf(stderr, "profile: validation, plugins opened: %.3f ms\n",
+                (double)(g_get_monotonic_time() - t0) / 1000.0);
     quiet = quiet || g_getenv("RIGFLOW_QUIET") != NULL;
     rf_run_options opts = {.profile = profile,
                            .quiet = quiet,
@@ -120,7 +124,11 @@ static int cmd_run(rf_registry *reg, int argc, char **argv)
     bool ok = rf_pipeline_run(p, reg, &opts, diags);
     signal(SIGINT, SIG_DFL);
     rf_print_diags(diags, "error");
+    t0 = g_get_monotonic_time();
     rf_pipeline_free(p);
+    if (profile)
+        fprintf(stderr, "profile: pipeline and its data freed: %.3f ms\n",
+                (double)(g_get_monotonic_time() - t0) / 1000.0);
     return ok ? RF_EXIT_OK : interrupted ? RF_EXIT_CANCELLED : RF_EXIT_RUN;
 }
 

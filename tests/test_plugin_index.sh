@@ -56,8 +56,11 @@ check '[ "$second" = "$(printf "a_good.so\nb_dup.so")" ]' \
 check 'grep -q "duplicate node type .test.source.*a_good.so" "$tmp/err"' \
     "a refused plugin is still opened and reported on every run"
 
-(cd "$tmp" && opened "$rigflow" run "$tmp/p.json" >/dev/null) || bad "run with the index"
+(cd "$tmp" && opened "$rigflow" run --profile "$tmp/p.json" >/dev/null) || bad "run with the index"
 check '[ "$(cat "$tmp/out.txt" 2>/dev/null)" = 7 ]' "the pipeline runs with the index"
+check 'grep -q "^profile: validation, plugins opened: [0-9.]* ms" "$tmp/err" &&
+       grep -q "^profile: pipeline and its data freed: [0-9.]* ms" "$tmp/err"' \
+    "run --profile times the validation (where plugins are opened) and the freeing"
 
 RIGFLOW_PLUGIN_INDEX= "$rigflow" plugins >"$tmp/plugins-noindex" 2>"$tmp/refused-noindex"
 listed=$(opened "$rigflow" plugins)
