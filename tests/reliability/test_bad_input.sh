@@ -50,11 +50,13 @@ row() {
     else ok "$name"; fi
 }
 
-# good NAME INPUT OUTPUT [MESSAGE]: a hostile but valid input converts, with MESSAGE if given.
+# good NAME INPUT OUTPUT [MESSAGE]: a hostile but valid input converts, with MESSAGE if given
+# (a warning: the run is not --quiet then).
 good() {
     local name=$1 in=$2 out=$3 msg=${4:-}
     rm -f "$out"
-    rf run "$convert" -p source.path="$in" -p export.path="$out"
+    if [ -n "$msg" ]; then rfv run "$convert" -p source.path="$in" -p export.path="$out"
+    else rf run "$convert" -p source.path="$in" -p export.path="$out"; fi
     if [ "$code" != 0 ]; then bad "$name: exit $code, expected 0"
     elif [ -n "$msg" ] && ! grep -qF -- "$msg" "$tmp/err"; then bad "$name: '$msg' not in the message"
     elif [ ! -s "$out" ]; then bad "$name: no output written"
@@ -180,6 +182,11 @@ cat >"$tmp/dup.gltf" <<'EOF'
 EOF
 good "glTF joint name repeated: renamed, with a warning" "$tmp/dup.gltf" "$tmp/dup.bvh.out.bvh" \
     "duplicate joint name 'b' renamed 'b.1'"
+rm -f "$tmp/dup.bvh.out.bvh"
+rf run "$convert" -p source.path="$tmp/dup.gltf" -p export.path="$tmp/dup.bvh.out.bvh"
+[ "$code" = 0 ] && [ -s "$tmp/dup.bvh.out.bvh" ] && [ ! -s "$tmp/err" ] &&
+    ok "--quiet: the same conversion prints no warning (errors only)" ||
+    bad "--quiet printed a warning (exit $code)"
 
 # ---- hierarchy cycles in glTF node graphs (Assimp importer) ----
 cat >"$tmp/cycle.gltf" <<'EOF'
@@ -408,17 +415,18 @@ gltf_with_buffer() { # gltf_with_buffer URI: a skeleton and a mesh whose vertice
  "buffers": [{"uri": "%s", "byteLength": 36}],
  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}]}\n' "$1"
 }
-# traced NAME: runs the command under strace when it can, so rows can check what was opened.
+# traced ARGS...: runs the command under strace when it can, so rows can check what was opened;
+# not --quiet: the rows read the refusals, which are warnings.
 tracing=no
 [ -z "${RF_RIGFLOW:-}" ] && strace -f -qq -o /dev/null true 2>/dev/null && tracing=yes
 traced() {
     if [ "$tracing" = yes ]; then
         # LeakSanitizer cannot run under ptrace: a sanitizer build checks leaks in the other rows.
         ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" strace -f -qq \
-            -e trace=open,openat -o "$tmp/trace" "$rigflow" --quiet "$@" >"$tmp/out" 2>"$tmp/err"
+            -e trace=open,openat -o "$tmp/trace" "$rigflow" "$@" >"$tmp/out" 2>"$tmp/err"
     else
         : >"$tmp/trace"
-        "$rigflow" --quiet "$@" >"$tmp/out" 2>"$tmp/err"
+        "$rigflow" "$@" >"$tmp/out" 2>"$tmp/err"
     fi
     code=$?
 }
