@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # report.html without a browser: the data block holds no '<' and parses back to the joint names
 # given (markup and control characters included); a missing three.js fails the run with a message
-# and leaves no file; without report.path nothing is written. Needs node for the JSON checks.
+# and leaves no file; without report.path nothing is written; report.summary escapes its label.
+# Needs node for the JSON checks.
 set -u
 rigflow="${RF_BUILDDIR:?}/rigflow"
 src="${RF_SRCDIR:?}"
@@ -49,6 +50,17 @@ left=$(find "$tmp" -name 'none*' | wc -l)
 if run >"$tmp/log" 2>&1 && [ -z "$(find "$tmp" -name '*.html' ! -name r.html)" ]; then
     ok "no report.path, no report"
 else bad "a run without report.path failed or wrote a page"; fi
+# report.summary: a label from a pipeline file reaches the terminal escaped (an ESC sequence there
+# would retitle or recolour it)
+sed 's/"type": "report.summary",/"type": "report.summary", "params": {"label": "x\\u001b]0;owned\\u0007\\u00c2\\u009b2J"},/' \
+    "$src/pipelines/bvh-roundtrip.json" >"$tmp/label.json"
+if "$rigflow" run "$tmp/label.json" -p source.path="$tmp/plain.bvh" -p export.path="$tmp/label.bvh" \
+    >"$tmp/out" 2>"$tmp/log" && grep -q 'label' "$tmp/label.json"; then
+    if LC_ALL=C grep -q $'[\x1b\x07]' "$tmp/out" || grep -q $'\u009b' "$tmp/out"; then
+        bad "report.summary printed control bytes from the pipeline: $(od -c "$tmp/out" | head -3)"
+    elif grep -qF 'x\x1b]0;owned\x07' "$tmp/out"; then ok "report.summary escapes its label"
+    else bad "report.summary label missing: $(cat "$tmp/out")"; fi
+else bad "the labelled round trip failed: $(cat "$tmp/log")"; fi
 # rigflow report: the retarget pipeline with its page, no GLB unless asked; -o is required
 if "$rigflow" -q report "$tmp/plain.bvh" "$tmp/names.bvh" -o "$tmp/cmd.html" >"$tmp/log" 2>&1 &&
     grep -q 'id="rf-data"' "$tmp/cmd.html" && [ -z "$(find "$tmp" -name '*.glb')" ]; then
