@@ -302,7 +302,7 @@ static void report_failure(pool *p, const char *what, const char *name, const ch
     char *line = g_strdup_printf("%s %s: %s", what, name, error ? error : "no reason given");
     clear_progress(p);
     fputs("rigflow batch: ", stderr);
-    rf_batch_print_escaped(stderr, line);
+    rf_text_fputs(line, stderr, 0);
     fputc('\n', stderr);
     g_ptr_array_add(p->stats->failures, line);
 }

@@ -142,7 +142,7 @@ static char *sbatch(const char *script, const char *array)
     }
     if (!g_spawn_check_wait_status(status, NULL) || !out || !g_ascii_isdigit(out[0])) {
         fprintf(stderr, "rigflow batch: sbatch refused the job array:\n");
-        rf_batch_print_escaped(stderr, err ? err : "");
+        rf_text_fputs(err, stderr, RF_TEXT_KEEP_LINES);
         return NULL;
     }
     out[strspn(out, "0123456789")] = '\0'; /* "123" or "123;cluster" */
@@ -441,7 +441,7 @@ int rf_batch_status(const char *dir)
     printf("%s: %u jobs: %u done, %u failed, %u running, %u pending, %u missing\n", dir, total,
            s.done, s.failed, s.running, s.pending, s.missing);
     for (guint i = 0; i < s.problems->len; i++) {
-        rf_batch_print_escaped(stdout, g_ptr_array_index(s.problems, i));
+        rf_text_fputs(g_ptr_array_index(s.problems, i), stdout, 0);
         printf("\n");
     }
     print_tasks(&s);

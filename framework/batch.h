@@ -11,6 +11,8 @@
 
 #include <jansson.h>
 
+#include <rigflow/text.h>
+
 #include "commands.h"
 
 /* The folder inside --out DIR that holds the batch's own files (manifests, lock, logs). */
@@ -114,9 +116,6 @@ int rf_batch_resubmit(const char *dir);
 
 /* Writes DIR/rigflow-batch/plan.json: every job's name, for --status and --resubmit. */
 void rf_batch_write_plan(const rf_batch *b);
-
-/* Prints `text` to f with control characters escaped: errors quote bytes from files. */
-void rf_batch_print_escaped(FILE *f, const char *text);
 
 int rf_cmd_batch(rf_registry *reg, int argc, char **argv);
 

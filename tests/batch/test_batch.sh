@@ -199,6 +199,14 @@ contains "$tmp/err" "is not a batch folder" "--status says why"
 expect 2 "--resubmit of a local batch" -- "$rigflow" batch --resubmit "$out"
 contains "$tmp/err" "was not submitted to Slurm" "--resubmit says why"
 
+# ---- --status on damaged or hostile state files: a clear refusal, never a crash ----
+state="$tmp/hostile/rigflow-batch"
+mkdir -p "$state"
+printf '{"pipeline": "p", "out": "o", "jobs": ["a\\u009b2Jb"]}\n' >"$state/plan.json"
+expect 1 "--status: a job name holding a C1 control" -- "$rigflow" batch --status "$tmp/hostile"
+if LC_ALL=C grep -q $'\302\233' "$tmp/out"; then bad "--status printed a C1 control raw"
+else contains "$tmp/out" 'missing a\xc2\x9b2Jb: no record' "--status escapes C1 controls in names"; fi
+
 # ---- the progress line on a terminal (script(1) gives the batch one) ----
 if command -v script >/dev/null && [ -z "${RF_VG_LOGS:-}" ]; then
     script -qec "'$rigflow' --plugin-path '$fx' batch '$pipeline' --over 'copy.input=$in/*.txt' \
