@@ -24,12 +24,14 @@ static char *shard_suffix(const rf_batch *b)
     return b->shards ? g_strdup_printf("-shard-%d-of-%d", b->shard, b->shards) : g_strdup("");
 }
 
-/* Who holds the lock on fd: the file names its holder; else the kernel's pid. */
+/* Who holds the lock on fd: the file names its holder (escaped: its bytes reach the terminal);
+ * else the kernel's pid. */
 static void describe_holder(int fd, char *holder, size_t n)
 {
-    ssize_t got = pread(fd, holder, n - 1, 0);
-    holder[got > 0 ? got : 0] = '\0';
-    g_strchomp(holder);
+    char text[256];
+    ssize_t got = pread(fd, text, sizeof text - 1, 0);
+    text[got > 0 ? got : 0] = '\0';
+    rf_text_escape(g_strchomp(text), holder, n, 0);
     struct flock who = {.l_type = F_WRLCK, .l_whence = SEEK_SET};
     if (!*holder && fcntl(fd, F_GETLK, &who) == 0 && who.l_type != F_UNLCK)
         g_snprintf(holder, n, "pid %ld", (long)who.l_pid);

@@ -162,6 +162,17 @@ expect 5 "a shard of a Slurm array on the same folder is refused too" -- batch \
 wait_lines "$out/rigflow-batch/manifest.jsonl" 2
 expect 6 "--status while a local batch runs" -- "$rigflow" batch --status "$out"
 contains "$tmp/out" "a batch runs on this folder now (pid $bg on" "--status names the running batch"
+# the lock file's text is a file's bytes: what names the holder reaches the terminal escaped
+printf 'pid 1 \033]0;owned\007 \302\2332J\n' >"$out/rigflow-batch/lock"
+"$rigflow" batch --status "$out" >"$tmp/out" 2>"$tmp/err"
+"$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$in/*.txt" --out "$out" \
+    >>"$tmp/out" 2>>"$tmp/err"
+if LC_ALL=C grep -q $'[\033\007\233]' "$tmp/out" "$tmp/err"; then
+    bad "the lock's text reached the terminal raw: $(cat "$tmp/out" "$tmp/err" | od -c | head -4)"
+else
+    contains "$tmp/out" 'now (pid 1 \x1b]0;owned\x07 \xc2\x9b2J)' "--status prints the lock's text escaped"
+    contains "$tmp/err" 'another batch (pid 1 \x1b]0;owned\x07 \xc2\x9b2J)' "the refusal prints it escaped"
+fi
 kill -9 "$bg"
 wait "$bg" 2>/dev/null
 bg=""
