@@ -329,8 +329,7 @@ static void ask_slurm(status *s)
         if (!id)
             continue;
         /* a later submission's tasks replace an earlier one's: it ran them again */
-        task_state fresh[s->shards];
-        memset(fresh, 0, sizeof fresh);
+        g_autofree task_state *fresh = g_new0(task_state, s->shards);
         ask_scontrol(id, fresh, s->task_states, s->shards);
         ask_squeue(id, fresh, s->shards);
         for (int k = 0; k < s->shards; k++)
@@ -377,6 +376,29 @@ static void classify(status *s, const char *name, int index)
     }
 }
 
+/* The plan and slurm.json are files: a damaged one is refused, naming it, before its names index
+ * anything. A submission never has more array tasks than jobs. */
+static bool state_files_sane(status *s, const char *plan, const char *slurm)
+{
+    json_t *jobs = json_object_get(s->plan, "jobs");
+    for (size_t i = 0; i < json_array_size(jobs); i++)
+        if (!json_is_string(json_array_get(jobs, i))) {
+            fprintf(stderr, "rigflow batch: %s: job %zu is not a name\n", plan, i);
+            return false;
+        }
+    if (!s->slurm)
+        return true;
+    json_t *shards = json_object_get(s->slurm, "shards");
+    json_int_t n = json_integer_value(shards);
+    if (!json_is_integer(shards) || n < 1 || (size_t)n > json_array_size(jobs)) {
+        fprintf(stderr, "rigflow batch: %s: %" JSON_INTEGER_FORMAT " array tasks for %zu jobs\n",
+                slurm, n, json_array_size(jobs));
+        return false;
+    }
+    s->shards = (int)n;
+    return true;
+}
+
 static bool load_status(status *s, const char *dir)
 {
     g_autofree char *abs = g_canonicalize_filename(dir, NULL);
@@ -389,7 +411,8 @@ static bool load_status(status *s, const char *dir)
         return false;
     }
     s->slurm = json_load_file(slurm, 0, NULL); /* NULL for a local batch */
-    s->shards = (int)json_integer_value(json_object_get(s->slurm, "shards"));
+    if (!state_files_sane(s, plan, slurm))
+        return false;
     s->records = rf_batch_manifest_load(s->state);
     s->problems = g_ptr_array_new_with_free_func(g_free);
     s->redo = g_array_new(FALSE, FALSE, sizeof(int));

@@ -213,10 +213,21 @@ contains "$tmp/err" "was not submitted to Slurm" "--resubmit says why"
 # ---- --status on damaged or hostile state files: a clear refusal, never a crash ----
 state="$tmp/hostile/rigflow-batch"
 mkdir -p "$state"
+echo '{"pipeline": "p", "out": "o", "jobs": ["a", 7]}' >"$state/plan.json"
+expect 2 "--status: a plan whose job is not a name" -- "$rigflow" batch --status "$tmp/hostile"
+contains "$tmp/err" "plan.json: job 1 is not a name" "the damaged plan is named"
 printf '{"pipeline": "p", "out": "o", "jobs": ["a\\u009b2Jb"]}\n' >"$state/plan.json"
 expect 1 "--status: a job name holding a C1 control" -- "$rigflow" batch --status "$tmp/hostile"
 if LC_ALL=C grep -q $'\302\233' "$tmp/out"; then bad "--status printed a C1 control raw"
 else contains "$tmp/out" 'missing a\xc2\x9b2Jb: no record' "--status escapes C1 controls in names"; fi
+echo '{"pipeline": "p", "out": "o", "jobs": ["a", "b"]}' >"$state/plan.json"
+for shards in 2000000000 3 -1; do
+    echo "{\"shards\": $shards, \"submissions\": [{\"job_id\": \"1\", \"array\": \"0-1\"}]}" \
+        >"$state/slurm.json"
+    expect 2 "--status: slurm.json claims $shards array tasks for 2 jobs" -- \
+        "$rigflow" batch --status "$tmp/hostile"
+    contains "$tmp/err" "slurm.json: $shards array tasks for 2 jobs" "the damaged slurm.json is named"
+done
 
 # ---- the progress line on a terminal (script(1) gives the batch one) ----
 if command -v script >/dev/null && [ -z "${RF_VG_LOGS:-}" ]; then
