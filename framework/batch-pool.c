@@ -316,7 +316,8 @@ static void record(pool *p, json_t *rec)
         p->stats->interrupted++;
         return; /* not in the manifest: a rerun does it */
     }
-    rf_batch_manifest_append(p->mfd, rec);
+    if (!rf_batch_manifest_append(p->mfd, rec))
+        p->stats->unrecorded++; /* a rerun does it again: the batch must not say all is well */
     if (g_strcmp0(status, "done") == 0) {
         p->stats->done++;
         return;

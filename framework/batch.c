@@ -467,6 +467,8 @@ static void print_summary(const rf_batch_stats *s, double seconds, bool interrup
     if (interrupted || s->no_worker)
         printf(", %u not finished (%s)", s->total - ran - s->skipped,
                interrupted ? "interrupted" : "no worker process could start");
+    if (s->unrecorded)
+        printf(", %u not recorded in the manifest (a rerun does them again)", s->unrecorded);
     printf("; %.1f s", seconds);
     if (ran && seconds > 0)
         printf(", %.2f jobs/s", ran / seconds);
@@ -511,9 +513,10 @@ static int run_local(rf_batch *b, const rf_registry *reg)
     print_summary(&stats, (double)(g_get_monotonic_time() - t0) / 1e6, !finished);
     close(mfd);
     close(lock);
-    int code = !finished                                             ? RF_EXIT_CANCELLED
-               : stats.failed + stats.crashed > 0 || stats.no_worker ? RF_EXIT_RUN
-                                                                     : RF_EXIT_OK;
+    int code = !finished ? RF_EXIT_CANCELLED
+               : stats.failed + stats.crashed + stats.unrecorded > 0 || stats.no_worker
+                   ? RF_EXIT_RUN
+                   : RF_EXIT_OK;
     g_ptr_array_unref(stats.failures);
     return code;
 }

@@ -88,6 +88,7 @@ void rf_batch_clean_temps(const rf_batch *b, const rf_batch_job *job);
 
 typedef struct rf_batch_stats {
     guint done, failed, crashed, skipped, interrupted, total;
+    guint unrecorded;    /* finished jobs whose record the manifest could not take */
     GPtrArray *failures; /* "failed NAME: error" lines for the closing summary */
     bool no_worker;      /* a worker process could not be started: the batch stopped */
 } rf_batch_stats;

@@ -210,6 +210,30 @@ contains "$tmp/err" "is not a batch folder" "--status says why"
 expect 2 "--resubmit of a local batch" -- "$rigflow" batch --resubmit "$out"
 contains "$tmp/err" "was not submitted to Slurm" "--resubmit says why"
 
+# ---- a manifest that cannot take a record (a file size limit here, a full disk elsewhere) ----
+# The record is not left torn (the next one would join it and be lost too), the batch says so
+# and exits 1, and the reruns do exactly the unrecorded jobs, once.
+if [ -z "${RF_VG_LOGS:-}" ]; then
+    mkdir -p "$tmp/limit"
+    for i in 1 2 3 4; do echo hi >"$tmp/limit/j$i.txt"; done
+    (trap '' XFSZ; ulimit -f 1; batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out" -j 1 \
+        >"$tmp/out" 2>"$tmp/err")
+    same "$?" 1 "a batch whose manifest is full exits 1"
+    contains "$tmp/out" "not recorded in the manifest" "the summary says records are missing"
+    contains "$tmp/err" "cannot write the manifest: File too large" "the reason is given"
+    same "$(tail -c 1 "$tmp/limit-out/rigflow-batch/manifest.jsonl" | od -An -c | tr -d ' ')" '\n' \
+        "the manifest ends with a whole line"
+    expect 0 "the rerun with room" -- batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out"
+    expect 0 "a third run" -- batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out"
+    contains "$tmp/out" "0 done, 0 failed, 0 crashed, 4 skipped" "every record of the rerun was kept"
+    printf '{"job":"j1","status":"do' >>"$tmp/limit-out/rigflow-batch/manifest.jsonl" # torn by a crash
+    echo edited >"$tmp/limit/j2.txt"
+    expect 0 "a run after a crash tore the manifest's last line" -- \
+        batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out"
+    expect 0 "and one more" -- batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out"
+    contains "$tmp/out" "0 done, 0 failed, 0 crashed, 4 skipped" "the record after a torn line is kept"
+fi
+
 # ---- --status on damaged or hostile state files: a clear refusal, never a crash ----
 state="$tmp/hostile/rigflow-batch"
 mkdir -p "$state"
