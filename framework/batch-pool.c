@@ -201,6 +201,7 @@ static G_GNUC_NORETURN void worker_main(const rf_batch *b, const rf_registry *re
     signal(SIGPIPE, SIG_IGN);
     guint32 index;
     while (read_full(job_fd, &index, sizeof index) && index < b->jobs->len) {
+        job_cancelled = 0; /* an interrupt was for the job before (the parent stops on Ctrl-C) */
         json_t *rec = run_job(b, reg, g_ptr_array_index(b->jobs, index));
         char *text = json_dumps(rec, JSON_COMPACT | JSON_SORT_KEYS);
         json_decref(rec);
@@ -530,5 +531,5 @@ bool rf_batch_pool_run(rf_batch *b, const rf_registry *reg, GPtrArray *todo, int
     signal(SIGTERM, SIG_DFL);
     signal(SIGPIPE, old_pipe);
     stats->no_worker = broken;
-    return !stop_requested;
+    return !stop_requested && stats->interrupted == 0; /* a worker may be interrupted alone */
 }

@@ -95,7 +95,7 @@ typedef struct rf_batch_stats {
 
 /* Runs `todo` (rf_batch_job*) on b->workers processes forked from this one, appending each
  * finished job's record to the manifest `mfd`. Prints progress and failures. Returns false when
- * interrupted (SIGINT or SIGTERM). */
+ * interrupted (SIGINT or SIGTERM to the batch, or to a worker during its job). */
 bool rf_batch_pool_run(rf_batch *b, const rf_registry *reg, GPtrArray *todo, int mfd,
                        rf_batch_stats *stats);
 

@@ -280,6 +280,24 @@ n=$(grep -c '"status":"done"' "$out/rigflow-batch/manifest.jsonl")
 same "$(ls "$out" | grep -c '^s.*\.txt$')" "$n" "only finished jobs have outputs"
 same "$(ls -A "$out" | grep -c '\.rf-')" 0 "an interrupted job leaves no temporary file"
 
+# ---- SIGINT to one worker alone (not Ctrl-C): its job is interrupted, the batch goes on ----
+if [ -z "${RF_VG_LOGS:-}" ] && command -v pgrep >/dev/null; then
+    mkdir -p "$tmp/one"
+    for i in 1 2 3; do echo "sleep 0.5 $i" >"$tmp/one/w$i.txt"; done
+    out="$tmp/one-out"
+    "$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$tmp/one/*.txt" --out "$out" \
+        -j 1 >"$tmp/one.out" 2>"$tmp/one.err" &
+    bg=$!
+    for _ in $(seq 600); do [ -e "$out/rigflow-batch/logs/w1.log" ] && break; sleep 0.05; done
+    kill -INT $(pgrep -P "$bg")
+    wait "$bg"
+    code=$?
+    bg=""
+    same "$code" 130 "a job interrupted on its own makes the batch exit 130"
+    contains "$tmp/one.out" "3 jobs: 2 done, 0 failed, 0 crashed, 0 skipped (finished before), 1 not finished" \
+        "the other jobs on that worker still run, and the summary counts the interrupted one"
+fi
+
 # ---- a real retarget batch ----
 data="${RF_DATA_DIR:-}"
 if [ -f "$data/bvh/cmu_01_01.bvh" ] && [ -f "$data/models/Fox.glb" ]; then
