@@ -73,13 +73,11 @@ static int rf_report_run(rf_registry *reg, const char *source, const char *targe
         rf_pipeline_free(p);
         return RF_EXIT_VALIDATION;
     }
-    rf_run_options run = {.quiet = g_getenv("RIGFLOW_QUIET") != NULL};
-    bool ok = rf_pipeline_run(p, reg, &run, diags);
-    rf_print_diags(diags, "error");
+    int code = rf_run_interruptible(p, reg, false, g_getenv("RIGFLOW_QUIET") != NULL);
     rf_pipeline_free(p);
-    if (ok)
+    if (code == RF_EXIT_OK)
         printf("wrote %s\n", out);
-    return ok ? RF_EXIT_OK : RF_EXIT_RUN;
+    return code;
 }
 
 int rf_cmd_report(rf_registry *reg, int argc, char **argv)

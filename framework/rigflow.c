@@ -48,6 +48,21 @@ bool rf_parse_options(const char *name, const char *args, const char *summary,
     return true;
 }
 
+int rf_run_interruptible(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet)
+{
+    rf_run_options opts = {.profile = profile,
+                           .quiet = quiet,
+                           .progress = isatty(2) != 0,
+                           .cancel_flag = &interrupted};
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    interrupted = 0;
+    signal(SIGINT, on_sigint);
+    bool ok = rf_pipeline_run(p, reg, &opts, diags);
+    signal(SIGINT, SIG_DFL);
+    rf_print_diags(diags, "error");
+    return ok ? RF_EXIT_OK : interrupted ? RF_EXIT_CANCELLED : RF_EXIT_RUN;
+}
+
 /* Loads, overrides and validates a pipeline; prints what is wrong. Returns NULL with *code set. */
 static rf_pipeline *prepare(rf_registry *reg, const char *path, char **params, int *code)
 {
@@ -109,18 +124,9 @@ static int cmd_run(rf_registry *reg, int argc, char **argv)
     rf_pipeline *p = prepare(reg, argv[1], params, &code);
     if (!p)
         return code;
-    quiet = quiet || g_getenv("RIGFLOW_QUIET") != NULL;
-    rf_run_options opts = {.profile = profile,
-                           .quiet = quiet,
-                           .progress = isatty(2) != 0,
-                           .cancel_flag = &interrupted};
-    g_autoptr(GPtrArray) diags = rf_diags_new();
-    signal(SIGINT, on_sigint);
-    bool ok = rf_pipeline_run(p, reg, &opts, diags);
-    signal(SIGINT, SIG_DFL);
-    rf_print_diags(diags, "error");
+    code = rf_run_interruptible(p, reg, profile, quiet || g_getenv("RIGFLOW_QUIET") != NULL);
     rf_pipeline_free(p);
-    return ok ? RF_EXIT_OK : interrupted ? RF_EXIT_CANCELLED : RF_EXIT_RUN;
+    return code;
 }
 
 typedef struct command {

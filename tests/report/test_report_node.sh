@@ -2,7 +2,7 @@
 # report.html without a browser: the data block holds no '<' and parses back to the joint names
 # given (markup and control characters included); a missing three.js fails the run with a message
 # and leaves no file; without report.path nothing is written; report.summary escapes its label.
-# Needs node for the JSON checks.
+# Ctrl-C during rigflow report leaves nothing. Needs node for the JSON checks.
 set -u
 rigflow="${RF_BUILDDIR:?}/rigflow"
 src="${RF_SRCDIR:?}"
@@ -70,4 +70,23 @@ else bad "rigflow report:"; sed 's/^/    /' "$tmp/log"; fi
 code=$?
 [ "$code" = 2 ] && grep -q -- "-o OUT.html is required" "$tmp/log" && ok "rigflow report without -o: usage error" ||
     bad "rigflow report without -o exited $code: $(cat "$tmp/log")"
+# Ctrl-C during rigflow report removes every output, temporary files included, as rigflow run does
+# (a long clip keeps the run going; env gives the background job the default SIGINT back).
+if env --default-signal=INT true 2>/dev/null; then
+    node "$src/tests/report/make-bvh.mjs" tail 22 | awk -v n=200000 '/^Frames:/ { print "Frames: " n; next }
+        /^Frame Time/ { print; getline; for (i = 0; i < n; i++) print; exit } { print }' >"$tmp/long.bvh"
+    mkdir -p "$tmp/int"
+    env --default-signal=INT "$rigflow" -q report "$tmp/long.bvh" "$tmp/plain.bvh" -o "$tmp/int/r.html" \
+        --glb "$tmp/int/r.glb" >"$tmp/log" 2>&1 &
+    pid=$!
+    for _ in $(seq 1000); do ls -A "$tmp/int" | grep -q 'rf-' && break; sleep 0.01; done
+    kill -INT "$pid"
+    wait "$pid"
+    code=$?
+    left=$(ls -A "$tmp/int")
+    [ "$code" = 130 ] && [ -z "$left" ] && ok "Ctrl-C during rigflow report: exit 130, nothing left" ||
+        bad "Ctrl-C during rigflow report: exit $code, left: $left"
+else
+    echo "# SKIP Ctrl-C during rigflow report: env --default-signal missing"
+fi
 exit $fail
