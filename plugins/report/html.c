@@ -50,7 +50,7 @@ typedef struct rf_rep {
     uint32_t source_count;
     const rf_mapping *mapping;
     const rf_mesh *mesh;
-    const rf_measures *measures[16];
+    const rf_measures **measures; /* [measure_count], every one connected */
     uint32_t measure_count;
     rf_rep_timeline tl;
 } rf_rep;
@@ -82,8 +82,11 @@ static bool rf_rep_gather(rf_rep *r)
     r->mapping = h->input(n, "mapping", 0);
     r->mesh = h->input(n, "mesh", 0);
     r->measure_count = h->input_count(n, "measures");
-    if (r->measure_count > 16)
-        r->measure_count = 16;
+    r->measures = calloc(r->measure_count ? r->measure_count : 1, sizeof *r->measures);
+    if (!r->measures) {
+        h->error(n, "out of memory");
+        return false;
+    }
     for (uint32_t i = 0; i < r->measure_count; i++)
         r->measures[i] = h->input(n, "measures", i);
     for (uint32_t c = 0; c <= r->source_count; c++) {
@@ -631,6 +634,7 @@ static bool html_process(void *self, const rf_host *host, rf_node *node)
     }
     for (uint32_t c = 0; c <= r.source_count && c <= RF_REPORT_MAX_SOURCES; c++)
         rf_analysis_free(r.chars[c].an);
+    free(r.measures);
     if (ok)
         host->log(node, RF_LOG_INFO, "report: %s", host->param_output_target(node, "path"));
     return ok;

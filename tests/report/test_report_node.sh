@@ -2,7 +2,7 @@
 # report.html without a browser: the data block holds no '<' and parses back to the joint names
 # given (markup and control characters included); a missing three.js fails the run with a message
 # and leaves no file; without report.path nothing is written; report.summary escapes its label.
-# Ctrl-C during rigflow report leaves nothing. Needs node for the JSON checks.
+# every measures input is shown; Ctrl-C during rigflow report leaves nothing. Needs node.
 set -u
 rigflow="${RF_BUILDDIR:?}/rigflow"
 src="${RF_SRCDIR:?}"
@@ -70,6 +70,29 @@ else bad "rigflow report:"; sed 's/^/    /' "$tmp/log"; fi
 code=$?
 [ "$code" = 2 ] && grep -q -- "-o OUT.html is required" "$tmp/log" && ok "rigflow report without -o: usage error" ||
     bad "rigflow report without -o exited $code: $(cat "$tmp/log")"
+# every measures input reaches the page: 17 of them carry 17 times the series of one
+node -e '
+  const fs = require("fs");
+  const p = JSON.parse(fs.readFileSync(process.argv[1], "utf8"));
+  p.nodes.find((n) => n.id === "report").inputs.measures = Array(17).fill("measure.measures");
+  fs.writeFileSync(process.argv[2], JSON.stringify(p));
+' "$src/pipelines/retarget.json" "$tmp/many.json"
+cp "$src/pipelines/retarget.json" "$tmp/one.json"
+series() { # PIPELINE: how many series the page of a retarget shows
+    "$rigflow" -q run "$1" -p source.path="$tmp/plain.bvh" -p target.path="$tmp/names.bvh" \
+        -p export.path="$tmp/m.glb" -p report.path="$tmp/m.html" >/dev/null 2>"$tmp/log" &&
+        node -e '
+          const html = require("fs").readFileSync(process.argv[1], "utf8");
+          const start = html.indexOf("id=\"rf-data\">") + 13, end = html.indexOf("</script>", start);
+          console.log(JSON.parse(html.slice(start, end)).measures.length);
+        ' "$tmp/m.html"
+}
+one=$(series "$tmp/one.json")
+many=$(series "$tmp/many.json")
+[ -n "$one" ] && [ "$one" -gt 0 ] && [ "$many" = $((17 * one)) ] &&
+    ok "17 measures inputs: $many series, 17 x $one" ||
+    bad "17 measures inputs gave '$many' series, one gave '$one': $(cat "$tmp/log")"
+
 # Ctrl-C during rigflow report removes every output, temporary files included, as rigflow run does
 # (a long clip keeps the run going; env gives the background job the default SIGINT back).
 if env --default-signal=INT true 2>/dev/null; then
