@@ -137,11 +137,12 @@ static void rf_rep_timeline_make(rf_rep *r, double fps_cap, uint32_t max_frames)
         return;
     r->tl.total = a->frame_count;
     r->tl.fps = a->fps;
-    uint32_t step = fps_cap > 0 && a->fps > fps_cap ? (uint32_t)ceil(a->fps / fps_cap - 1e-9) : 1;
-    if (max_frames > 0 && (a->frame_count + step - 1) / step > max_frames)
-        step = (a->frame_count + max_frames - 1) / max_frames;
-    r->tl.step = step ? step : 1;
-    r->tl.shown = (a->frame_count + r->tl.step - 1) / r->tl.step;
+    /* in double, clamped to the clip: a file's fps may be 1e300 (Frame Time 1e-300) */
+    double step = fps_cap > 0 && a->fps > fps_cap ? ceil(a->fps / fps_cap - 1e-9) : 1;
+    if (max_frames > 0)
+        step = fmax(step, ceil((double)a->frame_count / max_frames));
+    r->tl.step = step < a->frame_count ? (uint32_t)step : a->frame_count;
+    r->tl.shown = (a->frame_count - 1) / r->tl.step + 1;
 }
 
 /* The frame of clip `a` shown at timeline frame k. */

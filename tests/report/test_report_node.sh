@@ -70,6 +70,13 @@ else bad "rigflow report:"; sed 's/^/    /' "$tmp/log"; fi
 code=$?
 [ "$code" = 2 ] && grep -q -- "-o OUT.html is required" "$tmp/log" && ok "rigflow report without -o: usage error" ||
     bad "rigflow report without -o exited $code: $(cat "$tmp/log")"
+# a clip whose Frame Time is tiny (1e-300 s: 1e300 fps, finite): the page shows its frames
+sed 's/^Frame Time:.*/Frame Time: 1e-300/' "$tmp/plain.bvh" >"$tmp/fast.bvh"
+"$rigflow" -q report "$tmp/fast.bvh" "$tmp/plain.bvh" -o "$tmp/fast.html" >"$tmp/log" 2>&1
+code=$?
+[ "$code" = 0 ] && grep -q '"timeline":{"total":2,"step":2,"shown":1,' "$tmp/fast.html" &&
+    ok "a 1e300 fps clip: one frame of two shown" || bad "a 1e300 fps clip: exit $code $(cat "$tmp/log")"
+
 # every measures input reaches the page: 17 of them carry 17 times the series of one
 node -e '
   const fs = require("fs");
