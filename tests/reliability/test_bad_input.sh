@@ -116,6 +116,10 @@ row "finite values beyond range (their squares would overflow)" 1 \
     "big.bvh:4: '1e308' is out of range: expected the OFFSET's y within +-1e+30" "$tmp/big.bvh" "$o.bvh"
 bvh1 0 "0 1 2" 0.01e3081 >"$tmp/inf-time.bvh" # found by fuzz_bvh: the rate became 0 fps
 row "Frame Time that reads as infinity" 1 "expected a positive Frame Time" "$tmp/inf-time.bvh" "$o.glb"
+bvh1 0 "0 1 2" 1e-300 >"$tmp/tiny-time.bvh" # 1e300 fps: finite, but no float32 tells its frames apart
+row "Frame Time too small for glTF's float32 times" 1 \
+    "animation 0 'tiny-time': frames 0 and 1 fall on one time in glTF's float32 seconds (1e+300 fps)" \
+    "$tmp/tiny-time.bvh" "$o.glb"
 
 # ---- bytes that would drive a terminal, quoted in a message ----
 printf 'HIERARCHY\nROOT \033[2J\033]0;pwned\007\n{\nOFFSET 0 0 0\nCHANNELS 1 Zrotation\nJOINT \033[2J\033]0;pwned\007\n' >"$tmp/esc.bvh"

@@ -958,6 +958,16 @@ static bool rf_gw_check(const rf_skeleton *s, const rf_animation *const *clips, 
                      clip, a->fps);
             return false;
         }
+        /* glTF keeps times as float32 seconds and wants them strictly increasing: a file's rate
+         * may be 1e300 fps (its times all 0) or its clip long enough to run out of digits */
+        for (uint32_t f = 1; a && f < a->frame_count; f++)
+            if (!((float)(f / a->fps) > (float)((f - 1) / a->fps))) {
+                snprintf(err, err_size,
+                         "%s: animation %u '%s': frames %u and %u fall on one time in glTF's "
+                         "float32 seconds (%g fps)",
+                         name, i, clip, f - 1, f, a->fps);
+                return false;
+            }
     }
     for (size_t i = 0; m && i < (size_t)m->triangle_count * 3; i++)
         if (m->triangles[i] >= m->vertex_count) {
