@@ -62,6 +62,34 @@ static rf_rep_char *rf_rep_target(rf_rep *r)
 
 /* ---- checking the inputs ---- */
 
+/* The mapping (optional) must fit the skeletons on the page: its joints index them. */
+static bool rf_rep_check_mapping(rf_rep *r)
+{
+    const rf_host *h = r->host;
+    rf_node *n = r->node;
+    const rf_mapping *m = r->mapping;
+    if (!m)
+        return true;
+    if (m->target_joint_count != rf_rep_target(r)->s->joint_count) {
+        h->error(n, "the mapping is for %u target joints but the target has %u",
+                 m->target_joint_count, rf_rep_target(r)->s->joint_count);
+        return false;
+    }
+    for (uint32_t j = 0; j < m->target_joint_count; j++)
+        for (uint32_t i = 0; i < m->entries[j].input_count; i++) {
+            const rf_map_input *in = &m->entries[j].inputs[i];
+            if (in->source >= r->source_count || in->joint >= r->chars[in->source].s->joint_count) {
+                h->error(n,
+                         "the mapping drives target joint %u from source %u joint %u, which "
+                         "the report's source skeletons do not have",
+                         j, in->source, in->joint);
+                return false;
+            }
+        }
+    return true;
+}
+
+/* The node's inputs into r, each skeleton checked against its clip. */
 static bool rf_rep_gather(rf_rep *r)
 {
     const rf_host *h = r->host;
@@ -103,26 +131,7 @@ static bool rf_rep_gather(rf_rep *r)
             return false;
         }
     }
-    const rf_mapping *m = r->mapping;
-    if (!m)
-        return true;
-    if (m->target_joint_count != rf_rep_target(r)->s->joint_count) {
-        h->error(n, "the mapping is for %u target joints but the target has %u",
-                 m->target_joint_count, rf_rep_target(r)->s->joint_count);
-        return false;
-    }
-    for (uint32_t j = 0; j < m->target_joint_count; j++)
-        for (uint32_t i = 0; i < m->entries[j].input_count; i++) {
-            const rf_map_input *in = &m->entries[j].inputs[i];
-            if (in->source >= r->source_count || in->joint >= r->chars[in->source].s->joint_count) {
-                h->error(n,
-                         "the mapping drives target joint %u from source %u joint %u, which "
-                         "the report's source skeletons do not have",
-                         j, in->source, in->joint);
-                return false;
-            }
-        }
-    return true;
+    return rf_rep_check_mapping(r);
 }
 
 /* The clip the timeline follows (the retargeted one, else the first source's), the frames shown:
