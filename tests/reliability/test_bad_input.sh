@@ -121,6 +121,16 @@ row "Frame Time too small for glTF's float32 times" 1 \
     "animation 0 'tiny-time': frames 0 and 1 fall on one time in glTF's float32 seconds (1e+300 fps)" \
     "$tmp/tiny-time.bvh" "$o.glb"
 
+# ---- names that are not UTF-8 (Latin-1 from an old exporter) written as glTF, whose JSON must be ----
+printf 'HIERARCHY\nROOT H\351ps\n{\nOFFSET 0 0 0\nCHANNELS 3 Xposition Yposition Zrotation\nJOINT Spine\n' >"$tmp/latin1.bvh"
+printf '{\nOFFSET 0 1 0\nCHANNELS 1 Zrotation\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n}\nMOTION\nFrames: 2\n' >>"$tmp/latin1.bvh"
+printf 'Frame Time: 0.1\n0 0 0 0\n0 0 1 2\n' >>"$tmp/latin1.bvh"
+good "a Latin-1 joint name converts to GLB" "$tmp/latin1.bvh" "$tmp/latin1.glb"
+good "... which reads back, every joint in place" "$tmp/latin1.glb" "$tmp/latin1-back.bvh"
+grep -q "ROOT H$(printf '\357\277\275')ps" "$tmp/latin1-back.bvh" && grep -q "JOINT Spine" "$tmp/latin1-back.bvh" &&
+    ok "... the byte that is not UTF-8 became U+FFFD, the rest of the name kept" ||
+    bad "... names after the round trip: $(grep -a 'ROOT\|JOINT' "$tmp/latin1-back.bvh" 2>/dev/null | od -c | head -3)"
+
 # ---- bytes that would drive a terminal, quoted in a message ----
 printf 'HIERARCHY\nROOT \033[2J\033]0;pwned\007\n{\nOFFSET 0 0 0\nCHANNELS 1 Zrotation\nJOINT \033[2J\033]0;pwned\007\n' >"$tmp/esc.bvh"
 row "control characters from a file are escaped in messages" 1 \
