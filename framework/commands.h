@@ -15,6 +15,10 @@ void rf_print_diags(const GPtrArray *diags, const char *severity);
 bool rf_parse_options(const char *name, const char *args, const char *summary,
                       const GOptionEntry *entries, int *argc, char ***argv);
 
+/* The build folder when this command is the one built there (its folder, or the folder above
+ * libtool's .libs, holds config.status), else NULL. (transfer full) */
+char *rf_build_tree_dir(void);
+
 /* Runs a validated pipeline as `rigflow run` does: progress on a terminal, Ctrl-C stops it at the
  * next check and removes every output (a second Ctrl-C stops at once), the run's errors printed.
  * Returns RF_EXIT_OK, RF_EXIT_RUN or RF_EXIT_CANCELLED. */

@@ -209,12 +209,12 @@ static int parse_globals(int argc, char **argv, GPtrArray *plugin_path, bool *qu
 
 /* When the command runs from a libtool build tree (unpacked, not installed), the plugins built
  * beside it: `_build/rigflow` then works without RIGFLOW_PLUGIN_PATH. NULL elsewhere. */
-static char *build_tree_plugins(void)
+char *rf_build_tree_dir(void)
 {
     g_autofree char *exe = g_file_read_link("/proc/self/exe", NULL);
     if (!exe)
         return NULL;
-    g_autofree char *dir = g_path_get_dirname(exe);
+    char *dir = g_path_get_dirname(exe);
     g_autofree char *base = g_path_get_basename(dir);
     if (strcmp(base, ".libs") == 0) { /* libtool's wrapper runs .libs/lt-rigflow */
         char *up = g_path_get_dirname(dir);
@@ -222,8 +222,17 @@ static char *build_tree_plugins(void)
         dir = up;
     }
     g_autofree char *status = g_build_filename(dir, "config.status", NULL);
-    char *plugins = g_build_filename(dir, "plugins", NULL);
-    if (g_file_test(status, G_FILE_TEST_EXISTS) && g_file_test(plugins, G_FILE_TEST_IS_DIR))
+    if (g_file_test(status, G_FILE_TEST_EXISTS))
+        return dir;
+    g_free(dir);
+    return NULL;
+}
+
+static char *build_tree_plugins(void)
+{
+    g_autofree char *dir = rf_build_tree_dir();
+    char *plugins = dir ? g_build_filename(dir, "plugins", NULL) : NULL;
+    if (plugins && g_file_test(plugins, G_FILE_TEST_IS_DIR))
         return plugins;
     g_free(plugins);
     return NULL;
