@@ -162,17 +162,6 @@ expect 5 "a shard of a Slurm array on the same folder is refused too" -- batch \
 wait_lines "$out/rigflow-batch/manifest.jsonl" 2
 expect 6 "--status while a local batch runs" -- "$rigflow" batch --status "$out"
 contains "$tmp/out" "a batch runs on this folder now (pid $bg on" "--status names the running batch"
-# the lock file's text is a file's bytes: what names the holder reaches the terminal escaped
-printf 'pid 1 \033]0;owned\007 \302\2332J\n' >"$out/rigflow-batch/lock"
-"$rigflow" batch --status "$out" >"$tmp/out" 2>"$tmp/err"
-"$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$in/*.txt" --out "$out" \
-    >>"$tmp/out" 2>>"$tmp/err"
-if LC_ALL=C grep -q $'[\033\007\233]' "$tmp/out" "$tmp/err"; then
-    bad "the lock's text reached the terminal raw: $(cat "$tmp/out" "$tmp/err" | od -c | head -4)"
-else
-    contains "$tmp/out" 'now (pid 1 \x1b]0;owned\x07 \xc2\x9b2J)' "--status prints the lock's text escaped"
-    contains "$tmp/err" 'another batch (pid 1 \x1b]0;owned\x07 \xc2\x9b2J)' "the refusal prints it escaped"
-fi
 kill -9 "$bg"
 wait "$bg" 2>/dev/null
 bg=""
@@ -232,6 +221,29 @@ if [ -z "${RF_VG_LOGS:-}" ]; then
         batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out"
     expect 0 "and one more" -- batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out"
     contains "$tmp/out" "0 done, 0 failed, 0 crashed, 4 skipped" "the record after a torn line is kept"
+fi
+
+# the lock file's text is a file's bytes: what names the holder reaches the terminal escaped
+mkdir -p "$tmp/held-in"
+echo "sleep 30" >"$tmp/held-in/long.txt"
+out="$tmp/held"
+"$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$tmp/held-in/*.txt" --out "$out" \
+    >/dev/null 2>&1 &
+bg=$!
+wait_lines "$out/rigflow-batch/lock" 1
+for _ in $(seq 1200); do [ -e "$out/rigflow-batch/plan.json" ] && break; sleep 0.05; done
+printf 'pid 1 \033]0;owned\007 \302\2332J\n' >"$out/rigflow-batch/lock"
+"$rigflow" batch --status "$out" >"$tmp/out" 2>"$tmp/err"
+"$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$tmp/held-in/*.txt" --out "$out" \
+    >>"$tmp/out" 2>>"$tmp/err"
+kill -9 "$bg"
+wait "$bg" 2>/dev/null
+bg=""
+if LC_ALL=C grep -q $'[\033\007\233]' "$tmp/out" "$tmp/err"; then
+    bad "the lock's text reached the terminal raw: $(cat "$tmp/out" "$tmp/err" | od -c | head -4)"
+else
+    contains "$tmp/out" 'now (pid 1 \x1b]0;owned\x07 \xc2\x9b2J)' "--status prints the lock's text escaped"
+    contains "$tmp/err" 'another batch (pid 1 \x1b]0;owned\x07 \xc2\x9b2J)' "the refusal prints it escaped"
 fi
 
 # ---- --status on damaged or hostile state files: a clear refusal, never a crash ----
