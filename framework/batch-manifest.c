@@ -73,17 +73,26 @@ static bool held_elsewhere(const rf_batch *b, const char *name)
     return true;
 }
 
-/* A whole batch and the shards of a Slurm array on the same DIR exclude each other too. */
-static bool others_running(const rf_batch *b)
+/* True, after saying so, when a shard of a Slurm array holds its lock in the state folder. */
+static bool shard_running(const rf_batch *b)
 {
-    if (b->shards)
-        return held_elsewhere(b, "lock");
     g_autoptr(GDir) dir = g_dir_open(b->state, 0, NULL);
     const char *name;
     while (dir && (name = g_dir_read_name(dir)))
         if (g_str_has_prefix(name, "lock-shard-") && held_elsewhere(b, name))
             return true;
     return false;
+}
+
+/* A whole batch and the shards of a Slurm array on the same DIR exclude each other too. */
+static bool others_running(const rf_batch *b)
+{
+    return b->shards ? held_elsewhere(b, "lock") : shard_running(b);
+}
+
+bool rf_batch_busy(const rf_batch *b)
+{
+    return held_elsewhere(b, "lock") || shard_running(b);
 }
 
 int rf_batch_lock(const rf_batch *b)

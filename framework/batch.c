@@ -641,8 +641,9 @@ int rf_cmd_batch(rf_registry *reg, int argc, char **argv)
     if (a.list)
         list_jobs(b);
     else if (a.slurm)
-        code = make_state_dirs(b) ? rf_batch_slurm_submit(b, reg, &a.slurm_opts, original)
-                                  : RF_EXIT_RUN;
+        code = !make_state_dirs(b) ? RF_EXIT_RUN
+               : rf_batch_busy(b)  ? RF_EXIT_LOCKED
+                                   : rf_batch_slurm_submit(b, reg, &a.slurm_opts, original);
     else
         code = run_local(b, reg);
 done:

@@ -67,6 +67,9 @@ int rf_batch_lock(const rf_batch *b);
 /* True when another process holds the lock file `name` of the state folder; `holder` (n bytes)
  * then says who ("pid 123 on node7"). */
 bool rf_batch_lock_holder(const char *state, const char *name, char *holder, size_t n);
+/* True, after printing who, when a batch or an array task holds DIR now (a submission checks
+ * it: its tasks would find DIR locked). */
+bool rf_batch_busy(const rf_batch *b);
 /* The manifest this process appends to, opened for appending (O_APPEND), or -1 with a message. */
 int rf_batch_manifest_open(const rf_batch *b);
 /* Appends one record as one line with one write, then fsyncs: a crash keeps whole lines. */

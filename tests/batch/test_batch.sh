@@ -236,6 +236,16 @@ printf 'pid 1 \033]0;owned\007 \302\2332J\n' >"$out/rigflow-batch/lock"
 "$rigflow" batch --status "$out" >"$tmp/out" 2>"$tmp/err"
 "$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$tmp/held-in/*.txt" --out "$out" \
     >>"$tmp/out" 2>>"$tmp/err"
+# a Slurm submission onto a folder a batch holds is refused before sbatch runs (its tasks would
+# only find the folder locked, or overwrite the running batch's outputs)
+mkdir -p "$tmp/fakebin"
+printf '#!/bin/sh\ntouch "%s/sbatch-ran"\necho 4242\n' "$tmp" >"$tmp/fakebin/sbatch"
+chmod +x "$tmp/fakebin/sbatch"
+PATH="$tmp/fakebin:$PATH" "$rigflow" --plugin-path "$fx" batch "$pipeline" \
+    --over "copy.input=$tmp/held-in/*.txt" --out "$out" --slurm >"$tmp/slurm.out" 2>"$tmp/slurm.err"
+same "$?" 5 "--slurm onto a folder a batch holds exits 5"
+[ ! -e "$tmp/sbatch-ran" ] && ok "... without running sbatch" || bad "... sbatch was run"
+contains "$tmp/slurm.err" "is in use by another batch" "... and says why"
 kill -9 "$bg"
 wait "$bg" 2>/dev/null
 bg=""
