@@ -75,6 +75,24 @@ static char *plugin_folders(const rf_registry *reg)
     return g_string_free(s, FALSE);
 }
 
+/* A value sbatch reads from a #SBATCH line as one word: in double quotes (sbatch splits the line
+ * at spaces), with no quote, backslash or line break inside, which that quoting cannot hold. */
+static bool sbatch_word_ok(const char *what, const char *value)
+{
+    if (!value || !strpbrk(value, "\"\\\n"))
+        return true;
+    fprintf(stderr, "rigflow batch: %s '", what);
+    rf_text_fputs(value, stderr, 0);
+    fprintf(stderr, "' holds a quote, a backslash or a line break, which a #SBATCH line cannot\n");
+    return false;
+}
+
+static void sbatch_line(GString *s, const char *option, const char *value)
+{
+    if (value)
+        g_string_append_printf(s, "#SBATCH --%s=\"%s\"\n", option, value);
+}
+
 static char *script_text(const rf_batch *b, const rf_registry *reg, const rf_slurm_options *o,
                          char **argv, int tasks)
 {
@@ -82,13 +100,13 @@ static char *script_text(const rf_batch *b, const rf_registry *reg, const rf_slu
                               "shard I of the jobs (doc/batch.md).\n");
     g_string_append_printf(s, "#SBATCH --job-name=rigflow-batch\n#SBATCH --array=0-%d\n",
                            tasks - 1);
-    g_string_append_printf(s, "#SBATCH --output=%s/logs/slurm-%%A_%%a.out\n", b->state);
-    if (o->partition)
-        g_string_append_printf(s, "#SBATCH --partition=%s\n", o->partition);
-    if (o->time)
-        g_string_append_printf(s, "#SBATCH --time=%s\n", o->time);
-    if (o->mem)
-        g_string_append_printf(s, "#SBATCH --mem=%s\n", o->mem);
+    g_auto(GStrv) parts = g_strsplit(b->state, "%", -1); /* '%' starts Slurm's patterns */
+    g_autofree char *state = g_strjoinv("%%", parts);
+    g_autofree char *log = g_strconcat(state, "/logs/slurm-%A_%a.out", NULL);
+    sbatch_line(s, "output", log);
+    sbatch_line(s, "partition", o->partition);
+    sbatch_line(s, "time", o->time);
+    sbatch_line(s, "mem", o->mem);
     g_autofree char *cwd = g_get_current_dir();
     g_autofree char *qcwd = g_shell_quote(cwd);
     g_autofree char *plugins = plugin_folders(reg);
@@ -170,6 +188,9 @@ static bool add_submission(const char *state, json_t *slurm, const char *id, con
 int rf_batch_slurm_submit(rf_batch *b, const rf_registry *reg, const rf_slurm_options *o,
                           char **argv)
 {
+    if (!sbatch_word_ok("--out", b->out) || !sbatch_word_ok("--partition", o->partition) ||
+        !sbatch_word_ok("--time", o->time) || !sbatch_word_ok("--mem", o->mem))
+        return RF_EXIT_USAGE;
     guint jobs = b->jobs->len;
     int tasks = o->array_size > 0 ? o->array_size : 1000;
     tasks = (int)MIN((guint)tasks, jobs);
