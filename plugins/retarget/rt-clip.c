@@ -161,9 +161,6 @@ static void *rt_half_run(void *arg)
     return NULL;
 }
 
-/* Below this many joint-frames a second thread costs more than it saves. */
-#define RT_THREAD_MIN 65536
-
 /* All frames of the clip: on two threads when the clip is long and a second thread can be had,
  * else on this one. Frames are independent, so the halves need no coordination. */
 static bool rt_all_frames(rf_retarget *rt, rf_animation *out, rf_rt_progress_fn progress,

@@ -2,6 +2,7 @@
  * rest), when their source counterparts touch the ground (low and slow, relative to the leg),
  * and pinning them there through whatever IK solver is connected, so they do not slide. */
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -97,39 +98,72 @@ static void rt_track_need(const rf_retarget *rt, uint32_t s, uint8_t *need)
     }
 }
 
+/* Frames [first, end) of slot s's tracks, with scratch of its own (one thread's share). */
+typedef struct rt_tracks {
+    const rf_retarget *rt;
+    uint32_t s, first, end, frames;
+    double fps, start;
+    const uint8_t *need;
+    rf_vec3 *pos;
+    double *sole;
+    bool ok;
+} rt_tracks;
+
+static void *rt_tracks_run(void *arg)
+{
+    rt_tracks *t = arg;
+    const rf_retarget *rt = t->rt;
+    size_t m = rt->max_src_n ? rt->max_src_n : 1;
+    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
+    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
+    t->ok = local && world && rot && tr;
+    uint32_t k = rt->slots[t->s].source;
+    const rf_rt_src *src = &rt->src[k];
+    for (uint32_t f = t->first; t->ok && f < t->end; f++) {
+        rf_rt_source_world_some(rt, k, rf_rt_slot_time(rt, t->s, t->start + f / t->fps), local,
+                                world, rot, tr, t->need);
+        for (uint32_t e = 0; e < rt->effector_count; e++) {
+            if (rt_effector_slot(rt, e) != t->s)
+                continue;
+            uint32_t j = rt->in[rt->tj[rt->effectors[e]].first_input].joint;
+            t->pos[(size_t)e * t->frames + f] = world[j].t;
+            double h = rf_rt_sole(src->skel, world, src->tip, src->up, j);
+            t->sole[(size_t)e * t->frames + f] = (h - src->floor) / src->leg;
+        }
+    }
+    free(local), free(world), free(rot), free(tr);
+    return NULL;
+}
+
 /* World positions of every effector's source joint at each output frame, and the heights of
  * their soles over the source floor in source leg lengths, each at its input's sample time
- * (half a cycle away for a mirrored input). */
+ * (half a cycle away for a mirrored input). A long clip's frames are split between this thread
+ * and a second one, as the retarget's are: frames are independent. */
 static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps, double start,
                              rf_vec3 *pos, double *sole)
 {
-    size_t m = rt->max_src_n;
-    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
-    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
-    uint8_t *need = malloc(m ? m : 1);
-    bool ok = local && world && rot && tr && need;
+    uint8_t *need = malloc(rt->max_src_n ? rt->max_src_n : 1);
+    bool ok = need != NULL;
     for (uint32_t s = 0; ok && s < rt->slot_count; s++) {
         bool used = false;
         for (uint32_t e = 0; e < rt->effector_count; e++)
             used = used || rt_effector_slot(rt, e) == s;
-        if (used)
-            rt_track_need(rt, s, need);
-        for (uint32_t f = 0; used && f < frames; f++) {
-            uint32_t k = rt->slots[s].source;
-            const rf_rt_src *src = &rt->src[k];
-            rf_rt_source_world_some(rt, k, rf_rt_slot_time(rt, s, start + f / fps), local, world,
-                                    rot, tr, need);
-            for (uint32_t e = 0; e < rt->effector_count; e++) {
-                if (rt_effector_slot(rt, e) != s)
-                    continue;
-                uint32_t j = rt->in[rt->tj[rt->effectors[e]].first_input].joint;
-                pos[(size_t)e * frames + f] = world[j].t;
-                double h = rf_rt_sole(src->skel, world, src->tip, src->up, j);
-                sole[(size_t)e * frames + f] = (h - src->floor) / src->leg;
-            }
-        }
+        if (!used)
+            continue;
+        rt_track_need(rt, s, need);
+        rt_tracks a = {rt, s, 0, frames, frames, fps, start, need, pos, sole, false}, b = a;
+        pthread_t thread;
+        bool two = (uint64_t)frames * rt->src[rt->slots[s].source].n >= RT_THREAD_MIN;
+        a.end = b.first = two ? frames / 2 : frames;
+        two = two && pthread_create(&thread, NULL, rt_tracks_run, &b) == 0;
+        if (!two)
+            a.end = frames;
+        rt_tracks_run(&a);
+        if (two)
+            pthread_join(thread, NULL);
+        ok = a.ok && (!two || b.ok);
     }
-    free(local), free(world), free(rot), free(tr), free(need);
+    free(need);
     return ok;
 }
 

@@ -196,6 +196,9 @@ bool rf_rt_weights_known(const rf_skeleton *s);
 /* Moves the root-motion joints of every frame of `out` by `shift` along up (the anchored joints
  * placed again after). False when out of memory. */
 bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift);
+/* Below this many joint-frames a second thread costs more than it saves. */
+#define RT_THREAD_MIN 65536
+
 /* The k-th smallest of `count` values, reordering them (rt-mesh.c). */
 double rf_rt_select(double *v, size_t count, size_t k);
 /* Height of the lowest point of joint j and everything below it (joints and bone tips, `tip`
