@@ -638,25 +638,119 @@ static bool rt_source_down(const rf_retarget *rt, rt_src_poses *sp, const rf_ani
     return (sole - src->floor) / src->leg <= rt->opt.contact_height;
 }
 
+/* What the parts pass reads at every frame. */
+typedef struct rt_parts {
+    const rf_retarget *rt;
+    rf_animation *anim;
+    const uint8_t *part;  /* the parts kept above the floor */
+    const uint8_t *all;   /* every joint */
+    const uint8_t *holds; /* carries a foot in the hierarchy or body tree */
+    const uint8_t *reach; /* the parts and their ancestors */
+    double eps;
+} rt_parts;
+
+/* One frame of the parts pass, with scratch (local, world, sp) of the caller's. */
+static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xform *world,
+                           rt_src_poses *sp, rf_rt_parts_stats *st)
+{
+    const rf_retarget *rt = c->rt;
+    uint32_t n = rt->n;
+    /* Most frames have no part under the floor: the parts and their ancestors tell. */
+    rt_pose_of(rt, c->anim, f, local, c->reach);
+    rt_fk(rt, local, world, c->reach);
+    bool low = false;
+    for (uint32_t j = 0; j < n && !low; j++)
+        low = c->part[j] && rf_rt_height(rt->up, world[j].t) < rt->floor_target;
+    if (!low)
+        return;
+    rt_pose_of(rt, c->anim, f, local, c->all);
+    rt_fk(rt, local, world, c->all);
+    bool lifted = false;
+    sp->frame = UINT32_MAX;
+    for (uint32_t j = 0; j < n; j++) {
+        if (!c->part[j] || rf_rt_height(rt->up, world[j].t) >= rt->floor_target)
+            continue;
+        if (rt_source_down(rt, sp, c->anim, f, j))
+            continue; /* its source touches its own floor: so may it (a hand on all fours) */
+        /* Turn the part's nearest driven ancestor that stands over the floor. */
+        int32_t a = rt->lparent[j];
+        while (a >= 0 && (rt->tj[a].kind == RF_RT_REST ||
+                          rf_rt_height(rt->up, world[a].t) < rt->floor_target + c->eps))
+            a = rt->lparent[a];
+        if (a < 0 || rt->anchor[j] >= 0 || !rf_rt_carries(rt->target, a, j) || c->holds[a])
+            continue; /* turning a joint that carries a foot would lift the foot */
+        if (rt_lift_turn(rt, local, world, (uint32_t)a, world[j].t, rt->floor_target + c->eps)) {
+            rt_fk(rt, local, world, c->all);
+            rf_animation_set_rotation(c->anim, f, (uint32_t)a, local[a].r);
+            lifted = true, st->turns++;
+        }
+    }
+    st->frames += lifted;
+    if (lifted && rt->anchored)
+        rf_rt_place_anchored(rt, c->anim->rotations + (size_t)f * n * 4,
+                             c->anim->translations + (size_t)f * n * 3, NULL, world);
+}
+
+/* Frames [first, end) of the parts pass with scratch and counts of its own (one thread's
+ * share: a frame reads and writes only itself). */
+typedef struct rt_parts_share {
+    const rt_parts *c;
+    uint32_t first, end;
+    rf_rt_parts_stats st;
+    bool ok;
+} rt_parts_share;
+
+static void *rt_parts_run(void *arg)
+{
+    rt_parts_share *sh = arg;
+    size_t n = sh->c->rt->n ? sh->c->rt->n : 1;
+    rf_xform *local = malloc(n * sizeof *local), *world = malloc(n * sizeof *world);
+    rt_src_poses sp = {0};
+    sh->ok = local && world && rt_src_poses_init(sh->c->rt, &sp);
+    for (uint32_t f = sh->first; sh->ok && f < sh->end; f++)
+        rt_parts_frame(sh->c, f, local, world, &sp, &sh->st);
+    if (sh->ok)
+        rt_src_poses_free(sh->c->rt, &sp);
+    free(local), free(world);
+    return NULL;
+}
+
+/* Every frame of the parts pass: on two threads for a long clip, as the retarget's frames. */
+static bool rt_parts_all(const rt_parts *c, rf_rt_parts_stats *st)
+{
+    uint32_t frames = c->anim->frame_count;
+    rt_parts_share a = {c, 0, frames, {0, 0}, false}, b = a;
+    pthread_t thread;
+    bool two = (uint64_t)frames * c->rt->n >= RT_THREAD_MIN;
+    a.end = b.first = two ? frames / 2 : frames;
+    two = two && pthread_create(&thread, NULL, rt_parts_run, &b) == 0;
+    if (!two)
+        a.end = frames;
+    rt_parts_run(&a);
+    if (two)
+        pthread_join(thread, NULL);
+    st->frames = a.st.frames + b.st.frames; /* b's stay 0 when it did not run */
+    st->turns = a.st.turns + b.st.turns;
+    return a.ok && (!two || b.ok);
+}
+
 bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *st)
 {
     memset(st, 0, sizeof *st);
     uint32_t n = rt->n;
     uint8_t *foot = malloc(n ? n : 1), *part = malloc(n ? n : 1), *all = malloc(n ? n : 1);
-    rf_xform *local = malloc((n ? n : 1) * sizeof *local),
-             *world = malloc((n ? n : 1) * sizeof *world);
-    if (!foot || !part || !all || !local || !world) {
-        free(foot), free(part), free(all), free(local), free(world);
+    uint8_t *holds = calloc(n ? n : 1, 1), *reach = calloc(n ? n : 1, 1);
+    if (!foot || !part || !all || !holds || !reach) {
+        free(foot), free(part), free(all), free(holds), free(reach);
         return false;
     }
     memset(all, 1, n);
     rt_feet_mask(rt, foot);
-    uint8_t *holds = calloc(n ? n : 1, 1); /* carries a foot in the hierarchy or body tree */
-    for (uint32_t e = 0; holds && e < rt->effector_count; e++)
+    for (uint32_t e = 0; e < rt->effector_count; e++)
         for (int32_t a = rt->lparent[rt->effectors[e]], g = 0; a >= 0 && g < (int32_t)n;
              a = rt->lparent[a], g++)
             holds[a] = 1;
-    for (uint32_t e = 0; holds && e < rt->effector_count; e++)
+    for (uint32_t e = 0; e < rt->effector_count; e++)
         for (int32_t a = rt->target->joints[rt->effectors[e]].parent; a >= 0;
              a = rt->target->joints[a].parent)
             holds[a] = 1;
@@ -664,54 +758,12 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
     for (uint32_t j = 0; j < n; j++)
         part[j] = !foot[j] && rt->tj[j].kind != RF_RT_REST && !rt->tj[j].root_motion &&
                   rf_rt_height(rt->up, rt->t_aligned[j]) - rt->aligned_low > 0.25 * rt->leg_target;
-    double eps = 1e-3 * rt->leg_target;
-    rt_src_poses sp = {0};
-    uint8_t *reach = calloc(n ? n : 1, 1); /* the parts and their ancestors */
-    if (!holds || !reach || !rt_src_poses_init(rt, &sp)) {
-        free(foot), free(part), free(all), free(local), free(world), free(holds), free(reach);
-        return false;
-    }
     for (uint32_t j = 0; j < n; j++)
         for (int32_t a = part[j] ? (int32_t)j : -1; a >= 0 && !reach[a];
              a = rt->target->joints[a].parent)
             reach[a] = 1;
-    for (uint32_t f = 0; f < anim->frame_count; f++) {
-        /* Most frames have no part under the floor: the parts and their ancestors tell. */
-        rt_pose_of(rt, anim, f, local, reach);
-        rt_fk(rt, local, world, reach);
-        bool low = false;
-        for (uint32_t j = 0; j < n && !low; j++)
-            low = part[j] && rf_rt_height(rt->up, world[j].t) < rt->floor_target;
-        if (!low)
-            continue;
-        rt_pose_of(rt, anim, f, local, all);
-        rt_fk(rt, local, world, all);
-        bool lifted = false;
-        sp.frame = UINT32_MAX;
-        for (uint32_t j = 0; j < n; j++) {
-            if (!part[j] || rf_rt_height(rt->up, world[j].t) >= rt->floor_target)
-                continue;
-            if (rt_source_down(rt, &sp, anim, f, j))
-                continue; /* its source touches its own floor: so may it (a hand on all fours) */
-            /* Turn the part's nearest driven ancestor that stands over the floor. */
-            int32_t a = rt->lparent[j];
-            while (a >= 0 && (rt->tj[a].kind == RF_RT_REST ||
-                              rf_rt_height(rt->up, world[a].t) < rt->floor_target + eps))
-                a = rt->lparent[a];
-            if (a < 0 || rt->anchor[j] >= 0 || !rf_rt_carries(rt->target, a, j) || holds[a])
-                continue; /* turning a joint that carries a foot would lift the foot */
-            if (rt_lift_turn(rt, local, world, (uint32_t)a, world[j].t, rt->floor_target + eps)) {
-                rt_fk(rt, local, world, all);
-                rf_animation_set_rotation(anim, f, (uint32_t)a, local[a].r);
-                lifted = true, st->turns++;
-            }
-        }
-        st->frames += lifted;
-        if (lifted && rt->anchored)
-            rf_rt_place_anchored(rt, anim->rotations + (size_t)f * n * 4,
-                                 anim->translations + (size_t)f * n * 3, NULL, world);
-    }
-    rt_src_poses_free(rt, &sp);
-    free(foot), free(part), free(all), free(local), free(world), free(holds), free(reach);
-    return true;
+    rt_parts c = {rt, anim, part, all, holds, reach, 1e-3 * rt->leg_target};
+    bool ok = rt_parts_all(&c, st);
+    free(foot), free(part), free(all), free(holds), free(reach);
+    return ok;
 }
