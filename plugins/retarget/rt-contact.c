@@ -476,7 +476,7 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
 /* ---- parts that are not feet stay above the floor ---- */
 
 /* The largest turn that lifts a part (radians). */
-#define RT_LIFT_MAX (60.0 * RF_PI / 180.0)
+#define RT_LIFT_MAX (90.0 * RF_PI / 180.0)
 
 /* Marks the joints that may touch the floor: each foot, what is below it and its chain. */
 static void rt_feet_mask(const rf_retarget *rt, uint8_t *foot)
@@ -489,6 +489,15 @@ static void rt_feet_mask(const rf_retarget *rt, uint8_t *foot)
         if (knee >= 0)
             foot[knee] = 1;
     }
+}
+
+/* Parts that are not feet: driven joints high in the aligned rest (a quarter of the leg over its
+ * lowest point), neither a foot nor in a foot's chain. */
+static void rt_parts_mask(const rf_retarget *rt, const uint8_t *foot, uint8_t *part)
+{
+    for (uint32_t j = 0; j < rt->n; j++)
+        part[j] = !foot[j] && rt->tj[j].kind != RF_RT_REST && !rt->tj[j].root_motion &&
+                  rf_rt_height(rt->up, rt->t_aligned[j]) - rt->aligned_low > 0.25 * rt->leg_target;
 }
 
 /* Lifts point p of frame f (world `world`, local `local`) to the floor by turning joint a (an
@@ -511,6 +520,41 @@ static bool rt_lift_turn(const rf_retarget *rt, rf_xform *local, const rf_xform 
     rf_quat pr = pa >= 0 ? world[pa].r : rf_quat_identity();
     local[a].r = rf_quat_normalize(rf_quat_mul(rf_quat_conj(pr), rf_quat_mul(turn, world[a].r)));
     return true;
+}
+
+/* The lowest of part j's pivot, its bone's tip and, with the skinned mesh, the vertices it
+ * carries that reach farthest (a wing's membrane reaches far past its bones) this frame. */
+static rf_vec3 rt_part_low(const rf_retarget *rt, const rf_xform *world, uint32_t j)
+{
+    rf_vec3 p = world[j].t;
+    uint32_t count = rt->t_hull ? RF_RT_HULL : 0;
+    for (uint32_t k = 0; k <= count; k++) {
+        rf_vec3 c = k < count ? rt->t_hull[(size_t)j * RF_RT_HULL + k] : rt->t_tip[j];
+        rf_vec3 q = rf_xform_point(world[j], c);
+        if (rf_rt_height(rt->up, q) < rf_rt_height(rt->up, p))
+            p = q;
+    }
+    return p;
+}
+
+/* Turns an ancestor of part j so its point p sits on the floor: the nearest driven ancestor over
+ * the floor first, then the next ones up its limb when the floor is out of a turn's reach (a
+ * wing hanging from an arm is lifted at the shoulder, not folded at the wrist). Never a joint
+ * carrying a foot, nor, for a part off the centerline, a centerline joint (the chest would tilt
+ * for one wing). The joint turned, or -1. */
+static int32_t rt_lift_joint(const rf_retarget *rt, rf_xform *local, const rf_xform *world,
+                             const uint8_t *holds, uint32_t j, rf_vec3 p, double floor_h)
+{
+    for (int32_t a = rt->lparent[j]; a >= 0; a = rt->lparent[a]) {
+        if (holds[a] || rt->tj[a].root_motion || (rt->t_centerline[a] && !rt->t_centerline[j]))
+            return -1; /* turning a joint that carries a foot would lift the foot */
+        if (rt->tj[a].kind == RF_RT_REST || rf_rt_height(rt->up, world[a].t) < floor_h ||
+            !rf_rt_carries(rt->target, a, j))
+            continue;
+        if (rt_lift_turn(rt, local, world, (uint32_t)a, p, floor_h))
+            return a;
+    }
+    return -1;
 }
 
 /* The sources' poses of one output frame, made when first asked for. */
@@ -574,6 +618,7 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
     }
     memset(all, 1, n);
     rt_feet_mask(rt, foot);
+    rt_parts_mask(rt, foot, part);
     uint8_t *holds = calloc(n ? n : 1, 1); /* carries a foot in the hierarchy or body tree */
     for (uint32_t e = 0; holds && e < rt->effector_count; e++)
         for (int32_t a = rt->lparent[rt->effectors[e]], g = 0; a >= 0 && g < (int32_t)n;
@@ -583,10 +628,6 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
         for (int32_t a = rt->target->joints[rt->effectors[e]].parent; a >= 0;
              a = rt->target->joints[a].parent)
             holds[a] = 1;
-    /* Parts high in the aligned rest (a quarter of the leg over its lowest point) and driven. */
-    for (uint32_t j = 0; j < n; j++)
-        part[j] = !foot[j] && rt->tj[j].kind != RF_RT_REST && !rt->tj[j].root_motion &&
-                  rf_rt_height(rt->up, rt->t_aligned[j]) - rt->aligned_low > 0.25 * rt->leg_target;
     double eps = 1e-3 * rt->leg_target;
     rt_src_poses sp = {0};
     if (!holds || !rt_src_poses_init(rt, &sp)) {
@@ -599,18 +640,15 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
         bool lifted = false;
         sp.frame = UINT32_MAX;
         for (uint32_t j = 0; j < n; j++) {
-            if (!part[j] || rf_rt_height(rt->up, world[j].t) >= rt->floor_target)
+            if (!part[j])
+                continue;
+            rf_vec3 p = rt_part_low(rt, world, j);
+            if (rf_rt_height(rt->up, p) >= rt->floor_target || rt->anchor[j] >= 0)
                 continue;
             if (rt_source_down(rt, &sp, anim, f, j))
                 continue; /* its source touches its own floor: so may it (a hand on all fours) */
-            /* Turn the part's nearest driven ancestor that stands over the floor. */
-            int32_t a = rt->lparent[j];
-            while (a >= 0 && (rt->tj[a].kind == RF_RT_REST ||
-                              rf_rt_height(rt->up, world[a].t) < rt->floor_target + eps))
-                a = rt->lparent[a];
-            if (a < 0 || rt->anchor[j] >= 0 || !rf_rt_carries(rt->target, a, j) || holds[a])
-                continue; /* turning a joint that carries a foot would lift the foot */
-            if (rt_lift_turn(rt, local, world, (uint32_t)a, world[j].t, rt->floor_target + eps)) {
+            int32_t a = rt_lift_joint(rt, local, world, holds, j, p, rt->floor_target + eps);
+            if (a >= 0) {
                 rt_fk(rt, local, world, all);
                 rf_animation_set_rotation(anim, f, (uint32_t)a, local[a].r);
                 lifted = true, st->turns++;

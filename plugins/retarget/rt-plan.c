@@ -366,6 +366,8 @@ static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in
             pairs[i].s = rf_rt_reflect_v(pairs[i].s, src->left);
     }
     bool keep = rt->t_centerline[j] && rt->plan_differs;
+    if (keep)
+        out->flags |= RF_RT_IN_LEVEL;
     rf_quat ref = rt_parent_align(rt, j, in->source, mp);
     /* A top joint with three directions or more (a quadruped's hips: legs, spine, tail) is laid
      * onto the source's by all of them: matching one exactly (a tail rising where the source's
@@ -725,7 +727,8 @@ void rf_retarget_free(rf_retarget *rt)
     }
     rf_rt_work_free(rt, &rt->work);
     free(rt->src), free(rt->tj), free(rt->in), free(rt->links), free(rt->slots);
-    free(rt->t_rest_world), free(rt->t_tip), free(rt->t_aligned), free(rt->t_centerline);
+    free(rt->t_rest_world), free(rt->t_tip), free(rt->t_hull), free(rt->t_aligned),
+        free(rt->t_centerline);
     free(rt->t_above), free(rt->bones), free(rt->effectors), free(rt->hot), free(rt->rest_tr);
     free(rt->w0), free(rt->t_logical), free(rt->t_role), free(rt->lparent), free(rt->anchor);
     free(rt->anchor_off), free(rt->lorder), free(rt->t_need), free(rt->t_tip_set);
