@@ -542,6 +542,31 @@ static rf_skeleton *quadruped(void)
     return s;
 }
 
+/* A quadruped built differently from its source (hind legs set back and lower, the spine rising
+ * to a higher chest) stays as level as its source: at the source's rest, the target's hips keep
+ * their rest rotation. A fit of the hips' directions (legs and spine) tilted them by the angle
+ * between the two builds. */
+static void top_joint_keeps_level(void **state)
+{
+    (void)state;
+    rf_skeleton *src = quadruped(), *tgt = quadruped();
+    tgt->joints[1].rest.t = rf_v3(0.15, -0.15, -0.25);
+    tgt->joints[4].rest.t = rf_v3(-0.15, -0.15, -0.25);
+    tgt->joints[7].rest.t = rf_v3(0, 0.25, 0.5);
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_mapping *m = fx_mapping(16, 1);
+    fx_map_same(m, 16);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_xform wt[16];
+    for (uint32_t f = 0; f < 2; f++) {
+        fx_world(tgt, r.out, f, wt);
+        assert_true(rf_quat_angle(wt[0].r, tgt->joints[0].rest.r) < 1e-6);
+    }
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 /* Three seconds of stepping with a one-second cycle: the legs swing in opposite phase, and
  * swing out sideways by a constant 10 degrees each. */
 static rf_animation *stepping(const rf_skeleton *s)
@@ -811,6 +836,7 @@ int main(void)
         cmocka_unit_test(degenerate_rest_uses_a_frame),
         cmocka_unit_test(measure_by_hand),
         cmocka_unit_test(contact_pass_pins_feet),
+        cmocka_unit_test(top_joint_keeps_level),
         cmocka_unit_test(level_keeps_turn_limits_tilt),
         cmocka_unit_test(bad_inputs_refused),
     };
