@@ -26,14 +26,83 @@ static bool rt_has_mapped_child(const rf_retarget *rt, const int32_t *mp, uint32
     return false;
 }
 
+/* The lowest point of the target's rest (joints and tips) along up. */
+static double rt_target_rest_low(const rf_retarget *rt)
+{
+    double low = INFINITY;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        low = fmin(low, rf_rt_height(rt->up, rt->t_rest_world[j].t));
+        if (rf_v3_len2(rt->t_tip[j]) > 0)
+            low =
+                fmin(low, rf_rt_height(rt->up, rf_xform_point(rt->t_rest_world[j], rt->t_tip[j])));
+    }
+    return low;
+}
+
+/* The source joint a foot at target joint e's bone tip follows: e's source joint stands high,
+ * but a foot hangs below it in the source (unmapped: the target's chain ends sooner). The
+ * lowest source joint under it, climbed while its parent is still low (a toe's ankle); -1 when
+ * nothing under it is low. */
+static int32_t rt_source_foot_below(const rf_retarget *rt, uint32_t e, double low)
+{
+    const rf_rt_input *in = rt->in + rt->tj[e].first_input;
+    const rf_rt_src *src = &rt->src[in->source];
+    int32_t best = RF_RT_NONE;
+    double best_h = INFINITY;
+    for (uint32_t c = in->joint + 1; c < src->n; c++) {
+        double h = (rf_rt_height(src->up, src->rest_world[c].t) - src->lowest) / src->leg;
+        if (h <= low && h < best_h && rf_rt_carries(src->skel, (int32_t)in->joint, c))
+            best = (int32_t)c, best_h = h;
+    }
+    while (best >= 0) {
+        int32_t p = src->skel->joints[best].parent;
+        if (p < 0 || p == (int32_t)in->joint ||
+            (rf_rt_height(src->up, src->rest_world[p].t) - src->lowest) / src->leg > low)
+            break;
+        best = p;
+    }
+    return best;
+}
+
+/* Whether target joint e's bone is a leg's last, standing down to its tip on the target's floor
+ * at rest, below a limb joint that can turn with it: then the tip is a foot, pinned with e and
+ * that joint as the chain. A foot bone lying along the floor (a biped's) is not. */
+static bool rt_tip_foot(const rf_retarget *rt, const int32_t *mp, uint32_t e, double rest_low,
+                        double low)
+{
+    int32_t p = rt->lparent[e];
+    if (rf_v3_len2(rt->t_tip[e]) == 0 || p < 0 || mp[e] != p || rt->tj[p].root_motion ||
+        rt->t_centerline[p])
+        return false;
+    rf_vec3 tip = rf_xform_point(rt->t_rest_world[e], rt->t_tip[e]);
+    rf_vec3 bone = rf_v3_sub(rt->t_rest_world[e].t, tip);
+    return rf_rt_height(rt->up, bone) > 0.7 * rf_v3_len(bone) &&
+           rf_rt_height(rt->up, tip) - rest_low <= low * rt->leg_target;
+}
+
+static void rt_effector_add(rf_retarget *rt, uint32_t f, uint32_t src_joint, bool tip)
+{
+    for (uint32_t i = 0; i < rt->effector_count; i++)
+        if (rt->effectors[i] == f)
+            return;
+    rt->effector_src[rt->effector_count] = src_joint;
+    rt->effector_tip[rt->effector_count] = tip;
+    rt->effectors[rt->effector_count++] = f;
+}
+
 /* A foot: from the end of a mapped chain whose source joint is near the source's floor, climb
  * while the mapped parent's source joint is still low (a toe's ankle); the highest low joint is
- * the one pinned. It needs two bones above it for the solvers. */
+ * the one pinned. It needs two bones above it for the solvers. A chain end whose source joint
+ * stands high but has the source's foot below it, and whose own bone's tip stands on the
+ * target's floor at rest (a horse's leg of two bones), is a foot at that tip, pinned with the
+ * joint and the limb joint above it as the chain. */
 bool rf_rt_effectors_prepare(rf_retarget *rt)
 {
     int32_t *mp = malloc(rt->n * sizeof *mp);
     rt->effectors = malloc(rt->n * sizeof *rt->effectors);
-    if (!mp || !rt->effectors) {
+    rt->effector_src = malloc(rt->n * sizeof *rt->effector_src);
+    rt->effector_tip = malloc(rt->n ? rt->n : 1);
+    if (!mp || !rt->effectors || !rt->effector_src || !rt->effector_tip) {
         free(mp);
         return false;
     }
@@ -44,31 +113,45 @@ bool rf_rt_effectors_prepare(rf_retarget *rt)
         mp[j] = p;
     }
     const double low = 0.25;
+    double rest_low = rt_target_rest_low(rt);
     for (uint32_t e = 0; e < rt->n; e++) {
-        if (rt->tj[e].kind != RF_RT_MAPPED || rt_has_mapped_child(rt, mp, e) ||
-            rt_source_height(rt, e) > low)
+        if (rt->tj[e].kind != RF_RT_MAPPED || rt_has_mapped_child(rt, mp, e))
             continue;
+        if (rt_source_height(rt, e) > low) {
+            int32_t foot = rt_source_foot_below(rt, e, low);
+            if (foot >= 0 && rt_tip_foot(rt, mp, e, rest_low, low))
+                rt_effector_add(rt, e, (uint32_t)foot, true);
+            continue;
+        }
         uint32_t f = e;
         while (mp[f] >= 0 && rt_source_height(rt, (uint32_t)mp[f]) <= low)
             f = (uint32_t)mp[f];
         int32_t p = rt->lparent[f];
-        if (p < 0 || rt->lparent[p] < 0 || rt->tj[f].root_motion)
-            continue;
-        bool seen = false;
-        for (uint32_t i = 0; i < rt->effector_count; i++)
-            seen = seen || rt->effectors[i] == f;
-        if (!seen)
-            rt->effectors[rt->effector_count++] = f;
+        uint32_t sj = rt->in[rt->tj[f].first_input].joint;
+        /* The source's foot on a target joint standing high, its bone's tip on the floor (a
+         * horse's hock driven by a human's ankle): the tip is the foot. */
+        if (f == e &&
+            rf_rt_height(rt->up, rt->t_rest_world[e].t) - rest_low > low * rt->leg_target &&
+            rt_tip_foot(rt, mp, e, rest_low, low))
+            rt_effector_add(rt, e, sj, true);
+        else if (p >= 0 && rt->lparent[p] >= 0 && !rt->tj[f].root_motion)
+            rt_effector_add(rt, f, sj, false);
     }
     free(mp);
     return true;
+}
+
+rf_vec3 rf_rt_effector_point(const rf_retarget *rt, const rf_xform *world, uint32_t e)
+{
+    uint32_t j = rt->effectors[e];
+    return rt->effector_tip[e] ? rf_xform_point(world[j], rt->t_tip[j]) : world[j].t;
 }
 
 void rf_rt_effector_source(const rf_retarget *rt, uint32_t e, uint32_t *source, uint32_t *joint)
 {
     const rf_rt_input *in = rt->in + rt->tj[rt->effectors[e]].first_input;
     *source = in->source;
-    *joint = in->joint;
+    *joint = rt->effector_src[e];
 }
 
 /* ---- contacts ---- */
@@ -88,7 +171,7 @@ static void rt_track_need(const rf_retarget *rt, uint32_t s, uint8_t *need)
     for (uint32_t e = 0; e < rt->effector_count; e++) {
         if (rt_effector_slot(rt, e) != s)
             continue;
-        int32_t j = (int32_t)rt->in[rt->tj[rt->effectors[e]].first_input].joint;
+        int32_t j = (int32_t)rt->effector_src[e];
         for (int32_t a = j; a >= 0 && !need[a]; a = src->parent[a])
             need[a] = 1;
         for (uint32_t c = (uint32_t)j + 1; c < src->n; c++)
@@ -122,7 +205,7 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
             for (uint32_t e = 0; e < rt->effector_count; e++) {
                 if (rt_effector_slot(rt, e) != s)
                     continue;
-                uint32_t j = rt->in[rt->tj[rt->effectors[e]].first_input].joint;
+                uint32_t j = rt->effector_src[e];
                 pos[(size_t)e * frames + f] = world[j].t;
                 double h = rf_rt_sole(src->skel, world, src->tip, src->up, j);
                 sole[(size_t)e * frames + f] = (h - src->floor) / src->leg;
@@ -233,7 +316,8 @@ static void rt_pin_need(const rf_retarget *rt, rt_pin_work *w)
 {
     uint32_t at = 0;
     for (uint32_t e = 0; e < rt->effector_count; e++) {
-        int32_t eff = (int32_t)rt->effectors[e], knee = rt->lparent[eff];
+        int32_t eff = (int32_t)rt->effectors[e],
+                knee = rt->effector_tip[e] ? eff : rt->lparent[eff];
         rt_need_up(rt, w->need, eff);
         rt_need_up(rt, w->need, knee);
         rt_need_up(rt, w->need, knee >= 0 ? rt->lparent[knee] : RF_RT_NONE);
@@ -361,13 +445,16 @@ static uint32_t rt_chains_pose(const rf_retarget *rt, uint32_t f, uint32_t frame
         rf_vec3 pin = w->pin[(size_t)e * frames + f];
         if (isnan(pin.x))
             continue;
-        uint32_t eff = rt->effectors[e], knee = (uint32_t)rt->lparent[eff];
+        bool tip = rt->effector_tip[e];
+        uint32_t eff = rt->effectors[e], knee = tip ? eff : (uint32_t)rt->lparent[eff];
         uint32_t hip = (uint32_t)rt->lparent[knee], b = count * 3;
         w->chain[b] = hip, w->chain[b + 1] = knee, w->chain[b + 2] = eff;
         w->cparent[b] = -1, w->cparent[b + 1] = (int32_t)b, w->cparent[b + 2] = (int32_t)b + 1;
         w->clocal[b] = w->before[hip];
         w->clocal[b + 1] = rt_relative(w->before[hip], w->before[knee]);
-        w->clocal[b + 2] = rt_relative(w->before[knee], w->before[eff]);
+        /* A foot at the bone's tip ends the chain at a point of the joint's own frame. */
+        w->clocal[b + 2] = tip ? (rf_xform){rt->t_tip[eff], rf_quat_identity(), rf_v3(1, 1, 1)}
+                               : rt_relative(w->before[knee], w->before[eff]);
         w->goals[count] = rf_ik_goal_make(b + 2, pin);
         w->goals[count++].chain_root = (int32_t)b;
     }
@@ -383,10 +470,13 @@ static void rt_chains_write(const rf_retarget *rt, rf_animation *a, uint32_t f, 
     for (uint32_t g = 0; g < count; g++) {
         uint32_t b = g * 3;
         rf_xform hip = w->clocal[b], knee = rf_xform_mul(hip, w->clocal[b + 1]);
+        w->want[w->chain[b]] = hip, w->want[w->chain[b + 1]] = knee;
+        w->solved[w->chain[b]] = w->solved[w->chain[b + 1]] = 1;
+        if (w->chain[b + 2] == w->chain[b + 1])
+            continue; /* a foot at the bone's tip: the knee's own turn places it */
         rf_xform eff = rf_xform_mul(knee, w->clocal[b + 2]);
         eff.r = w->before[w->chain[b + 2]].r;
-        w->want[w->chain[b]] = hip, w->want[w->chain[b + 1]] = knee, w->want[w->chain[b + 2]] = eff;
-        w->solved[w->chain[b]] = w->solved[w->chain[b + 1]] = w->solved[w->chain[b + 2]] = 1;
+        w->want[w->chain[b + 2]] = eff, w->solved[w->chain[b + 2]] = 1;
     }
     for (uint32_t j = 0; j < rt->n; j++) {
         if (!w->need[j])
@@ -458,8 +548,7 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
         rt_pose_of(rt, anim, f, w.local, w.need);
         rt_fk(rt, w.local, w.world, w.need);
         for (uint32_t e = 0; e < rt->effector_count; e++) {
-            uint32_t j = rt->effectors[e];
-            w.target_pos[(size_t)e * frames + f] = w.world[j].t;
+            w.target_pos[(size_t)e * frames + f] = rf_rt_effector_point(rt, w.world, e);
             w.target_sole[(size_t)e * frames + f] = rt_pin_sole(rt, &w, e, w.world);
         }
     }

@@ -172,6 +172,9 @@ struct rf_retarget {
     uint32_t bone_count;
     uint32_t *effectors; /* target end effectors (feet) */
     uint32_t effector_count;
+    uint32_t *effector_src; /* [effector] the source joint whose contacts it follows */
+    uint8_t *effector_tip;  /* [effector] the foot is the joint's bone tip (a horse's leg of two
+                             * bones): pinned with the joint and the one above as the chain */
 
     /* What the frame loop reads per target joint, packed (rt-frame.c). */
     struct rf_rt_hot *hot;
@@ -229,6 +232,8 @@ void rf_rt_place_anchored(const rf_retarget *rt, float *rotations, float *transl
                           const rf_quat *q, rf_xform *tw);
 /* True when joint a is j or a hierarchy ancestor of j. */
 bool rf_rt_carries(const rf_skeleton *s, int32_t a, uint32_t j);
+/* Where effector e touches the floor in `world`: its joint, or its bone's tip. */
+rf_vec3 rf_rt_effector_point(const rf_retarget *rt, const rf_xform *world, uint32_t e);
 
 /* ---- rt-frame.c ---- */
 /* Allocates w for the plan (false when out of memory); frees it. */

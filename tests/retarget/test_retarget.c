@@ -797,6 +797,63 @@ static void contact_pass_pins_feet(void **state)
     rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* Legs of two bones whose foot is the shin's tip (a horse's): the source's ankle hangs below
+ * the knee that drives the shin, so the shin's tip is pinned where the source's foot is, with
+ * the thigh and the shin as the chain. */
+static void contact_pass_pins_bone_tips(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = rf_skeleton_new(7);
+    fx_joint(tgt, 0, "hips", -1, rf_v3(0, 1.0, 0), rf_quat_identity());
+    for (int side = 0; side < 2; side++) {
+        uint32_t j = 1 + 2 * (uint32_t)side;
+        fx_joint(tgt, j, side ? "rthigh" : "lthigh", 0, rf_v3(side ? -0.1 : 0.1, 0, 0),
+                 rf_quat_identity());
+        fx_joint(tgt, j + 1, side ? "rshin" : "lshin", (int32_t)j, rf_v3(0, -0.6, 0),
+                 rf_quat_identity());
+        fx_end_site(tgt, j + 1, rf_v3(0, -0.4, 0));
+    }
+    fx_joint(tgt, 5, "spine", 0, rf_v3(0, 0.1, 0), rf_quat_identity());
+    fx_joint(tgt, 6, "head", 5, rf_v3(0, 0.5, 0), rf_quat_identity());
+    fx_end_site(tgt, 6, rf_v3(0, 0.2, 0));
+    rf_animation *clip = fx_rest_clip(src, 30, 30);
+    for (uint32_t f = 0; f < 30; f++) {
+        double z = -0.2 + 0.4 * f / 29.0;
+        rf_animation_set_translation(clip, f, 0, rf_v3(0, 0.95, z));
+        plant_leg(clip, f, 1, rf_v3(0.1, 0.95, z), rf_v3(0.1, 0.05, 0), 0.5, 0.45);
+        plant_leg(clip, f, 4, rf_v3(-0.1, 0.95, z), rf_v3(-0.1, 0.05, 0), 0.5, 0.45);
+    }
+    clip->channels[0] |= RF_CHANNEL_TRANSLATION;
+    rf_mapping *m = fx_mapping(7, 1);
+    uint32_t from[7] = {0, 1, 2, 4, 5, 7, 8};
+    for (uint32_t j = 0; j < 7; j++)
+        fx_map(m, j, 0, from[j], 1, 0, 0);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_rt_info info;
+    rf_retarget_info(r.rt, &info);
+    assert_int_equal(info.effectors, 2); /* the shins' tips */
+    char err[256];
+    const rf_ik_solver_api *api = &rf_ik_twobone_api;
+    rf_ik_solver *solver = rf_ik_solver_new(api, api->create(NULL, err, sizeof err), "twobone");
+    rf_rt_contact_stats st;
+    assert_true(rf_retarget_contacts(r.rt, r.out, solver, &st, err, sizeof err));
+    assert_true(st.solves >= 29);
+    /* The left shin's tip stays where it was at the first frame (horizontally), and the
+     * shin still hangs from the thigh (the chain was solved, not the tip moved alone). */
+    rf_xform w0[7], w[7];
+    fx_world(tgt, r.out, 0, w0);
+    rf_vec3 tip0 = rf_xform_point(w0[2], rf_v3(0, -0.4, 0));
+    for (uint32_t f = 1; f < 30; f++) {
+        fx_world(tgt, r.out, f, w);
+        rf_vec3 tip = rf_xform_point(w[2], rf_v3(0, -0.4, 0));
+        assert_true(hypot(tip.x - tip0.x, tip.z - tip0.z) < 1e-3);
+        assert_true(fabs(rf_v3_dist(w[1].t, w[2].t) - 0.6) < 1e-4);
+    }
+    rf_ik_solver_free(solver);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
 static void bad_inputs_refused(void **state)
 {
     (void)state;
@@ -836,6 +893,7 @@ int main(void)
         cmocka_unit_test(degenerate_rest_uses_a_frame),
         cmocka_unit_test(measure_by_hand),
         cmocka_unit_test(contact_pass_pins_feet),
+        cmocka_unit_test(contact_pass_pins_bone_tips),
         cmocka_unit_test(top_joint_keeps_level),
         cmocka_unit_test(level_keeps_turn_limits_tilt),
         cmocka_unit_test(bad_inputs_refused),
