@@ -18,9 +18,11 @@ static double rt_source_height(const rf_retarget *rt, uint32_t j)
     return (rf_rt_height(src->up, src->rest_world[in->joint].t) - src->lowest) / src->leg;
 }
 
+/* Every joint is looked at: a body child placed from j (a foot under a placement root) may come
+ * before it in the file. */
 static bool rt_has_mapped_child(const rf_retarget *rt, const int32_t *mp, uint32_t j)
 {
-    for (uint32_t c = j + 1; c < rt->n; c++)
+    for (uint32_t c = 0; c < rt->n; c++)
         if (mp[c] == (int32_t)j && rt->tj[c].kind == RF_RT_MAPPED)
             return true;
     return false;
