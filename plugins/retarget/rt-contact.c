@@ -67,22 +67,26 @@ static int32_t rt_source_foot_below(const rf_retarget *rt, uint32_t e, double lo
 }
 
 /* Whether target joint e's bone is a leg's last, standing down to its tip on the target's floor
- * at rest, below a limb joint that can turn with it: then the tip is a foot, pinned with e and
- * that joint as the chain. A foot bone lying along the floor (a biped's) is not. */
-static bool rt_tip_foot(const rf_retarget *rt, const int32_t *mp, uint32_t e, double rest_low,
-                        double low)
+ * at rest: then the tip is a foot (a foot bone lying along the floor, a biped's, is not).
+ * RT_TIP_CHAIN below a mapped limb joint (pinned with e and that joint as the chain),
+ * RT_TIP_AIM hanging from the body itself (a one-bone leg: e alone is turned to aim its tip at
+ * the pin; a chain would turn the torso), else RT_TIP_NONE. */
+enum { RT_TIP_NONE = 0, RT_TIP_CHAIN = 1, RT_TIP_AIM = 2 };
+static uint8_t rt_tip_foot(const rf_retarget *rt, const int32_t *mp, uint32_t e, double rest_low,
+                           double low)
 {
     int32_t p = rt->lparent[e];
-    if (rf_v3_len2(rt->t_tip[e]) == 0 || p < 0 || mp[e] != p || rt->tj[p].root_motion ||
-        rt->t_centerline[p])
-        return false;
+    if (rf_v3_len2(rt->t_tip[e]) == 0 || p < 0 || mp[e] != p)
+        return RT_TIP_NONE;
     rf_vec3 tip = rf_xform_point(rt->t_rest_world[e], rt->t_tip[e]);
     rf_vec3 bone = rf_v3_sub(rt->t_rest_world[e].t, tip);
-    return rf_rt_height(rt->up, bone) > 0.7 * rf_v3_len(bone) &&
-           rf_rt_height(rt->up, tip) - rest_low <= low * rt->leg_target;
+    if (!(rf_rt_height(rt->up, bone) > 0.7 * rf_v3_len(bone)) ||
+        rf_rt_height(rt->up, tip) - rest_low > low * rt->leg_target)
+        return RT_TIP_NONE;
+    return rt->tj[p].root_motion || rt->t_centerline[p] ? RT_TIP_AIM : RT_TIP_CHAIN;
 }
 
-static void rt_effector_add(rf_retarget *rt, uint32_t f, uint32_t src_joint, bool tip)
+static void rt_effector_add(rf_retarget *rt, uint32_t f, uint32_t src_joint, uint8_t tip)
 {
     for (uint32_t i = 0; i < rt->effector_count; i++)
         if (rt->effectors[i] == f)
@@ -121,8 +125,9 @@ bool rf_rt_effectors_prepare(rf_retarget *rt)
             continue;
         if (rt_source_height(rt, e) > low) {
             int32_t foot = rt_source_foot_below(rt, e, low);
-            if (foot >= 0 && rt_tip_foot(rt, mp, e, rest_low, low))
-                rt_effector_add(rt, e, (uint32_t)foot, true);
+            uint8_t tip = foot >= 0 ? rt_tip_foot(rt, mp, e, rest_low, low) : RT_TIP_NONE;
+            if (tip)
+                rt_effector_add(rt, e, (uint32_t)foot, tip);
             continue;
         }
         uint32_t f = e;
@@ -132,12 +137,12 @@ bool rf_rt_effectors_prepare(rf_retarget *rt)
         uint32_t sj = rt->in[rt->tj[f].first_input].joint;
         /* The source's foot on a target joint standing high, its bone's tip on the floor (a
          * horse's hock driven by a human's ankle): the tip is the foot. */
-        if (f == e &&
-            rf_rt_height(rt->up, rt->t_rest_world[e].t) - rest_low > low * rt->leg_target &&
-            rt_tip_foot(rt, mp, e, rest_low, low))
-            rt_effector_add(rt, e, sj, true);
+        bool high = rf_rt_height(rt->up, rt->t_rest_world[e].t) - rest_low > low * rt->leg_target;
+        uint8_t tip = f == e && high ? rt_tip_foot(rt, mp, e, rest_low, low) : RT_TIP_NONE;
+        if (tip)
+            rt_effector_add(rt, e, sj, tip);
         else if (p >= 0 && rt->lparent[p] >= 0 && !rt->tj[f].root_motion)
-            rt_effector_add(rt, f, sj, false);
+            rt_effector_add(rt, f, sj, RT_TIP_NONE);
     }
     free(mp);
     return true;
@@ -448,6 +453,8 @@ static uint32_t rt_chains_pose(const rf_retarget *rt, uint32_t f, uint32_t frame
         if (isnan(pin.x))
             continue;
         bool tip = rt->effector_tip[e];
+        if (rt->effector_tip[e] == RT_TIP_AIM)
+            continue; /* a one-bone leg: rt_aim_frame */
         uint32_t eff = rt->effectors[e], knee = tip ? eff : (uint32_t)rt->lparent[eff];
         uint32_t hip = (uint32_t)rt->lparent[knee], b = count * 3;
         w->chain[b] = hip, w->chain[b + 1] = knee, w->chain[b + 2] = eff;
@@ -498,33 +505,63 @@ static void rt_chains_write(const rf_retarget *rt, rf_animation *a, uint32_t f, 
                              a->translations + (size_t)f * rt->n * 3, NULL, w->world);
 }
 
-/* Solves frame f's goals through the connected solver. */
+/* Turns each pinned one-bone leg of frame f (world transforms in w->world) about its pivot so its
+ * tip points at its pin: the nearest its tip can come with the bone's length kept. */
+static void rt_aim_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t frames,
+                         rt_pin_work *w)
+{
+    bool aimed = false;
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        rf_vec3 pin = w->pin[(size_t)e * frames + f];
+        if (rt->effector_tip[e] != RT_TIP_AIM || isnan(pin.x))
+            continue;
+        uint32_t j = rt->effectors[e];
+        rf_vec3 pivot = w->world[j].t;
+        rf_vec3 now = rf_v3_sub(rf_xform_point(w->world[j], rt->t_tip[j]), pivot);
+        rf_vec3 want = rf_v3_sub(pin, pivot);
+        if (!(rf_v3_len2(now) > 0) || !(rf_v3_len2(want) > 0))
+            continue;
+        rf_quat r = rf_quat_mul(rf_quat_from_two_vectors(now, want), w->world[j].r);
+        int32_t p = rt->target->joints[j].parent;
+        rf_quat pr = p >= 0 ? w->world[p].r : rf_quat_identity();
+        w->local[j].r = rf_quat_normalize(rf_quat_mul(rf_quat_conj(pr), r));
+        w->world[j].r = r;
+        rf_animation_set_rotation(a, f, j, w->local[j].r);
+        aimed = true;
+    }
+    if (aimed && rt->anchored)
+        rf_rt_place_anchored(rt, a->rotations + (size_t)f * rt->n * 4,
+                             a->translations + (size_t)f * rt->n * 3, NULL, w->world);
+}
+
+/* Solves frame f's goals through the connected solver, then aims the one-bone legs. */
 static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t frames,
                            const rf_ik_solver *solver, rt_pin_work *w, rf_rt_contact_stats *st,
                            char *err, size_t err_size)
 {
     rt_pose_of(rt, a, f, w->local, w->need);
     rt_fk(rt, w->local, w->before, w->need);
-    uint32_t count = rt_chains_pose(rt, f, frames, w);
-    if (!count)
-        return true;
-    rf_ik_problem pb = {sizeof pb, count * 3, w->cparent,
-                        w->clocal, NULL,      NULL,
-                        count,     w->goals,  1e-4 * rt->leg_target,
-                        32};
-    rf_ik_result res;
-    memset(&res, 0, sizeof res);
-    res.size = sizeof res;
-    res.pose = w->clocal;
-    st->solves++;
-    if (!solver->api->solve(solver->state, &pb, &res)) {
-        st->failures++;
-        rf_rt_fail(err, err_size, "the IK solver refused frame %u: %s", f, res.message);
-        return false;
-    }
-    st->max_error = fmax(st->max_error, res.max_error);
     memcpy(w->world, w->before, rt->n * sizeof *w->world);
-    rt_chains_write(rt, a, f, count, w);
+    uint32_t count = rt_chains_pose(rt, f, frames, w);
+    if (count) {
+        rf_ik_problem pb = {sizeof pb, count * 3, w->cparent,
+                            w->clocal, NULL,      NULL,
+                            count,     w->goals,  1e-4 * rt->leg_target,
+                            32};
+        rf_ik_result res;
+        memset(&res, 0, sizeof res);
+        res.size = sizeof res;
+        res.pose = w->clocal;
+        st->solves++;
+        if (!solver->api->solve(solver->state, &pb, &res)) {
+            st->failures++;
+            rf_rt_fail(err, err_size, "the IK solver refused frame %u: %s", f, res.message);
+            return false;
+        }
+        st->max_error = fmax(st->max_error, res.max_error);
+        rt_chains_write(rt, a, f, count, w);
+    }
+    rt_aim_frame(rt, a, f, frames, w);
     return true;
 }
 

@@ -854,6 +854,64 @@ static void contact_pass_pins_bone_tips(void **state)
     run_free(&r);
     rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
+
+/* One-bone legs hanging from the hips (the animalia wolf's and cat's): the contact pass may not
+ * turn the hips, so each leg alone is turned to aim its tip at the pin: the feet slide far less
+ * (the pin is out of reach when the hips move too far from it, so not to zero). */
+static void contact_pass_aims_one_bone_legs(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = rf_skeleton_new(5);
+    fx_joint(tgt, 0, "hips", -1, rf_v3(0, 1.0, 0), rf_quat_identity());
+    fx_joint(tgt, 1, "lleg", 0, rf_v3(0.1, 0, 0), rf_quat_identity());
+    fx_end_site(tgt, 1, rf_v3(0, -1.0, 0));
+    fx_joint(tgt, 2, "rleg", 0, rf_v3(-0.1, 0, 0), rf_quat_identity());
+    fx_end_site(tgt, 2, rf_v3(0, -1.0, 0));
+    fx_joint(tgt, 3, "spine", 0, rf_v3(0, 0.1, 0), rf_quat_identity());
+    fx_joint(tgt, 4, "head", 3, rf_v3(0, 0.5, 0), rf_quat_identity());
+    fx_end_site(tgt, 4, rf_v3(0, 0.2, 0));
+    rf_animation *clip = fx_rest_clip(src, 30, 30);
+    for (uint32_t f = 0; f < 30; f++) {
+        double z = -0.2 + 0.4 * f / 29.0;
+        rf_animation_set_translation(clip, f, 0, rf_v3(0, 0.95, z));
+        plant_leg(clip, f, 1, rf_v3(0.1, 0.95, z), rf_v3(0.1, 0.05, 0), 0.5, 0.45);
+        plant_leg(clip, f, 4, rf_v3(-0.1, 0.95, z), rf_v3(-0.1, 0.05, 0), 0.5, 0.45);
+    }
+    clip->channels[0] |= RF_CHANNEL_TRANSLATION;
+    rf_mapping *m = fx_mapping(5, 1);
+    uint32_t from[5] = {0, 1, 4, 7, 8};
+    for (uint32_t j = 0; j < 5; j++)
+        fx_map(m, j, 0, from[j], 1, 0, 0);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_rt_info info;
+    rf_retarget_info(r.rt, &info);
+    assert_int_equal(info.effectors, 2); /* the legs' tips */
+    char err[256];
+    rf_rt_report before, after;
+    double start = rf_retarget_start_time(r.rt);
+    assert_true(rf_retarget_measure(r.rt, r.out, start, &before, err, sizeof err));
+    const rf_ik_solver_api *api = &rf_ik_twobone_api;
+    rf_ik_solver *solver = rf_ik_solver_new(api, api->create(NULL, err, sizeof err), "twobone");
+    rf_rt_contact_stats st;
+    rf_xform w0[5], w[5];
+    fx_world(tgt, r.out, 0, w0);
+    assert_true(rf_retarget_contacts(r.rt, r.out, solver, &st, err, sizeof err));
+    assert_true(rf_retarget_measure(r.rt, r.out, start, &after, err, sizeof err));
+    print_message("one-bone legs: skate %.4f -> %.4f leg/s\n", before.skate_target,
+                  after.skate_target);
+    assert_true(before.skate_target > 0.05);
+    assert_true(after.skate_target < 0.5 * before.skate_target);
+    for (uint32_t f = 0; f < 30; f++) { /* the hips never turn; the legs keep their length */
+        fx_world(tgt, r.out, f, w);
+        assert_true(rf_quat_angle(w[0].r, w0[0].r) < 1e-9);
+        assert_true(fabs(rf_v3_dist(w[1].t, rf_xform_point(w[1], rf_v3(0, -1.0, 0))) - 1.0) < 1e-6);
+    }
+    rf_ik_solver_free(solver);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 static void bad_inputs_refused(void **state)
 {
     (void)state;
@@ -894,6 +952,7 @@ int main(void)
         cmocka_unit_test(measure_by_hand),
         cmocka_unit_test(contact_pass_pins_feet),
         cmocka_unit_test(contact_pass_pins_bone_tips),
+        cmocka_unit_test(contact_pass_aims_one_bone_legs),
         cmocka_unit_test(top_joint_keeps_level),
         cmocka_unit_test(level_keeps_turn_limits_tilt),
         cmocka_unit_test(bad_inputs_refused),
