@@ -336,18 +336,23 @@ static void rt_pin_need(const rf_retarget *rt, rt_pin_work *w)
     w->below_at[rt->effector_count] = at;
 }
 
-/* The lowest height of effector e's joints and tips (its sole) in world. */
+/* The lowest height of effector e's joints and tips (its sole) in world; with the skinned mesh,
+ * also of the vertices they carry that reach farthest, as a skeleton's sole would stand (a
+ * mesh's toes can reach under the floor where the joints do not). */
 static double rt_pin_sole(const rf_retarget *rt, const rt_pin_work *w, uint32_t e,
                           const rf_xform *world)
 {
-    double low = INFINITY;
+    double low = INFINITY, mesh = INFINITY;
     for (uint32_t i = w->below_at[e]; i < w->below_at[e + 1]; i++) {
         uint32_t c = w->below[i];
         low = fmin(low, rf_rt_height(rt->up, world[c].t));
         if (rf_v3_len2(rt->t_tip[c]) > 0)
             low = fmin(low, rf_rt_height(rt->up, rf_xform_point(world[c], rt->t_tip[c])));
+        for (uint32_t k = 0; rt->t_hull && k < RF_RT_HULL; k++)
+            mesh = fmin(mesh, rf_rt_height(rt->up, rf_xform_point(world[c],
+                                                                  rt->t_hull[c * RF_RT_HULL + k])));
     }
-    return low;
+    return fmin(low, mesh + rt->floor_target - rt->mesh_floor);
 }
 
 static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t frames)

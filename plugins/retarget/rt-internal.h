@@ -157,6 +157,7 @@ struct rf_retarget {
                              * vertices each joint carries most that reach farthest along 14
                              * directions, in its rest frame (its pivot when it carries none);
                              * NULL without */
+    double mesh_floor;      /* with t_hull: the rest mesh's lowest vertex along up */
     double leg_target;      /* hip height in the aligned rest */
     rf_vec3 *t_aligned;     /* [n] world positions in the aligned rest (the target posed like the
                              * sources' rests) */

@@ -466,6 +466,11 @@ static bool rt_mesh_place(rf_retarget *rt, rf_animation *anim, const rf_mesh *me
     double low[32];
     bool ok = rt_mesh_prepare(&w) && (all || rt_mesh_hulls(rt, &w)) &&
               rt_mesh_lows(&w, anim, count, all, low);
+    if (ok && !all) {
+        rt->mesh_floor = INFINITY;
+        for (uint32_t v = 0; v < w.nv; v++)
+            rt->mesh_floor = fmin(rt->mesh_floor, rf_v3_dot(w.rest[v], w.up));
+    }
     rt_mw_free(&w);
     if (!ok) {
         rf_rt_fail(err, err_size, "out of memory");
