@@ -140,16 +140,29 @@ static int rf_rig_bd_cmp(const void *pa, const void *pb)
 /* The nearest bone each vertex sees (trying the 8 nearest); src[i].h = 0 when it sees none. A
  * loose part where no vertex sees a bone takes its nearest bones unseen. */
 static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint32_t nb,
-                           const rf_rig_rays *rays, rf_rig_src *src, rf_rig_bd *bd, uint8_t *lit,
-                           rf_rig_stats *st)
+                           const rf_rig_rays *rays, bool leaf_points_own, rf_rig_src *src,
+                           rf_rig_bd *bd, uint8_t *lit, rf_rig_stats *st)
 {
     double eps = 1e-5 * p->longest, floor_d = 1e-3 * p->longest;
     st->unseen_vertices = 0;
+    /* bones ending at a leaf joint that has no end site (its bone is a point there) */
+    uint8_t *tipless = leaf_points_own ? calloc(nb + 1, 1) : NULL;
+    for (uint32_t b = 0; tipless && b < nb; b++)
+        for (uint32_t k = 0; k < nb && !tipless[b]; k++)
+            tipless[b] = k != b && !memcmp(bones[k].a, bones[k].b, sizeof bones[k].a) &&
+                         !memcmp(bones[k].a, bones[b].b, sizeof bones[k].a);
     for (uint32_t i = 0; i < p->proxy.nv; i++) {
         const double *q = p->proxy.p + (size_t)i * 3;
         double c[3];
-        for (uint32_t b = 0; b < nb; b++)
+        for (uint32_t b = 0; b < nb; b++) {
             bd[b].d = rf_rig_seg_dist(q, &bones[b], c), bd[b].b = b;
+            /* a vertex whose nearest point on a bone is the end of a leaf joint without an end
+             * site lies beyond that joint: the leaf's point wins the tie, as a leaf joint of an
+             * artist's skeleton owns the limb past it */
+            if (tipless && tipless[b] && c[0] == bones[b].b[0] && c[1] == bones[b].b[1] &&
+                c[2] == bones[b].b[2])
+                bd[b].d += 1e-9 * (bd[b].d + p->longest);
+        }
         qsort(bd, nb, sizeof *bd, rf_rig_bd_cmp);
         double d0 = fmax(bd[0].d, floor_d);
         src[i].h = 0, src[i].joint = bones[bd[0].b].joint;
@@ -169,6 +182,7 @@ static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint3
     }
     for (uint32_t i = 0; i < p->proxy.nv; i++)
         src[i].h = src[i].h < 0 ? (lit[p->proxy_part[i]] ? 0 : -src[i].h) : src[i].h;
+    free(tipless);
 }
 
 /* ---- the system ---- */
@@ -304,7 +318,8 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     if (ok && !o->no_visibility && !rf_rig_rays_make(&rays, &p->proxy))
         ok = rf_rig_fail(err, n, "Embree could not build the ray-casting scene");
     if (ok) {
-        rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, src, bd, lit, st);
+        rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, o->leaf_points_own, src, bd,
+                       lit, st);
         ok = rf_rig_solve(&p->proxy, src, nj, *w, err, n);
     }
     if (ok)

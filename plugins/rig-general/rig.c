@@ -220,15 +220,21 @@ static bool rf_rig_skin(const rf_mesh *in, const rf_rig_prep *p, const rf_rig_sk
     return ok;
 }
 
-bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
-                    rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
-                    char *err, size_t err_size)
+static rf_rig_options rf_rig_defaults(const rf_rig_options *opts)
 {
     rf_rig_options o = opts ? *opts : (rf_rig_options){0};
     o.resolution = o.resolution ? o.resolution : 96;
     o.proxy_triangles = o.proxy_triangles ? o.proxy_triangles : 20000;
     o.speck_size = o.speck_size > 0 ? o.speck_size : 0.02;
     o.segment = o.segment > 0 ? o.segment : 0.12;
+    return o;
+}
+
+bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
+                    rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
+                    char *err, size_t err_size)
+{
+    rf_rig_options o = rf_rig_defaults(opts);
     rf_rig_stats st_local, *st = stats ? stats : &st_local;
     memset(st, 0, sizeof *st);
     *skeleton = NULL, *skinned = NULL;
@@ -279,5 +285,125 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
     free(w);
     rf_rig_skel_free(&k);
     rf_rig_prep_free(&p);
+    return ok;
+}
+
+/* ---- a given skeleton ---- */
+
+/* The weighted joints of `s` as a working skeleton in model space (each linked to its nearest
+ * weighted ancestor, a leaf's end site as its tip), into k; their skeleton indices into ids. */
+static bool rf_rig_from_skeleton(const rf_skeleton *s, const rf_mat4 *world, rf_rig_skel *k,
+                                 uint32_t *ids)
+{
+    uint32_t n = s->joint_count;
+    int32_t *at = malloc((size_t)(n + 1) * sizeof *at);
+    k->pos = malloc((size_t)(n + 1) * 3 * sizeof *k->pos);
+    k->tip = calloc((size_t)(n + 1) * 3, sizeof *k->tip);
+    k->parent = malloc((size_t)(n + 1) * sizeof *k->parent);
+    k->has_tip = calloc(n + 1, 1);
+    k->n = 0;
+    if (!at || !k->pos || !k->tip || !k->parent || !k->has_tip) {
+        free(at);
+        return false;
+    }
+    for (uint32_t j = 0; j < n; j++) {
+        at[j] = -1;
+        if (s->joints[j].flags & RF_JOINT_UNWEIGHTED)
+            continue;
+        int32_t p = s->joints[j].parent;
+        while (p >= 0 && at[p] < 0)
+            p = s->joints[p].parent; /* parents precede children */
+        uint32_t i = k->n++;
+        at[j] = (int32_t)i, ids[i] = j;
+        k->parent[i] = p >= 0 ? at[p] : -1;
+        rf_vec3 o = rf_mat4_point(world[j], rf_v3(0, 0, 0));
+        k->pos[i * 3] = o.x, k->pos[i * 3 + 1] = o.y, k->pos[i * 3 + 2] = o.z;
+        if (s->joints[j].flags & RF_JOINT_HAS_END_SITE) {
+            rf_vec3 t = rf_mat4_point(world[j], s->joints[j].end_site);
+            k->tip[i * 3] = t.x, k->tip[i * 3 + 1] = t.y, k->tip[i * 3 + 2] = t.z;
+            k->has_tip[i] = 1;
+        }
+    }
+    free(at);
+    return true;
+}
+
+/* World matrices of the joints: inverses of the given inverse binds, or the rest pose. */
+static bool rf_rig_world_of(const rf_skeleton *s, const rf_mat4 *inverse_bind, rf_mat4 *world,
+                            char *err, size_t n)
+{
+    rf_xform *rest = inverse_bind ? NULL : malloc((size_t)(s->joint_count + 1) * sizeof *rest);
+    if (!inverse_bind && !rest)
+        return rf_rig_fail(err, n, "out of memory");
+    if (rest)
+        rf_skeleton_world_rest(s, rest);
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        if (rest) {
+            world[j] = rf_xform_to_mat4(rest[j]);
+        } else if (!rf_mat4_invert(inverse_bind[j], &world[j])) {
+            free(rest);
+            return rf_rig_fail(err, n, "joint %u's inverse bind matrix is singular", j);
+        }
+    }
+    free(rest);
+    return true;
+}
+
+bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4 *inverse_bind,
+                 const rf_rig_options *opts, rf_mesh **skinned, rf_rig_stats *stats, char *err,
+                 size_t err_size)
+{
+    rf_rig_options o = rf_rig_defaults(opts);
+    o.leaf_points_own = true;
+    rf_rig_stats st_local, *st = stats ? stats : &st_local;
+    memset(st, 0, sizeof *st);
+    *skinned = NULL;
+    uint32_t nj = skeleton->joint_count;
+    rf_mat4 *world = malloc((size_t)(nj + 1) * sizeof *world);
+    uint32_t *ids = malloc((size_t)(nj + 1) * sizeof *ids);
+    rf_rig_skel k = {0};
+    rf_rig_prep p;
+    double *w = NULL;
+    rf_mesh *m = NULL;
+    bool prepared = false, ok = world && ids;
+    if (!ok)
+        rf_rig_fail(err, err_size, "out of memory");
+    ok = ok && rf_rig_world_of(skeleton, inverse_bind, world, err, err_size);
+    if (ok && !rf_rig_from_skeleton(skeleton, world, &k, ids))
+        ok = rf_rig_fail(err, err_size, "out of memory");
+    if (ok && !k.n)
+        ok = rf_rig_fail(err, err_size, "the skeleton has no joint that may carry weights");
+    ok = ok && (prepared = rf_rig_prepare(mesh, &o, &p, st, err, err_size));
+    ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
+    m = ok ? rf_rig_mesh_copy(mesh) : NULL;
+    if (ok && (!m || !rf_rig_skin(mesh, &p, &k, w, m, st)))
+        ok = rf_rig_fail(err, err_size, "out of memory writing the skin");
+    if (ok) {
+        /* back to the skeleton's joint indices and the pose it was given in */
+        for (size_t i = 0; i < (size_t)m->vertex_count * 4; i++)
+            m->skin_joints[i] = (uint16_t)ids[m->skin_joints[i]];
+        rf_mat4 *inv = realloc(m->inverse_bind, (size_t)(nj + 1) * sizeof *inv);
+        if (inv) {
+            m->inverse_bind = inv;
+            for (uint32_t j = 0; j < nj; j++)
+                if (inverse_bind)
+                    inv[j] = inverse_bind[j];
+                else if (!rf_mat4_invert(world[j], &inv[j])) /* a rest pose is rigid */
+                    inv[j] = rf_xform_to_mat4(rf_xform_identity());
+            m->bind_count = nj;
+        }
+        ok = inv != NULL;
+        if (!ok)
+            rf_rig_fail(err, err_size, "out of memory writing the skin");
+    }
+    st->joints = k.n;
+    if (ok)
+        *skinned = m;
+    else
+        rf_mesh_free(m);
+    free(w), free(world), free(ids);
+    rf_rig_skel_free(&k);
+    if (prepared)
+        rf_rig_prep_free(&p);
     return ok;
 }

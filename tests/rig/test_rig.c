@@ -402,13 +402,74 @@ static void test_big_scan(void **state)
     rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
 }
 
+/* A given skeleton weighted by bone heat (rf_rig_bind, what rig-bench compares with an artist's
+ * weights): the table creature with a body joint, a head and four legs as leaf joints without end
+ * sites at the top of each leg, and a helper far outside. Each foot, reached only past its leg
+ * joint, belongs to that leg (the artist's convention for a leaf joint); the head's top to the
+ * head; the helper gets nothing; joint indices are the skeleton's and the inverse binds are the
+ * ones given. */
+static void test_bind_given(void **state)
+{
+    (void)state;
+    rf_mesh *in = table_creature(1, 0);
+    static const double at[7][3] = {{0, 1.2, 0},      {1.2, 1.45, 0},   {-0.9, 1.0, -0.3},
+                                    {0.9, 1.0, -0.3}, {-0.9, 1.0, 0.3}, {0.9, 1.0, 0.3},
+                                    {5, 5, 5}};
+    rf_skeleton *s = rf_skeleton_new(7);
+    for (uint32_t j = 0; j < 7; j++) {
+        s->joints[j].parent = j ? 0 : -1;
+        s->joints[j].rest = rf_xform_identity();
+        s->joints[j].rest.t =
+            j ? rf_v3(at[j][0] - at[0][0], at[j][1] - at[0][1], at[j][2] - at[0][2])
+              : rf_v3(at[0][0], at[0][1], at[0][2]);
+    }
+    s->joints[6].flags |= RF_JOINT_UNWEIGHTED;
+    rf_mat4 inv[7];
+    for (uint32_t j = 0; j < 7; j++) {
+        rf_xform x = rf_xform_identity();
+        x.t = rf_v3(-at[j][0], -at[j][1], -at[j][2]);
+        inv[j] = rf_xform_to_mat4(x);
+    }
+    for (int given = 0; given < 2; given++) {
+        rf_mesh *m = NULL;
+        char err[256];
+        if (!rf_rig_bind(in, s, given ? inv : NULL, NULL, &m, NULL, err, sizeof err))
+            fail_msg("%s", err);
+        assert_int_equal(m->bind_count, 7);
+        for (uint32_t v = 0; v < m->vertex_count; v++) {
+            const float *p = m->positions + v * 3;
+            const uint16_t *js = m->skin_joints + v * 4;
+            const float *ws = m->skin_weights + v * 4;
+            double sum = 0;
+            for (int k = 0; k < 4; k++) {
+                assert_true(js[k] < 7);
+                assert_false(ws[k] > 0 && js[k] == 6); /* the helper */
+                sum += ws[k];
+            }
+            assert_true(fabs(sum - 1) < 1e-4);
+            /* js[0] is the heaviest */
+            if (p[1] < 0.01) { /* a foot: its leg, the one on that corner */
+                uint32_t leg = 2 + (p[0] > 0) + 2 * (p[2] > 0);
+                assert_int_equal(js[0], leg);
+            }
+            if (p[1] > 1.69 && p[0] > 1.4) /* the top of the head, past the head joint */
+                assert_int_equal(js[0], 1);
+        }
+        for (uint32_t j = 0; j < 7; j++)
+            assert_true(fabs(m->inverse_bind[j].m[12] - inv[j].m[12]) < 1e-9 &&
+                        fabs(m->inverse_bind[j].m[13] - inv[j].m[13]) < 1e-9);
+        rf_mesh_free(m);
+    }
+    rf_skeleton_free(s), rf_mesh_free(in);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_input),     cmocka_unit_test(test_any_scale),
         cmocka_unit_test(test_any_facing),    cmocka_unit_test(test_loose_parts),
         cmocka_unit_test(test_big_scan),      cmocka_unit_test(test_testmodels),
-        cmocka_unit_test(test_shared_models),
+        cmocka_unit_test(test_shared_models), cmocka_unit_test(test_bind_given),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -55,16 +55,20 @@ inspect_has "$tmp/spider-walk.glb" "241 frames"
 if autorig "$data/models/simple_skin.gltf" "$tmp/flat.glb" 2>"$tmp/err"; then ko "a flat strip rigged"; else ok; fi
 if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; else cat "$tmp/err"; ko "flat: message or leftover"; fi
 
-# rig-bench thresholds (doc/autorig.md): column 6 cd_j2j, 12 unweighted, 14 status
+# rig-bench thresholds (doc/autorig.md): cd_j2j, unweighted, the skinning on the artist's
+# skeleton (given_precision, given_recall), status
 "$rigflow" rig-bench "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
     "$data/models/Testwuson.X" >"$tmp/bench.csv" 2>"$tmp/err" || ko "rig-bench exit $?"
 cat "$tmp/bench.csv"
 rows=$(tail -n +2 "$tmp/bench.csv" | wc -l)
 [ "$rows" -eq 3 ] && ok || ko "rig-bench: $rows rows, expected 3"
-tail -n +2 "$tmp/bench.csv" | while IFS=, read -r rigger model body nart nj j2j j2b b2b p r l1 unw secs status; do
+tail -n +2 "$tmp/bench.csv" | while IFS=, read -r rigger model body nart nj j2j j2b b2b p r l1 unw gp gr gl1 j2a a2j secs status; do
     limit=0.065
     awk -v v="$j2j" -v l="$limit" 'BEGIN { exit !(v < l) }' || echo "FAIL: $model cd_j2j $j2j >= $limit"
     [ "$unw" = 0 ] || echo "FAIL: $model: $unw vertices without weights"
+    # bone heat on the artist's own skeleton against the artist's weights
+    awk -v p="$gp" -v r="$gr" 'BEGIN { exit !(p >= 0.45 && r >= 0.80) }' ||
+        echo "FAIL: $model: skinning on the artist's skeleton $gp / $gr < 0.45 / 0.80"
     [ "$status" = '"ok"' ] || echo "FAIL: $model: $status"
 done >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else ok; fi
