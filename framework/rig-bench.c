@@ -258,6 +258,18 @@ static const char *rb_body(const rf_skeleton *s)
     return arms == 2 && legs == 2 ? "humanoid" : "other";
 }
 
+/* How far the skeleton analysis (what the matcher reads) agrees about the two rigs' up and
+ * forward axes: cosines into out[0] and out[1]. The rigs share the mesh, so 1 is right; -1 up or
+ * forward means the matcher reads the rig upside down or facing back (its sides swapped). */
+static void rb_axes_agree(const rf_skeleton *art, const rf_skeleton *pred, double out[2])
+{
+    rf_analysis_options o = {.use_bind_pose = true};
+    rf_analysis *a = rf_analyze(art, &o), *b = rf_analyze(pred, &o);
+    out[0] = a && b ? rf_v3_dot(a->up, b->up) : NAN;
+    out[1] = a && b ? rf_v3_dot(a->forward, b->forward) : NAN;
+    rf_analysis_free(a), rf_analysis_free(b);
+}
+
 static double rb_longest(const rf_mesh *m)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, l = 0;
@@ -288,9 +300,10 @@ static void rb_row(const rb_rigger *r, const char *model, const char *body, uint
 {
     printf("%s,", r->api->name);
     rb_csv_text(model);
-    printf(",%s,%u,%u,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%u,%.3f,%.3f,%.3f,%.4f,%.4f,%.3f,", body, nart,
-           npred, cd[0], cd[1], cd[2], sk->precision, sk->recall, sk->l1, sk->unweighted,
-           given->precision, given->recall, given->l1, cd[3], cd[4], secs);
+    printf(",%s,%u,%u,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%u,%.3f,%.3f,%.3f,%.4f,%.4f,%.2f,%.2f,%.3f,",
+           body, nart, npred, cd[0], cd[1], cd[2], sk->precision, sk->recall, sk->l1,
+           sk->unweighted, given->precision, given->recall, given->l1, cd[3], cd[4], cd[5], cd[6],
+           secs);
     rb_csv_text(status);
     putchar('\n');
     fflush(stdout);
@@ -399,7 +412,7 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
     const rf_skeleton *ps = rf_pipeline_result(pl, "rig", "skeleton");
     const rf_mesh *pm = rf_pipeline_result(pl, "rig", "mesh");
     const rf_mapping *map = rf_pipeline_result(pl, "map", "mapping");
-    double cd[5] = {NAN, NAN, NAN, NAN, NAN};
+    double cd[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
     rb_skin sk = {NAN, NAN, NAN, 0};
     if (!as || !am || !am->skin_weights || !ps || !pm || !pm->skin_weights) {
         rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, "skipped: no skinned mesh to compare with");
@@ -415,6 +428,7 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
     /* CD-J2J's two halves: the rigger's joints far from any artist joint (extra or misplaced
      * joints), the artist's joints far from any of the rigger's (missing ones) */
     cd[3] = rb_mean(&p, &g, false, false) / L, cd[4] = rb_mean(&g, &p, false, false) / L;
+    rb_axes_agree(as, ps, cd + 5);
     uint32_t *to = g_new(uint32_t, ps->joint_count + 1);
     rb_map_joints(ps, &p, map, &g, nearest, to);
     rb_skin_compare(am, pm, to, as->joint_count, &sk);
@@ -430,7 +444,7 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
 static bool rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, bool nearest)
 {
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    double cd[5] = {NAN, NAN, NAN, NAN, NAN};
+    double cd[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
     rb_skin sk = {NAN, NAN, NAN, 0};
     char why[600];
     rf_pipeline *p = rb_pipeline(reg, r, path, why, sizeof why);
@@ -453,9 +467,10 @@ static bool rb_one(const rf_registry *reg, const rb_rigger *r, const char *path,
 
 static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **files, bool nearest)
 {
-    printf("rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,cd_b2b,precision,recall,l1,"
-           "unweighted,given_precision,given_recall,given_l1,j2j_to_artist,j2j_from_artist,seconds,"
-           "status\n");
+    printf(
+        "rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,cd_b2b,precision,recall,l1,"
+        "unweighted,given_precision,given_recall,given_l1,j2j_to_artist,j2j_from_artist,up_agree,"
+        "forward_agree,seconds,status\n");
     int bad = 0;
     for (int i = 0; i < nfiles; i++)
         for (guint k = 0; k < riggers->len; k++)
@@ -485,7 +500,9 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
             "(skinning, weights under 0.15 of a vertex's largest pruned),unweighted "
             "(vertices without weights),given_precision,given_recall,given_l1 (the "
             "rigger's skinning alone, on the artist's skeleton),j2j_to_artist,j2j_from_artist "
-            "(CD-J2J's two halves),seconds,status.",
+            "(CD-J2J's two halves),up_agree,forward_agree (cosines between the skeleton "
+            "analysis's axes for the two rigs: -1 is upside down or facing back),"
+            "seconds,status.",
             entries, &argc, &argv))
         return RF_EXIT_USAGE;
     bool nearest = joint_map && !strcmp(joint_map, "nearest");

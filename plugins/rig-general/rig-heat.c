@@ -30,7 +30,7 @@ uint32_t rf_rig_bones(const rf_rig_skel *s, rf_rig_bone **out)
         has_child[p] = 1;
         memcpy(b[n].a, s->pos + (size_t)p * 3, sizeof b[n].a);
         memcpy(b[n].b, s->pos + (size_t)j * 3, sizeof b[n].b);
-        b[n++].joint = (uint32_t)p;
+        b[n++].joint = s->owns_in && s->owns_in[j] ? j : (uint32_t)p;
     }
     for (uint32_t j = 0; j < s->n; j++) {
         if (!s->has_tip[j] && has_child[j])

@@ -648,10 +648,11 @@ static bool rf_rig_prune_one(rf_rig_tree *t, uint32_t *reach, uint8_t *leaves)
         len = (double)(v[i].band - v[junction].band) * RF_RIG_BAND * t->g->h + t->radius[i];
         if (v[junction].children < 2)
             continue;
-        /* a bump: shorter than the body is thick where it leaves, or than 2.5 times its own
-         * mean thickness (a limb is long and thin; a belly or a cheek is short and wide) */
+        /* a bump: shorter than the body is thick where it leaves, or than 3.5 times its own
+         * mean thickness (a limb is long and thin; a belly, a cheek or the corner of a box head
+         * is short and wide) */
         bool twig = rf_rig_twig(t, reach, leaves, junction, k);
-        if ((len < t->radius[junction] || len < 2.5 * thick || twig) && len < best)
+        if ((len < t->radius[junction] || len < 3.5 * thick || twig) && len < best)
             best = len, best_leaf = i;
     }
     if (best_leaf == RF_RIG_NONE)
@@ -951,6 +952,6 @@ done:
 
 void rf_rig_skel_free(rf_rig_skel *s)
 {
-    free(s->pos), free(s->parent), free(s->tip), free(s->has_tip);
+    free(s->pos), free(s->parent), free(s->tip), free(s->has_tip), free(s->owns_in);
     memset(s, 0, sizeof *s);
 }

@@ -324,8 +324,25 @@ static bool rf_rig_from_skeleton(const rf_skeleton *s, const rf_mat4 *world, rf_
             k->has_tip[i] = 1;
         }
     }
-    free(at);
-    return true;
+    /* A leaf without an end site hanging from a joint whose chain goes on through another child
+     * (a leg as one joint on an artist's torso, which also carries the neck) has no bone of its
+     * own: the bone from its parent is its own. A joint whose children are all leaves (a head
+     * with ears, a hand with one-joint digits) is the end of its chain and keeps those bones. */
+    uint32_t *kids = calloc(k->n + 1, sizeof *kids);
+    uint8_t *inner = calloc(k->n + 1, 1), *goes_on = calloc(k->n + 1, 1);
+    k->owns_in = calloc(k->n + 1, 1);
+    bool ok = kids && inner && goes_on && k->owns_in;
+    for (uint32_t i = 0; ok && i < k->n; i++)
+        if (k->parent[i] >= 0)
+            kids[k->parent[i]]++, inner[k->parent[i]] = 1;
+    for (uint32_t i = 0; ok && i < k->n; i++)
+        if (k->parent[i] >= 0 && inner[i])
+            goes_on[k->parent[i]] = 1;
+    for (uint32_t i = 0; ok && i < k->n; i++)
+        k->owns_in[i] = k->parent[i] >= 0 && !inner[i] && !k->has_tip[i] && goes_on[k->parent[i]];
+    free(goes_on);
+    free(kids), free(inner), free(at);
+    return ok;
 }
 
 /* World matrices of the joints: inverses of the given inverse binds, or the rest pose. */

@@ -4,7 +4,8 @@
 #   the Khronos glTF-Validator accepts; a flat mesh is refused with a reason and leaves no file.
 # - pipelines/scan-to-animation.json: spider.obj (eight legs, no rig) walks the CMU walk; the GLB
 #   validates and holds the clip.
-# - rigflow rig-bench on three rigged models with their rigs ignored: every vertex weighted and
+# - rigflow rig-bench on three rigged models with their rigs ignored: every vertex weighted, skinning
+#   (after the matcher, and on the artist skeleton) above floors, and
 #   CD-J2J (fraction of the longest bounding-box edge) below the thresholds doc/autorig.md
 #   records; a worse rigger fails here.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
@@ -62,15 +63,25 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 cat "$tmp/bench.csv"
 rows=$(tail -n +2 "$tmp/bench.csv" | wc -l)
 [ "$rows" -eq 3 ] && ok || ko "rig-bench: $rows rows, expected 3"
-tail -n +2 "$tmp/bench.csv" | while IFS=, read -r rigger model body nart nj j2j j2b b2b p r l1 unw gp gr gl1 j2a a2j secs status; do
-    limit=0.065
-    awk -v v="$j2j" -v l="$limit" 'BEGIN { exit !(v < l) }' || echo "FAIL: $model cd_j2j $j2j >= $limit"
-    [ "$unw" = 0 ] || echo "FAIL: $model: $unw vertices without weights"
-    # bone heat on the artist's own skeleton against the artist's weights
-    awk -v p="$gp" -v r="$gr" 'BEGIN { exit !(p >= 0.45 && r >= 0.80) }' ||
-        echo "FAIL: $model: skinning on the artist's skeleton $gp / $gr < 0.45 / 0.80"
-    [ "$status" = '"ok"' ] || echo "FAIL: $model: $status"
-done >"$tmp/fails"
+# columns by their header names; the status (last) is quoted text and may hold commas
+# CD-J2J limits per model: what the rigger reaches (Fox 0.048, RiggedFigure 0.038, Testwuson
+# 0.052) plus room for another machine's rounding
+awk -F, 'BEGIN { lim["\"Fox.glb\""] = 0.055; lim["\"RiggedFigure.glb\""] = 0.045
+                 lim["\"Testwuson.X\""] = 0.06 }
+    NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+    {
+        m = $col["model"]
+        if (!($col["cd_j2j"] < lim[m])) print "FAIL: " m ": cd_j2j " $col["cd_j2j"] " >= " lim[m]
+        # skinning after the matcher maps the joints (it reaches 0.28 to 0.51 and 0.36 to 0.69)
+        if (!($col["precision"] >= 0.2 && $col["recall"] >= 0.3))
+            print "FAIL: " m ": skinning after the matcher " $col["precision"] " / " $col["recall"]
+        if ($col["unweighted"] != 0) print "FAIL: " m ": " $col["unweighted"] " vertices without weights"
+        # bone heat on the skeleton of the artist against the weights of the artist
+        if (!($col["given_precision"] >= 0.45 && $col["given_recall"] >= 0.80))
+            print "FAIL: " m ": skinning on the skeleton of the artist " $col["given_precision"] " / " \
+                $col["given_recall"] " < 0.45 / 0.80"
+        if ($col["status"] != "\"ok\"") print "FAIL: " m ": " $col["status"]
+    }' "$tmp/bench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else ok; fi
 echo "$pass passed, $fail failed"
 gltf_exit "$fail"
