@@ -65,11 +65,36 @@ double rf_rig_seg_dist(const double q[3], const rf_rig_bone *b, double c[3])
 typedef struct rf_rig_rays {
     RTCDevice dev;
     RTCScene scene;
+    uint32_t *tri_part; /* [triangle] loose part */
 } rf_rig_rays;
 
-static bool rf_rig_rays_make(rf_rig_rays *r, const rf_rig_geo *g)
+/* The context of one visibility query: Embree's, then the part the ray starts on. */
+typedef struct rf_rig_ray_ctx {
+    struct RTCIntersectContext rtc; /* first: Embree hands the filter a pointer to it */
+    const uint32_t *tri_part;
+    uint32_t part;
+} rf_rig_ray_ctx;
+
+/* Only the ray's own loose part can hide a bone from it: separate parts that overlap (a box
+ * model's upper and lower leg, a belt over a body) would otherwise hide each other's bones
+ * from every vertex inside the overlap. */
+static void rf_rig_own_part(const struct RTCFilterFunctionNArguments *args)
+{
+    const rf_rig_ray_ctx *c = (const rf_rig_ray_ctx *)args->context;
+    /* RTCHitN is laid out by columns: Ng_x, Ng_y, Ng_z, u, v, primID, ... N entries each */
+    const unsigned *prim = (const unsigned *)args->hit + 5 * (size_t)args->N;
+    for (unsigned i = 0; i < args->N; i++)
+        if (args->valid[i] && c->tri_part[prim[i]] != c->part)
+            args->valid[i] = 0;
+}
+
+static bool rf_rig_rays_make(rf_rig_rays *r, const rf_rig_geo *g, const uint32_t *vertex_part)
 {
     memset(r, 0, sizeof *r);
+    if (!(r->tri_part = malloc((size_t)(g->nt + 1) * sizeof *r->tri_part)))
+        return false;
+    for (uint32_t t = 0; t < g->nt; t++)
+        r->tri_part[t] = vertex_part[g->t[t * 3]];
     if (!(r->dev = rtcNewDevice("threads=1,set_affinity=0")))
         return false;
     r->scene = rtcNewScene(r->dev);
@@ -85,6 +110,7 @@ static bool rf_rig_rays_make(rf_rig_rays *r, const rf_rig_geo *g)
     for (size_t i = 0; i < (size_t)g->nv * 3; i++)
         vb[i] = (float)g->p[i];
     memcpy(ib, g->t, (size_t)g->nt * 3 * sizeof *ib);
+    rtcSetGeometryOccludedFilterFunction(geo, rf_rig_own_part);
     rtcCommitGeometry(geo);
     rtcAttachGeometry(r->scene, geo);
     rtcReleaseGeometry(geo);
@@ -98,10 +124,13 @@ static void rf_rig_rays_free(rf_rig_rays *r)
         rtcReleaseScene(r->scene);
     if (r->dev)
         rtcReleaseDevice(r->dev);
+    free(r->tri_part);
 }
 
-/* True when the segment from p to q crosses no triangle (ends excluded by eps). */
-static bool rf_rig_sees(const rf_rig_rays *r, const double p[3], const double q[3], double eps)
+/* True when the segment from p (on loose part `part`) to q crosses no triangle of that part
+ * (ends excluded by eps). */
+static bool rf_rig_sees(const rf_rig_rays *r, uint32_t part, const double p[3], const double q[3],
+                        double eps)
 {
     double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
     double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -113,9 +142,9 @@ static bool rf_rig_sees(const rf_rig_rays *r, const double p[3], const double q[
     ray.dir_z = (float)(d[2] / len);
     ray.tnear = (float)eps, ray.tfar = (float)(len - eps);
     ray.mask = UINT32_MAX;
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    rtcOccluded1(r->scene, &ctx, &ray);
+    rf_rig_ray_ctx ctx = {.tri_part = r->tri_part, .part = part};
+    rtcInitIntersectContext(&ctx.rtc);
+    rtcOccluded1(r->scene, &ctx.rtc, &ray);
     return ray.tfar >= 0;
 }
 
@@ -168,7 +197,7 @@ static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint3
         src[i].h = 0, src[i].joint = bones[bd[0].b].joint;
         for (uint32_t k = 0; k < nb && k < 8; k++) {
             rf_rig_seg_dist(q, &bones[bd[k].b], c);
-            if (!rays || rf_rig_sees(rays, q, c, eps)) {
+            if (!rays || rf_rig_sees(rays, p->proxy_part[i], q, c, eps)) {
                 double d = fmax(bd[k].d, floor_d);
                 src[i].h = 1.0 / (d * d), src[i].joint = bones[bd[k].b].joint;
                 lit[p->proxy_part[i]] = 1;
@@ -315,7 +344,7 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     bool ok = nb && src && bd && lit && *w;
     if (!ok)
         rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
-    if (ok && !o->no_visibility && !rf_rig_rays_make(&rays, &p->proxy))
+    if (ok && !o->no_visibility && !rf_rig_rays_make(&rays, &p->proxy, p->proxy_part))
         ok = rf_rig_fail(err, n, "Embree could not build the ray-casting scene");
     if (ok) {
         rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, o->leaf_points_own, src, bd,
