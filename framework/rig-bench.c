@@ -165,13 +165,18 @@ static double rb_chamfer(const rb_rig *p, const rb_rig *g, bool from_bones, bool
  * `nearest`, every joint takes the nearest artist joint (the skin compared without the
  * matcher's judgement). */
 static void rb_map_joints(const rf_skeleton *pred, const rb_rig *p, const rf_mapping *m,
-                          const rb_rig *g, bool nearest, uint32_t *to)
+                          const rf_skeleton *art, const rb_rig *g, bool nearest, uint32_t *to)
 {
     if (nearest || (m && m->target_joint_count != pred->joint_count))
         m = NULL;
     for (uint32_t j = 0; j < pred->joint_count; j++) {
+        /* a match to an artist joint that carries no weights (a helper, the armature's root)
+         * says nothing about skin: it counts as unmapped */
         int32_t k = (int32_t)j;
-        while (k >= 0 && !(m && m->entries[k].input_count))
+        while (k >= 0 &&
+               !(m && m->entries[k].input_count &&
+                 m->entries[k].inputs[0].joint < art->joint_count &&
+                 !(art->joints[m->entries[k].inputs[0].joint].flags & RF_JOINT_UNWEIGHTED)))
             k = pred->joints[k].parent;
         if (k >= 0) {
             to[j] = m->entries[k].inputs[0].joint;
@@ -430,7 +435,7 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
     cd[3] = rb_mean(&p, &g, false, false) / L, cd[4] = rb_mean(&g, &p, false, false) / L;
     rb_axes_agree(as, ps, cd + 5);
     uint32_t *to = g_new(uint32_t, ps->joint_count + 1);
-    rb_map_joints(ps, &p, map, &g, nearest, to);
+    rb_map_joints(ps, &p, map, as, &g, nearest, to);
     rb_skin_compare(am, pm, to, as->joint_count, &sk);
     rb_skin given;
     rb_skin_given(r, as, am, &given);
