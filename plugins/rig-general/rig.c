@@ -106,12 +106,11 @@ static uint32_t rf_rig_lca(const rf_rig_skel *k, uint32_t a, uint32_t b)
     return a;
 }
 
-/* Where the feet meet: of the leaves in the lowest fifth of the body (along the up the skeleton
- * analysis finds), the pair whose common ancestor is highest: the hips of a biped (not the ankle,
- * where heel and toe meet), a girdle or the spine of a quadruped, the body of a spider. That is
- * the root an animator expects, where the thickest point (the chest, often) is not. NONE when no
- * two low leaves meet above the lowest fifth. */
-uint32_t rf_rig_pick_root(const rf_rig_skel *k)
+/* Girdles: where two leaves of the lowest fifth of the body (along the up the skeleton analysis
+ * finds) meet above that fifth, flagged in girdle[] (k->n entries); feet that meet near the floor
+ * are a heel and its toes, or legs merged into one column under a skirt. Each girdle's height
+ * into height[]. Returns how many, or -1 when out of memory. */
+static int rf_rig_girdles(const rf_rig_skel *k, uint8_t *girdle, double *height)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
@@ -120,15 +119,16 @@ uint32_t rf_rig_pick_root(const rf_rig_skel *k)
     rf_skeleton_free(s);
     uint8_t *inner = calloc(k->n + 1, 1);
     if (!inner)
-        return RF_RIG_NONE;
+        return -1;
     double lo = INFINITY, hi = -INFINITY;
     for (uint32_t j = 0; j < k->n; j++) {
         if (k->parent[j] >= 0)
             inner[k->parent[j]] = 1;
         lo = fmin(lo, rf_rig_height(k, j, up)), hi = fmax(hi, rf_rig_height(k, j, up));
+        girdle[j] = 0;
     }
-    double low = lo + 0.2 * (hi - lo), best = -INFINITY;
-    uint32_t root = RF_RIG_NONE;
+    double low = lo + 0.2 * (hi - lo);
+    int count = 0;
     for (uint32_t i = 0; i < k->n; i++)
         for (uint32_t j = i + 1; j < k->n; j++) {
             if (inner[i] || inner[j] || rf_rig_height(k, i, up) > low ||
@@ -136,14 +136,116 @@ uint32_t rf_rig_pick_root(const rf_rig_skel *k)
                 continue;
             uint32_t m = rf_rig_lca(k, i, j);
             const double *p = k->pos + (size_t)m * 3;
-            double h = p[0] * up.x + p[1] * up.y + p[2] * up.z;
-            if (h > best)
-                best = h, root = m;
+            height[m] = p[0] * up.x + p[1] * up.y + p[2] * up.z;
+            if (height[m] > low && !girdle[m])
+                girdle[m] = 1, count++;
         }
     free(inner);
-    /* feet that meet near the floor are a heel and its toes (the legs merged into one column,
-     * under a skirt): no hips found, keep the thickest point */
-    return best > lo + 0.2 * (hi - lo) ? root : RF_RIG_NONE;
+    return count;
+}
+
+/* Where the feet meet: the highest girdle, the hips of a biped (not the ankle, where heel and
+ * toe meet), a girdle or the spine of a quadruped, the body of a spider; the second pass grows
+ * from there. NONE when there is no girdle. */
+uint32_t rf_rig_pick_root(const rf_rig_skel *k)
+{
+    uint8_t *girdle = malloc(k->n + 1);
+    double *height = malloc((k->n + 1) * sizeof *height), best = -INFINITY;
+    uint32_t root = RF_RIG_NONE;
+    if (girdle && height && rf_rig_girdles(k, girdle, height) > 0)
+        for (uint32_t m = 0; m < k->n; m++)
+            if (girdle[m] && height[m] > best)
+                best = height[m], root = m;
+    free(girdle), free(height);
+    return root;
+}
+
+/* The hips of a first-pass skeleton (rooted at the thickest point): of its girdles, the one
+ * farthest along the skeleton from that point. A quadruped's rib cage, the thickest part, sits
+ * by its shoulders; its hips are the other girdle. NONE when there is no girdle. */
+static uint32_t rf_rig_pick_hips(const rf_rig_skel *k)
+{
+    uint8_t *girdle = malloc(k->n + 1);
+    double *height = malloc((k->n + 1) * sizeof *height);
+    double *along = calloc(k->n + 1, sizeof *along), best = -INFINITY;
+    uint32_t hips = RF_RIG_NONE;
+    if (girdle && height && along && rf_rig_girdles(k, girdle, height) > 0) {
+        for (uint32_t j = 0; j < k->n; j++) /* parents come first */
+            if (k->parent[j] >= 0) {
+                const double *c = k->pos + (size_t)j * 3, *d = k->pos + (size_t)k->parent[j] * 3;
+                along[j] = along[k->parent[j]] +
+                           sqrt((c[0] - d[0]) * (c[0] - d[0]) + (c[1] - d[1]) * (c[1] - d[1]) +
+                                (c[2] - d[2]) * (c[2] - d[2]));
+            }
+        for (uint32_t m = 0; m < k->n; m++)
+            if (girdle[m] && along[m] > best)
+                best = along[m], hips = m;
+    }
+    free(girdle), free(height), free(along);
+    return hips;
+}
+
+/* The girdle of k nearest to point q, or NONE. */
+static uint32_t rf_rig_girdle_near(const rf_rig_skel *k, const double q[3])
+{
+    uint8_t *girdle = malloc(k->n + 1);
+    double *height = malloc((k->n + 1) * sizeof *height), best = INFINITY;
+    uint32_t at = RF_RIG_NONE;
+    if (girdle && height && rf_rig_girdles(k, girdle, height) > 0)
+        for (uint32_t m = 0; m < k->n; m++) {
+            const double *p = k->pos + (size_t)m * 3;
+            double d = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                       (p[2] - q[2]) * (p[2] - q[2]);
+            if (girdle[m] && d < best)
+                best = d, at = m;
+        }
+    free(girdle), free(height);
+    return at;
+}
+
+/* Re-roots k at joint r: the links on the path from r to the old root turned round, the joints
+ * renumbered breadth-first from r so parents still come first. The joints stay where they are;
+ * only which one is the root changes. */
+static bool rf_rig_reroot(rf_rig_skel *k, uint32_t r)
+{
+    uint32_t n = k->n;
+    int32_t *par = malloc((n + 1) * sizeof *par);
+    uint32_t *order = malloc((n + 1) * sizeof *order), *to = malloc((n + 1) * sizeof *to);
+    rf_rig_skel o = {.n = n};
+    o.pos = malloc((n + 1) * 3 * sizeof *o.pos), o.tip = malloc((n + 1) * 3 * sizeof *o.tip);
+    o.parent = malloc((n + 1) * sizeof *o.parent), o.has_tip = malloc(n + 1);
+    bool ok = par && order && to && o.pos && o.tip && o.parent && o.has_tip;
+    if (ok) {
+        memcpy(par, k->parent, n * sizeof *par);
+        for (int32_t prev = -1, cur = (int32_t)r; cur >= 0;) {
+            int32_t next = k->parent[cur];
+            par[cur] = prev, prev = cur, cur = next;
+        }
+        uint32_t head = 0, tail = 0;
+        order[tail++] = r;
+        while (head < tail) /* breadth-first: each joint's children after it */
+            for (uint32_t j = 0, at = order[head++]; j < n; j++)
+                if (par[j] == (int32_t)at)
+                    order[tail++] = j;
+        ok = tail == n;
+        for (uint32_t i = 0; ok && i < n; i++)
+            to[order[i]] = i;
+        for (uint32_t i = 0; ok && i < n; i++) {
+            uint32_t j = order[i];
+            memcpy(o.pos + (size_t)i * 3, k->pos + (size_t)j * 3, 3 * sizeof *o.pos);
+            memcpy(o.tip + (size_t)i * 3, k->tip + (size_t)j * 3, 3 * sizeof *o.tip);
+            o.has_tip[i] = k->has_tip[j];
+            o.parent[i] = par[j] >= 0 ? (int32_t)to[par[j]] : -1;
+        }
+    }
+    free(par), free(order), free(to);
+    if (!ok) {
+        rf_rig_skel_free(&o);
+        return false;
+    }
+    rf_rig_skel_free(k);
+    *k = o;
+    return true;
 }
 
 /* A copy of the input's geometry (positions, normals, triangles, parts) without any skin. */
@@ -249,13 +351,23 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
     /* Level sets grown from the hips cut the body square to its length (shoulders level, limbs
      * leaving symmetrically); from the thickest point they would ring the chest. So a second pass
      * starts where the first pass's two lowest leaves meet. */
-    uint32_t r = ok ? rf_rig_pick_root(&k) : RF_RIG_NONE;
+    uint32_t r = ok ? rf_rig_pick_root(&k) : RF_RIG_NONE, hips = ok ? rf_rig_pick_hips(&k) : r;
+    double hips_at[3];
+    if (hips != RF_RIG_NONE)
+        memcpy(hips_at, k.pos + (size_t)hips * 3, sizeof hips_at);
     if (r != RF_RIG_NONE && k.parent[r] >= 0) {
         double seed[3];
         memcpy(seed, k.pos + (size_t)r * 3, sizeof seed);
         rf_rig_skel_free(&k);
         ok = rf_rig_extract(&p, &o, seed, &k, err, err_size);
     }
+    /* The skeleton analysis (and so the matcher) reads which way a body faces partly from where
+     * the root is: artists root a quadruped at its hips, and the spine runs from there to the
+     * shoulders. The second pass's root, the highest girdle, is often the shoulders; the rig is
+     * rooted again at the girdle nearest the hips, its joints unmoved. */
+    uint32_t g = ok && hips != RF_RIG_NONE ? rf_rig_girdle_near(&k, hips_at) : RF_RIG_NONE;
+    if (g != RF_RIG_NONE && k.parent[g] >= 0 && !rf_rig_reroot(&k, g))
+        ok = rf_rig_fail(err, err_size, "out of memory re-rooting the skeleton");
     if (ok && progress)
         progress(user, 0.4);
     ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
