@@ -1,7 +1,8 @@
 /* librigauto: every mesh of the shared data and Debian's assimp-testmodels is rigged or refused
  * with a reason, never with a vertex left unweighted; the rig does not depend on the unit or the
  * facing; bad input (empty, a point cloud, a sheet, nothing but specks, broken numbers) is
- * refused with a message and nothing allocated; a big scan goes through the simplified proxy. */
+ * refused with a message and nothing allocated; a big scan goes through the simplified proxy; legs
+ * a few voxels apart stay apart; a given skeleton is weighted as its artist would. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -156,7 +157,8 @@ static void test_testmodels(void **state)
 
 /* Boxes: add_box appends one; table_creature is a box body on four box legs with a box head,
  * scaled and turned about +Y. */
-static void add_box(rf_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1)
+static void add_box_faces(rf_mesh *m, double x0, double y0, double z0, double x1, double y1,
+                          double z1, bool top)
 {
     static const int corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
                                      {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
@@ -169,10 +171,20 @@ static void add_box(rf_mesh *m, double x0, double y0, double z0, double x1, doub
         p[0] = (float)(corner[c][0] ? x1 : x0), p[1] = (float)(corner[c][1] ? y1 : y0);
         p[2] = (float)(corner[c][2] ? z1 : z0);
     }
-    for (int t = 0; t < 12; t++)
+    uint32_t n = 0;
+    for (int t = 0; t < 12; t++) {
+        if (!top && (t == 6 || t == 7)) /* the y = y1 side */
+            continue;
         for (int k = 0; k < 3; k++)
-            m->triangles[(size_t)(m->triangle_count + t) * 3 + k] = base + face[t][k];
-    m->vertex_count += 8, m->triangle_count += 12;
+            m->triangles[(size_t)(m->triangle_count + n) * 3 + k] = base + face[t][k];
+        n++;
+    }
+    m->vertex_count += 8, m->triangle_count += n;
+}
+
+static void add_box(rf_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1)
+{
+    add_box_faces(m, x0, y0, z0, x1, y1, z1, true);
 }
 
 static rf_mesh *table_creature(double scale, double turn)
@@ -341,6 +353,42 @@ static void test_bad_input(void **state)
     rf_mesh_free(m);
 }
 
+/* Two legs three voxels apart under a body: the hole sealing of the volume would join them into
+ * one column down the middle. Closed legs stay apart by the surface alone; legs open at the top
+ * (hidden inside the body) go through the hole sealing and are split again by the winding
+ * number. Either way the rig has joints low in both legs, off the middle. */
+static void test_narrow_gap(void **state)
+{
+    (void)state;
+    for (int open = 0; open < 2; open++) {
+        rf_mesh *m = rf_mesh_new();
+        m->positions = calloc(3 * 8 * 3, sizeof(float));
+        m->triangles = calloc(3 * 12 * 3, sizeof(uint32_t));
+        add_box(m, -0.3, 1, -0.15, 0.3, 1.6, 0.15); /* longest edge 1.6: voxels of 1/60 */
+        add_box_faces(m, -0.25, 0, -0.1, -0.025, 1.05, 0.1, !open);
+        add_box_faces(m, 0.025, 0, -0.1, 0.25, 1.05, 0.1, !open); /* 0.05 apart: three voxels */
+        rf_skeleton *s;
+        rf_mesh *out;
+        rf_rig_stats st;
+        char err[256];
+        if (!rf_rig_general(m, NULL, &s, &out, &st, NULL, NULL, err, sizeof err))
+            fail_msg("%s", err);
+        check_rig(open ? "narrow gap, open legs" : "narrow gap", m, s, out);
+        rf_vec3 *w = calloc(s->joint_count, sizeof *w);
+        world_joints(s, w);
+        bool left = false, right = false;
+        for (uint32_t j = 0; j < s->joint_count; j++) {
+            left |= w[j].y < 0.5 && w[j].x < -0.08;
+            right |= w[j].y < 0.5 && w[j].x > 0.08;
+        }
+        if (!left || !right)
+            fail_msg("%s: the legs merged (joints low on the left %d, right %d)",
+                     open ? "open legs" : "closed legs", left, right);
+        free(w);
+        rf_skeleton_free(s), rf_mesh_free(out), rf_mesh_free(m);
+    }
+}
+
 /* A body with a speck beside it and a loose part of its own: every vertex weighted. */
 static void test_loose_parts(void **state)
 {
@@ -470,6 +518,7 @@ int main(void)
         cmocka_unit_test(test_any_facing),    cmocka_unit_test(test_loose_parts),
         cmocka_unit_test(test_big_scan),      cmocka_unit_test(test_testmodels),
         cmocka_unit_test(test_shared_models), cmocka_unit_test(test_bind_given),
+        cmocka_unit_test(test_narrow_gap),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
