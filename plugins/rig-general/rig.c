@@ -452,8 +452,7 @@ static bool rf_rig_from_skeleton(const rf_skeleton *s, const rf_mat4 *world, rf_
             goes_on[k->parent[i]] = 1;
     for (uint32_t i = 0; ok && i < k->n; i++)
         k->owns_in[i] = k->parent[i] >= 0 && !inner[i] && !k->has_tip[i] && goes_on[k->parent[i]];
-    free(goes_on);
-    free(kids), free(inner), free(at);
+    free(goes_on), free(kids), free(inner), free(at);
     return ok;
 }
 
@@ -497,6 +496,9 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
     bool prepared = false, ok = world && ids;
     if (!ok)
         rf_rig_fail(err, err_size, "out of memory");
+    if (ok && nj > UINT16_MAX) /* skin joint indices are 16-bit */
+        ok = rf_rig_fail(err, err_size, "the skeleton has %u joints; at most %u can carry weights",
+                         nj, (unsigned)UINT16_MAX);
     ok = ok && rf_rig_world_of(skeleton, inverse_bind, world, err, err_size);
     if (ok && !rf_rig_from_skeleton(skeleton, world, &k, ids))
         ok = rf_rig_fail(err, err_size, "out of memory");
