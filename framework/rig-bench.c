@@ -491,7 +491,9 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
     const GOptionEntry entries[] = {
         {"joint-map", 0, 0, G_OPTION_ARG_STRING, &joint_map,
          "How predicted joints are matched to the artist's for the skinning columns: matcher "
-         "(default: the skeletal-similarity matcher) or nearest (the nearest artist joint)",
+         "(default: the skeletal-similarity matcher; a joint it leaves unmapped, or maps to an "
+         "artist joint without weights, takes its nearest mapped ancestor's) or nearest (the "
+         "nearest artist joint)",
          "HOW"},
         {"rigger", 'r', 0, G_OPTION_ARG_STRING_ARRAY, &names,
          "A rigger by name or node type (repeatable; default: every rigger found)", "NAME"},
