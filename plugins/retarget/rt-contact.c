@@ -655,17 +655,22 @@ static bool rt_lift_turn(const rf_retarget *rt, rf_xform *local, const rf_xform 
     return true;
 }
 
-/* The lowest of part j's pivot, its bone's tip and, with the skinned mesh, the vertices it
- * carries that reach farthest (a wing's membrane reaches far past its bones) this frame. */
-static rf_vec3 rt_part_low(const rf_retarget *rt, const rf_xform *world, uint32_t j)
+/* The point of part j deepest under its floor this frame: its pivot and its bone's tip against
+ * the skeleton's floor, and with the skinned mesh, the vertices it carries that reach farthest (a
+ * wing's membrane reaches far past its bones) against the mesh's floor, into *floor_h. */
+static rf_vec3 rt_part_low(const rf_retarget *rt, const rf_xform *world, uint32_t j,
+                           double *floor_h)
 {
     rf_vec3 p = world[j].t;
+    *floor_h = rt->floor_target;
+    double depth = *floor_h - rf_rt_height(rt->up, p);
     uint32_t count = rt->t_hull ? RF_RT_HULL : 0;
     for (uint32_t k = 0; k <= count; k++) {
         rf_vec3 c = k < count ? rt->t_hull[(size_t)j * RF_RT_HULL + k] : rt->t_tip[j];
         rf_vec3 q = rf_xform_point(world[j], c);
-        if (rf_rt_height(rt->up, q) < rf_rt_height(rt->up, p))
-            p = q;
+        double floor = k < count ? rt->mesh_floor : rt->floor_target;
+        if (floor - rf_rt_height(rt->up, q) > depth)
+            p = q, *floor_h = floor, depth = floor - rf_rt_height(rt->up, q);
     }
     return p;
 }
@@ -775,12 +780,13 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
         for (uint32_t j = 0; j < n; j++) {
             if (!part[j])
                 continue;
-            rf_vec3 p = rt_part_low(rt, world, j);
-            if (rf_rt_height(rt->up, p) >= rt->floor_target || rt->anchor[j] >= 0)
+            double floor_h;
+            rf_vec3 p = rt_part_low(rt, world, j, &floor_h);
+            if (rf_rt_height(rt->up, p) >= floor_h || rt->anchor[j] >= 0)
                 continue;
             if (rt_source_down(rt, &sp, anim, f, j))
                 continue; /* its source touches its own floor: so may it (a hand on all fours) */
-            int32_t a = rt_lift_joint(rt, local, world, holds, j, p, rt->floor_target + eps);
+            int32_t a = rt_lift_joint(rt, local, world, holds, j, p, floor_h + eps);
             if (a >= 0) {
                 rt_fk(rt, local, world, all);
                 rf_animation_set_rotation(anim, f, (uint32_t)a, local[a].r);
