@@ -828,8 +828,23 @@ typedef struct rt_parts {
     const uint8_t *all;   /* every joint */
     const uint8_t *holds; /* carries a foot in the hierarchy or body tree */
     const uint8_t *reach; /* the parts and their ancestors */
+    const double *extent; /* [n] the farthest of a part's hull points and tip from its pivot */
     double eps;
 } rt_parts;
+
+/* Whether every point rt_part_low weighs for part j surely stands over its floor: the pivot's
+ * height less the part's extent (at the joint's largest scale) clears the higher floor by a
+ * margin far above rounding. rt_part_low's answer then cannot lift it, and most parts in most
+ * frames are skipped without transforming their hull. */
+static bool rt_part_clear(const rt_parts *c, const rf_xform *world, uint32_t j)
+{
+    const rf_retarget *rt = c->rt;
+    rf_vec3 s = world[j].s;
+    double reach = c->extent[j] * fmax(fabs(s.x), fmax(fabs(s.y), fabs(s.z)));
+    double floor = rt->t_hull ? fmax(rt->floor_target, rt->mesh_floor) : rt->floor_target;
+    double h = rf_rt_height(rt->up, world[j].t);
+    return h - reach > floor + 1e-9 * (fabs(h) + reach + fabs(floor) + 1);
+}
 
 /* One frame of the parts pass, with scratch (local, world, sp) of the caller's. */
 static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xform *world,
@@ -843,7 +858,7 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xf
     bool low = false;
     for (uint32_t j = 0; j < n && !low; j++) {
         double floor_h;
-        low = c->part[j] && rt->anchor[j] < 0 &&
+        low = c->part[j] && rt->anchor[j] < 0 && !rt_part_clear(c, world, j) &&
               !(rf_rt_height(rt->up, rt_part_low(rt, world, j, &floor_h)) >= floor_h);
     }
     if (!low)
@@ -853,7 +868,7 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xf
     bool lifted = false;
     sp->frame = UINT32_MAX;
     for (uint32_t j = 0; j < n; j++) {
-        if (!c->part[j])
+        if (!c->part[j] || rt_part_clear(c, world, j))
             continue;
         double floor_h;
         rf_vec3 p = rt_part_low(rt, world, j, &floor_h);
@@ -923,9 +938,15 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
     uint32_t n = rt->n;
     uint8_t *foot = malloc(n ? n : 1), *part = malloc(n ? n : 1), *all = malloc(n ? n : 1);
     uint8_t *holds = calloc(n ? n : 1, 1), *reach = calloc(n ? n : 1, 1);
-    if (!foot || !part || !all || !holds || !reach) {
-        free(foot), free(part), free(all), free(holds), free(reach);
+    double *extent = calloc(n ? n : 1, sizeof *extent);
+    if (!foot || !part || !all || !holds || !reach || !extent) {
+        free(foot), free(part), free(all), free(holds), free(reach), free(extent);
         return false;
+    }
+    for (uint32_t j = 0; j < n; j++) {
+        extent[j] = rf_v3_len(rt->t_tip[j]);
+        for (uint32_t k = 0; rt->t_hull && k < RF_RT_HULL; k++)
+            extent[j] = fmax(extent[j], rf_v3_len(rt->t_hull[(size_t)j * RF_RT_HULL + k]));
     }
     memset(all, 1, n);
     rt_feet_mask(rt, foot);
@@ -942,8 +963,8 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
         for (int32_t a = part[j] ? (int32_t)j : -1; a >= 0 && !reach[a];
              a = rt->target->joints[a].parent)
             reach[a] = 1;
-    rt_parts c = {rt, anim, part, all, holds, reach, 1e-3 * rt->leg_target};
+    rt_parts c = {rt, anim, part, all, holds, reach, extent, 1e-3 * rt->leg_target};
     bool ok = rt_parts_all(&c, st);
-    free(foot), free(part), free(all), free(holds), free(reach);
+    free(foot), free(part), free(all), free(holds), free(reach), free(extent);
     return ok;
 }
