@@ -158,7 +158,7 @@ static double ground_support(const rf_awork *w, rf_limbs *ls, rf_vec3 u, int can
  * outvote its longer folded wings), plus up to 0.8 for the ground the feet span
  * (ground_support). The lowest level is the lowest limb's: a mesh node or ground root at the
  * origin says nothing. */
-static double up_score(const rf_awork *w, rf_limbs *ls, rf_vec3 u, int cand)
+static void up_score(const rf_awork *w, rf_limbs *ls, rf_vec3 u, int cand, double *cue)
 {
     double hang = 0, reach = 0, lo = INFINITY, hi = -INFINITY;
     for (uint32_t i = 0; i < ls->n; i++) {
@@ -186,7 +186,8 @@ static double up_score(const rf_awork *w, rf_limbs *ls, rf_vec3 u, int cand)
         flat += fabs(rf_v3_dot(d, u)) < 0.8;
     }
     double bonus = grounded >= 2 ? 0.15 * fmin(grounded, 4) + 0.45 * flat / grounded : 0;
-    return (reach > 0 ? hang / reach : 0) + bonus + 0.8 * ground_support(w, ls, u, cand, lo, hi);
+    cue[0] = (reach > 0 ? hang / reach : 0) + bonus;
+    cue[1] = 0.8 * ground_support(w, ls, u, cand, lo, hi);
 }
 
 /* Each limb's lowest measured point (pivots, known tips) under each candidate, and how far out
@@ -255,6 +256,32 @@ static bool file_up(const rf_awork *w, rf_vec3 *up)
     return true;
 }
 
+const char *const rf_up_cue_names[RF_UP_CUE_COUNT] = {"limbs", "ground", "file"};
+
+/* Each cue's score for the up chosen against its best score for another candidate. */
+static void up_cues(rf_analysis *a, double cue[4][RF_UP_CUE_COUNT], int best)
+{
+    for (int i = 0; i < RF_UP_CUE_COUNT; i++) {
+        double other = 0;
+        for (int c = 0; c < 4; c++)
+            if (c != best)
+                other = fmax(other, cue[c][i]);
+        a->up_cues[i] = cue[best][i] - other;
+    }
+}
+
+int rf_up_dissent(const rf_analysis *a)
+{
+    /* a close call (the runner-up within a quarter of the winner) names any cue that preferred
+     * another axis; a clear one only a cue that preferred it by half a full vote */
+    double bar = a->up_confidence < 0.25 ? 0 : -0.5;
+    int worst = -1;
+    for (int i = 0; i < RF_UP_CUE_COUNT; i++)
+        if (a->up_cues[i] < bar && (worst < 0 || a->up_cues[i] < a->up_cues[worst]))
+            worst = i;
+    return worst;
+}
+
 static void detect_up(rf_awork *w, rf_limbs *ls)
 {
     rf_analysis *a = w->a;
@@ -270,21 +297,26 @@ static void detect_up(rf_awork *w, rf_limbs *ls)
         extent += rf_v3_len(rf_v3_sub(v, rf_v3_scale(w->plane_n, rf_v3_dot(v, w->plane_n))));
     }
     double strength = fmin(1, extent / (0.3 * a->size));
-    double score[4];
+    double score[4], cue[4][RF_UP_CUE_COUNT] = {{0}};
     int best = 0;
     for (int c = 0; c < 4; c++) {
-        score[c] = ls->n ? strength * up_score(w, ls, cands[c], c) : 0;
-        if (have_file && rf_v3_dot(cands[c], fu) > 0.9)
-            score[c] += 0.3;
+        if (ls->n)
+            up_score(w, ls, cands[c], c, cue[c]);
+        cue[c][0] *= strength, cue[c][1] *= strength;
+        cue[c][2] = have_file && rf_v3_dot(cands[c], fu) > 0.9 ? 0.3 : 0;
+        score[c] = cue[c][0] + cue[c][1] + cue[c][2];
         if (score[c] > score[best])
             best = c;
     }
+    up_cues(a, cue, best);
     double second = 0;
     for (int c = 0; c < 4; c++)
         if (c != best)
             second = fmax(second, score[c]);
     a->up = cands[best];
     if (ls->n == 0) {
+        for (int i = 0; i < RF_UP_CUE_COUNT; i++)
+            a->up_cues[i] = 0;
         a->up = have_file ? perpendicular_to(w->plane_n, fu) : cands[0];
         a->up_source = have_file ? "file" : "default";
         a->up_confidence = 0;

@@ -32,6 +32,7 @@ typedef struct kind {
 
 typedef struct tally {
     int joints, right, swaps, swapped_skels, skels, up_wrong, forward_wrong;
+    int misread_warned, right_warned;  /* skeletons `rigflow map --explain` warns about */
     int axes_ok_joints, axes_ok_right; /* on skeletons whose axes were read right */
     int cj[CLS_COUNT], cr[CLS_COUNT];
 } tally;
@@ -164,6 +165,8 @@ static void one_pair(const rigs_skel *s, const rigs_skel *t, tally *y, bool verb
         y->forward_wrong += up && !fw;
         if (up && fw)
             y->axes_ok_joints += (int)t->s->joint_count, y->axes_ok_right += right;
+        bool warned = rf_up_dissent(a) >= 0 || rf_forward_dissent(a) >= 0;
+        y->misread_warned += warned && !(up && fw), y->right_warned += warned && up && fw;
         if (verbose && (!up || rf_v3_dot(a->forward, t->forward) < 0.9))
             printf("    axes: up %s, forward %s (%s, confidence %.2f)\n", up ? "right" : "wrong",
                    rf_v3_dot(a->forward, t->forward) > 0.9 ? "right" : "wrong", a->forward_source,
@@ -193,10 +196,11 @@ static double pct(int a, int b)
 static void print_tally(const char *name, int pairs, const tally *y, double floor)
 {
     printf("%-26s %3d pairs %6d joints: %5.1f%% right (floor %.0f%%), %d joints swapped in %d "
-           "skeletons; axes misread: up %d, forward %d of %d (%.1f%% right where read right)\n   ",
+           "skeletons; axes misread: up %d, forward %d of %d (%.1f%% right where read right), "
+           "warned about: %d misread, %d read right\n   ",
            name, pairs, y->joints, pct(y->right, y->joints), 100 * floor, y->swaps,
            y->swapped_skels, y->up_wrong, y->forward_wrong, y->skels,
-           pct(y->axes_ok_right, y->axes_ok_joints));
+           pct(y->axes_ok_right, y->axes_ok_joints), y->misread_warned, y->right_warned);
     for (int c = 0; c < CLS_COUNT; c++)
         if (y->cj[c])
             printf(" %s %.1f%% (%d)", class_names[c], pct(y->cr[c], y->cj[c]), y->cj[c]);
@@ -209,6 +213,7 @@ static void add_tally(tally *a, const tally *b)
     a->skels += b->skels, a->up_wrong += b->up_wrong, a->forward_wrong += b->forward_wrong;
     a->axes_ok_joints += b->axes_ok_joints, a->axes_ok_right += b->axes_ok_right;
     a->swapped_skels += b->swapped_skels;
+    a->misread_warned += b->misread_warned, a->right_warned += b->right_warned;
     for (int c = 0; c < CLS_COUNT; c++)
         a->cj[c] += b->cj[c], a->cr[c] += b->cr[c];
 }
