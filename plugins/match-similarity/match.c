@@ -412,6 +412,12 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
         marks |= (uint32_t)ends << 8;
     for (; marks; marks &= marks - 1) /* twice for a chain of one joint: only its anchor */
         cost += tl->n == 1 || sl->n == 1 ? 0.5 : 0.25;
+    /* a neck's last joint before the skull is held harder: necks differ most in how their
+     * length splits (a human's two neck joints against a horse's seven), so its place says less
+     * than in a spine, and the end joint carries the head's turn; a neck of one joint is both
+     * ends and follows its place */
+    if (type == RF_SECTION_HEAD && (ends & 4) && (et & 6) != 6 && (es & 6) != 6)
+        cost += 0.5;
     /* limbs and digits: bones counted from the first real one (thigh, shin, foot whatever their
      * proportions, plantigrade or not); digits, whose segments vary most in length, and limbs of
      * one bone count twice: their first joints (at the knuckle or the wrist alike; a one-bone
