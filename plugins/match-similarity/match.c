@@ -255,6 +255,7 @@ typedef struct rf_ms_line {
     int32_t *step;
     double *u0, *u1;
     uint32_t n;
+    double unit; /* what places along the line were divided by */
 } rf_ms_line;
 
 static bool line_alloc(rf_ms_line *l, uint32_t cap)
@@ -288,6 +289,25 @@ static void line_section(const rf_ms_skel *s, uint32_t sec, rf_ms_line *l)
         l->u0[l->n] = s->a->joints[j].u0, l->u1[l->n] = s->a->joints[j].u1;
         l->n++;
     }
+    /* a limb's length reaches the end of its longest digit: where its own bones end */
+    l->unit = 1;
+    const rf_section *se = &s->a->sections[sec];
+    if (l->n && (se->type == RF_SECTION_ARM || se->type == RF_SECTION_LEG) &&
+        !(se->flags & RF_SECFL_FAN) && l->u1[l->n - 1] > 0.2 && l->u1[l->n - 1] < 1)
+        l->unit = l->u1[l->n - 1];
+}
+
+/* Two limbs that both end in digits, one with far longer digits than the other, are placed
+ * along their own bones: a wing's long membrane fingers would crowd its arm into the first half
+ * of its length, against an arm whose fingers are short. */
+static void own_places(rf_ms_line *tl, rf_ms_line *sl)
+{
+    if (tl->unit >= 1 || sl->unit >= 1 || fmin(tl->unit, sl->unit) > 0.7 * fmax(tl->unit, sl->unit))
+        return;
+    for (uint32_t i = 0; i < tl->n; i++)
+        tl->u0[i] /= tl->unit, tl->u1[i] /= tl->unit;
+    for (uint32_t i = 0; i < sl->n; i++)
+        sl->u0[i] /= sl->unit, sl->u1[i] /= sl->unit;
 }
 
 /* The joints of a limb's main digit after the limb's own, placed along the limb (whose length
@@ -602,6 +622,8 @@ static bool settle_sections(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, r
         if (tl->n == 0 || !input_section(c, p, tl, &k, &ss))
             continue;
         line_section(&c->src[k], ss, sl);
+        if (!c->o->thesis)
+            own_places(tl, sl);
         bool lent = lend_digits(c, p, ts, tl, k, ss, sl);
         if (c->o->keep_duplicates)
             best_within(c, p, tl, k, sl);
