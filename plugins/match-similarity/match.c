@@ -417,6 +417,9 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
     /* a tail of one bone has no place along a tail to compare: its root anchors it (below) */
     if (at->sections[a->section].type == RF_SECTION_TAIL && (tl->n == 1 || sl->n == 1))
         cost *= 0.25;
+    /* nor has a digit of one bone (whose length a leaf without an end site only guesses) */
+    if ((at->sections[a->section].flags & RF_SECFL_FAN) && tl->n == 1)
+        cost *= 0.25;
     /* the spine's ends (pelvis, chest), a limb's offset bone (clavicle, hip offset), the skull at
      * the end of the neck */
     uint32_t marks = (a->flags ^ b->flags) & RF_JI_OFFSET;
