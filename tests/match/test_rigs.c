@@ -5,7 +5,8 @@
  * fails below the floors or on any side swap. The CMU pairs need $RF_DATA_DIR (skipped with a
  * message when absent; the creature pairs still run). RF_RIGS_PAIRS scales the pairs per kind;
  * RF_RIGS_VERBOSE=1 prints every wrong joint, RF_RIGS_EXPLAIN=1 what `rigflow map --explain` would;
- * RF_RIGS_DUMP=DIR writes every target as BVH (to look at it, or to map it with `rigflow map
+ * RF_RIGS_DUMP=DIR writes every target as BVH, named by pair kind and index (to look at it, or to
+ * map it with `rigflow map
  * --explain`). */
 #include <stdio.h>
 #include <stdlib.h>
@@ -181,7 +182,8 @@ static void dump(const kind *k, int pair, const rigs_skel *t)
     char path[1024], err[256];
     if (!dir)
         return;
-    snprintf(path, sizeof path, "%s/%s-%d.bvh", dir, rigs_plan_names[k->target], pair);
+    snprintf(path, sizeof path, "%s/%s-%d.bvh", dir, k->name,
+             pair); /* the kind: a plan is the target of several */
     for (char *c = path + strlen(dir); *c; c++)
         *c = *c == ' ' ? '_' : *c;
     if (!rf_bvh_write_file(path, NULL, t->s, NULL, NULL, err, sizeof err))
