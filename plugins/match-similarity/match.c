@@ -589,7 +589,8 @@ static bool lend_digits(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t ts, rf_ms_li
 
 /* The other digits of a fan whose main digit its limb settled (a bird's toes against a human's
  * single toe bone): parallel digits take what the main digit took, joint by joint, as the thesis
- * suggests for digits a source lacks (its 5.3.1); a thumb (a hallux) is no parallel digit. */
+ * suggests for digits a source lacks (its 5.3.1); a thumb, or a toe turned 45 degrees or more
+ * away from the main one (a hallux), is no parallel digit and stays unmapped. */
 static void share_lent(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t ts)
 {
     const rf_analysis *a = c->tgt.a;
@@ -605,8 +606,10 @@ static void share_lent(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t ts)
             !(sec->flags & RF_SECFL_FAN) || (sec->flags & RF_SECFL_THUMB))
             continue;
         const uint32_t *js = rf_section_joints(a, d);
+        /* only parallel digits: a toe turned away (a hallux pointing back) is no copy */
+        bool parallel = rf_v3_dot(a->joints[js[0]].dir, a->joints[mj[0]].dir) >= 0.7;
         for (uint32_t i = 0; i < sec->bone_count; i++) {
-            p->final[js[i]] = i < mn ? p->final[mj[i]] : no_candidate;
+            p->final[js[i]] = i < mn && parallel ? p->final[mj[i]] : no_candidate;
             p->settled[js[i]] = 2;
         }
     }
