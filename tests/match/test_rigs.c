@@ -176,14 +176,14 @@ static void one_pair(const rigs_skel *s, const rigs_skel *t, tally *y, bool verb
     rf_analysis_free(a);
 }
 
-static void dump(const kind *k, int pair, const rigs_skel *t)
+static void dump(const kind *k, int pair, const char *suffix, const rigs_skel *t)
 {
     const char *dir = getenv("RF_RIGS_DUMP");
     char path[1024], err[256];
     if (!dir)
         return;
-    snprintf(path, sizeof path, "%s/%s-%d.bvh", dir, k->name,
-             pair); /* the kind: a plan is the target of several */
+    snprintf(path, sizeof path, "%s/%s-%d%s.bvh", dir, k->name, pair, suffix);
+
     for (char *c = path + strlen(dir); *c; c++)
         *c = *c == ' ' ? '_' : *c;
     if (!rf_bvh_write_file(path, NULL, t->s, NULL, NULL, err, sizeof err))
@@ -262,7 +262,9 @@ int main(void)
                 printf("  %s, pair %d (facing %d%s)\n", K->name, p, t.facing,
                        t.helpers ? ", helpers" : "");
             one_pair(&s, &t, &y, verbose);
-            dump(K, p, &t);
+            dump(K, p, "", &t);
+            if (K->source >= 0)
+                dump(K, p, "-source", &s);
             rigs_free(&t);
             if (K->source >= 0)
                 rigs_free(&s);
