@@ -5,9 +5,8 @@
  * fails below the floors or on any side swap. The CMU pairs need $RF_DATA_DIR (skipped with a
  * message when absent; the creature pairs still run). RF_RIGS_PAIRS scales the pairs per kind;
  * RF_RIGS_VERBOSE=1 prints every wrong joint, RF_RIGS_EXPLAIN=1 what `rigflow map --explain` would;
- * RF_RIGS_DUMP=DIR writes every target as BVH, named by pair kind and index (to look at it, or to
- * map it with `rigflow map
- * --explain`). */
+ * RF_RIGS_DUMP=DIR writes every target (and a generated source beside it, -source) as BVH, named
+ * by pair kind and index (to look at it, or to map it with `rigflow map --explain`). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
