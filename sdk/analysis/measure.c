@@ -170,8 +170,12 @@ static int cmp_rank(const void *x, const void *y)
 /* Where a fan's digits start: the end of the bone they fan out of (the wrist). */
 static rf_vec3 fan_origin(const rf_awork *w, const rf_section *sec)
 {
-    return sec->attach_joint >= 0 ? w->a->joints[sec->attach_joint].tip
-                                  : rf_an_pos(w, w->a->section_joints[sec->first]);
+    if (sec->attach_joint < 0)
+        return rf_an_pos(w, w->a->section_joints[sec->first]);
+    /* a hand bone's guessed tip (no end site, several children) may lie past its fingers'
+     * ends: the wrist then */
+    const rf_joint_info *hand = &w->a->joints[sec->attach_joint];
+    return (hand->flags & RF_JI_TIP_GUESSED) ? hand->pos : hand->tip;
 }
 
 /* Where a digit ends: its last tip, or its last pivot when that tip is only a guess. */
