@@ -289,6 +289,15 @@ static void line_section(const rf_ms_skel *s, uint32_t sec, rf_ms_line *l)
         l->u0[l->n] = s->a->joints[j].u0, l->u1[l->n] = s->a->joints[j].u1;
         l->n++;
     }
+    /* a limb hanging far from the joint it leaves (an arm on a one-joint torso at the hips) is
+     * placed from its first joint: a missing clavicle shifts a limb by less than this */
+    const rf_section *lim = &s->a->sections[sec];
+    if (l->n && (lim->type == RF_SECTION_ARM || lim->type == RF_SECTION_LEG) &&
+        !(lim->flags & RF_SECFL_FAN) && l->u0[0] > 0.3 && l->u0[0] < 1) {
+        double u00 = l->u0[0];
+        for (uint32_t i = 0; i < l->n; i++)
+            l->u0[i] = (l->u0[i] - u00) / (1 - u00), l->u1[i] = (l->u1[i] - u00) / (1 - u00);
+    }
     /* a limb's length reaches the end of its longest digit: where its own bones end */
     l->unit = 1;
     const rf_section *se = &s->a->sections[sec];
