@@ -277,6 +277,12 @@ static void line_free(rf_ms_line *l)
     free(l->u1);
 }
 
+static bool is_limb(const rf_analysis *a, uint32_t s)
+{
+    rf_section_type t = a->sections[s].type;
+    return (t == RF_SECTION_ARM || t == RF_SECTION_LEG) && !(a->sections[s].flags & RF_SECFL_FAN);
+}
+
 static void line_section(const rf_ms_skel *s, uint32_t sec, rf_ms_line *l)
 {
     const uint32_t *js = rf_section_joints(s->a, sec);
@@ -289,20 +295,17 @@ static void line_section(const rf_ms_skel *s, uint32_t sec, rf_ms_line *l)
         l->u0[l->n] = s->a->joints[j].u0, l->u1[l->n] = s->a->joints[j].u1;
         l->n++;
     }
+    l->unit = 1;
+    if (l->n == 0 || !is_limb(s->a, sec))
+        return;
     /* a limb hanging far from the joint it leaves (an arm on a one-joint torso at the hips) is
      * placed from its first joint: a missing clavicle shifts a limb by less than this */
-    const rf_section *lim = &s->a->sections[sec];
-    if (l->n && (lim->type == RF_SECTION_ARM || lim->type == RF_SECTION_LEG) &&
-        !(lim->flags & RF_SECFL_FAN) && l->u0[0] > 0.3 && l->u0[0] < 1) {
-        double u00 = l->u0[0];
+    double u00 = l->u0[0];
+    if (u00 > 0.3 && u00 < 1)
         for (uint32_t i = 0; i < l->n; i++)
             l->u0[i] = (l->u0[i] - u00) / (1 - u00), l->u1[i] = (l->u1[i] - u00) / (1 - u00);
-    }
     /* a limb's length reaches the end of its longest digit: where its own bones end */
-    l->unit = 1;
-    const rf_section *se = &s->a->sections[sec];
-    if (l->n && (se->type == RF_SECTION_ARM || se->type == RF_SECTION_LEG) &&
-        !(se->flags & RF_SECFL_FAN) && l->u1[l->n - 1] > 0.2 && l->u1[l->n - 1] < 1)
+    if (l->u1[l->n - 1] > 0.2 && l->u1[l->n - 1] < 1)
         l->unit = l->u1[l->n - 1];
 }
 
@@ -549,12 +552,6 @@ static bool remove_duplicates(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_lin
     free(cost);
     free(match);
     return ok;
-}
-
-static bool is_limb(const rf_analysis *a, uint32_t s)
-{
-    rf_section_type t = a->sections[s].type;
-    return (t == RF_SECTION_ARM || t == RF_SECTION_LEG) && !(a->sections[s].flags & RF_SECFL_FAN);
 }
 
 /* Whether the limb ends in toes: a fan whose main digit starts at the ground and lies along it

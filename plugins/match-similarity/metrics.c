@@ -127,14 +127,6 @@ static void main_digits(rf_ms_skel *s)
     }
 }
 
-/* Joints counted along a section from its first real bone: a limb's thigh is 0, shin 1, foot 2
- * whether or not a hip offset comes first (-1), and an unweighted link in the middle of a leg
- * (a rig's mechanism) shares the place of the bone after it. A digit counts from the wrist: a
- * palm bone starting there is 0, a finger's first joint at the knuckle 1, with a palm bone
- * before it or not (digits are measured from the wrist, so the knuckle lies well along; the
- * hand's middle finger tells whether its fingers start at the knuckles or at the wrist). A
- * thumb counts from its first joint wherever that sits: rigs start it at the wrist or beside the
- * knuckles for the same bone. */
 /* How far along the hand's longest digit, from the wrist, the main digit's first joint sits:
  * the longest digit of the fan, since a leaf digit's length may only be guessed (a one-bone
  * finger of a rig without end sites). A wing's membrane fingers start a short way past its
@@ -151,6 +143,14 @@ static double knuckle_share(const rf_analysis *a, int32_t hand, const rf_joint_i
     return at + longest > 0 ? at / (at + longest) : 0;
 }
 
+/* Joints counted along a section from its first real bone: a limb's thigh is 0, shin 1, foot 2
+ * whether or not a hip offset comes first (-1), and an unweighted link in the middle of a leg
+ * (a rig's mechanism) shares the place of the bone after it. A digit counts from the wrist: a
+ * palm bone starting there is 0, a finger's first joint at the knuckle 1, with a palm bone
+ * before it or not (digits are measured from the wrist, so the knuckle lies well along; the
+ * hand's middle finger tells whether its fingers start at the knuckles or at the wrist). A
+ * thumb counts from its first joint wherever that sits: rigs start it at the wrist or beside the
+ * knuckles for the same bone. */
 static void steps(rf_ms_skel *s, uint32_t k)
 {
     const rf_analysis *a = s->a;
