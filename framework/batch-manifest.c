@@ -24,12 +24,14 @@ static char *shard_suffix(const rf_batch *b)
     return b->shards ? g_strdup_printf("-shard-%d-of-%d", b->shard, b->shards) : g_strdup("");
 }
 
-/* Who holds the lock on fd: the file names its holder; else the kernel's pid. */
+/* Who holds the lock on fd: the file names its holder (escaped: its bytes reach the terminal);
+ * else the kernel's pid. */
 static void describe_holder(int fd, char *holder, size_t n)
 {
-    ssize_t got = pread(fd, holder, n - 1, 0);
-    holder[got > 0 ? got : 0] = '\0';
-    g_strchomp(holder);
+    char text[256];
+    ssize_t got = pread(fd, text, sizeof text - 1, 0);
+    text[got > 0 ? got : 0] = '\0';
+    rf_text_escape(g_strchomp(text), holder, n, 0);
     struct flock who = {.l_type = F_WRLCK, .l_whence = SEEK_SET};
     if (!*holder && fcntl(fd, F_GETLK, &who) == 0 && who.l_type != F_UNLCK)
         g_snprintf(holder, n, "pid %ld", (long)who.l_pid);
@@ -71,17 +73,26 @@ static bool held_elsewhere(const rf_batch *b, const char *name)
     return true;
 }
 
-/* A whole batch and the shards of a Slurm array on the same DIR exclude each other too. */
-static bool others_running(const rf_batch *b)
+/* True, after saying so, when a shard of a Slurm array holds its lock in the state folder. */
+static bool shard_running(const rf_batch *b)
 {
-    if (b->shards)
-        return held_elsewhere(b, "lock");
     g_autoptr(GDir) dir = g_dir_open(b->state, 0, NULL);
     const char *name;
     while (dir && (name = g_dir_read_name(dir)))
         if (g_str_has_prefix(name, "lock-shard-") && held_elsewhere(b, name))
             return true;
     return false;
+}
+
+/* A whole batch and the shards of a Slurm array on the same DIR exclude each other too. */
+static bool others_running(const rf_batch *b)
+{
+    return b->shards ? held_elsewhere(b, "lock") : shard_running(b);
+}
+
+bool rf_batch_busy(const rf_batch *b)
+{
+    return held_elsewhere(b, "lock") || shard_running(b);
 }
 
 int rf_batch_lock(const rf_batch *b)
@@ -110,12 +121,37 @@ int rf_batch_lock(const rf_batch *b)
     return fd;
 }
 
+/* Cuts a torn last line (a crash or a full disk in the middle of a write) off the manifest:
+ * appended to, it would swallow the next record too. This process holds the manifest's lock. */
+static bool drop_torn_tail(int fd)
+{
+    struct stat st;
+    if (fstat(fd, &st) != 0)
+        return false;
+    char buf[4096];
+    for (off_t end = st.st_size; end > 0;) {
+        off_t start = end > (off_t)sizeof buf ? end - (off_t)sizeof buf : 0;
+        ssize_t got = pread(fd, buf, (size_t)(end - start), start);
+        if (got != end - start)
+            return false;
+        for (ssize_t i = got - 1; i >= 0; i--)
+            if (buf[i] == '\n')
+                return start + i + 1 == st.st_size || ftruncate(fd, start + i + 1) == 0;
+        end = start;
+    }
+    return st.st_size == 0 || ftruncate(fd, 0) == 0;
+}
+
 int rf_batch_manifest_open(const rf_batch *b)
 {
     g_autofree char *suffix = shard_suffix(b);
     g_autofree char *name = g_strconcat("manifest", suffix, ".jsonl", NULL);
     g_autofree char *path = g_build_filename(b->state, name, NULL);
-    int fd = g_open(path, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0666);
+    int fd = g_open(path, O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC, 0666);
+    if (fd >= 0 && !drop_torn_tail(fd)) {
+        close(fd);
+        fd = -1;
+    }
     if (fd < 0)
         fprintf(stderr, "rigflow batch: cannot open the manifest %s: %s\n", path,
                 g_strerror(errno));
@@ -130,9 +166,15 @@ bool rf_batch_manifest_append(int fd, json_t *record)
     g_autofree char *line = g_strconcat(text, "\n", NULL);
     free(text);
     size_t len = strlen(line);
+    off_t end = lseek(fd, 0, SEEK_END);
     ssize_t n = write(fd, line, len);
+    if (n >= 0 && (size_t)n < len) /* a full disk or a file size limit: the rest says why */
+        n = write(fd, line + n, len - (size_t)n) == (ssize_t)(len - (size_t)n) ? (ssize_t)len : -1;
     if (n != (ssize_t)len || fsync(fd) != 0) {
-        fprintf(stderr, "rigflow batch: cannot write the manifest: %s\n", g_strerror(errno));
+        int e = errno;
+        if (end >= 0 && ftruncate(fd, end) != 0) /* no torn line for the next record to join */
+            e = errno;
+        fprintf(stderr, "rigflow batch: cannot write the manifest: %s\n", g_strerror(e));
         return false;
     }
     return true;

@@ -37,8 +37,8 @@ typedef struct worker {
     bool timed_out;    /* killed for running longer than --job-timeout */
 } worker;
 
-static volatile int stop_requested; /* parent: SIGINT or SIGTERM */
-static volatile int job_cancelled;  /* worker: the engine's cancel flag */
+static volatile sig_atomic_t stop_requested; /* parent: SIGINT or SIGTERM (C11 7.14.1.1) */
+static volatile int job_cancelled;           /* worker: the engine's cancel flag */
 
 static void on_stop(int sig)
 {
@@ -201,6 +201,7 @@ static G_GNUC_NORETURN void worker_main(const rf_batch *b, const rf_registry *re
     signal(SIGPIPE, SIG_IGN);
     guint32 index;
     while (read_full(job_fd, &index, sizeof index) && index < b->jobs->len) {
+        job_cancelled = 0; /* an interrupt was for the job before (the parent stops on Ctrl-C) */
         json_t *rec = run_job(b, reg, g_ptr_array_index(b->jobs, index));
         char *text = json_dumps(rec, JSON_COMPACT | JSON_SORT_KEYS);
         json_decref(rec);
@@ -302,7 +303,7 @@ static void report_failure(pool *p, const char *what, const char *name, const ch
     char *line = g_strdup_printf("%s %s: %s", what, name, error ? error : "no reason given");
     clear_progress(p);
     fputs("rigflow batch: ", stderr);
-    rf_batch_print_escaped(stderr, line);
+    rf_text_fputs(line, stderr, 0);
     fputc('\n', stderr);
     g_ptr_array_add(p->stats->failures, line);
 }
@@ -316,7 +317,8 @@ static void record(pool *p, json_t *rec)
         p->stats->interrupted++;
         return; /* not in the manifest: a rerun does it */
     }
-    rf_batch_manifest_append(p->mfd, rec);
+    if (!rf_batch_manifest_append(p->mfd, rec))
+        p->stats->unrecorded++; /* a rerun does it again: the batch must not say all is well */
     if (g_strcmp0(status, "done") == 0) {
         p->stats->done++;
         return;
@@ -529,5 +531,5 @@ bool rf_batch_pool_run(rf_batch *b, const rf_registry *reg, GPtrArray *todo, int
     signal(SIGTERM, SIG_DFL);
     signal(SIGPIPE, old_pipe);
     stats->no_worker = broken;
-    return !stop_requested;
+    return !stop_requested && stats->interrupted == 0; /* a worker may be interrupted alone */
 }

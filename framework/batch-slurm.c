@@ -75,6 +75,24 @@ static char *plugin_folders(const rf_registry *reg)
     return g_string_free(s, FALSE);
 }
 
+/* A value sbatch reads from a #SBATCH line as one word: in double quotes (sbatch splits the line
+ * at spaces), with no quote, backslash or line break inside, which that quoting cannot hold. */
+static bool sbatch_word_ok(const char *what, const char *value)
+{
+    if (!value || !strpbrk(value, "\"\\\n"))
+        return true;
+    fprintf(stderr, "rigflow batch: %s '", what);
+    rf_text_fputs(value, stderr, 0);
+    fprintf(stderr, "' holds a quote, a backslash or a line break, which a #SBATCH line cannot\n");
+    return false;
+}
+
+static void sbatch_line(GString *s, const char *option, const char *value)
+{
+    if (value)
+        g_string_append_printf(s, "#SBATCH --%s=\"%s\"\n", option, value);
+}
+
 static char *script_text(const rf_batch *b, const rf_registry *reg, const rf_slurm_options *o,
                          char **argv, int tasks)
 {
@@ -82,13 +100,13 @@ static char *script_text(const rf_batch *b, const rf_registry *reg, const rf_slu
                               "shard I of the jobs (doc/batch.md).\n");
     g_string_append_printf(s, "#SBATCH --job-name=rigflow-batch\n#SBATCH --array=0-%d\n",
                            tasks - 1);
-    g_string_append_printf(s, "#SBATCH --output=%s/logs/slurm-%%A_%%a.out\n", b->state);
-    if (o->partition)
-        g_string_append_printf(s, "#SBATCH --partition=%s\n", o->partition);
-    if (o->time)
-        g_string_append_printf(s, "#SBATCH --time=%s\n", o->time);
-    if (o->mem)
-        g_string_append_printf(s, "#SBATCH --mem=%s\n", o->mem);
+    g_auto(GStrv) parts = g_strsplit(b->state, "%", -1); /* '%' starts Slurm's patterns */
+    g_autofree char *state = g_strjoinv("%%", parts);
+    g_autofree char *log = g_strconcat(state, "/logs/slurm-%A_%a.out", NULL);
+    sbatch_line(s, "output", log);
+    sbatch_line(s, "partition", o->partition);
+    sbatch_line(s, "time", o->time);
+    sbatch_line(s, "mem", o->mem);
     g_autofree char *cwd = g_get_current_dir();
     g_autofree char *qcwd = g_shell_quote(cwd);
     g_autofree char *plugins = plugin_folders(reg);
@@ -142,7 +160,7 @@ static char *sbatch(const char *script, const char *array)
     }
     if (!g_spawn_check_wait_status(status, NULL) || !out || !g_ascii_isdigit(out[0])) {
         fprintf(stderr, "rigflow batch: sbatch refused the job array:\n");
-        rf_batch_print_escaped(stderr, err ? err : "");
+        rf_text_fputs(err, stderr, RF_TEXT_KEEP_LINES);
         return NULL;
     }
     out[strspn(out, "0123456789")] = '\0'; /* "123" or "123;cluster" */
@@ -170,6 +188,9 @@ static bool add_submission(const char *state, json_t *slurm, const char *id, con
 int rf_batch_slurm_submit(rf_batch *b, const rf_registry *reg, const rf_slurm_options *o,
                           char **argv)
 {
+    if (!sbatch_word_ok("--out", b->out) || !sbatch_word_ok("--partition", o->partition) ||
+        !sbatch_word_ok("--time", o->time) || !sbatch_word_ok("--mem", o->mem))
+        return RF_EXIT_USAGE;
     guint jobs = b->jobs->len;
     int tasks = o->array_size > 0 ? o->array_size : 1000;
     tasks = (int)MIN((guint)tasks, jobs);
@@ -329,8 +350,7 @@ static void ask_slurm(status *s)
         if (!id)
             continue;
         /* a later submission's tasks replace an earlier one's: it ran them again */
-        task_state fresh[s->shards];
-        memset(fresh, 0, sizeof fresh);
+        g_autofree task_state *fresh = g_new0(task_state, s->shards);
         ask_scontrol(id, fresh, s->task_states, s->shards);
         ask_squeue(id, fresh, s->shards);
         for (int k = 0; k < s->shards; k++)
@@ -377,6 +397,29 @@ static void classify(status *s, const char *name, int index)
     }
 }
 
+/* The plan and slurm.json are files: a damaged one is refused, naming it, before its names index
+ * anything. A submission never has more array tasks than jobs. */
+static bool state_files_sane(status *s, const char *plan, const char *slurm)
+{
+    json_t *jobs = json_object_get(s->plan, "jobs");
+    for (size_t i = 0; i < json_array_size(jobs); i++)
+        if (!json_is_string(json_array_get(jobs, i))) {
+            fprintf(stderr, "rigflow batch: %s: job %zu is not a name\n", plan, i);
+            return false;
+        }
+    if (!s->slurm)
+        return true;
+    json_t *shards = json_object_get(s->slurm, "shards");
+    json_int_t n = json_integer_value(shards);
+    if (!json_is_integer(shards) || n < 1 || (size_t)n > json_array_size(jobs)) {
+        fprintf(stderr, "rigflow batch: %s: %" JSON_INTEGER_FORMAT " array tasks for %zu jobs\n",
+                slurm, n, json_array_size(jobs));
+        return false;
+    }
+    s->shards = (int)n;
+    return true;
+}
+
 static bool load_status(status *s, const char *dir)
 {
     g_autofree char *abs = g_canonicalize_filename(dir, NULL);
@@ -389,7 +432,8 @@ static bool load_status(status *s, const char *dir)
         return false;
     }
     s->slurm = json_load_file(slurm, 0, NULL); /* NULL for a local batch */
-    s->shards = (int)json_integer_value(json_object_get(s->slurm, "shards"));
+    if (!state_files_sane(s, plan, slurm))
+        return false;
     s->records = rf_batch_manifest_load(s->state);
     s->problems = g_ptr_array_new_with_free_func(g_free);
     s->redo = g_array_new(FALSE, FALSE, sizeof(int));
@@ -441,7 +485,7 @@ int rf_batch_status(const char *dir)
     printf("%s: %u jobs: %u done, %u failed, %u running, %u pending, %u missing\n", dir, total,
            s.done, s.failed, s.running, s.pending, s.missing);
     for (guint i = 0; i < s.problems->len; i++) {
-        rf_batch_print_escaped(stdout, g_ptr_array_index(s.problems, i));
+        rf_text_fputs(g_ptr_array_index(s.problems, i), stdout, 0);
         printf("\n");
     }
     print_tasks(&s);

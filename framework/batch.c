@@ -65,15 +65,6 @@ void rf_batch_free(rf_batch *b)
     g_free(b);
 }
 
-void rf_batch_print_escaped(FILE *f, const char *text)
-{
-    for (const unsigned char *c = (const unsigned char *)text; *c; c++)
-        if (*c < 0x20 || *c == 0x7f)
-            fprintf(f, "\\x%02x", *c);
-        else
-            fputc(*c, f);
-}
-
 /* ---- job names ---- */
 
 static void escape_part(GString *s, const char *rel)
@@ -173,7 +164,7 @@ static rf_batch_over *expand_over(const char *spec)
         globfree(&g);
     if (o->paths->len == 0) {
         fprintf(stderr, "rigflow batch: --over %s=", o->param);
-        rf_batch_print_escaped(stderr, o->pattern);
+        rf_text_fputs(o->pattern, stderr, 0);
         fprintf(stderr, ": %s%s\n", rc == GLOB_ABORTED ? "a folder could not be read: " : "",
                 rc == GLOB_ABORTED ? g_strerror(glob_error) : "matches no file");
         over_free(o);
@@ -476,12 +467,14 @@ static void print_summary(const rf_batch_stats *s, double seconds, bool interrup
     if (interrupted || s->no_worker)
         printf(", %u not finished (%s)", s->total - ran - s->skipped,
                interrupted ? "interrupted" : "no worker process could start");
+    if (s->unrecorded)
+        printf(", %u not recorded in the manifest (a rerun does them again)", s->unrecorded);
     printf("; %.1f s", seconds);
     if (ran && seconds > 0)
         printf(", %.2f jobs/s", ran / seconds);
     printf("\n");
     for (guint i = 0; i < s->failures->len; i++) {
-        rf_batch_print_escaped(stdout, g_ptr_array_index(s->failures, i));
+        rf_text_fputs(g_ptr_array_index(s->failures, i), stdout, 0);
         printf("\n");
     }
 }
@@ -520,9 +513,10 @@ static int run_local(rf_batch *b, const rf_registry *reg)
     print_summary(&stats, (double)(g_get_monotonic_time() - t0) / 1e6, !finished);
     close(mfd);
     close(lock);
-    int code = !finished                                             ? RF_EXIT_CANCELLED
-               : stats.failed + stats.crashed > 0 || stats.no_worker ? RF_EXIT_RUN
-                                                                     : RF_EXIT_OK;
+    int code = !finished ? RF_EXIT_CANCELLED
+               : stats.failed + stats.crashed + stats.unrecorded > 0 || stats.no_worker
+                   ? RF_EXIT_RUN
+                   : RF_EXIT_OK;
     g_ptr_array_unref(stats.failures);
     return code;
 }
@@ -533,10 +527,10 @@ static void list_jobs(const rf_batch *b)
         const rf_batch_job *j = g_ptr_array_index(b->jobs, i);
         if (!in_shard(b, j))
             continue;
-        rf_batch_print_escaped(stdout, j->name);
+        rf_text_fputs(j->name, stdout, 0);
         for (guint k = 0; k < j->outputs->len; k++) {
             printf("\t");
-            rf_batch_print_escaped(stdout, g_ptr_array_index(j->outputs, k));
+            rf_text_fputs(g_ptr_array_index(j->outputs, k), stdout, 0);
         }
         printf("\n");
     }
@@ -647,8 +641,9 @@ int rf_cmd_batch(rf_registry *reg, int argc, char **argv)
     if (a.list)
         list_jobs(b);
     else if (a.slurm)
-        code = make_state_dirs(b) ? rf_batch_slurm_submit(b, reg, &a.slurm_opts, original)
-                                  : RF_EXIT_RUN;
+        code = !make_state_dirs(b) ? RF_EXIT_RUN
+               : rf_batch_busy(b)  ? RF_EXIT_LOCKED
+                                   : rf_batch_slurm_submit(b, reg, &a.slurm_opts, original);
     else
         code = run_local(b, reg);
 done:

@@ -11,6 +11,8 @@
 
 #include <jansson.h>
 
+#include <rigflow/text.h>
+
 #include "commands.h"
 
 /* The folder inside --out DIR that holds the batch's own files (manifests, lock, logs). */
@@ -65,6 +67,9 @@ int rf_batch_lock(const rf_batch *b);
 /* True when another process holds the lock file `name` of the state folder; `holder` (n bytes)
  * then says who ("pid 123 on node7"). */
 bool rf_batch_lock_holder(const char *state, const char *name, char *holder, size_t n);
+/* True, after printing who, when a batch or an array task holds DIR now (a submission checks
+ * it: its tasks would find DIR locked). */
+bool rf_batch_busy(const rf_batch *b);
 /* The manifest this process appends to, opened for appending (O_APPEND), or -1 with a message. */
 int rf_batch_manifest_open(const rf_batch *b);
 /* Appends one record as one line with one write, then fsyncs: a crash keeps whole lines. */
@@ -86,13 +91,14 @@ void rf_batch_clean_temps(const rf_batch *b, const rf_batch_job *job);
 
 typedef struct rf_batch_stats {
     guint done, failed, crashed, skipped, interrupted, total;
+    guint unrecorded;    /* finished jobs whose record the manifest could not take */
     GPtrArray *failures; /* "failed NAME: error" lines for the closing summary */
     bool no_worker;      /* a worker process could not be started: the batch stopped */
 } rf_batch_stats;
 
 /* Runs `todo` (rf_batch_job*) on b->workers processes forked from this one, appending each
  * finished job's record to the manifest `mfd`. Prints progress and failures. Returns false when
- * interrupted (SIGINT or SIGTERM). */
+ * interrupted (SIGINT or SIGTERM to the batch, or to a worker during its job). */
 bool rf_batch_pool_run(rf_batch *b, const rf_registry *reg, GPtrArray *todo, int mfd,
                        rf_batch_stats *stats);
 
@@ -114,9 +120,6 @@ int rf_batch_resubmit(const char *dir);
 
 /* Writes DIR/rigflow-batch/plan.json: every job's name, for --status and --resubmit. */
 void rf_batch_write_plan(const rf_batch *b);
-
-/* Prints `text` to f with control characters escaped: errors quote bytes from files. */
-void rf_batch_print_escaped(FILE *f, const char *text);
 
 int rf_cmd_batch(rf_registry *reg, int argc, char **argv);
 

@@ -15,6 +15,15 @@ void rf_print_diags(const GPtrArray *diags, const char *severity);
 bool rf_parse_options(const char *name, const char *args, const char *summary,
                       const GOptionEntry *entries, int *argc, char ***argv);
 
+/* The build folder when this command is the one built there (its folder, or the folder above
+ * libtool's .libs, holds config.status), else NULL. (transfer full) */
+char *rf_build_tree_dir(void);
+
+/* Runs a validated pipeline as `rigflow run` does: progress on a terminal, Ctrl-C stops it at the
+ * next check and removes every output (a second Ctrl-C stops at once), the run's errors printed.
+ * Returns RF_EXIT_OK, RF_EXIT_RUN or RF_EXIT_CANCELLED. */
+int rf_run_interruptible(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet);
+
 int rf_cmd_plugins(rf_registry *reg, int argc, char **argv);
 int rf_cmd_describe(rf_registry *reg, int argc, char **argv);
 int rf_cmd_plugin_check(rf_registry *reg, int argc, char **argv);

@@ -8,9 +8,11 @@
 
 static const char *const level_names[] = {"error", "warning", "info", "debug"};
 
+/* Errors always; debug lines with RIGFLOW_DEBUG; warnings and information unless --quiet, which
+ * promises errors only (doc/cli.md). */
 static bool level_shown(rf_node *node, rf_log_level level)
 {
-    if (level <= RF_LOG_WARNING)
+    if (level == RF_LOG_ERROR)
         return true;
     if (level == RF_LOG_DEBUG)
         return g_getenv("RIGFLOW_DEBUG") != NULL;

@@ -12,18 +12,8 @@
  * config.status), else the installed one. (transfer full) */
 static char *rf_report_pipeline_path(void)
 {
-    g_autofree char *exe = g_file_read_link("/proc/self/exe", NULL);
-    g_autofree char *dir = exe ? g_path_get_dirname(exe) : NULL;
-    g_autofree char *base = dir ? g_path_get_basename(dir) : NULL;
-    if (base && strcmp(base, ".libs") == 0) { /* libtool's wrapper runs .libs/lt-rigflow */
-        char *up = g_path_get_dirname(dir);
-        g_free(dir);
-        dir = up;
-    }
-    g_autofree char *status = dir ? g_build_filename(dir, "config.status", NULL) : NULL;
-    if (status && g_file_test(status, G_FILE_TEST_EXISTS))
-        return g_build_filename(RF_SRC_PIPELINESDIR, "retarget.json", NULL);
-    return g_build_filename(RF_PIPELINESDIR, "retarget.json", NULL);
+    g_autofree char *build = rf_build_tree_dir();
+    return g_build_filename(build ? RF_SRC_PIPELINESDIR : RF_PIPELINESDIR, "retarget.json", NULL);
 }
 
 /* The pipeline as text, without its export node when no GLB is asked for. */
@@ -73,13 +63,11 @@ static int rf_report_run(rf_registry *reg, const char *source, const char *targe
         rf_pipeline_free(p);
         return RF_EXIT_VALIDATION;
     }
-    rf_run_options run = {.quiet = g_getenv("RIGFLOW_QUIET") != NULL};
-    bool ok = rf_pipeline_run(p, reg, &run, diags);
-    rf_print_diags(diags, "error");
+    int code = rf_run_interruptible(p, reg, false, g_getenv("RIGFLOW_QUIET") != NULL);
     rf_pipeline_free(p);
-    if (ok)
+    if (code == RF_EXIT_OK)
         printf("wrote %s\n", out);
-    return ok ? RF_EXIT_OK : RF_EXIT_RUN;
+    return code;
 }
 
 int rf_cmd_report(rf_registry *reg, int argc, char **argv)

@@ -165,13 +165,18 @@ static double rb_chamfer(const rb_rig *p, const rb_rig *g, bool from_bones, bool
  * `nearest`, every joint takes the nearest artist joint (the skin compared without the
  * matcher's judgement). */
 static void rb_map_joints(const rf_skeleton *pred, const rb_rig *p, const rf_mapping *m,
-                          const rb_rig *g, bool nearest, uint32_t *to)
+                          const rf_skeleton *art, const rb_rig *g, bool nearest, uint32_t *to)
 {
     if (nearest || (m && m->target_joint_count != pred->joint_count))
         m = NULL;
     for (uint32_t j = 0; j < pred->joint_count; j++) {
+        /* a match to an artist joint that carries no weights (a helper, the armature's root)
+         * says nothing about skin: it counts as unmapped */
         int32_t k = (int32_t)j;
-        while (k >= 0 && !(m && m->entries[k].input_count))
+        while (k >= 0 &&
+               !(m && m->entries[k].input_count &&
+                 m->entries[k].inputs[0].joint < art->joint_count &&
+                 !(art->joints[m->entries[k].inputs[0].joint].flags & RF_JOINT_UNWEIGHTED)))
             k = pred->joints[k].parent;
         if (k >= 0) {
             to[j] = m->entries[k].inputs[0].joint;
@@ -258,6 +263,18 @@ static const char *rb_body(const rf_skeleton *s)
     return arms == 2 && legs == 2 ? "humanoid" : "other";
 }
 
+/* How far the skeleton analysis (what the matcher reads) agrees about the two rigs' up and
+ * forward axes: cosines into out[0] and out[1]. The rigs share the mesh, so 1 is right; -1 up or
+ * forward means the matcher reads the rig upside down or facing back (its sides swapped). */
+static void rb_axes_agree(const rf_skeleton *art, const rf_skeleton *pred, double out[2])
+{
+    rf_analysis_options o = {.use_bind_pose = true};
+    rf_analysis *a = rf_analyze(art, &o), *b = rf_analyze(pred, &o);
+    out[0] = a && b ? rf_v3_dot(a->up, b->up) : NAN;
+    out[1] = a && b ? rf_v3_dot(a->forward, b->forward) : NAN;
+    rf_analysis_free(a), rf_analysis_free(b);
+}
+
 static double rb_longest(const rf_mesh *m)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, l = 0;
@@ -283,13 +300,15 @@ static void rb_csv_text(const char *s)
 }
 
 static void rb_row(const rb_rigger *r, const char *model, const char *body, uint32_t nart,
-                   uint32_t npred, const double *cd, const rb_skin *sk, double secs,
-                   const char *status)
+                   uint32_t npred, const double *cd, const rb_skin *sk, const rb_skin *given,
+                   double secs, const char *status)
 {
     printf("%s,", r->api->name);
     rb_csv_text(model);
-    printf(",%s,%u,%u,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%u,%.3f,", body, nart, npred, cd[0], cd[1],
-           cd[2], sk->precision, sk->recall, sk->l1, sk->unweighted, secs);
+    printf(",%s,%u,%u,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%u,%.3f,%.3f,%.3f,%.4f,%.4f,%.2f,%.2f,%.3f,",
+           body, nart, npred, cd[0], cd[1], cd[2], sk->precision, sk->recall, sk->l1,
+           sk->unweighted, given->precision, given->recall, given->l1, cd[3], cd[4], cd[5], cd[6],
+           secs);
     rb_csv_text(status);
     putchar('\n');
     fflush(stdout);
@@ -348,6 +367,33 @@ static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, cons
     return p;
 }
 
+/* The rigger's skinning alone on the artist's skeleton, in the pose the artist bound it in,
+ * against the artist's weights joint for joint (no mapping): how skinning methods are compared
+ * given one skeleton. NaN when the rigger cannot skin a given skeleton. */
+static void rb_skin_given(const rb_rigger *r, const rf_skeleton *as, const rf_mesh *am,
+                          rb_skin *out)
+{
+    *out = (rb_skin){NAN, NAN, NAN, 0};
+    if (!RF_HAS_FIELD(r->api, rf_rigger_api, skin) || !r->api->skin)
+        return;
+    rf_mesh bare = *am; /* borrowed arrays, the artist's skin hidden from the rigger */
+    bare.skin_joints = NULL, bare.skin_weights = NULL, bare.inverse_bind = NULL,
+    bare.bind_count = 0;
+    const rf_mat4 *inv = am->bind_count == as->joint_count ? am->inverse_bind : NULL;
+    rf_mesh *m = NULL;
+    char err[256];
+    if (!r->api->skin(&bare, as, inv, &m, err, sizeof err)) {
+        fprintf(stderr, "rigflow rig-bench: %s on the artist's skeleton: %s\n", r->api->name, err);
+        return;
+    }
+    uint32_t *same = g_new(uint32_t, as->joint_count + 1);
+    for (uint32_t j = 0; j < as->joint_count; j++)
+        same[j] = j;
+    rb_skin_compare(am, m, same, as->joint_count, out);
+    g_free(same);
+    rf_mesh_free(m);
+}
+
 /* Seconds the rigger's core takes on the bare mesh, called directly as ik-bench calls solvers. */
 static double rb_time(const rb_rigger *r, const rf_mesh *mesh)
 {
@@ -371,10 +417,10 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
     const rf_skeleton *ps = rf_pipeline_result(pl, "rig", "skeleton");
     const rf_mesh *pm = rf_pipeline_result(pl, "rig", "mesh");
     const rf_mapping *map = rf_pipeline_result(pl, "map", "mapping");
-    double cd[3] = {NAN, NAN, NAN};
+    double cd[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
     rb_skin sk = {NAN, NAN, NAN, 0};
     if (!as || !am || !am->skin_weights || !ps || !pm || !pm->skin_weights) {
-        rb_row(r, base, "-", 0, 0, cd, &sk, NAN, "skipped: no skinned mesh to compare with");
+        rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, "skipped: no skinned mesh to compare with");
         return;
     }
     rb_rig g = {0}, p = {0};
@@ -384,10 +430,16 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
     cd[0] = rb_chamfer(&p, &g, false, false) / L;
     cd[1] = 0.5 * (rb_mean(&p, &g, false, true) + rb_mean(&g, &p, false, true)) / L;
     cd[2] = rb_chamfer(&p, &g, true, true) / L;
+    /* CD-J2J's two halves: the rigger's joints far from any artist joint (extra or misplaced
+     * joints), the artist's joints far from any of the rigger's (missing ones) */
+    cd[3] = rb_mean(&p, &g, false, false) / L, cd[4] = rb_mean(&g, &p, false, false) / L;
+    rb_axes_agree(as, ps, cd + 5);
     uint32_t *to = g_new(uint32_t, ps->joint_count + 1);
-    rb_map_joints(ps, &p, map, &g, nearest, to);
+    rb_map_joints(ps, &p, map, as, &g, nearest, to);
     rb_skin_compare(am, pm, to, as->joint_count, &sk);
-    rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, rb_time(r, am), "ok");
+    rb_skin given;
+    rb_skin_given(r, as, am, &given);
+    rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, &given, rb_time(r, am), "ok");
     g_free(to);
     rb_rig_free(&g), rb_rig_free(&p);
 }
@@ -397,7 +449,7 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
 static bool rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, bool nearest)
 {
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    double cd[3] = {NAN, NAN, NAN};
+    double cd[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
     rb_skin sk = {NAN, NAN, NAN, 0};
     char why[600];
     rf_pipeline *p = rb_pipeline(reg, r, path, why, sizeof why);
@@ -412,7 +464,7 @@ static bool rb_one(const rf_registry *reg, const rb_rigger *r, const char *path,
     } else {
         g_autofree char *msg = diags->len ? rf_diag_format(g_ptr_array_index(diags, 0)) : NULL;
         snprintf(why, sizeof why, "refused: %s", msg ? msg : "the run failed");
-        rb_row(r, base, "-", 0, 0, cd, &sk, NAN, why);
+        rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, why);
     }
     rf_pipeline_free(p);
     return true;
@@ -420,8 +472,10 @@ static bool rb_one(const rf_registry *reg, const rb_rigger *r, const char *path,
 
 static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **files, bool nearest)
 {
-    printf("rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,cd_b2b,precision,recall,l1,"
-           "unweighted,seconds,status\n");
+    printf(
+        "rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,cd_b2b,precision,recall,l1,"
+        "unweighted,given_precision,given_recall,given_l1,j2j_to_artist,j2j_from_artist,up_agree,"
+        "forward_agree,seconds,status\n");
     int bad = 0;
     for (int i = 0; i < nfiles; i++)
         for (guint k = 0; k < riggers->len; k++)
@@ -437,19 +491,26 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
     const GOptionEntry entries[] = {
         {"joint-map", 0, 0, G_OPTION_ARG_STRING, &joint_map,
          "How predicted joints are matched to the artist's for the skinning columns: matcher "
-         "(default: the skeletal-similarity matcher) or nearest (the nearest artist joint)",
+         "(default: the skeletal-similarity matcher; a joint it leaves unmapped, or maps to an "
+         "artist joint without weights, takes its nearest mapped ancestor's) or nearest (the "
+         "nearest artist joint)",
          "HOW"},
         {"rigger", 'r', 0, G_OPTION_ARG_STRING_ARRAY, &names,
          "A rigger by name or node type (repeatable; default: every rigger found)", "NAME"},
         {"list", 0, 0, G_OPTION_ARG_NONE, &list, "List the riggers", NULL},
         {NULL, 0, 0, 0, NULL, NULL, NULL}};
-    if (!rf_parse_options("rig-bench", "MODEL...",
-                          "Rig each rigged MODEL with its rig ignored and compare with the "
-                          "artist's: CSV of rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,"
-                          "cd_b2b (fractions of the longest bounding-box edge),precision,recall,l1 "
-                          "(skinning, weights under 0.15 of a vertex's largest pruned),unweighted "
-                          "(vertices without weights),seconds,status.",
-                          entries, &argc, &argv))
+    if (!rf_parse_options(
+            "rig-bench", "MODEL...",
+            "Rig each rigged MODEL with its rig ignored and compare with the "
+            "artist's: CSV of rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,"
+            "cd_b2b (fractions of the longest bounding-box edge),precision,recall,l1 "
+            "(skinning, weights under 0.15 of a vertex's largest pruned),unweighted "
+            "(vertices without weights),given_precision,given_recall,given_l1 (the "
+            "rigger's skinning alone, on the artist's skeleton),j2j_to_artist,j2j_from_artist "
+            "(CD-J2J's two halves),up_agree,forward_agree (cosines between the skeleton "
+            "analysis's axes for the two rigs: -1 is upside down or facing back),"
+            "seconds,status.",
+            entries, &argc, &argv))
         return RF_EXIT_USAGE;
     bool nearest = joint_map && !strcmp(joint_map, "nearest");
     if (joint_map && !nearest && strcmp(joint_map, "matcher")) {

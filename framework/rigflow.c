@@ -48,6 +48,21 @@ bool rf_parse_options(const char *name, const char *args, const char *summary,
     return true;
 }
 
+int rf_run_interruptible(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet)
+{
+    rf_run_options opts = {.profile = profile,
+                           .quiet = quiet,
+                           .progress = isatty(2) != 0,
+                           .cancel_flag = &interrupted};
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    interrupted = 0;
+    signal(SIGINT, on_sigint);
+    bool ok = rf_pipeline_run(p, reg, &opts, diags);
+    signal(SIGINT, SIG_DFL);
+    rf_print_diags(diags, "error");
+    return ok ? RF_EXIT_OK : interrupted ? RF_EXIT_CANCELLED : RF_EXIT_RUN;
+}
+
 /* Loads, overrides and validates a pipeline; prints what is wrong. Returns NULL with *code set. */
 static rf_pipeline *prepare(rf_registry *reg, const char *path, char **params, int *code)
 {
@@ -109,18 +124,9 @@ static int cmd_run(rf_registry *reg, int argc, char **argv)
     rf_pipeline *p = prepare(reg, argv[1], params, &code);
     if (!p)
         return code;
-    quiet = quiet || g_getenv("RIGFLOW_QUIET") != NULL;
-    rf_run_options opts = {.profile = profile,
-                           .quiet = quiet,
-                           .progress = isatty(2) != 0,
-                           .cancel_flag = &interrupted};
-    g_autoptr(GPtrArray) diags = rf_diags_new();
-    signal(SIGINT, on_sigint);
-    bool ok = rf_pipeline_run(p, reg, &opts, diags);
-    signal(SIGINT, SIG_DFL);
-    rf_print_diags(diags, "error");
+    code = rf_run_interruptible(p, reg, profile, quiet || g_getenv("RIGFLOW_QUIET") != NULL);
     rf_pipeline_free(p);
-    return ok ? RF_EXIT_OK : interrupted ? RF_EXIT_CANCELLED : RF_EXIT_RUN;
+    return code;
 }
 
 typedef struct command {
@@ -203,12 +209,12 @@ static int parse_globals(int argc, char **argv, GPtrArray *plugin_path, bool *qu
 
 /* When the command runs from a libtool build tree (unpacked, not installed), the plugins built
  * beside it: `_build/rigflow` then works without RIGFLOW_PLUGIN_PATH. NULL elsewhere. */
-static char *build_tree_plugins(void)
+char *rf_build_tree_dir(void)
 {
     g_autofree char *exe = g_file_read_link("/proc/self/exe", NULL);
     if (!exe)
         return NULL;
-    g_autofree char *dir = g_path_get_dirname(exe);
+    char *dir = g_path_get_dirname(exe);
     g_autofree char *base = g_path_get_basename(dir);
     if (strcmp(base, ".libs") == 0) { /* libtool's wrapper runs .libs/lt-rigflow */
         char *up = g_path_get_dirname(dir);
@@ -216,8 +222,17 @@ static char *build_tree_plugins(void)
         dir = up;
     }
     g_autofree char *status = g_build_filename(dir, "config.status", NULL);
-    char *plugins = g_build_filename(dir, "plugins", NULL);
-    if (g_file_test(status, G_FILE_TEST_EXISTS) && g_file_test(plugins, G_FILE_TEST_IS_DIR))
+    if (g_file_test(status, G_FILE_TEST_EXISTS))
+        return dir;
+    g_free(dir);
+    return NULL;
+}
+
+static char *build_tree_plugins(void)
+{
+    g_autofree char *dir = rf_build_tree_dir();
+    char *plugins = dir ? g_build_filename(dir, "plugins", NULL) : NULL;
+    if (plugins && g_file_test(plugins, G_FILE_TEST_IS_DIR))
         return plugins;
     g_free(plugins);
     return NULL;

@@ -54,6 +54,12 @@ HOST_TEST_LIBS = framework/librigflow.la $(GLIB_LIBS) $(JANSSON_LIBS) $(CMOCKA_L
 
 check_PROGRAMS += tests/test_plugins tests/test_pipeline tests/test_math tests/test_sdk_helpers
 TESTS += tests/test_plugins tests/test_pipeline tests/test_math tests/test_sdk_helpers
+# model-copy.h with every allocation made to fail in turn
+check_PROGRAMS += tests/test_copy_oom
+TESTS += tests/test_copy_oom
+tests_test_copy_oom_SOURCES = tests/test_copy_oom.c
+tests_test_copy_oom_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_test_copy_oom_LDADD = $(CMOCKA_LIBS) -lm
 tests_test_plugins_SOURCES = tests/test_plugins.c tests/testutil.h
 tests_test_plugins_CPPFLAGS = $(HOST_CPPFLAGS)
 tests_test_plugins_CFLAGS = $(HOST_TEST_CFLAGS)

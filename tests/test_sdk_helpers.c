@@ -10,6 +10,31 @@
 #include <rigflow/model-copy.h>
 #include <rigflow/text.h>
 
+/* rf_text_utf8_len on each case: the length and code point worked out by hand from RFC 3629. */
+static void utf8_decoding(void **state)
+{
+    (void)state;
+    uint32_t cp = 0;
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"A", &cp), 1);
+    assert_int_equal(cp, 0x41);
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"\x07", &cp),
+                     1); /* controls are UTF-8 */
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"\xc3\xa9", &cp), 2);
+    assert_int_equal(cp, 0xe9);
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"\xe2\x80\xa8", &cp), 3);
+    assert_int_equal(cp, 0x2028);
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"\xf0\x9f\x90\x8d", &cp), 4);
+    assert_int_equal(cp, 0x1f40d);
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"", NULL), 0);
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"\xe9t\xe9", NULL), 0); /* Latin-1 */
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"\xc0\xaf", NULL), 0);  /* overlong */
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"\xe0\x80\xaf", NULL), 0);
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"\xed\xa0\x80", NULL), 0); /* D800 */
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"\xf4\x90\x80\x80", NULL), 0);
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"\xe2\x80", NULL), 0); /* cut short */
+    assert_int_equal(rf_text_utf8_len((const unsigned char *)"\x80", NULL), 0);
+}
+
 static void escaped_is(const char *in, const char *want, uint32_t flags)
 {
     char out[128];
@@ -207,6 +232,7 @@ static void animation_mesh_mapping_copies(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(utf8_decoding),
         cmocka_unit_test(controls_are_escaped),
         cmocka_unit_test(c1_and_invalid_utf8_are_escaped),
         cmocka_unit_test(printable_utf8_is_kept),

@@ -4,27 +4,9 @@
 #include <math.h>
 #include <string.h>
 
-#include "html-out.h"
+#include <rigflow/text.h>
 
-/* Length of the valid UTF-8 sequence at s (1-4), or 0 when it is not one (overlong forms,
- * surrogates and code points above U+10FFFF are invalid). */
-static size_t rf_html_utf8_len(const unsigned char *s, uint32_t *cp)
-{
-    size_t n = s[0] >= 0xf0 ? 4 : s[0] >= 0xe0 ? 3 : s[0] >= 0xc0 ? 2 : 0;
-    if (!n || s[0] >= 0xf8)
-        return 0;
-    uint32_t c = s[0] & (0x7f >> n);
-    for (size_t i = 1; i < n; i++) {
-        if ((s[i] & 0xc0) != 0x80)
-            return 0;
-        c = c << 6 | (s[i] & 0x3f);
-    }
-    static const uint32_t min[5] = {0, 0, 0x80, 0x800, 0x10000};
-    if (c < min[n] || c > 0x10ffff || (c >= 0xd800 && c <= 0xdfff))
-        return 0;
-    *cp = c;
-    return n;
-}
+#include "html-out.h"
 
 void rf_html_json_string(FILE *f, const char *str)
 {
@@ -44,7 +26,7 @@ void rf_html_json_string(FILE *f, const char *str)
             fputc(c, f), s++;
         } else {
             uint32_t cp = 0;
-            size_t n = rf_html_utf8_len(s, &cp);
+            size_t n = rf_text_utf8_len(s, &cp);
             if (!n)
                 fputs("\\ufffd", f), s++;
             else if (cp == 0x2028 || cp == 0x2029 || (cp >= 0x80 && cp < 0xa0))

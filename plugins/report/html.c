@@ -50,7 +50,7 @@ typedef struct rf_rep {
     uint32_t source_count;
     const rf_mapping *mapping;
     const rf_mesh *mesh;
-    const rf_measures *measures[16];
+    const rf_measures **measures; /* [measure_count], every one connected */
     uint32_t measure_count;
     rf_rep_timeline tl;
 } rf_rep;
@@ -62,44 +62,11 @@ static rf_rep_char *rf_rep_target(rf_rep *r)
 
 /* ---- checking the inputs ---- */
 
-static bool rf_rep_gather(rf_rep *r)
+/* The mapping (optional) must fit the skeletons on the page: its joints index them. */
+static bool rf_rep_check_mapping(rf_rep *r)
 {
     const rf_host *h = r->host;
     rf_node *n = r->node;
-    r->source_count = h->input_count(n, "sources");
-    if (r->source_count > RF_REPORT_MAX_SOURCES) {
-        h->error(n, "%u source skeletons: a report shows at most %d", r->source_count,
-                 RF_REPORT_MAX_SOURCES);
-        return false;
-    }
-    uint32_t clips = h->input_count(n, "source_animations");
-    for (uint32_t k = 0; k < r->source_count; k++)
-        r->chars[k] = (rf_rep_char){.role = "source",
-                                    .s = h->input(n, "sources", k),
-                                    .a = k < clips ? h->input(n, "source_animations", k) : NULL};
-    *rf_rep_target(r) = (rf_rep_char){
-        .role = "target", .s = h->input(n, "target", 0), .a = h->input(n, "animation", 0)};
-    r->mapping = h->input(n, "mapping", 0);
-    r->mesh = h->input(n, "mesh", 0);
-    r->measure_count = h->input_count(n, "measures");
-    if (r->measure_count > 16)
-        r->measure_count = 16;
-    for (uint32_t i = 0; i < r->measure_count; i++)
-        r->measures[i] = h->input(n, "measures", i);
-    for (uint32_t c = 0; c <= r->source_count; c++) {
-        rf_rep_char *ch = &r->chars[c];
-        if (ch->a && ch->a->frame_count == 0)
-            ch->a = NULL; /* a clip without frames: the rest pose stands still */
-        if (!ch->s) {
-            h->error(n, "no %s skeleton reached the report", ch->role);
-            return false;
-        }
-        if (ch->a && (ch->a->joint_count != ch->s->joint_count || !(ch->a->fps > 0))) {
-            h->error(n, "the %s animation has %u joints at %g fps but its skeleton has %u joints",
-                     ch->role, ch->a->joint_count, ch->a->fps, ch->s->joint_count);
-            return false;
-        }
-    }
     const rf_mapping *m = r->mapping;
     if (!m)
         return true;
@@ -122,6 +89,51 @@ static bool rf_rep_gather(rf_rep *r)
     return true;
 }
 
+/* The node's inputs into r, each skeleton checked against its clip. */
+static bool rf_rep_gather(rf_rep *r)
+{
+    const rf_host *h = r->host;
+    rf_node *n = r->node;
+    r->source_count = h->input_count(n, "sources");
+    if (r->source_count > RF_REPORT_MAX_SOURCES) {
+        h->error(n, "%u source skeletons: a report shows at most %d", r->source_count,
+                 RF_REPORT_MAX_SOURCES);
+        return false;
+    }
+    uint32_t clips = h->input_count(n, "source_animations");
+    for (uint32_t k = 0; k < r->source_count; k++)
+        r->chars[k] = (rf_rep_char){.role = "source",
+                                    .s = h->input(n, "sources", k),
+                                    .a = k < clips ? h->input(n, "source_animations", k) : NULL};
+    *rf_rep_target(r) = (rf_rep_char){
+        .role = "target", .s = h->input(n, "target", 0), .a = h->input(n, "animation", 0)};
+    r->mapping = h->input(n, "mapping", 0);
+    r->mesh = h->input(n, "mesh", 0);
+    r->measure_count = h->input_count(n, "measures");
+    r->measures = calloc(r->measure_count ? r->measure_count : 1, sizeof *r->measures);
+    if (!r->measures) {
+        h->error(n, "out of memory");
+        return false;
+    }
+    for (uint32_t i = 0; i < r->measure_count; i++)
+        r->measures[i] = h->input(n, "measures", i);
+    for (uint32_t c = 0; c <= r->source_count; c++) {
+        rf_rep_char *ch = &r->chars[c];
+        if (ch->a && ch->a->frame_count == 0)
+            ch->a = NULL; /* a clip without frames: the rest pose stands still */
+        if (!ch->s) {
+            h->error(n, "no %s skeleton reached the report", ch->role);
+            return false;
+        }
+        if (ch->a && (ch->a->joint_count != ch->s->joint_count || !(ch->a->fps > 0))) {
+            h->error(n, "the %s animation has %u joints at %g fps but its skeleton has %u joints",
+                     ch->role, ch->a->joint_count, ch->a->fps, ch->s->joint_count);
+            return false;
+        }
+    }
+    return rf_rep_check_mapping(r);
+}
+
 /* The clip the timeline follows (the retargeted one, else the first source's), the frames shown:
  * at most `fps_cap` a second and `max_frames` in all. */
 static void rf_rep_timeline_make(rf_rep *r, double fps_cap, uint32_t max_frames)
@@ -134,11 +146,12 @@ static void rf_rep_timeline_make(rf_rep *r, double fps_cap, uint32_t max_frames)
         return;
     r->tl.total = a->frame_count;
     r->tl.fps = a->fps;
-    uint32_t step = fps_cap > 0 && a->fps > fps_cap ? (uint32_t)ceil(a->fps / fps_cap - 1e-9) : 1;
-    if (max_frames > 0 && (a->frame_count + step - 1) / step > max_frames)
-        step = (a->frame_count + max_frames - 1) / max_frames;
-    r->tl.step = step ? step : 1;
-    r->tl.shown = (a->frame_count + r->tl.step - 1) / r->tl.step;
+    /* in double, clamped to the clip: a file's fps may be 1e300 (Frame Time 1e-300) */
+    double step = fps_cap > 0 && a->fps > fps_cap ? ceil(a->fps / fps_cap - 1e-9) : 1;
+    if (max_frames > 0)
+        step = fmax(step, ceil((double)a->frame_count / max_frames));
+    r->tl.step = step < a->frame_count ? (uint32_t)step : a->frame_count;
+    r->tl.shown = (a->frame_count - 1) / r->tl.step + 1;
 }
 
 /* The frame of clip `a` shown at timeline frame k. */
@@ -312,8 +325,9 @@ static void rf_rep_write_mapping(const rf_rep *r, FILE *f)
     fputs("]}", f);
 }
 
-static void rf_rep_write_measures(const rf_rep *r, FILE *f)
+static void rf_rep_write_measures(rf_rep *r, FILE *f)
 {
+    uint32_t joints = rf_rep_target(r)->s->joint_count;
     fputc('[', f);
     bool first = true;
     for (uint32_t i = 0; i < r->measure_count; i++) {
@@ -325,7 +339,9 @@ static void rf_rep_write_measures(const rf_rep *r, FILE *f)
             rf_html_json_string(f, s->name);
             fputs(",\"unit\":", f);
             rf_html_json_string(f, s->unit);
-            fprintf(f, ",\"joint\":%d,\"contact\":%s,\"higher_worse\":%s,\"fps\":", s->joint,
+            /* a joint the target lacks (another plugin's mistake) reads as the whole character */
+            int32_t joint = s->joint >= 0 && (uint32_t)s->joint < joints ? s->joint : -1;
+            fprintf(f, ",\"joint\":%d,\"contact\":%s,\"higher_worse\":%s,\"fps\":", joint,
                     s->flags & RF_SERIES_CONTACT ? "true" : "false",
                     s->flags & RF_SERIES_HIGHER_WORSE ? "true" : "false");
             rf_html_json_number(f, ms->fps);
@@ -631,6 +647,7 @@ static bool html_process(void *self, const rf_host *host, rf_node *node)
     }
     for (uint32_t c = 0; c <= r.source_count && c <= RF_REPORT_MAX_SOURCES; c++)
         rf_analysis_free(r.chars[c].an);
+    free(r.measures);
     if (ok)
         host->log(node, RF_LOG_INFO, "report: %s", host->param_output_target(node, "path"));
     return ok;

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include <rigflow/plugin.h>
+#include <rigflow/text.h>
 
 static uint32_t root_count(const rf_skeleton *s)
 {
@@ -53,7 +54,8 @@ static bool summary_process(void *self, const rf_host *host, rf_node *node)
         return false;
     }
     const char *label = host->param_string(node, "label");
-    printf("%s%s", *label ? label : host->node_id(node), ": ");
+    rf_text_fputs(*label ? label : host->node_id(node), stdout, 0); /* a pipeline file's text */
+    fputs(": ", stdout);
     describe(stdout, s, a, m);
     printf("\n");
     fflush(stdout);

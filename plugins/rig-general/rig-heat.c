@@ -30,7 +30,7 @@ uint32_t rf_rig_bones(const rf_rig_skel *s, rf_rig_bone **out)
         has_child[p] = 1;
         memcpy(b[n].a, s->pos + (size_t)p * 3, sizeof b[n].a);
         memcpy(b[n].b, s->pos + (size_t)j * 3, sizeof b[n].b);
-        b[n++].joint = (uint32_t)p;
+        b[n++].joint = s->owns_in && s->owns_in[j] ? j : (uint32_t)p;
     }
     for (uint32_t j = 0; j < s->n; j++) {
         if (!s->has_tip[j] && has_child[j])
@@ -65,11 +65,36 @@ double rf_rig_seg_dist(const double q[3], const rf_rig_bone *b, double c[3])
 typedef struct rf_rig_rays {
     RTCDevice dev;
     RTCScene scene;
+    uint32_t *tri_part; /* [triangle] loose part */
 } rf_rig_rays;
 
-static bool rf_rig_rays_make(rf_rig_rays *r, const rf_rig_geo *g)
+/* The context of one visibility query: Embree's, then the part the ray starts on. */
+typedef struct rf_rig_ray_ctx {
+    struct RTCIntersectContext rtc; /* first: Embree hands the filter a pointer to it */
+    const uint32_t *tri_part;
+    uint32_t part;
+} rf_rig_ray_ctx;
+
+/* Only the ray's own loose part can hide a bone from it: separate parts that overlap (a box
+ * model's upper and lower leg, a belt over a body) would otherwise hide each other's bones
+ * from every vertex inside the overlap. */
+static void rf_rig_own_part(const struct RTCFilterFunctionNArguments *args)
+{
+    const rf_rig_ray_ctx *c = (const rf_rig_ray_ctx *)args->context;
+    /* RTCHitN is laid out by columns: Ng_x, Ng_y, Ng_z, u, v, primID, ... N entries each */
+    const unsigned *prim = (const unsigned *)args->hit + 5 * (size_t)args->N;
+    for (unsigned i = 0; i < args->N; i++)
+        if (args->valid[i] && c->tri_part[prim[i]] != c->part)
+            args->valid[i] = 0;
+}
+
+static bool rf_rig_rays_make(rf_rig_rays *r, const rf_rig_geo *g, const uint32_t *vertex_part)
 {
     memset(r, 0, sizeof *r);
+    if (!(r->tri_part = malloc((size_t)(g->nt + 1) * sizeof *r->tri_part)))
+        return false;
+    for (uint32_t t = 0; t < g->nt; t++)
+        r->tri_part[t] = vertex_part[g->t[t * 3]];
     if (!(r->dev = rtcNewDevice("threads=1,set_affinity=0")))
         return false;
     r->scene = rtcNewScene(r->dev);
@@ -85,6 +110,7 @@ static bool rf_rig_rays_make(rf_rig_rays *r, const rf_rig_geo *g)
     for (size_t i = 0; i < (size_t)g->nv * 3; i++)
         vb[i] = (float)g->p[i];
     memcpy(ib, g->t, (size_t)g->nt * 3 * sizeof *ib);
+    rtcSetGeometryOccludedFilterFunction(geo, rf_rig_own_part);
     rtcCommitGeometry(geo);
     rtcAttachGeometry(r->scene, geo);
     rtcReleaseGeometry(geo);
@@ -98,10 +124,13 @@ static void rf_rig_rays_free(rf_rig_rays *r)
         rtcReleaseScene(r->scene);
     if (r->dev)
         rtcReleaseDevice(r->dev);
+    free(r->tri_part);
 }
 
-/* True when the segment from p to q crosses no triangle (ends excluded by eps). */
-static bool rf_rig_sees(const rf_rig_rays *r, const double p[3], const double q[3], double eps)
+/* True when the segment from p (on loose part `part`) to q crosses no triangle of that part
+ * (ends excluded by eps). */
+static bool rf_rig_sees(const rf_rig_rays *r, uint32_t part, const double p[3], const double q[3],
+                        double eps)
 {
     double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
     double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -113,9 +142,9 @@ static bool rf_rig_sees(const rf_rig_rays *r, const double p[3], const double q[
     ray.dir_z = (float)(d[2] / len);
     ray.tnear = (float)eps, ray.tfar = (float)(len - eps);
     ray.mask = UINT32_MAX;
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    rtcOccluded1(r->scene, &ctx, &ray);
+    rf_rig_ray_ctx ctx = {.tri_part = r->tri_part, .part = part};
+    rtcInitIntersectContext(&ctx.rtc);
+    rtcOccluded1(r->scene, &ctx.rtc, &ray);
     return ray.tfar >= 0;
 }
 
@@ -140,22 +169,35 @@ static int rf_rig_bd_cmp(const void *pa, const void *pb)
 /* The nearest bone each vertex sees (trying the 8 nearest); src[i].h = 0 when it sees none. A
  * loose part where no vertex sees a bone takes its nearest bones unseen. */
 static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint32_t nb,
-                           const rf_rig_rays *rays, rf_rig_src *src, rf_rig_bd *bd, uint8_t *lit,
-                           rf_rig_stats *st)
+                           const rf_rig_rays *rays, bool leaf_points_own, rf_rig_src *src,
+                           rf_rig_bd *bd, uint8_t *lit, rf_rig_stats *st)
 {
     double eps = 1e-5 * p->longest, floor_d = 1e-3 * p->longest;
     st->unseen_vertices = 0;
+    /* bones ending at a leaf joint that has no end site (its bone is a point there) */
+    uint8_t *tipless = leaf_points_own ? calloc(nb + 1, 1) : NULL;
+    for (uint32_t b = 0; tipless && b < nb; b++)
+        for (uint32_t k = 0; k < nb && !tipless[b]; k++)
+            tipless[b] = k != b && !memcmp(bones[k].a, bones[k].b, sizeof bones[k].a) &&
+                         !memcmp(bones[k].a, bones[b].b, sizeof bones[k].a);
     for (uint32_t i = 0; i < p->proxy.nv; i++) {
         const double *q = p->proxy.p + (size_t)i * 3;
         double c[3];
-        for (uint32_t b = 0; b < nb; b++)
+        for (uint32_t b = 0; b < nb; b++) {
             bd[b].d = rf_rig_seg_dist(q, &bones[b], c), bd[b].b = b;
+            /* a vertex whose nearest point on a bone is the end of a leaf joint without an end
+             * site lies beyond that joint: the leaf's point wins the tie, as a leaf joint of an
+             * artist's skeleton owns the limb past it */
+            if (tipless && tipless[b] && c[0] == bones[b].b[0] && c[1] == bones[b].b[1] &&
+                c[2] == bones[b].b[2])
+                bd[b].d += 1e-9 * (bd[b].d + p->longest);
+        }
         qsort(bd, nb, sizeof *bd, rf_rig_bd_cmp);
         double d0 = fmax(bd[0].d, floor_d);
         src[i].h = 0, src[i].joint = bones[bd[0].b].joint;
         for (uint32_t k = 0; k < nb && k < 8; k++) {
             rf_rig_seg_dist(q, &bones[bd[k].b], c);
-            if (!rays || rf_rig_sees(rays, q, c, eps)) {
+            if (!rays || rf_rig_sees(rays, p->proxy_part[i], q, c, eps)) {
                 double d = fmax(bd[k].d, floor_d);
                 src[i].h = 1.0 / (d * d), src[i].joint = bones[bd[k].b].joint;
                 lit[p->proxy_part[i]] = 1;
@@ -169,6 +211,7 @@ static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint3
     }
     for (uint32_t i = 0; i < p->proxy.nv; i++)
         src[i].h = src[i].h < 0 ? (lit[p->proxy_part[i]] ? 0 : -src[i].h) : src[i].h;
+    free(tipless);
 }
 
 /* ---- the system ---- */
@@ -301,10 +344,11 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     bool ok = nb && src && bd && lit && *w;
     if (!ok)
         rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
-    if (ok && !o->no_visibility && !rf_rig_rays_make(&rays, &p->proxy))
+    if (ok && !o->no_visibility && !rf_rig_rays_make(&rays, &p->proxy, p->proxy_part))
         ok = rf_rig_fail(err, n, "Embree could not build the ray-casting scene");
     if (ok) {
-        rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, src, bd, lit, st);
+        rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, o->leaf_points_own, src, bd,
+                       lit, st);
         ok = rf_rig_solve(&p->proxy, src, nj, *w, err, n);
     }
     if (ok)

@@ -39,6 +39,7 @@ typedef struct rf_rig_skel {
     int32_t *parent; /* [n], parents first */
     double *tip;     /* [n][3] end of a leaf's bone */
     uint8_t *has_tip;
+    uint8_t *owns_in; /* [n] or NULL: the bone from the joint's parent moves the joint itself */
 } rf_rig_skel;
 
 /* A bone for weighting: the segment a..b moved by joint `joint`. */

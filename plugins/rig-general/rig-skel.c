@@ -59,10 +59,14 @@ static void rf_rig_mark(rf_rig_grid *g, uint8_t *surf, const double p[3])
         surf[rf_rig_at(g, c[0], c[1], c[2])] = 1;
 }
 
-/* Every voxel a triangle passes through, sampled at a third of a voxel. */
-static void rf_rig_raster(rf_rig_grid *g, const rf_rig_geo *m, uint8_t *surf)
+/* Every voxel a triangle passes through, sampled at a third of a voxel: the triangles whose
+ * which[] flag equals want (all when which is NULL). */
+static void rf_rig_raster(rf_rig_grid *g, const rf_rig_geo *m, const uint8_t *which, int want,
+                          uint8_t *surf)
 {
     for (uint32_t t = 0; t < m->nt; t++) {
+        if (which && which[t] != want)
+            continue;
         const double *a = m->p + (size_t)m->t[t * 3] * 3, *b = m->p + (size_t)m->t[t * 3 + 1] * 3,
                      *c = m->p + (size_t)m->t[t * 3 + 2] * 3;
         double e = 0;
@@ -131,19 +135,104 @@ static void rf_rig_votes(const rf_rig_grid *g, const uint8_t *surf, uint8_t *vot
     }
 }
 
-/* Solid = the closed inside: the surface thickened by one voxel stops the flood from the corner
- * (sealing small holes), then the thickening is taken back where the flood touches it. */
-static bool rf_rig_voxelise(rf_rig_grid *g, const rf_rig_geo *m)
+static int rf_rig_u64_cmp(const void *pa, const void *pb);
+
+/* Per triangle, whether its loose part is open: some edge of the part not shared by exactly two
+ * triangles. NULL when out of memory. */
+static uint8_t *rf_rig_open_triangles(const rf_rig_geo *m, const uint32_t *part, uint32_t parts)
 {
-    uint8_t *surf = calloc(g->n, 1), *thick = calloc(g->n, 1), *out = malloc(g->n);
+    size_t n = (size_t)m->nt * 3;
+    uint64_t *e = malloc(n * sizeof *e + 1);
+    uint8_t *open_part = calloc(parts + 1, 1), *open_tri = calloc(m->nt + 1, 1);
+    if (!e || !open_part || !open_tri) {
+        free(e), free(open_part), free(open_tri);
+        return NULL;
+    }
+    for (uint32_t t = 0; t < m->nt; t++)
+        for (int k = 0; k < 3; k++) {
+            uint64_t a = m->t[t * 3 + k], b = m->t[t * 3 + (k + 1) % 3];
+            e[t * 3 + k] = a < b ? a << 32 | b : b << 32 | a;
+        }
+    qsort(e, n, sizeof *e, rf_rig_u64_cmp);
+    for (size_t i = 0, j; i < n; i = j) {
+        for (j = i; j < n && e[j] == e[i];)
+            j++;
+        if (j - i != 2)
+            open_part[part[(uint32_t)(e[i] >> 32)]] = 1;
+    }
+    for (uint32_t t = 0; t < m->nt; t++)
+        open_tri[t] = open_part[part[m->t[t * 3]]];
+    free(e), free(open_part);
+    return open_tri;
+}
+
+/* The generalized winding number of the mesh at q (Jacobson et al. 2013): the triangles' signed
+ * solid angles over 4 pi; about 1 inside a surface with holes, 0 outside, whichever way round. */
+static double rf_rig_winding(const rf_rig_geo *m, const double q[3])
+{
+    double sum = 0;
+    for (uint32_t t = 0; t < m->nt; t++) {
+        double v[3][3], l[3];
+        for (int k = 0; k < 3; k++) {
+            const double *p = m->p + (size_t)m->t[t * 3 + k] * 3;
+            v[k][0] = p[0] - q[0], v[k][1] = p[1] - q[1], v[k][2] = p[2] - q[2];
+            l[k] = sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
+        }
+        double det = v[0][0] * (v[1][1] * v[2][2] - v[1][2] * v[2][1]) -
+                     v[0][1] * (v[1][0] * v[2][2] - v[1][2] * v[2][0]) +
+                     v[0][2] * (v[1][0] * v[2][1] - v[1][1] * v[2][0]);
+        double d01 = v[0][0] * v[1][0] + v[0][1] * v[1][1] + v[0][2] * v[1][2];
+        double d02 = v[0][0] * v[2][0] + v[0][1] * v[2][1] + v[0][2] * v[2][2];
+        double d12 = v[1][0] * v[2][0] + v[1][1] * v[2][1] + v[1][2] * v[2][2];
+        sum += 2 * atan2(det, l[0] * l[1] * l[2] + d01 * l[2] + d02 * l[1] + d12 * l[0]);
+    }
+    return fabs(sum / (4 * M_PI));
+}
+
+/* Hole sealing (the thickening, the axis votes) also fills narrow gaps between parts: two legs a
+ * few voxels apart, an arm along the body. Each voxel that only the sealing made solid (the
+ * surface alone lets the flood reach it: plain_out) is kept only when the winding number puts it
+ * inside. Skipped on big meshes, where it would cost more than the rest of the rig. */
+static void rf_rig_winding_check(rf_rig_grid *g, const rf_rig_geo *m, const uint8_t *surf,
+                                 const uint8_t *plain_out)
+{
+    size_t count = 0;
+    for (size_t i = 0; i < g->n; i++)
+        count += g->solid[i] && !surf[i] && plain_out[i];
+    if ((double)count * m->nt > 3e7)
+        return;
+    for (size_t i = 0; i < g->n; i++) {
+        if (!g->solid[i] || surf[i] || !plain_out[i])
+            continue;
+        int x, y, z;
+        rf_rig_xyz(g, i, &x, &y, &z);
+        double q[3] = {g->org[0] + (x + 0.5) * g->h, g->org[1] + (y + 0.5) * g->h,
+                       g->org[2] + (z + 0.5) * g->h};
+        g->solid[i] = rf_rig_winding(m, q) >= 0.5;
+    }
+}
+
+/* Solid = the closed inside. The surfaces of open parts (holes, missing faces) are thickened by
+ * one voxel to stop the flood from the corner (sealing small holes), and the thickening is taken
+ * back where the flood touches it; closed parts have no holes to seal, so their surface alone
+ * stops the flood and limbs a few voxels apart (legs side by side, an arm along the body) stay
+ * apart. */
+static bool rf_rig_voxelise(rf_rig_grid *g, const rf_rig_geo *m, const uint32_t *part,
+                            uint32_t parts)
+{
+    uint8_t *surf = calloc(g->n, 1), *open = calloc(g->n, 1), *thick = calloc(g->n, 1),
+            *out = malloc(g->n), *open_tri = rf_rig_open_triangles(m, part, parts);
     g->solid = calloc(g->n, 1);
-    bool ok = surf && thick && out && g->solid;
+    bool ok = surf && open && thick && out && g->solid && open_tri, any_open = false;
     if (ok) {
-        rf_rig_raster(g, m, surf);
+        rf_rig_raster(g, m, open_tri, 1, open);
+        rf_rig_raster(g, m, open_tri, 0, surf);
+        for (size_t i = 0; i < g->n; i++)
+            surf[i] |= open[i], thick[i] = surf[i], any_open |= open[i];
         for (int z = 1; z < g->nz - 1; z++)
             for (int y = 1; y < g->ny - 1; y++)
                 for (int x = 1; x < g->nx - 1; x++) {
-                    if (!surf[rf_rig_at(g, x, y, z)])
+                    if (!open[rf_rig_at(g, x, y, z)])
                         continue;
                     for (int dz = -1; dz <= 1; dz++)
                         for (int dy = -1; dy <= 1; dy++)
@@ -159,25 +248,24 @@ static bool rf_rig_voxelise(rf_rig_grid *g, const rf_rig_geo *m)
                 if (out[i])
                     continue;
                 bool touches = false;
-                for (int dz = -1; dz <= 1 && !touches; dz++)
+                for (int dz = -1; dz <= 1 && !touches && thick[i] && !surf[i]; dz++)
                     for (int dy = -1; dy <= 1 && !touches; dy++)
                         for (int dx = -1; dx <= 1 && !touches; dx++)
                             touches = out[rf_rig_at(g, x + dx, y + dy, z + dz)];
-                g->solid[i] = !touches || surf[i];
+                g->solid[i] = !touches;
             }
-    /* A mesh with holes wider than the thickening lets the flood in. Where the surface lies
+    /* Open parts with holes wider than the thickening let the flood in. Where their surface lies
      * between a voxel and the grid's edge in five of the six axis directions, the voxel is inside
      * all the same (a hole blocks one direction at most; the space between two legs is open in
      * three). */
-    uint8_t *votes = ok ? out : NULL; /* the flood's array is no longer needed */
+    uint8_t *votes = ok && any_open ? out : NULL; /* the flood's array is no longer needed */
     if (votes) {
-        rf_rig_votes(g, surf, votes);
+        rf_rig_votes(g, open, votes);
         for (size_t i = 0; i < g->n; i++)
             g->solid[i] |= votes[i] >= 5;
+        ok = rf_rig_flood(g, surf, out) && (rf_rig_winding_check(g, m, surf, out), true);
     }
-    free(surf);
-    free(thick);
-    free(out);
+    free(surf), free(open), free(thick), free(out), free(open_tri);
     return ok;
 }
 
@@ -560,10 +648,11 @@ static bool rf_rig_prune_one(rf_rig_tree *t, uint32_t *reach, uint8_t *leaves)
         len = (double)(v[i].band - v[junction].band) * RF_RIG_BAND * t->g->h + t->radius[i];
         if (v[junction].children < 2)
             continue;
-        /* a bump: shorter than the body is thick where it leaves, or than 2.5 times its own
-         * mean thickness (a limb is long and thin; a belly or a cheek is short and wide) */
+        /* a bump: shorter than the body is thick where it leaves, or than 3.5 times its own
+         * mean thickness (a limb is long and thin; a belly, a cheek or the corner of a box head
+         * is short and wide) */
         bool twig = rf_rig_twig(t, reach, leaves, junction, k);
-        if ((len < t->radius[junction] || len < 2.5 * thick || twig) && len < best)
+        if ((len < t->radius[junction] || len < 3.5 * thick || twig) && len < best)
             best = len, best_leaf = i;
     }
     if (best_leaf == RF_RIG_NONE)
@@ -815,9 +904,9 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
     rf_rig_tree t = {0};
     uint32_t ncomp = 0;
     rf_rig_grid_make(&g, p, o->resolution);
-    bool ok = rf_rig_voxelise(&g, &p->proxy) && rf_rig_distance(&g) &&
-              rf_rig_geodesic(&g, seed, &ncomp) && rf_rig_pieces(&g, &ns) && rf_rig_link(&g, &ns) &&
-              rf_rig_tree_make(&t, &g, &ns);
+    bool ok = rf_rig_voxelise(&g, &p->proxy, p->proxy_part, p->proxy_parts) &&
+              rf_rig_distance(&g) && rf_rig_geodesic(&g, seed, &ncomp) && rf_rig_pieces(&g, &ns) &&
+              rf_rig_link(&g, &ns) && rf_rig_tree_make(&t, &g, &ns);
     if (!ok) {
         rf_rig_fail(err, n, "out of memory on a %dx%dx%d voxel grid", g.nx, g.ny, g.nz);
         goto done;
@@ -863,6 +952,6 @@ done:
 
 void rf_rig_skel_free(rf_rig_skel *s)
 {
-    free(s->pos), free(s->parent), free(s->tip), free(s->has_tip);
+    free(s->pos), free(s->parent), free(s->tip), free(s->has_tip), free(s->owns_in);
     memset(s, 0, sizeof *s);
 }

@@ -106,12 +106,11 @@ static uint32_t rf_rig_lca(const rf_rig_skel *k, uint32_t a, uint32_t b)
     return a;
 }
 
-/* Where the feet meet: of the leaves in the lowest fifth of the body (along the up the skeleton
- * analysis finds), the pair whose common ancestor is highest: the hips of a biped (not the ankle,
- * where heel and toe meet), a girdle or the spine of a quadruped, the body of a spider. That is
- * the root an animator expects, where the thickest point (the chest, often) is not. NONE when no
- * two low leaves meet above the lowest fifth. */
-uint32_t rf_rig_pick_root(const rf_rig_skel *k)
+/* Girdles: where two leaves of the lowest fifth of the body (along the up the skeleton analysis
+ * finds) meet above that fifth, flagged in girdle[] (k->n entries); feet that meet near the floor
+ * are a heel and its toes, or legs merged into one column under a skirt. Each girdle's height
+ * into height[]. Returns how many, or -1 when out of memory. */
+static int rf_rig_girdles(const rf_rig_skel *k, uint8_t *girdle, double *height)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
@@ -120,15 +119,16 @@ uint32_t rf_rig_pick_root(const rf_rig_skel *k)
     rf_skeleton_free(s);
     uint8_t *inner = calloc(k->n + 1, 1);
     if (!inner)
-        return RF_RIG_NONE;
+        return -1;
     double lo = INFINITY, hi = -INFINITY;
     for (uint32_t j = 0; j < k->n; j++) {
         if (k->parent[j] >= 0)
             inner[k->parent[j]] = 1;
         lo = fmin(lo, rf_rig_height(k, j, up)), hi = fmax(hi, rf_rig_height(k, j, up));
+        girdle[j] = 0;
     }
-    double low = lo + 0.2 * (hi - lo), best = -INFINITY;
-    uint32_t root = RF_RIG_NONE;
+    double low = lo + 0.2 * (hi - lo);
+    int count = 0;
     for (uint32_t i = 0; i < k->n; i++)
         for (uint32_t j = i + 1; j < k->n; j++) {
             if (inner[i] || inner[j] || rf_rig_height(k, i, up) > low ||
@@ -136,14 +136,116 @@ uint32_t rf_rig_pick_root(const rf_rig_skel *k)
                 continue;
             uint32_t m = rf_rig_lca(k, i, j);
             const double *p = k->pos + (size_t)m * 3;
-            double h = p[0] * up.x + p[1] * up.y + p[2] * up.z;
-            if (h > best)
-                best = h, root = m;
+            height[m] = p[0] * up.x + p[1] * up.y + p[2] * up.z;
+            if (height[m] > low && !girdle[m])
+                girdle[m] = 1, count++;
         }
     free(inner);
-    /* feet that meet near the floor are a heel and its toes (the legs merged into one column,
-     * under a skirt): no hips found, keep the thickest point */
-    return best > lo + 0.2 * (hi - lo) ? root : RF_RIG_NONE;
+    return count;
+}
+
+/* Where the feet meet: the highest girdle, the hips of a biped (not the ankle, where heel and
+ * toe meet), a girdle or the spine of a quadruped, the body of a spider; the second pass grows
+ * from there. NONE when there is no girdle. */
+uint32_t rf_rig_pick_root(const rf_rig_skel *k)
+{
+    uint8_t *girdle = malloc(k->n + 1);
+    double *height = malloc((k->n + 1) * sizeof *height), best = -INFINITY;
+    uint32_t root = RF_RIG_NONE;
+    if (girdle && height && rf_rig_girdles(k, girdle, height) > 0)
+        for (uint32_t m = 0; m < k->n; m++)
+            if (girdle[m] && height[m] > best)
+                best = height[m], root = m;
+    free(girdle), free(height);
+    return root;
+}
+
+/* The hips of a first-pass skeleton (rooted at the thickest point): of its girdles, the one
+ * farthest along the skeleton from that point. A quadruped's rib cage, the thickest part, sits
+ * by its shoulders; its hips are the other girdle. NONE when there is no girdle. */
+static uint32_t rf_rig_pick_hips(const rf_rig_skel *k)
+{
+    uint8_t *girdle = malloc(k->n + 1);
+    double *height = malloc((k->n + 1) * sizeof *height);
+    double *along = calloc(k->n + 1, sizeof *along), best = -INFINITY;
+    uint32_t hips = RF_RIG_NONE;
+    if (girdle && height && along && rf_rig_girdles(k, girdle, height) > 0) {
+        for (uint32_t j = 0; j < k->n; j++) /* parents come first */
+            if (k->parent[j] >= 0) {
+                const double *c = k->pos + (size_t)j * 3, *d = k->pos + (size_t)k->parent[j] * 3;
+                along[j] = along[k->parent[j]] +
+                           sqrt((c[0] - d[0]) * (c[0] - d[0]) + (c[1] - d[1]) * (c[1] - d[1]) +
+                                (c[2] - d[2]) * (c[2] - d[2]));
+            }
+        for (uint32_t m = 0; m < k->n; m++)
+            if (girdle[m] && along[m] > best)
+                best = along[m], hips = m;
+    }
+    free(girdle), free(height), free(along);
+    return hips;
+}
+
+/* The girdle of k nearest to point q, or NONE. */
+static uint32_t rf_rig_girdle_near(const rf_rig_skel *k, const double q[3])
+{
+    uint8_t *girdle = malloc(k->n + 1);
+    double *height = malloc((k->n + 1) * sizeof *height), best = INFINITY;
+    uint32_t at = RF_RIG_NONE;
+    if (girdle && height && rf_rig_girdles(k, girdle, height) > 0)
+        for (uint32_t m = 0; m < k->n; m++) {
+            const double *p = k->pos + (size_t)m * 3;
+            double d = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                       (p[2] - q[2]) * (p[2] - q[2]);
+            if (girdle[m] && d < best)
+                best = d, at = m;
+        }
+    free(girdle), free(height);
+    return at;
+}
+
+/* Re-roots k at joint r: the links on the path from r to the old root turned round, the joints
+ * renumbered breadth-first from r so parents still come first. The joints stay where they are;
+ * only which one is the root changes. */
+static bool rf_rig_reroot(rf_rig_skel *k, uint32_t r)
+{
+    uint32_t n = k->n;
+    int32_t *par = malloc((n + 1) * sizeof *par);
+    uint32_t *order = malloc((n + 1) * sizeof *order), *to = malloc((n + 1) * sizeof *to);
+    rf_rig_skel o = {.n = n};
+    o.pos = malloc((n + 1) * 3 * sizeof *o.pos), o.tip = malloc((n + 1) * 3 * sizeof *o.tip);
+    o.parent = malloc((n + 1) * sizeof *o.parent), o.has_tip = malloc(n + 1);
+    bool ok = par && order && to && o.pos && o.tip && o.parent && o.has_tip;
+    if (ok) {
+        memcpy(par, k->parent, n * sizeof *par);
+        for (int32_t prev = -1, cur = (int32_t)r; cur >= 0;) {
+            int32_t next = k->parent[cur];
+            par[cur] = prev, prev = cur, cur = next;
+        }
+        uint32_t head = 0, tail = 0;
+        order[tail++] = r;
+        while (head < tail) /* breadth-first: each joint's children after it */
+            for (uint32_t j = 0, at = order[head++]; j < n; j++)
+                if (par[j] == (int32_t)at)
+                    order[tail++] = j;
+        ok = tail == n;
+        for (uint32_t i = 0; ok && i < n; i++)
+            to[order[i]] = i;
+        for (uint32_t i = 0; ok && i < n; i++) {
+            uint32_t j = order[i];
+            memcpy(o.pos + (size_t)i * 3, k->pos + (size_t)j * 3, 3 * sizeof *o.pos);
+            memcpy(o.tip + (size_t)i * 3, k->tip + (size_t)j * 3, 3 * sizeof *o.tip);
+            o.has_tip[i] = k->has_tip[j];
+            o.parent[i] = par[j] >= 0 ? (int32_t)to[par[j]] : -1;
+        }
+    }
+    free(par), free(order), free(to);
+    if (!ok) {
+        rf_rig_skel_free(&o);
+        return false;
+    }
+    rf_rig_skel_free(k);
+    *k = o;
+    return true;
 }
 
 /* A copy of the input's geometry (positions, normals, triangles, parts) without any skin. */
@@ -220,15 +322,21 @@ static bool rf_rig_skin(const rf_mesh *in, const rf_rig_prep *p, const rf_rig_sk
     return ok;
 }
 
-bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
-                    rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
-                    char *err, size_t err_size)
+static rf_rig_options rf_rig_defaults(const rf_rig_options *opts)
 {
     rf_rig_options o = opts ? *opts : (rf_rig_options){0};
     o.resolution = o.resolution ? o.resolution : 96;
     o.proxy_triangles = o.proxy_triangles ? o.proxy_triangles : 20000;
     o.speck_size = o.speck_size > 0 ? o.speck_size : 0.02;
     o.segment = o.segment > 0 ? o.segment : 0.12;
+    return o;
+}
+
+bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
+                    rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
+                    char *err, size_t err_size)
+{
+    rf_rig_options o = rf_rig_defaults(opts);
     rf_rig_stats st_local, *st = stats ? stats : &st_local;
     memset(st, 0, sizeof *st);
     *skeleton = NULL, *skinned = NULL;
@@ -243,13 +351,23 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
     /* Level sets grown from the hips cut the body square to its length (shoulders level, limbs
      * leaving symmetrically); from the thickest point they would ring the chest. So a second pass
      * starts where the first pass's two lowest leaves meet. */
-    uint32_t r = ok ? rf_rig_pick_root(&k) : RF_RIG_NONE;
+    uint32_t r = ok ? rf_rig_pick_root(&k) : RF_RIG_NONE, hips = ok ? rf_rig_pick_hips(&k) : r;
+    double hips_at[3];
+    if (hips != RF_RIG_NONE)
+        memcpy(hips_at, k.pos + (size_t)hips * 3, sizeof hips_at);
     if (r != RF_RIG_NONE && k.parent[r] >= 0) {
         double seed[3];
         memcpy(seed, k.pos + (size_t)r * 3, sizeof seed);
         rf_rig_skel_free(&k);
         ok = rf_rig_extract(&p, &o, seed, &k, err, err_size);
     }
+    /* The skeleton analysis (and so the matcher) reads which way a body faces partly from where
+     * the root is: artists root a quadruped at its hips, and the spine runs from there to the
+     * shoulders. The second pass's root, the highest girdle, is often the shoulders; the rig is
+     * rooted again at the girdle nearest the hips, its joints unmoved. */
+    uint32_t g = ok && hips != RF_RIG_NONE ? rf_rig_girdle_near(&k, hips_at) : RF_RIG_NONE;
+    if (g != RF_RIG_NONE && k.parent[g] >= 0 && !rf_rig_reroot(&k, g))
+        ok = rf_rig_fail(err, err_size, "out of memory re-rooting the skeleton");
     if (ok && progress)
         progress(user, 0.4);
     ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
@@ -279,5 +397,144 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
     free(w);
     rf_rig_skel_free(&k);
     rf_rig_prep_free(&p);
+    return ok;
+}
+
+/* ---- a given skeleton ---- */
+
+/* The weighted joints of `s` as a working skeleton in model space (each linked to its nearest
+ * weighted ancestor, a leaf's end site as its tip), into k; their skeleton indices into ids. */
+static bool rf_rig_from_skeleton(const rf_skeleton *s, const rf_mat4 *world, rf_rig_skel *k,
+                                 uint32_t *ids)
+{
+    uint32_t n = s->joint_count;
+    int32_t *at = malloc((size_t)(n + 1) * sizeof *at);
+    k->pos = malloc((size_t)(n + 1) * 3 * sizeof *k->pos);
+    k->tip = calloc((size_t)(n + 1) * 3, sizeof *k->tip);
+    k->parent = malloc((size_t)(n + 1) * sizeof *k->parent);
+    k->has_tip = calloc(n + 1, 1);
+    k->n = 0;
+    if (!at || !k->pos || !k->tip || !k->parent || !k->has_tip) {
+        free(at);
+        return false;
+    }
+    for (uint32_t j = 0; j < n; j++) {
+        at[j] = -1;
+        if (s->joints[j].flags & RF_JOINT_UNWEIGHTED)
+            continue;
+        int32_t p = s->joints[j].parent;
+        while (p >= 0 && at[p] < 0)
+            p = s->joints[p].parent; /* parents precede children */
+        uint32_t i = k->n++;
+        at[j] = (int32_t)i, ids[i] = j;
+        k->parent[i] = p >= 0 ? at[p] : -1;
+        rf_vec3 o = rf_mat4_point(world[j], rf_v3(0, 0, 0));
+        k->pos[i * 3] = o.x, k->pos[i * 3 + 1] = o.y, k->pos[i * 3 + 2] = o.z;
+        if (s->joints[j].flags & RF_JOINT_HAS_END_SITE) {
+            rf_vec3 t = rf_mat4_point(world[j], s->joints[j].end_site);
+            k->tip[i * 3] = t.x, k->tip[i * 3 + 1] = t.y, k->tip[i * 3 + 2] = t.z;
+            k->has_tip[i] = 1;
+        }
+    }
+    /* A leaf without an end site hanging from a joint whose chain goes on through another child
+     * (a leg as one joint on an artist's torso, which also carries the neck) has no bone of its
+     * own: the bone from its parent is its own. A joint whose children are all leaves (a head
+     * with ears, a hand with one-joint digits) is the end of its chain and keeps those bones. */
+    uint32_t *kids = calloc(k->n + 1, sizeof *kids);
+    uint8_t *inner = calloc(k->n + 1, 1), *goes_on = calloc(k->n + 1, 1);
+    k->owns_in = calloc(k->n + 1, 1);
+    bool ok = kids && inner && goes_on && k->owns_in;
+    for (uint32_t i = 0; ok && i < k->n; i++)
+        if (k->parent[i] >= 0)
+            kids[k->parent[i]]++, inner[k->parent[i]] = 1;
+    for (uint32_t i = 0; ok && i < k->n; i++)
+        if (k->parent[i] >= 0 && inner[i])
+            goes_on[k->parent[i]] = 1;
+    for (uint32_t i = 0; ok && i < k->n; i++)
+        k->owns_in[i] = k->parent[i] >= 0 && !inner[i] && !k->has_tip[i] && goes_on[k->parent[i]];
+    free(goes_on), free(kids), free(inner), free(at);
+    return ok;
+}
+
+/* World matrices of the joints: inverses of the given inverse binds, or the rest pose. */
+static bool rf_rig_world_of(const rf_skeleton *s, const rf_mat4 *inverse_bind, rf_mat4 *world,
+                            char *err, size_t n)
+{
+    rf_xform *rest = inverse_bind ? NULL : malloc((size_t)(s->joint_count + 1) * sizeof *rest);
+    if (!inverse_bind && !rest)
+        return rf_rig_fail(err, n, "out of memory");
+    if (rest)
+        rf_skeleton_world_rest(s, rest);
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        if (rest) {
+            world[j] = rf_xform_to_mat4(rest[j]);
+        } else if (!rf_mat4_invert(inverse_bind[j], &world[j])) {
+            free(rest);
+            return rf_rig_fail(err, n, "joint %u's inverse bind matrix is singular", j);
+        }
+    }
+    free(rest);
+    return true;
+}
+
+bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4 *inverse_bind,
+                 const rf_rig_options *opts, rf_mesh **skinned, rf_rig_stats *stats, char *err,
+                 size_t err_size)
+{
+    rf_rig_options o = rf_rig_defaults(opts);
+    o.leaf_points_own = true;
+    rf_rig_stats st_local, *st = stats ? stats : &st_local;
+    memset(st, 0, sizeof *st);
+    *skinned = NULL;
+    uint32_t nj = skeleton->joint_count;
+    rf_mat4 *world = malloc((size_t)(nj + 1) * sizeof *world);
+    uint32_t *ids = malloc((size_t)(nj + 1) * sizeof *ids);
+    rf_rig_skel k = {0};
+    rf_rig_prep p;
+    double *w = NULL;
+    rf_mesh *m = NULL;
+    bool prepared = false, ok = world && ids;
+    if (!ok)
+        rf_rig_fail(err, err_size, "out of memory");
+    if (ok && nj > UINT16_MAX) /* skin joint indices are 16-bit */
+        ok = rf_rig_fail(err, err_size, "the skeleton has %u joints; at most %u can carry weights",
+                         nj, (unsigned)UINT16_MAX);
+    ok = ok && rf_rig_world_of(skeleton, inverse_bind, world, err, err_size);
+    if (ok && !rf_rig_from_skeleton(skeleton, world, &k, ids))
+        ok = rf_rig_fail(err, err_size, "out of memory");
+    if (ok && !k.n)
+        ok = rf_rig_fail(err, err_size, "the skeleton has no joint that may carry weights");
+    ok = ok && (prepared = rf_rig_prepare(mesh, &o, &p, st, err, err_size));
+    ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
+    m = ok ? rf_rig_mesh_copy(mesh) : NULL;
+    if (ok && (!m || !rf_rig_skin(mesh, &p, &k, w, m, st)))
+        ok = rf_rig_fail(err, err_size, "out of memory writing the skin");
+    if (ok) {
+        /* back to the skeleton's joint indices and the pose it was given in */
+        for (size_t i = 0; i < (size_t)m->vertex_count * 4; i++)
+            m->skin_joints[i] = (uint16_t)ids[m->skin_joints[i]];
+        rf_mat4 *inv = realloc(m->inverse_bind, (size_t)(nj + 1) * sizeof *inv);
+        if (inv) {
+            m->inverse_bind = inv;
+            for (uint32_t j = 0; j < nj; j++)
+                if (inverse_bind)
+                    inv[j] = inverse_bind[j];
+                else if (!rf_mat4_invert(world[j], &inv[j])) /* a rest pose is rigid */
+                    inv[j] = rf_xform_to_mat4(rf_xform_identity());
+            m->bind_count = nj;
+        }
+        ok = inv != NULL;
+        if (!ok)
+            rf_rig_fail(err, err_size, "out of memory writing the skin");
+    }
+    st->joints = k.n;
+    if (ok)
+        *skinned = m;
+    else
+        rf_mesh_free(m);
+    free(w), free(world), free(ids);
+    rf_rig_skel_free(&k);
+    if (prepared)
+        rf_rig_prep_free(&p);
     return ok;
 }

@@ -27,6 +27,8 @@ typedef struct rf_rig_options {
     bool no_visibility;       /* heat every vertex from its nearest bone, seen or not */
     rf_vec3 up, forward;      /* the axes the file declares (zero: unknown); the skeleton keeps
                                * them and the analysis naming its joints starts from them */
+    bool leaf_points_own;     /* a leaf joint without an end site owns the vertices past it (an
+                               * artist's convention; set when binding a given skeleton) */
 } rf_rig_options;
 
 /* What happened, for logs and the benchmark. */
@@ -50,5 +52,13 @@ typedef void (*rf_rig_progress_fn)(void *user, double fraction);
 bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
                     rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
                     char *err, size_t err_size);
+
+/* Weights `mesh` to a given skeleton by bone heat (the rigger's skinning alone). inverse_bind
+ * ([joint_count], may be NULL: the rest pose) places the joints; joints flagged
+ * RF_JOINT_UNWEIGHTED get no weights. Returns a skinned copy carrying those inverse binds, or
+ * false with a reason. `opts` and `stats` may be NULL. */
+bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4 *inverse_bind,
+                 const rf_rig_options *opts, rf_mesh **skinned, rf_rig_stats *stats, char *err,
+                 size_t err_size);
 
 #endif

@@ -199,6 +199,82 @@ contains "$tmp/err" "is not a batch folder" "--status says why"
 expect 2 "--resubmit of a local batch" -- "$rigflow" batch --resubmit "$out"
 contains "$tmp/err" "was not submitted to Slurm" "--resubmit says why"
 
+# ---- a manifest that cannot take a record (a file size limit here, a full disk elsewhere) ----
+# The record is not left torn (the next one would join it and be lost too), the batch says so
+# and exits 1, and the reruns do exactly the unrecorded jobs, once.
+if [ -z "${RF_VG_LOGS:-}" ]; then
+    mkdir -p "$tmp/limit"
+    for i in 1 2 3 4; do echo hi >"$tmp/limit/j$i.txt"; done
+    (trap '' XFSZ; ulimit -f 1; batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out" -j 1 \
+        >"$tmp/out" 2>"$tmp/err")
+    same "$?" 1 "a batch whose manifest is full exits 1"
+    contains "$tmp/out" "not recorded in the manifest" "the summary says records are missing"
+    contains "$tmp/err" "cannot write the manifest: File too large" "the reason is given"
+    same "$(tail -c 1 "$tmp/limit-out/rigflow-batch/manifest.jsonl" | od -An -c | tr -d ' ')" '\n' \
+        "the manifest ends with a whole line"
+    expect 0 "the rerun with room" -- batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out"
+    expect 0 "a third run" -- batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out"
+    contains "$tmp/out" "0 done, 0 failed, 0 crashed, 4 skipped" "every record of the rerun was kept"
+    printf '{"job":"j1","status":"do' >>"$tmp/limit-out/rigflow-batch/manifest.jsonl" # torn by a crash
+    echo edited >"$tmp/limit/j2.txt"
+    expect 0 "a run after a crash tore the manifest's last line" -- \
+        batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out"
+    expect 0 "and one more" -- batch --over "copy.input=$tmp/limit/*.txt" --out "$tmp/limit-out"
+    contains "$tmp/out" "0 done, 0 failed, 0 crashed, 4 skipped" "the record after a torn line is kept"
+fi
+
+# the lock file's text is a file's bytes: what names the holder reaches the terminal escaped
+mkdir -p "$tmp/held-in"
+echo "sleep 30" >"$tmp/held-in/long.txt"
+out="$tmp/held"
+"$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$tmp/held-in/*.txt" --out "$out" \
+    >/dev/null 2>&1 &
+bg=$!
+wait_lines "$out/rigflow-batch/lock" 1
+for _ in $(seq 1200); do [ -e "$out/rigflow-batch/plan.json" ] && break; sleep 0.05; done
+printf 'pid 1 \033]0;owned\007 \302\2332J\n' >"$out/rigflow-batch/lock"
+"$rigflow" batch --status "$out" >"$tmp/out" 2>"$tmp/err"
+"$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$tmp/held-in/*.txt" --out "$out" \
+    >>"$tmp/out" 2>>"$tmp/err"
+# a Slurm submission onto a folder a batch holds is refused before sbatch runs (its tasks would
+# only find the folder locked, or overwrite the running batch's outputs)
+mkdir -p "$tmp/fakebin"
+printf '#!/bin/sh\ntouch "%s/sbatch-ran"\necho 4242\n' "$tmp" >"$tmp/fakebin/sbatch"
+chmod +x "$tmp/fakebin/sbatch"
+PATH="$tmp/fakebin:$PATH" "$rigflow" --plugin-path "$fx" batch "$pipeline" \
+    --over "copy.input=$tmp/held-in/*.txt" --out "$out" --slurm >"$tmp/slurm.out" 2>"$tmp/slurm.err"
+same "$?" 5 "--slurm onto a folder a batch holds exits 5"
+[ ! -e "$tmp/sbatch-ran" ] && ok "... without running sbatch" || bad "... sbatch was run"
+contains "$tmp/slurm.err" "is in use by another batch" "... and says why"
+kill -9 "$bg"
+wait "$bg" 2>/dev/null
+bg=""
+if LC_ALL=C grep -q $'[\033\007\233]' "$tmp/out" "$tmp/err"; then
+    bad "the lock's text reached the terminal raw: $(cat "$tmp/out" "$tmp/err" | od -c | head -4)"
+else
+    contains "$tmp/out" 'now (pid 1 \x1b]0;owned\x07 \xc2\x9b2J)' "--status prints the lock's text escaped"
+    contains "$tmp/err" 'another batch (pid 1 \x1b]0;owned\x07 \xc2\x9b2J)' "the refusal prints it escaped"
+fi
+
+# ---- --status on damaged or hostile state files: a clear refusal, never a crash ----
+state="$tmp/hostile/rigflow-batch"
+mkdir -p "$state"
+echo '{"pipeline": "p", "out": "o", "jobs": ["a", 7]}' >"$state/plan.json"
+expect 2 "--status: a plan whose job is not a name" -- "$rigflow" batch --status "$tmp/hostile"
+contains "$tmp/err" "plan.json: job 1 is not a name" "the damaged plan is named"
+printf '{"pipeline": "p", "out": "o", "jobs": ["a\\u009b2Jb"]}\n' >"$state/plan.json"
+expect 1 "--status: a job name holding a C1 control" -- "$rigflow" batch --status "$tmp/hostile"
+if LC_ALL=C grep -q $'\302\233' "$tmp/out"; then bad "--status printed a C1 control raw"
+else contains "$tmp/out" 'missing a\xc2\x9b2Jb: no record' "--status escapes C1 controls in names"; fi
+echo '{"pipeline": "p", "out": "o", "jobs": ["a", "b"]}' >"$state/plan.json"
+for shards in 2000000000 3 -1; do
+    echo "{\"shards\": $shards, \"submissions\": [{\"job_id\": \"1\", \"array\": \"0-1\"}]}" \
+        >"$state/slurm.json"
+    expect 2 "--status: slurm.json claims $shards array tasks for 2 jobs" -- \
+        "$rigflow" batch --status "$tmp/hostile"
+    contains "$tmp/err" "slurm.json: $shards array tasks for 2 jobs" "the damaged slurm.json is named"
+done
+
 # ---- the progress line on a terminal (script(1) gives the batch one) ----
 if command -v script >/dev/null && [ -z "${RF_VG_LOGS:-}" ]; then
     script -qec "'$rigflow' --plugin-path '$fx' batch '$pipeline' --over 'copy.input=$in/*.txt' \
@@ -225,6 +301,24 @@ contains "$tmp/int.out" "not finished (interrupted)" "the summary says it was in
 n=$(grep -c '"status":"done"' "$out/rigflow-batch/manifest.jsonl")
 same "$(ls "$out" | grep -c '^s.*\.txt$')" "$n" "only finished jobs have outputs"
 same "$(ls -A "$out" | grep -c '\.rf-')" 0 "an interrupted job leaves no temporary file"
+
+# ---- SIGINT to one worker alone (not Ctrl-C): its job is interrupted, the batch goes on ----
+if [ -z "${RF_VG_LOGS:-}" ] && command -v pgrep >/dev/null; then
+    mkdir -p "$tmp/one"
+    for i in 1 2 3; do echo "sleep 0.5 $i" >"$tmp/one/w$i.txt"; done
+    out="$tmp/one-out"
+    "$rigflow" --plugin-path "$fx" batch "$pipeline" --over "copy.input=$tmp/one/*.txt" --out "$out" \
+        -j 1 >"$tmp/one.out" 2>"$tmp/one.err" &
+    bg=$!
+    for _ in $(seq 600); do [ -e "$out/rigflow-batch/logs/w1.log" ] && break; sleep 0.05; done
+    kill -INT $(pgrep -P "$bg")
+    wait "$bg"
+    code=$?
+    bg=""
+    same "$code" 130 "a job interrupted on its own makes the batch exit 130"
+    contains "$tmp/one.out" "3 jobs: 2 done, 0 failed, 0 crashed, 0 skipped (finished before), 1 not finished" \
+        "the other jobs on that worker still run, and the summary counts the interrupted one"
+fi
 
 # ---- a real retarget batch ----
 data="${RF_DATA_DIR:-}"

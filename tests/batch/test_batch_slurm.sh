@@ -107,6 +107,19 @@ done
 expect 0 "--resubmit with nothing left" -- "$rigflow" batch --resubmit "$out"
 contains "$tmp/out" "nothing to resubmit" "--resubmit says so"
 
+# ---- an output folder whose path holds a space and a '%' (Slurm's pattern character) ----
+out2="$tmp/out dir 100%"
+mkdir -p "$tmp/in2"
+echo one >"$tmp/in2/one.txt"
+echo two >"$tmp/in2/two.txt"
+expect 0 "--slurm with a space and a % in --out" -- "$rigflow" --plugin-path "$fx" batch "$pipeline" \
+    --over "copy.input=$tmp/in2/*.txt" --out "$out2" --slurm
+wait_batch "$out2" || { echo "Bail out! the array in '$out2' did not finish within 60 s"; exit 99; }
+expect 0 "... every job done" -- "$rigflow" batch --status "$out2"
+[ "$(ls "$out2"/rigflow-batch/logs/slurm-*_[01].out 2>/dev/null | wc -l)" = 2 ] &&
+    ok "... each task's Slurm log in DIR/rigflow-batch/logs" ||
+    bad "... Slurm logs: $(ls "$out2/rigflow-batch/logs" 2>&1 | tr '\n' ' ')"
+
 started=("${slurm_daemons[@]}")
 slurm_cluster_stop
 left=0

@@ -50,11 +50,13 @@ row() {
     else ok "$name"; fi
 }
 
-# good NAME INPUT OUTPUT [MESSAGE]: a hostile but valid input converts, with MESSAGE if given.
+# good NAME INPUT OUTPUT [MESSAGE]: a hostile but valid input converts, with MESSAGE if given
+# (a warning: the run is not --quiet then).
 good() {
     local name=$1 in=$2 out=$3 msg=${4:-}
     rm -f "$out"
-    rf run "$convert" -p source.path="$in" -p export.path="$out"
+    if [ -n "$msg" ]; then rfv run "$convert" -p source.path="$in" -p export.path="$out"
+    else rf run "$convert" -p source.path="$in" -p export.path="$out"; fi
     if [ "$code" != 0 ]; then bad "$name: exit $code, expected 0"
     elif [ -n "$msg" ] && ! grep -qF -- "$msg" "$tmp/err"; then bad "$name: '$msg' not in the message"
     elif [ ! -s "$out" ]; then bad "$name: no output written"
@@ -114,6 +116,20 @@ row "finite values beyond range (their squares would overflow)" 1 \
     "big.bvh:4: '1e308' is out of range: expected the OFFSET's y within +-1e+30" "$tmp/big.bvh" "$o.bvh"
 bvh1 0 "0 1 2" 0.01e3081 >"$tmp/inf-time.bvh" # found by fuzz_bvh: the rate became 0 fps
 row "Frame Time that reads as infinity" 1 "expected a positive Frame Time" "$tmp/inf-time.bvh" "$o.glb"
+bvh1 0 "0 1 2" 1e-300 >"$tmp/tiny-time.bvh" # 1e300 fps: finite, but no float32 tells its frames apart
+row "Frame Time too small for glTF's float32 times" 1 \
+    "animation 0 'tiny-time': frames 0 and 1 fall on one time in glTF's float32 seconds (1e+300 fps)" \
+    "$tmp/tiny-time.bvh" "$o.glb"
+
+# ---- names that are not UTF-8 (Latin-1 from an old exporter) written as glTF, whose JSON must be ----
+printf 'HIERARCHY\nROOT H\351ps\n{\nOFFSET 0 0 0\nCHANNELS 3 Xposition Yposition Zrotation\nJOINT Spine\n' >"$tmp/latin1.bvh"
+printf '{\nOFFSET 0 1 0\nCHANNELS 1 Zrotation\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n}\nMOTION\nFrames: 2\n' >>"$tmp/latin1.bvh"
+printf 'Frame Time: 0.1\n0 0 0 0\n0 0 1 2\n' >>"$tmp/latin1.bvh"
+good "a Latin-1 joint name converts to GLB" "$tmp/latin1.bvh" "$tmp/latin1.glb"
+good "... which reads back, every joint in place" "$tmp/latin1.glb" "$tmp/latin1-back.bvh"
+grep -q "ROOT H$(printf '\357\277\275')ps" "$tmp/latin1-back.bvh" && grep -q "JOINT Spine" "$tmp/latin1-back.bvh" &&
+    ok "... the byte that is not UTF-8 became U+FFFD, the rest of the name kept" ||
+    bad "... names after the round trip: $(grep -a 'ROOT\|JOINT' "$tmp/latin1-back.bvh" 2>/dev/null | od -c | head -3)"
 
 # ---- bytes that would drive a terminal, quoted in a message ----
 printf 'HIERARCHY\nROOT \033[2J\033]0;pwned\007\n{\nOFFSET 0 0 0\nCHANNELS 1 Zrotation\nJOINT \033[2J\033]0;pwned\007\n' >"$tmp/esc.bvh"
@@ -180,6 +196,11 @@ cat >"$tmp/dup.gltf" <<'EOF'
 EOF
 good "glTF joint name repeated: renamed, with a warning" "$tmp/dup.gltf" "$tmp/dup.bvh.out.bvh" \
     "duplicate joint name 'b' renamed 'b.1'"
+rm -f "$tmp/dup.bvh.out.bvh"
+rf run "$convert" -p source.path="$tmp/dup.gltf" -p export.path="$tmp/dup.bvh.out.bvh"
+[ "$code" = 0 ] && [ -s "$tmp/dup.bvh.out.bvh" ] && [ ! -s "$tmp/err" ] &&
+    ok "--quiet: the same conversion prints no warning (errors only)" ||
+    bad "--quiet printed a warning (exit $code)"
 
 # ---- hierarchy cycles in glTF node graphs (Assimp importer) ----
 cat >"$tmp/cycle.gltf" <<'EOF'
@@ -408,17 +429,18 @@ gltf_with_buffer() { # gltf_with_buffer URI: a skeleton and a mesh whose vertice
  "buffers": [{"uri": "%s", "byteLength": 36}],
  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}]}\n' "$1"
 }
-# traced NAME: runs the command under strace when it can, so rows can check what was opened.
+# traced ARGS...: runs the command under strace when it can, so rows can check what was opened;
+# not --quiet: the rows read the refusals, which are warnings.
 tracing=no
 [ -z "${RF_RIGFLOW:-}" ] && strace -f -qq -o /dev/null true 2>/dev/null && tracing=yes
 traced() {
     if [ "$tracing" = yes ]; then
         # LeakSanitizer cannot run under ptrace: a sanitizer build checks leaks in the other rows.
         ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" strace -f -qq \
-            -e trace=open,openat -o "$tmp/trace" "$rigflow" --quiet "$@" >"$tmp/out" 2>"$tmp/err"
+            -e trace=open,openat -o "$tmp/trace" "$rigflow" "$@" >"$tmp/out" 2>"$tmp/err"
     else
         : >"$tmp/trace"
-        "$rigflow" --quiet "$@" >"$tmp/out" 2>"$tmp/err"
+        "$rigflow" "$@" >"$tmp/out" 2>"$tmp/err"
     fi
     code=$?
 }

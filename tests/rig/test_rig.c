@@ -1,7 +1,8 @@
 /* librigauto: every mesh of the shared data and Debian's assimp-testmodels is rigged or refused
  * with a reason, never with a vertex left unweighted; the rig does not depend on the unit or the
  * facing; bad input (empty, a point cloud, a sheet, nothing but specks, broken numbers) is
- * refused with a message and nothing allocated; a big scan goes through the simplified proxy. */
+ * refused with a message and nothing allocated; a big scan goes through the simplified proxy; legs
+ * a few voxels apart stay apart; a given skeleton is weighted as its artist would. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -156,7 +157,8 @@ static void test_testmodels(void **state)
 
 /* Boxes: add_box appends one; table_creature is a box body on four box legs with a box head,
  * scaled and turned about +Y. */
-static void add_box(rf_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1)
+static void add_box_faces(rf_mesh *m, double x0, double y0, double z0, double x1, double y1,
+                          double z1, bool top)
 {
     static const int corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
                                      {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
@@ -169,10 +171,20 @@ static void add_box(rf_mesh *m, double x0, double y0, double z0, double x1, doub
         p[0] = (float)(corner[c][0] ? x1 : x0), p[1] = (float)(corner[c][1] ? y1 : y0);
         p[2] = (float)(corner[c][2] ? z1 : z0);
     }
-    for (int t = 0; t < 12; t++)
+    uint32_t n = 0;
+    for (int t = 0; t < 12; t++) {
+        if (!top && (t == 6 || t == 7)) /* the y = y1 side */
+            continue;
         for (int k = 0; k < 3; k++)
-            m->triangles[(size_t)(m->triangle_count + t) * 3 + k] = base + face[t][k];
-    m->vertex_count += 8, m->triangle_count += 12;
+            m->triangles[(size_t)(m->triangle_count + n) * 3 + k] = base + face[t][k];
+        n++;
+    }
+    m->vertex_count += 8, m->triangle_count += n;
+}
+
+static void add_box(rf_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1)
+{
+    add_box_faces(m, x0, y0, z0, x1, y1, z1, true);
 }
 
 static rf_mesh *table_creature(double scale, double turn)
@@ -341,6 +353,42 @@ static void test_bad_input(void **state)
     rf_mesh_free(m);
 }
 
+/* Two legs three voxels apart under a body: the hole sealing of the volume would join them into
+ * one column down the middle. Closed legs stay apart by the surface alone; legs open at the top
+ * (hidden inside the body) go through the hole sealing and are split again by the winding
+ * number. Either way the rig has joints low in both legs, off the middle. */
+static void test_narrow_gap(void **state)
+{
+    (void)state;
+    for (int open = 0; open < 2; open++) {
+        rf_mesh *m = rf_mesh_new();
+        m->positions = calloc(3 * 8 * 3, sizeof(float));
+        m->triangles = calloc(3 * 12 * 3, sizeof(uint32_t));
+        add_box(m, -0.3, 1, -0.15, 0.3, 1.6, 0.15); /* longest edge 1.6: voxels of 1/60 */
+        add_box_faces(m, -0.25, 0, -0.1, -0.025, 1.05, 0.1, !open);
+        add_box_faces(m, 0.025, 0, -0.1, 0.25, 1.05, 0.1, !open); /* 0.05 apart: three voxels */
+        rf_skeleton *s;
+        rf_mesh *out;
+        rf_rig_stats st;
+        char err[256];
+        if (!rf_rig_general(m, NULL, &s, &out, &st, NULL, NULL, err, sizeof err))
+            fail_msg("%s", err);
+        check_rig(open ? "narrow gap, open legs" : "narrow gap", m, s, out);
+        rf_vec3 *w = calloc(s->joint_count, sizeof *w);
+        world_joints(s, w);
+        bool left = false, right = false;
+        for (uint32_t j = 0; j < s->joint_count; j++) {
+            left |= w[j].y < 0.5 && w[j].x < -0.08;
+            right |= w[j].y < 0.5 && w[j].x > 0.08;
+        }
+        if (!left || !right)
+            fail_msg("%s: the legs merged (joints low on the left %d, right %d)",
+                     open ? "open legs" : "closed legs", left, right);
+        free(w);
+        rf_skeleton_free(s), rf_mesh_free(out), rf_mesh_free(m);
+    }
+}
+
 /* A body with a speck beside it and a loose part of its own: every vertex weighted. */
 static void test_loose_parts(void **state)
 {
@@ -402,13 +450,75 @@ static void test_big_scan(void **state)
     rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
 }
 
+/* A given skeleton weighted by bone heat (rf_rig_bind, what rig-bench compares with an artist's
+ * weights): the table creature with a body joint, a head and four legs as leaf joints without end
+ * sites at the top of each leg, and a helper far outside. Each foot, reached only past its leg
+ * joint, belongs to that leg (the artist's convention for a leaf joint); the head's top to the
+ * head; the helper gets nothing; joint indices are the skeleton's and the inverse binds are the
+ * ones given. */
+static void test_bind_given(void **state)
+{
+    (void)state;
+    rf_mesh *in = table_creature(1, 0);
+    static const double at[7][3] = {{0, 1.2, 0},      {1.2, 1.45, 0},   {-0.9, 1.0, -0.3},
+                                    {0.9, 1.0, -0.3}, {-0.9, 1.0, 0.3}, {0.9, 1.0, 0.3},
+                                    {5, 5, 5}};
+    rf_skeleton *s = rf_skeleton_new(7);
+    for (uint32_t j = 0; j < 7; j++) {
+        s->joints[j].parent = j ? 0 : -1;
+        s->joints[j].rest = rf_xform_identity();
+        s->joints[j].rest.t =
+            j ? rf_v3(at[j][0] - at[0][0], at[j][1] - at[0][1], at[j][2] - at[0][2])
+              : rf_v3(at[0][0], at[0][1], at[0][2]);
+    }
+    s->joints[6].flags |= RF_JOINT_UNWEIGHTED;
+    rf_mat4 inv[7];
+    for (uint32_t j = 0; j < 7; j++) {
+        rf_xform x = rf_xform_identity();
+        x.t = rf_v3(-at[j][0], -at[j][1], -at[j][2]);
+        inv[j] = rf_xform_to_mat4(x);
+    }
+    for (int given = 0; given < 2; given++) {
+        rf_mesh *m = NULL;
+        char err[256];
+        if (!rf_rig_bind(in, s, given ? inv : NULL, NULL, &m, NULL, err, sizeof err))
+            fail_msg("%s", err);
+        assert_int_equal(m->bind_count, 7);
+        for (uint32_t v = 0; v < m->vertex_count; v++) {
+            const float *p = m->positions + v * 3;
+            const uint16_t *js = m->skin_joints + v * 4;
+            const float *ws = m->skin_weights + v * 4;
+            double sum = 0;
+            for (int k = 0; k < 4; k++) {
+                assert_true(js[k] < 7);
+                assert_false(ws[k] > 0 && js[k] == 6); /* the helper */
+                sum += ws[k];
+            }
+            assert_true(fabs(sum - 1) < 1e-4);
+            /* js[0] is the heaviest */
+            if (p[1] < 0.01) { /* a foot: its leg, the one on that corner */
+                uint32_t leg = 2 + (p[0] > 0) + 2 * (p[2] > 0);
+                assert_int_equal(js[0], leg);
+            }
+            if (p[1] > 1.69 && p[0] > 1.4) /* the top of the head, past the head joint */
+                assert_int_equal(js[0], 1);
+        }
+        for (uint32_t j = 0; j < 7; j++)
+            assert_true(fabs(m->inverse_bind[j].m[12] - inv[j].m[12]) < 1e-9 &&
+                        fabs(m->inverse_bind[j].m[13] - inv[j].m[13]) < 1e-9);
+        rf_mesh_free(m);
+    }
+    rf_skeleton_free(s), rf_mesh_free(in);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_input),     cmocka_unit_test(test_any_scale),
         cmocka_unit_test(test_any_facing),    cmocka_unit_test(test_loose_parts),
         cmocka_unit_test(test_big_scan),      cmocka_unit_test(test_testmodels),
-        cmocka_unit_test(test_shared_models),
+        cmocka_unit_test(test_shared_models), cmocka_unit_test(test_bind_given),
+        cmocka_unit_test(test_narrow_gap),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

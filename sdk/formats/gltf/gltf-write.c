@@ -18,6 +18,7 @@
 #include <jansson.h>
 
 #include "rigflow/gltf-write.h"
+#include "rigflow/text.h"
 
 enum {
     RF_GL_UNSIGNED_BYTE = 5121,
@@ -127,10 +128,32 @@ static json_t *rf_gw_vec(const double *v, int n)
     return a;
 }
 
+/* A name from a file as a JSON string, which must be UTF-8: bytes that are not become U+FFFD
+ * (a Latin-1 name would otherwise make the string, and the node or clip holding it, vanish). */
+static json_t *rf_gw_name(const char *name)
+{
+    json_t *j = json_string(name ? name : "");
+    if (j)
+        return j;
+    size_t len = strlen(name);
+    char *fixed = malloc(len * 3 + 1), *o = fixed;
+    if (!fixed)
+        return NULL;
+    for (const unsigned char *c = (const unsigned char *)name; *c;) {
+        size_t n = rf_text_utf8_len(c, NULL);
+        memcpy(o, n ? (const char *)c : "\xef\xbf\xbd", n ? n : 3);
+        o += n ? n : 3, c += n ? n : 1;
+    }
+    *o = '\0';
+    j = json_string(fixed);
+    free(fixed);
+    return j;
+}
+
 static json_t *rf_gw_joint_node(const rf_skeleton *s, uint32_t j)
 {
     const rf_joint *jt = &s->joints[j];
-    json_t *n = json_pack("{s:s}", "name", jt->name ? jt->name : "");
+    json_t *n = json_pack("{s:o}", "name", rf_gw_name(jt->name));
     rf_xform x = jt->rest;
     rf_quat q = rf_quat_normalize(x.r);
     double t[3] = {x.t.x, x.t.y, x.t.z}, r[4] = {q.x, q.y, q.z, q.w}, sc[3] = {x.s.x, x.s.y, x.s.z};
@@ -535,15 +558,14 @@ static json_t *rf_gw_mesh(rf_gw *g, const rf_mesh *m, uint32_t joints, bool skin
     if (skinned)
         rf_gw_skin_attributes(g, m, joints, &as);
     rf_gw_morph_views(g, m, as.n >= 2 && strcmp(as.a[1].name, "NORMAL") == 0);
-    json_t *mesh = json_pack("{s:s, s:o}", "name", m->name ? m->name : "mesh", "primitives",
-                             rf_gw_primitives(g, m, &as));
+    json_t *mesh = json_pack("{s:o, s:o}", "name", rf_gw_name(m->name ? m->name : "mesh"),
+                             "primitives", rf_gw_primitives(g, m, &as));
     if (g->morphs) { /* weights at rest, and the names readers (Blender, three.js) show */
         json_t *weights = json_array(), *names = json_array();
         for (uint32_t i = 0; i < g->morphs; i++) {
             json_array_append_new(
                 weights, json_real(isfinite(g->morph[i]->weight) ? g->morph[i]->weight : 0));
-            json_t *name = json_string(g->morph[i]->name ? g->morph[i]->name : "");
-            json_array_append_new(names, name ? name : json_string("")); /* not UTF-8: unnamed */
+            json_array_append_new(names, rf_gw_name(g->morph[i]->name));
         }
         json_object_set_new(mesh, "weights", weights);
         json_object_set_new(mesh, "extras", json_pack("{s:o}", "targetNames", names));
@@ -570,7 +592,7 @@ static void rf_gw_images(rf_gw *g, const rf_mesh *m)
         int view = rf_gw_view(g, im->bytes, im->byte_count, 0);
         json_t *j = json_pack("{s:i, s:s}", "bufferView", view, "mimeType", im->mime_type);
         if (im->name && *im->name)
-            json_object_set_new(j, "name", json_string(im->name));
+            json_object_set_new(j, "name", rf_gw_name(im->name));
         if (!j || json_array_append_new(g->images, j))
             g->oom = true;
         g->image_index[i] = (int)json_array_size(g->images) - 1;
@@ -653,7 +675,7 @@ static json_t *rf_gw_material(rf_gw *g, const rf_mesh *m, const rf_material *mat
     if (!mat)
         return j; /* glTF's default material keeps the indices of the others */
     if (mat->name && *mat->name)
-        json_object_set_new(j, "name", json_string(mat->name));
+        json_object_set_new(j, "name", rf_gw_name(mat->name));
     float base[4];
     for (int i = 0; i < 4; i++)
         base[i] = (float)rf_gw_unit(mat->base_color[i]);
@@ -814,8 +836,8 @@ static json_t *rf_gw_animation(rf_gw *g, const rf_animation *a, const rf_skeleto
         json_decref(samplers), json_decref(channels);
         return NULL;
     }
-    return json_pack("{s:s, s:o, s:o}", "name", a->name ? a->name : "clip", "samplers", samplers,
-                     "channels", channels);
+    return json_pack("{s:o, s:o, s:o}", "name", rf_gw_name(a->name ? a->name : "clip"), "samplers",
+                     samplers, "channels", channels);
 }
 
 /* ---- document ---- */
@@ -856,7 +878,8 @@ static json_t *rf_gw_document(rf_gw *g, const rf_skeleton *s, const rf_animation
     }
     if (m) {
         bool skinned = m->skin_joints && m->skin_weights && s->joint_count;
-        json_t *mesh_node = json_pack("{s:s, s:i}", "name", m->name ? m->name : "mesh", "mesh", 0);
+        json_t *mesh_node =
+            json_pack("{s:o, s:i}", "name", rf_gw_name(m->name ? m->name : "mesh"), "mesh", 0);
         json_object_set_new(doc, "meshes",
                             json_pack("[o]", rf_gw_mesh(g, m, s->joint_count, skinned)));
         if (skinned) {
@@ -958,6 +981,16 @@ static bool rf_gw_check(const rf_skeleton *s, const rf_animation *const *clips, 
                      clip, a->fps);
             return false;
         }
+        /* glTF keeps times as float32 seconds and wants them strictly increasing: a file's rate
+         * may be 1e300 fps (its times all 0) or its clip long enough to run out of digits */
+        for (uint32_t f = 1; a && f < a->frame_count; f++)
+            if (!((float)(f / a->fps) > (float)((f - 1) / a->fps))) {
+                snprintf(err, err_size,
+                         "%s: animation %u '%s': frames %u and %u fall on one time in glTF's "
+                         "float32 seconds (%g fps)",
+                         name, i, clip, f - 1, f, a->fps);
+                return false;
+            }
     }
     for (size_t i = 0; m && i < (size_t)m->triangle_count * 3; i++)
         if (m->triangles[i] >= m->vertex_count) {

@@ -27,6 +27,14 @@ typedef struct rf_rigger_api {
      * with rf_skeleton_free and rf_mesh_free) */
     bool (*rig)(const rf_mesh *mesh, rf_skeleton **skeleton, rf_mesh **skinned, char *err,
                 size_t err_size);
+    /* Appended (read it only when `size` covers it, RF_HAS_FIELD; may be NULL): weights `mesh`
+     * to a given `skeleton` (both borrowed; the mesh's own skin ignored) with the rigger's
+     * skinning alone, as skinning methods are compared given the same skeleton. inverse_bind
+     * ([joint_count], model space to joint space in the pose the mesh is in) places the joints;
+     * NULL means the skeleton's rest pose. Joints flagged RF_JOINT_UNWEIGHTED get no weights.
+     * Returns a new skinned copy (inverse binds set) or false with a message in err. */
+    bool (*skin)(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4 *inverse_bind,
+                 rf_mesh **skinned, char *err, size_t err_size);
 } rf_rigger_api;
 
 #ifdef __cplusplus

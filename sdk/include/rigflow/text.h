@@ -59,6 +59,33 @@ static inline size_t rf_text_printable_len(const unsigned char *s, uint32_t flag
     return n;
 }
 
+/* Length of the valid UTF-8 sequence at `s` (1 to 4 bytes; ASCII, controls included, is 1), or 0
+ * at NUL or where no valid sequence starts (overlong forms, surrogates, beyond U+10FFFF); its code
+ * point into *cp when cp is not NULL. */
+static inline size_t rf_text_utf8_len(const unsigned char *s, uint32_t *cp)
+{
+    unsigned char b = s[0];
+    size_t n = b == 0     ? 0
+               : b < 0x80 ? 1
+               : b < 0xc2 ? 0
+               : b < 0xe0 ? 2
+               : b < 0xf0 ? 3
+               : b < 0xf5 ? 4
+                          : 0;
+    uint32_t c = n == 1 ? b : b & (0x7f >> n);
+    for (size_t i = 1; i < n; i++) {
+        if ((s[i] & 0xc0) != 0x80)
+            return 0;
+        c = c << 6 | (s[i] & 0x3f);
+    }
+    static const uint32_t least[5] = {0, 0, 0x80, 0x800, 0x10000};
+    if (n == 0 || c < least[n] || c > 0x10ffff || (c >= 0xd800 && c <= 0xdfff))
+        return 0;
+    if (cp)
+        *cp = c;
+    return n;
+}
+
 /* `text` (NULL reads as "") with every byte that is not printable UTF-8 written as \xNN, into
  * `out` (`size` bytes, always NUL-terminated when size > 0, cut only between characters).
  * Returns the length the whole escaped text needs, as snprintf does. */
