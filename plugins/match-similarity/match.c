@@ -295,17 +295,9 @@ static void line_section(const rf_ms_skel *s, uint32_t sec, rf_ms_line *l)
         l->u0[l->n] = s->a->joints[j].u0, l->u1[l->n] = s->a->joints[j].u1;
         l->n++;
     }
-    l->unit = 1;
-    if (l->n == 0 || !is_limb(s->a, sec))
-        return;
-    /* a limb hanging far from the joint it leaves (an arm on a one-joint torso at the hips) is
-     * placed from its first joint: a missing clavicle shifts a limb by less than this */
-    double u00 = l->u0[0];
-    if (u00 > 0.3 && u00 < 1)
-        for (uint32_t i = 0; i < l->n; i++)
-            l->u0[i] = (l->u0[i] - u00) / (1 - u00), l->u1[i] = (l->u1[i] - u00) / (1 - u00);
     /* a limb's length reaches the end of its longest digit: where its own bones end */
-    if (l->u1[l->n - 1] > 0.2 && l->u1[l->n - 1] < 1)
+    l->unit = 1;
+    if (l->n && is_limb(s->a, sec) && l->u1[l->n - 1] > 0.2 && l->u1[l->n - 1] < 1)
         l->unit = l->u1[l->n - 1];
 }
 
