@@ -82,6 +82,23 @@ sed -i '/c_names/s/$/\ttest.source\ttest.sink/' "$tmp/index"
 (cd "$tmp" && rm -f out.txt && "$rigflow" -q run "$tmp/p.json" >/dev/null 2>"$tmp/err")
 check '[ "$(cat "$tmp/out.txt" 2>/dev/null)" = 7 ]' "a lying index: the pipeline still finds its node types"
 
+# A plugin the index vouches for but that is refused when opened for the pipeline: the refusal
+# is reported as an error of the run, beside the node type it could not provide.
+late="$tmp/late"
+mkdir "$late"
+cp "$fixtures/fx_initfail.so" "$late/a_init.so"
+if read -r dev ino size mt ct < <(stat -c '%d %i %s %.9Y %.9Z' "$late/a_init.so" 2>/dev/null); then
+    printf '%s\n%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$(head -1 "$tmp/index")" "$late/a_init.so" \
+        "$dev" "$ino" "$size" "${mt/./}" "${ct/./}" org.rigflow.test.init test.source >"$tmp/late-index"
+    RIGFLOW_PLUGIN_PATH="$late" RIGFLOW_PLUGIN_INDEX="$tmp/late-index" \
+        "$rigflow" validate "$tmp/p.json" >/dev/null 2>"$tmp/err"
+    code=$?
+    check '[ "$code" = 3 ] && grep -q "error: .*a_init.so: plugin failed to initialise: the fixture.s licence file is missing" "$tmp/err"' \
+        "a plugin refused when opened on demand: its reason is an error of the run (exit $code)"
+else
+    echo "# SKIP: GNU stat unavailable: the late refusal is not tested"
+fi
+
 # Another host's index is ignored and rewritten; RIGFLOW_PLUGIN_INDEX= turns the index off.
 sed -i '1s/.*/rigflow-plugin-index 1 abi 0.0.0/' "$tmp/index"
 "$rigflow" validate "$tmp/p.json" >/dev/null 2>&1
