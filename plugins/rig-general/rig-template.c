@@ -61,6 +61,20 @@ static void rf_tpl_at(const rf_tpl_curve *c, double f, double out[3])
         out[a] = c->p[i - 1][a] + t * (c->p[i][a] - c->p[i - 1][a]);
 }
 
+/* The part of curve c between fractions f0 and f1, into out. */
+static void rf_tpl_sub(const rf_tpl_curve *c, double f0, double f1, rf_tpl_curve *out)
+{
+    double p[3], len = rf_tpl_len(c);
+    out->n = 0;
+    rf_tpl_at(c, f0, p);
+    rf_tpl_add(out, p);
+    for (uint32_t i = 0; i < c->n; i++)
+        if (c->s[i] > f0 * len && c->s[i] < f1 * len)
+            rf_tpl_add(out, c->p[i]);
+    rf_tpl_at(c, f1, p);
+    rf_tpl_add(out, p);
+}
+
 /* Where the curve bends most (turning angle over 15 degrees) between fractions lo and hi; `dflt`
  * when it runs straight there (a limb held straight has its elbow or knee at the template's
  * place). */
@@ -145,6 +159,52 @@ static uint32_t rf_tpl_far_leaf(const rf_rig_skel *k, uint32_t j, const uint8_t 
             *reach = r, best = i;
     }
     free(d), free(in);
+    return best;
+}
+
+static double rf_tpl_dist(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+static bool rf_tpl_is_leaf(const rf_rig_skel *k, uint32_t j)
+{
+    for (uint32_t i = j + 1; i < k->n; i++) /* parents come first */
+        if (k->parent[i] == (int32_t)j)
+            return false;
+    return true;
+}
+
+/* The leaf of the tree farthest from joint `from` along the tree, in any direction (up through
+ * parents too: a box model's head may hang anywhere), never entering a joint flagged in `block`;
+ * its distance, end site included, into *reach. `from` when nothing is reachable. */
+static uint32_t rf_tpl_far_any(const rf_rig_skel *k, uint32_t from, const uint8_t *block,
+                               double *reach)
+{
+    double *d = malloc((k->n + 1) * sizeof *d);
+    uint32_t *queue = malloc((k->n + 1) * sizeof *queue), best = from, head = 0, tail = 0;
+    uint8_t *seen = calloc(k->n + 1, 1);
+    *reach = 0;
+    if (!d || !queue || !seen) {
+        free(d), free(queue), free(seen);
+        return from;
+    }
+    d[from] = 0, seen[from] = 1, queue[tail++] = from;
+    while (head < tail) {
+        uint32_t j = queue[head++];
+        double r = d[j] + rf_tpl_dist(k->pos + (size_t)j * 3, rf_tpl_end(k, j));
+        if (r > *reach && rf_tpl_is_leaf(k, j))
+            *reach = r, best = j;
+        for (uint32_t i = 0; i < k->n; i++) { /* neighbours: the parent and the children */
+            bool next = (k->parent[j] == (int32_t)i) || (k->parent[i] == (int32_t)j);
+            if (!next || seen[i] || block[i])
+                continue;
+            seen[i] = 1, queue[tail++] = i;
+            d[i] = d[j] + rf_tpl_dist(k->pos + (size_t)i * 3, k->pos + (size_t)j * 3);
+        }
+    }
+    free(d), free(queue), free(seen);
     return best;
 }
 
@@ -287,7 +347,9 @@ typedef struct rf_tpl_ctx {
     const rf_analysis *a;
     const rf_tpl_body *b;
     rf_tpl *t;
-    uint8_t *limb; /* [joint] in a limb section or below one: not the head or the tail */
+    uint8_t *limb;   /* [joint] in a limb section or below one: not the head or the tail */
+    int swap;        /* the ends swapped against the analysis's forward: sides swapped too */
+    rf_vec3 forward; /* hips to chest (quadruped), zero when the analysis's forward stands */
 } rf_tpl_ctx;
 
 static const char *const rf_tpl_side[2] = {"Left", "Right"};
@@ -353,13 +415,13 @@ static void rf_tpl_arm(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, in
 
 /* Flags the joints of the limbs the template uses, and everything below them. */
 static void rf_tpl_mark_limbs(const rf_rig_skel *k, const rf_analysis *a, const rf_tpl_body *b,
-                              uint8_t *limb)
+                              rf_rig_template_kind kind, uint8_t *limb)
 {
-    int32_t secs[8];
+    int32_t secs[4];
     uint32_t n = 0;
-    for (uint32_t p = 0; p < 2; p++)
-        for (int side = 0; side < 2; side++)
-            secs[n++] = b->leg[p][side], secs[n++] = b->arm[p][side];
+    bool quadruped = kind == RF_RIG_TEMPLATE_QUADRUPED;
+    for (int side = 0; side < 2; side++)
+        secs[n++] = b->leg[0][side], secs[n++] = quadruped ? b->leg[1][side] : b->arm[0][side];
     for (uint32_t i = 0; i < n; i++) {
         if (secs[i] < 0)
             continue;
@@ -372,29 +434,76 @@ static void rf_tpl_mark_limbs(const rf_rig_skel *k, const rf_analysis *a, const 
             limb[j] = 1;
 }
 
-/* The body's centre line: spine from the hips to the chest, then neck and head to the farthest
- * end beyond the chest that is no limb (skipping the hips' side, so a tail is not a head).
- * Returns the chest joint (Spine2) or -1 when there is no head. */
+/* Flags the joints on the tree path from a to b, b included and a not. */
+static void rf_tpl_block_path(const rf_rig_skel *k, uint32_t a, uint32_t b, uint8_t *block)
+{
+    uint32_t m = rf_tpl_meet(k, a, b);
+    for (int32_t j = (int32_t)b; j >= 0 && (uint32_t)j != m; j = k->parent[j])
+        block[j] = 1;
+    for (int32_t j = (int32_t)a; j >= 0 && (uint32_t)j != m; j = k->parent[j])
+        block[j] = 1;
+    if (m != a)
+        block[m] = 1;
+    block[a] = 0;
+}
+
+/* Whether joint j lies on the tree path from a to b. */
+static bool rf_tpl_on_path(const rf_rig_skel *k, uint32_t a, uint32_t b, uint32_t j)
+{
+    uint32_t m = rf_tpl_meet(k, a, b);
+    for (int32_t i = (int32_t)a; i >= 0; i = k->parent[i]) {
+        if ((uint32_t)i == j)
+            return true;
+        if ((uint32_t)i == m)
+            break;
+    }
+    for (int32_t i = (int32_t)b; i >= 0 && (uint32_t)i != m; i = k->parent[i])
+        if ((uint32_t)i == j)
+            return true;
+    return false;
+}
+
+/* The body's centre line. The head is the leaf farthest from the chest (where the arms or
+ * forelegs leave) that is no limb, not reached through the hips; the spine runs from the hips to
+ * where the way to the head leaves the way to the chest (the chest itself, unless the forelegs
+ * hang off the neck, as on some box models), then neck and head to that leaf. Returns Spine2,
+ * or -1 when there is no head; the neck's base into *neck. */
 static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_t *hips_j,
-                            double neck_f)
+                            double neck_at, double neck_f, uint32_t *neck)
 {
     const rf_rig_skel *k = x->k;
     rf_tpl_curve sp = {0}, hd = {0};
-    rf_tpl_path(k, hips, chest, &sp);
-    /* the head: below the chest when the chest hangs from the hips, else anywhere off the
-     * hips-chest path */
     uint8_t *skip = malloc(k->n + 1);
     if (!skip)
         return -1;
     memcpy(skip, x->limb, k->n);
+    skip[hips] = 1;
     double reach;
-    uint32_t leaf = rf_tpl_far_leaf(k, chest, skip, &reach);
+    uint32_t leaf = rf_tpl_far_any(k, chest, skip, &reach);
     free(skip);
     if (leaf == chest && !k->has_tip[chest])
         return -1;
-    rf_tpl_path(k, chest, leaf, &hd);
+    *neck = chest;
+    for (int32_t j = (int32_t)chest; j >= 0; j = k->parent[j]) /* chest up to the meeting */
+        if (rf_tpl_on_path(k, hips, leaf, (uint32_t)j)) {
+            *neck = (uint32_t)j;
+            break;
+        }
+    if (!rf_tpl_on_path(k, hips, leaf, *neck)) /* the way to the head goes down from the chest */
+        *neck = chest;
+    rf_tpl_path(k, hips, *neck, &sp);
+    rf_tpl_path(k, *neck, leaf, &hd);
     rf_tpl_add(&hd, rf_tpl_end(k, leaf));
-    if (rf_tpl_len(&hd) < 0.25 * rf_tpl_len(&sp) || hd.n < 2)
+    if (rf_tpl_len(&sp) < 0.25 * rf_tpl_len(&hd)) {
+        /* the arms leave where the legs do (a short torso, a box body): the spine takes the
+         * first part of the centre line, hips to head, as far as the template's neck */
+        rf_tpl_curve all = {0};
+        rf_tpl_path(k, hips, leaf, &all);
+        rf_tpl_add(&all, rf_tpl_end(k, leaf));
+        rf_tpl_sub(&all, 0, neck_at, &sp);
+        rf_tpl_sub(&all, neck_at, 1, &hd);
+    }
+    if (rf_tpl_len(&hd) < 0.25 * rf_tpl_len(&sp) || hd.n < 2 || sp.n < 2)
         return -1;
     double p[3];
     rf_tpl_at(&sp, 0, p);
@@ -414,24 +523,22 @@ static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_
     return spine2;
 }
 
-/* A tail: the farthest centre-line end below the hips away from the chest, when it reaches at
- * least a quarter of the spine's length. */
-static void rf_tpl_tail(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_t hips_j)
+/* A tail: the farthest leaf from the hips that is no limb and not on the way to the neck, when
+ * it reaches at least a quarter of the spine's length. */
+static void rf_tpl_tail(rf_tpl_ctx *x, uint32_t hips, uint32_t neck, int32_t hips_j)
 {
     const rf_rig_skel *k = x->k;
     uint8_t *skip = malloc(k->n + 1);
     if (!skip)
         return;
     memcpy(skip, x->limb, k->n);
-    for (int32_t j = (int32_t)chest; j >= 0 && (uint32_t)j != hips; j = k->parent[j])
-        skip[j] = 1; /* the way to the chest is the spine */
-    double reach, spine = 0;
-    uint32_t leaf = rf_tpl_far_leaf(k, hips, skip, &reach);
+    rf_tpl_block_path(k, hips, neck, skip);
+    double reach;
+    uint32_t leaf = rf_tpl_far_any(k, hips, skip, &reach);
     free(skip);
     rf_tpl_curve sp = {0}, c = {0};
-    rf_tpl_path(k, hips, chest, &sp);
-    spine = rf_tpl_len(&sp);
-    if (leaf == hips || reach < 0.25 * spine)
+    rf_tpl_path(k, hips, neck, &sp);
+    if (leaf == hips || reach < 0.25 * rf_tpl_len(&sp))
         return;
     rf_tpl_path(k, hips, leaf, &c);
     rf_tpl_add(&c, rf_tpl_end(k, leaf));
@@ -449,7 +556,8 @@ static bool rf_tpl_humanoid(rf_tpl_ctx *x, char *err, size_t n)
         rf_tpl_ends(x->a, b->arm[0][s], &ga[s], &first);
     }
     uint32_t hips = rf_tpl_meet(x->k, gl[0], gl[1]), chest = rf_tpl_meet(x->k, ga[0], ga[1]);
-    int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, 0.35);
+    uint32_t neck;
+    int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, 0.55, 0.35, &neck);
     if (spine2 < 0)
         return rf_rig_fail(err, n,
                            "the humanoid template found no neck and head above the "
@@ -461,29 +569,50 @@ static bool rf_tpl_humanoid(rf_tpl_ctx *x, char *err, size_t n)
     return true;
 }
 
-static bool rf_tpl_quadruped(rf_tpl_ctx *x, char *err, size_t n)
+/* Length of the tree path from the root (joint 0: parents come first) to joint j. */
+static double rf_tpl_from_root(const rf_rig_skel *k, uint32_t j)
+{
+    rf_tpl_curve c = {0};
+    rf_tpl_path(k, 0, j, &c);
+    return rf_tpl_len(&c);
+}
+
+static bool rf_tpl_quadruped(rf_tpl_ctx *x, bool declared, char *err, size_t n)
 {
     const rf_tpl_body *b = x->b;
-    uint32_t gf[2], gh[2], first;
-    for (int s = 0; s < 2; s++) {
-        rf_tpl_ends(x->a, b->leg[0][s], &gf[s], &first); /* the front pair */
-        rf_tpl_ends(x->a, b->leg[1][s], &gh[s], &first);
+    uint32_t g[2][2], first;
+    for (int p = 0; p < 2; p++)
+        for (int s = 0; s < 2; s++)
+            rf_tpl_ends(x->a, b->leg[p][s], &g[p][s], &first);
+    uint32_t chest = rf_tpl_meet(x->k, g[0][0], g[0][1]),
+             hips = rf_tpl_meet(x->k, g[1][0], g[1][1]);
+    /* Without a forward the file declares, which end is the front is the analysis's weakest
+     * guess; the curve skeleton is rooted at the hips (the girdle farther from the rib cage,
+     * rf_rig_curve), so the girdle nearer the root is the hips. Swapping the ends swaps the
+     * sides too. */
+    int front = 0;
+    if (!declared && rf_tpl_from_root(x->k, chest) < rf_tpl_from_root(x->k, hips)) {
+        uint32_t t = chest;
+        chest = hips, hips = t, front = 1;
     }
-    uint32_t hips = rf_tpl_meet(x->k, gh[0], gh[1]), chest = rf_tpl_meet(x->k, gf[0], gf[1]);
+    x->swap = front;
     if (hips == chest)
         return rf_rig_fail(err, n,
                            "the quadruped template found the fore and hind legs "
                            "leaving the body at one place (no spine between them)");
-    int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, 0.5);
+    uint32_t neck;
+    int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, 0.5, 0.5, &neck);
     if (spine2 < 0)
         return rf_rig_fail(err, n,
                            "the quadruped template found no neck and head beyond the "
                            "forelegs");
-    rf_tpl_tail(x, hips, chest, hips_j);
+    rf_tpl_tail(x, hips, neck, hips_j);
     for (int s = 0; s < 2; s++)
-        rf_tpl_arm(x, s, b->leg[0][s], chest, spine2, true);
+        rf_tpl_arm(x, s ^ front, b->leg[front][s], chest, spine2, true);
     for (int s = 0; s < 2; s++)
-        rf_tpl_leg(x, s, b->leg[1][s], hips, hips_j, true);
+        rf_tpl_leg(x, s ^ front, b->leg[1 - front][s], hips, hips_j, true);
+    const double *hp = x->k->pos + (size_t)hips * 3, *cp = x->k->pos + (size_t)chest * 3;
+    x->forward = rf_v3(cp[0] - hp[0], cp[1] - hp[1], cp[2] - hp[2]);
     return true;
 }
 
@@ -555,19 +684,25 @@ static bool rf_tpl_embed(const rf_rig_skel *k, const rf_rig_options *o, rf_rig_t
     if (!ok)
         rf_rig_fail(err, n, "out of memory");
     rf_tpl_body b;
+    bool declared = rf_v3_len(o->forward) > 0;
     rf_rig_template_kind got = RF_RIG_TEMPLATE_AUTO;
     if (ok) {
         rf_tpl_limbs(a, &b);
         ok = rf_tpl_pick(&b, want, &got, err, n);
     }
     if (ok) {
-        rf_tpl_mark_limbs(k, a, &b, limb);
+        rf_tpl_mark_limbs(k, a, &b, got, limb);
         rf_tpl_ctx x = {.k = k, .a = a, .b = &b, .t = t, .limb = limb};
         memset(t, 0, sizeof *t);
         ok = got == RF_RIG_TEMPLATE_HUMANOID ? rf_tpl_humanoid(&x, err, n)
-                                             : rf_tpl_quadruped(&x, err, n);
+                                             : rf_tpl_quadruped(&x, declared, err, n);
         *up = rf_v3_len(o->up) > 0 ? o->up : a->up;
-        *forward = rf_v3_len(o->up) > 0           ? o->forward
+        /* the quadruped's forward, hips to chest, made level */
+        rf_vec3 f = x.forward;
+        double along = f.x * up->x + f.y * up->y + f.z * up->z;
+        f = rf_v3(f.x - along * up->x, f.y - along * up->y, f.z - along * up->z);
+        *forward = declared                       ? o->forward
+                   : rf_v3_len(f) > 0             ? rf_v3_scale(f, 1 / rf_v3_len(f))
                    : a->forward_confidence >= 0.3 ? a->forward
                                                   : rf_v3(0, 0, 0);
     }
