@@ -28,4 +28,5 @@ plugins_rig_template_la_SOURCES = plugins/rig-general/plugin-template.c \
 plugins_rig_template_la_LDFLAGS = $(PLUGIN_LDFLAGS) -Wl,-z,nodelete
 plugins_rig_template_la_LIBADD = plugins/rig-general/librigauto.la sdk/analysis/librigflow-analysis.la
 
-dist_pipelines_DATA += pipelines/autorig.json pipelines/scan-to-animation.json
+dist_pipelines_DATA += pipelines/autorig.json pipelines/scan-to-animation.json \
+	pipelines/autorig-template.json pipelines/scan-to-animation-template.json

@@ -208,12 +208,42 @@ static uint32_t rf_tpl_far_any(const rf_rig_skel *k, uint32_t from, const uint8_
     return best;
 }
 
+static double rf_tpl_height(const rf_rig_skel *k, uint32_t j, rf_vec3 up)
+{
+    const double *p = k->pos + (size_t)j * 3;
+    return p[0] * up.x + p[1] * up.y + p[2] * up.z;
+}
+
+/* Flags into `above` the joints below `first` (not first itself) that rise above joint
+ * `girdle`: a leg hangs down, so a branch of its curve skeleton climbing above the leg's girdle
+ * is something else merged into it (a head leaving the body by a foreleg). */
+static void rf_tpl_rising(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                          uint8_t *above)
+{
+    uint8_t *in = calloc(k->n + 1, 1);
+    if (!in)
+        return;
+    in[first] = 1;
+    double top = rf_tpl_height(k, girdle, up);
+    for (uint32_t j = first + 1; j < k->n; j++) /* parents come first */
+        if (k->parent[j] >= 0 && in[k->parent[j]]) {
+            in[j] = 1;
+            if (rf_tpl_height(k, j, up) > top)
+                above[j] = 1;
+        }
+    for (uint32_t j = first + 1; j < k->n; j++) /* and all below them */
+        if (k->parent[j] >= 0 && above[k->parent[j]])
+            above[j] = 1;
+    free(in);
+}
+
 /* The curve of a limb: from joint `from` (its girdle) down to the farthest end below the limb's
  * first joint, its end site included. */
-static void rf_tpl_limb(const rf_rig_skel *k, uint32_t from, uint32_t first, rf_tpl_curve *c)
+static void rf_tpl_limb(const rf_rig_skel *k, uint32_t from, uint32_t first, const uint8_t *skip,
+                        rf_tpl_curve *c)
 {
     double reach;
-    uint32_t leaf = rf_tpl_far_leaf(k, first, NULL, &reach);
+    uint32_t leaf = rf_tpl_far_leaf(k, first, skip, &reach);
     c->n = 0;
     rf_tpl_path(k, from, leaf, c);
     rf_tpl_add(c, rf_tpl_end(k, leaf));
@@ -300,6 +330,7 @@ static void rf_tpl_limbs(const rf_analysis *a, rf_tpl_body *b)
     memset(b, 0, sizeof *b);
     memset(b->leg, -1, sizeof b->leg), memset(b->arm, -1, sizeof b->arm);
     double leg_key[2] = {0}, arm_key[2] = {0};
+    uint8_t *used = calloc(a->section_count + 1, 1);
     for (uint32_t s = 0; s < a->section_count; s++) {
         const rf_section *sec = &a->sections[s];
         bool leg = sec->type == RF_SECTION_LEG;
@@ -307,14 +338,32 @@ static void rf_tpl_limbs(const rf_analysis *a, rf_tpl_body *b)
             continue;
         int side = sec->side == RF_SIDE_LEFT ? 0 : sec->side == RF_SIDE_RIGHT ? 1 : 2;
         leg ? b->legs[side]++ : b->arms[side]++;
-        if (side != 0 || sec->mirror < 0 || a->sections[sec->mirror].type != sec->type)
-            continue;
-        double len = sec->length + a->sections[sec->mirror].length;
-        if (leg)
-            rf_tpl_keep(b->leg, leg_key, &b->leg_pairs, (int32_t)s, sec->mirror, sec->body_pos);
-        else
-            rf_tpl_keep(b->arm, arm_key, &b->arm_pairs, (int32_t)s, sec->mirror, len);
     }
+    for (uint32_t s = 0; used && s < a->section_count; s++) {
+        const rf_section *sec = &a->sections[s];
+        bool leg = sec->type == RF_SECTION_LEG;
+        if ((!leg && sec->type != RF_SECTION_ARM) || sec->side != RF_SIDE_LEFT)
+            continue;
+        /* its mirror image, or else the right limb of the same type and rank (the analysis
+         * pairs limbs by shape, and four like legs may leave a pair unmatched) */
+        int32_t m = sec->mirror;
+        if (m < 0 || a->sections[m].type != sec->type || used[m])
+            m = -1;
+        for (uint32_t r = 0; r < a->section_count && m < 0; r++)
+            if (a->sections[r].type == sec->type && a->sections[r].side == RF_SIDE_RIGHT &&
+                a->sections[r].pair_rank == sec->pair_rank && !used[r])
+                m = (int32_t)r;
+        if (m < 0)
+            continue;
+        used[m] = 1;
+        double len = sec->length + a->sections[m].length;
+        if (leg)
+            rf_tpl_keep(b->leg, leg_key, &b->leg_pairs, (int32_t)s, m,
+                        sec->body_pos + a->sections[m].body_pos);
+        else
+            rf_tpl_keep(b->arm, arm_key, &b->arm_pairs, (int32_t)s, m, len);
+    }
+    free(used);
 }
 
 /* The joint a limb section hangs from on the body, and its first joint. */
@@ -369,7 +418,11 @@ static void rf_tpl_leg(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, in
     uint32_t g, first;
     rf_tpl_ends(x->a, sec, &g, &first);
     rf_tpl_curve c = {0};
-    rf_tpl_limb(x->k, girdle, first, &c);
+    uint8_t *skip = calloc(x->k->n + 1, 1);
+    if (skip)
+        rf_tpl_rising(x->k, x->a->up, girdle, first, skip);
+    rf_tpl_limb(x->k, girdle, first, skip, &c);
+    free(skip);
     double knee = hind ? rf_tpl_bend(&c, 0.25, 0.5, 0.38) : rf_tpl_bend(&c, 0.35, 0.6, 0.47);
     double ankle = hind ? rf_tpl_bend(&c, 0.55, 0.8, 0.68) : 0.82;
     if (!hind) { /* the ankle: first point within 12% of the leg's height of its lowest point */
@@ -403,7 +456,11 @@ static void rf_tpl_arm(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, in
     uint32_t g, first;
     rf_tpl_ends(x->a, sec, &g, &first);
     rf_tpl_curve c = {0};
-    rf_tpl_limb(x->k, girdle, first, &c);
+    uint8_t *skip = calloc(x->k->n + 1, 1);
+    if (skip && foreleg)
+        rf_tpl_rising(x->k, x->a->up, girdle, first, skip);
+    rf_tpl_limb(x->k, girdle, first, skip, &c);
+    free(skip);
     double elbow = rf_tpl_bend(&c, 0.4, 0.65, foreleg ? 0.5 : 0.52);
     char nb[4][24];
     const char *names[4] = {rf_tpl_sided(nb[0], side, "Shoulder"), rf_tpl_sided(nb[1], side, "Arm"),
@@ -432,6 +489,24 @@ static void rf_tpl_mark_limbs(const rf_rig_skel *k, const rf_analysis *a, const 
     for (uint32_t j = 0; j < k->n; j++)
         if (k->parent[j] >= 0 && limb[k->parent[j]])
             limb[j] = 1;
+    uint8_t *above = calloc(k->n + 1, 1);
+    for (uint32_t p = 0; above && p < 2; p++) /* legs: what rises above the girdle is no leg */
+        for (int side = 0; side < 2; side++) {
+            int32_t sec = b->leg[p][side];
+            if (sec < 0)
+                continue;
+            uint32_t first = rf_section_joints(a, (uint32_t)sec)[0];
+            int32_t g = a->sections[sec].attach_joint;
+            rf_tpl_rising(k, a->up, g >= 0 ? (uint32_t)g : first, first, above);
+        }
+    for (uint32_t j = 0; above && j < k->n; j++)
+        limb[j] = limb[j] && !above[j];
+    /* and the stem the leg shares with it, so the way to the head is open */
+    for (uint32_t j = 0; above && j < k->n; j++)
+        if (above[j])
+            for (int32_t p = k->parent[j]; p >= 0 && limb[p]; p = k->parent[p])
+                limb[p] = 0;
+    free(above);
 }
 
 /* Flags the joints on the tree path from a to b, b included and a not. */
