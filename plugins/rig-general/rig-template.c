@@ -339,30 +339,36 @@ static void rf_tpl_limbs(const rf_analysis *a, rf_tpl_body *b)
         int side = sec->side == RF_SIDE_LEFT ? 0 : sec->side == RF_SIDE_RIGHT ? 1 : 2;
         leg ? b->legs[side]++ : b->arms[side]++;
     }
-    for (uint32_t s = 0; used && s < a->section_count; s++) {
-        const rf_section *sec = &a->sections[s];
-        bool leg = sec->type == RF_SECTION_LEG;
-        if ((!leg && sec->type != RF_SECTION_ARM) || sec->side != RF_SIDE_LEFT)
-            continue;
-        /* its mirror image, or else the right limb of the same type and rank (the analysis
-         * pairs limbs by shape, and four like legs may leave a pair unmatched) */
-        int32_t m = sec->mirror;
-        if (m < 0 || a->sections[m].type != sec->type || used[m])
-            m = -1;
-        for (uint32_t r = 0; r < a->section_count && m < 0; r++)
-            if (a->sections[r].type == sec->type && a->sections[r].side == RF_SIDE_RIGHT &&
-                a->sections[r].pair_rank == sec->pair_rank && !used[r])
-                m = (int32_t)r;
-        if (m < 0)
-            continue;
-        used[m] = 1;
-        double len = sec->length + a->sections[m].length;
-        if (leg)
-            rf_tpl_keep(b->leg, leg_key, &b->leg_pairs, (int32_t)s, m,
-                        sec->body_pos + a->sections[m].body_pos);
-        else
-            rf_tpl_keep(b->arm, arm_key, &b->arm_pairs, (int32_t)s, m, len);
-    }
+    /* mirror images first; then (the analysis pairs limbs by shape, and four like legs may
+     * leave a pair unmatched) a left limb left over takes the right one of the same type and
+     * rank, when their lengths are alike */
+    for (int pass = 0; used && pass < 2; pass++)
+        for (uint32_t s = 0; s < a->section_count; s++) {
+            const rf_section *sec = &a->sections[s];
+            bool leg = sec->type == RF_SECTION_LEG;
+            if ((!leg && sec->type != RF_SECTION_ARM) || sec->side != RF_SIDE_LEFT || used[s])
+                continue;
+            int32_t m = -1;
+            if (pass == 0 && sec->mirror >= 0 && a->sections[sec->mirror].type == sec->type &&
+                !used[sec->mirror])
+                m = sec->mirror;
+            for (uint32_t r = 0; pass == 1 && r < a->section_count && m < 0; r++) {
+                const rf_section *o = &a->sections[r];
+                if (o->type == sec->type && o->side == RF_SIDE_RIGHT && !used[r] &&
+                    o->pair_rank == sec->pair_rank &&
+                    fmin(o->length, sec->length) > 0.6 * fmax(o->length, sec->length))
+                    m = (int32_t)r;
+            }
+            if (m < 0)
+                continue;
+            used[m] = used[s] = 1;
+            if (leg)
+                rf_tpl_keep(b->leg, leg_key, &b->leg_pairs, (int32_t)s, m,
+                            sec->body_pos + a->sections[m].body_pos);
+            else
+                rf_tpl_keep(b->arm, arm_key, &b->arm_pairs, (int32_t)s, m,
+                            sec->length + a->sections[m].length);
+        }
     free(used);
 }
 
