@@ -575,24 +575,30 @@ static void test_template_refusal(void **state)
 
 /* The box creature (head at +x, up +y, so its left is -z) gets the quadruped template: hind legs
  * from the hips at the rear, forelegs from the chest at the front, the head past the chest,
- * left joints on the left, every foot near the floor, knee and hock in order down the leg. */
-static void test_template_quadruped(void **state)
+ * left joints on the left, every foot near the floor, knee and hock in order down the leg. The
+ * same at 100 m turned 40 degrees about up with no forward given: the layout turns and scales
+ * with the body (checked in the body's own frame). */
+static void template_box(double scale, double turn, bool axes)
 {
-    (void)state;
-    rf_mesh *in = table_creature(1, 0);
+    rf_mesh *in = table_creature(scale, turn);
     rf_skeleton *s;
     rf_mesh *m;
     char err[512];
-    rf_rig_options o = {.up = rf_v3(0, 1, 0), .forward = rf_v3(1, 0, 0)};
+    rf_rig_options o = {.up = rf_v3(0, 1, 0), .forward = axes ? rf_v3(1, 0, 0) : rf_v3(0, 0, 0)};
     if (!rf_rig_template(in, &o, RF_RIG_TEMPLATE_AUTO, &s, &m, NULL, NULL, NULL, err, sizeof err))
-        fail_msg("table creature: %s", err);
+        fail_msg("table creature at %g turned %g: %s", scale, turn, err);
     check_rig("table creature (template)", in, s, m);
     rf_vec3 w[64];
     assert_true(s->joint_count <= 64);
     world_joints(s, w);
+    for (uint32_t j = 0; j < s->joint_count; j++) /* back into the body's frame, unscaled */
+        w[j] = rf_v3_scale(rf_v3(w[j].x * cos(turn) - w[j].z * sin(turn), w[j].y,
+                                 w[j].x * sin(turn) + w[j].z * cos(turn)),
+                           1 / scale);
     rf_vec3 hips = w[joint_named(s, "Hips")], neck = w[joint_named(s, "Neck")];
     rf_vec3 head = w[joint_named(s, "Head")];
-    assert_true(hips.x < -0.6 && neck.x > 0.6 && head.x > 1 && head.y > 1.3);
+    if (!(hips.x < -0.6 && neck.x > 0.6 && head.x > 1 && head.y > 1.3))
+        fail_msg("hips x %g, neck x %g, head at x %g y %g", hips.x, neck.x, head.x, head.y);
     const char *const left[] = {"LeftUpLeg", "LeftFoot", "LeftArm", "LeftHand"};
     const char *const right[] = {"RightUpLeg", "RightFoot", "RightArm", "RightHand"};
     for (int i = 0; i < 4; i++) {
@@ -607,6 +613,13 @@ static void test_template_quadruped(void **state)
     assert_true(toe.x < -0.6 && hand.x > 0.6);
     assert_true(thigh.y > knee.y && knee.y > hock.y && hock.y > toe.y);
     rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
+}
+
+static void test_template_quadruped(void **state)
+{
+    (void)state;
+    template_box(1, 0, true);
+    template_box(100, 0.7, false);
 }
 
 /* RiggedFigure and the Fox with their rigs ignored: the humanoid and the quadruped templates,
