@@ -37,8 +37,8 @@ typedef struct worker {
     bool timed_out;    /* killed for running longer than --job-timeout */
 } worker;
 
-static volatile int stop_requested; /* parent: SIGINT or SIGTERM */
-static volatile int job_cancelled;  /* worker: the engine's cancel flag */
+static volatile sig_atomic_t stop_requested; /* parent: SIGINT or SIGTERM (C11 7.14.1.1) */
+static volatile int job_cancelled;           /* worker: the engine's cancel flag */
 
 static void on_stop(int sig)
 {

@@ -325,8 +325,9 @@ static void rf_rep_write_mapping(const rf_rep *r, FILE *f)
     fputs("]}", f);
 }
 
-static void rf_rep_write_measures(const rf_rep *r, FILE *f)
+static void rf_rep_write_measures(rf_rep *r, FILE *f)
 {
+    uint32_t joints = rf_rep_target(r)->s->joint_count;
     fputc('[', f);
     bool first = true;
     for (uint32_t i = 0; i < r->measure_count; i++) {
@@ -338,7 +339,9 @@ static void rf_rep_write_measures(const rf_rep *r, FILE *f)
             rf_html_json_string(f, s->name);
             fputs(",\"unit\":", f);
             rf_html_json_string(f, s->unit);
-            fprintf(f, ",\"joint\":%d,\"contact\":%s,\"higher_worse\":%s,\"fps\":", s->joint,
+            /* a joint the target lacks (another plugin's mistake) reads as the whole character */
+            int32_t joint = s->joint >= 0 && (uint32_t)s->joint < joints ? s->joint : -1;
+            fprintf(f, ",\"joint\":%d,\"contact\":%s,\"higher_worse\":%s,\"fps\":", joint,
                     s->flags & RF_SERIES_CONTACT ? "true" : "false",
                     s->flags & RF_SERIES_HIGHER_WORSE ? "true" : "false");
             rf_html_json_number(f, ms->fps);

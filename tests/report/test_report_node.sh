@@ -2,7 +2,8 @@
 # report.html without a browser: the data block holds no '<' and parses back to the joint names
 # given (markup and control characters included); a missing three.js fails the run with a message
 # and leaves no file; without report.path nothing is written; report.summary escapes its label.
-# every measures input is shown; Ctrl-C during rigflow report leaves nothing. Needs node.
+# every measures input is shown, a joint the target lacks as -1; Ctrl-C during rigflow report
+# leaves nothing. Needs node.
 set -u
 rigflow="${RF_BUILDDIR:?}/rigflow"
 src="${RF_SRCDIR:?}"
@@ -76,6 +77,25 @@ sed 's/^Frame Time:.*/Frame Time: 1e-300/' "$tmp/plain.bvh" >"$tmp/fast.bvh"
 code=$?
 [ "$code" = 0 ] && grep -q '"timeline":{"total":2,"step":2,"shown":1,' "$tmp/fast.html" &&
     ok "a 1e300 fps clip: one frame of two shown" || bad "a 1e300 fps clip: exit $code $(cat "$tmp/log")"
+
+# a measure about a joint the target does not have (a plugin's mistake): the page gets -1 (the
+# whole character) for it, not an index its viewer would look up past the joints
+cat >"$tmp/badjoint.json" <<EOF
+{"format": "rigflow.pipeline", "version": 1, "nodes": [
+  {"id": "target", "type": "bvh.import", "params": {"path": "$tmp/plain.bvh"}},
+  {"id": "m", "type": "test.measures", "params": {"joint": 999}},
+  {"id": "report", "type": "report.html", "params": {"path": "$tmp/badjoint.html"},
+   "inputs": {"target": "target.skeleton", "measures": ["m.measures"]}}]}
+EOF
+"$rigflow" -q --plugin-path "$RF_BUILDDIR/tests/report/.libs" run "$tmp/badjoint.json" >"$tmp/log" 2>&1
+code=$?
+joint=$(node -e '
+  const html = require("fs").readFileSync(process.argv[1], "utf8");
+  const start = html.indexOf("id=\"rf-data\">") + 13, end = html.indexOf("</script>", start);
+  console.log(JSON.parse(html.slice(start, end)).measures[0].joint);
+' "$tmp/badjoint.html" 2>/dev/null)
+[ "$code" = 0 ] && [ "$joint" = -1 ] && ok "a measure about joint 999 of 40 is shown as about the whole character" ||
+    bad "a measure about joint 999: exit $code, joint '$joint': $(cat "$tmp/log")"
 
 # every measures input reaches the page: 17 of them carry 17 times the series of one
 node -e '
