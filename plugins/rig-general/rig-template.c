@@ -557,10 +557,21 @@ static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_
     uint8_t *skip = malloc(k->n + 1);
     if (!skip)
         return -1;
+    /* beyond the chest, away from the whole way back to the hips, first (a tail leaving the
+     * spine near the hips may reach farther than the head); through that way only when nothing
+     * of a head's size lies beyond */
     memcpy(skip, x->limb, k->n);
+    rf_tpl_block_path(k, chest, hips, skip);
     skip[hips] = 1;
+    rf_tpl_path(k, hips, chest, &sp);
     double reach;
     uint32_t leaf = rf_tpl_far_any(k, chest, skip, &reach);
+    if (leaf == chest || reach < 0.15 * rf_tpl_len(&sp)) {
+        memcpy(skip, x->limb, k->n);
+        skip[hips] = 1;
+        leaf = rf_tpl_far_any(k, chest, skip, &reach);
+    }
+    sp.n = 0;
     free(skip);
     if (leaf == chest && !k->has_tip[chest])
         return -1;
