@@ -615,25 +615,42 @@ static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_
     return spine2;
 }
 
-/* A tail: the farthest leaf from the hips that is no limb and not on the way to the neck, when
- * it reaches at least a quarter of the spine's length. */
+/* A tail: the farthest leaf from the hips that is no limb, leaving the hips or the spine's
+ * first third (a box cat's tail leaves above its hips) and not the way on to the neck, when it
+ * reaches at least a quarter of the spine's length beyond where it leaves. */
 static void rf_tpl_tail(rf_tpl_ctx *x, uint32_t hips, uint32_t neck, int32_t hips_j)
 {
     const rf_rig_skel *k = x->k;
-    uint8_t *skip = malloc(k->n + 1);
-    if (!skip)
-        return;
-    memcpy(skip, x->limb, k->n);
-    rf_tpl_block_path(k, hips, neck, skip);
-    double reach;
-    uint32_t leaf = rf_tpl_far_any(k, hips, skip, &reach);
-    free(skip);
+    uint8_t *skip = malloc(k->n + 1), *spine = calloc(k->n + 1, 1);
     rf_tpl_curve sp = {0}, c = {0};
     rf_tpl_path(k, hips, neck, &sp);
-    if (leaf == hips || reach < 0.25 * rf_tpl_len(&sp))
+    double len = rf_tpl_len(&sp);
+    if (!skip || !spine) {
+        free(skip), free(spine);
         return;
-    rf_tpl_path(k, hips, leaf, &c);
+    }
+    memcpy(skip, x->limb, k->n);
+    rf_tpl_block_path(k, hips, neck, spine);
+    for (uint32_t j = 0; j < k->n; j++) { /* the spine beyond its first third is blocked */
+        if (!spine[j])
+            continue;
+        rf_tpl_curve to = {0};
+        rf_tpl_path(k, hips, j, &to);
+        skip[j] = skip[j] || rf_tpl_len(&to) > len / 3;
+    }
+    double reach;
+    uint32_t leaf = rf_tpl_far_any(k, hips, skip, &reach), from = leaf;
+    while (from != hips && !spine[from] && k->parent[from] >= 0) /* where it leaves the spine */
+        from = (uint32_t)k->parent[from];
+    if (!spine[from] && from != hips)
+        from = hips;
+    free(skip), free(spine);
+    if (leaf == hips)
+        return;
+    rf_tpl_path(k, from, leaf, &c);
     rf_tpl_add(&c, rf_tpl_end(k, leaf));
+    if (rf_tpl_len(&c) < 0.25 * len)
+        return;
     const char *const tn[4] = {"Tail", "Tail1", "Tail2", "Tail3"};
     const double tf[4] = {0.1, 0.32, 0.54, 0.76};
     rf_tpl_chain(x->t, &c, hips_j, tn, tf, 4);
