@@ -17,6 +17,7 @@ typedef struct rt_measure_work {
     float *rot, *tr;
     double *angles;   /* [frame][bone] degrees */
     rf_vec3 *src_pos; /* [eff][frame] */
+    rf_vec3 *t_eff;   /* [eff][frame] the target's effector points, for the skate */
     double *src_sole; /* [eff][frame] */
     uint8_t *contact;
 } rt_measure_work;
@@ -30,7 +31,7 @@ static void rt_mw_free(rt_measure_work *w, uint32_t sources)
             free(w->s_world[k]);
     }
     free(w->t_world), free(w->s_local), free(w->s_world), free(w->rot), free(w->tr);
-    free(w->angles), free(w->src_pos), free(w->src_sole), free(w->contact);
+    free(w->angles), free(w->src_pos), free(w->src_sole), free(w->contact), free(w->t_eff);
 }
 
 static bool rt_mw_alloc(rt_measure_work *w, const rf_retarget *rt, uint32_t frames)
@@ -44,8 +45,9 @@ static bool rt_mw_alloc(rt_measure_work *w, const rf_retarget *rt, uint32_t fram
     w->angles = malloc(((size_t)frames * rt->bone_count + 1) * sizeof *w->angles);
     w->src_pos = malloc((ef ? ef : 1) * sizeof *w->src_pos);
     w->src_sole = malloc((ef ? ef : 1) * sizeof *w->src_sole);
+    w->t_eff = malloc((ef ? ef : 1) * sizeof *w->t_eff);
     if (!w->t_world || !w->s_local || !w->s_world || !w->rot || !w->tr || !w->angles ||
-        !w->src_pos || !w->src_sole)
+        !w->src_pos || !w->src_sole || !w->t_eff)
         return false;
     for (uint32_t k = 0; k < rt->source_count; k++) {
         w->s_local[k] = malloc(m * sizeof **w->s_local);
@@ -108,13 +110,12 @@ static void rt_frame_ground(const rf_retarget *rt, rt_measure_work *w, uint32_t 
     }
 }
 
-/* Skate: effector speeds while in contact, the target's positions read from its FK, the
- * source's from the contact detection; `frames` samples one frame in `step` of the clip, `fps`
- * the samples' rate; `per_frame`, when given, gets the fastest foot in contact at each sampled
- * frame of the clip. */
-static void rt_skate(const rf_retarget *rt, const rf_animation *anim, uint32_t frames,
-                     uint32_t step, double fps, rt_measure_work *w, rf_rt_report *r,
-                     float *per_frame)
+/* Skate: effector speeds while in contact, the target's positions from its FK at the measured
+ * frames (w->t_eff), the source's from the contact detection; `frames` samples one frame in `step`
+ * of the clip, `fps` the samples' rate; `per_frame`, when given, gets the fastest foot in contact
+ * at each sampled frame of the clip. */
+static void rt_skate(const rf_retarget *rt, uint32_t frames, uint32_t step, double fps,
+                     const rt_measure_work *w, rf_rt_report *r, float *per_frame)
 {
     uint32_t count = 0;
     double t_sum = 0, s_sum = 0;
@@ -122,10 +123,9 @@ static void rt_skate(const rf_retarget *rt, const rf_animation *anim, uint32_t f
     if (!prev)
         return;
     for (uint32_t f = 0; f < frames; f++) {
-        rf_rt_target_fk(rt, anim, f * step, w->t_world);
         for (uint32_t e = 0; e < rt->effector_count; e++) {
             size_t i = (size_t)e * frames + f;
-            rf_vec3 p = rf_rt_effector_point(rt, w->t_world, e);
+            rf_vec3 p = w->t_eff[i];
             if (f > 0 && w->contact[i] && w->contact[i - 1]) {
                 uint32_t k, j;
                 rf_rt_effector_source(rt, e, &k, &j);
@@ -215,6 +215,8 @@ bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, doubl
     uint32_t grounded = 0;
     for (uint32_t f = 0; f < frames; f++) {
         rf_rt_target_fk(rt, anim, f * step, w.t_world);
+        for (uint32_t e = 0; e < rt->effector_count; e++)
+            w.t_eff[(size_t)e * frames + f] = rf_rt_effector_point(rt, w.t_world, e);
         for (uint32_t k = 0; k < rt->source_count; k++)
             rf_rt_source_world(rt, k, start + f / fps, w.s_local[k], w.s_world[k], w.rot, w.tr);
         rt_frame_angles(rt, &w, w.angles + (size_t)f * rt->bone_count);
@@ -231,7 +233,7 @@ bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, doubl
         return false;
     }
     rt_fidelity(rt, &w, frames, report); /* reorders the angles: after the series */
-    rt_skate(rt, anim, frames, step, fps, &w, report, skate);
+    rt_skate(rt, frames, step, fps, &w, report, skate);
     rt_mw_free(&w, rt->source_count);
     return true;
 }
