@@ -331,6 +331,7 @@ static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in
     bool keep = rt->t_centerline[j] && rt->plan_differs;
     if (keep)
         out->flags |= RF_RT_IN_LEVEL;
+    keep = keep || (rt->t_centerline[j] && !rt->t_degenerate);
     rf_quat ref = rt_parent_align(rt, j, in->source, mp);
     /* A top joint with three directions or more (a quadruped's hips: legs, spine, tail) carries
      * the body's attitude: its alignment is the turn of the body frames (up, forward), so a level
