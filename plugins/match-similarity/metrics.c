@@ -62,6 +62,7 @@ static void limb_roles(rf_ms_skel *s, bool thesis)
             continue;
         bool fore = spread ? sec->body_pos >= 0.5 * (lo + hi) : sec->type == RF_SECTION_ARM;
         s->kind[k] = fore ? RF_MK_FORE : RF_MK_HIND;
+        s->role_types[!fore] |= sec->type == RF_SECTION_ARM ? 1 : 2;
     }
 }
 
@@ -410,7 +411,15 @@ void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t
     m[RF_MS_PREFERENCE] = k == c->o->preferred_source ? w[RF_MS_PREFERENCE] : 0;
     if ((limb_kind(kt) || kt == RF_MK_APPENDAGE) && (limb_kind(ks) || ks == RF_MK_APPENDAGE)) {
         double bt = fmax(-1, fmin(2, st->body_pos)), bs = fmax(-1, fmin(2, sc->body_pos));
-        m[RF_MS_BODY_POSITION] = w[RF_MS_BODY_POSITION] * fmax(0, 1 - fabs(bt - bs));
+        double near = fmax(0, 1 - fabs(bt - bs));
+        /* where the source has limbs of one role both held up (arms, wings) and on the ground,
+         * a target limb takes the one of its own type: a dragon's wings drive a bird's wings,
+         * its forelegs stay off them (a lone pair of arms still drives forelegs) */
+        uint8_t own = st->type == RF_SECTION_ARM ? 1 : 2;
+        if (kt == ks && st->type != sc->type && (s->role_types[ks == RF_MK_HIND] & own) &&
+            !c->o->thesis)
+            near *= 0.4;
+        m[RF_MS_BODY_POSITION] = w[RF_MS_BODY_POSITION] * near;
     }
     /* digits: a thumb for a thumb, then the fingers in their order across the hand */
     if ((st->flags & RF_SECFL_FAN) && (sc->flags & RF_SECFL_FAN) &&

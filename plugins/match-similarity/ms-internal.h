@@ -38,6 +38,7 @@ typedef struct rf_ms_skel {
                           * the joint, or -1 */
     int32_t *step;       /* [joint] place in a limb or digit counted in joints from its first
                           * real bone (offsets -1, unweighted links share the next one's) */
+    uint8_t role_types[2]; /* [fore, hind] bit 1: an arm of that role, bit 2: a leg */
 } rf_ms_skel;
 
 typedef struct rf_ms_ctx {
