@@ -433,9 +433,8 @@ void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t
     uint8_t kt = t->kind[ts], ks = s->kind[ss];
     memset(m, 0, RF_MS_METRIC_COUNT * sizeof *m);
     m[RF_MS_SAME_SIDE] = side == sc->side ? w[RF_MS_SAME_SIDE] : 0;
-    m[RF_MS_SAME_TYPE] = kt == ks && !(!c->o->thesis && thumb_misfit(t, ts, s, ss))
-                             ? w[RF_MS_SAME_TYPE]
-                             : 0;
+    m[RF_MS_SAME_TYPE] =
+        kt == ks && !(!c->o->thesis && thumb_misfit(t, ts, s, ss)) ? w[RF_MS_SAME_TYPE] : 0;
     double similar = kind_similarity(kt, ks);
     /* toes and fingers are alike only in the thesis: a bird's toes are not a dragon's wing
      * fingers, which hang from another limb */
