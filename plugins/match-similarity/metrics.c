@@ -454,7 +454,7 @@ void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t
         uint8_t own = st->type == RF_SECTION_ARM ? 1 : 2;
         if (kt == ks && st->type != sc->type && (s->role_types[ks == RF_MK_HIND] & own) &&
             !c->o->thesis)
-            near *= 0.4;
+            near *= 0.2;
         m[RF_MS_BODY_POSITION] = w[RF_MS_BODY_POSITION] * near;
     }
     /* digits: a thumb for a thumb, then the fingers in their order across the hand */
