@@ -295,9 +295,8 @@ int main(void)
     /* as measured: 58 and 56 before wings preferred wings and membrane fingers kept off thumbs */
     int from_leg = human.wing_from_leg + other.wing_from_leg,
         on_thumb = human.wing_on_thumb + other.wing_on_thumb;
-    printf(
-        "wing joints from forelegs: %d (at most 0), wing digits from a thumb: %d (at most 10)\n",
-        from_leg, on_thumb);
+    printf("wing joints from forelegs: %d (at most 0), wing digits from a thumb: %d (at most 10)\n",
+           from_leg, on_thumb);
     ok = ok && (scale != 1 || (from_leg == 0 && (!cmu_skel.s || on_thumb <= 10)));
     rf_skeleton_free(cmu_skel.s);
     free(cmu_skel.label);
