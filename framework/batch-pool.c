@@ -183,18 +183,23 @@ static double cpu_seconds(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec / 1e9;
 }
 
-/* Runs one job with its stdout and stderr in its log file; returns its record. */
+/* Runs one job with its stdout and stderr in its log file; returns its record. A job whose log
+ * cannot be opened is not run: what it prints would go to the batch's terminal, mixed with the
+ * other workers' jobs and lost for the record. */
 static json_t *run_job(const rf_batch *b, const rf_registry *reg, const rf_batch_job *job)
 {
     g_autofree char *file = g_strconcat(job->name, ".log", NULL);
     g_autofree char *log = g_build_filename(b->state, "logs", file, NULL);
-    int saved_out = dup(1), saved_err = dup(2);
     int fd = g_open(log, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-    if (fd >= 0) {
-        dup2(fd, 1);
-        dup2(fd, 2);
-        close(fd);
+    if (fd < 0) {
+        g_autofree char *error =
+            g_strdup_printf("cannot open its log %s: %s", log, g_strerror(errno));
+        return rf_batch_record(job, "failed", error, NULL, 0);
     }
+    int saved_out = dup(1), saved_err = dup(2);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    close(fd);
     gint64 t0 = g_get_monotonic_time();
     double cpu0 = cpu_seconds();
     g_autoptr(GPtrArray) diags = rf_diags_new();

@@ -275,6 +275,20 @@ grep '"job":"b"' "$tmp/eio-out/rigflow-batch/manifest.jsonl" | grep -q '"status"
 expect 0 "the rerun without the error" -- batch --over "copy.input=$tmp/eio/*.txt" --out "$tmp/eio-out"
 contains "$tmp/out" "1 done, 0 failed, 0 crashed, 1 skipped" "the rerun redoes only that job"
 
+# ---- a job whose log cannot be opened (a folder of its name here; a full disk, permissions) ----
+# It is failed naming the log and not run: its output would have gone to the batch's terminal.
+mkdir -p "$tmp/nolog" "$tmp/nolog-out/rigflow-batch/logs/b.log"
+echo one >"$tmp/nolog/a.txt"
+echo "fail loudly" >"$tmp/nolog/b.txt"
+expect 1 "a batch with a job whose log cannot be opened exits 1" -- \
+    batch --over "copy.input=$tmp/nolog/*.txt" --out "$tmp/nolog-out" -j 1
+contains "$tmp/out" "2 jobs: 1 done, 1 failed" "that job counts as failed"
+contains "$tmp/out" "cannot open its log $tmp/nolog-out/rigflow-batch/logs/b.log: Is a directory" \
+    "the summary names the log and why"
+grep -q "asks to fail" "$tmp/out" "$tmp/err" && bad "the job ran with its output on the terminal" ||
+    ok "the job did not run onto the batch's terminal"
+[ ! -e "$tmp/nolog-out/b.txt" ] && ok "it wrote no output" || bad "it wrote an output"
+
 # ---- --status on damaged or hostile state files: a clear refusal, never a crash ----
 state="$tmp/hostile/rigflow-batch"
 mkdir -p "$state"
