@@ -444,9 +444,9 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
     rb_rig_free(&g), rb_rig_free(&p);
 }
 
-/* One model through one rigger: a row, whatever happens. False when the model could not be
- * read at all. */
-static bool rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, bool nearest)
+/* One model through one rigger: a row, whatever happens. RF_EXIT_RUN when the model could not
+ * be read at all, RF_EXIT_CANCELLED on Ctrl-C (no row: the bench stops). */
+static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, bool nearest)
 {
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     double cd[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
@@ -455,19 +455,21 @@ static bool rb_one(const rf_registry *reg, const rb_rigger *r, const char *path,
     rf_pipeline *p = rb_pipeline(reg, r, path, why, sizeof why);
     if (!p) {
         fprintf(stderr, "rigflow rig-bench: %s: %s\n", path, why);
-        return false;
+        return RF_EXIT_RUN;
     }
-    rf_run_options run = {.quiet = true};
     g_autoptr(GPtrArray) diags = rf_diags_new();
-    if (rf_pipeline_run(p, reg, &run, diags)) {
+    int code = rf_run_interruptible_diags(p, reg, false, true, diags);
+    if (code == RF_EXIT_OK) {
         rb_measure(r, base, p, nearest);
+    } else if (code == RF_EXIT_CANCELLED) {
+        fprintf(stderr, "rigflow rig-bench: interrupted during %s\n", path);
     } else {
         g_autofree char *msg = diags->len ? rf_diag_format(g_ptr_array_index(diags, 0)) : NULL;
         snprintf(why, sizeof why, "refused: %s", msg ? msg : "the run failed");
         rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, why);
     }
     rf_pipeline_free(p);
-    return true;
+    return code == RF_EXIT_CANCELLED ? code : RF_EXIT_OK;
 }
 
 static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **files, bool nearest)
@@ -478,8 +480,12 @@ static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **fi
         "forward_agree,seconds,status\n");
     int bad = 0;
     for (int i = 0; i < nfiles; i++)
-        for (guint k = 0; k < riggers->len; k++)
-            bad += !rb_one(reg, &g_array_index(riggers, rb_rigger, k), files[i], nearest);
+        for (guint k = 0; k < riggers->len; k++) {
+            int code = rb_one(reg, &g_array_index(riggers, rb_rigger, k), files[i], nearest);
+            if (code == RF_EXIT_CANCELLED)
+                return code;
+            bad += code != RF_EXIT_OK;
+        }
     return bad ? RF_EXIT_RUN : RF_EXIT_OK;
 }
 

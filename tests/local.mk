@@ -76,6 +76,9 @@ tests_test_sdk_helpers_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_test_sdk_helpers_LDADD = $(CMOCKA_LIBS) -lm
 
 # The command end to end, with the bundled plugins.
+# Ctrl-C during map, inspect and rig-bench: exit 130, nothing left.
+TESTS += tests/test_ctrl_c.sh
+dist_noinst_SCRIPTS += tests/test_ctrl_c.sh
 TESTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_sdk.sh \
 	tests/test_layout.sh
 dist_noinst_SCRIPTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_layout.sh \
