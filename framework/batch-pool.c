@@ -38,7 +38,7 @@ typedef struct worker {
 } worker;
 
 static volatile sig_atomic_t stop_requested; /* parent: SIGINT or SIGTERM (C11 7.14.1.1) */
-static volatile int job_cancelled;           /* worker: the engine's cancel flag */
+static volatile sig_atomic_t job_cancelled;  /* worker: the engine's cancel flag */
 
 static void on_stop(int sig)
 {

@@ -10,6 +10,7 @@
 #define RIGFLOW_HOST_H
 
 #include <glib.h>
+#include <signal.h>
 #include <rigflow/rigflow.h>
 
 /* librigflow is built with hidden visibility; this marks its public functions. */
@@ -99,10 +100,14 @@ typedef struct rf_pipeline rf_pipeline;
 
 /* Options for a run. Zero-initialise: every zero is a sensible default. */
 typedef struct rf_run_options {
-    bool profile;              /* print per-node wall time to stderr */
-    bool quiet;                /* no progress, no info logs */
-    bool progress;             /* draw progress on stderr (the command sets it for a terminal) */
-    volatile int *cancel_flag; /* set non-zero (from a signal handler) to stop the run */
+    bool profile;  /* print per-node wall time to stderr */
+    bool quiet;    /* no progress, no info logs */
+    bool progress; /* draw progress on stderr (the command sets it for a terminal) */
+    /* set non-zero (from a signal handler) to stop the run: sig_atomic_t, the one type C11
+     * (7.14.1.1) lets a handler write; librigflow is not the plugin ABI (sdk/include/rigflow),
+     * and sig_atomic_t is int on the platforms it builds for, so hosts built against
+     * `volatile int *` still link and run */
+    volatile sig_atomic_t *cancel_flag;
 } rf_run_options;
 
 /* Parses a pipeline file. Returns NULL with diags on a syntax or structure error. */

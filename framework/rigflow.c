@@ -13,7 +13,7 @@
 #include "map-cmd.h"
 #include "report-cmd.h"
 
-static volatile int interrupted;
+static volatile sig_atomic_t interrupted; /* C11 7.14.1.1: what a handler may write */
 
 static void on_sigint(int sig)
 {

@@ -302,7 +302,7 @@ static void cancelled_run_leaves_no_output(void **state)
                            "{\"id\": \"w\", \"type\": \"test.sink\", \"params\": {\"path\": "
                            "\"out.txt\"}, \"inputs\": {\"in\": \"s.value\"}}",
                            true);
-    volatile int flag = 1;
+    volatile sig_atomic_t flag = 1;
     rf_run_options opts = {.cancel_flag = &flag};
     assert_false(rf_pipeline_run(p, f->reg, &opts, f->diags));
     assert_non_null(find_diag(f->diags, "interrupted", NULL));
