@@ -71,6 +71,13 @@ static bool prepare_param(rf_node *n, uint32_t i, GPtrArray *diags)
     }
     if (d->type != RF_PARAM_OUTPUT_PATH || !v->target || !*v->target)
         return true;
+    /* a folder cannot be replaced by a file: found at commit, it stopped the run only after all
+     * the work, with the outputs committed before it already in place */
+    if (g_file_test(v->target, G_FILE_TEST_IS_DIR)) {
+        RUN_ERR(n, "cannot write %s (parameter '%s'): it is a folder; name a file", v->target,
+                d->name);
+        return false;
+    }
     g_autoptr(GError) error = NULL;
     g_free(v->s);
     v->s = make_temp(v->target, &error);

@@ -294,6 +294,28 @@ static void missing_output_folder_reported(void **state)
     rf_pipeline_free(p);
 }
 
+/* An output naming a folder is refused before any node runs, and so before any other output is
+ * moved into place: found at commit, a.txt (committed first) was left by a failed run. */
+static void output_naming_a_folder_is_refused_first(void **state)
+{
+    fixture *f = *state;
+    g_autofree char *sub = g_build_filename(f->dir, "sub", NULL);
+    assert_int_equal(g_mkdir(sub, 0700), 0);
+    rf_pipeline *p = check(f,
+                           "{\"id\": \"s\", \"type\": \"test.source\"},"
+                           "{\"id\": \"w1\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"a.txt\"}, \"inputs\": {\"in\": \"s.value\"}},"
+                           "{\"id\": \"w2\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"sub\"}, \"inputs\": {\"in\": \"s.value\"}}",
+                           true);
+    assert_false(rf_pipeline_run(p, f->reg, NULL, f->diags));
+    assert_false(file_exists(f->dir, "a.txt"));
+    assert_non_null(find_diag(f->diags, "node 'w2'", "cannot write", "sub", "is a folder", NULL));
+    assert_int_equal(count_files(f->dir), 1); /* the folder alone: no temporary file either */
+    rf_pipeline_free(p);
+    g_rmdir(sub);
+}
+
 static void cancelled_run_leaves_no_output(void **state)
 {
     fixture *f = *state;
@@ -414,6 +436,7 @@ int main(void)
         T(failing_node_leaves_no_output),
         T(upstream_failure_leaves_no_output),
         T(missing_output_folder_reported),
+        T(output_naming_a_folder_is_refused_first),
         T(cancelled_run_leaves_no_output),
         T(overrides_are_typed_and_relative_to_cwd),
         T(relative_paths_resolve_against_pipeline_folder),
