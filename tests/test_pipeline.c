@@ -316,6 +316,23 @@ static void output_naming_a_folder_is_refused_first(void **state)
     g_rmdir(sub);
 }
 
+/* Two outputs naming one file (here through a/../): the second would replace the first's
+ * output without a word; validation refuses it, naming both. */
+static void two_outputs_naming_one_file_refused(void **state)
+{
+    fixture *f = *state;
+    rf_pipeline *p = check(f,
+                           "{\"id\": \"s\", \"type\": \"test.source\"},"
+                           "{\"id\": \"w1\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"a.txt\"}, \"inputs\": {\"in\": \"s.value\"}},"
+                           "{\"id\": \"w2\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"x/../a.txt\"}, \"inputs\": {\"in\": \"s.value\"}}",
+                           false);
+    assert_non_null(find_diag(f->diags, "node 'w2'", "parameter 'path' writes", "a.txt",
+                              "node 'w1' parameter 'path'", "replace", NULL));
+    rf_pipeline_free(p);
+}
+
 static void cancelled_run_leaves_no_output(void **state)
 {
     fixture *f = *state;
@@ -437,6 +454,7 @@ int main(void)
         T(upstream_failure_leaves_no_output),
         T(missing_output_folder_reported),
         T(output_naming_a_folder_is_refused_first),
+        T(two_outputs_naming_one_file_refused),
         T(cancelled_run_leaves_no_output),
         T(overrides_are_typed_and_relative_to_cwd),
         T(relative_paths_resolve_against_pipeline_folder),
