@@ -12,6 +12,7 @@
 
 #include <rigflow/analysis.h>
 #include <rigflow/rigger.h>
+#include <rigflow/text.h>
 
 #include "commands.h"
 #include "rig-bench.h"
@@ -289,14 +290,21 @@ static double rb_longest(const rf_mesh *m)
 
 static void rb_csv_text(const char *s)
 {
-    /* file names and messages are data: quote them, double any quote, drop control bytes */
+    /* file names and messages are data: quote them, double any quote, and escape as
+     * rigflow/text.h does every byte that is not printable UTF-8 (controls, line breaks, C1
+     * controls such as a 0xc2 0x9b CSI, invalid bytes): one row per line, nothing raw on a
+     * terminal */
+    size_t n = rf_text_escape(s, NULL, 0, 0);
+    char *text = g_malloc(n + 1);
+    rf_text_escape(s, text, n + 1, 0);
     putchar('"');
-    for (; *s; s++)
-        if (*s == '"')
+    for (const char *c = text; *c; c++)
+        if (*c == '"')
             fputs("\"\"", stdout);
-        else if ((unsigned char)*s >= 0x20 && *s != 0x7f)
-            putchar(*s);
+        else
+            putchar(*c);
     putchar('"');
+    g_free(text);
 }
 
 static void rb_row(const rb_rigger *r, const char *model, const char *body, uint32_t nart,
@@ -383,7 +391,9 @@ static void rb_skin_given(const rb_rigger *r, const rf_skeleton *as, const rf_me
     rf_mesh *m = NULL;
     char err[256];
     if (!r->api->skin(&bare, as, inv, &m, err, sizeof err)) {
-        fprintf(stderr, "rigflow rig-bench: %s on the artist's skeleton: %s\n", r->api->name, err);
+        g_autofree char *shown = rf_printable(err); /* may quote the model's joint names */
+        fprintf(stderr, "rigflow rig-bench: %s on the artist's skeleton: %s\n", r->api->name,
+                shown);
         return;
     }
     uint32_t *same = g_new(uint32_t, as->joint_count + 1);
@@ -454,7 +464,8 @@ static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, 
     char why[600];
     rf_pipeline *p = rb_pipeline(reg, r, path, why, sizeof why);
     if (!p) {
-        fprintf(stderr, "rigflow rig-bench: %s: %s\n", path, why);
+        g_autofree char *shown = rf_printable(path);
+        fprintf(stderr, "rigflow rig-bench: %s: %s\n", shown, why);
         return RF_EXIT_RUN;
     }
     g_autoptr(GPtrArray) diags = rf_diags_new();
@@ -462,7 +473,8 @@ static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, 
     if (code == RF_EXIT_OK) {
         rb_measure(r, base, p, nearest);
     } else if (code == RF_EXIT_CANCELLED) {
-        fprintf(stderr, "rigflow rig-bench: interrupted during %s\n", path);
+        g_autofree char *shown = rf_printable(path);
+        fprintf(stderr, "rigflow rig-bench: interrupted during %s\n", shown);
     } else {
         g_autofree char *msg = diags->len ? rf_diag_format(g_ptr_array_index(diags, 0)) : NULL;
         snprintf(why, sizeof why, "refused: %s", msg ? msg : "the run failed");
