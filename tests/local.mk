@@ -6,7 +6,10 @@ check_LTLIBRARIES += tests/fixtures/fx_good.la tests/fixtures/fx_major.la \
 	tests/fixtures/fx_minor.la tests/fixtures/fx_noentry.la tests/fixtures/fx_initfail.la \
 	tests/fixtures/fx_dup.la tests/fixtures/fx_unresolved.la tests/fixtures/fx_baddefault.la \
 	tests/fixtures/fx_crash.la tests/fixtures/fx_selftest.la tests/fixtures/fx_old.la \
-	tests/fixtures/fx_abi10.la tests/fixtures/fx_wide.la
+	tests/fixtures/fx_abi10.la tests/fixtures/fx_wide.la tests/fixtures/fx_twice.la
+tests_fixtures_fx_twice_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_twice_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_TYPE_TWICE -DFX_ID='"org.rigflow.test.twice"'
+tests_fixtures_fx_twice_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_good_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_good_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_major_la_SOURCES = $(FIXTURE_SRC)
