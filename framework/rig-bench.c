@@ -249,6 +249,26 @@ static void rb_skin_compare(const rf_mesh *art, const rf_mesh *pred, const uint3
     g_free(wg), g_free(wp);
 }
 
+/* Whether a rigger's skinned mesh can be compared with the artist's: the model's vertices (the
+ * rigger's contract is a skinned copy of the mesh) and weights only on joints its skeleton has
+ * (`joints`). A plugin's bug is reported, not read past the tables. False with why. */
+static bool rb_skin_usable(const rf_mesh *art, const rf_mesh *pred, uint32_t joints, char *why,
+                           size_t n)
+{
+    if (pred->vertex_count != art->vertex_count || !pred->skin_joints) {
+        snprintf(why, n, "the rigger's mesh has %u vertices%s, the model %u", pred->vertex_count,
+                 pred->skin_joints ? "" : " without joint indices", art->vertex_count);
+        return false;
+    }
+    for (size_t i = 0; i < (size_t)pred->vertex_count * 4; i++)
+        if (pred->skin_joints[i] >= joints) {
+            snprintf(why, n, "the rigger's skin names joint %u at vertex %zu, of %u joints",
+                     pred->skin_joints[i], i / 4, joints);
+            return false;
+        }
+    return true;
+}
+
 /* ---- one model ---- */
 
 /* "humanoid" when the artist's rig has two arms and two legs, else "other". */
@@ -389,8 +409,13 @@ static void rb_skin_given(const rb_rigger *r, const rf_skeleton *as, const rf_me
     bare.bind_count = 0;
     const rf_mat4 *inv = am->bind_count == as->joint_count ? am->inverse_bind : NULL;
     rf_mesh *m = NULL;
-    char err[256];
-    if (!r->api->skin(&bare, as, inv, &m, err, sizeof err)) {
+    char err[256] = "no mesh returned";
+    if (r->api->skin(&bare, as, inv, &m, err, sizeof err) &&
+        !rb_skin_usable(am, m, as->joint_count, err, sizeof err)) {
+        rf_mesh_free(m);
+        m = NULL;
+    }
+    if (!m) {
         g_autofree char *shown = rf_printable(err); /* may quote the model's joint names */
         fprintf(stderr, "rigflow rig-bench: %s on the artist's skeleton: %s\n", r->api->name,
                 shown);
@@ -444,12 +469,14 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
      * joints), the artist's joints far from any of the rigger's (missing ones) */
     cd[3] = rb_mean(&p, &g, false, false) / L, cd[4] = rb_mean(&g, &p, false, false) / L;
     rb_axes_agree(as, ps, cd + 5);
+    char why[300] = "ok";
     uint32_t *to = g_new(uint32_t, ps->joint_count + 1);
     rb_map_joints(ps, &p, map, as, &g, nearest, to);
-    rb_skin_compare(am, pm, to, as->joint_count, &sk);
+    if (rb_skin_usable(am, pm, ps->joint_count, why, sizeof why))
+        rb_skin_compare(am, pm, to, as->joint_count, &sk);
     rb_skin given;
     rb_skin_given(r, as, am, &given);
-    rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, &given, rb_time(r, am), "ok");
+    rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, &given, rb_time(r, am), why);
     g_free(to);
     rb_rig_free(&g), rb_rig_free(&p);
 }

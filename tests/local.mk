@@ -10,6 +10,12 @@ check_LTLIBRARIES += tests/fixtures/fx_good.la tests/fixtures/fx_major.la \
 tests_fixtures_fx_twice_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_twice_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_TYPE_TWICE -DFX_ID='"org.rigflow.test.twice"'
 tests_fixtures_fx_twice_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+# A rigger whose skin names a joint past its skeleton, for rig-bench (test_bad_input.sh); in a
+# folder of its own: the fixtures' folder is loaded whole by other tests.
+check_LTLIBRARIES += tests/fixtures/rigger/fx_rigger.la
+tests_fixtures_rigger_fx_rigger_la_SOURCES = tests/fixtures/fx_rigger.c
+tests_fixtures_rigger_fx_rigger_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+tests_fixtures_rigger_fx_rigger_la_LIBADD = -lm
 tests_fixtures_fx_good_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_good_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_major_la_SOURCES = $(FIXTURE_SRC)

@@ -172,6 +172,20 @@ elif ! grep -qF '"rb\x1b]0;pwned\x07x\xc2\x9b1m.glb"' "$tmp/out" || [ "$(wc -l <
     bad "rig-bench: the CSV row does not name the model escaped on one line: $(head -c 400 "$tmp/out")"
 else ok "rig-bench shows hostile file names escaped"; fi
 
+# A rigger plugin whose skin names a joint past its skeleton (tests/fixtures/fx_rigger.c): rig-bench
+# says so in the row's status, its skin columns empty; it read past its tables and printed "ok".
+rigged="${RF_DATA_DIR:-}/models/RiggedFigure.glb"
+if [ -f "$rigged" ]; then
+    rfv --plugin-path "$build/tests/fixtures/rigger/.libs" rig-bench -r fx-bad-index "$rigged"
+    if [ "$code" != 0 ]; then bad "rig-bench on a rigger with a bad skin index: exit $code"
+    elif ! grep -qF ',nan,nan,nan,0,' "$tmp/out" ||
+        ! grep -qF '"the rigger'"'"'s skin names joint 9 at vertex 0, of 3 joints"' "$tmp/out"; then
+        bad "rig-bench does not report the rigger's bad skin index: $(tail -1 "$tmp/out")"
+    else ok "rig-bench reports a rigger's skin index past its skeleton"; fi
+else
+    skipped "rig-bench on a rigger with a bad skin index" "$rigged not found (RF_DATA_DIR)"
+fi
+
 # ---- joint names that repeat ----
 cat >"$tmp/dup.bvh" <<'EOF'
 HIERARCHY
