@@ -106,6 +106,15 @@ static void print_joint(const rf_ms_explain *e, const rf_mapping *m, const rf_sk
 /* Facing read from cues that disagree: every joint of one side may be on the other. */
 static void facing_warning(const rf_analysis *a, const char *what, FILE *out)
 {
+    bool target = strcmp(what, "the target") == 0;
+    int u = rf_up_dissent(a);
+    if (u >= 0)
+        fprintf(out,
+                "warning: %s's up axis is uncertain (up from %s, confidence %.2f, but %s prefers "
+                "another axis): if its sides or limbs come out wrong, force the axis (-p "
+                "map.%s_up=...)\n",
+                what, a->up_source, a->up_confidence, rf_up_cue_names[u],
+                target ? "target" : "source");
     int d = rf_forward_dissent(a);
     if (d < 0)
         return;
@@ -114,7 +123,7 @@ static void facing_warning(const rf_analysis *a, const char *what, FILE *out)
             "the other way): if its sides come out swapped, force the axis (-p "
             "map.%s_forward=...)\n",
             what, a->forward_source, a->forward_confidence, rf_forward_cue_names[d],
-            strcmp(what, "the target") == 0 ? "target" : "source");
+            target ? "target" : "source");
 }
 
 void rf_ms_explain_print(const rf_ms_explain *e, const rf_mapping *m, const rf_skeleton *target,

@@ -103,7 +103,7 @@ typedef struct rf_ms_row {
 typedef struct rf_ms_pass {
     rf_ms_candidate *best;  /* [target joint] */
     rf_ms_candidate *final; /* [target joint] */
-    uint8_t *settled;       /* [target joint] assigned with its limb (a lent digit) */
+    uint8_t *settled;       /* [target joint] assigned with its limb (a lent digit; 2: a toe) */
     rf_ms_candidate *top;   /* [target joint * 3] or NULL */
     uint8_t *top_count;
     double *sec;       /* section metrics of the current target section against every
@@ -255,6 +255,7 @@ typedef struct rf_ms_line {
     int32_t *step;
     double *u0, *u1;
     uint32_t n;
+    double unit; /* what places along the line were divided by */
 } rf_ms_line;
 
 static bool line_alloc(rf_ms_line *l, uint32_t cap)
@@ -276,6 +277,12 @@ static void line_free(rf_ms_line *l)
     free(l->u1);
 }
 
+static bool is_limb(const rf_analysis *a, uint32_t s)
+{
+    rf_section_type t = a->sections[s].type;
+    return (t == RF_SECTION_ARM || t == RF_SECTION_LEG) && !(a->sections[s].flags & RF_SECFL_FAN);
+}
+
 static void line_section(const rf_ms_skel *s, uint32_t sec, rf_ms_line *l)
 {
     const uint32_t *js = rf_section_joints(s->a, sec);
@@ -288,6 +295,23 @@ static void line_section(const rf_ms_skel *s, uint32_t sec, rf_ms_line *l)
         l->u0[l->n] = s->a->joints[j].u0, l->u1[l->n] = s->a->joints[j].u1;
         l->n++;
     }
+    /* a limb's length reaches the end of its longest digit: where its own bones end */
+    l->unit = 1;
+    if (l->n && is_limb(s->a, sec) && l->u1[l->n - 1] > 0.2 && l->u1[l->n - 1] < 1)
+        l->unit = l->u1[l->n - 1];
+}
+
+/* Two limbs that both end in digits, one with far longer digits than the other, are placed
+ * along their own bones: a wing's long membrane fingers would crowd its arm into the first half
+ * of its length, against an arm whose fingers are short. */
+static void own_places(rf_ms_line *tl, rf_ms_line *sl)
+{
+    if (tl->unit >= 1 || sl->unit >= 1 || fmin(tl->unit, sl->unit) > 0.7 * fmax(tl->unit, sl->unit))
+        return;
+    for (uint32_t i = 0; i < tl->n; i++)
+        tl->u0[i] /= tl->unit, tl->u1[i] /= tl->unit;
+    for (uint32_t i = 0; i < sl->n; i++)
+        sl->u0[i] /= sl->unit, sl->u1[i] /= sl->unit;
 }
 
 /* The joints of a limb's main digit after the limb's own, placed along the limb (whose length
@@ -397,6 +421,9 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
     /* a tail of one bone has no place along a tail to compare: its root anchors it (below) */
     if (at->sections[a->section].type == RF_SECTION_TAIL && (tl->n == 1 || sl->n == 1))
         cost *= 0.25;
+    /* nor has a digit of one bone (whose length a leaf without an end site only guesses) */
+    if ((at->sections[a->section].flags & RF_SECFL_FAN) && tl->n == 1)
+        cost *= 0.25;
     /* the spine's ends (pelvis, chest), a limb's offset bone (clavicle, hip offset), the skull at
      * the end of the neck */
     uint32_t marks = (a->flags ^ b->flags) & RF_JI_OFFSET;
@@ -412,6 +439,12 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
         marks |= (uint32_t)ends << 8;
     for (; marks; marks &= marks - 1) /* twice for a chain of one joint: only its anchor */
         cost += tl->n == 1 || sl->n == 1 ? 0.5 : 0.25;
+    /* a neck's last joint before the skull is held harder: necks differ most in how their
+     * length splits (a human's two neck joints against a horse's seven), so its place says less
+     * than in a spine, and the end joint carries the head's turn; a neck of one joint is both
+     * ends and follows its place */
+    if (type == RF_SECTION_HEAD && (ends & 4) && (et & 6) != 6 && (es & 6) != 6)
+        cost += 0.5;
     /* limbs and digits: bones counted from the first real one (thigh, shin, foot whatever their
      * proportions, plantigrade or not); digits, whose segments vary most in length, and limbs of
      * one bone count twice: their first joints (at the knuckle or the wrist alike; a one-bone
@@ -513,31 +546,70 @@ static bool remove_duplicates(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_lin
     return ok;
 }
 
-static bool is_limb(const rf_analysis *a, uint32_t s)
+/* Whether the limb ends in toes: a fan whose main digit starts at the ground and lies along it
+ * (fingers of a hand hanging low are no toes). */
+static bool toes(const rf_ms_skel *s, uint32_t limb)
 {
-    rf_section_type t = a->sections[s].type;
-    return (t == RF_SECTION_ARM || t == RF_SECTION_LEG) && !(a->sections[s].flags & RF_SECFL_FAN);
+    const rf_analysis *a = s->a;
+    int32_t md = s->main_digit[rf_section_joints(a, limb)[a->sections[limb].bone_count - 1]];
+    if (md < 0)
+        return false;
+    const rf_joint_info *toe = &a->joints[rf_section_joints(a, (uint32_t)md)[0]];
+    return rf_v3_dot(toe->pos, a->up) - a->ground <= 0.1 * a->height &&
+           fabs(rf_v3_dot(toe->dir, a->up)) <= 0.5;
 }
 
 /* A limb ending in a fan of digits against one ending in a single chain: the hand of one is
  * bones of the other's arm. The fan side lends its main digit to the assignment, and a target
  * digit settled that way is not settled again with its own section. */
-static void lend_digits(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t ts, rf_ms_line *tl, uint32_t k,
+static bool lend_digits(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t ts, rf_ms_line *tl, uint32_t k,
                         uint32_t ss, rf_ms_line *sl)
 {
     if (c->o->thesis || !is_limb(c->tgt.a, ts) || !is_limb(c->src[k].a, ss))
-        return;
+        return false;
     const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
     uint32_t tl_last = rf_section_joints(at, ts)[at->sections[ts].bone_count - 1];
     uint32_t sl_last = rf_section_joints(as, ss)[as->sections[ss].bone_count - 1];
     bool tfan = c->tgt.main_digit[tl_last] >= 0, sfan = c->src[k].main_digit[sl_last] >= 0;
     if (tfan && !sfan) {
+        /* a foot's toes against a single toe bone count as that bone's kind (2) */
+        bool foot = toes(&c->tgt, ts);
         uint32_t before = tl->n;
         line_digit(&c->tgt, ts, tl);
         for (uint32_t i = before; i < tl->n; i++)
-            p->settled[tl->joint[i]] = 1;
+            p->settled[tl->joint[i]] = foot ? 2 : 1;
+        return foot;
     } else if (sfan && !tfan) {
         line_digit(&c->src[k], ss, sl);
+    }
+    return false;
+}
+
+/* The other digits of a fan whose main digit its limb settled (a bird's toes against a human's
+ * single toe bone): parallel digits take what the main digit took, joint by joint, as the thesis
+ * suggests for digits a source lacks (its 5.3.1); a thumb, or a toe turned 45 degrees or more
+ * away from the main one (a hallux), is no parallel digit and stays unmapped. */
+static void share_lent(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t ts)
+{
+    const rf_analysis *a = c->tgt.a;
+    uint32_t last = rf_section_joints(a, ts)[a->sections[ts].bone_count - 1];
+    int32_t md = c->tgt.main_digit[last];
+    if (md < 0)
+        return;
+    const uint32_t *mj = rf_section_joints(a, (uint32_t)md);
+    uint32_t mn = a->sections[md].bone_count;
+    for (uint32_t d = 0; d < a->section_count; d++) {
+        const rf_section *sec = &a->sections[d];
+        if (d == (uint32_t)md || sec->attach_joint != (int32_t)last ||
+            !(sec->flags & RF_SECFL_FAN) || (sec->flags & RF_SECFL_THUMB))
+            continue;
+        const uint32_t *js = rf_section_joints(a, d);
+        /* only parallel digits: a toe turned away (a hallux pointing back) is no copy */
+        bool parallel = rf_v3_dot(a->joints[js[0]].dir, a->joints[mj[0]].dir) >= 0.7;
+        for (uint32_t i = 0; i < sec->bone_count; i++) {
+            p->final[js[i]] = i < mn && parallel ? p->final[mj[i]] : no_candidate;
+            p->settled[js[i]] = 2;
+        }
     }
 }
 
@@ -554,11 +626,15 @@ static bool settle_sections(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, r
         if (tl->n == 0 || !input_section(c, p, tl, &k, &ss))
             continue;
         line_section(&c->src[k], ss, sl);
-        lend_digits(c, p, ts, tl, k, ss, sl);
+        if (!c->o->thesis)
+            own_places(tl, sl);
+        bool lent = lend_digits(c, p, ts, tl, k, ss, sl);
         if (c->o->keep_duplicates)
             best_within(c, p, tl, k, sl);
         else if (!remove_duplicates(c, p, tl, k, sl))
             return false;
+        if (lent)
+            share_lent(c, p, ts);
     }
     return true;
 }
@@ -575,6 +651,10 @@ static void finalize(const rf_ms_ctx *c, rf_ms_pass *p)
                 continue;
             uint32_t k = f->source, ss = (uint32_t)c->src[k].a->joints[f->joint].section;
             rf_ms_section_metrics(c, ts, k, ss, f->metrics);
+            if (p->settled[js[i]] == 2 && is_limb(c->src[k].a, ss)) { /* toes lent to a foot */
+                f->metrics[RF_MS_SAME_TYPE] = c->wt.w[RF_MS_SAME_TYPE];
+                f->metrics[RF_MS_SIMILAR_TYPE] = 0;
+            }
             rf_ms_joint_metrics(c, js[i], k, f->joint, f->metrics);
             int32_t pa = c->tgt.anc[js[i]];
             f->metrics[RF_MS_CONTINUITY] =

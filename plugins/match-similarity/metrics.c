@@ -127,6 +127,22 @@ static void main_digits(rf_ms_skel *s)
     }
 }
 
+/* How far along the hand's longest digit, from the wrist, the main digit's first joint sits:
+ * the longest digit of the fan, since a leaf digit's length may only be guessed (a one-bone
+ * finger of a rig without end sites). A wing's membrane fingers start a short way past its
+ * wrist, against fingers many times longer: palm bones, not knuckles. */
+static double knuckle_share(const rf_analysis *a, int32_t hand, const rf_joint_info *first)
+{
+    double longest = 0;
+    for (uint32_t k = 0; k < a->section_count; k++) {
+        const rf_section *d = &a->sections[k];
+        if (d->attach_joint == hand && (d->flags & RF_SECFL_FAN) && !(d->flags & RF_SECFL_THUMB))
+            longest = fmax(longest, d->length);
+    }
+    double at = rf_v3_dist(first->pos, a->joints[hand].pos);
+    return at + longest > 0 ? at / (at + longest) : 0;
+}
+
 /* Joints counted along a section from its first real bone: a limb's thigh is 0, shin 1, foot 2
  * whether or not a hip offset comes first (-1), and an unweighted link in the middle of a leg
  * (a rig's mechanism) shares the place of the bone after it. A digit counts from the wrist: a
@@ -148,7 +164,8 @@ static void steps(rf_ms_skel *s, uint32_t k)
         const rf_joint_info *hand = &a->joints[sec->attach_joint];
         const rf_joint_info *first =
             md >= 0 ? &a->joints[rf_section_joints(a, (uint32_t)md)[0]] : NULL;
-        if (first && first->u0 >= 0.25 && rf_v3_dist(first->pos, hand->pos) >= 0.6 * hand->length)
+        if (first && knuckle_share(a, sec->attach_joint, first) >= 0.25 &&
+            rf_v3_dist(first->pos, hand->pos) >= 0.6 * hand->length)
             count = 1;
     }
     for (uint32_t i = 0; i < a->sections[k].bone_count; i++) {

@@ -181,6 +181,19 @@ static bool rt_parts_pass(rf_retarget *rt, rf_animation *out, const rf_host *hos
     return true;
 }
 
+/* What the parts pass could not lift out of the floor in the median frame raises the whole clip,
+ * said in one line. */
+static void rt_mesh_clear(rf_retarget *rt, rf_animation *out, const rf_host *host, rf_node *node)
+{
+    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
+    char err[ERR_SIZE];
+    double shift = 0;
+    if (mesh && rf_retarget_mesh_clear(rt, out, mesh, &shift, err, sizeof err) && shift > 0)
+        host->log(node, RF_LOG_INFO,
+                  "parts still under the floor in the median frame: the clip raised %.4g along up",
+                  shift);
+}
+
 /* A clip with a non-finite value is refused, naming where, rather than written. */
 static bool rt_finite(const rf_animation *a, const rf_host *host, rf_node *node)
 {
@@ -238,8 +251,10 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
                   "dropped; %u joints placed from the body joint they belong to",
                   info.dropped, info.anchored);
     rt_mesh_floor(rt, out, host, node);
-    bool ok = rt_contact_pass(rt, out, o, host, node) && rt_parts_pass(rt, out, host, node) &&
-              rt_finite(out, host, node);
+    bool ok = rt_contact_pass(rt, out, o, host, node) && rt_parts_pass(rt, out, host, node);
+    if (ok)
+        rt_mesh_clear(rt, out, host, node);
+    ok = ok && rt_finite(out, host, node);
     rf_retarget_free(rt);
     if (!ok) {
         rf_animation_free(out);

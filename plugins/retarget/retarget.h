@@ -226,12 +226,22 @@ typedef struct rf_rt_mesh_report {
 } rf_rt_mesh_report;
 
 /* Puts a clip of this plan (rf_retarget_clip's output) on the floor of the target's skinned
- * mesh: the lowest vertex of the median sampled frame (up to 32 frames spread over the clip) is
- * brought to the lowest vertex of the mesh at rest, by moving the root-motion joints along up
- * (anchored joints follow). Bone tips and joints say where a foot ends only roughly; the mesh
- * is what stands on the floor. *shift gets the move (target units along up, may be NULL). False
- * with a message when the mesh is not skinned to the target (the clip is left as it was). */
+ * mesh: the lowest vertex of what stands on the floor at rest (the mesh less its parts over 15%
+ * of its height at rest: wings, tails, heads, a quadruped's chest), in the median sampled frame
+ * (up to 32 frames spread over the clip), is brought to the lowest vertex of the mesh at rest,
+ * by moving the root-motion joints along up (anchored joints follow). Bone tips and joints say
+ * where a foot ends only roughly; the mesh is what stands on the floor. It also keeps, per
+ * joint, the vertices it carries that reach farthest, so rf_retarget_parts_above keeps the mesh
+ * of parts that are not feet over the floor, not only their joints. *shift gets the move
+ * (target units along up, may be NULL). False with a message when the mesh is not skinned to
+ * the target (the clip is left as it was). */
 bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
+                            char *err, size_t err_size);
+
+/* After rf_retarget_parts_above: when the whole mesh's lowest vertex in the median sampled frame
+ * is still under the rest floor (parts the lift could not reach), raises the clip by as much, as
+ * the floor did before parts were told apart. *shift gets the rise (0 when none). */
+bool rf_retarget_mesh_clear(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
                             char *err, size_t err_size);
 
 /* rf_rt_mesh_measure of a clip of this plan (frame 0 at time `start` of the sources), its floor

@@ -18,22 +18,97 @@ static double rt_source_height(const rf_retarget *rt, uint32_t j)
     return (rf_rt_height(src->up, src->rest_world[in->joint].t) - src->lowest) / src->leg;
 }
 
+/* Every joint is looked at: a body child placed from j (a foot under a placement root) may come
+ * before it in the file. */
 static bool rt_has_mapped_child(const rf_retarget *rt, const int32_t *mp, uint32_t j)
 {
-    for (uint32_t c = j + 1; c < rt->n; c++)
+    for (uint32_t c = 0; c < rt->n; c++)
         if (mp[c] == (int32_t)j && rt->tj[c].kind == RF_RT_MAPPED)
             return true;
     return false;
 }
 
+/* The lowest point of the target's rest (joints and tips) along up. */
+static double rt_target_rest_low(const rf_retarget *rt)
+{
+    double low = INFINITY;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        low = fmin(low, rf_rt_height(rt->up, rt->t_rest_world[j].t));
+        if (rf_v3_len2(rt->t_tip[j]) > 0)
+            low =
+                fmin(low, rf_rt_height(rt->up, rf_xform_point(rt->t_rest_world[j], rt->t_tip[j])));
+    }
+    return low;
+}
+
+/* The source joint a foot at target joint e's bone tip follows: e's source joint stands high,
+ * but a foot hangs below it in the source (unmapped: the target's chain ends sooner). The
+ * lowest source joint under it, climbed while its parent is still low (a toe's ankle); -1 when
+ * nothing under it is low. */
+static int32_t rt_source_foot_below(const rf_retarget *rt, uint32_t e, double low)
+{
+    const rf_rt_input *in = rt->in + rt->tj[e].first_input;
+    const rf_rt_src *src = &rt->src[in->source];
+    int32_t best = RF_RT_NONE;
+    double best_h = INFINITY;
+    for (uint32_t c = in->joint + 1; c < src->n; c++) {
+        double h = (rf_rt_height(src->up, src->rest_world[c].t) - src->lowest) / src->leg;
+        if (h <= low && h < best_h && rf_rt_carries(src->skel, (int32_t)in->joint, c))
+            best = (int32_t)c, best_h = h;
+    }
+    while (best >= 0) {
+        int32_t p = src->skel->joints[best].parent;
+        if (p < 0 || p == (int32_t)in->joint ||
+            (rf_rt_height(src->up, src->rest_world[p].t) - src->lowest) / src->leg > low)
+            break;
+        best = p;
+    }
+    return best;
+}
+
+/* Whether target joint e's bone is a leg's last, standing down to its tip on the target's floor
+ * at rest: then the tip is a foot (a foot bone lying along the floor, a biped's, is not).
+ * RT_TIP_CHAIN below a mapped limb joint (pinned with e and that joint as the chain),
+ * RT_TIP_AIM hanging from the body itself (a one-bone leg: e alone is turned to aim its tip at
+ * the pin; a chain would turn the torso), else RT_TIP_NONE. */
+enum { RT_TIP_NONE = 0, RT_TIP_CHAIN = 1, RT_TIP_AIM = 2 };
+static uint8_t rt_tip_foot(const rf_retarget *rt, const int32_t *mp, uint32_t e, double rest_low,
+                           double low)
+{
+    int32_t p = rt->lparent[e];
+    if (rf_v3_len2(rt->t_tip[e]) == 0 || p < 0 || mp[e] != p)
+        return RT_TIP_NONE;
+    rf_vec3 tip = rf_xform_point(rt->t_rest_world[e], rt->t_tip[e]);
+    rf_vec3 bone = rf_v3_sub(rt->t_rest_world[e].t, tip);
+    if (!(rf_rt_height(rt->up, bone) > 0.7 * rf_v3_len(bone)) ||
+        rf_rt_height(rt->up, tip) - rest_low > low * rt->leg_target)
+        return RT_TIP_NONE;
+    return rt->tj[p].root_motion || rt->t_centerline[p] ? RT_TIP_AIM : RT_TIP_CHAIN;
+}
+
+static void rt_effector_add(rf_retarget *rt, uint32_t f, uint32_t src_joint, uint8_t tip)
+{
+    for (uint32_t i = 0; i < rt->effector_count; i++)
+        if (rt->effectors[i] == f)
+            return;
+    rt->effector_src[rt->effector_count] = src_joint;
+    rt->effector_tip[rt->effector_count] = tip;
+    rt->effectors[rt->effector_count++] = f;
+}
+
 /* A foot: from the end of a mapped chain whose source joint is near the source's floor, climb
  * while the mapped parent's source joint is still low (a toe's ankle); the highest low joint is
- * the one pinned. It needs two bones above it for the solvers. */
+ * the one pinned. It needs two bones above it for the solvers. A chain end whose source joint
+ * stands high but has the source's foot below it, and whose own bone's tip stands on the
+ * target's floor at rest (a horse's leg of two bones), is a foot at that tip, pinned with the
+ * joint and the limb joint above it as the chain. */
 bool rf_rt_effectors_prepare(rf_retarget *rt)
 {
     int32_t *mp = malloc(rt->n * sizeof *mp);
     rt->effectors = malloc(rt->n * sizeof *rt->effectors);
-    if (!mp || !rt->effectors) {
+    rt->effector_src = malloc(rt->n * sizeof *rt->effector_src);
+    rt->effector_tip = malloc(rt->n ? rt->n : 1);
+    if (!mp || !rt->effectors || !rt->effector_src || !rt->effector_tip) {
         free(mp);
         return false;
     }
@@ -44,31 +119,46 @@ bool rf_rt_effectors_prepare(rf_retarget *rt)
         mp[j] = p;
     }
     const double low = 0.25;
+    double rest_low = rt_target_rest_low(rt);
     for (uint32_t e = 0; e < rt->n; e++) {
-        if (rt->tj[e].kind != RF_RT_MAPPED || rt_has_mapped_child(rt, mp, e) ||
-            rt_source_height(rt, e) > low)
+        if (rt->tj[e].kind != RF_RT_MAPPED || rt_has_mapped_child(rt, mp, e))
             continue;
+        if (rt_source_height(rt, e) > low) {
+            int32_t foot = rt_source_foot_below(rt, e, low);
+            uint8_t tip = foot >= 0 ? rt_tip_foot(rt, mp, e, rest_low, low) : RT_TIP_NONE;
+            if (tip)
+                rt_effector_add(rt, e, (uint32_t)foot, tip);
+            continue;
+        }
         uint32_t f = e;
         while (mp[f] >= 0 && rt_source_height(rt, (uint32_t)mp[f]) <= low)
             f = (uint32_t)mp[f];
         int32_t p = rt->lparent[f];
-        if (p < 0 || rt->lparent[p] < 0 || rt->tj[f].root_motion)
-            continue;
-        bool seen = false;
-        for (uint32_t i = 0; i < rt->effector_count; i++)
-            seen = seen || rt->effectors[i] == f;
-        if (!seen)
-            rt->effectors[rt->effector_count++] = f;
+        uint32_t sj = rt->in[rt->tj[f].first_input].joint;
+        /* The source's foot on a target joint standing high, its bone's tip on the floor (a
+         * horse's hock driven by a human's ankle): the tip is the foot. */
+        bool high = rf_rt_height(rt->up, rt->t_rest_world[e].t) - rest_low > low * rt->leg_target;
+        uint8_t tip = f == e && high ? rt_tip_foot(rt, mp, e, rest_low, low) : RT_TIP_NONE;
+        if (tip)
+            rt_effector_add(rt, e, sj, tip);
+        else if (p >= 0 && rt->lparent[p] >= 0 && !rt->tj[f].root_motion)
+            rt_effector_add(rt, f, sj, RT_TIP_NONE);
     }
     free(mp);
     return true;
+}
+
+rf_vec3 rf_rt_effector_point(const rf_retarget *rt, const rf_xform *world, uint32_t e)
+{
+    uint32_t j = rt->effectors[e];
+    return rt->effector_tip[e] ? rf_xform_point(world[j], rt->t_tip[j]) : world[j].t;
 }
 
 void rf_rt_effector_source(const rf_retarget *rt, uint32_t e, uint32_t *source, uint32_t *joint)
 {
     const rf_rt_input *in = rt->in + rt->tj[rt->effectors[e]].first_input;
     *source = in->source;
-    *joint = in->joint;
+    *joint = rt->effector_src[e];
 }
 
 /* ---- contacts ---- */
@@ -88,7 +178,7 @@ static void rt_track_need(const rf_retarget *rt, uint32_t s, uint8_t *need)
     for (uint32_t e = 0; e < rt->effector_count; e++) {
         if (rt_effector_slot(rt, e) != s)
             continue;
-        int32_t j = (int32_t)rt->in[rt->tj[rt->effectors[e]].first_input].joint;
+        int32_t j = (int32_t)rt->effector_src[e];
         for (int32_t a = j; a >= 0 && !need[a]; a = src->parent[a])
             need[a] = 1;
         for (uint32_t c = (uint32_t)j + 1; c < src->n; c++)
@@ -122,7 +212,7 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
             for (uint32_t e = 0; e < rt->effector_count; e++) {
                 if (rt_effector_slot(rt, e) != s)
                     continue;
-                uint32_t j = rt->in[rt->tj[rt->effectors[e]].first_input].joint;
+                uint32_t j = rt->effector_src[e];
                 pos[(size_t)e * frames + f] = world[j].t;
                 double h = rf_rt_sole(src->skel, world, src->tip, src->up, j);
                 sole[(size_t)e * frames + f] = (h - src->floor) / src->leg;
@@ -233,7 +323,8 @@ static void rt_pin_need(const rf_retarget *rt, rt_pin_work *w)
 {
     uint32_t at = 0;
     for (uint32_t e = 0; e < rt->effector_count; e++) {
-        int32_t eff = (int32_t)rt->effectors[e], knee = rt->lparent[eff];
+        int32_t eff = (int32_t)rt->effectors[e],
+                knee = rt->effector_tip[e] ? eff : rt->lparent[eff];
         rt_need_up(rt, w->need, eff);
         rt_need_up(rt, w->need, knee);
         rt_need_up(rt, w->need, knee >= 0 ? rt->lparent[knee] : RF_RT_NONE);
@@ -245,18 +336,23 @@ static void rt_pin_need(const rf_retarget *rt, rt_pin_work *w)
     w->below_at[rt->effector_count] = at;
 }
 
-/* The lowest height of effector e's joints and tips (its sole) in world. */
+/* The lowest height of effector e's joints and tips (its sole) in world; with the skinned mesh,
+ * also of the vertices they carry that reach farthest, as a skeleton's sole would stand (a
+ * mesh's toes can reach under the floor where the joints do not). */
 static double rt_pin_sole(const rf_retarget *rt, const rt_pin_work *w, uint32_t e,
                           const rf_xform *world)
 {
-    double low = INFINITY;
+    double low = INFINITY, mesh = INFINITY;
     for (uint32_t i = w->below_at[e]; i < w->below_at[e + 1]; i++) {
         uint32_t c = w->below[i];
         low = fmin(low, rf_rt_height(rt->up, world[c].t));
         if (rf_v3_len2(rt->t_tip[c]) > 0)
             low = fmin(low, rf_rt_height(rt->up, rf_xform_point(world[c], rt->t_tip[c])));
+        for (uint32_t k = 0; rt->t_hull && k < RF_RT_HULL; k++)
+            mesh = fmin(mesh, rf_rt_height(rt->up, rf_xform_point(world[c],
+                                                                  rt->t_hull[c * RF_RT_HULL + k])));
     }
-    return low;
+    return fmin(low, mesh + rt->floor_target - rt->mesh_floor);
 }
 
 static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t frames)
@@ -361,13 +457,18 @@ static uint32_t rt_chains_pose(const rf_retarget *rt, uint32_t f, uint32_t frame
         rf_vec3 pin = w->pin[(size_t)e * frames + f];
         if (isnan(pin.x))
             continue;
-        uint32_t eff = rt->effectors[e], knee = (uint32_t)rt->lparent[eff];
+        bool tip = rt->effector_tip[e];
+        if (rt->effector_tip[e] == RT_TIP_AIM)
+            continue; /* a one-bone leg: rt_aim_frame */
+        uint32_t eff = rt->effectors[e], knee = tip ? eff : (uint32_t)rt->lparent[eff];
         uint32_t hip = (uint32_t)rt->lparent[knee], b = count * 3;
         w->chain[b] = hip, w->chain[b + 1] = knee, w->chain[b + 2] = eff;
         w->cparent[b] = -1, w->cparent[b + 1] = (int32_t)b, w->cparent[b + 2] = (int32_t)b + 1;
         w->clocal[b] = w->before[hip];
         w->clocal[b + 1] = rt_relative(w->before[hip], w->before[knee]);
-        w->clocal[b + 2] = rt_relative(w->before[knee], w->before[eff]);
+        /* A foot at the bone's tip ends the chain at a point of the joint's own frame. */
+        w->clocal[b + 2] = tip ? (rf_xform){rt->t_tip[eff], rf_quat_identity(), rf_v3(1, 1, 1)}
+                               : rt_relative(w->before[knee], w->before[eff]);
         w->goals[count] = rf_ik_goal_make(b + 2, pin);
         w->goals[count++].chain_root = (int32_t)b;
     }
@@ -383,10 +484,13 @@ static void rt_chains_write(const rf_retarget *rt, rf_animation *a, uint32_t f, 
     for (uint32_t g = 0; g < count; g++) {
         uint32_t b = g * 3;
         rf_xform hip = w->clocal[b], knee = rf_xform_mul(hip, w->clocal[b + 1]);
+        w->want[w->chain[b]] = hip, w->want[w->chain[b + 1]] = knee;
+        w->solved[w->chain[b]] = w->solved[w->chain[b + 1]] = 1;
+        if (w->chain[b + 2] == w->chain[b + 1])
+            continue; /* a foot at the bone's tip: the knee's own turn places it */
         rf_xform eff = rf_xform_mul(knee, w->clocal[b + 2]);
         eff.r = w->before[w->chain[b + 2]].r;
-        w->want[w->chain[b]] = hip, w->want[w->chain[b + 1]] = knee, w->want[w->chain[b + 2]] = eff;
-        w->solved[w->chain[b]] = w->solved[w->chain[b + 1]] = w->solved[w->chain[b + 2]] = 1;
+        w->want[w->chain[b + 2]] = eff, w->solved[w->chain[b + 2]] = 1;
     }
     for (uint32_t j = 0; j < rt->n; j++) {
         if (!w->need[j])
@@ -406,33 +510,63 @@ static void rt_chains_write(const rf_retarget *rt, rf_animation *a, uint32_t f, 
                              a->translations + (size_t)f * rt->n * 3, NULL, w->world);
 }
 
-/* Solves frame f's goals through the connected solver. */
+/* Turns each pinned one-bone leg of frame f (world transforms in w->world) about its pivot so its
+ * tip points at its pin: the nearest its tip can come with the bone's length kept. */
+static void rt_aim_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t frames,
+                         rt_pin_work *w)
+{
+    bool aimed = false;
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        rf_vec3 pin = w->pin[(size_t)e * frames + f];
+        if (rt->effector_tip[e] != RT_TIP_AIM || isnan(pin.x))
+            continue;
+        uint32_t j = rt->effectors[e];
+        rf_vec3 pivot = w->world[j].t;
+        rf_vec3 now = rf_v3_sub(rf_xform_point(w->world[j], rt->t_tip[j]), pivot);
+        rf_vec3 want = rf_v3_sub(pin, pivot);
+        if (!(rf_v3_len2(now) > 0) || !(rf_v3_len2(want) > 0))
+            continue;
+        rf_quat r = rf_quat_mul(rf_quat_from_two_vectors(now, want), w->world[j].r);
+        int32_t p = rt->target->joints[j].parent;
+        rf_quat pr = p >= 0 ? w->world[p].r : rf_quat_identity();
+        w->local[j].r = rf_quat_normalize(rf_quat_mul(rf_quat_conj(pr), r));
+        w->world[j].r = r;
+        rf_animation_set_rotation(a, f, j, w->local[j].r);
+        aimed = true;
+    }
+    if (aimed && rt->anchored)
+        rf_rt_place_anchored(rt, a->rotations + (size_t)f * rt->n * 4,
+                             a->translations + (size_t)f * rt->n * 3, NULL, w->world);
+}
+
+/* Solves frame f's goals through the connected solver, then aims the one-bone legs. */
 static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t frames,
                            const rf_ik_solver *solver, rt_pin_work *w, rf_rt_contact_stats *st,
                            char *err, size_t err_size)
 {
     rt_pose_of(rt, a, f, w->local, w->need);
     rt_fk(rt, w->local, w->before, w->need);
-    uint32_t count = rt_chains_pose(rt, f, frames, w);
-    if (!count)
-        return true;
-    rf_ik_problem pb = {sizeof pb, count * 3, w->cparent,
-                        w->clocal, NULL,      NULL,
-                        count,     w->goals,  1e-4 * rt->leg_target,
-                        32};
-    rf_ik_result res;
-    memset(&res, 0, sizeof res);
-    res.size = sizeof res;
-    res.pose = w->clocal;
-    st->solves++;
-    if (!solver->api->solve(solver->state, &pb, &res)) {
-        st->failures++;
-        rf_rt_fail(err, err_size, "the IK solver refused frame %u: %s", f, res.message);
-        return false;
-    }
-    st->max_error = fmax(st->max_error, res.max_error);
     memcpy(w->world, w->before, rt->n * sizeof *w->world);
-    rt_chains_write(rt, a, f, count, w);
+    uint32_t count = rt_chains_pose(rt, f, frames, w);
+    if (count) {
+        rf_ik_problem pb = {sizeof pb, count * 3, w->cparent,
+                            w->clocal, NULL,      NULL,
+                            count,     w->goals,  1e-4 * rt->leg_target,
+                            32};
+        rf_ik_result res;
+        memset(&res, 0, sizeof res);
+        res.size = sizeof res;
+        res.pose = w->clocal;
+        st->solves++;
+        if (!solver->api->solve(solver->state, &pb, &res)) {
+            st->failures++;
+            rf_rt_fail(err, err_size, "the IK solver refused frame %u: %s", f, res.message);
+            return false;
+        }
+        st->max_error = fmax(st->max_error, res.max_error);
+        rt_chains_write(rt, a, f, count, w);
+    }
+    rt_aim_frame(rt, a, f, frames, w);
     return true;
 }
 
@@ -458,8 +592,7 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
         rt_pose_of(rt, anim, f, w.local, w.need);
         rt_fk(rt, w.local, w.world, w.need);
         for (uint32_t e = 0; e < rt->effector_count; e++) {
-            uint32_t j = rt->effectors[e];
-            w.target_pos[(size_t)e * frames + f] = w.world[j].t;
+            w.target_pos[(size_t)e * frames + f] = rf_rt_effector_point(rt, w.world, e);
             w.target_sole[(size_t)e * frames + f] = rt_pin_sole(rt, &w, e, w.world);
         }
     }
@@ -476,7 +609,7 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
 /* ---- parts that are not feet stay above the floor ---- */
 
 /* The largest turn that lifts a part (radians). */
-#define RT_LIFT_MAX (60.0 * RF_PI / 180.0)
+#define RT_LIFT_MAX (90.0 * RF_PI / 180.0)
 
 /* Marks the joints that may touch the floor: each foot, what is below it and its chain. */
 static void rt_feet_mask(const rf_retarget *rt, uint8_t *foot)
@@ -489,6 +622,15 @@ static void rt_feet_mask(const rf_retarget *rt, uint8_t *foot)
         if (knee >= 0)
             foot[knee] = 1;
     }
+}
+
+/* Parts that are not feet: driven joints high in the aligned rest (a quarter of the leg over its
+ * lowest point), neither a foot nor in a foot's chain. */
+static void rt_parts_mask(const rf_retarget *rt, const uint8_t *foot, uint8_t *part)
+{
+    for (uint32_t j = 0; j < rt->n; j++)
+        part[j] = !foot[j] && rt->tj[j].kind != RF_RT_REST && !rt->tj[j].root_motion &&
+                  rf_rt_height(rt->up, rt->t_aligned[j]) - rt->aligned_low > 0.25 * rt->leg_target;
 }
 
 /* Lifts point p of frame f (world `world`, local `local`) to the floor by turning joint a (an
@@ -511,6 +653,46 @@ static bool rt_lift_turn(const rf_retarget *rt, rf_xform *local, const rf_xform 
     rf_quat pr = pa >= 0 ? world[pa].r : rf_quat_identity();
     local[a].r = rf_quat_normalize(rf_quat_mul(rf_quat_conj(pr), rf_quat_mul(turn, world[a].r)));
     return true;
+}
+
+/* The point of part j deepest under its floor this frame: its pivot and its bone's tip against
+ * the skeleton's floor, and with the skinned mesh, the vertices it carries that reach farthest (a
+ * wing's membrane reaches far past its bones) against the mesh's floor, into *floor_h. */
+static rf_vec3 rt_part_low(const rf_retarget *rt, const rf_xform *world, uint32_t j,
+                           double *floor_h)
+{
+    rf_vec3 p = world[j].t;
+    *floor_h = rt->floor_target;
+    double depth = *floor_h - rf_rt_height(rt->up, p);
+    uint32_t count = rt->t_hull ? RF_RT_HULL : 0;
+    for (uint32_t k = 0; k <= count; k++) {
+        rf_vec3 c = k < count ? rt->t_hull[(size_t)j * RF_RT_HULL + k] : rt->t_tip[j];
+        rf_vec3 q = rf_xform_point(world[j], c);
+        double floor = k < count ? rt->mesh_floor : rt->floor_target;
+        if (floor - rf_rt_height(rt->up, q) > depth)
+            p = q, *floor_h = floor, depth = floor - rf_rt_height(rt->up, q);
+    }
+    return p;
+}
+
+/* Turns an ancestor of part j so its point p sits on the floor: the nearest driven ancestor over
+ * the floor first, then the next ones up its limb when the floor is out of a turn's reach (a
+ * wing hanging from an arm is lifted at the shoulder, not folded at the wrist). Never a joint
+ * carrying a foot, nor, for a part off the centerline, a centerline joint (the chest would tilt
+ * for one wing). The joint turned, or -1. */
+static int32_t rt_lift_joint(const rf_retarget *rt, rf_xform *local, const rf_xform *world,
+                             const uint8_t *holds, uint32_t j, rf_vec3 p, double floor_h)
+{
+    for (int32_t a = rt->lparent[j]; a >= 0; a = rt->lparent[a]) {
+        if (holds[a] || rt->tj[a].root_motion || (rt->t_centerline[a] && !rt->t_centerline[j]))
+            return -1; /* turning a joint that carries a foot would lift the foot */
+        if (rt->tj[a].kind == RF_RT_REST || rf_rt_height(rt->up, world[a].t) < floor_h ||
+            !rf_rt_carries(rt->target, a, j))
+            continue;
+        if (rt_lift_turn(rt, local, world, (uint32_t)a, p, floor_h))
+            return a;
+    }
+    return -1;
 }
 
 /* The sources' poses of one output frame, made when first asked for. */
@@ -574,6 +756,7 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
     }
     memset(all, 1, n);
     rt_feet_mask(rt, foot);
+    rt_parts_mask(rt, foot, part);
     uint8_t *holds = calloc(n ? n : 1, 1); /* carries a foot in the hierarchy or body tree */
     for (uint32_t e = 0; holds && e < rt->effector_count; e++)
         for (int32_t a = rt->lparent[rt->effectors[e]], g = 0; a >= 0 && g < (int32_t)n;
@@ -583,10 +766,6 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
         for (int32_t a = rt->target->joints[rt->effectors[e]].parent; a >= 0;
              a = rt->target->joints[a].parent)
             holds[a] = 1;
-    /* Parts high in the aligned rest (a quarter of the leg over its lowest point) and driven. */
-    for (uint32_t j = 0; j < n; j++)
-        part[j] = !foot[j] && rt->tj[j].kind != RF_RT_REST && !rt->tj[j].root_motion &&
-                  rf_rt_height(rt->up, rt->t_aligned[j]) - rt->aligned_low > 0.25 * rt->leg_target;
     double eps = 1e-3 * rt->leg_target;
     rt_src_poses sp = {0};
     if (!holds || !rt_src_poses_init(rt, &sp)) {
@@ -599,18 +778,16 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
         bool lifted = false;
         sp.frame = UINT32_MAX;
         for (uint32_t j = 0; j < n; j++) {
-            if (!part[j] || rf_rt_height(rt->up, world[j].t) >= rt->floor_target)
+            if (!part[j])
+                continue;
+            double floor_h;
+            rf_vec3 p = rt_part_low(rt, world, j, &floor_h);
+            if (rf_rt_height(rt->up, p) >= floor_h || rt->anchor[j] >= 0)
                 continue;
             if (rt_source_down(rt, &sp, anim, f, j))
                 continue; /* its source touches its own floor: so may it (a hand on all fours) */
-            /* Turn the part's nearest driven ancestor that stands over the floor. */
-            int32_t a = rt->lparent[j];
-            while (a >= 0 && (rt->tj[a].kind == RF_RT_REST ||
-                              rf_rt_height(rt->up, world[a].t) < rt->floor_target + eps))
-                a = rt->lparent[a];
-            if (a < 0 || rt->anchor[j] >= 0 || !rf_rt_carries(rt->target, a, j) || holds[a])
-                continue; /* turning a joint that carries a foot would lift the foot */
-            if (rt_lift_turn(rt, local, world, (uint32_t)a, world[j].t, rt->floor_target + eps)) {
+            int32_t a = rt_lift_joint(rt, local, world, holds, j, p, floor_h + eps);
+            if (a >= 0) {
                 rt_fk(rt, local, world, all);
                 rf_animation_set_rotation(anim, f, (uint32_t)a, local[a].r);
                 lifted = true, st->turns++;

@@ -186,9 +186,37 @@ static void rt_source_fk(const rf_retarget *rt, rf_rt_work *w, uint32_t s, const
     }
 }
 
-/* The world rotation input `in` asks of its target joint's aligned rest: the source joint's world
- * delta from its rest, corrected, reversed or mirrored as flagged, times the alignment. */
-static rf_quat rt_input_motion(const rf_retarget *rt, const rf_rt_work *w, const rf_rt_input *in)
+/* Largest tilt (swing away from up) a centerline bone of another body plan takes from its source.
+ * An upright biped leans its spine and pelvis by 30-60 degrees when it crouches, jumps or bends
+ * over; laid on a level quadruped's or a dragon's spine, the same lean drives its head into the
+ * floor and lifts its hindquarters. Its turn about up (where it faces) is kept whole. */
+#define RT_LEVEL_TILT (10.0 * RF_PI / 180.0)
+
+/* World delta d split into its turn about up and its tilt; the tilt's angle eased into
+ * RT_LEVEL_TILT (a tanh: continuous, near the source's for small leans). */
+rf_quat rf_rt_level(rf_quat d, rf_vec3 up)
+{
+    double along = d.x * up.x + d.y * up.y + d.z * up.z;
+    rf_quat twist = rf_quat_make(up.x * along, up.y * along, up.z * along, d.w);
+    double tl = sqrt(along * along + d.w * d.w);
+    twist = tl > 1e-12 ? rf_quat_make(twist.x / tl, twist.y / tl, twist.z / tl, twist.w / tl)
+                       : rf_quat_identity();
+    rf_quat swing = rf_quat_mul(d, rf_quat_conj(twist));
+    if (swing.w < 0)
+        swing = rf_quat_neg(swing);
+    double s = sqrt(swing.x * swing.x + swing.y * swing.y + swing.z * swing.z);
+    double angle = 2 * atan2(s, swing.w);
+    if (!(s > 1e-12))
+        return twist;
+    double eased = RT_LEVEL_TILT * tanh(angle / RT_LEVEL_TILT);
+    rf_vec3 axis = rf_v3(swing.x / s, swing.y / s, swing.z / s);
+    return rf_quat_mul(rf_quat_from_axis_angle(axis, eased), twist);
+}
+
+/* The source joint's world delta from its rest, corrected, reversed or mirrored as flagged, times
+ * the alignment. */
+static rf_quat rt_input_motion_raw(const rf_retarget *rt, const rf_rt_work *w,
+                                   const rf_rt_input *in)
 {
     const rf_quat *q = w->s_rot[in->slot];
     rf_quat m = rf_quat_mul(q[in->joint], in->C);
@@ -211,6 +239,18 @@ static rf_quat rt_input_motion(const rf_retarget *rt, const rf_rt_work *w, const
     if (in->flags & RF_RT_IN_REFLECT)
         d = rf_rt_reflect(d, rt->src[in->source].left);
     return rf_quat_mul(d, in->align);
+}
+
+/* The world rotation input `in` asks of its target joint's aligned rest: the source joint's world
+ * delta from its rest, corrected, reversed, mirrored or levelled as flagged, times the
+ * alignment. */
+static rf_quat rt_input_motion(const rf_retarget *rt, const rf_rt_work *w, const rf_rt_input *in)
+{
+    rf_quat m = rt_input_motion_raw(rt, w, in);
+    if (!(in->flags & RF_RT_IN_LEVEL))
+        return m;
+    rf_quat d = rf_quat_mul(m, rf_quat_conj(in->align));
+    return rf_quat_mul(rf_rt_level(d, rt->src[in->source].up), in->align);
 }
 
 /* Weighted blend of the inputs' motions, each turned to the first one's hemisphere. */

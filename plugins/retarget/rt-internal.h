@@ -9,12 +9,15 @@
 #include "retarget.h"
 
 #define RF_RT_NONE (-1)
+#define RF_RT_HULL 14
 
 /* Internal flags of an input, beside the mapping's RF_MAP_* bits. */
 enum rf_rt_input_flags {
     RF_RT_IN_CORRECT = 1u << 8, /* swing the delta so the source segment's direction is exact
                                  * (the source segment is not one rigid bone) */
     RF_RT_IN_REFLECT = 1u << 9, /* mirrored from the other side of the body: reflect */
+    RF_RT_IN_LEVEL = 1u << 10,  /* a centerline bone of another body plan: its tilt away from
+                                 * the source's up is limited (rf_rt_level) */
 };
 
 /* One mapping input, resolved against its source's rest. */
@@ -150,6 +153,11 @@ struct rf_retarget {
     double size;            /* extent of the target's rest (tolerances) */
     rf_xform *t_rest_world; /* [n] the target's rest */
     rf_vec3 *t_tip;         /* [n] target bone tips in the joint's local frame, zero when none */
+    rf_vec3 *t_hull;        /* [n][RF_RT_HULL] with a skinned mesh (rf_retarget_mesh_floor): the
+                             * vertices each joint carries most that reach farthest along 14
+                             * directions, in its rest frame (its pivot when it carries none);
+                             * NULL without */
+    double mesh_floor;      /* with t_hull: the rest mesh's lowest vertex along up */
     double leg_target;      /* hip height in the aligned rest */
     rf_vec3 *t_aligned;     /* [n] world positions in the aligned rest (the target posed like the
                              * sources' rests) */
@@ -165,6 +173,9 @@ struct rf_retarget {
     uint32_t bone_count;
     uint32_t *effectors; /* target end effectors (feet) */
     uint32_t effector_count;
+    uint32_t *effector_src; /* [effector] the source joint whose contacts it follows */
+    uint8_t *effector_tip;  /* [effector] the foot is the joint's bone tip (a horse's leg of two
+                             * bones): pinned with the joint and the one above as the chain */
 
     /* What the frame loop reads per target joint, packed (rt-frame.c). */
     struct rf_rt_hot *hot;
@@ -222,6 +233,8 @@ void rf_rt_place_anchored(const rf_retarget *rt, float *rotations, float *transl
                           const rf_quat *q, rf_xform *tw);
 /* True when joint a is j or a hierarchy ancestor of j. */
 bool rf_rt_carries(const rf_skeleton *s, int32_t a, uint32_t j);
+/* Where effector e touches the floor in `world`: its joint, or its bone's tip. */
+rf_vec3 rf_rt_effector_point(const rf_retarget *rt, const rf_xform *world, uint32_t e);
 
 /* ---- rt-frame.c ---- */
 /* Allocates w for the plan (false when out of memory); frees it. */
@@ -235,6 +248,8 @@ void rf_rt_frame(const rf_retarget *rt, rf_rt_work *w, const rf_rt_pose *poses, 
                  float *translations);
 /* The quaternion power q^t along the shorter arc. */
 rf_quat rf_rt_quat_pow(rf_quat q, double t);
+/* The world delta d with its tilt away from up eased into a limit, its turn about up kept. */
+rf_quat rf_rt_level(rf_quat d, rf_vec3 up);
 /* The rotation about unit axis n that best turns the vectors a[i] onto b[i] (both already
  * perpendicular to n or not: only the parts perpendicular to n count). */
 double rf_rt_twist_fit(rf_vec3 n, const rf_vec3 *a, const rf_vec3 *b, uint32_t count);

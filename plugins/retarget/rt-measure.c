@@ -132,7 +132,7 @@ static void rt_skate(const rf_retarget *rt, const rf_animation *anim, uint32_t f
         rf_rt_target_fk(rt, anim, f * step, w->t_world);
         for (uint32_t e = 0; e < rt->effector_count; e++) {
             size_t i = (size_t)e * frames + f;
-            rf_vec3 p = w->t_world[rt->effectors[e]].t;
+            rf_vec3 p = rf_rt_effector_point(rt, w->t_world, e);
             if (f > 0 && w->contact[i] && w->contact[i - 1]) {
                 uint32_t k, j;
                 rf_rt_effector_source(rt, e, &k, &j);

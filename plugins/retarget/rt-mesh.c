@@ -12,6 +12,9 @@
 
 #define RT_MESH_MAX_SEAMS 40000u
 #define RT_MESH_MAX_EDGES 40000u
+/* Vertices more than this fraction of the mesh's height over its lowest at rest are parts high
+ * at rest (wings, tails, heads, a quadruped's chest): not what the character stands on. */
+#define RT_MESH_HIGH 0.15
 
 typedef struct rt_mesh_work {
     const rf_skeleton *s;
@@ -332,7 +335,7 @@ static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t fram
     double *stretch = ok ? malloc(((size_t)w->edges * frames + 1) * sizeof *stretch) : NULL;
     ok = ok && drift && stretch;
     for (uint32_t v = 0; ok && v < w->nv; v++)
-        high[v] = rf_v3_dot(w->rest[v], w->up) > lo + 0.15 * height;
+        high[v] = rf_v3_dot(w->rest[v], w->up) > lo + RT_MESH_HIGH * height;
     for (uint32_t i = 0; ok && i < frames; i++) {
         uint32_t f =
             frames > 1 ? (uint32_t)((uint64_t)i * (anim->frame_count - 1) / (frames - 1)) : 0;
@@ -379,13 +382,23 @@ bool rf_rt_mesh_measure(const rf_skeleton *skeleton, const rf_mesh *mesh, const 
     return ok;
 }
 
-/* The lowest vertex of each of `count` frames spread over the clip, over the rest mesh's
- * lowest, into low (sorted). */
-static void rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t count, double *low)
+/* The lowest vertex in each of `count` frames spread over the clip, over the rest mesh's lowest,
+ * into low (sorted): of the whole mesh (`all`) or of what stands on the floor at rest (parts high
+ * at rest left out: a dragon's wings hanging through the floor must not lift its feet off it;
+ * the parts pass lifts them). */
+static bool rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t count, bool all,
+                         double *low)
 {
-    double floor_h = INFINITY;
+    double floor_h = INFINITY, top = -INFINITY;
+    for (uint32_t v = 0; v < w->nv; v++) {
+        double h = rf_v3_dot(w->rest[v], w->up);
+        floor_h = fmin(floor_h, h), top = fmax(top, h);
+    }
+    uint8_t *base = malloc(w->nv ? w->nv : 1);
+    if (!base)
+        return false;
     for (uint32_t v = 0; v < w->nv; v++)
-        floor_h = fmin(floor_h, rf_v3_dot(w->rest[v], w->up));
+        base[v] = all || rf_v3_dot(w->rest[v], w->up) <= floor_h + RT_MESH_HIGH * (top - floor_h);
     for (uint32_t i = 0; i < count; i++) {
         uint32_t f =
             count > 1 ? (uint32_t)((uint64_t)i * (anim->frame_count - 1) / (count - 1)) : 0;
@@ -396,14 +409,52 @@ static void rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t cou
         rt_mesh_skin(w, w->pos);
         low[i] = INFINITY;
         for (uint32_t v = 0; v < w->nv; v++)
-            low[i] = fmin(low[i], rf_v3_dot(w->pos[v], w->up));
+            if (base[v])
+                low[i] = fmin(low[i], rf_v3_dot(w->pos[v], w->up));
         low[i] -= floor_h;
     }
+    free(base);
     qsort(low, count, sizeof *low, rt_cmp_double);
+    return true;
 }
 
-bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
-                            char *err, size_t err_size)
+/* For each joint, the vertices it carries most that reach farthest along the 6 axes and the 8
+ * diagonals of its rest frame: where its part of the mesh reaches, whatever way it turns (the
+ * parts pass keeps them over the floor, not only the joint's pivot). */
+static bool rt_mesh_hulls(rf_retarget *rt, const rt_mesh_work *w)
+{
+    static const signed char dir[RF_RT_HULL][3] = {
+        {1, 0, 0},  {-1, 0, 0}, {0, 1, 0},   {0, -1, 0}, {0, 0, 1},   {0, 0, -1},  {1, 1, 1},
+        {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
+    size_t n = rt->n ? rt->n : 1;
+    free(rt->t_hull);
+    rt->t_hull = calloc(n * RF_RT_HULL, sizeof *rt->t_hull);
+    double *best = malloc(n * RF_RT_HULL * sizeof *best);
+    if (!rt->t_hull || !best) {
+        free(best);
+        return false;
+    }
+    for (size_t i = 0; i < n * RF_RT_HULL; i++)
+        best[i] = 0; /* the pivot (0, 0, 0) reaches 0 along every direction */
+    for (uint32_t v = 0; v < w->nv; v++) {
+        uint32_t j = rt_dominant(w->m, v);
+        if (j >= rt->n)
+            continue;
+        rf_vec3 p = rf_xform_point(rf_xform_invert(w->world[j]), w->rest[v]);
+        for (uint32_t d = 0; d < RF_RT_HULL; d++) {
+            double reach = dir[d][0] * p.x + dir[d][1] * p.y + dir[d][2] * p.z;
+            if (reach > best[j * RF_RT_HULL + d])
+                best[j * RF_RT_HULL + d] = reach, rt->t_hull[j * RF_RT_HULL + d] = p;
+        }
+    }
+    free(best);
+    return true;
+}
+
+/* Moves the clip along up so the median sampled frame's lowest vertex (of the whole mesh, or of
+ * what stands on the floor at rest) sits on the rest mesh's lowest; only up when `raise_only`. */
+static bool rt_mesh_place(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, bool all,
+                          bool raise_only, double *shift, char *err, size_t err_size)
 {
     if (shift)
         *shift = 0;
@@ -413,16 +464,20 @@ bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *
     w.up = rt->up;
     uint32_t count = anim->frame_count < 32 ? anim->frame_count : 32;
     double low[32];
-    bool ok = rt_mesh_prepare(&w);
-    if (ok)
-        rt_mesh_lows(&w, anim, count, low);
+    bool ok = rt_mesh_prepare(&w) && (all || rt_mesh_hulls(rt, &w)) &&
+              rt_mesh_lows(&w, anim, count, all, low);
+    if (ok && !all) {
+        rt->mesh_floor = INFINITY;
+        for (uint32_t v = 0; v < w.nv; v++)
+            rt->mesh_floor = fmin(rt->mesh_floor, rf_v3_dot(w.rest[v], w.up));
+    }
     rt_mw_free(&w);
     if (!ok) {
         rf_rt_fail(err, err_size, "out of memory");
         return false;
     }
     double lift = -(count % 2 ? low[count / 2] : 0.5 * (low[count / 2 - 1] + low[count / 2]));
-    if (!isfinite(lift))
+    if (!isfinite(lift) || (raise_only && !(lift > 0)))
         return true;
     if (shift)
         *shift = lift;
@@ -434,6 +489,18 @@ bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *
         return false;
     }
     return true;
+}
+
+bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
+                            char *err, size_t err_size)
+{
+    return rt_mesh_place(rt, anim, mesh, false, false, shift, err, err_size);
+}
+
+bool rf_retarget_mesh_clear(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
+                            char *err, size_t err_size)
+{
+    return rt_mesh_place(rt, anim, mesh, true, true, shift, err, err_size);
 }
 
 /* How far over its floor source 0's lowest point is (joints and tips, unweighted helpers and

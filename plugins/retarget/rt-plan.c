@@ -263,43 +263,6 @@ double rf_rt_twist_fit(rf_vec3 n, const rf_vec3 *a, const rf_vec3 *b, uint32_t c
  * different plans (a level quadruped spine under an upright biped's), not different poses. */
 #define RT_BODY_PLAN_ANGLE (45.0 * RF_PI / 180.0)
 
-/* The rotation that best turns the unit directions of every pair onto the source's (Horn's
- * quaternion method: the top eigenvector of his 4x4 matrix, by power iteration). */
-static rf_quat rt_fit_all(const rt_pair *pairs, uint32_t count, rf_quat ref)
-{
-    double S[3][3] = {{0}};
-    for (uint32_t i = 0; i < count; i++) {
-        rf_vec3 a = rf_v3_normalize(pairs[i].t), b = rf_v3_normalize(pairs[i].s);
-        double av[3] = {a.x, a.y, a.z}, bv[3] = {b.x, b.y, b.z};
-        for (int r = 0; r < 3; r++)
-            for (int c = 0; c < 3; c++)
-                S[r][c] += av[r] * bv[c];
-    }
-    double N[4][4] = {
-        {S[0][0] + S[1][1] + S[2][2], S[1][2] - S[2][1], S[2][0] - S[0][2], S[0][1] - S[1][0]},
-        {S[1][2] - S[2][1], S[0][0] - S[1][1] - S[2][2], S[0][1] + S[1][0], S[2][0] + S[0][2]},
-        {S[2][0] - S[0][2], S[0][1] + S[1][0], -S[0][0] + S[1][1] - S[2][2], S[1][2] + S[2][1]},
-        {S[0][1] - S[1][0], S[2][0] + S[0][2], S[1][2] + S[2][1], -S[0][0] - S[1][1] + S[2][2]}};
-    for (int d = 0; d < 4; d++)
-        N[d][d] += count; /* eigenvalues lie in [-count, count]: shift them positive */
-    double v[4] = {ref.w, ref.x, ref.y, ref.z}; /* start from the body turn */
-    for (int it = 0; it < 200; it++) {
-        double y[4] = {0}, len = 0;
-        for (int r = 0; r < 4; r++) {
-            for (int c = 0; c < 4; c++)
-                y[r] += N[r][c] * v[c];
-            len += y[r] * y[r];
-        }
-        len = sqrt(len);
-        if (!(len > 0))
-            return ref;
-        for (int r = 0; r < 4; r++)
-            v[r] = y[r] / len;
-    }
-    /* Horn's matrix is built for the rotation taking a onto b written (w, x, y, z). */
-    return rf_quat_normalize(rf_quat_make(v[1], v[2], v[3], v[0]));
-}
-
 /* The rotation turning the target's rest directions onto the source's: the primary pair
  * exactly, starting from the parent's alignment (so the twist follows the body's), then turned
  * about the primary direction to fit the other pairs best. A centerline bone of a different body
@@ -366,12 +329,17 @@ static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in
             pairs[i].s = rf_rt_reflect_v(pairs[i].s, src->left);
     }
     bool keep = rt->t_centerline[j] && rt->plan_differs;
+    if (keep)
+        out->flags |= RF_RT_IN_LEVEL;
     rf_quat ref = rt_parent_align(rt, j, in->source, mp);
-    /* A top joint with three directions or more (a quadruped's hips: legs, spine, tail) is laid
-     * onto the source's by all of them: matching one exactly (a tail rising where the source's
-     * hangs) would tilt the whole body. */
+    /* A top joint with three directions or more (a quadruped's hips: legs, spine, tail) carries
+     * the body's attitude: its alignment is the turn of the body frames (up, forward), so a level
+     * source keeps it level. Laying it by its directions tilts it wherever the two bodies are
+     * built differently: a horse's rising tail laid along the Fox's hanging one tilted the horse
+     * 45 degrees, and a fit of all of them still pitched the cat (whose forelegs hang from its
+     * one torso bone, low, where the Fox's shoulders are high) and the horse nose up. */
     out->align = mp[j] < 0 && count >= 3 && !keep && !rt->t_degenerate
-                     ? rt_fit_all(pairs, count, ref)
+                     ? ref
                      : rt_align(pairs, count, ref, keep);
     rf_quat rs = src->rest_world[in->joint].r;
     for (uint32_t i = 0; i < count; i++) {
@@ -725,8 +693,10 @@ void rf_retarget_free(rf_retarget *rt)
     }
     rf_rt_work_free(rt, &rt->work);
     free(rt->src), free(rt->tj), free(rt->in), free(rt->links), free(rt->slots);
-    free(rt->t_rest_world), free(rt->t_tip), free(rt->t_aligned), free(rt->t_centerline);
-    free(rt->t_above), free(rt->bones), free(rt->effectors), free(rt->hot), free(rt->rest_tr);
+    free(rt->t_rest_world), free(rt->t_tip), free(rt->t_hull), free(rt->t_aligned),
+        free(rt->t_centerline);
+    free(rt->t_above), free(rt->bones), free(rt->effectors),
+        free(rt->effector_src), free(rt->effector_tip), free(rt->hot), free(rt->rest_tr);
     free(rt->w0), free(rt->t_logical), free(rt->t_role), free(rt->lparent), free(rt->anchor);
     free(rt->anchor_off), free(rt->lorder), free(rt->t_need), free(rt->t_tip_set);
     rf_mapping_free(rt->own_map);

@@ -196,6 +196,15 @@ void rf_analysis_print(const rf_analysis *a, const rf_skeleton *skeleton, FILE *
 {
     fprintf(out, "up      (%.3f %.3f %.3f) from %s, confidence %.2f\n", a->up.x, a->up.y, a->up.z,
             a->up_source, a->up_confidence);
+    fputs("        cues:", out);
+    for (int i = 0; i < RF_UP_CUE_COUNT; i++)
+        if (a->up_cues[i] != 0)
+            fprintf(out, " %s %+.2f", rf_up_cue_names[i], a->up_cues[i]);
+    fputc('\n', out);
+    int up_dissent = rf_up_dissent(a);
+    if (up_dissent >= 0)
+        fprintf(out, "warning: up cues disagree (%s prefers another axis): check up, or force it\n",
+                rf_up_cue_names[up_dissent]);
     fprintf(out, "forward (%.3f %.3f %.3f) from %s, confidence %.2f\n", a->forward.x, a->forward.y,
             a->forward.z, a->forward_source, a->forward_confidence);
     fputs("        cues:", out);

@@ -3,7 +3,8 @@
  * Up lies in the symmetry plane. Of the four in-plane directions, up is the one the limbs hang
  * away from: weighted by how much of each limb's reach points down and how steadily its chain
  * descends, plus a bonus when a mirrored pair of limbs touches the lowest level (feet on the
- * ground) and a small one for the axis the file declares. Forward is then one of two directions;
+ * ground), one for the ground the feet span when the body stands over them, and a small one for
+ * the axis the file declares. Forward is then one of two directions;
  * its sign is voted by the feet (toes point forward), by the knees of a biped and by the file. */
 #include <math.h>
 #include <stdlib.h>
@@ -19,6 +20,7 @@ typedef struct rf_limb {
     double out[4];    /* how far from the attachment that lowest point is */
     double reach;     /* farthest tip, guessed ones included, from the attachment */
     uint32_t joints;
+    int touch; /* the last up candidate (1..4) under which it touched the ground */
     bool leg;
 } rf_limb;
 
@@ -84,12 +86,79 @@ static double descent(const rf_awork *w, const rf_limb *l, rf_vec3 u)
     return total > 0 ? down / total : 0;
 }
 
+/* Marks the limbs that touch the ground under candidate `cand`: their lowest point lies within
+ * `tol` (or 12% of their reach) of the lowest limb point `lo`, far out along the limb (a foot,
+ * not a sprawled leg's knee when the body is turned over; a one-joint limb is a foot of its own).
+ * Returns their count and adds their reach to *reach. */
+static uint32_t touch_ground(rf_limbs *ls, int cand, double lo, double tol, double *reach)
+{
+    uint32_t touching = 0;
+    for (uint32_t i = 0; i < ls->n; i++) {
+        rf_limb *l = &ls->v[i];
+        bool far = l->out[cand] >= 0.6 * l->reach || l->joints == 1;
+        if (far && l->lowest[cand] <= lo + fmax(tol, 0.12 * l->reach))
+            l->touch = cand + 1, touching++, *reach += l->reach;
+    }
+    return touching;
+}
+
+/* Whether a centerline joint lies under the ground level: no body stands on its head. */
+static bool body_below(const rf_awork *w, rf_vec3 u, double ground)
+{
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (w->center[j] && !w->root_chain[j] && rf_v3_dot(rf_an_pos(w, j), u) < ground)
+            return true;
+    }
+    return false;
+}
+
+/* The ground the body stands on, 0..1. Under the right up, the lowest points of two or more
+ * limbs span an area, across the body and along it (feet with toes, a quadruped's four feet,
+ * an insect's six), and the body stands over them: its mean pivot lies within their span along
+ * the body, give or take a limb's reach. Under a wrong up the lowest points are the ends of one
+ * mirrored pair (wing tips, a foreleg pair's toes: a segment across the body) or the body
+ * itself lies lower (a head under raised hands). Measured against the touching limbs' mean
+ * reach: any scale, any bone count. */
+static double ground_support(const rf_awork *w, rf_limbs *ls, rf_vec3 u, int cand, double lo,
+                             double hi)
+{
+    rf_vec3 c = rf_v3_normalize(rf_v3_cross(w->plane_n, u));
+    double tol = 0.05 * (hi - lo), reach = 0;
+    uint32_t touching = touch_ground(ls, cand, lo, tol, &reach);
+    if (touching < 2 || reach <= 0 || body_below(w, u, lo - tol))
+        return 0;
+    double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
+    rf_vec3 sum = rf_v3(0, 0, 0);
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        sum = rf_v3_add(sum, rf_an_pos(w, j));
+        const rf_limb *l = w->limb_of[j] >= 0 ? &ls->v[ls->slot[w->limb_of[j]]] : NULL;
+        if (!l || l->touch != cand + 1)
+            continue;
+        const rf_joint_info *ji = &w->a->joints[j];
+        /* a guessed tip points the right way in a rig with a bone axis (a toe's end) */
+        bool guessed = (ji->flags & RF_JI_TIP_GUESSED) && w->conv_axis < 0;
+        for (int e = 0; e < 2 - guessed; e++) {
+            rf_vec3 p = e ? ji->tip : ji->pos;
+            if (rf_v3_dot(p, u) > lo + fmax(tol, 0.12 * l->reach))
+                continue;
+            double x = rf_v3_dot(p, w->plane_n), y = rf_v3_dot(p, c);
+            xlo = fmin(xlo, x), xhi = fmax(xhi, x), ylo = fmin(ylo, y), yhi = fmax(yhi, y);
+        }
+    }
+    double unit = reach / touching, mid = rf_v3_dot(sum, c) / w->order_count;
+    double stand = fmax(0, 1 - fmax(0, fmax(ylo - mid, mid - yhi)) / unit);
+    return stand * fmin(1, fmin(xhi - xlo, yhi - ylo) / (0.15 * unit));
+}
+
 /* How well u explains the limbs as hanging down (0..1), plus 0.15 per limb (up to four) when two
  * or more reach the lowest level (feet on the ground: four legs say more than two wing tips) and
  * up to 0.45 more as their end bones lie flat (feet, not tips pointing down: a bird's flat toes
- * outvote its longer folded wings). The lowest level is the lowest limb's: a mesh node or
- * ground root at the origin says nothing. */
-static double up_score(const rf_awork *w, const rf_limbs *ls, rf_vec3 u, int cand)
+ * outvote its longer folded wings), plus up to 0.8 for the ground the feet span
+ * (ground_support). The lowest level is the lowest limb's: a mesh node or ground root at the
+ * origin says nothing. */
+static void up_score(const rf_awork *w, rf_limbs *ls, rf_vec3 u, int cand, double *cue)
 {
     double hang = 0, reach = 0, lo = INFINITY, hi = -INFINITY;
     for (uint32_t i = 0; i < ls->n; i++) {
@@ -117,7 +186,8 @@ static double up_score(const rf_awork *w, const rf_limbs *ls, rf_vec3 u, int can
         flat += fabs(rf_v3_dot(d, u)) < 0.8;
     }
     double bonus = grounded >= 2 ? 0.15 * fmin(grounded, 4) + 0.45 * flat / grounded : 0;
-    return (reach > 0 ? hang / reach : 0) + bonus;
+    cue[0] = (reach > 0 ? hang / reach : 0) + bonus;
+    cue[1] = 0.8 * ground_support(w, ls, u, cand, lo, hi);
 }
 
 /* Each limb's lowest measured point (pivots, known tips) under each candidate, and how far out
@@ -186,6 +256,32 @@ static bool file_up(const rf_awork *w, rf_vec3 *up)
     return true;
 }
 
+const char *const rf_up_cue_names[RF_UP_CUE_COUNT] = {"limbs", "ground", "file"};
+
+/* Each cue's score for the up chosen against its best score for another candidate. */
+static void up_cues(rf_analysis *a, double cue[4][RF_UP_CUE_COUNT], int best)
+{
+    for (int i = 0; i < RF_UP_CUE_COUNT; i++) {
+        double other = 0;
+        for (int c = 0; c < 4; c++)
+            if (c != best)
+                other = fmax(other, cue[c][i]);
+        a->up_cues[i] = cue[best][i] - other;
+    }
+}
+
+int rf_up_dissent(const rf_analysis *a)
+{
+    /* a close call (the runner-up within a quarter of the winner) names any cue that preferred
+     * another axis; a clear one only a cue that preferred it by half a full vote */
+    double bar = a->up_confidence < 0.25 ? 0 : -0.5;
+    int worst = -1;
+    for (int i = 0; i < RF_UP_CUE_COUNT; i++)
+        if (a->up_cues[i] < bar && (worst < 0 || a->up_cues[i] < a->up_cues[worst]))
+            worst = i;
+    return worst;
+}
+
 static void detect_up(rf_awork *w, rf_limbs *ls)
 {
     rf_analysis *a = w->a;
@@ -201,21 +297,26 @@ static void detect_up(rf_awork *w, rf_limbs *ls)
         extent += rf_v3_len(rf_v3_sub(v, rf_v3_scale(w->plane_n, rf_v3_dot(v, w->plane_n))));
     }
     double strength = fmin(1, extent / (0.3 * a->size));
-    double score[4];
+    double score[4], cue[4][RF_UP_CUE_COUNT] = {{0}};
     int best = 0;
     for (int c = 0; c < 4; c++) {
-        score[c] = ls->n ? strength * up_score(w, ls, cands[c], c) : 0;
-        if (have_file && rf_v3_dot(cands[c], fu) > 0.9)
-            score[c] += 0.3;
+        if (ls->n)
+            up_score(w, ls, cands[c], c, cue[c]);
+        cue[c][0] *= strength, cue[c][1] *= strength;
+        cue[c][2] = have_file && rf_v3_dot(cands[c], fu) > 0.9 ? 0.3 : 0;
+        score[c] = cue[c][0] + cue[c][1] + cue[c][2];
         if (score[c] > score[best])
             best = c;
     }
+    up_cues(a, cue, best);
     double second = 0;
     for (int c = 0; c < 4; c++)
         if (c != best)
             second = fmax(second, score[c]);
     a->up = cands[best];
     if (ls->n == 0) {
+        for (int i = 0; i < RF_UP_CUE_COUNT; i++)
+            a->up_cues[i] = 0;
         a->up = have_file ? perpendicular_to(w->plane_n, fu) : cands[0];
         a->up_source = have_file ? "file" : "default";
         a->up_confidence = 0;

@@ -170,8 +170,12 @@ static int cmp_rank(const void *x, const void *y)
 /* Where a fan's digits start: the end of the bone they fan out of (the wrist). */
 static rf_vec3 fan_origin(const rf_awork *w, const rf_section *sec)
 {
-    return sec->attach_joint >= 0 ? w->a->joints[sec->attach_joint].tip
-                                  : rf_an_pos(w, w->a->section_joints[sec->first]);
+    if (sec->attach_joint < 0)
+        return rf_an_pos(w, w->a->section_joints[sec->first]);
+    /* a hand bone's guessed tip (no end site, several children) may lie past its fingers'
+     * ends: the wrist then */
+    const rf_joint_info *hand = &w->a->joints[sec->attach_joint];
+    return (hand->flags & RF_JI_TIP_GUESSED) ? hand->pos : hand->tip;
 }
 
 /* Where a digit ends: its last tip, or its last pivot when that tip is only a guess. */
@@ -404,7 +408,14 @@ static void mark_scapulae(rf_awork *w)
              * back and down to the elbow */
             bool vee =
                 rf_v3_dot(first->dir, a->forward) > 0.1 && rf_v3_dot(second->dir, a->forward) < 0;
-            if (!(first->flags & RF_JI_OFFSET) && down && top && vee &&
+            /* or it starts on the back, no lower than the joint it hangs from and nearer the
+             * centerline than the shoulder joint below it (a blade laid on the ribs) */
+            uint32_t fj = a->section_joints[fore->first];
+            double in = fabs(rf_v3_dot(rf_v3_sub(first->pos, w->plane_p), a->left));
+            double out = fabs(rf_v3_dot(rf_v3_sub(second->pos, w->plane_p), a->left));
+            bool blade =
+                rf_an_height(w, first->pos) >= rf_an_height(w, w->attach_pt[fj]) && in < 0.5 * out;
+            if (!(first->flags & RF_JI_OFFSET) && down && ((top && vee) || blade) &&
                 leg_bones(w, fore) == leg_bones(w, hind) + 1)
                 first->flags |= RF_JI_OFFSET;
         }

@@ -424,8 +424,12 @@ void rf_an_symmetry(rf_awork *w)
         /* Proposed planes beat the fallback axes on ties: they come from the skeleton. */
         double bonus = cs->c[i].weight > 0 ? 1e-3 : 0;
         double score = plane_score(w, g, n, p, best - bonus, &off, &matched);
-        if (score >= 0 && score + bonus > best)
-            best = score, bn = n, bp = p, best_off = off, best_matched = matched;
+        /* on a tie the plane whose off-plane joints more often find a twin: a body seen
+         * front to back can match as many joints as seen left to right, never all of them */
+        bool tie = score >= 0 && fabs(score + bonus - best) < 1e-6 && off > 0 && best_off > 0 &&
+                   (double)matched / off > (double)best_matched / best_off;
+        if (score >= 0 && (score + bonus > best + 1e-6 || tie))
+            best = score + bonus, bn = n, bp = p, best_off = off, best_matched = matched;
     }
     w->plane_n = bn, w->plane_p = bp;
     refine_plane(w, g);

@@ -146,6 +146,57 @@ static void test_facing_dissent(void **state)
     rf_skeleton_free(s);
 }
 
+/* A bird facing -Z: wings folded back along the body, longer than the short legs it stands
+ * on. The wings hang "down" towards the tail if the tail end were the ground; the toes spread
+ * flat under the body say where the ground is. Up is +Y, the ground cue agreeing. */
+static const sb_joint sb_bird[] = {
+    {"hips", NULL, 0, 0.40, 0.10, 0},        {"chest", "hips", 0, 0.45, -0.15, 0},
+    {"neck1", "chest", 0, 0.55, -0.20, 0},   {"neck2", "neck1", 0, 0.68, -0.22, 0},
+    {"head", "neck2", 0, 0.80, -0.25, 0},    {".", "head", 0, 0.80, -0.40, 0},
+    {"tail", "hips", 0, 0.42, 0.20, 0},      {".", "tail", 0, 0.44, 0.32, 0},
+    {"wl1", "chest", -0.06, 0.50, -0.15, 0}, {"wl2", "wl1", -0.12, 0.48, 0.15, 0},
+    {"wl3", "wl2", -0.14, 0.46, 0.45, 0},    {".", "wl3", -0.14, 0.44, 0.80, 0},
+    {"wr1", "chest", 0.06, 0.50, -0.15, 0},  {"wr2", "wr1", 0.12, 0.48, 0.15, 0},
+    {"wr3", "wr2", 0.14, 0.46, 0.45, 0},     {".", "wr3", 0.14, 0.44, 0.80, 0},
+    {"ll1", "hips", -0.05, 0.38, 0.10, 0},   {"ll2", "ll1", -0.06, 0.25, 0.00, 0},
+    {"ll3", "ll2", -0.06, 0.12, 0.10, 0},    {"ll4", "ll3", -0.06, 0.02, 0.08, 0},
+    {"lt1", "ll4", -0.06, 0.02, 0.08, 0},    {".", "lt1", -0.09, 0.0, -0.02, 0},
+    {"lt2", "ll4", -0.06, 0.02, 0.08, 0},    {".", "lt2", -0.06, 0.0, -0.04, 0},
+    {"lt3", "ll4", -0.06, 0.02, 0.08, 0},    {".", "lt3", -0.03, 0.0, -0.02, 0},
+    {"lt4", "ll4", -0.06, 0.02, 0.08, 0},    {".", "lt4", -0.06, 0.0, 0.14, 0},
+    {"rl1", "hips", 0.05, 0.38, 0.10, 0},    {"rl2", "rl1", 0.06, 0.25, 0.00, 0},
+    {"rl3", "rl2", 0.06, 0.12, 0.10, 0},     {"rl4", "rl3", 0.06, 0.02, 0.08, 0},
+    {"rt1", "rl4", 0.06, 0.02, 0.08, 0},     {".", "rt1", 0.09, 0.0, -0.02, 0},
+    {"rt2", "rl4", 0.06, 0.02, 0.08, 0},     {".", "rt2", 0.06, 0.0, -0.04, 0},
+    {"rt3", "rl4", 0.06, 0.02, 0.08, 0},     {".", "rt3", 0.03, 0.0, -0.02, 0},
+    {"rt4", "rl4", 0.06, 0.02, 0.08, 0},     {".", "rt4", 0.06, 0.0, 0.14, 0},
+};
+
+static void test_bird_ground(void **state)
+{
+    (void)state;
+    rf_skeleton *s = sb_build(sb_bird, SB_COUNT(sb_bird));
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    assert_true(a->up_cues[1] > 0); /* the ground agreed */
+    rf_analysis_free(a);
+    /* forced: no cue votes */
+    rf_analysis_options o = {.up = rf_v3(0, 1, 0)};
+    a = rf_analyze(s, &o);
+    assert_true(a->up_cues[0] == 0 && a->up_cues[1] == 0 && a->up_cues[2] == 0);
+    assert_int_equal(rf_up_dissent(a), -1);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    /* the quadruped stands on four feet: both cues agree, no warning */
+    s = sb_build(sb_quadruped, SB_COUNT(sb_quadruped));
+    a = rf_analyze(s, NULL);
+    assert_true(a->up_cues[0] > 0 && a->up_cues[1] > 0);
+    assert_int_equal(rf_up_dissent(a), -1);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 /* Twist leaves inside the forearms and thighs (Unreal's mannequin) are part of their segment:
  * helpers, not digits, and the hands keep their two digits. A thumb at the wrist is no roll. */
 static void test_roll_leaves(void **state)
@@ -507,6 +558,7 @@ int main(void)
         cmocka_unit_test(test_biped_facing),
         cmocka_unit_test(test_quadruped),
         cmocka_unit_test(test_facing_dissent),
+        cmocka_unit_test(test_bird_ground),
         cmocka_unit_test(test_roll_leaves),
         cmocka_unit_test(test_strip),
         cmocka_unit_test(test_degenerate),

@@ -11,6 +11,7 @@
 #include <cmocka.h>
 
 #include "retarget.h"
+#include "rt-internal.h"
 #include "rt-fixtures.h"
 #include "twobone.h"
 
@@ -541,6 +542,31 @@ static rf_skeleton *quadruped(void)
     return s;
 }
 
+/* A quadruped built differently from its source (hind legs set back and lower, the spine rising
+ * to a higher chest) stays as level as its source: at the source's rest, the target's hips keep
+ * their rest rotation. A fit of the hips' directions (legs and spine) tilted them by the angle
+ * between the two builds. */
+static void top_joint_keeps_level(void **state)
+{
+    (void)state;
+    rf_skeleton *src = quadruped(), *tgt = quadruped();
+    tgt->joints[1].rest.t = rf_v3(0.15, -0.15, -0.25);
+    tgt->joints[4].rest.t = rf_v3(-0.15, -0.15, -0.25);
+    tgt->joints[7].rest.t = rf_v3(0, 0.25, 0.5);
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_mapping *m = fx_mapping(16, 1);
+    fx_map_same(m, 16);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_xform wt[16];
+    for (uint32_t f = 0; f < 2; f++) {
+        fx_world(tgt, r.out, f, wt);
+        assert_true(rf_quat_angle(wt[0].r, tgt->joints[0].rest.r) < 1e-6);
+    }
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 /* Three seconds of stepping with a one-second cycle: the legs swing in opposite phase, and
  * swing out sideways by a constant 10 degrees each. */
 static rf_animation *stepping(const rf_skeleton *s)
@@ -687,6 +713,27 @@ static void measure_by_hand(void **state)
     rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* A centerline bone of another body plan keeps its source's turn about up whole and its tilt eased
+ * into 10 degrees (10 tanh(a / 10)): worked by hand for a pure turn, a pure 60 degree lean
+ * (10 tanh 6 = 9.99988) and a 90 degree turn after a 40 degree lean (10 tanh 4 = 9.99329). */
+static void level_keeps_turn_limits_tilt(void **state)
+{
+    (void)state;
+    const double deg = RF_PI / 180;
+    rf_vec3 up = rf_v3(0, 1, 0), left = rf_v3(1, 0, 0);
+    rf_quat turn = rf_quat_from_axis_angle(up, 90 * deg);
+    rf_quat q = rf_rt_level(turn, up);
+    assert_true(rf_quat_angle(q, turn) < 1e-9);
+    q = rf_rt_level(rf_quat_from_axis_angle(left, 60 * deg), up);
+    assert_true(rf_quat_angle(q, rf_quat_from_axis_angle(left, 9.99988 * deg)) < 1e-6);
+    rf_quat lean = rf_quat_from_axis_angle(left, 40 * deg);
+    q = rf_rt_level(rf_quat_mul(lean, turn), up);
+    rf_quat want = rf_quat_mul(rf_quat_from_axis_angle(left, 9.99329 * deg), turn);
+    assert_true(rf_quat_angle(q, want) < 1e-6);
+    /* No tilt at all: nothing to ease. */
+    q = rf_rt_level(rf_quat_identity(), up);
+    assert_true(rf_quat_angle(q, rf_quat_identity()) < 1e-12);
+}
 /* Turns a leg (thigh at j, knee j + 1) so the ankle of a thigh and shin of lengths a and b
  * reaches `ankle` from the hip joint `hip`, bending the knee forward (+Z), in the YZ plane. */
 static void plant_leg(rf_animation *clip, uint32_t f, uint32_t j, rf_vec3 hip, rf_vec3 ankle,
@@ -750,6 +797,121 @@ static void contact_pass_pins_feet(void **state)
     rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* Legs of two bones whose foot is the shin's tip (a horse's): the source's ankle hangs below
+ * the knee that drives the shin, so the shin's tip is pinned where the source's foot is, with
+ * the thigh and the shin as the chain. */
+static void contact_pass_pins_bone_tips(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = rf_skeleton_new(7);
+    fx_joint(tgt, 0, "hips", -1, rf_v3(0, 1.0, 0), rf_quat_identity());
+    for (int side = 0; side < 2; side++) {
+        uint32_t j = 1 + 2 * (uint32_t)side;
+        fx_joint(tgt, j, side ? "rthigh" : "lthigh", 0, rf_v3(side ? -0.1 : 0.1, 0, 0),
+                 rf_quat_identity());
+        fx_joint(tgt, j + 1, side ? "rshin" : "lshin", (int32_t)j, rf_v3(0, -0.6, 0),
+                 rf_quat_identity());
+        fx_end_site(tgt, j + 1, rf_v3(0, -0.4, 0));
+    }
+    fx_joint(tgt, 5, "spine", 0, rf_v3(0, 0.1, 0), rf_quat_identity());
+    fx_joint(tgt, 6, "head", 5, rf_v3(0, 0.5, 0), rf_quat_identity());
+    fx_end_site(tgt, 6, rf_v3(0, 0.2, 0));
+    rf_animation *clip = fx_rest_clip(src, 30, 30);
+    for (uint32_t f = 0; f < 30; f++) {
+        double z = -0.2 + 0.4 * f / 29.0;
+        rf_animation_set_translation(clip, f, 0, rf_v3(0, 0.95, z));
+        plant_leg(clip, f, 1, rf_v3(0.1, 0.95, z), rf_v3(0.1, 0.05, 0), 0.5, 0.45);
+        plant_leg(clip, f, 4, rf_v3(-0.1, 0.95, z), rf_v3(-0.1, 0.05, 0), 0.5, 0.45);
+    }
+    clip->channels[0] |= RF_CHANNEL_TRANSLATION;
+    rf_mapping *m = fx_mapping(7, 1);
+    uint32_t from[7] = {0, 1, 2, 4, 5, 7, 8};
+    for (uint32_t j = 0; j < 7; j++)
+        fx_map(m, j, 0, from[j], 1, 0, 0);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_rt_info info;
+    rf_retarget_info(r.rt, &info);
+    assert_int_equal(info.effectors, 2); /* the shins' tips */
+    char err[256];
+    const rf_ik_solver_api *api = &rf_ik_twobone_api;
+    rf_ik_solver *solver = rf_ik_solver_new(api, api->create(NULL, err, sizeof err), "twobone");
+    rf_rt_contact_stats st;
+    assert_true(rf_retarget_contacts(r.rt, r.out, solver, &st, err, sizeof err));
+    assert_true(st.solves >= 29);
+    /* The left shin's tip stays where it was at the first frame (horizontally), and the
+     * shin still hangs from the thigh (the chain was solved, not the tip moved alone). */
+    rf_xform w0[7], w[7];
+    fx_world(tgt, r.out, 0, w0);
+    rf_vec3 tip0 = rf_xform_point(w0[2], rf_v3(0, -0.4, 0));
+    for (uint32_t f = 1; f < 30; f++) {
+        fx_world(tgt, r.out, f, w);
+        rf_vec3 tip = rf_xform_point(w[2], rf_v3(0, -0.4, 0));
+        assert_true(hypot(tip.x - tip0.x, tip.z - tip0.z) < 1e-3);
+        assert_true(fabs(rf_v3_dist(w[1].t, w[2].t) - 0.6) < 1e-4);
+    }
+    rf_ik_solver_free(solver);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* One-bone legs hanging from the hips (the animalia wolf's and cat's): the contact pass may not
+ * turn the hips, so each leg alone is turned to aim its tip at the pin: the feet slide far less
+ * (the pin is out of reach when the hips move too far from it, so not to zero). */
+static void contact_pass_aims_one_bone_legs(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = rf_skeleton_new(5);
+    fx_joint(tgt, 0, "hips", -1, rf_v3(0, 1.0, 0), rf_quat_identity());
+    fx_joint(tgt, 1, "lleg", 0, rf_v3(0.1, 0, 0), rf_quat_identity());
+    fx_end_site(tgt, 1, rf_v3(0, -1.0, 0));
+    fx_joint(tgt, 2, "rleg", 0, rf_v3(-0.1, 0, 0), rf_quat_identity());
+    fx_end_site(tgt, 2, rf_v3(0, -1.0, 0));
+    fx_joint(tgt, 3, "spine", 0, rf_v3(0, 0.1, 0), rf_quat_identity());
+    fx_joint(tgt, 4, "head", 3, rf_v3(0, 0.5, 0), rf_quat_identity());
+    fx_end_site(tgt, 4, rf_v3(0, 0.2, 0));
+    rf_animation *clip = fx_rest_clip(src, 30, 30);
+    for (uint32_t f = 0; f < 30; f++) {
+        double z = -0.2 + 0.4 * f / 29.0;
+        rf_animation_set_translation(clip, f, 0, rf_v3(0, 0.95, z));
+        plant_leg(clip, f, 1, rf_v3(0.1, 0.95, z), rf_v3(0.1, 0.05, 0), 0.5, 0.45);
+        plant_leg(clip, f, 4, rf_v3(-0.1, 0.95, z), rf_v3(-0.1, 0.05, 0), 0.5, 0.45);
+    }
+    clip->channels[0] |= RF_CHANNEL_TRANSLATION;
+    rf_mapping *m = fx_mapping(5, 1);
+    uint32_t from[5] = {0, 1, 4, 7, 8};
+    for (uint32_t j = 0; j < 5; j++)
+        fx_map(m, j, 0, from[j], 1, 0, 0);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_rt_info info;
+    rf_retarget_info(r.rt, &info);
+    assert_int_equal(info.effectors, 2); /* the legs' tips */
+    char err[256];
+    rf_rt_report before, after;
+    double start = rf_retarget_start_time(r.rt);
+    assert_true(rf_retarget_measure(r.rt, r.out, start, &before, err, sizeof err));
+    const rf_ik_solver_api *api = &rf_ik_twobone_api;
+    rf_ik_solver *solver = rf_ik_solver_new(api, api->create(NULL, err, sizeof err), "twobone");
+    rf_rt_contact_stats st;
+    rf_xform w0[5], w[5];
+    fx_world(tgt, r.out, 0, w0);
+    assert_true(rf_retarget_contacts(r.rt, r.out, solver, &st, err, sizeof err));
+    assert_true(rf_retarget_measure(r.rt, r.out, start, &after, err, sizeof err));
+    print_message("one-bone legs: skate %.4f -> %.4f leg/s\n", before.skate_target,
+                  after.skate_target);
+    assert_true(before.skate_target > 0.05);
+    assert_true(after.skate_target < 0.5 * before.skate_target);
+    for (uint32_t f = 0; f < 30; f++) { /* the hips never turn; the legs keep their length */
+        fx_world(tgt, r.out, f, w);
+        assert_true(rf_quat_angle(w[0].r, w0[0].r) < 1e-9);
+        assert_true(fabs(rf_v3_dist(w[1].t, rf_xform_point(w[1], rf_v3(0, -1.0, 0))) - 1.0) < 1e-6);
+    }
+    rf_ik_solver_free(solver);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 static void bad_inputs_refused(void **state)
 {
     (void)state;
@@ -789,6 +951,10 @@ int main(void)
         cmocka_unit_test(degenerate_rest_uses_a_frame),
         cmocka_unit_test(measure_by_hand),
         cmocka_unit_test(contact_pass_pins_feet),
+        cmocka_unit_test(contact_pass_pins_bone_tips),
+        cmocka_unit_test(contact_pass_aims_one_bone_legs),
+        cmocka_unit_test(top_joint_keeps_level),
+        cmocka_unit_test(level_keeps_turn_limits_tilt),
         cmocka_unit_test(bad_inputs_refused),
     };
     return cmocka_run_group_tests_name("retarget", tests, NULL, NULL);

@@ -225,7 +225,7 @@ static rf_mapping *carry_mapping(const rf_mapping *pm, const rig *plain, const r
 }
 
 /* Retargets the clip onto a rig as the pipeline does: the clip, the mesh's floor, the contact
- * pass with the two-bone solver. */
+ * pass with the two-bone solver, the parts pass and the whole mesh's floor after it. */
 static rf_animation *run(const rf_skeleton *src, const rf_animation *clip, const rig *r,
                          const rf_mapping *m)
 {
@@ -244,6 +244,7 @@ static rf_animation *run(const rf_skeleton *src, const rf_animation *clip, const
     assert_true(rf_retarget_contacts(rt, out, solver, &st, err, sizeof err));
     rf_rt_parts_stats ps;
     assert_true(rf_retarget_parts_above(rt, out, &ps));
+    assert_true(rf_retarget_mesh_clear(rt, out, r->m, NULL, err, sizeof err));
     rf_ik_solver_free(solver);
     rf_retarget_free(rt);
     return out;

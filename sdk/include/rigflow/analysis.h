@@ -131,6 +131,9 @@ typedef struct rf_analysis_options {
 
 /* The cues facing is voted from (axes.c). */
 #define RF_FORWARD_CUE_COUNT 8
+/* The cues up is voted from: how the limbs hang (and reach the lowest level), the ground the
+ * feet span, the axis the file declares. */
+#define RF_UP_CUE_COUNT 3
 
 typedef struct rf_analysis {
     uint32_t joint_count;
@@ -156,12 +159,21 @@ typedef struct rf_analysis {
     /* How each facing cue voted, along the forward chosen: positive agreed, negative voted the
      * other way, 0 said nothing; in the order of rf_forward_cue_names. All zero when forced. */
     double forward_cues[RF_FORWARD_CUE_COUNT];
+    /* How each up cue voted: its score for the up chosen minus its best score for another of
+     * the four candidates (positive agreed, negative preferred another axis), in the order of
+     * rf_up_cue_names. All zero when forced or when there are no limbs. */
+    double up_cues[RF_UP_CUE_COUNT];
 } rf_analysis;
 
 /* "feet", "knees", "head", "elevation", "file", "lean", "girdles", "hierarchy" (static) */
 extern const char *const rf_forward_cue_names[RF_FORWARD_CUE_COUNT];
 /* The strongest cue that voted against the chosen forward, or -1 when none did. */
 int rf_forward_dissent(const rf_analysis *a);
+/* "limbs", "ground", "file" (static) */
+extern const char *const rf_up_cue_names[RF_UP_CUE_COUNT];
+/* The up cue that preferred another axis by the most, or -1 when none did: when up is a close
+ * call (up_confidence under 0.25) any such cue, else one that preferred it by more than 0.5. */
+int rf_up_dissent(const rf_analysis *a);
 
 /* Analyses a skeleton. `opts` may be NULL. Returns NULL only when out of memory.
  * (transfer full: free with rf_analysis_free) */
