@@ -135,6 +135,12 @@ RF_HOST_API bool rf_pipeline_run(rf_pipeline *p, const rf_registry *reg, const r
 RF_HOST_API const void *rf_pipeline_result(const rf_pipeline *p, const char *node,
                                            const char *port);
 
+/* The start of the name of the temporary file a run writes `target` to, in the target's folder,
+ * until the run succeeds: ".STEM.rf-" (the stem cut at 200 bytes), then 6 random characters and
+ * the target's extension. For tools that clean up after a run killed before it could (rigflow
+ * batch). (transfer full) */
+RF_HOST_API char *rf_output_temp_prefix(const char *target);
+
 /* Calls fn for every output-path parameter of a validated pipeline, in file order: the node id,
  * the parameter's name and the final path asked for ("" when unset). For batch runs, which name
  * each job's outputs. */

@@ -280,6 +280,30 @@ static void upstream_failure_leaves_no_output(void **state)
     rf_pipeline_free(p);
 }
 
+/* An output whose name is long but legal (251 bytes; a file name holds 255): its temporary file
+ * beside it, 11 bytes longer, was refused ("File name too long") and the output could not be
+ * written at all. */
+static void long_output_name_written(void **state)
+{
+    fixture *f = *state;
+    char name[252];
+    memset(name, 'a', 247);
+    memcpy(name + 247, ".txt", 5);
+    g_autofree char *nodes =
+        g_strdup_printf("{\"id\": \"s\", \"type\": \"test.source\"},"
+                        "{\"id\": \"w\", \"type\": \"test.sink\", \"params\": {\"path\": \"%s\"}, "
+                        "\"inputs\": {\"in\": \"s.value\"}}",
+                        name);
+    rf_pipeline *p = check(f, nodes, true);
+    bool ok = rf_pipeline_run(p, f->reg, NULL, f->diags);
+    if (!ok)
+        find_diag(f->diags, "\x01", NULL); /* prints every diag */
+    assert_true(ok);
+    assert_true(file_exists(f->dir, name));
+    assert_int_equal(count_files(f->dir), 1); /* no temporary file left */
+    rf_pipeline_free(p);
+}
+
 static void missing_output_folder_reported(void **state)
 {
     fixture *f = *state;
@@ -453,6 +477,7 @@ int main(void)
         T(failing_node_leaves_no_output),
         T(upstream_failure_leaves_no_output),
         T(missing_output_folder_reported),
+        T(long_output_name_written),
         T(output_naming_a_folder_is_refused_first),
         T(two_outputs_naming_one_file_refused),
         T(cancelled_run_leaves_no_output),
