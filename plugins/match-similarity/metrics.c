@@ -62,6 +62,7 @@ static void limb_roles(rf_ms_skel *s, bool thesis)
             continue;
         bool fore = spread ? sec->body_pos >= 0.5 * (lo + hi) : sec->type == RF_SECTION_ARM;
         s->kind[k] = fore ? RF_MK_FORE : RF_MK_HIND;
+        s->role_types[!fore] |= sec->type == RF_SECTION_ARM ? 1 : 2;
     }
 }
 
@@ -346,6 +347,41 @@ void rf_ms_skel_clear(rf_ms_skel *s)
 
 /* ---- metrics ---- */
 
+/* Whether the fan the digit section `k` belongs to has a thumb. */
+static bool fan_has_thumb(const rf_analysis *a, uint32_t k)
+{
+    for (uint32_t d = 0; d < a->section_count; d++)
+        if (a->sections[d].attach_joint == a->sections[k].attach_joint &&
+            (a->sections[d].flags & RF_SECFL_FAN) && (a->sections[d].flags & RF_SECFL_THUMB))
+            return true;
+    return false;
+}
+
+/* The length of the main digit of the fan digit section `k` belongs to, against the limb it
+ * hangs from; 0 when unknown. */
+static double digit_reach(const rf_ms_skel *s, uint32_t k)
+{
+    const rf_section *sec = &s->a->sections[k];
+    if (sec->attach_joint < 0 || sec->parent < 0)
+        return 0;
+    int32_t d = s->main_digit[sec->attach_joint];
+    double limb = s->a->sections[sec->parent].length;
+    return d >= 0 && limb > 0 ? s->a->sections[d].length / limb : 0;
+}
+
+/* A thumb is its own kind of digit: it turns across the palm, not along the fingers' curl. A
+ * wing's membrane fingers (digits far longer for their limb than the source hand's, in a fan
+ * without a thumb) are not driven by a source hand's thumb while that hand has other digits:
+ * they take its fingers. */
+static bool thumb_misfit(const rf_ms_skel *t, uint32_t ts, const rf_ms_skel *s, uint32_t ss)
+{
+    const rf_section *st = &t->a->sections[ts], *sc = &s->a->sections[ss];
+    if (!(st->flags & RF_SECFL_FAN) || !(sc->flags & RF_SECFL_THUMB) || sc->pair_count < 2)
+        return false;
+    double rt = digit_reach(t, ts), rs = digit_reach(s, ss);
+    return rs > 0 && rt > 3 * rs && !fan_has_thumb(t->a, ts);
+}
+
 /* How alike two different kinds are, 0..1: the similar-type metric. Limbs of the two roles and
  * a limb with its digits are alike; so are the centerline sections; appendages are closest to
  * digits (thesis, chapter 6). */
@@ -397,7 +433,8 @@ void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t
     uint8_t kt = t->kind[ts], ks = s->kind[ss];
     memset(m, 0, RF_MS_METRIC_COUNT * sizeof *m);
     m[RF_MS_SAME_SIDE] = side == sc->side ? w[RF_MS_SAME_SIDE] : 0;
-    m[RF_MS_SAME_TYPE] = kt == ks ? w[RF_MS_SAME_TYPE] : 0;
+    m[RF_MS_SAME_TYPE] =
+        kt == ks && !(!c->o->thesis && thumb_misfit(t, ts, s, ss)) ? w[RF_MS_SAME_TYPE] : 0;
     double similar = kind_similarity(kt, ks);
     /* toes and fingers are alike only in the thesis: a bird's toes are not a dragon's wing
      * fingers, which hang from another limb */
@@ -410,7 +447,15 @@ void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t
     m[RF_MS_PREFERENCE] = k == c->o->preferred_source ? w[RF_MS_PREFERENCE] : 0;
     if ((limb_kind(kt) || kt == RF_MK_APPENDAGE) && (limb_kind(ks) || ks == RF_MK_APPENDAGE)) {
         double bt = fmax(-1, fmin(2, st->body_pos)), bs = fmax(-1, fmin(2, sc->body_pos));
-        m[RF_MS_BODY_POSITION] = w[RF_MS_BODY_POSITION] * fmax(0, 1 - fabs(bt - bs));
+        double near = fmax(0, 1 - fabs(bt - bs));
+        /* where the source has limbs of one role both held up (arms, wings) and on the ground,
+         * a target limb takes the one of its own type: a dragon's wings drive a bird's wings,
+         * its forelegs stay off them (a lone pair of arms still drives forelegs) */
+        uint8_t own = st->type == RF_SECTION_ARM ? 1 : 2;
+        if (kt == ks && st->type != sc->type && (s->role_types[ks == RF_MK_HIND] & own) &&
+            !c->o->thesis)
+            near *= 0.2;
+        m[RF_MS_BODY_POSITION] = w[RF_MS_BODY_POSITION] * near;
     }
     /* digits: a thumb for a thumb, then the fingers in their order across the hand */
     if ((st->flags & RF_SECFL_FAN) && (sc->flags & RF_SECFL_FAN) &&

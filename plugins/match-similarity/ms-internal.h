@@ -26,18 +26,19 @@ typedef enum rf_ms_kind {
 typedef struct rf_ms_skel {
     const rf_skeleton *skel;
     rf_analysis *a;
-    uint8_t *kind;       /* [section] rf_ms_kind */
-    uint32_t *count;     /* [section] joints that can be matched */
-    double *digit_frac;  /* [section] rank across the fan, 0..1 */
-    uint8_t *matchable;  /* [joint] */
-    int32_t *anc;        /* [joint] nearest matchable ancestor, -1 */
-    rf_vec3 *bdir;       /* [joint] bone direction in the body frame (left, up, forward) */
-    uint8_t *ends;       /* [joint] 1: the last matchable joint of its section, 2: the first,
-                          * 4: in a head, the neck's last joint before the skull */
-    int32_t *main_digit; /* [joint] the middle non-thumb digit section of the fan hanging from
-                          * the joint, or -1 */
-    int32_t *step;       /* [joint] place in a limb or digit counted in joints from its first
-                          * real bone (offsets -1, unweighted links share the next one's) */
+    uint8_t *kind;         /* [section] rf_ms_kind */
+    uint32_t *count;       /* [section] joints that can be matched */
+    double *digit_frac;    /* [section] rank across the fan, 0..1 */
+    uint8_t *matchable;    /* [joint] */
+    int32_t *anc;          /* [joint] nearest matchable ancestor, -1 */
+    rf_vec3 *bdir;         /* [joint] bone direction in the body frame (left, up, forward) */
+    uint8_t *ends;         /* [joint] 1: the last matchable joint of its section, 2: the first,
+                            * 4: in a head, the neck's last joint before the skull */
+    int32_t *main_digit;   /* [joint] the middle non-thumb digit section of the fan hanging from
+                            * the joint, or -1 */
+    int32_t *step;         /* [joint] place in a limb or digit counted in joints from its first
+                            * real bone (offsets -1, unweighted links share the next one's) */
+    uint8_t role_types[2]; /* [fore, hind] bit 1: an arm of that role, bit 2: a leg */
 } rf_ms_skel;
 
 typedef struct rf_ms_ctx {

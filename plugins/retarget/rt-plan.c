@@ -265,8 +265,8 @@ double rf_rt_twist_fit(rf_vec3 n, const rf_vec3 *a, const rf_vec3 *b, uint32_t c
 
 /* The rotation turning the target's rest directions onto the source's: the primary pair
  * exactly, starting from the parent's alignment (so the twist follows the body's), then turned
- * about the primary direction to fit the other pairs best. A centerline bone of a different body
- * plan (`keep`) keeps the parent's alignment: only limbs are aligned. */
+ * about the primary direction to fit the other pairs best. A centerline bone (`keep`) keeps the
+ * parent's alignment: only limbs are aligned. */
 static rf_quat rt_align(const rt_pair *pairs, uint32_t count, rf_quat ref, bool keep)
 {
     int32_t p = RF_RT_NONE;
@@ -331,6 +331,11 @@ static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in
     bool keep = rt->t_centerline[j] && rt->plan_differs;
     if (keep)
         out->flags |= RF_RT_IN_LEVEL;
+    /* Any centerline bone keeps the body's alignment too: a neck or a tail is built differently
+     * from one animal to the next, and turning it onto the source's rest direction held
+     * Testwuson's neck 60 degrees off its rest under the Fox's Walk (a crease behind the head).
+     * A degenerate rest has no directions of its own to keep. */
+    keep = keep || (rt->t_centerline[j] && !rt->t_degenerate);
     rf_quat ref = rt_parent_align(rt, j, in->source, mp);
     /* A top joint with three directions or more (a quadruped's hips: legs, spine, tail) carries
      * the body's attitude: its alignment is the turn of the body frames (up, forward), so a level

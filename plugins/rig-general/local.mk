@@ -9,14 +9,24 @@ plugins_rig_general_librigauto_la_SOURCES = \
 	plugins/rig-general/rig.c \
 	plugins/rig-general/rig-mesh.c \
 	plugins/rig-general/rig-skel.c \
-	plugins/rig-general/rig-heat.c
+	plugins/rig-general/rig-heat.c \
+	plugins/rig-general/rig-template.c
 plugins_rig_general_librigauto_la_LIBADD = $(CHOLMOD_LIBS) $(EMBREE_LIBS) $(MESHOPT_LIBS) -lm
 
 plugins_LTLIBRARIES += plugins/rig-general.la
-plugins_rig_general_la_SOURCES = plugins/rig-general/plugin.c
+plugins_rig_general_la_SOURCES = plugins/rig-general/plugin.c plugins/rig-general/rig-node.h \
+	plugins/rig-general/rig-node.c
 # Embree's task threads (TBB) outlive a call and run library code until the process exits:
 # the plugin, and with it Embree, must stay loaded when the host closes its plugins.
 plugins_rig_general_la_LDFLAGS = $(PLUGIN_LDFLAGS) -Wl,-z,nodelete
 plugins_rig_general_la_LIBADD = plugins/rig-general/librigauto.la sdk/analysis/librigflow-analysis.la
 
-dist_pipelines_DATA += pipelines/autorig.json pipelines/scan-to-animation.json
+# The template rigger: a second plugin on the same core (rig-template.c), rig.template.
+plugins_LTLIBRARIES += plugins/rig-template.la
+plugins_rig_template_la_SOURCES = plugins/rig-general/plugin-template.c \
+	plugins/rig-general/rig-node.h plugins/rig-general/rig-node.c
+plugins_rig_template_la_LDFLAGS = $(PLUGIN_LDFLAGS) -Wl,-z,nodelete
+plugins_rig_template_la_LIBADD = plugins/rig-general/librigauto.la sdk/analysis/librigflow-analysis.la
+
+dist_pipelines_DATA += pipelines/autorig.json pipelines/scan-to-animation.json \
+	pipelines/autorig-template.json pipelines/scan-to-animation-template.json

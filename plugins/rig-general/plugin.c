@@ -6,15 +6,9 @@
 #include <rigflow/rigflow.h>
 #include <rigflow/rigger.h>
 
-#include "rig.h"
+#include "rig-node.h"
 
-static const rf_port_desc rf_rig_inputs[] = {
-    RF_PORT_DESC("mesh", RF_TYPE_MESH, 0,
-                 "the mesh to rig (any skin it has is ignored): one body, loose parts allowed"),
-    RF_PORT_DESC("axes", RF_TYPE_SKELETON, RF_PORT_OPTIONAL,
-                 "the importer's skeleton (even an empty one): its up and forward, as the file "
-                 "declares them, are kept; without it they come from the skeleton analysis"),
-};
+static const rf_port_desc rf_rig_inputs[] = {RF_RIG_NODE_INPUTS};
 
 static const rf_port_desc rf_rig_outputs[] = {
     RF_PORT_DESC("skeleton", RF_TYPE_SKELETON, 0,
@@ -26,56 +20,13 @@ static const rf_port_desc rf_rig_outputs[] = {
     RF_PORT_DESC("animation", RF_TYPE_ANIMATION, 0, "one frame of the rest pose"),
 };
 
-static const rf_param_desc rf_rig_params[] = {
-    RF_PARAM_DESC_INT("resolution", 96, 16, 256,
-                      "voxels along the longest bounding-box edge for the skeleton (default 96)"),
-    RF_PARAM_DESC_INT("proxy_triangles", 20000, 1000, 1000000,
-                      "meshes above this are simplified into a proxy for the weights"),
-    RF_PARAM_DESC_FLOAT("speck_size", 0.02, 0.001, 0.5,
-                        "loose parts smaller than this fraction of the mesh's diagonal are specks"),
-    RF_PARAM_DESC_FLOAT("segment", 0.12, 0.02, 1,
-                        "bone length, as a fraction of the longest bounding-box edge"),
-    RF_PARAM_DESC_BOOL("visibility", 1,
-                       "heat a vertex only from bones it can see (ray casting); false: from the "
-                       "nearest bone"),
-};
-
-typedef struct rf_rig_node_ctx {
-    const rf_host *host;
-    rf_node *node;
-} rf_rig_node_ctx;
-
-static void rf_rig_node_progress(void *user, double f)
-{
-    rf_rig_node_ctx *c = user;
-    c->host->progress(c->node, f);
-}
-
-/* One frame holding the rest pose, so exporters and retargeters have an animation to start from. */
-static rf_animation *rf_rig_rest_clip(const rf_skeleton *s)
-{
-    rf_animation *a = rf_animation_new(s->joint_count, 1, 30);
-    for (uint32_t j = 0; a && j < s->joint_count; j++) {
-        rf_animation_set_translation(a, 0, j, s->joints[j].rest.t);
-        rf_animation_set_rotation(a, 0, j, s->joints[j].rest.r);
-    }
-    return a;
-}
+static const rf_param_desc rf_rig_params[] = {RF_RIG_NODE_PARAMS};
 
 static bool rf_rig_process(void *self, const rf_host *host, rf_node *node)
 {
     (void)self;
     const rf_mesh *in = host->input(node, "mesh", 0);
-    rf_rig_options o = {
-        .resolution = (uint32_t)host->param_int(node, "resolution"),
-        .proxy_triangles = (uint32_t)host->param_int(node, "proxy_triangles"),
-        .speck_size = host->param_float(node, "speck_size"),
-        .segment = host->param_float(node, "segment"),
-        .no_visibility = !host->param_bool(node, "visibility"),
-    };
-    const rf_skeleton *axes = host->input_count(node, "axes") ? host->input(node, "axes", 0) : NULL;
-    if (axes)
-        o.up = axes->up, o.forward = axes->forward;
+    rf_rig_options o = rf_rig_node_options(host, node);
     rf_skeleton *s = NULL;
     rf_mesh *m = NULL;
     rf_rig_stats st;
@@ -90,27 +41,11 @@ static bool rf_rig_process(void *self, const rf_host *host, rf_node *node)
                     in->name ? "(named in the file)" : "", err);
         return false;
     }
-    host->log(node, RF_LOG_INFO,
-              "%u joints; %u vertices (%u welded), %u loose parts of which %u specks, heat on %u "
-              "triangles: %u vertices by heat, %u by nearest bone, %u saw no bone",
-              st.joints, st.vertices, st.welded, st.parts, st.specks, st.proxy_triangles,
-              st.heat_vertices, st.fallback_vertices, st.unseen_vertices);
     if (st.joints < 3)
         host->log(node, RF_LOG_WARNING,
                   "only %u joints: the mesh has no limbs the voxel skeleton can separate (a blob?)",
                   st.joints);
-    rf_animation *a = rf_rig_rest_clip(s);
-    if (!a) {
-        rf_skeleton_free(s), rf_mesh_free(m);
-        host->error(node, "out of memory");
-        return false;
-    }
-    bool ok = host->set_output(node, "skeleton", s, rf_skeleton_free);
-    ok = host->set_output(node, "mesh", m, rf_mesh_free) && ok;
-    ok = host->set_output(node, "animation", a, rf_animation_free) && ok;
-    if (!ok)
-        host->error(node, "the host refused an output");
-    return ok;
+    return rf_rig_node_output(host, node, s, m, &st);
 }
 
 static bool rf_rig_api_rig(const rf_mesh *mesh, rf_skeleton **skeleton, rf_mesh **skinned,

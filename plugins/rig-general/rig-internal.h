@@ -86,4 +86,22 @@ double rf_rig_seg_dist(const double q[3], const rf_rig_bone *b, double c[3]);
 bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_options *o, double **w,
                  rf_rig_stats *st, char *err, size_t n);
 
+/* The defaults filled in (rig.c). */
+rf_rig_options rf_rig_defaults(const rf_rig_options *opts);
+
+/* The general rigger's curve skeleton, cut into joints: extracted twice (the second time from
+ * where the feet meet) and rooted at the hips (rig.c). */
+bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
+                  size_t n);
+
+/* k as an rf_skeleton (rest = bind, unrotated joints); named by the skeleton analysis when
+ * `named` is not NULL (its up and forward as hints), else unnamed. NULL when out of memory. */
+rf_skeleton *rf_rig_skeleton(const rf_rig_skel *k, const rf_rig_options *named);
+
+/* Bone heat for k on the proxy, carried to a skinned copy of `mesh` into *skinned; joints of
+ * `s` (k as a skeleton) whose bone won no vertex are flagged unweighted. */
+bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *k,
+                  const rf_rig_options *o, rf_skeleton *s, rf_mesh **skinned, rf_rig_stats *st,
+                  char *err, size_t n);
+
 #endif

@@ -46,7 +46,7 @@ static bool rf_rig_name(rf_skeleton *s, rf_vec3 up, rf_vec3 forward)
     return ok;
 }
 
-static rf_skeleton *rf_rig_skeleton(const rf_rig_skel *k, const rf_rig_options *named)
+rf_skeleton *rf_rig_skeleton(const rf_rig_skel *k, const rf_rig_options *named)
 {
     rf_skeleton *s = rf_skeleton_new(k->n);
     if (!s)
@@ -322,7 +322,7 @@ static bool rf_rig_skin(const rf_mesh *in, const rf_rig_prep *p, const rf_rig_sk
     return ok;
 }
 
-static rf_rig_options rf_rig_defaults(const rf_rig_options *opts)
+rf_rig_options rf_rig_defaults(const rf_rig_options *opts)
 {
     rf_rig_options o = opts ? *opts : (rf_rig_options){0};
     o.resolution = o.resolution ? o.resolution : 96;
@@ -330,6 +330,62 @@ static rf_rig_options rf_rig_defaults(const rf_rig_options *opts)
     o.speck_size = o.speck_size > 0 ? o.speck_size : 0.02;
     o.segment = o.segment > 0 ? o.segment : 0.12;
     return o;
+}
+
+bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
+                  size_t err_size)
+{
+    bool ok = rf_rig_extract(p, o, NULL, k, err, err_size);
+    /* Level sets grown from the hips cut the body square to its length (shoulders level, limbs
+     * leaving symmetrically); from the thickest point they would ring the chest. So a second pass
+     * starts where the first pass's two lowest leaves meet. */
+    uint32_t r = ok ? rf_rig_pick_root(k) : RF_RIG_NONE, hips = ok ? rf_rig_pick_hips(k) : r;
+    double hips_at[3];
+    if (hips != RF_RIG_NONE)
+        memcpy(hips_at, k->pos + (size_t)hips * 3, sizeof hips_at);
+    if (r != RF_RIG_NONE && k->parent[r] >= 0) {
+        double seed[3];
+        memcpy(seed, k->pos + (size_t)r * 3, sizeof seed);
+        rf_rig_skel_free(k);
+        ok = rf_rig_extract(p, o, seed, k, err, err_size);
+    }
+    /* The skeleton analysis (and so the matcher) reads which way a body faces partly from where
+     * the root is: artists root a quadruped at its hips, and the spine runs from there to the
+     * shoulders. The second pass's root, the highest girdle, is often the shoulders; the rig is
+     * rooted again at the girdle nearest the hips, its joints unmoved. */
+    uint32_t g = ok && hips != RF_RIG_NONE ? rf_rig_girdle_near(k, hips_at) : RF_RIG_NONE;
+    if (g != RF_RIG_NONE && k->parent[g] >= 0 && !rf_rig_reroot(k, g))
+        ok = rf_rig_fail(err, err_size, "out of memory re-rooting the skeleton");
+    return ok;
+}
+
+bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *k,
+                  const rf_rig_options *o, rf_skeleton *s, rf_mesh **skinned, rf_rig_stats *st,
+                  char *err, size_t err_size)
+{
+    double *w = NULL;
+    *skinned = NULL;
+    bool ok = rf_rig_heat(p, k, o, &w, st, err, err_size);
+    rf_mesh *m = ok ? rf_rig_mesh_copy(mesh) : NULL;
+    if (ok && (!m || !rf_rig_skin(mesh, p, k, w, m, st)))
+        ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
+    if (ok) {
+        /* a joint whose bone won no vertex says so, as artists' helper joints do */
+        uint8_t *used = calloc(k->n + 1, 1);
+        for (size_t i = 0; used && i < (size_t)m->vertex_count * 4; i++)
+            if (m->skin_weights[i] > 0)
+                used[m->skin_joints[i]] = 1;
+        for (uint32_t j = 0; used && j < k->n; j++)
+            if (!used[j])
+                s->joints[j].flags |= RF_JOINT_UNWEIGHTED;
+        free(used);
+        st->joints = k->n;
+        *skinned = m;
+    } else {
+        rf_mesh_free(m);
+    }
+    free(w);
+    return ok;
 }
 
 bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
@@ -342,59 +398,23 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
     *skeleton = NULL, *skinned = NULL;
     rf_rig_prep p;
     rf_rig_skel k = {0};
-    double *w = NULL;
     if (!rf_rig_prepare(mesh, &o, &p, st, err, err_size))
         return false;
     if (progress)
         progress(user, 0.1);
-    bool ok = rf_rig_extract(&p, &o, NULL, &k, err, err_size);
-    /* Level sets grown from the hips cut the body square to its length (shoulders level, limbs
-     * leaving symmetrically); from the thickest point they would ring the chest. So a second pass
-     * starts where the first pass's two lowest leaves meet. */
-    uint32_t r = ok ? rf_rig_pick_root(&k) : RF_RIG_NONE, hips = ok ? rf_rig_pick_hips(&k) : r;
-    double hips_at[3];
-    if (hips != RF_RIG_NONE)
-        memcpy(hips_at, k.pos + (size_t)hips * 3, sizeof hips_at);
-    if (r != RF_RIG_NONE && k.parent[r] >= 0) {
-        double seed[3];
-        memcpy(seed, k.pos + (size_t)r * 3, sizeof seed);
-        rf_rig_skel_free(&k);
-        ok = rf_rig_extract(&p, &o, seed, &k, err, err_size);
-    }
-    /* The skeleton analysis (and so the matcher) reads which way a body faces partly from where
-     * the root is: artists root a quadruped at its hips, and the spine runs from there to the
-     * shoulders. The second pass's root, the highest girdle, is often the shoulders; the rig is
-     * rooted again at the girdle nearest the hips, its joints unmoved. */
-    uint32_t g = ok && hips != RF_RIG_NONE ? rf_rig_girdle_near(&k, hips_at) : RF_RIG_NONE;
-    if (g != RF_RIG_NONE && k.parent[g] >= 0 && !rf_rig_reroot(&k, g))
-        ok = rf_rig_fail(err, err_size, "out of memory re-rooting the skeleton");
+    bool ok = rf_rig_curve(&p, &o, &k, err, err_size);
     if (ok && progress)
         progress(user, 0.4);
-    ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
+    rf_skeleton *s = ok ? rf_rig_skeleton(&k, &o) : NULL;
+    if (ok && !s)
+        ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
+    ok = ok && rf_rig_weigh(mesh, &p, &k, &o, s, skinned, st, err, err_size);
     if (ok && progress)
         progress(user, 0.9);
-    rf_skeleton *s = ok ? rf_rig_skeleton(&k, &o) : NULL;
-    rf_mesh *m = s ? rf_rig_mesh_copy(mesh) : NULL;
-    if (ok && (!m || !rf_rig_skin(mesh, &p, &k, w, m, st))) {
-        ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
-    }
-    if (ok) {
-        /* a joint whose bone won no vertex says so, as artists' helper joints do */
-        uint8_t *used = calloc(k.n + 1, 1);
-        for (size_t i = 0; used && i < (size_t)m->vertex_count * 4; i++)
-            if (m->skin_weights[i] > 0)
-                used[m->skin_joints[i]] = 1;
-        for (uint32_t j = 0; used && j < k.n; j++)
-            if (!used[j])
-                s->joints[j].flags |= RF_JOINT_UNWEIGHTED;
-        free(used);
-        st->joints = k.n;
-        *skeleton = s, *skinned = m;
-    } else {
+    if (ok)
+        *skeleton = s;
+    else
         rf_skeleton_free(s);
-        rf_mesh_free(m);
-    }
-    free(w);
     rf_rig_skel_free(&k);
     rf_rig_prep_free(&p);
     return ok;

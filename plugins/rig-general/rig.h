@@ -53,6 +53,24 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
                     rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
                     char *err, size_t err_size);
 
+/* Which template rf_rig_template lays into the body. */
+typedef enum rf_rig_template_kind {
+    RF_RIG_TEMPLATE_AUTO =
+        0, /* the humanoid for two legs and two arms, the quadruped for four legs */
+    RF_RIG_TEMPLATE_HUMANOID,  /* Hips, Spine..Spine2, Neck, Head; Shoulder, Arm, ForeArm, Hand;
+                                * UpLeg, Leg, Foot, ToeBase per side */
+    RF_RIG_TEMPLATE_QUADRUPED, /* the same names, the forelegs as arms from the chest, and
+                                * Tail..Tail3 when the body has a tail */
+} rf_rig_template_kind;
+
+/* Rigs `mesh` with a template (doc/autorig.md): the general rigger's curve skeleton, read by the
+ * skeleton analysis, carries the template's joints at their relative places along each chain,
+ * with standard names; bone heat as rf_rig_general. A body that fits no template (or not the one
+ * asked for) is refused with the reason in err. Same terms as rf_rig_general. */
+bool rf_rig_template(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_template_kind kind,
+                     rf_skeleton **skeleton, rf_mesh **skinned, rf_rig_stats *stats,
+                     rf_rig_progress_fn progress, void *user, char *err, size_t err_size);
+
 /* Weights `mesh` to a given skeleton by bone heat (the rigger's skinning alone). inverse_bind
  * ([joint_count], may be NULL: the rest pose) places the joints; joints flagged
  * RF_JOINT_UNWEIGHTED get no weights. Returns a skinned copy carrying those inverse binds, or

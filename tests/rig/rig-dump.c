@@ -1,7 +1,9 @@
-/* rig-dump FILE: rigs the mesh of FILE (its rig ignored) with librigauto and prints the joints
+/* rig-dump [--template] FILE: rigs the mesh of FILE (its rig ignored) with librigauto (the
+ * general rigger, or the template rigger) and prints the joints
  * ("J index parent x y z") and every vertex with its heaviest joint ("V x y z joint"), for
  * tests/rig/rig-view.py to draw. A development aid; the tests check the same data. */
 #include <stdio.h>
+#include <string.h>
 
 #include <rigflow/aimport.h>
 
@@ -9,10 +11,12 @@
 
 int main(int argc, char **argv)
 {
-    if (argc != 2) {
-        fprintf(stderr, "usage: rig-dump FILE\n");
+    bool template = argc == 3 && strcmp(argv[1], "--template") == 0;
+    if (argc != 2 && !template) {
+        fprintf(stderr, "usage: rig-dump [--template] FILE\n");
         return 2;
     }
+    argv += template;
     rf_ai_options o = {.ignore_rig = true};
     rf_ai_result r;
     char err[1024];
@@ -23,7 +27,10 @@ int main(int argc, char **argv)
     rf_skeleton *s;
     rf_mesh *m;
     rf_rig_stats st;
-    if (!rf_rig_general(r.mesh, NULL, &s, &m, &st, NULL, NULL, err, sizeof err)) {
+    bool ok = template ? rf_rig_template(r.mesh, NULL, RF_RIG_TEMPLATE_AUTO, &s, &m, &st, NULL,
+                                         NULL, err, sizeof err)
+                       : rf_rig_general(r.mesh, NULL, &s, &m, &st, NULL, NULL, err, sizeof err);
+    if (!ok) {
         fprintf(stderr, "rig-dump: %s: %s\n", argv[1], err);
         rf_ai_result_clear(&r);
         return 1;

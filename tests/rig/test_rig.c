@@ -2,7 +2,9 @@
  * with a reason, never with a vertex left unweighted; the rig does not depend on the unit or the
  * facing; bad input (empty, a point cloud, a sheet, nothing but specks, broken numbers) is
  * refused with a message and nothing allocated; a big scan goes through the simplified proxy; legs
- * a few voxels apart stay apart; a given skeleton is weighted as its artist would. */
+ * a few voxels apart stay apart; a given skeleton is weighted as its artist would. The template
+ * rigger lays its joints where a person would put them on a box creature and on the shared
+ * RiggedFigure and Fox, and refuses a body with no legs, saying why. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -511,14 +513,197 @@ static void test_bind_given(void **state)
     rf_skeleton_free(s), rf_mesh_free(in);
 }
 
+/* ---- the template rigger ---- */
+
+static int32_t joint_named(const rf_skeleton *s, const char *name)
+{
+    int32_t j = rf_skeleton_find(s, name);
+    if (j < 0)
+        fail_msg("no joint %s", name);
+    return j;
+}
+
+/* A UV sphere: a body with no limbs at all. */
+static rf_mesh *sphere(uint32_t rings, uint32_t segs)
+{
+    rf_mesh *m = rf_mesh_new();
+    m->vertex_count = (rings + 1) * segs;
+    m->positions = calloc((size_t)m->vertex_count * 3, sizeof(float));
+    m->triangles = calloc((size_t)rings * segs * 6, sizeof(uint32_t));
+    for (uint32_t r = 0; r <= rings; r++)
+        for (uint32_t k = 0; k < segs; k++) {
+            double th = M_PI * r / rings, ph = 2 * M_PI * k / segs;
+            float *p = m->positions + (size_t)(r * segs + k) * 3;
+            p[0] = (float)(sin(th) * cos(ph)), p[1] = (float)cos(th) + 1;
+            p[2] = (float)(sin(th) * sin(ph));
+        }
+    for (uint32_t r = 0; r < rings; r++)
+        for (uint32_t k = 0; k < segs; k++) {
+            uint32_t a = r * segs + k, b = r * segs + (k + 1) % segs, c = a + segs, d = b + segs;
+            uint32_t *t = m->triangles + (size_t)m->triangle_count * 3;
+            t[0] = a, t[1] = c, t[2] = b, t[3] = b, t[4] = c, t[5] = d;
+            m->triangle_count += 2;
+        }
+    return m;
+}
+
+/* A sphere has no legs: refused, the reason naming what was found and what a template needs;
+ * asked for a humanoid, the table creature (four legs, no arms) is refused too. */
+static void test_template_refusal(void **state)
+{
+    (void)state;
+    rf_mesh *in = sphere(24, 32);
+    rf_skeleton *s = (rf_skeleton *)1;
+    rf_mesh *m = (rf_mesh *)1;
+    char err[512] = "";
+    assert_false(
+        rf_rig_template(in, NULL, RF_RIG_TEMPLATE_AUTO, &s, &m, NULL, NULL, NULL, err, sizeof err));
+    assert_null(s);
+    assert_null(m);
+    printf("# sphere: %s\n", err);
+    if (!strstr(err, "fits no template") || !strstr(err, "0 left, 0 right") ||
+        !strstr(err, "needs a pair of legs"))
+        fail_msg("sphere: unexpected reason \"%s\"", err);
+    rf_mesh_free(in);
+    in = table_creature(1, 0);
+    assert_false(rf_rig_template(in, NULL, RF_RIG_TEMPLATE_HUMANOID, &s, &m, NULL, NULL, NULL, err,
+                                 sizeof err));
+    if (!strstr(err, "a humanoid needs a pair of legs and a pair of arms"))
+        fail_msg("table creature as a humanoid: unexpected reason \"%s\"", err);
+    rf_mesh_free(in);
+}
+
+/* The box creature (head at +x, up +y, so its left is -z) gets the quadruped template: hind legs
+ * from the hips at the rear, forelegs from the chest at the front, the head past the chest,
+ * left joints on the left, every foot near the floor, knee and hock in order down the leg. The
+ * same at 100 m turned 40 degrees about up with no forward given: the layout turns and scales
+ * with the body (checked in the body's own frame). */
+static void template_box(double scale, double turn, bool axes)
+{
+    rf_mesh *in = table_creature(scale, turn);
+    rf_skeleton *s;
+    rf_mesh *m;
+    char err[512];
+    rf_rig_options o = {.up = rf_v3(0, 1, 0), .forward = axes ? rf_v3(1, 0, 0) : rf_v3(0, 0, 0)};
+    if (!rf_rig_template(in, &o, RF_RIG_TEMPLATE_AUTO, &s, &m, NULL, NULL, NULL, err, sizeof err))
+        fail_msg("table creature at %g turned %g: %s", scale, turn, err);
+    check_rig("table creature (template)", in, s, m);
+    rf_vec3 w[64];
+    assert_true(s->joint_count <= 64);
+    world_joints(s, w);
+    for (uint32_t j = 0; j < s->joint_count; j++) /* back into the body's frame, unscaled */
+        w[j] = rf_v3_scale(rf_v3(w[j].x * cos(turn) - w[j].z * sin(turn), w[j].y,
+                                 w[j].x * sin(turn) + w[j].z * cos(turn)),
+                           1 / scale);
+    rf_vec3 hips = w[joint_named(s, "Hips")], neck = w[joint_named(s, "Neck")];
+    rf_vec3 head = w[joint_named(s, "Head")];
+    if (!(hips.x < -0.6 && neck.x > 0.6 && head.x > 1 && head.y > 1.3))
+        fail_msg("hips x %g, neck x %g, head at x %g y %g", hips.x, neck.x, head.x, head.y);
+    const char *const left[] = {"LeftUpLeg", "LeftFoot", "LeftArm", "LeftHand"};
+    const char *const right[] = {"RightUpLeg", "RightFoot", "RightArm", "RightHand"};
+    for (int i = 0; i < 4; i++) {
+        rf_vec3 l = w[joint_named(s, left[i])], r = w[joint_named(s, right[i])];
+        if (!(l.z < -0.1 && r.z > 0.1))
+            fail_msg("%s at z %g, %s at z %g: sides swapped", left[i], l.z, right[i], r.z);
+    }
+    rf_vec3 toe = w[joint_named(s, "LeftToeBase")], hand = w[joint_named(s, "LeftHand")];
+    rf_vec3 knee = w[joint_named(s, "LeftLeg")], thigh = w[joint_named(s, "LeftUpLeg")];
+    rf_vec3 hock = w[joint_named(s, "LeftFoot")];
+    assert_true(toe.y < 0.35 && hand.y < 0.35);
+    assert_true(toe.x < -0.6 && hand.x > 0.6);
+    assert_true(thigh.y > knee.y && knee.y > hock.y && hock.y > toe.y);
+    rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
+}
+
+static void test_template_quadruped(void **state)
+{
+    (void)state;
+    template_box(1, 0, true);
+    template_box(100, 0.7, false);
+}
+
+/* RiggedFigure and the Fox with their rigs ignored: the humanoid and the quadruped templates,
+ * every standard joint there, and each template joint's nearest artist joint is near: the
+ * template's LeftHand lies within a tenth of the mesh's longest bounding-box edge of an artist
+ * joint (CD-J2J against the artist's rig is measured by rig-bench, tests/rig/test_rig_pipeline.sh).
+ * The artist's rig is read from the same file, so the two share one frame. */
+static void template_model(const char *path, const char *const *names, uint32_t count)
+{
+    rf_ai_options bare = {.ignore_rig = true}, full = {0};
+    rf_ai_result r, a;
+    char err[1024];
+    if (!rf_ai_import(path, &bare, &r, NULL, NULL, err, sizeof err) ||
+        !rf_ai_import(path, &full, &a, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_rig_options o = {.up = r.skeleton->up, .forward = r.skeleton->forward};
+    rf_skeleton *s;
+    rf_mesh *m;
+    if (!rf_rig_template(r.mesh, &o, RF_RIG_TEMPLATE_AUTO, &s, &m, NULL, NULL, NULL, err,
+                         sizeof err))
+        fail_msg("%s: %s", path, err);
+    check_rig(path, r.mesh, s, m);
+    rf_vec3 *w = calloc(s->joint_count, sizeof *w);
+    rf_vec3 *aw = calloc(a.skeleton->joint_count, sizeof *aw);
+    world_joints(s, w);
+    /* the artist's joints where the skin was bound: inverse bind matrices inverted */
+    uint32_t na = 0;
+    for (uint32_t j = 0; j < a.skeleton->joint_count && j < a.mesh->bind_count; j++) {
+        rf_mat4 wm;
+        if (rf_mat4_invert(a.mesh->inverse_bind[j], &wm))
+            aw[na++] = rf_mat4_point(wm, rf_v3(0, 0, 0));
+    }
+    assert_true(na > 4);
+    double size = 0; /* the longest bounding-box edge */
+    for (int k = 0; k < 3; k++) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (uint32_t v = 0; v < r.mesh->vertex_count; v++)
+            lo = fmin(lo, r.mesh->positions[v * 3 + k]),
+            hi = fmax(hi, r.mesh->positions[v * 3 + k]);
+        size = fmax(size, hi - lo);
+    }
+    for (uint32_t i = 0; i < count; i++) {
+        rf_vec3 p = w[joint_named(s, names[i])];
+        double best = INFINITY;
+        for (uint32_t j = 0; j < na; j++)
+            best = fmin(best, rf_v3_len(rf_v3_sub(p, aw[j])));
+        printf("# %s: %s %.3f of the size from an artist joint\n", path, names[i], best / size);
+        if (!(best < 0.1 * size))
+            fail_msg("%s: %s is %g from every artist joint (size %g)", path, names[i], best, size);
+    }
+    free(w), free(aw);
+    rf_skeleton_free(s), rf_mesh_free(m);
+    rf_ai_result_clear(&r), rf_ai_result_clear(&a);
+}
+
+static void test_template_models(void **state)
+{
+    (void)state;
+    const char *d = data_dir();
+    if (!d) {
+        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
+        skip();
+    }
+    char path[4096];
+    static const char *const humanoid[] = {"Hips",      "Spine2",       "Head",     "LeftArm",
+                                           "LeftHand",  "RightForeArm", "LeftLeg",  "RightFoot",
+                                           "LeftUpLeg", "RightHand",    "LeftFoot", "Neck"};
+    snprintf(path, sizeof path, "%s/models/RiggedFigure.glb", d);
+    template_model(path, humanoid, 12);
+    static const char *const quadruped[] = {"Hips",     "Head",      "LeftHand", "RightHand",
+                                            "LeftFoot", "RightFoot", "Tail1"};
+    snprintf(path, sizeof path, "%s/models/Fox.glb", d);
+    template_model(path, quadruped, 7);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_bad_input),     cmocka_unit_test(test_any_scale),
-        cmocka_unit_test(test_any_facing),    cmocka_unit_test(test_loose_parts),
-        cmocka_unit_test(test_big_scan),      cmocka_unit_test(test_testmodels),
-        cmocka_unit_test(test_shared_models), cmocka_unit_test(test_bind_given),
-        cmocka_unit_test(test_narrow_gap),
+        cmocka_unit_test(test_bad_input),          cmocka_unit_test(test_any_scale),
+        cmocka_unit_test(test_any_facing),         cmocka_unit_test(test_loose_parts),
+        cmocka_unit_test(test_big_scan),           cmocka_unit_test(test_testmodels),
+        cmocka_unit_test(test_shared_models),      cmocka_unit_test(test_bind_given),
+        cmocka_unit_test(test_narrow_gap),         cmocka_unit_test(test_template_refusal),
+        cmocka_unit_test(test_template_quadruped), cmocka_unit_test(test_template_models),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

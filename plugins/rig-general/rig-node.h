@@ -1,0 +1,48 @@
+/* What the rigger plugins' nodes share (rig-node.c, built into each plugin): progress through
+ * the host, and the outputs (skeleton, skinned mesh, a one-frame rest clip) with a log line. */
+#ifndef RF_RIG_NODE_H
+#define RF_RIG_NODE_H
+
+#include <rigflow/rigflow.h>
+
+#include "rig.h"
+
+/* The inputs and parameters every rigger node has (rf_rig_node_options reads them). */
+#define RF_RIG_NODE_INPUTS                                                                         \
+    RF_PORT_DESC("mesh", RF_TYPE_MESH, 0,                                                          \
+                 "the mesh to rig (any skin it has is ignored): one body, loose parts allowed"),   \
+        RF_PORT_DESC("axes", RF_TYPE_SKELETON, RF_PORT_OPTIONAL,                                   \
+                     "the importer's skeleton (even an empty one): its up and forward, as the "    \
+                     "file declares them, are kept; without it they come from the skeleton "       \
+                     "analysis")
+#define RF_RIG_NODE_PARAMS                                                                         \
+    RF_PARAM_DESC_INT("resolution", 96, 16, 256,                                                   \
+                      "voxels along the longest bounding-box edge for the skeleton (default 96)"), \
+        RF_PARAM_DESC_INT("proxy_triangles", 20000, 1000, 1000000,                                 \
+                          "meshes above this are simplified into a proxy for the weights"),        \
+        RF_PARAM_DESC_FLOAT("speck_size", 0.02, 0.001, 0.5,                                        \
+                            "loose parts smaller than this fraction of the mesh's diagonal are "   \
+                            "specks"),                                                             \
+        RF_PARAM_DESC_FLOAT("segment", 0.12, 0.02, 1,                                              \
+                            "bone length, as a fraction of the longest bounding-box edge"),        \
+        RF_PARAM_DESC_BOOL("visibility", 1,                                                        \
+                           "heat a vertex only from bones it can see (ray casting); false: from "  \
+                           "the nearest bone")
+
+typedef struct rf_rig_node_ctx {
+    const rf_host *host;
+    rf_node *node;
+} rf_rig_node_ctx;
+
+/* An rf_rig_progress_fn for a node; user is an rf_rig_node_ctx. */
+void rf_rig_node_progress(void *user, double fraction);
+
+/* The options every rigger node reads: resolution, proxy_triangles, speck_size, segment,
+ * visibility, and the axes port. */
+rf_rig_options rf_rig_node_options(const rf_host *host, rf_node *node);
+
+/* Logs what the rigger did and hands s and m (owned) to the node's outputs with a rest clip. */
+bool rf_rig_node_output(const rf_host *host, rf_node *node, rf_skeleton *s, rf_mesh *m,
+                        const rf_rig_stats *st);
+
+#endif

@@ -1,0 +1,874 @@
+/* rf_rig_template: a humanoid or quadruped template embedded into the general rigger's curve
+ * skeleton (after Baran and Popovic 2007, who embed a template into a discretised medial
+ * skeleton). The skeleton analysis reads the curve skeleton (legs, arms, sides, front and rear
+ * girdles, head); each template chain is laid along the curve it matches, its joints at the
+ * template's relative places along that curve (an elbow or a knee at the curve's sharpest bend
+ * near its place), and named as animation tools expect (Hips, Spine, LeftUpLeg...). A body the
+ * template does not fit is refused with the reason. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <rigflow/analysis.h>
+#include <rigflow/model-copy.h>
+
+#include "rig-internal.h"
+
+/* A curve through the body: points and the arc length at each. */
+#define RF_TPL_MAXPTS 512
+typedef struct rf_tpl_curve {
+    uint32_t n;
+    double p[RF_TPL_MAXPTS][3];
+    double s[RF_TPL_MAXPTS]; /* arc length from the first point */
+} rf_tpl_curve;
+
+static void rf_tpl_add(rf_tpl_curve *c, const double q[3])
+{
+    if (c->n == RF_TPL_MAXPTS)
+        return;
+    double d = 0;
+    if (c->n) {
+        const double *l = c->p[c->n - 1];
+        d = sqrt((q[0] - l[0]) * (q[0] - l[0]) + (q[1] - l[1]) * (q[1] - l[1]) +
+                 (q[2] - l[2]) * (q[2] - l[2]));
+        if (d < 1e-12)
+            return; /* coincident points would give no direction */
+    }
+    memcpy(c->p[c->n], q, 3 * sizeof(double));
+    c->s[c->n] = c->n ? c->s[c->n - 1] + d : 0;
+    c->n++;
+}
+
+static double rf_tpl_len(const rf_tpl_curve *c)
+{
+    return c->n ? c->s[c->n - 1] : 0;
+}
+
+/* The point at fraction f of the curve's length. */
+static void rf_tpl_at(const rf_tpl_curve *c, double f, double out[3])
+{
+    double s = fmin(fmax(f, 0), 1) * rf_tpl_len(c);
+    uint32_t i = 1;
+    while (i + 1 < c->n && c->s[i] < s)
+        i++;
+    if (c->n < 2) {
+        memcpy(out, c->p[0], 3 * sizeof(double));
+        return;
+    }
+    double span = c->s[i] - c->s[i - 1], t = span > 0 ? (s - c->s[i - 1]) / span : 0;
+    for (int a = 0; a < 3; a++)
+        out[a] = c->p[i - 1][a] + t * (c->p[i][a] - c->p[i - 1][a]);
+}
+
+/* The part of curve c between fractions f0 and f1, into out. */
+static void rf_tpl_sub(const rf_tpl_curve *c, double f0, double f1, rf_tpl_curve *out)
+{
+    double p[3], len = rf_tpl_len(c);
+    out->n = 0;
+    rf_tpl_at(c, f0, p);
+    rf_tpl_add(out, p);
+    for (uint32_t i = 0; i < c->n; i++)
+        if (c->s[i] > f0 * len && c->s[i] < f1 * len)
+            rf_tpl_add(out, c->p[i]);
+    rf_tpl_at(c, f1, p);
+    rf_tpl_add(out, p);
+}
+
+/* Where the curve bends most (turning angle over 15 degrees) between fractions lo and hi; `dflt`
+ * when it runs straight there (a limb held straight has its elbow or knee at the template's
+ * place). */
+static double rf_tpl_bend(const rf_tpl_curve *c, double lo, double hi, double dflt)
+{
+    double len = rf_tpl_len(c), best = cos(15 * M_PI / 180), at = dflt;
+    for (uint32_t i = 1; len > 0 && i + 1 < c->n; i++) {
+        double f = c->s[i] / len;
+        if (f < lo || f > hi)
+            continue;
+        double u[3], v[3], nu = 0, nv = 0, dot = 0;
+        for (int a = 0; a < 3; a++) {
+            u[a] = c->p[i][a] - c->p[i - 1][a], v[a] = c->p[i + 1][a] - c->p[i][a];
+            nu += u[a] * u[a], nv += v[a] * v[a], dot += u[a] * v[a];
+        }
+        double cosang = dot / sqrt(nu * nv);
+        if (cosang < best)
+            best = cosang, at = f;
+    }
+    return at;
+}
+
+/* The tree path from joint a to joint b (up from a to their common ancestor, down to b). */
+static void rf_tpl_path(const rf_rig_skel *k, uint32_t a, uint32_t b, rf_tpl_curve *c)
+{
+    uint32_t up[RF_TPL_MAXPTS], down[RF_TPL_MAXPTS], nu = 0, nd = 0;
+    uint8_t *mark = calloc(k->n + 1, 1);
+    if (!mark)
+        return;
+    for (int32_t j = (int32_t)a; j >= 0; j = k->parent[j])
+        mark[j] = 1;
+    int32_t meet = (int32_t)b;
+    while (meet >= 0 && !mark[meet] && nd < RF_TPL_MAXPTS)
+        down[nd++] = (uint32_t)meet, meet = k->parent[meet];
+    for (int32_t j = (int32_t)a; j >= 0 && j != meet && nu < RF_TPL_MAXPTS; j = k->parent[j])
+        up[nu++] = (uint32_t)j;
+    free(mark);
+    for (uint32_t i = 0; i < nu; i++)
+        rf_tpl_add(c, k->pos + (size_t)up[i] * 3);
+    if (meet >= 0)
+        rf_tpl_add(c, k->pos + (size_t)meet * 3);
+    for (uint32_t i = nd; i-- > 0;)
+        rf_tpl_add(c, k->pos + (size_t)down[i] * 3);
+}
+
+/* The end of a joint's bone: its end site, or its pivot. */
+static const double *rf_tpl_end(const rf_rig_skel *k, uint32_t j)
+{
+    return k->has_tip[j] ? k->tip + (size_t)j * 3 : k->pos + (size_t)j * 3;
+}
+
+/* The leaf below joint j (j's subtree, not entering joints flagged in `skip`) farthest along
+ * the tree from j, counting its end site; its distance into *reach. j itself when it is a leaf. */
+static uint32_t rf_tpl_far_leaf(const rf_rig_skel *k, uint32_t j, const uint8_t *skip,
+                                double *reach)
+{
+    double *d = malloc((k->n + 1) * sizeof *d);
+    uint8_t *in = calloc(k->n + 1, 1);
+    uint32_t best = j;
+    *reach = 0;
+    if (!d || !in) {
+        free(d), free(in);
+        return j;
+    }
+    in[j] = 1, d[j] = 0;
+    for (uint32_t i = j + 1; i < k->n; i++) { /* parents come first */
+        int32_t p = k->parent[i];
+        if (p < 0 || !in[p] || (skip && skip[i]))
+            continue;
+        in[i] = 1;
+        const double *a = k->pos + (size_t)i * 3, *b = k->pos + (size_t)p * 3;
+        d[i] = d[p] + sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                           (a[2] - b[2]) * (a[2] - b[2]));
+    }
+    for (uint32_t i = j; i < k->n; i++) {
+        if (!in[i])
+            continue;
+        const double *a = k->pos + (size_t)i * 3, *t = rf_tpl_end(k, i);
+        double r = d[i] + sqrt((a[0] - t[0]) * (a[0] - t[0]) + (a[1] - t[1]) * (a[1] - t[1]) +
+                               (a[2] - t[2]) * (a[2] - t[2]));
+        if (r > *reach)
+            *reach = r, best = i;
+    }
+    free(d), free(in);
+    return best;
+}
+
+static double rf_tpl_dist(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+static bool rf_tpl_is_leaf(const rf_rig_skel *k, uint32_t j)
+{
+    for (uint32_t i = j + 1; i < k->n; i++) /* parents come first */
+        if (k->parent[i] == (int32_t)j)
+            return false;
+    return true;
+}
+
+/* The leaf of the tree farthest from joint `from` along the tree, in any direction (up through
+ * parents too: a box model's head may hang anywhere), never entering a joint flagged in `block`;
+ * its distance, end site included, into *reach. `from` when nothing is reachable. */
+static uint32_t rf_tpl_far_any(const rf_rig_skel *k, uint32_t from, const uint8_t *block,
+                               double *reach)
+{
+    double *d = malloc((k->n + 1) * sizeof *d);
+    uint32_t *queue = malloc((k->n + 1) * sizeof *queue), best = from, head = 0, tail = 0;
+    uint8_t *seen = calloc(k->n + 1, 1);
+    *reach = 0;
+    if (!d || !queue || !seen) {
+        free(d), free(queue), free(seen);
+        return from;
+    }
+    d[from] = 0, seen[from] = 1, queue[tail++] = from;
+    while (head < tail) {
+        uint32_t j = queue[head++];
+        double r = d[j] + rf_tpl_dist(k->pos + (size_t)j * 3, rf_tpl_end(k, j));
+        if (r > *reach && rf_tpl_is_leaf(k, j))
+            *reach = r, best = j;
+        for (uint32_t i = 0; i < k->n; i++) { /* neighbours: the parent and the children */
+            bool next = (k->parent[j] == (int32_t)i) || (k->parent[i] == (int32_t)j);
+            if (!next || seen[i] || block[i])
+                continue;
+            seen[i] = 1, queue[tail++] = i;
+            d[i] = d[j] + rf_tpl_dist(k->pos + (size_t)i * 3, k->pos + (size_t)j * 3);
+        }
+    }
+    free(d), free(queue), free(seen);
+    return best;
+}
+
+static double rf_tpl_height(const rf_rig_skel *k, uint32_t j, rf_vec3 up)
+{
+    const double *p = k->pos + (size_t)j * 3;
+    return p[0] * up.x + p[1] * up.y + p[2] * up.z;
+}
+
+/* Flags into `above` the joints below `first` (not first itself) that rise above joint
+ * `girdle`: a leg hangs down, so a branch of its curve skeleton climbing above the leg's girdle
+ * is something else merged into it (a head leaving the body by a foreleg). */
+static void rf_tpl_rising(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                          uint8_t *above)
+{
+    uint8_t *in = calloc(k->n + 1, 1);
+    if (!in)
+        return;
+    in[first] = 1;
+    double top = rf_tpl_height(k, girdle, up);
+    for (uint32_t j = first + 1; j < k->n; j++) /* parents come first */
+        if (k->parent[j] >= 0 && in[k->parent[j]]) {
+            in[j] = 1;
+            if (rf_tpl_height(k, j, up) > top)
+                above[j] = 1;
+        }
+    for (uint32_t j = first + 1; j < k->n; j++) /* and all below them */
+        if (k->parent[j] >= 0 && above[k->parent[j]])
+            above[j] = 1;
+    free(in);
+}
+
+/* The curve of a limb: from joint `from` (its girdle) down to the farthest end below the limb's
+ * first joint, its end site included. */
+static void rf_tpl_limb(const rf_rig_skel *k, uint32_t from, uint32_t first, const uint8_t *skip,
+                        rf_tpl_curve *c)
+{
+    double reach;
+    uint32_t leaf = rf_tpl_far_leaf(k, first, skip, &reach);
+    c->n = 0;
+    rf_tpl_path(k, from, leaf, c);
+    rf_tpl_add(c, rf_tpl_end(k, leaf));
+}
+
+/* ---- the template being laid out ---- */
+
+#define RF_TPL_MAXJ 40
+typedef struct rf_tpl {
+    uint32_t n;
+    char name[RF_TPL_MAXJ][24];
+    int32_t parent[RF_TPL_MAXJ];
+    double pos[RF_TPL_MAXJ][3], tip[RF_TPL_MAXJ][3];
+    uint8_t has_tip[RF_TPL_MAXJ];
+} rf_tpl;
+
+static int32_t rf_tpl_joint(rf_tpl *t, const char *name, int32_t parent, const double p[3])
+{
+    if (t->n == RF_TPL_MAXJ)
+        return -1;
+    uint32_t j = t->n++;
+    snprintf(t->name[j], sizeof t->name[j], "%s", name);
+    t->parent[j] = parent, t->has_tip[j] = 0;
+    memcpy(t->pos[j], p, sizeof t->pos[j]);
+    return (int32_t)j;
+}
+
+static void rf_tpl_tip(rf_tpl *t, int32_t j, const double p[3])
+{
+    if (j < 0)
+        return;
+    memcpy(t->tip[j], p, sizeof t->tip[j]);
+    t->has_tip[j] = 1;
+}
+
+/* Joints named names[0..count) along curve c at fractions f[], each the child of the one before
+ * (the first of `parent`), the last with the curve's end as its end site. Returns the first. */
+static int32_t rf_tpl_chain(rf_tpl *t, const rf_tpl_curve *c, int32_t parent,
+                            const char *const *names, const double *f, uint32_t count)
+{
+    int32_t first = -1, j = parent;
+    for (uint32_t i = 0; i < count; i++) {
+        double p[3];
+        rf_tpl_at(c, f[i], p);
+        j = rf_tpl_joint(t, names[i], j, p);
+        if (i == 0)
+            first = j;
+    }
+    double end[3];
+    rf_tpl_at(c, 1, end);
+    rf_tpl_tip(t, j, end);
+    return first;
+}
+
+/* ---- what the analysis found ---- */
+
+typedef struct rf_tpl_body {
+    /* mirrored pairs of limb sections [pair][left, right], the longest first; legs front first */
+    int32_t leg[2][2], arm[2][2];
+    uint32_t leg_pairs, arm_pairs;
+    uint32_t legs[3], arms[3]; /* sections per side: left, right, centre */
+} rf_tpl_body;
+
+/* Keeps a mirrored pair in slots (at most two, ordered by `key`, largest first). */
+static void rf_tpl_keep(int32_t pairs[2][2], double keys[2], uint32_t *n, int32_t l, int32_t r,
+                        double key)
+{
+    uint32_t at = *n < 2 ? (*n)++ : 2;
+    while (at > 0 && keys[at - 1] < key) {
+        if (at < 2)
+            pairs[at][0] = pairs[at - 1][0], pairs[at][1] = pairs[at - 1][1],
+            keys[at] = keys[at - 1];
+        at--;
+    }
+    if (at < 2)
+        pairs[at][0] = l, pairs[at][1] = r, keys[at] = key;
+}
+
+/* The body's mirrored pairs of legs and arms. Arms are ranked by length (a head the analysis
+ * took for an arm has no mirror, and a short pair of wings or spikes yields to the arms), legs
+ * front first. */
+static void rf_tpl_limbs(const rf_analysis *a, rf_tpl_body *b)
+{
+    memset(b, 0, sizeof *b);
+    memset(b->leg, -1, sizeof b->leg), memset(b->arm, -1, sizeof b->arm);
+    double leg_key[2] = {0}, arm_key[2] = {0};
+    uint8_t *used = calloc(a->section_count + 1, 1);
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        const rf_section *sec = &a->sections[s];
+        bool leg = sec->type == RF_SECTION_LEG;
+        if (!leg && sec->type != RF_SECTION_ARM)
+            continue;
+        int side = sec->side == RF_SIDE_LEFT ? 0 : sec->side == RF_SIDE_RIGHT ? 1 : 2;
+        leg ? b->legs[side]++ : b->arms[side]++;
+    }
+    /* mirror images first; then (the analysis pairs limbs by shape, and four like legs may
+     * leave a pair unmatched) a left limb left over takes the right one of the same type and
+     * rank, when their lengths are alike */
+    for (int pass = 0; used && pass < 2; pass++)
+        for (uint32_t s = 0; s < a->section_count; s++) {
+            const rf_section *sec = &a->sections[s];
+            bool leg = sec->type == RF_SECTION_LEG;
+            if ((!leg && sec->type != RF_SECTION_ARM) || sec->side != RF_SIDE_LEFT || used[s])
+                continue;
+            int32_t m = -1;
+            if (pass == 0 && sec->mirror >= 0 && a->sections[sec->mirror].type == sec->type &&
+                !used[sec->mirror])
+                m = sec->mirror;
+            for (uint32_t r = 0; pass == 1 && r < a->section_count && m < 0; r++) {
+                const rf_section *o = &a->sections[r];
+                if (o->type == sec->type && o->side == RF_SIDE_RIGHT && !used[r] &&
+                    o->pair_rank == sec->pair_rank &&
+                    fmin(o->length, sec->length) > 0.6 * fmax(o->length, sec->length))
+                    m = (int32_t)r;
+            }
+            if (m < 0)
+                continue;
+            used[m] = used[s] = 1;
+            if (leg)
+                rf_tpl_keep(b->leg, leg_key, &b->leg_pairs, (int32_t)s, m,
+                            sec->body_pos + a->sections[m].body_pos);
+            else
+                rf_tpl_keep(b->arm, arm_key, &b->arm_pairs, (int32_t)s, m,
+                            sec->length + a->sections[m].length);
+        }
+    free(used);
+}
+
+/* The joint a limb section hangs from on the body, and its first joint. */
+static void rf_tpl_ends(const rf_analysis *a, int32_t sec, uint32_t *girdle, uint32_t *first)
+{
+    const rf_section *s = &a->sections[sec];
+    *first = rf_section_joints(a, (uint32_t)sec)[0];
+    *girdle = s->attach_joint >= 0 ? (uint32_t)s->attach_joint : *first;
+}
+
+/* The common ancestor of two joints. */
+static uint32_t rf_tpl_meet(const rf_rig_skel *k, uint32_t a, uint32_t b)
+{
+    uint8_t *mark = calloc(k->n + 1, 1);
+    if (!mark)
+        return a;
+    for (int32_t j = (int32_t)a; j >= 0; j = k->parent[j])
+        mark[j] = 1;
+    int32_t j = (int32_t)b;
+    while (j >= 0 && !mark[j])
+        j = k->parent[j];
+    free(mark);
+    return j >= 0 ? (uint32_t)j : a;
+}
+
+/* ---- the templates ---- */
+
+typedef struct rf_tpl_ctx {
+    const rf_rig_skel *k;
+    const rf_analysis *a;
+    const rf_tpl_body *b;
+    rf_tpl *t;
+    uint8_t *limb;   /* [joint] in a limb section or below one: not the head or the tail */
+    int swap;        /* the ends swapped against the analysis's forward: sides swapped too */
+    rf_vec3 forward; /* hips to chest (quadruped), zero when the analysis's forward stands */
+} rf_tpl_ctx;
+
+static const char *const rf_tpl_side[2] = {"Left", "Right"};
+
+/* A side's joint name ("LeftUpLeg") into buf. */
+static const char *rf_tpl_sided(char buf[24], int side, const char *part)
+{
+    snprintf(buf, 24, "%s%s", rf_tpl_side[side], part);
+    return buf;
+}
+
+/* A leg: thigh, shin, foot, toe. The knee at the curve's bend near the middle, the ankle where
+ * the curve comes down to the foot's height (or its bend, for a hock). */
+static void rf_tpl_leg(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, int32_t parent,
+                       bool hind)
+{
+    uint32_t g, first;
+    rf_tpl_ends(x->a, sec, &g, &first);
+    rf_tpl_curve c = {0};
+    uint8_t *skip = calloc(x->k->n + 1, 1);
+    if (skip)
+        rf_tpl_rising(x->k, x->a->up, girdle, first, skip);
+    rf_tpl_limb(x->k, girdle, first, skip, &c);
+    free(skip);
+    double knee = hind ? rf_tpl_bend(&c, 0.25, 0.5, 0.38) : rf_tpl_bend(&c, 0.35, 0.6, 0.47);
+    double ankle = hind ? rf_tpl_bend(&c, 0.55, 0.8, 0.68) : 0.82;
+    if (!hind) { /* the ankle: first point within 12% of the leg's height of its lowest point */
+        double lo = INFINITY, top = 0;
+        rf_vec3 up = x->a->up;
+        for (uint32_t i = 0; i < c.n; i++) {
+            double h = c.p[i][0] * up.x + c.p[i][1] * up.y + c.p[i][2] * up.z;
+            lo = fmin(lo, h), top = i ? top : h;
+        }
+        for (uint32_t i = 1; i < c.n; i++) {
+            double h = c.p[i][0] * up.x + c.p[i][1] * up.y + c.p[i][2] * up.z;
+            if (h <= lo + 0.12 * (top - lo)) {
+                ankle = fmin(fmax(c.s[i] / rf_tpl_len(&c), 0.7), 0.9);
+                break;
+            }
+        }
+    }
+    char nb[4][24];
+    const char *names[4] = {rf_tpl_sided(nb[0], side, "UpLeg"), rf_tpl_sided(nb[1], side, "Leg"),
+                            rf_tpl_sided(nb[2], side, "Foot"),
+                            rf_tpl_sided(nb[3], side, "ToeBase")};
+    double f[4] = {0.1, knee, ankle, ankle + 0.6 * (1 - ankle)};
+    rf_tpl_chain(x->t, &c, parent, names, f, 4);
+}
+
+/* An arm (or a foreleg): clavicle, upper arm, forearm, hand; the elbow at the bend near the
+ * middle. */
+static void rf_tpl_arm(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, int32_t parent,
+                       bool foreleg)
+{
+    uint32_t g, first;
+    rf_tpl_ends(x->a, sec, &g, &first);
+    rf_tpl_curve c = {0};
+    uint8_t *skip = calloc(x->k->n + 1, 1);
+    if (skip && foreleg)
+        rf_tpl_rising(x->k, x->a->up, girdle, first, skip);
+    rf_tpl_limb(x->k, girdle, first, skip, &c);
+    free(skip);
+    double elbow = rf_tpl_bend(&c, 0.4, 0.65, foreleg ? 0.5 : 0.52);
+    char nb[4][24];
+    const char *names[4] = {rf_tpl_sided(nb[0], side, "Shoulder"), rf_tpl_sided(nb[1], side, "Arm"),
+                            rf_tpl_sided(nb[2], side, "ForeArm"),
+                            rf_tpl_sided(nb[3], side, "Hand")};
+    double f[4] = {0.06, foreleg ? 0.25 : 0.2, elbow, foreleg ? 0.82 : 0.8};
+    rf_tpl_chain(x->t, &c, parent, names, f, 4);
+}
+
+/* Flags the joints of the limbs the template uses, and everything below them. */
+static void rf_tpl_mark_limbs(const rf_rig_skel *k, const rf_analysis *a, const rf_tpl_body *b,
+                              rf_rig_template_kind kind, uint8_t *limb)
+{
+    int32_t secs[4];
+    uint32_t n = 0;
+    bool quadruped = kind == RF_RIG_TEMPLATE_QUADRUPED;
+    for (int side = 0; side < 2; side++)
+        secs[n++] = b->leg[0][side], secs[n++] = quadruped ? b->leg[1][side] : b->arm[0][side];
+    for (uint32_t i = 0; i < n; i++) {
+        if (secs[i] < 0)
+            continue;
+        const uint32_t *js = rf_section_joints(a, (uint32_t)secs[i]);
+        for (uint32_t m = 0; m < a->sections[secs[i]].bone_count; m++)
+            limb[js[m]] = 1;
+    }
+    for (uint32_t j = 0; j < k->n; j++)
+        if (k->parent[j] >= 0 && limb[k->parent[j]])
+            limb[j] = 1;
+    uint8_t *above = calloc(k->n + 1, 1);
+    for (uint32_t p = 0; above && p < 2; p++) /* legs: what rises above the girdle is no leg */
+        for (int side = 0; side < 2; side++) {
+            int32_t sec = b->leg[p][side];
+            if (sec < 0)
+                continue;
+            uint32_t first = rf_section_joints(a, (uint32_t)sec)[0];
+            int32_t g = a->sections[sec].attach_joint;
+            rf_tpl_rising(k, a->up, g >= 0 ? (uint32_t)g : first, first, above);
+        }
+    for (uint32_t j = 0; above && j < k->n; j++)
+        limb[j] = limb[j] && !above[j];
+    /* and the stem the leg shares with it, so the way to the head is open */
+    for (uint32_t j = 0; above && j < k->n; j++)
+        if (above[j])
+            for (int32_t p = k->parent[j]; p >= 0 && limb[p]; p = k->parent[p])
+                limb[p] = 0;
+    free(above);
+}
+
+/* Flags the joints on the tree path from a to b, b included and a not. */
+static void rf_tpl_block_path(const rf_rig_skel *k, uint32_t a, uint32_t b, uint8_t *block)
+{
+    uint32_t m = rf_tpl_meet(k, a, b);
+    for (int32_t j = (int32_t)b; j >= 0 && (uint32_t)j != m; j = k->parent[j])
+        block[j] = 1;
+    for (int32_t j = (int32_t)a; j >= 0 && (uint32_t)j != m; j = k->parent[j])
+        block[j] = 1;
+    if (m != a)
+        block[m] = 1;
+    block[a] = 0;
+}
+
+/* Whether joint j lies on the tree path from a to b. */
+static bool rf_tpl_on_path(const rf_rig_skel *k, uint32_t a, uint32_t b, uint32_t j)
+{
+    uint32_t m = rf_tpl_meet(k, a, b);
+    for (int32_t i = (int32_t)a; i >= 0; i = k->parent[i]) {
+        if ((uint32_t)i == j)
+            return true;
+        if ((uint32_t)i == m)
+            break;
+    }
+    for (int32_t i = (int32_t)b; i >= 0 && (uint32_t)i != m; i = k->parent[i])
+        if ((uint32_t)i == j)
+            return true;
+    return false;
+}
+
+/* The body's centre line. The head is the leaf farthest from the chest (where the arms or
+ * forelegs leave) that is no limb, not reached through the hips; the spine runs from the hips to
+ * where the way to the head leaves the way to the chest (the chest itself, unless the forelegs
+ * hang off the neck, as on some box models), then neck and head to that leaf. Returns Spine2,
+ * or -1 when there is no head; the neck's base into *neck. */
+static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_t *hips_j,
+                            double neck_at, double neck_f, uint32_t *neck)
+{
+    const rf_rig_skel *k = x->k;
+    rf_tpl_curve sp = {0}, hd = {0};
+    uint8_t *skip = malloc(k->n + 1);
+    if (!skip)
+        return -1;
+    /* beyond the chest, away from the whole way back to the hips, first (a tail leaving the
+     * spine near the hips may reach farther than the head); through that way only when nothing
+     * of a head's size lies beyond */
+    memcpy(skip, x->limb, k->n);
+    rf_tpl_block_path(k, chest, hips, skip);
+    skip[hips] = 1;
+    rf_tpl_path(k, hips, chest, &sp);
+    double reach;
+    uint32_t leaf = rf_tpl_far_any(k, chest, skip, &reach);
+    if (leaf == chest || reach < 0.15 * rf_tpl_len(&sp)) {
+        memcpy(skip, x->limb, k->n);
+        skip[hips] = 1;
+        leaf = rf_tpl_far_any(k, chest, skip, &reach);
+    }
+    sp.n = 0;
+    free(skip);
+    if (leaf == chest && !k->has_tip[chest])
+        return -1;
+    *neck = chest;
+    for (int32_t j = (int32_t)chest; j >= 0; j = k->parent[j]) /* chest up to the meeting */
+        if (rf_tpl_on_path(k, hips, leaf, (uint32_t)j)) {
+            *neck = (uint32_t)j;
+            break;
+        }
+    if (!rf_tpl_on_path(k, hips, leaf, *neck)) /* the way to the head goes down from the chest */
+        *neck = chest;
+    rf_tpl_path(k, hips, *neck, &sp);
+    rf_tpl_path(k, *neck, leaf, &hd);
+    rf_tpl_add(&hd, rf_tpl_end(k, leaf));
+    if (rf_tpl_len(&sp) < 0.25 * rf_tpl_len(&hd)) {
+        /* the arms leave where the legs do (a short torso, a box body): the spine takes the
+         * first part of the centre line, hips to head, as far as the template's neck */
+        rf_tpl_curve all = {0};
+        rf_tpl_path(k, hips, leaf, &all);
+        rf_tpl_add(&all, rf_tpl_end(k, leaf));
+        rf_tpl_sub(&all, 0, neck_at, &sp);
+        rf_tpl_sub(&all, neck_at, 1, &hd);
+    }
+    if (rf_tpl_len(&hd) < 0.25 * rf_tpl_len(&sp) || hd.n < 2 || sp.n < 2)
+        return -1;
+    double p[3];
+    rf_tpl_at(&sp, 0, p);
+    int32_t h = rf_tpl_joint(x->t, "Hips", -1, p);
+    const char *const sn[3] = {"Spine", "Spine1", "Spine2"};
+    const double sf[3] = {0.25, 0.5, 0.75};
+    int32_t j = h;
+    for (int i = 0; i < 3; i++) {
+        rf_tpl_at(&sp, sf[i], p);
+        j = rf_tpl_joint(x->t, sn[i], j, p);
+    }
+    int32_t spine2 = j;
+    const char *const hn[2] = {"Neck", "Head"};
+    const double hf[2] = {0, neck_f};
+    rf_tpl_chain(x->t, &hd, spine2, hn, hf, 2);
+    *hips_j = h;
+    return spine2;
+}
+
+/* A tail: the farthest leaf from the hips that is no limb, leaving the hips or the spine's
+ * first third (a box cat's tail leaves above its hips) and not the way on to the neck, when it
+ * reaches at least a quarter of the spine's length beyond where it leaves. */
+static void rf_tpl_tail(rf_tpl_ctx *x, uint32_t hips, uint32_t neck, int32_t hips_j)
+{
+    const rf_rig_skel *k = x->k;
+    uint8_t *skip = malloc(k->n + 1), *spine = calloc(k->n + 1, 1);
+    rf_tpl_curve sp = {0}, c = {0};
+    rf_tpl_path(k, hips, neck, &sp);
+    double len = rf_tpl_len(&sp);
+    if (!skip || !spine) {
+        free(skip), free(spine);
+        return;
+    }
+    memcpy(skip, x->limb, k->n);
+    rf_tpl_block_path(k, hips, neck, spine);
+    for (uint32_t j = 0; j < k->n; j++) { /* the spine beyond its first third is blocked */
+        if (!spine[j])
+            continue;
+        rf_tpl_curve to = {0};
+        rf_tpl_path(k, hips, j, &to);
+        skip[j] = skip[j] || rf_tpl_len(&to) > len / 3;
+    }
+    double reach;
+    uint32_t leaf = rf_tpl_far_any(k, hips, skip, &reach), from = leaf;
+    while (from != hips && !spine[from] && k->parent[from] >= 0) /* where it leaves the spine */
+        from = (uint32_t)k->parent[from];
+    if (!spine[from] && from != hips)
+        from = hips;
+    free(skip), free(spine);
+    if (leaf == hips)
+        return;
+    rf_tpl_path(k, from, leaf, &c);
+    rf_tpl_add(&c, rf_tpl_end(k, leaf));
+    if (rf_tpl_len(&c) < 0.25 * len)
+        return;
+    const char *const tn[4] = {"Tail", "Tail1", "Tail2", "Tail3"};
+    const double tf[4] = {0.1, 0.32, 0.54, 0.76};
+    rf_tpl_chain(x->t, &c, hips_j, tn, tf, 4);
+}
+
+static bool rf_tpl_humanoid(rf_tpl_ctx *x, char *err, size_t n)
+{
+    const rf_tpl_body *b = x->b;
+    uint32_t gl[2], ga[2], first;
+    for (int s = 0; s < 2; s++) {
+        rf_tpl_ends(x->a, b->leg[0][s], &gl[s], &first);
+        rf_tpl_ends(x->a, b->arm[0][s], &ga[s], &first);
+    }
+    uint32_t hips = rf_tpl_meet(x->k, gl[0], gl[1]), chest = rf_tpl_meet(x->k, ga[0], ga[1]);
+    uint32_t neck;
+    int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, 0.55, 0.35, &neck);
+    if (spine2 < 0)
+        return rf_rig_fail(err, n,
+                           "the humanoid template found no neck and head above the "
+                           "shoulders");
+    for (int s = 0; s < 2; s++)
+        rf_tpl_arm(x, s, b->arm[0][s], chest, spine2, false);
+    for (int s = 0; s < 2; s++)
+        rf_tpl_leg(x, s, b->leg[0][s], hips, hips_j, false);
+    return true;
+}
+
+/* Length of the tree path from the root (joint 0: parents come first) to joint j. */
+static double rf_tpl_from_root(const rf_rig_skel *k, uint32_t j)
+{
+    rf_tpl_curve c = {0};
+    rf_tpl_path(k, 0, j, &c);
+    return rf_tpl_len(&c);
+}
+
+static bool rf_tpl_quadruped(rf_tpl_ctx *x, bool declared, char *err, size_t n)
+{
+    const rf_tpl_body *b = x->b;
+    uint32_t g[2][2], first;
+    for (int p = 0; p < 2; p++)
+        for (int s = 0; s < 2; s++)
+            rf_tpl_ends(x->a, b->leg[p][s], &g[p][s], &first);
+    uint32_t chest = rf_tpl_meet(x->k, g[0][0], g[0][1]),
+             hips = rf_tpl_meet(x->k, g[1][0], g[1][1]);
+    /* Without a forward the file declares, which end is the front is the analysis's weakest
+     * guess; the curve skeleton is rooted at the hips (the girdle farther from the rib cage,
+     * rf_rig_curve), so the girdle nearer the root is the hips. Swapping the ends swaps the
+     * sides too. */
+    int front = 0;
+    if (!declared && rf_tpl_from_root(x->k, chest) < rf_tpl_from_root(x->k, hips)) {
+        uint32_t t = chest;
+        chest = hips, hips = t, front = 1;
+    }
+    x->swap = front;
+    if (hips == chest)
+        return rf_rig_fail(err, n,
+                           "the quadruped template found the fore and hind legs "
+                           "leaving the body at one place (no spine between them)");
+    uint32_t neck;
+    int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, 0.5, 0.5, &neck);
+    if (spine2 < 0)
+        return rf_rig_fail(err, n,
+                           "the quadruped template found no neck and head beyond the "
+                           "forelegs");
+    rf_tpl_tail(x, hips, neck, hips_j);
+    for (int s = 0; s < 2; s++)
+        rf_tpl_arm(x, s ^ front, b->leg[front][s], chest, spine2, true);
+    for (int s = 0; s < 2; s++)
+        rf_tpl_leg(x, s ^ front, b->leg[1 - front][s], hips, hips_j, true);
+    const double *hp = x->k->pos + (size_t)hips * 3, *cp = x->k->pos + (size_t)chest * 3;
+    x->forward = rf_v3(cp[0] - hp[0], cp[1] - hp[1], cp[2] - hp[2]);
+    return true;
+}
+
+/* Which template the body fits, or false with why not. */
+static bool rf_tpl_pick(const rf_tpl_body *b, rf_rig_template_kind want, rf_rig_template_kind *got,
+                        char *err, size_t n)
+{
+    bool two_legs = b->leg_pairs == 1 && b->legs[0] + b->legs[1] == 2;
+    bool four_legs = b->leg_pairs == 2 && b->legs[0] + b->legs[1] == 4;
+    bool two_arms = b->arm_pairs >= 1;
+    char found[200];
+    snprintf(found, sizeof found,
+             "the skeleton analysis of its curve skeleton found %u left, %u right and %u "
+             "unpaired legs (%u mirrored pairs), %u left, %u right and %u unpaired arms (%u "
+             "pairs)",
+             b->legs[0], b->legs[1], b->legs[2], b->leg_pairs, b->arms[0], b->arms[1], b->arms[2],
+             b->arm_pairs);
+    if ((want == RF_RIG_TEMPLATE_AUTO || want == RF_RIG_TEMPLATE_HUMANOID) && two_legs &&
+        two_arms) {
+        *got = RF_RIG_TEMPLATE_HUMANOID;
+        return true;
+    }
+    if ((want == RF_RIG_TEMPLATE_AUTO || want == RF_RIG_TEMPLATE_QUADRUPED) && four_legs) {
+        *got = RF_RIG_TEMPLATE_QUADRUPED;
+        return true;
+    }
+    const char *need = want == RF_RIG_TEMPLATE_HUMANOID ? "a humanoid needs a pair of legs and a "
+                                                          "pair of arms"
+                       : want == RF_RIG_TEMPLATE_QUADRUPED
+                           ? "a quadruped needs two pairs of legs"
+                           : "a humanoid needs a pair of legs and a pair of arms, a quadruped "
+                             "two pairs of legs";
+    return rf_rig_fail(err, n, "the body fits no template: %s; %s", found, need);
+}
+
+/* The template as a working skeleton. */
+static bool rf_tpl_to_skel(const rf_tpl *t, rf_rig_skel *k)
+{
+    memset(k, 0, sizeof *k);
+    k->n = t->n;
+    k->pos = malloc((t->n + 1) * 3 * sizeof *k->pos);
+    k->tip = calloc((t->n + 1) * 3, sizeof *k->tip);
+    k->parent = malloc((t->n + 1) * sizeof *k->parent);
+    k->has_tip = calloc(t->n + 1, 1);
+    if (!k->pos || !k->tip || !k->parent || !k->has_tip) {
+        rf_rig_skel_free(k);
+        return false;
+    }
+    for (uint32_t j = 0; j < t->n; j++) {
+        memcpy(k->pos + (size_t)j * 3, t->pos[j], 3 * sizeof(double));
+        memcpy(k->tip + (size_t)j * 3, t->tip[j], 3 * sizeof(double));
+        k->has_tip[j] = t->has_tip[j];
+        k->parent[j] = t->parent[j];
+    }
+    return true;
+}
+
+/* The template laid into the curve skeleton k, into t. */
+static bool rf_tpl_embed(const rf_rig_skel *k, const rf_rig_options *o, rf_rig_template_kind want,
+                         rf_tpl *t, rf_vec3 *up, rf_vec3 *forward, char *err, size_t n)
+{
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    if (!s)
+        return rf_rig_fail(err, n, "out of memory");
+    s->up = o->up, s->forward = o->forward; /* hints, as a file's axes are */
+    rf_analysis *a = rf_analyze(s, NULL);
+    uint8_t *limb = calloc(k->n + 1, 1);
+    bool ok = a && limb;
+    if (!ok)
+        rf_rig_fail(err, n, "out of memory");
+    rf_tpl_body b;
+    bool declared = rf_v3_len(o->forward) > 0;
+    rf_rig_template_kind got = RF_RIG_TEMPLATE_AUTO;
+    if (ok) {
+        rf_tpl_limbs(a, &b);
+        ok = rf_tpl_pick(&b, want, &got, err, n);
+    }
+    if (ok) {
+        rf_tpl_mark_limbs(k, a, &b, got, limb);
+        rf_tpl_ctx x = {.k = k, .a = a, .b = &b, .t = t, .limb = limb};
+        memset(t, 0, sizeof *t);
+        ok = got == RF_RIG_TEMPLATE_HUMANOID ? rf_tpl_humanoid(&x, err, n)
+                                             : rf_tpl_quadruped(&x, declared, err, n);
+        *up = rf_v3_len(o->up) > 0 ? o->up : a->up;
+        /* the quadruped's forward, hips to chest, made level */
+        rf_vec3 f = x.forward;
+        double along = f.x * up->x + f.y * up->y + f.z * up->z;
+        f = rf_v3(f.x - along * up->x, f.y - along * up->y, f.z - along * up->z);
+        *forward = declared                       ? o->forward
+                   : rf_v3_len(f) > 0             ? rf_v3_scale(f, 1 / rf_v3_len(f))
+                   : a->forward_confidence >= 0.3 ? a->forward
+                                                  : rf_v3(0, 0, 0);
+    }
+    free(limb);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    return ok;
+}
+
+static bool rf_tpl_name(rf_skeleton *s, const rf_tpl *t, rf_vec3 up, rf_vec3 forward)
+{
+    free(s->name);
+    if (!(s->name = rf_strdup("rig.template")))
+        return false;
+    for (uint32_t j = 0; j < t->n; j++)
+        if (!(s->joints[j].name = rf_strdup(t->name[j])))
+            return false;
+    s->up = up, s->forward = forward;
+    return true;
+}
+
+bool rf_rig_template(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_template_kind kind,
+                     rf_skeleton **skeleton, rf_mesh **skinned, rf_rig_stats *stats,
+                     rf_rig_progress_fn progress, void *user, char *err, size_t err_size)
+{
+    rf_rig_options o = rf_rig_defaults(opts);
+    rf_rig_stats st_local, *st = stats ? stats : &st_local;
+    memset(st, 0, sizeof *st);
+    *skeleton = NULL, *skinned = NULL;
+    rf_rig_prep p;
+    rf_rig_skel k = {0}, tk = {0};
+    rf_tpl *t = calloc(1, sizeof *t);
+    rf_vec3 up = rf_v3(0, 0, 0), forward = rf_v3(0, 0, 0);
+    if (!t)
+        return rf_rig_fail(err, err_size, "out of memory");
+    if (!rf_rig_prepare(mesh, &o, &p, st, err, err_size)) {
+        free(t);
+        return false;
+    }
+    if (progress)
+        progress(user, 0.1);
+    bool ok = rf_rig_curve(&p, &o, &k, err, err_size) &&
+              rf_tpl_embed(&k, &o, kind, t, &up, &forward, err, err_size);
+    if (ok && !rf_tpl_to_skel(t, &tk))
+        ok = rf_rig_fail(err, err_size, "out of memory");
+    if (ok && progress)
+        progress(user, 0.4);
+    rf_skeleton *s = ok ? rf_rig_skeleton(&tk, NULL) : NULL;
+    if (ok && (!s || !rf_tpl_name(s, t, up, forward)))
+        ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
+    ok = ok && rf_rig_weigh(mesh, &p, &tk, &o, s, skinned, st, err, err_size);
+    if (ok)
+        *skeleton = s;
+    else
+        rf_skeleton_free(s);
+    rf_rig_skel_free(&k), rf_rig_skel_free(&tk);
+    rf_rig_prep_free(&p);
+    free(t);
+    return ok;
+}
