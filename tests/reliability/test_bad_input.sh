@@ -161,7 +161,7 @@ else ok "map --explain shows hostile joint names escaped"; fi
 hostile="$tmp/rb$(printf '\033]0;pwned\007')x$(printf '\302\233')1m"
 printf 'not a GLB' >"$hostile.glb"
 printf 'HIERARCHY\n' >"$hostile.bvh"
-rfv rig-bench "$hostile.bvh" "$hostile.glb"
+rfv rig-bench -r general "$hostile.bvh" "$hostile.glb" # one rigger: one row
 if [ "$code" = 2 ] && grep -q "no rigger plugin found" "$tmp/err"; then
     skipped "rig-bench shows hostile file names escaped" "no rigger plugin built"
 elif [ "$code" != 1 ]; then bad "rig-bench on unreadable models: exit $code, expected 1"
