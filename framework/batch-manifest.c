@@ -287,13 +287,10 @@ static bool is_engine_temp(const char *name)
     return mark[10] == '\0' || mark[10] == '.';
 }
 
-/* The temporary name of `output` starts with ".STEM.rf-". */
+/* The temporary name of `output` starts with the engine's prefix for it. */
 static bool temp_of(const char *name, const char *output)
 {
-    g_autofree char *base = g_path_get_basename(output);
-    const char *dot = strrchr(base, '.');
-    g_autofree char *prefix =
-        g_strdup_printf(".%.*s.rf-", dot ? (int)(dot - base) : (int)strlen(base), base);
+    g_autofree char *prefix = rf_output_temp_prefix(output);
     return g_str_has_prefix(name, prefix);
 }
 

@@ -38,7 +38,7 @@ typedef struct worker {
 } worker;
 
 static volatile sig_atomic_t stop_requested; /* parent: SIGINT or SIGTERM (C11 7.14.1.1) */
-static volatile int job_cancelled;           /* worker: the engine's cancel flag */
+static volatile sig_atomic_t job_cancelled;  /* worker: the engine's cancel flag */
 
 static void on_stop(int sig)
 {
@@ -88,40 +88,65 @@ static bool write_full(int fd, const void *buf, size_t n)
 
 /* ---- in the worker ---- */
 
-/* SHA-256 of a file as 64 hex digits, and its size. nettle, not GChecksum: it uses the CPU's SHA
- * instructions, and every job pays for hashing its outputs. */
-static void hash_file(const char *path, char hex[2 * SHA256_DIGEST_SIZE + 1], json_int_t *size)
+/* SHA-256 of a file as 64 hex digits, and its size; false with errno set when the file cannot
+ * be read to its end. nettle, not GChecksum: it uses the CPU's SHA instructions, and every job
+ * pays for hashing its outputs. */
+static bool hash_file(const char *path, char hex[2 * SHA256_DIGEST_SIZE + 1], json_int_t *size)
 {
     static uint8_t buf[1 << 18];
     struct sha256_ctx ctx;
     sha256_init(&ctx);
     *size = 0;
     int fd = g_open(path, O_RDONLY | O_CLOEXEC, 0);
+    if (fd < 0)
+        return false;
     ssize_t n;
-    while (fd >= 0 && (n = read(fd, buf, sizeof buf)) > 0) {
+    while ((n = read(fd, buf, sizeof buf)) != 0) {
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            int e = errno;
+            close(fd);
+            errno = e;
+            return false;
+        }
         sha256_update(&ctx, (size_t)n, buf);
         *size += n;
     }
-    if (fd >= 0)
-        close(fd);
+    close(fd);
     uint8_t digest[SHA256_DIGEST_SIZE];
     sha256_digest(&ctx, sizeof digest, digest);
     for (int i = 0; i < SHA256_DIGEST_SIZE; i++)
         g_snprintf(hex + 2 * i, 3, "%02x", digest[i]);
+    return true;
 }
 
-static json_t *hash_outputs(const rf_batch_job *job)
+/* The outputs' records, or NULL with *error set when one cannot be read back: a hash of what
+ * could be read would record a file the job never wrote as done. */
+static json_t *hash_outputs(const rf_batch_job *job, char **error)
 {
     json_t *a = json_array();
     for (guint i = 0; i < job->outputs->len; i++) {
         const char *path = g_ptr_array_index(job->outputs, i);
         char hex[2 * SHA256_DIGEST_SIZE + 1];
         json_int_t size;
-        hash_file(path, hex, &size);
+        if (!hash_file(path, hex, &size)) {
+            *error = g_strdup_printf("cannot read back its output %s to record it: %s", path,
+                                     g_strerror(errno));
+            json_decref(a);
+            return NULL;
+        }
         json_array_append_new(
             a, json_pack("{s:s, s:I, s:s}", "path", path, "size", size, "sha256", hex));
     }
     return a;
+}
+
+/* A job whose outputs cannot be recorded has failed: its outputs go, as a failed job's do. */
+static void drop_outputs(const rf_batch_job *job)
+{
+    for (guint i = 0; i < job->outputs->len; i++)
+        g_unlink(g_ptr_array_index(job->outputs, i));
 }
 
 /* Every diagnostic of the run on one line. */
@@ -158,18 +183,23 @@ static double cpu_seconds(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec / 1e9;
 }
 
-/* Runs one job with its stdout and stderr in its log file; returns its record. */
+/* Runs one job with its stdout and stderr in its log file; returns its record. A job whose log
+ * cannot be opened is not run: what it prints would go to the batch's terminal, mixed with the
+ * other workers' jobs and lost for the record. */
 static json_t *run_job(const rf_batch *b, const rf_registry *reg, const rf_batch_job *job)
 {
     g_autofree char *file = g_strconcat(job->name, ".log", NULL);
     g_autofree char *log = g_build_filename(b->state, "logs", file, NULL);
-    int saved_out = dup(1), saved_err = dup(2);
     int fd = g_open(log, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-    if (fd >= 0) {
-        dup2(fd, 1);
-        dup2(fd, 2);
-        close(fd);
+    if (fd < 0) {
+        g_autofree char *error =
+            g_strdup_printf("cannot open its log %s: %s", log, g_strerror(errno));
+        return rf_batch_record(job, "failed", error, NULL, 0);
     }
+    int saved_out = dup(1), saved_err = dup(2);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    close(fd);
     gint64 t0 = g_get_monotonic_time();
     double cpu0 = cpu_seconds();
     g_autoptr(GPtrArray) diags = rf_diags_new();
@@ -183,9 +213,14 @@ static json_t *run_job(const rf_batch *b, const rf_registry *reg, const rf_batch
     close(saved_err);
     double seconds = (double)(g_get_monotonic_time() - t0) / 1e6;
     g_autofree char *error = ok ? NULL : join_diags(diags);
+    json_t *outputs = ok ? hash_outputs(job, &error) : NULL;
+    if (ok && !outputs) { /* the summary and the manifest give the error */
+        drop_outputs(job);
+        ok = false;
+    }
     const char *status = ok ? "done" : job_cancelled ? "interrupted" : "failed";
     double cpu = cpu_seconds() - cpu0;
-    json_t *rec = rf_batch_record(job, status, error, ok ? hash_outputs(job) : NULL, seconds);
+    json_t *rec = rf_batch_record(job, status, error, outputs, seconds);
     json_object_set_new(rec, "cpu_seconds", json_real(cpu));
     return rec;
 }

@@ -23,6 +23,10 @@ char *rf_build_tree_dir(void);
  * next check and removes every output (a second Ctrl-C stops at once), the run's errors printed.
  * Returns RF_EXIT_OK, RF_EXIT_RUN or RF_EXIT_CANCELLED. */
 int rf_run_interruptible(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet);
+/* As rf_run_interruptible, the run's errors added to diags instead of printed (for commands that
+ * report them in their own output, as rig-bench's rows do). */
+int rf_run_interruptible_diags(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet,
+                               GPtrArray *diags);
 
 int rf_cmd_plugins(rf_registry *reg, int argc, char **argv);
 int rf_cmd_describe(rf_registry *reg, int argc, char **argv);

@@ -181,12 +181,13 @@ static int rf_inspect_run(rf_registry *reg, const char *file, const rf_inspect_o
     g_autoptr(GPtrArray) diags = rf_diags_new();
     rf_pipeline *p = text ? rf_pipeline_load_string(text, "inspect", cwd, diags) : NULL;
     free(text);
-    rf_run_options run = {.quiet = true};
-    bool ok = p && rf_pipeline_validate(p, reg, diags) && rf_pipeline_run(p, reg, &run, diags);
-    if (!ok) {
+    int code = p && rf_pipeline_validate(p, reg, diags)
+                   ? rf_run_interruptible_diags(p, reg, false, true, diags) /* Ctrl-C: 130 */
+                   : RF_EXIT_RUN;
+    if (code != RF_EXIT_OK) {
         rf_print_diags(diags, "error");
         rf_pipeline_free(p);
-        return RF_EXIT_RUN;
+        return code;
     }
     printf("%s (read by %s)\n", shown, type);
     const rf_skeleton *s = rf_pipeline_result(p, "source", "skeleton");

@@ -133,13 +133,11 @@ static int rf_map_cmd_run(rf_registry *reg, char **files, int nsources, const rf
         rf_pipeline_free(p);
         return RF_EXIT_VALIDATION;
     }
-    rf_run_options run = {.quiet = true};
-    bool ok = rf_pipeline_run(p, reg, &run, diags);
-    rf_print_diags(diags, "error");
-    if (ok && !o->output && !o->explain)
+    int code = rf_run_interruptible(p, reg, false, true); /* Ctrl-C: 130, no -o file left */
+    if (code == RF_EXIT_OK && !o->output && !o->explain)
         rf_map_cmd_print(p, nsources);
     rf_pipeline_free(p);
-    return ok ? RF_EXIT_OK : RF_EXIT_RUN;
+    return code;
 }
 
 int rf_cmd_map(rf_registry *reg, int argc, char **argv)

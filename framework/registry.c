@@ -274,6 +274,17 @@ static bool normalise(rf_plugin *p, GString *why)
     return true;
 }
 
+/* A node type `e` lists twice, or NULL: the registry maps a type to its plugin and finds the
+ * first descriptor of that type, so the second would never run and nobody would be told. */
+static const char *type_twice(const rf_plugin_entry *e)
+{
+    for (uint32_t i = 0; i < e->node_count; i++)
+        for (uint32_t k = 0; k < i; k++)
+            if (strcmp(e->nodes[i]->type, e->nodes[k]->type) == 0)
+                return e->nodes[i]->type;
+    return NULL;
+}
+
 /* The path of the plugin, loaded or waiting, that provides one of `e`'s node types, or NULL. */
 static const char *type_clash(rf_registry *reg, const rf_plugin_entry *e, const char **type)
 {
@@ -323,7 +334,12 @@ static bool admit(rf_registry *reg, rf_plugin *p, GPtrArray *diags)
         return false;
     }
     e = p->entry;
-    const char *type = NULL;
+    const char *type = type_twice(e);
+    if (type) {
+        rf_diags_add(diags, p->path, 0, 0, NULL, NULL,
+                     "malformed rigflow plugin: it lists node type '%s' twice", type);
+        return false;
+    }
     const char *other = type_clash(reg, e, &type);
     if (other) {
         rf_diags_add(diags, p->path, 0, 0, NULL, NULL,

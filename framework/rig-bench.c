@@ -12,6 +12,7 @@
 
 #include <rigflow/analysis.h>
 #include <rigflow/rigger.h>
+#include <rigflow/text.h>
 
 #include "commands.h"
 #include "rig-bench.h"
@@ -248,6 +249,26 @@ static void rb_skin_compare(const rf_mesh *art, const rf_mesh *pred, const uint3
     g_free(wg), g_free(wp);
 }
 
+/* Whether a rigger's skinned mesh can be compared with the artist's: the model's vertices (the
+ * rigger's contract is a skinned copy of the mesh) and weights only on joints its skeleton has
+ * (`joints`). A plugin's bug is reported, not read past the tables. False with why. */
+static bool rb_skin_usable(const rf_mesh *art, const rf_mesh *pred, uint32_t joints, char *why,
+                           size_t n)
+{
+    if (pred->vertex_count != art->vertex_count || !pred->skin_joints) {
+        snprintf(why, n, "the rigger's mesh has %u vertices%s, the model %u", pred->vertex_count,
+                 pred->skin_joints ? "" : " without joint indices", art->vertex_count);
+        return false;
+    }
+    for (size_t i = 0; i < (size_t)pred->vertex_count * 4; i++)
+        if (pred->skin_joints[i] >= joints) {
+            snprintf(why, n, "the rigger's skin names joint %u at vertex %zu, of %u joints",
+                     pred->skin_joints[i], i / 4, joints);
+            return false;
+        }
+    return true;
+}
+
 /* ---- one model ---- */
 
 /* "humanoid" when the artist's rig has two arms and two legs, else "other". */
@@ -289,14 +310,21 @@ static double rb_longest(const rf_mesh *m)
 
 static void rb_csv_text(const char *s)
 {
-    /* file names and messages are data: quote them, double any quote, drop control bytes */
+    /* file names and messages are data: quote them, double any quote, and escape as
+     * rigflow/text.h does every byte that is not printable UTF-8 (controls, line breaks, C1
+     * controls such as a 0xc2 0x9b CSI, invalid bytes): one row per line, nothing raw on a
+     * terminal */
+    size_t n = rf_text_escape(s, NULL, 0, 0);
+    char *text = g_malloc(n + 1);
+    rf_text_escape(s, text, n + 1, 0);
     putchar('"');
-    for (; *s; s++)
-        if (*s == '"')
+    for (const char *c = text; *c; c++)
+        if (*c == '"')
             fputs("\"\"", stdout);
-        else if ((unsigned char)*s >= 0x20 && *s != 0x7f)
-            putchar(*s);
+        else
+            putchar(*c);
     putchar('"');
+    g_free(text);
 }
 
 static void rb_row(const rb_rigger *r, const char *model, const char *body, uint32_t nart,
@@ -381,9 +409,16 @@ static void rb_skin_given(const rb_rigger *r, const rf_skeleton *as, const rf_me
     bare.bind_count = 0;
     const rf_mat4 *inv = am->bind_count == as->joint_count ? am->inverse_bind : NULL;
     rf_mesh *m = NULL;
-    char err[256];
-    if (!r->api->skin(&bare, as, inv, &m, err, sizeof err)) {
-        fprintf(stderr, "rigflow rig-bench: %s on the artist's skeleton: %s\n", r->api->name, err);
+    char err[256] = "no mesh returned";
+    if (r->api->skin(&bare, as, inv, &m, err, sizeof err) &&
+        !rb_skin_usable(am, m, as->joint_count, err, sizeof err)) {
+        rf_mesh_free(m);
+        m = NULL;
+    }
+    if (!m) {
+        g_autofree char *shown = rf_printable(err); /* may quote the model's joint names */
+        fprintf(stderr, "rigflow rig-bench: %s on the artist's skeleton: %s\n", r->api->name,
+                shown);
         return;
     }
     uint32_t *same = g_new(uint32_t, as->joint_count + 1);
@@ -434,19 +469,21 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
      * joints), the artist's joints far from any of the rigger's (missing ones) */
     cd[3] = rb_mean(&p, &g, false, false) / L, cd[4] = rb_mean(&g, &p, false, false) / L;
     rb_axes_agree(as, ps, cd + 5);
+    char why[300] = "ok";
     uint32_t *to = g_new(uint32_t, ps->joint_count + 1);
     rb_map_joints(ps, &p, map, as, &g, nearest, to);
-    rb_skin_compare(am, pm, to, as->joint_count, &sk);
+    if (rb_skin_usable(am, pm, ps->joint_count, why, sizeof why))
+        rb_skin_compare(am, pm, to, as->joint_count, &sk);
     rb_skin given;
     rb_skin_given(r, as, am, &given);
-    rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, &given, rb_time(r, am), "ok");
+    rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, &given, rb_time(r, am), why);
     g_free(to);
     rb_rig_free(&g), rb_rig_free(&p);
 }
 
-/* One model through one rigger: a row, whatever happens. False when the model could not be
- * read at all. */
-static bool rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, bool nearest)
+/* One model through one rigger: a row, whatever happens. RF_EXIT_RUN when the model could not
+ * be read at all, RF_EXIT_CANCELLED on Ctrl-C (no row: the bench stops). */
+static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, bool nearest)
 {
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     double cd[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
@@ -454,20 +491,24 @@ static bool rb_one(const rf_registry *reg, const rb_rigger *r, const char *path,
     char why[600];
     rf_pipeline *p = rb_pipeline(reg, r, path, why, sizeof why);
     if (!p) {
-        fprintf(stderr, "rigflow rig-bench: %s: %s\n", path, why);
-        return false;
+        g_autofree char *shown = rf_printable(path);
+        fprintf(stderr, "rigflow rig-bench: %s: %s\n", shown, why);
+        return RF_EXIT_RUN;
     }
-    rf_run_options run = {.quiet = true};
     g_autoptr(GPtrArray) diags = rf_diags_new();
-    if (rf_pipeline_run(p, reg, &run, diags)) {
+    int code = rf_run_interruptible_diags(p, reg, false, true, diags);
+    if (code == RF_EXIT_OK) {
         rb_measure(r, base, p, nearest);
+    } else if (code == RF_EXIT_CANCELLED) {
+        g_autofree char *shown = rf_printable(path);
+        fprintf(stderr, "rigflow rig-bench: interrupted during %s\n", shown);
     } else {
         g_autofree char *msg = diags->len ? rf_diag_format(g_ptr_array_index(diags, 0)) : NULL;
         snprintf(why, sizeof why, "refused: %s", msg ? msg : "the run failed");
         rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, why);
     }
     rf_pipeline_free(p);
-    return true;
+    return code == RF_EXIT_CANCELLED ? code : RF_EXIT_OK;
 }
 
 static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **files, bool nearest)
@@ -478,8 +519,12 @@ static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **fi
         "forward_agree,seconds,status\n");
     int bad = 0;
     for (int i = 0; i < nfiles; i++)
-        for (guint k = 0; k < riggers->len; k++)
-            bad += !rb_one(reg, &g_array_index(riggers, rb_rigger, k), files[i], nearest);
+        for (guint k = 0; k < riggers->len; k++) {
+            int code = rb_one(reg, &g_array_index(riggers, rb_rigger, k), files[i], nearest);
+            if (code == RF_EXIT_CANCELLED)
+                return code;
+            bad += code != RF_EXIT_OK;
+        }
     return bad ? RF_EXIT_RUN : RF_EXIT_OK;
 }
 

@@ -10,6 +10,7 @@
 #define RIGFLOW_HOST_H
 
 #include <glib.h>
+#include <signal.h>
 #include <rigflow/rigflow.h>
 
 /* librigflow is built with hidden visibility; this marks its public functions. */
@@ -108,10 +109,14 @@ typedef struct rf_pipeline rf_pipeline;
 
 /* Options for a run. Zero-initialise: every zero is a sensible default. */
 typedef struct rf_run_options {
-    bool profile;              /* print per-node wall time to stderr */
-    bool quiet;                /* no progress, no info logs */
-    bool progress;             /* draw progress on stderr (the command sets it for a terminal) */
-    volatile int *cancel_flag; /* set non-zero (from a signal handler) to stop the run */
+    bool profile;  /* print per-node wall time to stderr */
+    bool quiet;    /* no progress, no info logs */
+    bool progress; /* draw progress on stderr (the command sets it for a terminal) */
+    /* set non-zero (from a signal handler) to stop the run: sig_atomic_t, the one type C11
+     * (7.14.1.1) lets a handler write; librigflow is not the plugin ABI (sdk/include/rigflow),
+     * and sig_atomic_t is int on the platforms it builds for, so hosts built against
+     * `volatile int *` still link and run */
+    volatile sig_atomic_t *cancel_flag;
 } rf_run_options;
 
 /* Parses a pipeline file. Returns NULL with diags on a syntax or structure error. */
@@ -138,6 +143,12 @@ RF_HOST_API bool rf_pipeline_run(rf_pipeline *p, const rf_registry *reg, const r
  * freed), or NULL. For tests and embedding. */
 RF_HOST_API const void *rf_pipeline_result(const rf_pipeline *p, const char *node,
                                            const char *port);
+
+/* The start of the name of the temporary file a run writes `target` to, in the target's folder,
+ * until the run succeeds: ".STEM.rf-" (the stem cut at 200 bytes), then 6 random characters and
+ * the target's extension. For tools that clean up after a run killed before it could (rigflow
+ * batch). (transfer full) */
+RF_HOST_API char *rf_output_temp_prefix(const char *target);
 
 /* Calls fn for every output-path parameter of a validated pipeline, in file order: the node id,
  * the parameter's name and the final path asked for ("" when unset). For batch runs, which name

@@ -13,7 +13,7 @@
 #include "map-cmd.h"
 #include "report-cmd.h"
 
-static volatile int interrupted;
+static volatile sig_atomic_t interrupted; /* C11 7.14.1.1: what a handler may write */
 
 static void on_sigint(int sig)
 {
@@ -48,19 +48,26 @@ bool rf_parse_options(const char *name, const char *args, const char *summary,
     return true;
 }
 
-int rf_run_interruptible(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet)
+int rf_run_interruptible_diags(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet,
+                               GPtrArray *diags)
 {
     rf_run_options opts = {.profile = profile,
                            .quiet = quiet,
                            .progress = isatty(2) != 0,
                            .cancel_flag = &interrupted};
-    g_autoptr(GPtrArray) diags = rf_diags_new();
     interrupted = 0;
     signal(SIGINT, on_sigint);
     bool ok = rf_pipeline_run(p, reg, &opts, diags);
     signal(SIGINT, SIG_DFL);
-    rf_print_diags(diags, "error");
     return ok ? RF_EXIT_OK : interrupted ? RF_EXIT_CANCELLED : RF_EXIT_RUN;
+}
+
+int rf_run_interruptible(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet)
+{
+    g_autoptr(GPtrArray) diags = rf_diags_new();
+    int code = rf_run_interruptible_diags(p, reg, profile, quiet, diags);
+    rf_print_diags(diags, "error");
+    return code;
 }
 
 /* Loads, overrides and validates a pipeline; prints what is wrong. Returns NULL with *code set. */

@@ -39,15 +39,35 @@ void rf_pipeline_reset_run(rf_pipeline *p)
     }
 }
 
-/* A temporary file beside `target`, hidden, with the target's extension so that exporters which
- * pick a format by extension see the right one. */
+/* The temporary name keeps the target's extension, so that exporters which pick a format by
+ * extension see the right one, and cuts the stem so that the name, 11 bytes longer than the
+ * target's, stays within a file name's 255 bytes: a target of a long name could not be written
+ * at all ("File name too long"). */
+#define RF_TEMP_STEM_MAX 200
+#define RF_TEMP_EXT_MAX 32
+
+static const char *temp_ext(const char *base)
+{
+    const char *ext = strrchr(base, '.');
+    return ext && strlen(ext) <= RF_TEMP_EXT_MAX ? ext : NULL;
+}
+
+char *rf_output_temp_prefix(const char *target)
+{
+    g_autofree char *base = g_path_get_basename(target);
+    const char *ext = temp_ext(base);
+    gsize stem = ext ? (gsize)(ext - base) : strlen(base);
+    return g_strdup_printf(".%.*s.rf-", (int)MIN(stem, RF_TEMP_STEM_MAX), base);
+}
+
+/* A temporary file beside `target`, hidden, named as above. */
 static char *make_temp(const char *target, GError **error)
 {
     g_autofree char *dir = g_path_get_dirname(target);
     g_autofree char *base = g_path_get_basename(target);
-    const char *ext = strrchr(base, '.');
-    g_autofree char *stem = g_strndup(base, ext ? (gsize)(ext - base) : strlen(base));
-    char *tmpl = g_strdup_printf("%s/.%s.rf-XXXXXX%s", dir, stem, ext ? ext : "");
+    const char *ext = temp_ext(base);
+    g_autofree char *prefix = rf_output_temp_prefix(target);
+    char *tmpl = g_strdup_printf("%s/%sXXXXXX%s", dir, prefix, ext ? ext : "");
     int fd = g_mkstemp(tmpl);
     if (fd < 0) {
         int e = errno;
@@ -71,6 +91,13 @@ static bool prepare_param(rf_node *n, uint32_t i, GPtrArray *diags)
     }
     if (d->type != RF_PARAM_OUTPUT_PATH || !v->target || !*v->target)
         return true;
+    /* a folder cannot be replaced by a file: found at commit, it stopped the run only after all
+     * the work, with the outputs committed before it already in place */
+    if (g_file_test(v->target, G_FILE_TEST_IS_DIR)) {
+        RUN_ERR(n, "cannot write %s (parameter '%s'): it is a folder; name a file", v->target,
+                d->name);
+        return false;
+    }
     g_autoptr(GError) error = NULL;
     g_free(v->s);
     v->s = make_temp(v->target, &error);

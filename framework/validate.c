@@ -240,6 +240,34 @@ static void stage_params(rf_pipeline *p, GPtrArray *diags)
     }
 }
 
+/* Two output parameters naming one file: the second rename into place would silently replace
+ * the first's output. Paths compare after lexical canonicalisation (a/./b.glb is a/b.glb). */
+static void stage_outputs(rf_pipeline *p, GPtrArray *diags)
+{
+    g_autoptr(GHashTable) seen = g_hash_table_new_full(g_str_hash, g_str_equal, g_free, g_free);
+    for (guint i = 0; i < p->nodes->len; i++) {
+        rf_node *n = g_ptr_array_index(p->nodes, i);
+        for (uint32_t k = 0; n->desc && !n->bad && k < n->desc->param_count; k++) {
+            const char *t = n->params[k].target;
+            if (n->desc->params[k].type != RF_PARAM_OUTPUT_PATH || !t || !*t)
+                continue;
+            char *key = g_canonicalize_filename(t, NULL);
+            const char *first = g_hash_table_lookup(seen, key);
+            if (first) {
+                ERR(n, n->pointer,
+                    "parameter '%s' writes %s, as %s does: one output would "
+                    "replace the other",
+                    n->desc->params[k].name, t, first);
+                g_free(key);
+            } else {
+                g_hash_table_insert(
+                    seen, key,
+                    g_strdup_printf("node '%s' parameter '%s'", n->id, n->desc->params[k].name));
+            }
+        }
+    }
+}
+
 /* ---- ports and edges ---- */
 
 static char *port_list(const rf_port_desc *ports, uint32_t count)
@@ -488,6 +516,7 @@ bool rf_pipeline_validate(rf_pipeline *p, const rf_registry *reg, GPtrArray *dia
     p->order = NULL;
     stage_types(p, reg, diags);
     stage_params(p, diags);
+    stage_outputs(p, diags);
     stage_ports(p, diags);
     stage_order(p, diags);
     stage_port_types(p, diags);

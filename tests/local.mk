@@ -6,7 +6,16 @@ check_LTLIBRARIES += tests/fixtures/fx_good.la tests/fixtures/fx_major.la \
 	tests/fixtures/fx_minor.la tests/fixtures/fx_noentry.la tests/fixtures/fx_initfail.la \
 	tests/fixtures/fx_dup.la tests/fixtures/fx_unresolved.la tests/fixtures/fx_baddefault.la \
 	tests/fixtures/fx_crash.la tests/fixtures/fx_selftest.la tests/fixtures/fx_old.la \
-	tests/fixtures/fx_abi10.la tests/fixtures/fx_wide.la
+	tests/fixtures/fx_abi10.la tests/fixtures/fx_wide.la tests/fixtures/fx_twice.la
+tests_fixtures_fx_twice_la_SOURCES = $(FIXTURE_SRC)
+tests_fixtures_fx_twice_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_TYPE_TWICE -DFX_ID='"org.rigflow.test.twice"'
+tests_fixtures_fx_twice_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+# A rigger whose skin names a joint past its skeleton, for rig-bench (test_bad_input.sh); in a
+# folder of its own: the fixtures' folder is loaded whole by other tests.
+check_LTLIBRARIES += tests/fixtures/rigger/fx_rigger.la
+tests_fixtures_rigger_fx_rigger_la_SOURCES = tests/fixtures/fx_rigger.c
+tests_fixtures_rigger_fx_rigger_la_LDFLAGS = $(FIXTURE_LDFLAGS)
+tests_fixtures_rigger_fx_rigger_la_LIBADD = -lm
 tests_fixtures_fx_good_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_good_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_major_la_SOURCES = $(FIXTURE_SRC)
@@ -76,6 +85,9 @@ tests_test_sdk_helpers_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_test_sdk_helpers_LDADD = $(CMOCKA_LIBS) -lm
 
 # The command end to end, with the bundled plugins.
+# Ctrl-C during map, inspect and rig-bench: exit 130, nothing left.
+TESTS += tests/test_ctrl_c.sh
+dist_noinst_SCRIPTS += tests/test_ctrl_c.sh
 TESTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_sdk.sh \
 	tests/test_layout.sh tests/test_plugin_index.sh
 dist_noinst_SCRIPTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_layout.sh \

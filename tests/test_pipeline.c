@@ -280,6 +280,30 @@ static void upstream_failure_leaves_no_output(void **state)
     rf_pipeline_free(p);
 }
 
+/* An output whose name is long but legal (251 bytes; a file name holds 255): its temporary file
+ * beside it, 11 bytes longer, was refused ("File name too long") and the output could not be
+ * written at all. */
+static void long_output_name_written(void **state)
+{
+    fixture *f = *state;
+    char name[252];
+    memset(name, 'a', 247);
+    memcpy(name + 247, ".txt", 5);
+    g_autofree char *nodes =
+        g_strdup_printf("{\"id\": \"s\", \"type\": \"test.source\"},"
+                        "{\"id\": \"w\", \"type\": \"test.sink\", \"params\": {\"path\": \"%s\"}, "
+                        "\"inputs\": {\"in\": \"s.value\"}}",
+                        name);
+    rf_pipeline *p = check(f, nodes, true);
+    bool ok = rf_pipeline_run(p, f->reg, NULL, f->diags);
+    if (!ok)
+        find_diag(f->diags, "\x01", NULL); /* prints every diag */
+    assert_true(ok);
+    assert_true(file_exists(f->dir, name));
+    assert_int_equal(count_files(f->dir), 1); /* no temporary file left */
+    rf_pipeline_free(p);
+}
+
 static void missing_output_folder_reported(void **state)
 {
     fixture *f = *state;
@@ -294,6 +318,45 @@ static void missing_output_folder_reported(void **state)
     rf_pipeline_free(p);
 }
 
+/* An output naming a folder is refused before any node runs, and so before any other output is
+ * moved into place: found at commit, a.txt (committed first) was left by a failed run. */
+static void output_naming_a_folder_is_refused_first(void **state)
+{
+    fixture *f = *state;
+    g_autofree char *sub = g_build_filename(f->dir, "sub", NULL);
+    assert_int_equal(g_mkdir(sub, 0700), 0);
+    rf_pipeline *p = check(f,
+                           "{\"id\": \"s\", \"type\": \"test.source\"},"
+                           "{\"id\": \"w1\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"a.txt\"}, \"inputs\": {\"in\": \"s.value\"}},"
+                           "{\"id\": \"w2\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"sub\"}, \"inputs\": {\"in\": \"s.value\"}}",
+                           true);
+    assert_false(rf_pipeline_run(p, f->reg, NULL, f->diags));
+    assert_false(file_exists(f->dir, "a.txt"));
+    assert_non_null(find_diag(f->diags, "node 'w2'", "cannot write", "sub", "is a folder", NULL));
+    assert_int_equal(count_files(f->dir), 1); /* the folder alone: no temporary file either */
+    rf_pipeline_free(p);
+    g_rmdir(sub);
+}
+
+/* Two outputs naming one file (here through a/../): the second would replace the first's
+ * output without a word; validation refuses it, naming both. */
+static void two_outputs_naming_one_file_refused(void **state)
+{
+    fixture *f = *state;
+    rf_pipeline *p = check(f,
+                           "{\"id\": \"s\", \"type\": \"test.source\"},"
+                           "{\"id\": \"w1\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"a.txt\"}, \"inputs\": {\"in\": \"s.value\"}},"
+                           "{\"id\": \"w2\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"x/../a.txt\"}, \"inputs\": {\"in\": \"s.value\"}}",
+                           false);
+    assert_non_null(find_diag(f->diags, "node 'w2'", "parameter 'path' writes", "a.txt",
+                              "node 'w1' parameter 'path'", "replace", NULL));
+    rf_pipeline_free(p);
+}
+
 static void cancelled_run_leaves_no_output(void **state)
 {
     fixture *f = *state;
@@ -302,7 +365,7 @@ static void cancelled_run_leaves_no_output(void **state)
                            "{\"id\": \"w\", \"type\": \"test.sink\", \"params\": {\"path\": "
                            "\"out.txt\"}, \"inputs\": {\"in\": \"s.value\"}}",
                            true);
-    volatile int flag = 1;
+    volatile sig_atomic_t flag = 1;
     rf_run_options opts = {.cancel_flag = &flag};
     assert_false(rf_pipeline_run(p, f->reg, &opts, f->diags));
     assert_non_null(find_diag(f->diags, "interrupted", NULL));
@@ -414,6 +477,9 @@ int main(void)
         T(failing_node_leaves_no_output),
         T(upstream_failure_leaves_no_output),
         T(missing_output_folder_reported),
+        T(long_output_name_written),
+        T(output_naming_a_folder_is_refused_first),
+        T(two_outputs_naming_one_file_refused),
         T(cancelled_run_leaves_no_output),
         T(overrides_are_typed_and_relative_to_cwd),
         T(relative_paths_resolve_against_pipeline_folder),

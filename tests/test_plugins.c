@@ -186,6 +186,18 @@ static void duplicate_type_refused(void **state)
     assert_int_equal(rf_registry_plugin_count(f->reg), 1);
 }
 
+/* A plugin listing one node type twice: the registry would find the first descriptor only, and
+ * the second would never run without a word. */
+static void type_listed_twice_refused(void **state)
+{
+    fixture *f = *state;
+    assert_false(load(f, "fx_twice"));
+    assert_non_null(find_diag(f->diags, "fx_twice.so", "malformed rigflow plugin",
+                              "node type 'test.pair' twice", NULL));
+    assert_int_equal(rf_registry_plugin_count(f->reg), 0);
+    assert_null(rf_registry_find(f->reg, "test.pair", NULL));
+}
+
 static void unresolved_symbol_refused_at_load(void **state)
 {
     fixture *f = *state;
@@ -251,6 +263,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(missing_entry_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(failed_init_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(duplicate_type_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(type_listed_twice_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(unresolved_symbol_refused_at_load, setup, teardown),
         cmocka_unit_test_setup_teardown(not_a_shared_object_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(same_plugin_twice_is_shadowed, setup, teardown),

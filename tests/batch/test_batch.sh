@@ -256,6 +256,39 @@ else
     contains "$tmp/err" 'another batch (pid 1 \x1b]0;owned\x07 \xc2\x9b2J)' "the refusal prints it escaped"
 fi
 
+# ---- an output that cannot be read back (a disk error, simulated by tests/batch/fx_eio.c, preloaded) ----
+# The job is failed, naming the output and the error; not recorded as done with the hash of
+# nothing; its output is removed as a failed job's is; the rerun redoes it.
+mkdir -p "$tmp/eio"
+echo one >"$tmp/eio/a.txt"
+echo two >"$tmp/eio/b.txt"
+RF_FX_EIO_PATH="$tmp/eio-out/b.txt" LD_PRELOAD="$RF_BUILDDIR/tests/batch/preload/.libs/fx_eio.so" \
+    ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0" \
+    batch --over "copy.input=$tmp/eio/*.txt" --out "$tmp/eio-out" -j 1 >"$tmp/out" 2>"$tmp/err"
+same "$?" 1 "a batch with an output it cannot read back exits 1"
+contains "$tmp/out" "2 jobs: 1 done, 1 failed" "that job counts as failed"
+contains "$tmp/out" "cannot read back its output $tmp/eio-out/b.txt to record it: Input/output error" \
+    "the summary names the output and the error"
+grep '"job":"b"' "$tmp/eio-out/rigflow-batch/manifest.jsonl" | grep -q '"status":"failed"' &&
+    ok "the manifest records it failed" || bad "the manifest does not record b as failed"
+[ ! -e "$tmp/eio-out/b.txt" ] && ok "its output is removed" || bad "its output was left"
+expect 0 "the rerun without the error" -- batch --over "copy.input=$tmp/eio/*.txt" --out "$tmp/eio-out"
+contains "$tmp/out" "1 done, 0 failed, 0 crashed, 1 skipped" "the rerun redoes only that job"
+
+# ---- a job whose log cannot be opened (a folder of its name here; a full disk, permissions) ----
+# It is failed naming the log and not run: its output would have gone to the batch's terminal.
+mkdir -p "$tmp/nolog" "$tmp/nolog-out/rigflow-batch/logs/b.log"
+echo one >"$tmp/nolog/a.txt"
+echo "fail loudly" >"$tmp/nolog/b.txt"
+expect 1 "a batch with a job whose log cannot be opened exits 1" -- \
+    batch --over "copy.input=$tmp/nolog/*.txt" --out "$tmp/nolog-out" -j 1
+contains "$tmp/out" "2 jobs: 1 done, 1 failed" "that job counts as failed"
+contains "$tmp/out" "cannot open its log $tmp/nolog-out/rigflow-batch/logs/b.log: Is a directory" \
+    "the summary names the log and why"
+grep -q "asks to fail" "$tmp/out" "$tmp/err" && bad "the job ran with its output on the terminal" ||
+    ok "the job did not run onto the batch's terminal"
+[ ! -e "$tmp/nolog-out/b.txt" ] && ok "it wrote no output" || bad "it wrote an output"
+
 # ---- --status on damaged or hostile state files: a clear refusal, never a crash ----
 state="$tmp/hostile/rigflow-batch"
 mkdir -p "$state"

@@ -22,6 +22,13 @@ tests_import_test_bvh_gltf_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_import_test_bvh_gltf_LDADD = sdk/formats/assimp/librigflow-assimp.la sdk/formats/gltf/librigflow-gltf.la \
 	sdk/formats/bvh/librigflow-bvh.la $(CMOCKA_LIBS) -lm
 
+# GLB's uint32 size limit, checked before the writer opens the file.
+check_PROGRAMS += tests/gltf/test_glb_limit
+TESTS += tests/gltf/test_glb_limit
+tests_gltf_test_glb_limit_SOURCES = tests/gltf/test_glb_limit.c
+tests_gltf_test_glb_limit_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_gltf_test_glb_limit_LDADD = sdk/formats/gltf/librigflow-gltf.la $(CMOCKA_LIBS) -lm
+
 # pipelines/convert.json end to end (import and export nodes of plugins/convert).
 TESTS += tests/import/test_convert.sh
 EXTRA_DIST += tests/import/test_convert.sh

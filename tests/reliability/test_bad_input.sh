@@ -156,6 +156,36 @@ elif grep -q "[$controls]" "$tmp/out" "$tmp/err"; then bad "map --explain: a con
 elif ! grep -qF 'Leg\xc2\x9b1m' "$tmp/out"; then bad "map --explain: names not shown escaped"
 else ok "map --explain shows hostile joint names escaped"; fi
 
+# rig-bench prints model file names in its CSV rows and its messages: a name carrying ESC and C1
+# (8-bit CSI) sequences is shown escaped there too, the CSV row on one line.
+hostile="$tmp/rb$(printf '\033]0;pwned\007')x$(printf '\302\233')1m"
+printf 'not a GLB' >"$hostile.glb"
+printf 'HIERARCHY\n' >"$hostile.bvh"
+rfv rig-bench -r general "$hostile.bvh" "$hostile.glb" # one rigger: one row
+if [ "$code" = 2 ] && grep -q "no rigger plugin found" "$tmp/err"; then
+    skipped "rig-bench shows hostile file names escaped" "no rigger plugin built"
+elif [ "$code" != 1 ]; then bad "rig-bench on unreadable models: exit $code, expected 1"
+elif grep -q "[$controls]" "$tmp/out" "$tmp/err"; then bad "rig-bench: a control byte reached the terminal"
+elif ! grep -qF 'rb\x1b]0;pwned\x07x\xc2\x9b1m.bvh: its importer cannot ignore a rig' "$tmp/err"; then
+    bad "rig-bench: the unread file is not named escaped"
+elif ! grep -qF '"rb\x1b]0;pwned\x07x\xc2\x9b1m.glb"' "$tmp/out" || [ "$(wc -l <"$tmp/out")" != 2 ]; then
+    bad "rig-bench: the CSV row does not name the model escaped on one line: $(head -c 400 "$tmp/out")"
+else ok "rig-bench shows hostile file names escaped"; fi
+
+# A rigger plugin whose skin names a joint past its skeleton (tests/fixtures/fx_rigger.c): rig-bench
+# says so in the row's status, its skin columns empty; it read past its tables and printed "ok".
+rigged="${RF_DATA_DIR:-}/models/RiggedFigure.glb"
+if [ -f "$rigged" ]; then
+    rfv --plugin-path "$build/tests/fixtures/rigger/.libs" rig-bench -r fx-bad-index "$rigged"
+    if [ "$code" != 0 ]; then bad "rig-bench on a rigger with a bad skin index: exit $code"
+    elif ! grep -qF ',nan,nan,nan,0,' "$tmp/out" ||
+        ! grep -qF '"the rigger'"'"'s skin names joint 9 at vertex 0, of 3 joints"' "$tmp/out"; then
+        bad "rig-bench does not report the rigger's bad skin index: $(tail -1 "$tmp/out")"
+    else ok "rig-bench reports a rigger's skin index past its skeleton"; fi
+else
+    skipped "rig-bench on a rigger with a bad skin index" "$rigged not found (RF_DATA_DIR)"
+fi
+
 # ---- joint names that repeat ----
 cat >"$tmp/dup.bvh" <<'EOF'
 HIERARCHY

@@ -9,6 +9,7 @@
  * float32.
  */
 #include <errno.h>
+#include <inttypes.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -933,12 +934,30 @@ static void rf_gw_u32(unsigned char *p, uint32_t v)
     p[3] = (unsigned char)(v >> 24);
 }
 
+/* GLB's file and chunk lengths are uint32 (glTF 2.0, "Binary glTF Layout"): the file is the
+ * 12-byte header, the JSON chunk's 8-byte header and text padded to 4, and the binary chunk's
+ * header and data padded to 4 when there is data. Done in uint64_t so a count from a 32-bit
+ * size_t cannot wrap first. */
+bool rf_gltf_glb_fits(const char *name, uint64_t json_bytes, uint64_t bin_bytes, char *err,
+                      size_t err_size)
+{
+    uint64_t total = UINT64_MAX; /* counts past a quarter of uint64 only say "too big" */
+    if (json_bytes <= UINT64_MAX / 4 && bin_bytes <= UINT64_MAX / 4)
+        total = 12 + 8 + (json_bytes + 3) / 4 * 4 + (bin_bytes ? 8 + (bin_bytes + 3) / 4 * 4 : 0);
+    if (total <= UINT32_MAX)
+        return true;
+    if (err && err_size)
+        snprintf(err, err_size,
+                 "%s: the GLB would be %" PRIu64 " bytes, over the format's limit of %" PRIu32
+                 " bytes (its length fields are uint32); write .gltf instead or fewer frames",
+                 name ? name : "glb", total, UINT32_MAX);
+    return false;
+}
+
 static bool rf_gw_write_glb(FILE *f, const char *json, const rf_gw *g)
 {
     size_t jlen = strlen(json), jpad = (4 - jlen % 4) % 4, blen = (g->len + 3) & ~(size_t)3;
     size_t total = 12 + 8 + jlen + jpad + (g->len ? 8 + blen : 0);
-    if (total > UINT32_MAX)
-        return false;
     unsigned char h[20];
     rf_gw_u32(h, 0x46546C67u), rf_gw_u32(h + 4, 2), rf_gw_u32(h + 8, (uint32_t)total);
     rf_gw_u32(h + 12, (uint32_t)(jlen + jpad)), rf_gw_u32(h + 16, 0x4E4F534Au);
@@ -1021,6 +1040,11 @@ static bool rf_gw_emit(const char *path, const char *name, json_t *doc, rf_gw *g
     json_object_set_new(doc, "bufferViews", json_incref(g->views));
     json_object_set_new(doc, "accessors", json_incref(g->accessors));
     char *text = json_dumps(doc, JSON_COMPACT | JSON_REAL_PRECISION(9));
+    /* refused before the file is opened: opening would already truncate one of that name */
+    if (text && binary && !rf_gltf_glb_fits(name, strlen(text), g->len, err, err_size)) {
+        free(text);
+        return false;
+    }
     FILE *f = text ? fopen(path, "wb") : NULL;
     bool ok = f && (binary ? rf_gw_write_glb(f, text, g) : fputs(text, f) >= 0);
     int e = ok ? 0 : errno; /* why, before free() can change errno (e.g. ENOSPC, EFBIG) */

@@ -11,6 +11,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include <rigflow/rigflow.h>
 
@@ -37,5 +38,12 @@ bool rf_gltf_write_clips(const char *path, const char *name, const rf_skeleton *
                          const rf_animation *const *animations, uint32_t animation_count,
                          const rf_mesh *mesh, const rf_gltf_write_opts *opts, char *err,
                          size_t err_size);
+
+/* Whether a GLB of a `json_bytes` JSON text and `bin_bytes` of binary data fits in the format's
+ * uint32 length fields (headers and padding counted): GLB holds at most 4 GiB - 1 bytes. On
+ * false the message in err names `name`, the size the file would have and the limit. The
+ * writers check it before opening the file. */
+bool rf_gltf_glb_fits(const char *name, uint64_t json_bytes, uint64_t bin_bytes, char *err,
+                      size_t err_size);
 
 #endif
