@@ -66,19 +66,12 @@ static bool rf_tpl_api_rig(const rf_mesh *mesh, rf_skeleton **skeleton, rf_mesh 
                            err, err_size);
 }
 
-static bool rf_tpl_api_skin(const rf_mesh *mesh, const rf_skeleton *skeleton,
-                            const rf_mat4 *inverse_bind, rf_mesh **skinned, char *err,
-                            size_t err_size)
-{
-    return rf_rig_bind(mesh, skeleton, inverse_bind, NULL, skinned, NULL, err, err_size);
-}
-
 static const rf_rigger_api rf_tpl_api = {
     .size = sizeof(rf_rigger_api),
     .name = "template",
     .doc = "humanoid or quadruped template laid into the curve skeleton, bone-heat weights",
     .rig = rf_tpl_api_rig,
-    .skin = rf_tpl_api_skin,
+    .skin = rf_rig_node_skin,
 };
 
 static const void *rf_tpl_extension(const char *id)

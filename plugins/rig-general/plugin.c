@@ -54,19 +54,12 @@ static bool rf_rig_api_rig(const rf_mesh *mesh, rf_skeleton **skeleton, rf_mesh 
     return rf_rig_general(mesh, NULL, skeleton, skinned, NULL, NULL, NULL, err, err_size);
 }
 
-static bool rf_rig_api_skin(const rf_mesh *mesh, const rf_skeleton *skeleton,
-                            const rf_mat4 *inverse_bind, rf_mesh **skinned, char *err,
-                            size_t err_size)
-{
-    return rf_rig_bind(mesh, skeleton, inverse_bind, NULL, skinned, NULL, err, err_size);
-}
-
 static const rf_rigger_api rf_rig_api = {
     .size = sizeof(rf_rigger_api),
     .name = "general",
     .doc = "voxel curve skeleton from geodesic level sets, bone-heat weights",
     .rig = rf_rig_api_rig,
-    .skin = rf_rig_api_skin,
+    .skin = rf_rig_node_skin,
 };
 
 static const void *rf_rig_extension(const char *id)

@@ -54,3 +54,9 @@ bool rf_rig_node_output(const rf_host *host, rf_node *node, rf_skeleton *s, rf_m
         host->error(node, "the host refused an output");
     return ok;
 }
+
+bool rf_rig_node_skin(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4 *inverse_bind,
+                      rf_mesh **skinned, char *err, size_t err_size)
+{
+    return rf_rig_bind(mesh, skeleton, inverse_bind, NULL, skinned, NULL, err, err_size);
+}

@@ -45,4 +45,8 @@ rf_rig_options rf_rig_node_options(const rf_host *host, rf_node *node);
 bool rf_rig_node_output(const rf_host *host, rf_node *node, rf_skeleton *s, rf_mesh *m,
                         const rf_rig_stats *st);
 
+/* The rigger extension's skin call, the same for every rigger: bone heat on a given skeleton. */
+bool rf_rig_node_skin(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4 *inverse_bind,
+                      rf_mesh **skinned, char *err, size_t err_size);
+
 #endif
