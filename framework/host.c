@@ -193,8 +193,10 @@ static void *model_view(rf_node *node, const char *port, const char *type, void 
         uint32_t size;
         memcpy(&size, data, sizeof size); /* every model struct starts with its size */
         if (size < model_layouts[k].min) {
-            host_log(node, RF_LOG_ERROR, "plugin bug: output '%s' (%s) declares size %u, below "
-                     "the %zu bytes of its oldest layout", port, type, size, model_layouts[k].min);
+            host_log(node, RF_LOG_ERROR,
+                     "plugin bug: output '%s' (%s) declares size %u, below "
+                     "the %zu bytes of its oldest layout",
+                     port, type, size, model_layouts[k].min);
             return NULL;
         }
         if (size >= model_layouts[k].size)

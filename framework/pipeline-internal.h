@@ -34,7 +34,7 @@ typedef struct rf_output {
     void *data;            /* what consumers read: `owned`, or its copy in this build's layout */
     rf_destroy_fn destroy; /* the producer's, for `owned` */
     bool set;
-    void *owned;           /* what the producer handed over */
+    void *owned; /* what the producer handed over */
 } rf_output;
 
 struct rf_node {

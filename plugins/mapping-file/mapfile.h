@@ -80,5 +80,4 @@ bool rf_mapfile_write_path(const char *path, const rf_mapping *m, const rf_skele
                            const rf_skeleton *const *sources, uint32_t source_count, char *err,
                            size_t err_size);
 
-
 #endif

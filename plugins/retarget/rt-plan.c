@@ -700,8 +700,8 @@ void rf_retarget_free(rf_retarget *rt)
     free(rt->src), free(rt->tj), free(rt->in), free(rt->links), free(rt->slots);
     free(rt->t_rest_world), free(rt->t_tip), free(rt->t_hull), free(rt->t_aligned),
         free(rt->t_centerline);
-    free(rt->t_above), free(rt->bones), free(rt->effectors),
-        free(rt->effector_src), free(rt->effector_tip), free(rt->hot), free(rt->rest_tr);
+    free(rt->t_above), free(rt->bones), free(rt->effectors), free(rt->effector_src),
+        free(rt->effector_tip), free(rt->hot), free(rt->rest_tr);
     free(rt->w0), free(rt->t_logical), free(rt->t_role), free(rt->lparent), free(rt->anchor);
     free(rt->anchor_off), free(rt->lorder), free(rt->t_need), free(rt->t_tip_set);
     rf_mapping_free(rt->own_map);

@@ -20,7 +20,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 #define RF_FUZZ_CHECK(cond)                                                                        \
     do {                                                                                           \
         if (!(cond)) {                                                                             \
-            fprintf(stderr, "fuzz_mapping: broken promise: %s (%s:%d)\n", #cond, __FILE__,        \
+            fprintf(stderr, "fuzz_mapping: broken promise: %s (%s:%d)\n", #cond, __FILE__,         \
                     __LINE__);                                                                     \
             abort();                                                                               \
         }                                                                                          \

@@ -73,8 +73,8 @@ typedef struct rigs_skel {
     rf_skeleton *s;
     rigs_label *label; /* [joint_count] */
     rigs_plan plan;
-    bool helpers; /* built with helpers */
-    int facing;   /* 0 +Z, 1 +X, 2 -Z, 3 -X */
+    bool helpers;        /* built with helpers */
+    int facing;          /* 0 +Z, 1 +X, 2 -Z, 3 -X */
     rf_vec3 up, forward; /* the body's axes as built, in the skeleton's space */
 } rigs_skel;
 

@@ -144,8 +144,8 @@ static bool rf_ai_glb_length_ok(rf_ai_ctx *c)
     close(fd);
     if (!glb)
         return true;
-    uint32_t declared = (uint32_t)h[8] | (uint32_t)h[9] << 8 | (uint32_t)h[10] << 16 |
-                        (uint32_t)h[11] << 24;
+    uint32_t declared =
+        (uint32_t)h[8] | (uint32_t)h[9] << 8 | (uint32_t)h[10] << 16 | (uint32_t)h[11] << 24;
     if ((long long)declared == (long long)st.st_size)
         return true;
     return rf_ai_fail(c,

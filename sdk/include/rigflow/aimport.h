@@ -45,8 +45,8 @@ typedef struct rf_ai_result {
     rf_animation *animation; /* the selected clip, or one frame of the rest pose without clips */
     rf_mesh *mesh;           /* all meshes merged, or NULL when the file has no triangles */
     unsigned clip_count;
-    rf_ai_clip *clips; /* [clip_count] */
-    int selected_clip; /* index into clips, or -1 when the file has none */
+    rf_ai_clip *clips;              /* [clip_count] */
+    int selected_clip;              /* index into clips, or -1 when the file has none */
     rf_animation **clip_animations; /* [clip_count] every clip when asked for "*", else NULL */
 } rf_ai_result;
 

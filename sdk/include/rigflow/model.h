@@ -120,7 +120,8 @@ static inline int32_t rf_skeleton_find(const rf_skeleton *s, const char *name)
     return -1;
 }
 
-/* World (model-space) rest transform of every joint into `world` (joint_count entries, caller's). */
+/* World (model-space) rest transform of every joint into `world` (joint_count entries, caller's).
+ */
 static inline void rf_skeleton_world_rest(const rf_skeleton *s, rf_xform *world)
 {
     for (uint32_t i = 0; i < s->joint_count; i++) {
@@ -141,11 +142,11 @@ typedef struct rf_animation {
     uint32_t size;
     uint32_t joint_count; /* matches the skeleton the animation was made for */
     uint32_t frame_count;
-    double fps;            /* frames per second, > 0 */
-    char *name;            /* clip name, may be NULL; owned */
-    float *rotations;      /* [frame][joint][4]: local rotation quaternion x, y, z, w */
-    float *translations;   /* [frame][joint][3]: local translation (the rest one where not keyed) */
-    uint8_t *channels;     /* [joint]: rf_channel_flags, what the source keyed */
+    double fps;          /* frames per second, > 0 */
+    char *name;          /* clip name, may be NULL; owned */
+    float *rotations;    /* [frame][joint][4]: local rotation quaternion x, y, z, w */
+    float *translations; /* [frame][joint][3]: local translation (the rest one where not keyed) */
+    uint8_t *channels;   /* [joint]: rf_channel_flags, what the source keyed */
 } rf_animation;
 
 /* An animation with all rotations identity and translations zero, or NULL when out of memory or
@@ -238,18 +239,18 @@ static inline void rf_animation_local_pose(const rf_animation *a, const rf_skele
 
 typedef struct rf_mesh {
     uint32_t size;
-    char *name;              /* may be NULL; owned */
+    char *name; /* may be NULL; owned */
     uint32_t vertex_count;
     uint32_t triangle_count;
-    float *positions;        /* [vertex][3] */
-    float *normals;          /* [vertex][3], or NULL */
-    uint32_t *triangles;     /* [triangle][3] vertex indices */
-    uint16_t *skin_joints;   /* [vertex][4] joint indices, or NULL when the mesh is not skinned */
-    float *skin_weights;     /* [vertex][4] weights summing to 1, or NULL */
-    uint32_t bind_count;     /* entries in inverse_bind (the skeleton's joint count), or 0 */
-    rf_mat4 *inverse_bind;   /* [joint] model space to joint space at bind time, or NULL */
+    float *positions;      /* [vertex][3] */
+    float *normals;        /* [vertex][3], or NULL */
+    uint32_t *triangles;   /* [triangle][3] vertex indices */
+    uint16_t *skin_joints; /* [vertex][4] joint indices, or NULL when the mesh is not skinned */
+    float *skin_weights;   /* [vertex][4] weights summing to 1, or NULL */
+    uint32_t bind_count;   /* entries in inverse_bind (the skeleton's joint count), or 0 */
+    rf_mat4 *inverse_bind; /* [joint] model space to joint space at bind time, or NULL */
     /* Appended in 1.1 (check with RF_HAS_FIELD before reading): */
-    uint32_t part_count;     /* source meshes merged into this one, or 0 */
+    uint32_t part_count;        /* source meshes merged into this one, or 0 */
     struct rf_mesh_part *parts; /* [part_count], or NULL; owned */
     /* Appended in 1.2, the look (check with RF_HAS_FIELD before reading): */
     uint32_t uv_set_count;           /* texture coordinate sets in uvs, 0 to RF_MESH_MAX_UV_SETS */
@@ -428,7 +429,7 @@ static inline void rf_image_free(void *image)
 
 /* One source mesh inside a merged rf_mesh: a contiguous run of vertices and triangles. */
 typedef struct rf_mesh_part {
-    char *name;              /* may be NULL; owned by the mesh */
+    char *name; /* may be NULL; owned by the mesh */
     uint32_t first_vertex, vertex_count;
     uint32_t first_triangle, triangle_count;
 } rf_mesh_part;
@@ -571,7 +572,7 @@ typedef struct rf_mapping {
     uint32_t target_joint_count;
     rf_map_entry *entries; /* one per target joint, in the target skeleton's order */
     uint32_t metric_count;
-    char **metric_names;   /* [metric_count], owned */
+    char **metric_names; /* [metric_count], owned */
     /* Appended in 1.1 (check with RF_HAS_FIELD before reading): */
     char **sections; /* [target_joint_count] where the matcher placed each target joint: a section
                       * type ("spine", "head", "tail", "arm", "hand", "leg", "foot", "appendage",
@@ -589,8 +590,8 @@ static inline rf_mapping *rf_mapping_new(uint32_t target_joint_count, uint32_t s
     m->size = sizeof *m;
     m->source_count = source_count;
     m->target_joint_count = target_joint_count;
-    m->entries = (rf_map_entry *)calloc(target_joint_count ? target_joint_count : 1,
-                                        sizeof *m->entries);
+    m->entries =
+        (rf_map_entry *)calloc(target_joint_count ? target_joint_count : 1, sizeof *m->entries);
     if (!m->entries) {
         free(m);
         return NULL;

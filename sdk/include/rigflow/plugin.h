@@ -134,8 +134,8 @@ typedef struct rf_host {
 
     /* [thread-safe] Log a message, prefixed with the node's id (node may be NULL). */
     void (*log)(rf_node *node, rf_log_level level, const char *fmt, ...) RF_PRINTF(3, 4);
-    /* [thread-safe] Record why the node failed; the host reports it with the node's id when process or create
-     * returns false. The last call wins. */
+    /* [thread-safe] Record why the node failed; the host reports it with the node's id when process
+     * or create returns false. The last call wins. */
     void (*error)(rf_node *node, const char *fmt, ...) RF_PRINTF(2, 3);
     /* [thread-safe] Report progress of long work, fraction in [0, 1]; cheap to call per frame. */
     void (*progress)(rf_node *node, double fraction);
@@ -160,12 +160,12 @@ typedef struct rf_host {
 
     /* [thread-safe] Number of connections on an input port (0 for an unconnected optional port). */
     uint32_t (*input_count)(rf_node *node, const char *port);
-    /* [thread-safe] The value on connection `index` of an input port, or NULL. (borrowed, read-only, valid
-     * until process returns) */
+    /* [thread-safe] The value on connection `index` of an input port, or NULL. (borrowed,
+     * read-only, valid until process returns) */
     const void *(*input)(rf_node *node, const char *port, uint32_t index);
-    /* [thread-safe] Hand the value of an output port to the host, which frees it with `destroy` when the run
-     * no longer needs it. Returns false (and frees it at once) for an undeclared port or a port
-     * set twice. (transfer full) */
+    /* [thread-safe] Hand the value of an output port to the host, which frees it with `destroy`
+     * when the run no longer needs it. Returns false (and frees it at once) for an undeclared port
+     * or a port set twice. (transfer full) */
     bool (*set_output)(rf_node *node, const char *port, void *data, rf_destroy_fn destroy);
 } rf_host;
 
@@ -184,15 +184,16 @@ typedef struct rf_node_desc {
     uint32_t param_count;
     const rf_param_desc *params;
 
-    /* [node-thread] Optional. Make the node's state into *self from its parameters. Return false after
-     * host->error on failure (nothing to destroy then). */
+    /* [node-thread] Optional. Make the node's state into *self from its parameters. Return false
+     * after host->error on failure (nothing to destroy then). */
     bool (*create)(const rf_host *host, rf_node *node, void **self);
-    /* [node-thread] Required. Read inputs, set every output, return true; or call host->error and return
-     * false. `self` is what create made, or NULL without create. */
+    /* [node-thread] Required. Read inputs, set every output, return true; or call host->error and
+     * return false. `self` is what create made, or NULL without create. */
     bool (*process)(void *self, const rf_host *host, rf_node *node);
     /* [node-thread] Optional. Free what create made. */
     void (*destroy)(void *self);
-    /* [main-thread] Optional. A capability table by reverse-DNS id (e.g. "rigflow.ik/1"), or NULL. (static) */
+    /* [main-thread] Optional. A capability table by reverse-DNS id (e.g. "rigflow.ik/1"), or NULL.
+     * (static) */
     const void *(*get_extension)(const char *id);
 } rf_node_desc;
 
@@ -201,14 +202,15 @@ typedef struct rf_node_desc {
  * makes itself and return false with a message in err (err_size bytes) when something is wrong. */
 #define RF_SELFTEST_EXTENSION "rigflow.selftest/1"
 typedef struct rf_selftest {
-    uint32_t size; /* sizeof(rf_selftest) */
+    uint32_t size;                                                /* sizeof(rf_selftest) */
     bool (*run)(const rf_host *host, char *err, size_t err_size); /* [main-thread] */
 } rf_selftest;
 
 /* What an importer reads, offered by a node type of kind RF_KIND_IMPORTER through
  * get_extension(RF_IMPORTER_EXTENSION), so that a host can pick the importer for a file from its
  * name (`rigflow inspect`, `rigflow map`) without knowing any plugin: a node type that lists the
- * file's suffix is preferred to one that reads anything ("*"), and among equals the first loaded. */
+ * file's suffix is preferred to one that reads anything ("*"), and among equals the first loaded.
+ */
 #define RF_IMPORTER_EXTENSION "rigflow.importer/1"
 typedef struct rf_importer_info {
     uint32_t size;          /* sizeof(rf_importer_info) */
@@ -226,10 +228,11 @@ typedef struct rf_plugin_entry {
     const char *name;        /* human name */
     const char *version;     /* the plugin's own version */
     const char *description; /* one line */
-    /* [main-thread] Optional. Called once after loading. Return false with a message in err (err_size bytes,
-     * NUL-terminated) to refuse loading. */
+    /* [main-thread] Optional. Called once after loading. Return false with a message in err
+     * (err_size bytes, NUL-terminated) to refuse loading. */
     bool (*init)(const rf_host *host, char *err, size_t err_size);
-    /* [main-thread] Optional. Called once before unloading, only if init succeeded or was absent. */
+    /* [main-thread] Optional. Called once before unloading, only if init succeeded or was absent.
+     */
     void (*deinit)(void);
     uint32_t node_count;
     const rf_node_desc *const *nodes; /* (static) */
@@ -254,21 +257,24 @@ typedef struct rf_plugin_entry {
  */
 #define RF_COUNT_OF(array) ((uint32_t)(sizeof(array) / sizeof((array)[0])))
 
-#define RF_PARAM_DESC(...) {.size = sizeof(rf_param_desc), __VA_ARGS__}
+#define RF_PARAM_DESC(...)                                                                         \
+    {                                                                                              \
+        .size = sizeof(rf_param_desc), __VA_ARGS__                                                 \
+    }
 #define RF_PARAM_DESC_BOOL(name_, default_, doc_)                                                  \
-    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_BOOL, .default_number = (default_),          \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_BOOL, .default_number = (default_),            \
                   .doc = (doc_))
 #define RF_PARAM_DESC_INT(name_, default_, min_, max_, doc_)                                       \
-    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_INT, .flags = RF_PARAM_HAS_RANGE,            \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_INT, .flags = RF_PARAM_HAS_RANGE,              \
                   .default_number = (default_), .min = (min_), .max = (max_), .doc = (doc_))
 #define RF_PARAM_DESC_FLOAT(name_, default_, min_, max_, doc_)                                     \
-    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_FLOAT, .flags = RF_PARAM_HAS_RANGE,          \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_FLOAT, .flags = RF_PARAM_HAS_RANGE,            \
                   .default_number = (default_), .min = (min_), .max = (max_), .doc = (doc_))
 #define RF_PARAM_DESC_STRING(name_, default_, doc_)                                                \
-    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_STRING, .default_string = (default_),        \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_STRING, .default_string = (default_),          \
                   .doc = (doc_))
 #define RF_PARAM_DESC_ENUM(name_, default_, choices_, doc_)                                        \
-    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_ENUM, .default_string = (default_),          \
+    RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_ENUM, .default_string = (default_),            \
                   .choices = (choices_), .doc = (doc_))
 /* A file the node reads or writes; `flags` RF_PARAM_REQUIRED or 0 (optional: "" when unset). */
 #define RF_PARAM_DESC_INPUT_PATH(name_, flags_, doc_)                                              \
@@ -277,8 +283,10 @@ typedef struct rf_plugin_entry {
     RF_PARAM_DESC(.name = (name_), .type = RF_PARAM_OUTPUT_PATH, .flags = (flags_), .doc = (doc_))
 
 #define RF_PORT_DESC(name_, type_, flags_, doc_)                                                   \
-    {.size = sizeof(rf_port_desc), .name = (name_), .type = (type_), .flags = (flags_),          \
-     .doc = (doc_)}
+    {                                                                                              \
+        .size = sizeof(rf_port_desc), .name = (name_), .type = (type_), .flags = (flags_),         \
+        .doc = (doc_)                                                                              \
+    }
 
 /* A node descriptor's counted arrays, counted by the compiler. */
 #define RF_NODE_INPUTS(array) .input_count = RF_COUNT_OF(array), .inputs = (array)
@@ -291,21 +299,21 @@ typedef struct rf_plugin_entry {
  *   ... .get_extension = my_get_extension, ... */
 #define RF_SELFTEST_GET_EXTENSION(fn, run)                                                         \
     static const rf_selftest fn##_selftest = {sizeof(rf_selftest), (run)};                         \
-    static const void *fn(const char *id)                                                         \
+    static const void *fn(const char *id)                                                          \
     {                                                                                              \
         return strcmp(id, RF_SELFTEST_EXTENSION) == 0 ? &fn##_selftest : NULL;                     \
     }
 
 /* The plugin's one exported symbol, its node types counted from the array `nodes_`
  * (`static const rf_node_desc *const nodes_[] = {&a, &b};`). */
-#define RF_PLUGIN_DEFINE(id_, name_, version_, description_, nodes_)                              \
+#define RF_PLUGIN_DEFINE(id_, name_, version_, description_, nodes_)                               \
     RF_PLUGIN_EXPORT const rf_plugin_entry rigflow_plugin_entry = {                                \
         .abi = RF_ABI_VERSION_INIT,                                                                \
         .size = sizeof(rf_plugin_entry),                                                           \
         .id = (id_),                                                                               \
         .name = (name_),                                                                           \
         .version = (version_),                                                                     \
-        .description = (description_),                                                            \
+        .description = (description_),                                                             \
         .node_count = RF_COUNT_OF(nodes_),                                                         \
         .nodes = (nodes_),                                                                         \
     }

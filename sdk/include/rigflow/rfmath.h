@@ -1,4 +1,5 @@
-/* rigflow SDK: shared math. vec3, quaternions, 4x4 matrices and TRS transforms, in double precision.
+/* rigflow SDK: shared math. vec3, quaternions, 4x4 matrices and TRS transforms, in double
+ * precision.
  *
  * Everything here is header-only (static inline) so that plugins link nothing from the host.
  * Conventions: right-handed coordinates; quaternions are (x, y, z, w) with w the scalar part and
@@ -47,18 +48,42 @@ static inline rf_vec3 rf_v3(double x, double y, double z)
     rf_vec3 v = {x, y, z};
     return v;
 }
-static inline rf_vec3 rf_v3_add(rf_vec3 a, rf_vec3 b) { return rf_v3(a.x + b.x, a.y + b.y, a.z + b.z); }
-static inline rf_vec3 rf_v3_sub(rf_vec3 a, rf_vec3 b) { return rf_v3(a.x - b.x, a.y - b.y, a.z - b.z); }
-static inline rf_vec3 rf_v3_scale(rf_vec3 a, double k) { return rf_v3(a.x * k, a.y * k, a.z * k); }
-static inline rf_vec3 rf_v3_mul(rf_vec3 a, rf_vec3 b) { return rf_v3(a.x * b.x, a.y * b.y, a.z * b.z); }
-static inline double rf_v3_dot(rf_vec3 a, rf_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline rf_vec3 rf_v3_add(rf_vec3 a, rf_vec3 b)
+{
+    return rf_v3(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+static inline rf_vec3 rf_v3_sub(rf_vec3 a, rf_vec3 b)
+{
+    return rf_v3(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+static inline rf_vec3 rf_v3_scale(rf_vec3 a, double k)
+{
+    return rf_v3(a.x * k, a.y * k, a.z * k);
+}
+static inline rf_vec3 rf_v3_mul(rf_vec3 a, rf_vec3 b)
+{
+    return rf_v3(a.x * b.x, a.y * b.y, a.z * b.z);
+}
+static inline double rf_v3_dot(rf_vec3 a, rf_vec3 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 static inline rf_vec3 rf_v3_cross(rf_vec3 a, rf_vec3 b)
 {
     return rf_v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
-static inline double rf_v3_len2(rf_vec3 a) { return rf_v3_dot(a, a); }
-static inline double rf_v3_len(rf_vec3 a) { return sqrt(rf_v3_dot(a, a)); }
-static inline double rf_v3_dist(rf_vec3 a, rf_vec3 b) { return rf_v3_len(rf_v3_sub(a, b)); }
+static inline double rf_v3_len2(rf_vec3 a)
+{
+    return rf_v3_dot(a, a);
+}
+static inline double rf_v3_len(rf_vec3 a)
+{
+    return sqrt(rf_v3_dot(a, a));
+}
+static inline double rf_v3_dist(rf_vec3 a, rf_vec3 b)
+{
+    return rf_v3_len(rf_v3_sub(a, b));
+}
 static inline rf_vec3 rf_v3_lerp(rf_vec3 a, rf_vec3 b, double t)
 {
     return rf_v3_add(a, rf_v3_scale(rf_v3_sub(b, a), t));
@@ -69,7 +94,10 @@ static inline rf_vec3 rf_v3_normalize(rf_vec3 a)
     double l = rf_v3_len(a);
     return l > 1e-300 ? rf_v3_scale(a, 1.0 / l) : rf_v3(0, 0, 0);
 }
-static inline bool rf_v3_isfinite(rf_vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+static inline bool rf_v3_isfinite(rf_vec3 a)
+{
+    return isfinite(a.x) && isfinite(a.y) && isfinite(a.z);
+}
 /* Angle in radians between two non-zero vectors, in [0, pi]; 0 when either is zero. */
 static inline double rf_v3_angle(rf_vec3 a, rf_vec3 b)
 {
@@ -97,7 +125,10 @@ static inline rf_quat rf_quat_mul(rf_quat a, rf_quat b)
                         a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z);
 }
 /* The inverse of a unit quaternion. */
-static inline rf_quat rf_quat_conj(rf_quat q) { return rf_quat_make(-q.x, -q.y, -q.z, q.w); }
+static inline rf_quat rf_quat_conj(rf_quat q)
+{
+    return rf_quat_make(-q.x, -q.y, -q.z, q.w);
+}
 static inline double rf_quat_dot(rf_quat a, rf_quat b)
 {
     return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w;
@@ -110,7 +141,10 @@ static inline rf_quat rf_quat_normalize(rf_quat q)
         return rf_quat_identity();
     return rf_quat_make(q.x / l, q.y / l, q.z / l, q.w / l);
 }
-static inline rf_quat rf_quat_neg(rf_quat q) { return rf_quat_make(-q.x, -q.y, -q.z, -q.w); }
+static inline rf_quat rf_quat_neg(rf_quat q)
+{
+    return rf_quat_make(-q.x, -q.y, -q.z, -q.w);
+}
 /* Rotate v by unit quaternion q. */
 static inline rf_vec3 rf_quat_rotate(rf_quat q, rf_vec3 v)
 {
@@ -224,8 +258,8 @@ static inline bool rf_mat4_invert(rf_mat4 a, rf_mat4 *out)
              m[8] * m[3] * m[13] - m[12] * m[1] * m[11] + m[12] * m[3] * m[9];
     inv[13] = m[0] * m[9] * m[14] - m[0] * m[10] * m[13] - m[8] * m[1] * m[14] +
               m[8] * m[2] * m[13] + m[12] * m[1] * m[10] - m[12] * m[2] * m[9];
-    inv[2] = m[1] * m[6] * m[15] - m[1] * m[7] * m[14] - m[5] * m[2] * m[15] +
-             m[5] * m[3] * m[14] + m[13] * m[2] * m[7] - m[13] * m[3] * m[6];
+    inv[2] = m[1] * m[6] * m[15] - m[1] * m[7] * m[14] - m[5] * m[2] * m[15] + m[5] * m[3] * m[14] +
+             m[13] * m[2] * m[7] - m[13] * m[3] * m[6];
     inv[6] = -m[0] * m[6] * m[15] + m[0] * m[7] * m[14] + m[4] * m[2] * m[15] -
              m[4] * m[3] * m[14] - m[12] * m[2] * m[7] + m[12] * m[3] * m[6];
     inv[10] = m[0] * m[5] * m[15] - m[0] * m[7] * m[13] - m[4] * m[1] * m[15] +
@@ -234,12 +268,12 @@ static inline bool rf_mat4_invert(rf_mat4 a, rf_mat4 *out)
               m[4] * m[2] * m[13] - m[12] * m[1] * m[6] + m[12] * m[2] * m[5];
     inv[3] = -m[1] * m[6] * m[11] + m[1] * m[7] * m[10] + m[5] * m[2] * m[11] -
              m[5] * m[3] * m[10] - m[9] * m[2] * m[7] + m[9] * m[3] * m[6];
-    inv[7] = m[0] * m[6] * m[11] - m[0] * m[7] * m[10] - m[4] * m[2] * m[11] +
-             m[4] * m[3] * m[10] + m[8] * m[2] * m[7] - m[8] * m[3] * m[6];
-    inv[11] = -m[0] * m[5] * m[11] + m[0] * m[7] * m[9] + m[4] * m[1] * m[11] -
-              m[4] * m[3] * m[9] - m[8] * m[1] * m[7] + m[8] * m[3] * m[5];
-    inv[15] = m[0] * m[5] * m[10] - m[0] * m[6] * m[9] - m[4] * m[1] * m[10] +
-              m[4] * m[2] * m[9] + m[8] * m[1] * m[6] - m[8] * m[2] * m[5];
+    inv[7] = m[0] * m[6] * m[11] - m[0] * m[7] * m[10] - m[4] * m[2] * m[11] + m[4] * m[3] * m[10] +
+             m[8] * m[2] * m[7] - m[8] * m[3] * m[6];
+    inv[11] = -m[0] * m[5] * m[11] + m[0] * m[7] * m[9] + m[4] * m[1] * m[11] - m[4] * m[3] * m[9] -
+              m[8] * m[1] * m[7] + m[8] * m[3] * m[5];
+    inv[15] = m[0] * m[5] * m[10] - m[0] * m[6] * m[9] - m[4] * m[1] * m[10] + m[4] * m[2] * m[9] +
+              m[8] * m[1] * m[6] - m[8] * m[2] * m[5];
     double det = m[0] * inv[0] + m[1] * inv[4] + m[2] * inv[8] + m[3] * inv[12];
     if (det == 0.0 || !isfinite(det))
         return false;

@@ -32,7 +32,10 @@ typedef struct rf_version {
 } rf_version;
 
 /* The version this header describes, for initialising an entry's `abi` field. */
-#define RF_ABI_VERSION_INIT {RF_ABI_VERSION_MAJOR, RF_ABI_VERSION_MINOR, RF_ABI_VERSION_PATCH}
+#define RF_ABI_VERSION_INIT                                                                        \
+    {                                                                                              \
+        RF_ABI_VERSION_MAJOR, RF_ABI_VERSION_MINOR, RF_ABI_VERSION_PATCH                           \
+    }
 
 /* True when a plugin built against `plugin` may be loaded by a host built against `host`. */
 static inline bool rf_version_compatible(rf_version host, rf_version plugin)
