@@ -50,7 +50,7 @@ build_bvh() {
 
 build_pipeline() {
     local f srcs=()
-    for f in diag registry host pipeline validate run; do srcs+=("$src/framework/$f.c"); done
+    for f in diag registry plugin-index host pipeline validate run; do srcs+=("$src/framework/$f.c"); done
     # shellcheck disable=SC2046
     build fuzz_pipeline -DRF_PLUGINSDIR='"/nonexistent"' $(pkg --cflags) \
         "$src/tests/fuzz/fuzz_pipeline.c" "${srcs[@]}" -- $(pkg --libs) -lltdl -ldl
