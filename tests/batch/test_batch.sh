@@ -11,23 +11,7 @@ tmp=$(mktemp -d)
 bg=""
 cleanup() { [ -n "$bg" ] && kill -9 $bg 2>/dev/null; rm -rf "$tmp"; }
 trap cleanup EXIT
-pass=0 fail=0
-
-ok() { pass=$((pass + 1)); echo "ok - $1"; }
-bad() { fail=$((fail + 1)); echo "not ok - $1"; [ -f "$tmp/err" ] && sed 's/^/    stderr: /' "$tmp/err" | head -20; }
-expect() { # expect CODE NAME -- COMMAND...
-    local want=$1 name=$2
-    shift 3
-    "$@" >"$tmp/out" 2>"$tmp/err"
-    local got=$?
-    if [ "$got" = "$want" ]; then ok "$name"; else bad "$name (exit $got, expected $want)"; fi
-}
-contains() { # contains FILE TEXT NAME
-    if grep -qF -- "$2" "$1"; then ok "$3"; else bad "$3: '$2' not in $(basename "$1")"; fi
-}
-same() { # same GOT WANT NAME
-    if [ "$1" = "$2" ]; then ok "$3"; else bad "$3: got '$1', expected '$2'"; fi
-}
+. "$RF_SRCDIR/tests/batch/tap.sh"
 batch() { "$rigflow" --plugin-path "$fx" batch "$pipeline" "$@"; }
 
 # ---- usage errors ----

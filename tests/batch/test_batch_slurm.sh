@@ -15,19 +15,7 @@ why=$(slurm_cluster_check) || { echo "# SKIP Slurm batch test: $why"; exit 77; }
 
 tmp=$(mktemp -d)
 trap 'slurm_cluster_stop; rm -rf "$tmp"' EXIT
-pass=0 fail=0
-ok() { pass=$((pass + 1)); echo "ok - $1"; }
-bad() { fail=$((fail + 1)); echo "not ok - $1"; [ -f "$tmp/err" ] && sed 's/^/    stderr: /' "$tmp/err" | head -20; }
-expect() { # expect CODE NAME -- COMMAND...
-    local want=$1 name=$2
-    shift 3
-    "$@" >"$tmp/out" 2>"$tmp/err"
-    local got=$?
-    if [ "$got" = "$want" ]; then ok "$name"; else bad "$name (exit $got, expected $want)"; fi
-}
-contains() { # contains FILE TEXT NAME
-    if grep -qF -- "$2" "$1"; then ok "$3"; else bad "$3: '$2' not in $(basename "$1")"; fi
-}
+. "$RF_SRCDIR/tests/batch/tap.sh"
 
 chmod 0755 "$tmp" # munged wants every folder above its socket searchable
 mkdir -p "$tmp/cluster"
