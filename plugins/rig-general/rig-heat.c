@@ -148,6 +148,49 @@ static bool rf_rig_sees(const rf_rig_rays *r, uint32_t part, const double p[3], 
     return ray.tfar >= 0;
 }
 
+/* How far from p along the unit direction d the first surface of the mesh is, up to `far`. */
+static double rf_rig_exit(const rf_rig_rays *r, const double p[3], const double d[3], double far)
+{
+    struct RTCRay ray = {0};
+    ray.org_x = (float)p[0], ray.org_y = (float)p[1], ray.org_z = (float)p[2];
+    ray.dir_x = (float)d[0], ray.dir_y = (float)d[1], ray.dir_z = (float)d[2];
+    ray.tnear = 0, ray.tfar = (float)far, ray.mask = UINT32_MAX;
+    struct RTCIntersectContext ctx; /* no filter: every part's surface counts */
+    rtcInitIntersectContext(&ctx);
+    struct RTCRayHit hit = {.ray = ray};
+    hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(r->scene, &ctx, &hit);
+    return hit.hit.geomID == RTC_INVALID_GEOMETRY_ID ? far : hit.ray.tfar;
+}
+
+bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k)
+{
+    rf_rig_rays rays = {0};
+    uint8_t *inner = calloc(k->n + 1, 1);
+    bool ok = inner && rf_rig_rays_make(&rays, &p->proxy, p->proxy_part);
+    for (uint32_t i = 0; ok && i < k->n; i++)
+        if (k->parent[i] >= 0)
+            inner[k->parent[i]] = 1;
+    for (uint32_t i = 0; ok && i < k->n; i++) {
+        if (inner[i] || k->has_tip[i] || k->parent[i] < 0)
+            continue;
+        const double *a = k->pos + (size_t)k->parent[i] * 3, *b = k->pos + (size_t)i * 3;
+        double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (!(len > 1e-9 * p->longest))
+            continue;
+        for (int c = 0; c < 3; c++)
+            d[c] /= len;
+        double t = rf_rig_exit(&rays, b, d, len);
+        for (int c = 0; c < 3; c++)
+            k->tip[(size_t)i * 3 + c] = b[c] + d[c] * t;
+        k->has_tip[i] = 1;
+    }
+    rf_rig_rays_free(&rays);
+    free(inner);
+    return ok;
+}
+
 /* ---- heat sources ---- */
 
 typedef struct rf_rig_src {

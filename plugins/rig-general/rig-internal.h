@@ -82,6 +82,12 @@ uint32_t rf_rig_bones(const rf_rig_skel *s, rf_rig_bone **out);
 /* Distance from point q to segment b, and the closest point into c. */
 double rf_rig_seg_dist(const double q[3], const rf_rig_bone *b, double c[3]);
 
+/* Every leaf joint of k without an end site and with a parent gets one (has_tip set): on from
+ * the joint in its parent's direction, as far as its parent's bone is long or to where the
+ * surface of the proxy is first met, whichever is nearer. False when out of memory or Embree
+ * failed. */
+bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k);
+
 /* Bone-heat weights on the proxy: w[vertex * joints + joint], rows summing to 1. */
 bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_options *o, double **w,
                  rf_rig_stats *st, char *err, size_t n);

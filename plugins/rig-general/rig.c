@@ -525,6 +525,11 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
     if (ok && !k.n)
         ok = rf_rig_fail(err, err_size, "the skeleton has no joint that may carry weights");
     ok = ok && (prepared = rf_rig_prepare(mesh, &o, &p, st, err, err_size));
+    /* Artists' leaf joints (a head, a hand, a tail's last joint) move the part of the mesh
+     * beyond them, along a bone whose end most formats do not store; heated as points they lost
+     * that part to their parent's bone. Given an end where the mesh ends, they keep it. */
+    if (ok && !rf_rig_leaf_tips(&p, &k))
+        ok = rf_rig_fail(err, err_size, "out of memory or Embree failed placing leaf ends");
     ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
     m = ok ? rf_rig_mesh_copy(mesh) : NULL;
     if (ok && (!m || !rf_rig_skin(mesh, &p, &k, w, m, st)))
