@@ -73,6 +73,8 @@ typedef struct rf_rig_ray_ctx {
     struct RTCIntersectContext rtc; /* first: Embree hands the filter a pointer to it */
     const uint32_t *tri_part;
     uint32_t part;
+    uint32_t *crossings; /* when set: [part] surfaces of each part the ray crosses, every hit
+                          * counted and passed through */
 } rf_rig_ray_ctx;
 
 /* Only the ray's own loose part can hide a bone from it: separate parts that overlap (a box
@@ -83,9 +85,12 @@ static void rf_rig_own_part(const struct RTCFilterFunctionNArguments *args)
     const rf_rig_ray_ctx *c = (const rf_rig_ray_ctx *)args->context;
     /* RTCHitN is laid out by columns: Ng_x, Ng_y, Ng_z, u, v, primID, ... N entries each */
     const unsigned *prim = (const unsigned *)args->hit + 5 * (size_t)args->N;
-    for (unsigned i = 0; i < args->N; i++)
-        if (args->valid[i] && c->tri_part[prim[i]] != c->part)
+    for (unsigned i = 0; i < args->N; i++) {
+        if (args->valid[i] && c->crossings)
+            c->crossings[c->tri_part[prim[i]]]++;
+        if (args->valid[i] && (c->crossings || c->tri_part[prim[i]] != c->part))
             args->valid[i] = 0;
+    }
 }
 
 static bool rf_rig_rays_make(rf_rig_rays *r, const rf_rig_geo *g, const uint32_t *vertex_part)
@@ -374,6 +379,82 @@ static void rf_rig_normalise(const rf_rig_prep *p, const rf_rig_bone *bones, uin
     }
 }
 
+/* ---- rigid parts ---- */
+
+#define RF_RIG_SAMPLES 8 /* points per bone for the enclosure test */
+
+/* Which loose parts enclose point q: a ray from q crosses the surface of an enclosing closed
+ * part an odd number of times. Odd counts into crossings (zeroed again by the caller). */
+static void rf_rig_enclosing(const rf_rig_rays *r, const double q[3], double far,
+                             uint32_t *crossings)
+{
+    struct RTCRay ray = {0};
+    /* an oblique direction, so the ray does not run along the faces of an axis-aligned box */
+    ray.org_x = (float)q[0], ray.org_y = (float)q[1], ray.org_z = (float)q[2];
+    ray.dir_x = 0.5773f, ray.dir_y = 0.6172f, ray.dir_z = 0.5345f;
+    ray.tnear = 0, ray.tfar = (float)far, ray.mask = UINT32_MAX;
+    rf_rig_ray_ctx ctx = {.tri_part = r->tri_part, .part = RF_RIG_NONE, .crossings = crossings};
+    rtcInitIntersectContext(&ctx.rtc);
+    rtcOccluded1(r->scene, &ctx.rtc, &ray);
+}
+
+/* A loose part that encloses bones of one joint (seven tenths of the bone length inside it or
+ * more) is moved by that joint alone, as the boxes of a low-poly model are bound: bone heat
+ * blends such a box between the bones it touches and shears it. A part enclosing several
+ * joints' bones (a robe over both legs, a sleeve over an elbow) or none (an eye) keeps its
+ * blended weights; so does the largest part (the body). */
+static bool rf_rig_rigid_parts(const rf_rig_prep *p, const rf_rig_rays *rays,
+                               const rf_rig_bone *bones, uint32_t nb, uint32_t nj, double *w)
+{
+    uint32_t np = p->proxy_parts;
+    double *held = calloc((size_t)np * nj + 1, sizeof *held), *sum = calloc(np + 1, sizeof *sum);
+    uint32_t *crossings = calloc(np + 1, sizeof *crossings), *size = calloc(np + 1, sizeof *size);
+    uint32_t *owner = malloc((np + 1) * sizeof *owner);
+    bool ok = held && sum && crossings && size && owner;
+    double far = 4 * p->longest;
+    for (uint32_t b = 0; ok && b < nb; b++) {
+        double len = 0;
+        for (int c = 0; c < 3; c++)
+            len += (bones[b].b[c] - bones[b].a[c]) * (bones[b].b[c] - bones[b].a[c]);
+        len = sqrt(len) / RF_RIG_SAMPLES;
+        for (int k = 0; len > 0 && k < RF_RIG_SAMPLES; k++) {
+            double t = (k + 0.5) / RF_RIG_SAMPLES, q[3];
+            for (int c = 0; c < 3; c++)
+                q[c] = bones[b].a[c] + t * (bones[b].b[c] - bones[b].a[c]);
+            rf_rig_enclosing(rays, q, far, crossings);
+            for (uint32_t part = 0; part < np; part++) {
+                if (crossings[part] & 1)
+                    held[(size_t)part * nj + bones[b].joint] += len, sum[part] += len;
+                crossings[part] = 0;
+            }
+        }
+    }
+    uint32_t largest = 0;
+    for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
+        size[p->proxy_part[i]]++;
+    for (uint32_t part = 0; ok && part < np; part++) {
+        largest = size[part] > size[largest] ? part : largest;
+        owner[part] = RF_RIG_NONE;
+        const double *h = held + (size_t)part * nj;
+        uint32_t best = 0;
+        for (uint32_t j = 1; j < nj; j++)
+            best = h[j] > h[best] ? j : best;
+        if (sum[part] > 0 && h[best] >= 0.7 * sum[part])
+            owner[part] = best;
+    }
+    if (ok)
+        owner[largest] = RF_RIG_NONE;
+    for (uint32_t i = 0; ok && i < p->proxy.nv; i++) {
+        uint32_t j = owner[p->proxy_part[i]];
+        if (j == RF_RIG_NONE)
+            continue;
+        memset(w + (size_t)i * nj, 0, nj * sizeof *w);
+        w[(size_t)i * nj + j] = 1;
+    }
+    free(held), free(sum), free(crossings), free(size), free(owner);
+    return ok;
+}
+
 bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_options *o, double **w,
                  rf_rig_stats *st, char *err, size_t n)
 {
@@ -387,7 +468,7 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     bool ok = nb && src && bd && lit && *w;
     if (!ok)
         rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
-    if (ok && !o->no_visibility && !rf_rig_rays_make(&rays, &p->proxy, p->proxy_part))
+    if (ok && !rf_rig_rays_make(&rays, &p->proxy, p->proxy_part))
         ok = rf_rig_fail(err, n, "Embree could not build the ray-casting scene");
     if (ok) {
         rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, o->leaf_points_own, src, bd,
@@ -396,6 +477,8 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     }
     if (ok)
         rf_rig_normalise(p, bones, nb, nj, *w, st);
+    if (ok && p->proxy_parts > 1 && !rf_rig_rigid_parts(p, &rays, bones, nb, nj, *w))
+        ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     rf_rig_rays_free(&rays);
     free(bones), free(src), free(bd), free(lit);
     if (!ok)
