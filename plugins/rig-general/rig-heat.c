@@ -199,8 +199,9 @@ bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k)
 /* ---- heat sources ---- */
 
 typedef struct rf_rig_src {
-    double h;       /* heat coefficient 1/d^2 (before the vertex area) */
-    uint32_t joint; /* the joint whose bone heats the vertex */
+    double h;        /* heat coefficient 1/d^2 (before the vertex area) */
+    uint32_t joint;  /* the joint whose bone heats the vertex */
+    uint32_t joint2; /* another joint whose bone is as near and seen (the heat shared), or NONE */
 } rf_rig_src;
 
 typedef struct rf_rig_bd {
@@ -242,13 +243,26 @@ static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint3
         }
         qsort(bd, nb, sizeof *bd, rf_rig_bd_cmp);
         double d0 = fmax(bd[0].d, floor_d);
-        src[i].h = 0, src[i].joint = bones[bd[0].b].joint;
-        for (uint32_t k = 0; k < nb && k < 8; k++) {
+        src[i].h = 0, src[i].joint = bones[bd[0].b].joint, src[i].joint2 = RF_RIG_NONE;
+        uint32_t k = 0;
+        for (; k < nb && k < 8; k++) {
             rf_rig_seg_dist(q, &bones[bd[k].b], c);
             if (!rays || rf_rig_sees(rays, p->proxy_part[i], q, c, eps)) {
                 double d = fmax(bd[k].d, floor_d);
                 src[i].h = 1.0 / (d * d), src[i].joint = bones[bd[k].b].joint;
                 lit[p->proxy_part[i]] = 1;
+                break;
+            }
+        }
+        /* two bones meeting at a joint are equally near every vertex whose nearest point on
+         * both is that joint (the outside of a bend): both heat it, as in Pinocchio, instead
+         * of whichever the sort put first */
+        double tie = 1e-10 * (bd[0].d + p->longest);
+        for (uint32_t t = k + 1; src[i].h > 0 && t < nb && t < 8 && bd[t].d - bd[k].d <= tie; t++) {
+            rf_rig_seg_dist(q, &bones[bd[t].b], c);
+            if (bones[bd[t].b].joint != src[i].joint &&
+                (!rays || rf_rig_sees(rays, p->proxy_part[i], q, c, eps))) {
+                src[i].joint2 = bones[bd[t].b].joint;
                 break;
             }
         }
@@ -329,8 +343,12 @@ static bool rf_rig_solve(const rf_rig_geo *g, const rf_rig_src *src, uint32_t nj
     cholmod_dense *B = ok ? cholmod_zeros(g->nv, nj, CHOLMOD_REAL, &cc) : NULL, *X = NULL;
     if (B) {
         double *bx = B->x;
-        for (uint32_t i = 0; i < g->nv; i++)
-            bx[(size_t)src[i].joint * g->nv + i] = area[i] * src[i].h;
+        for (uint32_t i = 0; i < g->nv; i++) {
+            double heat = area[i] * src[i].h;
+            if (src[i].joint2 != RF_RIG_NONE)
+                bx[(size_t)src[i].joint2 * g->nv + i] = heat / 2, heat /= 2;
+            bx[(size_t)src[i].joint * g->nv + i] = heat;
+        }
         X = cholmod_solve(CHOLMOD_A, L, B, &cc);
     }
     if (X) {
