@@ -428,15 +428,16 @@ static void rf_rig_enclosing(const rf_rig_rays *r, const double q[3], double far
  * more) is moved by that joint alone, as the boxes of a low-poly model are bound: bone heat
  * blends such a box between the bones it touches and shears it. A part enclosing several
  * joints' bones (a robe over both legs, a sleeve over an elbow) or none (an eye) keeps its
- * blended weights; so does the largest part (the body). */
+ * blended weights; so does the part with the largest surface (the body). */
 static bool rf_rig_rigid_parts(const rf_rig_prep *p, const rf_rig_rays *rays,
                                const rf_rig_bone *bones, uint32_t nb, uint32_t nj, double *w)
 {
     uint32_t np = p->proxy_parts;
     double *held = calloc((size_t)np * nj + 1, sizeof *held), *sum = calloc(np + 1, sizeof *sum);
-    uint32_t *crossings = calloc(np + 1, sizeof *crossings), *size = calloc(np + 1, sizeof *size);
+    uint32_t *crossings = calloc(np + 1, sizeof *crossings);
+    double *area = calloc(np + 1, sizeof *area);
     uint32_t *owner = malloc((np + 1) * sizeof *owner);
-    bool ok = held && sum && crossings && size && owner;
+    bool ok = held && sum && crossings && area && owner;
     double far = 4 * p->longest;
     for (uint32_t b = 0; ok && b < nb; b++) {
         double len = 0;
@@ -456,10 +457,12 @@ static bool rf_rig_rigid_parts(const rf_rig_prep *p, const rf_rig_rays *rays,
         }
     }
     uint32_t largest = 0;
-    for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
-        size[p->proxy_part[i]]++;
+    for (uint32_t t = 0; ok && t < p->proxy.nt; t++) {
+        double cot[3];
+        area[p->proxy_part[p->proxy.t[t * 3]]] += rf_rig_tri(&p->proxy, t, cot);
+    }
     for (uint32_t part = 0; ok && part < np; part++) {
-        largest = size[part] > size[largest] ? part : largest;
+        largest = area[part] > area[largest] ? part : largest;
         owner[part] = RF_RIG_NONE;
         const double *h = held + (size_t)part * nj;
         uint32_t best = 0;
@@ -477,7 +480,7 @@ static bool rf_rig_rigid_parts(const rf_rig_prep *p, const rf_rig_rays *rays,
         memset(w + (size_t)i * nj, 0, nj * sizeof *w);
         w[(size_t)i * nj + j] = 1;
     }
-    free(held), free(sum), free(crossings), free(size), free(owner);
+    free(held), free(sum), free(crossings), free(area), free(owner);
     return ok;
 }
 

@@ -2,8 +2,9 @@
  * with a reason, never with a vertex left unweighted; the rig does not depend on the unit or the
  * facing; bad input (empty, a point cloud, a sheet, nothing but specks, broken numbers) is
  * refused with a message and nothing allocated; a big scan goes through the simplified proxy; legs
- * a few voxels apart stay apart; a given skeleton is weighted as its artist would. The template
- * rigger lays its joints where a person would put them on a box creature and on the shared
+ * a few voxels apart stay apart; a given skeleton is weighted as its artist would (a leaf joint
+ * without an end site keeps the mesh past it, a box of a box model moves with one joint). The
+ * template rigger lays its joints where a person would put them on a box creature and on the shared
  * RiggedFigure and Fox, and refuses a body with no legs, saying why. */
 #include <math.h>
 #include <setjmp.h>
@@ -513,6 +514,96 @@ static void test_bind_given(void **state)
     rf_skeleton_free(s), rf_mesh_free(in);
 }
 
+/* A tube along +Y from 0 to 2 (radius 0.2), finely tessellated. */
+static rf_mesh *tube(void)
+{
+    const uint32_t rings = 81, segs = 16;
+    rf_mesh *in = rf_mesh_new();
+    in->vertex_count = rings * segs;
+    in->positions = malloc((size_t)in->vertex_count * 3 * sizeof(float));
+    in->triangles = malloc((size_t)(rings - 1) * segs * 6 * sizeof(uint32_t));
+    for (uint32_t r = 0; r < rings; r++)
+        for (uint32_t k = 0; k < segs; k++) {
+            double a = 2 * M_PI * k / segs, t = (double)r / (rings - 1);
+            double rad = 0.2 * sqrt(fmax(0, 1 - pow(2 * t - 1, 8))) + 1e-3;
+            float *p = in->positions + ((size_t)r * segs + k) * 3;
+            p[0] = (float)(rad * cos(a)), p[1] = (float)(2 * t), p[2] = (float)(rad * sin(a));
+        }
+    for (uint32_t r = 0; r + 1 < rings; r++)
+        for (uint32_t k = 0; k < segs; k++) {
+            uint32_t a = r * segs + k, b = r * segs + (k + 1) % segs, c = a + segs, d = b + segs;
+            uint32_t *t = in->triangles + (size_t)in->triangle_count * 3;
+            t[0] = a, t[1] = c, t[2] = b, t[3] = b, t[4] = c, t[5] = d;
+            in->triangle_count += 2;
+        }
+    return in;
+}
+
+/* The weight vertex v of m gives joint j. */
+static double weight_of(const rf_mesh *m, uint32_t v, uint32_t j)
+{
+    double w = 0;
+    for (int k = 0; k < 4; k++)
+        w += m->skin_joints[v * 4 + k] == j ? m->skin_weights[v * 4 + k] : 0;
+    return w;
+}
+
+/* A chain (a tail: joints at 0.2, 0.8 and 1.4 up a tube of length 2) whose last joint has no end
+ * site, as glTF, FBX and .X files store it: the tube past the last joint moves with the last
+ * joint, heated by a bone of its own (on in its parent's direction up to the surface). Measured:
+ * at least 0.85 of every vertex past 1.55; 0.78 when the leaf was heated as a point (which the
+ * parent's bone, ending there, ties with for every vertex past it). */
+static void test_bind_leaf_end(void **state)
+{
+    (void)state;
+    rf_mesh *in = tube();
+    rf_skeleton *s = rf_skeleton_new(3);
+    for (uint32_t j = 0; j < 3; j++) {
+        s->joints[j].parent = (int32_t)j - 1;
+        s->joints[j].rest = rf_xform_identity();
+        s->joints[j].rest.t = rf_v3(0, j ? 0.6 : 0.2, 0);
+    }
+    rf_mesh *m = NULL;
+    char err[256];
+    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    double least = 1;
+    for (uint32_t v = 0; v < m->vertex_count; v++)
+        if (m->positions[v * 3 + 1] > 1.55)
+            least = fmin(least, weight_of(m, v, 2));
+    printf("# tube past its last joint: the last joint's weight at least %.3f\n", least);
+    assert_true(least > 0.82);
+    rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
+}
+
+/* A box model: a body box and an arm box, two loose parts that overlap at the shoulder, the arm's
+ * bone (with its end site) inside the arm box. The arm box moves with the arm alone (weight 1 on
+ * every one of its corners), as a box model is bound; bone heat alone shares the corners inside
+ * the body with the body's bone (the one from the body joint to the arm joint). */
+static void test_bind_rigid_part(void **state)
+{
+    (void)state;
+    rf_mesh *in = rf_mesh_new();
+    in->positions = calloc(16 * 3, sizeof(float));
+    in->triangles = calloc(24 * 3, sizeof(uint32_t));
+    add_box(in, -0.5, 0, -0.5, 0.5, 2, 0.5);    /* the body */
+    add_box(in, 0.3, 1.3, -0.2, 2.0, 1.7, 0.2); /* the arm, into the body at the shoulder */
+    rf_skeleton *s = rf_skeleton_new(2);
+    s->joints[0].parent = -1, s->joints[1].parent = 0;
+    s->joints[0].rest = s->joints[1].rest = rf_xform_identity();
+    s->joints[0].rest.t = rf_v3(0, 1, 0), s->joints[1].rest.t = rf_v3(0.4, 0.5, 0);
+    s->joints[1].end_site = rf_v3(1.4, 0, 0), s->joints[1].flags |= RF_JOINT_HAS_END_SITE;
+    rf_mesh *m = NULL;
+    char err[256];
+    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    for (uint32_t v = 8; v < 16; v++) {
+        printf("# arm box corner %u: arm weight %.3f\n", v, weight_of(m, v, 1));
+        assert_true(weight_of(m, v, 1) > 0.999);
+    }
+    rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
+}
+
 /* ---- the template rigger ---- */
 
 static int32_t joint_named(const rf_skeleton *s, const char *name)
@@ -702,6 +793,7 @@ int main(void)
         cmocka_unit_test(test_any_facing),         cmocka_unit_test(test_loose_parts),
         cmocka_unit_test(test_big_scan),           cmocka_unit_test(test_testmodels),
         cmocka_unit_test(test_shared_models),      cmocka_unit_test(test_bind_given),
+        cmocka_unit_test(test_bind_leaf_end),      cmocka_unit_test(test_bind_rigid_part),
         cmocka_unit_test(test_narrow_gap),         cmocka_unit_test(test_template_refusal),
         cmocka_unit_test(test_template_quadruped), cmocka_unit_test(test_template_models),
     };
