@@ -201,7 +201,7 @@ bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k)
 /* The heat c in H = c / d^2. Larger c keeps each vertex closer to its nearest bone (sharper
  * weights), smaller c blends more widely. Artists' weights on the shared models are mostly
  * sharper than bone heat's at c = 1 (a mean of 1.0 to 1.8 joints per vertex above the
- * benchmark's pruning on 22 of 23 models, against 1.4 to 3.2); c = 2 matched them better on the
+ * benchmark's pruning on 21 of 23 models, against 1.3 to 3.2); c = 2 matched them better on the
  * artists' own skeletons (precision 64% -> 67%, recall 84% -> 83%, L1 0.71 -> 0.67;
  * doc/autorig.md). */
 #define RF_RIG_HEAT 2.0
