@@ -424,12 +424,27 @@ static void rf_rig_enclosing(const rf_rig_rays *r, const double q[3], double far
     rtcOccluded1(r->scene, &ctx.rtc, &ray);
 }
 
-/* A loose part that encloses bones of one joint (seven tenths of the bone length inside it or
- * more) is moved by that joint alone, as the boxes of a low-poly model are bound: bone heat
- * blends such a box between the bones it touches and shears it. A part enclosing several
- * joints' bones (a robe over both legs, a sleeve over an elbow) or none (an eye) keeps its
- * blended weights; so does the part with the largest surface (the body). */
-static bool rf_rig_rigid_parts(const rf_rig_prep *p, const rf_rig_rays *rays,
+/* A row of weights kept to the joints whose bones the vertex's part encloses (held[j] > 0),
+ * renormalised; a row with none of them left takes the joint holding the most. */
+static void rf_rig_keep_enclosed(const double *held, uint32_t nj, double *row)
+{
+    double total = 0;
+    uint32_t best = 0;
+    for (uint32_t j = 0; j < nj; j++) {
+        best = held[j] > held[best] ? j : best;
+        total += row[j] = held[j] > 0 ? row[j] : 0;
+    }
+    for (uint32_t j = 0; j < nj; j++)
+        row[j] = total > 0 ? row[j] / total : j == best;
+}
+
+/* A loose part that encloses bones is moved by the joints whose bones it encloses, and only by
+ * them: a sleeve over an elbow by the upper arm and the forearm, not by the chest beside it.
+ * When one joint holds seven tenths of the bone length inside it or more, by that joint alone,
+ * as the boxes of a low-poly model are bound: bone heat blends such a box between the bones it
+ * touches and shears it. A part enclosing no bone (an eye) keeps its weights, and so does the
+ * part with the largest surface (the body). */
+static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
                                const rf_rig_bone *bones, uint32_t nb, uint32_t nj, double *w)
 {
     uint32_t np = p->proxy_parts;
@@ -473,6 +488,10 @@ static bool rf_rig_rigid_parts(const rf_rig_prep *p, const rf_rig_rays *rays,
     }
     if (ok)
         owner[largest] = RF_RIG_NONE;
+    for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
+        if (p->proxy_part[i] != largest && sum[p->proxy_part[i]] > 0 &&
+            owner[p->proxy_part[i]] == RF_RIG_NONE)
+            rf_rig_keep_enclosed(held + (size_t)p->proxy_part[i] * nj, nj, w + (size_t)i * nj);
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++) {
         uint32_t j = owner[p->proxy_part[i]];
         if (j == RF_RIG_NONE)
@@ -506,7 +525,7 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     }
     if (ok)
         rf_rig_normalise(p, bones, nb, nj, *w, st);
-    if (ok && p->proxy_parts > 1 && !rf_rig_rigid_parts(p, &rays, bones, nb, nj, *w))
+    if (ok && p->proxy_parts > 1 && !rf_rig_part_joints(p, &rays, bones, nb, nj, *w))
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     rf_rig_rays_free(&rays);
     free(bones), free(src), free(bd), free(lit);
