@@ -75,6 +75,7 @@ typedef struct rf_rig_ray_ctx {
     uint32_t part;
     uint32_t *crossings; /* when set: [part] surfaces of each part the ray crosses, every hit
                           * counted and passed through */
+    uint32_t *crossed, *ncrossed; /* the parts crossed at all, in crossed[0..*ncrossed) */
 } rf_rig_ray_ctx;
 
 /* Only the ray's own loose part can hide a bone from it: separate parts that overlap (a box
@@ -86,8 +87,8 @@ static void rf_rig_own_part(const struct RTCFilterFunctionNArguments *args)
     /* RTCHitN is laid out by columns: Ng_x, Ng_y, Ng_z, u, v, primID, ... N entries each */
     const unsigned *prim = (const unsigned *)args->hit + 5 * (size_t)args->N;
     for (unsigned i = 0; i < args->N; i++) {
-        if (args->valid[i] && c->crossings)
-            c->crossings[c->tri_part[prim[i]]]++;
+        if (args->valid[i] && c->crossings && c->crossings[c->tri_part[prim[i]]]++ == 0)
+            c->crossed[(*c->ncrossed)++] = c->tri_part[prim[i]];
         if (args->valid[i] && (c->crossings || c->tri_part[prim[i]] != c->part))
             args->valid[i] = 0;
     }
@@ -410,18 +411,25 @@ static void rf_rig_normalise(const rf_rig_prep *p, const rf_rig_bone *bones, uin
 #define RF_RIG_SAMPLES 8 /* points per bone for the enclosure test */
 
 /* Which loose parts enclose point q: a ray from q crosses the surface of an enclosing closed
- * part an odd number of times. Odd counts into crossings (zeroed again by the caller). */
-static void rf_rig_enclosing(const rf_rig_rays *r, const double q[3], double far,
-                             uint32_t *crossings)
+ * part an odd number of times. Counts into crossings (zeroed again by the caller), the parts
+ * crossed into crossed[0..return value). */
+static uint32_t rf_rig_enclosing(const rf_rig_rays *r, const double q[3], double far,
+                                 uint32_t *crossings, uint32_t *crossed)
 {
+    uint32_t ncrossed = 0;
     struct RTCRay ray = {0};
     /* an oblique direction, so the ray does not run along the faces of an axis-aligned box */
     ray.org_x = (float)q[0], ray.org_y = (float)q[1], ray.org_z = (float)q[2];
     ray.dir_x = 0.5773f, ray.dir_y = 0.6172f, ray.dir_z = 0.5345f;
     ray.tnear = 0, ray.tfar = (float)far, ray.mask = UINT32_MAX;
-    rf_rig_ray_ctx ctx = {.tri_part = r->tri_part, .part = RF_RIG_NONE, .crossings = crossings};
+    rf_rig_ray_ctx ctx = {.tri_part = r->tri_part,
+                          .part = RF_RIG_NONE,
+                          .crossings = crossings,
+                          .crossed = crossed,
+                          .ncrossed = &ncrossed};
     rtcInitIntersectContext(&ctx.rtc);
     rtcOccluded1(r->scene, &ctx.rtc, &ray);
+    return ncrossed;
 }
 
 /* A row of weights kept to the joints whose bones the vertex's part encloses (held[j] > 0),
@@ -450,9 +458,10 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
     uint32_t np = p->proxy_parts;
     double *held = calloc((size_t)np * nj + 1, sizeof *held), *sum = calloc(np + 1, sizeof *sum);
     uint32_t *crossings = calloc(np + 1, sizeof *crossings);
+    uint32_t *crossed = malloc((np + 1) * sizeof *crossed);
     double *area = calloc(np + 1, sizeof *area);
     uint32_t *owner = malloc((np + 1) * sizeof *owner);
-    bool ok = held && sum && crossings && area && owner;
+    bool ok = held && sum && crossings && crossed && area && owner;
     double far = 4 * p->longest;
     for (uint32_t b = 0; ok && b < nb; b++) {
         double len = 0;
@@ -463,8 +472,9 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
             double t = (k + 0.5) / RF_RIG_SAMPLES, q[3];
             for (int c = 0; c < 3; c++)
                 q[c] = bones[b].a[c] + t * (bones[b].b[c] - bones[b].a[c]);
-            rf_rig_enclosing(rays, q, far, crossings);
-            for (uint32_t part = 0; part < np; part++) {
+            uint32_t n = rf_rig_enclosing(rays, q, far, crossings, crossed);
+            for (uint32_t x = 0; x < n; x++) {
+                uint32_t part = crossed[x];
                 if (crossings[part] & 1)
                     held[(size_t)part * nj + bones[b].joint] += len, sum[part] += len;
                 crossings[part] = 0;
@@ -499,7 +509,7 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         memset(w + (size_t)i * nj, 0, nj * sizeof *w);
         w[(size_t)i * nj + j] = 1;
     }
-    free(held), free(sum), free(crossings), free(area), free(owner);
+    free(held), free(sum), free(crossings), free(crossed), free(area), free(owner);
     return ok;
 }
 
