@@ -410,25 +410,35 @@ static void rf_rig_normalise(const rf_rig_prep *p, const rf_rig_bone *bones, uin
 
 #define RF_RIG_SAMPLES 8 /* points per bone for the enclosure test */
 
-/* Which loose parts enclose point q: a ray from q crosses the surface of an enclosing closed
- * part an odd number of times. Counts into crossings (zeroed again by the caller), the parts
- * crossed into crossed[0..return value). */
-static uint32_t rf_rig_enclosing(const rf_rig_rays *r, const double q[3], double far,
-                                 uint32_t *crossings, uint32_t *crossed)
+/* The surfaces of each part a ray from q along d crosses, counted into crossings[part] (zeroed
+ * by the caller); each part crossed is appended to crossed[*ncrossed] when its count leaves 0. */
+static void rf_rig_cross(const rf_rig_rays *r, const double q[3], const float d[3], double far,
+                         uint32_t *crossings, uint32_t *crossed, uint32_t *ncrossed)
 {
-    uint32_t ncrossed = 0;
     struct RTCRay ray = {0};
-    /* an oblique direction, so the ray does not run along the faces of an axis-aligned box */
     ray.org_x = (float)q[0], ray.org_y = (float)q[1], ray.org_z = (float)q[2];
-    ray.dir_x = 0.5773f, ray.dir_y = 0.6172f, ray.dir_z = 0.5345f;
+    ray.dir_x = d[0], ray.dir_y = d[1], ray.dir_z = d[2];
     ray.tnear = 0, ray.tfar = (float)far, ray.mask = UINT32_MAX;
     rf_rig_ray_ctx ctx = {.tri_part = r->tri_part,
                           .part = RF_RIG_NONE,
                           .crossings = crossings,
                           .crossed = crossed,
-                          .ncrossed = &ncrossed};
+                          .ncrossed = ncrossed};
     rtcInitIntersectContext(&ctx.rtc);
     rtcOccluded1(r->scene, &ctx.rtc, &ray);
+}
+
+/* Which loose parts enclose point q: rays from q both ways along one oblique line (not along the
+ * faces of an axis-aligned box) each cross an enclosing closed part's surface an odd number of
+ * times; an open sheet (a cape) passes one way only. The counts into ahead[] and behind[], the
+ * parts crossed into crossed[0..return value), perhaps twice. */
+static uint32_t rf_rig_enclosing(const rf_rig_rays *r, const double q[3], double far,
+                                 uint32_t *ahead, uint32_t *behind, uint32_t *crossed)
+{
+    static const float d[2][3] = {{0.5773f, 0.6172f, 0.5345f}, {-0.5773f, -0.6172f, -0.5345f}};
+    uint32_t ncrossed = 0;
+    rf_rig_cross(r, q, d[0], far, ahead, crossed, &ncrossed);
+    rf_rig_cross(r, q, d[1], far, behind, crossed, &ncrossed);
     return ncrossed;
 }
 
@@ -457,11 +467,11 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
 {
     uint32_t np = p->proxy_parts;
     double *held = calloc((size_t)np * nj + 1, sizeof *held), *sum = calloc(np + 1, sizeof *sum);
-    uint32_t *crossings = calloc(np + 1, sizeof *crossings);
-    uint32_t *crossed = malloc((np + 1) * sizeof *crossed);
+    uint32_t *ahead = calloc(np + 1, sizeof *ahead), *behind = calloc(np + 1, sizeof *behind);
+    uint32_t *crossed = malloc((2 * (size_t)np + 1) * sizeof *crossed);
     double *area = calloc(np + 1, sizeof *area);
     uint32_t *owner = malloc((np + 1) * sizeof *owner);
-    bool ok = held && sum && crossings && crossed && area && owner;
+    bool ok = held && sum && ahead && behind && crossed && area && owner;
     double far = 4 * p->longest;
     for (uint32_t b = 0; ok && b < nb; b++) {
         double len = 0;
@@ -472,12 +482,12 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
             double t = (k + 0.5) / RF_RIG_SAMPLES, q[3];
             for (int c = 0; c < 3; c++)
                 q[c] = bones[b].a[c] + t * (bones[b].b[c] - bones[b].a[c]);
-            uint32_t n = rf_rig_enclosing(rays, q, far, crossings, crossed);
+            uint32_t n = rf_rig_enclosing(rays, q, far, ahead, behind, crossed);
             for (uint32_t x = 0; x < n; x++) {
                 uint32_t part = crossed[x];
-                if (crossings[part] & 1)
+                if ((ahead[part] & 1) && (behind[part] & 1))
                     held[(size_t)part * nj + bones[b].joint] += len, sum[part] += len;
-                crossings[part] = 0;
+                ahead[part] = behind[part] = 0;
             }
         }
     }
@@ -509,7 +519,7 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         memset(w + (size_t)i * nj, 0, nj * sizeof *w);
         w[(size_t)i * nj + j] = 1;
     }
-    free(held), free(sum), free(crossings), free(crossed), free(area), free(owner);
+    free(held), free(sum), free(ahead), free(behind), free(crossed), free(area), free(owner);
     return ok;
 }
 

@@ -637,6 +637,38 @@ static void test_bind_sleeve(void **state)
     rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
 }
 
+/* An open sheet (a cape: one quad, its own loose part) hanging in front of a body with a
+ * two-joint spine. A ray from the spine's points one way crosses it once; it encloses nothing,
+ * so it keeps its bone heat: its top corners, nearest the upper joint's bone, move with the
+ * upper joint. Counted one way only, the sheet "enclosed" both bones and went rigidly with the
+ * lower joint, which holds most of their length. */
+static void test_bind_open_sheet(void **state)
+{
+    (void)state;
+    rf_mesh *in = rf_mesh_new();
+    in->positions = calloc(12 * 3, sizeof(float));
+    in->triangles = calloc(14 * 3, sizeof(uint32_t));
+    add_box(in, -0.5, 0, -0.5, 0.5, 2, 0.5); /* the body */
+    static const float cape[4][3] = {{-1, 0, 0.7}, {1.5, 0, 0.7}, {1.5, 3.5, 0.7}, {-1, 3.5, 0.7}};
+    memcpy(in->positions + 8 * 3, cape, sizeof cape);
+    static const uint32_t quad[6] = {8, 9, 10, 8, 10, 11};
+    memcpy(in->triangles + 12 * 3, quad, sizeof quad);
+    in->vertex_count = 12, in->triangle_count = 14;
+    rf_skeleton *s = rf_skeleton_new(2);
+    s->joints[0].parent = -1, s->joints[1].parent = 0;
+    s->joints[0].rest = s->joints[1].rest = rf_xform_identity();
+    s->joints[0].rest.t = rf_v3(0, 0.5, 0), s->joints[1].rest.t = rf_v3(0, 1, 0);
+    s->joints[1].end_site = rf_v3(0, 0.4, 0), s->joints[1].flags |= RF_JOINT_HAS_END_SITE;
+    rf_mesh *m = NULL;
+    char err[256];
+    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    double top = fmin(weight_of(m, 10, 1), weight_of(m, 11, 1));
+    printf("# cape: the upper joint's weight on its top corners at least %.3f\n", top);
+    assert_true(top > 0.5);
+    rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
+}
+
 /* ---- the template rigger ---- */
 
 static int32_t joint_named(const rf_skeleton *s, const char *name)
@@ -822,14 +854,14 @@ static void test_template_models(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_bad_input),        cmocka_unit_test(test_any_scale),
-        cmocka_unit_test(test_any_facing),       cmocka_unit_test(test_loose_parts),
-        cmocka_unit_test(test_big_scan),         cmocka_unit_test(test_testmodels),
-        cmocka_unit_test(test_shared_models),    cmocka_unit_test(test_bind_given),
-        cmocka_unit_test(test_bind_leaf_end),    cmocka_unit_test(test_bind_rigid_part),
-        cmocka_unit_test(test_bind_sleeve),      cmocka_unit_test(test_narrow_gap),
-        cmocka_unit_test(test_template_refusal), cmocka_unit_test(test_template_quadruped),
-        cmocka_unit_test(test_template_models),
+        cmocka_unit_test(test_bad_input),          cmocka_unit_test(test_any_scale),
+        cmocka_unit_test(test_any_facing),         cmocka_unit_test(test_loose_parts),
+        cmocka_unit_test(test_big_scan),           cmocka_unit_test(test_testmodels),
+        cmocka_unit_test(test_shared_models),      cmocka_unit_test(test_bind_given),
+        cmocka_unit_test(test_bind_leaf_end),      cmocka_unit_test(test_bind_rigid_part),
+        cmocka_unit_test(test_bind_sleeve),        cmocka_unit_test(test_bind_open_sheet),
+        cmocka_unit_test(test_narrow_gap),         cmocka_unit_test(test_template_refusal),
+        cmocka_unit_test(test_template_quadruped), cmocka_unit_test(test_template_models),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
