@@ -406,7 +406,7 @@ static void rf_rig_normalise(const rf_rig_prep *p, const rf_rig_bone *bones, uin
     }
 }
 
-/* ---- rigid parts ---- */
+/* ---- loose parts enclosing bones ---- */
 
 #define RF_RIG_SAMPLES 8 /* points per bone for the enclosure test */
 
