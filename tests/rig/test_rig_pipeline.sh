@@ -6,8 +6,8 @@
 #   validates and holds the clip.
 # - rigflow rig-bench on four rigged models with their rigs ignored: every vertex weighted, skinning
 #   (after the matcher, and on the artist skeleton, with its L1 below a ceiling) above floors,
-#   both rigs read the same way up
-#   and facing, and CD-J2J (fraction of the longest bounding-box edge) below the thresholds
+#   both rigs read the same way up and facing, and CD-J2J (fraction of the longest bounding-box
+#   edge) below the thresholds
 #   doc/autorig.md records; a worse rigger fails here.
 # - the template rigger (pipelines/autorig-template.json, rig-bench -r template): WusonOBJ.obj gets
 #   the standard names; a sphere (no legs) and spider.obj (eight legs) are refused with the reason
