@@ -353,13 +353,14 @@ static int32_t last_step(const rf_ms_line *l)
 
 /* Whether a line has two real bones in a straight line, one continuing the other (under half a
  * degree), while it bends elsewhere (two degrees or more): a bone cut in two. */
-/* The cosine of the angle between real bones i - 1 and i of a line, or 2 when either is no real
- * bone (an offset, zero length). */
+/* The cosine of the angle between real bones i - 1 and i of a line (a bone continuing another
+ * may give a hair over 1), or 2 when either is no real bone (an offset, zero length) or the
+ * second is a leaf whose direction is only guessed (often its parent's: no straight cut). */
 static double turn_cos(const rf_analysis *a, const rf_ms_line *l, uint32_t i)
 {
     const rf_joint_info *p = &a->joints[l->joint[i - 1]], *j = &a->joints[l->joint[i]];
     if (l->step[i - 1] < 0 || p->length <= 0 || j->length <= 0 ||
-        ((p->flags | j->flags) & RF_JI_ZERO_LENGTH))
+        ((p->flags | j->flags) & RF_JI_ZERO_LENGTH) || (j->flags & RF_JI_TIP_GUESSED))
         return 2;
     return rf_v3_dot(p->dir, j->dir);
 }
@@ -368,8 +369,11 @@ static bool has_cut(const rf_analysis *a, const rf_ms_line *l)
 {
     bool straight = false, bent = false;
     for (uint32_t i = 1; i < l->n; i++) {
+        /* the limb's own bones: a digit lent to the line turns across the hand, no elbow */
+        if (a->joints[l->joint[i]].section != a->joints[l->joint[0]].section)
+            break;
         double d = turn_cos(a, l, i);
-        straight |= d <= 1 && d > cos(0.5 * RF_PI / 180.0);
+        straight |= d < 1.5 && d > cos(0.5 * RF_PI / 180.0); /* a dot may round past 1 */
         bent |= d < cos(2.0 * RF_PI / 180.0);
     }
     /* an arm held straight throughout (motion capture's T-pose) has no cut */
@@ -386,7 +390,7 @@ static void skip_prices(const rf_analysis *a, const rf_ms_line *l, double *out)
     bool cut = limb && has_cut(a, l);
     for (uint32_t i = 0; i < l->n; i++) {
         out[i] = RF_MS_SKIP_COST;
-        if (cut && i > 0 && turn_cos(a, l, i) <= 1 && turn_cos(a, l, i) > cos(0.5 * RF_PI / 180.0))
+        if (cut && i > 0 && turn_cos(a, l, i) < 1.5 && turn_cos(a, l, i) > cos(0.5 * RF_PI / 180.0))
             out[i] = 0.1;
     }
 }
