@@ -1,6 +1,7 @@
 /* The skeletal-similarity matcher: scoring, the best candidates, the one-input-section rule,
  * duplicate-bone removal, the threshold, reversed knees, mirroring, blending several sources. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -540,6 +541,17 @@ static bool remove_duplicates(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_lin
         ok = (c->o->thesis
                   ? rf_ms_assign(cost, n, m, match)
                   : rf_ms_align_priced(cost, n, m, RF_MS_SKIP_COST, skip, skip + n, match)) >= 0;
+    }
+    if (ok && getenv("RF_DEBUG_ALIGN") && n > 3 && m > 3) {
+        fprintf(stderr, "DBG align %u x %u\n", n, m);
+        for (uint32_t q = 0; q < m; q++)
+            fprintf(stderr, "  src %-16s step %d u %.3f..%.3f skip %.2f\n", c->src[k].skel->joints[sl->joint[q]].name, sl->step[q], sl->u0[q], sl->u1[q], skip[n + q]);
+        for (uint32_t i = 0; i < n; i++) {
+            fprintf(stderr, "  tgt %-10s step %d u %.3f..%.3f skip %.2f ->%2d:", c->tgt.skel->joints[tl->joint[i]].name, tl->step[i], tl->u0[i], tl->u1[i], skip[i], match[i]);
+            for (uint32_t q = 0; q < m; q++)
+                fprintf(stderr, " %.3f", cost[(size_t)i * m + q]);
+            fprintf(stderr, "\n");
+        }
     }
     free(skip);
     for (uint32_t i = 0; ok && i < n; i++)
