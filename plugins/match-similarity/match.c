@@ -369,14 +369,23 @@ static double turn_cos(const rf_analysis *a, const rf_ms_line *l, uint32_t i)
 static bool has_cut(const rf_analysis *a, const rf_ms_line *l)
 {
     bool straight = false, bent = false;
-    for (uint32_t i = 1; i < l->n; i++) {
-        /* the limb's own bones: a digit lent to the line turns across the hand, no elbow */
-        if (a->joints[l->joint[i]].section != a->joints[l->joint[0]].section)
-            break;
+    double longest = 0;
+    uint32_t own = 0; /* the limb's own bones: a digit lent to the line turns across the hand */
+    while (own < l->n && a->joints[l->joint[own]].section == a->joints[l->joint[0]].section)
+        longest = fmax(longest, a->joints[l->joint[own++]].length);
+    uint32_t long_straight = 0;
+    for (uint32_t i = 1; i < own; i++) {
         double d = turn_cos(a, l, i);
-        straight |= d < 1.5 && d > cos(0.5 * RF_PI / 180.0); /* a dot may round past 1 */
-        bent |= d < cos(2.0 * RF_PI / 180.0);
+        /* an elbow or a knee joins two long bones; a hand or a foot is short */
+        bool elbow =
+            fmin(a->joints[l->joint[i - 1]].length, a->joints[l->joint[i]].length) >= 0.5 * longest;
+        bool line = d < 1.5 && d > cos(0.5 * RF_PI / 180.0); /* a dot may round past 1 */
+        straight |= line;
+        long_straight += line && elbow;
+        bent |= d < cos(2.0 * RF_PI / 180.0) && elbow;
     }
+    /* a straight elbow explains one straight joint between long bones, not two */
+    bent |= long_straight >= 2;
     /* an arm held straight throughout (motion capture's T-pose) has no cut */
     return straight && bent;
 }
@@ -406,6 +415,41 @@ static double step_weight(const rf_ms_ctx *c, bool digit, const rf_ms_line *tl, 
         return 0.3;
     bool cut = rt > rs ? has_cut(c->tgt.a, tl) : has_cut(c->src[k].a, sl);
     return cut ? 0.1 : 0.3;
+}
+
+/* The angle of entry i's bone from the line's first real bone (0 when either has none): how far
+ * the limb has turned by then, whatever pose the limb is held in. */
+static double turned(const rf_analysis *a, const rf_ms_line *l, uint32_t i)
+{
+    const rf_joint_info *j = &a->joints[l->joint[i]];
+    for (uint32_t f = 0; f < l->n; f++) {
+        const rf_joint_info *r = &a->joints[l->joint[f]];
+        if (l->step[f] >= 0 && r->length > 0 && !(r->flags & RF_JI_ZERO_LENGTH))
+            return j->length > 0 ? rf_v3_angle(r->dir, j->dir) : 0;
+    }
+    return 0;
+}
+
+/* Where a cut limb's bone counts say little, which way a bone points still tells a shin from a
+ * foot: 0 (alike) to 1 (45 degrees apart or more), in the bodies' frames; between limbs of two
+ * kinds (an arm held out against a foreleg standing under the body, pointing elsewhere
+ * throughout yet turning alike along its length) the less of that and of how far each has
+ * turned from its limb's first bone. */
+static double turn_apart(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, uint32_t k,
+                         const rf_ms_line *sl, uint32_t q)
+{
+    uint32_t t = tl->joint[i], j = sl->joint[q];
+    rf_vec3 a = c->tgt.bdir[t], b = c->src[k].bdir[j];
+    if (rf_v3_len2(a) == 0 || rf_v3_len2(b) == 0)
+        return 0;
+    rf_side st = c->tgt.a->joints[t].side, ss = c->src[k].a->joints[j].side;
+    if (st != RF_SIDE_CENTER && ss != RF_SIDE_CENTER && st != ss)
+        b.x = -b.x;
+    double d = rf_v3_angle(a, b);
+    if (c->tgt.a->sections[c->tgt.a->joints[t].section].type !=
+        c->src[k].a->sections[c->src[k].a->joints[j].section].type)
+        d = fmin(d, fabs(turned(c->tgt.a, tl, i) - turned(c->src[k].a, sl, q)));
+    return fmin(1, d / (0.25 * RF_PI));
 }
 
 /* The DP's cost of entry i of the target line against entry q of the source line: the thesis
@@ -520,6 +564,25 @@ static void best_within(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_line *tl,
     }
 }
 
+/* Where two limbs' bone counts say little (one has a bone cut in two), a target bone pays for
+ * pointing elsewhere than the source bone, beyond what it pays against the source bone it points
+ * most alike (a rig whose bones all point elsewhere, or a limb held in another pose, pays
+ * nothing): up to 0.3. */
+static void add_turns(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t k, const rf_ms_line *sl,
+                      double *cost)
+{
+    if (c->o->thesis || tl->n == 0 || !is_limb(c->tgt.a, c->tgt.a->joints[tl->joint[0]].section) ||
+        step_weight(c, false, tl, k, sl) >= 0.3)
+        return;
+    for (uint32_t i = 0; i < tl->n; i++) {
+        double least = 1;
+        for (uint32_t q = 0; q < sl->n; q++)
+            least = fmin(least, turn_apart(c, tl, i, k, sl, q));
+        for (uint32_t q = 0; q < sl->n; q++)
+            cost[(size_t)i * sl->n + q] += 0.3 * (turn_apart(c, tl, i, k, sl, q) - least);
+    }
+}
+
 /* Assigns along the two lines. The thesis matches every bone of the shorter section; here
  * either side may also leave a bone out at a price, so a hip offset on one side and a toe on the
  * other do not shift the whole leg. */
@@ -536,22 +599,12 @@ static bool remove_duplicates(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_lin
             for (uint32_t q = 0; q < m; q++)
                 cost[(size_t)i * m + q] =
                     pair_cost(c, tl, i, k, sl, q) + 1e-6 * fabs((double)i / n - (double)q / m);
+        add_turns(c, tl, k, sl, cost);
         skip_prices(c->tgt.a, tl, skip);
         skip_prices(c->src[k].a, sl, skip + n);
         ok = (c->o->thesis
                   ? rf_ms_assign(cost, n, m, match)
                   : rf_ms_align_priced(cost, n, m, RF_MS_SKIP_COST, skip, skip + n, match)) >= 0;
-    }
-    if (ok && getenv("RF_DEBUG_ALIGN") && n > 3 && m > 3) {
-        fprintf(stderr, "DBG align %u x %u\n", n, m);
-        for (uint32_t q = 0; q < m; q++)
-            fprintf(stderr, "  src %-16s step %d u %.3f..%.3f skip %.2f\n", c->src[k].skel->joints[sl->joint[q]].name, sl->step[q], sl->u0[q], sl->u1[q], skip[n + q]);
-        for (uint32_t i = 0; i < n; i++) {
-            fprintf(stderr, "  tgt %-10s step %d u %.3f..%.3f skip %.2f ->%2d:", c->tgt.skel->joints[tl->joint[i]].name, tl->step[i], tl->u0[i], tl->u1[i], skip[i], match[i]);
-            for (uint32_t q = 0; q < m; q++)
-                fprintf(stderr, " %.3f", cost[(size_t)i * m + q]);
-            fprintf(stderr, "\n");
-        }
     }
     free(skip);
     for (uint32_t i = 0; ok && i < n; i++)

@@ -371,9 +371,9 @@ static double digit_reach(const rf_ms_skel *s, uint32_t k)
 
 /* A thumb is its own kind of digit: it turns across the palm, not along the fingers' curl. A
  * finger of a hand that has its own thumb is not driven by a source hand's thumb while that
- * hand has other digits (it takes them, whatever its bone count); a wing's membrane fingers (digits far longer for their limb than the source hand's, in a fan
- * without a thumb) are not driven by a source hand's thumb while that hand has other digits:
- * they take its fingers. */
+ * hand has other digits (it takes them, whatever its bone count); a wing's membrane fingers (digits
+ * far longer for their limb than the source hand's, in a fan without a thumb) are not driven by a
+ * source hand's thumb while that hand has other digits: they take its fingers. */
 static bool thumb_misfit(const rf_ms_skel *t, uint32_t ts, const rf_ms_skel *s, uint32_t ss)
 {
     const rf_section *st = &t->a->sections[ts], *sc = &s->a->sections[ss];
