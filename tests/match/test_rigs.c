@@ -38,6 +38,7 @@ typedef struct tally {
     /* wing joints driven by a source with wings from its other forelimbs (a dragon's forelegs),
      * and wing digits driven by a source's thumb */
     int wing_from_leg, wing_on_thumb;
+    int finger_on_thumb; /* a hand's finger (not a wing's) driven by a source thumb */
 } tally;
 
 /* CMU's joints (cmu_01_01.bvh): what each is, by its place in the skeleton. */
@@ -158,6 +159,8 @@ static void one_pair(const rigs_skel *s, const rigs_skel *t, tally *y, bool verb
             y->wing_from_leg += s->plan == RIGS_DRAGON && g->role == RIGS_FORE;
             y->wing_on_thumb += x->part == RIGS_DIGIT && g->thumb;
         }
+        y->finger_on_thumb +=
+            g && x->part == RIGS_DIGIT && x->role != RIGS_WINGS && !x->thumb && g->thumb;
         if (!ok && verbose)
             wrong(t, s, j, got);
     }
@@ -227,6 +230,7 @@ static void add_tally(tally *a, const tally *b)
     a->swapped_skels += b->swapped_skels;
     a->misread_warned += b->misread_warned, a->right_warned += b->right_warned;
     a->wing_from_leg += b->wing_from_leg, a->wing_on_thumb += b->wing_on_thumb;
+    a->finger_on_thumb += b->finger_on_thumb;
     for (int c = 0; c < CLS_COUNT; c++)
         a->cj[c] += b->cj[c], a->cr[c] += b->cr[c];
 }
@@ -298,6 +302,10 @@ int main(void)
     printf("wing joints from forelegs: %d (at most 0), wing digits from a thumb: %d (at most 10)\n",
            from_leg, on_thumb);
     ok = ok && (scale != 1 || (from_leg == 0 && (!cmu_skel.s || on_thumb <= 10)));
+    /* as measured: 12 before a finger beside its own thumb was kept off a source thumb */
+    int fingers = human.finger_on_thumb + other.finger_on_thumb;
+    printf("fingers from a thumb: %d (at most 2)\n", fingers);
+    ok = ok && (scale != 1 || !cmu_skel.s || fingers <= 2);
     rf_skeleton_free(cmu_skel.s);
     free(cmu_skel.label);
     return ok ? 0 : 1;
