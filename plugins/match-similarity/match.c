@@ -263,9 +263,10 @@ typedef struct rf_ms_line {
     double *u0, *u1;
     rf_ms_vote *vote; /* scratch for input_section */
     uint32_t n;
-    double unit; /* what places along the line were divided by */
-    int32_t last; /* the largest step (line_summary) */
-    bool cut;     /* a bone cut in two (has_cut), kept so each pair's cost stays O(1) */
+    double unit;   /* what places along the line were divided by */
+    int32_t last;  /* the largest step (line_summary) */
+    bool cut;      /* a bone cut in two (has_cut), kept so each pair's cost stays O(1) */
+    int32_t first; /* the first real bone's entry, -1 when none (line_summary, turned) */
 } rf_ms_line;
 
 static bool line_alloc(rf_ms_line *l, uint32_t cap)
@@ -408,6 +409,12 @@ static void line_summary(const rf_analysis *a, rf_ms_line *l)
 {
     l->last = last_step(l);
     l->cut = has_cut(a, l);
+    l->first = -1;
+    for (uint32_t f = 0; f < l->n && l->first < 0; f++) {
+        const rf_joint_info *r = &a->joints[l->joint[f]];
+        if (l->step[f] >= 0 && r->length > 0 && !(r->flags & RF_JI_ZERO_LENGTH))
+            l->first = (int32_t)f;
+    }
 }
 
 /* What leaving each bone of a limb out costs: the second half of a bone cut in two is often on
@@ -440,12 +447,9 @@ static double step_weight(bool digit, const rf_ms_line *tl, const rf_ms_line *sl
 static double turned(const rf_analysis *a, const rf_ms_line *l, uint32_t i)
 {
     const rf_joint_info *j = &a->joints[l->joint[i]];
-    for (uint32_t f = 0; f < l->n; f++) {
-        const rf_joint_info *r = &a->joints[l->joint[f]];
-        if (l->step[f] >= 0 && r->length > 0 && !(r->flags & RF_JI_ZERO_LENGTH))
-            return j->length > 0 ? rf_v3_angle(r->dir, j->dir) : 0;
-    }
-    return 0;
+    if (l->first < 0 || j->length <= 0)
+        return 0;
+    return rf_v3_angle(a->joints[l->joint[l->first]].dir, j->dir);
 }
 
 /* Where a cut limb's bone counts say little, which way a bone points still tells a shin from a
@@ -595,7 +599,7 @@ static void add_turns(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t k, cons
                       double *cost)
 {
     if (c->o->thesis || tl->n == 0 || !is_limb(c->tgt.a, c->tgt.a->joints[tl->joint[0]].section) ||
-        step_weight(c, false, tl, k, sl) >= 0.3)
+        step_weight(false, tl, sl) >= 0.3)
         return;
     for (uint32_t i = 0; i < tl->n; i++) {
         double least = 1;
