@@ -1,7 +1,6 @@
 /* The skeletal-similarity matcher: scoring, the best candidates, the one-input-section rule,
  * duplicate-bone removal, the threshold, reversed knees, mirroring, blending several sources. */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
