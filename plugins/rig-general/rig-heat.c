@@ -197,6 +197,114 @@ bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k)
     return ok;
 }
 
+/* ---- the proxy vertex nearest a point ---- */
+
+struct rf_rig_near {
+    double lo[3], h; /* the proxy's box corner and the cell size */
+    uint32_t n[3];   /* cells along each axis */
+    uint32_t *start; /* [cells + 1] where each cell's vertices begin in `id` */
+    uint32_t *id;    /* proxy vertices by cell */
+    const rf_rig_geo *g;
+};
+
+static uint32_t rf_rig_near_axis(const rf_rig_near *gr, int a, double x)
+{
+    double c = floor((x - gr->lo[a]) / gr->h);
+    return c < 0 ? 0 : c >= gr->n[a] ? gr->n[a] - 1 : (uint32_t)c;
+}
+
+static size_t rf_rig_near_cell(const rf_rig_near *gr, const uint32_t c[3])
+{
+    return ((size_t)c[2] * gr->n[1] + c[1]) * gr->n[0] + c[0];
+}
+
+rf_rig_near *rf_rig_near_new(const rf_rig_prep *p)
+{
+    rf_rig_near *gr = calloc(1, sizeof *gr);
+    if (!gr)
+        return NULL;
+    gr->g = &p->proxy;
+    gr->h = p->longest / 32;
+    size_t cells = 1;
+    for (int a = 0; a < 3; a++) {
+        gr->lo[a] = p->lo[a];
+        gr->n[a] = (uint32_t)fmin(64, floor((p->hi[a] - p->lo[a]) / gr->h) + 1);
+        cells *= gr->n[a];
+    }
+    gr->start = calloc(cells + 2, sizeof *gr->start);
+    gr->id = malloc(((size_t)p->proxy.nv + 1) * sizeof *gr->id);
+    if (!gr->start || !gr->id) {
+        rf_rig_near_free(gr);
+        return NULL;
+    }
+    for (uint32_t i = 0; i < p->proxy.nv; i++) { /* counting sort by cell */
+        uint32_t c[3];
+        for (int a = 0; a < 3; a++)
+            c[a] = rf_rig_near_axis(gr, a, p->proxy.p[(size_t)i * 3 + a]);
+        gr->start[rf_rig_near_cell(gr, c) + 2]++;
+    }
+    for (size_t k = 2; k < cells + 2; k++)
+        gr->start[k] += gr->start[k - 1];
+    for (uint32_t i = 0; i < p->proxy.nv; i++) {
+        uint32_t c[3];
+        for (int a = 0; a < 3; a++)
+            c[a] = rf_rig_near_axis(gr, a, p->proxy.p[(size_t)i * 3 + a]);
+        gr->id[gr->start[rf_rig_near_cell(gr, c) + 1]++] = i;
+    }
+    return gr;
+}
+
+void rf_rig_near_free(rf_rig_near *gr)
+{
+    if (gr)
+        free(gr->start), free(gr->id), free(gr);
+}
+
+/* The vertices of the cells at Chebyshev distance r from cell c, the nearest to q kept. */
+static void rf_rig_near_ring(const rf_rig_near *gr, const uint32_t c[3], int r, const double q[3],
+                             double *best, uint32_t *at)
+{
+    for (int dz = -r; dz <= r; dz++)
+        for (int dy = -r; dy <= r; dy++)
+            for (int dx = -r; dx <= r; dx++) {
+                if (abs(dx) != r && abs(dy) != r && abs(dz) != r)
+                    continue; /* inside the ring: visited before */
+                long x = (long)c[0] + dx, y = (long)c[1] + dy, z = (long)c[2] + dz;
+                if (x < 0 || y < 0 || z < 0 || x >= gr->n[0] || y >= gr->n[1] || z >= gr->n[2])
+                    continue;
+                uint32_t cc[3] = {(uint32_t)x, (uint32_t)y, (uint32_t)z};
+                size_t k = rf_rig_near_cell(gr, cc);
+                for (uint32_t e = gr->start[k]; e < gr->start[k + 1]; e++) {
+                    const double *v = gr->g->p + (size_t)gr->id[e] * 3;
+                    double d = (q[0] - v[0]) * (q[0] - v[0]) + (q[1] - v[1]) * (q[1] - v[1]) +
+                               (q[2] - v[2]) * (q[2] - v[2]);
+                    if (d < *best)
+                        *best = d, *at = gr->id[e];
+                }
+            }
+}
+
+uint32_t rf_rig_near_vertex(const rf_rig_near *gr, const double q[3])
+{
+    uint32_t c[3], at = RF_RIG_NONE;
+    double best = INFINITY, out = 0; /* out: how far q lies outside the grid */
+    for (int a = 0; a < 3; a++) {
+        c[a] = rf_rig_near_axis(gr, a, q[a]);
+        double lo = gr->lo[a], hi = gr->lo[a] + gr->n[a] * gr->h;
+        out = fmax(out, fmax(lo - q[a], q[a] - hi));
+    }
+    int rings = (int)fmax(gr->n[0], fmax(gr->n[1], gr->n[2]));
+    for (int r = 0; r <= rings; r++) {
+        rf_rig_near_ring(gr, c, r, q, &best, &at);
+        /* every vertex of a farther ring is more than r cells (plus q's distance outside the
+         * grid) away */
+        double bound = fmax(0, out) + r * gr->h;
+        if (at != RF_RIG_NONE && best <= bound * bound)
+            break;
+    }
+    return at;
+}
+
 /* ---- heat sources ---- */
 
 /* The heat c in H = c / d^2. Larger c keeps each vertex closer to its nearest bone (sharper

@@ -69,8 +69,9 @@ static bool rig_file(const char *path, bool must_rig)
     bool ok = r.mesh && rf_rig_general(r.mesh, NULL, &s, &m, &st, NULL, NULL, err, sizeof err);
     if (ok) {
         check_rig(path, r.mesh, s, m);
-        printf("# %s: %u joints, %u vertices (%u parts, %u specks), %u by nearest bone\n", path,
-               st.joints, st.vertices, st.parts, st.specks, st.fallback_vertices);
+        printf("# %s: %u joints, %u vertices (%u parts, %u specks), %u specks' and strays' "
+               "vertices from the nearest surface\n",
+               path, st.joints, st.vertices, st.parts, st.specks, st.fallback_vertices);
     } else {
         assert_null(s);
         assert_null(m);
@@ -577,6 +578,42 @@ static void test_bind_leaf_end(void **state)
     rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
 }
 
+/* A speck (a button of 1 cm on a tube 2 m long) sewn on where two bones meet: it takes the
+ * blended weights of the surface vertex nearest it, as the surface around it bends, instead of
+ * one bone's (it took the nearest bone's alone before). */
+static void test_bind_speck(void **state)
+{
+    (void)state;
+    rf_mesh *in = tube(); /* ring 32 of 81 lies at y = 0.8, the middle joint */
+    uint32_t near = 32 * 16, nv = in->vertex_count;
+    in->positions = realloc(in->positions, ((size_t)nv + 8) * 3 * sizeof(float));
+    in->triangles =
+        realloc(in->triangles, ((size_t)in->triangle_count + 12) * 3 * sizeof(uint32_t));
+    float x = in->positions[near * 3];
+    add_box(in, x + 0.004, 0.795, -0.005, x + 0.014, 0.805, 0.005);
+    rf_skeleton *s = rf_skeleton_new(3);
+    for (uint32_t j = 0; j < 3; j++) {
+        s->joints[j].parent = (int32_t)j - 1;
+        s->joints[j].rest = rf_xform_identity();
+        s->joints[j].rest.t = rf_v3(0, j ? 0.6 : 0.2, 0);
+    }
+    rf_mesh *m = NULL;
+    rf_rig_stats st;
+    char err[256];
+    if (!rf_rig_bind(in, s, NULL, NULL, &m, &st, err, sizeof err))
+        fail_msg("%s", err);
+    assert_int_equal(st.specks, 1);
+    double most = 0;
+    for (uint32_t j = 0; j < 3; j++)
+        most = fmax(most, weight_of(m, near, j));
+    printf("# the surface under the speck: heaviest joint %.3f\n", most);
+    assert_true(most < 0.95); /* blended there, so the test tells the two rules apart */
+    for (uint32_t v = nv; v < nv + 8; v++)
+        for (uint32_t j = 0; j < 3; j++)
+            assert_true(fabs(weight_of(m, v, j) - weight_of(m, near, j)) < 1e-6);
+    rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
+}
+
 /* A box model: a body box and an arm box, two loose parts that overlap at the shoulder, the arm's
  * bone (with its end site) inside the arm box. The arm box moves with the arm alone (weight 1 on
  * every one of its corners), as a box model is bound; bone heat alone shares the corners inside
@@ -854,14 +891,15 @@ static void test_template_models(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_bad_input),          cmocka_unit_test(test_any_scale),
-        cmocka_unit_test(test_any_facing),         cmocka_unit_test(test_loose_parts),
-        cmocka_unit_test(test_big_scan),           cmocka_unit_test(test_testmodels),
-        cmocka_unit_test(test_shared_models),      cmocka_unit_test(test_bind_given),
-        cmocka_unit_test(test_bind_leaf_end),      cmocka_unit_test(test_bind_rigid_part),
-        cmocka_unit_test(test_bind_sleeve),        cmocka_unit_test(test_bind_open_sheet),
-        cmocka_unit_test(test_narrow_gap),         cmocka_unit_test(test_template_refusal),
-        cmocka_unit_test(test_template_quadruped), cmocka_unit_test(test_template_models),
+        cmocka_unit_test(test_bad_input),        cmocka_unit_test(test_any_scale),
+        cmocka_unit_test(test_any_facing),       cmocka_unit_test(test_loose_parts),
+        cmocka_unit_test(test_big_scan),         cmocka_unit_test(test_testmodels),
+        cmocka_unit_test(test_shared_models),    cmocka_unit_test(test_bind_given),
+        cmocka_unit_test(test_bind_leaf_end),    cmocka_unit_test(test_bind_rigid_part),
+        cmocka_unit_test(test_bind_speck),       cmocka_unit_test(test_bind_sleeve),
+        cmocka_unit_test(test_bind_open_sheet),  cmocka_unit_test(test_narrow_gap),
+        cmocka_unit_test(test_template_refusal), cmocka_unit_test(test_template_quadruped),
+        cmocka_unit_test(test_template_models),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
