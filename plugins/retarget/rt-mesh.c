@@ -382,12 +382,19 @@ bool rf_rt_mesh_measure(const rf_skeleton *skeleton, const rf_mesh *mesh, const 
     return ok;
 }
 
-/* The lowest vertex in each of `count` frames spread over the clip, over the rest mesh's lowest,
- * into low (sorted): of the whole mesh (`all`) or of what stands on the floor at rest (parts high
- * at rest left out: a dragon's wings hanging through the floor must not lift its feet off it;
- * the parts pass lifts them). */
+/* The frame the i-th of `count` samples spread over a clip of `frames` frames reads. */
+static uint32_t rt_sample_frame(uint32_t i, uint32_t count, uint32_t frames)
+{
+    return count > 1 ? (uint32_t)((uint64_t)i * (frames - 1) / (count - 1)) : 0;
+}
+
+/* The lowest vertex in each of `count` frames spread over the clip, over the rest mesh's lowest
+ * raised by clear[i] (how far the source stands over its floor then), into low (sorted): of the
+ * whole mesh (`all`) or of what stands on the floor at rest (parts high at rest left out: a
+ * dragon's wings hanging through the floor must not lift its feet off it; the parts pass lifts
+ * them). */
 static bool rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t count, bool all,
-                         double *low)
+                         const double *clear, double *low)
 {
     double floor_h = INFINITY, top = -INFINITY;
     for (uint32_t v = 0; v < w->nv; v++) {
@@ -400,9 +407,7 @@ static bool rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t cou
     for (uint32_t v = 0; v < w->nv; v++)
         base[v] = all || rf_v3_dot(w->rest[v], w->up) <= floor_h + RT_MESH_HIGH * (top - floor_h);
     for (uint32_t i = 0; i < count; i++) {
-        uint32_t f =
-            count > 1 ? (uint32_t)((uint64_t)i * (anim->frame_count - 1) / (count - 1)) : 0;
-        rf_animation_local_pose(anim, w->s, f, w->local);
+        rf_animation_local_pose(anim, w->s, rt_sample_frame(i, count, anim->frame_count), w->local);
         for (uint32_t j = 0; j < w->n; j++)
             w->local[j].r = rf_quat_normalize(w->local[j].r);
         rt_mesh_fk(w);
@@ -411,7 +416,7 @@ static bool rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t cou
         for (uint32_t v = 0; v < w->nv; v++)
             if (base[v])
                 low[i] = fmin(low[i], rf_v3_dot(w->pos[v], w->up));
-        low[i] -= floor_h;
+        low[i] -= floor_h + clear[i];
     }
     free(base);
     qsort(low, count, sizeof *low, rt_cmp_double);
@@ -460,12 +465,21 @@ static bool rt_mesh_place(rf_retarget *rt, rf_animation *anim, const rf_mesh *me
         *shift = 0;
     if (!rt_mesh_check(rt->target, mesh, anim, err, err_size))
         return false;
+    rf_rt_floors_measured(rt);
     rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n, .nv = mesh->vertex_count};
     w.up = rt->up;
-    uint32_t count = anim->frame_count < 32 ? anim->frame_count : 32;
-    double low[32];
-    bool ok = rt_mesh_prepare(&w) && (all || rt_mesh_hulls(rt, &w)) &&
-              rt_mesh_lows(&w, anim, count, all, low);
+    uint32_t count = anim->frame_count < 32 ? anim->frame_count : 32, at[32];
+    double low[32], clear[32];
+    for (uint32_t i = 0; i < count; i++)
+        at[i] = rt_sample_frame(i, count, anim->frame_count);
+    /* What stands on the floor is put on it as it stands (the contact pass then lifts the feet
+     * as far as the source's); the last raise counts the floor from where the source is, as the
+     * measure does (in a jump, in the air). */
+    memset(clear, 0, sizeof clear);
+    bool ok =
+        (!all || rf_rt_clearance(rt, rf_retarget_start_time(rt), anim->fps, count, at, clear)) &&
+        rt_mesh_prepare(&w) && (all || rt_mesh_hulls(rt, &w)) &&
+        rt_mesh_lows(&w, anim, count, all, clear, low);
     if (ok && !all) {
         rt->mesh_floor = INFINITY;
         for (uint32_t v = 0; v < w.nv; v++)
@@ -503,36 +517,6 @@ bool rf_retarget_mesh_clear(rf_retarget *rt, rf_animation *anim, const rf_mesh *
     return rt_mesh_place(rt, anim, mesh, true, true, shift, err, err_size);
 }
 
-/* How far over its floor source 0's lowest point is (joints and tips, unweighted helpers and
- * joints above the hips left out) at each of `frames` frames spread over `anim`, scaled by the
- * legs into target units: where the target should be in the air too (a jump). */
-static bool rt_source_clearance(rf_retarget *rt, const rf_animation *anim, double start,
-                                uint32_t frames, double *expect)
-{
-    const rf_rt_src *src = &rt->src[0];
-    size_t m = rt->max_src_n ? rt->max_src_n : 1;
-    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
-    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
-    bool ok = local && world && rot && tr, known = rf_rt_weights_known(src->skel);
-    for (uint32_t i = 0; ok && i < frames; i++) {
-        uint32_t f =
-            frames > 1 ? (uint32_t)((uint64_t)i * (anim->frame_count - 1) / (frames - 1)) : 0;
-        rf_rt_source_world(rt, 0, start + f / anim->fps, local, world, rot, tr);
-        double low = INFINITY;
-        for (uint32_t j = 0; j < src->n; j++) {
-            if (known && (src->skel->joints[j].flags & RF_JOINT_UNWEIGHTED))
-                continue;
-            low = fmin(low, rf_rt_height(src->up, world[j].t));
-            if (rf_v3_len2(src->tip[j]) > 0)
-                low = fmin(low, rf_rt_height(src->up, rf_xform_point(world[j], src->tip[j])));
-        }
-        double clear = isfinite(low) ? fmax(0, low - src->floor) : 0;
-        expect[i] = clear * rt->leg_target / src->leg;
-    }
-    free(local), free(world), free(rot), free(tr);
-    return ok;
-}
-
 bool rf_retarget_mesh_measure(rf_retarget *rt, const rf_mesh *mesh, const rf_animation *anim,
                               double start, uint32_t max_frames, rf_rt_mesh_report *report,
                               char *err, size_t err_size)
@@ -540,12 +524,17 @@ bool rf_retarget_mesh_measure(rf_retarget *rt, const rf_mesh *mesh, const rf_ani
     memset(report, 0, sizeof *report);
     if (!rt_mesh_check(rt->target, mesh, anim, err, err_size))
         return false;
+    rf_rt_floors_measured(rt);
     rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n, .nv = mesh->vertex_count};
     w.up = rt->up;
     uint32_t frames = max_frames ? max_frames : 24;
     frames = frames < anim->frame_count ? frames : anim->frame_count;
     double *expect = malloc((frames ? frames : 1) * sizeof *expect);
-    bool ok = expect && rt_source_clearance(rt, anim, start, frames, expect);
+    uint32_t *at = malloc((frames ? frames : 1) * sizeof *at);
+    for (uint32_t i = 0; at && i < frames; i++)
+        at[i] = rt_sample_frame(i, frames, anim->frame_count);
+    bool ok = expect && at && rf_rt_clearance(rt, start, anim->fps, frames, at, expect);
+    free(at);
     w.expect = expect;
     ok = ok && rt_mesh_prepare(&w) && rt_mesh_run(&w, anim, frames, report);
     rt_mw_free(&w);

@@ -694,7 +694,7 @@ void rf_retarget_free(rf_retarget *rt)
     for (uint32_t k = 0; rt->src && k < rt->source_count; k++) {
         rf_rt_src *s = &rt->src[k];
         free(s->rest_local), free(s->rest_world), free(s->skel_pos), free(s->tip);
-        free(s->need_pos), free(s->parent), free(s->need_rot);
+        free(s->need_pos), free(s->parent), free(s->need_rot), free(s->above);
     }
     rf_rt_work_free(rt, &rt->work);
     free(rt->src), free(rt->tj), free(rt->in), free(rt->links), free(rt->slots);

@@ -19,7 +19,6 @@ const REQUIRED = [
 const SHORT = {
   'cmu_01_01__vrm_sample': 'no skin: its mesh hangs on 2 of 23 joints, so it is measured on the skeleton only (ground error 0.013 leg)',
   'cmu_01_01__Testwuson': 'torn: its forelegs stand 110 degrees off their rest (a human clavicle\'s sideways rest aligned onto a shoulder blade) and crush the shoulders; hind legs, neck and jaw bend through a human\'s range (10.9% against 1.2%)',
-  'cmu_01_01__draconis_fire_dragon': 'floor p95 12.8%: reads as sinking in CMU\'s jumps (its wings held on the floor); its own clip flies at standing height (141%)',
 };
 
 const dir = process.argv[2];
