@@ -345,9 +345,10 @@ static void rt_mesh_json(FILE *f, const rf_rt_mesh_report *m)
             "{\"frames\": %u, \"height\": %.6g, \"seams\": %u, \"seam_p99\": %.6g, "
             "\"seam_max\": %.6g, \"floor_median\": %.6g, \"floor_p95\": %.6g, \"floating\": "
             "%.6g, \"sinking\": %.6g, \"parts_below\": %.6g, \"parts_depth\": %.6g, "
-            "\"edges\": %u, \"stretch_p99\": %.6g}",
+            "\"edges\": %u, \"stretch_p99\": %.6g, \"rigid\": %s}",
             m->frames, m->height, m->seams, m->seam_p99, m->seam_max, m->floor_median, m->floor_p95,
-            m->floating, m->sinking, m->parts_below, m->parts_depth, m->edges, m->stretch_p99);
+            m->floating, m->sinking, m->parts_below, m->parts_depth, m->edges, m->stretch_p99,
+            m->rigid ? "true" : "false");
 }
 
 /* What the mesh measures found, for this clip and the character's own clip (the reference). */
@@ -398,6 +399,16 @@ static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_repo
 static void rt_mesh_line(const char *label, const rt_mesh_figures *m)
 {
     const rf_rt_mesh_report *c = &m->clip, *r = m->have_ref ? &m->ref : NULL;
+    if (c->rigid) {
+        printf("%s: skeleton and node meshes (%u frames, %% of height; no skin: joints, bone tips "
+               "and the meshes hung rigidly on nodes): floor median %+.1f p95 %.1f (floating "
+               "%.0f%%, sinking %.0f%% of frames); parts under the floor %.0f%% of frames, %.1f "
+               "deep; torn limbs and stretch do not apply (a rigid part neither tears nor "
+               "stretches)\n",
+               label, c->frames, 100 * c->floor_median, 100 * c->floor_p95, 100 * c->floating,
+               100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
+        return;
+    }
     printf("%s: mesh (%u frames, %% of height%s): torn p99 %.2f%s", label, c->frames,
            r ? ", own clip in brackets" : "", 100 * c->seam_p99, r ? "" : "");
     if (r)
@@ -437,7 +448,7 @@ static void rt_measure_mesh(const rf_host *host, rf_node *node, rf_retarget *rt,
         return;
     }
     m->have_ref =
-        ref && ref->frame_count > 1 &&
+        ref && ref->frame_count > 1 && !m->clip.rigid &&
         rf_rt_mesh_measure(target, mesh, ref, rf_v3(0, 0, 0), frames, &m->ref, err, sizeof err);
     rt_mesh_line(label, m);
 }

@@ -223,6 +223,9 @@ typedef struct rf_rt_mesh_report {
     double parts_depth;  /* the deepest such part, under the floor */
     uint32_t edges;      /* mesh edges measured */
     double stretch_p99;  /* p99 over edges and frames of |length / rest length - 1| */
+    bool rigid; /* the target is a node tree whose meshes hang rigidly on a few nodes (no skin
+                 * for the body): the floor figures are of its joints, bone tips and those
+                 * meshes, and no seams or edges are measured (rf_retarget_mesh_measure) */
 } rf_rt_mesh_report;
 
 /* Puts a clip of this plan (rf_retarget_clip's output) on the floor of the target's skinned
@@ -244,7 +247,11 @@ bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *
 bool rf_retarget_mesh_clear(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
                             char *err, size_t err_size);
 
-/* rf_rt_mesh_measure of a clip of this plan (frame 0 at time `start` of the sources), its floor
+/* rf_rt_mesh_measure of a clip of this plan (frame 0 at time `start` of the sources). A target
+ * whose mesh hangs on too few joints to stand for the body (a node tree carrying a rigid mesh on
+ * a node or two) is measured on what a viewer sees of it all the same: its joints, bone tips and
+ * those meshes, for the floor only (report->rigid); a rigid part neither tears nor stretches. Its
+ * floor
  * figures counted from where the source is: in each sampled frame the target's lowest vertex is
  * compared with the floor raised by how far the source's lowest point is over its own floor,
  * scaled by the legs (a jump is in the air on both sides, and is no float). */

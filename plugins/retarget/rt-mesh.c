@@ -33,6 +33,12 @@ typedef struct rt_mesh_work {
     uint32_t edges;
     const double *expect; /* [sampled frame] how far over the floor the source is, scaled to the
                            * target (a jump), or NULL: the floor figures count from there */
+    /* A node tree's rigid meshes (rt_mesh_check): the points also hold every joint that counts
+     * (`counts`, NULL: all) and its bone's tip (`tip`, in its frame, zero: none) after the
+     * mesh's vertices, and only the floor is measured. */
+    bool rigid;
+    const uint8_t *counts;
+    const rf_vec3 *tip;
 } rt_mesh_work;
 
 static int rt_cmp_double(const void *a, const void *b)
@@ -104,7 +110,7 @@ static void rt_mesh_skin(rt_mesh_work *w, rf_vec3 *out)
     for (uint32_t j = 0; j < w->n; j++)
         w->skin[j] = rf_mat4_mul(rf_xform_to_mat4(w->world[j]), w->ibind[j]);
     const rf_mesh *m = w->m;
-    for (uint32_t v = 0; v < w->nv; v++) {
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
         const float *p = m->positions + (size_t)v * 3;
         rf_vec3 bind = rf_v3(p[0], p[1], p[2]), sum = rf_v3(0, 0, 0);
         double wsum = 0;
@@ -117,6 +123,13 @@ static void rt_mesh_skin(rt_mesh_work *w, rf_vec3 *out)
             wsum += wt;
         }
         out[v] = wsum > 0 ? rf_v3_scale(sum, 1.0 / wsum) : bind;
+    }
+    /* The joints and tips after the vertices (rigid: w->nv counts them); a joint that does not
+     * count (a placement root) repeats the first vertex instead. */
+    for (uint32_t j = 0, v = m->vertex_count; w->rigid && j < w->n; j++, v += 2) {
+        bool counts = !w->counts || w->counts[j], tip = w->tip && rf_v3_len2(w->tip[j]) > 0;
+        out[v] = counts ? w->world[j].t : out[0];
+        out[v + 1] = counts && tip ? rf_xform_point(w->world[j], w->tip[j]) : out[v];
     }
 }
 
@@ -210,9 +223,13 @@ static bool rt_mesh_edges(rt_mesh_work *w, double height)
     return true;
 }
 
-static bool rt_mesh_check(const rf_skeleton *s, const rf_mesh *m, const rf_animation *a, char *err,
-                          size_t err_size)
+/* Whether the mesh can be measured with the clip. A mesh hung on too few joints to stand for the
+ * body is refused, or, when `rigid` is given, taken as a node tree's rigid parts (*rigid). */
+static bool rt_mesh_check(const rf_skeleton *s, const rf_mesh *m, const rf_animation *a,
+                          bool *rigid, char *err, size_t err_size)
 {
+    if (rigid)
+        *rigid = false;
     if (!m || !m->vertex_count || !m->positions || !m->skin_joints || !m->skin_weights) {
         rf_rt_fail(err, err_size, "the mesh is not skinned");
         return false;
@@ -242,6 +259,8 @@ static bool rt_mesh_check(const rf_skeleton *s, const rf_mesh *m, const rf_anima
     free(used);
     /* A mesh hung on a node or two (a node tree's rigid parts) does not stand for the body. */
     if (skinned < 2 || skinned * 4 < s->joint_count) {
+        if (rigid)
+            return *rigid = true;
         rf_rt_fail(err, err_size,
                    "the mesh is skinned to %u of the %u joints, too few to stand for "
                    "the body",
@@ -330,7 +349,8 @@ static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t fram
     r->height = height;
     uint8_t *high = malloc(w->nv);
     double *low = malloc(frames * sizeof *low), *part_low = malloc(frames * sizeof *part_low);
-    bool ok = high && low && part_low && rt_mesh_seams(w, height) && rt_mesh_edges(w, height);
+    bool ok = high && low && part_low &&
+              (w->rigid || (rt_mesh_seams(w, height) && rt_mesh_edges(w, height)));
     double *drift = ok ? malloc(((size_t)w->seams * frames + 1) * sizeof *drift) : NULL;
     double *stretch = ok ? malloc(((size_t)w->edges * frames + 1) * sizeof *stretch) : NULL;
     ok = ok && drift && stretch;
@@ -350,7 +370,7 @@ static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t fram
             low[i] -= w->expect[i] / height;
     }
     if (ok) {
-        r->frames = frames, r->seams = w->seams, r->edges = w->edges;
+        r->frames = frames, r->seams = w->seams, r->edges = w->edges, r->rigid = w->rigid;
         rt_mesh_floor(r, low, part_low, frames);
         size_t ns = (size_t)w->seams * frames;
         r->seam_max = rt_max(drift, ns);
@@ -366,7 +386,7 @@ bool rf_rt_mesh_measure(const rf_skeleton *skeleton, const rf_mesh *mesh, const 
                         size_t err_size)
 {
     memset(report, 0, sizeof *report);
-    if (!rt_mesh_check(skeleton, mesh, anim, err, err_size))
+    if (!rt_mesh_check(skeleton, mesh, anim, NULL, err, err_size))
         return false;
     rt_mesh_work w = {.s = skeleton, .m = mesh, .n = skeleton->joint_count};
     w.nv = mesh->vertex_count;
@@ -463,7 +483,7 @@ static bool rt_mesh_place(rf_retarget *rt, rf_animation *anim, const rf_mesh *me
 {
     if (shift)
         *shift = 0;
-    if (!rt_mesh_check(rt->target, mesh, anim, err, err_size))
+    if (!rt_mesh_check(rt->target, mesh, anim, NULL, err, err_size))
         return false;
     rf_rt_floors_measured(rt);
     rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n, .nv = mesh->vertex_count};
@@ -522,23 +542,32 @@ bool rf_retarget_mesh_measure(rf_retarget *rt, const rf_mesh *mesh, const rf_ani
                               char *err, size_t err_size)
 {
     memset(report, 0, sizeof *report);
-    if (!rt_mesh_check(rt->target, mesh, anim, err, err_size))
+    rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n};
+    if (!rt_mesh_check(rt->target, mesh, anim, &w.rigid, err, err_size))
         return false;
-    rf_rt_floors_measured(rt);
-    rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n, .nv = mesh->vertex_count};
-    w.up = rt->up;
+    uint8_t *counts = malloc(rt->n ? rt->n : 1);
+    bool known = rf_rt_weights_known(rt->target);
+    for (uint32_t j = 0; counts && j < rt->n; j++)
+        counts[j] =
+            !rt->t_above[j] && !(known && (rt->target->joints[j].flags & RF_JOINT_UNWEIGHTED));
+    /* The retarget put a node tree on its skeleton's floor, not on a mesh's: the sources keep
+     * theirs as it did. */
+    if (!w.rigid)
+        rf_rt_floors_measured(rt);
+    w.nv = mesh->vertex_count + (w.rigid ? 2 * rt->n : 0);
+    w.counts = counts, w.tip = rt->t_tip, w.up = rt->up;
     uint32_t frames = max_frames ? max_frames : 24;
     frames = frames < anim->frame_count ? frames : anim->frame_count;
     double *expect = malloc((frames ? frames : 1) * sizeof *expect);
     uint32_t *at = malloc((frames ? frames : 1) * sizeof *at);
     for (uint32_t i = 0; at && i < frames; i++)
         at[i] = rt_sample_frame(i, frames, anim->frame_count);
-    bool ok = expect && at && rf_rt_clearance(rt, start, anim->fps, frames, at, expect);
+    bool ok = counts && expect && at && rf_rt_clearance(rt, start, anim->fps, frames, at, expect);
     free(at);
     w.expect = expect;
     ok = ok && rt_mesh_prepare(&w) && rt_mesh_run(&w, anim, frames, report);
     rt_mw_free(&w);
-    free(expect);
+    free(expect), free(counts);
     if (!ok)
         rf_rt_fail(err, err_size, "out of memory");
     return ok;
