@@ -144,6 +144,15 @@ typedef struct rf_rt_parts_stats {
  * horizontal direction. Run after the contact pass on its output. False when out of memory. */
 bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *stats);
 
+/* Keeps each driven joint of the target's centerline (spine, neck, tail; not the root-motion
+ * joints, not a joint hanging from a placement node, whose turn is the heading) within the turn
+ * off its rest that the target's own clip `reference` gives it, plus RF_RT_TURN_SLACK degrees:
+ * a neck or a tail made for a small range tears at its seams when a source bends it through its
+ * own. Joints the reference never turns are left alone (it says nothing of them). Returns the
+ * number of joints limited in at least one frame; -1 when out of memory. */
+#define RF_RT_TURN_SLACK 5.0
+int rf_retarget_limit_turns(rf_retarget *rt, rf_animation *anim, const rf_animation *reference);
+
 /* ---- facts found at set-up ---- */
 
 typedef struct rf_rt_info {

@@ -309,3 +309,56 @@ double rf_rt_detect_cycle(const rf_retarget *rt, uint32_t k)
     free(d);
     return found <= hi - lo ? (found + lo) / a->fps : clip;
 }
+
+/* ---- turns limited to the target's own range ---- */
+
+/* The turn of local rotation q off rest r, in radians. */
+static double rt_turn_off(rf_quat r, rf_quat q)
+{
+    rf_quat d = rf_quat_mul(rf_quat_conj(r), rf_quat_normalize(q));
+    return 2 * acos(fmin(1, fabs(d.w)));
+}
+
+int rf_retarget_limit_turns(rf_retarget *rt, rf_animation *anim, const rf_animation *reference)
+{
+    const rf_skeleton *s = rt->target;
+    if (!reference || reference->joint_count != rt->n || reference->frame_count < 2)
+        return 0;
+    int limited = 0;
+    bool moved = false;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        int32_t p = s->joints[j].parent;
+        if (!rt->t_centerline[j] || rt->tj[j].kind == RF_RT_REST || rt->tj[j].root_motion ||
+            rt->anchor[j] >= 0 || p < 0 || rt->tj[p].kind == RF_RT_REST)
+            continue;
+        rf_quat rest = s->joints[j].rest.r;
+        double own = 0;
+        for (uint32_t f = 0; f < reference->frame_count; f++)
+            own = fmax(own, rt_turn_off(rest, rf_animation_rotation(reference, f, j)));
+        if (own < 0.5 * RF_PI / 180)
+            continue;
+        double limit = own + RF_RT_TURN_SLACK * RF_PI / 180;
+        bool any = false;
+        for (uint32_t f = 0; f < anim->frame_count; f++) {
+            rf_quat q = rf_quat_normalize(rf_animation_rotation(anim, f, j));
+            double a = rt_turn_off(rest, q);
+            if (a <= limit)
+                continue;
+            rf_quat d = rf_quat_mul(rf_quat_conj(rest), q);
+            q = rf_quat_normalize(rf_quat_mul(rest, rf_rt_quat_pow(d, limit / a)));
+            rf_animation_set_rotation(anim, f, j, q);
+            any = true;
+        }
+        limited += any, moved = moved || any;
+    }
+    if (!moved || !rt->anchored)
+        return limited;
+    rf_xform *tw = malloc(rt->n * sizeof *tw);
+    if (!tw)
+        return -1;
+    for (uint32_t f = 0; f < anim->frame_count; f++)
+        rf_rt_place_anchored(rt, anim->rotations + (size_t)f * rt->n * 4,
+                             anim->translations + (size_t)f * rt->n * 3, NULL, tw);
+    free(tw);
+    return limited;
+}
