@@ -2,7 +2,8 @@
  * human skeletons with other rest poses and proportions, measured for direction fidelity; the
  * identity on a BVH and a glTF skeleton; a degenerate-rest source (Bandai); foot skate with and
  * without the contact pass; CMU onto the Fox through mirrored front legs; the Fox's Walk onto
- * Testwuson, its neck kept near its rest; the floor of a node tree with no skin (vrm_sample)
+ * Testwuson, its neck kept near its rest; CMU onto Testwuson, its shoulder blades kept near
+ * theirs; the floor of a node tree with no skin (vrm_sample)
  * measured on its joints, bone tips and rigid meshes.
  *
  * Mappings come from name correspondences in tests/retarget/maps/, written by reading each file's
@@ -384,6 +385,28 @@ static void fox_walk_onto_testwuson(void **state)
     clip_free(&src), clip_free(&tgt);
 }
 
+/* CMU 01_01 onto Testwuson: its shoulder blades (rest pointing down) are mapped from CMU's
+ * clavicles (rest and clip pointing sideways). Aligned onto the clavicles' direction they stood
+ * 110-116 degrees off their rest in every frame (read back in Blender), crushing the skin over
+ * them; its own clips turn them 0-29. They now take the clavicles' turns off their rest. */
+static void cmu_onto_testwuson_blades(void **state)
+{
+    (void)state;
+    clip src = load("bvh/cmu_01_01.bvh"), tgt = load("models/Testwuson.X");
+    rf_mapping *m = map_named("Testwuson-CMU", &tgt, &src);
+    rf_retarget_options o = defaults();
+    result r = retarget(&src, &tgt, m, &o);
+    double left = turn_off_rest(r.out, tgt.skel, "ForeLeg_L_01");
+    double right = turn_off_rest(r.out, tgt.skel, "ForeLeg_R_01");
+    print_message("CMU onto Testwuson: the shoulder blades at most %.1f and %.1f degrees off "
+                  "their rest\n",
+                  left, right);
+    assert_true(left < 45 && right < 45);
+    result_free(&r);
+    rf_mapping_free(m);
+    clip_free(&src), clip_free(&tgt);
+}
+
 /* vrm_sample is a node tree: no skin, its only meshes (a few quads) hung on 2 of its 23 nodes.
  * The mesh measure takes its joints and bone tips with those quads, for the floor only: standing
  * at rest and moved up by 0.1 in every frame, it stands 0.1 over its floor, in fractions of a
@@ -457,6 +480,7 @@ int main(void)
         cmocka_unit_test(contact_pass_on_cmu),
         cmocka_unit_test(cmu_onto_fox),
         cmocka_unit_test(fox_walk_onto_testwuson),
+        cmocka_unit_test(cmu_onto_testwuson_blades),
         cmocka_unit_test(node_tree_floor),
     };
     return cmocka_run_group_tests_name("retarget on shared data", tests, NULL, NULL);
