@@ -16,6 +16,8 @@ enum rf_rt_input_flags {
     RF_RT_IN_CORRECT = 1u << 8, /* swing the delta so the source segment's direction is exact
                                  * (the source segment is not one rigid bone) */
     RF_RT_IN_REFLECT = 1u << 9, /* mirrored from the other side of the body: reflect */
+    RF_RT_IN_KIND = 1u << 11,   /* a limb's root driven by a source joint of another kind: it
+                                 * takes its turns, not its direction (rt_input_resolve) */
     RF_RT_IN_LEVEL = 1u << 10,  /* a centerline bone of another body plan: its tilt away from
                                  * the source's up is limited (rf_rt_level) */
 };

@@ -414,7 +414,7 @@ static uint32_t rt_sample_frame(uint32_t i, uint32_t count, uint32_t frames)
  * dragon's wings hanging through the floor must not lift its feet off it; the parts pass lifts
  * them). */
 static bool rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t count, bool all,
-                         const double *clear, double *low)
+                         const uint8_t *aside, const double *clear, double *low)
 {
     double floor_h = INFINITY, top = -INFINITY;
     for (uint32_t v = 0; v < w->nv; v++) {
@@ -425,7 +425,9 @@ static bool rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t cou
     if (!base)
         return false;
     for (uint32_t v = 0; v < w->nv; v++)
-        base[v] = all || rf_v3_dot(w->rest[v], w->up) <= floor_h + RT_MESH_HIGH * (top - floor_h);
+        base[v] =
+            all || (rf_v3_dot(w->rest[v], w->up) <= floor_h + RT_MESH_HIGH * (top - floor_h) &&
+                    !(aside && aside[rt_dominant(w->m, v)]));
     for (uint32_t i = 0; i < count; i++) {
         rf_animation_local_pose(anim, w->s, rt_sample_frame(i, count, anim->frame_count), w->local);
         for (uint32_t j = 0; j < w->n; j++)
@@ -476,6 +478,26 @@ static bool rt_mesh_hulls(rf_retarget *rt, const rt_mesh_work *w)
     return true;
 }
 
+/* The joints of limbs driven by source limbs of another kind (RF_RT_IN_KIND: a quadruped's
+ * forelegs hanging from shoulder blades that take a human's clavicle turns): their reach says
+ * nothing of where the body stands, so the first placement leaves them to the parts pass. NULL
+ * when there are none (or out of memory: then they count). */
+static uint8_t *rt_limbs_aside(const rf_retarget *rt)
+{
+    uint8_t *aside = NULL;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        const rf_rt_tjoint *tj = &rt->tj[j];
+        bool kind = false;
+        for (uint32_t i = 0; tj->kind == RF_RT_MAPPED && i < tj->input_count; i++)
+            kind = kind || (rt->in[tj->first_input + i].flags & RF_RT_IN_KIND);
+        if (kind && !aside && !(aside = calloc(rt->n, 1)))
+            return NULL;
+        for (uint32_t c = j; kind && c < rt->n; c++)
+            aside[c] = aside[c] || rf_rt_carries(rt->target, (int32_t)j, c);
+    }
+    return aside;
+}
+
 /* Moves the clip along up so the median sampled frame's lowest vertex (of the whole mesh, or of
  * what stands on the floor at rest) sits on the rest mesh's lowest; only up when `raise_only`. */
 static bool rt_mesh_place(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, bool all,
@@ -496,10 +518,12 @@ static bool rt_mesh_place(rf_retarget *rt, rf_animation *anim, const rf_mesh *me
      * as far as the source's); the last raise counts the floor from where the source is, as the
      * measure does (in a jump, in the air). */
     memset(clear, 0, sizeof clear);
+    uint8_t *aside = rt_limbs_aside(rt);
     bool ok =
         (!all || rf_rt_clearance(rt, rf_retarget_start_time(rt), anim->fps, count, at, clear)) &&
         rt_mesh_prepare(&w) && (all || rt_mesh_hulls(rt, &w)) &&
-        rt_mesh_lows(&w, anim, count, all, clear, low);
+        rt_mesh_lows(&w, anim, count, all, aside, clear, low);
+    free(aside);
     if (ok && !all) {
         rt->mesh_floor = INFINITY;
         for (uint32_t v = 0; v < w.nv; v++)

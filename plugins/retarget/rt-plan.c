@@ -394,6 +394,7 @@ static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in
                rt_clip_angle(rt, in->source, in->joint, pairs[i].end, pairs[i].s, want, &leg) >
                    RT_LIMB_ROOT_ANGLE &&
                !leg;
+        out->flags |= keep ? RF_RT_IN_KIND : 0;
     }
     /* A top joint with three directions or more (a quadruped's hips: legs, spine, tail) carries
      * the body's attitude: its alignment is the turn of the body frames (up, forward), so a level
