@@ -250,12 +250,21 @@ static void select_best(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
 
 /* A section's joints as the assignment sees them: the joint, its place counted in bones, its
  * pivot and tip along the section. A limb may go on into its main digit. */
+/* A mapped entry of a line by the source section its best candidate lies in (input_section). */
+typedef struct rf_ms_vote {
+    uint64_t key; /* source << 32 | section */
+    uint32_t i;   /* the entry */
+} rf_ms_vote;
+
 typedef struct rf_ms_line {
     uint32_t *joint;
     int32_t *step;
     double *u0, *u1;
+    rf_ms_vote *vote; /* scratch for input_section */
     uint32_t n;
     double unit; /* what places along the line were divided by */
+    int32_t last; /* the largest step (line_summary) */
+    bool cut;     /* a bone cut in two (has_cut), kept so each pair's cost stays O(1) */
 } rf_ms_line;
 
 static bool line_alloc(rf_ms_line *l, uint32_t cap)
@@ -265,8 +274,9 @@ static bool line_alloc(rf_ms_line *l, uint32_t cap)
     l->step = malloc(cap * sizeof *l->step);
     l->u0 = malloc(cap * sizeof *l->u0);
     l->u1 = malloc(cap * sizeof *l->u1);
+    l->vote = malloc(cap * sizeof *l->vote);
     l->n = 0;
-    return l->joint && l->step && l->u0 && l->u1;
+    return l->joint && l->step && l->u0 && l->u1 && l->vote;
 }
 
 static void line_free(rf_ms_line *l)
@@ -275,6 +285,7 @@ static void line_free(rf_ms_line *l)
     free(l->step);
     free(l->u0);
     free(l->u1);
+    free(l->vote);
 }
 
 static bool is_limb(const rf_analysis *a, uint32_t s)
@@ -376,6 +387,15 @@ static bool has_cut(const rf_analysis *a, const rf_ms_line *l)
     return straight && bent;
 }
 
+/* What the cost of every pair of entries reads of a whole line, once the line is final: the DP
+ * compares every entry of one line with every entry of the other, and walking the lines again for
+ * each pair made long chains (thousands of joints in one line) take minutes. */
+static void line_summary(const rf_analysis *a, rf_ms_line *l)
+{
+    l->last = last_step(l);
+    l->cut = has_cut(a, l);
+}
+
 /* What leaving each bone of a limb out costs: the second half of a bone cut in two is often on
  * one side only, so leaving it out is cheap. */
 static void skip_prices(const rf_analysis *a, const rf_ms_line *l, double *out)
@@ -383,7 +403,7 @@ static void skip_prices(const rf_analysis *a, const rf_ms_line *l, double *out)
     const rf_section *sec = l->n ? &a->sections[a->joints[l->joint[0]].section] : NULL;
     bool limb = sec && (sec->type == RF_SECTION_ARM || sec->type == RF_SECTION_LEG) &&
                 !(sec->flags & RF_SECFL_FAN);
-    bool cut = limb && has_cut(a, l);
+    bool cut = limb && l->cut;
     for (uint32_t i = 0; i < l->n; i++) {
         out[i] = RF_MS_SKIP_COST;
         if (cut && i > 0 && turn_cos(a, l, i) <= 1 && turn_cos(a, l, i) > cos(0.5 * RF_PI / 180.0))
@@ -391,15 +411,13 @@ static void skip_prices(const rf_analysis *a, const rf_ms_line *l, double *out)
     }
 }
 
-static double step_weight(const rf_ms_ctx *c, bool digit, const rf_ms_line *tl, uint32_t k,
-                          const rf_ms_line *sl)
+static double step_weight(bool digit, const rf_ms_line *tl, const rf_ms_line *sl)
 {
     if (digit || tl->n == 1 || sl->n == 1)
         return 0.6;
-    int32_t rt = last_step(tl), rs = last_step(sl);
-    if (rt == rs)
+    if (tl->last == sl->last)
         return 0.3;
-    bool cut = rt > rs ? has_cut(c->tgt.a, tl) : has_cut(c->src[k].a, sl);
+    bool cut = tl->last > sl->last ? tl->cut : sl->cut;
     return cut ? 0.1 : 0.3;
 }
 
@@ -454,43 +472,48 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
     bool digit = (at->sections[a->section].flags & RF_SECFL_FAN) != 0;
     if (type != RF_SECTION_SPINE && type != RF_SECTION_HEAD && type != RF_SECTION_TAIL &&
         type != RF_SECTION_ROOT)
-        cost += step_weight(c, digit, tl, k, sl) *
+        cost += step_weight(digit, tl, sl) *
                 (tl->step[i] == sl->step[q] ? 0 : 1 + 0.25 * (abs(tl->step[i] - sl->step[q]) - 1));
     return cost;
 }
 
-static bool same_section(const rf_ms_ctx *c, const rf_ms_candidate *a, const rf_ms_candidate *b)
+static int vote_order(const void *x, const void *y)
 {
-    return a->source == b->source && c->src[a->source].a->joints[a->joint].section ==
-                                         c->src[b->source].a->joints[b->joint].section;
+    const rf_ms_vote *a = x, *b = y;
+    if (a->key != b->key)
+        return a->key < b->key ? -1 : 1;
+    return a->i < b->i ? -1 : a->i > b->i;
 }
 
 /* Thesis 4.2.2: the input section of the first mapped bone is used for the whole target section
  * when more than half of its mapped bones come from it. Beyond the thesis, the section most of
  * them chose is used (ties: the first bone's), so a two-bone thumb split one and one still
- * follows its first bone. Returns false when none qualifies. */
+ * follows its first bone. Votes are counted by sorting, not bone against bone: a hostile chain
+ * of many thousand joints must not take minutes. Returns false when none qualifies. */
 static bool input_section(const rf_ms_ctx *c, const rf_ms_pass *p, const rf_ms_line *tl,
                           uint32_t *k, uint32_t *ss)
 {
-    uint32_t mapped = 0, most = 0;
-    int32_t first = -1, pick = -1;
+    uint32_t mapped = 0;
     for (uint32_t i = 0; i < tl->n; i++) {
         const rf_ms_candidate *b = &p->best[tl->joint[i]];
         if (b->source == RF_MS_NO_SOURCE)
             continue;
-        mapped++;
-        if (first < 0)
-            first = (int32_t)i;
-        if (c->o->thesis && i != (uint32_t)first)
-            continue;
-        uint32_t votes = 0; /* sections are short: counting per bone stays cheap */
-        for (uint32_t q = 0; q < tl->n; q++)
-            votes += p->best[tl->joint[q]].source != RF_MS_NO_SOURCE &&
-                     same_section(c, &p->best[tl->joint[q]], b);
-        if (votes > most)
-            most = votes, pick = (int32_t)i;
+        uint32_t sec = (uint32_t)c->src[b->source].a->joints[b->joint].section;
+        tl->vote[mapped++] = (rf_ms_vote){(uint64_t)b->source << 32 | sec, i};
     }
-    if (first < 0 || (c->o->thesis && 2 * most <= mapped))
+    if (mapped == 0)
+        return false;
+    uint32_t first = tl->vote[0].i, most = 0, pick = first;
+    qsort(tl->vote, mapped, sizeof *tl->vote, vote_order);
+    for (uint32_t g = 0, e; g < mapped; g = e) {
+        for (e = g + 1; e < mapped && tl->vote[e].key == tl->vote[g].key;)
+            e++;
+        uint32_t votes = e - g, at = tl->vote[g].i; /* the group's first entry */
+        bool counts = !c->o->thesis || at == first;
+        if (counts && (votes > most || (votes == most && at < pick)))
+            most = votes, pick = at;
+    }
+    if (c->o->thesis && 2 * most <= mapped)
         return false;
     const rf_ms_candidate *f = &p->best[tl->joint[pick]];
     *k = f->source;
@@ -629,6 +652,7 @@ static bool settle_sections(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, r
         if (!c->o->thesis)
             own_places(tl, sl);
         bool lent = lend_digits(c, p, ts, tl, k, ss, sl);
+        line_summary(a, tl), line_summary(c->src[k].a, sl);
         if (c->o->keep_duplicates)
             best_within(c, p, tl, k, sl);
         else if (!remove_duplicates(c, p, tl, k, sl))
