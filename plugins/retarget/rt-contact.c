@@ -944,7 +944,9 @@ static double *rt_parts_clearance(const rf_retarget *rt, const rf_animation *ani
                                   uint32_t *count)
 {
     uint32_t frames = anim->frame_count;
-    *step = (uint32_t)fmax(1, floor(anim->fps / 10));
+    /* Clamped before the conversion: a clip may claim any rate (1e300 fps). */
+    double per = floor(anim->fps / 10);
+    *step = per >= 1 ? (uint32_t)fmin(per, frames ? frames : 1) : 1;
     *count = frames ? (frames - 1) / *step + 2 : 1; /* one past the end: the last frame's */
     uint32_t *at = malloc(*count * sizeof *at);
     double *clear = malloc(*count * sizeof *clear);
