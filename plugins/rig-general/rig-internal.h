@@ -126,31 +126,31 @@ bool rf_rig_centre(const rf_rig_surface *s, double p[3], const double dir[3], do
  * slant or a limb merges with the body. A joint whose section is not closed stays. */
 void rf_rig_skel_centre(const rf_rig_prep *p, rf_rig_skel *k);
 
-/* Joints [first, first + count) of k moved along the unit `axis` to fraction `at` of the way
- * through the mesh from its surface behind them (-axis) to its surface ahead (+axis); a joint
- * without surface both ways within a quarter of the longest edge stays. */
-void rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, uint32_t first, uint32_t count,
-                        rf_vec3 axis, double at);
+/* The joints of k flagged in `which` moved along `axis` to fraction `at` of the way through
+ * the mesh from its surface behind them (-axis) to its surface ahead (+axis); a joint without
+ * surface both ways within a quarter of the longest edge stays. */
+void rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
+                        double at);
 
 /* Where the template rigger puts each joint along the curve it follows: fractions of the
  * curve's length from its start (rig-template.c; the values and how they were chosen are in
  * doc/autorig.md). A bend window [lo, hi] is searched for the sharpest bend, the fraction
  * itself used when the curve runs straight there. */
 typedef struct rf_rig_tpl_layout {
-    double spine[3];           /* Spine, Spine1, Spine2 from the hips to the neck's base */
-    double neck_at;            /* a short torso: the neck's base along hips to head tip */
-    double head;               /* Head along the neck's base to the head's tip */
+    double spine[3];            /* Spine, Spine1, Spine2 from the hips to the neck's base */
+    double neck_at;             /* a short torso: the neck's base along hips to head tip */
+    double head;                /* Head along the neck's base to the head's tip */
     double shoulder, arm, hand; /* along the girdle to the hand's tip */
     double elbow, elbow_lo, elbow_hi;
     double upleg, knee, knee_lo, knee_hi;
-    double ankle_rise;         /* biped ankle: the curve this far (fraction of the leg's height)
-                                * above its lowest point */
+    double ankle_rise;             /* biped ankle: the curve this far (fraction of the leg's height)
+                                    * above its lowest point */
     double hock, hock_lo, hock_hi; /* a hind leg's ankle, at its bend */
-    double toe;                /* ToeBase, from the ankle to the tip */
+    double toe;                    /* ToeBase, from the ankle to the tip */
     double tail[4];
-    bool centre;               /* joints moved to the centre of the mesh's cross-section */
-    double dorsal;             /* then Hips, spine and neck this far through the body from the
-                                * belly (quadruped) or the front (biped) to the back; 0: left */
+    bool centre;   /* joints moved to the centre of the mesh's cross-section */
+    double dorsal; /* then Hips, spine and neck this far through the body from the
+                    * belly (quadruped) or the front (biped) to the back; 0: left */
 } rf_rig_tpl_layout;
 
 extern const rf_rig_tpl_layout rf_rig_tpl_humanoid, rf_rig_tpl_quadruped;
@@ -161,8 +161,8 @@ extern const rf_rig_tpl_layout rf_rig_tpl_humanoid, rf_rig_tpl_quadruped;
  * bone heat; the fitting of layouts (tests/rig/rig-fit) calls it many times. */
 bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
                            rf_rig_template_kind want, const rf_rig_tpl_layout *humanoid,
-                           const rf_rig_tpl_layout *quadruped, rf_rig_skel *out,
-                           char (*names)[24], rf_rig_template_kind *got, rf_vec3 *up,
-                           rf_vec3 *forward, char *err, size_t n);
+                           const rf_rig_tpl_layout *quadruped, rf_rig_skel *out, char (*names)[24],
+                           rf_rig_template_kind *got, rf_vec3 *up, rf_vec3 *forward, char *err,
+                           size_t n);
 
 #endif

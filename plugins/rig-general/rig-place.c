@@ -182,13 +182,15 @@ void rf_rig_skel_centre(const rf_rig_prep *p, rf_rig_skel *k)
     rf_rig_surface_free(s);
 }
 
-void rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, uint32_t first, uint32_t count,
-                        rf_vec3 axis, double at)
+void rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
+                        double at)
 {
     double n = rf_v3_len(axis);
     rf_rig_surface *s = n > 0 ? rf_rig_surface_make(&p->proxy) : NULL;
     double fw[3] = {axis.x / n, axis.y / n, axis.z / n}, bw[3] = {-fw[0], -fw[1], -fw[2]};
-    for (uint32_t j = first; s && j < first + count && j < k->n; j++) {
+    for (uint32_t j = 0; s && j < k->n; j++) {
+        if (!which[j])
+            continue;
         double *q = k->pos + (size_t)j * 3;
         double ahead = rf_rig_surface_hit(s, q, fw), behind = rf_rig_surface_hit(s, q, bw);
         if (ahead > 0.25 * p->longest || behind > 0.25 * p->longest)

@@ -872,8 +872,7 @@ static bool rf_tpl_embed(const rf_rig_skel *k, const rf_rig_options *o, rf_rig_t
     return ok;
 }
 
-static bool rf_tpl_name(rf_skeleton *s, char (*names)[24], uint32_t n, rf_vec3 up,
-                        rf_vec3 forward)
+static bool rf_tpl_name(rf_skeleton *s, char (*names)[24], uint32_t n, rf_vec3 up, rf_vec3 forward)
 {
     free(s->name);
     if (!(s->name = rf_strdup("rig.template")))
@@ -887,9 +886,9 @@ static bool rf_tpl_name(rf_skeleton *s, char (*names)[24], uint32_t n, rf_vec3 u
 
 bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
                            rf_rig_template_kind want, const rf_rig_tpl_layout *humanoid,
-                           const rf_rig_tpl_layout *quadruped, rf_rig_skel *out,
-                           char (*names)[24], rf_rig_template_kind *got, rf_vec3 *up,
-                           rf_vec3 *forward, char *err, size_t n)
+                           const rf_rig_tpl_layout *quadruped, rf_rig_skel *out, char (*names)[24],
+                           rf_rig_template_kind *got, rf_vec3 *up, rf_vec3 *forward, char *err,
+                           size_t n)
 {
     const rf_rig_tpl_layout *lay[2] = {humanoid ? humanoid : &rf_rig_tpl_humanoid,
                                        quadruped ? quadruped : &rf_rig_tpl_quadruped};
@@ -904,8 +903,11 @@ bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_
         rf_rig_skel_centre(p, out);
     /* the spine lies towards the back: a quadruped's up, a biped's back (when known) */
     rf_vec3 back = *got == RF_RIG_TEMPLATE_HUMANOID ? rf_v3_scale(*forward, -1) : *up;
+    uint8_t trunk[RF_TPL_MAXJ] = {0};
+    for (uint32_t j = t->trunk; ok && j < t->trunk + t->trunk_count && j < t->n; j++)
+        trunk[j] = 1;
     if (ok && l->dorsal > 0 && rf_v3_len(back) > 0)
-        rf_rig_skel_across(p, out, t->trunk, t->trunk_count, back, l->dorsal);
+        rf_rig_skel_across(p, out, trunk, back, l->dorsal);
     for (uint32_t j = 0; ok && j < t->n; j++)
         memcpy(names[j], t->name[j], 24);
     free(t);
@@ -930,8 +932,8 @@ bool rf_rig_template(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_tem
     if (progress)
         progress(user, 0.1);
     bool ok = rf_rig_curve(&p, &o, &k, err, err_size) &&
-              rf_rig_template_place(&p, &k, &o, kind, NULL, NULL, &tk, names, &got, &up,
-                                    &forward, err, err_size);
+              rf_rig_template_place(&p, &k, &o, kind, NULL, NULL, &tk, names, &got, &up, &forward,
+                                    err, err_size);
     if (ok && progress)
         progress(user, 0.4);
     rf_skeleton *s = ok ? rf_rig_skeleton(&tk, NULL) : NULL;

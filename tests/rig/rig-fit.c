@@ -49,15 +49,49 @@ typedef struct fit_param {
     size_t at, lo, hi; /* offsetof the fraction, its window's ends (0: none) */
 } fit_param;
 
-#define P(f) {#f, offsetof(rf_rig_tpl_layout, f), 0, 0}
-#define PW(f) {#f, offsetof(rf_rig_tpl_layout, f), offsetof(rf_rig_tpl_layout, f##_lo), \
-               offsetof(rf_rig_tpl_layout, f##_hi)}
+#define P(f)                                                                                       \
+    {                                                                                              \
+#f, offsetof(rf_rig_tpl_layout, f), 0, 0                                                   \
+    }
+#define PW(f)                                                                                      \
+    {                                                                                              \
+#f, offsetof(rf_rig_tpl_layout, f), offsetof(rf_rig_tpl_layout, f##_lo),                   \
+            offsetof(rf_rig_tpl_layout, f##_hi)                                                    \
+    }
 static const fit_param fit_params[2][20] = {
-    {P(spine[0]), P(spine[1]), P(spine[2]), P(neck_at), P(head), P(shoulder), P(arm), P(hand),
-     PW(elbow), P(upleg), PW(knee), P(ankle_rise), P(toe), {NULL, 0, 0, 0}},
-    {P(spine[0]), P(spine[1]), P(spine[2]), P(neck_at), P(head), P(shoulder), P(arm), P(hand),
-     PW(elbow), P(upleg), PW(knee), PW(hock), P(toe), P(tail[0]), P(tail[1]), P(tail[2]),
-     P(tail[3]), P(dorsal), {NULL, 0, 0, 0}},
+    {P(spine[0]),
+     P(spine[1]),
+     P(spine[2]),
+     P(neck_at),
+     P(head),
+     P(shoulder),
+     P(arm),
+     P(hand),
+     PW(elbow),
+     P(upleg),
+     PW(knee),
+     P(ankle_rise),
+     P(toe),
+     {NULL, 0, 0, 0}},
+    {P(spine[0]),
+     P(spine[1]),
+     P(spine[2]),
+     P(neck_at),
+     P(head),
+     P(shoulder),
+     P(arm),
+     P(hand),
+     PW(elbow),
+     P(upleg),
+     PW(knee),
+     PW(hock),
+     P(toe),
+     P(tail[0]),
+     P(tail[1]),
+     P(tail[2]),
+     P(tail[3]),
+     P(dorsal),
+     {NULL, 0, 0, 0}},
 };
 
 static double *fit_at(rf_rig_tpl_layout *l, size_t off)
@@ -117,9 +151,9 @@ static bool fit_sane(const rf_rig_tpl_layout *l, int kind)
 {
     bool ok = l->spine[0] > 0.02 && l->spine[0] < l->spine[1] && l->spine[1] < l->spine[2] &&
               l->spine[2] < 0.98 && l->shoulder >= 0 && l->shoulder < l->arm &&
-              l->arm < l->elbow_lo && l->elbow_hi < l->hand && l->hand < 0.98 &&
-              l->upleg >= 0 && l->upleg < l->knee_lo && l->neck_at > 0.2 && l->neck_at < 0.9 &&
-              l->head > 0 && l->head < 0.9 && l->toe > 0 && l->toe < 1 && l->ankle_rise >= 0 &&
+              l->arm < l->elbow_lo && l->elbow_hi < l->hand && l->hand < 0.98 && l->upleg >= 0 &&
+              l->upleg < l->knee_lo && l->neck_at > 0.2 && l->neck_at < 0.9 && l->head > 0 &&
+              l->head < 0.9 && l->toe > 0 && l->toe < 1 && l->ankle_rise >= 0 &&
               l->ankle_rise < 0.5 && l->dorsal >= 0 && l->dorsal < 1;
     if (kind == 1)
         ok = ok && l->knee_hi < l->hock_lo && l->hock_hi < 0.98 && l->tail[0] > 0 &&
@@ -212,8 +246,8 @@ static bool fit_load(const char *path, fit_model *m)
         char names[40][24];
         rf_rig_template_kind got;
         rf_vec3 up, fw;
-        if (rf_rig_template_place(&m->prep, &m->curve, &m->opts, RF_RIG_TEMPLATE_AUTO, NULL,
-                                  NULL, &t, names, &got, &up, &fw, err, sizeof err))
+        if (rf_rig_template_place(&m->prep, &m->curve, &m->opts, RF_RIG_TEMPLATE_AUTO, NULL, NULL,
+                                  &t, names, &got, &up, &fw, err, sizeof err))
             m->kind = got == RF_RIG_TEMPLATE_HUMANOID ? 0 : 1;
         rf_rig_skel_free(&t);
     }
@@ -271,8 +305,8 @@ int main(int argc, char **argv)
     }
     for (int k = 0; k < 2; k++)
         if (count[k])
-            printf("mean %s (%g models),%.4f,%.4f,%.4f\n", k ? "quadruped" : "humanoid",
-                   count[k], sum[k][0] / count[k], sum[k][1] / count[k], sum[k][2] / count[k]);
+            printf("mean %s (%g models),%.4f,%.4f,%.4f\n", k ? "quadruped" : "humanoid", count[k],
+                   sum[k][0] / count[k], sum[k][1] / count[k], sum[k][2] / count[k]);
     fit_print("humanoid fitted on all", &all[0], 0);
     fit_print("quadruped fitted on all", &all[1], 1);
     return 0;

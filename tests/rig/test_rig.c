@@ -745,7 +745,8 @@ static void test_place_section(void **state)
     for (int j = 0; j < 2; j++)
         assert_true(fabs(pos[j * 3]) < 0.01 && fabs(pos[j * 3 + 2]) < 0.01);
     memcpy(moved, pos, sizeof moved);
-    rf_rig_skel_across(&prep, &k, 1, 1, rf_v3(0, 0, 1), 0.66);
+    const uint8_t second[2] = {0, 1};
+    rf_rig_skel_across(&prep, &k, second, rf_v3(0, 0, 1), 0.66);
     assert_true(fabs(pos[5] - 0.16) < 1e-4 && pos[3] == moved[3] && pos[4] == moved[4]);
     assert_true(pos[2] == moved[2]); /* joint 0 not asked for */
 }
