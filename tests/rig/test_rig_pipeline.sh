@@ -114,10 +114,29 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # the comments: CD-J2J, skinning P / R after the matcher); the CD-J2J limits fail if the joints
 # go back to where the layouts before their fit to artist rigs put them (0.0296, 0.039, 0.051,
 # 0.078)
-"$rigflow" rig-bench -r template "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
-    "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" \
-    >"$tmp/tbench.csv" 2>"$tmp/err" || ko "rig-bench -r template exit $?"
+"$rigflow" rig-bench -r template --joints "$tmp/joints.csv" "$data/models/Fox.glb" \
+    "$data/models/RiggedFigure.glb" "$data/models/Testwuson.X" \
+    "$data/models/creatures/animalia_wolf.b3d" >"$tmp/tbench.csv" 2>"$tmp/err" ||
+    ko "rig-bench -r template exit $?"
 cat "$tmp/tbench.csv"
+# --joints: per model, the mean distance of the rigger's joints and of the artist's to the other
+# rig's nearest joint, halved, is CD-J2J as the bench printed it (the same chamfer, summed back
+# from its parts); every template joint is there
+awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
+                     else cd[$c["model"]] = $c["cd_j2j"]; next }
+    FNR == 1 { for (i = 1; i <= NF; i++) j[$i] = i; next }
+    { s[$j["model"], $j["rig"]] += $j["distance"]; n[$j["model"], $j["rig"]]++
+      if ($j["rig"] == "rigger" && $j["joint"] == "\"LeftUpLeg\"") legs++ }
+    END {
+        for (m in cd) {
+            if (!n[m, "rigger"] || !n[m, "artist"]) { print "FAIL: --joints: no rows for " m; continue }
+            got = 0.5 * (s[m, "rigger"] / n[m, "rigger"] + s[m, "artist"] / n[m, "artist"])
+            if (got - cd[m] > 0.0002 || cd[m] - got > 0.0002)
+                print "FAIL: --joints: " m " gives CD-J2J " got ", the bench " cd[m]
+        }
+        if (legs != 4) print "FAIL: --joints: " legs " LeftUpLeg rows, expected 4"
+    }' "$tmp/tbench.csv" "$tmp/joints.csv" >"$tmp/fails"
+if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joints"; else ok; fi
 awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r }
     BEGIN {
         limits("\"Fox.glb\"", 0.039, 0.53, 0.80)                # 0.037 .58/.88
