@@ -22,3 +22,5 @@ tests_rig_test_rig_LDADD = sdk/formats/assimp/librigflow-assimp.la plugins/rig-g
 
 TESTS += tests/rig/test_rig_pipeline.sh
 EXTRA_DIST += tests/rig/test_rig_pipeline.sh
+TESTS += tests/rig/test_rig_fit.sh
+EXTRA_DIST += tests/rig/test_rig_fit.sh

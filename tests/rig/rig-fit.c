@@ -255,6 +255,14 @@ static bool fit_load(const char *path, fit_model *m)
     return ok;
 }
 
+static void fit_free(fit_model *m)
+{
+    rf_rig_prep_free(&m->prep);
+    rf_rig_skel_free(&m->curve);
+    free(m->artist);
+    memset(m, 0, sizeof *m);
+}
+
 static void fit_print(const char *title, const rf_rig_tpl_layout *l, int kind)
 {
     printf("%s:", title);
@@ -285,6 +293,8 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; i++)
         if (fit_load(argv[i], &ms[n]) && ms[n].kind >= 0)
             n++;
+        else
+            fit_free(&ms[n]);
     const rf_rig_tpl_layout *dflt[2] = {&rf_rig_tpl_humanoid, &rf_rig_tpl_quadruped};
     printf("model,template,artist_joints,builtin,leave_one_out,all\n");
     double sum[2][3] = {{0}}, count[2] = {0};
@@ -309,5 +319,7 @@ int main(int argc, char **argv)
                    sum[k][0] / count[k], sum[k][1] / count[k], sum[k][2] / count[k]);
     fit_print("humanoid fitted on all", &all[0], 0);
     fit_print("quadruped fitted on all", &all[1], 1);
+    for (int i = 0; i < n; i++)
+        fit_free(&ms[i]);
     return 0;
 }
