@@ -898,18 +898,21 @@ bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_
     bool ok = rf_tpl_embed(k, o, want, lay, t, got, up, forward, err, n);
     if (ok && !rf_tpl_to_skel(t, out))
         ok = rf_rig_fail(err, n, "out of memory");
-    const rf_rig_tpl_layout *l = ok ? lay[*got != RF_RIG_TEMPLATE_HUMANOID] : NULL;
-    if (ok && l->centre)
-        rf_rig_skel_centre(p, out);
-    /* the spine lies towards the back: a quadruped's up, a biped's back (when known) */
-    rf_vec3 back = *got == RF_RIG_TEMPLATE_HUMANOID ? rf_v3_scale(*forward, -1) : *up;
-    uint8_t trunk[RF_TPL_MAXJ] = {0};
-    for (uint32_t j = t->trunk; ok && j < t->trunk + t->trunk_count && j < t->n; j++)
-        trunk[j] = 1;
-    if (ok && l->dorsal > 0 && rf_v3_len(back) > 0)
-        rf_rig_skel_across(p, out, trunk, back, l->dorsal);
-    for (uint32_t j = 0; ok && j < t->n; j++)
-        memcpy(names[j], t->name[j], 24);
+    if (ok) {
+        bool human = *got == RF_RIG_TEMPLATE_HUMANOID;
+        const rf_rig_tpl_layout *l = lay[!human];
+        if (l->centre)
+            rf_rig_skel_centre(p, out);
+        /* the spine lies towards the back: a quadruped's up, a biped's back (when known) */
+        rf_vec3 back = human ? rf_v3_scale(*forward, -1) : *up;
+        uint8_t trunk[RF_TPL_MAXJ] = {0};
+        for (uint32_t j = t->trunk; j < t->trunk + t->trunk_count && j < t->n; j++)
+            trunk[j] = 1;
+        if (l->dorsal > 0 && rf_v3_len(back) > 0)
+            rf_rig_skel_across(p, out, trunk, back, l->dorsal);
+        for (uint32_t j = 0; j < t->n; j++)
+            memcpy(names[j], t->name[j], 24);
+    }
     free(t);
     return ok;
 }
