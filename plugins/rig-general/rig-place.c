@@ -1,7 +1,8 @@
 /* Joint placement by the mesh itself: the curve skeleton gives each joint's place along a limb
- * or the body; the surface, found by casting rays (Embree) in the plane square to the bone,
- * gives its place across: the centre of the limb's or the body's cross-section, where artists
- * put a joint. */
+ * or the body; the surface, found by casting rays (Embree), gives its place across: a level
+ * trunk's spine at a given depth between belly and back (rf_rig_skel_across, used by both
+ * riggers), or the centre of the cross-section square to the bone (rf_rig_skel_centre, a layout
+ * option of the template rigger, off: doc/autorig.md says why). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
