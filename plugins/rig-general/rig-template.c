@@ -424,14 +424,14 @@ const rf_rig_tpl_layout rf_rig_tpl_humanoid = {
     .knee = 0.47,
     .knee_lo = 0.35,
     .knee_hi = 0.6,
-    .ankle_rise = 0.12,
+    .ankle_rise = 0.28,
     .toe = 0.32,
     .centre = false,
 };
 const rf_rig_tpl_layout rf_rig_tpl_quadruped = {
     .spine = {0.25, 0.5, 0.75},
     .neck_at = 0.5,
-    .head = 0.5,
+    .head = 0.38,
     .shoulder = 0.34,
     .arm = 0.39,
     .hand = 0.82,
