@@ -476,7 +476,7 @@ static void rf_tpl_leg(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, in
     const rf_rig_tpl_layout *l = x->lay;
     double knee = rf_tpl_bend(&c, l->knee_lo, l->knee_hi, l->knee);
     double ankle = hind ? rf_tpl_bend(&c, l->hock_lo, l->hock_hi, l->hock) : 0.82;
-    if (!hind) { /* the ankle: the first point within ankle_rise of the leg's height of its lowest */
+    if (!hind) { /* the ankle: first point within ankle_rise of the leg's height of its lowest */
         double lo = INFINITY, top = 0;
         rf_vec3 up = x->a->up;
         for (uint32_t i = 0; i < c.n; i++) {
