@@ -429,7 +429,7 @@ const rf_rig_tpl_layout rf_rig_tpl_humanoid = {
     .centre = false,
 };
 const rf_rig_tpl_layout rf_rig_tpl_quadruped = {
-    .spine = {0.25, 0.5, 0.75},
+    .spine = {0.13, 0.5, 0.75},
     .neck_at = 0.5,
     .head = 0.38,
     .shoulder = 0.34,
@@ -448,7 +448,7 @@ const rf_rig_tpl_layout rf_rig_tpl_quadruped = {
     .toe = 0.44,
     .tail = {0.1, 0.32, 0.54, 0.76},
     .centre = false,
-    .dorsal = 0.66,
+    .dorsal = 0.68,
 };
 
 static const char *const rf_tpl_side[2] = {"Left", "Right"};
