@@ -82,8 +82,9 @@ double rf_retarget_output_fps(const rf_retarget *rt)
     return rt->opt.fps > 0 ? rt->opt.fps : rt->src[0].anim->fps;
 }
 
-/* Frames of output for the option's range; 0 when the range is empty. */
-static uint32_t rt_output_frames(const rf_retarget *rt)
+/* Frames of output for the option's range; 0 when the range is empty. A double: a file's frame
+ * time can make it any size (1e300 s a frame), beyond what a frame index holds. */
+static double rt_output_frames(const rf_retarget *rt)
 {
     const rf_animation *a = rt->src[0].anim;
     if (!a->frame_count)
@@ -94,7 +95,7 @@ static uint32_t rt_output_frames(const rf_retarget *rt)
     if (rt->opt.first_frame > last)
         return 0;
     double duration = (last - rt->opt.first_frame) / a->fps;
-    return (uint32_t)floor(duration * rf_retarget_output_fps(rt) + 1e-9) + 1;
+    return floor(duration * rf_retarget_output_fps(rt) + 1e-9) + 1;
 }
 
 /* The output clip, its arrays left unset: every frame writes every value (rf_animation_new
@@ -181,12 +182,21 @@ static bool rt_all_frames(rf_retarget *rt, rf_animation *out, rf_rt_progress_fn 
 rf_animation *rf_retarget_clip(rf_retarget *rt, rf_rt_progress_fn progress, void *user, char *err,
                                size_t err_size)
 {
-    uint32_t frames = rt_output_frames(rt);
-    if (!frames) {
+    double count = rt_output_frames(rt);
+    if (!(count >= 1)) {
         rf_rt_fail(err, err_size, "the frame range %u..%d is empty (the clip has %u frames)",
                    rt->opt.first_frame, rt->opt.last_frame, rt->src[0].anim->frame_count);
         return NULL;
     }
+    if (!(count < UINT32_MAX)) {
+        rf_rt_fail(err, err_size,
+                   "the clip would be %.3g frames at %g fps (its %u frames span %.3g s): check "
+                   "the source's frame time",
+                   count, rf_retarget_output_fps(rt), rt->src[0].anim->frame_count,
+                   (rt->src[0].anim->frame_count - 1) / rt->src[0].anim->fps);
+        return NULL;
+    }
+    uint32_t frames = (uint32_t)count;
     rf_animation *out = rt_output_new(rt, frames);
     if (!out) {
         rf_rt_fail(err, err_size, "out of memory for %u frames", frames);
@@ -284,9 +294,11 @@ double rf_rt_detect_cycle(const rf_retarget *rt, uint32_t k)
 {
     const rf_animation *a = rt->src[k].anim;
     double clip = a->frame_count > 1 ? (a->frame_count - 1) / a->fps : 1;
-    uint32_t lo = (uint32_t)ceil(0.2 * a->fps), hi = a->frame_count / 2;
-    if (hi > (uint32_t)(4 * a->fps))
-        hi = (uint32_t)(4 * a->fps);
+    /* lags in frames, bounded in double first: a file may claim any rate (1e300 fps), and a
+     * double beyond uint32_t's range does not convert */
+    uint32_t hi = a->frame_count / 2;
+    uint32_t lo = (uint32_t)fmin(ceil(0.2 * a->fps), (double)hi + 1);
+    hi = (uint32_t)fmin(floor(4 * a->fps), (double)hi);
     if (lo < 1)
         lo = 1;
     if (hi <= lo)
