@@ -11,7 +11,8 @@
 #   doc/autorig.md records; a worse rigger fails here.
 # - the template rigger (pipelines/autorig-template.json, rig-bench -r template): WusonOBJ.obj gets
 #   the standard names; a sphere (no legs) and spider.obj (eight legs) are refused with the reason
-#   and leave no file; RiggedFigure and the Fox under CD-J2J and skinning limits.
+#   and leave no file; RiggedFigure, the Fox, Testwuson and the animalia wolf under CD-J2J and
+#   skinning limits.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
 src="${RF_SRCDIR:-.}"
 data="${RF_DATA_DIR:-}"
@@ -88,10 +89,10 @@ rows=$(tail -n +2 "$tmp/bench.csv" | wc -l)
 awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
                  cdmax[m] = cd; pmin[m] = p; rmin[m] = r; gpmin[m] = gp; grmin[m] = gr; glmax[m] = gl }
     BEGIN {
-        limits("\"Fox.glb\"", 0.055, 0.45, 0.52, 0.72, 0.88, 0.55)         # 0.048 .51/.58 .77/.93/.49
+        limits("\"Fox.glb\"", 0.055, 0.45, 0.52, 0.72, 0.88, 0.55)         # 0.047 .50/.57 .77/.93/.49
         limits("\"RiggedFigure.glb\"", 0.045, 0.42, 0.30, 0.80, 0.90, 0.36) # 0.038 .47/.35 .86/.95/.30
-        limits("\"Testwuson.X\"", 0.06, 0.24, 0.36, 0.60, 0.83, 0.72)      # 0.052 .28/.41 .65/.88/.67
-        limits("\"animalia_wolf.b3d\"", 0.085, 0.32, 0.38, 0.76, 0.81, 0.40) # 0.077 .37/.43 .81/.86/.35
+        limits("\"Testwuson.X\"", 0.049, 0.26, 0.38, 0.60, 0.83, 0.72)      # 0.044 .31/.44 .65/.88/.67
+        limits("\"animalia_wolf.b3d\"", 0.074, 0.32, 0.38, 0.76, 0.81, 0.40) # 0.069 .37/.43 .81/.86/.35
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -111,15 +112,41 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
         if ($col["status"] != "\"ok\"") print "FAIL: " m ": " $col["status"]
     }' "$tmp/bench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else ok; fi
-# the template rigger on the two bodies it is tested on (doc/autorig.md): limits a little beyond
-# what it reaches (in the comments: CD-J2J, skinning P / R after the matcher)
-"$rigflow" rig-bench -r template "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
-    >"$tmp/tbench.csv" 2>"$tmp/err" || ko "rig-bench -r template exit $?"
+# the template rigger on four bodies (doc/autorig.md): limits a little beyond what it reaches (in
+# the comments: CD-J2J, skinning P / R after the matcher); the CD-J2J limits fail if the joints
+# go back to where the layouts before their fit to artist rigs put them (0.0296, 0.039, 0.051,
+# 0.078). Testwuson's skinning after the matcher has two readings for joints a few thousandths
+# apart (42% / 60% and 22% / 28% at CD-J2J 0.040, doc/autorig.md): its floor only guards against
+# a rig the matcher cannot read at all, so another machine's rounding cannot fail it
+"$rigflow" rig-bench -r template --joints "$tmp/joints.csv" "$data/models/Fox.glb" \
+    "$data/models/RiggedFigure.glb" "$data/models/Testwuson.X" \
+    "$data/models/creatures/animalia_wolf.b3d" >"$tmp/tbench.csv" 2>"$tmp/err" ||
+    ko "rig-bench -r template exit $?"
 cat "$tmp/tbench.csv"
+# --joints: per model, the mean distance of the rigger's joints and of the artist's to the other
+# rig's nearest joint, halved, is CD-J2J as the bench printed it (the same chamfer, summed back
+# from its parts); every template joint is there
+awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
+                     else cd[$c["model"]] = $c["cd_j2j"]; next }
+    FNR == 1 { for (i = 1; i <= NF; i++) j[$i] = i; next }
+    { s[$j["model"], $j["rig"]] += $j["distance"]; n[$j["model"], $j["rig"]]++
+      if ($j["rig"] == "rigger" && $j["joint"] == "\"LeftUpLeg\"") legs++ }
+    END {
+        for (m in cd) {
+            if (!n[m, "rigger"] || !n[m, "artist"]) { print "FAIL: --joints: no rows for " m; continue }
+            got = 0.5 * (s[m, "rigger"] / n[m, "rigger"] + s[m, "artist"] / n[m, "artist"])
+            if (got - cd[m] > 0.0002 || cd[m] - got > 0.0002)
+                print "FAIL: --joints: " m " gives CD-J2J " got ", the bench " cd[m]
+        }
+        if (legs != 4) print "FAIL: --joints: " legs " LeftUpLeg rows, expected 4"
+    }' "$tmp/tbench.csv" "$tmp/joints.csv" >"$tmp/fails"
+if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joints"; else ok; fi
 awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r }
     BEGIN {
-        limits("\"Fox.glb\"", 0.045, 0.62, 0.80)          # 0.039 .68/.86
-        limits("\"RiggedFigure.glb\"", 0.033, 0.74, 0.60) # 0.030 .80/.66
+        limits("\"Fox.glb\"", 0.037, 0.60, 0.78)                # 0.034 .65/.81
+        limits("\"RiggedFigure.glb\"", 0.0292, 0.72, 0.62)      # 0.0286 .82/.64
+        limits("\"Testwuson.X\"", 0.041, 0.18, 0.24)            # 0.038 .44/.60 (below)
+        limits("\"animalia_wolf.b3d\"", 0.063, 0.68, 0.78)      # 0.059 .75/.84
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -133,7 +160,7 @@ awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r 
         if ($col["unweighted"] != 0) print "FAIL: template " m ": vertices without weights"
         if ($col["status"] != "\"ok\"") print "FAIL: template " m ": " $col["status"]
     }
-    END { if (n != 2) print "FAIL: template rig-bench: " n " rows, expected 2" }' "$tmp/tbench.csv" >"$tmp/fails"
+    END { if (n != 4) print "FAIL: template rig-bench: " n " rows, expected 4" }' "$tmp/tbench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench template thresholds"; else ok; fi
 # a model that is not there is an error (exit 1, named on stderr), not a refused row
 if "$rigflow" rig-bench -r general "$tmp/none.glb" >"$tmp/none.csv" 2>"$tmp/err"; then
