@@ -31,6 +31,22 @@ static rf_side section_side(const rf_awork *w, const rf_section *s, uint32_t fir
     return side_of_point(w, c, 0.1 * w->tol);
 }
 
+/* The length of the bone p ends, with the bone before it when the two lie in one straight line
+ * (a forearm cut in two for its twist, as Rigify's deform bones are): the hand is compared with
+ * the whole forearm, not its second half. */
+static double forearm_length(const rf_analysis *a, int32_t p)
+{
+    const rf_joint_info *f = &a->joints[p];
+    int32_t q = f->logical_parent;
+    if (q < 0 || f->length <= 0 || a->joints[q].length <= 0)
+        return f->length;
+    const rf_joint_info *g = &a->joints[q];
+    rf_vec3 d0 = rf_v3_normalize(rf_v3_sub(g->tip, g->pos));
+    rf_vec3 d1 = rf_v3_normalize(rf_v3_sub(f->tip, f->pos));
+    bool straight = rf_v3_dot(d0, d1) > 0.999 && rf_v3_dist(g->tip, f->pos) <= 1e-3 * g->length;
+    return straight ? f->length + g->length : f->length;
+}
+
 /* Whether a fan's digits are measured from the wrist, the pivot of the bone they hang from: a
  * hand bone (no longer than three digits, and well short of the forearm before it), so
  * a palm bone starting at the wrist and a finger starting at the knuckle keep apart (the
@@ -47,7 +63,7 @@ static bool fan_from_wrist(const rf_awork *w, const rf_section *s)
         reach += rf_v3_dist(a->joints[js[k + 1]].pos, a->joints[js[k]].pos);
     const rf_joint_info *hand = &a->joints[s->attach_joint];
     int32_t p = hand->logical_parent;
-    return hand->length <= 3 * reach && (p < 0 || hand->length <= 0.6 * a->joints[p].length);
+    return hand->length <= 3 * reach && (p < 0 || hand->length <= 0.6 * forearm_length(a, p));
 }
 
 /* Where a section's length is measured from: its own first pivot for the root chain and the

@@ -301,6 +301,42 @@ static void test_insect_one_girdle(void **state)
 
 /* Twist leaves inside the forearms and thighs (Unreal's mannequin) are part of their segment:
  * helpers, not digits, and the hands keep their two digits. A thumb at the wrist is no roll. */
+/* A forearm cut in two straight halves (Rigify's deform bones) before a hand bone longer than
+ * 0.6 of the half but not of the whole forearm: the hand is still a hand bone, so its digits are
+ * measured from the wrist. The finger's knuckle then lies at |knuckle - wrist| / (that + the
+ * finger's length) of its section, by hand 0.14 / 0.22 (from the hand's tip, as when the half
+ * was taken for the forearm, 0.43). */
+static void test_hand_on_cut_forearm(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped) + 2];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) {
+        js[n] = sb_biped[i];
+        double side = js[n].x < 0 ? -1 : 1;
+        const char *nm = js[n].name, *par = js[n].parent ? js[n].parent : "";
+        if (!strcmp(nm + 1, "_hand"))
+            js[n].parent = side > 0 ? "l_fore2" : "r_fore2";
+        if (!strcmp(nm + 1, "_finger"))
+            js[n].x = 0.86 * side;
+        if (!strcmp(nm, ".") && !strcmp(par + 1, "_finger"))
+            js[n].x = 0.94 * side;
+        n++;
+        if (!strcmp(nm + 1, "_forearm"))
+            js[n++] = (sb_joint){side > 0 ? "l_fore2" : "r_fore2", nm, 0.59 * side, 1.50, -0.03, 0};
+    }
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    assert_section(a, s, "l_finger", RF_SECTION_HAND, RF_SIDE_LEFT);
+    double u0 = a->joints[sb_find(s, "l_finger")].u0;
+    if (fabs(u0 - 0.14 / 0.22) > 0.01)
+        fail_msg("the knuckle at %.3f of its digit, expected %.3f", u0, 0.14 / 0.22);
+    assert_true(fabs(a->joints[sb_find(s, "r_finger")].u0 - 0.14 / 0.22) < 0.01);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 static void test_roll_leaves(void **state)
 {
     (void)state;
@@ -661,6 +697,7 @@ int main(void)
         cmocka_unit_test(test_quadruped),
         cmocka_unit_test(test_facing_dissent),
         cmocka_unit_test(test_bird_ground),
+        cmocka_unit_test(test_hand_on_cut_forearm),
         cmocka_unit_test(test_dragon_folded_wings),
         cmocka_unit_test(test_insect_one_girdle),
         cmocka_unit_test(test_roll_leaves),
