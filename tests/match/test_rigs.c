@@ -238,7 +238,7 @@ static void add_tally(tally *a, const tally *b)
 int main(void)
 {
     const kind kinds[] = {
-        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.979, 0},
+        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.981, 0},
         {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.94, 0},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.84, 0},
         {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.935, 1},
