@@ -19,6 +19,7 @@
 #include <jansson.h>
 
 #include "rigflow/gltf-write.h"
+#include "rigflow/prefault.h"
 #include "rigflow/text.h"
 
 enum {
@@ -58,6 +59,7 @@ static size_t rf_gw_append(rf_gw *g, const void *data, size_t bytes)
             g->oom = true;
             return 0;
         }
+        rf_prefault(b + g->cap, cap - g->cap); /* the new part: written from here on */
         g->buf = b, g->cap = cap;
     }
     memset(g->buf + g->len, 0, start - g->len);
