@@ -1,4 +1,5 @@
 # Benchmarks (run with `make bench`).
+EXTRA_DIST += bench/lib.sh # sourced by bench/bvh/run.sh and bench/retarget/run.sh
 # IK solvers beside three.js and closed-chain-ik: bench/ik/run.sh [BUILDDIR] [--quick].
 EXTRA_DIST += bench/ik/run.sh bench/ik/ratios.mjs
 # BVH import beside three.js and Assimp: `make bench-bvh` runs bench/bvh/run.sh.

@@ -458,10 +458,15 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
         rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, "skipped: no skinned mesh to compare with");
         return;
     }
+    double L = rb_longest(am);
+    if (!(L > 0) || !isfinite(L)) {
+        /* Every column is a fraction of this length: none can be given without it. */
+        rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, "skipped: the artist's mesh has no extent");
+        return;
+    }
     rb_rig g = {0}, p = {0};
     rb_rig_make(as, am, true, &g);
     rb_rig_make(ps, pm, false, &p);
-    double L = rb_longest(am);
     cd[0] = rb_chamfer(&p, &g, false, false) / L;
     cd[1] = 0.5 * (rb_mean(&p, &g, false, true) + rb_mean(&g, &p, false, true)) / L;
     cd[2] = rb_chamfer(&p, &g, true, true) / L;
@@ -489,6 +494,13 @@ static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, 
     double cd[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
     rb_skin sk = {NAN, NAN, NAN, 0};
     char why[600];
+    if (!g_file_test(path, G_FILE_TEST_IS_REGULAR)) {
+        /* Not a refusal by the rigger: a bench over a missing file must not read as done. */
+        g_autofree char *shown = rf_printable(path);
+        fprintf(stderr, "rigflow rig-bench: %s: no such file\n", shown);
+        rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, "error: no such file");
+        return RF_EXIT_RUN;
+    }
     rf_pipeline *p = rb_pipeline(reg, r, path, why, sizeof why);
     if (!p) {
         g_autofree char *shown = rf_printable(path);

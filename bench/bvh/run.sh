@@ -32,13 +32,8 @@ for a in "$@"; do
     *) build=$a ;;
     esac
 done
-build=$(cd "$build" && pwd)
-shared=${RF_SHARED_DIR:-$src/../shared}
-peers=$shared/peers
-data=${RF_DATA_DIR:-$shared/data}
-work=$build/bench-bvh
-mkdir -p "$work"
-say() { printf '%s\n' "$*" >&2; }
+. "$src/bench/lib.sh"
+bench_paths "$build" bvh
 
 [ -d "$data/bvh" ] || { say "run.sh: $data/bvh not found (the shared test data)"; exit 1; }
 bench=$build/bench/bvh/bench_bvh
@@ -71,12 +66,7 @@ done
 
 # --- three.js ---
 say "== three.js BVHLoader ($procs processes)"
-tpeers=$work/peers
-if [ ! -d "$tpeers/node_modules/three" ]; then
-    rm -rf "$tpeers" && cp -R "$peers" "$tpeers" && chmod -R u+w "$tpeers"
-    ln -sfn "$data" "$work/data" # the peers' scripts look for ../data
-    (cd "$tpeers" && npm install --no-audit --no-fund --silent) >&2
-fi
+bench_three
 if [ $full = 1 ]; then
     (cd "$tpeers" && ./run_three.sh "$out/three") >&2
     cp "$out"/three/three_run*.txt "$out/" 2>/dev/null || true

@@ -28,13 +28,8 @@ for a in "$@"; do
     *) build=$a ;;
     esac
 done
-build=$(cd "$build" && pwd)
-shared=${RF_SHARED_DIR:-$src/../shared}
-peers=$shared/peers
-data=${RF_DATA_DIR:-$shared/data}
-work=$build/bench-retarget
-mkdir -p "$work"
-say() { printf '%s\n' "$*" >&2; }
+. "$src/bench/lib.sh"
+bench_paths "$build" retarget
 
 [ -d "$data/bvh" ] || { say "run.sh: $data/bvh not found (the shared test data)"; exit 1; }
 bench=$build/bench/retarget/bench_retarget
@@ -52,12 +47,7 @@ rm -rf "$out"
 mkdir -p "$out"
 
 # three.js, installed into a writable copy of the peers folder
-tpeers=$work/peers
-if [ ! -d "$tpeers/node_modules/three" ]; then
-    rm -rf "$tpeers" && cp -R "$peers" "$tpeers" && chmod -R u+w "$tpeers"
-    ln -sfn "$data" "$work/data" # the peers' scripts look for ../data
-    (cd "$tpeers" && npm install --no-audit --no-fund --silent) >&2
-fi
+bench_three
 
 # --- speed: ours and three.js, alternating processes so both see the same machine load ---
 i=1

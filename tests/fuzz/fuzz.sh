@@ -48,9 +48,17 @@ build_bvh() {
     build fuzz_bvh -I"$src/sdk/formats/bvh" "$src/tests/fuzz/fuzz_bvh.c" "$src"/sdk/formats/bvh/bvh-*.c --
 }
 
+# The library's C sources, read from framework/local.mk so that list keeps one home.
+librigflow_sources() {
+    awk '/^framework_librigflow_la_SOURCES/ { on = 1 }
+         on { for (i = 1; i <= NF; i++) if ($i ~ /\.c$/) print $i; if ($NF != "\\") on = 0 }' \
+        "$src/framework/local.mk"
+}
+
 build_pipeline() {
     local f srcs=()
-    for f in diag registry plugin-index host pipeline validate run; do srcs+=("$src/framework/$f.c"); done
+    for f in $(librigflow_sources); do srcs+=("$src/$f"); done
+    [ ${#srcs[@]} -gt 0 ] || { say "no library sources found in framework/local.mk"; return 1; }
     # shellcheck disable=SC2046
     build fuzz_pipeline -DRF_PLUGINSDIR='"/nonexistent"' $(pkg --cflags) \
         "$src/tests/fuzz/fuzz_pipeline.c" "${srcs[@]}" -- $(pkg --libs) -lltdl -ldl

@@ -133,5 +133,9 @@ awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r 
     }
     END { if (n != 2) print "FAIL: template rig-bench: " n " rows, expected 2" }' "$tmp/tbench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench template thresholds"; else ok; fi
+# a model that is not there is an error (exit 1, named on stderr), not a refused row
+if "$rigflow" rig-bench -r general "$tmp/none.glb" >"$tmp/none.csv" 2>"$tmp/err"; then
+    ko "rig-bench on a missing file exits 0"
+elif grep -q "none.glb: no such file" "$tmp/err"; then ok; else cat "$tmp/err"; ko "rig-bench: missing file not named"; fi
 echo "$pass passed, $fail failed"
 gltf_exit "$fail"
