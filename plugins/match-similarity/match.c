@@ -250,12 +250,22 @@ static void select_best(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
 
 /* A section's joints as the assignment sees them: the joint, its place counted in bones, its
  * pivot and tip along the section. A limb may go on into its main digit. */
+/* A mapped entry of a line by the source section its best candidate lies in (input_section). */
+typedef struct rf_ms_vote {
+    uint64_t key; /* source << 32 | section */
+    uint32_t i;   /* the entry */
+} rf_ms_vote;
+
 typedef struct rf_ms_line {
     uint32_t *joint;
     int32_t *step;
     double *u0, *u1;
+    rf_ms_vote *vote; /* scratch for input_section */
     uint32_t n;
-    double unit; /* what places along the line were divided by */
+    double unit;   /* what places along the line were divided by */
+    int32_t last;  /* the largest step (line_summary) */
+    bool cut;      /* a bone cut in two (has_cut), kept so each pair's cost stays O(1) */
+    int32_t first; /* the first real bone's entry, -1 when none (line_summary, turned) */
 } rf_ms_line;
 
 static bool line_alloc(rf_ms_line *l, uint32_t cap)
@@ -265,8 +275,9 @@ static bool line_alloc(rf_ms_line *l, uint32_t cap)
     l->step = malloc(cap * sizeof *l->step);
     l->u0 = malloc(cap * sizeof *l->u0);
     l->u1 = malloc(cap * sizeof *l->u1);
+    l->vote = malloc(cap * sizeof *l->vote);
     l->n = 0;
-    return l->joint && l->step && l->u0 && l->u1;
+    return l->joint && l->step && l->u0 && l->u1 && l->vote;
 }
 
 static void line_free(rf_ms_line *l)
@@ -275,6 +286,7 @@ static void line_free(rf_ms_line *l)
     free(l->step);
     free(l->u0);
     free(l->u1);
+    free(l->vote);
 }
 
 static bool is_limb(const rf_analysis *a, uint32_t s)
@@ -353,13 +365,14 @@ static int32_t last_step(const rf_ms_line *l)
 
 /* Whether a line has two real bones in a straight line, one continuing the other (under half a
  * degree), while it bends elsewhere (two degrees or more): a bone cut in two. */
-/* The cosine of the angle between real bones i - 1 and i of a line, or 2 when either is no real
- * bone (an offset, zero length). */
+/* The cosine of the angle between real bones i - 1 and i of a line (a bone continuing another
+ * may give a hair over 1), or 2 when either is no real bone (an offset, zero length) or the
+ * second is a leaf whose direction is only guessed (often its parent's: no straight cut). */
 static double turn_cos(const rf_analysis *a, const rf_ms_line *l, uint32_t i)
 {
     const rf_joint_info *p = &a->joints[l->joint[i - 1]], *j = &a->joints[l->joint[i]];
     if (l->step[i - 1] < 0 || p->length <= 0 || j->length <= 0 ||
-        ((p->flags | j->flags) & RF_JI_ZERO_LENGTH))
+        ((p->flags | j->flags) & RF_JI_ZERO_LENGTH) || (j->flags & RF_JI_TIP_GUESSED))
         return 2;
     return rf_v3_dot(p->dir, j->dir);
 }
@@ -367,13 +380,40 @@ static double turn_cos(const rf_analysis *a, const rf_ms_line *l, uint32_t i)
 static bool has_cut(const rf_analysis *a, const rf_ms_line *l)
 {
     bool straight = false, bent = false;
-    for (uint32_t i = 1; i < l->n; i++) {
+    double longest = 0;
+    uint32_t own = 0; /* the limb's own bones: a digit lent to the line turns across the hand */
+    while (own < l->n && a->joints[l->joint[own]].section == a->joints[l->joint[0]].section)
+        longest = fmax(longest, a->joints[l->joint[own++]].length);
+    uint32_t long_straight = 0;
+    for (uint32_t i = 1; i < own; i++) {
         double d = turn_cos(a, l, i);
-        straight |= d <= 1 && d > cos(0.5 * RF_PI / 180.0);
-        bent |= d < cos(2.0 * RF_PI / 180.0);
+        /* an elbow or a knee joins two long bones; a hand or a foot is short */
+        bool elbow =
+            fmin(a->joints[l->joint[i - 1]].length, a->joints[l->joint[i]].length) >= 0.5 * longest;
+        bool line = d < 1.5 && d > cos(0.5 * RF_PI / 180.0); /* a dot may round past 1 */
+        straight |= line;
+        long_straight += line && elbow;
+        bent |= d < cos(2.0 * RF_PI / 180.0) && elbow;
     }
+    /* a straight elbow explains one straight joint between long bones, not two */
+    bent |= long_straight >= 2;
     /* an arm held straight throughout (motion capture's T-pose) has no cut */
     return straight && bent;
+}
+
+/* What the cost of every pair of entries reads of a whole line, once the line is final: the DP
+ * compares every entry of one line with every entry of the other, and walking the lines again for
+ * each pair made long chains (thousands of joints in one line) take minutes. */
+static void line_summary(const rf_analysis *a, rf_ms_line *l)
+{
+    l->last = last_step(l);
+    l->cut = has_cut(a, l);
+    l->first = -1;
+    for (uint32_t f = 0; f < l->n && l->first < 0; f++) {
+        const rf_joint_info *r = &a->joints[l->joint[f]];
+        if (l->step[f] >= 0 && r->length > 0 && !(r->flags & RF_JI_ZERO_LENGTH))
+            l->first = (int32_t)f;
+    }
 }
 
 /* What leaving each bone of a limb out costs: the second half of a bone cut in two is often on
@@ -383,24 +423,54 @@ static void skip_prices(const rf_analysis *a, const rf_ms_line *l, double *out)
     const rf_section *sec = l->n ? &a->sections[a->joints[l->joint[0]].section] : NULL;
     bool limb = sec && (sec->type == RF_SECTION_ARM || sec->type == RF_SECTION_LEG) &&
                 !(sec->flags & RF_SECFL_FAN);
-    bool cut = limb && has_cut(a, l);
+    bool cut = limb && l->cut;
     for (uint32_t i = 0; i < l->n; i++) {
         out[i] = RF_MS_SKIP_COST;
-        if (cut && i > 0 && turn_cos(a, l, i) <= 1 && turn_cos(a, l, i) > cos(0.5 * RF_PI / 180.0))
+        if (cut && i > 0 && turn_cos(a, l, i) < 1.5 && turn_cos(a, l, i) > cos(0.5 * RF_PI / 180.0))
             out[i] = 0.1;
     }
 }
 
-static double step_weight(const rf_ms_ctx *c, bool digit, const rf_ms_line *tl, uint32_t k,
-                          const rf_ms_line *sl)
+static double step_weight(bool digit, const rf_ms_line *tl, const rf_ms_line *sl)
 {
     if (digit || tl->n == 1 || sl->n == 1)
         return 0.6;
-    int32_t rt = last_step(tl), rs = last_step(sl);
-    if (rt == rs)
+    if (tl->last == sl->last)
         return 0.3;
-    bool cut = rt > rs ? has_cut(c->tgt.a, tl) : has_cut(c->src[k].a, sl);
+    bool cut = tl->last > sl->last ? tl->cut : sl->cut;
     return cut ? 0.1 : 0.3;
+}
+
+/* The angle of entry i's bone from the line's first real bone (0 when either has none): how far
+ * the limb has turned by then, whatever pose the limb is held in. */
+static double turned(const rf_analysis *a, const rf_ms_line *l, uint32_t i)
+{
+    const rf_joint_info *j = &a->joints[l->joint[i]];
+    if (l->first < 0 || j->length <= 0)
+        return 0;
+    return rf_v3_angle(a->joints[l->joint[l->first]].dir, j->dir);
+}
+
+/* Where a cut limb's bone counts say little, which way a bone points still tells a shin from a
+ * foot: 0 (alike) to 1 (45 degrees apart or more), in the bodies' frames; between limbs of two
+ * kinds (an arm held out against a foreleg standing under the body, pointing elsewhere
+ * throughout yet turning alike along its length) the less of that and of how far each has
+ * turned from its limb's first bone. */
+static double turn_apart(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, uint32_t k,
+                         const rf_ms_line *sl, uint32_t q)
+{
+    uint32_t t = tl->joint[i], j = sl->joint[q];
+    rf_vec3 a = c->tgt.bdir[t], b = c->src[k].bdir[j];
+    if (rf_v3_len2(a) == 0 || rf_v3_len2(b) == 0)
+        return 0;
+    rf_side st = c->tgt.a->joints[t].side, ss = c->src[k].a->joints[j].side;
+    if (st != RF_SIDE_CENTER && ss != RF_SIDE_CENTER && st != ss)
+        b.x = -b.x;
+    double d = rf_v3_angle(a, b);
+    if (c->tgt.a->sections[c->tgt.a->joints[t].section].type !=
+        c->src[k].a->sections[c->src[k].a->joints[j].section].type)
+        d = fmin(d, fabs(turned(c->tgt.a, tl, i) - turned(c->src[k].a, sl, q)));
+    return fmin(1, d / (0.25 * RF_PI));
 }
 
 /* The DP's cost of entry i of the target line against entry q of the source line: the thesis
@@ -454,43 +524,48 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
     bool digit = (at->sections[a->section].flags & RF_SECFL_FAN) != 0;
     if (type != RF_SECTION_SPINE && type != RF_SECTION_HEAD && type != RF_SECTION_TAIL &&
         type != RF_SECTION_ROOT)
-        cost += step_weight(c, digit, tl, k, sl) *
+        cost += step_weight(digit, tl, sl) *
                 (tl->step[i] == sl->step[q] ? 0 : 1 + 0.25 * (abs(tl->step[i] - sl->step[q]) - 1));
     return cost;
 }
 
-static bool same_section(const rf_ms_ctx *c, const rf_ms_candidate *a, const rf_ms_candidate *b)
+static int vote_order(const void *x, const void *y)
 {
-    return a->source == b->source && c->src[a->source].a->joints[a->joint].section ==
-                                         c->src[b->source].a->joints[b->joint].section;
+    const rf_ms_vote *a = x, *b = y;
+    if (a->key != b->key)
+        return a->key < b->key ? -1 : 1;
+    return a->i < b->i ? -1 : a->i > b->i;
 }
 
 /* Thesis 4.2.2: the input section of the first mapped bone is used for the whole target section
  * when more than half of its mapped bones come from it. Beyond the thesis, the section most of
  * them chose is used (ties: the first bone's), so a two-bone thumb split one and one still
- * follows its first bone. Returns false when none qualifies. */
+ * follows its first bone. Votes are counted by sorting, not bone against bone: a hostile chain
+ * of many thousand joints must not take minutes. Returns false when none qualifies. */
 static bool input_section(const rf_ms_ctx *c, const rf_ms_pass *p, const rf_ms_line *tl,
                           uint32_t *k, uint32_t *ss)
 {
-    uint32_t mapped = 0, most = 0;
-    int32_t first = -1, pick = -1;
+    uint32_t mapped = 0;
     for (uint32_t i = 0; i < tl->n; i++) {
         const rf_ms_candidate *b = &p->best[tl->joint[i]];
         if (b->source == RF_MS_NO_SOURCE)
             continue;
-        mapped++;
-        if (first < 0)
-            first = (int32_t)i;
-        if (c->o->thesis && i != (uint32_t)first)
-            continue;
-        uint32_t votes = 0; /* sections are short: counting per bone stays cheap */
-        for (uint32_t q = 0; q < tl->n; q++)
-            votes += p->best[tl->joint[q]].source != RF_MS_NO_SOURCE &&
-                     same_section(c, &p->best[tl->joint[q]], b);
-        if (votes > most)
-            most = votes, pick = (int32_t)i;
+        uint32_t sec = (uint32_t)c->src[b->source].a->joints[b->joint].section;
+        tl->vote[mapped++] = (rf_ms_vote){(uint64_t)b->source << 32 | sec, i};
     }
-    if (first < 0 || (c->o->thesis && 2 * most <= mapped))
+    if (mapped == 0)
+        return false;
+    uint32_t first = tl->vote[0].i, most = 0, pick = first;
+    qsort(tl->vote, mapped, sizeof *tl->vote, vote_order);
+    for (uint32_t g = 0, e; g < mapped; g = e) {
+        for (e = g + 1; e < mapped && tl->vote[e].key == tl->vote[g].key;)
+            e++;
+        uint32_t votes = e - g, at = tl->vote[g].i; /* the group's first entry */
+        bool counts = !c->o->thesis || at == first;
+        if (counts && (votes > most || (votes == most && at < pick)))
+            most = votes, pick = at;
+    }
+    if (c->o->thesis && 2 * most <= mapped)
         return false;
     const rf_ms_candidate *f = &p->best[tl->joint[pick]];
     *k = f->source;
@@ -515,6 +590,25 @@ static void best_within(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_line *tl,
     }
 }
 
+/* Where two limbs' bone counts say little (one has a bone cut in two), a target bone pays for
+ * pointing elsewhere than the source bone, beyond what it pays against the source bone it points
+ * most alike (a rig whose bones all point elsewhere, or a limb held in another pose, pays
+ * nothing): up to 0.3. */
+static void add_turns(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t k, const rf_ms_line *sl,
+                      double *cost)
+{
+    if (c->o->thesis || tl->n == 0 || !is_limb(c->tgt.a, c->tgt.a->joints[tl->joint[0]].section) ||
+        step_weight(false, tl, sl) >= 0.3)
+        return;
+    for (uint32_t i = 0; i < tl->n; i++) {
+        double least = 1;
+        for (uint32_t q = 0; q < sl->n; q++)
+            least = fmin(least, turn_apart(c, tl, i, k, sl, q));
+        for (uint32_t q = 0; q < sl->n; q++)
+            cost[(size_t)i * sl->n + q] += 0.3 * (turn_apart(c, tl, i, k, sl, q) - least);
+    }
+}
+
 /* Assigns along the two lines. The thesis matches every bone of the shorter section; here
  * either side may also leave a bone out at a price, so a hip offset on one side and a toe on the
  * other do not shift the whole leg. */
@@ -531,6 +625,7 @@ static bool remove_duplicates(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_lin
             for (uint32_t q = 0; q < m; q++)
                 cost[(size_t)i * m + q] =
                     pair_cost(c, tl, i, k, sl, q) + 1e-6 * fabs((double)i / n - (double)q / m);
+        add_turns(c, tl, k, sl, cost);
         skip_prices(c->tgt.a, tl, skip);
         skip_prices(c->src[k].a, sl, skip + n);
         ok = (c->o->thesis
@@ -629,6 +724,7 @@ static bool settle_sections(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, r
         if (!c->o->thesis)
             own_places(tl, sl);
         bool lent = lend_digits(c, p, ts, tl, k, ss, sl);
+        line_summary(a, tl), line_summary(c->src[k].a, sl);
         if (c->o->keep_duplicates)
             best_within(c, p, tl, k, sl);
         else if (!remove_duplicates(c, p, tl, k, sl))

@@ -370,14 +370,17 @@ static double digit_reach(const rf_ms_skel *s, uint32_t k)
 }
 
 /* A thumb is its own kind of digit: it turns across the palm, not along the fingers' curl. A
- * wing's membrane fingers (digits far longer for their limb than the source hand's, in a fan
- * without a thumb) are not driven by a source hand's thumb while that hand has other digits:
- * they take its fingers. */
+ * finger of a hand that has its own thumb is not driven by a source hand's thumb while that
+ * hand has other digits (it takes them, whatever its bone count); a wing's membrane fingers (digits
+ * far longer for their limb than the source hand's, in a fan without a thumb) are not driven by a
+ * source hand's thumb while that hand has other digits: they take its fingers. */
 static bool thumb_misfit(const rf_ms_skel *t, uint32_t ts, const rf_ms_skel *s, uint32_t ss)
 {
     const rf_section *st = &t->a->sections[ts], *sc = &s->a->sections[ss];
     if (!(st->flags & RF_SECFL_FAN) || !(sc->flags & RF_SECFL_THUMB) || sc->pair_count < 2)
         return false;
+    if (!(st->flags & RF_SECFL_THUMB) && fan_has_thumb(t->a, ts))
+        return true; /* a finger beside its own hand's thumb */
     double rt = digit_reach(t, ts), rs = digit_reach(s, ss);
     return rs > 0 && rt > 3 * rs && !fan_has_thumb(t->a, ts);
 }

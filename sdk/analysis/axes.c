@@ -545,6 +545,34 @@ static double vote_girdles(const rf_awork *w, const rf_limbs *ls, rf_vec3 c)
     return fabs(d) > 0.05 * w->a->size ? (d > 0 ? 0.3 : -0.3) : 0;
 }
 
+/* One girdle joint carrying every limb (an insect's one-joint thorax): the rig still grows
+ * from it towards the head, so its bone runs forward and the chain beyond it (neck, head) starts
+ * at its far end, while a chain hanging back from it (abdomen, tail) starts at its pivot. Votes
+ * for the side of the centre child set off from the pivot when the other one sits on it. */
+static double vote_one_girdle(const rf_awork *w, uint32_t j, rf_vec3 c)
+{
+    rf_vec3 at = rf_an_pos(w, j);
+    double near = INFINITY, far = 0, near_x = 0, far_x = 0;
+    uint32_t count = 0;
+    for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
+        uint32_t ch = w->child_idx[k];
+        if (!w->center[ch] || w->sub_count[ch] == 0)
+            continue;
+        double d = rf_v3_dist(rf_an_pos(w, ch), at);
+        rf_vec3 mid = rf_v3_scale(w->sub_sum[ch], 1.0 / w->sub_count[ch]);
+        double x = rf_v3_dot(rf_v3_sub(rf_v3_lerp(mid, w->a->joints[ch].tip, 0.5), at), c);
+        if (d < near)
+            near = d, near_x = x;
+        if (d >= far)
+            far = d, far_x = x;
+        count++;
+    }
+    /* two chains, one on the pivot and one a real bone away, running opposite ways */
+    if (count != 2 || far < 0.05 * w->a->size || near > 0.25 * far || near_x * far_x >= 0)
+        return 0;
+    return far_x > 0 ? 0.25 : -0.25;
+}
+
 /* Rigs are built from the hips outwards: the body's root is the rear girdle (or near it) and
  * the hierarchy runs forward through the spine to the front girdle. The girdle deepest in the
  * hierarchy is the front one. It outweighs the elevation of the ends (0.25 against 0.2: an
@@ -570,6 +598,8 @@ static double vote_hierarchy(const rf_awork *w, rf_vec3 c)
             deep = (int32_t)j;
     }
     double vote = 0;
+    if (shallow >= 0 && deep == shallow && !upright(w))
+        vote = vote_one_girdle(w, (uint32_t)shallow, c);
     if (shallow >= 0 && deep != shallow && !upright(w)) {
         double d =
             rf_v3_dot(rf_v3_sub(rf_an_pos(w, (uint32_t)deep), rf_an_pos(w, (uint32_t)shallow)), c);

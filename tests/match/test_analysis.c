@@ -197,6 +197,59 @@ static void test_bird_ground(void **state)
     rf_skeleton_free(s);
 }
 
+/* An insect facing +Z whose six sprawled legs all hang from one thorax joint: the head chain
+ * starts a thorax away from it, the abdomen on its pivot, carried higher than the head (the
+ * elevation votes backwards) and the feet end straight down (no flat foot to go by). The
+ * thorax's bone runs to the head: the hierarchy cue reads the facing, whichever way the body
+ * is turned, and the elevation's dissent is kept. */
+static void add_insect_leg(sb_joint *js, size_t *n, char (*names)[8], int side, int pair)
+{
+    double sweep = 0.6 * (1 - pair), x = side ? -1 : 1, len = sqrt(1 + sweep * sweep);
+    double ox = x / len, oz = sweep / len;
+    double hip[3] = {0.06 * x, 0.27, 0}, knee[3] = {hip[0] + 0.3 * ox, 0.40, 0.3 * oz};
+    double ankle[3] = {knee[0] + 0.05 * ox, 0.02, knee[2] + 0.05 * oz};
+    const double *pts[3] = {hip, knee, ankle};
+    for (int k = 0; k < 3; k++) {
+        snprintf(names[*n], 8, "%c%d%d", side ? 'r' : 'l', pair, k);
+        js[*n] =
+            (sb_joint){names[*n], k ? names[*n - 1] : "thorax", pts[k][0], pts[k][1], pts[k][2], 0};
+        (*n)++;
+    }
+    js[*n] = (sb_joint){".", names[*n - 1], ankle[0], 0, ankle[2], 0};
+    (*n)++;
+}
+
+static void test_insect_one_girdle(void **state)
+{
+    (void)state;
+    sb_joint js[40] = {
+        {"thorax", NULL, 0, 0.30, 0, 0},       {"neck", "thorax", 0, 0.31, 0.35, 0},
+        {"head", "neck", 0, 0.32, 0.42, 0},    {".", "head", 0, 0.32, 0.55, 0},
+        {"abd1", "thorax", 0, 0.30, -0.02, 0}, {"abd2", "abd1", 0, 0.36, -0.20, 0},
+        {"abd3", "abd2", 0, 0.42, -0.40, 0},   {".", "abd3", 0, 0.45, -0.60, 0},
+    };
+    char names[40][8];
+    size_t n = 8;
+    for (int side = 0; side < 2; side++)
+        for (int pair = 0; pair < 3; pair++)
+            add_insect_leg(js, &n, names, side, pair);
+    const double yaws[] = {0, 90, 180, 270};
+    for (size_t i = 0; i < sizeof yaws / sizeof yaws[0]; i++) {
+        rf_quat r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), yaws[i] * RF_PI / 180);
+        rf_skeleton *s = sb_build_xf(js, n, r, 3.0, rf_v3(1, 0, -2));
+        rf_analysis *a = rf_analyze(s, NULL);
+        assert_non_null(a);
+        assert_near_dir(a->up, rf_v3(0, 1, 0));
+        assert_near_dir(a->forward, rf_quat_rotate(r, rf_v3(0, 0, 1)));
+        assert_string_equal(a->forward_source, "hierarchy");
+        assert_string_equal(rf_forward_cue_names[rf_forward_dissent(a)], "elevation");
+        assert_section(a, s, "head", RF_SECTION_HEAD, RF_SIDE_CENTER);
+        assert_section(a, s, "abd3", RF_SECTION_TAIL, RF_SIDE_CENTER);
+        rf_analysis_free(a);
+        rf_skeleton_free(s);
+    }
+}
+
 /* Twist leaves inside the forearms and thighs (Unreal's mannequin) are part of their segment:
  * helpers, not digits, and the hands keep their two digits. A thumb at the wrist is no roll. */
 static void test_roll_leaves(void **state)
@@ -559,6 +612,7 @@ int main(void)
         cmocka_unit_test(test_quadruped),
         cmocka_unit_test(test_facing_dissent),
         cmocka_unit_test(test_bird_ground),
+        cmocka_unit_test(test_insect_one_girdle),
         cmocka_unit_test(test_roll_leaves),
         cmocka_unit_test(test_strip),
         cmocka_unit_test(test_degenerate),

@@ -38,6 +38,7 @@ typedef struct tally {
     /* wing joints driven by a source with wings from its other forelimbs (a dragon's forelegs),
      * and wing digits driven by a source's thumb */
     int wing_from_leg, wing_on_thumb;
+    int finger_on_thumb; /* a hand's finger (not a wing's) driven by a source thumb */
 } tally;
 
 /* CMU's joints (cmu_01_01.bvh): what each is, by its place in the skeleton. */
@@ -158,6 +159,8 @@ static void one_pair(const rigs_skel *s, const rigs_skel *t, tally *y, bool verb
             y->wing_from_leg += s->plan == RIGS_DRAGON && g->role == RIGS_FORE;
             y->wing_on_thumb += x->part == RIGS_DIGIT && g->thumb;
         }
+        y->finger_on_thumb +=
+            g && x->part == RIGS_DIGIT && x->role != RIGS_WINGS && !x->thumb && g->thumb;
         if (!ok && verbose)
             wrong(t, s, j, got);
     }
@@ -204,7 +207,7 @@ static double pct(int a, int b)
 
 static void print_tally(const char *name, int pairs, const tally *y, double floor)
 {
-    printf("%-26s %3d pairs %6d joints: %5.1f%% right (floor %.0f%%), %d joints swapped in %d "
+    printf("%-26s %3d pairs %6d joints: %5.1f%% right (floor %.1f%%), %d joints swapped in %d "
            "skeletons; axes misread: up %d, forward %d of %d (%.1f%% right where read right), "
            "warned about: %d misread, %d read right\n   ",
            name, pairs, y->joints, pct(y->right, y->joints), 100 * floor, y->swaps,
@@ -227,6 +230,7 @@ static void add_tally(tally *a, const tally *b)
     a->swapped_skels += b->swapped_skels;
     a->misread_warned += b->misread_warned, a->right_warned += b->right_warned;
     a->wing_from_leg += b->wing_from_leg, a->wing_on_thumb += b->wing_on_thumb;
+    a->finger_on_thumb += b->finger_on_thumb;
     for (int c = 0; c < CLS_COUNT; c++)
         a->cj[c] += b->cj[c], a->cr[c] += b->cr[c];
 }
@@ -234,13 +238,13 @@ static void add_tally(tally *a, const tally *b)
 int main(void)
 {
     const kind kinds[] = {
-        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.96, 0},
+        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.973, 0},
         {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.94, 0},
-        {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.77, 5},
-        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.93, 2},
+        {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.84, 0},
+        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.925, 2},
         {"CMU onto birds", -1, RIGS_BIRD, 40, 0.98, 1},
         {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.86, 0},
-        {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.89, 1},
+        {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.90, 0},
     };
     const char *env = getenv("RF_RIGS_PAIRS"), *data = getenv("RF_DATA_DIR");
     double scale = env ? atof(env) : 1;
@@ -290,14 +294,18 @@ int main(void)
     /* skeletons whose axes were misread without `rigflow map --explain` warning: as measured */
     int silent = human.up_wrong + human.forward_wrong + other.up_wrong + other.forward_wrong -
                  human.misread_warned - other.misread_warned;
-    printf("axes misread without a warning: %d (at most 4)\n", silent);
-    ok = ok && (scale != 1 || !cmu_skel.s || silent <= 4);
+    printf("axes misread without a warning: %d (at most 1)\n", silent);
+    ok = ok && (scale != 1 || !cmu_skel.s || silent <= 1);
     /* as measured: 58 and 56 before wings preferred wings and membrane fingers kept off thumbs */
     int from_leg = human.wing_from_leg + other.wing_from_leg,
         on_thumb = human.wing_on_thumb + other.wing_on_thumb;
     printf("wing joints from forelegs: %d (at most 0), wing digits from a thumb: %d (at most 10)\n",
            from_leg, on_thumb);
     ok = ok && (scale != 1 || (from_leg == 0 && (!cmu_skel.s || on_thumb <= 10)));
+    /* as measured: 12 before a finger beside its own thumb was kept off a source thumb */
+    int fingers = human.finger_on_thumb + other.finger_on_thumb;
+    printf("fingers from a thumb: %d (at most 2)\n", fingers);
+    ok = ok && (scale != 1 || !cmu_skel.s || fingers <= 2);
     rf_skeleton_free(cmu_skel.s);
     free(cmu_skel.label);
     return ok ? 0 : 1;
