@@ -151,6 +151,33 @@ static bool rt_contact_pass(rf_retarget *rt, rf_animation *out, const rf_retarge
     return true;
 }
 
+/* With the target's own clip on 'reference', centerline joints keep within its range. */
+static bool rt_limit_turns(rf_retarget *rt, rf_animation *out, const rf_skeleton *target,
+                           const rf_host *host, rf_node *node)
+{
+    const rf_animation *ref =
+        host->input_count(node, "reference") ? host->input(node, "reference", 0) : NULL;
+    if (!ref)
+        return true;
+    if (ref->joint_count != target->joint_count) {
+        host->log(node, RF_LOG_INFO,
+                  "the reference clip has %u joints, the target %u: turns not limited",
+                  ref->joint_count, target->joint_count);
+        return true;
+    }
+    int n = rf_retarget_limit_turns(rt, out, ref);
+    if (n < 0) {
+        host->error(node, "out of memory");
+        return false;
+    }
+    if (n > 0)
+        host->log(node, RF_LOG_INFO,
+                  "%d spine, neck or tail joints held within the turns of the target's own clip "
+                  "(plus %.0f degrees)",
+                  n, RF_RT_TURN_SLACK);
+    return true;
+}
+
 /* With the target's skinned mesh connected, the clip stands on the mesh's floor. A mesh that
  * cannot be used is said in one line; the clip keeps the skeleton's floor. */
 static void rt_mesh_floor(rf_retarget *rt, rf_animation *out, const rf_host *host, rf_node *node)
@@ -250,6 +277,10 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
                   "%u mapping inputs on or from placement, axis-conversion or helper joints "
                   "dropped; %u joints placed from the body joint they belong to",
                   info.dropped, info.anchored);
+    if (!rt_limit_turns(rt, out, target, host, node)) {
+        rf_retarget_free(rt), rf_animation_free(out);
+        return false;
+    }
     rt_mesh_floor(rt, out, host, node);
     bool ok = rt_contact_pass(rt, out, o, host, node) && rt_parts_pass(rt, out, host, node);
     if (ok)
@@ -271,6 +302,9 @@ static const rf_port_desc rt_inputs[] = {
     RF_PORT_DESC("mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
                  "the target's skinned mesh: the clip is put on its floor (its lowest vertex in "
                  "the median frame on the lowest at rest), not only on the skeleton's"),
+    RF_PORT_DESC("reference", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
+                 "the target's own clip: its spine, neck and tail turn no further off their rest "
+                 "than it turns them (plus 5 degrees)"),
 };
 
 static const rf_port_desc rt_outputs[] = {
@@ -345,9 +379,10 @@ static void rt_mesh_json(FILE *f, const rf_rt_mesh_report *m)
             "{\"frames\": %u, \"height\": %.6g, \"seams\": %u, \"seam_p99\": %.6g, "
             "\"seam_max\": %.6g, \"floor_median\": %.6g, \"floor_p95\": %.6g, \"floating\": "
             "%.6g, \"sinking\": %.6g, \"parts_below\": %.6g, \"parts_depth\": %.6g, "
-            "\"edges\": %u, \"stretch_p99\": %.6g}",
+            "\"edges\": %u, \"stretch_p99\": %.6g, \"rigid\": %s}",
             m->frames, m->height, m->seams, m->seam_p99, m->seam_max, m->floor_median, m->floor_p95,
-            m->floating, m->sinking, m->parts_below, m->parts_depth, m->edges, m->stretch_p99);
+            m->floating, m->sinking, m->parts_below, m->parts_depth, m->edges, m->stretch_p99,
+            m->rigid ? "true" : "false");
 }
 
 /* What the mesh measures found, for this clip and the character's own clip (the reference). */
@@ -398,6 +433,16 @@ static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_repo
 static void rt_mesh_line(const char *label, const rt_mesh_figures *m)
 {
     const rf_rt_mesh_report *c = &m->clip, *r = m->have_ref ? &m->ref : NULL;
+    if (c->rigid) {
+        printf("%s: skeleton and node meshes (%u frames, %% of height; no skin: joints, bone tips "
+               "and the meshes hung rigidly on nodes): floor median %+.1f p95 %.1f (floating "
+               "%.0f%%, sinking %.0f%% of frames); parts under the floor %.0f%% of frames, %.1f "
+               "deep; torn limbs and stretch do not apply (a rigid part neither tears nor "
+               "stretches)\n",
+               label, c->frames, 100 * c->floor_median, 100 * c->floor_p95, 100 * c->floating,
+               100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
+        return;
+    }
     printf("%s: mesh (%u frames, %% of height%s): torn p99 %.2f%s", label, c->frames,
            r ? ", own clip in brackets" : "", 100 * c->seam_p99, r ? "" : "");
     if (r)
@@ -437,7 +482,7 @@ static void rt_measure_mesh(const rf_host *host, rf_node *node, rf_retarget *rt,
         return;
     }
     m->have_ref =
-        ref && ref->frame_count > 1 &&
+        ref && ref->frame_count > 1 && !m->clip.rigid &&
         rf_rt_mesh_measure(target, mesh, ref, rf_v3(0, 0, 0), frames, &m->ref, err, sizeof err);
     rt_mesh_line(label, m);
 }

@@ -144,6 +144,15 @@ typedef struct rf_rt_parts_stats {
  * horizontal direction. Run after the contact pass on its output. False when out of memory. */
 bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *stats);
 
+/* Keeps each driven joint of the target's centerline (spine, neck, tail; not the root-motion
+ * joints, not a joint hanging from a placement node, whose turn is the heading) within the turn
+ * off its rest that the target's own clip `reference` gives it, plus RF_RT_TURN_SLACK degrees:
+ * a neck or a tail made for a small range tears at its seams when a source bends it through its
+ * own. Joints the reference never turns are left alone (it says nothing of them). Returns the
+ * number of joints limited in at least one frame; -1 when out of memory. */
+#define RF_RT_TURN_SLACK 5.0
+int rf_retarget_limit_turns(rf_retarget *rt, rf_animation *anim, const rf_animation *reference);
+
 /* ---- facts found at set-up ---- */
 
 typedef struct rf_rt_info {
@@ -223,6 +232,9 @@ typedef struct rf_rt_mesh_report {
     double parts_depth;  /* the deepest such part, under the floor */
     uint32_t edges;      /* mesh edges measured */
     double stretch_p99;  /* p99 over edges and frames of |length / rest length - 1| */
+    bool rigid; /* the target is a node tree whose meshes hang rigidly on a few nodes (no skin
+                 * for the body): the floor figures are of its joints, bone tips and those
+                 * meshes, and no seams or edges are measured (rf_retarget_mesh_measure) */
 } rf_rt_mesh_report;
 
 /* Puts a clip of this plan (rf_retarget_clip's output) on the floor of the target's skinned
@@ -244,7 +256,11 @@ bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *
 bool rf_retarget_mesh_clear(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
                             char *err, size_t err_size);
 
-/* rf_rt_mesh_measure of a clip of this plan (frame 0 at time `start` of the sources), its floor
+/* rf_rt_mesh_measure of a clip of this plan (frame 0 at time `start` of the sources). A target
+ * whose mesh hangs on too few joints to stand for the body (a node tree carrying a rigid mesh on
+ * a node or two) is measured on what a viewer sees of it all the same: its joints, bone tips and
+ * those meshes, for the floor only (report->rigid); a rigid part neither tears nor stretches. Its
+ * floor
  * figures counted from where the source is: in each sampled frame the target's lowest vertex is
  * compared with the floor raised by how far the source's lowest point is over its own floor,
  * scaled by the legs (a jump is in the air on both sides, and is no float). */

@@ -508,41 +508,68 @@ static double rt_clip_floor(const rf_retarget *rt, uint32_t k, const uint8_t *ab
 static bool rt_source_ground(rf_retarget *rt, uint32_t k)
 {
     rf_rt_src *src = &rt->src[k];
-    uint8_t *above = malloc(src->n);
-    if (!above)
+    src->above = malloc(src->n ? src->n : 1);
+    if (!src->above)
         return false;
     int32_t hip = rt_hip_of(rt, k);
     uint32_t h = rt_hip_below(src->skel, src->parent, hip >= 0 ? (uint32_t)hip : 0);
-    rt_mark_above(src->skel, h, above);
-    double lowest = rt_lowest(src->skel, src->rest_world, src->tip, src->up, above);
+    rt_mark_above(src->skel, h, src->above);
+    double lowest = rt_lowest(src->skel, src->rest_world, src->tip, src->up, src->above);
     src->leg = rf_rt_height(src->up, src->rest_world[h].t) - lowest;
     src->lowest = lowest;
     if (!(src->leg > 0))
         src->leg = 1;
-    double clip = rt->opt.ground == RF_RT_GROUND_WORLD ? 0 : rt_clip_floor(rt, k, above);
-    free(above);
-    if (rt->opt.ground == RF_RT_GROUND_WORLD) {
-        src->floor = 0;
+    double clip = rt->opt.ground == RF_RT_GROUND_WORLD ? 0 : rt_clip_floor(rt, k, src->above);
+    src->floor = src->stand = clip;
+    if (rt->opt.ground != RF_RT_GROUND_AUTO)
         return true;
-    }
-    if (rt->opt.ground == RF_RT_GROUND_REST) {
-        src->floor = clip;
-        return true;
-    }
     /* The skeleton's own rest (not a frame used as rest) says where it stands. */
     rf_xform *world = malloc(src->n * sizeof *world);
-    src->floor = clip;
-    if (world) {
-        for (uint32_t j = 0; j < src->n; j++)
-            world[j] = src->skel->joints[j].rest;
-        rt_world(src->skel, world, world);
-        double rest = src->rest_frame < 0 ? lowest : clip;
-        double floor = rt_rest_floor(src->skel, world, rest, src->leg);
-        /* A clip whose feet stay away from the rest's floor has a floor of its own. */
-        src->floor = fabs(clip - floor) <= 0.2 * src->leg ? floor : clip;
-        free(world);
-    }
+    if (!world)
+        return false;
+    for (uint32_t j = 0; j < src->n; j++)
+        world[j] = src->skel->joints[j].rest;
+    rt_world(src->skel, world, world);
+    double rest = src->rest_frame < 0 ? lowest : clip;
+    double floor = rt_rest_floor(src->skel, world, rest, src->leg);
+    /* A clip whose feet stay away from the rest's floor has a floor of its own. */
+    src->floor = fabs(clip - floor) <= 0.2 * src->leg ? floor : clip;
+    /* Only the origin's plane is a convention; a rest standing on its lowest point measures it. */
+    if (src->floor != floor || rf_v3_len(world[0].t) > 1e-6 * src->leg)
+        src->stand = src->floor;
+    free(world);
     return true;
+}
+
+void rf_rt_floors_measured(rf_retarget *rt)
+{
+    for (uint32_t k = 0; k < rt->source_count; k++)
+        rt->src[k].floor = rt->src[k].stand;
+}
+
+double rf_rt_over_floor(const rf_retarget *rt, uint32_t k, const rf_xform *world, int32_t j)
+{
+    const rf_rt_src *src = &rt->src[k];
+    double low = j >= 0 ? rf_rt_sole(src->skel, world, src->tip, src->up, (uint32_t)j)
+                        : rt_lowest(src->skel, world, src->tip, src->up, src->above);
+    return (low - src->floor) / src->leg;
+}
+
+bool rf_rt_clearance(const rf_retarget *rt, double start, double fps, uint32_t count,
+                     const uint32_t *frame, double *out)
+{
+    size_t m = rt->max_src_n ? rt->max_src_n : 1;
+    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
+    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
+    bool ok = local && world && rot && tr;
+    for (uint32_t i = 0; ok && i < count; i++) {
+        uint32_t f = frame ? frame[i] : i;
+        rf_rt_source_world(rt, 0, start + f / fps, local, world, rot, tr);
+        double over = rf_rt_over_floor(rt, 0, world, -1);
+        out[i] = isfinite(over) && over > 0 ? over * rt->leg_target : 0;
+    }
+    free(local), free(world), free(rot), free(tr);
+    return ok;
 }
 
 /* The target posed in its aligned rest (each source at its rest): leg length and lowest point. */
@@ -657,17 +684,12 @@ static bool rt_clip_lows(rf_retarget *rt, const rf_animation *out, double *low_t
 {
     uint32_t frames = out->frame_count, samples = frames / 16;
     samples = samples < 16 ? (frames < 16 ? frames : 16) : samples > 128 ? 128 : samples;
-    const rf_rt_src *src = &rt->src[0];
     size_t m = rt->max_src_n > rt->n ? rt->max_src_n : rt->n;
     double *lt = malloc((samples + 1) * sizeof *lt), *ls = malloc((samples + 1) * sizeof *ls);
     rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
     float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
-    uint8_t *above = malloc(src->n);
-    bool ok = lt && ls && local && world && rot && tr && above && samples;
+    bool ok = lt && ls && local && world && rot && tr && samples;
     if (ok) {
-        int32_t hip = rt_hip_of(rt, 0);
-        rt_mark_above(src->skel, rt_hip_below(src->skel, src->parent, hip >= 0 ? (uint32_t)hip : 0),
-                      above);
         double start = rf_retarget_start_time(rt);
         for (uint32_t i = 0; i < samples; i++) {
             uint32_t f = samples > 1 ? (uint32_t)((uint64_t)i * (frames - 1) / (samples - 1)) : 0;
@@ -676,14 +698,14 @@ static bool rt_clip_lows(rf_retarget *rt, const rf_animation *out, double *low_t
                 (rt_lowest(rt->target, world, rt->t_tip, rt->up, rt->t_above) - rt->floor_target) /
                 rt->leg_target;
             rf_rt_source_world(rt, 0, start + f / out->fps, local, world, rot, tr);
-            ls[i] = (rt_lowest(src->skel, world, src->tip, src->up, above) - src->floor) / src->leg;
+            ls[i] = rf_rt_over_floor(rt, 0, world, -1);
         }
         qsort(lt, samples, sizeof *lt, rt_cmp_double);
         qsort(ls, samples, sizeof *ls, rt_cmp_double);
         *low_t = lt[(uint32_t)(0.05 * (samples - 1))];
         *low_s = ls[(uint32_t)(0.05 * (samples - 1))];
     }
-    free(lt), free(ls), free(local), free(world), free(rot), free(tr), free(above);
+    free(lt), free(ls), free(local), free(world), free(rot), free(tr);
     return ok;
 }
 

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include <rigflow/model-copy.h>
+#include <rigflow/prefault.h>
 
 #include "rt-internal.h"
 
@@ -82,8 +83,9 @@ double rf_retarget_output_fps(const rf_retarget *rt)
     return rt->opt.fps > 0 ? rt->opt.fps : rt->src[0].anim->fps;
 }
 
-/* Frames of output for the option's range; 0 when the range is empty. */
-static uint32_t rt_output_frames(const rf_retarget *rt)
+/* Frames of output for the option's range; 0 when the range is empty. A double: a file's frame
+ * time can make it any size (1e300 s a frame), beyond what a frame index holds. */
+static double rt_output_frames(const rf_retarget *rt)
 {
     const rf_animation *a = rt->src[0].anim;
     if (!a->frame_count)
@@ -94,7 +96,7 @@ static uint32_t rt_output_frames(const rf_retarget *rt)
     if (rt->opt.first_frame > last)
         return 0;
     double duration = (last - rt->opt.first_frame) / a->fps;
-    return (uint32_t)floor(duration * rf_retarget_output_fps(rt) + 1e-9) + 1;
+    return floor(duration * rf_retarget_output_fps(rt) + 1e-9) + 1;
 }
 
 /* The output clip, its arrays left unset: every frame writes every value (rf_animation_new
@@ -120,6 +122,8 @@ static rf_animation *rt_output_new(const rf_retarget *rt, uint32_t frames)
         rf_animation_free(out);
         return NULL;
     }
+    rf_prefault(out->rotations, n * 4 * sizeof *out->rotations);
+    rf_prefault(out->translations, n * 3 * sizeof *out->translations);
     for (uint32_t j = 0; j < rt->n; j++)
         out->channels[j] =
             (uint8_t)(RF_CHANNEL_ROTATION |
@@ -181,12 +185,21 @@ static bool rt_all_frames(rf_retarget *rt, rf_animation *out, rf_rt_progress_fn 
 rf_animation *rf_retarget_clip(rf_retarget *rt, rf_rt_progress_fn progress, void *user, char *err,
                                size_t err_size)
 {
-    uint32_t frames = rt_output_frames(rt);
-    if (!frames) {
+    double count = rt_output_frames(rt);
+    if (!(count >= 1)) {
         rf_rt_fail(err, err_size, "the frame range %u..%d is empty (the clip has %u frames)",
                    rt->opt.first_frame, rt->opt.last_frame, rt->src[0].anim->frame_count);
         return NULL;
     }
+    if (!(count < UINT32_MAX)) {
+        rf_rt_fail(err, err_size,
+                   "the clip would be %.3g frames at %g fps (its %u frames span %.3g s): check "
+                   "the source's frame time",
+                   count, rf_retarget_output_fps(rt), rt->src[0].anim->frame_count,
+                   (rt->src[0].anim->frame_count - 1) / rt->src[0].anim->fps);
+        return NULL;
+    }
+    uint32_t frames = (uint32_t)count;
     rf_animation *out = rt_output_new(rt, frames);
     if (!out) {
         rf_rt_fail(err, err_size, "out of memory for %u frames", frames);
@@ -284,9 +297,11 @@ double rf_rt_detect_cycle(const rf_retarget *rt, uint32_t k)
 {
     const rf_animation *a = rt->src[k].anim;
     double clip = a->frame_count > 1 ? (a->frame_count - 1) / a->fps : 1;
-    uint32_t lo = (uint32_t)ceil(0.2 * a->fps), hi = a->frame_count / 2;
-    if (hi > (uint32_t)(4 * a->fps))
-        hi = (uint32_t)(4 * a->fps);
+    /* lags in frames, bounded in double first: a file may claim any rate (1e300 fps), and a
+     * double beyond uint32_t's range does not convert */
+    uint32_t hi = a->frame_count / 2;
+    uint32_t lo = (uint32_t)fmin(ceil(0.2 * a->fps), (double)hi + 1);
+    hi = (uint32_t)fmin(floor(4 * a->fps), (double)hi);
     if (lo < 1)
         lo = 1;
     if (hi <= lo)
@@ -308,4 +323,59 @@ double rf_rt_detect_cycle(const rf_retarget *rt, uint32_t k)
     free(use);
     free(d);
     return found <= hi - lo ? (found + lo) / a->fps : clip;
+}
+
+/* ---- turns limited to the target's own range ---- */
+
+/* The turn of local rotation q off rest r, in radians. */
+static double rt_turn_off(rf_quat r, rf_quat q)
+{
+    rf_quat d = rf_quat_mul(rf_quat_conj(r), rf_quat_normalize(q));
+    return 2 * acos(fmin(1, fabs(d.w)));
+}
+
+int rf_retarget_limit_turns(rf_retarget *rt, rf_animation *anim, const rf_animation *reference)
+{
+    const rf_skeleton *s = rt->target;
+    if (!reference || reference->joint_count != rt->n || reference->frame_count < 2)
+        return 0;
+    int limited = 0;
+    uint8_t *moved = NULL; /* [frame] turned here: its anchored joints are placed again */
+    for (uint32_t j = 0; j < rt->n; j++) {
+        int32_t p = s->joints[j].parent;
+        if (!rt->t_centerline[j] || rt->tj[j].kind == RF_RT_REST || rt->tj[j].root_motion ||
+            rt->anchor[j] >= 0 || p < 0 || rt->tj[p].kind == RF_RT_REST)
+            continue;
+        rf_quat rest = s->joints[j].rest.r;
+        double own = 0;
+        for (uint32_t f = 0; f < reference->frame_count; f++)
+            own = fmax(own, rt_turn_off(rest, rf_animation_rotation(reference, f, j)));
+        if (own < 0.5 * RF_PI / 180)
+            continue;
+        double limit = own + RF_RT_TURN_SLACK * RF_PI / 180;
+        /* Turned further than the limit when |cos(turn / 2)| is smaller: no acos per frame. */
+        double cos_half = cos(0.5 * fmin(limit, RF_PI));
+        bool any = false;
+        for (uint32_t f = 0; f < anim->frame_count; f++) {
+            rf_quat q = rf_quat_normalize(rf_animation_rotation(anim, f, j));
+            if (fabs(rf_quat_dot(rest, q)) >= cos_half)
+                continue;
+            if (!moved && !(moved = calloc(anim->frame_count, 1)))
+                return -1;
+            rf_quat d = rf_quat_mul(rf_quat_conj(rest), q);
+            double a = rt_turn_off(rest, q);
+            q = rf_quat_normalize(rf_quat_mul(rest, rf_rt_quat_pow(d, limit / a)));
+            rf_animation_set_rotation(anim, f, j, q);
+            any = true, moved[f] = 1;
+        }
+        limited += any;
+    }
+    rf_xform *tw = moved && rt->anchored ? malloc(rt->n * sizeof *tw) : NULL;
+    for (uint32_t f = 0; tw && f < anim->frame_count; f++)
+        if (moved[f])
+            rf_rt_place_anchored(rt, anim->rotations + (size_t)f * rt->n * 4,
+                                 anim->translations + (size_t)f * rt->n * 3, NULL, tw);
+    bool ok = !(moved && rt->anchored && !tw);
+    free(tw), free(moved);
+    return ok ? limited : -1;
 }

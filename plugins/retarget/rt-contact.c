@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <rigflow/prefault.h>
+
 #include "rt-internal.h"
 
 /* ---- effectors ---- */
@@ -208,7 +210,6 @@ static void *rt_tracks_run(void *arg)
     float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
     t->ok = local && world && rot && tr;
     uint32_t k = rt->slots[t->s].source;
-    const rf_rt_src *src = &rt->src[k];
     for (uint32_t f = t->first; t->ok && f < t->end; f++) {
         rf_rt_source_world_some(rt, k, rf_rt_slot_time(rt, t->s, t->start + f / t->fps), local,
                                 world, rot, tr, t->need);
@@ -217,8 +218,7 @@ static void *rt_tracks_run(void *arg)
                 continue;
             uint32_t j = rt->effector_src[e];
             t->pos[(size_t)e * t->frames + f] = world[j].t;
-            double h = rf_rt_sole(src->skel, world, src->tip, src->up, j);
-            t->sole[(size_t)e * t->frames + f] = (h - src->floor) / src->leg;
+            t->sole[(size_t)e * t->frames + f] = rf_rt_over_floor(rt, k, world, (int32_t)j);
         }
     }
     free(local), free(world), free(rot), free(tr);
@@ -281,6 +281,10 @@ uint8_t *rf_rt_detect_contacts(const rf_retarget *rt, uint32_t frames, double fp
     uint8_t *c = calloc(count ? count : 1, 1);
     rf_vec3 *pos = src_pos ? src_pos : malloc((count ? count : 1) * sizeof *pos);
     double *sole = src_sole ? src_sole : malloc((count ? count : 1) * sizeof *sole);
+    if (pos != src_pos)
+        rf_prefault(pos, count * sizeof *pos);
+    if (sole != src_sole)
+        rf_prefault(sole, count * sizeof *sole);
     bool ok = c && pos && sole && rt_source_tracks(rt, frames, fps, start, pos, sole);
     if (sole != src_sole)
         free(sole);
@@ -414,6 +418,11 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
         !w->target_sole || !w->src_sole || !w->pin || !w->chain || !w->cparent || !w->clocal ||
         !w->want || !w->solved || !w->need || !w->below || !w->below_at)
         return false;
+    /* the per-frame arrays: every frame of every foot is written */
+    rf_prefault(w->target_pos, ef * sizeof *w->target_pos);
+    rf_prefault(w->target_sole, ef * sizeof *w->target_sole);
+    rf_prefault(w->src_sole, ef * sizeof *w->src_sole);
+    rf_prefault(w->pin, ef * sizeof *w->pin);
     rt_pin_need(rt, w);
     for (uint32_t j = 0; j < n; j++)
         w->parents[j] = rt->target->joints[j].parent;
@@ -734,18 +743,19 @@ static bool rt_lift_turn(const rf_retarget *rt, rf_xform *local, const rf_xform 
 
 /* The point of part j deepest under its floor this frame: its pivot and its bone's tip against
  * the skeleton's floor, and with the skinned mesh, the vertices it carries that reach farthest (a
- * wing's membrane reaches far past its bones) against the mesh's floor, into *floor_h. */
-static rf_vec3 rt_part_low(const rf_retarget *rt, const rf_xform *world, uint32_t j,
+ * wing's membrane reaches far past its bones) against the mesh's floor, into *floor_h. Both
+ * floors are raised by `clear`, how far the source stands over its own this frame (a jump). */
+static rf_vec3 rt_part_low(const rf_retarget *rt, const rf_xform *world, uint32_t j, double clear,
                            double *floor_h)
 {
     rf_vec3 p = world[j].t;
-    *floor_h = rt->floor_target;
+    *floor_h = rt->floor_target + clear;
     double depth = *floor_h - rf_rt_height(rt->up, p);
     uint32_t count = rt->t_hull ? RF_RT_HULL : 0;
     for (uint32_t k = 0; k <= count; k++) {
         rf_vec3 c = k < count ? rt->t_hull[(size_t)j * RF_RT_HULL + k] : rt->t_tip[j];
         rf_vec3 q = rf_xform_point(world[j], c);
-        double floor = k < count ? rt->mesh_floor : rt->floor_target;
+        double floor = (k < count ? rt->mesh_floor : rt->floor_target) + clear;
         if (floor - rf_rt_height(rt->up, q) > depth)
             p = q, *floor_h = floor, depth = floor - rf_rt_height(rt->up, q);
     }
@@ -808,7 +818,6 @@ static bool rt_source_down(const rf_retarget *rt, rt_src_poses *sp, const rf_ani
                            uint32_t f, uint32_t j)
 {
     const rf_rt_input *in = rt->in + rt->tj[j].first_input;
-    const rf_rt_src *src = &rt->src[in->source];
     if (sp->frame != f)
         memset(sp->made, 0, rt->slot_count), sp->frame = f;
     if (!sp->made[in->slot]) {
@@ -816,8 +825,8 @@ static bool rt_source_down(const rf_retarget *rt, rt_src_poses *sp, const rf_ani
         rf_rt_source_world(rt, in->source, t, sp->local, sp->world[in->slot], sp->rot, sp->tr);
         sp->made[in->slot] = 1;
     }
-    double sole = rf_rt_sole(src->skel, sp->world[in->slot], src->tip, src->up, in->joint);
-    return (sole - src->floor) / src->leg <= rt->opt.contact_height;
+    return rf_rt_over_floor(rt, in->source, sp->world[in->slot], (int32_t)in->joint) <=
+           rt->opt.contact_height;
 }
 
 /* What the parts pass reads at every frame. */
@@ -829,6 +838,8 @@ typedef struct rt_parts {
     const uint8_t *holds; /* carries a foot in the hierarchy or body tree */
     const uint8_t *reach; /* the parts and their ancestors */
     const double *extent; /* [n] the farthest of a part's hull points and tip from its pivot */
+    const double *clear;  /* how far over its floor the source stands every `step` frames */
+    uint32_t step;
     double eps;
 } rt_parts;
 
@@ -836,12 +847,12 @@ typedef struct rt_parts {
  * height less the part's extent (at the joint's largest scale) clears the higher floor by a
  * margin far above rounding. rt_part_low's answer then cannot lift it, and most parts in most
  * frames are skipped without transforming their hull. */
-static bool rt_part_clear(const rt_parts *c, const rf_xform *world, uint32_t j)
+static bool rt_part_clear(const rt_parts *c, const rf_xform *world, uint32_t j, double clear)
 {
     const rf_retarget *rt = c->rt;
     rf_vec3 s = world[j].s;
     double reach = c->extent[j] * fmax(fabs(s.x), fmax(fabs(s.y), fabs(s.z)));
-    double floor = rt->t_hull ? fmax(rt->floor_target, rt->mesh_floor) : rt->floor_target;
+    double floor = (rt->t_hull ? fmax(rt->floor_target, rt->mesh_floor) : rt->floor_target) + clear;
     double h = rf_rt_height(rt->up, world[j].t);
     return h - reach > floor + 1e-9 * (fabs(h) + reach + fabs(floor) + 1);
 }
@@ -852,14 +863,18 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xf
 {
     const rf_retarget *rt = c->rt;
     uint32_t n = rt->n;
-    /* Most frames have no part under its floor: the parts and their ancestors tell. */
+    /* Most frames have no part under its floor: the parts and their ancestors tell. The floor
+     * stands as far over the target's as the source over its own (in a jump, in the air). */
     rt_pose_of(rt, c->anim, f, local, c->reach);
     rt_fk(rt, local, world, c->reach);
     bool low = false;
+    uint32_t i = f / c->step;
+    double t = (double)(f - i * c->step) / c->step;
+    double clear = (1 - t) * c->clear[i] + t * c->clear[i + 1];
     for (uint32_t j = 0; j < n && !low; j++) {
         double floor_h;
-        low = c->part[j] && rt->anchor[j] < 0 && !rt_part_clear(c, world, j) &&
-              !(rf_rt_height(rt->up, rt_part_low(rt, world, j, &floor_h)) >= floor_h);
+        low = c->part[j] && rt->anchor[j] < 0 && !rt_part_clear(c, world, j, clear) &&
+              !(rf_rt_height(rt->up, rt_part_low(rt, world, j, clear, &floor_h)) >= floor_h);
     }
     if (!low)
         return;
@@ -868,10 +883,10 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xf
     bool lifted = false;
     sp->frame = UINT32_MAX;
     for (uint32_t j = 0; j < n; j++) {
-        if (!c->part[j] || rt_part_clear(c, world, j))
+        if (!c->part[j] || rt_part_clear(c, world, j, clear))
             continue;
         double floor_h;
-        rf_vec3 p = rt_part_low(rt, world, j, &floor_h);
+        rf_vec3 p = rt_part_low(rt, world, j, clear, &floor_h);
         if (rf_rt_height(rt->up, p) >= floor_h || rt->anchor[j] >= 0)
             continue;
         if (rt_source_down(rt, sp, c->anim, f, j))
@@ -932,6 +947,30 @@ static bool rt_parts_all(const rt_parts *c, rf_rt_parts_stats *st)
     return a.ok && (!two || b.ok);
 }
 
+/* How far the source stands over its own floor (rf_rt_clearance), read every tenth of a second
+ * (`step` frames) into clear[count]; rt_parts_frame interpolates between. Read at every frame of
+ * a long clip it cost a fifth of the whole run; a jump takes half a second or more, so a tenth
+ * of a second between reads misses little of it. */
+static double *rt_parts_clearance(const rf_retarget *rt, const rf_animation *anim, uint32_t *step,
+                                  uint32_t *count)
+{
+    uint32_t frames = anim->frame_count;
+    /* Clamped before the conversion: a clip may claim any rate (1e300 fps). */
+    double per = floor(anim->fps / 10);
+    *step = per >= 1 ? (uint32_t)fmin(per, frames ? frames : 1) : 1;
+    *count = frames ? (frames - 1) / *step + 2 : 1; /* one past the end: the last frame's */
+    uint32_t *at = malloc(*count * sizeof *at);
+    double *clear = malloc(*count * sizeof *clear);
+    for (uint32_t i = 0; at && i < *count; i++)
+        at[i] = frames && i * *step < frames ? i * *step : (frames ? frames - 1 : 0);
+    bool ok = at && clear &&
+              rf_rt_clearance(rt, rf_retarget_start_time(rt), anim->fps, *count, at, clear);
+    free(at);
+    if (!ok)
+        free(clear);
+    return ok ? clear : NULL;
+}
+
 bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *st)
 {
     memset(st, 0, sizeof *st);
@@ -939,7 +978,11 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
     uint8_t *foot = malloc(n ? n : 1), *part = malloc(n ? n : 1), *all = malloc(n ? n : 1);
     uint8_t *holds = calloc(n ? n : 1, 1), *reach = calloc(n ? n : 1, 1);
     double *extent = calloc(n ? n : 1, sizeof *extent);
-    if (!foot || !part || !all || !holds || !reach || !extent) {
+    uint32_t step, count;
+    double *clear = foot && part && all && holds && reach && extent
+                        ? rt_parts_clearance(rt, anim, &step, &count)
+                        : NULL;
+    if (!clear) {
         free(foot), free(part), free(all), free(holds), free(reach), free(extent);
         return false;
     }
@@ -963,8 +1006,8 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
         for (int32_t a = part[j] ? (int32_t)j : -1; a >= 0 && !reach[a];
              a = rt->target->joints[a].parent)
             reach[a] = 1;
-    rt_parts c = {rt, anim, part, all, holds, reach, extent, 1e-3 * rt->leg_target};
+    rt_parts c = {rt, anim, part, all, holds, reach, extent, clear, step, 1e-3 * rt->leg_target};
     bool ok = rt_parts_all(&c, st);
-    free(foot), free(part), free(all), free(holds), free(reach), free(extent);
+    free(foot), free(part), free(all), free(holds), free(reach), free(extent), free(clear);
     return ok;
 }

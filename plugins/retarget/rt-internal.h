@@ -16,6 +16,8 @@ enum rf_rt_input_flags {
     RF_RT_IN_CORRECT = 1u << 8, /* swing the delta so the source segment's direction is exact
                                  * (the source segment is not one rigid bone) */
     RF_RT_IN_REFLECT = 1u << 9, /* mirrored from the other side of the body: reflect */
+    RF_RT_IN_KIND = 1u << 11,   /* a limb's root driven by a source joint of another kind: it
+                                 * takes its turns, not its direction (rt_input_resolve) */
     RF_RT_IN_LEVEL = 1u << 10,  /* a centerline bone of another body plan: its tilt away from
                                  * the source's up is limited (rf_rt_level) */
 };
@@ -94,7 +96,13 @@ typedef struct rf_rt_src {
     double size;               /* extent of the rest pose (tolerances) */
     double leg;                /* hip height over the lowest rest point */
     double lowest;             /* that lowest point's height along up */
-    double floor;              /* floor height along up */
+    double floor;              /* floor height along up (rf_rt_over_floor counts from it) */
+    double stand;              /* the floor once the target's is measured on its mesh
+                                * (rf_rt_floors_measured): where it stands in its clip
+                                * (rt_clip_floor) for a rest hanging from the origin, else
+                                * floor */
+    uint8_t *above;            /* [n] joints above the hips (placement roots): never its lowest
+                                * point */
     double scale;              /* root motion scale for this source */
 } rf_rt_src;
 
@@ -204,6 +212,27 @@ bool rf_rt_ground_fix(rf_retarget *rt, rf_animation *out);
  * quarter of the joints (a node tree with a mesh hung on one or two nodes) says nothing, and
  * every joint then counts. */
 bool rf_rt_weights_known(const rf_skeleton *s);
+/* With the target's skinned mesh its floor is measured (its lowest vertex at rest), not taken
+ * from a convention; each source's floor is then measured too: where it stands in its clip
+ * (the 5th percentile of its lowest points), not its rest's origin plane. CMU's BVH hangs its
+ * body from the origin, but its toes stand 2-5% of its height over that plane in most frames:
+ * counted from it, the contact pass kept a target's feet that high over the mesh's floor while
+ * the parts pass held parts on the floor itself, and the measure read either as wrong. A rest
+ * standing on its lowest point measures its floor already and keeps it. Without
+ * a mesh both sides keep their rests' floors, so a skeleton retargeted onto itself gives back
+ * its clip exactly. */
+void rf_rt_floors_measured(rf_retarget *rt);
+/* How far source k posed in `world` stands over its floor, in its leg lengths: its lowest point
+ * (joints and bone tips; unweighted helpers and joints above the hips left out) or, for j >= 0,
+ * the sole of joint j (it and what hangs from it). The one measure of the source's height over
+ * the ground that the contact pass, the parts pass, the mesh floor and the measures share. */
+double rf_rt_over_floor(const rf_retarget *rt, uint32_t k, const rf_xform *world, int32_t j);
+/* How far source 0 stands over its floor (rf_rt_over_floor, never below 0) at `count` output
+ * frames (frame[i], or i when frame is NULL; time start + frame / fps), scaled by the legs into
+ * target units: how far over the target's floor the target should stand then (in a jump too).
+ * False when out of memory. */
+bool rf_rt_clearance(const rf_retarget *rt, double start, double fps, uint32_t count,
+                     const uint32_t *frame, double *out);
 /* Moves the root-motion joints of every frame of `out` by `shift` along up (the anchored joints
  * placed again after). False when out of memory. */
 bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift);

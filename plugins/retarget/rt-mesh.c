@@ -33,6 +33,12 @@ typedef struct rt_mesh_work {
     uint32_t edges;
     const double *expect; /* [sampled frame] how far over the floor the source is, scaled to the
                            * target (a jump), or NULL: the floor figures count from there */
+    /* A node tree's rigid meshes (rt_mesh_check): the points also hold every joint that counts
+     * (`counts`, NULL: all) and its bone's tip (`tip`, in its frame, zero: none) after the
+     * mesh's vertices, and only the floor is measured. */
+    bool rigid;
+    const uint8_t *counts;
+    const rf_vec3 *tip;
 } rt_mesh_work;
 
 static int rt_cmp_double(const void *a, const void *b)
@@ -104,7 +110,7 @@ static void rt_mesh_skin(rt_mesh_work *w, rf_vec3 *out)
     for (uint32_t j = 0; j < w->n; j++)
         w->skin[j] = rf_mat4_mul(rf_xform_to_mat4(w->world[j]), w->ibind[j]);
     const rf_mesh *m = w->m;
-    for (uint32_t v = 0; v < w->nv; v++) {
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
         const float *p = m->positions + (size_t)v * 3;
         rf_vec3 bind = rf_v3(p[0], p[1], p[2]), sum = rf_v3(0, 0, 0);
         double wsum = 0;
@@ -117,6 +123,13 @@ static void rt_mesh_skin(rt_mesh_work *w, rf_vec3 *out)
             wsum += wt;
         }
         out[v] = wsum > 0 ? rf_v3_scale(sum, 1.0 / wsum) : bind;
+    }
+    /* The joints and tips after the vertices (rigid: w->nv counts them); a joint that does not
+     * count (a placement root) repeats the first vertex instead. */
+    for (uint32_t j = 0, v = m->vertex_count; w->rigid && j < w->n; j++, v += 2) {
+        bool counts = !w->counts || w->counts[j], tip = w->tip && rf_v3_len2(w->tip[j]) > 0;
+        out[v] = counts ? w->world[j].t : out[0];
+        out[v + 1] = counts && tip ? rf_xform_point(w->world[j], w->tip[j]) : out[v];
     }
 }
 
@@ -210,9 +223,13 @@ static bool rt_mesh_edges(rt_mesh_work *w, double height)
     return true;
 }
 
-static bool rt_mesh_check(const rf_skeleton *s, const rf_mesh *m, const rf_animation *a, char *err,
-                          size_t err_size)
+/* Whether the mesh can be measured with the clip. A mesh hung on too few joints to stand for the
+ * body is refused, or, when `rigid` is given, taken as a node tree's rigid parts (*rigid). */
+static bool rt_mesh_check(const rf_skeleton *s, const rf_mesh *m, const rf_animation *a,
+                          bool *rigid, char *err, size_t err_size)
 {
+    if (rigid)
+        *rigid = false;
     if (!m || !m->vertex_count || !m->positions || !m->skin_joints || !m->skin_weights) {
         rf_rt_fail(err, err_size, "the mesh is not skinned");
         return false;
@@ -242,6 +259,8 @@ static bool rt_mesh_check(const rf_skeleton *s, const rf_mesh *m, const rf_anima
     free(used);
     /* A mesh hung on a node or two (a node tree's rigid parts) does not stand for the body. */
     if (skinned < 2 || skinned * 4 < s->joint_count) {
+        if (rigid)
+            return *rigid = true;
         rf_rt_fail(err, err_size,
                    "the mesh is skinned to %u of the %u joints, too few to stand for "
                    "the body",
@@ -330,7 +349,8 @@ static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t fram
     r->height = height;
     uint8_t *high = malloc(w->nv);
     double *low = malloc(frames * sizeof *low), *part_low = malloc(frames * sizeof *part_low);
-    bool ok = high && low && part_low && rt_mesh_seams(w, height) && rt_mesh_edges(w, height);
+    bool ok = high && low && part_low &&
+              (w->rigid || (rt_mesh_seams(w, height) && rt_mesh_edges(w, height)));
     double *drift = ok ? malloc(((size_t)w->seams * frames + 1) * sizeof *drift) : NULL;
     double *stretch = ok ? malloc(((size_t)w->edges * frames + 1) * sizeof *stretch) : NULL;
     ok = ok && drift && stretch;
@@ -350,7 +370,7 @@ static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t fram
             low[i] -= w->expect[i] / height;
     }
     if (ok) {
-        r->frames = frames, r->seams = w->seams, r->edges = w->edges;
+        r->frames = frames, r->seams = w->seams, r->edges = w->edges, r->rigid = w->rigid;
         rt_mesh_floor(r, low, part_low, frames);
         size_t ns = (size_t)w->seams * frames;
         r->seam_max = rt_max(drift, ns);
@@ -366,7 +386,7 @@ bool rf_rt_mesh_measure(const rf_skeleton *skeleton, const rf_mesh *mesh, const 
                         size_t err_size)
 {
     memset(report, 0, sizeof *report);
-    if (!rt_mesh_check(skeleton, mesh, anim, err, err_size))
+    if (!rt_mesh_check(skeleton, mesh, anim, NULL, err, err_size))
         return false;
     rt_mesh_work w = {.s = skeleton, .m = mesh, .n = skeleton->joint_count};
     w.nv = mesh->vertex_count;
@@ -382,12 +402,19 @@ bool rf_rt_mesh_measure(const rf_skeleton *skeleton, const rf_mesh *mesh, const 
     return ok;
 }
 
-/* The lowest vertex in each of `count` frames spread over the clip, over the rest mesh's lowest,
- * into low (sorted): of the whole mesh (`all`) or of what stands on the floor at rest (parts high
- * at rest left out: a dragon's wings hanging through the floor must not lift its feet off it;
- * the parts pass lifts them). */
+/* The frame the i-th of `count` samples spread over a clip of `frames` frames reads. */
+static uint32_t rt_sample_frame(uint32_t i, uint32_t count, uint32_t frames)
+{
+    return count > 1 ? (uint32_t)((uint64_t)i * (frames - 1) / (count - 1)) : 0;
+}
+
+/* The lowest vertex in each of `count` frames spread over the clip, over the rest mesh's lowest
+ * raised by clear[i] (how far the source stands over its floor then), into low (sorted): of the
+ * whole mesh (`all`) or of what stands on the floor at rest (parts high at rest left out: a
+ * dragon's wings hanging through the floor must not lift its feet off it; the parts pass lifts
+ * them). */
 static bool rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t count, bool all,
-                         double *low)
+                         const uint8_t *aside, const double *clear, double *low)
 {
     double floor_h = INFINITY, top = -INFINITY;
     for (uint32_t v = 0; v < w->nv; v++) {
@@ -398,11 +425,11 @@ static bool rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t cou
     if (!base)
         return false;
     for (uint32_t v = 0; v < w->nv; v++)
-        base[v] = all || rf_v3_dot(w->rest[v], w->up) <= floor_h + RT_MESH_HIGH * (top - floor_h);
+        base[v] =
+            all || (rf_v3_dot(w->rest[v], w->up) <= floor_h + RT_MESH_HIGH * (top - floor_h) &&
+                    !(aside && aside[rt_dominant(w->m, v)]));
     for (uint32_t i = 0; i < count; i++) {
-        uint32_t f =
-            count > 1 ? (uint32_t)((uint64_t)i * (anim->frame_count - 1) / (count - 1)) : 0;
-        rf_animation_local_pose(anim, w->s, f, w->local);
+        rf_animation_local_pose(anim, w->s, rt_sample_frame(i, count, anim->frame_count), w->local);
         for (uint32_t j = 0; j < w->n; j++)
             w->local[j].r = rf_quat_normalize(w->local[j].r);
         rt_mesh_fk(w);
@@ -411,7 +438,7 @@ static bool rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t cou
         for (uint32_t v = 0; v < w->nv; v++)
             if (base[v])
                 low[i] = fmin(low[i], rf_v3_dot(w->pos[v], w->up));
-        low[i] -= floor_h;
+        low[i] -= floor_h + clear[i];
     }
     free(base);
     qsort(low, count, sizeof *low, rt_cmp_double);
@@ -451,6 +478,26 @@ static bool rt_mesh_hulls(rf_retarget *rt, const rt_mesh_work *w)
     return true;
 }
 
+/* The joints of limbs driven by source limbs of another kind (RF_RT_IN_KIND: a quadruped's
+ * forelegs hanging from shoulder blades that take a human's clavicle turns): their reach says
+ * nothing of where the body stands, so the first placement leaves them to the parts pass. NULL
+ * when there are none (or out of memory: then they count). */
+static uint8_t *rt_limbs_aside(const rf_retarget *rt)
+{
+    uint8_t *aside = NULL;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        const rf_rt_tjoint *tj = &rt->tj[j];
+        bool kind = false;
+        for (uint32_t i = 0; tj->kind == RF_RT_MAPPED && i < tj->input_count; i++)
+            kind = kind || (rt->in[tj->first_input + i].flags & RF_RT_IN_KIND);
+        if (kind && !aside && !(aside = calloc(rt->n, 1)))
+            return NULL;
+        for (uint32_t c = j; kind && c < rt->n; c++)
+            aside[c] = aside[c] || rf_rt_carries(rt->target, (int32_t)j, c);
+    }
+    return aside;
+}
+
 /* Moves the clip along up so the median sampled frame's lowest vertex (of the whole mesh, or of
  * what stands on the floor at rest) sits on the rest mesh's lowest; only up when `raise_only`. */
 static bool rt_mesh_place(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, bool all,
@@ -458,14 +505,25 @@ static bool rt_mesh_place(rf_retarget *rt, rf_animation *anim, const rf_mesh *me
 {
     if (shift)
         *shift = 0;
-    if (!rt_mesh_check(rt->target, mesh, anim, err, err_size))
+    if (!rt_mesh_check(rt->target, mesh, anim, NULL, err, err_size))
         return false;
+    rf_rt_floors_measured(rt);
     rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n, .nv = mesh->vertex_count};
     w.up = rt->up;
-    uint32_t count = anim->frame_count < 32 ? anim->frame_count : 32;
-    double low[32];
-    bool ok = rt_mesh_prepare(&w) && (all || rt_mesh_hulls(rt, &w)) &&
-              rt_mesh_lows(&w, anim, count, all, low);
+    uint32_t count = anim->frame_count < 32 ? anim->frame_count : 32, at[32];
+    double low[32], clear[32];
+    for (uint32_t i = 0; i < count; i++)
+        at[i] = rt_sample_frame(i, count, anim->frame_count);
+    /* What stands on the floor is put on it as it stands (the contact pass then lifts the feet
+     * as far as the source's); the last raise counts the floor from where the source is, as the
+     * measure does (in a jump, in the air). */
+    memset(clear, 0, sizeof clear);
+    uint8_t *aside = rt_limbs_aside(rt);
+    bool ok =
+        (!all || rf_rt_clearance(rt, rf_retarget_start_time(rt), anim->fps, count, at, clear)) &&
+        rt_mesh_prepare(&w) && (all || rt_mesh_hulls(rt, &w)) &&
+        rt_mesh_lows(&w, anim, count, all, aside, clear, low);
+    free(aside);
     if (ok && !all) {
         rt->mesh_floor = INFINITY;
         for (uint32_t v = 0; v < w.nv; v++)
@@ -503,53 +561,37 @@ bool rf_retarget_mesh_clear(rf_retarget *rt, rf_animation *anim, const rf_mesh *
     return rt_mesh_place(rt, anim, mesh, true, true, shift, err, err_size);
 }
 
-/* How far over its floor source 0's lowest point is (joints and tips, unweighted helpers and
- * joints above the hips left out) at each of `frames` frames spread over `anim`, scaled by the
- * legs into target units: where the target should be in the air too (a jump). */
-static bool rt_source_clearance(rf_retarget *rt, const rf_animation *anim, double start,
-                                uint32_t frames, double *expect)
-{
-    const rf_rt_src *src = &rt->src[0];
-    size_t m = rt->max_src_n ? rt->max_src_n : 1;
-    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
-    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
-    bool ok = local && world && rot && tr, known = rf_rt_weights_known(src->skel);
-    for (uint32_t i = 0; ok && i < frames; i++) {
-        uint32_t f =
-            frames > 1 ? (uint32_t)((uint64_t)i * (anim->frame_count - 1) / (frames - 1)) : 0;
-        rf_rt_source_world(rt, 0, start + f / anim->fps, local, world, rot, tr);
-        double low = INFINITY;
-        for (uint32_t j = 0; j < src->n; j++) {
-            if (known && (src->skel->joints[j].flags & RF_JOINT_UNWEIGHTED))
-                continue;
-            low = fmin(low, rf_rt_height(src->up, world[j].t));
-            if (rf_v3_len2(src->tip[j]) > 0)
-                low = fmin(low, rf_rt_height(src->up, rf_xform_point(world[j], src->tip[j])));
-        }
-        double clear = isfinite(low) ? fmax(0, low - src->floor) : 0;
-        expect[i] = clear * rt->leg_target / src->leg;
-    }
-    free(local), free(world), free(rot), free(tr);
-    return ok;
-}
-
 bool rf_retarget_mesh_measure(rf_retarget *rt, const rf_mesh *mesh, const rf_animation *anim,
                               double start, uint32_t max_frames, rf_rt_mesh_report *report,
                               char *err, size_t err_size)
 {
     memset(report, 0, sizeof *report);
-    if (!rt_mesh_check(rt->target, mesh, anim, err, err_size))
+    rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n};
+    if (!rt_mesh_check(rt->target, mesh, anim, &w.rigid, err, err_size))
         return false;
-    rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n, .nv = mesh->vertex_count};
-    w.up = rt->up;
+    uint8_t *counts = malloc(rt->n ? rt->n : 1);
+    bool known = rf_rt_weights_known(rt->target);
+    for (uint32_t j = 0; counts && j < rt->n; j++)
+        counts[j] =
+            !rt->t_above[j] && !(known && (rt->target->joints[j].flags & RF_JOINT_UNWEIGHTED));
+    /* The retarget put a node tree on its skeleton's floor, not on a mesh's: the sources keep
+     * theirs as it did. */
+    if (!w.rigid)
+        rf_rt_floors_measured(rt);
+    w.nv = mesh->vertex_count + (w.rigid ? 2 * rt->n : 0);
+    w.counts = counts, w.tip = rt->t_tip, w.up = rt->up;
     uint32_t frames = max_frames ? max_frames : 24;
     frames = frames < anim->frame_count ? frames : anim->frame_count;
     double *expect = malloc((frames ? frames : 1) * sizeof *expect);
-    bool ok = expect && rt_source_clearance(rt, anim, start, frames, expect);
+    uint32_t *at = malloc((frames ? frames : 1) * sizeof *at);
+    for (uint32_t i = 0; at && i < frames; i++)
+        at[i] = rt_sample_frame(i, frames, anim->frame_count);
+    bool ok = counts && expect && at && rf_rt_clearance(rt, start, anim->fps, frames, at, expect);
+    free(at);
     w.expect = expect;
     ok = ok && rt_mesh_prepare(&w) && rt_mesh_run(&w, anim, frames, report);
     rt_mw_free(&w);
-    free(expect);
+    free(expect), free(counts);
     if (!ok)
         rf_rt_fail(err, err_size, "out of memory");
     return ok;

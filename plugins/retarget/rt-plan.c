@@ -311,6 +311,49 @@ static bool rt_opposite_side(const rf_retarget *rt, const rf_rt_src *src, uint32
     return (ss > 0.01 && ts < -0.01) || (ss < -0.01 && ts > 0.01);
 }
 
+/* Beyond this angle between a limb root's rest direction and where its source joint points, both
+ * at rest and in most of the clip, the two are not the same bone in another pose (a T-pose arm
+ * onto a hanging leg: 90 degrees at rest, 15 in the clip) but bones of another kind (a human
+ * clavicle, sideways, onto a quadruped's shoulder blade, downward: 110 degrees in both). */
+#define RT_LIMB_ROOT_ANGLE (60.0 * RF_PI / 180.0)
+
+/* The median over 32 frames spread over source k's clip of the angle (radians) between direction
+ * `want` (in the source's rest world frame) and the source segment from joint j along its rest
+ * vector `rest` (to joint `end`, or a tip when end < 0), each frame's segment turned back by its
+ * hierarchy parent's turn off rest: where the joint points in the body, in the clip's poses.
+ * *leg: in some of those frames the joint's part of the body is the lowest (within 5% of the
+ * source's size): a leg, whose direction must be followed for its foot to land. */
+static double rt_clip_angle(const rf_retarget *rt, uint32_t k, uint32_t j, int32_t end,
+                            rf_vec3 rest, rf_vec3 want, bool *leg)
+{
+    const rf_rt_src *src = &rt->src[k];
+    enum { RT_TYPICAL_FRAMES = 32 };
+    size_t m = rt->max_src_n ? rt->max_src_n : src->n;
+    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
+    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
+    double angle[RT_TYPICAL_FRAMES];
+    uint32_t frames = src->anim->frame_count, count = 0;
+    rf_vec3 local_rest = rf_quat_rotate(rf_quat_conj(src->rest_world[j].r), rest);
+    int32_t p = src->skel->joints[j].parent;
+    *leg = false;
+    for (uint32_t i = 0; local && world && rot && tr && i < RT_TYPICAL_FRAMES && frames; i++) {
+        uint32_t f = (uint32_t)((uint64_t)i * (frames - 1) / (RT_TYPICAL_FRAMES - 1));
+        rf_rt_source_world(rt, k, f / src->anim->fps, local, world, rot, tr);
+        rf_vec3 d =
+            end >= 0 ? rf_v3_sub(world[end].t, world[j].t) : rf_quat_rotate(world[j].r, local_rest);
+        if (p >= 0) /* undo the parent's turn off its rest */
+            d = rf_quat_rotate(rf_quat_mul(src->rest_world[p].r, rf_quat_conj(world[p].r)), d);
+        angle[count++] = rf_v3_angle(d, want);
+        double low = INFINITY;
+        for (uint32_t r = 0; r < src->n; r++)
+            if (src->skel->joints[r].parent < 0)
+                low = fmin(low, rf_rt_sole(src->skel, world, src->tip, src->up, r));
+        *leg = *leg || rf_rt_sole(src->skel, world, src->tip, src->up, j) <= low + 0.05 * src->size;
+    }
+    free(local), free(world), free(rot), free(tr);
+    return count ? rf_rt_select(angle, count, count / 2) : 0;
+}
+
 /* Resolves one input of mapped target joint j. */
 static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in, rf_rt_input *out,
                              const int32_t *mp, const int32_t *primary)
@@ -337,6 +380,22 @@ static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in
      * A degenerate rest has no directions of its own to keep. */
     keep = keep || (rt->t_centerline[j] && !rt->t_degenerate);
     rf_quat ref = rt_parent_align(rt, j, in->source, mp);
+    /* A limb's root (off the centerline, hanging from it) driven by a source joint of another
+     * kind takes that joint's turn off its rest, as the centerline does, instead of its shape:
+     * aligned onto CMU's clavicle, sideways, Testwuson's shoulder blades stood 110-116 degrees
+     * off their rest, down, in every frame, crushing the skin over them. Never a leg's: its
+     * foot must land where the source's does. */
+    for (uint32_t i = 0; i < count && !keep && !rt->t_degenerate && !rt->t_centerline[j] &&
+                         mp[j] >= 0 && rt->t_centerline[mp[j]];
+         i++) {
+        rf_vec3 want = rf_quat_rotate(ref, pairs[i].t);
+        bool leg;
+        keep = pairs[i].primary && rf_v3_angle(want, pairs[i].s) > RT_LIMB_ROOT_ANGLE &&
+               rt_clip_angle(rt, in->source, in->joint, pairs[i].end, pairs[i].s, want, &leg) >
+                   RT_LIMB_ROOT_ANGLE &&
+               !leg;
+        out->flags |= keep ? RF_RT_IN_KIND : 0;
+    }
     /* A top joint with three directions or more (a quadruped's hips: legs, spine, tail) carries
      * the body's attitude: its alignment is the turn of the body frames (up, forward), so a level
      * source keeps it level. Laying it by its directions tilts it wherever the two bodies are
@@ -694,7 +753,7 @@ void rf_retarget_free(rf_retarget *rt)
     for (uint32_t k = 0; rt->src && k < rt->source_count; k++) {
         rf_rt_src *s = &rt->src[k];
         free(s->rest_local), free(s->rest_world), free(s->skel_pos), free(s->tip);
-        free(s->need_pos), free(s->parent), free(s->need_rot);
+        free(s->need_pos), free(s->parent), free(s->need_rot), free(s->above);
     }
     rf_rt_work_free(rt, &rt->work);
     free(rt->src), free(rt->tj), free(rt->in), free(rt->links), free(rt->slots);

@@ -120,6 +120,14 @@ bvh1 0 "0 1 2" 1e-300 >"$tmp/tiny-time.bvh" # 1e300 fps: finite, but no float32 
 row "Frame Time too small for glTF's float32 times" 1 \
     "animation 0 'tiny-time': frames 0 and 1 fall on one time in glTF's float32 seconds (1e+300 fps)" \
     "$tmp/tiny-time.bvh" "$o.glb"
+bvh1 0 "0 1 2" 1e300 >"$tmp/huge-time.bvh" # resampled to 30 fps: 3e301 frames, beyond any index
+rm -rf "$tmp/o" && mkdir -p "$tmp/o"
+rf run "$src/pipelines/retarget.json" -p source.path="$tmp/huge-time.bvh" \
+    -p target.path="$tmp/huge-time.bvh" -p retarget.fps=30 -p export.path="$o.glb"
+if [ "$code" = 1 ] && grep -qF "the clip would be 3e+301 frames at 30 fps (its 2 frames span 1e+300 s)" "$tmp/err" &&
+    [ -z "$(leftovers "$tmp/o")" ]; then
+    ok "a Frame Time of 1e300 s resampled to 30 fps is refused, and named"
+else bad "Frame Time 1e300 resampled (exit $code)"; fi
 
 # ---- names that are not UTF-8 (Latin-1 from an old exporter) written as glTF, whose JSON must be ----
 printf 'HIERARCHY\nROOT H\351ps\n{\nOFFSET 0 0 0\nCHANNELS 3 Xposition Yposition Zrotation\nJOINT Spine\n' >"$tmp/latin1.bvh"

@@ -391,6 +391,30 @@ static void target_stays_on_its_floor(void **state)
     rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* The head turned 60 degrees where the target's own clip turns it 10 is held at 10 + the slack,
+ * about the same axis; a turn within that range, and the spine (which the own clip never turns,
+ * so it says nothing of it), are left as they were. */
+static void centerline_turns_kept_in_own_range(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped(1, 0.5, 0.45);
+    rf_animation *clip = fx_rest_clip(s, 3, 10), *own = fx_rest_clip(s, 2, 10);
+    rf_animation_set_rotation(clip, 1, 8, fx_rot(X, 60));
+    rf_animation_set_rotation(clip, 1, 7, fx_rot(X, 40));
+    rf_animation_set_rotation(clip, 2, 8, fx_rot(X, 3));
+    rf_animation_set_rotation(own, 1, 8, fx_rot(Z, 10));
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(s, clip, s, m, &o);
+    assert_int_equal(rf_retarget_limit_turns(r.rt, r.out, own), 1);
+    assert_true(rot_diff(local_rot(r.out, 1, 8), fx_rot(X, 10 + RF_RT_TURN_SLACK)) < 1e-4);
+    assert_true(rot_diff(local_rot(r.out, 2, 8), fx_rot(X, 3)) < 1e-4);
+    assert_true(rot_diff(local_rot(r.out, 1, 7), fx_rot(X, 40)) < 1e-4);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_animation_free(own), rf_skeleton_free(s);
+}
+
 /* ---- clip options ---- */
 
 static void resampling_slerps(void **state)
@@ -943,6 +967,7 @@ int main(void)
         cmocka_unit_test(weights_blend_two_sources),
         cmocka_unit_test(root_scaled_by_hip_height),
         cmocka_unit_test(target_stays_on_its_floor),
+        cmocka_unit_test(centerline_turns_kept_in_own_range),
         cmocka_unit_test(resampling_slerps),
         cmocka_unit_test(frame_range),
         cmocka_unit_test(identity_returns_the_clip),

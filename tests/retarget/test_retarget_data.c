@@ -2,7 +2,9 @@
  * human skeletons with other rest poses and proportions, measured for direction fidelity; the
  * identity on a BVH and a glTF skeleton; a degenerate-rest source (Bandai); foot skate with and
  * without the contact pass; CMU onto the Fox through mirrored front legs; the Fox's Walk onto
- * Testwuson, its neck kept near its rest.
+ * Testwuson, its neck kept near its rest; CMU onto Testwuson, its shoulder blades kept near
+ * theirs; the floor of a node tree with no skin (vrm_sample)
+ * measured on its joints, bone tips and rigid meshes.
  *
  * Mappings come from name correspondences in tests/retarget/maps/, written by reading each file's
  * skeleton (joint names and rest positions); the retargeter itself never sees a name. */
@@ -22,6 +24,8 @@
 #include "rigflow/aimport.h"
 #include "rigflow/bvh.h"
 #include "retarget.h"
+#include "rigflow/model-copy.h"
+#include "rt-fixtures.h"
 #include "rt-maps.h"
 #include "twobone.h"
 
@@ -381,6 +385,87 @@ static void fox_walk_onto_testwuson(void **state)
     clip_free(&src), clip_free(&tgt);
 }
 
+/* CMU 01_01 onto Testwuson: its shoulder blades (rest pointing down) are mapped from CMU's
+ * clavicles (rest and clip pointing sideways). Aligned onto the clavicles' direction they stood
+ * 110-116 degrees off their rest in every frame (read back in Blender), crushing the skin over
+ * them; its own clips turn them 0-29. They now take the clavicles' turns off their rest. */
+static void cmu_onto_testwuson_blades(void **state)
+{
+    (void)state;
+    clip src = load("bvh/cmu_01_01.bvh"), tgt = load("models/Testwuson.X");
+    rf_mapping *m = map_named("Testwuson-CMU", &tgt, &src);
+    rf_retarget_options o = defaults();
+    result r = retarget(&src, &tgt, m, &o);
+    double left = turn_off_rest(r.out, tgt.skel, "ForeLeg_L_01");
+    double right = turn_off_rest(r.out, tgt.skel, "ForeLeg_R_01");
+    print_message("CMU onto Testwuson: the shoulder blades at most %.1f and %.1f degrees off "
+                  "their rest\n",
+                  left, right);
+    assert_true(left < 45 && right < 45);
+    result_free(&r);
+    rf_mapping_free(m);
+    clip_free(&src), clip_free(&tgt);
+}
+
+/* vrm_sample is a node tree: no skin, its only meshes (a few quads) hung on 2 of its 23 nodes.
+ * The mesh measure takes its joints and bone tips with those quads, for the floor only: standing
+ * at rest and moved up by 0.1 in every frame, it stands 0.1 over its floor, in fractions of a
+ * height that spans at least its joints (the quads alone span less than half of it). */
+static void node_tree_floor(void **state)
+{
+    (void)state;
+    char path[4096], err[1024] = "";
+    const char *d = data_dir();
+    snprintf(path, sizeof path, "%s/models/vrm_sample.glb", d ? d : "");
+    if (!d || access(path, R_OK) != 0) {
+        print_message("models/vrm_sample.glb not found (RF_DATA_DIR, ../shared/data): skipped\n");
+        skip();
+    }
+    rf_ai_result ai;
+    rf_ai_options opts = {0};
+    assert_true(rf_ai_import(path, &opts, &ai, NULL, NULL, err, sizeof err));
+    assert_non_null(ai.mesh);
+    rf_skeleton *s = ai.skeleton;
+    uint32_t n = s->joint_count;
+    clip c = {s, fx_rest_clip(s, 4, 30)};
+    rf_mapping *m = rf_mapping_new(n, 1);
+    for (uint32_t j = 0; j < n; j++)
+        add_input(m, (int32_t)j, 0, (int32_t)j, 0);
+    rf_rt_source src = {c.skel, c.anim};
+    rf_retarget_options o = defaults();
+    rf_retarget *rt = rf_retarget_new(&src, 1, s, m, &o, err, sizeof err);
+    assert_non_null(rt);
+    rf_animation *up = rf_animation_copy(c.anim);
+    rf_vec3 lift = rf_v3_scale(rf_v3_normalize(s->up), 0.1);
+    double lo = INFINITY, hi = -INFINITY;
+    rf_xform *w = malloc(n * sizeof *w);
+    fx_world(s, c.anim, 0, w);
+    for (uint32_t j = 0; j < n; j++) {
+        double h = rf_v3_dot(rf_v3_normalize(s->up), w[j].t);
+        lo = fmin(lo, h), hi = fmax(hi, h);
+        if (s->joints[j].parent < 0)
+            for (uint32_t f = 0; f < up->frame_count; f++)
+                rf_animation_set_translation(up, f, j,
+                                             rf_v3_add(rf_animation_translation(up, f, j), lift));
+    }
+    rf_rt_mesh_report rep;
+    assert_true(rf_retarget_mesh_measure(rt, ai.mesh, up, 0, 0, &rep, err, sizeof err));
+    print_message("vrm_sample moved up 0.1: floor median %.4f of its height %.4f (joints span "
+                  "%.4f), seams %u, edges %u\n",
+                  rep.floor_median, rep.height, hi - lo, rep.seams, rep.edges);
+    assert_true(rep.rigid && rep.seams == 0 && rep.edges == 0);
+    assert_true(rep.height >= hi - lo - 1e-9);
+    assert_true(fabs(rep.floor_median * rep.height - 0.1) < 1e-5);
+    assert_true(fabs(rep.floor_p95 * rep.height - 0.1) < 1e-5);
+    free(w);
+    rf_animation_free(up);
+    rf_retarget_free(rt);
+    rf_mapping_free(m);
+    ai.skeleton = NULL;
+    rf_ai_result_clear(&ai);
+    clip_free(&c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -395,6 +480,8 @@ int main(void)
         cmocka_unit_test(contact_pass_on_cmu),
         cmocka_unit_test(cmu_onto_fox),
         cmocka_unit_test(fox_walk_onto_testwuson),
+        cmocka_unit_test(cmu_onto_testwuson_blades),
+        cmocka_unit_test(node_tree_floor),
     };
     return cmocka_run_group_tests_name("retarget on shared data", tests, NULL, NULL);
 }
