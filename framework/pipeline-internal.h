@@ -70,6 +70,7 @@ struct rf_pipeline {
     bool valid;
     const rf_run_options *opts;
     GPtrArray *temp_files; /* outputs written during a run, removed unless it succeeds */
+    GPtrArray *syncs;      /* rf_file_sync of the outputs whose node has finished (run.c) */
 };
 
 /* Index of a declared param / input / output port by name, or -1. */

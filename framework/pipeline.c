@@ -37,6 +37,8 @@ void rf_pipeline_free(rf_pipeline *p)
         g_array_free(p->order, TRUE);
     if (p->temp_files)
         g_ptr_array_unref(p->temp_files);
+    if (p->syncs)
+        g_ptr_array_unref(p->syncs);
     json_decref(p->root);
     g_free(p->name);
     g_free(p->dir);

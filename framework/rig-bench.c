@@ -5,6 +5,7 @@
  * joints onto the artist's. Joint distances follow RigNet's and UniRig's evaluation (chamfer
  * distances normalised by the mesh's longest bounding-box edge); skinning is compared through
  * the matcher's mapping. The rigger is timed on its own through its extension. doc/autorig.md. */
+#include <errno.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
@@ -308,7 +309,7 @@ static double rb_longest(const rf_mesh *m)
     return l;
 }
 
-static void rb_csv_text(const char *s)
+static void rb_csv_text_to(FILE *out, const char *s)
 {
     /* file names and messages are data: quote them, double any quote, and escape as
      * rigflow/text.h does every byte that is not printable UTF-8 (controls, line breaks, C1
@@ -317,14 +318,19 @@ static void rb_csv_text(const char *s)
     size_t n = rf_text_escape(s, NULL, 0, 0);
     char *text = g_malloc(n + 1);
     rf_text_escape(s, text, n + 1, 0);
-    putchar('"');
+    fputc('"', out);
     for (const char *c = text; *c; c++)
         if (*c == '"')
-            fputs("\"\"", stdout);
+            fputs("\"\"", out);
         else
-            putchar(*c);
-    putchar('"');
+            fputc(*c, out);
+    fputc('"', out);
     g_free(text);
+}
+
+static void rb_csv_text(const char *s)
+{
+    rb_csv_text_to(stdout, s);
 }
 
 static void rb_row(const rb_rigger *r, const char *model, const char *body, uint32_t nart,
@@ -445,6 +451,34 @@ static double rb_time(const rb_rigger *r, const rf_mesh *mesh)
     return ok ? secs : NAN;
 }
 
+/* --joints FILE: one row per joint of either rig (positions and distances as fractions of the
+ * longest edge) naming the nearest joint of the other rig, so a placement error can be traced
+ * to the joints that make it. NULL when not asked for. */
+static FILE *rb_joints_out;
+
+static void rb_joint_rows(const char *rigger, const char *model, const char *which,
+                          const rf_skeleton *as, const rb_rig *a, const rf_skeleton *bs,
+                          const rb_rig *b, double L)
+{
+    for (uint32_t j = 0; j < a->n; j++) {
+        uint32_t near = 0;
+        double best = INFINITY;
+        for (uint32_t k = 0; k < b->n; k++) {
+            double d = rf_v3_len(rf_v3_sub(a->pos[j], b->pos[k]));
+            if (d < best)
+                best = d, near = k;
+        }
+        fprintf(rb_joints_out, "%s,", rigger);
+        rb_csv_text_to(rb_joints_out, model);
+        fprintf(rb_joints_out, ",%s,", which);
+        rb_csv_text_to(rb_joints_out, as->joints[a->joint[j]].name);
+        fprintf(rb_joints_out, ",%.5f,%.5f,%.5f,", a->pos[j].x / L, a->pos[j].y / L,
+                a->pos[j].z / L);
+        rb_csv_text_to(rb_joints_out, b->n ? bs->joints[b->joint[near]].name : "");
+        fprintf(rb_joints_out, ",%.5f\n", b->n ? best / L : NAN);
+    }
+}
+
 static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *pl, bool nearest)
 {
     const rf_skeleton *as = rf_pipeline_result(pl, "artist", "skeleton");
@@ -474,6 +508,10 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
      * joints), the artist's joints far from any of the rigger's (missing ones) */
     cd[3] = rb_mean(&p, &g, false, false) / L, cd[4] = rb_mean(&g, &p, false, false) / L;
     rb_axes_agree(as, ps, cd + 5);
+    if (rb_joints_out) {
+        rb_joint_rows(r->api->name, base, "rigger", ps, &p, as, &g, L);
+        rb_joint_rows(r->api->name, base, "artist", as, &g, ps, &p, L);
+    }
     char why[300] = "ok";
     uint32_t *to = g_new(uint32_t, ps->joint_count + 1);
     rb_map_joints(ps, &p, map, as, &g, nearest, to);
@@ -544,7 +582,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
 {
     g_auto(GStrv) names = NULL;
     gboolean list = FALSE;
-    g_autofree char *joint_map = NULL;
+    g_autofree char *joint_map = NULL, *joints = NULL;
     const GOptionEntry entries[] = {
         {"joint-map", 0, 0, G_OPTION_ARG_STRING, &joint_map,
          "How predicted joints are matched to the artist's for the skinning columns: matcher "
@@ -555,6 +593,11 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         {"rigger", 'r', 0, G_OPTION_ARG_STRING_ARRAY, &names,
          "A rigger by name or node type (repeatable; default: every rigger found)", "NAME"},
         {"list", 0, 0, G_OPTION_ARG_NONE, &list, "List the riggers", NULL},
+        {"joints", 0, 0, G_OPTION_ARG_FILENAME, &joints,
+         "Also write every joint of both rigs to FILE as CSV (rigger,model,rig,joint,x,y,z,"
+         "nearest,distance: positions and the distance to the other rig's nearest joint, "
+         "named, as fractions of the longest bounding-box edge)",
+         "FILE"},
         {NULL, 0, 0, 0, NULL, NULL, NULL}};
     if (!rf_parse_options(
             "rig-bench", "MODEL...",
@@ -588,8 +631,20 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
     } else if (argc < 2) {
         fprintf(stderr, "rigflow rig-bench: name the rigged models to measure (see --help)\n");
         code = RF_EXIT_USAGE;
+    } else if (joints && !(rb_joints_out = fopen(joints, "w"))) {
+        g_autofree char *shown = rf_printable(joints);
+        fprintf(stderr, "rigflow rig-bench: --joints: cannot write %s: %s\n", shown,
+                g_strerror(errno));
+        code = RF_EXIT_USAGE;
     } else {
+        if (rb_joints_out)
+            fputs("rigger,model,rig,joint,x,y,z,nearest,distance\n", rb_joints_out);
         code = rb_run(reg, riggers, argc - 1, argv + 1, nearest);
+        if (rb_joints_out && fclose(rb_joints_out) != 0) {
+            fprintf(stderr, "rigflow rig-bench: --joints: write failed\n");
+            code = RF_EXIT_RUN;
+        }
+        rb_joints_out = NULL;
     }
     g_array_free(riggers, TRUE);
     return code;

@@ -123,6 +123,55 @@ static bool create_node(rf_node *n, GPtrArray *diags)
     return true;
 }
 
+/* ---- outputs to disk ---- */
+
+/* The fsync of one finished output, begun on a thread of its own as soon as its node has
+ * finished: the disk's journal commit (0.3-7 ms for a 3.2 MB GLB here) then runs beside the
+ * nodes after it instead of after all of them. The rename into place still waits for it and for
+ * the whole run to succeed. */
+typedef struct rf_file_sync {
+    char *path;      /* the temporary file */
+    GThread *thread; /* NULL when no thread could start: commit syncs it itself */
+    int err;         /* errno of open or fsync, 0 once flushed */
+} rf_file_sync;
+
+static gpointer file_sync_main(gpointer data)
+{
+    rf_file_sync *fs = data;
+    int fd = g_open(fs->path, O_RDWR, 0);
+    fs->err = fd < 0 || fsync(fd) != 0 ? errno : 0;
+    if (fd >= 0)
+        close(fd);
+    return NULL;
+}
+
+/* Waits for the sync's thread (once) and frees it; the array's free function. */
+static void file_sync_free(gpointer data)
+{
+    rf_file_sync *fs = data;
+    if (fs->thread)
+        g_thread_join(fs->thread);
+    g_free(fs->path);
+    g_free(fs);
+}
+
+/* Begins the fsync of every output file node n wrote. */
+static void start_syncs(rf_node *n)
+{
+    rf_pipeline *p = n->pipeline;
+    for (uint32_t k = 0; k < n->desc->param_count; k++) {
+        const rf_pvalue *v = &n->params[k];
+        if (n->desc->params[k].type != RF_PARAM_OUTPUT_PATH || !v->s)
+            continue;
+        if (!p->syncs)
+            p->syncs = g_ptr_array_new_with_free_func(file_sync_free);
+        rf_file_sync *fs = g_new0(rf_file_sync, 1);
+        fs->path = g_strdup(v->s);
+        fs->thread = g_thread_try_new("rf-fsync", file_sync_main, fs, NULL);
+        g_ptr_array_add(p->syncs, fs);
+    }
+}
+
 static bool process_node(rf_node *n, GPtrArray *diags)
 {
     gint64 t0 = g_get_monotonic_time();
@@ -144,24 +193,35 @@ static bool process_node(rf_node *n, GPtrArray *diags)
                     n->desc->outputs[k].name);
             return false;
         }
+    start_syncs(n);
     return true;
 }
 
-/* Flushes a finished output to disk and gives it the permissions a new file would have had:
- * mkstemp made it 0600. */
-static bool finish_file(const char *path, GError **error)
+/* Flushes a finished output to disk (waiting for the fsync start_syncs began, or making it
+ * here) and gives it the permissions a new file would have had: mkstemp made it 0600. */
+static bool finish_file(rf_pipeline *p, const char *path, GError **error)
 {
-    int fd = g_open(path, O_RDWR, 0);
-    if (fd < 0 || fsync(fd) != 0) {
-        g_set_error(error, G_FILE_ERROR, g_file_error_from_errno(errno), "%s", g_strerror(errno));
-        if (fd >= 0)
-            close(fd);
+    rf_file_sync *fs = NULL;
+    for (guint i = 0; p->syncs && !fs && i < p->syncs->len; i++)
+        if (strcmp(((rf_file_sync *)g_ptr_array_index(p->syncs, i))->path, path) == 0)
+            fs = g_ptr_array_index(p->syncs, i);
+    int err;
+    if (fs && fs->thread) {
+        g_thread_join(fs->thread);
+        fs->thread = NULL;
+        err = fs->err;
+    } else {
+        rf_file_sync here = {.path = (char *)path};
+        file_sync_main(&here);
+        err = here.err;
+    }
+    if (err) {
+        g_set_error(error, G_FILE_ERROR, g_file_error_from_errno(err), "%s", g_strerror(err));
         return false;
     }
     mode_t mask = umask(0);
     umask(mask);
-    fchmod(fd, 0666 & ~mask);
-    close(fd);
+    (void)g_chmod(path, 0666 & ~mask); /* as before: a file system without modes keeps its own */
     return true;
 }
 
@@ -174,7 +234,7 @@ static bool commit_outputs(rf_pipeline *p, GPtrArray *diags)
             if (n->desc->params[k].type != RF_PARAM_OUTPUT_PATH || !v->s)
                 continue;
             g_autoptr(GError) error = NULL;
-            if (!finish_file(v->s, &error) || g_rename(v->s, v->target) != 0) {
+            if (!finish_file(p, v->s, &error) || g_rename(v->s, v->target) != 0) {
                 RUN_ERR(n, "cannot write %s: %s", v->target,
                         error ? error->message : g_strerror(errno));
                 return false;
@@ -189,6 +249,8 @@ static bool commit_outputs(rf_pipeline *p, GPtrArray *diags)
 
 static void discard_outputs(rf_pipeline *p)
 {
+    if (p->syncs) /* every fsync thread joined before its file goes */
+        g_ptr_array_set_size(p->syncs, 0);
     for (guint i = 0; i < p->temp_files->len; i++)
         g_unlink(g_ptr_array_index(p->temp_files, i));
     g_ptr_array_set_size(p->temp_files, 0);
@@ -224,7 +286,12 @@ bool rf_pipeline_run(rf_pipeline *p, const rf_registry *reg, const rf_run_option
     p->opts = opts ? opts : &defaults;
     if (!p->temp_files)
         p->temp_files = g_ptr_array_new_with_free_func(g_free);
-    bool ok = run_nodes(p, diags) && !cancelled(p) && commit_outputs(p, diags);
+    bool ok = run_nodes(p, diags) && !cancelled(p);
+    gint64 t0 = g_get_monotonic_time();
+    ok = ok && commit_outputs(p, diags);
+    if (ok && p->opts->profile)
+        fprintf(stderr, "profile: outputs flushed and moved into place: %.3f ms\n",
+                (double)(g_get_monotonic_time() - t0) / 1000.0);
     if (!ok && cancelled(p))
         rf_diags_add(diags, p->name, 0, 0, NULL, NULL, "run interrupted: no output was written");
     discard_outputs(p);

@@ -265,6 +265,47 @@ static void failing_node_leaves_no_output(void **state)
     rf_pipeline_free(p);
 }
 
+/* The sink's output is complete (its fsync already begun on a thread) when a later node fails:
+ * the run still removes it and leaves no temporary file. */
+static void later_failure_removes_finished_output(void **state)
+{
+    fixture *f = *state;
+    rf_pipeline *p = check(f,
+                           "{\"id\": \"s\", \"type\": \"test.source\"},"
+                           "{\"id\": \"w\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"out.txt\"}, \"inputs\": {\"in\": \"s.value\"}},"
+                           "{\"id\": \"a\", \"type\": \"test.pair\", \"inputs\": {\"a\": "
+                           "\"s.value\"}},"
+                           "{\"id\": \"z\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"late.txt\", \"fail\": true}, \"inputs\": {\"in\": \"a.sum\"}}",
+                           true);
+    assert_false(rf_pipeline_run(p, f->reg, NULL, f->diags)); /* order: s, w, a, z */
+    assert_non_null(find_diag(f->diags, "node 'z'", "failed after writing part of", NULL));
+    assert_int_equal(count_files(f->dir), 0);
+    rf_pipeline_free(p);
+}
+
+/* A committed output has the mode a new file would have had (mkstemp made it 0600). */
+static void output_gets_new_file_mode(void **state)
+{
+    fixture *f = *state;
+    rf_pipeline *p = check(f,
+                           "{\"id\": \"s\", \"type\": \"test.source\"},"
+                           "{\"id\": \"w\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"out.txt\"}, \"inputs\": {\"in\": \"s.value\"}}",
+                           true);
+    mode_t mask = umask(022);
+    bool ok = rf_pipeline_run(p, f->reg, NULL, f->diags);
+    umask(mask);
+    assert_true(ok);
+    g_autofree char *out = g_build_filename(f->dir, "out.txt", NULL);
+    GStatBuf st;
+    assert_int_equal(g_stat(out, &st), 0);
+    assert_int_equal(st.st_mode & 0777, 0644);
+    assert_int_equal(count_files(f->dir), 1);
+    rf_pipeline_free(p);
+}
+
 static void upstream_failure_leaves_no_output(void **state)
 {
     fixture *f = *state;
@@ -476,6 +517,8 @@ int main(void)
         T(run_in_dependency_order),
         T(failing_node_leaves_no_output),
         T(upstream_failure_leaves_no_output),
+        T(later_failure_removes_finished_output),
+        T(output_gets_new_file_mode),
         T(missing_output_folder_reported),
         T(long_output_name_written),
         T(output_naming_a_folder_is_refused_first),

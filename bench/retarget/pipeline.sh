@@ -4,6 +4,10 @@
 # contact pass and the mesh floor, export, summary and the measures, mesh measures included)
 # against three.js's BVHLoader.parse plus SkeletonUtils.retargetClip in one node process (the
 # peers' bench_three.mjs, medians of its reps). Medians of 5 rigflow processes.
+# The 10,000-frame clip is random motion: its feet never touch the floor, so the contact pass
+# finds nothing to pin. A second line times the same on CMU 01_01 (a 2,752-frame walk, where
+# the pass pins both feet in about 4,000 foot-frames) when ../shared/data has it: reported
+# beside the first, not in its place.
 #
 # usage: bench/retarget/pipeline.sh [BUILDDIR] [TARGET]
 #   BUILDDIR  a built tree (default: the current directory); three.js is looked for where
@@ -36,20 +40,37 @@ if [ -x "$build/.libs/rigflow" ]; then
     export LD_LIBRARY_PATH
 fi
 load=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo unknown)
-times=""
-# Run 0 is not timed: it reads the files into the page cache and enters the plugins in the
-# plugin index, as any earlier run on the machine would have (three.js's medians are warm too).
-for i in 0 1 2 3 4 5; do
-    t0=$(date +%s%N)
-    "$rigflow" -q run "$src/pipelines/retarget.json" -p "source.path=$synth" \
-        -p "target.path=$target" -p "export.path=$work/pipeline_out.glb" >/dev/null
-    t1=$(date +%s%N)
-    [ "$i" = 0 ] || times="$times $(((t1 - t0) / 1000000))"
-done
-ours=$(printf '%s\n' $times | sort -n | sed -n 3p)
-three=$(cd "$tpeers" && MIN_MS=300 node bench_three.mjs "$synth" 3 2>/dev/null |
-    awk '/^parse: median/ {p = $3} /^retargetClip: median/ {r = $3} END {print p + r}')
 echo "load average before: $load"
-echo "rigflow pipeline (whole process, median of 5):$times -> $ours ms"
-echo "three.js parse + retargetClip (in-process medians): $three ms"
-echo "ratio: $(echo "$three $ours" | awk '{printf "%.1f", $1 / $2}')x"
+
+# bench LABEL BVH: rigflow's median of 5 processes and three.js's in-process medians on one clip.
+bench() {
+    label=$1 clip=$2 times=""
+    # Run 0 is not timed: it reads the files into the page cache and enters the plugins in the
+    # plugin index, as any earlier run on the machine would have (three.js's medians are warm too).
+    # Each run writes a new file: the previous run's output is removed before the clock starts.
+    # Replacing a file makes ext4 free the old one's blocks inside the rename (1-6 ms here, on a
+    # file system mounted with `discard`): the file system's work on the last run's output.
+    for i in 0 1 2 3 4 5; do
+        rm -f "$work/pipeline_out.glb"
+        t0=$(date +%s%N)
+        "$rigflow" -q run "$src/pipelines/retarget.json" -p "source.path=$clip" \
+            -p "target.path=$target" -p "export.path=$work/pipeline_out.glb" >/dev/null
+        t1=$(date +%s%N)
+        [ "$i" = 0 ] || times="$times $(((t1 - t0) / 1000000))"
+    done
+    ours=$(printf '%s\n' $times | sort -n | sed -n 3p)
+    three=$(cd "$tpeers" && MIN_MS=300 node bench_three.mjs "$clip" 3 2>/dev/null |
+        awk '/^parse: median/ {p = $3} /^retargetClip: median/ {r = $3} END {print p + r}')
+    echo "$label: rigflow pipeline (whole process, median of 5):$times -> $ours ms"
+    echo "$label: three.js parse + retargetClip (in-process medians): $three ms"
+    echo "$label: ratio: $(echo "$three $ours" | awk '{printf "%.1f", $1 / $2}')x"
+}
+
+bench "random 10k" "$synth"
+walk=$data/bvh/cmu_01_01.bvh
+if [ -f "$walk" ]; then
+    bench "walk (CMU 01_01, contacts)" "$walk"
+else
+    echo "walk (CMU 01_01, contacts): skipped, $walk not found"
+fi
+echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo unknown)"

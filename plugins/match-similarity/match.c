@@ -460,12 +460,9 @@ static double turn_apart(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, u
                          const rf_ms_line *sl, uint32_t q)
 {
     uint32_t t = tl->joint[i], j = sl->joint[q];
-    rf_vec3 a = c->tgt.bdir[t], b = c->src[k].bdir[j];
-    if (rf_v3_len2(a) == 0 || rf_v3_len2(b) == 0)
+    rf_vec3 a, b;
+    if (!rf_ms_body_dirs(c, t, k, j, &a, &b))
         return 0;
-    rf_side st = c->tgt.a->joints[t].side, ss = c->src[k].a->joints[j].side;
-    if (st != RF_SIDE_CENTER && ss != RF_SIDE_CENTER && st != ss)
-        b.x = -b.x;
     double d = rf_v3_angle(a, b);
     if (c->tgt.a->sections[c->tgt.a->joints[t].section].type !=
         c->src[k].a->sections[c->src[k].a->joints[j].section].type)

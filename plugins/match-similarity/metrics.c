@@ -471,12 +471,9 @@ void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t
  * mirrored first); full points at zero, falling quadratically to none at the maximum angle. */
 double rf_ms_orientation(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
 {
-    rf_vec3 a = c->tgt.bdir[t], b = c->src[k].bdir[j];
-    if (rf_v3_len2(a) == 0 || rf_v3_len2(b) == 0)
+    rf_vec3 a, b;
+    if (!rf_ms_body_dirs(c, t, k, j, &a, &b))
         return 0;
-    rf_side st = c->tgt.a->joints[t].side, ss = c->src[k].a->joints[j].side;
-    if (st != RF_SIDE_CENTER && ss != RF_SIDE_CENTER && st != ss)
-        b.x = -b.x;
     /* most pairs point too far apart to score: a dot product settles them */
     if (rf_v3_dot(a, b) <= c->cos_angle * sqrt(rf_v3_len2(a) * rf_v3_len2(b)))
         return 0;

@@ -64,6 +64,21 @@ void rf_ms_skel_clear(rf_ms_skel *s);
 void rf_ms_section_metrics(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t ss, double *m);
 /* Joint-level metrics (orientation, sequence) of target joint t against source joint j. */
 void rf_ms_joint_metrics(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j, double *m);
+/* The bone directions of target joint t and source joint j in their bodies' frames, the source's
+ * mirrored when the two lie on opposite sides (left against right); false when either has none.
+ * Inline: the orientation metric asks for every pair of joints. */
+static inline bool rf_ms_body_dirs(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j,
+                                   rf_vec3 *a, rf_vec3 *b)
+{
+    *a = c->tgt.bdir[t], *b = c->src[k].bdir[j];
+    if (rf_v3_len2(*a) == 0 || rf_v3_len2(*b) == 0)
+        return false;
+    rf_side st = c->tgt.a->joints[t].side, ss = c->src[k].a->joints[j].side;
+    if (st != RF_SIDE_CENTER && ss != RF_SIDE_CENTER && st != ss)
+        b->x = -b->x;
+    return true;
+}
+
 /* The two per-joint metrics apart, so a candidate can be dropped before the dearer one. */
 double rf_ms_orientation(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j);
 double rf_ms_sequence(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j);

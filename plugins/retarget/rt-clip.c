@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include <rigflow/model-copy.h>
+#include <rigflow/prefault.h>
 
 #include "rt-internal.h"
 
@@ -121,6 +122,8 @@ static rf_animation *rt_output_new(const rf_retarget *rt, uint32_t frames)
         rf_animation_free(out);
         return NULL;
     }
+    rf_prefault(out->rotations, n * 4 * sizeof *out->rotations);
+    rf_prefault(out->translations, n * 3 * sizeof *out->translations);
     for (uint32_t j = 0; j < rt->n; j++)
         out->channels[j] =
             (uint8_t)(RF_CHANNEL_ROTATION |

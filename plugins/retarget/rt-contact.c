@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <rigflow/prefault.h>
+
 #include "rt-internal.h"
 
 /* ---- effectors ---- */
@@ -279,6 +281,10 @@ uint8_t *rf_rt_detect_contacts(const rf_retarget *rt, uint32_t frames, double fp
     uint8_t *c = calloc(count ? count : 1, 1);
     rf_vec3 *pos = src_pos ? src_pos : malloc((count ? count : 1) * sizeof *pos);
     double *sole = src_sole ? src_sole : malloc((count ? count : 1) * sizeof *sole);
+    if (pos != src_pos)
+        rf_prefault(pos, count * sizeof *pos);
+    if (sole != src_sole)
+        rf_prefault(sole, count * sizeof *sole);
     bool ok = c && pos && sole && rt_source_tracks(rt, frames, fps, start, pos, sole);
     if (sole != src_sole)
         free(sole);
@@ -412,6 +418,11 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
         !w->target_sole || !w->src_sole || !w->pin || !w->chain || !w->cparent || !w->clocal ||
         !w->want || !w->solved || !w->need || !w->below || !w->below_at)
         return false;
+    /* the per-frame arrays: every frame of every foot is written */
+    rf_prefault(w->target_pos, ef * sizeof *w->target_pos);
+    rf_prefault(w->target_sole, ef * sizeof *w->target_sole);
+    rf_prefault(w->src_sole, ef * sizeof *w->src_sole);
+    rf_prefault(w->pin, ef * sizeof *w->pin);
     rt_pin_need(rt, w);
     for (uint32_t j = 0; j < n; j++)
         w->parents[j] = rt->target->joints[j].parent;

@@ -104,4 +104,65 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
                   const rf_rig_options *o, rf_skeleton *s, rf_mesh **skinned, rf_rig_stats *st,
                   char *err, size_t n);
 
+/* The proxy's surface for ray casts (rig-place.c); NULL when Embree fails. */
+typedef struct rf_rig_surface rf_rig_surface;
+rf_rig_surface *rf_rig_surface_make(const rf_rig_geo *g);
+void rf_rig_surface_free(rf_rig_surface *s);
+
+/* Distance along the unit direction dir from p to the first triangle, INFINITY when none. */
+double rf_rig_surface_hit(const rf_rig_surface *s, const double p[3], const double dir[3]);
+
+/* Moves p to the centre of the mesh's cross-section through it, square to dir: the area
+ * centroid of the fan of points where rays in that plane meet the surface, twice refined. False,
+ * p unchanged, when a ray finds no surface within `reach` (the section is not closed around p)
+ * or the centre lies over `limit` away. */
+bool rf_rig_centre(const rf_rig_surface *s, double p[3], const double dir[3], double reach,
+                   double limit);
+
+/* Every joint of k moved to the centre of the proxy's cross-section square to its bone (the
+ * halfway direction at a bend), within a quarter of the longest edge for the rays and 4% of it
+ * for the move; each from where the curve put it, not from its moved parent. The curve
+ * skeleton's nodes are centroids of geodesic bands, which lean where a band cuts a limb at a
+ * slant or a limb merges with the body. A joint whose section is not closed stays. */
+void rf_rig_skel_centre(const rf_rig_prep *p, rf_rig_skel *k);
+
+/* The joints of k flagged in `which` moved along `axis` to fraction `at` of the way through
+ * the mesh from its surface behind them (-axis) to its surface ahead (+axis); a joint without
+ * surface both ways within a quarter of the longest edge stays. */
+void rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
+                        double at);
+
+/* Where the template rigger puts each joint along the curve it follows: fractions of the
+ * curve's length from its start (rig-template.c; the values and how they were chosen are in
+ * doc/autorig.md). A bend window [lo, hi] is searched for the sharpest bend, the fraction
+ * itself used when the curve runs straight there. */
+typedef struct rf_rig_tpl_layout {
+    double spine[3];            /* Spine, Spine1, Spine2 from the hips to the neck's base */
+    double neck_at;             /* a short torso: the neck's base along hips to head tip */
+    double head;                /* Head along the neck's base to the head's tip */
+    double shoulder, arm, hand; /* along the girdle to the hand's tip */
+    double elbow, elbow_lo, elbow_hi;
+    double upleg, knee, knee_lo, knee_hi;
+    double ankle_rise;             /* biped ankle: the curve this far (fraction of the leg's height)
+                                    * above its lowest point */
+    double hock, hock_lo, hock_hi; /* a hind leg's ankle, at its bend */
+    double toe;                    /* ToeBase, from the ankle to the tip */
+    double tail[4];
+    bool centre;   /* joints moved to the centre of the mesh's cross-section */
+    double dorsal; /* then Hips, spine and neck this far through the body from the
+                    * belly (quadruped) or the front (biped) to the back; 0: left */
+} rf_rig_tpl_layout;
+
+extern const rf_rig_tpl_layout rf_rig_tpl_humanoid, rf_rig_tpl_quadruped;
+
+/* The template laid into curve skeleton k of the cleaned mesh p, as a working skeleton into
+ * *out (names into names[joint], 24 bytes each, up to 40 joints), with the layouts given
+ * (NULL: the built-in ones) and which template into *got. The template rigger's work short of
+ * bone heat; the fitting of layouts (tests/rig/rig-fit) calls it many times. */
+bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
+                           rf_rig_template_kind want, const rf_rig_tpl_layout *humanoid,
+                           const rf_rig_tpl_layout *quadruped, rf_rig_skel *out, char (*names)[24],
+                           rf_rig_template_kind *got, rf_vec3 *up, rf_vec3 *forward, char *err,
+                           size_t n);
+
 #endif

@@ -258,6 +258,7 @@ typedef struct rf_tpl {
     int32_t parent[RF_TPL_MAXJ];
     double pos[RF_TPL_MAXJ][3], tip[RF_TPL_MAXJ][3];
     uint8_t has_tip[RF_TPL_MAXJ];
+    uint32_t trunk, trunk_count; /* Hips, the spine and the neck: joints [trunk, +count) */
 } rf_tpl;
 
 static int32_t rf_tpl_joint(rf_tpl *t, const char *name, int32_t parent, const double p[3])
@@ -405,7 +406,50 @@ typedef struct rf_tpl_ctx {
     uint8_t *limb;   /* [joint] in a limb section or below one: not the head or the tail */
     int swap;        /* the ends swapped against the analysis's forward: sides swapped too */
     rf_vec3 forward; /* hips to chest (quadruped), zero when the analysis's forward stands */
+    const rf_rig_tpl_layout *lay; /* where the joints go along each curve */
 } rf_tpl_ctx;
+
+/* The built-in layouts (doc/autorig.md, "The template rigger", says how they were chosen). */
+const rf_rig_tpl_layout rf_rig_tpl_humanoid = {
+    .spine = {0.25, 0.5, 0.75},
+    .neck_at = 0.29,
+    .head = 0.35,
+    .shoulder = 0.14,
+    .arm = 0.16,
+    .hand = 0.8,
+    .elbow = 0.40,
+    .elbow_lo = 0.28,
+    .elbow_hi = 0.53,
+    .upleg = 0.22,
+    .knee = 0.47,
+    .knee_lo = 0.35,
+    .knee_hi = 0.6,
+    .ankle_rise = 0.28,
+    .toe = 0.32,
+    .centre = false,
+};
+const rf_rig_tpl_layout rf_rig_tpl_quadruped = {
+    .spine = {0.13, 0.5, 0.75},
+    .neck_at = 0.5,
+    .head = 0.38,
+    .shoulder = 0.34,
+    .arm = 0.39,
+    .hand = 0.82,
+    .elbow = 0.5,
+    .elbow_lo = 0.4,
+    .elbow_hi = 0.65,
+    .upleg = 0.24,
+    .knee = 0.38,
+    .knee_lo = 0.25,
+    .knee_hi = 0.5,
+    .hock = 0.68,
+    .hock_lo = 0.55,
+    .hock_hi = 0.8,
+    .toe = 0.44,
+    .tail = {0.1, 0.32, 0.54, 0.76},
+    .centre = false,
+    .dorsal = 0.68,
+};
 
 static const char *const rf_tpl_side[2] = {"Left", "Right"};
 
@@ -429,9 +473,10 @@ static void rf_tpl_leg(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, in
         rf_tpl_rising(x->k, x->a->up, girdle, first, skip);
     rf_tpl_limb(x->k, girdle, first, skip, &c);
     free(skip);
-    double knee = hind ? rf_tpl_bend(&c, 0.25, 0.5, 0.38) : rf_tpl_bend(&c, 0.35, 0.6, 0.47);
-    double ankle = hind ? rf_tpl_bend(&c, 0.55, 0.8, 0.68) : 0.82;
-    if (!hind) { /* the ankle: first point within 12% of the leg's height of its lowest point */
+    const rf_rig_tpl_layout *l = x->lay;
+    double knee = rf_tpl_bend(&c, l->knee_lo, l->knee_hi, l->knee);
+    double ankle = hind ? rf_tpl_bend(&c, l->hock_lo, l->hock_hi, l->hock) : 0.82;
+    if (!hind) { /* the ankle: first point within ankle_rise of the leg's height of its lowest */
         double lo = INFINITY, top = 0;
         rf_vec3 up = x->a->up;
         for (uint32_t i = 0; i < c.n; i++) {
@@ -440,7 +485,7 @@ static void rf_tpl_leg(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, in
         }
         for (uint32_t i = 1; i < c.n; i++) {
             double h = c.p[i][0] * up.x + c.p[i][1] * up.y + c.p[i][2] * up.z;
-            if (h <= lo + 0.12 * (top - lo)) {
+            if (h <= lo + l->ankle_rise * (top - lo)) {
                 ankle = fmin(fmax(c.s[i] / rf_tpl_len(&c), 0.7), 0.9);
                 break;
             }
@@ -450,7 +495,7 @@ static void rf_tpl_leg(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, in
     const char *names[4] = {rf_tpl_sided(nb[0], side, "UpLeg"), rf_tpl_sided(nb[1], side, "Leg"),
                             rf_tpl_sided(nb[2], side, "Foot"),
                             rf_tpl_sided(nb[3], side, "ToeBase")};
-    double f[4] = {0.1, knee, ankle, ankle + 0.6 * (1 - ankle)};
+    double f[4] = {l->upleg, knee, ankle, ankle + l->toe * (1 - ankle)};
     rf_tpl_chain(x->t, &c, parent, names, f, 4);
 }
 
@@ -467,12 +512,13 @@ static void rf_tpl_arm(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, in
         rf_tpl_rising(x->k, x->a->up, girdle, first, skip);
     rf_tpl_limb(x->k, girdle, first, skip, &c);
     free(skip);
-    double elbow = rf_tpl_bend(&c, 0.4, 0.65, foreleg ? 0.5 : 0.52);
+    const rf_rig_tpl_layout *l = x->lay;
+    double elbow = rf_tpl_bend(&c, l->elbow_lo, l->elbow_hi, l->elbow);
     char nb[4][24];
     const char *names[4] = {rf_tpl_sided(nb[0], side, "Shoulder"), rf_tpl_sided(nb[1], side, "Arm"),
                             rf_tpl_sided(nb[2], side, "ForeArm"),
                             rf_tpl_sided(nb[3], side, "Hand")};
-    double f[4] = {0.06, foreleg ? 0.25 : 0.2, elbow, foreleg ? 0.82 : 0.8};
+    double f[4] = {l->shoulder, l->arm, elbow, l->hand};
     rf_tpl_chain(x->t, &c, parent, names, f, 4);
 }
 
@@ -550,8 +596,9 @@ static bool rf_tpl_on_path(const rf_rig_skel *k, uint32_t a, uint32_t b, uint32_
  * hang off the neck, as on some box models), then neck and head to that leaf. Returns Spine2,
  * or -1 when there is no head; the neck's base into *neck. */
 static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_t *hips_j,
-                            double neck_at, double neck_f, uint32_t *neck)
+                            uint32_t *neck)
 {
+    double neck_at = x->lay->neck_at, neck_f = x->lay->head;
     const rf_rig_skel *k = x->k;
     rf_tpl_curve sp = {0}, hd = {0};
     uint8_t *skip = malloc(k->n + 1);
@@ -601,7 +648,7 @@ static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_
     rf_tpl_at(&sp, 0, p);
     int32_t h = rf_tpl_joint(x->t, "Hips", -1, p);
     const char *const sn[3] = {"Spine", "Spine1", "Spine2"};
-    const double sf[3] = {0.25, 0.5, 0.75};
+    const double *sf = x->lay->spine;
     int32_t j = h;
     for (int i = 0; i < 3; i++) {
         rf_tpl_at(&sp, sf[i], p);
@@ -611,6 +658,7 @@ static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_
     const char *const hn[2] = {"Neck", "Head"};
     const double hf[2] = {0, neck_f};
     rf_tpl_chain(x->t, &hd, spine2, hn, hf, 2);
+    x->t->trunk = (uint32_t)h, x->t->trunk_count = (uint32_t)(spine2 - h) + 2;
     *hips_j = h;
     return spine2;
 }
@@ -652,7 +700,7 @@ static void rf_tpl_tail(rf_tpl_ctx *x, uint32_t hips, uint32_t neck, int32_t hip
     if (rf_tpl_len(&c) < 0.25 * len)
         return;
     const char *const tn[4] = {"Tail", "Tail1", "Tail2", "Tail3"};
-    const double tf[4] = {0.1, 0.32, 0.54, 0.76};
+    const double *tf = x->lay->tail;
     rf_tpl_chain(x->t, &c, hips_j, tn, tf, 4);
 }
 
@@ -666,7 +714,7 @@ static bool rf_tpl_humanoid(rf_tpl_ctx *x, char *err, size_t n)
     }
     uint32_t hips = rf_tpl_meet(x->k, gl[0], gl[1]), chest = rf_tpl_meet(x->k, ga[0], ga[1]);
     uint32_t neck;
-    int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, 0.55, 0.35, &neck);
+    int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, &neck);
     if (spine2 < 0)
         return rf_rig_fail(err, n,
                            "the humanoid template found no neck and head above the "
@@ -710,7 +758,7 @@ static bool rf_tpl_quadruped(rf_tpl_ctx *x, bool declared, char *err, size_t n)
                            "the quadruped template found the fore and hind legs "
                            "leaving the body at one place (no spine between them)");
     uint32_t neck;
-    int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, 0.5, 0.5, &neck);
+    int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, &neck);
     if (spine2 < 0)
         return rf_rig_fail(err, n,
                            "the quadruped template found no neck and head beyond the "
@@ -781,7 +829,8 @@ static bool rf_tpl_to_skel(const rf_tpl *t, rf_rig_skel *k)
 
 /* The template laid into the curve skeleton k, into t. */
 static bool rf_tpl_embed(const rf_rig_skel *k, const rf_rig_options *o, rf_rig_template_kind want,
-                         rf_tpl *t, rf_vec3 *up, rf_vec3 *forward, char *err, size_t n)
+                         const rf_rig_tpl_layout *lay[2], rf_tpl *t, rf_rig_template_kind *kind,
+                         rf_vec3 *up, rf_vec3 *forward, char *err, size_t n)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
@@ -801,7 +850,9 @@ static bool rf_tpl_embed(const rf_rig_skel *k, const rf_rig_options *o, rf_rig_t
     }
     if (ok) {
         rf_tpl_mark_limbs(k, a, &b, got, limb);
-        rf_tpl_ctx x = {.k = k, .a = a, .b = &b, .t = t, .limb = limb};
+        bool human = got == RF_RIG_TEMPLATE_HUMANOID;
+        rf_tpl_ctx x = {.k = k, .a = a, .b = &b, .t = t, .limb = limb, .lay = lay[!human]};
+        *kind = got;
         memset(t, 0, sizeof *t);
         ok = got == RF_RIG_TEMPLATE_HUMANOID ? rf_tpl_humanoid(&x, err, n)
                                              : rf_tpl_quadruped(&x, declared, err, n);
@@ -821,16 +872,49 @@ static bool rf_tpl_embed(const rf_rig_skel *k, const rf_rig_options *o, rf_rig_t
     return ok;
 }
 
-static bool rf_tpl_name(rf_skeleton *s, const rf_tpl *t, rf_vec3 up, rf_vec3 forward)
+static bool rf_tpl_name(rf_skeleton *s, char (*names)[24], uint32_t n, rf_vec3 up, rf_vec3 forward)
 {
     free(s->name);
     if (!(s->name = rf_strdup("rig.template")))
         return false;
-    for (uint32_t j = 0; j < t->n; j++)
-        if (!(s->joints[j].name = rf_strdup(t->name[j])))
+    for (uint32_t j = 0; j < n; j++)
+        if (!(s->joints[j].name = rf_strdup(names[j])))
             return false;
     s->up = up, s->forward = forward;
     return true;
+}
+
+bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
+                           rf_rig_template_kind want, const rf_rig_tpl_layout *humanoid,
+                           const rf_rig_tpl_layout *quadruped, rf_rig_skel *out, char (*names)[24],
+                           rf_rig_template_kind *got, rf_vec3 *up, rf_vec3 *forward, char *err,
+                           size_t n)
+{
+    const rf_rig_tpl_layout *lay[2] = {humanoid ? humanoid : &rf_rig_tpl_humanoid,
+                                       quadruped ? quadruped : &rf_rig_tpl_quadruped};
+    rf_tpl *t = calloc(1, sizeof *t);
+    if (!t)
+        return rf_rig_fail(err, n, "out of memory");
+    bool ok = rf_tpl_embed(k, o, want, lay, t, got, up, forward, err, n);
+    if (ok && !rf_tpl_to_skel(t, out))
+        ok = rf_rig_fail(err, n, "out of memory");
+    if (ok) {
+        bool human = *got == RF_RIG_TEMPLATE_HUMANOID;
+        const rf_rig_tpl_layout *l = lay[!human];
+        if (l->centre)
+            rf_rig_skel_centre(p, out);
+        /* the spine lies towards the back: a quadruped's up, a biped's back (when known) */
+        rf_vec3 back = human ? rf_v3_scale(*forward, -1) : *up;
+        uint8_t trunk[RF_TPL_MAXJ] = {0};
+        for (uint32_t j = t->trunk; j < t->trunk + t->trunk_count && j < t->n; j++)
+            trunk[j] = 1;
+        if (l->dorsal > 0 && rf_v3_len(back) > 0)
+            rf_rig_skel_across(p, out, trunk, back, l->dorsal);
+        for (uint32_t j = 0; j < t->n; j++)
+            memcpy(names[j], t->name[j], 24);
+    }
+    free(t);
+    return ok;
 }
 
 bool rf_rig_template(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_template_kind kind,
@@ -843,24 +927,20 @@ bool rf_rig_template(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_tem
     *skeleton = NULL, *skinned = NULL;
     rf_rig_prep p;
     rf_rig_skel k = {0}, tk = {0};
-    rf_tpl *t = calloc(1, sizeof *t);
+    char names[RF_TPL_MAXJ][24];
+    rf_rig_template_kind got = RF_RIG_TEMPLATE_AUTO;
     rf_vec3 up = rf_v3(0, 0, 0), forward = rf_v3(0, 0, 0);
-    if (!t)
-        return rf_rig_fail(err, err_size, "out of memory");
-    if (!rf_rig_prepare(mesh, &o, &p, st, err, err_size)) {
-        free(t);
+    if (!rf_rig_prepare(mesh, &o, &p, st, err, err_size))
         return false;
-    }
     if (progress)
         progress(user, 0.1);
     bool ok = rf_rig_curve(&p, &o, &k, err, err_size) &&
-              rf_tpl_embed(&k, &o, kind, t, &up, &forward, err, err_size);
-    if (ok && !rf_tpl_to_skel(t, &tk))
-        ok = rf_rig_fail(err, err_size, "out of memory");
+              rf_rig_template_place(&p, &k, &o, kind, NULL, NULL, &tk, names, &got, &up, &forward,
+                                    err, err_size);
     if (ok && progress)
         progress(user, 0.4);
     rf_skeleton *s = ok ? rf_rig_skeleton(&tk, NULL) : NULL;
-    if (ok && (!s || !rf_tpl_name(s, t, up, forward)))
+    if (ok && (!s || !rf_tpl_name(s, names, tk.n, up, forward)))
         ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
     ok = ok && rf_rig_weigh(mesh, &p, &tk, &o, s, skinned, st, err, err_size);
     if (ok)
@@ -869,6 +949,5 @@ bool rf_rig_template(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_tem
         rf_skeleton_free(s);
     rf_rig_skel_free(&k), rf_rig_skel_free(&tk);
     rf_rig_prep_free(&p);
-    free(t);
     return ok;
 }

@@ -388,6 +388,37 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
     return ok;
 }
 
+/* A body carried level (a quadruped, a lizard, a bird in flight) has its spine along its back,
+ * not through the middle where the curve skeleton runs: its spine joints (by the skeleton
+ * analysis) move to RF_RIG_DORSAL of the body's depth from the belly along up. A trunk that
+ * stands (a biped) is left. */
+#define RF_RIG_DORSAL 0.66
+static void rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
+{
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    if (!s)
+        return;
+    s->up = o->up, s->forward = o->forward;
+    rf_analysis *a = rf_analyze(s, NULL);
+    uint8_t *spine = calloc(k->n + 1, 1);
+    int32_t first = -1, last = -1;
+    for (uint32_t j = 0; a && spine && j < k->n; j++) {
+        int32_t sec = a->joints[j].section;
+        if (sec < 0 || a->sections[sec].type != RF_SECTION_SPINE)
+            continue;
+        spine[j] = 1, last = (int32_t)j;
+        first = first < 0 ? (int32_t)j : first;
+    }
+    if (first >= 0 && first != last) {
+        rf_vec3 d = rf_v3_sub(a->joints[last].pos, a->joints[first].pos);
+        if (fabs(rf_v3_dot(d, a->up)) < 0.5 * rf_v3_len(d))
+            rf_rig_skel_across(p, k, spine, a->up, RF_RIG_DORSAL);
+    }
+    free(spine);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
                     rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
                     char *err, size_t err_size)
@@ -403,6 +434,8 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
     if (progress)
         progress(user, 0.1);
     bool ok = rf_rig_curve(&p, &o, &k, err, err_size);
+    if (ok)
+        rf_rig_dorsal(&p, &k, &o);
     if (ok && progress)
         progress(user, 0.4);
     rf_skeleton *s = ok ? rf_rig_skeleton(&k, &o) : NULL;

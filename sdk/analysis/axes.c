@@ -2,10 +2,11 @@
  *
  * Up lies in the symmetry plane. Of the four in-plane directions, up is the one the limbs hang
  * away from: weighted by how much of each limb's reach points down and how steadily its chain
- * descends, plus a bonus when a mirrored pair of limbs touches the lowest level (feet on the
- * ground), one for the ground the feet span when the body stands over them, and a small one for
- * the axis the file declares. Forward is then one of two directions;
- * its sign is voted by the feet (toes point forward), by the knees of a biped and by the file. */
+ * descends (a wing, a limb ending in a fan of long digits, at half weight), plus a bonus when a
+ * mirrored pair of limbs touches the lowest level (feet on the ground), one for the ground the feet
+ * span when the body stands over them, and a small one for the axis the file declares. Forward is
+ * then one of two directions; its sign is voted by the feet (toes point forward), by the knees of a
+ * biped and by the file. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -20,7 +21,8 @@ typedef struct rf_limb {
     double out[4];    /* how far from the attachment that lowest point is */
     double reach;     /* farthest tip, guessed ones included, from the attachment */
     uint32_t joints;
-    int touch; /* the last up candidate (1..4) under which it touched the ground */
+    double vote; /* its weight in the limbs cue: less for a wing (fan_vote) */
+    int touch;   /* the last up candidate (1..4) under which it touched the ground */
     bool leg;
 } rf_limb;
 
@@ -66,6 +68,77 @@ static bool collect_limbs(const rf_awork *w, rf_limbs *ls)
         l->joints++;
     }
     return true;
+}
+
+/* The deepest joint both a and b hang from; depth[] counts joints below the limb's first. */
+static uint32_t limb_common(const rf_awork *w, const uint32_t *depth, uint32_t a, uint32_t b)
+{
+    while (depth[a] > depth[b])
+        a = (uint32_t)w->parent[a];
+    while (depth[b] > depth[a])
+        b = (uint32_t)w->parent[b];
+    while (a != b && depth[a] > 0)
+        a = (uint32_t)w->parent[a], b = (uint32_t)w->parent[b];
+    return a;
+}
+
+/* Per limb, the joint its far leaves (tips past 0.6 of its reach: digits, toes, a claw) fan
+ * from, or UINT32_MAX when it has fewer than two. */
+static void far_fans(const rf_awork *w, const rf_limbs *ls, uint32_t *depth, uint32_t *fan)
+{
+    uint32_t *count = calloc(ls->n ? ls->n : 1, sizeof *count);
+    for (uint32_t i = 0; i < ls->n; i++)
+        fan[i] = UINT32_MAX;
+    if (!count)
+        return;
+    for (uint32_t k = 0; k < w->order_count; k++) {
+        uint32_t j = w->order[k];
+        if (w->limb_of[j] < 0)
+            continue;
+        int32_t i = ls->slot[w->limb_of[j]];
+        const rf_limb *l = &ls->v[i];
+        depth[j] = j == l->root ? 0 : depth[w->parent[j]] + 1;
+        if (!rf_an_is_leaf(w, j) || rf_v3_dist(w->a->joints[j].tip, l->attach) < 0.6 * l->reach)
+            continue;
+        fan[i] = count[i]++ ? limb_common(w, depth, fan[i], j) : j;
+    }
+    for (uint32_t i = 0; i < ls->n; i++)
+        if (count[i] < 2)
+            fan[i] = UINT32_MAX;
+    free(count);
+}
+
+/* A wing votes half for up: a limb whose far leaves (two or more) fan from a joint carrying three
+ * or more leaves and reach over 0.35 of the limb's reach from it (membrane fingers; not toes,
+ * claws or fingers, a tenth of a leg or arm long). Folded back, a wing three times a leg's reach
+ * would otherwise outvote legs that do hang. Linear: one pass for the fans, one for the digits. */
+static void fan_vote(const rf_awork *w, rf_limbs *ls)
+{
+    uint32_t *depth = calloc(w->n ? w->n : 1, sizeof *depth);
+    uint32_t *fan = malloc((size_t)(ls->n ? ls->n : 1) * sizeof *fan);
+    double *digit = calloc(ls->n ? ls->n : 1, sizeof *digit);
+    uint32_t *leaves = calloc(ls->n ? ls->n : 1, sizeof *leaves);
+    bool *under = calloc(w->n ? w->n : 1, sizeof *under);
+    for (uint32_t i = 0; i < ls->n; i++)
+        ls->v[i].vote = 1;
+    if (depth && fan && digit && leaves && under) {
+        far_fans(w, ls, depth, fan);
+        for (uint32_t k = 0; k < w->order_count; k++) {
+            uint32_t j = w->order[k];
+            if (w->limb_of[j] < 0)
+                continue;
+            int32_t i = ls->slot[w->limb_of[j]];
+            under[j] = j == fan[i] || (j != ls->v[i].root && under[w->parent[j]]);
+            if (!under[j])
+                continue;
+            digit[i] = fmax(digit[i], rf_v3_dist(w->a->joints[j].tip, rf_an_pos(w, fan[i])));
+            leaves[i] += rf_an_is_leaf(w, j);
+        }
+        for (uint32_t i = 0; i < ls->n; i++)
+            if (leaves[i] >= 3 && digit[i] > 0.35 * ls->v[i].reach)
+                ls->v[i].vote = 0.5;
+    }
+    free(depth), free(fan), free(digit), free(leaves), free(under);
 }
 
 /* Share of the limb's height change along its path (root to far end) that goes down along u. */
@@ -164,8 +237,8 @@ static void up_score(const rf_awork *w, rf_limbs *ls, rf_vec3 u, int cand, doubl
     for (uint32_t i = 0; i < ls->n; i++) {
         rf_vec3 v = rf_v3_sub(ls->v[i].far, ls->v[i].attach);
         v = rf_v3_sub(v, rf_v3_scale(w->plane_n, rf_v3_dot(v, w->plane_n)));
-        reach += rf_v3_len(v);
-        hang += descent(w, &ls->v[i], u) * fmax(0, -rf_v3_dot(v, u));
+        reach += ls->v[i].vote * rf_v3_len(v);
+        hang += ls->v[i].vote * descent(w, &ls->v[i], u) * fmax(0, -rf_v3_dot(v, u));
         lo = fmin(lo, ls->v[i].lowest[cand]);
     }
     for (uint32_t i = 0; i < w->order_count; i++) {
@@ -683,6 +756,8 @@ void rf_an_axes(rf_awork *w)
     rf_analysis *a = w->a;
     rf_limbs ls = {0};
     bool ok = collect_limbs(w, &ls);
+    if (ok)
+        fan_vote(w, &ls);
     if (usable(w->opt.up)) {
         a->up = rf_v3_normalize(w->opt.up);
         a->up_source = "forced", a->up_confidence = 1;

@@ -361,10 +361,16 @@ static bool end_marker(rf_awork *w, uint32_t j)
  * the child the bone continues into, and pointing along it (Unreal's upperarm_twist_01 beside
  * lowerarm). It only spreads its segment's twist over the skin: it is part of that segment, not
  * a digit or a limb of its own, and stays still with it when unmapped. */
+#define RF_AN_ROLL_SIBLINGS 64
+
 static bool roll_leaf(const rf_awork *w, uint32_t j)
 {
     int32_t p = w->file_parent[j];
-    if (p < 0 || !rf_an_is_leaf(w, j) || rf_an_child_count(w, (uint32_t)p) < 2)
+    /* a segment carries its next segment and a few roll leaves; a joint with hundreds of
+     * children is a fan of parts (or a hostile file), and testing every leaf against every
+     * sibling would be quadratic in them */
+    if (p < 0 || !rf_an_is_leaf(w, j) || rf_an_child_count(w, (uint32_t)p) < 2 ||
+        rf_an_child_count(w, (uint32_t)p) > RF_AN_ROLL_SIBLINGS)
         return false;
     rf_vec3 pj = w->a->joints[j].pos, pp = w->a->joints[p].pos;
     for (uint32_t k = w->child_off[p]; k < w->child_off[p + 1]; k++) {

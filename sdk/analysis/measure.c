@@ -31,6 +31,36 @@ static rf_side section_side(const rf_awork *w, const rf_section *s, uint32_t fir
     return side_of_point(w, c, 0.1 * w->tol);
 }
 
+/* The length of the bone p ends, with the bone before it when the two lie in one straight line
+ * (a forearm cut in two for its twist, as Rigify's deform bones are): the hand is compared with
+ * the whole forearm, not its second half. */
+static double forearm_length(const rf_analysis *a, int32_t p)
+{
+    const rf_joint_info *f = &a->joints[p];
+    int32_t q = f->logical_parent;
+    if (q < 0 || f->length <= 0 || a->joints[q].length <= 0)
+        return f->length;
+    const rf_joint_info *g = &a->joints[q];
+    rf_vec3 d0 = rf_v3_normalize(rf_v3_sub(g->tip, g->pos));
+    rf_vec3 d1 = rf_v3_normalize(rf_v3_sub(f->tip, f->pos));
+    bool straight = rf_v3_dot(d0, d1) > 0.999 && rf_v3_dist(g->tip, f->pos) <= 1e-3 * g->length;
+    return straight ? f->length + g->length : f->length;
+}
+
+/* A hand bone's length; when its tip is only a guess (no end site, no child along its axis: a
+ * guess three quarters as long as the forearm), the farthest of its children's pivots, the
+ * knuckles, says how long it is. */
+static double hand_length(const rf_awork *w, uint32_t hand)
+{
+    const rf_joint_info *h = &w->a->joints[hand];
+    if (!(h->flags & RF_JI_TIP_GUESSED) || rf_an_is_leaf(w, hand))
+        return h->length;
+    double len = 0;
+    for (uint32_t k = w->child_off[hand]; k < w->child_off[hand + 1]; k++)
+        len = fmax(len, rf_v3_dist(rf_an_pos(w, w->child_idx[k]), h->pos));
+    return len;
+}
+
 /* Whether a fan's digits are measured from the wrist, the pivot of the bone they hang from: a
  * hand bone (no longer than three digits, and well short of the forearm before it), so
  * a palm bone starting at the wrist and a finger starting at the knuckle keep apart (the
@@ -47,7 +77,8 @@ static bool fan_from_wrist(const rf_awork *w, const rf_section *s)
         reach += rf_v3_dist(a->joints[js[k + 1]].pos, a->joints[js[k]].pos);
     const rf_joint_info *hand = &a->joints[s->attach_joint];
     int32_t p = hand->logical_parent;
-    return hand->length <= 3 * reach && (p < 0 || hand->length <= 0.6 * a->joints[p].length);
+    double len = hand_length(w, (uint32_t)s->attach_joint);
+    return len <= 3 * reach && (p < 0 || len <= 0.6 * forearm_length(a, p));
 }
 
 /* Where a section's length is measured from: its own first pivot for the root chain and the
@@ -329,10 +360,10 @@ static bool extend_by_digits(rf_awork *w)
     for (uint32_t s = 0; s < a->section_count; s++) {
         const rf_section *sec = &a->sections[s];
         if ((sec->flags & RF_SECFL_FAN) && sec->attach_joint >= 0) {
-            /* beyond the hand bone's tip, where the limb's own length ends */
+            /* beyond the hand bone (its tip, or its knuckles when that tip is a guess) */
             double from_tip = sec->length;
             if (fan_from_wrist(w, sec))
-                from_tip = fmax(0, from_tip - a->joints[sec->attach_joint].length);
+                from_tip = fmax(0, from_tip - hand_length(w, (uint32_t)sec->attach_joint));
             longest[sec->attach_joint] = fmax(longest[sec->attach_joint], from_tip);
         }
     }

@@ -198,6 +198,55 @@ static void test_bird_ground(void **state)
     rf_skeleton_free(s);
 }
 
+/* A dragon facing -Z: the quadruped's body and legs without end sites (the hind feet end at the
+ * ankle pointing down, the forelegs short of the ground, as in rigs without end sites), and
+ * wings folded back from the chest, each two and a half legs' reach, ending in a fan of three
+ * long membrane fingers. Were the head end up, the wings would hang; a wing votes half for up,
+ * so the legs read +Y (with the wings voting in full, up was read as -Z: the test fails). */
+static void test_dragon_folded_wings(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_quadruped) + 24];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++) {
+        const sb_joint *q = &sb_quadruped[i];
+        bool foot = q->name[0] == '.' && strlen(q->parent) == 3 && q->parent[2] == '4';
+        bool fore_foot = !strcmp(q->name, "fl4") || !strcmp(q->name, "fr4");
+        if (foot || fore_foot)
+            continue;
+        js[n] = *q;
+        if (!strcmp(q->name, "fl3") || !strcmp(q->name, "fr3"))
+            js[n].y = 0.2; /* a dragon's forelegs, no foot measured */
+        n++;
+    }
+    static const char *const names[2][12] = {
+        {"wl1", "wl2", "wl3", "wl4", "wl5", ".", "wl6", "wl7", ".", "wl8", "wl9", "."},
+        {"wr1", "wr2", "wr3", "wr4", "wr5", ".", "wr6", "wr7", ".", "wr8", "wr9", "."}};
+    for (int side = 0; side < 2; side++) {
+        double x = side ? 0.1 : -0.1;
+        const char *const *nm = names[side];
+        /* shoulder, elbow, wrist; then three fingers of two bones fanning from the wrist */
+        js[n++] = (sb_joint){nm[0], "chest", x, 1.10, -0.40, 0};
+        js[n++] = (sb_joint){nm[1], nm[0], 3 * x, 1.00, 0.20, 0};
+        js[n++] = (sb_joint){nm[2], nm[1], 4 * x, 0.95, 0.80, 0};
+        for (int f = 0; f < 3; f++) {
+            double spread = 0.8 * x * (f - 1);
+            js[n++] = (sb_joint){nm[3 + 3 * f], nm[2], 4 * x, 0.95, 0.80, 0};
+            js[n++] = (sb_joint){nm[4 + 3 * f], nm[3 + 3 * f], 4 * x + spread, 0.92, 1.45, 0};
+            js[n++] = (sb_joint){nm[5 + 3 * f], nm[4 + 3 * f], 4 * x + 2 * spread, 0.88, 2.10, 0};
+        }
+    }
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    assert_near_dir(a->forward, rf_v3(0, 0, -1));
+    assert_int_equal(section_of(a, s, "wl9")->side, RF_SIDE_LEFT);
+    assert_int_equal(section_of(a, s, "fr3")->side, RF_SIDE_RIGHT);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 /* An insect facing +Z whose six sprawled legs all hang from one thorax joint: the head chain
  * starts a thorax away from it, the abdomen on its pivot, carried higher than the head (the
  * elevation votes backwards) and the feet end straight down (no flat foot to go by). The
@@ -253,6 +302,42 @@ static void test_insect_one_girdle(void **state)
 
 /* Twist leaves inside the forearms and thighs (Unreal's mannequin) are part of their segment:
  * helpers, not digits, and the hands keep their two digits. A thumb at the wrist is no roll. */
+/* A forearm cut in two straight halves (Rigify's deform bones) before a hand bone longer than
+ * 0.6 of the half but not of the whole forearm: the hand is still a hand bone, so its digits are
+ * measured from the wrist. The finger's knuckle then lies at |knuckle - wrist| / (that + the
+ * finger's length) of its section, by hand 0.14 / 0.22 (from the hand's tip, as when the half
+ * was taken for the forearm, 0.43). */
+static void test_hand_on_cut_forearm(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped) + 2];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) {
+        js[n] = sb_biped[i];
+        double side = js[n].x < 0 ? -1 : 1;
+        const char *nm = js[n].name, *par = js[n].parent ? js[n].parent : "";
+        if (!strcmp(nm + 1, "_hand"))
+            js[n].parent = side > 0 ? "l_fore2" : "r_fore2";
+        if (!strcmp(nm + 1, "_finger"))
+            js[n].x = 0.86 * side;
+        if (!strcmp(nm, ".") && !strcmp(par + 1, "_finger"))
+            js[n].x = 0.94 * side;
+        n++;
+        if (!strcmp(nm + 1, "_forearm"))
+            js[n++] = (sb_joint){side > 0 ? "l_fore2" : "r_fore2", nm, 0.59 * side, 1.50, -0.03, 0};
+    }
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    assert_section(a, s, "l_finger", RF_SECTION_HAND, RF_SIDE_LEFT);
+    double u0 = a->joints[sb_find(s, "l_finger")].u0;
+    if (fabs(u0 - 0.14 / 0.22) > 0.01)
+        fail_msg("the knuckle at %.3f of its digit, expected %.3f", u0, 0.14 / 0.22);
+    assert_true(fabs(a->joints[sb_find(s, "r_finger")].u0 - 0.14 / 0.22) < 0.01);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 static void test_roll_leaves(void **state)
 {
     (void)state;
@@ -643,6 +728,8 @@ int main(void)
         cmocka_unit_test(test_quadruped),
         cmocka_unit_test(test_facing_dissent),
         cmocka_unit_test(test_bird_ground),
+        cmocka_unit_test(test_hand_on_cut_forearm),
+        cmocka_unit_test(test_dragon_folded_wings),
         cmocka_unit_test(test_insect_one_girdle),
         cmocka_unit_test(test_roll_leaves),
         cmocka_unit_test(test_strip),

@@ -238,13 +238,13 @@ static void add_tally(tally *a, const tally *b)
 int main(void)
 {
     const kind kinds[] = {
-        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.973, 0},
+        {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.981, 0},
         {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.94, 0},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.84, 0},
-        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.925, 2},
-        {"CMU onto birds", -1, RIGS_BIRD, 40, 0.98, 1},
+        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.935, 1},
+        {"CMU onto birds", -1, RIGS_BIRD, 40, 0.99, 0},
         {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.86, 0},
-        {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.90, 0},
+        {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.915, 0},
     };
     const char *env = getenv("RF_RIGS_PAIRS"), *data = getenv("RF_DATA_DIR");
     double scale = env ? atof(env) : 1;
@@ -294,8 +294,8 @@ int main(void)
     /* skeletons whose axes were misread without `rigflow map --explain` warning: as measured */
     int silent = human.up_wrong + human.forward_wrong + other.up_wrong + other.forward_wrong -
                  human.misread_warned - other.misread_warned;
-    printf("axes misread without a warning: %d (at most 1)\n", silent);
-    ok = ok && (scale != 1 || !cmu_skel.s || silent <= 1);
+    printf("axes misread without a warning: %d (at most 0)\n", silent);
+    ok = ok && (scale != 1 || !cmu_skel.s || silent <= 0);
     /* as measured: 58 and 56 before wings preferred wings and membrane fingers kept off thumbs */
     int from_leg = human.wing_from_leg + other.wing_from_leg,
         on_thumb = human.wing_on_thumb + other.wing_on_thumb;

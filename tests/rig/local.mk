@@ -6,6 +6,11 @@ tests_rig_rig_dump_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/rig-general
 tests_rig_rig_dump_LDADD = sdk/formats/assimp/librigflow-assimp.la plugins/rig-general/librigauto.la \
 	sdk/analysis/librigflow-analysis.la -lm
 EXTRA_DIST += tests/rig/rig-view.py
+# rig-fit: the template rigger's layouts fitted to the artist rigs, scored leave-one-out
+noinst_PROGRAMS += tests/rig/rig-fit
+tests_rig_rig_fit_SOURCES = tests/rig/rig-fit.c
+tests_rig_rig_fit_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
+tests_rig_rig_fit_LDADD = $(tests_rig_rig_dump_LDADD)
 
 check_PROGRAMS += tests/rig/test_rig
 TESTS += tests/rig/test_rig
@@ -17,3 +22,5 @@ tests_rig_test_rig_LDADD = sdk/formats/assimp/librigflow-assimp.la plugins/rig-g
 
 TESTS += tests/rig/test_rig_pipeline.sh
 EXTRA_DIST += tests/rig/test_rig_pipeline.sh
+TESTS += tests/rig/test_rig_fit.sh
+EXTRA_DIST += tests/rig/test_rig_fit.sh

@@ -4,7 +4,8 @@
  * refused with a message and nothing allocated; a big scan goes through the simplified proxy; legs
  * a few voxels apart stay apart; a given skeleton is weighted as its artist would. The template
  * rigger lays its joints where a person would put them on a box creature and on the shared
- * RiggedFigure and Fox, and refuses a body with no legs, saying why. */
+ * RiggedFigure and Fox, and refuses a body with no legs, saying why; joints are moved to the
+ * centre of a known cross-section, and through the body to a given depth. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -17,7 +18,7 @@
 
 #include <rigflow/aimport.h>
 
-#include "rig.h"
+#include "rig-internal.h"
 
 /* The invariants every rig must hold: parents first, one root, finite joints, every vertex
  * weighted by at most four existing joints, weights summing to 1. */
@@ -695,6 +696,61 @@ static void test_template_models(void **state)
     template_model(path, quadruped, 7);
 }
 
+/* ---- joint placement by the mesh (rig-place.c) ---- */
+
+/* A closed box [-1,1] x [0,4] x [-0.5,0.5] as a proxy: 8 corners, 12 triangles. */
+static rf_rig_geo place_box(double *p, uint32_t *t)
+{
+    for (uint32_t c = 0; c < 8; c++)
+        p[c * 3] = c & 1 ? 1 : -1, p[c * 3 + 1] = c & 2 ? 4 : 0, p[c * 3 + 2] = c & 4 ? 0.5 : -0.5;
+    static const uint32_t faces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
+                                         {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+    for (int f = 0; f < 6; f++) {
+        const uint32_t *q = faces[f];
+        uint32_t tri[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+        memcpy(t + f * 6, tri, sizeof tri);
+    }
+    return (rf_rig_geo){.nv = 8, .nt = 12, .p = p, .t = t};
+}
+
+/* Square to the box's long axis its section is the rectangle [-1,1] x [-0.5,0.5], centred on
+ * the axis: a joint anywhere inside moves onto it, keeping its height; one outside, or one the
+ * limit does not let reach the centre, stays. Through the body along z, 0.66 of the way from the
+ * back face (z = -0.5) is z = 0.16. Expected values by hand from the box. */
+static void test_place_section(void **state)
+{
+    (void)state;
+    double p[24];
+    uint32_t t[36];
+    rf_rig_prep prep = {.proxy = place_box(p, t), .longest = 4};
+    rf_rig_surface *s = rf_rig_surface_make(&prep.proxy);
+    assert_non_null(s);
+    double up[3] = {0, 1, 0}, q[3] = {0.6, 2, 0.3};
+    assert_true(rf_rig_centre(s, q, up, 10, 10));
+    assert_true(fabs(q[0]) < 0.01 && fabs(q[1] - 2) < 1e-9 && fabs(q[2]) < 0.01);
+    double far[3] = {0.6, 2, 0.3}, out[3] = {3, 2, 0};
+    assert_false(rf_rig_centre(s, far, up, 10, 0.1));
+    assert_true(far[0] == 0.6 && far[2] == 0.3);
+    assert_false(rf_rig_centre(s, out, up, 10, 10));
+    rf_rig_surface_free(s);
+
+    double pos[6] = {0.2, 1, 0.1, 0.2, 3, 0.1}, tip[6] = {0}, moved[6];
+    int32_t parent[2] = {-1, 0};
+    uint8_t has_tip[2] = {0, 0};
+    rf_rig_skel k = {.n = 2, .pos = pos, .parent = parent, .tip = tip, .has_tip = has_tip};
+    /* the box as the trunk of a mesh twice as long: its section within the rays' reach, a move
+     * of 0.22 within the limit (4% of 8) */
+    prep.longest = 8;
+    rf_rig_skel_centre(&prep, &k);
+    for (int j = 0; j < 2; j++)
+        assert_true(fabs(pos[j * 3]) < 0.01 && fabs(pos[j * 3 + 2]) < 0.01);
+    memcpy(moved, pos, sizeof moved);
+    const uint8_t second[2] = {0, 1};
+    rf_rig_skel_across(&prep, &k, second, rf_v3(0, 0, 1), 0.66);
+    assert_true(fabs(pos[5] - 0.16) < 1e-4 && pos[3] == moved[3] && pos[4] == moved[4]);
+    assert_true(pos[2] == moved[2]); /* joint 0 not asked for */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -704,6 +760,7 @@ int main(void)
         cmocka_unit_test(test_shared_models),      cmocka_unit_test(test_bind_given),
         cmocka_unit_test(test_narrow_gap),         cmocka_unit_test(test_template_refusal),
         cmocka_unit_test(test_template_quadruped), cmocka_unit_test(test_template_models),
+        cmocka_unit_test(test_place_section),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

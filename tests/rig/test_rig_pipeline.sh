@@ -10,7 +10,8 @@
 #   doc/autorig.md records; a worse rigger fails here.
 # - the template rigger (pipelines/autorig-template.json, rig-bench -r template): WusonOBJ.obj gets
 #   the standard names; a sphere (no legs) and spider.obj (eight legs) are refused with the reason
-#   and leave no file; RiggedFigure and the Fox under CD-J2J and skinning limits.
+#   and leave no file; RiggedFigure, the Fox, Testwuson and the animalia wolf under CD-J2J and
+#   skinning limits.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
 src="${RF_SRCDIR:-.}"
 data="${RF_DATA_DIR:-}"
@@ -89,8 +90,8 @@ awk -F, 'function limits(m, cd, p, r, gp, gr) {
     BEGIN {
         limits("\"Fox.glb\"", 0.055, 0.40, 0.50, 0.55, 0.85)          # 0.048 .47/.61 .60/.89
         limits("\"RiggedFigure.glb\"", 0.045, 0.40, 0.30, 0.65, 0.80) # 0.038 .47/.36 .72/.86
-        limits("\"Testwuson.X\"", 0.06, 0.22, 0.35, 0.45, 0.80)       # 0.052 .28/.43 .51/.85
-        limits("\"animalia_wolf.b3d\"", 0.085, 0.30, 0.38, 0.38, 0.45) # 0.077 .38/.46 .43/.51
+        limits("\"Testwuson.X\"", 0.049, 0.22, 0.35, 0.45, 0.80)      # 0.044 .31/.45 .51/.85
+        limits("\"animalia_wolf.b3d\"", 0.074, 0.30, 0.38, 0.38, 0.45) # 0.069 .38/.46 .43/.51
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -109,15 +110,41 @@ awk -F, 'function limits(m, cd, p, r, gp, gr) {
         if ($col["status"] != "\"ok\"") print "FAIL: " m ": " $col["status"]
     }' "$tmp/bench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else ok; fi
-# the template rigger on the two bodies it is tested on (doc/autorig.md): limits a little beyond
-# what it reaches (in the comments: CD-J2J, skinning P / R after the matcher)
-"$rigflow" rig-bench -r template "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
-    >"$tmp/tbench.csv" 2>"$tmp/err" || ko "rig-bench -r template exit $?"
+# the template rigger on four bodies (doc/autorig.md): limits a little beyond what it reaches (in
+# the comments: CD-J2J, skinning P / R after the matcher); the CD-J2J limits fail if the joints
+# go back to where the layouts before their fit to artist rigs put them (0.0296, 0.039, 0.051,
+# 0.078). Testwuson's skinning after the matcher has two readings for joints a few thousandths
+# apart (42% / 60% and 22% / 28% at CD-J2J 0.040, doc/autorig.md): its floor only guards against
+# a rig the matcher cannot read at all, so another machine's rounding cannot fail it
+"$rigflow" rig-bench -r template --joints "$tmp/joints.csv" "$data/models/Fox.glb" \
+    "$data/models/RiggedFigure.glb" "$data/models/Testwuson.X" \
+    "$data/models/creatures/animalia_wolf.b3d" >"$tmp/tbench.csv" 2>"$tmp/err" ||
+    ko "rig-bench -r template exit $?"
 cat "$tmp/tbench.csv"
+# --joints: per model, the mean distance of the rigger's joints and of the artist's to the other
+# rig's nearest joint, halved, is CD-J2J as the bench printed it (the same chamfer, summed back
+# from its parts); every template joint is there
+awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
+                     else cd[$c["model"]] = $c["cd_j2j"]; next }
+    FNR == 1 { for (i = 1; i <= NF; i++) j[$i] = i; next }
+    { s[$j["model"], $j["rig"]] += $j["distance"]; n[$j["model"], $j["rig"]]++
+      if ($j["rig"] == "rigger" && $j["joint"] == "\"LeftUpLeg\"") legs++ }
+    END {
+        for (m in cd) {
+            if (!n[m, "rigger"] || !n[m, "artist"]) { print "FAIL: --joints: no rows for " m; continue }
+            got = 0.5 * (s[m, "rigger"] / n[m, "rigger"] + s[m, "artist"] / n[m, "artist"])
+            if (got - cd[m] > 0.0002 || cd[m] - got > 0.0002)
+                print "FAIL: --joints: " m " gives CD-J2J " got ", the bench " cd[m]
+        }
+        if (legs != 4) print "FAIL: --joints: " legs " LeftUpLeg rows, expected 4"
+    }' "$tmp/tbench.csv" "$tmp/joints.csv" >"$tmp/fails"
+if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joints"; else ok; fi
 awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r }
     BEGIN {
-        limits("\"Fox.glb\"", 0.045, 0.55, 0.80)          # 0.039 .61/.89
-        limits("\"RiggedFigure.glb\"", 0.033, 0.66, 0.62) # 0.030 .74/.69
+        limits("\"Fox.glb\"", 0.037, 0.53, 0.78)                # 0.034 .58/.83
+        limits("\"RiggedFigure.glb\"", 0.0292, 0.72, 0.62)      # 0.0286 .79/.68
+        limits("\"Testwuson.X\"", 0.041, 0.18, 0.24)            # 0.038 .44/.60 (below)
+        limits("\"animalia_wolf.b3d\"", 0.063, 0.60, 0.78)      # 0.059 .69/.86
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -131,7 +158,7 @@ awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r 
         if ($col["unweighted"] != 0) print "FAIL: template " m ": vertices without weights"
         if ($col["status"] != "\"ok\"") print "FAIL: template " m ": " $col["status"]
     }
-    END { if (n != 2) print "FAIL: template rig-bench: " n " rows, expected 2" }' "$tmp/tbench.csv" >"$tmp/fails"
+    END { if (n != 4) print "FAIL: template rig-bench: " n " rows, expected 4" }' "$tmp/tbench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench template thresholds"; else ok; fi
 # a model that is not there is an error (exit 1, named on stderr), not a refused row
 if "$rigflow" rig-bench -r general "$tmp/none.glb" >"$tmp/none.csv" 2>"$tmp/err"; then

@@ -27,6 +27,7 @@
 #include "bvh-math.h"
 #include "bvh-num.h"
 #include "rigflow/bvh.h"
+#include "rigflow/prefault.h"
 
 #define CHUNK_SMALL (1u << 16) /* bytes read at a time: small files keep memory low */
 #define CHUNK_LARGE (1u << 18) /* and large ones give the threads batches of many lines */
@@ -1201,23 +1202,6 @@ static char *clip_name(const char *path)
     return s;
 }
 
-/* Maps the pages of a large new array in one call where the kernel can (Linux 5.14): taking
- * them as thousands of single page faults costs about as much as parsing, in a VM. On failure
- * the pages fault in as usual. */
-static void prefault(void *p, size_t size)
-{
-#ifdef MADV_POPULATE_WRITE
-    const uintptr_t page = 4096;
-    if (size < (1u << 20))
-        return;
-    uintptr_t b = ((uintptr_t)p + page - 1) & ~(page - 1), e = ((uintptr_t)p + size) & ~(page - 1);
-    if (e > b)
-        (void)madvise((void *)b, e - b, MADV_POPULATE_WRITE);
-#else
-    (void)p, (void)size;
-#endif
-}
-
 /* A new animation whose arrays are left for the parser to fill: rf_animation_new's
  * initialisation would write every value once more. */
 static rf_animation *new_animation(uint32_t joints, uint32_t frames, double fps)
@@ -1237,8 +1221,8 @@ static rf_animation *new_animation(uint32_t joints, uint32_t frames, double fps)
     free(a->rotations);
     free(a->translations);
     a->rotations = r, a->translations = t, a->frame_count = frames;
-    prefault(r, n * 4 * sizeof(float));
-    prefault(t, n * 3 * sizeof(float));
+    rf_prefault(r, n * 4 * sizeof(float));
+    rf_prefault(t, n * 3 * sizeof(float));
     return a;
 }
 

@@ -19,6 +19,7 @@
 #include <jansson.h>
 
 #include "rigflow/gltf-write.h"
+#include "rigflow/prefault.h"
 #include "rigflow/text.h"
 
 enum {
@@ -46,9 +47,12 @@ typedef struct rf_gw {
 
 /* ---- buffer, views, accessors ---- */
 
-static size_t rf_gw_append(rf_gw *g, const void *data, size_t bytes)
+/* Room for `bytes` more at the buffer's end, 4-aligned with the padding zeroed: its offset, and
+ * in *at where to write them (NULL when out of memory, then g->oom is set). */
+static size_t rf_gw_reserve(rf_gw *g, size_t bytes, unsigned char **at)
 {
     size_t start = (g->len + 3) & ~(size_t)3;
+    *at = NULL;
     if (start + bytes > g->cap) {
         size_t cap = g->cap ? g->cap : 4096;
         while (cap < start + bytes)
@@ -58,17 +62,27 @@ static size_t rf_gw_append(rf_gw *g, const void *data, size_t bytes)
             g->oom = true;
             return 0;
         }
+        rf_prefault(b + g->cap, cap - g->cap); /* the new part: written from here on */
         g->buf = b, g->cap = cap;
     }
     memset(g->buf + g->len, 0, start - g->len);
-    memcpy(g->buf + start, data, bytes);
     g->len = start + bytes;
+    *at = g->buf + start;
     return start;
 }
 
-static int rf_gw_view(rf_gw *g, const void *data, size_t bytes, int target)
+static size_t rf_gw_append(rf_gw *g, const void *data, size_t bytes)
 {
-    size_t offset = rf_gw_append(g, data, bytes);
+    unsigned char *at;
+    size_t offset = rf_gw_reserve(g, bytes, &at);
+    if (at)
+        memcpy(at, data, bytes);
+    return offset;
+}
+
+/* A view of the `bytes` at `offset` in the buffer. */
+static int rf_gw_view_at(rf_gw *g, size_t offset, size_t bytes, int target)
+{
     json_t *v = json_pack("{s:i, s:I, s:I}", "buffer", 0, "byteOffset", (json_int_t)offset,
                           "byteLength", (json_int_t)bytes);
     if (v && target)
@@ -76,6 +90,11 @@ static int rf_gw_view(rf_gw *g, const void *data, size_t bytes, int target)
     if (!v || json_array_append_new(g->views, v))
         g->oom = true;
     return (int)json_array_size(g->views) - 1;
+}
+
+static int rf_gw_view(rf_gw *g, const void *data, size_t bytes, int target)
+{
+    return rf_gw_view_at(g, rf_gw_append(g, data, bytes), bytes, target);
 }
 
 /* min and max (may be NULL) are stolen. */
@@ -755,13 +774,16 @@ static bool rf_gw_translation_moves(const rf_animation *a, const rf_skeleton *s,
     return false;
 }
 
+/* The channel outputs are written straight into the buffer: a copy made first and appended
+ * cost a second pass over 160 KB a joint. */
 static int rf_gw_rotation_output(rf_gw *g, const rf_animation *a, uint32_t j)
 {
-    float *v = malloc((size_t)a->frame_count * 4 * sizeof *v);
-    if (!v) {
-        g->oom = true;
+    size_t bytes = (size_t)a->frame_count * 4 * sizeof(float);
+    unsigned char *at;
+    size_t offset = rf_gw_reserve(g, bytes, &at);
+    if (!at)
         return -1;
-    }
+    float *v = (float *)(void *)at; /* 4-aligned in a malloc'd buffer */
     rf_quat prev = rf_quat_identity();
     for (uint32_t f = 0; f < a->frame_count; f++) {
         rf_quat q = rf_quat_normalize(rf_animation_rotation(a, f, j));
@@ -771,25 +793,24 @@ static int rf_gw_rotation_output(rf_gw *g, const rf_animation *a, uint32_t j)
         v[f * 4] = (float)q.x, v[f * 4 + 1] = (float)q.y, v[f * 4 + 2] = (float)q.z;
         v[f * 4 + 3] = (float)q.w;
     }
-    int acc = rf_gw_floats(g, v, a->frame_count, 4, "VEC4", false, 0);
-    free(v);
-    return acc;
+    int view = rf_gw_view_at(g, offset, bytes, 0);
+    return rf_gw_accessor(g, view, RF_GL_FLOAT, a->frame_count, "VEC4", NULL, NULL);
 }
 
 static int rf_gw_translation_output(rf_gw *g, const rf_animation *a, uint32_t j)
 {
-    float *v = malloc((size_t)a->frame_count * 3 * sizeof *v);
-    if (!v) {
-        g->oom = true;
+    size_t bytes = (size_t)a->frame_count * 3 * sizeof(float);
+    unsigned char *at;
+    size_t offset = rf_gw_reserve(g, bytes, &at);
+    if (!at)
         return -1;
-    }
+    float *v = (float *)(void *)at;
     for (uint32_t f = 0; f < a->frame_count; f++) {
         rf_vec3 t = rf_animation_translation(a, f, j);
         v[f * 3] = (float)t.x, v[f * 3 + 1] = (float)t.y, v[f * 3 + 2] = (float)t.z;
     }
-    int acc = rf_gw_floats(g, v, a->frame_count, 3, "VEC3", false, 0);
-    free(v);
-    return acc;
+    int view = rf_gw_view_at(g, offset, bytes, 0);
+    return rf_gw_accessor(g, view, RF_GL_FLOAT, a->frame_count, "VEC3", NULL, NULL);
 }
 
 static void rf_gw_channel(json_t *samplers, json_t *channels, int input, int output, uint32_t node,
