@@ -6,6 +6,7 @@ noinst_LTLIBRARIES += plugins/rig-general/librigauto.la
 plugins_rig_general_librigauto_la_SOURCES = \
 	plugins/rig-general/rig.h \
 	plugins/rig-general/rig-internal.h \
+	plugins/rig-general/rig-embree.h \
 	plugins/rig-general/rig.c \
 	plugins/rig-general/rig-mesh.c \
 	plugins/rig-general/rig-skel.c \

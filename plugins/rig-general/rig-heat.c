@@ -9,10 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <embree3/rtcore.h>
 #include <suitesparse/cholmod.h>
 
-#include "rig-internal.h"
+#include "rig-embree.h"
 
 uint32_t rf_rig_bones(const rf_rig_skel *s, rf_rig_bone **out)
 {
@@ -104,18 +103,9 @@ static bool rf_rig_rays_make(rf_rig_rays *r, const rf_rig_geo *g, const uint32_t
     if (!(r->dev = rtcNewDevice("threads=1,set_affinity=0")))
         return false;
     r->scene = rtcNewScene(r->dev);
-    RTCGeometry geo = rtcNewGeometry(r->dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-    float *vb = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                        3 * sizeof(float), g->nv);
-    unsigned *ib = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                           3 * sizeof(unsigned), g->nt);
-    if (!vb || !ib) {
-        rtcReleaseGeometry(geo);
+    RTCGeometry geo = rf_rig_triangles(r->dev, g);
+    if (!geo)
         return false;
-    }
-    for (size_t i = 0; i < (size_t)g->nv * 3; i++)
-        vb[i] = (float)g->p[i];
-    memcpy(ib, g->t, (size_t)g->nt * 3 * sizeof *ib);
     rtcSetGeometryOccludedFilterFunction(geo, rf_rig_own_part);
     rtcCommitGeometry(geo);
     rtcAttachGeometry(r->scene, geo);

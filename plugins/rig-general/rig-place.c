@@ -7,9 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <embree3/rtcore.h>
-
-#include "rig-internal.h"
+#include "rig-embree.h"
 
 /* Rays cast from a joint in the plane of its cross-section: twice this many, evenly spread. */
 #define RF_PLACE_PAIRS 8
@@ -19,6 +17,23 @@ struct rf_rig_surface {
     RTCScene scene;
 };
 
+RTCGeometry rf_rig_triangles(RTCDevice dev, const rf_rig_geo *g)
+{
+    RTCGeometry geo = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *vb = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                        3 * sizeof(float), g->nv);
+    unsigned *ib = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                           3 * sizeof(unsigned), g->nt);
+    if (!vb || !ib) {
+        rtcReleaseGeometry(geo);
+        return NULL;
+    }
+    for (size_t i = 0; i < (size_t)g->nv * 3; i++)
+        vb[i] = (float)g->p[i];
+    memcpy(ib, g->t, (size_t)g->nt * 3 * sizeof *ib);
+    return geo;
+}
+
 rf_rig_surface *rf_rig_surface_make(const rf_rig_geo *g)
 {
     rf_rig_surface *s = calloc(1, sizeof *s);
@@ -27,21 +42,14 @@ rf_rig_surface *rf_rig_surface_make(const rf_rig_geo *g)
         return NULL;
     }
     s->scene = rtcNewScene(s->dev);
-    RTCGeometry geo = rtcNewGeometry(s->dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-    float *vb = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                        3 * sizeof(float), g->nv);
-    unsigned *ib = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                           3 * sizeof(unsigned), g->nt);
-    if (vb && ib) {
-        for (size_t i = 0; i < (size_t)g->nv * 3; i++)
-            vb[i] = (float)g->p[i];
-        memcpy(ib, g->t, (size_t)g->nt * 3 * sizeof *ib);
+    RTCGeometry geo = rf_rig_triangles(s->dev, g);
+    if (geo) {
         rtcCommitGeometry(geo);
         rtcAttachGeometry(s->scene, geo);
+        rtcReleaseGeometry(geo);
     }
-    rtcReleaseGeometry(geo);
     rtcCommitScene(s->scene);
-    if (!vb || !ib || rtcGetDeviceError(s->dev) != RTC_ERROR_NONE) {
+    if (!geo || rtcGetDeviceError(s->dev) != RTC_ERROR_NONE) {
         rf_rig_surface_free(s);
         return NULL;
     }
