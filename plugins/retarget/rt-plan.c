@@ -364,6 +364,12 @@ static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in
     out->source = in->source;
     out->joint = in->joint;
     out->flags = in->flags & (RF_MAP_REVERSE | RF_MAP_MIRROR);
+    /* A joint placed from the body joint it belongs to (a foot under a placement root) bends
+     * against that joint, not against its parent in the file: a reversal a matcher read off the
+     * file's tree (the Robot's feet under CMU, played backwards, pitched 40-70 degrees toe-down
+     * in every crouch) does not hold for it. */
+    if (rt->anchor[j] >= 0)
+        out->flags &= ~(uint32_t)RF_MAP_REVERSE;
     out->parent = src->skel->joints[in->joint].parent;
     out->seg_end = RF_RT_NONE;
     if ((in->flags & RF_MAP_MIRROR) && rt_opposite_side(rt, src, in->joint, j)) {

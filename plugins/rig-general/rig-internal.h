@@ -25,7 +25,7 @@ typedef struct rf_rig_geo {
 typedef struct rf_rig_prep {
     rf_rig_geo proxy;     /* welded, specks removed, simplified when big */
     uint32_t *to_proxy;   /* [input vertex] proxy vertex whose weights it takes, or NONE (speck,
-                           * stray vertex: weighted by the nearest bone) */
+                           * stray vertex: weighted like the proxy vertex nearest it) */
     double lo[3], hi[3];  /* bounding box of the proxy */
     double longest;       /* its longest edge, > 0 */
     uint32_t *proxy_part; /* [proxy vertex] loose part */
@@ -81,6 +81,18 @@ uint32_t rf_rig_bones(const rf_rig_skel *s, rf_rig_bone **out);
 
 /* Distance from point q to segment b, and the closest point into c. */
 double rf_rig_seg_dist(const double q[3], const rf_rig_bone *b, double c[3]);
+
+/* Every leaf joint of k without an end site and with a parent gets one (has_tip set): on from
+ * the joint in its parent's direction, as far as its parent's bone is long or to where the
+ * surface of the proxy is first met, whichever is nearer. False when out of memory or Embree
+ * failed. */
+bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k);
+
+/* A grid over the proxy's vertices, for the vertex nearest a point (rig-heat.c). */
+typedef struct rf_rig_near rf_rig_near;
+rf_rig_near *rf_rig_near_new(const rf_rig_prep *p); /* NULL when out of memory */
+void rf_rig_near_free(rf_rig_near *gr);
+uint32_t rf_rig_near_vertex(const rf_rig_near *gr, const double q[3]); /* NONE: no vertex */
 
 /* Bone-heat weights on the proxy: w[vertex * joints + joint], rows summing to 1. */
 bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_options *o, double **w,

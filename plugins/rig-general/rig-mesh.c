@@ -1,7 +1,7 @@
 /* Mesh clean-up for the rigger: check the input, weld duplicate vertices, find the loose parts,
  * set specks aside and, for big meshes, simplify a proxy with meshoptimizer. Every input vertex
- * keeps a way back to the proxy (or is marked to take its nearest bone), so no vertex is left
- * without weights. */
+ * keeps a way back to the proxy (or is marked to take the proxy vertex nearest it), so no vertex is
+ * left without weights. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -335,7 +335,7 @@ static bool rf_rig_simplify(const rf_rig_geo *body, uint32_t target, rf_rig_geo 
 
 /* Every body vertex the simplifier dropped takes the proxy vertex nearest along the body's
  * edges (so weights never jump across a gap between legs); vertices no proxy vertex reaches
- * stay NONE and take their nearest bone. */
+ * stay NONE and take the proxy vertex nearest them in space. */
 static bool rf_rig_carry(const rf_rig_geo *body, uint32_t *b2p)
 {
     uint32_t nv = body->nv;

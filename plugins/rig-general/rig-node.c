@@ -36,11 +36,12 @@ static rf_animation *rf_rig_rest_clip(const rf_skeleton *s)
 bool rf_rig_node_output(const rf_host *host, rf_node *node, rf_skeleton *s, rf_mesh *m,
                         const rf_rig_stats *st)
 {
-    host->log(node, RF_LOG_INFO,
-              "%u joints; %u vertices (%u welded), %u loose parts of which %u specks, heat on %u "
-              "triangles: %u vertices by heat, %u by nearest bone, %u saw no bone",
-              st->joints, st->vertices, st->welded, st->parts, st->specks, st->proxy_triangles,
-              st->heat_vertices, st->fallback_vertices, st->unseen_vertices);
+    host->log(
+        node, RF_LOG_INFO,
+        "%u joints; %u vertices (%u welded), %u loose parts of which %u specks, heat on %u "
+        "triangles: %u vertices by heat, %u (specks) by the surface nearest them, %u saw no bone",
+        st->joints, st->vertices, st->welded, st->parts, st->specks, st->proxy_triangles,
+        st->heat_vertices, st->fallback_vertices, st->unseen_vertices);
     rf_animation *a = rf_rig_rest_clip(s);
     if (!a) {
         rf_skeleton_free(s), rf_mesh_free(m);

@@ -279,8 +279,8 @@ static void rf_rig_top4(const double *row, uint32_t nj, uint16_t *js, float *ws)
     }
 }
 
-/* The skin: each input vertex takes its proxy vertex's weights, or (specks, stray vertices) its
- * nearest bone's. */
+/* The skin: each input vertex takes its proxy vertex's weights, or (specks, stray vertices) those
+ * of the proxy vertex nearest it. */
 static bool rf_rig_skin(const rf_mesh *in, const rf_rig_prep *p, const rf_rig_skel *k,
                         const double *w, rf_mesh *m, rf_rig_stats *st)
 {
@@ -292,8 +292,17 @@ static bool rf_rig_skin(const rf_mesh *in, const rf_rig_prep *p, const rf_rig_sk
     m->skin_weights = malloc((size_t)in->vertex_count * 4 * sizeof *m->skin_weights);
     m->inverse_bind = malloc((size_t)nj * sizeof *m->inverse_bind);
     bool ok = nb && row && m->skin_joints && m->skin_weights && m->inverse_bind;
+    rf_rig_near *grid = NULL;
     for (uint32_t v = 0; ok && v < in->vertex_count; v++) {
         const double *src = p->to_proxy[v] != RF_RIG_NONE ? w + (size_t)p->to_proxy[v] * nj : NULL;
+        /* a speck (a button, a bolt, an eye) moves with the surface nearest it */
+        if (!src && (grid || (grid = rf_rig_near_new(p)))) {
+            double q[3] = {in->positions[v * 3], in->positions[v * 3 + 1],
+                           in->positions[v * 3 + 2]};
+            uint32_t at = rf_rig_near_vertex(grid, q);
+            src = at != RF_RIG_NONE ? w + (size_t)at * nj : NULL;
+            st->fallback_vertices += src != NULL;
+        }
         if (!src) {
             double q[3] = {in->positions[v * 3], in->positions[v * 3 + 1],
                            in->positions[v * 3 + 2]};
@@ -318,6 +327,7 @@ static bool rf_rig_skin(const rf_mesh *in, const rf_rig_prep *p, const rf_rig_sk
         m->inverse_bind[j] = rf_xform_to_mat4(inv);
     }
     m->bind_count = nj;
+    rf_rig_near_free(grid);
     free(bones), free(row);
     return ok;
 }
@@ -558,6 +568,11 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
     if (ok && !k.n)
         ok = rf_rig_fail(err, err_size, "the skeleton has no joint that may carry weights");
     ok = ok && (prepared = rf_rig_prepare(mesh, &o, &p, st, err, err_size));
+    /* Artists' leaf joints (a head, a hand, a tail's last joint) move the part of the mesh
+     * beyond them, along a bone whose end most formats do not store; heated as points they lost
+     * that part to their parent's bone. Given an end where the mesh ends, they keep it. */
+    if (ok && !rf_rig_leaf_tips(&p, &k))
+        ok = rf_rig_fail(err, err_size, "out of memory or Embree failed placing leaf ends");
     ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
     m = ok ? rf_rig_mesh_copy(mesh) : NULL;
     if (ok && (!m || !rf_rig_skin(mesh, &p, &k, w, m, st)))

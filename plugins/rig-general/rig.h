@@ -38,7 +38,8 @@ typedef struct rf_rig_stats {
     uint32_t proxy_triangles;  /* triangles the heat was solved on */
     uint32_t joints;
     uint32_t heat_vertices;     /* proxy vertices weighted by heat */
-    uint32_t fallback_vertices; /* vertices weighted by the nearest bone instead */
+    uint32_t fallback_vertices; /* vertices not heated: specks and strays, weighted like the
+                                 * surface nearest them (or the nearest bone) */
     uint32_t unseen_vertices;   /* proxy vertices that saw no bone (heated by their neighbours) */
 } rf_rig_stats;
 

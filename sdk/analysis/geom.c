@@ -252,10 +252,32 @@ static int32_t connected_child(const rf_awork *w, uint32_t j)
     return best;
 }
 
+/* Whether j's only child c is a leaf folding back more than 120 degrees against the bone j hangs
+ * from (a prop or a display card hung under a head): it ends nothing, so the bone goes on. */
+static bool folds_back(const rf_awork *w, uint32_t j, uint32_t c)
+{
+    int32_t p = w->parent[j];
+    if (p < 0 || rf_an_child_count(w, c))
+        return false;
+    rf_vec3 in = rf_v3_sub(w->a->joints[j].pos, w->a->joints[p].pos);
+    rf_vec3 out = rf_v3_sub(w->a->joints[c].pos, w->a->joints[j].pos);
+    double li = rf_v3_len(in), lo = rf_v3_len(out);
+    return li > w->eps && lo > w->eps && rf_v3_dot(in, out) < -0.5 * li * lo;
+}
+
 static void tip_from_children(rf_awork *w, uint32_t j)
 {
     rf_joint_info *ji = &w->a->joints[j];
     uint32_t count = rf_an_child_count(w, j);
+    if (count == 1 && folds_back(w, j, w->child_idx[w->child_off[j]])) {
+        /* Straight on from the bone above, whatever the rig's axis says: the child may have
+         * set this joint's own axis sign. */
+        int32_t p = w->parent[j];
+        rf_vec3 dir = rf_v3_normalize(rf_v3_sub(ji->pos, w->a->joints[p].pos));
+        ji->tip = rf_v3_add(ji->pos, rf_v3_scale(dir, 0.75 * ancestor_length(w, j)));
+        ji->flags |= RF_JI_TIP_GUESSED;
+        return;
+    }
     if (w->conv_axis >= 0) {
         int32_t c = connected_child(w, j);
         if (c >= 0) {

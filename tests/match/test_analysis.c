@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 #include <time.h>
 
 #include <cmocka.h>
@@ -682,6 +683,36 @@ static void test_socket(void **state)
     rf_skeleton_free(s);
 }
 
+/* A head whose only child is a leaf hung below it (a display card, a prop): the head's bone goes
+ * on up from the neck rather than turning down to the card (a retarget would stand it on its
+ * head). Checked against the rig's geometry: the tip is over the head's pivot. */
+static void test_folded_leaf(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped) + 1];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++)
+        if (!(sb_biped[i].parent && !strcmp(sb_biped[i].parent, "head")))
+            js[n++] = sb_biped[i];
+    js[n++] = (sb_joint){"card", "head", 0, 1.30, 0.05, 0};
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    const rf_joint_info *head = &a->joints[sb_find(s, "head")];
+    assert_true(head->tip.y > head->pos.y + 0.05);
+    rf_analysis_free(a);
+    /* Folding back less than 120 degrees (a foot under a shin) still ends the bone. */
+    js[n - 1] = (sb_joint){"card", "head", 0, 1.65, 0.20, 0};
+    rf_skeleton_free(s);
+    s = sb_build(js, n);
+    a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    head = &a->joints[sb_find(s, "head")];
+    assert_true(fabs(head->tip.z - 0.20) < 1e-9 && fabs(head->tip.y - 1.65) < 1e-9);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 /* Arms hanging to mid-thigh stay arms by default and become legs with a higher threshold. */
 static void test_leg_threshold(void **state)
 {
@@ -756,6 +787,7 @@ int main(void)
         cmocka_unit_test(test_digitigrade_foot_leaf),
         cmocka_unit_test(test_degenerate_rest),
         cmocka_unit_test(test_socket),
+        cmocka_unit_test(test_folded_leaf),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,5 +1,6 @@
 # The auto-rigger: librigauto on the shared models and on made-up bad input, the pipelines end to
-# end. rig-dump and rig-view.py draw a rig for a person to look at (doc/autorig.md).
+# end. rig-dump and rig-view.py draw a rig for a person to look at, skin-diag compares bone heat on
+# an artist's skeleton with the artist's weights (doc/autorig.md).
 noinst_PROGRAMS += tests/rig/rig-dump
 tests_rig_rig_dump_SOURCES = tests/rig/rig-dump.c
 tests_rig_rig_dump_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/plugins/rig-general
@@ -11,6 +12,11 @@ noinst_PROGRAMS += tests/rig/rig-fit
 tests_rig_rig_fit_SOURCES = tests/rig/rig-fit.c
 tests_rig_rig_fit_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
 tests_rig_rig_fit_LDADD = $(tests_rig_rig_dump_LDADD)
+
+noinst_PROGRAMS += tests/rig/skin-diag
+tests_rig_skin_diag_SOURCES = tests/rig/skin-diag.c
+tests_rig_skin_diag_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
+tests_rig_skin_diag_LDADD = $(tests_rig_rig_dump_LDADD)
 
 check_PROGRAMS += tests/rig/test_rig
 TESTS += tests/rig/test_rig

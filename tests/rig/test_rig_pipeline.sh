@@ -5,8 +5,9 @@
 # - pipelines/scan-to-animation.json: spider.obj (eight legs, no rig) walks the CMU walk; the GLB
 #   validates and holds the clip.
 # - rigflow rig-bench on four rigged models with their rigs ignored: every vertex weighted, skinning
-#   (after the matcher, and on the artist skeleton) above floors, both rigs read the same way up
-#   and facing, and CD-J2J (fraction of the longest bounding-box edge) below the thresholds
+#   (after the matcher, and on the artist skeleton, with its L1 below a ceiling) above floors,
+#   both rigs read the same way up and facing, and CD-J2J (fraction of the longest bounding-box
+#   edge) below the thresholds
 #   doc/autorig.md records; a worse rigger fails here.
 # - the template rigger (pipelines/autorig-template.json, rig-bench -r template): WusonOBJ.obj gets
 #   the standard names; a sphere (no legs) and spider.obj (eight legs) are refused with the reason
@@ -83,15 +84,15 @@ cat "$tmp/bench.csv"
 rows=$(tail -n +2 "$tmp/bench.csv" | wc -l)
 [ "$rows" -eq 4 ] && ok || ko "rig-bench: $rows rows, expected 4"
 # columns by their header names; the status (last) is quoted text and may hold commas. Limits:
-# what the rigger reaches (in the comments: CD-J2J, skinning P / R after the matcher, on the
-# skeleton of the artist) with room for another machine's rounding
-awk -F, 'function limits(m, cd, p, r, gp, gr) {
-                 cdmax[m] = cd; pmin[m] = p; rmin[m] = r; gpmin[m] = gp; grmin[m] = gr }
+# what the rigger reaches (in the comments: CD-J2J, skinning P / R after the matcher, P / R / L1
+# on the skeleton of the artist) with room for another machine's rounding
+awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
+                 cdmax[m] = cd; pmin[m] = p; rmin[m] = r; gpmin[m] = gp; grmin[m] = gr; glmax[m] = gl }
     BEGIN {
-        limits("\"Fox.glb\"", 0.055, 0.40, 0.50, 0.55, 0.85)          # 0.048 .47/.61 .60/.89
-        limits("\"RiggedFigure.glb\"", 0.045, 0.40, 0.30, 0.65, 0.80) # 0.038 .47/.36 .72/.86
-        limits("\"Testwuson.X\"", 0.049, 0.22, 0.35, 0.45, 0.80)      # 0.044 .31/.45 .51/.85
-        limits("\"animalia_wolf.b3d\"", 0.074, 0.30, 0.38, 0.38, 0.45) # 0.069 .38/.46 .43/.51
+        limits("\"Fox.glb\"", 0.055, 0.45, 0.52, 0.72, 0.88, 0.55)         # 0.047 .50/.57 .77/.93/.49
+        limits("\"RiggedFigure.glb\"", 0.045, 0.42, 0.30, 0.80, 0.90, 0.36) # 0.038 .47/.35 .86/.95/.30
+        limits("\"Testwuson.X\"", 0.049, 0.26, 0.38, 0.60, 0.83, 0.72)      # 0.044 .31/.44 .65/.88/.67
+        limits("\"animalia_wolf.b3d\"", 0.074, 0.32, 0.38, 0.76, 0.81, 0.40) # 0.069 .37/.43 .81/.86/.35
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -100,9 +101,10 @@ awk -F, 'function limits(m, cd, p, r, gp, gr) {
         if (!($col["cd_j2j"] < cdmax[m])) print "FAIL: " m ": cd_j2j " $col["cd_j2j"] " >= " cdmax[m]
         if (!($col["precision"] >= pmin[m] && $col["recall"] >= rmin[m]))
             print "FAIL: " m ": skinning after the matcher " $col["precision"] " / " $col["recall"]
-        if (!($col["given_precision"] >= gpmin[m] && $col["given_recall"] >= grmin[m]))
+        if (!($col["given_precision"] >= gpmin[m] && $col["given_recall"] >= grmin[m] &&
+              $col["given_l1"] <= glmax[m]))
             print "FAIL: " m ": skinning on the skeleton of the artist " $col["given_precision"] \
-                " / " $col["given_recall"]
+                " / " $col["given_recall"] " / L1 " $col["given_l1"]
         if (!($col["up_agree"] > 0.9 && $col["forward_agree"] > 0.9))
             print "FAIL: " m ": read another way up or facing: " $col["up_agree"] " / " \
                 $col["forward_agree"]
@@ -141,10 +143,10 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joints"; else ok; fi
 awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r }
     BEGIN {
-        limits("\"Fox.glb\"", 0.037, 0.53, 0.78)                # 0.034 .58/.83
-        limits("\"RiggedFigure.glb\"", 0.0292, 0.72, 0.62)      # 0.0286 .79/.68
+        limits("\"Fox.glb\"", 0.037, 0.60, 0.78)                # 0.034 .65/.81
+        limits("\"RiggedFigure.glb\"", 0.0292, 0.72, 0.62)      # 0.0286 .82/.64
         limits("\"Testwuson.X\"", 0.041, 0.18, 0.24)            # 0.038 .44/.60 (below)
-        limits("\"animalia_wolf.b3d\"", 0.063, 0.60, 0.78)      # 0.059 .69/.86
+        limits("\"animalia_wolf.b3d\"", 0.063, 0.68, 0.78)      # 0.059 .75/.84
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
