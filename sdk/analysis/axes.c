@@ -439,6 +439,20 @@ static bool upright(const rf_awork *w)
     return hi - lo > front - back;
 }
 
+/* The joint at a limb's far point: its end, or a leaf whose tip is only guessed sitting where the
+ * end's bone ends (the far point counts a guessed leaf by its pivot, which its parent's tip
+ * reached first: a foot bone without an end site under a shin). */
+static uint32_t far_leaf(const rf_awork *w, const rf_limb *l)
+{
+    for (uint32_t k = w->child_off[l->end]; k < w->child_off[l->end + 1]; k++) {
+        uint32_t c = w->child_idx[k];
+        if (rf_an_child_count(w, c) == 0 && (w->a->joints[c].flags & RF_JI_TIP_GUESSED) &&
+            rf_v3_dist(rf_an_pos(w, c), l->far) <= w->eps)
+            return c;
+    }
+    return l->end;
+}
+
 /* Feet: the part of a grounded limb near the ground points forward. Knees of a biped bend
  * forward. Both measured along c (forward up to sign). */
 static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32_t *legs)
@@ -457,17 +471,21 @@ static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32
             continue;
         (*legs)++;
         /* A leaf's guessed tip points the right way in a rig with a bone axis: the foot may be
-         * that leaf (its length does not matter here). */
-        const rf_joint_info *end = &w->a->joints[l->end];
+         * that leaf, measured along its own bone (a guessed length would weigh the bones above
+         * it: a digitigrade shin running back to the hock is no foot). */
+        const rf_joint_info *end = &w->a->joints[far_leaf(w, l)];
+        bool guessed_leaf = false;
         if (w->conv_axis >= 0 && (end->flags & RF_JI_TIP_GUESSED) &&
             rf_v3_dist(end->tip, pts[np - 1]) > w->eps)
-            pts[np++] = end->tip;
+            pts[np++] = end->tip, guessed_leaf = true;
         double foot_top = low + 0.2 * (top - low);
         uint32_t f = np - 1;
         while (f > 0 && rf_an_height(w, pts[f - 1]) <= foot_top)
             f--;
         if (f == np - 1 && f > 0)
             f--; /* only the end is low: use the last bone */
+        if (guessed_leaf)
+            f = np - 2;
         /* a foot lies along the ground: count it by how flat it is */
         rf_vec3 foot = rf_v3_sub(pts[np - 1], pts[f]);
         double reach = rf_v3_dist(l->far, l->attach), flen = rf_v3_len(foot);

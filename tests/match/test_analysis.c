@@ -531,6 +531,8 @@ static void blenderize(rf_skeleton *s)
         world[i] = p >= 0 ? world[p] : rf_quat_identity();
         if (child >= 0)
             world[i] = rf_quat_from_two_vectors(rf_v3(0, 1, 0), rf_v3_sub(pos[child], pos[i]));
+        else if (s->joints[i].flags & RF_JOINT_HAS_END_SITE) /* a leaf aims at its end site */
+            world[i] = rf_quat_from_two_vectors(rf_v3(0, 1, 0), s->joints[i].end_site);
         rf_quat pr = p >= 0 ? world[p] : rf_quat_identity();
         s->joints[i].rest.t =
             rf_quat_rotate(rf_quat_conj(pr), p >= 0 ? rf_v3_sub(pos[i], pos[p]) : pos[i]);
@@ -567,6 +569,48 @@ static void test_partial_skin_and_fold(void **state)
     assert_section(a, s, "head", RF_SECTION_HEAD, RF_SIDE_CENTER);
     assert_int_not_equal(a->joints[sb_find(s, "badge")].section,
                          a->joints[sb_find(s, "head")].section);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* A quadruped facing -Z, bones along +Y and no end sites (as Blender writes them), whose hind
+ * legs are digitigrade: the shin runs back and down to a hock above the ground, cut in two by a
+ * twist joint, and the foot is a leaf bone aimed forward and down at a ground it does not reach
+ * (its tip is only guessed). The shin's lower half lies flatter than the foot; counted as the
+ * foot it voted backwards (0.3 * 0.83^2 = 0.21 per leg against the forefeet's 0.15 measured to
+ * their last pivot: feet -0.115). The foot is the leaf, measured along its own bone: the hind
+ * feet are steep and do not vote; each forefoot (0.02 up over 0.06 forward: flat 0.95) votes
+ * 0.3 * 0.95^2 = 0.27 forward. */
+static void test_digitigrade_foot_leaf(void **state)
+{
+    (void)state;
+    static const sb_joint hind[] = {
+        {"hl1", "pelvis", -0.15, 0.88, 0.50, 0}, {"hl2", "hl1", -0.15, 0.48, 0.40, 0},
+        {"hl3", "hl2", -0.15, 0.40, 0.52, 0},    {"hl4", "hl3", -0.15, 0.32, 0.64, 0},
+        {".", "hl4", -0.15, 0.03, 0.50, 0},      {"hr1", "pelvis", 0.15, 0.88, 0.50, 0},
+        {"hr2", "hr1", 0.15, 0.48, 0.40, 0},     {"hr3", "hr2", 0.15, 0.40, 0.52, 0},
+        {"hr4", "hr3", 0.15, 0.32, 0.64, 0},     {".", "hr4", 0.15, 0.03, 0.50, 0},
+    };
+    sb_joint js[SB_COUNT(sb_quadruped)];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++) {
+        const char *name = sb_quadruped[i].name, *parent = sb_quadruped[i].parent;
+        bool hind_leg = name[0] == 'h' && name[1] != 'e';
+        bool hind_end = name[0] == '.' && parent[0] == 'h' && parent[1] != 'e';
+        if (!hind_leg && !hind_end)
+            js[n++] = sb_quadruped[i];
+    }
+    memcpy(js + n, hind, sizeof hind);
+    n += SB_COUNT(hind);
+    rf_skeleton *s = sb_build(js, n);
+    blenderize(s);
+    rf_analysis *a = rf_analyze(s, NULL);
+    assert_non_null(a);
+    check_consistent(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    assert_near_dir(a->forward, rf_v3(0, 0, -1));
+    assert_float_equal(a->forward_cues[0], 2 * 0.3 * 0.9, 0.01); /* flat^2 = 0.06^2 / 0.004 */
+    assert_section(a, s, "hl4", RF_SECTION_LEG, RF_SIDE_LEFT);
     rf_analysis_free(a);
     rf_skeleton_free(s);
 }
@@ -740,6 +784,7 @@ int main(void)
         cmocka_unit_test(test_leg_threshold),
         cmocka_unit_test(test_measures),
         cmocka_unit_test(test_partial_skin_and_fold),
+        cmocka_unit_test(test_digitigrade_foot_leaf),
         cmocka_unit_test(test_degenerate_rest),
         cmocka_unit_test(test_socket),
         cmocka_unit_test(test_folded_leaf),

@@ -241,7 +241,7 @@ int main(void)
         {"CMU onto humanoids", -1, RIGS_HUMANOID, 120, 0.981, 0},
         {"CMU onto quadrupeds", -1, RIGS_QUADRUPED, 50, 0.94, 0},
         {"CMU onto hexapods", -1, RIGS_HEXAPOD, 40, 0.84, 0},
-        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.935, 1},
+        {"CMU onto dragons", -1, RIGS_DRAGON, 40, 0.945, 0},
         {"CMU onto birds", -1, RIGS_BIRD, 40, 0.99, 0},
         {"quadruped onto quadruped", RIGS_QUADRUPED, RIGS_QUADRUPED, 40, 0.86, 0},
         {"dragon onto bird", RIGS_DRAGON, RIGS_BIRD, 40, 0.915, 0},
