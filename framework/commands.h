@@ -12,6 +12,9 @@ void rf_print_diags(const GPtrArray *diags, const char *severity);
 
 /* Parses a subcommand's options; on failure prints the error and a usage hint to stderr. Returns
  * false then (the caller exits with RF_EXIT_USAGE). */
+/* True if FILE's name is UTF-8; if not, says so on stderr for command NAME (the pipelines a
+ * command builds are JSON, which holds only UTF-8 text, so such a name cannot be passed on). */
+bool rf_check_utf8_name(const char *name, const char *file);
 bool rf_parse_options(const char *name, const char *args, const char *summary,
                       const GOptionEntry *entries, int *argc, char ***argv);
 

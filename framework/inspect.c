@@ -165,6 +165,8 @@ static void rf_inspect_mesh(const rf_mesh *m)
 
 static int rf_inspect_run(rf_registry *reg, const char *file, const rf_inspect_opts *o)
 {
+    if (!rf_check_utf8_name("inspect", file))
+        return RF_EXIT_RUN;
     const char *path_param = NULL;
     const rf_node_desc *d = rf_registry_importer_for(reg, file, &path_param);
     g_autofree char *shown = rf_printable(file);

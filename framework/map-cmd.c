@@ -119,6 +119,9 @@ static void rf_map_cmd_print(const rf_pipeline *p, int nsources)
 
 static int rf_map_cmd_run(rf_registry *reg, char **files, int nsources, const rf_map_cmd_opts *o)
 {
+    for (int i = 0; i <= nsources; i++)
+        if (!rf_check_utf8_name("map", files[i]))
+            return RF_EXIT_VALIDATION;
     json_t *graph = rf_map_cmd_graph(reg, files, nsources, o);
     char *text = graph ? json_dumps(graph, JSON_COMPACT) : NULL;
     json_decref(graph);

@@ -48,6 +48,18 @@ bool rf_parse_options(const char *name, const char *args, const char *summary,
     return true;
 }
 
+bool rf_check_utf8_name(const char *name, const char *file)
+{
+    if (g_utf8_validate(file, -1, NULL))
+        return true;
+    g_autofree char *shown = rf_printable(file);
+    fprintf(stderr,
+            "rigflow %s: %s: expected a file name in UTF-8 text (pipelines are JSON, which holds "
+            "only UTF-8); rename the file, e.g. with convmv\n",
+            name, shown);
+    return false;
+}
+
 int rf_run_interruptible_diags(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet,
                                GPtrArray *diags)
 {
@@ -93,7 +105,7 @@ static rf_pipeline *prepare(rf_registry *reg, const char *path, char **params, i
 static int cmd_validate(rf_registry *reg, int argc, char **argv)
 {
     g_auto(GStrv) params = NULL;
-    const GOptionEntry entries[] = {{"param", 'p', 0, G_OPTION_ARG_STRING_ARRAY, &params,
+    const GOptionEntry entries[] = {{"param", 'p', 0, G_OPTION_ARG_FILENAME_ARRAY, &params,
                                      "Override a parameter", "NODE.PARAM=VALUE"},
                                     {NULL, 0, 0, 0, NULL, NULL, NULL}};
     if (!rf_parse_options("validate", "PIPELINE", "Check a pipeline without running it.", entries,
@@ -116,7 +128,7 @@ static int cmd_run(rf_registry *reg, int argc, char **argv)
     g_auto(GStrv) params = NULL;
     gboolean profile = FALSE, quiet = FALSE;
     const GOptionEntry entries[] = {
-        {"param", 'p', 0, G_OPTION_ARG_STRING_ARRAY, &params,
+        {"param", 'p', 0, G_OPTION_ARG_FILENAME_ARRAY, &params,
          "Override a parameter (repeatable; relative paths are relative to the current folder)",
          "NODE.PARAM=VALUE"},
         {"profile", 0, 0, G_OPTION_ARG_NONE, &profile, "Print each node's run time", NULL},

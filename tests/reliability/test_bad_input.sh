@@ -321,6 +321,20 @@ mkfifo "$tmp/fifo.bvh" "$tmp/fifo.glb"
 row "a FIFO named .bvh (no hang)" 1 "fifo.bvh: not a regular file" "$tmp/fifo.bvh" "$o.glb"
 row "a FIFO named .glb (no hang)" 1 "fifo.glb: not a regular file" "$tmp/fifo.glb" "$o.bvh"
 row "a missing input" 1 "none.bvh" "$tmp/none.bvh" "$o.glb"
+# A file name that is not UTF-8 (Latin-1 from an old archive) cannot go into a pipeline, which is
+# JSON: every command that builds one says so, naming the file with the byte escaped, and never
+# fails without a word.
+latin="$tmp/h$(printf '\351')ros"
+cp "$tmp/ok.bvh" "$latin.bvh"
+row "run: an input name that is not UTF-8" 3 "source.path=$tmp/h\xe9ros.bvh': expected UTF-8" \
+    "$latin.bvh" "$o.glb"
+for cmd in "inspect 1" "map 3"; do
+    set -- $cmd
+    if [ "$1" = map ]; then rf map --explain "$latin.bvh" "$tmp/ok.bvh"; else rf inspect "$latin.bvh"; fi
+    [ "$code" = "$2" ] && grep -qF "rigflow $1: $tmp/h\xe9ros.bvh: expected a file name in UTF-8" "$tmp/err" &&
+        ok "$1: a file name that is not UTF-8 is refused by name" ||
+        bad "$1: a file name that is not UTF-8: exit $code, expected $2 and the name escaped"
+done
 mkfifo "$tmp/fifo.json"
 if [ -f "$src/pipelines/map-edit.json" ]; then # a mapping file of fixes (plugins/mapping-file)
     rm -rf "$tmp/o" && mkdir -p "$tmp/o"
