@@ -546,6 +546,7 @@ static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, 
         return RF_EXIT_RUN;
     }
     g_autoptr(GPtrArray) diags = rf_diags_new();
+    bool unreadable = false;
     int code = rf_run_interruptible_diags(p, reg, false, true, diags);
     if (code == RF_EXIT_OK) {
         rb_measure(r, base, p, nearest);
@@ -553,12 +554,22 @@ static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, 
         g_autofree char *shown = rf_printable(path);
         fprintf(stderr, "rigflow rig-bench: interrupted during %s\n", shown);
     } else {
-        g_autofree char *msg = diags->len ? rf_diag_format(g_ptr_array_index(diags, 0)) : NULL;
-        snprintf(why, sizeof why, "refused: %s", msg ? msg : "the run failed");
+        const rf_diag *d = diags->len ? g_ptr_array_index(diags, 0) : NULL;
+        g_autofree char *msg = d ? rf_diag_format(d) : NULL;
+        /* the import nodes failing is the model unreadable (an error of the bench's input, like
+         * a missing file); any later node failing is the rigger refusing a model it was given */
+        unreadable = d && d->node && (!strcmp(d->node, "artist") || !strcmp(d->node, "mesh"));
+        snprintf(why, sizeof why, "%s: %s", unreadable ? "error: cannot read the model" : "refused",
+                 msg ? msg : "the run failed");
+        if (unreadable) {
+            g_autofree char *shown = rf_printable(path);
+            fprintf(stderr, "rigflow rig-bench: %s: cannot read the model: %s\n", shown,
+                    msg ? msg : "the import failed");
+        }
         rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, why);
     }
     rf_pipeline_free(p);
-    return code == RF_EXIT_CANCELLED ? code : RF_EXIT_OK;
+    return code == RF_EXIT_CANCELLED ? code : unreadable ? RF_EXIT_RUN : RF_EXIT_OK;
 }
 
 static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **files, bool nearest)

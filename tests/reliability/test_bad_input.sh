@@ -180,6 +180,18 @@ elif ! grep -qF '"rb\x1b]0;pwned\x07x\xc2\x9b1m.glb"' "$tmp/out" || [ "$(wc -l <
     bad "rig-bench: the CSV row does not name the model escaped on one line: $(head -c 400 "$tmp/out")"
 else ok "rig-bench shows hostile file names escaped"; fi
 
+# A model that cannot be read (a GLB cut short) is the bench's input failing, not a rigger refusing
+# it: named on stderr, its row marked as an error, and the bench exits 1 (it exited 0, the row
+# reading "refused" as if the rigger had declined a good model).
+head -c 100 "$tmp/ok.glb" >"$tmp/cut.glb"
+rfv rig-bench -r general "$tmp/cut.glb"
+if [ "$code" = 2 ] && grep -q "no rigger plugin found" "$tmp/err"; then
+    skipped "rig-bench on a model cut short" "no rigger plugin built"
+elif [ "$code" != 1 ]; then bad "rig-bench on a model cut short: exit $code, expected 1"
+elif ! grep -qF "cut.glb: cannot read the model: " "$tmp/err"; then bad "rig-bench: the unreadable model is not named"
+elif ! grep -qF ',"error: cannot read the model: ' "$tmp/out"; then bad "rig-bench: the row is not an error: $(tail -1 "$tmp/out")"
+else ok "rig-bench on a model cut short: an error, exit 1"; fi
+
 # A rigger plugin whose skin names a joint past its skeleton (tests/fixtures/fx_rigger.c): rig-bench
 # says so in the row's status, its skin columns empty; it read past its tables and printed "ok".
 rigged="${RF_DATA_DIR:-}/models/RiggedFigure.glb"
