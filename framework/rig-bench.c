@@ -539,6 +539,10 @@ static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, 
         rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, "error: no such file");
         return RF_EXIT_RUN;
     }
+    if (!rf_check_utf8_name("rig-bench", path)) {
+        rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, "error: the file name is not UTF-8");
+        return RF_EXIT_RUN;
+    }
     rf_pipeline *p = rb_pipeline(reg, r, path, why, sizeof why);
     if (!p) {
         g_autofree char *shown = rf_printable(path);

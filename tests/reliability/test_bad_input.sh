@@ -340,9 +340,13 @@ latin="$tmp/h$(printf '\351')ros"
 cp "$tmp/ok.bvh" "$latin.bvh"
 row "run: an input name that is not UTF-8" 3 "source.path=$tmp/h\xe9ros.bvh': expected UTF-8" \
     "$latin.bvh" "$o.glb"
-for cmd in "inspect 1" "map 3"; do
+for cmd in "inspect 1" "map 3" "rig-bench 1"; do
     set -- $cmd
-    if [ "$1" = map ]; then rf map --explain "$latin.bvh" "$tmp/ok.bvh"; else rf inspect "$latin.bvh"; fi
+    case $1 in
+    map) rf map --explain "$latin.bvh" "$tmp/ok.bvh" ;;
+    rig-bench) rf rig-bench "$latin.bvh" ;;
+    *) rf inspect "$latin.bvh" ;;
+    esac
     [ "$code" = "$2" ] && grep -qF "rigflow $1: $tmp/h\xe9ros.bvh: expected a file name in UTF-8" "$tmp/err" &&
         ok "$1: a file name that is not UTF-8 is refused by name" ||
         bad "$1: a file name that is not UTF-8: exit $code, expected $2 and the name escaped"
