@@ -33,6 +33,10 @@ inspect_has "$tmp/fox.gltf" "skeleton: 24 joints"
 if convert "$data/models/Fox.glb" "$tmp/fox.bvh"; then ok; else ko "Fox.glb to BVH"; fi
 inspect_has "$tmp/fox.bvh" "skeleton: 24 joints"
 if convert "$data/models/creatures/animalia_wolf.b3d" "$tmp/wolf.bvh"; then ok; else ko "B3D to BVH"; fi
+# every clip is imported once: one line per clip (Fox has three), the selected one not resampled twice
+"$rigflow" run "$pipeline" -p "source.path=$data/models/Fox.glb" -p "export.path=$tmp/fox2.glb" 2>"$tmp/log"
+n=$(grep -c "resampled to" "$tmp/log")
+if [ "$n" = 3 ] && [ "$(grep "resampled to" "$tmp/log" | sort -u | wc -l)" = 3 ]; then ok; else ko "Fox clips imported $n times, expected 3 once each"; fi
 # refusals leave nothing behind
 if convert "$data/models/spider.fbx" "$tmp/spider.glb" 2>"$tmp/err"; then ko "spider.fbx accepted"; else ok; fi
 if grep -q "spider.fbx: no skeleton" "$tmp/err" && [ ! -e "$tmp/spider.glb" ]; then ok; else ko "spider message or leftover"; fi

@@ -25,6 +25,7 @@
 #include <assimp/metadata.h>
 #include <assimp/postprocess.h>
 
+#include "rigflow/model-copy.h"
 #include "aimport-internal.h"
 #include "aimport-io.h"
 
@@ -794,9 +795,15 @@ static bool rf_ai_run(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
     r->clip_animations = calloc(r->clip_count, sizeof *r->clip_animations);
     if (!r->clip_animations)
         return rf_ai_fail(c, "out of memory for %u clips", r->clip_count);
-    for (unsigned i = 0; i < r->clip_count; i++)
-        if (!rf_ai_build_animation(c, r->skeleton, (int)i, &r->clips[i], &r->clip_animations[i]))
+    for (unsigned i = 0; i < r->clip_count; i++) {
+        /* the selected clip is resampled already: a copy costs less and logs nothing twice */
+        if ((int)i == r->selected_clip) {
+            if (!(r->clip_animations[i] = rf_animation_copy(r->animation)))
+                return rf_ai_fail(c, "out of memory for clip '%s'", r->clips[i].name);
+        } else if (!rf_ai_build_animation(c, r->skeleton, (int)i, &r->clips[i],
+                                          &r->clip_animations[i]))
             return false;
+    }
     return true;
 }
 
