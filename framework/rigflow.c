@@ -82,11 +82,28 @@ int rf_run_interruptible(rf_pipeline *p, const rf_registry *reg, bool profile, b
     return code;
 }
 
+/* Each NODE.PARAM once: a second -p of one parameter is a slip (for another parameter), and the
+ * run would silently keep the last value. */
+static void check_repeats(const char *path, char **params, GPtrArray *diags)
+{
+    for (char **a = params; a && *a; a++) {
+        size_t n = strcspn(*a, "=");
+        for (char **b = params; b != a; b++)
+            if (strcspn(*b, "=") == n && !strncmp(*a, *b, n)) {
+                rf_diags_add(diags, path, 0, 0, NULL, NULL,
+                             "-p %.*s given twice ('%s' and '%s'): expected each parameter once",
+                             (int)n, *a, *b, *a);
+                break;
+            }
+    }
+}
+
 /* Loads, overrides and validates a pipeline; prints what is wrong. Returns NULL with *code set. */
 static rf_pipeline *prepare(rf_registry *reg, const char *path, char **params, int *code)
 {
     g_autoptr(GPtrArray) diags = rf_diags_new();
     rf_pipeline *p = rf_pipeline_load(path, diags);
+    check_repeats(path, params, diags);
     for (char **kv = params; p && kv && *kv; kv++)
         rf_pipeline_override(p, *kv, diags);
     if (p) /* validated even after a bad override, so every problem is listed at once */

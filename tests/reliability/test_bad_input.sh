@@ -351,6 +351,14 @@ for cmd in "inspect 1" "map 3" "rig-bench 1"; do
         ok "$1: a file name that is not UTF-8 is refused by name" ||
         bad "$1: a file name that is not UTF-8: exit $code, expected $2 and the name escaped"
 done
+# The same parameter given twice on one command line (a slip for another parameter, as
+# -p target.path=... where source.path was meant) is refused, naming both values: it ran with the
+# last one, silently.
+rm -rf "$tmp/o" && mkdir -p "$tmp/o"
+rf run "$convert" -p source.path="$tmp/ok.bvh" -p source.path="$tmp/ok2.bvh" -p export.path="$o.glb"
+[ "$code" = 3 ] && grep -qF "source.path given twice" "$tmp/err" && grep -qF "ok2.bvh" "$tmp/err" &&
+    [ -z "$(leftovers "$tmp/o")" ] && ok "a parameter given twice with -p" ||
+    bad "a parameter given twice with -p: exit $code, expected 3 naming both values"
 mkfifo "$tmp/fifo.json"
 if [ -f "$src/pipelines/map-edit.json" ]; then # a mapping file of fixes (plugins/mapping-file)
     rm -rf "$tmp/o" && mkdir -p "$tmp/o"
