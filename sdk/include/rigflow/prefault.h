@@ -17,6 +17,13 @@
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
+/* madvise is declared only outside strict ISO/POSIX modes (glibc's _DEFAULT_SOURCE, musl's
+ * _BSD_SOURCE, both implied by _GNU_SOURCE), while <linux/mman.h> may define MADV_POPULATE_WRITE
+ * in any mode: both are needed. */
+#if defined(MADV_POPULATE_WRITE) &&                                                                \
+    (defined(_DEFAULT_SOURCE) || defined(_BSD_SOURCE) || defined(_GNU_SOURCE))
+#define RF_PREFAULT_MADVISE 1
+#endif
 
 #ifdef __cplusplus
 extern "C" {
@@ -28,7 +35,7 @@ extern "C" {
 /* Maps the whole pages inside [p, p + size) for writing, when the range is large enough. */
 static inline void rf_prefault(void *p, size_t size)
 {
-#if defined(MADV_POPULATE_WRITE)
+#if defined(RF_PREFAULT_MADVISE)
     const uintptr_t page = 4096;
     if (!p || size < RF_PREFAULT_MIN)
         return;
