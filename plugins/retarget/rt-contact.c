@@ -172,22 +172,25 @@ static uint32_t rt_effector_slot(const rf_retarget *rt, uint32_t e)
     return rt->in[rt->tj[rt->effectors[e]].first_input].slot;
 }
 
-/* The source joints the tracks of slot s read: each effector's source joint, everything below
- * it (its sole) and its ancestors. */
+/* Marks in need[] what the sole of source joint j reads (rf_rt_over_floor): j, everything below
+ * it and its ancestors (what their world transforms are made from). */
+static void rt_sole_need(const rf_rt_src *src, int32_t j, uint8_t *need)
+{
+    for (int32_t a = j; a >= 0 && !need[a]; a = src->parent[a])
+        need[a] = 1;
+    for (uint32_t c = (uint32_t)j + 1; c < src->n; c++)
+        need[c] = need[c] ||
+                  (src->parent[c] >= j && need[src->parent[c]] && rf_rt_carries(src->skel, j, c));
+}
+
+/* The source joints the tracks of slot s read: each effector's sole. */
 static void rt_track_need(const rf_retarget *rt, uint32_t s, uint8_t *need)
 {
     const rf_rt_src *src = &rt->src[rt->slots[s].source];
     memset(need, 0, src->n);
-    for (uint32_t e = 0; e < rt->effector_count; e++) {
-        if (rt_effector_slot(rt, e) != s)
-            continue;
-        int32_t j = (int32_t)rt->effector_src[e];
-        for (int32_t a = j; a >= 0 && !need[a]; a = src->parent[a])
-            need[a] = 1;
-        for (uint32_t c = (uint32_t)j + 1; c < src->n; c++)
-            need[c] = need[c] || (src->parent[c] >= j && need[src->parent[c]] &&
-                                  rf_rt_carries(src->skel, j, c));
-    }
+    for (uint32_t e = 0; e < rt->effector_count; e++)
+        if (rt_effector_slot(rt, e) == s)
+            rt_sole_need(src, (int32_t)rt->effector_src[e], need);
 }
 
 /* Frames [first, end) of slot s's tracks, with scratch of its own (one thread's share). */
@@ -782,10 +785,13 @@ static int32_t rt_lift_joint(const rf_retarget *rt, rf_xform *local, const rf_xf
     return -1;
 }
 
-/* The sources' poses of one output frame, made when first asked for. */
+/* The sources' poses of one output frame, each joint made when first asked for: a part under
+ * its floor asks about one source sole, which reads a few joints of the source's (its chain
+ * and what is below it), so the rest of the source's body is not posed. */
 typedef struct rt_src_poses {
     uint32_t frame;
-    uint8_t *made;    /* [slot] */
+    uint8_t *have;    /* [slot][source n]: the joints of world[slot] made at `frame` */
+    uint8_t *need;    /* [source n] */
     rf_xform **world; /* [slot][source n] */
     rf_xform *local;
     float *rot, *tr;
@@ -795,16 +801,17 @@ static void rt_src_poses_free(const rf_retarget *rt, rt_src_poses *sp)
 {
     for (uint32_t s = 0; sp->world && s < rt->slot_count; s++)
         free(sp->world[s]);
-    free(sp->made), free(sp->world), free(sp->local), free(sp->rot), free(sp->tr);
+    free(sp->have), free(sp->need), free(sp->world), free(sp->local), free(sp->rot), free(sp->tr);
 }
 
 static bool rt_src_poses_init(const rf_retarget *rt, rt_src_poses *sp)
 {
     size_t m = rt->max_src_n ? rt->max_src_n : 1, slots = rt->slot_count ? rt->slot_count : 1;
-    sp->made = calloc(slots, 1), sp->world = calloc(slots, sizeof *sp->world);
+    sp->have = calloc(slots * m, 1), sp->need = malloc(m);
+    sp->world = calloc(slots, sizeof *sp->world);
     sp->local = malloc(m * sizeof *sp->local);
     sp->rot = malloc(m * 4 * sizeof *sp->rot), sp->tr = malloc(m * 3 * sizeof *sp->tr);
-    bool ok = sp->made && sp->world && sp->local && sp->rot && sp->tr;
+    bool ok = sp->have && sp->need && sp->world && sp->local && sp->rot && sp->tr;
     for (uint32_t s = 0; ok && s < rt->slot_count; s++)
         ok = (sp->world[s] = malloc(m * sizeof **sp->world)) != NULL;
     if (!ok)
@@ -818,12 +825,23 @@ static bool rt_source_down(const rf_retarget *rt, rt_src_poses *sp, const rf_ani
                            uint32_t f, uint32_t j)
 {
     const rf_rt_input *in = rt->in + rt->tj[j].first_input;
+    const rf_rt_src *src = &rt->src[in->source];
+    size_t m = rt->max_src_n ? rt->max_src_n : 1;
+    uint8_t *have = sp->have + in->slot * m;
     if (sp->frame != f)
-        memset(sp->made, 0, rt->slot_count), sp->frame = f;
-    if (!sp->made[in->slot]) {
+        memset(sp->have, 0, rt->slot_count * m), sp->frame = f;
+    memset(sp->need, 0, src->n);
+    rt_sole_need(src, (int32_t)in->joint, sp->need);
+    bool any = false;
+    for (uint32_t c = 0; c < src->n; c++) {
+        sp->need[c] = sp->need[c] && !have[c];
+        have[c] = have[c] || sp->need[c];
+        any = any || sp->need[c];
+    }
+    if (any) {
         double t = rf_rt_slot_time(rt, in->slot, rf_retarget_start_time(rt) + f / anim->fps);
-        rf_rt_source_world(rt, in->source, t, sp->local, sp->world[in->slot], sp->rot, sp->tr);
-        sp->made[in->slot] = 1;
+        rf_rt_source_world_some(rt, in->source, t, sp->local, sp->world[in->slot], sp->rot,
+                                sp->tr, sp->need);
     }
     return rf_rt_over_floor(rt, in->source, sp->world[in->slot], (int32_t)in->joint) <=
            rt->opt.contact_height;
