@@ -199,6 +199,7 @@ typedef struct rt_tracks {
     uint32_t s, first, end, frames;
     double fps, start;
     const uint8_t *need;
+    const uint32_t *below, *below_count; /* [effector][source n], [effector]: rf_rt_below */
     rf_vec3 *pos;
     double *sole;
     bool ok;
@@ -221,7 +222,8 @@ static void *rt_tracks_run(void *arg)
                 continue;
             uint32_t j = rt->effector_src[e];
             t->pos[(size_t)e * t->frames + f] = world[j].t;
-            t->sole[(size_t)e * t->frames + f] = rf_rt_over_floor(rt, k, world, (int32_t)j);
+            t->sole[(size_t)e * t->frames + f] = rf_rt_over_floor_below(
+                rt, k, world, t->below + (size_t)e * rt->max_src_n, t->below_count[e]);
         }
     }
     free(local), free(world), free(rot), free(tr);
@@ -236,7 +238,14 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
                              rf_vec3 *pos, double *sole)
 {
     uint8_t *need = malloc(rt->max_src_n ? rt->max_src_n : 1);
-    bool ok = need != NULL;
+    size_t effectors = rt->effector_count ? rt->effector_count : 1;
+    uint32_t *below = malloc(effectors * (rt->max_src_n ? rt->max_src_n : 1) * sizeof *below);
+    uint32_t *below_count = malloc(effectors * sizeof *below_count);
+    bool ok = need && below && below_count;
+    for (uint32_t e = 0; ok && e < rt->effector_count; e++)
+        below_count[e] =
+            rf_rt_below(rt->src[rt->in[rt->tj[rt->effectors[e]].first_input].source].skel,
+                        rt->effector_src[e], below + (size_t)e * rt->max_src_n);
     for (uint32_t s = 0; ok && s < rt->slot_count; s++) {
         bool used = false;
         for (uint32_t e = 0; e < rt->effector_count; e++)
@@ -244,7 +253,9 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
         if (!used)
             continue;
         rt_track_need(rt, s, need);
-        rt_tracks a = {rt, s, 0, frames, frames, fps, start, need, pos, sole, false}, b = a;
+        rt_tracks a = {rt,   s,     0,           frames, frames, fps,  start,
+                       need, below, below_count, pos,    sole,   false},
+                  b = a;
         pthread_t thread;
         bool two = (uint64_t)frames * rt->src[rt->slots[s].source].n >= RT_THREAD_MIN;
         a.end = b.first = two ? frames / 2 : frames;
@@ -256,7 +267,7 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
             pthread_join(thread, NULL);
         ok = a.ok && (!two || b.ok);
     }
-    free(need);
+    free(need), free(below), free(below_count);
     return ok;
 }
 
@@ -840,8 +851,8 @@ static bool rt_source_down(const rf_retarget *rt, rt_src_poses *sp, const rf_ani
     }
     if (any) {
         double t = rf_rt_slot_time(rt, in->slot, rf_retarget_start_time(rt) + f / anim->fps);
-        rf_rt_source_world_some(rt, in->source, t, sp->local, sp->world[in->slot], sp->rot,
-                                sp->tr, sp->need);
+        rf_rt_source_world_some(rt, in->source, t, sp->local, sp->world[in->slot], sp->rot, sp->tr,
+                                sp->need);
     }
     return rf_rt_over_floor(rt, in->source, sp->world[in->slot], (int32_t)in->joint) <=
            rt->opt.contact_height;
