@@ -870,6 +870,10 @@ typedef struct rt_parts {
     const double *clear;  /* how far over its floor the source stands every `step` frames */
     uint32_t step;
     double eps;
+    /* [n] how far under joint j the lowest point rt_part_clear weighs for a part at or below it
+     * can be in any frame (bone lengths at their longest in the clip, at the joints' scales);
+     * -INFINITY with no such part */
+    const double *hang;
 } rt_parts;
 
 /* Whether every point rt_part_low weighs for part j surely stands over its floor: the pivot's
@@ -886,23 +890,46 @@ static bool rt_part_clear(const rt_parts *c, const rf_xform *world, uint32_t j, 
     return h - reach > floor + 1e-9 * (fabs(h) + reach + fabs(floor) + 1);
 }
 
-/* One frame of the parts pass, with scratch (local, world, sp) of the caller's. */
+/* Poses the parts and their ancestors at frame f, from the root down, leaving out what hangs
+ * from a joint standing so high over the floor (by c->hang, with a margin far above rounding)
+ * that every part there surely passes rt_part_clear: gone[j] is then 1 for that joint and 2 for
+ * those below it, not posed. */
+static void rt_parts_pose(const rt_parts *c, uint32_t f, double clear, rf_xform *local,
+                          rf_xform *world, uint8_t *gone)
+{
+    const rf_retarget *rt = c->rt;
+    double floor = (rt->t_hull ? fmax(rt->floor_target, rt->mesh_floor) : rt->floor_target) + clear;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        int32_t p = rt->target->joints[j].parent;
+        gone[j] = p >= 0 && gone[p] ? 2 : 0;
+        if (!c->reach[j] || gone[j])
+            continue;
+        local[j].t = rf_animation_translation(c->anim, f, j);
+        local[j].r = rf_quat_normalize(rf_animation_rotation(c->anim, f, j));
+        local[j].s = rt->target->joints[j].rest.s;
+        world[j] = p < 0 ? local[j] : rf_xform_mul(world[p], local[j]);
+        double h = rf_rt_height(rt->up, world[j].t), hang = c->hang[j];
+        gone[j] =
+            hang == -INFINITY || h - hang > floor + 1e-6 * (fabs(h) + fabs(hang) + fabs(floor) + 1);
+    }
+}
+
+/* One frame of the parts pass, with scratch (local, world, sp, gone) of the caller's. */
 static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xform *world,
-                           rt_src_poses *sp, rf_rt_parts_stats *st)
+                           uint8_t *gone, rt_src_poses *sp, rf_rt_parts_stats *st)
 {
     const rf_retarget *rt = c->rt;
     uint32_t n = rt->n;
     /* Most frames have no part under its floor: the parts and their ancestors tell. The floor
      * stands as far over the target's as the source over its own (in a jump, in the air). */
-    rt_pose_of(rt, c->anim, f, local, c->reach);
-    rt_fk(rt, local, world, c->reach);
     bool low = false;
     uint32_t i = f / c->step;
     double t = (double)(f - i * c->step) / c->step;
     double clear = (1 - t) * c->clear[i] + t * c->clear[i + 1];
+    rt_parts_pose(c, f, clear, local, world, gone);
     for (uint32_t j = 0; j < n && !low; j++) {
         double floor_h;
-        low = c->part[j] && rt->anchor[j] < 0 && !rt_part_clear(c, world, j, clear) &&
+        low = c->part[j] && rt->anchor[j] < 0 && !gone[j] && !rt_part_clear(c, world, j, clear) &&
               !(rf_rt_height(rt->up, rt_part_low(rt, world, j, clear, &floor_h)) >= floor_h);
     }
     if (!low)
@@ -947,13 +974,14 @@ static void *rt_parts_run(void *arg)
     rt_parts_share *sh = arg;
     size_t n = sh->c->rt->n ? sh->c->rt->n : 1;
     rf_xform *local = malloc(n * sizeof *local), *world = malloc(n * sizeof *world);
+    uint8_t *gone = malloc(n);
     rt_src_poses sp = {0};
-    sh->ok = local && world && rt_src_poses_init(sh->c->rt, &sp);
+    sh->ok = local && world && gone && rt_src_poses_init(sh->c->rt, &sp);
     for (uint32_t f = sh->first; sh->ok && f < sh->end; f++)
-        rt_parts_frame(sh->c, f, local, world, &sp, &sh->st);
+        rt_parts_frame(sh->c, f, local, world, gone, &sp, &sh->st);
     if (sh->ok)
         rt_src_poses_free(sh->c->rt, &sp);
-    free(local), free(world);
+    free(local), free(world), free(gone);
     return NULL;
 }
 
@@ -1000,6 +1028,46 @@ static double *rt_parts_clearance(const rf_retarget *rt, const rf_animation *ani
     return ok ? clear : NULL;
 }
 
+/* rt_parts.hang: from the leaves up, each joint's farthest weighed point of a part at or below
+ * it. A bone's length is bounded by its longest translation in the clip at its parent's largest
+ * scale (the world scales are the rest scales' products: the pass never animates scale). Read
+ * before each frame's pose, it spares posing the arms of a body standing upright. */
+static double *rt_parts_hang(const rf_retarget *rt, const rf_animation *anim, const uint8_t *part,
+                             const uint8_t *reach, const double *extent)
+{
+    uint32_t n = rt->n;
+    double *hang = malloc((n ? n : 1) * sizeof *hang), *bone = calloc(n ? n : 1, sizeof *bone);
+    rf_vec3 *scale = malloc((n ? n : 1) * sizeof *scale);
+    if (!hang || !bone || !scale) {
+        free(hang), free(bone), free(scale);
+        return NULL;
+    }
+    for (uint32_t f = 0; f < anim->frame_count; f++)
+        for (uint32_t j = 0; j < n; j++)
+            if (reach[j])
+                bone[j] = fmax(bone[j], rf_v3_len(rf_animation_translation(anim, f, j)));
+    const rf_joint *joints = rt->target->joints;
+    for (uint32_t j = 0; j < n; j++) {
+        int32_t p = joints[j].parent;
+        scale[j] = p < 0 ? joints[j].rest.s : rf_v3_mul(scale[p], joints[j].rest.s);
+        rf_vec3 s = scale[j];
+        double most = fmax(fabs(s.x), fmax(fabs(s.y), fabs(s.z)));
+        hang[j] = part[j] && rt->anchor[j] < 0 ? extent[j] * most : -INFINITY;
+    }
+    for (uint32_t j = n; j-- > 0;) {
+        int32_t p = joints[j].parent;
+        if (p < 0 || hang[j] == -INFINITY)
+            continue;
+        rf_vec3 s = scale[p];
+        double most = fmax(fabs(s.x), fmax(fabs(s.y), fabs(s.z)));
+        hang[p] = fmax(hang[p], hang[j] + bone[j] * most);
+    }
+    for (uint32_t j = 0; j < n; j++)
+        hang[j] *= rf_v3_len(rt->up); /* heights are read along up */
+    free(bone), free(scale);
+    return hang;
+}
+
 bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *st)
 {
     memset(st, 0, sizeof *st);
@@ -1035,8 +1103,11 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
         for (int32_t a = part[j] ? (int32_t)j : -1; a >= 0 && !reach[a];
              a = rt->target->joints[a].parent)
             reach[a] = 1;
-    rt_parts c = {rt, anim, part, all, holds, reach, extent, clear, step, 1e-3 * rt->leg_target};
-    bool ok = rt_parts_all(&c, st);
+    double *hang = rt_parts_hang(rt, anim, part, reach, extent);
+    rt_parts c = {rt,  anim, part, all, holds, reach, extent, clear, step, 1e-3 * rt->leg_target,
+                  hang};
+    bool ok = hang && rt_parts_all(&c, st);
     free(foot), free(part), free(all), free(holds), free(reach), free(extent), free(clear);
+    free(hang);
     return ok;
 }
