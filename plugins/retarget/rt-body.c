@@ -650,6 +650,16 @@ bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size)
 
 /* Height of the lowest point of joint j and everything below it (joints and bone tips): the
  * sole of a foot, toes included. */
+/* The lower of `low` and the heights of joint c and its bone tip. */
+static inline double rt_point_low(double low, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
+                                  uint32_t c)
+{
+    low = fmin(low, rf_rt_height(up, world[c].t));
+    if (rf_v3_len2(tip[c]) > 0)
+        low = fmin(low, rf_rt_height(up, rf_xform_point(world[c], tip[c])));
+    return low;
+}
+
 double rf_rt_sole(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
                   uint32_t j)
 {
@@ -668,13 +678,29 @@ double rf_rt_sole(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *ti
             for (; !below && p >= (int32_t)j; p = s->joints[p].parent)
                 below = p == (int32_t)j;
         }
-        if (!below)
-            continue;
-        low = fmin(low, rf_rt_height(up, world[c].t));
-        if (rf_v3_len2(tip[c]) > 0)
-            low = fmin(low, rf_rt_height(up, rf_xform_point(world[c], tip[c])));
+        if (below)
+            low = rt_point_low(low, world, tip, up, c);
     }
     return low;
+}
+
+uint32_t rf_rt_below(const rf_skeleton *s, uint32_t j, uint32_t *below)
+{
+    uint32_t count = 0;
+    for (uint32_t c = j; c < s->joint_count; c++)
+        if (rf_rt_carries(s, (int32_t)j, c))
+            below[count++] = c;
+    return count;
+}
+
+double rf_rt_over_floor_below(const rf_retarget *rt, uint32_t k, const rf_xform *world,
+                              const uint32_t *below, uint32_t count)
+{
+    const rf_rt_src *src = &rt->src[k];
+    double low = INFINITY;
+    for (uint32_t i = 0; i < count; i++)
+        low = rt_point_low(low, world, src->tip, src->up, below[i]);
+    return (low - src->floor) / src->leg;
 }
 
 /* The 5th percentile of per-frame lowest points of the target clip `out` (sampled over one

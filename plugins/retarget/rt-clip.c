@@ -353,6 +353,9 @@ int rf_retarget_limit_turns(rf_retarget *rt, rf_animation *anim, const rf_animat
         if (own < 0.5 * RF_PI / 180)
             continue;
         double limit = own + RF_RT_TURN_SLACK * RF_PI / 180;
+        if (limit >= RF_PI) /* no turn exceeds a half turn: a clip at exactly one would be
+                             * carried on past it */
+            continue;
         /* Turned further than the limit when |cos(turn / 2)| is smaller: no acos per frame. */
         double cos_half = cos(0.5 * fmin(limit, RF_PI));
         bool any = false;

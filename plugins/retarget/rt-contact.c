@@ -172,22 +172,25 @@ static uint32_t rt_effector_slot(const rf_retarget *rt, uint32_t e)
     return rt->in[rt->tj[rt->effectors[e]].first_input].slot;
 }
 
-/* The source joints the tracks of slot s read: each effector's source joint, everything below
- * it (its sole) and its ancestors. */
+/* Marks in need[] what the sole of source joint j reads (rf_rt_over_floor): j, everything below
+ * it and its ancestors (what their world transforms are made from). */
+static void rt_sole_need(const rf_rt_src *src, int32_t j, uint8_t *need)
+{
+    for (int32_t a = j; a >= 0 && !need[a]; a = src->parent[a])
+        need[a] = 1;
+    for (uint32_t c = (uint32_t)j + 1; c < src->n; c++)
+        need[c] = need[c] ||
+                  (src->parent[c] >= j && need[src->parent[c]] && rf_rt_carries(src->skel, j, c));
+}
+
+/* The source joints the tracks of slot s read: each effector's sole. */
 static void rt_track_need(const rf_retarget *rt, uint32_t s, uint8_t *need)
 {
     const rf_rt_src *src = &rt->src[rt->slots[s].source];
     memset(need, 0, src->n);
-    for (uint32_t e = 0; e < rt->effector_count; e++) {
-        if (rt_effector_slot(rt, e) != s)
-            continue;
-        int32_t j = (int32_t)rt->effector_src[e];
-        for (int32_t a = j; a >= 0 && !need[a]; a = src->parent[a])
-            need[a] = 1;
-        for (uint32_t c = (uint32_t)j + 1; c < src->n; c++)
-            need[c] = need[c] || (src->parent[c] >= j && need[src->parent[c]] &&
-                                  rf_rt_carries(src->skel, j, c));
-    }
+    for (uint32_t e = 0; e < rt->effector_count; e++)
+        if (rt_effector_slot(rt, e) == s)
+            rt_sole_need(src, (int32_t)rt->effector_src[e], need);
 }
 
 /* Frames [first, end) of slot s's tracks, with scratch of its own (one thread's share). */
@@ -196,6 +199,7 @@ typedef struct rt_tracks {
     uint32_t s, first, end, frames;
     double fps, start;
     const uint8_t *need;
+    const uint32_t *below, *below_count; /* [effector][source n], [effector]: rf_rt_below */
     rf_vec3 *pos;
     double *sole;
     bool ok;
@@ -218,7 +222,8 @@ static void *rt_tracks_run(void *arg)
                 continue;
             uint32_t j = rt->effector_src[e];
             t->pos[(size_t)e * t->frames + f] = world[j].t;
-            t->sole[(size_t)e * t->frames + f] = rf_rt_over_floor(rt, k, world, (int32_t)j);
+            t->sole[(size_t)e * t->frames + f] = rf_rt_over_floor_below(
+                rt, k, world, t->below + (size_t)e * rt->max_src_n, t->below_count[e]);
         }
     }
     free(local), free(world), free(rot), free(tr);
@@ -233,7 +238,14 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
                              rf_vec3 *pos, double *sole)
 {
     uint8_t *need = malloc(rt->max_src_n ? rt->max_src_n : 1);
-    bool ok = need != NULL;
+    size_t effectors = rt->effector_count ? rt->effector_count : 1;
+    uint32_t *below = malloc(effectors * (rt->max_src_n ? rt->max_src_n : 1) * sizeof *below);
+    uint32_t *below_count = malloc(effectors * sizeof *below_count);
+    bool ok = need && below && below_count;
+    for (uint32_t e = 0; ok && e < rt->effector_count; e++)
+        below_count[e] =
+            rf_rt_below(rt->src[rt->in[rt->tj[rt->effectors[e]].first_input].source].skel,
+                        rt->effector_src[e], below + (size_t)e * rt->max_src_n);
     for (uint32_t s = 0; ok && s < rt->slot_count; s++) {
         bool used = false;
         for (uint32_t e = 0; e < rt->effector_count; e++)
@@ -241,7 +253,9 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
         if (!used)
             continue;
         rt_track_need(rt, s, need);
-        rt_tracks a = {rt, s, 0, frames, frames, fps, start, need, pos, sole, false}, b = a;
+        rt_tracks a = {rt,   s,     0,           frames, frames, fps,  start,
+                       need, below, below_count, pos,    sole,   false},
+                  b = a;
         pthread_t thread;
         bool two = (uint64_t)frames * rt->src[rt->slots[s].source].n >= RT_THREAD_MIN;
         a.end = b.first = two ? frames / 2 : frames;
@@ -253,7 +267,7 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
             pthread_join(thread, NULL);
         ok = a.ok && (!two || b.ok);
     }
-    free(need);
+    free(need), free(below), free(below_count);
     return ok;
 }
 
@@ -782,10 +796,13 @@ static int32_t rt_lift_joint(const rf_retarget *rt, rf_xform *local, const rf_xf
     return -1;
 }
 
-/* The sources' poses of one output frame, made when first asked for. */
+/* The sources' poses of one output frame, each joint made when first asked for: a part under
+ * its floor asks about one source sole, which reads a few joints of the source's (its chain
+ * and what is below it), so the rest of the source's body is not posed. */
 typedef struct rt_src_poses {
     uint32_t frame;
-    uint8_t *made;    /* [slot] */
+    uint8_t *have;    /* [slot][source n]: the joints of world[slot] made at `frame` */
+    uint8_t *need;    /* [source n] */
     rf_xform **world; /* [slot][source n] */
     rf_xform *local;
     float *rot, *tr;
@@ -795,16 +812,17 @@ static void rt_src_poses_free(const rf_retarget *rt, rt_src_poses *sp)
 {
     for (uint32_t s = 0; sp->world && s < rt->slot_count; s++)
         free(sp->world[s]);
-    free(sp->made), free(sp->world), free(sp->local), free(sp->rot), free(sp->tr);
+    free(sp->have), free(sp->need), free(sp->world), free(sp->local), free(sp->rot), free(sp->tr);
 }
 
 static bool rt_src_poses_init(const rf_retarget *rt, rt_src_poses *sp)
 {
     size_t m = rt->max_src_n ? rt->max_src_n : 1, slots = rt->slot_count ? rt->slot_count : 1;
-    sp->made = calloc(slots, 1), sp->world = calloc(slots, sizeof *sp->world);
+    sp->have = calloc(slots * m, 1), sp->need = malloc(m);
+    sp->world = calloc(slots, sizeof *sp->world);
     sp->local = malloc(m * sizeof *sp->local);
     sp->rot = malloc(m * 4 * sizeof *sp->rot), sp->tr = malloc(m * 3 * sizeof *sp->tr);
-    bool ok = sp->made && sp->world && sp->local && sp->rot && sp->tr;
+    bool ok = sp->have && sp->need && sp->world && sp->local && sp->rot && sp->tr;
     for (uint32_t s = 0; ok && s < rt->slot_count; s++)
         ok = (sp->world[s] = malloc(m * sizeof **sp->world)) != NULL;
     if (!ok)
@@ -818,12 +836,23 @@ static bool rt_source_down(const rf_retarget *rt, rt_src_poses *sp, const rf_ani
                            uint32_t f, uint32_t j)
 {
     const rf_rt_input *in = rt->in + rt->tj[j].first_input;
+    const rf_rt_src *src = &rt->src[in->source];
+    size_t m = rt->max_src_n ? rt->max_src_n : 1;
+    uint8_t *have = sp->have + in->slot * m;
     if (sp->frame != f)
-        memset(sp->made, 0, rt->slot_count), sp->frame = f;
-    if (!sp->made[in->slot]) {
+        memset(sp->have, 0, rt->slot_count * m), sp->frame = f;
+    memset(sp->need, 0, src->n);
+    rt_sole_need(src, (int32_t)in->joint, sp->need);
+    bool any = false;
+    for (uint32_t c = 0; c < src->n; c++) {
+        sp->need[c] = sp->need[c] && !have[c];
+        have[c] = have[c] || sp->need[c];
+        any = any || sp->need[c];
+    }
+    if (any) {
         double t = rf_rt_slot_time(rt, in->slot, rf_retarget_start_time(rt) + f / anim->fps);
-        rf_rt_source_world(rt, in->source, t, sp->local, sp->world[in->slot], sp->rot, sp->tr);
-        sp->made[in->slot] = 1;
+        rf_rt_source_world_some(rt, in->source, t, sp->local, sp->world[in->slot], sp->rot, sp->tr,
+                                sp->need);
     }
     return rf_rt_over_floor(rt, in->source, sp->world[in->slot], (int32_t)in->joint) <=
            rt->opt.contact_height;
@@ -841,6 +870,10 @@ typedef struct rt_parts {
     const double *clear;  /* how far over its floor the source stands every `step` frames */
     uint32_t step;
     double eps;
+    /* [n] how far under joint j the lowest point rt_part_clear weighs for a part at or below it
+     * can be in any frame (bone lengths at their longest in the clip, at the joints' scales);
+     * -INFINITY with no such part */
+    const double *hang;
 } rt_parts;
 
 /* Whether every point rt_part_low weighs for part j surely stands over its floor: the pivot's
@@ -857,23 +890,46 @@ static bool rt_part_clear(const rt_parts *c, const rf_xform *world, uint32_t j, 
     return h - reach > floor + 1e-9 * (fabs(h) + reach + fabs(floor) + 1);
 }
 
-/* One frame of the parts pass, with scratch (local, world, sp) of the caller's. */
+/* Poses the parts and their ancestors at frame f, from the root down, leaving out what hangs
+ * from a joint standing so high over the floor (by c->hang, with a margin far above rounding)
+ * that every part there surely passes rt_part_clear: gone[j] is then 1 for that joint and 2 for
+ * those below it, not posed. */
+static void rt_parts_pose(const rt_parts *c, uint32_t f, double clear, rf_xform *local,
+                          rf_xform *world, uint8_t *gone)
+{
+    const rf_retarget *rt = c->rt;
+    double floor = (rt->t_hull ? fmax(rt->floor_target, rt->mesh_floor) : rt->floor_target) + clear;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        int32_t p = rt->target->joints[j].parent;
+        gone[j] = p >= 0 && gone[p] ? 2 : 0;
+        if (!c->reach[j] || gone[j])
+            continue;
+        local[j].t = rf_animation_translation(c->anim, f, j);
+        local[j].r = rf_quat_normalize(rf_animation_rotation(c->anim, f, j));
+        local[j].s = rt->target->joints[j].rest.s;
+        world[j] = p < 0 ? local[j] : rf_xform_mul(world[p], local[j]);
+        double h = rf_rt_height(rt->up, world[j].t), hang = c->hang[j];
+        gone[j] =
+            hang == -INFINITY || h - hang > floor + 1e-6 * (fabs(h) + fabs(hang) + fabs(floor) + 1);
+    }
+}
+
+/* One frame of the parts pass, with scratch (local, world, sp, gone) of the caller's. */
 static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xform *world,
-                           rt_src_poses *sp, rf_rt_parts_stats *st)
+                           uint8_t *gone, rt_src_poses *sp, rf_rt_parts_stats *st)
 {
     const rf_retarget *rt = c->rt;
     uint32_t n = rt->n;
     /* Most frames have no part under its floor: the parts and their ancestors tell. The floor
      * stands as far over the target's as the source over its own (in a jump, in the air). */
-    rt_pose_of(rt, c->anim, f, local, c->reach);
-    rt_fk(rt, local, world, c->reach);
     bool low = false;
     uint32_t i = f / c->step;
     double t = (double)(f - i * c->step) / c->step;
     double clear = (1 - t) * c->clear[i] + t * c->clear[i + 1];
+    rt_parts_pose(c, f, clear, local, world, gone);
     for (uint32_t j = 0; j < n && !low; j++) {
         double floor_h;
-        low = c->part[j] && rt->anchor[j] < 0 && !rt_part_clear(c, world, j, clear) &&
+        low = c->part[j] && rt->anchor[j] < 0 && !gone[j] && !rt_part_clear(c, world, j, clear) &&
               !(rf_rt_height(rt->up, rt_part_low(rt, world, j, clear, &floor_h)) >= floor_h);
     }
     if (!low)
@@ -918,13 +974,14 @@ static void *rt_parts_run(void *arg)
     rt_parts_share *sh = arg;
     size_t n = sh->c->rt->n ? sh->c->rt->n : 1;
     rf_xform *local = malloc(n * sizeof *local), *world = malloc(n * sizeof *world);
+    uint8_t *gone = malloc(n);
     rt_src_poses sp = {0};
-    sh->ok = local && world && rt_src_poses_init(sh->c->rt, &sp);
+    sh->ok = local && world && gone && rt_src_poses_init(sh->c->rt, &sp);
     for (uint32_t f = sh->first; sh->ok && f < sh->end; f++)
-        rt_parts_frame(sh->c, f, local, world, &sp, &sh->st);
+        rt_parts_frame(sh->c, f, local, world, gone, &sp, &sh->st);
     if (sh->ok)
         rt_src_poses_free(sh->c->rt, &sp);
-    free(local), free(world);
+    free(local), free(world), free(gone);
     return NULL;
 }
 
@@ -971,6 +1028,46 @@ static double *rt_parts_clearance(const rf_retarget *rt, const rf_animation *ani
     return ok ? clear : NULL;
 }
 
+/* rt_parts.hang: from the leaves up, each joint's farthest weighed point of a part at or below
+ * it. A bone's length is bounded by its longest translation in the clip at its parent's largest
+ * scale (the world scales are the rest scales' products: the pass never animates scale). Read
+ * before each frame's pose, it spares posing the arms of a body standing upright. */
+static double *rt_parts_hang(const rf_retarget *rt, const rf_animation *anim, const uint8_t *part,
+                             const uint8_t *reach, const double *extent)
+{
+    uint32_t n = rt->n;
+    double *hang = malloc((n ? n : 1) * sizeof *hang), *bone = calloc(n ? n : 1, sizeof *bone);
+    rf_vec3 *scale = malloc((n ? n : 1) * sizeof *scale);
+    if (!hang || !bone || !scale) {
+        free(hang), free(bone), free(scale);
+        return NULL;
+    }
+    for (uint32_t f = 0; f < anim->frame_count; f++)
+        for (uint32_t j = 0; j < n; j++)
+            if (reach[j])
+                bone[j] = fmax(bone[j], rf_v3_len(rf_animation_translation(anim, f, j)));
+    const rf_joint *joints = rt->target->joints;
+    for (uint32_t j = 0; j < n; j++) {
+        int32_t p = joints[j].parent;
+        scale[j] = p < 0 ? joints[j].rest.s : rf_v3_mul(scale[p], joints[j].rest.s);
+        rf_vec3 s = scale[j];
+        double most = fmax(fabs(s.x), fmax(fabs(s.y), fabs(s.z)));
+        hang[j] = part[j] && rt->anchor[j] < 0 ? extent[j] * most : -INFINITY;
+    }
+    for (uint32_t j = n; j-- > 0;) {
+        int32_t p = joints[j].parent;
+        if (p < 0 || hang[j] == -INFINITY)
+            continue;
+        rf_vec3 s = scale[p];
+        double most = fmax(fabs(s.x), fmax(fabs(s.y), fabs(s.z)));
+        hang[p] = fmax(hang[p], hang[j] + bone[j] * most);
+    }
+    for (uint32_t j = 0; j < n; j++)
+        hang[j] *= rf_v3_len(rt->up); /* heights are read along up */
+    free(bone), free(scale);
+    return hang;
+}
+
 bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *st)
 {
     memset(st, 0, sizeof *st);
@@ -1006,8 +1103,11 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
         for (int32_t a = part[j] ? (int32_t)j : -1; a >= 0 && !reach[a];
              a = rt->target->joints[a].parent)
             reach[a] = 1;
-    rt_parts c = {rt, anim, part, all, holds, reach, extent, clear, step, 1e-3 * rt->leg_target};
-    bool ok = rt_parts_all(&c, st);
+    double *hang = rt_parts_hang(rt, anim, part, reach, extent);
+    rt_parts c = {rt,  anim, part, all, holds, reach, extent, clear, step, 1e-3 * rt->leg_target,
+                  hang};
+    bool ok = hang && rt_parts_all(&c, st);
     free(foot), free(part), free(all), free(holds), free(reach), free(extent), free(clear);
+    free(hang);
     return ok;
 }

@@ -245,6 +245,12 @@ double rf_rt_select(double *v, size_t count, size_t k);
  * in each joint's frame): the sole of a foot, toes included. */
 double rf_rt_sole(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
                   uint32_t j);
+/* Joint j and everything below it, in their order in the skeleton, into below[] (room for the
+ * skeleton's joint count): what rf_rt_sole reads, listed once for a sole read at every frame. */
+uint32_t rf_rt_below(const rf_skeleton *s, uint32_t j, uint32_t *below);
+/* rf_rt_over_floor of source k's joint `below[0]` from its rf_rt_below list: the same value. */
+double rf_rt_over_floor_below(const rf_retarget *rt, uint32_t k, const rf_xform *world,
+                              const uint32_t *below, uint32_t count);
 /* Height of p along up. */
 static inline double rf_rt_height(rf_vec3 up, rf_vec3 p)
 {

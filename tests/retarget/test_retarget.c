@@ -415,6 +415,26 @@ static void centerline_turns_kept_in_own_range(void **state)
     rf_mapping_free(m), rf_animation_free(clip), rf_animation_free(own), rf_skeleton_free(s);
 }
 
+/* A target's own clip that turns the head 179 degrees sets no limit at all (no turn exceeds 180
+ * plus the slack): a half turn in the clip stays as it is, not carried on past the half turn. */
+static void half_turn_kept_under_own_range(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped(1, 0.5, 0.45);
+    rf_animation *clip = fx_rest_clip(s, 3, 10), *own = fx_rest_clip(s, 2, 10);
+    rf_animation_set_rotation(own, 1, 8, fx_rot(Z, 179));
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(s, clip, s, m, &o);
+    rf_quat half = rf_quat_make(1, 0, 0, 0); /* 180 degrees about X, exactly */
+    rf_animation_set_rotation(r.out, 1, 8, half);
+    assert_int_equal(rf_retarget_limit_turns(r.rt, r.out, own), 0);
+    assert_true(rot_diff(local_rot(r.out, 1, 8), half) < 1e-4);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_animation_free(own), rf_skeleton_free(s);
+}
+
 /* ---- clip options ---- */
 
 static void resampling_slerps(void **state)
@@ -968,6 +988,7 @@ int main(void)
         cmocka_unit_test(root_scaled_by_hip_height),
         cmocka_unit_test(target_stays_on_its_floor),
         cmocka_unit_test(centerline_turns_kept_in_own_range),
+        cmocka_unit_test(half_turn_kept_under_own_range),
         cmocka_unit_test(resampling_slerps),
         cmocka_unit_test(frame_range),
         cmocka_unit_test(identity_returns_the_clip),
