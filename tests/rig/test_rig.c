@@ -420,12 +420,10 @@ static void test_loose_parts(void **state)
     rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(m2), rf_mesh_free(in);
 }
 
-/* A scan-sized mesh (a finely tessellated capsule of 200 000 triangles) is simplified into a
- * proxy and every original vertex still gets weights. */
-static void test_big_scan(void **state)
+/* A capsule-like tube along +Y from 0 to 2 (radius 0.2, closing at both ends) of `rings` rings of
+ * `segs` vertices. */
+static rf_mesh *capsule(uint32_t rings, uint32_t segs)
 {
-    (void)state;
-    const uint32_t rings = 400, segs = 250;
     rf_mesh *in = rf_mesh_new();
     in->vertex_count = rings * segs;
     in->positions = malloc((size_t)in->vertex_count * 3 * sizeof(float));
@@ -444,6 +442,21 @@ static void test_big_scan(void **state)
             t[0] = a, t[1] = c, t[2] = b, t[3] = b, t[4] = c, t[5] = d;
             in->triangle_count += 2;
         }
+    return in;
+}
+
+/* A tube along +Y from 0 to 2 (radius 0.2), finely tessellated. */
+static rf_mesh *tube(void)
+{
+    return capsule(81, 16);
+}
+
+/* A scan-sized mesh (a finely tessellated capsule of 200 000 triangles) is simplified into a
+ * proxy and every original vertex still gets weights. */
+static void test_big_scan(void **state)
+{
+    (void)state;
+    rf_mesh *in = capsule(400, 250);
     rf_skeleton *s;
     rf_mesh *m;
     rf_rig_stats st;
@@ -515,31 +528,6 @@ static void test_bind_given(void **state)
         rf_mesh_free(m);
     }
     rf_skeleton_free(s), rf_mesh_free(in);
-}
-
-/* A tube along +Y from 0 to 2 (radius 0.2), finely tessellated. */
-static rf_mesh *tube(void)
-{
-    const uint32_t rings = 81, segs = 16;
-    rf_mesh *in = rf_mesh_new();
-    in->vertex_count = rings * segs;
-    in->positions = malloc((size_t)in->vertex_count * 3 * sizeof(float));
-    in->triangles = malloc((size_t)(rings - 1) * segs * 6 * sizeof(uint32_t));
-    for (uint32_t r = 0; r < rings; r++)
-        for (uint32_t k = 0; k < segs; k++) {
-            double a = 2 * M_PI * k / segs, t = (double)r / (rings - 1);
-            double rad = 0.2 * sqrt(fmax(0, 1 - pow(2 * t - 1, 8))) + 1e-3;
-            float *p = in->positions + ((size_t)r * segs + k) * 3;
-            p[0] = (float)(rad * cos(a)), p[1] = (float)(2 * t), p[2] = (float)(rad * sin(a));
-        }
-    for (uint32_t r = 0; r + 1 < rings; r++)
-        for (uint32_t k = 0; k < segs; k++) {
-            uint32_t a = r * segs + k, b = r * segs + (k + 1) % segs, c = a + segs, d = b + segs;
-            uint32_t *t = in->triangles + (size_t)in->triangle_count * 3;
-            t[0] = a, t[1] = c, t[2] = b, t[3] = b, t[4] = c, t[5] = d;
-            in->triangle_count += 2;
-        }
-    return in;
 }
 
 /* The weight vertex v of m gives joint j. */
