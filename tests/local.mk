@@ -48,6 +48,7 @@ tests_fixtures_fx_abi10_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 tests_fixtures_fx_wide_la_SOURCES = tests/fixtures/fx_wide.c
 tests_fixtures_fx_wide_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 EXTRA_DIST += tests/abi-1.0
+EXTRA_DIST += tests/tap.sh # the TAP helpers sourced by shell tests of several areas
 tests_fixtures_fx_baddefault_la_SOURCES = $(FIXTURE_SRC)
 tests_fixtures_fx_baddefault_la_CPPFLAGS = $(AM_CPPFLAGS) -DFX_VALUE_DEFAULT=250
 tests_fixtures_fx_baddefault_la_LDFLAGS = $(FIXTURE_LDFLAGS)

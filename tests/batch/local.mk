@@ -10,4 +10,4 @@ tests_batch_preload_fx_eio_la_LDFLAGS = -module -avoid-version -shared -rpath /n
 tests_batch_preload_fx_eio_la_LIBADD = -ldl
 TESTS += tests/batch/test_batch.sh tests/batch/test_batch_slurm.sh
 dist_noinst_SCRIPTS += tests/batch/test_batch.sh tests/batch/test_batch_slurm.sh
-EXTRA_DIST += tests/batch/copy.json tests/batch/slurm-cluster.sh tests/batch/tap.sh
+EXTRA_DIST += tests/batch/copy.json tests/batch/slurm-cluster.sh

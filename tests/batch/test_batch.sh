@@ -11,7 +11,7 @@ tmp=$(mktemp -d)
 bg=""
 cleanup() { [ -n "$bg" ] && kill -9 $bg 2>/dev/null; rm -rf "$tmp"; }
 trap cleanup EXIT
-. "$RF_SRCDIR/tests/batch/tap.sh"
+. "$RF_SRCDIR/tests/tap.sh"
 batch() { "$rigflow" --plugin-path "$fx" batch "$pipeline" "$@"; }
 
 # ---- usage errors ----

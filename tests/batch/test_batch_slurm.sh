@@ -15,7 +15,7 @@ why=$(slurm_cluster_check) || { echo "# SKIP Slurm batch test: $why"; exit 77; }
 
 tmp=$(mktemp -d)
 trap 'slurm_cluster_stop; rm -rf "$tmp"' EXIT
-. "$RF_SRCDIR/tests/batch/tap.sh"
+. "$RF_SRCDIR/tests/tap.sh"
 
 chmod 0755 "$tmp" # munged wants every folder above its socket searchable
 mkdir -p "$tmp/cluster"

@@ -12,32 +12,20 @@ fi
 cmu="$data/bvh/cmu_01_01.bvh" fox="$data/models/Fox.glb" bandai="$data/bvh/bandai_walk.bvh"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-pass=0 fail=0
-ok() { pass=$((pass + 1)); echo "ok - $1"; }
-bad() { fail=$((fail + 1)); echo "not ok - $1"; sed 's/^/    stderr: /' "$tmp/err" | head -20; }
-expect() { # expect CODE NAME -- COMMAND...
-    local want=$1 name=$2
-    shift 3
-    "$@" >"$tmp/out" 2>"$tmp/err"
-    local got=$?
-    if [ "$got" = "$want" ]; then ok "$name"; else bad "$name (exit $got, expected $want)"; fi
-}
-contains() { # contains FILE REGEX NAME
-    if grep -qE -- "$2" "$1"; then ok "$3"; else bad "$3: /$2/ not in $(basename "$1")"; fi
-}
+. "${RF_SRCDIR:?}/tests/tap.sh"
 
 expect 2 "one file is a usage error" -- "$rigflow" map "$cmu"
 expect 2 "--repeat 0 is a usage error" -- "$rigflow" map --repeat 0 "$cmu" "$fox"
 
 expect 0 "CMU onto the Fox, printed" -- "$rigflow" map "$cmu" "$fox"
-contains "$tmp/out" "^b_LeftLeg01_015 +<- 0:LeftUpLeg " "left hind thigh from the left thigh"
-contains "$tmp/out" "^b_RightUpperArm_06 +<- 0:RightArm " "right foreleg from the right arm"
-contains "$tmp/out" "^b_Tail01_012 +\(unmapped\)" "a human has no tail"
-contains "$tmp/out" "target joints mapped$" "summary line"
+matches "$tmp/out" "^b_LeftLeg01_015 +<- 0:LeftUpLeg " "left hind thigh from the left thigh"
+matches "$tmp/out" "^b_RightUpperArm_06 +<- 0:RightArm " "right foreleg from the right arm"
+matches "$tmp/out" "^b_Tail01_012 +\(unmapped\)" "a human has no tail"
+matches "$tmp/out" "target joints mapped$" "summary line"
 
 expect 0 "-o writes a mapping file" -- "$rigflow" map "$cmu" "$fox" -o "$tmp/fox.json"
-contains "$tmp/fox.json" '"format": "rigflow.mapping"' "file has the format tag"
-contains "$tmp/fox.json" '"target": "b_Tail03_014"' "file lists every target joint"
+matches "$tmp/fox.json" '"format": "rigflow.mapping"' "file has the format tag"
+matches "$tmp/fox.json" '"target": "b_Tail03_014"' "file lists every target joint"
 expect 0 "pipelines/map.json on the same pair" -- "$rigflow" run "${RF_SRCDIR:?}/pipelines/map.json" \
     -p source.path="$cmu" -p target.path="$fox" -p save.path="$tmp/again.json"
 if cmp -s "$tmp/fox.json" "$tmp/again.json"; then ok "command and pipeline agree"; else
@@ -58,8 +46,8 @@ pairs() { # one line per joint and input, "TARGET SOURCE_JOINT" or "TARGET -" (w
 }
 pairs "$tmp/fox.json" >"$tmp/fox.pairs"
 pairs "$tmp/edited.json" >"$tmp/edited.pairs"
-contains "$tmp/edited.pairs" "^b_Tail01_012 LowerBack$" "a fix maps a joint"
-contains "$tmp/edited.pairs" "^b_Head_05 -$" "a fix unmaps a joint"
+matches "$tmp/edited.pairs" "^b_Tail01_012 LowerBack$" "a fix maps a joint"
+matches "$tmp/edited.pairs" "^b_Head_05 -$" "a fix unmaps a joint"
 if diff <(grep -v "^b_Tail01_012 \|^b_Head_05 " "$tmp/fox.pairs") \
     <(grep -v "^b_Tail01_012 \|^b_Head_05 " "$tmp/edited.pairs") >/dev/null &&
     [ "$(wc -l <"$tmp/edited.pairs")" -eq 24 ]; then
@@ -72,42 +60,42 @@ expect 1 "an unwritable -o fails" -- "$rigflow" map "$cmu" "$fox" -o "$tmp/no/su
 [ ! -e "$tmp/no" ] && ok "nothing left behind" || bad "nothing left behind"
 
 expect 0 "--explain" -- "$rigflow" map --explain "$cmu" "$fox"
-contains "$tmp/out" "three best candidates" "explain header"
-contains "$tmp/out" "same_side=30 same_type=50" "explain shows metrics"
-contains "$tmp/out" "^up +\(.*\) from " "explain shows the detected up axis"
-contains "$tmp/out" "sections:" "explain shows sections"
+matches "$tmp/out" "three best candidates" "explain header"
+matches "$tmp/out" "same_side=30 same_type=50" "explain shows metrics"
+matches "$tmp/out" "^up +\(.*\) from " "explain shows the detected up axis"
+matches "$tmp/out" "sections:" "explain shows sections"
 # every target joint says why it got its source: the Fox has 24 joints
 whys=$(grep -c "^    why: " "$tmp/out" || true)
 [ "$whys" -eq 24 ] && ok "explain gives a reason for each of the 24 joints" ||
     bad "explain gives a reason for each of the 24 joints (got $whys)"
-contains "$tmp/out" "why: beat 0:[A-Za-z0-9]* by [0-9.]*, decided by [a-z_]* [(][+]" \
+matches "$tmp/out" "why: beat 0:[A-Za-z0-9]* by [0-9.]*, decided by [a-z_]* [(][+]" \
     "explain names the metric that decided"
 
 # up is voted by the limbs' hang, the ground the feet span and the file: the Fox stands on four
 # feet (every cue agrees, no warning); the Animalia owl, one-bone legs under a round body and
 # wings, is a close call between axes and is warned about.
-contains "$tmp/out" "^ +cues: limbs [+][0-9.]+ ground [+][0-9.]+" "explain shows the up cues"
+matches "$tmp/out" "^ +cues: limbs [+][0-9.]+ ground [+][0-9.]+" "explain shows the up cues"
 if grep -q "up axis is uncertain" "$tmp/out"; then bad "no up warning for the Fox"; else
     ok "no up warning for the Fox"
 fi
 owl="$data/models/creatures/animalia_owl.b3d"
 if [ -f "$owl" ]; then
     expect 0 "--explain on the owl" -- "$rigflow" map --explain "$cmu" "$owl"
-    contains "$tmp/out" "^warning: the target's up axis is uncertain .*map.target_up=" \
+    matches "$tmp/out" "^warning: the target's up axis is uncertain .*map.target_up=" \
         "explain warns when the up cues disagree"
 fi
 
 expect 0 "--repeat" -- "$rigflow" map --repeat 5 "$cmu" "$fox"
-contains "$tmp/err" "^map_us_median=[0-9.]+$" "timing on stderr"
+matches "$tmp/err" "^map_us_median=[0-9.]+$" "timing on stderr"
 
 expect 0 "two sources blended" -- "$rigflow" map "$cmu" "$bandai" "$fox" -p map.blend=true
-contains "$tmp/out" "<- 0:.* <- 1:" "joints driven by both sources"
+matches "$tmp/out" "<- 0:.* <- 1:" "joints driven by both sources"
 # Bandai's rest pose is no body: the command connects the clips, the matcher analyses a pose
 # of the clip (the *_L joints are on the body's left, checked in the clip's frames).
 if [ -f "$data/bvh/bandai_walk.bvh" ]; then
     expect 0 "CMU onto Bandai (rest pose no body)" -- "$rigflow" map "$cmu" "$data/bvh/bandai_walk.bvh"
-    contains "$tmp/out" "^UpperLeg_L +<- 0:LeftUpLeg " "Bandai's left thigh from the left thigh"
-    contains "$tmp/out" "^Hand_R +<- 0:RightHand " "Bandai's right hand from the right hand"
+    matches "$tmp/out" "^UpperLeg_L +<- 0:LeftUpLeg " "Bandai's left thigh from the left thigh"
+    matches "$tmp/out" "^Hand_R +<- 0:RightHand " "Bandai's right hand from the right hand"
 fi
 
 expect 0 "the names matcher" -- "$rigflow" map -m names "$cmu" "$fox"
@@ -115,7 +103,7 @@ expect 3 "a bad parameter is a validation error" -- "$rigflow" map -p map.strate
 expect 1 "a missing file fails" -- "$rigflow" map "$cmu" "$tmp/missing.glb"
 if [ -f "$data/models/spider.fbx" ]; then
     expect 1 "spider.fbx refused" -- "$rigflow" map "$cmu" "$data/models/spider.fbx"
-    contains "$tmp/err" "no skeleton" "refusal says why"
+    matches "$tmp/err" "no skeleton" "refusal says why"
 fi
 
 echo "# $pass passed, $fail failed"
