@@ -144,47 +144,79 @@ static bool rf_rig_sees(const rf_rig_rays *r, uint32_t part, const double p[3], 
     return ray.tfar >= 0;
 }
 
-/* How far from p along the unit direction d the first surface of the mesh is, up to `far`. */
-static double rf_rig_exit(const rf_rig_rays *r, const double p[3], const double d[3], double far)
+static double rf_rig_dist3(const double *a, const double *b)
 {
-    struct RTCRay ray = {0};
-    ray.org_x = (float)p[0], ray.org_y = (float)p[1], ray.org_z = (float)p[2];
-    ray.dir_x = (float)d[0], ray.dir_y = (float)d[1], ray.dir_z = (float)d[2];
-    ray.tnear = 0, ray.tfar = (float)far, ray.mask = UINT32_MAX;
-    struct RTCIntersectContext ctx; /* no filter: every part's surface counts */
-    rtcInitIntersectContext(&ctx);
-    struct RTCRayHit hit = {.ray = ray};
-    hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(r->scene, &ctx, &hit);
-    return hit.hit.geomID == RTC_INVALID_GEOMETRY_ID ? far : hit.ray.tfar;
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
 }
 
-bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k)
+/* With the bones' axes known: the bone from a joint to a child on the joint's axis continues
+ * the joint's bone and is the joint's (a head over the hips' axis past helper joints: the torso
+ * between is the hips'), whatever the leaf rule said; a joint with no child on its axis (a neck
+ * whose face joints all sit off it) gets a bone of its own along the axis, as long as the
+ * farthest of its parent and children is from it. reach and on are scratch, [n] each. */
+static void rf_rig_axis_bones(rf_rig_skel *k, const double *axis, double tiny, double *reach,
+                              uint8_t *on)
 {
-    rf_rig_rays rays = {0};
+    for (uint32_t j = 0; j < k->n; j++) {
+        int32_t p = k->parent[j];
+        reach[j] = p >= 0 ? rf_rig_dist3(k->pos + (size_t)j * 3, k->pos + (size_t)p * 3) : 0;
+        on[j] = 0;
+    }
+    for (uint32_t c = 0; c < k->n; c++) {
+        int32_t j = k->parent[c];
+        if (j < 0)
+            continue;
+        const double *a = axis + (size_t)j * 3, *o = k->pos + (size_t)j * 3,
+                     *q = k->pos + (size_t)c * 3;
+        double len = rf_rig_dist3(o, q);
+        double along = (q[0] - o[0]) * a[0] + (q[1] - o[1]) * a[1] + (q[2] - o[2]) * a[2];
+        reach[j] = fmax(reach[j], len);
+        if ((a[0] || a[1] || a[2]) && (len <= tiny || along >= 0.95 * len)) {
+            on[j] = 1; /* within 18 degrees of the axis */
+            if (k->owns_in)
+                k->owns_in[c] = 0;
+        }
+    }
+    for (uint32_t j = 0; j < k->n; j++) {
+        const double *a = axis + (size_t)j * 3;
+        if (!(a[0] || a[1] || a[2]) || on[j] || k->has_tip[j] || !(reach[j] > tiny))
+            continue;
+        for (int c = 0; c < 3; c++)
+            k->tip[(size_t)j * 3 + c] = k->pos[(size_t)j * 3 + c] + a[c] * reach[j];
+        k->has_tip[j] = 1;
+    }
+}
+
+bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k, const double *axis)
+{
+    double tiny = 1e-9 * p->longest, *reach = malloc(((size_t)k->n + 1) * sizeof *reach);
     uint8_t *inner = calloc(k->n + 1, 1);
-    bool ok = inner && rf_rig_rays_make(&rays, &p->proxy, p->proxy_part);
-    for (uint32_t i = 0; ok && i < k->n; i++)
+    if (!reach || !inner) {
+        free(reach), free(inner);
+        return false;
+    }
+    if (axis)
+        rf_rig_axis_bones(k, axis, tiny, reach, inner);
+    memset(inner, 0, k->n);
+    for (uint32_t i = 0; i < k->n; i++)
         if (k->parent[i] >= 0)
             inner[k->parent[i]] = 1;
-    for (uint32_t i = 0; ok && i < k->n; i++) {
+    for (uint32_t i = 0; i < k->n; i++) {
         if (inner[i] || k->has_tip[i] || k->parent[i] < 0)
             continue;
         const double *a = k->pos + (size_t)k->parent[i] * 3, *b = k->pos + (size_t)i * 3;
-        double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (!(len > 1e-9 * p->longest))
+        const double *ax = axis ? axis + (size_t)i * 3 : NULL;
+        bool along = ax && (ax[0] || ax[1] || ax[2]);
+        double len = rf_rig_dist3(a, b);
+        if (!(len > tiny))
             continue;
         for (int c = 0; c < 3; c++)
-            d[c] /= len;
-        double t = rf_rig_exit(&rays, b, d, len);
-        for (int c = 0; c < 3; c++)
-            k->tip[(size_t)i * 3 + c] = b[c] + d[c] * t;
+            k->tip[(size_t)i * 3 + c] = b[c] + (along ? ax[c] * len : b[c] - a[c]);
         k->has_tip[i] = 1;
     }
-    rf_rig_rays_free(&rays);
-    free(inner);
-    return ok;
+    free(reach), free(inner);
+    return true;
 }
 
 /* ---- the proxy vertex nearest a point ---- */
