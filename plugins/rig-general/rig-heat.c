@@ -509,14 +509,28 @@ static bool rf_rig_solve(const rf_rig_geo *g, const rf_rig_src *src, uint32_t nj
     return ok;
 }
 
-/* Rows made non-negative and summing to 1; a row with no heat at all takes its nearest bone. */
+/* How much of each vertex's largest weight is taken off every weight of the vertex before the
+ * row is normalised again: artists' weights are sharper than bone heat's (1.0 to 1.8 joints per
+ * vertex above 0.15 of the largest on 21 of the 23 shared models, bone heat 1.1 to 2.3 at c = 2
+ * with the artists' skeletons), and a raised heat c makes them sharper only by moving every
+ * boundary. Taking a share off narrows each blend where it is (a vertex weighted 0.6 / 0.4
+ * becomes 0.63 / 0.37, one at 0.83 / 0.17 or beyond moves with one joint) and is continuous
+ * in the weights, so no seam appears where a weight is dropped. On the artists' own
+ * skeletons, 0.2: precision 75.4% -> 80.6%, recall 86.7% -> 81.6%, L1 0.506 -> 0.476
+ * (doc/autorig.md); bone heat then gives 1.0 to 1.6 joints per vertex. */
+#define RF_RIG_SHARPEN 0.2
+
+/* Rows made non-negative, sharpened and summing to 1; a row with no heat at all takes its
+ * nearest bone. */
 static void rf_rig_normalise(const rf_rig_prep *p, const rf_rig_bone *bones, uint32_t nb,
                              uint32_t nj, double *w, rf_rig_stats *st)
 {
     for (uint32_t i = 0; i < p->proxy.nv; i++) {
-        double *row = w + (size_t)i * nj, sum = 0;
+        double *row = w + (size_t)i * nj, sum = 0, most = 0;
         for (uint32_t j = 0; j < nj; j++)
-            sum += row[j] = row[j] > 1e-6 ? row[j] : 0;
+            most = fmax(most, row[j] = isfinite(row[j]) && row[j] > 1e-6 ? row[j] : 0);
+        for (uint32_t j = 0; j < nj; j++)
+            sum += row[j] = fmax(0, row[j] - RF_RIG_SHARPEN * most);
         if (sum > 1e-9 && isfinite(sum)) {
             for (uint32_t j = 0; j < nj; j++)
                 row[j] /= sum;

@@ -542,8 +542,9 @@ static double weight_of(const rf_mesh *m, uint32_t v, uint32_t j)
 /* A chain (a tail: joints at 0.2, 0.8 and 1.4 up a tube of length 2) whose last joint has no end
  * site, as glTF, FBX and .X files store it: the tube past the last joint moves with the last
  * joint, heated by a bone of its own (on along its axis, here its parent's direction, as far as its
- * parent's bone is long). Measured: at least 0.85 of every vertex past 1.55; 0.78 when the leaf was
- * heated as a point (which the parent's bone, ending there, ties with for every vertex past it). */
+ * parent's bone is long). Measured: at least 0.85 of every vertex past 1.55 (1.0 with the weights
+ * sharpened); 0.78 when the leaf was heated as a point (which the parent's bone, ending there,
+ * ties with for every vertex past it). */
 static void test_bind_leaf_end(void **state)
 {
     (void)state;
@@ -572,8 +573,8 @@ static void test_bind_leaf_end(void **state)
  * arm stub) off the chest. The head is a leaf hanging from a joint whose chain goes on, which
  * alone made it own the bone from the hips, so the whole trunk moved with the head; on the hips'
  * axis that bone continues the hips' and the trunk is the hips' (RobotExpressive's torso).
- * Measured: the hips' weight at least 0.91 on the trunk between 0.5 and 0.8 (0.07 when the head
- * owned the bone). */
+ * Measured: the hips' weight at least 0.91 on the trunk between 0.5 and 0.8, 1.0 with the weights
+ * sharpened (0.07 when the head owned the bone). */
 static void test_bind_axis_chain(void **state)
 {
     (void)state;

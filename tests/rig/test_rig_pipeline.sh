@@ -89,10 +89,10 @@ rows=$(tail -n +2 "$tmp/bench.csv" | wc -l)
 awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
                  cdmax[m] = cd; pmin[m] = p; rmin[m] = r; gpmin[m] = gp; grmin[m] = gr; glmax[m] = gl }
     BEGIN {
-        limits("\"Fox.glb\"", 0.055, 0.45, 0.52, 0.72, 0.88, 0.55)         # 0.047 .50/.57 .77/.93/.49
-        limits("\"RiggedFigure.glb\"", 0.045, 0.42, 0.30, 0.80, 0.90, 0.36) # 0.038 .47/.35 .86/.95/.30
-        limits("\"Testwuson.X\"", 0.049, 0.26, 0.38, 0.60, 0.83, 0.72)      # 0.044 .31/.44 .65/.88/.67
-        limits("\"animalia_wolf.b3d\"", 0.074, 0.32, 0.38, 0.76, 0.81, 0.40) # 0.069 .37/.43 .81/.86/.35
+        limits("\"Fox.glb\"", 0.055, 0.45, 0.43, 0.80, 0.82, 0.50)         # 0.047 .52/.48 .86/.87/.45
+        limits("\"RiggedFigure.glb\"", 0.045, 0.40, 0.25, 0.88, 0.78, 0.32) # 0.038 .46/.30 .94/.84/.27
+        limits("\"Testwuson.X\"", 0.049, 0.28, 0.34, 0.74, 0.78, 0.53)      # 0.044 .34/.39 .80/.84/.47
+        limits("\"animalia_wolf.b3d\"", 0.074, 0.30, 0.34, 0.80, 0.81, 0.35) # 0.069 .35/.39 .85/.86/.30
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -143,10 +143,10 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joints"; else ok; fi
 awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r }
     BEGIN {
-        limits("\"Fox.glb\"", 0.037, 0.60, 0.78)                # 0.034 .65/.81
-        limits("\"RiggedFigure.glb\"", 0.0292, 0.72, 0.62)      # 0.0286 .82/.64
-        limits("\"Testwuson.X\"", 0.041, 0.18, 0.24)            # 0.038 .44/.60 (below)
-        limits("\"animalia_wolf.b3d\"", 0.063, 0.68, 0.78)      # 0.059 .75/.84
+        limits("\"Fox.glb\"", 0.037, 0.68, 0.68)                # 0.034 .74/.73
+        limits("\"RiggedFigure.glb\"", 0.0292, 0.78, 0.56)      # 0.0286 .85/.62
+        limits("\"Testwuson.X\"", 0.041, 0.18, 0.24)            # 0.038 .57/.56 (below)
+        limits("\"animalia_wolf.b3d\"", 0.063, 0.68, 0.74)      # 0.059 .75/.80
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
