@@ -152,9 +152,13 @@ static double rf_rig_dist3(const double *a, const double *b)
 
 /* With the bones' axes known: the bone from a joint to a child on the joint's axis continues
  * the joint's bone and is the joint's (a head over the hips' axis past helper joints: the torso
- * between is the hips'), whatever the leaf rule said; a joint with no child on its axis (a neck
- * whose face joints all sit off it) gets a bone of its own along the axis, as long as the
- * farthest of its parent and children is from it. reach and on are scratch, [n] each. */
+ * between is the hips'), whatever the leaf rule said. A leaf off its parent's axis owns the
+ * offset from its parent only when the parent's bone goes on along its axis into a chain (a
+ * torso running on to the neck: the legs hanging off it are single-joint limbs); a parent whose
+ * chain ends there (BCN_Epileptic's neck, whose jaw, ponytail and face joints all sit off its
+ * axis) keeps those offsets, as a head keeps its ears'. A joint with no child on its axis gets a
+ * bone of its own along the axis, as long as the farthest of its parent and children is from
+ * it. reach and on are scratch, [n] each. */
 static void rf_rig_axis_bones(rf_rig_skel *k, const double *axis, double tiny, double *reach,
                               uint8_t *on)
 {
@@ -163,6 +167,9 @@ static void rf_rig_axis_bones(rf_rig_skel *k, const double *axis, double tiny, d
         reach[j] = p >= 0 ? rf_rig_dist3(k->pos + (size_t)j * 3, k->pos + (size_t)p * 3) : 0;
         on[j] = 0;
     }
+    for (uint32_t j = 0; j < k->n; j++)
+        if (k->parent[j] >= 0)
+            on[k->parent[j]] |= 4; /* an inner joint */
     for (uint32_t c = 0; c < k->n; c++) {
         int32_t j = k->parent[c];
         if (j < 0)
@@ -173,14 +180,21 @@ static void rf_rig_axis_bones(rf_rig_skel *k, const double *axis, double tiny, d
         double along = (q[0] - o[0]) * a[0] + (q[1] - o[1]) * a[1] + (q[2] - o[2]) * a[2];
         reach[j] = fmax(reach[j], len);
         if ((a[0] || a[1] || a[2]) && (len <= tiny || along >= 0.95 * len)) {
-            on[j] = 1; /* within 18 degrees of the axis */
+            /* within 18 degrees of the axis; 2: a chain goes on along it */
+            on[j] |= 1 | (on[c] & 4 ? 2 : 0);
             if (k->owns_in)
                 k->owns_in[c] = 0;
         }
     }
+    for (uint32_t c = 0; k->owns_in && c < k->n; c++) {
+        int32_t j = k->parent[c];
+        const double *a = j >= 0 ? axis + (size_t)j * 3 : NULL;
+        if (a && (a[0] || a[1] || a[2]) && !(on[j] & 2))
+            k->owns_in[c] = 0;
+    }
     for (uint32_t j = 0; j < k->n; j++) {
         const double *a = axis + (size_t)j * 3;
-        if (!(a[0] || a[1] || a[2]) || on[j] || k->has_tip[j] || !(reach[j] > tiny))
+        if (!(a[0] || a[1] || a[2]) || (on[j] & 1) || k->has_tip[j] || !(reach[j] > tiny))
             continue;
         for (int c = 0; c < 3; c++)
             k->tip[(size_t)j * 3 + c] = k->pos[(size_t)j * 3 + c] + a[c] * reach[j];
