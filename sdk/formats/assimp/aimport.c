@@ -799,8 +799,11 @@ static bool rf_ai_run(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
     if (!c->joint_count && o->require_skeleton)
         return rf_ai_fail(c,
                           "no skeleton: no skinned bones, animated nodes or node hierarchy "
-                          "(%u meshes, %u animations); a skeleton is required here",
-                          c->scene->mNumMeshes, c->scene->mNumAnimations);
+                          "(%u meshes, %u animations)%s%s; a skeleton is required here",
+                          c->scene->mNumMeshes, c->scene->mNumAnimations,
+                          c->confine.missing[0] ? "; files it asked for that are not beside it: "
+                                                : "",
+                          c->confine.missing);
     if (!rf_ai_build_skeleton(c, o, &r->skeleton) || !rf_ai_build_mesh(c, &r->mesh))
         return false;
     rf_ai_flag_unweighted(r->skeleton, r->mesh);
