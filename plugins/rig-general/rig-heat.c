@@ -614,6 +614,46 @@ static void rf_rig_keep_enclosed(const double *held, uint32_t nj, double *row)
         row[j] = total > 0 ? row[j] / total : j == best;
 }
 
+/* The bone length each loose part encloses per joint, into held[part * nj + joint] and its sum
+ * into sum[part]: points along each bone, each tested for the parts enclosing it. A bone whose
+ * only point inside a part is its last (a torso's bone ending at a hip at the top of a leg box, a
+ * neck's ending at the back of a head box) only reaches into that part and holds none of it.
+ * inside[part] and touched[] are scratch. */
+static void rf_rig_held(const rf_rig_rays *rays, const rf_rig_bone *bones, uint32_t nb, uint32_t nj,
+                        double far, double *held, double *sum, uint32_t *ahead, uint32_t *behind,
+                        uint32_t *crossed, uint32_t *inside, uint32_t *touched)
+{
+    for (uint32_t b = 0; b < nb; b++) {
+        double len = 0;
+        uint32_t ntouched = 0;
+        for (int c = 0; c < 3; c++)
+            len += (bones[b].b[c] - bones[b].a[c]) * (bones[b].b[c] - bones[b].a[c]);
+        len = sqrt(len) / RF_RIG_SAMPLES;
+        for (int k = 0; len > 0 && k < RF_RIG_SAMPLES; k++) {
+            double t = (k + 0.5) / RF_RIG_SAMPLES, q[3];
+            for (int c = 0; c < 3; c++)
+                q[c] = bones[b].a[c] + t * (bones[b].b[c] - bones[b].a[c]);
+            uint32_t n = rf_rig_enclosing(rays, q, far, ahead, behind, crossed);
+            for (uint32_t x = 0; x < n; x++) {
+                uint32_t part = crossed[x];
+                if ((ahead[part] & 1) && (behind[part] & 1)) {
+                    if (!inside[part])
+                        touched[ntouched++] = part;
+                    /* the count of points inside, and 1 << 16 when the last is */
+                    inside[part] += 1 + (k == RF_RIG_SAMPLES - 1 ? 1u << 16 : 0);
+                }
+                ahead[part] = behind[part] = 0;
+            }
+        }
+        for (uint32_t x = 0; x < ntouched; x++) {
+            uint32_t part = touched[x], n = inside[part] & 0xffff;
+            if (!(n == 1 && inside[part] >> 16))
+                held[(size_t)part * nj + bones[b].joint] += n * len, sum[part] += n * len;
+            inside[part] = 0;
+        }
+    }
+}
+
 /* A loose part that encloses bones is moved by the joints whose bones it encloses, and only by
  * them: a sleeve over an elbow by the upper arm and the forearm, not by the chest beside it.
  * When one joint holds seven tenths of the bone length inside it or more, by that joint alone,
@@ -629,26 +669,12 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
     uint32_t *crossed = malloc((2 * (size_t)np + 1) * sizeof *crossed);
     double *area = calloc(np + 1, sizeof *area);
     uint32_t *owner = malloc((np + 1) * sizeof *owner);
-    bool ok = held && sum && ahead && behind && crossed && area && owner;
-    double far = 4 * p->longest;
-    for (uint32_t b = 0; ok && b < nb; b++) {
-        double len = 0;
-        for (int c = 0; c < 3; c++)
-            len += (bones[b].b[c] - bones[b].a[c]) * (bones[b].b[c] - bones[b].a[c]);
-        len = sqrt(len) / RF_RIG_SAMPLES;
-        for (int k = 0; len > 0 && k < RF_RIG_SAMPLES; k++) {
-            double t = (k + 0.5) / RF_RIG_SAMPLES, q[3];
-            for (int c = 0; c < 3; c++)
-                q[c] = bones[b].a[c] + t * (bones[b].b[c] - bones[b].a[c]);
-            uint32_t n = rf_rig_enclosing(rays, q, far, ahead, behind, crossed);
-            for (uint32_t x = 0; x < n; x++) {
-                uint32_t part = crossed[x];
-                if ((ahead[part] & 1) && (behind[part] & 1))
-                    held[(size_t)part * nj + bones[b].joint] += len, sum[part] += len;
-                ahead[part] = behind[part] = 0;
-            }
-        }
-    }
+    uint32_t *inside = calloc(np + 1, sizeof *inside),
+             *touched = malloc((np + 1) * sizeof *touched);
+    bool ok = held && sum && ahead && behind && crossed && area && owner && inside && touched;
+    if (ok)
+        rf_rig_held(rays, bones, nb, nj, 4 * p->longest, held, sum, ahead, behind, crossed, inside,
+                    touched);
     uint32_t largest = 0;
     for (uint32_t t = 0; ok && t < p->proxy.nt; t++) {
         double cot[3];
@@ -678,6 +704,7 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         w[(size_t)i * nj + j] = 1;
     }
     free(held), free(sum), free(ahead), free(behind), free(crossed), free(area), free(owner);
+    free(inside), free(touched);
     return ok;
 }
 

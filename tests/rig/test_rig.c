@@ -721,6 +721,36 @@ static void test_bind_rigid_part(void **state)
     rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
 }
 
+/* A box model whose body joint's bone ends just inside the top of a leg box (the leg joint's
+ * pivot), the leg's bone down the leg box: a bone that only reaches into a part with its end
+ * does not move it, so the leg box moves with the leg alone. Counted as it was, the body's bone
+ * held 0.31 of the bone length inside the box, under the 0.7 that makes a box rigid, and its
+ * corners in the body took the body's weight. */
+static void test_bind_reaching_bone(void **state)
+{
+    (void)state;
+    rf_mesh *in = rf_mesh_new();
+    in->positions = calloc(16 * 3, sizeof(float));
+    in->triangles = calloc(24 * 3, sizeof(uint32_t));
+    add_box(in, -2, 1, -0.5, 2, 2, 0.5);      /* the body */
+    add_box(in, 1.3, 0, -0.2, 1.7, 1.2, 0.2); /* the leg, into the body at the top */
+    rf_skeleton *s = rf_skeleton_new(2);
+    s->joints[0].parent = -1, s->joints[1].parent = 0;
+    s->joints[0].rest = s->joints[1].rest = rf_xform_identity();
+    s->joints[0].rest.t = rf_v3(-1.5, 1.5, 0), s->joints[1].rest.t = rf_v3(3.0, -0.55, 0);
+    s->joints[1].end_site = rf_v3(0, -0.85, 0), s->joints[1].flags |= RF_JOINT_HAS_END_SITE;
+    rf_mesh *m = NULL;
+    char err[256];
+    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    double least = 1;
+    for (uint32_t v = 8; v < 16; v++)
+        least = fmin(least, weight_of(m, v, 1));
+    printf("# leg box under a body bone reaching into it: leg weight at least %.3f\n", least);
+    assert_true(least > 0.999);
+    rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
+}
+
 /* A sleeve: a loose part over an elbow (a shoulder joint at its inner end, an elbow joint half
  * way, the forearm's end site at its outer end) overlapping the body. The sleeve is moved by the
  * shoulder and the elbow, whose bones it encloses, and not by the body's joint: by bone heat
@@ -1057,6 +1087,7 @@ int main(void)
         cmocka_unit_test(test_bind_axis_chain),
         cmocka_unit_test(test_bind_axis_chain_end),
         cmocka_unit_test(test_bind_rigid_part),
+        cmocka_unit_test(test_bind_reaching_bone),
         cmocka_unit_test(test_bind_speck),
         cmocka_unit_test(test_bind_sleeve),
         cmocka_unit_test(test_bind_open_sheet),
