@@ -530,9 +530,13 @@ static int rf_rig_bone_axis(const rf_skeleton *s, const rf_mat4 *world)
 {
     uint32_t n = s->joint_count, with[6] = {0}, total = 0;
     uint8_t *on = calloc((size_t)n * 6 + 1, 1), *any = calloc(n + 1, 1);
-    double extent = 0;
-    for (uint32_t j = 0; j < n; j++)
-        extent = fmax(extent, rf_v3_len(rf_mat4_point(world[j], rf_v3(0, 0, 0))));
+    rf_vec3 lo = rf_v3(INFINITY, INFINITY, INFINITY), hi = rf_v3(-INFINITY, -INFINITY, -INFINITY);
+    for (uint32_t j = 0; j < n; j++) {
+        rf_vec3 at = rf_mat4_point(world[j], rf_v3(0, 0, 0));
+        lo = rf_v3(fmin(lo.x, at.x), fmin(lo.y, at.y), fmin(lo.z, at.z));
+        hi = rf_v3(fmax(hi.x, at.x), fmax(hi.y, at.y), fmax(hi.z, at.z));
+    }
+    double extent = n ? rf_v3_dist(lo, hi) : 0; /* the skeleton's size, wherever it stands */
     for (uint32_t j = 0; on && any && j < n; j++) {
         int32_t p = s->joints[j].parent;
         rf_mat4 inv;
