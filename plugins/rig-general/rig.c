@@ -461,6 +461,19 @@ static double rf_rig_from_root(const rf_rig_skel *k, uint32_t j)
     return d;
 }
 
+/* Whether a joint below `first` stands higher (along up) than joint `girdle`. */
+static bool rf_rig_rises(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first)
+{
+    const double *g = k->pos + (size_t)girdle * 3;
+    double top = g[0] * up.x + g[1] * up.y + g[2] * up.z;
+    for (uint32_t j = first + 1; j < k->n; j++) { /* parents come first */
+        const double *p = k->pos + (size_t)j * 3;
+        if (rf_rig_below(k, j, first) && p[0] * up.x + p[1] * up.y + p[2] * up.z > top)
+            return true;
+    }
+    return false;
+}
+
 /* Where limb section `sec` leaves the body: where it meets its mirror image (the hips of two
  * legs leaving the body a band apart), or the joint it hangs from. */
 static uint32_t rf_rig_girdle_of(const rf_rig_skel *k, const rf_analysis *a, uint32_t sec)
@@ -510,8 +523,9 @@ static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, b
         rf_rig_limb *l = &out[n];
         l->first = rf_section_joints(a, s)[0];
         l->girdle = rf_rig_girdle_of(k, a, s);
-        if (l->girdle == l->first)
-            continue; /* a limb that is the root: nothing to lay it from */
+        if (l->girdle == l->first || (leg && rf_rig_rises(k, a->up, l->girdle, l->first)))
+            continue; /* a limb that is the root: nothing to lay it from; a leg carrying what
+                       * rises above its girdle (a head merged into a foreleg): kept whole */
         if (!leg) {
             l->kind = RF_RIG_LIMB_ARM, l->lay = &rf_rig_tpl_humanoid;
         } else if (legs == 2) {
