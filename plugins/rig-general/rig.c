@@ -523,9 +523,11 @@ static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, b
         rf_rig_limb *l = &out[n];
         l->first = rf_section_joints(a, s)[0];
         l->girdle = rf_rig_girdle_of(k, a, s);
-        if (l->girdle == l->first || (leg && rf_rig_rises(k, a->up, l->girdle, l->first)))
-            continue; /* a limb that is the root: nothing to lay it from; a leg carrying what
-                       * rises above its girdle (a head merged into a foreleg): kept whole */
+        if (l->girdle == l->first || !rf_rig_below(k, l->first, l->girdle) ||
+            (leg && rf_rig_rises(k, a->up, l->girdle, l->first)))
+            continue; /* a limb not hanging below its girdle (the root itself): nothing to lay
+                       * it from; a leg carrying what rises above its girdle (a head merged into
+                       * a foreleg): kept whole */
         if (!leg) {
             l->kind = RF_RIG_LIMB_ARM, l->lay = &rf_rig_tpl_humanoid;
         } else if (legs == 2) {
