@@ -190,6 +190,13 @@ void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32
                        rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, double pos[4][3],
                        double tip[3]);
 
+/* The general rigger's joints short of bone heat, in place on its curve skeleton k
+ * (rf_rig_curve): limbs cut where the layouts given put their joints (NULL: the built-in ones)
+ * and a level body's spine moved along its back (rig.c). False when out of memory. The fitting
+ * of layouts (tests/rig/rig-fit --general) scores the general rigger through it. */
+bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o,
+                          const rf_rig_tpl_layout *humanoid, const rf_rig_tpl_layout *quadruped);
+
 /* The template laid into curve skeleton k of the cleaned mesh p, as a working skeleton into
  * *out (names into names[joint], 24 bytes each, up to 40 joints), with the layouts given
  * (NULL: the built-in ones) and which template into *got. The template rigger's work short of

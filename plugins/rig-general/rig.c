@@ -495,7 +495,7 @@ static uint32_t rf_rig_girdle_of(const rf_rig_skel *k, const rf_analysis *a, uin
  * Legs of a body with six or more are left as the curve cut them: no layout was fitted to
  * them. Returns the count. */
 static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, bool declared,
-                                   rf_rig_limb *out)
+                                   const rf_rig_tpl_layout *const lay[2], rf_rig_limb *out)
 {
     uint32_t n = 0, legs = 0;
     double arm_len = 0; /* the longest pair of arms: the arms (or wings), not ears or spikes */
@@ -529,14 +529,14 @@ static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, b
                        * it from; a leg carrying what rises above its girdle (a head merged into
                        * a foreleg): kept whole */
         if (!leg) {
-            l->kind = RF_RIG_LIMB_ARM, l->lay = &rf_rig_tpl_humanoid;
+            l->kind = RF_RIG_LIMB_ARM, l->lay = lay[0];
         } else if (legs == 2) {
-            l->kind = RF_RIG_LIMB_LEG, l->lay = &rf_rig_tpl_humanoid;
+            l->kind = RF_RIG_LIMB_LEG, l->lay = lay[0];
         } else {
             bool hind = declared ? sec->body_pos <= hind_pos + 1e-9
                                  : rf_rig_from_root(k, l->girdle) <= hind_from_root + 1e-9;
             l->kind = hind ? RF_RIG_LIMB_HIND_LEG : RF_RIG_LIMB_FORELEG;
-            l->lay = &rf_rig_tpl_quadruped;
+            l->lay = lay[1];
         }
         n++;
     }
@@ -612,7 +612,8 @@ static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb
  * template's fitted layouts), not into even bones: a knee at the leg's bend, the hip joint a
  * little into the leg, one bone for the hand and its fingers. The rest of the curve skeleton
  * (spine, neck, tail, fins, a spider's legs) keeps its even bones. False when out of memory. */
-static bool rf_rig_limbs(rf_rig_skel *k, const rf_rig_options *o)
+static bool rf_rig_limbs(rf_rig_skel *k, const rf_rig_options *o,
+                         const rf_rig_tpl_layout *const lay[2])
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
@@ -621,12 +622,23 @@ static bool rf_rig_limbs(rf_rig_skel *k, const rf_rig_options *o)
     rf_analysis *a = rf_analyze(s, NULL);
     rf_rig_limb limbs[RF_RIG_MAX_LIMBS];
     bool ok = a != NULL;
-    uint32_t nl = ok ? rf_rig_limbs_found(k, a, rf_v3_len(o->forward) > 0, limbs) : 0;
+    uint32_t nl = ok ? rf_rig_limbs_found(k, a, rf_v3_len(o->forward) > 0, lay, limbs) : 0;
     if (ok && nl)
         ok = rf_rig_relay(k, a, limbs, nl);
     rf_analysis_free(a);
     rf_skeleton_free(s);
     return ok;
+}
+
+bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o,
+                          const rf_rig_tpl_layout *humanoid, const rf_rig_tpl_layout *quadruped)
+{
+    const rf_rig_tpl_layout *const lay[2] = {humanoid ? humanoid : &rf_rig_tpl_humanoid,
+                                             quadruped ? quadruped : &rf_rig_tpl_quadruped};
+    if (!rf_rig_limbs(k, o, lay))
+        return false;
+    rf_rig_dorsal(p, k, o);
+    return true;
 }
 
 bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
@@ -644,10 +656,8 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
     if (progress)
         progress(user, 0.1);
     bool ok = rf_rig_curve(&p, &o, &k, err, err_size);
-    if (ok && !rf_rig_limbs(&k, &o))
+    if (ok && !rf_rig_general_place(&p, &k, &o, NULL, NULL))
         ok = rf_rig_fail(err, err_size, "out of memory laying out the limbs");
-    if (ok)
-        rf_rig_dorsal(&p, &k, &o);
     if (ok && progress)
         progress(user, 0.4);
     rf_skeleton *s = ok ? rf_rig_skeleton(&k, &o) : NULL;
