@@ -661,19 +661,36 @@ static int rf_rig_edge_cmp(const void *pa, const void *pb)
 }
 
 /* Marks open[part] for each loose part with an edge on one triangle only (a sheet, a cape, a
- * skirt open at its hem, a wing's membrane); a closed part has every edge on two or more. False
- * when out of memory. */
+ * skirt open at its hem, a wing's membrane) or no volume inside it (a sheet made double-sided,
+ * every edge on two triangles back to back). False when out of memory. */
 static bool rf_rig_open_parts(const rf_rig_prep *p, uint8_t *open)
 {
     size_t ne = (size_t)p->proxy.nt * 3;
     uint64_t *e = malloc((ne + 1) * sizeof *e);
-    if (!e)
+    double *vol = calloc(p->proxy_parts + 1, sizeof *vol),
+           *area = calloc(p->proxy_parts + 1, sizeof *area);
+    if (!e || !vol || !area) {
+        free(e), free(vol), free(area);
         return false;
-    for (size_t t = 0; t < p->proxy.nt; t++)
-        for (int c = 0; c < 3; c++) {
-            uint64_t u = p->proxy.t[t * 3 + c], v = p->proxy.t[t * 3 + (c + 1) % 3];
-            e[t * 3 + c] = u < v ? u << 32 | v : v << 32 | u;
+    }
+    for (size_t t = 0; t < p->proxy.nt; t++) {
+        double q[3][3], cot[3]; /* the corners from the proxy's box corner, for precision */
+        for (int k = 0; k < 3; k++)
+            for (int c = 0; c < 3; c++)
+                q[k][c] = p->proxy.p[(size_t)p->proxy.t[t * 3 + k] * 3 + c] - p->lo[c];
+        uint32_t part = p->proxy_part[p->proxy.t[t * 3]];
+        /* the signed volume of the tetrahedron from the box corner, summed over a closed
+         * surface, is the volume it holds */
+        vol[part] += (q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) -
+                      q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+                      q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0])) /
+                     6;
+        area[part] += rf_rig_tri(&p->proxy, (uint32_t)t, cot);
+        for (int k = 0; k < 3; k++) {
+            uint64_t u = p->proxy.t[t * 3 + k], v = p->proxy.t[t * 3 + (k + 1) % 3];
+            e[t * 3 + k] = u < v ? u << 32 | v : v << 32 | u;
         }
+    }
     qsort(e, ne, sizeof *e, rf_rig_edge_cmp);
     for (size_t i = 0; i < ne;) {
         size_t k = i;
@@ -683,7 +700,10 @@ static bool rf_rig_open_parts(const rf_rig_prep *p, uint8_t *open)
             open[p->proxy_part[e[i] >> 32]] = 1;
         i = k;
     }
-    free(e);
+    /* a sphere holds 0.094 A^1.5, a box a hundred times thinner than it is wide 0.003 */
+    for (uint32_t q = 0; q < p->proxy_parts; q++)
+        open[q] |= !(fabs(vol[q]) > 1e-5 * pow(area[q], 1.5));
+    free(e), free(vol), free(area);
     return true;
 }
 
