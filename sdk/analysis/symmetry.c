@@ -372,6 +372,15 @@ static void fallback_candidates(rf_awork *w, rf_candidates *cs, rf_vec3 center)
     propose(cs, rf_v3(0, 1, 0), center, 0);
 }
 
+/* The up axis forced or declared by the file (zero when neither): the symmetry plane holds it. */
+static rf_vec3 known_up(const rf_awork *w)
+{
+    rf_vec3 u = w->opt.up;
+    if (!(rf_v3_isfinite(u) && rf_v3_len2(u) > 1e-24) && !w->opt.ignore_file_axes)
+        u = w->skel->up;
+    return rf_v3_isfinite(u) && rf_v3_len2(u) > 1e-24 ? rf_v3_normalize(u) : rf_v3(0, 0, 0);
+}
+
 #define RF_SCORED_CLUSTERS 12
 
 static int cmp_cluster(const void *a, const void *b)
@@ -413,6 +422,7 @@ void rf_an_symmetry(rf_awork *w)
         fallback_candidates(w, cs, center);
     }
     sort_clusters(cs);
+    rf_vec3 up = known_up(w);
     double best = -1;
     uint32_t best_off = 0, best_matched = 0;
     rf_vec3 bn = w->plane_n, bp = center;
@@ -424,6 +434,17 @@ void rf_an_symmetry(rf_awork *w)
         /* Proposed planes beat the fallback axes on ties: they come from the skeleton. */
         double bonus = cs->c[i].weight > 0 ? 1e-3 : 0;
         double score = plane_score(w, g, n, p, best - bonus, &off, &matched);
+        rf_vec3 nu = rf_v3_sub(n, rf_v3_scale(up, rf_v3_dot(n, up)));
+        if (cs->c[i].weight > 0 && rf_v3_len(nu) > 0.5 && rf_v3_dot(n, up) != 0) {
+            /* the same plane stood upright: mirrored limbs of a rig cut from a scan rarely
+             * match to the degree, and a tilt of a few degrees misses the far joints */
+            nu = rf_v3_normalize(nu);
+            uint32_t off_u, matched_u;
+            double score_u =
+                plane_score(w, g, nu, p, fmax(score, best - bonus), &off_u, &matched_u);
+            if (score_u > score)
+                n = nu, score = score_u, off = off_u, matched = matched_u;
+        }
         /* on a tie the plane whose off-plane joints more often find a twin: a body seen
          * front to back can match as many joints as seen left to right, never all of them */
         bool tie = score >= 0 && fabs(score + bonus - best) < 1e-6 && off > 0 && best_off > 0 &&
@@ -477,21 +498,54 @@ static uint8_t *one_sided(const rf_awork *w, double tiny)
     return out;
 }
 
+/* Per joint, the mean distance from the plane of the joints of its subtree that are on the plane
+ * or have a twin across it, into off[] (NAN when none are): how far off centre the body hanging
+ * from it sits. A prop held in one hand (a staff, a sword) has no twin and does not pull the
+ * spine carrying it off the centerline. */
+static double *balanced_offset(const rf_awork *w, const rf_grid *g, double tol_c)
+{
+    double *sum = calloc(w->n ? w->n : 1, sizeof *sum);
+    uint32_t *count = calloc(w->n ? w->n : 1, sizeof *count);
+    if (!sum || !count || !g) {
+        free(count);
+        free(sum);
+        return NULL;
+    }
+    for (uint32_t i = w->order_count; i-- > 0;) {
+        uint32_t j = w->order[i];
+        rf_vec3 q = rf_an_pos(w, j);
+        double d = rf_an_plane_dist(w, q);
+        if (fabs(d) <= tol_c || grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), j,
+                                             d > 0 ? -1 : 1) >= 0)
+            sum[j] += d, count[j]++;
+        if (w->parent[j] >= 0)
+            sum[w->parent[j]] += sum[j], count[w->parent[j]] += count[j];
+    }
+    for (uint32_t j = 0; j < w->n; j++)
+        sum[j] = count[j] ? sum[j] / count[j] : NAN;
+    free(count);
+    return sum;
+}
+
 void rf_an_classify(rf_awork *w)
 {
     const rf_grid *grid = work_grid(w);
     double tol_c = 0.5 * w->tol, tiny = 0.05 * w->tol;
     uint8_t *lateral = one_sided(w, 0.25 * w->tol);
+    double *offset = w->have_plane ? balanced_offset(w, grid, tol_c) : NULL;
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
         int32_t p = w->parent[j];
         rf_vec3 q = rf_an_pos(w, j);
         double d = rf_an_plane_dist(w, q);
-        bool center = (p < 0 || w->center[p]) && fabs(d) <= tol_c &&
-                      fabs(rf_an_plane_dist(w, centroid(w, j))) <= tol_c &&
+        double sub = offset && !isnan(offset[j]) ? offset[j] : rf_an_plane_dist(w, centroid(w, j));
+        bool center = (p < 0 || w->center[p]) && fabs(d) <= tol_c && fabs(sub) <= tol_c &&
                       !(lateral && lateral[j]);
-        /* No symmetry: no sides. The root chain and the body's top are the centerline. */
-        bool forced = !w->have_plane || w->root_chain[j] || (int32_t)j == w->top;
+        /* No symmetry: no sides. The root chain and the body's top are the centerline, and
+         * before they are known the root carrying most of the skeleton (a placement node at the
+         * origin, the body standing away from it, is no limb). */
+        bool forced = !w->have_plane || w->root_chain[j] || (int32_t)j == w->top ||
+                      (p < 0 && w->top < 0 && 2 * w->sub_count[j] > w->order_count);
         if (center && fabs(d) > tiny && grid) {
             rf_vec3 r = rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d));
             int32_t twin = grid_nearest(grid, w, r, j, d > 0 ? -1 : 1);
@@ -504,6 +558,7 @@ void rf_an_classify(rf_awork *w)
         else
             w->limb_of[j] = (p < 0 || w->center[p]) ? (int32_t)j : w->limb_of[p];
     }
+    free(offset);
     free(lateral);
 }
 
