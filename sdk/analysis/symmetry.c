@@ -473,10 +473,11 @@ out:
  * twin across the plane (eyes close to the plane are a pair, not the centerline). */
 /* Per joint: whether all its descendants lie off the plane on one side (a hip offset bone on
  * the pelvis pivot carrying a leg), however narrow the hips are next to the wingspan that sets
- * the tolerances. */
-static uint8_t *one_sided(const rf_awork *w, double tiny)
+ * the tolerances, and one of them has a twin across the plane (the other leg): a head whose
+ * chain leans a little to one side has none and stays on the centerline. */
+static uint8_t *one_sided(const rf_awork *w, const rf_grid *g, double tiny)
 {
-    uint8_t *side = calloc(w->n ? w->n : 1, 1); /* bits: 1 left of the plane, 2 right, 4 on */
+    uint8_t *side = calloc(w->n ? w->n : 1, 1); /* bits: 1 left, 2 right, 4 on, 8 twinned */
     uint8_t *out = calloc(w->n ? w->n : 1, 1);
     if (!side || !out) {
         free(side);
@@ -488,11 +489,16 @@ static uint8_t *one_sided(const rf_awork *w, double tiny)
         uint8_t below = 0;
         for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
             uint32_t c = w->child_idx[k];
-            double d = rf_an_plane_dist(w, rf_an_pos(w, c));
+            rf_vec3 q = rf_an_pos(w, c);
+            double d = rf_an_plane_dist(w, q);
             below |= side[c] | (d > tiny ? 1 : d < -tiny ? 2 : 4);
+            if ((d > tiny || d < -tiny) && !(below & 8) &&
+                (!g || grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), c,
+                                    d > 0 ? -1 : 1) >= 0))
+                below |= 8;
         }
         side[j] = below;
-        out[j] = below == 1 || below == 2;
+        out[j] = (below & 7) == 1 || (below & 7) == 2 ? (below & 8) != 0 : 0;
     }
     free(side);
     return out;
@@ -531,7 +537,7 @@ void rf_an_classify(rf_awork *w)
 {
     const rf_grid *grid = work_grid(w);
     double tol_c = 0.5 * w->tol, tiny = 0.05 * w->tol;
-    uint8_t *lateral = one_sided(w, 0.25 * w->tol);
+    uint8_t *lateral = one_sided(w, grid, 0.25 * w->tol);
     double *offset = w->have_plane ? balanced_offset(w, grid, tol_c) : NULL;
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];

@@ -837,6 +837,28 @@ static void test_placement_root_off_plane(void **state)
     rf_skeleton_free(s);
 }
 
+/* A head whose chain leans a little to one side (a curve skeleton through a box head): all of
+ * the neck's descendants lie on one side of the plane, as a hip offset's leg does, but nothing
+ * mirrors them: the neck and head stay on the centerline, not an unpaired arm. */
+static void test_head_leaning(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped)];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) {
+        js[n] = sb_biped[i];
+        if (!strcmp(js[n].name, "head"))
+            js[n].x = 0.03;
+        n++;
+    }
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    check_biped_sections(a, s);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -863,6 +885,7 @@ int main(void)
         cmocka_unit_test(test_folded_leaf),
         cmocka_unit_test(test_staff_in_one_hand),
         cmocka_unit_test(test_placement_root_off_plane),
+        cmocka_unit_test(test_head_leaning),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
