@@ -4,7 +4,7 @@
 #   the Khronos glTF-Validator accepts; a flat mesh is refused with a reason and leaves no file.
 # - pipelines/scan-to-animation.json: spider.obj (eight legs, no rig) walks the CMU walk; the GLB
 #   validates and holds the clip.
-# - rigflow rig-bench on four rigged models with their rigs ignored: every vertex weighted, skinning
+# - rigflow rig-bench on five rigged models with their rigs ignored: every vertex weighted, skinning
 #   (after the matcher, and on the artist skeleton, with its L1 below a ceiling) above floors,
 #   both rigs read the same way up and facing, and CD-J2J (fraction of the longest bounding-box
 #   edge) below the thresholds
@@ -76,13 +76,16 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 # rig-bench thresholds (doc/autorig.md), per model: CD-J2J, the skinning after the matcher and on
 # the skeleton of the artist, no vertex unweighted, the analysis reading both rigs the same way up
 # and facing (the animalia wolf, a .b3d file that declares no forward, is read facing forward
-# only with its rig rooted at the hips)
+# only with its rig rooted at the hips). RiggedFigure's skinning after the matcher needs its box
+# head's curve, leaning a little to one side, read as the head (47% / 35% as an unpaired arm);
+# the Wizard's needs its spine read along the declared up with the staff in the right hand (2% /
+# 1% when the spine ran through the arm into the staff)
 "$rigflow" rig-bench -r general "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
     "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" \
-    >"$tmp/bench.csv" 2>"$tmp/err" || ko "rig-bench exit $?"
+    "$data/models/Wizard.glb" >"$tmp/bench.csv" 2>"$tmp/err" || ko "rig-bench exit $?"
 cat "$tmp/bench.csv"
 rows=$(tail -n +2 "$tmp/bench.csv" | wc -l)
-[ "$rows" -eq 4 ] && ok || ko "rig-bench: $rows rows, expected 4"
+[ "$rows" -eq 5 ] && ok || ko "rig-bench: $rows rows, expected 5"
 # columns by their header names; the status (last) is quoted text and may hold commas. Limits:
 # what the rigger reaches (in the comments: CD-J2J, skinning P / R after the matcher, P / R / L1
 # on the skeleton of the artist) with room for another machine's rounding
@@ -90,9 +93,10 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
                  cdmax[m] = cd; pmin[m] = p; rmin[m] = r; gpmin[m] = gp; grmin[m] = gr; glmax[m] = gl }
     BEGIN {
         limits("\"Fox.glb\"", 0.055, 0.45, 0.52, 0.72, 0.88, 0.55)         # 0.047 .50/.57 .77/.93/.49
-        limits("\"RiggedFigure.glb\"", 0.045, 0.42, 0.30, 0.80, 0.90, 0.36) # 0.038 .47/.35 .86/.95/.30
+        limits("\"RiggedFigure.glb\"", 0.045, 0.62, 0.46, 0.80, 0.90, 0.36) # 0.038 .69/.51 .86/.95/.30
         limits("\"Testwuson.X\"", 0.049, 0.26, 0.38, 0.60, 0.83, 0.72)      # 0.044 .31/.44 .65/.88/.67
         limits("\"animalia_wolf.b3d\"", 0.074, 0.32, 0.38, 0.76, 0.81, 0.40) # 0.069 .37/.43 .81/.86/.35
+        limits("\"Wizard.glb\"", 0.075, 0.18, 0.22, 0.65, 0.76, 0.62)       # 0.068 .22/.27 .70/.81/.56
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
