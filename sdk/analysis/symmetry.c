@@ -435,7 +435,7 @@ void rf_an_symmetry(rf_awork *w)
         double bonus = cs->c[i].weight > 0 ? 1e-3 : 0;
         double score = plane_score(w, g, n, p, best - bonus, &off, &matched);
         rf_vec3 nu = rf_v3_sub(n, rf_v3_scale(up, rf_v3_dot(n, up)));
-        if (cs->c[i].weight > 0 && rf_v3_len(nu) > 0.5 && rf_v3_dot(n, up) != 0) {
+        if (cs->c[i].weight > 0 && rf_v3_len(nu) > 0.5 && fabs(rf_v3_dot(n, up)) > 0.02) {
             /* the same plane stood upright: mirrored limbs of a rig cut from a scan rarely
              * match to the degree, and a tilt of a few degrees misses the far joints */
             nu = rf_v3_normalize(nu);
@@ -471,11 +471,26 @@ out:
 
 /* Center: near the plane, with a subtree centred on it, under a center parent, and without a
  * twin across the plane (eyes close to the plane are a pair, not the centerline). */
+/* Per joint off the plane by more than `tiny`: whether a joint lies near its reflection on the
+ * other side (its twin). One query per joint, shared by the tests below. */
+static uint8_t *twins(const rf_awork *w, const rf_grid *g, double tiny)
+{
+    uint8_t *twin = calloc(w->n ? w->n : 1, 1);
+    for (uint32_t i = 0; twin && g && i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        rf_vec3 q = rf_an_pos(w, j);
+        double d = rf_an_plane_dist(w, q);
+        twin[j] = fabs(d) > tiny && grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)),
+                                                 j, d > 0 ? -1 : 1) >= 0;
+    }
+    return twin;
+}
+
 /* Per joint: whether all its descendants lie off the plane on one side (a hip offset bone on
  * the pelvis pivot carrying a leg), however narrow the hips are next to the wingspan that sets
  * the tolerances, and one of them has a twin across the plane (the other leg): a head whose
  * chain leans a little to one side has none and stays on the centerline. */
-static uint8_t *one_sided(const rf_awork *w, const rf_grid *g, double tiny)
+static uint8_t *one_sided(const rf_awork *w, const uint8_t *twin, double tiny)
 {
     uint8_t *side = calloc(w->n ? w->n : 1, 1); /* bits: 1 left, 2 right, 4 on, 8 twinned */
     uint8_t *out = calloc(w->n ? w->n : 1, 1);
@@ -489,13 +504,8 @@ static uint8_t *one_sided(const rf_awork *w, const rf_grid *g, double tiny)
         uint8_t below = 0;
         for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
             uint32_t c = w->child_idx[k];
-            rf_vec3 q = rf_an_pos(w, c);
-            double d = rf_an_plane_dist(w, q);
-            below |= side[c] | (d > tiny ? 1 : d < -tiny ? 2 : 4);
-            if ((d > tiny || d < -tiny) && !(below & 8) &&
-                (!g || grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), c,
-                                    d > 0 ? -1 : 1) >= 0))
-                below |= 8;
+            double d = rf_an_plane_dist(w, rf_an_pos(w, c));
+            below |= side[c] | (d > tiny ? 1 : d < -tiny ? 2 : 4) | (twin[c] ? 8 : 0);
         }
         side[j] = below;
         out[j] = (below & 7) == 1 || (below & 7) == 2 ? (below & 8) != 0 : 0;
@@ -505,24 +515,22 @@ static uint8_t *one_sided(const rf_awork *w, const rf_grid *g, double tiny)
 }
 
 /* Per joint, the mean distance from the plane of the joints of its subtree that are on the plane
- * or have a twin across it, into off[] (NAN when none are): how far off centre the body hanging
- * from it sits. A prop held in one hand (a staff, a sword) has no twin and does not pull the
- * spine carrying it off the centerline. */
-static double *balanced_offset(const rf_awork *w, const rf_grid *g, double tol_c)
+ * (within tol_c) or have a twin across it (NAN when none are): how far off centre the body
+ * hanging from it sits. A prop held in one hand (a staff, a sword) has no twin and does not pull
+ * the spine carrying it off the centerline. */
+static double *balanced_offset(const rf_awork *w, const uint8_t *twin, double tol_c)
 {
     double *sum = calloc(w->n ? w->n : 1, sizeof *sum);
     uint32_t *count = calloc(w->n ? w->n : 1, sizeof *count);
-    if (!sum || !count || !g) {
+    if (!sum || !count) {
         free(count);
         free(sum);
         return NULL;
     }
     for (uint32_t i = w->order_count; i-- > 0;) {
         uint32_t j = w->order[i];
-        rf_vec3 q = rf_an_pos(w, j);
-        double d = rf_an_plane_dist(w, q);
-        if (fabs(d) <= tol_c || grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), j,
-                                             d > 0 ? -1 : 1) >= 0)
+        double d = rf_an_plane_dist(w, rf_an_pos(w, j));
+        if (fabs(d) <= tol_c || twin[j])
             sum[j] += d, count[j]++;
         if (w->parent[j] >= 0)
             sum[w->parent[j]] += sum[j], count[w->parent[j]] += count[j];
@@ -537,8 +545,10 @@ void rf_an_classify(rf_awork *w)
 {
     const rf_grid *grid = work_grid(w);
     double tol_c = 0.5 * w->tol, tiny = 0.05 * w->tol;
-    uint8_t *lateral = one_sided(w, grid, 0.25 * w->tol);
-    double *offset = w->have_plane ? balanced_offset(w, grid, tol_c) : NULL;
+    /* without a plane every joint is on the centerline (below): nothing to measure */
+    uint8_t *twinned = w->have_plane && grid ? twins(w, grid, 0.25 * w->tol) : NULL;
+    uint8_t *lateral = twinned ? one_sided(w, twinned, 0.25 * w->tol) : NULL;
+    double *offset = twinned ? balanced_offset(w, twinned, tol_c) : NULL;
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
         int32_t p = w->parent[j];
@@ -566,6 +576,7 @@ void rf_an_classify(rf_awork *w)
     }
     free(offset);
     free(lateral);
+    free(twinned);
 }
 
 /* Each off-center joint's mirror image: the nearest joint to its reflection, other side. */
