@@ -467,6 +467,30 @@ out:
     free(cs);
 }
 
+/* Moves the plane along its normal to the mean midpoint of its twin pairs. Called once up is
+ * known and the normal stood upright: the offset found with a tilted normal (a curve skeleton's
+ * legs a tenth of the body apart in height) is off by the tilt times the body's height at the
+ * chest, enough to put the spine off the centerline. */
+void rf_an_recentre(rf_awork *w)
+{
+    const rf_grid *g = w->have_plane ? work_grid(w) : NULL;
+    double sum = 0;
+    uint32_t count = 0;
+    for (uint32_t i = 0; g && i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        rf_vec3 q = rf_an_pos(w, j);
+        double d = rf_an_plane_dist(w, q);
+        if (d <= 0.5 * w->tol) /* one side only: each pair once */
+            continue;
+        int32_t m = grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), j, -1);
+        if (m >= 0)
+            sum += 0.5 * (d + rf_an_plane_dist(w, rf_an_pos(w, (uint32_t)m))), count++;
+    }
+    if (count)
+        w->plane_p = rf_v3_add(w->plane_p, rf_v3_scale(w->plane_n, sum / count));
+    w->a->plane_point = w->plane_p;
+}
+
 /* ---- centerline and limbs ---- */
 
 /* Center: near the plane, with a subtree centred on it, under a center parent, and without a

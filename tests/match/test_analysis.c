@@ -859,6 +859,47 @@ static void test_head_leaning(void **state)
     rf_skeleton_free(s);
 }
 
+/* The same wizard rigged with limbs laid out along the curves: the right arm runs on into the
+ * staff, so the arms mirror each other only near the body and the best plane, between the legs,
+ * tilts by 4.5 degrees. Once up is known the plane stands upright and is re-centred on its twin
+ * pairs: the spine (its second joint 0.06 right of the hips) stays on the centerline. */
+static const sb_joint staff_layout[] = {
+    {"hips", NULL, -0.019, 0.927, -0.016, 0},       {"spine", "hips", 0.057, 1.348, -0.074, 0},
+    {"chest", "spine", -0.005, 1.754, -0.028, 0},   {"top", "chest", 0.009, 2.110, -0.053, 0},
+    {"neck", "top", 0.0, 2.448, -0.038, 0},         {"head", "neck", 0.0, 2.807, -0.090, 0},
+    {"crown", "head", 0.023, 2.947, -0.330, 0},     {".", "crown", -0.051, 2.979, -0.625, 0},
+    {"l_hip", "hips", 0.151, 0.738, -0.047, 0},     {"l_knee", "l_hip", 0.285, 0.588, -0.071, 0},
+    {"l_ankle", "l_knee", 0.248, 0.241, -0.040, 0}, {"l_toe", "l_ankle", 0.250, 0.163, 0.040, 0},
+    {".", "l_toe", 0.253, -0.003, 0.209, 0},        {"r_hip", "hips", -0.119, 0.715, -0.043, 0},
+    {"r_knee", "r_hip", -0.224, 0.493, -0.071, 0},  {"r_ankle", "r_knee", -0.250, 0.232, -0.045, 0},
+    {"r_toe", "r_ankle", -0.249, 0.162, 0.031, 0},  {".", "r_toe", -0.247, 0.014, 0.191, 0},
+    {"l_clav", "top", 0.219, 2.042, -0.053, 0},     {"l_arm", "l_clav", 0.249, 2.032, -0.053, 0},
+    {"l_fore", "l_arm", 0.610, 1.915, -0.052, 0},   {"l_hand", "l_fore", 1.227, 1.845, -0.054, 0},
+    {".", "l_hand", 1.520, 1.803, -0.165, 0},       {"r_clav", "top", -0.360, 1.994, -0.050, 0},
+    {"r_arm", "r_clav", -0.413, 1.977, -0.050, 0},  {"r_fore", "r_arm", -1.347, 1.830, 0.015, 0},
+    {"staff", "r_fore", -1.307, 1.808, -0.793, 0},  {".", "staff", -1.307, 1.808, -1.346, 0},
+};
+
+static void test_staff_laid_out(void **state)
+{
+    (void)state;
+    rf_skeleton *s = sb_build(staff_layout, SB_COUNT(staff_layout));
+    s->up = rf_v3(0, 1, 0), s->forward = rf_v3(0, 0, 1);
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    const char *spine[] = {"hips", "spine", "chest", "top"};
+    for (size_t i = 0; i < 4; i++)
+        assert_section(a, s, spine[i], RF_SECTION_SPINE, RF_SIDE_CENTER);
+    assert_section(a, s, "head", RF_SECTION_HEAD, RF_SIDE_CENTER);
+    assert_section(a, s, "l_knee", RF_SECTION_LEG, RF_SIDE_LEFT);
+    assert_section(a, s, "r_knee", RF_SECTION_LEG, RF_SIDE_RIGHT);
+    assert_int_equal(a->joints[sb_find(s, "l_fore")].side, RF_SIDE_LEFT);
+    assert_int_equal(a->joints[sb_find(s, "r_fore")].side, RF_SIDE_RIGHT);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -886,6 +927,7 @@ int main(void)
         cmocka_unit_test(test_staff_in_one_hand),
         cmocka_unit_test(test_placement_root_off_plane),
         cmocka_unit_test(test_head_leaning),
+        cmocka_unit_test(test_staff_laid_out),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -19,6 +19,7 @@
 #include <cmocka.h>
 
 #include <rigflow/aimport.h>
+#include <rigflow/memory.h>
 
 #include "rig-internal.h"
 
@@ -932,6 +933,145 @@ static void test_place_section(void **state)
     assert_true(pos[2] == moved[2]); /* joint 0 not asked for */
 }
 
+/* ---- where limb joints go along a limb (rf_rig_limb_place, both riggers) ---- */
+
+static void expect_at(const double got[3], double x, double y, double z, const char *what)
+{
+    if (!(fabs(got[0] - x) < 1e-6 && fabs(got[1] - y) < 1e-6 && fabs(got[2] - z) < 1e-6))
+        fail_msg("%s at (%g %g %g), expected (%g %g %g)", what, got[0], got[1], got[2], x, y, z);
+}
+
+/* A leg hanging from a girdle at height 1: down 0.2 and 0.3 to a knee (0, 0.5, 0), 45 degrees
+ * forward to (0, 0.2, 0.3), down to the ankle (0, 0, 0.3) and its end site (0, 0, 0.5) on the
+ * floor; 1.3243 long in all (arc lengths 0, 0.2, 0.5, 0.9243, 1.1243, 1.3243). Joint 5 climbs
+ * from the leg's first joint to a height of 2.2, farther than the foot: a head merged into a
+ * foreleg, which a leg's curve leaves out and an arm's follows. With layout fractions chosen
+ * here (not the fitted ones), every expected place is worked out by hand along that curve. */
+static void test_limb_layout(void **state)
+{
+    (void)state;
+    double pos[6 * 3] = {0, 1, 0, 0, 0.8, 0, 0, 0.5, 0, 0, 0.2, 0.3, 0, 0, 0.3, 0, 2.2, 0};
+    double tip[6 * 3] = {0};
+    int32_t parent[6] = {-1, 0, 1, 2, 3, 1};
+    uint8_t has_tip[6] = {0, 0, 0, 0, 1, 0};
+    tip[4 * 3 + 2] = 0.5;
+    rf_rig_skel k = {.n = 6, .pos = pos, .parent = parent, .tip = tip, .has_tip = has_tip};
+    rf_rig_tpl_layout l = {.upleg = 0.1,
+                           .knee = 0.47,
+                           .knee_lo = 0.35,
+                           .knee_hi = 0.6,
+                           .ankle_rise = 0.1,
+                           .toe = 0.5,
+                           .hock = 0.7,
+                           .hock_lo = 0.6,
+                           .hock_hi = 0.9,
+                           .shoulder = 0.1,
+                           .arm = 0.2,
+                           .elbow = 0.4,
+                           .elbow_lo = 0.28,
+                           .elbow_hi = 0.53,
+                           .hand = 0.8};
+    double j[4][3], end[3];
+    rf_vec3 up = rf_v3(0, 1, 0);
+    /* a biped's leg: the hip 0.1 of the way (0.1324 down the first bone), the knee at the bend
+     * (at 0.378, in its window), the ankle at the first point no higher than 0.1 of the leg's
+     * height (the ankle joint, at 0.849), the toe half way on from there (0.924: 0.1 along the
+     * foot's last bone) */
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_LEG, &l, j, end);
+    expect_at(j[0], 0, 1 - 0.1 * 1.324264, 0, "hip");
+    expect_at(j[1], 0, 0.5, 0, "knee");
+    expect_at(j[2], 0, 0, 0.3, "ankle");
+    expect_at(j[3], 0, 0, 0.4, "toe");
+    expect_at(end, 0, 0, 0.5, "end");
+    /* a hind leg: its hock at the sharpest bend in [0.6, 0.9], the ankle's right angle (0.849)
+     * and not the 45 degrees at 0.698 */
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_HIND_LEG, &l, j, end);
+    expect_at(j[1], 0, 0.5, 0, "stifle");
+    expect_at(j[2], 0, 0, 0.3, "hock");
+    /* an arm on the same curve, without the climbing branch: clavicle and upper arm at 0.1
+     * and 0.2, the elbow at the bend, the hand at 0.8 (1.0594: 0.1352 down from (0, 0.2, 0.3)) */
+    k.n = 5;
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, j, end);
+    expect_at(j[0], 0, 1 - 0.1 * 1.324264, 0, "clavicle");
+    expect_at(j[1], 0, 1 - 0.2 * 1.324264, 0, "upper arm");
+    expect_at(j[2], 0, 0.5, 0, "elbow");
+    expect_at(j[3], 0, 0.2 - (0.8 * 1.324264 - 0.924264), 0.3, "hand");
+    /* with the climbing branch an arm follows it: its end is that branch's joint */
+    k.n = 6;
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, j, end);
+    expect_at(end, 0, 2.2, 0, "an arm's end");
+}
+
+/* The general rigger on the four-legged table creature (forward +x, the head over the front
+ * legs): four feet, each the end of a leg of four joints, each lower than the one before. A
+ * hind leg runs straight down, so its joints' heights fall in proportion to their places along
+ * it: the quadruped layout's hip, stifle and hock (no bend, so at the layout's defaults) make
+ * the drop from stifle to hock (hock - knee) / (knee - upleg) times the drop from hip to stifle,
+ * about 2.1; bones of even length would make it about 1. */
+static void test_general_legs(void **state)
+{
+    (void)state;
+    rf_mesh *in = table_creature(1, 0);
+    rf_skeleton *s;
+    rf_mesh *m;
+    char err[512];
+    rf_rig_options o = {.up = rf_v3(0, 1, 0), .forward = rf_v3(1, 0, 0)};
+    if (!rf_rig_general(in, &o, &s, &m, NULL, NULL, NULL, err, sizeof err))
+        fail_msg("table creature: %s", err);
+    rf_vec3 w[256];
+    assert_true(s->joint_count <= 256);
+    world_joints(s, w);
+    const rf_rig_tpl_layout *l = &rf_rig_tpl_quadruped;
+    double want = (l->hock - l->knee) / (l->knee - l->upleg);
+    uint32_t feet = 0, hind = 0;
+    for (uint32_t f = 0; f < s->joint_count; f++) {
+        if (!(s->joints[f].flags & RF_JOINT_HAS_END_SITE) ||
+            rf_v3_add(w[f], s->joints[f].end_site).y > 0.2)
+            continue;
+        feet++;
+        int32_t leg[4] = {(int32_t)f};
+        for (int i = 1; i < 4; i++) {
+            leg[i] = s->joints[leg[i - 1]].parent;
+            assert_true(leg[i] >= 0);
+            if (!(w[leg[i]].y > w[leg[i - 1]].y + 0.05))
+                fail_msg("leg joint %s (y %g) under %s (y %g)", s->joints[leg[i - 1]].name,
+                         w[leg[i - 1]].y, s->joints[leg[i]].name, w[leg[i]].y);
+        }
+        if (w[f].x > 0)
+            continue; /* a foreleg; the head may hang off one (a box model's curve skeleton) */
+        hind++;
+        double ratio = (w[leg[2]].y - w[leg[1]].y) / (w[leg[3]].y - w[leg[2]].y);
+        printf("# hind leg %s: stifle to hock %.2f times hip to stifle (layout %.2f)\n",
+               s->joints[f].name, ratio, want);
+        if (!(fabs(ratio - want) < 0.15 * want))
+            fail_msg("hind leg %s: stifle to hock %g times hip to stifle, the layout %g",
+                     s->joints[f].name, ratio, want);
+    }
+    assert_int_equal(feet, 4);
+    assert_int_equal(hind, 2);
+    rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
+}
+
+/* A scan too large for the memory left is refused before any work, with the figures: 120 million
+ * vertices and 40 million triangles need 120e6 * 100 + 40e6 * 40 bytes = 13.6 GB (by hand). */
+static void test_memory_refusal(void **state)
+{
+    (void)state;
+    char err[512] = "";
+    assert_true(rf_rig_memory_fits(120000000, 40000000, false, 0, err, sizeof err));
+    assert_true(rf_rig_memory_fits(120000000, 40000000, true, 14000000000u, err, sizeof err));
+    assert_false(rf_rig_memory_fits(120000000, 40000000, true, 8000000000u, err, sizeof err));
+    assert_non_null(strstr(err, "13.6 GB to rig and 8.0 GB is available"));
+    /* on Linux the system always says something, and a running process has some memory left */
+    uint64_t left = 0;
+    FILE *f = fopen("/proc/meminfo", "r");
+    if (f) {
+        fclose(f);
+        assert_true(rf_memory_available(&left));
+        assert_true(left > 0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -944,6 +1084,8 @@ int main(void)
         cmocka_unit_test(test_bind_open_sheet),  cmocka_unit_test(test_narrow_gap),
         cmocka_unit_test(test_template_refusal), cmocka_unit_test(test_template_quadruped),
         cmocka_unit_test(test_template_models),  cmocka_unit_test(test_place_section),
+        cmocka_unit_test(test_limb_layout),      cmocka_unit_test(test_general_legs),
+        cmocka_unit_test(test_memory_refusal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
