@@ -900,6 +900,34 @@ static void test_staff_laid_out(void **state)
     rf_skeleton_free(s);
 }
 
+/* A quadruped whose head carries a pair of long ears (a curve skeleton's ears, 0.55 of a leg's
+ * reach): the ears hang from the head, not from a girdle, so the spine ends at the forelegs and
+ * the head stays the head. */
+static void test_quadruped_ears(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_quadruped) + 4];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++)
+        js[n++] = sb_quadruped[i];
+    js[n++] = (sb_joint){"l_ear", "head", -0.08, 1.42, -0.75, 0};
+    js[n++] = (sb_joint){".", "l_ear", -0.36, 1.77, -0.72, 0};
+    js[n++] = (sb_joint){"r_ear", "head", 0.08, 1.42, -0.75, 0};
+    js[n++] = (sb_joint){".", "r_ear", 0.36, 1.77, -0.72, 0};
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    assert_near_dir(a->forward, rf_v3(0, 0, -1));
+    assert_section(a, s, "chest", RF_SECTION_SPINE, RF_SIDE_CENTER);
+    assert_section(a, s, "neck", RF_SECTION_HEAD, RF_SIDE_CENTER);
+    assert_section(a, s, "head", RF_SECTION_HEAD, RF_SIDE_CENTER);
+    assert_int_equal(section_of(a, s, "l_ear")->type, RF_SECTION_APPENDAGE);
+    assert_int_equal(section_of(a, s, "fl2")->type, RF_SECTION_LEG);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -928,6 +956,7 @@ int main(void)
         cmocka_unit_test(test_placement_root_off_plane),
         cmocka_unit_test(test_head_leaning),
         cmocka_unit_test(test_staff_laid_out),
+        cmocka_unit_test(test_quadruped_ears),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
