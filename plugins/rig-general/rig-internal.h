@@ -87,10 +87,11 @@ uint32_t rf_rig_bones(const rf_rig_skel *s, rf_rig_bone **out);
 double rf_rig_seg_dist(const double q[3], const rf_rig_bone *b, double c[3]);
 
 /* Every leaf joint of k without an end site and with a parent gets one (has_tip set): on from
- * the joint in its parent's direction, as far as its parent's bone is long or to where the
- * surface of the proxy is first met, whichever is nearer. False when out of memory or Embree
- * failed. */
-bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k);
+ * the joint along its bone's axis (axis[joint * 3], unit, in world; zero or axis NULL: its
+ * parent's direction) as far as its parent's bone is long. With axes, a bone to a child on its
+ * parent's axis is the parent's (owns_in cleared) and a joint with no child on its axis gets a
+ * bone along it (rig-heat.c). False when out of memory. */
+bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k, const double *axis);
 
 /* A grid over the proxy's vertices, for the vertex nearest a point (rig-heat.c). */
 typedef struct rf_rig_near rf_rig_near;

@@ -385,9 +385,15 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
         for (size_t i = 0; used && i < (size_t)m->vertex_count * 4; i++)
             if (m->skin_weights[i] > 0)
                 used[m->skin_joints[i]] = 1;
+        /* weighted below: a joint inside a chain whose bone won no vertex still bends it */
+        uint8_t *below = calloc(k->n + 1, 1);
+        for (uint32_t j = k->n; used && below && j-- > 0;)
+            if ((used[j] || below[j]) && k->parent[j] >= 0)
+                below[k->parent[j]] = 1;
         for (uint32_t j = 0; used && j < k->n; j++)
-            if (!used[j])
+            if (!used[j] && !(below && below[j]))
                 s->joints[j].flags |= RF_JOINT_UNWEIGHTED;
+        free(below);
         free(used);
         st->joints = k->n;
         *skinned = m;
@@ -731,6 +737,68 @@ static bool rf_rig_from_skeleton(const rf_skeleton *s, const rf_mat4 *world, rf_
     return ok;
 }
 
+/* The local axis a skeleton's bones run along, when it keeps to one: DCC tools aim each
+ * joint's frame down its bone (Blender +y, 3ds Max +x), so a joint has a child on that axis of
+ * its frame, the same axis throughout the file; children off it are branches (legs and a tail
+ * off a torso) or an armature's root's offsets. Returns 0..5 (+x, -x, +y, -y, +z, -z) when at
+ * least two joints and three in five of those with children have a child on one axis, else -1:
+ * frames that say nothing of the bones (identity frames, as BVH leaves them, put legs on -y,
+ * the spine on +y and arms on x). A child at its parent's pivot (a helper) says nothing. */
+static int rf_rig_bone_axis(const rf_skeleton *s, const rf_mat4 *world)
+{
+    uint32_t n = s->joint_count, with[6] = {0}, total = 0;
+    uint8_t *on = calloc((size_t)n * 6 + 1, 1), *any = calloc(n + 1, 1);
+    rf_vec3 lo = rf_v3(INFINITY, INFINITY, INFINITY), hi = rf_v3(-INFINITY, -INFINITY, -INFINITY);
+    for (uint32_t j = 0; j < n; j++) {
+        rf_vec3 at = rf_mat4_point(world[j], rf_v3(0, 0, 0));
+        lo = rf_v3(fmin(lo.x, at.x), fmin(lo.y, at.y), fmin(lo.z, at.z));
+        hi = rf_v3(fmax(hi.x, at.x), fmax(hi.y, at.y), fmax(hi.z, at.z));
+    }
+    double extent = n ? rf_v3_dist(lo, hi) : 0; /* the skeleton's size, wherever it stands */
+    for (uint32_t j = 0; on && any && j < n; j++) {
+        int32_t p = s->joints[j].parent;
+        rf_mat4 inv;
+        if (p < 0 || !rf_mat4_invert(world[p], &inv))
+            continue;
+        rf_vec3 at = rf_mat4_point(world[j], rf_v3(0, 0, 0));
+        if (!(rf_v3_dist(at, rf_mat4_point(world[p], rf_v3(0, 0, 0))) > 1e-4 * extent))
+            continue;
+        rf_vec3 o = rf_mat4_point(inv, at); /* the child in its parent's frame */
+        double len = rf_v3_len(o), c[3] = {o.x, o.y, o.z};
+        any[p] = 1;
+        for (int a = 0; a < 3; a++)
+            if (fabs(c[a]) >= 0.999 * len)
+                on[(size_t)p * 6 + 2 * a + (c[a] < 0)] = 1;
+    }
+    for (uint32_t j = 0; on && any && j < n; j++) {
+        total += any[j];
+        for (int a = 0; a < 6; a++)
+            with[a] += on[(size_t)j * 6 + a];
+    }
+    int best = 0;
+    for (int a = 1; a < 6; a++)
+        best = with[a] > with[best] ? a : best;
+    free(on), free(any);
+    return with[best] >= 2 && with[best] >= 0.6 * total ? best : -1;
+}
+
+/* Each working joint's bone direction by the skeleton's axis convention (unit, world) into
+ * axis[i * 3], zero where the skeleton keeps none. */
+static void rf_rig_axes(const rf_skeleton *s, const rf_mat4 *world, const rf_rig_skel *k,
+                        const uint32_t *ids, double *axis)
+{
+    int a = rf_rig_bone_axis(s, world);
+    memset(axis, 0, ((size_t)k->n + 1) * 3 * sizeof *axis);
+    for (uint32_t i = 0; a >= 0 && i < k->n; i++) {
+        double l[3] = {0, 0, 0};
+        l[a / 2] = a % 2 ? -1 : 1;
+        rf_vec3 d = rf_mat4_dir(world[ids[i]], rf_v3(l[0], l[1], l[2]));
+        double len = rf_v3_len(d);
+        if (len > 0)
+            axis[i * 3] = d.x / len, axis[i * 3 + 1] = d.y / len, axis[i * 3 + 2] = d.z / len;
+    }
+}
+
 /* World matrices of the joints: inverses of the given inverse binds, or the rest pose. */
 static bool rf_rig_world_of(const rf_skeleton *s, const rf_mat4 *inverse_bind, rf_mat4 *world,
                             char *err, size_t n)
@@ -782,9 +850,15 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
     ok = ok && (prepared = rf_rig_prepare(mesh, &o, &p, st, err, err_size));
     /* Artists' leaf joints (a head, a hand, a tail's last joint) move the part of the mesh
      * beyond them, along a bone whose end most formats do not store; heated as points they lost
-     * that part to their parent's bone. Given an end where the mesh ends, they keep it. */
-    if (ok && !rf_rig_leaf_tips(&p, &k))
-        ok = rf_rig_fail(err, err_size, "out of memory or Embree failed placing leaf ends");
+     * that part to their parent's bone. Given an end along their bone's axis, they keep it. */
+    double *axis = ok ? malloc(((size_t)k.n + 1) * 3 * sizeof *axis) : NULL;
+    if (ok && !axis)
+        ok = rf_rig_fail(err, err_size, "out of memory");
+    if (ok)
+        rf_rig_axes(skeleton, world, &k, ids, axis);
+    if (ok && !rf_rig_leaf_tips(&p, &k, axis))
+        ok = rf_rig_fail(err, err_size, "out of memory");
+    free(axis);
     ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
     m = ok ? rf_rig_mesh_copy(mesh) : NULL;
     if (ok && (!m || !rf_rig_skin(mesh, &p, &k, w, m, st)))
