@@ -60,13 +60,17 @@ bool rf_check_utf8_name(const char *name, const char *file)
     return false;
 }
 
+/* Nodes processed at once by the runs of this process: `run --jobs`, else one per processor. */
+static gint run_jobs;
+
 int rf_run_interruptible_diags(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet,
                                GPtrArray *diags)
 {
     rf_run_options opts = {.profile = profile,
                            .quiet = quiet,
                            .progress = isatty(2) != 0,
-                           .cancel_flag = &interrupted};
+                           .cancel_flag = &interrupted,
+                           .jobs = run_jobs > 0 ? (unsigned)run_jobs : g_get_num_processors()};
     interrupted = 0;
     signal(SIGINT, on_sigint);
     bool ok = rf_pipeline_run(p, reg, &opts, diags);
@@ -150,9 +154,20 @@ static int cmd_run(rf_registry *reg, int argc, char **argv)
          "NODE.PARAM=VALUE"},
         {"profile", 0, 0, G_OPTION_ARG_NONE, &profile, "Print each node's run time", NULL},
         {"quiet", 'q', 0, G_OPTION_ARG_NONE, &quiet, "Print errors only", NULL},
+        {"jobs", 'j', 0, G_OPTION_ARG_INT, &run_jobs,
+         "Process up to N independent nodes at once (default: one per processor; 1: one after "
+         "another). The output is the same either way",
+         "N"},
         {NULL, 0, 0, 0, NULL, NULL, NULL}};
+    run_jobs = -1; /* not given */
     if (!rf_parse_options("run", "PIPELINE", "Validate and run a pipeline.", entries, &argc, &argv))
         return RF_EXIT_USAGE;
+    if (run_jobs == -1)
+        run_jobs = 0;
+    else if (run_jobs < 1) {
+        fprintf(stderr, "rigflow run: --jobs %d: expected a count of 1 or more\n", run_jobs);
+        return RF_EXIT_USAGE;
+    }
     if (argc != 2) {
         fprintf(stderr, "rigflow run: expected one PIPELINE file (see rigflow run --help)\n");
         return RF_EXIT_USAGE;

@@ -90,6 +90,7 @@ static const rf_node_desc rf_cv_import_desc = {
     RF_NODE_PARAMS(rf_ai_node_params),
     .process = rf_cv_import,
     .get_extension = rf_cv_import_extension,
+    .flags = RF_NODE_CONCURRENT,
 };
 
 /* ---- export ---- */
@@ -199,6 +200,7 @@ static const rf_node_desc rf_cv_export_desc = {
     RF_NODE_PARAMS(rf_cv_export_params),
     .create = rf_cv_export_create,
     .process = rf_cv_export,
+    .flags = RF_NODE_CONCURRENT,
 };
 
 static const rf_node_desc *const rf_cv_nodes[] = {&rf_cv_import_desc, &rf_cv_export_desc};

@@ -12,6 +12,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -155,6 +156,22 @@ static bool rf_ai_glb_length_ok(rf_ai_ctx *c)
                       declared, (long long)st.st_size);
 }
 
+/* Assimp keeps the last import's error in one global string: imports on threads of their own
+ * (nodes processing at once) take turns, so the message read is the failed import's own. */
+static pthread_mutex_t rf_ai_import_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static const struct aiScene *rf_ai_import_locked(rf_ai_ctx *c, unsigned flags, struct aiFileIO *io,
+                                                 const struct aiPropertyStore *props, char *error,
+                                                 size_t error_size)
+{
+    pthread_mutex_lock(&rf_ai_import_lock);
+    const struct aiScene *s = aiImportFileExWithProperties(c->path, flags, io, props);
+    if (!s)
+        snprintf(error, error_size, "%s", aiGetErrorString());
+    pthread_mutex_unlock(&rf_ai_import_lock);
+    return s;
+}
+
 static const struct aiScene *rf_ai_load(rf_ai_ctx *c)
 {
     if (!rf_ai_glb_length_ok(c))
@@ -170,14 +187,13 @@ static const struct aiScene *rf_ai_load(rf_ai_ctx *c)
     /* FBX pivots would otherwise appear as extra "$AssimpFbx$" nodes between real joints. */
     aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, 0);
     unsigned flags = aiProcess_Triangulate | aiProcess_SortByPType;
-    const struct aiScene *s =
-        aiImportFileExWithProperties(c->path, flags | aiProcess_ValidateDataStructure, io, props);
+    char first[512], second[8];
+    const struct aiScene *s = rf_ai_import_locked(c, flags | aiProcess_ValidateDataStructure, io,
+                                                  props, first, sizeof first);
     if (!s) {
         /* Some files (every B3D creature here) fail validation only for keys past the clip's end;
          * import without the step and clamp the keys while resampling. */
-        char first[512];
-        snprintf(first, sizeof first, "%s", aiGetErrorString());
-        s = aiImportFileExWithProperties(c->path, flags, io, props);
+        s = rf_ai_import_locked(c, flags, io, props, second, sizeof second);
         if (s)
             rf_ai_logf(c, 1,
                        "%s: Assimp's validation failed (%s); imported without it, keys outside a "
