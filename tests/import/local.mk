@@ -32,6 +32,9 @@ tests_gltf_test_glb_limit_LDADD = sdk/formats/gltf/librigflow-gltf.la $(CMOCKA_L
 # pipelines/convert.json end to end (import and export nodes of plugins/convert).
 TESTS += tests/import/test_convert.sh
 EXTRA_DIST += tests/import/test_convert.sh
+# its Assimp import loaded on first use only (plugins/convert/convert-assimp.c)
+TESTS += tests/import/test_assimp_on_demand.sh
+EXTRA_DIST += tests/import/test_assimp_on_demand.sh
 
 # GLB exports keep the look and every clip: every model converted and retargeted, validated,
 # counted against Assimp, read by three.js; bad textures left out with warnings.

@@ -746,22 +746,6 @@ bool rf_ai_rest_parse(const char *text, rf_ai_rest *rest)
     return true;
 }
 
-void rf_ai_result_clear(rf_ai_result *r)
-{
-    rf_skeleton_free(r->skeleton);
-    rf_animation_free(r->animation);
-    rf_mesh_free(r->mesh);
-    for (unsigned i = 0; i < r->clip_count; i++) {
-        free(r->clips[i].name);
-        if (r->clip_animations)
-            rf_animation_free(r->clip_animations[i]);
-    }
-    free(r->clips);
-    free(r->clip_animations);
-    memset(r, 0, sizeof *r);
-    r->selected_clip = -1;
-}
-
 /* The mesh alone: placed as the rig bound it (so a rigged file's artist rig fits it), with its
  * skin dropped, an empty skeleton and one empty rest frame. */
 static bool rf_ai_run_bare(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
