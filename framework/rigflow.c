@@ -1,6 +1,7 @@
 /* rigflow: the command. Loads plugins from the search path, then runs one subcommand. */
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -181,12 +182,12 @@ static int cmd_run(rf_registry *reg, int argc, char **argv)
         fprintf(stderr, "profile: validation, plugins opened: %.3f ms\n",
                 (double)(g_get_monotonic_time() - t0) / 1000.0);
     code = rf_run_interruptible(p, reg, profile, quiet || g_getenv("RIGFLOW_QUIET") != NULL);
-    t0 = g_get_monotonic_time();
-    rf_pipeline_free(p);
-    if (profile)
-        fprintf(stderr, "profile: pipeline and its data freed: %.3f ms\n",
-                (double)(g_get_monotonic_time() - t0) / 1000.0);
-    return code;
+    /* The process ends here, and its exit returns the run's memory at once: freeing the retarget
+     * pipeline's 30 MB of clips and meshes block by block (rf_pipeline_free, as an embedding host
+     * does), then closing the plugins, took 1.1-1.5 ms more. exit, not return: main would close
+     * the plugins; stdio is flushed and leak checkers still see the pipeline from this frame. */
+    fflush(NULL);
+    exit(code);
 }
 
 typedef struct command {
