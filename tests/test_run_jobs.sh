@@ -79,6 +79,12 @@ EOF
 "$rigflow" -q --plugin-path "$fixtures" run "$tmp/alone.json" --profile >/dev/null 2>"$tmp/prof"
 if grep -q "at once" "$tmp/prof"; then bad "unmarked node types processed at once"; else ok "unmarked node types process alone"; fi
 
+expect 0 "describe a node type that may process beside others" -- \
+    "$rigflow" --plugin-path "$fixtures" describe test.say
+contains "$tmp/out" "processes beside the nodes it does not depend on" "describe says so"
+expect 0 "describe one that may not" -- "$rigflow" --plugin-path "$fixtures" describe test.source
+contains "$tmp/out" "processes alone" "describe says it processes alone"
+
 expect 2 "--jobs 0 is a usage error" -- "$rigflow" --plugin-path "$fixtures" run "$tmp/p.json" --jobs 0
 contains "$tmp/err" "expected a count of 1 or more" "--jobs 0 says what it expects"
 
