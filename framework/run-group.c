@@ -197,6 +197,8 @@ bool rf_run_group(rf_pipeline *p, guint first, guint jobs, guint *next, GPtrArra
             break; /* fewer threads: this one takes what is left */
     rf_node_process(head);
     bool ok = rf_node_report(head, diags); /* its fsync begins while the others still run */
+    if (!ok) /* the run ends here: what has not started yet will not */
+        g_atomic_int_set(&g.next, (gint)end);
     group_worker(&g);
     for (guint t = 0; t < started; t++)
         g_thread_join(threads[t]);
