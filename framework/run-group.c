@@ -171,30 +171,41 @@ static bool report_held(rf_pipeline *p, guint first, guint end, GPtrArray *diags
     return true;
 }
 
+/* The nodes at [first, end) one after another, as every run did before groups. */
+static bool run_one_by_one(rf_pipeline *p, guint first, guint end, GPtrArray *diags)
+{
+    for (guint i = first; i < end; i++) {
+        rf_node *n = rf_run_node_at(p, i);
+        if (i > first && cancelled(p))
+            return rf_node_report(n, diags); /* says the node did not run */
+        rf_node_process(n);
+        if (!rf_node_report(n, diags))
+            return false;
+    }
+    return true;
+}
+
+/* Starts up to `count` worker threads (at most 64) on the group; returns how many started. */
+static guint start_workers(rf_group *g, guint count, GThread **threads)
+{
+    guint started = 0;
+    for (; started < MIN(count, 64u); started++)
+        if (!(threads[started] = g_thread_try_new("rf-node", group_worker, g, NULL)))
+            break; /* fewer threads: the run's own takes what is left */
+    return started;
+}
+
 bool rf_run_group(rf_pipeline *p, guint first, guint jobs, guint *next, GPtrArray *diags)
 {
     guint end = group_end(p, first, jobs);
     *next = end;
-    rf_node *head = rf_run_node_at(p, first);
-    if (end - first < 2 || !hold_all(p, first, end)) {
-        for (guint i = first; i < end; i++) {
-            rf_node *n = rf_run_node_at(p, i);
-            if (i > first && cancelled(p))
-                return rf_node_report(n, diags); /* says the node did not run */
-            rf_node_process(n);
-            if (!rf_node_report(n, diags))
-                return false;
-        }
-        return true;
-    }
+    if (end - first < 2 || !hold_all(p, first, end))
+        return run_one_by_one(p, first, end, diags);
     gint64 t0 = g_get_monotonic_time();
+    rf_node *head = rf_run_node_at(p, first);
     rf_group g = {p, (gint)first + 1, end};
-    guint workers = MIN(jobs, end - first) - 1;
     GThread *threads[64];
-    guint started = 0;
-    for (; started < MIN(workers, G_N_ELEMENTS(threads)); started++)
-        if (!(threads[started] = g_thread_try_new("rf-node", group_worker, &g, NULL)))
-            break; /* fewer threads: this one takes what is left */
+    guint started = start_workers(&g, MIN(jobs, end - first) - 1, threads);
     rf_node_process(head);
     bool ok = rf_node_report(head, diags); /* its fsync begins while the others still run */
     if (!ok) /* the run ends here: what has not started yet will not */
