@@ -85,6 +85,11 @@ contains "$tmp/out" "processes beside the nodes it does not depend on" "describe
 expect 0 "describe one that may not" -- "$rigflow" --plugin-path "$fixtures" describe test.source
 contains "$tmp/out" "processes alone" "describe says it processes alone"
 
+# a plugin built against the frozen ABI 1.0 headers (tests/abi-1.0) has no flags: it reads as 0
+mkdir -p "$tmp/abi10" && cp "$RF_BUILDDIR/tests/fixtures/.libs/fx_abi10.so" "$tmp/abi10/"
+expect 0 "describe a node type of ABI 1.0" -- "$rigflow" --plugin-path "$tmp/abi10" describe abi10.chain
+contains "$tmp/out" "processes alone" "a node type built before the flag processes alone"
+
 expect 2 "--jobs 0 is a usage error" -- "$rigflow" --plugin-path "$fixtures" run "$tmp/p.json" --jobs 0
 contains "$tmp/err" "expected a count of 1 or more" "--jobs 0 says what it expects"
 
