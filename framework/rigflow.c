@@ -184,7 +184,7 @@ static int cmd_run(rf_registry *reg, int argc, char **argv)
     code = rf_run_interruptible(p, reg, profile, quiet || g_getenv("RIGFLOW_QUIET") != NULL);
     /* The process ends here, and its exit returns the run's memory at once: freeing the retarget
      * pipeline's 30 MB of clips and meshes block by block (rf_pipeline_free, as an embedding host
-     * does), then closing the plugins, took 1.1-1.5 ms more. exit, not return: main would close
+     * does), then closing the plugins, took about 1 ms more. exit, not return: main would close
      * the plugins; stdio is flushed and leak checkers still see the pipeline from this frame. */
     fflush(NULL);
     exit(code);
