@@ -41,6 +41,10 @@ EXTRA_DIST += tests/import/test_assimp_on_demand.sh
 TESTS += tests/gltf/test_export.sh
 EXTRA_DIST += tests/gltf/test_export.sh tests/gltf/look.js tests/fixtures/textures/textured-sheet.gltf
 
+# A GLB's binary chunk (its channels streamed into the file) against the .gltf's buffer.
+TESTS += tests/gltf/test_glb_chunk.sh
+EXTRA_DIST += tests/gltf/test_glb_chunk.sh
+
 # Blender's glTF importer on the exports (one headless run, a few seconds).
 TESTS += tests/gltf/test_blender.sh
 EXTRA_DIST += tests/gltf/test_blender.sh tests/gltf/blender_check.py
