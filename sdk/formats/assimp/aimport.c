@@ -807,6 +807,7 @@ static bool rf_ai_run(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
     if (!rf_ai_build_skeleton(c, o, &r->skeleton) || !rf_ai_build_mesh(c, &r->mesh))
         return false;
     rf_ai_flag_unweighted(r->skeleton, r->mesh);
+    rf_ai_skin_end_sites(r->skeleton, r->mesh);
     rf_ai_axes(c, r->skeleton);
     if (!rf_ai_list_clips(c, o, r) || !rf_ai_select_clip(c, o->clip, &r->selected_clip))
         return false;
