@@ -535,16 +535,22 @@ static bool rf_rig_solve(const rf_rig_geo *g, const rf_rig_src *src, uint32_t nj
 #define RF_RIG_SHARPEN 0.2
 
 /* Rows made non-negative, sharpened and summing to 1; a row with no heat at all takes its
- * nearest bone. */
+ * nearest bone. plain[] gets each row summing to 1 before it is sharpened (the part rules
+ * below use it where sharpening would tear a part). */
 static void rf_rig_normalise(const rf_rig_prep *p, const rf_rig_bone *bones, uint32_t nb,
-                             uint32_t nj, double *w, rf_rig_stats *st)
+                             uint32_t nj, double *w, double *plain, rf_rig_stats *st)
 {
     for (uint32_t i = 0; i < p->proxy.nv; i++) {
-        double *row = w + (size_t)i * nj, sum = 0, most = 0;
-        for (uint32_t j = 0; j < nj; j++)
+        double *row = w + (size_t)i * nj, *raw = plain + (size_t)i * nj, sum = 0, most = 0;
+        double total = 0;
+        for (uint32_t j = 0; j < nj; j++) {
             most = fmax(most, row[j] = isfinite(row[j]) && row[j] > 1e-6 ? row[j] : 0);
-        for (uint32_t j = 0; j < nj; j++)
+            total += row[j];
+        }
+        for (uint32_t j = 0; j < nj; j++) {
+            raw[j] = isfinite(total) && total > 1e-9 ? row[j] / total : 0;
             sum += row[j] = fmax(0, row[j] - RF_RIG_SHARPEN * most);
+        }
         if (sum > 1e-9 && isfinite(sum)) {
             for (uint32_t j = 0; j < nj; j++)
                 row[j] /= sum;
@@ -560,6 +566,7 @@ static void rf_rig_normalise(const rf_rig_prep *p, const rf_rig_bone *bones, uin
         }
         memset(row, 0, nj * sizeof *row);
         row[to] = 1;
+        memcpy(raw, row, nj * sizeof *row);
         st->fallback_vertices++;
     }
 }
@@ -787,11 +794,15 @@ static bool rf_rig_boneless_owners(const rf_rig_prep *p, const uint8_t *bends, c
  * them: a sleeve over an elbow by the upper arm and the forearm, not by the chest beside it.
  * When one joint holds seven tenths of the bone length inside it or more, by that joint alone,
  * as the boxes of a low-poly model are bound: bone heat blends such a box between the bones it
- * touches and shears it. A closed part enclosing no bone moves with the joint bone heat gives
- * most of it (rf_rig_boneless_owners); an open one keeps its weights, and so does the part with
- * the largest surface (the body). */
+ * touches and shears it. Blended between its own joints, such a part keeps bone heat's plain
+ * rows (plain[], not sharpened): sharpening sends each corner of a box to the joint nearest
+ * it, a thigh box's top corners to the hips and its bottom ones to the knee, and tears the box
+ * into a wedge as they turn. A closed part enclosing no bone moves with the joint bone heat
+ * gives most of it (rf_rig_boneless_owners); an open one keeps its weights, and so does the
+ * part with the largest surface (the body). */
 static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
-                               const rf_rig_bone *bones, uint32_t nb, uint32_t nj, double *w)
+                               const rf_rig_bone *bones, uint32_t nb, uint32_t nj, double *w,
+                               const double *plain)
 {
     uint32_t np = p->proxy_parts;
     double *held = calloc((size_t)np * nj + 1, sizeof *held), *sum = calloc(np + 1, sizeof *sum);
@@ -831,8 +842,10 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
     ok = ok && rf_rig_boneless_owners(p, bends, sum, largest, nj, w, owner);
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
         if (p->proxy_part[i] != largest && sum[p->proxy_part[i]] > 0 &&
-            owner[p->proxy_part[i]] == RF_RIG_NONE)
+            owner[p->proxy_part[i]] == RF_RIG_NONE) {
+            memcpy(w + (size_t)i * nj, plain + (size_t)i * nj, nj * sizeof *w);
             rf_rig_keep_enclosed(held + (size_t)p->proxy_part[i] * nj, nj, w + (size_t)i * nj);
+        }
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++) {
         uint32_t j = owner[p->proxy_part[i]];
         if (j == RF_RIG_NONE)
@@ -854,8 +867,9 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     rf_rig_bd *bd = malloc((size_t)(nb ? nb : 1) * sizeof *bd);
     uint8_t *lit = calloc(p->proxy_parts + 1, 1);
     *w = calloc((size_t)p->proxy.nv * nj, sizeof **w);
+    double *plain = malloc(((size_t)p->proxy.nv * nj + 1) * sizeof *plain);
     rf_rig_rays rays = {0};
-    bool ok = nb && src && bd && lit && *w;
+    bool ok = nb && src && bd && lit && *w && plain;
     if (!ok)
         rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok && !rf_rig_rays_make(&rays, &p->proxy, p->proxy_part))
@@ -866,11 +880,11 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
         ok = rf_rig_solve(&p->proxy, src, nj, *w, err, n);
     }
     if (ok)
-        rf_rig_normalise(p, bones, nb, nj, *w, st);
-    if (ok && p->proxy_parts > 1 && !rf_rig_part_joints(p, &rays, bones, nb, nj, *w))
+        rf_rig_normalise(p, bones, nb, nj, *w, plain, st);
+    if (ok && p->proxy_parts > 1 && !rf_rig_part_joints(p, &rays, bones, nb, nj, *w, plain))
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     rf_rig_rays_free(&rays);
-    free(bones), free(src), free(bd), free(lit);
+    free(bones), free(src), free(bd), free(lit), free(plain);
     if (!ok)
         free(*w), *w = NULL;
     return ok;

@@ -32,3 +32,5 @@ TESTS += tests/rig/test_rig_fit.sh
 EXTRA_DIST += tests/rig/test_rig_fit.sh
 TESTS += tests/rig/test_rig_all.sh
 EXTRA_DIST += tests/rig/test_rig_all.sh
+TESTS += tests/rig/test_rig_boxes.sh
+EXTRA_DIST += tests/rig/test_rig_boxes.sh

@@ -93,7 +93,9 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 # On the skeleton of the artist the owl's and the cat's limits fail if closed parts enclosing no
 # bone go back to bone heat's blend (.76/.88/.41, .85/.90/.30); two pieces of the animalia
 # fox's head, which bone heat gives mostly to the neck, move with it since (.70/.82/.61 ->
-# .66/.74/.70)
+# .66/.74/.70); its neck box, blended between the bones inside it, keeps bone heat's plain
+# rows, not sharpened ones, since (a box model's parts are not torn into wedges): .66/.74/.70
+# -> .64/.72/.74 on the skeleton of the artist, .58/.61 -> .60/.65 after the matcher
 "$rigflow" rig-bench -r general "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
     "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" \
     "$data/models/Wizard.glb" "$data/models/creatures/animalia_owl.b3d" \
@@ -116,7 +118,7 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
         limits("\"Wizard.glb\"", 0.066, 0.22, 0.22, 0.68, 0.72, 0.60)       # 0.061 .28/.28 .73/.77/.54
         limits("\"animalia_owl.b3d\"", 0.095, 0.70, 0.72, 0.78, 0.84, 0.39) # 0.090 .74/.77 .80/.88/.36
         limits("\"animalia_bird.b3d\"", 0.063, 0.80, 0.80, 0.72, 0.77, 0.50) # 0.058 .855/.855 .77/.82/.445
-        limits("\"animalia_fox.b3d\"", 0.085, 0.53, 0.56, 0.62, 0.70, 0.73)  # 0.079 .58/.61 .66/.74/.70
+        limits("\"animalia_fox.b3d\"", 0.085, 0.55, 0.60, 0.62, 0.70, 0.76)  # 0.079 .60/.65 .64/.72/.74
         limits("\"animalia_cat.b3d\"", 0.095, 0.43, 0.43, 0.88, 0.88, 0.20)  # 0.088 .48/.48 .92/.92/.15
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
