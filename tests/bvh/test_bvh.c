@@ -295,6 +295,35 @@ static void test_number_exact(void **state)
     }
 }
 
+/* Every number of every frame line of the shared BVH files, read as strtod reads it by each
+ * of the frame-line parsers (check_number). */
+static void test_number_data(void **state)
+{
+    (void)state;
+    NEED_DATA(dir);
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    size_t numbers = 0;
+    while ((e = readdir(d)) != NULL) {
+        size_t n = strlen(e->d_name);
+        if (n <= 4 || strcmp(e->d_name + n - 4, ".bvh") != 0)
+            continue;
+        char path[4200];
+        size_t size;
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        char *text = read_all(path, &size);
+        char *p = strstr(text, "Frame Time:");
+        assert_non_null(p);
+        p = strchr(p, '\n');
+        for (char *tok = p ? strtok(p, " \t\r\n") : NULL; tok; tok = strtok(NULL, " \t\r\n"))
+            check_number(tok), numbers++;
+        free(text);
+    }
+    closedir(d);
+    print_message("  %zu numbers\n", numbers);
+    assert_true(numbers > 500000);
+}
+
 /* A locale whose decimal point is a comma changes nothing, slow path included. */
 static void test_number_locale(void **state)
 {
@@ -1478,6 +1507,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_number_exact),
         cmocka_unit_test(test_number_locale),
+        cmocka_unit_test(test_number_data),
         cmocka_unit_test(test_number_rejects),
         cmocka_unit_test(test_sincos),
         cmocka_unit_test(test_format_number),
