@@ -867,8 +867,7 @@ typedef struct rt_parts {
     const uint8_t *holds; /* carries a foot in the hierarchy or body tree */
     const uint8_t *reach; /* the parts and their ancestors */
     const double *extent; /* [n] the farthest of a part's hull points and tip from its pivot */
-    const double *clear;  /* how far over its floor the source stands every `step` frames */
-    uint32_t step;
+    uint32_t step;        /* the source's clearance is read every `step` frames */
     double eps;
     /* [n] how far under joint j the lowest point rt_part_clear weighs for a part at or below it
      * can be in any frame (bone lengths at their longest in the clip, at the joints' scales);
@@ -914,9 +913,11 @@ static void rt_parts_pose(const rt_parts *c, uint32_t f, double clear, rf_xform 
     }
 }
 
-/* One frame of the parts pass, with scratch (local, world, sp, gone) of the caller's. */
-static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xform *world,
-                           uint8_t *gone, rt_src_poses *sp, rf_rt_parts_stats *st)
+/* One frame of the parts pass, with scratch (local, world, sp, gone) of the caller's and the
+ * source's clearance at frames (first + i) * step in clear[i] (rt_parts_clearance). */
+static void rt_parts_frame(const rt_parts *c, uint32_t f, const double *clear_at, uint32_t first,
+                           rf_xform *local, rf_xform *world, uint8_t *gone, rt_src_poses *sp,
+                           rf_rt_parts_stats *st)
 {
     const rf_retarget *rt = c->rt;
     uint32_t n = rt->n;
@@ -925,7 +926,7 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xf
     bool low = false;
     uint32_t i = f / c->step;
     double t = (double)(f - i * c->step) / c->step;
-    double clear = (1 - t) * c->clear[i] + t * c->clear[i + 1];
+    double clear = (1 - t) * clear_at[i - first] + t * clear_at[i + 1 - first];
     rt_parts_pose(c, f, clear, local, world, gone);
     for (uint32_t j = 0; j < n && !low; j++) {
         double floor_h;
@@ -960,6 +961,40 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xf
                              c->anim->translations + (size_t)f * n * 3, NULL, world);
 }
 
+/* The clearance's step: how far the source stands over its own floor (rf_rt_clearance) is read
+ * every tenth of a second, and rt_parts_frame interpolates between. Read at every frame of a
+ * long clip it cost a fifth of the whole run; a jump takes half a second or more, so a tenth of
+ * a second between reads misses little of it. */
+static uint32_t rt_parts_step(const rf_animation *anim)
+{
+    uint32_t frames = anim->frame_count;
+    /* Clamped before the conversion: a clip may claim any rate (1e300 fps). */
+    double per = floor(anim->fps / 10);
+    return per >= 1 ? (uint32_t)fmin(per, frames ? frames : 1) : 1;
+}
+
+/* The source's clearance at the reads frames [first, end) interpolate between: reads
+ * first / step .. (end - 1) / step + 1, each at its frame (the last frame past the end). Each
+ * thread reads those of its own frames, so the reads are shared between the threads as the
+ * frames are. */
+static double *rt_parts_clearance(const rt_parts *c, uint32_t first, uint32_t end)
+{
+    uint32_t frames = c->anim->frame_count, step = c->step;
+    uint32_t i0 = first / step, count = end > first ? (end - 1) / step + 2 - i0 : 1;
+    uint32_t *at = malloc(count * sizeof *at);
+    double *clear = malloc(count * sizeof *clear);
+    for (uint32_t i = 0; at && i < count; i++) {
+        uint64_t f = (uint64_t)(i0 + i) * step;
+        at[i] = f < frames ? (uint32_t)f : (frames ? frames - 1 : 0);
+    }
+    bool ok = at && clear &&
+              rf_rt_clearance(c->rt, rf_retarget_start_time(c->rt), c->anim->fps, count, at, clear);
+    free(at);
+    if (!ok)
+        free(clear);
+    return ok ? clear : NULL;
+}
+
 /* Frames [first, end) of the parts pass with scratch and counts of its own (one thread's
  * share: a frame reads and writes only itself). */
 typedef struct rt_parts_share {
@@ -975,13 +1010,15 @@ static void *rt_parts_run(void *arg)
     size_t n = sh->c->rt->n ? sh->c->rt->n : 1;
     rf_xform *local = malloc(n * sizeof *local), *world = malloc(n * sizeof *world);
     uint8_t *gone = malloc(n);
+    double *clear = rt_parts_clearance(sh->c, sh->first, sh->end);
+    uint32_t i0 = sh->first / sh->c->step;
     rt_src_poses sp = {0};
-    sh->ok = local && world && gone && rt_src_poses_init(sh->c->rt, &sp);
+    sh->ok = local && world && gone && clear && rt_src_poses_init(sh->c->rt, &sp);
     for (uint32_t f = sh->first; sh->ok && f < sh->end; f++)
-        rt_parts_frame(sh->c, f, local, world, gone, &sp, &sh->st);
+        rt_parts_frame(sh->c, f, clear, i0, local, world, gone, &sp, &sh->st);
     if (sh->ok)
         rt_src_poses_free(sh->c->rt, &sp);
-    free(local), free(world), free(gone);
+    free(local), free(world), free(gone), free(clear);
     return NULL;
 }
 
@@ -1002,30 +1039,6 @@ static bool rt_parts_all(const rt_parts *c, rf_rt_parts_stats *st)
     st->frames = a.st.frames + b.st.frames; /* b's stay 0 when it did not run */
     st->turns = a.st.turns + b.st.turns;
     return a.ok && (!two || b.ok);
-}
-
-/* How far the source stands over its own floor (rf_rt_clearance), read every tenth of a second
- * (`step` frames) into clear[count]; rt_parts_frame interpolates between. Read at every frame of
- * a long clip it cost a fifth of the whole run; a jump takes half a second or more, so a tenth
- * of a second between reads misses little of it. */
-static double *rt_parts_clearance(const rf_retarget *rt, const rf_animation *anim, uint32_t *step,
-                                  uint32_t *count)
-{
-    uint32_t frames = anim->frame_count;
-    /* Clamped before the conversion: a clip may claim any rate (1e300 fps). */
-    double per = floor(anim->fps / 10);
-    *step = per >= 1 ? (uint32_t)fmin(per, frames ? frames : 1) : 1;
-    *count = frames ? (frames - 1) / *step + 2 : 1; /* one past the end: the last frame's */
-    uint32_t *at = malloc(*count * sizeof *at);
-    double *clear = malloc(*count * sizeof *clear);
-    for (uint32_t i = 0; at && i < *count; i++)
-        at[i] = frames && i * *step < frames ? i * *step : (frames ? frames - 1 : 0);
-    bool ok = at && clear &&
-              rf_rt_clearance(rt, rf_retarget_start_time(rt), anim->fps, *count, at, clear);
-    free(at);
-    if (!ok)
-        free(clear);
-    return ok ? clear : NULL;
 }
 
 /* rt_parts.hang: from the leaves up, each joint's farthest weighed point of a part at or below
@@ -1075,11 +1088,7 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
     uint8_t *foot = malloc(n ? n : 1), *part = malloc(n ? n : 1), *all = malloc(n ? n : 1);
     uint8_t *holds = calloc(n ? n : 1, 1), *reach = calloc(n ? n : 1, 1);
     double *extent = calloc(n ? n : 1, sizeof *extent);
-    uint32_t step, count;
-    double *clear = foot && part && all && holds && reach && extent
-                        ? rt_parts_clearance(rt, anim, &step, &count)
-                        : NULL;
-    if (!clear) {
+    if (!foot || !part || !all || !holds || !reach || !extent) {
         free(foot), free(part), free(all), free(holds), free(reach), free(extent);
         return false;
     }
@@ -1104,10 +1113,11 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
              a = rt->target->joints[a].parent)
             reach[a] = 1;
     double *hang = rt_parts_hang(rt, anim, part, reach, extent);
-    rt_parts c = {rt,  anim, part, all, holds, reach, extent, clear, step, 1e-3 * rt->leg_target,
-                  hang};
+    rt_parts c = {
+        rt,  anim, part, all, holds, reach, extent, rt_parts_step(anim), 1e-3 * rt->leg_target,
+        hang};
     bool ok = hang && rt_parts_all(&c, st);
-    free(foot), free(part), free(all), free(holds), free(reach), free(extent), free(clear);
+    free(foot), free(part), free(all), free(holds), free(reach), free(extent);
     free(hang);
     return ok;
 }
