@@ -235,6 +235,23 @@ static void check_number(const char *text)
             assert_memory_equal(&v, &ref, sizeof ref);
         }
 #endif
+#if BVH_TOKEN_AVX2
+        static uint8_t shuf[BVH_SHUFFLES][16];
+        if (!shuf[0][0])
+            bvh_shuffles_init(shuf);
+        if (__builtin_cpu_supports("avx2")) { /* the same tokens taken, the same values */
+            double w = -1;
+            const char *next2 = NULL;
+            bvh_avx2_k k;
+            bvh_avx2_k_init(&k);
+            const char *e2 = bvh_token_avx2(padded, &w, &next2, (const uint8_t(*)[16])shuf, &k);
+            assert_ptr_equal(e2, e);
+            if (e) {
+                assert_ptr_equal(next2, next);
+                assert_memory_equal(&w, &ref, sizeof ref);
+            }
+        }
+#endif
     }
 }
 

@@ -191,7 +191,10 @@ typedef struct parser {
     /* per-frame work: the joints' plans, and this thread's work space (allocated once) */
     jplan *plan;
     scratch main;
-    bool avx2; /* the processor has AVX2: sines and cosines four at a time */
+    bool avx2; /* the processor has AVX2: sines and cosines four at a time, numbers by shuffles */
+#if BVH_TOKEN_AVX2
+    uint8_t shuf[BVH_SHUFFLES][16]; /* bvh_token_avx2's table, made with the plan */
+#endif
     /* tokenizer: the rest of the current line */
     char *cur, *end;
 } parser;
@@ -752,13 +755,15 @@ static bool is_separator(char c)
 }
 
 #if BVH_TOKEN
-/* The fast way through a well-formed frame line, into sc->vals: bvh_token_number classifies each
- * number's 16 bytes at once, so finding the next number (the chain the processor must follow)
- * takes a few operations while the digits convert alongside. False for anything unusual (wrong
- * count, a character that ends a number early, a value too large for bvh_sincos_half):
- * read_values then reads the line again, one number at a time, to say what is wrong. Reads only
- * the parser's shared, unchanging state, so two threads may run it at once. */
-static bool read_values_fast(const parser *ps, scratch *sc, const char *line, const char *end)
+/* The fast way through a well-formed frame line, into sc->vals: each number's 16 bytes are
+ * classified at once (bvh_token_number, or bvh_token_avx2 with its constants `avx2`), so finding
+ * the next number (the chain the processor must follow) takes a few operations while the digits
+ * convert alongside. False for anything unusual (wrong count, a character that ends a number early,
+ * a value too large for bvh_sincos_half): read_values then reads the line again, one number at a
+ * time, to say what is wrong. Reads only the parser's shared, unchanging state, so two threads
+ * may run it at once. */
+BVH_INLINE bool read_line(const parser *ps, scratch *sc, const char *line, const char *end,
+                          const void *avx2)
 {
     double *v = sc->vals, *vend = v + ps->channels;
     const char *p = line, *next;
@@ -768,8 +773,15 @@ static bool read_values_fast(const parser *ps, scratch *sc, const char *line, co
     while (p < end) {
         if (v == vend)
             return false;
-        if (!bvh_token_number(p, v, &next)) {
-            const char *e = bvh_number_padded(p, v);
+#if BVH_TOKEN_AVX2
+        const char *e =
+            avx2 ? bvh_token_avx2(p, v, &next, ps->shuf, avx2) : bvh_token_number(p, v, &next);
+#else
+        const char *e = bvh_token_number(p, v, &next);
+        (void)avx2;
+#endif
+        if (!e) {
+            e = bvh_number_padded(p, v);
             if (!e || !(e == end || is_space(*e)) || !(fabs(*v) < 1e15))
                 return false;
             for (next = e; *next == ' ' || *next == '\t' || *next == '\r';)
@@ -779,6 +791,25 @@ static bool read_values_fast(const parser *ps, scratch *sc, const char *line, co
         p = next;
     }
     return v == vend && p == end;
+}
+
+#if BVH_TOKEN_AVX2
+__attribute__((target("avx2"))) static bool read_values_avx2(const parser *ps, scratch *sc,
+                                                             const char *line, const char *end)
+{
+    bvh_avx2_k k;
+    bvh_avx2_k_init(&k);
+    return read_line(ps, sc, line, end, &k);
+}
+#endif
+
+static bool read_values_fast(const parser *ps, scratch *sc, const char *line, const char *end)
+{
+#if BVH_TOKEN_AVX2
+    if (ps->avx2)
+        return read_values_avx2(ps, sc, line, end);
+#endif
+    return read_line(ps, sc, line, end, NULL);
 }
 
 #else
@@ -864,6 +895,9 @@ static bool make_plan(parser *ps)
 {
 #if BVH_AVX2
     ps->avx2 = __builtin_cpu_supports("avx2");
+#endif
+#if BVH_TOKEN_AVX2
+    bvh_shuffles_init(ps->shuf);
 #endif
     ps->plan = malloc((ps->count ? ps->count : 1) * sizeof *ps->plan);
     if (!ps->plan || !scratch_init(&ps->main, ps->channels))
