@@ -893,8 +893,8 @@ static bool rt_part_clear(const rt_parts *c, const rf_xform *world, uint32_t j, 
  * from a joint standing so high over the floor (by c->hang, with a margin far above rounding)
  * that every part there surely passes rt_part_clear: gone[j] is then 1 for that joint and 2 for
  * those below it, not posed. */
-static void rt_parts_pose(const rt_parts *c, uint32_t f, double clear, rf_xform *local,
-                          rf_xform *world, uint8_t *gone)
+__attribute__((flatten)) static void rt_parts_pose(const rt_parts *c, uint32_t f, double clear,
+                                                   rf_xform *local, rf_xform *world, uint8_t *gone)
 {
     const rf_retarget *rt = c->rt;
     double floor = (rt->t_hull ? fmax(rt->floor_target, rt->mesh_floor) : rt->floor_target) + clear;
