@@ -251,7 +251,7 @@ BVH_INLINE const char *bvh_token_number(const char *s, double *out, const char *
 #include <immintrin.h>
 #define BVH_TOKEN_AVX2 1
 
-/* Entries of bvh_token_avx2's shuffle table: one per leading '-' (0 or 1), digits before the '.'
+/* Entries of bvh_short_avx2's shuffle table: one per leading '-' (0 or 1), digits before the '.'
  * (0..8) and digits in all (0..8). */
 #define BVH_SHUFFLES (2 * 9 * 9)
 
@@ -271,50 +271,44 @@ static inline void bvh_shuffles_init(uint8_t (*shuf)[16])
             }
 }
 
-/* bvh_token_avx2's byte constants, made once a line (bvh_avx2_k_init). */
+/* bvh_short_avx2's byte constants, made once a line (bvh_avx2_k_init). */
 typedef struct bvh_avx2_k {
-    __m128i sp, tab, cr, nl, pt, zero, nine;
+    __m128i pt, zero, nine;
 } bvh_avx2_k;
 
 __attribute__((target("avx2"))) static inline void bvh_avx2_k_init(bvh_avx2_k *k)
 {
-    k->sp = _mm_set1_epi8(' '), k->tab = _mm_set1_epi8('\t'), k->cr = _mm_set1_epi8('\r');
-    k->nl = _mm_set1_epi8('\n'), k->pt = _mm_set1_epi8('.'), k->zero = _mm_set1_epi8('0');
-    k->nine = _mm_set1_epi8(9);
+    k->pt = _mm_set1_epi8('.'), k->zero = _mm_set1_epi8('0'), k->nine = _mm_set1_epi8(9);
     /* hidden from the optimiser, which would otherwise build each again from an immediate at
      * every number (a move, a vmovd and a broadcast each) instead of keeping it in a register */
-    __asm__(""
-            : "+x"(k->sp), "+x"(k->tab), "+x"(k->cr), "+x"(k->nl), "+x"(k->pt), "+x"(k->zero),
-              "+x"(k->nine));
+    __asm__("" : "+x"(k->pt), "+x"(k->zero), "+x"(k->nine));
 }
 
-/* bvh_token_number for processors with AVX2 (which have SSSE3's byte shuffles and SSE4.1's
- * packs): the token's digits are moved into place by one shuffle from the table above, and
- * converted by two multiply-adds and a pack, 8 digits at once, instead of a word's worth of
- * shifts and masks. The same tokens are taken and the same value made (the digits' integer
- * divided by a power of ten, exact), the same NULL for everything else. */
-__attribute__((target("avx2"))) static inline const char *bvh_token_avx2(const char *s, double *out,
-                                                                         const char **next,
-                                                                         const uint8_t (*shuf)[16],
-                                                                         const bvh_avx2_k *k)
+/* The token of len bytes at s (16 readable bytes) when it is a number of at most 8 digits with
+ * an optional leading '-' and one '.': its value in *out, true; false to leave it to
+ * bvh_number_padded. For processors with AVX2 (which have SSSE3's byte shuffles and SSE4.1's
+ * packs): the digits are moved into place by one shuffle from the table above and converted by
+ * two multiply-adds and a pack, 8 digits at once. The same tokens as bvh_token_number are taken
+ * and the same value made (the digits' integer divided by a power of ten, exact). */
+__attribute__((target("avx2"))) static inline bool bvh_short_avx2(const char *s, unsigned len,
+                                                                  double *out,
+                                                                  const uint8_t (*shuf)[16],
+                                                                  const bvh_avx2_k *k)
 {
     /* dividing by -10^k gives the sign for free, and exactly */
     static const double pow10[2][9] = {{1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8},
                                        {-1e0, -1e1, -1e2, -1e3, -1e4, -1e5, -1e6, -1e7, -1e8}};
+    if (len > 10)
+        return false; /* more than '-', 8 digits and '.' */
     __m128i b = _mm_loadu_si128((const __m128i *)(const void *)s);
-    __m128i blank = _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi8(b, k->sp), _mm_cmpeq_epi8(b, k->tab)),
-                                 _mm_cmpeq_epi8(b, k->cr));
-    unsigned blanks = (unsigned)_mm_movemask_epi8(blank);
-    unsigned lf = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(b, k->nl));
-    unsigned len = (unsigned)__builtin_ctz(blanks | lf | 0x10000u), neg = *s == '-';
-    unsigned token = (1u << len) - 1;
+    unsigned neg = *s == '-', token = (1u << len) - 1;
     unsigned dots = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(b, k->pt)) & token;
     unsigned dot = dots != 0, n = len - neg - dot; /* digits, if the token is a number */
     __m128i d = _mm_sub_epi8(b, k->zero);
     unsigned digit = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_min_epu8(d, k->nine), d));
     /* every byte of the token a digit but a leading '-' and the first '.' (a second is not) */
     if (n - 1 >= 8 || ((digit | neg | (dots & -dots)) & token) != token)
-        return 0;
+        return false;
     unsigned i = dot ? (unsigned)__builtin_ctz(dots) - neg : n; /* digits before the '.' */
     __m128i m = _mm_shuffle_epi8(
         d, _mm_loadu_si128((const __m128i *)(const void *)shuf[(neg * 9 + i) * 9 + n]));
@@ -324,13 +318,61 @@ __attribute__((target("avx2"))) static inline const char *bvh_token_avx2(const c
     m = _mm_madd_epi16(m, _mm_set1_epi32(0x00012710)); /* 10^4 abcd + efgh */
     /* m < 10^8: exact, and so is 10^(digits after the '.'): one correctly rounded division */
     *out = (double)_mm_cvtsi128_si32(m) / pow10[neg][n - i];
-    /* the blanks after the token: past the 16 bytes only when all of them are token or blank */
-    const char *q = s + len + (unsigned)__builtin_ctz(~(blanks >> len));
-    if (q == s + 16)
-        while (*q == ' ' || *q == '\t' || *q == '\r')
-            q++;
-    *next = q;
-    return s + len;
+    return true;
+}
+
+/* Work space bvh_line_avx2 needs for a line of `count` numbers (uint32_t each). */
+#define BVH_LINE_POS(count) (2 * ((count) + 1))
+
+/* The numbers of one frame line [line, end) (end at its '\n' or NUL, BVH_PAD readable bytes after
+ * it) into v[count], with pos[BVH_LINE_POS(count)] as work space. True only when the line holds
+ * exactly `count` numbers separated by spaces, tabs or CRs, each of magnitude below 1e15; false
+ * for anything else, which the caller then reads the careful way to say what is wrong.
+ * Where each number starts and ends is found first, for the whole line, 32 bytes at a time from
+ * bit masks; the numbers are then read independently of each other. Finding the next number
+ * from the end of the one before made every number wait about 20 cycles on its predecessor;
+ * this way the processor overlaps several. */
+__attribute__((target("avx2"))) static inline bool
+bvh_line_avx2(const char *line, const char *end, double *v, size_t count, uint32_t *pos,
+              const uint8_t (*shuf)[16], const bvh_avx2_k *k)
+{
+    size_t len = (size_t)(end - line), n = 0, m = 0;
+    if (len > UINT32_MAX - 64)
+        return false;
+    uint32_t *start = pos, *stop = pos + count + 1;
+    __m256i sp = _mm256_set1_epi8(' '), tab = _mm256_set1_epi8('\t'), cr = _mm256_set1_epi8('\r');
+    uint32_t carry = 1; /* the byte before the line counts as a blank */
+    for (size_t at = 0; at <= len; at += 32) {
+        __m256i b = _mm256_loadu_si256((const __m256i *)(const void *)(line + at));
+        __m256i blank =
+            _mm256_or_si256(_mm256_or_si256(_mm256_cmpeq_epi8(b, sp), _mm256_cmpeq_epi8(b, tab)),
+                            _mm256_cmpeq_epi8(b, cr));
+        uint32_t bits = (uint32_t)_mm256_movemask_epi8(blank);
+        if (len - at < 32)
+            bits |= ~UINT32_C(0) << (len - at); /* the end and after: blank */
+        uint32_t before = (bits << 1) | carry;  /* bit i: byte i - 1 is a blank */
+        uint32_t starts = ~bits & before, ends = bits & ~before;
+        carry = bits >> 31;
+        for (; starts; starts &= starts - 1, n++) {
+            if (n == count)
+                return false; /* more numbers than channels */
+            start[n] = (uint32_t)(at + (unsigned)__builtin_ctz(starts));
+        }
+        for (; ends; ends &= ends - 1) /* as many as starts: the line ends in blanks */
+            stop[m++] = (uint32_t)(at + (unsigned)__builtin_ctz(ends));
+    }
+    if (n != count)
+        return false;
+    for (size_t i = 0; i < count; i++) {
+        const char *s = line + start[i];
+        unsigned tl = stop[i] - start[i];
+        if (!bvh_short_avx2(s, tl, v + i, shuf, k)) {
+            const char *e = bvh_number_padded(s, v + i);
+            if (e != s + tl || !(fabs(v[i]) < 1e15))
+                return false;
+        }
+    }
+    return true;
 }
 #else
 #define BVH_TOKEN_AVX2 0

@@ -171,6 +171,7 @@ typedef struct jplan {
 typedef struct scratch {
     double *vals, *sn, *cs; /* the frame's values and their half-angle sines and cosines */
     bool huge;              /* vals may hold angles too large for bvh_sincos_half */
+    uint32_t *pos;          /* where a line's numbers start and end (bvh_line_avx2) */
 } scratch;
 
 typedef struct parser {
@@ -191,9 +192,9 @@ typedef struct parser {
     /* per-frame work: the joints' plans, and this thread's work space (allocated once) */
     jplan *plan;
     scratch main;
-    bool avx2; /* the processor has AVX2: sines and cosines four at a time, numbers by shuffles */
+    bool avx2; /* the processor has AVX2: sines and cosines four at a time, lines by masks */
 #if BVH_TOKEN_AVX2
-    uint8_t shuf[BVH_SHUFFLES][16]; /* bvh_token_avx2's table, made with the plan */
+    uint8_t shuf[BVH_SHUFFLES][16]; /* bvh_short_avx2's table, made with the plan */
 #endif
     /* tokenizer: the rest of the current line */
     char *cur, *end;
@@ -755,51 +756,21 @@ static bool is_separator(char c)
 }
 
 #if BVH_TOKEN
-/* The fast way through a well-formed frame line, into sc->vals: each number's 16 bytes are
- * classified at once (bvh_token_number, or bvh_token_avx2 with its constants `avx2`), so finding
- * the next number (the chain the processor must follow) takes a few operations while the digits
- * convert alongside. False for anything unusual (wrong count, a character that ends a number early,
- * a value too large for bvh_sincos_half): read_values then reads the line again, one number at a
- * time, to say what is wrong. Reads only the parser's shared, unchanging state, so two threads
- * may run it at once. */
-BVH_INLINE bool read_line(const parser *ps, scratch *sc, const char *line, const char *end,
-                          const void *avx2)
-{
-    double *v = sc->vals, *vend = v + ps->channels;
-    const char *p = line, *next;
-    sc->huge = false;
-    while (*p == ' ' || *p == '\t' || *p == '\r')
-        p++;
-    while (p < end) {
-        if (v == vend)
-            return false;
-#if BVH_TOKEN_AVX2
-        const char *e =
-            avx2 ? bvh_token_avx2(p, v, &next, ps->shuf, avx2) : bvh_token_number(p, v, &next);
-#else
-        const char *e = bvh_token_number(p, v, &next);
-        (void)avx2;
-#endif
-        if (!e) {
-            e = bvh_number_padded(p, v);
-            if (!e || !(e == end || is_space(*e)) || !(fabs(*v) < 1e15))
-                return false;
-            for (next = e; *next == ' ' || *next == '\t' || *next == '\r';)
-                next++;
-        }
-        v++;
-        p = next;
-    }
-    return v == vend && p == end;
-}
-
+/* The fast way through a well-formed frame line, into sc->vals: bvh_line_avx2 on processors
+ * with AVX2, else bvh_token_number, which classifies each number's 16 bytes at once, so
+ * finding the next number (the chain the processor must follow) takes a few operations while
+ * the digits convert alongside. False for anything unusual (wrong count, a character that ends
+ * a number early, a value too large for bvh_sincos_half): read_values then reads the line again,
+ * one number at a time, to say what is wrong. Reads only the parser's shared, unchanging state,
+ * so two threads may run it at once. */
 #if BVH_TOKEN_AVX2
 __attribute__((target("avx2"))) static bool read_values_avx2(const parser *ps, scratch *sc,
                                                              const char *line, const char *end)
 {
     bvh_avx2_k k;
     bvh_avx2_k_init(&k);
-    return read_line(ps, sc, line, end, &k);
+    sc->huge = false;
+    return bvh_line_avx2(line, end, sc->vals, ps->channels, sc->pos, ps->shuf, &k);
 }
 #endif
 
@@ -809,7 +780,25 @@ static bool read_values_fast(const parser *ps, scratch *sc, const char *line, co
     if (ps->avx2)
         return read_values_avx2(ps, sc, line, end);
 #endif
-    return read_line(ps, sc, line, end, NULL);
+    double *v = sc->vals, *vend = v + ps->channels;
+    const char *p = line, *next;
+    sc->huge = false;
+    while (*p == ' ' || *p == '\t' || *p == '\r')
+        p++;
+    while (p < end) {
+        if (v == vend)
+            return false;
+        if (!bvh_token_number(p, v, &next)) {
+            const char *e = bvh_number_padded(p, v);
+            if (!e || !(e == end || is_space(*e)) || !(fabs(*v) < 1e15))
+                return false;
+            for (next = e; *next == ' ' || *next == '\t' || *next == '\r';)
+                next++;
+        }
+        v++;
+        p = next;
+    }
+    return v == vend && p == end;
 }
 
 #else
@@ -879,9 +868,10 @@ static bool scratch_init(scratch *sc, size_t channels)
     sc->vals = malloc(n * sizeof *sc->vals);
     sc->sn = malloc(n * sizeof *sc->sn);
     sc->cs = malloc(n * sizeof *sc->cs);
+    sc->pos = malloc(2 * n * sizeof *sc->pos); /* BVH_LINE_POS(channels) */
     if (sc->vals)
         sc->vals[channels] = 0; /* the padding angle of joints with fewer than 3 rotations */
-    return sc->vals && sc->sn && sc->cs;
+    return sc->vals && sc->sn && sc->cs && sc->pos;
 }
 
 static void scratch_free(scratch *sc)
@@ -889,6 +879,7 @@ static void scratch_free(scratch *sc)
     free(sc->vals);
     free(sc->sn);
     free(sc->cs);
+    free(sc->pos);
 }
 
 static bool make_plan(parser *ps)
