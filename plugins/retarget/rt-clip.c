@@ -237,21 +237,40 @@ void rf_rt_source_world(const rf_retarget *rt, uint32_t k, double t, rf_xform *l
     rf_rt_source_world_some(rt, k, t, local, world, rot, tr, NULL);
 }
 
-void rf_rt_source_world_some(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
-                             rf_xform *world, float *rot, float *tr, const uint8_t *need)
+/* Joint j of a source pose sampled into rot and tr: its local and world transforms. */
+static inline void rt_source_joint(const rf_rt_src *src, uint32_t j, rf_xform *local,
+                                   rf_xform *world, const float *rot, const float *tr)
+{
+    const float *q = rot + j * 4, *p = tr + j * 3;
+    local[j].r = rf_quat_normalize(rf_quat_make(q[0], q[1], q[2], q[3]));
+    local[j].t = rf_v3(p[0], p[1], p[2]);
+    local[j].s = src->skel->joints[j].rest.s;
+    int32_t par = src->skel->joints[j].parent;
+    world[j] = par < 0 ? local[j] : rf_xform_mul(world[par], local[j]);
+}
+
+__attribute__((flatten)) void rf_rt_source_world_some(const rf_retarget *rt, uint32_t k, double t,
+                                                      rf_xform *local, rf_xform *world, float *rot,
+                                                      float *tr, const uint8_t *need)
 {
     const rf_rt_src *src = &rt->src[k];
     rf_rt_sample(src->anim, t, rot, tr);
-    for (uint32_t j = 0; j < src->n; j++) {
-        if (need && !need[j])
-            continue;
-        const float *q = rot + j * 4, *p = tr + j * 3;
-        local[j].r = rf_quat_normalize(rf_quat_make(q[0], q[1], q[2], q[3]));
-        local[j].t = rf_v3(p[0], p[1], p[2]);
-        local[j].s = src->skel->joints[j].rest.s;
-        int32_t par = src->skel->joints[j].parent;
-        world[j] = par < 0 ? local[j] : rf_xform_mul(world[par], local[j]);
-    }
+    for (uint32_t j = 0; j < src->n; j++)
+        if (!need || need[j])
+            rt_source_joint(src, j, local, world, rot, tr);
+}
+
+__attribute__((flatten)) void rf_rt_source_world_two(const rf_retarget *rt, uint32_t k,
+                                                     const double t[2], rf_rt_source_pose pose[2],
+                                                     const uint8_t *need)
+{
+    const rf_rt_src *src = &rt->src[k];
+    rf_rt_sample(src->anim, t[0], pose[0].rot, pose[0].tr);
+    rf_rt_sample(src->anim, t[1], pose[1].rot, pose[1].tr);
+    for (uint32_t j = 0; j < src->n; j++)
+        if (!need || need[j])
+            for (int i = 0; i < 2; i++)
+                rt_source_joint(src, j, pose[i].local, pose[i].world, pose[i].rot, pose[i].tr);
 }
 
 /* ---- the cycle of mirrored inputs ---- */

@@ -205,28 +205,50 @@ typedef struct rt_tracks {
     bool ok;
 } rt_tracks;
 
+/* Frame f's track values from its source pose `world`. */
+static void rt_track_frame(const rt_tracks *t, uint32_t k, uint32_t f, const rf_xform *world)
+{
+    const rf_retarget *rt = t->rt;
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        if (rt_effector_slot(rt, e) != t->s)
+            continue;
+        uint32_t j = rt->effector_src[e];
+        t->pos[(size_t)e * t->frames + f] = world[j].t;
+        t->sole[(size_t)e * t->frames + f] = rf_rt_over_floor_below(
+            rt, k, world, t->below + (size_t)e * rt->max_src_n, t->below_count[e]);
+    }
+}
+
+/* The frames two at a time (rf_rt_source_world_two), the last one alone. */
 static void *rt_tracks_run(void *arg)
 {
     rt_tracks *t = arg;
     const rf_retarget *rt = t->rt;
     size_t m = rt->max_src_n ? rt->max_src_n : 1;
-    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
-    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
-    t->ok = local && world && rot && tr;
-    uint32_t k = rt->slots[t->s].source;
-    for (uint32_t f = t->first; t->ok && f < t->end; f++) {
-        rf_rt_source_world_some(rt, k, rf_rt_slot_time(rt, t->s, t->start + f / t->fps), local,
-                                world, rot, tr, t->need);
-        for (uint32_t e = 0; e < rt->effector_count; e++) {
-            if (rt_effector_slot(rt, e) != t->s)
-                continue;
-            uint32_t j = rt->effector_src[e];
-            t->pos[(size_t)e * t->frames + f] = world[j].t;
-            t->sole[(size_t)e * t->frames + f] = rf_rt_over_floor_below(
-                rt, k, world, t->below + (size_t)e * rt->max_src_n, t->below_count[e]);
-        }
+    rf_rt_source_pose pose[2];
+    t->ok = true;
+    for (int i = 0; i < 2; i++) {
+        pose[i].local = malloc(m * sizeof *pose[i].local);
+        pose[i].world = malloc(m * sizeof *pose[i].world);
+        pose[i].rot = malloc(m * 4 * sizeof *pose[i].rot);
+        pose[i].tr = malloc(m * 3 * sizeof *pose[i].tr);
+        t->ok = t->ok && pose[i].local && pose[i].world && pose[i].rot && pose[i].tr;
     }
-    free(local), free(world), free(rot), free(tr);
+    uint32_t k = rt->slots[t->s].source, f = t->first;
+    for (; t->ok && f + 1 < t->end; f += 2) {
+        double at[2] = {rf_rt_slot_time(rt, t->s, t->start + f / t->fps),
+                        rf_rt_slot_time(rt, t->s, t->start + (f + 1) / t->fps)};
+        rf_rt_source_world_two(rt, k, at, pose, t->need);
+        rt_track_frame(t, k, f, pose[0].world);
+        rt_track_frame(t, k, f + 1, pose[1].world);
+    }
+    if (t->ok && f < t->end) {
+        rf_rt_source_world_some(rt, k, rf_rt_slot_time(rt, t->s, t->start + f / t->fps),
+                                pose[0].local, pose[0].world, pose[0].rot, pose[0].tr, t->need);
+        rt_track_frame(t, k, f, pose[0].world);
+    }
+    for (int i = 0; i < 2; i++)
+        free(pose[i].local), free(pose[i].world), free(pose[i].rot), free(pose[i].tr);
     return NULL;
 }
 

@@ -320,6 +320,16 @@ void rf_rt_source_world(const rf_retarget *rt, uint32_t k, double t, rf_xform *l
 /* The same for the joints in `need` only (a joint's ancestors must be in it; NULL: all). */
 void rf_rt_source_world_some(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
                              rf_xform *world, float *rot, float *tr, const uint8_t *need);
+/* A source pose's scratch: local and world transforms, sampled rotations and translations. */
+typedef struct rf_rt_source_pose {
+    rf_xform *local, *world;
+    float *rot, *tr;
+} rf_rt_source_pose;
+/* rf_rt_source_world_some at two times at once, each into its own pose: the same operations for
+ * each, interleaved joint by joint, so the processor overlaps the two poses' chains (each joint
+ * waits on its parent's world rotation, a square root and four divisions away). */
+void rf_rt_source_world_two(const rf_retarget *rt, uint32_t k, const double t[2],
+                            rf_rt_source_pose pose[2], const uint8_t *need);
 
 /* ---- rt-contact.c ---- */
 /* Per effector and output frame: 1 when the source counterpart is in contact ([eff][frames],
