@@ -6,6 +6,12 @@
 #   armature FILE JOINTS SECONDS one armature of JOINTS bones (no empties) whose action lasts
 #                                SECONDS (to half a frame)
 #   actions FILE NAME...         the armature gets one action per NAME (each name a substring)
+#   plays FILE                   one armature with an action and a mesh it deforms: evaluated at the
+#                                action's first frame and four more to its last, the skinned vertices
+#                                are finite, some vertex moves by over 1% of the mesh's size and the
+#                                mesh deforms (the distance between two vertices changes by over 0.1%
+#                                of its size: a clip that only carries the mesh whole does not count;
+#                                a rod driven by a walk's spine bends little)
 import sys
 
 import bpy
@@ -59,6 +65,53 @@ def check_actions(path, names):
     return ok, f"actions {actions}"
 
 
+def skinned_points(meshes, frame):
+    bpy.context.scene.frame_set(frame)
+    graph = bpy.context.evaluated_depsgraph_get()
+    points = []
+    for o in meshes:
+        ev = o.evaluated_get(graph)
+        m = ev.to_mesh()
+        co = np.empty(len(m.vertices) * 3)
+        m.vertices.foreach_get('co', co)
+        ev.to_mesh_clear()
+        w = np.array(o.matrix_world)
+        co = co.reshape(-1, 3) @ w[:3, :3].T + w[:3, 3]
+        points.append(co)
+    return np.concatenate(points) if points else np.zeros((0, 3))
+
+
+def check_plays(path):
+    load(path)
+    arms = [o for o in bpy.data.objects if o.type == 'ARMATURE']
+    action = arms[0].animation_data.action if len(arms) == 1 and arms[0].animation_data else None
+    meshes = [o for o in bpy.data.objects if o.type == 'MESH' and
+              any(md.type == 'ARMATURE' and md.object in arms for md in o.modifiers)]
+    if not action or not meshes:
+        return False, f"{len(arms)} armatures, action {action is not None}, {len(meshes)} skinned meshes"
+    first, last = (int(round(f)) for f in action.frame_range)
+    a = skinned_points(meshes, first)
+    others = [skinned_points(meshes, first + (last - first) * k // 4) for k in range(1, 5)]
+    size = float(np.linalg.norm(a.max(axis=0) - a.min(axis=0))) if len(a) else 0.0
+    finite = bool(np.isfinite(a).all() and all(np.isfinite(b).all() for b in others))
+    bend = max(largest_bend(a, b) for b in others) if finite and len(a) > 1 else 0.0
+    move = max(float(np.linalg.norm(b - a, axis=1).max()) for b in others) if finite and len(a) else 0.0
+    ok = finite and size > 0 and move > 0.01 * size and bend > 0.001 * size
+    size = size or 1.0
+    return ok, (f"{len(meshes)} skinned meshes, {len(a)} vertices, frames {first}-{last}, "
+                f"largest move {move / size:.3f} and bend {bend / size:.4f} of the size, finite {finite}")
+
+
+def largest_bend(a, b):
+    # Random vertex pairs (fixed seed): how much their distance changes between the two frames.
+    rng = np.random.default_rng(1)
+    i = rng.integers(0, len(a), 20000)
+    j = rng.integers(0, len(a), 20000)
+    da = np.linalg.norm(a[i] - a[j], axis=1)
+    db = np.linalg.norm(b[i] - b[j], axis=1)
+    return float(np.abs(db - da).max())
+
+
 def main(args):
     failed = 0
     i = 0
@@ -70,10 +123,13 @@ def main(args):
         elif kind == 'armature':
             ok, what = check_armature(path, int(args[i + 2]), float(args[i + 3]))
             i += 4
+        elif kind == 'plays':
+            ok, what = check_plays(path)
+            i += 2
         elif kind == 'actions':
             names = []
             i += 2
-            while i < len(args) and args[i] not in ('look', 'armature', 'actions'):
+            while i < len(args) and args[i] not in ('look', 'armature', 'actions', 'plays'):
                 names.append(args[i])
                 i += 1
             ok, what = check_actions(path, names)

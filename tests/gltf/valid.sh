@@ -12,7 +12,7 @@ gltf_valid() {
     fi
     "$gltf_node" "$gltf_validate_js" "$1"
     case $? in
-    0) ok ;;
+    0) ok "glTF-Validator accepts $(basename "$1")" ;;
     77) gltf_skipped=$((gltf_skipped + 1)); echo "SKIP: glTF-Validator not installed: $1 not validated" ;;
     *) ko "glTF-Validator rejects $1" ;;
     esac

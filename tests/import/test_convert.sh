@@ -42,5 +42,9 @@ if convert "$data/models/spider.fbx" "$tmp/spider.glb" 2>"$tmp/err"; then ko "sp
 if grep -q "spider.fbx: no skeleton" "$tmp/err" && [ ! -e "$tmp/spider.glb" ]; then ok; else ko "spider message or leftover"; fi
 if convert "$data/models/Fox.glb" "$tmp/fox.obj" 2>"$tmp/err"; then ko ".obj accepted"; else ok; fi
 if grep -q "expected .glb, .gltf or .bvh" "$tmp/err" && [ ! -e "$tmp/fox.obj" ]; then ok; else ko ".obj message or leftover"; fi
+# an Ogre mesh copied without the .skeleton it names: the error names the missing file
+mkdir "$tmp/ogre" && cp "$data/models/ogre/fish.mesh" "$tmp/ogre/"
+if convert "$tmp/ogre/fish.mesh" "$tmp/fish.glb" 2>"$tmp/err"; then ko "fish.mesh without its skeleton converted"; else ok; fi
+if grep -q "not beside it: fish.skeleton" "$tmp/err" && [ ! -e "$tmp/fish.glb" ]; then ok; else ko "fish.mesh: missing skeleton not named"; cat "$tmp/err"; fi
 echo "$pass passed, $fail failed"
 gltf_exit "$fail"

@@ -30,3 +30,5 @@ TESTS += tests/rig/test_rig_pipeline.sh
 EXTRA_DIST += tests/rig/test_rig_pipeline.sh
 TESTS += tests/rig/test_rig_fit.sh
 EXTRA_DIST += tests/rig/test_rig_fit.sh
+TESTS += tests/rig/test_rig_all.sh
+EXTRA_DIST += tests/rig/test_rig_all.sh

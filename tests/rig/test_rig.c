@@ -19,6 +19,7 @@
 #include <cmocka.h>
 
 #include <rigflow/aimport.h>
+#include <rigflow/memory.h>
 
 #include "rig-internal.h"
 
@@ -932,6 +933,26 @@ static void test_place_section(void **state)
     assert_true(pos[2] == moved[2]); /* joint 0 not asked for */
 }
 
+/* A scan too large for the memory left is refused before any work, with the figures: 120 million
+ * vertices and 40 million triangles need 120e6 * 100 + 40e6 * 40 bytes = 13.6 GB (by hand). */
+static void test_memory_refusal(void **state)
+{
+    (void)state;
+    char err[512] = "";
+    assert_true(rf_rig_memory_fits(120000000, 40000000, false, 0, err, sizeof err));
+    assert_true(rf_rig_memory_fits(120000000, 40000000, true, 14000000000u, err, sizeof err));
+    assert_false(rf_rig_memory_fits(120000000, 40000000, true, 8000000000u, err, sizeof err));
+    assert_non_null(strstr(err, "13.6 GB to rig and 8.0 GB is available"));
+    /* on Linux the system always says something, and a running process has some memory left */
+    uint64_t left = 0;
+    FILE *f = fopen("/proc/meminfo", "r");
+    if (f) {
+        fclose(f);
+        assert_true(rf_memory_available(&left));
+        assert_true(left > 0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -944,6 +965,7 @@ int main(void)
         cmocka_unit_test(test_bind_open_sheet),  cmocka_unit_test(test_narrow_gap),
         cmocka_unit_test(test_template_refusal), cmocka_unit_test(test_template_quadruped),
         cmocka_unit_test(test_template_models),  cmocka_unit_test(test_place_section),
+        cmocka_unit_test(test_memory_refusal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -60,6 +60,18 @@ static void rf_ai_refuse(rf_ai_confine *cf, const char *path, const char *why)
     snprintf(cf->refused, sizeof cf->refused, "refused to read %s: %s", path, why);
 }
 
+/* Notes a file Assimp asked for that is not there (a probe, or a part of the model such as an
+ * Ogre mesh's .skeleton): said only if the import then fails or lacks what it needed. */
+static void rf_ai_note_missing(rf_ai_confine *cf, const char *path)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    size_t used = strlen(cf->missing);
+    if (strstr(cf->missing, base) || used + strlen(base) + 3 >= sizeof cf->missing)
+        return;
+    snprintf(cf->missing + used, sizeof cf->missing - used, "%s%s", used ? ", " : "", base);
+}
+
 static size_t rf_ai_file_read(struct aiFile *f, char *buf, size_t size, size_t count)
 {
     return fread(buf, size, count, (FILE *)f->UserData);
@@ -105,6 +117,8 @@ static char *rf_ai_io_resolve(rf_ai_confine *cf, const char *path)
     if (strcmp(path, cf->model) == 0)
         return strdup(path);
     char *real = realpath(path, NULL);
+    if (!real && errno == ENOENT)
+        rf_ai_note_missing(cf, path);
     if (real && !rf_ai_inside(cf, real)) {
         rf_ai_refuse(cf, path,
                      "outside the model's folder (a model may only name files beside it or below)");

@@ -11,6 +11,7 @@ typedef struct rf_ai_confine {
     char *root;             /* the model's folder, symbolic links resolved */
     unsigned refused_count; /* reads refused */
     char refused[640];      /* what the first refusal was, or "" */
+    char missing[512];      /* files asked for that are not there, comma-separated, or "" */
 } rf_ai_confine;
 
 /* Fills *io so that Assimp reads only the model at `model_path` and regular files inside its

@@ -25,6 +25,7 @@
 #include <assimp/metadata.h>
 #include <assimp/postprocess.h>
 
+#include "rigflow/memory.h"
 #include "rigflow/model-copy.h"
 #include "aimport-internal.h"
 #include "aimport-io.h"
@@ -41,6 +42,24 @@ bool rf_ai_fail(rf_ai_ctx *c, const char *fmt, ...)
     vsnprintf(c->err + n, c->err_size - (size_t)n, fmt, ap);
     va_end(ap);
     return false;
+}
+
+/* Assimp reports running out of memory as its C++ exception's text; a second try would only run
+ * out again. Says so with the file's size and the memory there was, and returns true. */
+static bool rf_ai_out_of_memory(rf_ai_ctx *c, const char *why)
+{
+    if (!strstr(why, "bad_alloc"))
+        return false;
+    struct stat st;
+    uint64_t left = 0;
+    double mb = stat(c->path, &st) == 0 ? (double)st.st_size / 1e6 : 0;
+    if (rf_memory_available(&left))
+        return !rf_ai_fail(c,
+                           "out of memory reading it (%.0f MB, with %.1f GB of memory left to "
+                           "the process): a smaller or simplified file is needed",
+                           mb, (double)left / 1e9);
+    return !rf_ai_fail(
+        c, "out of memory reading it (%.0f MB): a smaller or simplified file is needed", mb);
 }
 
 void rf_ai_logf(rf_ai_ctx *c, int level, const char *fmt, ...)
@@ -177,13 +196,15 @@ static const struct aiScene *rf_ai_load(rf_ai_ctx *c)
          * import without the step and clamp the keys while resampling. */
         char first[512];
         snprintf(first, sizeof first, "%s", aiGetErrorString());
-        s = aiImportFileExWithProperties(c->path, flags, io, props);
+        bool oom = rf_ai_out_of_memory(c, first);
+        if (!oom)
+            s = aiImportFileExWithProperties(c->path, flags, io, props);
         if (s)
             rf_ai_logf(c, 1,
                        "%s: Assimp's validation failed (%s); imported without it, keys outside a "
                        "clip are clamped",
                        c->path, first);
-        else
+        else if (!oom)
             rf_ai_fail(c, "Assimp cannot read it: %s%s%s", first, cf->refused[0] ? "; " : "",
                        cf->refused);
     }
@@ -778,8 +799,11 @@ static bool rf_ai_run(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
     if (!c->joint_count && o->require_skeleton)
         return rf_ai_fail(c,
                           "no skeleton: no skinned bones, animated nodes or node hierarchy "
-                          "(%u meshes, %u animations); a skeleton is required here",
-                          c->scene->mNumMeshes, c->scene->mNumAnimations);
+                          "(%u meshes, %u animations)%s%s; a skeleton is required here",
+                          c->scene->mNumMeshes, c->scene->mNumAnimations,
+                          c->confine.missing[0] ? "; files it asked for that are not beside it: "
+                                                : "",
+                          c->confine.missing);
     if (!rf_ai_build_skeleton(c, o, &r->skeleton) || !rf_ai_build_mesh(c, &r->mesh))
         return false;
     rf_ai_flag_unweighted(r->skeleton, r->mesh);
