@@ -1077,10 +1077,16 @@ static double *rt_parts_hang(const rf_retarget *rt, const rf_animation *anim, co
         free(hang), free(bone), free(scale);
         return NULL;
     }
+    /* the longest squared, then one square root: the root is monotone and correctly rounded,
+     * so this is the longest of the lengths exactly, without a root and an fmax call a frame */
     for (uint32_t f = 0; f < anim->frame_count; f++)
-        for (uint32_t j = 0; j < n; j++)
-            if (reach[j])
-                bone[j] = fmax(bone[j], rf_v3_len(rf_animation_translation(anim, f, j)));
+        for (uint32_t j = 0; j < n; j++) {
+            double len2 = rf_v3_len2(rf_animation_translation(anim, f, j));
+            if (reach[j] && len2 > bone[j])
+                bone[j] = len2;
+        }
+    for (uint32_t j = 0; j < n; j++)
+        bone[j] = sqrt(bone[j]);
     const rf_joint *joints = rt->target->joints;
     for (uint32_t j = 0; j < n; j++) {
         int32_t p = joints[j].parent;
