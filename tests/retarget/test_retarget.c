@@ -415,6 +415,41 @@ static void centerline_turns_kept_in_own_range(void **state)
     rf_mapping_free(m), rf_animation_free(clip), rf_animation_free(own), rf_skeleton_free(s);
 }
 
+/* Turns past the limit in every direction, the long way round included (a quaternion with a
+ * negative w: 200 degrees is 160 the other way), are cut back to the limit about their own axis:
+ * the same rotations as raising the turn off rest to the power limit / turn (a slerp from
+ * identity), checked here against that form. */
+static void turns_cut_about_their_own_axis(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped(1, 0.5, 0.45);
+    rf_animation *clip = fx_rest_clip(s, 40, 10), *own = fx_rest_clip(s, 2, 10);
+    rf_animation_set_rotation(own, 1, 8, fx_rot(Z, 10));
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(s, clip, s, m, &o);
+    rf_quat rest = s->joints[8].rest.r, want[40];
+    double limit = (10 + RF_RT_TURN_SLACK) * DEG;
+    srand(3);
+    for (uint32_t f = 0; f < 40; f++) {
+        rf_vec3 axis = rf_v3(rand() % 201 - 100, rand() % 201 - 100, rand() % 201 - 100 + 0.5);
+        rf_quat q = rf_quat_mul(rest, fx_rot(axis, 20 + 320.0 * f / 39)); /* 20 to 340 degrees */
+        rf_animation_set_rotation(r.out, f, 8, q);
+        q = rf_quat_normalize(rf_animation_rotation(r.out, f, 8)); /* as stored, in floats */
+        rf_quat d = rf_quat_mul(rf_quat_conj(rest), q);
+        double turn = 2 * acos(fmin(1, fabs(d.w)));
+        want[f] = rf_quat_mul(rest, rf_rt_quat_pow(d, limit / turn));
+    }
+    assert_int_equal(rf_retarget_limit_turns(r.rt, r.out, own), 1);
+    for (uint32_t f = 0; f < 40; f++) {
+        assert_true(rot_diff(local_rot(r.out, f, 8), want[f]) < 1e-4);
+        assert_true(fabs(rot_diff(local_rot(r.out, f, 8), rest) - 15) < 1e-4);
+    }
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_animation_free(own), rf_skeleton_free(s);
+}
+
 /* A target's own clip that turns the head 179 degrees sets no limit at all (no turn exceeds 180
  * plus the slack): a half turn in the clip stays as it is, not carried on past the half turn. */
 static void half_turn_kept_under_own_range(void **state)
@@ -989,6 +1024,7 @@ int main(void)
         cmocka_unit_test(target_stays_on_its_floor),
         cmocka_unit_test(centerline_turns_kept_in_own_range),
         cmocka_unit_test(half_turn_kept_under_own_range),
+        cmocka_unit_test(turns_cut_about_their_own_axis),
         cmocka_unit_test(resampling_slerps),
         cmocka_unit_test(frame_range),
         cmocka_unit_test(identity_returns_the_clip),
