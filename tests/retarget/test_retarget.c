@@ -450,6 +450,48 @@ static void turns_cut_about_their_own_axis(void **state)
     rf_mapping_free(m), rf_animation_free(clip), rf_animation_free(own), rf_skeleton_free(s);
 }
 
+/* The source posed at two times at once (the contact tracks and the clearance) is the source
+ * posed at each time alone, bit for bit: the same operations, interleaved. */
+static void source_posed_two_at_once(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped(1, 0.5, 0.45);
+    s->joints[3].rest.s = rf_v3(1.5, 1.5, 1.5); /* a scaled joint: its children's products */
+    rf_animation *clip = fx_rest_clip(s, 12, 10);
+    srand(5);
+    for (uint32_t f = 0; f < 12; f++)
+        for (uint32_t j = 0; j < s->joint_count; j++) {
+            rf_vec3 axis = rf_v3(rand() % 201 - 100, rand() % 201 - 100, rand() % 201 - 100 + 0.5);
+            rf_animation_set_rotation(clip, f, j, fx_rot(axis, rand() % 360));
+        }
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(s, clip, s, m, &o);
+    size_t n = s->joint_count;
+    rf_xform local[2][16], world[2][16], one_local[16], one_world[16];
+    float rot[2][64], tr[2][48], one_rot[64], one_tr[48];
+    assert_true(n <= 16);
+    rf_rt_source_pose pose[2] = {{local[0], world[0], rot[0], tr[0]},
+                                 {local[1], world[1], rot[1], tr[1]}};
+    double t[2] = {0.25, 0.83}; /* between frames: sampled */
+    uint8_t need[16] = {0};
+    for (int some = 0; some < 2; some++) {
+        for (size_t j = 0; j < n; j++)
+            need[j] = !some || j < 5; /* all joints, then a chain from the root */
+        rf_rt_source_world_two(r.rt, 0, t, pose, some ? need : NULL);
+        for (int i = 0; i < 2; i++) {
+            rf_rt_source_world_some(r.rt, 0, t[i], one_local, one_world, one_rot, one_tr,
+                                    some ? need : NULL);
+            for (size_t j = 0; j < n; j++)
+                if (!some || need[j])
+                    assert_memory_equal(&world[i][j], &one_world[j], sizeof one_world[j]);
+        }
+    }
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(s);
+}
+
 /* A target's own clip that turns the head 179 degrees sets no limit at all (no turn exceeds 180
  * plus the slack): a half turn in the clip stays as it is, not carried on past the half turn. */
 static void half_turn_kept_under_own_range(void **state)
@@ -1025,6 +1067,7 @@ int main(void)
         cmocka_unit_test(centerline_turns_kept_in_own_range),
         cmocka_unit_test(half_turn_kept_under_own_range),
         cmocka_unit_test(turns_cut_about_their_own_axis),
+        cmocka_unit_test(source_posed_two_at_once),
         cmocka_unit_test(resampling_slerps),
         cmocka_unit_test(frame_range),
         cmocka_unit_test(identity_returns_the_clip),
