@@ -131,10 +131,9 @@ static rf_animation *rt_output_new(const rf_retarget *rt, uint32_t frames)
     return out;
 }
 
-/* Frames [first, end) of the clip into out, with scratch w. Reports progress and stops when it
- * says so (false); progress may be NULL. */
-static bool rt_frames(const rf_retarget *rt, rf_rt_work *w, rf_animation *out, uint32_t first,
-                      uint32_t end, rf_rt_progress_fn progress, void *user)
+/* Frames [first, end) of the clip into out, with scratch w. */
+static void rt_frames(const rf_retarget *rt, rf_rt_work *w, rf_animation *out, uint32_t first,
+                      uint32_t end)
 {
     double start = rf_retarget_start_time(rt), fps = out->fps;
     size_t n = rt->n;
@@ -143,39 +142,47 @@ static bool rt_frames(const rf_retarget *rt, rf_rt_work *w, rf_animation *out, u
         for (uint32_t s = 0; s < rt->slot_count; s++)
             w->poses[s] = rt_slot_pose(rt, w, s, t);
         rf_rt_frame(rt, w, w->poses, out->rotations + f * n * 4, out->translations + f * n * 3);
-        if (progress && ((f - first) & 255) == 255 &&
-            !progress(user, (double)(f - first) / (end - first)))
-            return false;
     }
-    return true;
 }
 
-/* A helper thread doing the second half of a long clip with scratch of its own. */
+/* A helper thread taking chunks of a long clip (rf_rt_chunk) with scratch of its own. */
 typedef struct rt_half {
     const rf_retarget *rt;
     rf_rt_work work;
     rf_animation *out;
-    uint32_t first, end;
+    rf_rt_chunks *chunks;
 } rt_half;
 
 static void *rt_half_run(void *arg)
 {
     rt_half *h = arg;
-    rt_frames(h->rt, &h->work, h->out, h->first, h->end, NULL, NULL);
+    uint32_t first, end;
+    while (rf_rt_chunk(h->chunks, &first, &end))
+        rt_frames(h->rt, &h->work, h->out, first, end);
     return NULL;
 }
 
-/* All frames of the clip: on two threads when the clip is long and a second thread can be had,
- * else on this one. Frames are independent, so the halves need no coordination. */
+/* All frames of the clip: shared with a second thread when the clip is long and one can be
+ * had, else on this one. Frames are independent, so the threads need no other coordination.
+ * Progress is reported as chunks are taken here; when it says stop, the helper's next chunk is
+ * its last. */
 static bool rt_all_frames(rf_retarget *rt, rf_animation *out, rf_rt_progress_fn progress,
                           void *user)
 {
-    uint32_t frames = out->frame_count;
-    rt_half h = {rt, {0}, out, frames / 2, frames};
+    uint32_t frames = out->frame_count, first, end;
+    rf_rt_chunks chunks;
+    rf_rt_chunks_init(&chunks, frames);
+    rt_half h = {rt, {0}, out, &chunks};
     pthread_t thread;
     bool two = (uint64_t)frames * rt->n >= RT_THREAD_MIN && rf_rt_work_init(rt, &h.work) &&
                pthread_create(&thread, NULL, rt_half_run, &h) == 0;
-    bool ok = rt_frames(rt, &rt->work, out, 0, two ? frames / 2 : frames, progress, user);
+    bool ok = true;
+    while (ok && rf_rt_chunk(&chunks, &first, &end)) {
+        rt_frames(rt, &rt->work, out, first, end);
+        ok = !progress || progress(user, (double)end / frames);
+    }
+    if (!ok)
+        rf_rt_chunks_stop(&chunks);
     if (two)
         pthread_join(thread, NULL);
     rf_rt_work_free(rt, &h.work);

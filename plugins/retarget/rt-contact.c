@@ -193,10 +193,12 @@ static void rt_track_need(const rf_retarget *rt, uint32_t s, uint8_t *need)
             rt_sole_need(src, (int32_t)rt->effector_src[e], need);
 }
 
-/* Frames [first, end) of slot s's tracks, with scratch of its own (one thread's share). */
+/* Slot s's tracks, a chunk of frames at a time (rf_rt_chunk), with scratch of its own (one
+ * thread's share). */
 typedef struct rt_tracks {
     const rf_retarget *rt;
-    uint32_t s, first, end, frames;
+    rf_rt_chunks *chunks;
+    uint32_t s, frames;
     double fps, start;
     const uint8_t *need;
     const uint32_t *below, *below_count; /* [effector][source n], [effector]: rf_rt_below */
@@ -219,7 +221,25 @@ static void rt_track_frame(const rt_tracks *t, uint32_t k, uint32_t f, const rf_
     }
 }
 
-/* The frames two at a time (rf_rt_source_world_two), the last one alone. */
+/* Frames [f, end) two at a time (rf_rt_source_world_two), the last one alone, into pose. */
+static void rt_tracks_chunk(const rt_tracks *t, uint32_t f, uint32_t end, rf_rt_source_pose *pose)
+{
+    const rf_retarget *rt = t->rt;
+    uint32_t k = rt->slots[t->s].source;
+    for (; f + 1 < end; f += 2) {
+        double at[2] = {rf_rt_slot_time(rt, t->s, t->start + f / t->fps),
+                        rf_rt_slot_time(rt, t->s, t->start + (f + 1) / t->fps)};
+        rf_rt_source_world_two(rt, k, at, pose, t->need);
+        rt_track_frame(t, k, f, pose[0].world);
+        rt_track_frame(t, k, f + 1, pose[1].world);
+    }
+    if (f < end) {
+        rf_rt_source_world_some(rt, k, rf_rt_slot_time(rt, t->s, t->start + f / t->fps),
+                                pose[0].local, pose[0].world, pose[0].rot, pose[0].tr, t->need);
+        rt_track_frame(t, k, f, pose[0].world);
+    }
+}
+
 static void *rt_tracks_run(void *arg)
 {
     rt_tracks *t = arg;
@@ -234,19 +254,11 @@ static void *rt_tracks_run(void *arg)
         pose[i].tr = malloc(m * 3 * sizeof *pose[i].tr);
         t->ok = t->ok && pose[i].local && pose[i].world && pose[i].rot && pose[i].tr;
     }
-    uint32_t k = rt->slots[t->s].source, f = t->first;
-    for (; t->ok && f + 1 < t->end; f += 2) {
-        double at[2] = {rf_rt_slot_time(rt, t->s, t->start + f / t->fps),
-                        rf_rt_slot_time(rt, t->s, t->start + (f + 1) / t->fps)};
-        rf_rt_source_world_two(rt, k, at, pose, t->need);
-        rt_track_frame(t, k, f, pose[0].world);
-        rt_track_frame(t, k, f + 1, pose[1].world);
-    }
-    if (t->ok && f < t->end) {
-        rf_rt_source_world_some(rt, k, rf_rt_slot_time(rt, t->s, t->start + f / t->fps),
-                                pose[0].local, pose[0].world, pose[0].rot, pose[0].tr, t->need);
-        rt_track_frame(t, k, f, pose[0].world);
-    }
+    uint32_t first, end;
+    while (t->ok && rf_rt_chunk(t->chunks, &first, &end))
+        rt_tracks_chunk(t, first, end, pose);
+    if (!t->ok) /* out of memory: the other thread takes the rest, or fails too */
+        rf_rt_chunks_stop(t->chunks);
     for (int i = 0; i < 2; i++)
         free(pose[i].local), free(pose[i].world), free(pose[i].rot), free(pose[i].tr);
     return NULL;
@@ -254,8 +266,8 @@ static void *rt_tracks_run(void *arg)
 
 /* World positions of every effector's source joint at each output frame, and the heights of
  * their soles over the source floor in source leg lengths, each at its input's sample time
- * (half a cycle away for a mirrored input). A long clip's frames are split between this thread
- * and a second one, as the retarget's are: frames are independent. */
+ * (half a cycle away for a mirrored input). A long clip's frames are shared with a second
+ * thread, as the retarget's are: frames are independent. */
 static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps, double start,
                              rf_vec3 *pos, double *sole)
 {
@@ -275,15 +287,14 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
         if (!used)
             continue;
         rt_track_need(rt, s, need);
-        rt_tracks a = {rt,   s,     0,           frames, frames, fps,  start,
-                       need, below, below_count, pos,    sole,   false},
+        rf_rt_chunks chunks;
+        rf_rt_chunks_init(&chunks, frames);
+        rt_tracks a = {rt,   &chunks, s,           frames, fps,  start,
+                       need, below,   below_count, pos,    sole, false},
                   b = a;
         pthread_t thread;
-        bool two = (uint64_t)frames * rt->src[rt->slots[s].source].n >= RT_THREAD_MIN;
-        a.end = b.first = two ? frames / 2 : frames;
-        two = two && pthread_create(&thread, NULL, rt_tracks_run, &b) == 0;
-        if (!two)
-            a.end = frames;
+        bool two = (uint64_t)frames * rt->src[rt->slots[s].source].n >= RT_THREAD_MIN &&
+                   pthread_create(&thread, NULL, rt_tracks_run, &b) == 0;
         rt_tracks_run(&a);
         if (two)
             pthread_join(thread, NULL);
@@ -997,8 +1008,8 @@ static uint32_t rt_parts_step(const rf_animation *anim)
 
 /* The source's clearance at the reads frames [first, end) interpolate between: reads
  * first / step .. (end - 1) / step + 1, each at its frame (the last frame past the end). Each
- * thread reads those of its own frames, so the reads are shared between the threads as the
- * frames are. */
+ * thread reads those of the chunks of frames it takes, so the reads are shared between the
+ * threads as the frames are (a read between two chunks is made for each). */
 static double *rt_parts_clearance(const rt_parts *c, uint32_t first, uint32_t end)
 {
     uint32_t frames = c->anim->frame_count, step = c->step;
@@ -1017,11 +1028,11 @@ static double *rt_parts_clearance(const rt_parts *c, uint32_t first, uint32_t en
     return ok ? clear : NULL;
 }
 
-/* Frames [first, end) of the parts pass with scratch and counts of its own (one thread's
- * share: a frame reads and writes only itself). */
+/* The parts pass's frames a chunk at a time (rf_rt_chunk), with scratch and counts of its own
+ * (one thread's share: a frame reads and writes only itself). */
 typedef struct rt_parts_share {
     const rt_parts *c;
-    uint32_t first, end;
+    rf_rt_chunks *chunks;
     rf_rt_parts_stats st;
     bool ok;
 } rt_parts_share;
@@ -1032,29 +1043,36 @@ static void *rt_parts_run(void *arg)
     size_t n = sh->c->rt->n ? sh->c->rt->n : 1;
     rf_xform *local = malloc(n * sizeof *local), *world = malloc(n * sizeof *world);
     uint8_t *gone = malloc(n);
-    double *clear = rt_parts_clearance(sh->c, sh->first, sh->end);
-    uint32_t i0 = sh->first / sh->c->step;
     rt_src_poses sp = {0};
-    sh->ok = local && world && gone && clear && rt_src_poses_init(sh->c->rt, &sp);
-    for (uint32_t f = sh->first; sh->ok && f < sh->end; f++)
-        rt_parts_frame(sh->c, f, clear, i0, local, world, gone, &sp, &sh->st);
-    if (sh->ok)
+    bool poses = local && world && gone && rt_src_poses_init(sh->c->rt, &sp);
+    uint32_t first, end;
+    sh->ok = poses;
+    while (sh->ok && rf_rt_chunk(sh->chunks, &first, &end)) {
+        double *clear = rt_parts_clearance(sh->c, first, end);
+        sh->ok = clear != NULL;
+        for (uint32_t f = first; sh->ok && f < end; f++)
+            rt_parts_frame(sh->c, f, clear, first / sh->c->step, local, world, gone, &sp, &sh->st);
+        free(clear);
+    }
+    if (!sh->ok) /* out of memory: the other thread takes the rest, or fails too */
+        rf_rt_chunks_stop(sh->chunks);
+    if (poses)
         rt_src_poses_free(sh->c->rt, &sp);
-    free(local), free(world), free(gone), free(clear);
+    free(local), free(world), free(gone);
     return NULL;
 }
 
-/* Every frame of the parts pass: on two threads for a long clip, as the retarget's frames. */
+/* Every frame of the parts pass: shared with a second thread for a long clip, as the
+ * retarget's frames. */
 static bool rt_parts_all(const rt_parts *c, rf_rt_parts_stats *st)
 {
     uint32_t frames = c->anim->frame_count;
-    rt_parts_share a = {c, 0, frames, {0, 0}, false}, b = a;
+    rf_rt_chunks chunks;
+    rf_rt_chunks_init(&chunks, frames);
+    rt_parts_share a = {c, &chunks, {0, 0}, false}, b = a;
     pthread_t thread;
-    bool two = (uint64_t)frames * c->rt->n >= RT_THREAD_MIN;
-    a.end = b.first = two ? frames / 2 : frames;
-    two = two && pthread_create(&thread, NULL, rt_parts_run, &b) == 0;
-    if (!two)
-        a.end = frames;
+    bool two = (uint64_t)frames * c->rt->n >= RT_THREAD_MIN &&
+               pthread_create(&thread, NULL, rt_parts_run, &b) == 0;
     rt_parts_run(&a);
     if (two)
         pthread_join(thread, NULL);

@@ -6,6 +6,8 @@
 #ifndef RF_RT_INTERNAL_H
 #define RF_RT_INTERNAL_H
 
+#include <stdatomic.h>
+
 #include "retarget.h"
 
 #define RF_RT_NONE (-1)
@@ -238,6 +240,38 @@ bool rf_rt_clearance(const rf_retarget *rt, double start, double fps, uint32_t c
 bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift);
 /* Below this many joint-frames a second thread costs more than it saves. */
 #define RT_THREAD_MIN 65536
+
+/* A long clip's frames shared between two threads in chunks of RT_CHUNK, taken in order from a
+ * counter (rf_rt_chunk) rather than in fixed halves: on a busy machine a new thread started
+ * 1-3 ms late (measured), and the thread that had finished its half waited for the other's whole
+ * half at the join; now it takes more chunks. A frame is computed the same whichever thread
+ * takes it. */
+#define RT_CHUNK 256
+typedef struct rf_rt_chunks {
+    atomic_ullong next;
+    uint32_t end;
+} rf_rt_chunks;
+
+static inline void rf_rt_chunks_init(rf_rt_chunks *c, uint32_t end)
+{
+    atomic_init(&c->next, 0);
+    c->end = end;
+}
+/* The next chunk of frames [*first, *end); false when none is left. */
+static inline bool rf_rt_chunk(rf_rt_chunks *c, uint32_t *first, uint32_t *end)
+{
+    unsigned long long f = atomic_fetch_add_explicit(&c->next, RT_CHUNK, memory_order_relaxed);
+    if (f >= c->end)
+        return false;
+    *first = (uint32_t)f;
+    *end = f + RT_CHUNK < c->end ? (uint32_t)(f + RT_CHUNK) : c->end;
+    return true;
+}
+/* Ends the sharing early: later calls find nothing left. */
+static inline void rf_rt_chunks_stop(rf_rt_chunks *c)
+{
+    atomic_store_explicit(&c->next, c->end, memory_order_relaxed);
+}
 
 /* The k-th smallest of `count` values, reordering them (rt-mesh.c). */
 double rf_rt_select(double *v, size_t count, size_t k);
