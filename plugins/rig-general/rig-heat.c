@@ -144,47 +144,93 @@ static bool rf_rig_sees(const rf_rig_rays *r, uint32_t part, const double p[3], 
     return ray.tfar >= 0;
 }
 
-/* How far from p along the unit direction d the first surface of the mesh is, up to `far`. */
-static double rf_rig_exit(const rf_rig_rays *r, const double p[3], const double d[3], double far)
+static double rf_rig_dist3(const double *a, const double *b)
 {
-    struct RTCRay ray = {0};
-    ray.org_x = (float)p[0], ray.org_y = (float)p[1], ray.org_z = (float)p[2];
-    ray.dir_x = (float)d[0], ray.dir_y = (float)d[1], ray.dir_z = (float)d[2];
-    ray.tnear = 0, ray.tfar = (float)far, ray.mask = UINT32_MAX;
-    struct RTCIntersectContext ctx; /* no filter: every part's surface counts */
-    rtcInitIntersectContext(&ctx);
-    struct RTCRayHit hit = {.ray = ray};
-    hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(r->scene, &ctx, &hit);
-    return hit.hit.geomID == RTC_INVALID_GEOMETRY_ID ? far : hit.ray.tfar;
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
 }
 
-bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k)
+/* With the bones' axes known: the bone from a joint to a child on the joint's axis continues
+ * the joint's bone and is the joint's (a head over the hips' axis past helper joints: the torso
+ * between is the hips'), whatever the leaf rule said. A leaf off its parent's axis owns the
+ * offset from its parent only when the parent's bone goes on along its axis into a chain (a
+ * torso running on to the neck: the legs hanging off it are single-joint limbs); a parent whose
+ * chain ends there (BCN_Epileptic's neck, whose jaw, ponytail and face joints all sit off its
+ * axis) keeps those offsets, as a head keeps its ears'. A joint with no child on its axis gets a
+ * bone of its own along the axis, as long as the farthest of its parent and children is from
+ * it. reach and on are scratch, [n] each. */
+static void rf_rig_axis_bones(rf_rig_skel *k, const double *axis, double tiny, double *reach,
+                              uint8_t *on)
 {
-    rf_rig_rays rays = {0};
+    for (uint32_t j = 0; j < k->n; j++) {
+        int32_t p = k->parent[j];
+        reach[j] = p >= 0 ? rf_rig_dist3(k->pos + (size_t)j * 3, k->pos + (size_t)p * 3) : 0;
+        on[j] = 0;
+    }
+    for (uint32_t j = 0; j < k->n; j++)
+        if (k->parent[j] >= 0)
+            on[k->parent[j]] |= 4; /* an inner joint */
+    for (uint32_t c = 0; c < k->n; c++) {
+        int32_t j = k->parent[c];
+        if (j < 0)
+            continue;
+        const double *a = axis + (size_t)j * 3, *o = k->pos + (size_t)j * 3,
+                     *q = k->pos + (size_t)c * 3;
+        double len = rf_rig_dist3(o, q);
+        double along = (q[0] - o[0]) * a[0] + (q[1] - o[1]) * a[1] + (q[2] - o[2]) * a[2];
+        reach[j] = fmax(reach[j], len);
+        if ((a[0] || a[1] || a[2]) && (len <= tiny || along >= 0.95 * len)) {
+            /* within 18 degrees of the axis; 2: a chain goes on along it */
+            on[j] |= 1 | (on[c] & 4 ? 2 : 0);
+            if (k->owns_in)
+                k->owns_in[c] = 0;
+        }
+    }
+    for (uint32_t c = 0; k->owns_in && c < k->n; c++) {
+        int32_t j = k->parent[c];
+        const double *a = j >= 0 ? axis + (size_t)j * 3 : NULL;
+        if (a && (a[0] || a[1] || a[2]) && !(on[j] & 2))
+            k->owns_in[c] = 0;
+    }
+    for (uint32_t j = 0; j < k->n; j++) {
+        const double *a = axis + (size_t)j * 3;
+        if (!(a[0] || a[1] || a[2]) || (on[j] & 1) || k->has_tip[j] || !(reach[j] > tiny))
+            continue;
+        for (int c = 0; c < 3; c++)
+            k->tip[(size_t)j * 3 + c] = k->pos[(size_t)j * 3 + c] + a[c] * reach[j];
+        k->has_tip[j] = 1;
+    }
+}
+
+bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k, const double *axis)
+{
+    double tiny = 1e-9 * p->longest, *reach = malloc(((size_t)k->n + 1) * sizeof *reach);
     uint8_t *inner = calloc(k->n + 1, 1);
-    bool ok = inner && rf_rig_rays_make(&rays, &p->proxy, p->proxy_part);
-    for (uint32_t i = 0; ok && i < k->n; i++)
+    if (!reach || !inner) {
+        free(reach), free(inner);
+        return false;
+    }
+    if (axis)
+        rf_rig_axis_bones(k, axis, tiny, reach, inner);
+    memset(inner, 0, k->n);
+    for (uint32_t i = 0; i < k->n; i++)
         if (k->parent[i] >= 0)
             inner[k->parent[i]] = 1;
-    for (uint32_t i = 0; ok && i < k->n; i++) {
+    for (uint32_t i = 0; i < k->n; i++) {
         if (inner[i] || k->has_tip[i] || k->parent[i] < 0)
             continue;
         const double *a = k->pos + (size_t)k->parent[i] * 3, *b = k->pos + (size_t)i * 3;
-        double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (!(len > 1e-9 * p->longest))
+        const double *ax = axis ? axis + (size_t)i * 3 : NULL;
+        bool along = ax && (ax[0] || ax[1] || ax[2]);
+        double len = rf_rig_dist3(a, b);
+        if (!(len > tiny))
             continue;
         for (int c = 0; c < 3; c++)
-            d[c] /= len;
-        double t = rf_rig_exit(&rays, b, d, len);
-        for (int c = 0; c < 3; c++)
-            k->tip[(size_t)i * 3 + c] = b[c] + d[c] * t;
+            k->tip[(size_t)i * 3 + c] = b[c] + (along ? ax[c] * len : b[c] - a[c]);
         k->has_tip[i] = 1;
     }
-    rf_rig_rays_free(&rays);
-    free(inner);
-    return ok;
+    free(reach), free(inner);
+    return true;
 }
 
 /* ---- the proxy vertex nearest a point ---- */
@@ -477,14 +523,28 @@ static bool rf_rig_solve(const rf_rig_geo *g, const rf_rig_src *src, uint32_t nj
     return ok;
 }
 
-/* Rows made non-negative and summing to 1; a row with no heat at all takes its nearest bone. */
+/* How much of each vertex's largest weight is taken off every weight of the vertex before the
+ * row is normalised again: artists' weights are sharper than bone heat's (1.0 to 1.8 joints per
+ * vertex above 0.15 of the largest on 21 of the 23 shared models, bone heat 1.1 to 2.3 at c = 2
+ * with the artists' skeletons), and a raised heat c makes them sharper only by moving every
+ * boundary. Taking a share off narrows each blend where it is (a vertex weighted 0.6 / 0.4
+ * becomes 0.63 / 0.37, one at 0.83 / 0.17 or beyond moves with one joint) and is continuous
+ * in the weights, so no seam appears where a weight is dropped. On the artists' own
+ * skeletons, 0.2: precision 75.4% -> 80.6%, recall 86.7% -> 81.6%, L1 0.506 -> 0.476
+ * (doc/autorig.md); bone heat then gives 1.0 to 1.6 joints per vertex. */
+#define RF_RIG_SHARPEN 0.2
+
+/* Rows made non-negative, sharpened and summing to 1; a row with no heat at all takes its
+ * nearest bone. */
 static void rf_rig_normalise(const rf_rig_prep *p, const rf_rig_bone *bones, uint32_t nb,
                              uint32_t nj, double *w, rf_rig_stats *st)
 {
     for (uint32_t i = 0; i < p->proxy.nv; i++) {
-        double *row = w + (size_t)i * nj, sum = 0;
+        double *row = w + (size_t)i * nj, sum = 0, most = 0;
         for (uint32_t j = 0; j < nj; j++)
-            sum += row[j] = row[j] > 1e-6 ? row[j] : 0;
+            most = fmax(most, row[j] = isfinite(row[j]) && row[j] > 1e-6 ? row[j] : 0);
+        for (uint32_t j = 0; j < nj; j++)
+            sum += row[j] = fmax(0, row[j] - RF_RIG_SHARPEN * most);
         if (sum > 1e-9 && isfinite(sum)) {
             for (uint32_t j = 0; j < nj; j++)
                 row[j] /= sum;
@@ -554,6 +614,46 @@ static void rf_rig_keep_enclosed(const double *held, uint32_t nj, double *row)
         row[j] = total > 0 ? row[j] / total : j == best;
 }
 
+/* The bone length each loose part encloses per joint, into held[part * nj + joint] and its sum
+ * into sum[part]: points along each bone, each tested for the parts enclosing it. A bone whose
+ * only point inside a part is its last (a torso's bone ending at a hip at the top of a leg box, a
+ * neck's ending at the back of a head box) only reaches into that part and holds none of it.
+ * inside[part] and touched[] are scratch. */
+static void rf_rig_held(const rf_rig_rays *rays, const rf_rig_bone *bones, uint32_t nb, uint32_t nj,
+                        double far, double *held, double *sum, uint32_t *ahead, uint32_t *behind,
+                        uint32_t *crossed, uint32_t *inside, uint32_t *touched)
+{
+    for (uint32_t b = 0; b < nb; b++) {
+        double len = 0;
+        uint32_t ntouched = 0;
+        for (int c = 0; c < 3; c++)
+            len += (bones[b].b[c] - bones[b].a[c]) * (bones[b].b[c] - bones[b].a[c]);
+        len = sqrt(len) / RF_RIG_SAMPLES;
+        for (int k = 0; len > 0 && k < RF_RIG_SAMPLES; k++) {
+            double t = (k + 0.5) / RF_RIG_SAMPLES, q[3];
+            for (int c = 0; c < 3; c++)
+                q[c] = bones[b].a[c] + t * (bones[b].b[c] - bones[b].a[c]);
+            uint32_t n = rf_rig_enclosing(rays, q, far, ahead, behind, crossed);
+            for (uint32_t x = 0; x < n; x++) {
+                uint32_t part = crossed[x];
+                if ((ahead[part] & 1) && (behind[part] & 1)) {
+                    if (!inside[part])
+                        touched[ntouched++] = part;
+                    /* the count of points inside, and 1 << 16 when the last is */
+                    inside[part] += 1 + (k == RF_RIG_SAMPLES - 1 ? 1u << 16 : 0);
+                }
+                ahead[part] = behind[part] = 0;
+            }
+        }
+        for (uint32_t x = 0; x < ntouched; x++) {
+            uint32_t part = touched[x], n = inside[part] & 0xffff;
+            if (!(n == 1 && inside[part] >> 16))
+                held[(size_t)part * nj + bones[b].joint] += n * len, sum[part] += n * len;
+            inside[part] = 0;
+        }
+    }
+}
+
 /* A loose part that encloses bones is moved by the joints whose bones it encloses, and only by
  * them: a sleeve over an elbow by the upper arm and the forearm, not by the chest beside it.
  * When one joint holds seven tenths of the bone length inside it or more, by that joint alone,
@@ -569,26 +669,12 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
     uint32_t *crossed = malloc((2 * (size_t)np + 1) * sizeof *crossed);
     double *area = calloc(np + 1, sizeof *area);
     uint32_t *owner = malloc((np + 1) * sizeof *owner);
-    bool ok = held && sum && ahead && behind && crossed && area && owner;
-    double far = 4 * p->longest;
-    for (uint32_t b = 0; ok && b < nb; b++) {
-        double len = 0;
-        for (int c = 0; c < 3; c++)
-            len += (bones[b].b[c] - bones[b].a[c]) * (bones[b].b[c] - bones[b].a[c]);
-        len = sqrt(len) / RF_RIG_SAMPLES;
-        for (int k = 0; len > 0 && k < RF_RIG_SAMPLES; k++) {
-            double t = (k + 0.5) / RF_RIG_SAMPLES, q[3];
-            for (int c = 0; c < 3; c++)
-                q[c] = bones[b].a[c] + t * (bones[b].b[c] - bones[b].a[c]);
-            uint32_t n = rf_rig_enclosing(rays, q, far, ahead, behind, crossed);
-            for (uint32_t x = 0; x < n; x++) {
-                uint32_t part = crossed[x];
-                if ((ahead[part] & 1) && (behind[part] & 1))
-                    held[(size_t)part * nj + bones[b].joint] += len, sum[part] += len;
-                ahead[part] = behind[part] = 0;
-            }
-        }
-    }
+    uint32_t *inside = calloc(np + 1, sizeof *inside),
+             *touched = malloc((np + 1) * sizeof *touched);
+    bool ok = held && sum && ahead && behind && crossed && area && owner && inside && touched;
+    if (ok)
+        rf_rig_held(rays, bones, nb, nj, 4 * p->longest, held, sum, ahead, behind, crossed, inside,
+                    touched);
     uint32_t largest = 0;
     for (uint32_t t = 0; ok && t < p->proxy.nt; t++) {
         double cot[3];
@@ -618,6 +704,7 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         w[(size_t)i * nj + j] = 1;
     }
     free(held), free(sum), free(ahead), free(behind), free(crossed), free(area), free(owner);
+    free(inside), free(touched);
     return ok;
 }
 

@@ -87,10 +87,11 @@ uint32_t rf_rig_bones(const rf_rig_skel *s, rf_rig_bone **out);
 double rf_rig_seg_dist(const double q[3], const rf_rig_bone *b, double c[3]);
 
 /* Every leaf joint of k without an end site and with a parent gets one (has_tip set): on from
- * the joint in its parent's direction, as far as its parent's bone is long or to where the
- * surface of the proxy is first met, whichever is nearer. False when out of memory or Embree
- * failed. */
-bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k);
+ * the joint along its bone's axis (axis[joint * 3], unit, in world; zero or axis NULL: its
+ * parent's direction) as far as its parent's bone is long. With axes, a bone to a child on its
+ * parent's axis is the parent's (owns_in cleared) and a joint with no child on its axis gets a
+ * bone along it (rig-heat.c). False when out of memory. */
+bool rf_rig_leaf_tips(const rf_rig_prep *p, rf_rig_skel *k, const double *axis);
 
 /* A grid over the proxy's vertices, for the vertex nearest a point (rig-heat.c). */
 typedef struct rf_rig_near rf_rig_near;
@@ -170,6 +171,32 @@ typedef struct rf_rig_tpl_layout {
 } rf_rig_tpl_layout;
 
 extern const rf_rig_tpl_layout rf_rig_tpl_humanoid, rf_rig_tpl_quadruped;
+
+/* The kinds of limb a layout places joints along: an arm (clavicle, upper arm, elbow, hand), a
+ * foreleg (the same joints, a quadruped's), a leg (hip, knee, ankle where the leg comes down to
+ * the foot, toe) and a hind leg (its ankle a hock, at the curve's bend). */
+typedef enum rf_rig_limb_kind {
+    RF_RIG_LIMB_ARM,
+    RF_RIG_LIMB_FORELEG,
+    RF_RIG_LIMB_LEG,
+    RF_RIG_LIMB_HIND_LEG,
+} rf_rig_limb_kind;
+
+/* The four joints of a limb of curve skeleton k laid as layout l places them along the curve
+ * from joint `girdle` (where the limb leaves the body) through its first joint `first` to the
+ * farthest end below it (a leg's curve leaving out what climbs above the girdle, up the
+ * analysis's `up`): pivots into pos, the curve's end into tip (rig-template.c; the template
+ * rigger's limbs and the general rigger's, one home for where artists put limb joints). */
+void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                       rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, double pos[4][3],
+                       double tip[3]);
+
+/* The general rigger's joints short of bone heat, in place on its curve skeleton k
+ * (rf_rig_curve): limbs cut where the layouts given put their joints (NULL: the built-in ones)
+ * and a level body's spine moved along its back (rig.c). False when out of memory. The fitting
+ * of layouts (tests/rig/rig-fit --general) scores the general rigger through it. */
+bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o,
+                          const rf_rig_tpl_layout *humanoid, const rf_rig_tpl_layout *quadruped);
 
 /* The template laid into curve skeleton k of the cleaned mesh p, as a working skeleton into
  * *out (names into names[joint], 24 bytes each, up to 40 joints), with the layouts given

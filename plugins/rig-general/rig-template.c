@@ -460,65 +460,105 @@ static const char *rf_tpl_sided(char buf[24], int side, const char *part)
     return buf;
 }
 
-/* A leg: thigh, shin, foot, toe. The knee at the curve's bend near the middle, the ankle where
- * the curve comes down to the foot's height (or its bend, for a hock). */
+/* Where a limb's four joints go along its curve c (girdle to tip), as fractions into f[]: a
+ * leg's hip, knee at the curve's bend near the middle, ankle where the curve comes down to the
+ * foot's height (or at its bend, for a hock) and toe; an arm's (a foreleg's) clavicle, upper
+ * arm, elbow at the bend near the middle, and hand. */
+static void rf_tpl_fractions(const rf_tpl_curve *c, rf_vec3 up, rf_rig_limb_kind kind,
+                             const rf_rig_tpl_layout *l, double f[4])
+{
+    if (kind == RF_RIG_LIMB_ARM || kind == RF_RIG_LIMB_FORELEG) {
+        f[0] = l->shoulder, f[1] = l->arm, f[3] = l->hand;
+        f[2] = rf_tpl_bend(c, l->elbow_lo, l->elbow_hi, l->elbow);
+        return;
+    }
+    bool hind = kind == RF_RIG_LIMB_HIND_LEG;
+    double knee = rf_tpl_bend(c, l->knee_lo, l->knee_hi, l->knee);
+    double ankle = hind ? rf_tpl_bend(c, l->hock_lo, l->hock_hi, l->hock) : 0.82;
+    if (!hind) { /* the ankle: first point within ankle_rise of the leg's height of its lowest */
+        double lo = INFINITY, top = 0;
+        for (uint32_t i = 0; i < c->n; i++) {
+            double h = c->p[i][0] * up.x + c->p[i][1] * up.y + c->p[i][2] * up.z;
+            lo = fmin(lo, h), top = i ? top : h;
+        }
+        for (uint32_t i = 1; i < c->n; i++) {
+            double h = c->p[i][0] * up.x + c->p[i][1] * up.y + c->p[i][2] * up.z;
+            if (h <= lo + l->ankle_rise * (top - lo)) {
+                ankle = fmin(fmax(c->s[i] / rf_tpl_len(c), 0.7), 0.9);
+                break;
+            }
+        }
+    }
+    f[0] = l->upleg, f[1] = knee, f[2] = ankle, f[3] = ankle + l->toe * (1 - ankle);
+}
+
+/* The curve of the limb whose first joint is `first`, from its girdle, and where its joints go
+ * along it. A leg hangs down, so what climbs above its girdle is left out (a head merged into a
+ * foreleg); an arm may rise. */
+static void rf_tpl_limb_laid(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                             rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, rf_tpl_curve *c,
+                             double f[4])
+{
+    uint8_t *skip = calloc(k->n + 1, 1);
+    if (skip && kind != RF_RIG_LIMB_ARM)
+        rf_tpl_rising(k, up, girdle, first, skip);
+    c->n = 0;
+    rf_tpl_limb(k, girdle, first, skip, c);
+    free(skip);
+    rf_tpl_fractions(c, up, kind, l, f);
+}
+
+void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                       rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, double pos[4][3],
+                       double tip[3])
+{
+    rf_tpl_curve *c = malloc(sizeof *c);
+    double f[4];
+    if (!c) { /* no curve to lay joints along: all at the first joint, as a point */
+        for (int i = 0; i < 4; i++)
+            memcpy(pos[i], k->pos + (size_t)first * 3, 3 * sizeof(double));
+        memcpy(tip, pos[3], 3 * sizeof(double));
+        return;
+    }
+    rf_tpl_limb_laid(k, up, girdle, first, kind, l, c, f);
+    for (int i = 0; i < 4; i++)
+        rf_tpl_at(c, f[i], pos[i]);
+    rf_tpl_at(c, 1, tip);
+    free(c);
+}
+
+/* A leg: thigh, shin, foot, toe. */
 static void rf_tpl_leg(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, int32_t parent,
                        bool hind)
 {
     uint32_t g, first;
     rf_tpl_ends(x->a, sec, &g, &first);
     rf_tpl_curve c = {0};
-    uint8_t *skip = calloc(x->k->n + 1, 1);
-    if (skip)
-        rf_tpl_rising(x->k, x->a->up, girdle, first, skip);
-    rf_tpl_limb(x->k, girdle, first, skip, &c);
-    free(skip);
-    const rf_rig_tpl_layout *l = x->lay;
-    double knee = rf_tpl_bend(&c, l->knee_lo, l->knee_hi, l->knee);
-    double ankle = hind ? rf_tpl_bend(&c, l->hock_lo, l->hock_hi, l->hock) : 0.82;
-    if (!hind) { /* the ankle: first point within ankle_rise of the leg's height of its lowest */
-        double lo = INFINITY, top = 0;
-        rf_vec3 up = x->a->up;
-        for (uint32_t i = 0; i < c.n; i++) {
-            double h = c.p[i][0] * up.x + c.p[i][1] * up.y + c.p[i][2] * up.z;
-            lo = fmin(lo, h), top = i ? top : h;
-        }
-        for (uint32_t i = 1; i < c.n; i++) {
-            double h = c.p[i][0] * up.x + c.p[i][1] * up.y + c.p[i][2] * up.z;
-            if (h <= lo + l->ankle_rise * (top - lo)) {
-                ankle = fmin(fmax(c.s[i] / rf_tpl_len(&c), 0.7), 0.9);
-                break;
-            }
-        }
-    }
+    double f[4];
+    rf_tpl_limb_laid(x->k, x->a->up, girdle, first, hind ? RF_RIG_LIMB_HIND_LEG : RF_RIG_LIMB_LEG,
+                     x->lay, &c, f);
     char nb[4][24];
     const char *names[4] = {rf_tpl_sided(nb[0], side, "UpLeg"), rf_tpl_sided(nb[1], side, "Leg"),
                             rf_tpl_sided(nb[2], side, "Foot"),
                             rf_tpl_sided(nb[3], side, "ToeBase")};
-    double f[4] = {l->upleg, knee, ankle, ankle + l->toe * (1 - ankle)};
     rf_tpl_chain(x->t, &c, parent, names, f, 4);
 }
 
-/* An arm (or a foreleg): clavicle, upper arm, forearm, hand; the elbow at the bend near the
- * middle. */
+/* An arm (or a foreleg): clavicle, upper arm, forearm, hand. A foreleg's curve, as a leg's,
+ * leaves out what rises above its girdle. */
 static void rf_tpl_arm(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, int32_t parent,
                        bool foreleg)
 {
     uint32_t g, first;
     rf_tpl_ends(x->a, sec, &g, &first);
     rf_tpl_curve c = {0};
-    uint8_t *skip = calloc(x->k->n + 1, 1);
-    if (skip && foreleg)
-        rf_tpl_rising(x->k, x->a->up, girdle, first, skip);
-    rf_tpl_limb(x->k, girdle, first, skip, &c);
-    free(skip);
-    const rf_rig_tpl_layout *l = x->lay;
-    double elbow = rf_tpl_bend(&c, l->elbow_lo, l->elbow_hi, l->elbow);
+    double f[4];
+    rf_tpl_limb_laid(x->k, x->a->up, girdle, first, foreleg ? RF_RIG_LIMB_FORELEG : RF_RIG_LIMB_ARM,
+                     x->lay, &c, f);
     char nb[4][24];
     const char *names[4] = {rf_tpl_sided(nb[0], side, "Shoulder"), rf_tpl_sided(nb[1], side, "Arm"),
                             rf_tpl_sided(nb[2], side, "ForeArm"),
                             rf_tpl_sided(nb[3], side, "Hand")};
-    double f[4] = {l->shoulder, l->arm, elbow, l->hand};
     rf_tpl_chain(x->t, &c, parent, names, f, 4);
 }
 

@@ -429,6 +429,218 @@ static void rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
     rf_skeleton_free(s);
 }
 
+/* ---- limbs cut as artists cut them ---- */
+
+#define RF_RIG_MAX_LIMBS 16
+
+/* A limb to lay out again: where it leaves the body, its first joint, its kind and layout. */
+typedef struct rf_rig_limb {
+    uint32_t girdle, first;
+    rf_rig_limb_kind kind;
+    const rf_rig_tpl_layout *lay;
+} rf_rig_limb;
+
+/* Whether joint j is joint `top` or below it. */
+static bool rf_rig_below(const rf_rig_skel *k, uint32_t j, uint32_t top)
+{
+    for (int32_t i = (int32_t)j; i >= 0; i = k->parent[i])
+        if ((uint32_t)i == top)
+            return true;
+    return false;
+}
+
+/* Length of the tree path from the root to joint j. */
+static double rf_rig_from_root(const rf_rig_skel *k, uint32_t j)
+{
+    double d = 0;
+    for (int32_t i = (int32_t)j; k->parent[i] >= 0; i = k->parent[i]) {
+        const double *a = k->pos + (size_t)i * 3, *b = k->pos + (size_t)k->parent[i] * 3;
+        d += sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                  (a[2] - b[2]) * (a[2] - b[2]));
+    }
+    return d;
+}
+
+/* Whether a joint below `first` stands higher (along up) than joint `girdle`. */
+static bool rf_rig_rises(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first)
+{
+    const double *g = k->pos + (size_t)girdle * 3;
+    double top = g[0] * up.x + g[1] * up.y + g[2] * up.z;
+    for (uint32_t j = first + 1; j < k->n; j++) { /* parents come first */
+        const double *p = k->pos + (size_t)j * 3;
+        if (rf_rig_below(k, j, first) && p[0] * up.x + p[1] * up.y + p[2] * up.z > top)
+            return true;
+    }
+    return false;
+}
+
+/* Where limb section `sec` leaves the body: where it meets its mirror image (the hips of two
+ * legs leaving the body a band apart), or the joint it hangs from. */
+static uint32_t rf_rig_girdle_of(const rf_rig_skel *k, const rf_analysis *a, uint32_t sec)
+{
+    const rf_section *s = &a->sections[sec];
+    uint32_t first = rf_section_joints(a, sec)[0];
+    uint32_t g = s->attach_joint >= 0 ? (uint32_t)s->attach_joint : first;
+    if (s->mirror >= 0 && a->sections[s->mirror].attach_joint >= 0)
+        g = rf_rig_lca(k, g, (uint32_t)a->sections[s->mirror].attach_joint);
+    return g;
+}
+
+/* The limbs of k the layouts know (rf_rig_tpl_humanoid, rf_rig_tpl_quadruped: fitted to artist
+ * rigs), mirrored pairs only (an arm without a mirror image is often the torso and head of a
+ * body whose arms merged with it): a biped's longest pair of arms (or wings; a quadruped's
+ * "arms" are ears or horns, which keep their own cut), and the legs of a body with two of them
+ * or four (a quadruped's forelegs and hind legs; the hind pair's girdle is the one nearer the
+ * root, as rf_rig_curve roots the skeleton at the hips, unless the file declares a forward).
+ * Legs of a body with six or more are left as the curve cut them: no layout was fitted to
+ * them. Returns the count. */
+static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, bool declared,
+                                   const rf_rig_tpl_layout *const lay[2], rf_rig_limb *out)
+{
+    uint32_t n = 0, legs = 0;
+    double arm_len = 0; /* the longest pair of arms: the arms (or wings), not ears or spikes */
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        const rf_section *sec = &a->sections[s];
+        legs += sec->type == RF_SECTION_LEG && sec->side != RF_SIDE_CENTER;
+        if (sec->type == RF_SECTION_ARM && sec->mirror >= 0)
+            arm_len = fmax(arm_len, sec->length + a->sections[sec->mirror].length);
+    }
+    /* the hind girdle of four legs: farther from the root is the front */
+    double hind_from_root = INFINITY, hind_pos = INFINITY;
+    for (uint32_t s = 0; legs == 4 && s < a->section_count; s++)
+        if (a->sections[s].type == RF_SECTION_LEG && a->sections[s].side != RF_SIDE_CENTER) {
+            hind_from_root = fmin(hind_from_root, rf_rig_from_root(k, rf_rig_girdle_of(k, a, s)));
+            hind_pos = fmin(hind_pos, a->sections[s].body_pos);
+        }
+    for (uint32_t s = 0; s < a->section_count && n < RF_RIG_MAX_LIMBS; s++) {
+        const rf_section *sec = &a->sections[s];
+        bool leg = sec->type == RF_SECTION_LEG;
+        if ((!leg && sec->type != RF_SECTION_ARM) || sec->mirror < 0 || !sec->bone_count)
+            continue;
+        if (leg ? legs != 2 && legs != 4
+                : legs != 2 || sec->length + a->sections[sec->mirror].length < arm_len)
+            continue;
+        rf_rig_limb *l = &out[n];
+        l->first = rf_section_joints(a, s)[0];
+        l->girdle = rf_rig_girdle_of(k, a, s);
+        if (l->girdle == l->first || !rf_rig_below(k, l->first, l->girdle) ||
+            (leg && rf_rig_rises(k, a->up, l->girdle, l->first)))
+            continue; /* a limb not hanging below its girdle (the root itself): nothing to lay
+                       * it from; a leg carrying what rises above its girdle (a head merged into
+                       * a foreleg): kept whole */
+        if (!leg) {
+            l->kind = RF_RIG_LIMB_ARM, l->lay = lay[0];
+        } else if (legs == 2) {
+            l->kind = RF_RIG_LIMB_LEG, l->lay = lay[0];
+        } else {
+            bool hind = declared ? sec->body_pos <= hind_pos + 1e-9
+                                 : rf_rig_from_root(k, l->girdle) <= hind_from_root + 1e-9;
+            l->kind = hind ? RF_RIG_LIMB_HIND_LEG : RF_RIG_LIMB_FORELEG;
+            l->lay = lay[1];
+        }
+        n++;
+    }
+    return n;
+}
+
+/* k with each limb's joints (its first joint and all below it) replaced by the four its layout
+ * places along the limb's curve, hanging from its girdle. Limbs inside another limb, or whose
+ * girdle another limb replaces, stay. */
+static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb *limbs,
+                         uint32_t nl)
+{
+    uint32_t n = k->n;
+    uint8_t *drop = calloc(n + 1, 1);
+    int32_t *to = malloc((n + 1) * sizeof *to);
+    rf_rig_skel o = {0};
+    size_t cap = (size_t)n + 4 * nl + 1;
+    o.pos = malloc(cap * 3 * sizeof *o.pos), o.tip = calloc(cap * 3, sizeof *o.tip);
+    o.parent = malloc(cap * sizeof *o.parent), o.has_tip = calloc(cap, 1);
+    bool ok = drop && to && o.pos && o.tip && o.parent && o.has_tip;
+    uint8_t laid[RF_RIG_MAX_LIMBS] = {0};
+    for (uint32_t i = 0; ok && i < nl; i++) {
+        laid[i] = 1;
+        for (uint32_t m = 0; m < nl; m++)
+            if (limbs[m].first != limbs[i].first &&
+                (rf_rig_below(k, limbs[i].girdle, limbs[m].first) ||
+                 rf_rig_below(k, limbs[i].first, limbs[m].first)))
+                laid[i] = 0;
+        if (!laid[i])
+            continue;
+        drop[limbs[i].first] = 1;
+        for (uint32_t j = limbs[i].first + 1; j < n; j++) /* parents come first */
+            if (k->parent[j] >= 0 && drop[k->parent[j]])
+                drop[j] = 1;
+    }
+    for (uint32_t j = 0; ok && j < n; j++) {
+        to[j] = -1;
+        if (drop[j])
+            continue;
+        uint32_t i = o.n++;
+        to[j] = (int32_t)i;
+        memcpy(o.pos + (size_t)i * 3, k->pos + (size_t)j * 3, 3 * sizeof *o.pos);
+        memcpy(o.tip + (size_t)i * 3, k->tip + (size_t)j * 3, 3 * sizeof *o.tip);
+        o.has_tip[i] = k->has_tip[j];
+        o.parent[i] = k->parent[j] >= 0 ? to[k->parent[j]] : -1;
+    }
+    for (uint32_t i = 0; ok && i < nl; i++) {
+        if (!laid[i])
+            continue;
+        double pos[4][3], tip[3];
+        rf_rig_limb_place(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind, limbs[i].lay,
+                          pos, tip);
+        int32_t parent = to[limbs[i].girdle];
+        for (int m = 0; m < 4; m++) {
+            uint32_t j = o.n++;
+            memcpy(o.pos + (size_t)j * 3, pos[m], sizeof pos[m]);
+            o.parent[j] = parent, o.has_tip[j] = 0, parent = (int32_t)j;
+        }
+        memcpy(o.tip + (size_t)parent * 3, tip, sizeof tip);
+        o.has_tip[parent] = 1;
+    }
+    free(drop), free(to);
+    if (!ok) {
+        rf_rig_skel_free(&o);
+        return false;
+    }
+    rf_rig_skel_free(k);
+    *k = o;
+    return true;
+}
+
+/* The general rigger's limbs cut where artists put the joints of a limb of that kind (the
+ * template's fitted layouts), not into even bones: a knee at the leg's bend, the hip joint a
+ * little into the leg, one bone for the hand and its fingers. The rest of the curve skeleton
+ * (spine, neck, tail, fins, a spider's legs) keeps its even bones. False when out of memory. */
+static bool rf_rig_limbs(rf_rig_skel *k, const rf_rig_options *o,
+                         const rf_rig_tpl_layout *const lay[2])
+{
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    if (!s)
+        return false;
+    s->up = o->up, s->forward = o->forward; /* hints, as a file's axes are */
+    rf_analysis *a = rf_analyze(s, NULL);
+    rf_rig_limb limbs[RF_RIG_MAX_LIMBS];
+    bool ok = a != NULL;
+    uint32_t nl = ok ? rf_rig_limbs_found(k, a, rf_v3_len(o->forward) > 0, lay, limbs) : 0;
+    if (ok && nl)
+        ok = rf_rig_relay(k, a, limbs, nl);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    return ok;
+}
+
+bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o,
+                          const rf_rig_tpl_layout *humanoid, const rf_rig_tpl_layout *quadruped)
+{
+    const rf_rig_tpl_layout *const lay[2] = {humanoid ? humanoid : &rf_rig_tpl_humanoid,
+                                             quadruped ? quadruped : &rf_rig_tpl_quadruped};
+    if (!rf_rig_limbs(k, o, lay))
+        return false;
+    rf_rig_dorsal(p, k, o);
+    return true;
+}
+
 bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,
                     rf_mesh **skinned, rf_rig_stats *stats, rf_rig_progress_fn progress, void *user,
                     char *err, size_t err_size)
@@ -444,8 +656,8 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
     if (progress)
         progress(user, 0.1);
     bool ok = rf_rig_curve(&p, &o, &k, err, err_size);
-    if (ok)
-        rf_rig_dorsal(&p, &k, &o);
+    if (ok && !rf_rig_general_place(&p, &k, &o, NULL, NULL))
+        ok = rf_rig_fail(err, err_size, "out of memory laying out the limbs");
     if (ok && progress)
         progress(user, 0.4);
     rf_skeleton *s = ok ? rf_rig_skeleton(&k, &o) : NULL;
@@ -519,6 +731,68 @@ static bool rf_rig_from_skeleton(const rf_skeleton *s, const rf_mat4 *world, rf_
     return ok;
 }
 
+/* The local axis a skeleton's bones run along, when it keeps to one: DCC tools aim each
+ * joint's frame down its bone (Blender +y, 3ds Max +x), so a joint has a child on that axis of
+ * its frame, the same axis throughout the file; children off it are branches (legs and a tail
+ * off a torso) or an armature's root's offsets. Returns 0..5 (+x, -x, +y, -y, +z, -z) when at
+ * least two joints and three in five of those with children have a child on one axis, else -1:
+ * frames that say nothing of the bones (identity frames, as BVH leaves them, put legs on -y,
+ * the spine on +y and arms on x). A child at its parent's pivot (a helper) says nothing. */
+static int rf_rig_bone_axis(const rf_skeleton *s, const rf_mat4 *world)
+{
+    uint32_t n = s->joint_count, with[6] = {0}, total = 0;
+    uint8_t *on = calloc((size_t)n * 6 + 1, 1), *any = calloc(n + 1, 1);
+    rf_vec3 lo = rf_v3(INFINITY, INFINITY, INFINITY), hi = rf_v3(-INFINITY, -INFINITY, -INFINITY);
+    for (uint32_t j = 0; j < n; j++) {
+        rf_vec3 at = rf_mat4_point(world[j], rf_v3(0, 0, 0));
+        lo = rf_v3(fmin(lo.x, at.x), fmin(lo.y, at.y), fmin(lo.z, at.z));
+        hi = rf_v3(fmax(hi.x, at.x), fmax(hi.y, at.y), fmax(hi.z, at.z));
+    }
+    double extent = n ? rf_v3_dist(lo, hi) : 0; /* the skeleton's size, wherever it stands */
+    for (uint32_t j = 0; on && any && j < n; j++) {
+        int32_t p = s->joints[j].parent;
+        rf_mat4 inv;
+        if (p < 0 || !rf_mat4_invert(world[p], &inv))
+            continue;
+        rf_vec3 at = rf_mat4_point(world[j], rf_v3(0, 0, 0));
+        if (!(rf_v3_dist(at, rf_mat4_point(world[p], rf_v3(0, 0, 0))) > 1e-4 * extent))
+            continue;
+        rf_vec3 o = rf_mat4_point(inv, at); /* the child in its parent's frame */
+        double len = rf_v3_len(o), c[3] = {o.x, o.y, o.z};
+        any[p] = 1;
+        for (int a = 0; a < 3; a++)
+            if (fabs(c[a]) >= 0.999 * len)
+                on[(size_t)p * 6 + 2 * a + (c[a] < 0)] = 1;
+    }
+    for (uint32_t j = 0; on && any && j < n; j++) {
+        total += any[j];
+        for (int a = 0; a < 6; a++)
+            with[a] += on[(size_t)j * 6 + a];
+    }
+    int best = 0;
+    for (int a = 1; a < 6; a++)
+        best = with[a] > with[best] ? a : best;
+    free(on), free(any);
+    return with[best] >= 2 && with[best] >= 0.6 * total ? best : -1;
+}
+
+/* Each working joint's bone direction by the skeleton's axis convention (unit, world) into
+ * axis[i * 3], zero where the skeleton keeps none. */
+static void rf_rig_axes(const rf_skeleton *s, const rf_mat4 *world, const rf_rig_skel *k,
+                        const uint32_t *ids, double *axis)
+{
+    int a = rf_rig_bone_axis(s, world);
+    memset(axis, 0, ((size_t)k->n + 1) * 3 * sizeof *axis);
+    for (uint32_t i = 0; a >= 0 && i < k->n; i++) {
+        double l[3] = {0, 0, 0};
+        l[a / 2] = a % 2 ? -1 : 1;
+        rf_vec3 d = rf_mat4_dir(world[ids[i]], rf_v3(l[0], l[1], l[2]));
+        double len = rf_v3_len(d);
+        if (len > 0)
+            axis[i * 3] = d.x / len, axis[i * 3 + 1] = d.y / len, axis[i * 3 + 2] = d.z / len;
+    }
+}
+
 /* World matrices of the joints: inverses of the given inverse binds, or the rest pose. */
 static bool rf_rig_world_of(const rf_skeleton *s, const rf_mat4 *inverse_bind, rf_mat4 *world,
                             char *err, size_t n)
@@ -570,9 +844,15 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
     ok = ok && (prepared = rf_rig_prepare(mesh, &o, &p, st, err, err_size));
     /* Artists' leaf joints (a head, a hand, a tail's last joint) move the part of the mesh
      * beyond them, along a bone whose end most formats do not store; heated as points they lost
-     * that part to their parent's bone. Given an end where the mesh ends, they keep it. */
-    if (ok && !rf_rig_leaf_tips(&p, &k))
-        ok = rf_rig_fail(err, err_size, "out of memory or Embree failed placing leaf ends");
+     * that part to their parent's bone. Given an end along their bone's axis, they keep it. */
+    double *axis = ok ? malloc(((size_t)k.n + 1) * 3 * sizeof *axis) : NULL;
+    if (ok && !axis)
+        ok = rf_rig_fail(err, err_size, "out of memory");
+    if (ok)
+        rf_rig_axes(skeleton, world, &k, ids, axis);
+    if (ok && !rf_rig_leaf_tips(&p, &k, axis))
+        ok = rf_rig_fail(err, err_size, "out of memory");
+    free(axis);
     ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
     m = ok ? rf_rig_mesh_copy(mesh) : NULL;
     if (ok && (!m || !rf_rig_skin(mesh, &p, &k, w, m, st)))

@@ -105,6 +105,25 @@ static double fit_dist(const double *a, rf_vec3 b)
                 (a[2] - b.z) * (a[2] - b.z));
 }
 
+/* CD-J2J of joints t against model m's artist joints, as rig-bench computes it. */
+static double fit_cd(const fit_model *m, const rf_rig_skel *t)
+{
+    double to = 0, from = 0;
+    for (uint32_t j = 0; j < t->n; j++) {
+        double best = INFINITY;
+        for (uint32_t a = 0; a < m->nart; a++)
+            best = fmin(best, fit_dist(t->pos + (size_t)j * 3, m->artist[a]));
+        to += best;
+    }
+    for (uint32_t a = 0; a < m->nart; a++) {
+        double best = INFINITY;
+        for (uint32_t j = 0; j < t->n; j++)
+            best = fmin(best, fit_dist(t->pos + (size_t)j * 3, m->artist[a]));
+        from += best;
+    }
+    return 0.5 * (to / t->n + from / m->nart) / m->longest;
+}
+
 /* CD-J2J of the template laid out by `lay` on model m; NAN when it does not fit. */
 static double fit_score(fit_model *m, const rf_rig_tpl_layout *lay)
 {
@@ -115,21 +134,30 @@ static double fit_score(fit_model *m, const rf_rig_tpl_layout *lay)
     if (!rf_rig_template_place(&m->prep, &m->curve, &m->opts, RF_RIG_TEMPLATE_AUTO, lay, lay, &t,
                                names, &got, &up, &fw, err, sizeof err))
         return NAN;
-    double to = 0, from = 0;
-    for (uint32_t j = 0; j < t.n; j++) {
-        double best = INFINITY;
-        for (uint32_t a = 0; a < m->nart; a++)
-            best = fmin(best, fit_dist(t.pos + (size_t)j * 3, m->artist[a]));
-        to += best;
-    }
-    for (uint32_t a = 0; a < m->nart; a++) {
-        double best = INFINITY;
-        for (uint32_t j = 0; j < t.n; j++)
-            best = fmin(best, fit_dist(t.pos + (size_t)j * 3, m->artist[a]));
-        from += best;
-    }
-    double cd = 0.5 * (to / t.n + from / m->nart) / m->longest;
+    double cd = fit_cd(m, &t);
     rf_rig_skel_free(&t);
+    return cd;
+}
+
+/* CD-J2J of the general rigger's joints on model m with the layouts given (its limbs cut by
+ * them); NAN when out of memory. */
+static double fit_general(fit_model *m, const rf_rig_tpl_layout *humanoid,
+                          const rf_rig_tpl_layout *quadruped)
+{
+    const rf_rig_skel *c = &m->curve;
+    rf_rig_skel k = {.n = c->n};
+    k.pos = malloc((c->n + 1) * 3 * sizeof *k.pos), k.tip = malloc((c->n + 1) * 3 * sizeof *k.tip);
+    k.parent = malloc((c->n + 1) * sizeof *k.parent), k.has_tip = malloc(c->n + 1);
+    double cd = NAN;
+    if (k.pos && k.tip && k.parent && k.has_tip) {
+        memcpy(k.pos, c->pos, c->n * 3 * sizeof *k.pos);
+        memcpy(k.tip, c->tip, c->n * 3 * sizeof *k.tip);
+        memcpy(k.parent, c->parent, c->n * sizeof *k.parent);
+        memcpy(k.has_tip, c->has_tip, c->n);
+        if (rf_rig_general_place(&m->prep, &k, &m->opts, humanoid, quadruped))
+            cd = fit_cd(m, &k);
+    }
+    rf_rig_skel_free(&k);
     return cd;
 }
 
@@ -271,20 +299,72 @@ static void fit_print(const char *title, const rf_rig_tpl_layout *l, int kind)
     printf("\n");
 }
 
+/* The layouts as they were before they were fitted to the shared artist rigs (doc/autorig.md,
+ * "Where the joints go"): a leave-one-out fit starts from these (--prefit), as the shipped
+ * layouts' own fit did, so no model's score starts from a layout that saw it. */
+static const rf_rig_tpl_layout fit_prefit[2] = {
+    {.spine = {0.25, 0.5, 0.75},
+     .neck_at = 0.55,
+     .head = 0.35,
+     .shoulder = 0.06,
+     .arm = 0.2,
+     .hand = 0.8,
+     .elbow = 0.52,
+     .elbow_lo = 0.4,
+     .elbow_hi = 0.65,
+     .upleg = 0.1,
+     .knee = 0.47,
+     .knee_lo = 0.35,
+     .knee_hi = 0.6,
+     .ankle_rise = 0.12,
+     .toe = 0.6},
+    {.spine = {0.25, 0.5, 0.75},
+     .neck_at = 0.5,
+     .head = 0.5,
+     .shoulder = 0.06,
+     .arm = 0.25,
+     .hand = 0.82,
+     .elbow = 0.5,
+     .elbow_lo = 0.4,
+     .elbow_hi = 0.65,
+     .upleg = 0.1,
+     .knee = 0.38,
+     .knee_lo = 0.25,
+     .knee_hi = 0.5,
+     .hock = 0.68,
+     .hock_lo = 0.55,
+     .hock_hi = 0.8,
+     .toe = 0.6,
+     .tail = {0.1, 0.32, 0.54, 0.76},
+     .dorsal = 0.5},
+};
+
 int main(int argc, char **argv)
 {
-    while (argc > 2 && (!strcmp(argv[1], "--min-joints") || !strcmp(argv[1], "--params"))) {
-        if (!strcmp(argv[1], "--params"))
-            fit_only = argv[2];
-        else
-            fit_min_joints = (uint32_t)strtoul(argv[2], NULL, 10);
-        argc -= 2, argv += 2;
+    bool prefit = false, general = false;
+    for (;;) {
+        if (argc > 2 && (!strcmp(argv[1], "--min-joints") || !strcmp(argv[1], "--params"))) {
+            if (!strcmp(argv[1], "--params"))
+                fit_only = argv[2];
+            else
+                fit_min_joints = (uint32_t)strtoul(argv[2], NULL, 10);
+            argc -= 2, argv += 2;
+        } else if (argc > 1 && !strcmp(argv[1], "--prefit")) {
+            prefit = true, argc--, argv++;
+        } else if (argc > 1 && !strcmp(argv[1], "--general")) {
+            general = true, argc--, argv++;
+        } else {
+            break;
+        }
     }
     if (argc < 2 || argc > FIT_MAX) {
         fprintf(stderr,
-                "usage: rig-fit [--min-joints N] [--params NAME,...] MODEL... (rigged models, at "
-                "most %d; rigs with fewer than N skinned joints are scored, not trained on; only "
-                "the parameters named are fitted)\n",
+                "usage: rig-fit [--min-joints N] [--params NAME,...] [--prefit] [--general] "
+                "MODEL... (rigged models, at most %d; rigs with fewer than N skinned joints are "
+                "scored, not trained on; only the parameters named are fitted; --prefit: fits "
+                "start from the layouts before their fit to the shared rigs, not the built-in "
+                "ones; --general: also the general rigger's CD-J2J with the built-in layouts and "
+                "with the leave-one-out one for the model's template)\n",
                 FIT_MAX - 1);
         return 2;
     }
@@ -295,28 +375,42 @@ int main(int argc, char **argv)
             n++;
         else
             fit_free(&ms[n]);
-    const rf_rig_tpl_layout *dflt[2] = {&rf_rig_tpl_humanoid, &rf_rig_tpl_quadruped};
-    printf("model,template,artist_joints,builtin,leave_one_out,all\n");
-    double sum[2][3] = {{0}}, count[2] = {0};
+    const rf_rig_tpl_layout *builtin[2] = {&rf_rig_tpl_humanoid, &rf_rig_tpl_quadruped};
+    const rf_rig_tpl_layout *dflt[2] = {prefit ? &fit_prefit[0] : builtin[0],
+                                        prefit ? &fit_prefit[1] : builtin[1]};
+    printf("model,template,artist_joints,builtin,leave_one_out,all%s\n",
+           general ? ",general_builtin,general_leave_one_out" : "");
+    double sum[2][5] = {{0}}, count[2] = {0};
     rf_rig_tpl_layout all[2];
     for (int k = 0; k < 2; k++)
         all[k] = fit(ms, n, k, -1, dflt[k]);
     for (int i = 0; i < n; i++) {
         int k = ms[i].kind;
         rf_rig_tpl_layout loo = fit(ms, n, k, i, dflt[k]);
-        double s[3] = {fit_score(&ms[i], dflt[k]), fit_score(&ms[i], &loo),
+        double s[5] = {fit_score(&ms[i], dflt[k]), fit_score(&ms[i], &loo),
                        fit_score(&ms[i], &all[k])};
-        printf("%s,%s,%u,%.4f,%.4f,%.4f\n", ms[i].name, k ? "quadruped" : "humanoid", ms[i].nart,
+        printf("%s,%s,%u,%.4f,%.4f,%.4f", ms[i].name, k ? "quadruped" : "humanoid", ms[i].nart,
                s[0], s[1], s[2]);
+        if (general) { /* the other template's layout saw no model of this one: built in */
+            s[3] = fit_general(&ms[i], builtin[0], builtin[1]);
+            s[4] = fit_general(&ms[i], k ? builtin[0] : &loo, k ? &loo : builtin[1]);
+            printf(",%.4f,%.4f", s[3], s[4]);
+        }
+        printf("\n");
         fflush(stdout);
-        for (int c = 0; c < 3; c++)
+        for (int c = 0; c < 5; c++)
             sum[k][c] += s[c];
         count[k]++;
     }
-    for (int k = 0; k < 2; k++)
-        if (count[k])
-            printf("mean %s (%g models),%.4f,%.4f,%.4f\n", k ? "quadruped" : "humanoid", count[k],
-                   sum[k][0] / count[k], sum[k][1] / count[k], sum[k][2] / count[k]);
+    for (int k = 0; k < 2; k++) {
+        if (!count[k])
+            continue;
+        printf("mean %s (%g models),%.4f,%.4f,%.4f", k ? "quadruped" : "humanoid", count[k],
+               sum[k][0] / count[k], sum[k][1] / count[k], sum[k][2] / count[k]);
+        if (general)
+            printf(",%.4f,%.4f", sum[k][3] / count[k], sum[k][4] / count[k]);
+        printf("\n");
+    }
     fit_print("humanoid fitted on all", &all[0], 0);
     fit_print("quadruped fitted on all", &all[1], 1);
     for (int i = 0; i < n; i++)
