@@ -435,8 +435,9 @@ static void rb_skin_given(const rb_rigger *r, const rf_skeleton *as, const rf_me
     rf_mesh_free(m);
 }
 
-/* Seconds the rigger's core takes on the bare mesh, called directly as ik-bench calls solvers. */
-static double rb_time(const rb_rigger *r, const rf_mesh *mesh)
+/* Seconds the rigger's core takes on the bare mesh, called directly as ik-bench calls solvers,
+ * with the axes the pipeline's rigger node was given (NAN when it fails). */
+static double rb_time(const rb_rigger *r, const rf_mesh *mesh, const rf_skeleton *axes)
 {
     rf_mesh bare = *mesh; /* borrowed arrays, the skin hidden from the rigger */
     bare.skin_joints = NULL, bare.skin_weights = NULL, bare.inverse_bind = NULL,
@@ -445,7 +446,9 @@ static double rb_time(const rb_rigger *r, const rf_mesh *mesh)
     rf_mesh *m = NULL;
     char err[256];
     gint64 t0 = g_get_monotonic_time();
-    bool ok = r->api->rig(&bare, &s, &m, err, sizeof err);
+    bool ok = RF_HAS_FIELD(r->api, rf_rigger_api, rig_axes) && r->api->rig_axes
+                  ? r->api->rig_axes(&bare, axes, &s, &m, err, sizeof err)
+                  : r->api->rig(&bare, &s, &m, err, sizeof err);
     double secs = (g_get_monotonic_time() - t0) / 1e6;
     rf_skeleton_free(s), rf_mesh_free(m);
     return ok ? secs : NAN;
@@ -519,7 +522,8 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
         rb_skin_compare(am, pm, to, as->joint_count, &sk);
     rb_skin given;
     rb_skin_given(r, as, am, &given);
-    rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, &given, rb_time(r, am), why);
+    rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, &given,
+           rb_time(r, am, rf_pipeline_result(pl, "mesh", "skeleton")), why);
     g_free(to);
     rb_rig_free(&g), rb_rig_free(&p);
 }

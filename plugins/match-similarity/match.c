@@ -485,8 +485,11 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
     }
     double cost =
         fabs(tl->u0[i] - sl->u0[q]) + 0.5 * fabs(fmin(tl->u1[i], 1.5) - fmin(sl->u1[q], 1.5));
-    /* a tail of one bone has no place along a tail to compare: its root anchors it (below) */
-    if (at->sections[a->section].type == RF_SECTION_TAIL && (tl->n == 1 || sl->n == 1))
+    /* a tail of one bone has no place along a tail to compare: its root anchors it (below);
+     * nor has a head of one joint (an artist's skull joint at the base of the skull, a curve
+     * skeleton's near its top or after a long neck from the body's middle: the one skull) */
+    rf_section_type st = at->sections[a->section].type;
+    if ((st == RF_SECTION_TAIL || st == RF_SECTION_HEAD) && (tl->n == 1 || sl->n == 1))
         cost *= 0.25;
     /* nor has a digit of one bone (whose length a leaf without an end site only guesses) */
     if ((at->sections[a->section].flags & RF_SECFL_FAN) && tl->n == 1)

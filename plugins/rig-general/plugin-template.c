@@ -66,12 +66,22 @@ static bool rf_tpl_api_rig(const rf_mesh *mesh, rf_skeleton **skeleton, rf_mesh 
                            err, err_size);
 }
 
+static bool rf_tpl_api_rig_axes(const rf_mesh *mesh, const rf_skeleton *axes,
+                                rf_skeleton **skeleton, rf_mesh **skinned, char *err,
+                                size_t err_size)
+{
+    rf_rig_options o = rf_rig_axes_options(axes);
+    return rf_rig_template(mesh, &o, RF_RIG_TEMPLATE_AUTO, skeleton, skinned, NULL, NULL, NULL, err,
+                           err_size);
+}
+
 static const rf_rigger_api rf_tpl_api = {
     .size = sizeof(rf_rigger_api),
     .name = "template",
     .doc = "humanoid or quadruped template laid into the curve skeleton, bone-heat weights",
     .rig = rf_tpl_api_rig,
     .skin = rf_rig_node_skin,
+    .rig_axes = rf_tpl_api_rig_axes,
 };
 
 static const void *rf_tpl_extension(const char *id)

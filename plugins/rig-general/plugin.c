@@ -54,12 +54,21 @@ static bool rf_rig_api_rig(const rf_mesh *mesh, rf_skeleton **skeleton, rf_mesh 
     return rf_rig_general(mesh, NULL, skeleton, skinned, NULL, NULL, NULL, err, err_size);
 }
 
+static bool rf_rig_api_rig_axes(const rf_mesh *mesh, const rf_skeleton *axes,
+                                rf_skeleton **skeleton, rf_mesh **skinned, char *err,
+                                size_t err_size)
+{
+    rf_rig_options o = rf_rig_axes_options(axes);
+    return rf_rig_general(mesh, &o, skeleton, skinned, NULL, NULL, NULL, err, err_size);
+}
+
 static const rf_rigger_api rf_rig_api = {
     .size = sizeof(rf_rigger_api),
     .name = "general",
     .doc = "voxel curve skeleton from geodesic level sets, bone-heat weights",
     .rig = rf_rig_api_rig,
     .skin = rf_rig_node_skin,
+    .rig_axes = rf_rig_api_rig_axes,
 };
 
 static const void *rf_rig_extension(const char *id)

@@ -22,6 +22,14 @@ rf_rig_options rf_rig_node_options(const rf_host *host, rf_node *node)
     return o;
 }
 
+rf_rig_options rf_rig_axes_options(const rf_skeleton *axes)
+{
+    rf_rig_options o = {0};
+    if (axes)
+        o.up = axes->up, o.forward = axes->forward;
+    return o; /* zeros elsewhere: the riggers take their defaults */
+}
+
 /* One frame holding the rest pose, so exporters and retargeters have an animation to start from. */
 static rf_animation *rf_rig_rest_clip(const rf_skeleton *s)
 {

@@ -40,6 +40,9 @@ void rf_rig_node_progress(void *user, double fraction);
 /* The options every rigger node reads: resolution, proxy_triangles, speck_size, segment,
  * visibility, and the axes port. */
 rf_rig_options rf_rig_node_options(const rf_host *host, rf_node *node);
+/* The defaults with the up and forward `axes` carries (NULL: none), for the extension's rig_axes.
+ */
+rf_rig_options rf_rig_axes_options(const rf_skeleton *axes);
 
 /* Logs what the rigger did and hands s and m (owned) to the node's outputs with a rest clip. */
 bool rf_rig_node_output(const rf_host *host, rf_node *node, rf_skeleton *s, rf_mesh *m,

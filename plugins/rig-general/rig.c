@@ -385,9 +385,15 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
         for (size_t i = 0; used && i < (size_t)m->vertex_count * 4; i++)
             if (m->skin_weights[i] > 0)
                 used[m->skin_joints[i]] = 1;
+        /* weighted below: a joint inside a chain whose bone won no vertex still bends it */
+        uint8_t *below = calloc(k->n + 1, 1);
+        for (uint32_t j = k->n; used && below && j-- > 0;)
+            if ((used[j] || below[j]) && k->parent[j] >= 0)
+                below[k->parent[j]] = 1;
         for (uint32_t j = 0; used && j < k->n; j++)
-            if (!used[j])
+            if (!used[j] && !(below && below[j]))
                 s->joints[j].flags |= RF_JOINT_UNWEIGHTED;
+        free(below);
         free(used);
         st->joints = k->n;
         *skinned = m;

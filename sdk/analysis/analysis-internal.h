@@ -72,6 +72,8 @@ void rf_an_symmetry(rf_awork *w);
 void rf_an_classify(rf_awork *w);
 double rf_an_plane_dist(const rf_awork *w, rf_vec3 p);
 void rf_an_mirrors(rf_awork *w);
+/* Re-centres the plane on its twin pairs, its normal kept. */
+void rf_an_recentre(rf_awork *w);
 /* Drops the spatial hash (when `order` changes); rebuilt on next use. */
 void rf_an_grid_reset(rf_awork *w);
 

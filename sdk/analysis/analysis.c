@@ -86,6 +86,7 @@ static bool run_stages(rf_awork *w)
     /* Again on the body tree: parts attached by proximity (feet under the ground root, legs of
      * another root) now count with their limbs. */
     rf_an_axes(w);
+    rf_an_recentre(w);
     rf_an_classify(w);
     rf_an_mirrors(w);
     for (uint32_t j = 0; j < w->n; j++)

@@ -161,13 +161,15 @@ static bool is_leg(const rf_builder *b, uint32_t r)
     return (b->lowest[r] - a->ground) <= t * a->height;
 }
 
-/* A body limb, not an ear or an eye: long next to the longest limb, or standing on the ground
- * from well above it (a bird's one-bone leg beside its long wings). */
+/* A body limb, not an ear or an eye: a single bone reaching 0.6 of the longest limb (a curve
+ * skeleton's ears, one bone each, reach 0.55 of a fox's legs: taken for arms they made a girdle
+ * of the head and ran the spine into it), a chain a fifth of it, or standing on the ground from
+ * well above it (a bird's one-bone leg beside its long wings). */
 static bool substantial(const rf_builder *b, uint32_t r, double longest)
 {
     const rf_awork *w = b->w;
     double drop = rf_an_height(w, rf_an_pos(w, r)) - b->lowest[r];
-    return b->reach[r] >= 0.5 * longest ||
+    return b->reach[r] >= 0.6 * longest ||
            (b->limb_joints[r] >= 2 && b->reach[r] >= 0.2 * longest) ||
            (is_leg(b, r) && drop >= 0.1 * w->a->height);
 }

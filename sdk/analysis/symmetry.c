@@ -372,6 +372,15 @@ static void fallback_candidates(rf_awork *w, rf_candidates *cs, rf_vec3 center)
     propose(cs, rf_v3(0, 1, 0), center, 0);
 }
 
+/* The up axis forced or declared by the file (zero when neither): the symmetry plane holds it. */
+static rf_vec3 known_up(const rf_awork *w)
+{
+    rf_vec3 u = w->opt.up;
+    if (!(rf_v3_isfinite(u) && rf_v3_len2(u) > 1e-24) && !w->opt.ignore_file_axes)
+        u = w->skel->up;
+    return rf_v3_isfinite(u) && rf_v3_len2(u) > 1e-24 ? rf_v3_normalize(u) : rf_v3(0, 0, 0);
+}
+
 #define RF_SCORED_CLUSTERS 12
 
 static int cmp_cluster(const void *a, const void *b)
@@ -413,6 +422,7 @@ void rf_an_symmetry(rf_awork *w)
         fallback_candidates(w, cs, center);
     }
     sort_clusters(cs);
+    rf_vec3 up = known_up(w);
     double best = -1;
     uint32_t best_off = 0, best_matched = 0;
     rf_vec3 bn = w->plane_n, bp = center;
@@ -424,6 +434,17 @@ void rf_an_symmetry(rf_awork *w)
         /* Proposed planes beat the fallback axes on ties: they come from the skeleton. */
         double bonus = cs->c[i].weight > 0 ? 1e-3 : 0;
         double score = plane_score(w, g, n, p, best - bonus, &off, &matched);
+        rf_vec3 nu = rf_v3_sub(n, rf_v3_scale(up, rf_v3_dot(n, up)));
+        if (cs->c[i].weight > 0 && rf_v3_len(nu) > 0.5 && fabs(rf_v3_dot(n, up)) > 0.02) {
+            /* the same plane stood upright: mirrored limbs of a rig cut from a scan rarely
+             * match to the degree, and a tilt of a few degrees misses the far joints */
+            nu = rf_v3_normalize(nu);
+            uint32_t off_u, matched_u;
+            double score_u =
+                plane_score(w, g, nu, p, fmax(score, best - bonus), &off_u, &matched_u);
+            if (score_u > score)
+                n = nu, score = score_u, off = off_u, matched = matched_u;
+        }
         /* on a tie the plane whose off-plane joints more often find a twin: a body seen
          * front to back can match as many joints as seen left to right, never all of them */
         bool tie = score >= 0 && fabs(score + bonus - best) < 1e-6 && off > 0 && best_off > 0 &&
@@ -446,16 +467,56 @@ out:
     free(cs);
 }
 
+/* Moves the plane along its normal to the mean midpoint of its twin pairs. Called once up is
+ * known and the normal stood upright: the offset found with a tilted normal (a curve skeleton's
+ * legs a tenth of the body apart in height) is off by the tilt times the body's height at the
+ * chest, enough to put the spine off the centerline. */
+void rf_an_recentre(rf_awork *w)
+{
+    const rf_grid *g = w->have_plane ? work_grid(w) : NULL;
+    double sum = 0;
+    uint32_t count = 0;
+    for (uint32_t i = 0; g && i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        rf_vec3 q = rf_an_pos(w, j);
+        double d = rf_an_plane_dist(w, q);
+        if (d <= 0.5 * w->tol) /* one side only: each pair once */
+            continue;
+        int32_t m = grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), j, -1);
+        if (m >= 0)
+            sum += 0.5 * (d + rf_an_plane_dist(w, rf_an_pos(w, (uint32_t)m))), count++;
+    }
+    if (count)
+        w->plane_p = rf_v3_add(w->plane_p, rf_v3_scale(w->plane_n, sum / count));
+    w->a->plane_point = w->plane_p;
+}
+
 /* ---- centerline and limbs ---- */
 
 /* Center: near the plane, with a subtree centred on it, under a center parent, and without a
  * twin across the plane (eyes close to the plane are a pair, not the centerline). */
+/* Per joint off the plane by more than `tiny`: whether a joint lies near its reflection on the
+ * other side (its twin). One query per joint, shared by the tests below. */
+static uint8_t *twins(const rf_awork *w, const rf_grid *g, double tiny)
+{
+    uint8_t *twin = calloc(w->n ? w->n : 1, 1);
+    for (uint32_t i = 0; twin && g && i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        rf_vec3 q = rf_an_pos(w, j);
+        double d = rf_an_plane_dist(w, q);
+        twin[j] = fabs(d) > tiny && grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)),
+                                                 j, d > 0 ? -1 : 1) >= 0;
+    }
+    return twin;
+}
+
 /* Per joint: whether all its descendants lie off the plane on one side (a hip offset bone on
  * the pelvis pivot carrying a leg), however narrow the hips are next to the wingspan that sets
- * the tolerances. */
-static uint8_t *one_sided(const rf_awork *w, double tiny)
+ * the tolerances, and one of them has a twin across the plane (the other leg): a head whose
+ * chain leans a little to one side has none and stays on the centerline. */
+static uint8_t *one_sided(const rf_awork *w, const uint8_t *twin, double tiny)
 {
-    uint8_t *side = calloc(w->n ? w->n : 1, 1); /* bits: 1 left of the plane, 2 right, 4 on */
+    uint8_t *side = calloc(w->n ? w->n : 1, 1); /* bits: 1 left, 2 right, 4 on, 8 twinned */
     uint8_t *out = calloc(w->n ? w->n : 1, 1);
     if (!side || !out) {
         free(side);
@@ -468,30 +529,63 @@ static uint8_t *one_sided(const rf_awork *w, double tiny)
         for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
             uint32_t c = w->child_idx[k];
             double d = rf_an_plane_dist(w, rf_an_pos(w, c));
-            below |= side[c] | (d > tiny ? 1 : d < -tiny ? 2 : 4);
+            below |= side[c] | (d > tiny ? 1 : d < -tiny ? 2 : 4) | (twin[c] ? 8 : 0);
         }
         side[j] = below;
-        out[j] = below == 1 || below == 2;
+        out[j] = (below & 7) == 1 || (below & 7) == 2 ? (below & 8) != 0 : 0;
     }
     free(side);
     return out;
+}
+
+/* Per joint, the mean distance from the plane of the joints of its subtree that are on the plane
+ * (within tol_c) or have a twin across it (NAN when none are): how far off centre the body
+ * hanging from it sits. A prop held in one hand (a staff, a sword) has no twin and does not pull
+ * the spine carrying it off the centerline. */
+static double *balanced_offset(const rf_awork *w, const uint8_t *twin, double tol_c)
+{
+    double *sum = calloc(w->n ? w->n : 1, sizeof *sum);
+    uint32_t *count = calloc(w->n ? w->n : 1, sizeof *count);
+    if (!sum || !count) {
+        free(count);
+        free(sum);
+        return NULL;
+    }
+    for (uint32_t i = w->order_count; i-- > 0;) {
+        uint32_t j = w->order[i];
+        double d = rf_an_plane_dist(w, rf_an_pos(w, j));
+        if (fabs(d) <= tol_c || twin[j])
+            sum[j] += d, count[j]++;
+        if (w->parent[j] >= 0)
+            sum[w->parent[j]] += sum[j], count[w->parent[j]] += count[j];
+    }
+    for (uint32_t j = 0; j < w->n; j++)
+        sum[j] = count[j] ? sum[j] / count[j] : NAN;
+    free(count);
+    return sum;
 }
 
 void rf_an_classify(rf_awork *w)
 {
     const rf_grid *grid = work_grid(w);
     double tol_c = 0.5 * w->tol, tiny = 0.05 * w->tol;
-    uint8_t *lateral = one_sided(w, 0.25 * w->tol);
+    /* without a plane every joint is on the centerline (below): nothing to measure */
+    uint8_t *twinned = w->have_plane && grid ? twins(w, grid, 0.25 * w->tol) : NULL;
+    uint8_t *lateral = twinned ? one_sided(w, twinned, 0.25 * w->tol) : NULL;
+    double *offset = twinned ? balanced_offset(w, twinned, tol_c) : NULL;
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
         int32_t p = w->parent[j];
         rf_vec3 q = rf_an_pos(w, j);
         double d = rf_an_plane_dist(w, q);
-        bool center = (p < 0 || w->center[p]) && fabs(d) <= tol_c &&
-                      fabs(rf_an_plane_dist(w, centroid(w, j))) <= tol_c &&
+        double sub = offset && !isnan(offset[j]) ? offset[j] : rf_an_plane_dist(w, centroid(w, j));
+        bool center = (p < 0 || w->center[p]) && fabs(d) <= tol_c && fabs(sub) <= tol_c &&
                       !(lateral && lateral[j]);
-        /* No symmetry: no sides. The root chain and the body's top are the centerline. */
-        bool forced = !w->have_plane || w->root_chain[j] || (int32_t)j == w->top;
+        /* No symmetry: no sides. The root chain and the body's top are the centerline, and
+         * before they are known the root carrying most of the skeleton (a placement node at the
+         * origin, the body standing away from it, is no limb). */
+        bool forced = !w->have_plane || w->root_chain[j] || (int32_t)j == w->top ||
+                      (p < 0 && w->top < 0 && 2 * w->sub_count[j] > w->order_count);
         if (center && fabs(d) > tiny && grid) {
             rf_vec3 r = rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d));
             int32_t twin = grid_nearest(grid, w, r, j, d > 0 ? -1 : 1);
@@ -504,7 +598,9 @@ void rf_an_classify(rf_awork *w)
         else
             w->limb_of[j] = (p < 0 || w->center[p]) ? (int32_t)j : w->limb_of[p];
     }
+    free(offset);
     free(lateral);
+    free(twinned);
 }
 
 /* Each off-center joint's mirror image: the nearest joint to its reflection, other side. */

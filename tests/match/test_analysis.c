@@ -764,6 +764,170 @@ static void test_measures(void **state)
     rf_skeleton_free(s);
 }
 
+/* A curve skeleton cut by the general rigger from a wizard holding a staff in his right hand
+ * (world positions of its joints, the file declaring +Y up): the legs' first joints are a tenth
+ * of the body apart in height, so the plane between them tilts by 6 degrees and misses the arms;
+ * the staff on the right arm outweighs the left arm. The plane holds the declared up, the spine
+ * carrying the staff stays on the centerline, the arms and legs pair, and the staff is the right
+ * hand's, not the spine's. */
+static const sb_joint staff_rig[] = {
+    {"hips", NULL, -0.019, 0.927, -0.016, 0},       {"spine", "hips", 0.057, 1.348, -0.074, 0},
+    {"chest", "spine", -0.005, 1.754, -0.028, 0},   {"top", "chest", 0.009, 2.110, -0.053, 0},
+    {"l_leg", "hips", 0.285, 0.588, -0.071, 0},     {"l_shin", "l_leg", 0.248, 0.254, -0.053, 0},
+    {".l_end", "l_shin", 0.25, 0.0, -0.05, 0},      {"r_leg", "hips", -0.224, 0.493, -0.071, 0},
+    {"r_shin", "r_leg", -0.250, 0.239, -0.053, 0},  {".r_end", "r_shin", -0.25, 0.0, -0.05, 0},
+    {"neck", "top", 0.0, 2.448, -0.038, 0},         {"head", "neck", 0.0, 2.807, -0.090, 0},
+    {"crown", "head", 0.023, 2.947, -0.330, 0},     {".crown_end", "crown", 0.03, 3.0, -0.4, 0},
+    {"l_arm", "top", 0.793, 1.856, -0.051, 0},      {"l_fore", "l_arm", 0.865, 1.845, -0.048, 0},
+    {"l_hand", "l_fore", 1.185, 1.852, -0.038, 0},  {".l_hand_end", "l_hand", 1.3, 1.85, -0.04, 0},
+    {"r_arm", "top", -0.817, 1.869, -0.046, 0},     {"r_fore", "r_arm", -0.884, 1.868, -0.048, 0},
+    {"r_hand", "r_fore", -1.008, 1.885, -0.039, 0}, {"grip", "r_hand", -1.347, 1.864, 0.015, 0},
+    {"staff", "grip", -1.304, 1.821, -0.330, 0},    {"staff1", "staff", -1.302, 1.820, -0.657, 0},
+    {"staff2", "staff1", -1.318, 1.817, -1.034, 0}, {".staff_end", "staff2", -1.32, 1.81, -1.3, 0},
+    {"knob", "grip", -1.455, 1.831, -0.041, 0},     {"staff_top", "grip", -1.303, 1.815, 0.482, 0},
+};
+
+static void test_staff_in_one_hand(void **state)
+{
+    (void)state;
+    rf_skeleton *s = sb_build(staff_rig, SB_COUNT(staff_rig));
+    s->up = rf_v3(0, 1, 0), s->forward = rf_v3(0, 0, 1);
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    assert_near_dir(a->left, rf_v3(1, 0, 0));
+    const char *spine[] = {"hips", "spine", "chest", "top"};
+    for (size_t i = 0; i < 4; i++)
+        assert_section(a, s, spine[i], RF_SECTION_SPINE, RF_SIDE_CENTER);
+    assert_section(a, s, "head", RF_SECTION_HEAD, RF_SIDE_CENTER);
+    assert_section(a, s, "l_shin", RF_SECTION_LEG, RF_SIDE_LEFT);
+    assert_section(a, s, "r_shin", RF_SECTION_LEG, RF_SIDE_RIGHT);
+    assert_section(a, s, "l_fore", RF_SECTION_ARM, RF_SIDE_LEFT);
+    assert_section(a, s, "r_fore", RF_SECTION_ARM, RF_SIDE_RIGHT);
+    assert_int_equal(a->joints[sb_find(s, "staff1")].side, RF_SIDE_RIGHT);
+    assert_int_equal(section_of(a, s, "l_leg")->mirror, a->joints[sb_find(s, "r_leg")].section);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* A placement root on the floor at the origin, the body standing beside it (a clip's frame that
+ * left the hips away from the origin): the root is no limb, however far off the body's plane. */
+static void test_placement_root_off_plane(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped) + 1];
+    size_t n = 0;
+    js[n++] = (sb_joint){"placement", NULL, 0, 0, 0, 0};
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) {
+        js[n] = sb_biped[i];
+        js[n].x += 0.3, js[n].z += 0.1;
+        if (!js[n].parent)
+            js[n].parent = "placement";
+        n++;
+    }
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    assert_near_dir(a->forward, rf_v3(0, 0, 1));
+    rf_section_type t = section_of(a, s, "placement")->type;
+    assert_true(t == RF_SECTION_ROOT || t == RF_SECTION_HELPER);
+    check_biped_sections(a, s);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* A head whose chain leans a little to one side (a curve skeleton through a box head): all of
+ * the neck's descendants lie on one side of the plane, as a hip offset's leg does, but nothing
+ * mirrors them: the neck and head stay on the centerline, not an unpaired arm. */
+static void test_head_leaning(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_biped)];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) {
+        js[n] = sb_biped[i];
+        if (!strcmp(js[n].name, "head"))
+            js[n].x = 0.03;
+        n++;
+    }
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    check_biped_sections(a, s);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* The same wizard rigged with limbs laid out along the curves: the right arm runs on into the
+ * staff, so the arms mirror each other only near the body and the best plane, between the legs,
+ * tilts by 4.5 degrees. Once up is known the plane stands upright and is re-centred on its twin
+ * pairs: the spine (its second joint 0.06 right of the hips) stays on the centerline. */
+static const sb_joint staff_layout[] = {
+    {"hips", NULL, -0.019, 0.927, -0.016, 0},       {"spine", "hips", 0.057, 1.348, -0.074, 0},
+    {"chest", "spine", -0.005, 1.754, -0.028, 0},   {"top", "chest", 0.009, 2.110, -0.053, 0},
+    {"neck", "top", 0.0, 2.448, -0.038, 0},         {"head", "neck", 0.0, 2.807, -0.090, 0},
+    {"crown", "head", 0.023, 2.947, -0.330, 0},     {".", "crown", -0.051, 2.979, -0.625, 0},
+    {"l_hip", "hips", 0.151, 0.738, -0.047, 0},     {"l_knee", "l_hip", 0.285, 0.588, -0.071, 0},
+    {"l_ankle", "l_knee", 0.248, 0.241, -0.040, 0}, {"l_toe", "l_ankle", 0.250, 0.163, 0.040, 0},
+    {".", "l_toe", 0.253, -0.003, 0.209, 0},        {"r_hip", "hips", -0.119, 0.715, -0.043, 0},
+    {"r_knee", "r_hip", -0.224, 0.493, -0.071, 0},  {"r_ankle", "r_knee", -0.250, 0.232, -0.045, 0},
+    {"r_toe", "r_ankle", -0.249, 0.162, 0.031, 0},  {".", "r_toe", -0.247, 0.014, 0.191, 0},
+    {"l_clav", "top", 0.219, 2.042, -0.053, 0},     {"l_arm", "l_clav", 0.249, 2.032, -0.053, 0},
+    {"l_fore", "l_arm", 0.610, 1.915, -0.052, 0},   {"l_hand", "l_fore", 1.227, 1.845, -0.054, 0},
+    {".", "l_hand", 1.520, 1.803, -0.165, 0},       {"r_clav", "top", -0.360, 1.994, -0.050, 0},
+    {"r_arm", "r_clav", -0.413, 1.977, -0.050, 0},  {"r_fore", "r_arm", -1.347, 1.830, 0.015, 0},
+    {"staff", "r_fore", -1.307, 1.808, -0.793, 0},  {".", "staff", -1.307, 1.808, -1.346, 0},
+};
+
+static void test_staff_laid_out(void **state)
+{
+    (void)state;
+    rf_skeleton *s = sb_build(staff_layout, SB_COUNT(staff_layout));
+    s->up = rf_v3(0, 1, 0), s->forward = rf_v3(0, 0, 1);
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    const char *spine[] = {"hips", "spine", "chest", "top"};
+    for (size_t i = 0; i < 4; i++)
+        assert_section(a, s, spine[i], RF_SECTION_SPINE, RF_SIDE_CENTER);
+    assert_section(a, s, "head", RF_SECTION_HEAD, RF_SIDE_CENTER);
+    assert_section(a, s, "l_knee", RF_SECTION_LEG, RF_SIDE_LEFT);
+    assert_section(a, s, "r_knee", RF_SECTION_LEG, RF_SIDE_RIGHT);
+    assert_int_equal(a->joints[sb_find(s, "l_fore")].side, RF_SIDE_LEFT);
+    assert_int_equal(a->joints[sb_find(s, "r_fore")].side, RF_SIDE_RIGHT);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
+/* A quadruped whose head carries a pair of long ears (a curve skeleton's ears, 0.55 of a leg's
+ * reach): the ears hang from the head, not from a girdle, so the spine ends at the forelegs and
+ * the head stays the head. */
+static void test_quadruped_ears(void **state)
+{
+    (void)state;
+    sb_joint js[SB_COUNT(sb_quadruped) + 4];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++)
+        js[n++] = sb_quadruped[i];
+    js[n++] = (sb_joint){"l_ear", "head", -0.08, 1.42, -0.75, 0};
+    js[n++] = (sb_joint){".", "l_ear", -0.36, 1.77, -0.72, 0};
+    js[n++] = (sb_joint){"r_ear", "head", 0.08, 1.42, -0.75, 0};
+    js[n++] = (sb_joint){".", "r_ear", 0.36, 1.77, -0.72, 0};
+    rf_skeleton *s = sb_build(js, n);
+    rf_analysis *a = rf_analyze(s, NULL);
+    check_consistent(a);
+    assert_near_dir(a->up, rf_v3(0, 1, 0));
+    assert_near_dir(a->forward, rf_v3(0, 0, -1));
+    assert_section(a, s, "chest", RF_SECTION_SPINE, RF_SIDE_CENTER);
+    assert_section(a, s, "neck", RF_SECTION_HEAD, RF_SIDE_CENTER);
+    assert_section(a, s, "head", RF_SECTION_HEAD, RF_SIDE_CENTER);
+    assert_int_equal(section_of(a, s, "l_ear")->type, RF_SECTION_APPENDAGE);
+    assert_int_equal(section_of(a, s, "fl2")->type, RF_SECTION_LEG);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -788,6 +952,11 @@ int main(void)
         cmocka_unit_test(test_degenerate_rest),
         cmocka_unit_test(test_socket),
         cmocka_unit_test(test_folded_leaf),
+        cmocka_unit_test(test_staff_in_one_hand),
+        cmocka_unit_test(test_placement_root_off_plane),
+        cmocka_unit_test(test_head_leaning),
+        cmocka_unit_test(test_staff_laid_out),
+        cmocka_unit_test(test_quadruped_ears),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -4,7 +4,7 @@
 #   the Khronos glTF-Validator accepts; a flat mesh is refused with a reason and leaves no file.
 # - pipelines/scan-to-animation.json: spider.obj (eight legs, no rig) walks the CMU walk; the GLB
 #   validates and holds the clip.
-# - rigflow rig-bench on four rigged models with their rigs ignored: every vertex weighted, skinning
+# - rigflow rig-bench on eight rigged models with their rigs ignored: every vertex weighted, skinning
 #   (after the matcher, and on the artist skeleton, with its L1 below a ceiling) above floors,
 #   both rigs read the same way up and facing, and CD-J2J (fraction of the longest bounding-box
 #   edge) below the thresholds
@@ -77,13 +77,23 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 # the skeleton of the artist, no vertex unweighted, the analysis reading both rigs the same way up
 # and facing (the animalia wolf, a .b3d file that declares no forward, is read facing forward
 # only with its rig rooted at the hips); the CD-J2J limits of the Fox, RiggedFigure and the wolf
-# fail if the limbs go back to bones of even length (0.047, 0.038, 0.069)
+# fail if the limbs go back to bones of even length (0.047, 0.038, 0.069). RiggedFigure's
+# skinning after the matcher needs its box head's curve, leaning a little to one side, read as
+# the head (an unpaired arm before) and its thigh joints, which win no vertex, kept as body
+# joints, not helpers (the matcher counted them as links and shifted each leg by a joint): 53% /
+# 36% without both; the Wizard's needs its spine read along the declared up with the staff in
+# the right hand, the plane re-centred once upright (2% / 1% when the spine ran through the arm
+# into the staff); the animalia bird's needs its two-joint head mapped to the artist's one (29% /
+# 29% when neither head joint was mapped); the animalia fox's needs its one-bone ears read as
+# appendages, not arms making a girdle of its head (13% / 13%)
 "$rigflow" rig-bench -r general "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
     "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" \
+    "$data/models/Wizard.glb" "$data/models/creatures/animalia_owl.b3d" \
+    "$data/models/creatures/animalia_bird.b3d" "$data/models/creatures/animalia_fox.b3d" \
     >"$tmp/bench.csv" 2>"$tmp/err" || ko "rig-bench exit $?"
 cat "$tmp/bench.csv"
 rows=$(tail -n +2 "$tmp/bench.csv" | wc -l)
-[ "$rows" -eq 4 ] && ok || ko "rig-bench: $rows rows, expected 4"
+[ "$rows" -eq 8 ] && ok || ko "rig-bench: $rows rows, expected 8"
 # columns by their header names; the status (last) is quoted text and may hold commas. Limits:
 # what the rigger reaches (in the comments: CD-J2J, skinning P / R after the matcher, P / R / L1
 # on the skeleton of the artist) with room for another machine's rounding
@@ -91,9 +101,13 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
                  cdmax[m] = cd; pmin[m] = p; rmin[m] = r; gpmin[m] = gp; grmin[m] = gr; glmax[m] = gl }
     BEGIN {
         limits("\"Fox.glb\"", 0.045, 0.58, 0.57, 0.80, 0.82, 0.50)         # 0.040 .65/.64 .86/.87/.45
-        limits("\"RiggedFigure.glb\"", 0.036, 0.47, 0.31, 0.88, 0.78, 0.32) # 0.032 .53/.36 .94/.84/.27
+        limits("\"RiggedFigure.glb\"", 0.036, 0.67, 0.44, 0.88, 0.78, 0.32) # 0.032 .74/.50 .94/.84/.27
         limits("\"Testwuson.X\"", 0.047, 0.26, 0.38, 0.74, 0.78, 0.53)      # 0.043 .50/.56 .80/.84/.47
         limits("\"animalia_wolf.b3d\"", 0.065, 0.39, 0.42, 0.86, 0.86, 0.24) # 0.061 .44/.48 .91/.91/.18
+        limits("\"Wizard.glb\"", 0.066, 0.22, 0.22, 0.68, 0.72, 0.60)       # 0.061 .28/.28 .73/.77/.54
+        limits("\"animalia_owl.b3d\"", 0.095, 0.57, 0.59, 0.68, 0.84, 0.47) # 0.090 .64/.66 .74/.90/.41
+        limits("\"animalia_bird.b3d\"", 0.063, 0.35, 0.40, 0.67, 0.77, 0.58) # 0.058 .40/.46 .73/.83/.52
+        limits("\"animalia_fox.b3d\"", 0.085, 0.20, 0.24, 0.70, 0.80, 0.55)  # 0.079 .25/.31 .76/.86/.49
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -113,7 +127,7 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
         if ($col["status"] != "\"ok\"") print "FAIL: " m ": " $col["status"]
     }' "$tmp/bench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else ok; fi
-# the template rigger on four bodies (doc/autorig.md): limits a little beyond what it reaches (in
+# the template rigger on five bodies (doc/autorig.md): limits a little beyond what it reaches (in
 # the comments: CD-J2J, skinning P / R after the matcher); the CD-J2J limits fail if the joints
 # go back to where the layouts before their fit to artist rigs put them (0.0296, 0.039, 0.051,
 # 0.078). Testwuson's skinning after the matcher has two readings for joints a few thousandths
@@ -121,7 +135,8 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # a rig the matcher cannot read at all, so another machine's rounding cannot fail it
 "$rigflow" rig-bench -r template --joints "$tmp/joints.csv" "$data/models/Fox.glb" \
     "$data/models/RiggedFigure.glb" "$data/models/Testwuson.X" \
-    "$data/models/creatures/animalia_wolf.b3d" >"$tmp/tbench.csv" 2>"$tmp/err" ||
+    "$data/models/creatures/animalia_wolf.b3d" "$data/models/creatures/animalia_owl.b3d" \
+    >"$tmp/tbench.csv" 2>"$tmp/err" ||
     ko "rig-bench -r template exit $?"
 cat "$tmp/tbench.csv"
 # --joints: per model, the mean distance of the rigger's joints and of the artist's to the other
@@ -139,7 +154,7 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             if (got - cd[m] > 0.0002 || cd[m] - got > 0.0002)
                 print "FAIL: --joints: " m " gives CD-J2J " got ", the bench " cd[m]
         }
-        if (legs != 4) print "FAIL: --joints: " legs " LeftUpLeg rows, expected 4"
+        if (legs != 5) print "FAIL: --joints: " legs " LeftUpLeg rows, expected 5"
     }' "$tmp/tbench.csv" "$tmp/joints.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joints"; else ok; fi
 awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r }
@@ -148,6 +163,7 @@ awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r 
         limits("\"RiggedFigure.glb\"", 0.0292, 0.78, 0.56)      # 0.0286 .85/.62
         limits("\"Testwuson.X\"", 0.041, 0.18, 0.24)            # 0.038 .57/.56 (below)
         limits("\"animalia_wolf.b3d\"", 0.063, 0.68, 0.74)      # 0.059 .75/.80
+        limits("\"animalia_owl.b3d\"", 0.076, 0.68, 0.70)       # 0.072 .75/.77 (.37/.39: head unmapped)
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -161,8 +177,13 @@ awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r 
         if ($col["unweighted"] != 0) print "FAIL: template " m ": vertices without weights"
         if ($col["status"] != "\"ok\"") print "FAIL: template " m ": " $col["status"]
     }
-    END { if (n != 4) print "FAIL: template rig-bench: " n " rows, expected 4" }' "$tmp/tbench.csv" >"$tmp/fails"
+    END { if (n != 5) print "FAIL: template rig-bench: " n " rows, expected 5" }' "$tmp/tbench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench template thresholds"; else ok; fi
+# the rigger timed alone runs with the axes its pipeline node had: the template rigger on the
+# Wizard (a file that declares up) fits only with them, and the seconds were "nan" without
+"$rigflow" rig-bench -r template "$data/models/Wizard.glb" >"$tmp/wbench.csv" 2>"$tmp/err"
+secs=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next } { print $col["seconds"] }' "$tmp/wbench.csv")
+case $secs in [0-9]*) ok ;; *) ko "rig-bench -r template Wizard.glb: seconds '$secs'" ;; esac
 # a model that is not there is an error (exit 1, named on stderr), not a refused row
 if "$rigflow" rig-bench -r general "$tmp/none.glb" >"$tmp/none.csv" 2>"$tmp/err"; then
     ko "rig-bench on a missing file exits 0"

@@ -35,6 +35,12 @@ typedef struct rf_rigger_api {
      * Returns a new skinned copy (inverse binds set) or false with a message in err. */
     bool (*skin)(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4 *inverse_bind,
                  rf_mesh **skinned, char *err, size_t err_size);
+    /* Appended (RF_HAS_FIELD; may be NULL): as `rig`, with the body's up and forward read from
+     * `axes` as the node's `axes` input reads them (the skeleton an importer makes of a file
+     * even with its rig ignored carries the up and forward the file declares; NULL: none), so
+     * a caller timing or comparing riggers outside a pipeline runs what the pipeline runs. */
+    bool (*rig_axes)(const rf_mesh *mesh, const rf_skeleton *axes, rf_skeleton **skeleton,
+                     rf_mesh **skinned, char *err, size_t err_size);
 } rf_rigger_api;
 
 #ifdef __cplusplus
