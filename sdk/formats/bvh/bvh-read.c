@@ -42,6 +42,9 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <time.h>
+#if defined(__x86_64__) || defined(__i386__)
+#include <emmintrin.h>
+#endif
 #else
 #define BVH_THREADS 0
 #endif
@@ -1004,8 +1007,7 @@ typedef struct helper {
 #define SPIN_STRIKES 4
 
 #if defined(__x86_64__) || defined(__i386__)
-#include <emmintrin.h>
-#define SPIN_PAUSE() _mm_pause()
+#define SPIN_PAUSE() _mm_pause() /* tells the core it waits (emmintrin.h, at the top) */
 #else
 #define SPIN_PAUSE() ((void)0)
 #endif
