@@ -531,6 +531,41 @@ static void test_bind_given(void **state)
     rf_skeleton_free(s), rf_mesh_free(in);
 }
 
+/* A given skeleton that breaks the model's promises is refused with the joint named, never
+ * weighted: a joint that is its own parent (the walk to a weighted ancestor looped forever), a
+ * parent past the last joint (read out of bounds), a parent after its child (read before it was
+ * placed), and a joint placed at NaN or infinity (a NaN ray aborted inside Embree). */
+static void test_bind_bad_skeleton(void **state)
+{
+    (void)state;
+    rf_mesh *in = tube();
+    for (int c = 0; c < 5; c++) {
+        rf_skeleton *s = rf_skeleton_new(3);
+        for (uint32_t j = 0; j < 3; j++) {
+            s->joints[j].parent = (int32_t)j - 1;
+            s->joints[j].rest = rf_xform_identity();
+            s->joints[j].rest.t = rf_v3(0, j ? 0.6 : 0.2, 0);
+        }
+        if (c == 0)
+            s->joints[1].parent = 1;
+        else if (c == 1)
+            s->joints[1].parent = 99;
+        else if (c == 2)
+            s->joints[1].parent = 2;
+        else if (c == 3)
+            s->joints[1].rest.t.x = NAN;
+        else
+            s->joints[1].rest.t.y = INFINITY;
+        rf_mesh *m = (rf_mesh *)1;
+        char err[256] = "";
+        assert_false(rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err));
+        assert_null(m);
+        assert_non_null(strstr(err, "joint 1"));
+        rf_skeleton_free(s);
+    }
+    rf_mesh_free(in);
+}
+
 /* The weight vertex v of m gives joint j. */
 static double weight_of(const rf_mesh *m, uint32_t v, uint32_t j)
 {
@@ -1210,6 +1245,7 @@ int main(void)
         cmocka_unit_test(test_bind_speck),
         cmocka_unit_test(test_bind_sleeve),
         cmocka_unit_test(test_bind_open_sheet),
+        cmocka_unit_test(test_bind_bad_skeleton),
         cmocka_unit_test(test_narrow_gap),
         cmocka_unit_test(test_template_refusal),
         cmocka_unit_test(test_template_quadruped),
