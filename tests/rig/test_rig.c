@@ -1216,6 +1216,12 @@ static void test_memory_refusal(void **state)
     assert_true(rf_rig_memory_fits(120000000, 40000000, true, 14000000000u, err, sizeof err));
     assert_false(rf_rig_memory_fits(120000000, 40000000, true, 8000000000u, err, sizeof err));
     assert_non_null(strstr(err, "13.6 GB to rig and 8.0 GB is available"));
+    /* bone heat for a given skeleton: 15000 proxy vertices by 65535 joints by 24 bytes is
+     * 23.6 GB (by hand); by 100 joints, 36 MB */
+    assert_false(rf_rig_heat_fits(15000, 65535, true, 8000000000u, err, sizeof err));
+    assert_non_null(strstr(err, "23.6 GB and 8.0 GB is available"));
+    assert_true(rf_rig_heat_fits(15000, 100, true, 8000000000u, err, sizeof err));
+    assert_true(rf_rig_heat_fits(15000, 65535, false, 0, err, sizeof err));
     /* on Linux the system always says something, and a running process has some memory left */
     uint64_t left = 0;
     FILE *f = fopen("/proc/meminfo", "r");
