@@ -78,8 +78,11 @@ int rf_cmd_describe(rf_registry *reg, int argc, char **argv)
                 argv[1]);
         return RF_EXIT_USAGE;
     }
-    printf("%s (%s) from %s\n  %s\n\n", d->type, rf_kind_name(d->kind), rf_plugin_path(plugin),
-           d->doc ? d->doc : "");
+    printf("%s (%s) from %s\n  %s\n  %s\n\n", d->type, rf_kind_name(d->kind),
+           rf_plugin_path(plugin), d->doc ? d->doc : "",
+           d->flags & RF_NODE_CONCURRENT
+               ? "processes beside the nodes it does not depend on (rigflow run --jobs)"
+               : "processes alone");
     describe_ports("inputs", d->inputs, d->input_count);
     describe_ports("outputs", d->outputs, d->output_count);
     describe_params(d);

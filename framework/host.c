@@ -30,10 +30,19 @@ static void host_log(rf_node *node, rf_log_level level, const char *fmt, ...)
     g_autofree char *raw = g_strdup_vprintf(fmt, ap);
     va_end(ap);
     g_autofree char *msg = rf_printable(raw); /* plugins quote bytes from files */
-    if (node)
+    if (node && node->held) { /* printed in the run's order, after the nodes before it */
+        g_autofree char *line =
+            g_strdup_printf("rigflow: node '%s': %s: %s\n", node->id, level_names[level], msg);
+        rf_held_log(node->held, line);
+    } else if (node)
         fprintf(stderr, "rigflow: node '%s': %s: %s\n", node->id, level_names[level], msg);
     else
         fprintf(stderr, "rigflow: %s: %s\n", level_names[level], msg);
+}
+
+static FILE *host_out(rf_node *node)
+{
+    return node && node->held ? rf_held_out(node->held) : stdout;
 }
 
 static void host_error(rf_node *node, const char *fmt, ...)
@@ -48,7 +57,7 @@ static void host_error(rf_node *node, const char *fmt, ...)
 static void host_progress(rf_node *node, double fraction)
 {
     const rf_run_options *o = node->pipeline->opts;
-    if (!o || !o->progress || o->quiet)
+    if (!o || !o->progress || o->quiet || node->held) /* a line of one node on the terminal */
         return;
     gint64 now = g_get_monotonic_time();
     if (now - node->last_progress < 100000 && fraction < 1.0) /* redraw at most 10 times a second */
@@ -255,6 +264,7 @@ static const rf_host host_table = {
     .input_count = host_input_count,
     .input = host_input,
     .set_output = host_set_output,
+    .out = host_out,
 };
 
 const rf_host *rf_host_table(void)

@@ -11,6 +11,7 @@ framework_librigflow_la_SOURCES = \
 	framework/pipeline.c \
 	framework/validate.c \
 	framework/run.c \
+	framework/run-group.c \
 	framework/pipeline-internal.h
 framework_librigflow_la_CPPFLAGS = $(AM_CPPFLAGS) -DRF_PLUGINSDIR='"$(pluginsdir)"'
 framework_librigflow_la_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS)

@@ -55,6 +55,10 @@ struct rf_node {
     char *error; /* set through host->error */
     struct rf_pipeline *pipeline;
     gint64 last_progress; /* monotonic µs of the last progress line drawn */
+    /* a run's account of the node's process (run.c, run-group.c) */
+    struct rf_held *held; /* what it prints while it processes beside others; NULL alone */
+    bool ran, ok;         /* process was called / returned true */
+    gint64 took;          /* µs process took */
 };
 typedef struct rf_node rf_node;
 
@@ -83,6 +87,26 @@ void rf_node_clear_bindings(rf_node *n);
 
 /* Releases everything a run produced (outputs, node state, parameter values). */
 void rf_pipeline_reset_run(rf_pipeline *p);
+/* What a node prints while it processes beside others (run-group.c): its stdout in a buffer and
+ * its log lines with where they fell in it, copied out in the run's order. */
+typedef struct rf_held rf_held;
+/* The stream host->out hands the node. */
+FILE *rf_held_out(rf_held *h);
+/* Keeps one whole line the node logged (for stderr). */
+void rf_held_log(rf_held *h, const char *line);
+
+/* The node at position i of the run's order. */
+rf_node *rf_run_node_at(rf_pipeline *p, guint i);
+/* Calls the node's process once, timing it (any thread); records ran, ok and took. */
+void rf_node_process(rf_node *n);
+/* What the run does after a node's process, on the run's thread and in the run's order: its
+ * profile line, its error or a missing output into diags (false), the fsync of its files. */
+bool rf_node_report(rf_node *n, GPtrArray *diags);
+/* Processes the nodes from order position `first` on that may process at once (at most `jobs`
+ * at a time) and reports them in order, as rf_node_report; returns the position after them in
+ * *next. False when one failed (the nodes after it in the order are then not reported). */
+bool rf_run_group(rf_pipeline *p, guint first, guint jobs, guint *next, GPtrArray *diags);
+
 /* Frees an output value (and its copy in this build's layout, if one was made) and clears it. */
 void rf_output_clear(rf_output *o);
 

@@ -117,6 +117,10 @@ typedef struct rf_run_options {
      * and sig_atomic_t is int on the platforms it builds for, so hosts built against
      * `volatile int *` still link and run */
     volatile sig_atomic_t *cancel_flag;
+    /* the most nodes processed at once: 0 or 1, one after another (as before this field); N,
+     * nodes of types marked RF_NODE_CONCURRENT that do not read each other's outputs process up
+     * to N at a time, their output printed in the order a run of one at a time prints it */
+    unsigned jobs;
 } rf_run_options;
 
 /* Parses a pipeline file. Returns NULL with diags on a syntax or structure error. */

@@ -1,6 +1,7 @@
 /* rigflow: the command. Loads plugins from the search path, then runs one subcommand. */
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -60,13 +61,17 @@ bool rf_check_utf8_name(const char *name, const char *file)
     return false;
 }
 
+/* Nodes processed at once by the runs of this process: `run --jobs`, else one per processor. */
+static gint run_jobs;
+
 int rf_run_interruptible_diags(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet,
                                GPtrArray *diags)
 {
     rf_run_options opts = {.profile = profile,
                            .quiet = quiet,
                            .progress = isatty(2) != 0,
-                           .cancel_flag = &interrupted};
+                           .cancel_flag = &interrupted,
+                           .jobs = run_jobs > 0 ? (unsigned)run_jobs : g_get_num_processors()};
     interrupted = 0;
     signal(SIGINT, on_sigint);
     bool ok = rf_pipeline_run(p, reg, &opts, diags);
@@ -150,9 +155,20 @@ static int cmd_run(rf_registry *reg, int argc, char **argv)
          "NODE.PARAM=VALUE"},
         {"profile", 0, 0, G_OPTION_ARG_NONE, &profile, "Print each node's run time", NULL},
         {"quiet", 'q', 0, G_OPTION_ARG_NONE, &quiet, "Print errors only", NULL},
+        {"jobs", 'j', 0, G_OPTION_ARG_INT, &run_jobs,
+         "Process up to N independent nodes at once (default: one per processor; 1: one after "
+         "another). The output is the same either way",
+         "N"},
         {NULL, 0, 0, 0, NULL, NULL, NULL}};
+    run_jobs = -1; /* not given */
     if (!rf_parse_options("run", "PIPELINE", "Validate and run a pipeline.", entries, &argc, &argv))
         return RF_EXIT_USAGE;
+    if (run_jobs == -1)
+        run_jobs = 0;
+    else if (run_jobs < 1) {
+        fprintf(stderr, "rigflow run: --jobs %d: expected a count of 1 or more\n", run_jobs);
+        return RF_EXIT_USAGE;
+    }
     if (argc != 2) {
         fprintf(stderr, "rigflow run: expected one PIPELINE file (see rigflow run --help)\n");
         return RF_EXIT_USAGE;
@@ -166,12 +182,12 @@ static int cmd_run(rf_registry *reg, int argc, char **argv)
         fprintf(stderr, "profile: validation, plugins opened: %.3f ms\n",
                 (double)(g_get_monotonic_time() - t0) / 1000.0);
     code = rf_run_interruptible(p, reg, profile, quiet || g_getenv("RIGFLOW_QUIET") != NULL);
-    t0 = g_get_monotonic_time();
-    rf_pipeline_free(p);
-    if (profile)
-        fprintf(stderr, "profile: pipeline and its data freed: %.3f ms\n",
-                (double)(g_get_monotonic_time() - t0) / 1000.0);
-    return code;
+    /* The process ends here, and its exit returns the run's memory at once: freeing the retarget
+     * pipeline's 30 MB of clips and meshes block by block (rf_pipeline_free, as an embedding host
+     * does), then closing the plugins, took about 1 ms more. exit, not return: main would close
+     * the plugins; stdio is flushed and leak checkers still see the pipeline from this frame. */
+    fflush(NULL);
+    exit(code);
 }
 
 typedef struct command {

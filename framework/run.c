@@ -14,7 +14,7 @@
 
 #define RUN_ERR(n, ...) rf_diags_add(diags, (n)->pipeline->name, 0, 0, (n)->id, NULL, __VA_ARGS__)
 
-static rf_node *node_at(rf_pipeline *p, guint i)
+rf_node *rf_run_node_at(rf_pipeline *p, guint i)
 {
     return g_ptr_array_index(p->nodes, g_array_index(p->order, guint, i));
 }
@@ -32,6 +32,7 @@ void rf_pipeline_reset_run(rf_pipeline *p)
             n->desc->destroy(n->self);
         n->created = false;
         n->self = NULL;
+        n->ran = n->ok = false;
         for (uint32_t k = 0; n->outputs && k < n->desc->output_count; k++)
             rf_output_clear(&n->outputs[k]);
         g_clear_pointer(&n->outputs, g_free);
@@ -172,15 +173,25 @@ static void start_syncs(rf_node *n)
     }
 }
 
-static bool process_node(rf_node *n, GPtrArray *diags)
+void rf_node_process(rf_node *n)
 {
     gint64 t0 = g_get_monotonic_time();
-    bool ok = n->desc->process(n->self, rf_host_table(), n);
+    n->ok = n->desc->process(n->self, rf_host_table(), n);
+    n->took = g_get_monotonic_time() - t0;
+    n->ran = true;
+}
+
+bool rf_node_report(rf_node *n, GPtrArray *diags)
+{
+    if (!n->ran) { /* a node of a group the run was interrupted before */
+        RUN_ERR(n, "interrupted before this node ran");
+        return false;
+    }
     const rf_run_options *o = n->pipeline->opts;
     if (o && o->profile)
         fprintf(stderr, "profile: node %s (%s): %.3f ms\n", n->id, n->type,
-                (double)(g_get_monotonic_time() - t0) / 1000.0);
-    if (!ok) {
+                (double)n->took / 1000.0);
+    if (!n->ok) {
         RUN_ERR(n, "%s failed: %s", n->type,
                 cancelled(n->pipeline) ? "interrupted"
                 : n->error             ? n->error
@@ -228,7 +239,7 @@ static bool finish_file(rf_pipeline *p, const char *path, GError **error)
 static bool commit_outputs(rf_pipeline *p, GPtrArray *diags)
 {
     for (guint i = 0; i < p->order->len; i++) {
-        rf_node *n = node_at(p, i);
+        rf_node *n = rf_run_node_at(p, i);
         for (uint32_t k = 0; k < n->desc->param_count; k++) {
             rf_pvalue *v = &n->params[k];
             if (n->desc->params[k].type != RF_PARAM_OUTPUT_PATH || !v->s)
@@ -259,15 +270,16 @@ static void discard_outputs(rf_pipeline *p)
 static bool run_nodes(rf_pipeline *p, GPtrArray *diags)
 {
     for (guint i = 0; i < p->order->len; i++)
-        if (!create_node(node_at(p, i), diags))
+        if (!create_node(rf_run_node_at(p, i), diags))
             return false;
-    for (guint i = 0; i < p->order->len; i++) {
-        rf_node *n = node_at(p, i);
+    guint jobs = p->opts->jobs;
+    for (guint i = 0; i < p->order->len;) {
+        rf_node *n = rf_run_node_at(p, i);
         if (cancelled(p)) {
             RUN_ERR(n, "interrupted before this node ran");
             return false;
         }
-        if (!process_node(n, diags))
+        if (!rf_run_group(p, i, jobs, &i, diags))
             return false;
     }
     return true;

@@ -90,9 +90,9 @@ tests_test_sdk_helpers_LDADD = $(CMOCKA_LIBS) -lm
 TESTS += tests/test_ctrl_c.sh
 dist_noinst_SCRIPTS += tests/test_ctrl_c.sh
 TESTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_sdk.sh \
-	tests/test_layout.sh tests/test_plugin_index.sh
+	tests/test_layout.sh tests/test_plugin_index.sh tests/test_run_jobs.sh
 dist_noinst_SCRIPTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_headers.sh tests/test_layout.sh \
-	tests/test_sdk.sh tests/test_plugin_index.sh
+	tests/test_sdk.sh tests/test_plugin_index.sh tests/test_run_jobs.sh
 # the tests' plugin index (Makefile.am: AM_TESTS_ENVIRONMENT), kept out of the user's cache
 CLEANFILES += tests/plugin-index
 EXTRA_DIST += sdk/examples/smooth/smooth.c sdk/examples/smooth/Makefile \

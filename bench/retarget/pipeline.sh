@@ -30,6 +30,12 @@ tpeers=${THREE_PEERS:-$work/peers}
     exit 1
 }
 export RIGFLOW_PLUGIN_PATH="$build/plugins"
+# The plugin index of this build alone: one shared with another build (the user's cache, which
+# every build tree on the machine writes) is found stale whenever the other build ran last, and a
+# run with a stale index opens every plugin to enter them again (the auto-rigger's Embree, TBB
+# and CHOLMOD included): 9-22 ms for `rigflow validate` of the retarget pipeline here, against
+# 2.3-4.2 ms with its index, time the run being timed does not otherwise spend.
+export RIGFLOW_PLUGIN_INDEX="${RIGFLOW_PLUGIN_INDEX:-$work/plugin-index}"
 # In a libtool build tree, $build/rigflow is a bash script that finds the real program in .libs
 # and execs it with its library path set (forking sed and ls on the way): 10-20 ms that an
 # installed rigflow never spends. The real program is timed, with that library path.

@@ -32,6 +32,7 @@ static const rf_node_desc rf_assimp_import = {
     .params = rf_ai_node_params,
     .process = rf_assimp_process,
     .get_extension = rf_assimp_extension,
+    .flags = RF_NODE_CONCURRENT,
 };
 
 static const rf_node_desc *const rf_assimp_nodes[] = {&rf_assimp_import};

@@ -162,6 +162,7 @@ static const rf_node_desc import_node = {
     RF_NODE_PARAMS(import_params),
     .process = import_process,
     .get_extension = import_extension,
+    .flags = RF_NODE_CONCURRENT,
 };
 
 /* ---- bvh.export ---- */
@@ -225,6 +226,7 @@ static const rf_node_desc export_node = {
     RF_NODE_PARAMS(export_params),
     .process = export_process,
     .get_extension = get_extension,
+    .flags = RF_NODE_CONCURRENT,
 };
 
 static const rf_node_desc *const nodes[] = {&import_node, &export_node};

@@ -1,8 +1,8 @@
 /* Format-dispatching import and export nodes, so one pipeline converts between any formats.
  *
  *   import: .bvh through libbvh (the native reader), everything else through Assimp
- *           (librfassimp); the same outputs either way: skeleton, animation, mesh (empty for
- *           BVH), clips (one for BVH).
+ *           (librfassimp, in a module loaded on first use: convert-assimp.c); the same outputs
+ *           either way: skeleton, animation, mesh (empty for BVH), clips (one for BVH).
  *   export: by the output's extension: .glb / .gltf through our glTF writer (librfgltf), .bvh
  *           through libbvh's writer (rest rotations baked in, so the zero-rotation pose is the
  *           rest pose).
@@ -11,6 +11,9 @@
  * one format's options; these two only choose. doc/formats.md and doc/formats/gltf.md describe
  * what each format keeps.
  */
+#define _GNU_SOURCE /* dladdr: where this plugin's file is */
+#include <dlfcn.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,6 +24,8 @@
 #include "rigflow/aimport-node.h"
 #include "rigflow/bvh.h"
 #include "rigflow/gltf-write.h"
+
+#include "convert-assimp.h"
 
 static const char *rf_cv_ext(const char *path)
 {
@@ -63,13 +68,47 @@ static bool rf_cv_import_bvh(const rf_host *host, rf_node *node, const char *pat
     return rf_ai_node_outputs_set(host, node, &r);
 }
 
+/* The Assimp import is loaded on first use (convert-assimp.c says why), once for the process,
+ * from beside this plugin's file; imports on several threads wait for the one load. */
+static pthread_once_t rf_cv_assimp_once = PTHREAD_ONCE_INIT;
+static rf_cv_assimp_import_fn rf_cv_assimp;
+static char rf_cv_assimp_error[8192]; /* holds the module's path and the loader's reason */
+
+static void rf_cv_assimp_load(void)
+{
+    Dl_info self;
+    if (!dladdr((void *)&rf_cv_assimp_error, &self) || !self.dli_fname) {
+        snprintf(rf_cv_assimp_error, sizeof rf_cv_assimp_error,
+                 "cannot load the Assimp import: the convert plugin's own file is unknown");
+        return;
+    }
+    const char *slash = strrchr(self.dli_fname, '/');
+    char path[4096];
+    snprintf(path, sizeof path, "%.*s%s", slash ? (int)(slash - self.dli_fname + 1) : 0,
+             self.dli_fname, RF_CV_ASSIMP_MODULE);
+    void *module = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    void *fn = module ? dlsym(module, RF_CV_ASSIMP_SYMBOL) : NULL;
+    if (!fn) {
+        snprintf(rf_cv_assimp_error, sizeof rf_cv_assimp_error,
+                 "cannot load the Assimp import (%s, installed with the convert plugin): %s", path,
+                 dlerror());
+        return;
+    }
+    memcpy(&rf_cv_assimp, &fn, sizeof fn); /* POSIX: a function's address, as an object pointer */
+}
+
 static bool rf_cv_import(void *self, const rf_host *host, rf_node *node)
 {
     (void)self;
     const char *path = host->param_string(node, "path");
     if (strcasecmp(rf_cv_ext(path), ".bvh") == 0)
         return rf_cv_import_bvh(host, node, path);
-    return rf_ai_node_import(host, node);
+    pthread_once(&rf_cv_assimp_once, rf_cv_assimp_load);
+    if (!rf_cv_assimp) {
+        host->error(node, "%s", rf_cv_assimp_error);
+        return false;
+    }
+    return rf_cv_assimp(host, node);
 }
 
 static const rf_importer_info rf_cv_importer = {sizeof(rf_importer_info), "*", "path"};
@@ -90,6 +129,7 @@ static const rf_node_desc rf_cv_import_desc = {
     RF_NODE_PARAMS(rf_ai_node_params),
     .process = rf_cv_import,
     .get_extension = rf_cv_import_extension,
+    .flags = RF_NODE_CONCURRENT,
 };
 
 /* ---- export ---- */
@@ -199,6 +239,7 @@ static const rf_node_desc rf_cv_export_desc = {
     RF_NODE_PARAMS(rf_cv_export_params),
     .create = rf_cv_export_create,
     .process = rf_cv_export,
+    .flags = RF_NODE_CONCURRENT,
 };
 
 static const rf_node_desc *const rf_cv_nodes[] = {&rf_cv_import_desc, &rf_cv_export_desc};

@@ -220,6 +220,7 @@ static const rf_node_desc compare_node = {
     process,
     NULL,
     NULL,
+    0, /* flags: it times solvers, so it processes alone */
 };
 
 static const rf_node_desc *const nodes[] = {&compare_node};

@@ -483,8 +483,14 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
         double lt = at->sections[a->section].length, ls = as->sections[b->section].length;
         return fabs((lt > 0 ? a->length / lt : 0) - (ls > 0 ? b->length / ls : 0));
     }
-    double cost =
-        fabs(tl->u0[i] - sl->u0[q]) + 0.5 * fabs(fmin(tl->u1[i], 1.5) - fmin(sl->u1[q], 1.5));
+    /* in a digit the tip of the shorter line's last bone ends the whole finger, as the longer
+     * line's last does: against a bone in the middle of the longer line it tells the count as
+     * much as a place, and the steps below price the count (a one-bone finger against a finger
+     * of two past the palm, whose last bone's length the skin tells, not a guess): half */
+    bool chain_end = (at->sections[a->section].flags & RF_SECFL_FAN) &&
+                     ((q + 1 == sl->n && sl->n < tl->n) || (i + 1 == tl->n && tl->n < sl->n));
+    double cost = fabs(tl->u0[i] - sl->u0[q]) +
+                  (chain_end ? 0.25 : 0.5) * fabs(fmin(tl->u1[i], 1.5) - fmin(sl->u1[q], 1.5));
     /* a tail of one bone has no place along a tail to compare: its root anchors it (below);
      * nor has a head of one joint (an artist's skull joint at the base of the skull, a curve
      * skeleton's near its top or after a long neck from the body's middle: the one skull) */

@@ -54,11 +54,12 @@ static bool summary_process(void *self, const rf_host *host, rf_node *node)
         return false;
     }
     const char *label = host->param_string(node, "label");
-    rf_text_fputs(*label ? label : host->node_id(node), stdout, 0); /* a pipeline file's text */
-    fputs(": ", stdout);
-    describe(stdout, s, a, m);
-    printf("\n");
-    fflush(stdout);
+    FILE *out = rf_node_out(host, node);
+    rf_text_fputs(*label ? label : host->node_id(node), out, 0); /* a pipeline file's text */
+    fputs(": ", out);
+    describe(out, s, a, m);
+    fputs("\n", out);
+    fflush(out);
     return true;
 }
 
@@ -80,6 +81,7 @@ static const rf_node_desc summary_node = {
     RF_NODE_INPUTS(summary_inputs),
     RF_NODE_PARAMS(summary_params),
     .process = summary_process,
+    .flags = RF_NODE_CONCURRENT,
 };
 
 extern const rf_node_desc rf_report_html_node; /* html.c */

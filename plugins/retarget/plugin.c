@@ -430,35 +430,37 @@ static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_repo
 }
 
 /* One line of mesh figures: this clip's, and beside each the reference clip's. */
-static void rt_mesh_line(const char *label, const rt_mesh_figures *m)
+static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m)
 {
     const rf_rt_mesh_report *c = &m->clip, *r = m->have_ref ? &m->ref : NULL;
     if (c->rigid) {
-        printf("%s: skeleton and node meshes (%u frames, %% of height; no skin: joints, bone tips "
-               "and the meshes hung rigidly on nodes): floor median %+.1f p95 %.1f (floating "
-               "%.0f%%, sinking %.0f%% of frames); parts under the floor %.0f%% of frames, %.1f "
-               "deep; torn limbs and stretch do not apply (a rigid part neither tears nor "
-               "stretches)\n",
-               label, c->frames, 100 * c->floor_median, 100 * c->floor_p95, 100 * c->floating,
-               100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
+        fprintf(out,
+                "%s: skeleton and node meshes (%u frames, %% of height; no skin: joints, bone tips "
+                "and the meshes hung rigidly on nodes): floor median %+.1f p95 %.1f (floating "
+                "%.0f%%, sinking %.0f%% of frames); parts under the floor %.0f%% of frames, %.1f "
+                "deep; torn limbs and stretch do not apply (a rigid part neither tears nor "
+                "stretches)\n",
+                label, c->frames, 100 * c->floor_median, 100 * c->floor_p95, 100 * c->floating,
+                100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
         return;
     }
-    printf("%s: mesh (%u frames, %% of height%s): torn p99 %.2f%s", label, c->frames,
-           r ? ", own clip in brackets" : "", 100 * c->seam_p99, r ? "" : "");
+    fprintf(out, "%s: mesh (%u frames, %% of height%s): torn p99 %.2f%s", label, c->frames,
+            r ? ", own clip in brackets" : "", 100 * c->seam_p99, r ? "" : "");
     if (r)
-        printf(" [%.2f]", 100 * r->seam_p99);
-    printf("; floor median %+.1f p95 %.1f", 100 * c->floor_median, 100 * c->floor_p95);
+        fprintf(out, " [%.2f]", 100 * r->seam_p99);
+    fprintf(out, "; floor median %+.1f p95 %.1f", 100 * c->floor_median, 100 * c->floor_p95);
     if (r)
-        printf(" [%+.1f, %.1f]", 100 * r->floor_median, 100 * r->floor_p95);
-    printf(" (floating %.0f%%, sinking %.0f%% of frames); parts under the floor %.0f%% of "
-           "frames, %.1f deep",
-           100 * c->floating, 100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
+        fprintf(out, " [%+.1f, %.1f]", 100 * r->floor_median, 100 * r->floor_p95);
+    fprintf(out,
+            " (floating %.0f%%, sinking %.0f%% of frames); parts under the floor %.0f%% of "
+            "frames, %.1f deep",
+            100 * c->floating, 100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
     if (r)
-        printf(" [%.0f%%]", 100 * r->parts_below);
-    printf("; stretch p99 %.1f", 100 * c->stretch_p99);
+        fprintf(out, " [%.0f%%]", 100 * r->parts_below);
+    fprintf(out, "; stretch p99 %.1f", 100 * c->stretch_p99);
     if (r)
-        printf(" [%.1f]", 100 * r->stretch_p99);
-    printf("\n");
+        fprintf(out, " [%.1f]", 100 * r->stretch_p99);
+    fprintf(out, "\n");
 }
 
 /* The mesh measures, when a skinned mesh is connected: a mesh that cannot be measured is said
@@ -484,7 +486,7 @@ static void rt_measure_mesh(const rf_host *host, rf_node *node, rf_retarget *rt,
     m->have_ref =
         ref && ref->frame_count > 1 && !m->clip.rigid &&
         rf_rt_mesh_measure(target, mesh, ref, rf_v3(0, 0, 0), frames, &m->ref, err, sizeof err);
-    rt_mesh_line(label, m);
+    rt_mesh_line(rf_node_out(host, node), label, m);
 }
 
 static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
@@ -523,15 +525,17 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
         return false;
     }
     const char *label = host->param_string(node, "label");
-    printf("%s: direction fidelity %.2f deg mean (p95 %.2f, max %.2f) over %u bones x %u frames; "
-           "foot skate %.4f leg/s (source %.4f) over %u contact frames; ground error %.3f leg\n",
-           *label ? label : host->node_id(node), r.fidelity_mean, r.fidelity_p95, r.fidelity_max,
-           r.fidelity_bones, r.frames, r.skate_target, r.skate_source, r.contact_frames,
-           r.ground_error);
+    FILE *out = rf_node_out(host, node);
+    fprintf(out,
+            "%s: direction fidelity %.2f deg mean (p95 %.2f, max %.2f) over %u bones x %u frames; "
+            "foot skate %.4f leg/s (source %.4f) over %u contact frames; ground error %.3f leg\n",
+            *label ? label : host->node_id(node), r.fidelity_mean, r.fidelity_p95, r.fidelity_max,
+            r.fidelity_bones, r.frames, r.skate_target, r.skate_source, r.contact_frames,
+            r.ground_error);
     rt_mesh_figures mf = {0};
     rt_measure_mesh(host, node, rt, start, target, &mf);
     rf_retarget_free(rt);
-    fflush(stdout);
+    fflush(out);
     return rt_write_report(host, node, &r, &mf);
 }
 
@@ -575,6 +579,7 @@ static const rf_node_desc rt_measure_node = {
     RF_NODE_OUTPUTS(rt_measure_outputs),
     RF_NODE_PARAMS(rt_measure_params),
     .process = rt_measure_process,
+    .flags = RF_NODE_CONCURRENT,
 };
 
 /* ---- self-test ---- */

@@ -178,13 +178,17 @@ static bool rf_tpl_is_leaf(const rf_rig_skel *k, uint32_t j)
 
 /* The leaf of the tree farthest from joint `from` along the tree, in any direction (up through
  * parents too: a box model's head may hang anywhere), never entering a joint flagged in `block`;
- * its distance, end site included, into *reach. `from` when nothing is reachable. */
+ * its distance, end site included, into *reach. With `up` given, of the leaves reaching at least
+ * `least` the one whose end lies highest instead (a biped's head stands above its chest, where a
+ * tail reaching farther would win by length). `from` when nothing is reachable. */
 static uint32_t rf_tpl_far_any(const rf_rig_skel *k, uint32_t from, const uint8_t *block,
-                               double *reach)
+                               const rf_vec3 *up, double least, double *reach)
 {
     double *d = malloc((k->n + 1) * sizeof *d);
-    uint32_t *queue = malloc((k->n + 1) * sizeof *queue), best = from, head = 0, tail = 0;
+    uint32_t *queue = malloc((k->n + 1) * sizeof *queue), best = from, high = from, head = 0,
+             tail = 0;
     uint8_t *seen = calloc(k->n + 1, 1);
+    double top = -INFINITY, high_reach = 0;
     *reach = 0;
     if (!d || !queue || !seen) {
         free(d), free(queue), free(seen);
@@ -193,9 +197,13 @@ static uint32_t rf_tpl_far_any(const rf_rig_skel *k, uint32_t from, const uint8_
     d[from] = 0, seen[from] = 1, queue[tail++] = from;
     while (head < tail) {
         uint32_t j = queue[head++];
-        double r = d[j] + rf_tpl_dist(k->pos + (size_t)j * 3, rf_tpl_end(k, j));
+        const double *e = rf_tpl_end(k, j);
+        double r = d[j] + rf_tpl_dist(k->pos + (size_t)j * 3, e);
         if (r > *reach && rf_tpl_is_leaf(k, j))
             *reach = r, best = j;
+        if (up && r >= least && rf_tpl_is_leaf(k, j) &&
+            e[0] * up->x + e[1] * up->y + e[2] * up->z > top)
+            top = e[0] * up->x + e[1] * up->y + e[2] * up->z, high = j, high_reach = r;
         for (uint32_t i = 0; i < k->n; i++) { /* neighbours: the parent and the children */
             bool next = (k->parent[j] == (int32_t)i) || (k->parent[i] == (int32_t)j);
             if (!next || seen[i] || block[i])
@@ -205,6 +213,8 @@ static uint32_t rf_tpl_far_any(const rf_rig_skel *k, uint32_t from, const uint8_
         }
     }
     free(d), free(queue), free(seen);
+    if (high != from)
+        best = high, *reach = high_reach;
     return best;
 }
 
@@ -407,6 +417,8 @@ typedef struct rf_tpl_ctx {
     int swap;        /* the ends swapped against the analysis's forward: sides swapped too */
     rf_vec3 forward; /* hips to chest (quadruped), zero when the analysis's forward stands */
     const rf_rig_tpl_layout *lay; /* where the joints go along each curve */
+    bool human;                   /* the humanoid template: its head is the highest leaf */
+    rf_vec3 up;                   /* the body's up (declared, else the analysis's) */
 } rf_tpl_ctx;
 
 /* The built-in layouts (doc/autorig.md, "The template rigger", says how they were chosen). */
@@ -651,12 +663,13 @@ static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_
     rf_tpl_block_path(k, chest, hips, skip);
     skip[hips] = 1;
     rf_tpl_path(k, hips, chest, &sp);
-    double reach;
-    uint32_t leaf = rf_tpl_far_any(k, chest, skip, &reach);
-    if (leaf == chest || reach < 0.15 * rf_tpl_len(&sp)) {
+    double reach, least = 0.15 * rf_tpl_len(&sp);
+    const rf_vec3 *up = x->human ? &x->up : NULL;
+    uint32_t leaf = rf_tpl_far_any(k, chest, skip, up, least, &reach);
+    if (leaf == chest || reach < least) {
         memcpy(skip, x->limb, k->n);
         skip[hips] = 1;
-        leaf = rf_tpl_far_any(k, chest, skip, &reach);
+        leaf = rf_tpl_far_any(k, chest, skip, up, least, &reach);
     }
     sp.n = 0;
     free(skip);
@@ -727,7 +740,7 @@ static void rf_tpl_tail(rf_tpl_ctx *x, uint32_t hips, uint32_t neck, int32_t hip
         skip[j] = skip[j] || rf_tpl_len(&to) > len / 3;
     }
     double reach;
-    uint32_t leaf = rf_tpl_far_any(k, hips, skip, &reach), from = leaf;
+    uint32_t leaf = rf_tpl_far_any(k, hips, skip, NULL, 0, &reach), from = leaf;
     while (from != hips && !spine[from] && k->parent[from] >= 0) /* where it leaves the spine */
         from = (uint32_t)k->parent[from];
     if (!spine[from] && from != hips)
@@ -891,7 +904,14 @@ static bool rf_tpl_embed(const rf_rig_skel *k, const rf_rig_options *o, rf_rig_t
     if (ok) {
         rf_tpl_mark_limbs(k, a, &b, got, limb);
         bool human = got == RF_RIG_TEMPLATE_HUMANOID;
-        rf_tpl_ctx x = {.k = k, .a = a, .b = &b, .t = t, .limb = limb, .lay = lay[!human]};
+        rf_tpl_ctx x = {.k = k,
+                        .a = a,
+                        .b = &b,
+                        .t = t,
+                        .limb = limb,
+                        .lay = lay[!human],
+                        .human = human,
+                        .up = rf_v3_len(o->up) > 0 ? o->up : a->up};
         *kind = got;
         memset(t, 0, sizeof *t);
         ok = got == RF_RIG_TEMPLATE_HUMANOID ? rf_tpl_humanoid(&x, err, n)

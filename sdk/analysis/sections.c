@@ -309,7 +309,7 @@ static void beyond(rf_builder *b, uint32_t end, rf_section_type type, int32_t pa
 {
     rf_awork *w = b->w;
     int32_t main = RF_NONE;
-    double k_end = key(w, rf_an_pos(w, end));
+    double k_end = key(w, rf_an_pos(w, end)), main_ahead = 0;
     for (uint32_t k = w->child_off[end]; k < w->child_off[end + 1]; k++) {
         uint32_t c = w->child_idx[k];
         if (!is_center(w, c) || b->sec_of[c] >= 0 || b->on_path[c])
@@ -318,12 +318,18 @@ static void beyond(rf_builder *b, uint32_t end, rf_section_type type, int32_t pa
         double kc = key(w, mid) - k_end;
         /* a tail lies behind the girdle, however high it is carried (a raised tail is higher
          * than the one body joint it hangs from, like a neck) */
+        double ahead = rf_v3_dot(rf_v3_sub(mid, rf_an_pos(w, end)), w->a->forward);
         if (side_sign < 0)
-            kc = rf_v3_dot(rf_v3_sub(mid, rf_an_pos(w, end)), w->a->forward);
+            kc = ahead;
         if (side_sign && kc * side_sign < 0)
             continue;
-        if (main < 0 || b->down[c] > b->down[main])
-            main = (int32_t)c;
+        /* of two chains rising from one girdle, a tail held high may be the longer: the head
+         * is the one in front, the other behind */
+        bool longer = main < 0 || b->down[c] > b->down[main];
+        if (side_sign > 0 && main >= 0 && ahead * main_ahead < 0)
+            longer = ahead > main_ahead;
+        if (longer)
+            main = (int32_t)c, main_ahead = ahead;
     }
     if (main >= 0)
         center_chain(b, (uint32_t)main, type, 0, parent_sec, (int32_t)end);

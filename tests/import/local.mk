@@ -32,11 +32,18 @@ tests_gltf_test_glb_limit_LDADD = sdk/formats/gltf/librigflow-gltf.la $(CMOCKA_L
 # pipelines/convert.json end to end (import and export nodes of plugins/convert).
 TESTS += tests/import/test_convert.sh
 EXTRA_DIST += tests/import/test_convert.sh
+# its Assimp import loaded on first use only (plugins/convert/convert-assimp.c)
+TESTS += tests/import/test_assimp_on_demand.sh
+EXTRA_DIST += tests/import/test_assimp_on_demand.sh
 
 # GLB exports keep the look and every clip: every model converted and retargeted, validated,
 # counted against Assimp, read by three.js; bad textures left out with warnings.
 TESTS += tests/gltf/test_export.sh
 EXTRA_DIST += tests/gltf/test_export.sh tests/gltf/look.js tests/fixtures/textures/textured-sheet.gltf
+
+# A GLB's binary chunk (its channels streamed into the file) against the .gltf's buffer.
+TESTS += tests/gltf/test_glb_chunk.sh
+EXTRA_DIST += tests/gltf/test_glb_chunk.sh
 
 # Blender's glTF importer on the exports (one headless run, a few seconds).
 TESTS += tests/gltf/test_blender.sh

@@ -352,6 +352,42 @@ static void test_helpers_unweighted(void **state)
     rf_ai_result_clear(&r);
 }
 
+/* A leaf without an end site ends where the skin it carries ends. The animalia fox's legs are
+ * boxes hung from pivots at the body's middle height, the hind ones beside the torso's pivot: a
+ * guess from the parent's distance put the hind legs' tips 0.06 to the side at the pivot's
+ * height. Each leg's box reaches the floor, so its tip lies at the mesh's lowest point (measured
+ * here from the vertices), under the pivot; a joint with children gets no end site. */
+static void test_leaf_ends_from_skin(void **state)
+{
+    (void)state;
+    RF_NEED_DATA();
+    rf_ai_result r;
+    rf_import_ok(rf_model("creatures/animalia_fox.b3d"), NULL, &r);
+    const rf_skeleton *s = r.skeleton;
+    const rf_mesh *m = r.mesh;
+    double low = INFINITY, high = -INFINITY;
+    for (uint32_t v = 0; v < m->vertex_count; v++)
+        low = fmin(low, m->positions[(size_t)v * 3 + 1]),
+        high = fmax(high, m->positions[(size_t)v * 3 + 1]);
+    rf_xform *w = calloc(s->joint_count, sizeof *w);
+    assert_non_null(w);
+    rf_skeleton_world_rest(s, w);
+    const char *legs[] = {"Leg.Rear.R", "Leg.Rear.L", "Leg.Front.R", "Leg.Front.L"};
+    for (int i = 0; i < 4; i++) {
+        int32_t j = rf_skeleton_find(s, legs[i]);
+        assert_true(j >= 0);
+        assert_true(s->joints[j].flags & RF_JOINT_HAS_END_SITE);
+        rf_vec3 tip = rf_xform_point(w[j], s->joints[j].end_site), at = w[j].t;
+        if (fabs(tip.y - low) > 0.02 * (high - low))
+            print_error("%s: tip at height %g, the mesh's lowest point %g\n", legs[i], tip.y, low);
+        assert_true(fabs(tip.y - low) <= 0.02 * (high - low));
+        assert_true(hypot(tip.x - at.x, tip.z - at.z) < 0.5 * (at.y - tip.y));
+    }
+    assert_false(s->joints[rf_skeleton_find(s, "Torso")].flags & RF_JOINT_HAS_END_SITE);
+    free(w);
+    rf_ai_result_clear(&r);
+}
+
 /* BCN_Epileptic: three meshes (Torso, Head, Legs) share one skeleton. `assimp info -r FILE`
  * (raw, no post-processing) counts 15378 vertices and 5126 faces in all. */
 static void test_meshes_share_one_skeleton(void **state)
@@ -484,6 +520,7 @@ int main(void)
         cmocka_unit_test(test_gltf_clips_in_seconds),
         cmocka_unit_test(test_bind_pose),
         cmocka_unit_test(test_helpers_unweighted),
+        cmocka_unit_test(test_leaf_ends_from_skin),
         cmocka_unit_test(test_meshes_share_one_skeleton),
         cmocka_unit_test(test_axes),
         cmocka_unit_test(test_glb_fox),

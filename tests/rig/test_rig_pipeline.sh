@@ -85,7 +85,11 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 # the right hand, the plane re-centred once upright (2% / 1% when the spine ran through the arm
 # into the staff); the animalia bird's needs its two-joint head mapped to the artist's one (29% /
 # 29% when neither head joint was mapped); the animalia fox's needs its one-bone ears read as
-# appendages, not arms making a girdle of its head (13% / 13%)
+# appendages, not arms making a girdle of its head (13% / 13%). The animalia rigs' one-joint legs
+# (no end site in the file) end where the skin they carry ends, at the ground: with a length
+# guessed from the hip offset the owl's, bird's and fox's floors here fail (.64/.66, .40/.46,
+# .25/.31), and the wolf's and the fox's on the skeleton of the artist were .91/.91/.18 and
+# .74/.84/.52 (bone heat, tuned on the guessed leaves, reads the measured ones less well there)
 "$rigflow" rig-bench -r general "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
     "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" \
     "$data/models/Wizard.glb" "$data/models/creatures/animalia_owl.b3d" \
@@ -103,11 +107,11 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
         limits("\"Fox.glb\"", 0.045, 0.58, 0.57, 0.80, 0.82, 0.50)         # 0.040 .65/.64 .86/.87/.45
         limits("\"RiggedFigure.glb\"", 0.036, 0.67, 0.44, 0.88, 0.78, 0.32) # 0.032 .74/.50 .94/.84/.27
         limits("\"Testwuson.X\"", 0.047, 0.26, 0.38, 0.74, 0.78, 0.53)      # 0.043 .50/.56 .80/.84/.47
-        limits("\"animalia_wolf.b3d\"", 0.065, 0.39, 0.42, 0.86, 0.86, 0.24) # 0.061 .44/.48 .91/.91/.18
+        limits("\"animalia_wolf.b3d\"", 0.065, 0.39, 0.42, 0.80, 0.82, 0.37) # 0.061 .44/.48 .835/.851/.338
         limits("\"Wizard.glb\"", 0.066, 0.22, 0.22, 0.68, 0.72, 0.60)       # 0.061 .28/.28 .73/.77/.54
-        limits("\"animalia_owl.b3d\"", 0.095, 0.57, 0.59, 0.68, 0.84, 0.47) # 0.090 .64/.66 .74/.90/.41
-        limits("\"animalia_bird.b3d\"", 0.063, 0.35, 0.40, 0.67, 0.77, 0.58) # 0.058 .40/.46 .73/.83/.52
-        limits("\"animalia_fox.b3d\"", 0.085, 0.20, 0.24, 0.70, 0.80, 0.55)  # 0.079 .25/.31 .76/.86/.49
+        limits("\"animalia_owl.b3d\"", 0.095, 0.70, 0.72, 0.70, 0.84, 0.45) # 0.090 .74/.77 .76/.88/.41
+        limits("\"animalia_bird.b3d\"", 0.063, 0.80, 0.80, 0.72, 0.77, 0.50) # 0.058 .855/.855 .77/.82/.445
+        limits("\"animalia_fox.b3d\"", 0.085, 0.53, 0.56, 0.66, 0.78, 0.65)  # 0.079 .58/.61 .70/.82/.61
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -153,16 +157,19 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
         if (uw) print "FAIL: short limbs: " uw " vertices without weights"
     }' "$tmp/sbench.csv" "$tmp/sjoints.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench short limbs"; else ok; fi
-# the template rigger on five bodies (doc/autorig.md): limits a little beyond what it reaches (in
+# the template rigger on six bodies (doc/autorig.md): limits a little beyond what it reaches (in
 # the comments: CD-J2J, skinning P / R after the matcher); the CD-J2J limits fail if the joints
 # go back to where the layouts before their fit to artist rigs put them (0.0296, 0.039, 0.051,
 # 0.078). Testwuson's skinning after the matcher has two readings for joints a few thousandths
 # apart (42% / 60% and 22% / 28% at CD-J2J 0.040, doc/autorig.md): its floor only guards against
-# a rig the matcher cannot read at all, so another machine's rounding cannot fail it
+# a rig the matcher cannot read at all, so another machine's rounding cannot fail it. The animalia
+# bird's limits need its head looked for as the highest leaf beyond the wings, not the farthest
+# (its tail, which took the template's neck and head: 0.053, 29% / 29%), and the owl's and the
+# bird's their legs' length from the skin (.75/.77 and .47/.51 with it guessed)
 "$rigflow" rig-bench -r template --joints "$tmp/joints.csv" "$data/models/Fox.glb" \
     "$data/models/RiggedFigure.glb" "$data/models/Testwuson.X" \
     "$data/models/creatures/animalia_wolf.b3d" "$data/models/creatures/animalia_owl.b3d" \
-    >"$tmp/tbench.csv" 2>"$tmp/err" ||
+    "$data/models/creatures/animalia_bird.b3d" >"$tmp/tbench.csv" 2>"$tmp/err" ||
     ko "rig-bench -r template exit $?"
 cat "$tmp/tbench.csv"
 # --joints: per model, the mean distance of the rigger's joints and of the artist's to the other
@@ -180,7 +187,7 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             if (got - cd[m] > 0.0002 || cd[m] - got > 0.0002)
                 print "FAIL: --joints: " m " gives CD-J2J " got ", the bench " cd[m]
         }
-        if (legs != 5) print "FAIL: --joints: " legs " LeftUpLeg rows, expected 5"
+        if (legs != 6) print "FAIL: --joints: " legs " LeftUpLeg rows, expected 6"
     }' "$tmp/tbench.csv" "$tmp/joints.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joints"; else ok; fi
 awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r }
@@ -189,7 +196,8 @@ awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r 
         limits("\"RiggedFigure.glb\"", 0.0292, 0.78, 0.56)      # 0.0286 .85/.62
         limits("\"Testwuson.X\"", 0.041, 0.18, 0.24)            # 0.038 .57/.56 (below)
         limits("\"animalia_wolf.b3d\"", 0.063, 0.68, 0.74)      # 0.059 .75/.80
-        limits("\"animalia_owl.b3d\"", 0.076, 0.68, 0.70)       # 0.072 .75/.77 (.37/.39: head unmapped)
+        limits("\"animalia_owl.b3d\"", 0.076, 0.80, 0.84)       # 0.072 .85/.89 (.37/.39: head unmapped)
+        limits("\"animalia_bird.b3d\"", 0.048, 0.76, 0.76)      # 0.0445 .81/.81 (0.053 .29/.29: tail as head)
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -203,7 +211,7 @@ awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r 
         if ($col["unweighted"] != 0) print "FAIL: template " m ": vertices without weights"
         if ($col["status"] != "\"ok\"") print "FAIL: template " m ": " $col["status"]
     }
-    END { if (n != 5) print "FAIL: template rig-bench: " n " rows, expected 5" }' "$tmp/tbench.csv" >"$tmp/fails"
+    END { if (n != 6) print "FAIL: template rig-bench: " n " rows, expected 6" }' "$tmp/tbench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench template thresholds"; else ok; fi
 # the rigger timed alone runs with the axes its pipeline node had: the template rigger on the
 # Wizard (a file that declares up) fits only with them, and the seconds were "nan" without

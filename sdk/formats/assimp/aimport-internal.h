@@ -57,6 +57,7 @@ rf_mat4 rf_ai_joint_node_local(const rf_ai_ctx *c, unsigned j);
 /* aimport-mesh.c: merges every mesh instance into one mesh; NULL result with true when the scene
  * has no triangles. */
 bool rf_ai_build_mesh(rf_ai_ctx *c, rf_mesh **out);
+void rf_ai_skin_end_sites(rf_skeleton *s, const rf_mesh *m);
 
 /* aimport-look.c: the materials of the parts (part_mesh: [part] aiMesh index) and their images
  * into m; textures that cannot be had are left out with a warning. False when out of memory. */

@@ -374,3 +374,76 @@ bool rf_ai_build_mesh(rf_ai_ctx *c, rf_mesh **out)
     *out = b.m;
     return true;
 }
+
+/* ---- leaf bones' ends from the skin ---- */
+
+/* The leaf joint (flagged in `leaf`) vertex v is weighted most to, with v in its bind space into
+ * *l; -1 when another joint weights v most. */
+static int32_t rf_ai_vertex_leaf(const rf_mesh *m, const uint8_t *leaf, uint32_t v, rf_vec3 *l)
+{
+    const uint16_t *js = m->skin_joints + (size_t)v * 4;
+    const float *ws = m->skin_weights + (size_t)v * 4;
+    int best = 0;
+    for (int k = 1; k < 4; k++)
+        best = ws[k] > ws[best] ? k : best;
+    uint32_t j = js[best];
+    if (!(ws[best] > 0) || j >= m->bind_count || !leaf[j])
+        return -1;
+    const float *p = m->positions + (size_t)v * 3;
+    *l = rf_mat4_point(m->inverse_bind[j], rf_v3(p[0], p[1], p[2]));
+    return (int32_t)j;
+}
+
+/* A leaf joint without an end site (Assimp's formats have none) ends where the skin it carries
+ * ends: of the vertices it weights most, taken into its bind space, the mean gives the bone's
+ * direction and the farthest along it its length. Without this a reader can only guess a leaf's
+ * length from its parent's distance, which says nothing of it (a box model's leg hung from a
+ * pivot beside its parent's: a leg guessed at a third of its length). A leaf whose vertices lie
+ * around its pivot (the mean under a quarter of the farthest vertex's distance: a pivot in the
+ * middle of its part) gets none: the skin tells no direction. */
+void rf_ai_skin_end_sites(rf_skeleton *s, const rf_mesh *m)
+{
+    uint32_t n = s->joint_count;
+    if (!m || !m->skin_joints || !m->skin_weights || !m->inverse_bind || m->bind_count != n || !n)
+        return;
+    rf_vec3 *mean = calloc(n, sizeof *mean);
+    double *count = calloc(n, sizeof *count), *reach = calloc(n, sizeof *reach),
+           *radius = calloc(n, sizeof *radius);
+    uint8_t *leaf = malloc(n);
+    if (!mean || !count || !reach || !radius || !leaf)
+        goto done;
+    memset(leaf, 1, n);
+    for (uint32_t j = 0; j < n; j++) {
+        if (s->joints[j].parent >= 0)
+            leaf[s->joints[j].parent] = 0;
+        if (s->joints[j].flags & RF_JOINT_HAS_END_SITE)
+            leaf[j] = 0;
+    }
+    rf_vec3 l;
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        int32_t j = rf_ai_vertex_leaf(m, leaf, v, &l);
+        if (j >= 0)
+            mean[j] = rf_v3_add(mean[j], l), count[j]++, radius[j] = fmax(radius[j], rf_v3_len(l));
+    }
+    for (uint32_t j = 0; j < n; j++)
+        if (leaf[j] && count[j] > 0) {
+            mean[j] = rf_v3_scale(mean[j], 1 / count[j]);
+            leaf[j] = rf_v3_len(mean[j]) >= 0.25 * radius[j] && radius[j] > 0;
+            if (leaf[j])
+                mean[j] = rf_v3_scale(mean[j], 1 / rf_v3_len(mean[j]));
+        } else {
+            leaf[j] = 0;
+        }
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        int32_t j = rf_ai_vertex_leaf(m, leaf, v, &l);
+        if (j >= 0)
+            reach[j] = fmax(reach[j], rf_v3_dot(l, mean[j]));
+    }
+    for (uint32_t j = 0; j < n; j++)
+        if (leaf[j] && reach[j] > 0) {
+            s->joints[j].end_site = rf_v3_scale(mean[j], reach[j]);
+            s->joints[j].flags |= RF_JOINT_HAS_END_SITE;
+        }
+done:
+    free(mean), free(count), free(reach), free(radius), free(leaf);
+}

@@ -1,5 +1,6 @@
 /* Node glue shared by assimp.import and the generic import node: parameters in, outputs out.
- * (Part of librfassimp so both plugins declare the same parameters and behave alike.) */
+ * (Part of librfassimp so both plugins declare the same parameters and behave alike.) Nothing
+ * here calls Assimp: the import itself is aimport-node-import.c. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,17 +45,6 @@ const rf_port_desc rf_ai_node_outputs[RF_AI_NODE_OUTPUT_COUNT] = {
                  "every clip in the file and which was used; with clip *, each one's motion too"),
 };
 
-typedef struct rf_ai_node_log {
-    const rf_host *host;
-    rf_node *node;
-} rf_ai_node_log;
-
-static void rf_ai_node_log_fn(void *user, int level, const char *message)
-{
-    rf_ai_node_log *l = user;
-    l->host->log(l->node, level <= 1 ? RF_LOG_WARNING : RF_LOG_INFO, "%s", message);
-}
-
 static rf_clip_list *rf_ai_node_clips(rf_ai_result *r)
 {
     rf_clip_list *l = rf_clip_list_new(r->clip_count);
@@ -95,24 +85,20 @@ bool rf_ai_node_outputs_set(const rf_host *host, rf_node *node, rf_ai_result *r)
     return ok;
 }
 
-bool rf_ai_node_import(const rf_host *host, rf_node *node)
+/* Here rather than in aimport.c: a plugin that only hands results on (the converter, which
+ * loads the Assimp import on first use, aimport-node.h) links no Assimp code through it. */
+void rf_ai_result_clear(rf_ai_result *r)
 {
-    rf_ai_options o = {0};
-    const char *path = host->param_string(node, "path");
-    o.clip = host->param_string(node, "clip");
-    o.fps = host->param_float(node, "fps");
-    o.require_skeleton = host->param_bool(node, "require_skeleton");
-    o.ignore_rig = host->param_bool(node, "ignore_rig");
-    if (!rf_ai_rest_parse(host->param_string(node, "rest_pose"), &o.rest)) {
-        host->error(node, "rest_pose: expected bind or node");
-        return false;
+    rf_skeleton_free(r->skeleton);
+    rf_animation_free(r->animation);
+    rf_mesh_free(r->mesh);
+    for (unsigned i = 0; i < r->clip_count; i++) {
+        free(r->clips[i].name);
+        if (r->clip_animations)
+            rf_animation_free(r->clip_animations[i]);
     }
-    rf_ai_node_log l = {host, node};
-    rf_ai_result r;
-    char err[1024];
-    if (!rf_ai_import(path, &o, &r, rf_ai_node_log_fn, &l, err, sizeof err)) {
-        host->error(node, "%s", err);
-        return false;
-    }
-    return rf_ai_node_outputs_set(host, node, &r);
+    free(r->clips);
+    free(r->clip_animations);
+    memset(r, 0, sizeof *r);
+    r->selected_clip = -1;
 }

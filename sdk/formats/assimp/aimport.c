@@ -12,6 +12,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -174,6 +175,22 @@ static bool rf_ai_glb_length_ok(rf_ai_ctx *c)
                       declared, (long long)st.st_size);
 }
 
+/* Assimp keeps the last import's error in one global string: imports on threads of their own
+ * (nodes processing at once) take turns, so the message read is the failed import's own. */
+static pthread_mutex_t rf_ai_import_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static const struct aiScene *rf_ai_import_locked(rf_ai_ctx *c, unsigned flags, struct aiFileIO *io,
+                                                 const struct aiPropertyStore *props, char *error,
+                                                 size_t error_size)
+{
+    pthread_mutex_lock(&rf_ai_import_lock);
+    const struct aiScene *s = aiImportFileExWithProperties(c->path, flags, io, props);
+    if (!s)
+        snprintf(error, error_size, "%s", aiGetErrorString());
+    pthread_mutex_unlock(&rf_ai_import_lock);
+    return s;
+}
+
 static const struct aiScene *rf_ai_load(rf_ai_ctx *c)
 {
     if (!rf_ai_glb_length_ok(c))
@@ -189,16 +206,15 @@ static const struct aiScene *rf_ai_load(rf_ai_ctx *c)
     /* FBX pivots would otherwise appear as extra "$AssimpFbx$" nodes between real joints. */
     aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, 0);
     unsigned flags = aiProcess_Triangulate | aiProcess_SortByPType;
-    const struct aiScene *s =
-        aiImportFileExWithProperties(c->path, flags | aiProcess_ValidateDataStructure, io, props);
+    char first[512], second[8];
+    const struct aiScene *s = rf_ai_import_locked(c, flags | aiProcess_ValidateDataStructure, io,
+                                                  props, first, sizeof first);
     if (!s) {
         /* Some files (every B3D creature here) fail validation only for keys past the clip's end;
          * import without the step and clamp the keys while resampling. */
-        char first[512];
-        snprintf(first, sizeof first, "%s", aiGetErrorString());
         bool oom = rf_ai_out_of_memory(c, first);
         if (!oom)
-            s = aiImportFileExWithProperties(c->path, flags, io, props);
+            s = rf_ai_import_locked(c, flags, io, props, second, sizeof second);
         if (s)
             rf_ai_logf(c, 1,
                        "%s: Assimp's validation failed (%s); imported without it, keys outside a "
@@ -751,22 +767,6 @@ bool rf_ai_rest_parse(const char *text, rf_ai_rest *rest)
     return true;
 }
 
-void rf_ai_result_clear(rf_ai_result *r)
-{
-    rf_skeleton_free(r->skeleton);
-    rf_animation_free(r->animation);
-    rf_mesh_free(r->mesh);
-    for (unsigned i = 0; i < r->clip_count; i++) {
-        free(r->clips[i].name);
-        if (r->clip_animations)
-            rf_animation_free(r->clip_animations[i]);
-    }
-    free(r->clips);
-    free(r->clip_animations);
-    memset(r, 0, sizeof *r);
-    r->selected_clip = -1;
-}
-
 /* The mesh alone: placed as the rig bound it (so a rigged file's artist rig fits it), with its
  * skin dropped, an empty skeleton and one empty rest frame. */
 static bool rf_ai_run_bare(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
@@ -807,6 +807,7 @@ static bool rf_ai_run(rf_ai_ctx *c, const rf_ai_options *o, rf_ai_result *r)
     if (!rf_ai_build_skeleton(c, o, &r->skeleton) || !rf_ai_build_mesh(c, &r->mesh))
         return false;
     rf_ai_flag_unweighted(r->skeleton, r->mesh);
+    rf_ai_skin_end_sites(r->skeleton, r->mesh);
     rf_ai_axes(c, r->skeleton);
     if (!rf_ai_list_clips(c, o, r) || !rf_ai_select_clip(c, o->clip, &r->selected_clip))
         return false;

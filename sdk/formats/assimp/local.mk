@@ -9,6 +9,7 @@ sdk_formats_assimp_librigflow_assimp_la_SOURCES = \
 	sdk/formats/assimp/aimport-look.c \
 	sdk/formats/assimp/aimport-anim.c \
 	sdk/formats/assimp/aimport-node.c \
+	sdk/formats/assimp/aimport-node-import.c \
 	sdk/formats/assimp/aimport-io.h \
 	sdk/formats/assimp/aimport-io.c
 sdk_formats_assimp_librigflow_assimp_la_CFLAGS = $(AM_CFLAGS) $(SDK_LIB_CFLAGS) $(ASSIMP_CFLAGS)

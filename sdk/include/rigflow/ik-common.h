@@ -260,7 +260,8 @@ void rf_ikc_node_destroy(void *self);
 
 /* Defines `static const rf_node_desc ident##_node`: a node type of kind ik named `type`, whose
  * run hands a solver made by `api` (an rf_ik_solver_api *) to its "solver" port and whose
- * get_extension offers `api` as RF_IK_EXTENSION (how `rigflow ik-bench` finds solvers). `params`
+ * get_extension offers `api` as RF_IK_EXTENSION (how `rigflow ik-bench` finds solvers), and
+ * which may process beside other nodes (it only makes the solver). `params`
  * is a static array of rf_param_desc starting with RF_IKC_COMMON_PARAMS; `create` makes the
  * node's rf_ik_config (rf_ikc_node_create, or one that reads more parameters after it). Needs
  * <string.h>. Every solver plugin is these descriptors and its entry table. */
@@ -286,6 +287,7 @@ void rf_ikc_node_destroy(void *self);
                                               (create),                                            \
                                               ident##_process,                                     \
                                               rf_ikc_node_destroy,                                 \
-                                              ident##_extension}
+                                              ident##_extension,                                   \
+                                              RF_NODE_CONCURRENT}
 
 #endif

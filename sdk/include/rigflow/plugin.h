@@ -40,6 +40,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "model.h"
 #include "version.h"
@@ -167,6 +168,14 @@ typedef struct rf_host {
      * when the run no longer needs it. Returns false (and frees it at once) for an undeclared port
      * or a port set twice. (transfer full) */
     bool (*set_output)(rf_node *node, const char *port, void *data, rf_destroy_fn destroy);
+
+    /* Appended in 1.3 (check with RF_HAS_FIELD, or call rf_node_out below): */
+    /* [thread-safe] The stream a node prints its results on (what `rigflow run` shows on stdout):
+     * stdout while the node runs alone; a buffer of the host's while it runs beside other nodes
+     * (RF_NODE_CONCURRENT), which the host copies to stdout, with the node's log lines to stderr,
+     * once every node before it in the run's order has printed, so the output reads byte for byte
+     * as a run of one node at a time. (borrowed, valid during process) */
+    FILE *(*out)(rf_node *node);
 } rf_host;
 
 /* One node type. Lifecycle for each node of a pipeline: create once with the parameters (per-clip
@@ -195,7 +204,21 @@ typedef struct rf_node_desc {
     /* [main-thread] Optional. A capability table by reverse-DNS id (e.g. "rigflow.ik/1"), or NULL.
      * (static) */
     const void *(*get_extension)(const char *id);
+
+    /* Appended in 1.3 (zero in a descriptor built before it): */
+    uint32_t flags; /* rf_node_flags */
 } rf_node_desc;
+
+/* Bits of rf_node_desc.flags. */
+enum rf_node_flags {
+    /* process may run on a thread of the host's while nodes of the same run that do not read its
+     * outputs (nor it theirs) process on others. The node type promises that process prints only
+     * through host->out and host->log, writes no file but its OUTPUT_PATH parameters' temporary
+     * files, and changes no process-wide state (current folder, locale, signal handlers, the
+     * standard streams, global variables of a library it shares with other node types). Without
+     * the flag a node processes alone, as every node did before 1.3. */
+    RF_NODE_CONCURRENT = 1u << 0,
+};
 
 /* A self-test a node type may offer through get_extension(RF_SELFTEST_EXTENSION). `rigflow
  * plugin-check` runs it in a separate process: it should exercise the node's core on data it
@@ -317,6 +340,14 @@ typedef struct rf_plugin_entry {
         .node_count = RF_COUNT_OF(nodes_),                                                         \
         .nodes = (nodes_),                                                                         \
     }
+
+/* Where node's results are printed: host->out(node) from a host that offers it (1.3), else
+ * stdout (a 1.3 plugin is only loaded by a 1.3 host, but an embedding host may hand an older
+ * table). (borrowed, valid during process) */
+static inline FILE *rf_node_out(const rf_host *host, rf_node *node)
+{
+    return RF_HAS_FIELD(host, rf_host, out) && host->out ? host->out(node) : stdout;
+}
 
 /* The 1.0 layout of each struct, the smallest a host accepts (see the growth rules above). */
 #define RF_PLUGIN_ENTRY_SIZE_1_0 RF_SIZE_THROUGH(rf_plugin_entry, nodes)
