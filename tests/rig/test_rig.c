@@ -850,6 +850,35 @@ static void test_bind_open_sheet(void **state)
     rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
 }
 
+/* A horn: a closed box beside a two-joint spine, enclosing no bone, its lower end level with
+ * the joint between the bones. Bone heat blends its lower corners between the two joints (0.68
+ * of the upper joint's at the least) and would shear it as the spine bends; as artists bind
+ * such pieces it moves rigidly with the upper joint, which bone heat gives most of its surface. */
+static void test_bind_boneless_part(void **state)
+{
+    (void)state;
+    rf_mesh *in = rf_mesh_new();
+    in->positions = calloc(16 * 3, sizeof(float));
+    in->triangles = calloc(24 * 3, sizeof(uint32_t));
+    add_box(in, -0.5, 0, -0.5, 0.5, 2, 0.5);    /* the body */
+    add_box(in, 0.8, 1.0, -0.1, 1.2, 1.8, 0.1); /* the horn, beside it */
+    rf_skeleton *s = rf_skeleton_new(2);
+    s->joints[0].parent = -1, s->joints[1].parent = 0;
+    s->joints[0].rest = s->joints[1].rest = rf_xform_identity();
+    s->joints[0].rest.t = rf_v3(0, 0.5, 0), s->joints[1].rest.t = rf_v3(0, 0.5, 0);
+    s->joints[1].end_site = rf_v3(0, 0.4, 0), s->joints[1].flags |= RF_JOINT_HAS_END_SITE;
+    rf_mesh *m = NULL;
+    char err[256];
+    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    double least = 1;
+    for (uint32_t v = 8; v < 16; v++)
+        least = fmin(least, weight_of(m, v, 1));
+    printf("# horn beside the spine: the upper joint's weight at least %.3f\n", least);
+    assert_true(least > 0.999);
+    rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
+}
+
 /* ---- the template rigger ---- */
 
 static int32_t joint_named(const rf_skeleton *s, const char *name)
@@ -1252,6 +1281,7 @@ int main(void)
         cmocka_unit_test(test_bind_sleeve),
         cmocka_unit_test(test_bind_open_sheet),
         cmocka_unit_test(test_bind_bad_skeleton),
+        cmocka_unit_test(test_bind_boneless_part),
         cmocka_unit_test(test_narrow_gap),
         cmocka_unit_test(test_template_refusal),
         cmocka_unit_test(test_template_quadruped),
