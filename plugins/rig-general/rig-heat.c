@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <rigflow/memory.h>
 #include <suitesparse/cholmod.h>
 
 #include "rig-embree.h"
@@ -654,12 +655,142 @@ static void rf_rig_held(const rf_rig_rays *rays, const rf_rig_bone *bones, uint3
     }
 }
 
+static int rf_rig_edge_cmp(const void *pa, const void *pb)
+{
+    const uint64_t *a = pa, *b = pb;
+    return *a < *b ? -1 : *a > *b;
+}
+
+/* Marks open[part] for each loose part with an edge on one triangle only (a sheet, a cape, a
+ * skirt open at its hem, a wing's membrane) or no volume inside it (a sheet made double-sided,
+ * every edge on two triangles back to back). False when out of memory. */
+static bool rf_rig_open_parts(const rf_rig_prep *p, uint8_t *open)
+{
+    size_t ne = (size_t)p->proxy.nt * 3;
+    uint64_t *e = malloc((ne + 1) * sizeof *e);
+    double *vol = calloc(p->proxy_parts + 1, sizeof *vol),
+           *area = calloc(p->proxy_parts + 1, sizeof *area);
+    if (!e || !vol || !area) {
+        free(e), free(vol), free(area);
+        return false;
+    }
+    for (size_t t = 0; t < p->proxy.nt; t++) {
+        double q[3][3], cot[3]; /* the corners from the proxy's box corner, for precision */
+        for (int k = 0; k < 3; k++)
+            for (int c = 0; c < 3; c++)
+                q[k][c] = p->proxy.p[(size_t)p->proxy.t[t * 3 + k] * 3 + c] - p->lo[c];
+        uint32_t part = p->proxy_part[p->proxy.t[t * 3]];
+        /* the signed volume of the tetrahedron from the box corner, summed over a closed
+         * surface, is the volume it holds */
+        vol[part] += (q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) -
+                      q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+                      q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0])) /
+                     6;
+        area[part] += rf_rig_tri(&p->proxy, (uint32_t)t, cot);
+        for (int k = 0; k < 3; k++) {
+            uint64_t u = p->proxy.t[t * 3 + k], v = p->proxy.t[t * 3 + (k + 1) % 3];
+            e[t * 3 + k] = u < v ? u << 32 | v : v << 32 | u;
+        }
+    }
+    qsort(e, ne, sizeof *e, rf_rig_edge_cmp);
+    for (size_t i = 0; i < ne;) {
+        size_t k = i;
+        while (k < ne && e[k] == e[i])
+            k++;
+        if (k - i == 1)
+            open[p->proxy_part[e[i] >> 32]] = 1;
+        i = k;
+    }
+    /* a sphere holds 0.094 A^1.5, a box a hundred times thinner than it is wide 0.003 */
+    for (uint32_t q = 0; q < p->proxy_parts; q++)
+        open[q] |= !(fabs(vol[q]) > 1e-5 * pow(area[q], 1.5));
+    free(e), free(vol), free(area);
+    return true;
+}
+
+/* Which loose parts lie around a bone: a line through some point of it (its ends included) meets
+ * the part on both sides, along one of three oblique directions. A skirt or a cuff around a leg
+ * is, though it encloses nothing (it is open); a horn, an ear or a membrane beside the bones is
+ * not. Marks around[part]; ahead, behind and crossed as for rf_rig_enclosing. */
+static void rf_rig_around(const rf_rig_rays *rays, const rf_rig_bone *bones, uint32_t nb,
+                          double far, uint32_t *ahead, uint32_t *behind, uint32_t *crossed,
+                          uint8_t *around)
+{
+    static const float d[3][3] = {
+        {0.5773f, 0.6172f, 0.5345f}, {-0.6172f, 0.5345f, 0.5773f}, {0.5345f, -0.5773f, 0.6172f}};
+    for (uint32_t b = 0; b < nb; b++)
+        for (int k = 0; k <= RF_RIG_SAMPLES; k++) {
+            double t = (double)k / RF_RIG_SAMPLES, q[3];
+            for (int c = 0; c < 3; c++)
+                q[c] = bones[b].a[c] + t * (bones[b].b[c] - bones[b].a[c]);
+            for (int l = 0; l < 3; l++) {
+                float back[3] = {-d[l][0], -d[l][1], -d[l][2]};
+                uint32_t n = 0;
+                rf_rig_cross(rays, q, d[l], far, ahead, crossed, &n);
+                rf_rig_cross(rays, q, back, far, behind, crossed, &n);
+                for (uint32_t x = 0; x < n; x++) {
+                    uint32_t part = crossed[x];
+                    around[part] |= ahead[part] && behind[part];
+                    ahead[part] = behind[part] = 0;
+                }
+            }
+        }
+}
+
+/* A closed loose part that encloses no bone (an ear, a horn, a box on a box model's head) is
+ * moved rigidly by the joint bone heat gives more than half of its surface to (area-weighted),
+ * as artists bind such pieces: blended between the bones near it, it shears as they turn. A
+ * part split evenly keeps its blend, as no joint has the better claim, and so do the parts
+ * marked in bends[]: those lying around a bone (a cuff) and open ones (a cape, a skirt, a wing's
+ * membrane), which bend with the joints under them. sum[part] is the bone length the part
+ * encloses; owner[] is set for the parts taken. False when out of memory. */
+static bool rf_rig_boneless_owners(const rf_rig_prep *p, const uint8_t *bends, const double *sum,
+                                   uint32_t largest, uint32_t nj, const double *w, uint32_t *owner)
+{
+    uint32_t np = p->proxy_parts, nfree = 0;
+    uint32_t *slot = malloc(((size_t)np + 1) * sizeof *slot);
+    if (!slot)
+        return false;
+    for (uint32_t q = 0; q < np; q++)
+        slot[q] = q != largest && !(sum[q] > 0) && !bends[q] ? nfree++ : RF_RIG_NONE;
+    /* [slot][joint] the part's surface area times each joint's weight, the total in [slot][nj] */
+    double *tot = calloc((size_t)nfree * (nj + 1) + 1, sizeof *tot);
+    if (!tot) {
+        free(slot);
+        return false;
+    }
+    for (uint32_t t = 0; t < p->proxy.nt; t++) {
+        const uint32_t *v = p->proxy.t + (size_t)t * 3;
+        uint32_t at = slot[p->proxy_part[v[0]]];
+        double cot[3], a = at == RF_RIG_NONE ? 0 : rf_rig_tri(&p->proxy, t, cot) / 3;
+        for (int c = 0; a > 0 && c < 3; c++) {
+            double *row = tot + (size_t)at * (nj + 1);
+            for (uint32_t j = 0; j < nj; j++)
+                row[j] += a * w[(size_t)v[c] * nj + j];
+            row[nj] += a;
+        }
+    }
+    for (uint32_t q = 0; q < np; q++) {
+        if (slot[q] == RF_RIG_NONE)
+            continue;
+        const double *row = tot + (size_t)slot[q] * (nj + 1);
+        uint32_t best = 0;
+        for (uint32_t j = 1; j < nj; j++)
+            best = row[j] > row[best] ? j : best;
+        if (row[nj] > 0 && row[best] > 0.5 * row[nj] * (1 + 1e-9))
+            owner[q] = best;
+    }
+    free(tot), free(slot);
+    return true;
+}
+
 /* A loose part that encloses bones is moved by the joints whose bones it encloses, and only by
  * them: a sleeve over an elbow by the upper arm and the forearm, not by the chest beside it.
  * When one joint holds seven tenths of the bone length inside it or more, by that joint alone,
  * as the boxes of a low-poly model are bound: bone heat blends such a box between the bones it
- * touches and shears it. A part enclosing no bone (an eye) keeps its weights, and so does the
- * part with the largest surface (the body). */
+ * touches and shears it. A closed part enclosing no bone moves with the joint bone heat gives
+ * most of it (rf_rig_boneless_owners); an open one keeps its weights, and so does the part with
+ * the largest surface (the body). */
 static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
                                const rf_rig_bone *bones, uint32_t nb, uint32_t nj, double *w)
 {
@@ -671,10 +802,16 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
     uint32_t *owner = malloc((np + 1) * sizeof *owner);
     uint32_t *inside = calloc(np + 1, sizeof *inside),
              *touched = malloc((np + 1) * sizeof *touched);
-    bool ok = held && sum && ahead && behind && crossed && area && owner && inside && touched;
+    uint8_t *bends =
+        calloc(np + 1, 1); /* parts that keep bone heat's blend (rf_rig_boneless_owners) */
+    bool ok =
+        held && sum && ahead && behind && crossed && area && owner && inside && touched && bends;
     if (ok)
         rf_rig_held(rays, bones, nb, nj, 4 * p->longest, held, sum, ahead, behind, crossed, inside,
                     touched);
+    if (ok)
+        rf_rig_around(rays, bones, nb, 4 * p->longest, ahead, behind, crossed, bends);
+    ok = ok && rf_rig_open_parts(p, bends);
     uint32_t largest = 0;
     for (uint32_t t = 0; ok && t < p->proxy.nt; t++) {
         double cot[3];
@@ -692,6 +829,7 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
     }
     if (ok)
         owner[largest] = RF_RIG_NONE;
+    ok = ok && rf_rig_boneless_owners(p, bends, sum, largest, nj, w, owner);
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
         if (p->proxy_part[i] != largest && sum[p->proxy_part[i]] > 0 &&
             owner[p->proxy_part[i]] == RF_RIG_NONE)
@@ -704,13 +842,18 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         w[(size_t)i * nj + j] = 1;
     }
     free(held), free(sum), free(ahead), free(behind), free(crossed), free(area), free(owner);
-    free(inside), free(touched);
+    free(inside), free(touched), free(bends);
     return ok;
 }
 
 bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_options *o, double **w,
                  rf_rig_stats *st, char *err, size_t n)
 {
+    uint64_t available = 0;
+    bool known = rf_memory_available(&available);
+    *w = NULL;
+    if (!rf_rig_heat_fits(p->proxy.nv, s->n, known, available, err, n))
+        return false;
     rf_rig_bone *bones = NULL;
     uint32_t nb = rf_rig_bones(s, &bones), nj = s->n;
     rf_rig_src *src = malloc((size_t)p->proxy.nv * sizeof *src);

@@ -531,6 +531,41 @@ static void test_bind_given(void **state)
     rf_skeleton_free(s), rf_mesh_free(in);
 }
 
+/* A given skeleton that breaks the model's promises is refused with the joint named, never
+ * weighted: a joint that is its own parent (the walk to a weighted ancestor looped forever), a
+ * parent past the last joint (read out of bounds), a parent after its child (read before it was
+ * placed), and a joint placed at NaN or infinity (a NaN ray aborted inside Embree). */
+static void test_bind_bad_skeleton(void **state)
+{
+    (void)state;
+    rf_mesh *in = tube();
+    for (int c = 0; c < 5; c++) {
+        rf_skeleton *s = rf_skeleton_new(3);
+        for (uint32_t j = 0; j < 3; j++) {
+            s->joints[j].parent = (int32_t)j - 1;
+            s->joints[j].rest = rf_xform_identity();
+            s->joints[j].rest.t = rf_v3(0, j ? 0.6 : 0.2, 0);
+        }
+        if (c == 0)
+            s->joints[1].parent = 1;
+        else if (c == 1)
+            s->joints[1].parent = 99;
+        else if (c == 2)
+            s->joints[1].parent = 2;
+        else if (c == 3)
+            s->joints[1].rest.t.x = NAN;
+        else
+            s->joints[1].rest.t.y = INFINITY;
+        rf_mesh *m = (rf_mesh *)1;
+        char err[256] = "";
+        assert_false(rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err));
+        assert_null(m);
+        assert_non_null(strstr(err, "joint 1"));
+        rf_skeleton_free(s);
+    }
+    rf_mesh_free(in);
+}
+
 /* The weight vertex v of m gives joint j. */
 static double weight_of(const rf_mesh *m, uint32_t v, uint32_t j)
 {
@@ -812,6 +847,35 @@ static void test_bind_open_sheet(void **state)
     double top = fmin(weight_of(m, 10, 1), weight_of(m, 11, 1));
     printf("# cape: the upper joint's weight on its top corners at least %.3f\n", top);
     assert_true(top > 0.5);
+    rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
+}
+
+/* A horn: a closed box beside a two-joint spine, enclosing no bone, its lower end level with
+ * the joint between the bones. Bone heat blends its lower corners between the two joints (0.68
+ * of the upper joint's at the least) and would shear it as the spine bends; as artists bind
+ * such pieces it moves rigidly with the upper joint, which bone heat gives most of its surface. */
+static void test_bind_boneless_part(void **state)
+{
+    (void)state;
+    rf_mesh *in = rf_mesh_new();
+    in->positions = calloc(16 * 3, sizeof(float));
+    in->triangles = calloc(24 * 3, sizeof(uint32_t));
+    add_box(in, -0.5, 0, -0.5, 0.5, 2, 0.5);    /* the body */
+    add_box(in, 0.8, 1.0, -0.1, 1.2, 1.8, 0.1); /* the horn, beside it */
+    rf_skeleton *s = rf_skeleton_new(2);
+    s->joints[0].parent = -1, s->joints[1].parent = 0;
+    s->joints[0].rest = s->joints[1].rest = rf_xform_identity();
+    s->joints[0].rest.t = rf_v3(0, 0.5, 0), s->joints[1].rest.t = rf_v3(0, 0.5, 0);
+    s->joints[1].end_site = rf_v3(0, 0.4, 0), s->joints[1].flags |= RF_JOINT_HAS_END_SITE;
+    rf_mesh *m = NULL;
+    char err[256];
+    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    double least = 1;
+    for (uint32_t v = 8; v < 16; v++)
+        least = fmin(least, weight_of(m, v, 1));
+    printf("# horn beside the spine: the upper joint's weight at least %.3f\n", least);
+    assert_true(least > 0.999);
     rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
 }
 
@@ -1181,6 +1245,12 @@ static void test_memory_refusal(void **state)
     assert_true(rf_rig_memory_fits(120000000, 40000000, true, 14000000000u, err, sizeof err));
     assert_false(rf_rig_memory_fits(120000000, 40000000, true, 8000000000u, err, sizeof err));
     assert_non_null(strstr(err, "13.6 GB to rig and 8.0 GB is available"));
+    /* bone heat for a given skeleton: 15000 proxy vertices by 65535 joints by 24 bytes is
+     * 23.6 GB (by hand); by 100 joints, 36 MB */
+    assert_false(rf_rig_heat_fits(15000, 65535, true, 8000000000u, err, sizeof err));
+    assert_non_null(strstr(err, "23.6 GB and 8.0 GB is available"));
+    assert_true(rf_rig_heat_fits(15000, 100, true, 8000000000u, err, sizeof err));
+    assert_true(rf_rig_heat_fits(15000, 65535, false, 0, err, sizeof err));
     /* on Linux the system always says something, and a running process has some memory left */
     uint64_t left = 0;
     FILE *f = fopen("/proc/meminfo", "r");
@@ -1210,6 +1280,8 @@ int main(void)
         cmocka_unit_test(test_bind_speck),
         cmocka_unit_test(test_bind_sleeve),
         cmocka_unit_test(test_bind_open_sheet),
+        cmocka_unit_test(test_bind_bad_skeleton),
+        cmocka_unit_test(test_bind_boneless_part),
         cmocka_unit_test(test_narrow_gap),
         cmocka_unit_test(test_template_refusal),
         cmocka_unit_test(test_template_quadruped),

@@ -89,15 +89,20 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 # (no end site in the file) end where the skin they carry ends, at the ground: with a length
 # guessed from the hip offset the owl's, bird's and fox's floors here fail (.64/.66, .40/.46,
 # .25/.31), and the wolf's and the fox's on the skeleton of the artist were .91/.91/.18 and
-# .74/.84/.52 (bone heat, tuned on the guessed leaves, reads the measured ones less well there)
+# .74/.84/.52 (bone heat, tuned on the guessed leaves, reads the measured ones less well there).
+# On the skeleton of the artist the owl's and the cat's limits fail if closed parts enclosing no
+# bone go back to bone heat's blend (.76/.88/.41, .85/.90/.30); two pieces of the animalia
+# fox's head, which bone heat gives mostly to the neck, move with it since (.70/.82/.61 ->
+# .66/.74/.70)
 "$rigflow" rig-bench -r general "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
     "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" \
     "$data/models/Wizard.glb" "$data/models/creatures/animalia_owl.b3d" \
     "$data/models/creatures/animalia_bird.b3d" "$data/models/creatures/animalia_fox.b3d" \
-    >"$tmp/bench.csv" 2>"$tmp/err" || ko "rig-bench exit $?"
+    "$data/models/creatures/animalia_cat.b3d" >"$tmp/bench.csv" 2>"$tmp/err" ||
+    ko "rig-bench exit $?"
 cat "$tmp/bench.csv"
 rows=$(tail -n +2 "$tmp/bench.csv" | wc -l)
-[ "$rows" -eq 8 ] && ok || ko "rig-bench: $rows rows, expected 8"
+[ "$rows" -eq 9 ] && ok || ko "rig-bench: $rows rows, expected 9"
 # columns by their header names; the status (last) is quoted text and may hold commas. Limits:
 # what the rigger reaches (in the comments: CD-J2J, skinning P / R after the matcher, P / R / L1
 # on the skeleton of the artist) with room for another machine's rounding
@@ -109,9 +114,10 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
         limits("\"Testwuson.X\"", 0.047, 0.26, 0.38, 0.74, 0.78, 0.53)      # 0.043 .50/.56 .80/.84/.47
         limits("\"animalia_wolf.b3d\"", 0.065, 0.39, 0.42, 0.80, 0.82, 0.37) # 0.061 .44/.48 .835/.851/.338
         limits("\"Wizard.glb\"", 0.066, 0.22, 0.22, 0.68, 0.72, 0.60)       # 0.061 .28/.28 .73/.77/.54
-        limits("\"animalia_owl.b3d\"", 0.095, 0.70, 0.72, 0.70, 0.84, 0.45) # 0.090 .74/.77 .76/.88/.41
+        limits("\"animalia_owl.b3d\"", 0.095, 0.70, 0.72, 0.78, 0.84, 0.39) # 0.090 .74/.77 .80/.88/.36
         limits("\"animalia_bird.b3d\"", 0.063, 0.80, 0.80, 0.72, 0.77, 0.50) # 0.058 .855/.855 .77/.82/.445
-        limits("\"animalia_fox.b3d\"", 0.085, 0.53, 0.56, 0.66, 0.78, 0.65)  # 0.079 .58/.61 .70/.82/.61
+        limits("\"animalia_fox.b3d\"", 0.085, 0.53, 0.56, 0.62, 0.70, 0.73)  # 0.079 .58/.61 .66/.74/.70
+        limits("\"animalia_cat.b3d\"", 0.095, 0.43, 0.43, 0.88, 0.88, 0.20)  # 0.088 .48/.48 .92/.92/.15
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
