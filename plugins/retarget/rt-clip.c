@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <rigflow/memory.h>
 #include <rigflow/model-copy.h>
 #include <rigflow/prefault.h>
 
@@ -97,6 +98,24 @@ static double rt_output_frames(const rf_retarget *rt)
         return 0;
     double duration = (last - rt->opt.first_frame) / a->fps;
     return floor(duration * rf_retarget_output_fps(rt) + 1e-9) + 1;
+}
+
+/* Whether a clip of `joints` x `frames` fits in `left` bytes (when `known`), counted twice: the
+ * nodes after the retarget (an exporter's buffer, a measure's poses) hold about as much again. A
+ * 200,000-joint target under a long clip would otherwise be killed partway through by the
+ * system, with no message. */
+bool rf_rt_output_fits(uint32_t joints, uint32_t frames, bool known, uint64_t left, char *err,
+                       size_t err_size)
+{
+    double bytes = 2.0 * joints * (double)frames * 7 * sizeof(float);
+    if (!known || bytes <= (double)left)
+        return true;
+    rf_rt_fail(err, err_size,
+               "the retargeted clip would hold %u joints x %u frames, about %.1f GB with what the "
+               "nodes after it keep, and %.1f GB of memory is left: retarget fewer frames "
+               "(retarget.first_frame, retarget.last_frame) or at a lower retarget.fps",
+               joints, frames, bytes / 1e9, (double)left / 1e9);
+    return false;
 }
 
 /* The output clip, its arrays left unset: every frame writes every value (rf_animation_new
@@ -207,6 +226,10 @@ rf_animation *rf_retarget_clip(rf_retarget *rt, rf_rt_progress_fn progress, void
         return NULL;
     }
     uint32_t frames = (uint32_t)count;
+    uint64_t left = 0;
+    bool known = rf_memory_available(&left);
+    if (!rf_rt_output_fits(rt->n, frames, known, left, err, err_size))
+        return NULL;
     rf_animation *out = rt_output_new(rt, frames);
     if (!out) {
         rf_rt_fail(err, err_size, "out of memory for %u frames", frames);

@@ -197,6 +197,10 @@ struct rf_retarget {
 };
 
 /* ---- rt-plan.c ---- */
+/* Whether the output clip of joints x frames fits in `left` bytes of memory (when `known`);
+ * if not, says in err how much it would take and what to change. */
+bool rf_rt_output_fits(uint32_t joints, uint32_t frames, bool known, uint64_t left, char *err,
+                       size_t err_size);
 void rf_rt_fail(char *err, size_t err_size, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 

@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -1052,6 +1053,19 @@ static void bad_inputs_refused(void **state)
     rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* A clip too large for the memory left is refused before it is allocated, with the figures:
+ * 200,000 joints x 2,752 frames x 7 floats x 2 = 30.8 GB (by hand). */
+static void huge_clip_refused(void **state)
+{
+    (void)state;
+    char err[512] = "";
+    assert_true(rf_rt_output_fits(200000, 2752, false, 0, err, sizeof err));
+    assert_true(rf_rt_output_fits(200000, 2752, true, 31000000000u, err, sizeof err));
+    assert_false(rf_rt_output_fits(200000, 2752, true, 16000000000u, err, sizeof err));
+    assert_non_null(strstr(err, "200000 joints x 2752 frames, about 30.8 GB"));
+    assert_non_null(strstr(err, "16.0 GB of memory is left"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1081,6 +1095,7 @@ int main(void)
         cmocka_unit_test(top_joint_keeps_level),
         cmocka_unit_test(level_keeps_turn_limits_tilt),
         cmocka_unit_test(bad_inputs_refused),
+        cmocka_unit_test(huge_clip_refused),
     };
     return cmocka_run_group_tests_name("retarget", tests, NULL, NULL);
 }
