@@ -97,3 +97,4 @@ dist_noinst_SCRIPTS += tests/test_cli.sh tests/test_plugin_check.sh tests/test_h
 CLEANFILES += tests/plugin-index
 EXTRA_DIST += sdk/examples/smooth/smooth.c sdk/examples/smooth/Makefile \
 	sdk/examples/match-nearest/match_nearest.c sdk/examples/match-nearest/Makefile
+EXTRA_DIST += tests/fixtures/arm.bvh

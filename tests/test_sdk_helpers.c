@@ -1,5 +1,6 @@
 /* The SDK's header-only helpers: text escaping (rigflow/text.h), deep copies of the data
- * model (rigflow/model-copy.h) and prefaulting (rigflow/prefault.h). Expected strings are written out by hand from the rules. */
+ * model (rigflow/model-copy.h), prefaulting (rigflow/prefault.h) and the memory left
+ * (rigflow/memory.h). Expected strings and figures are written out by hand from the rules. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -7,10 +8,13 @@
 
 #include <cmocka.h>
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <rigflow/memory.h>
 #include <rigflow/model-copy.h>
 #include <rigflow/prefault.h>
 #include <rigflow/text.h>
@@ -271,6 +275,65 @@ static void prefault_maps_whole_pages(void **state)
 #endif
 }
 
+/* A file of made-up /proc or /sys contents under dir. */
+static void put(const char *dir, const char *name, const char *text)
+{
+    char path[2048];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+/* rf_memory_available_at on a made-up Slurm task: MemAvailable 8 000 000 kB (8.192 GB), the job's
+ * cgroup limited to 2 GB with 0.5 GB used, its step and task cgroups unlimited ("max"). What is
+ * left is the job's 1.5 GB, worked out by hand; reading the task's own cgroup alone said 8.192 GB.
+ * The same with the task's cgroup path longer than the line the header reads: the job's limit is
+ * still found. */
+static void memory_limit_above_own_cgroup(void **state)
+{
+    (void)state;
+    char root[] = "/tmp/rf-memory-XXXXXX", dir[2048], long_name[701];
+    assert_non_null(mkdtemp(root));
+    const char *dirs[] = {"proc",     "proc/self",       "cg",
+                          "cg/job_7", "cg/job_7/step_0", "cg/job_7/step_0/task_0"};
+    for (size_t i = 0; i < sizeof dirs / sizeof *dirs; i++) {
+        snprintf(dir, sizeof dir, "%s/%s", root, dirs[i]);
+        assert_int_equal(mkdir(dir, 0700), 0);
+    }
+    snprintf(dir, sizeof dir, "%s/proc", root);
+    put(dir, "meminfo", "MemTotal:       16000000 kB\nMemAvailable:    8000000 kB\n");
+    snprintf(dir, sizeof dir, "%s/cg/job_7", root);
+    put(dir, "memory.max", "2000000000\n");
+    put(dir, "memory.current", "500000000\n");
+    put(dir, "step_0/memory.max", "max\n");
+    put(dir, "step_0/memory.current", "400000000\n");
+    put(dir, "step_0/task_0/memory.max", "max\n");
+    put(dir, "step_0/task_0/memory.current", "300000000\n");
+    snprintf(dir, sizeof dir, "%s/proc/self", root);
+    put(dir, "cgroup", "4:memory:/elsewhere\n0::/job_7/step_0/task_0\n");
+    char proc[2048], cg[2048];
+    snprintf(proc, sizeof proc, "%s/proc", root);
+    snprintf(cg, sizeof cg, "%s/cg", root);
+    uint64_t left = 0;
+    assert_true(rf_memory_available_at(proc, cg, &left));
+    assert_int_equal(left, 1500000000u);
+    memset(long_name, 'a', sizeof long_name - 1);
+    long_name[sizeof long_name - 1] = '\0';
+    char line[1024];
+    snprintf(line, sizeof line, "0::/job_7/%s\n", long_name);
+    put(dir, "cgroup", line);
+    left = 0;
+    assert_true(rf_memory_available_at(proc, cg, &left));
+    assert_int_equal(left, 1500000000u);
+    /* nothing there at all: nothing known, not a limit of 0 */
+    assert_false(rf_memory_available_at("/nonexistent/proc", "/nonexistent/cg", &left));
+    char cmd[2100];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", root);
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -282,6 +345,7 @@ int main(void)
         cmocka_unit_test(escape_truncates_between_characters),
         cmocka_unit_test(skeleton_copy_is_deep),
         cmocka_unit_test(animation_mesh_mapping_copies),
+        cmocka_unit_test(memory_limit_above_own_cgroup),
     };
     return cmocka_run_group_tests_name("sdk helpers", tests, NULL, NULL);
 }

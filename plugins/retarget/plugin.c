@@ -221,10 +221,35 @@ static void rt_mesh_clear(rf_retarget *rt, rf_animation *out, const rf_host *hos
                   shift);
 }
 
+/* Whether any of the n floats at v is infinite or NaN: its exponent bits all set, which adding
+ * one to the exponent carries into the sign bit. Eight at a time with no branch, which the
+ * compiler turns into vector operations. */
+static bool rt_any_nonfinite(const float *v, size_t n)
+{
+    uint32_t bad = 0;
+    size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        uint32_t bits[8];
+        memcpy(bits, v + i, sizeof bits);
+        for (int k = 0; k < 8; k++)
+            bad |= (bits[k] & 0x7F800000u) + 0x00800000u;
+    }
+    for (; i < n; i++) {
+        uint32_t bits;
+        memcpy(&bits, v + i, sizeof bits);
+        bad |= (bits & 0x7F800000u) + 0x00800000u;
+    }
+    return (bad & 0x80000000u) != 0;
+}
+
 /* A clip with a non-finite value is refused, naming where, rather than written. */
 static bool rt_finite(const rf_animation *a, const rf_host *host, rf_node *node)
 {
     size_t n = (size_t)a->frame_count * a->joint_count;
+    /* A clip is finite but for a bug: looked over in bulk first (7 checks a joint-frame one
+     * by one were 6.3 M instructions of the benchmark's run), then searched for the message. */
+    if (!rt_any_nonfinite(a->rotations, n * 4) && !rt_any_nonfinite(a->translations, n * 3))
+        return true;
     for (size_t i = 0; i < n; i++) {
         const float *q = a->rotations + i * 4, *t = a->translations + i * 3;
         bool ok = isfinite(q[0]) && isfinite(q[1]) && isfinite(q[2]) && isfinite(q[3]) &&

@@ -555,20 +555,40 @@ double rf_rt_over_floor(const rf_retarget *rt, uint32_t k, const rf_xform *world
     return (low - src->floor) / src->leg;
 }
 
+/* The clearance of source 0 posed in `world` (rf_rt_clearance). */
+static double rt_clear_of(const rf_retarget *rt, const rf_xform *world)
+{
+    double over = rf_rt_over_floor(rt, 0, world, -1);
+    return isfinite(over) && over > 0 ? over * rt->leg_target : 0;
+}
+
 bool rf_rt_clearance(const rf_retarget *rt, double start, double fps, uint32_t count,
                      const uint32_t *frame, double *out)
 {
     size_t m = rt->max_src_n ? rt->max_src_n : 1;
-    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
-    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
-    bool ok = local && world && rot && tr;
-    for (uint32_t i = 0; ok && i < count; i++) {
-        uint32_t f = frame ? frame[i] : i;
-        rf_rt_source_world(rt, 0, start + f / fps, local, world, rot, tr);
-        double over = rf_rt_over_floor(rt, 0, world, -1);
-        out[i] = isfinite(over) && over > 0 ? over * rt->leg_target : 0;
+    rf_rt_source_pose pose[2];
+    bool ok = true;
+    for (int k = 0; k < 2; k++) {
+        pose[k].local = malloc(m * sizeof *pose[k].local);
+        pose[k].world = malloc(m * sizeof *pose[k].world);
+        pose[k].rot = malloc(m * 4 * sizeof *pose[k].rot);
+        pose[k].tr = malloc(m * 3 * sizeof *pose[k].tr);
+        ok = ok && pose[k].local && pose[k].world && pose[k].rot && pose[k].tr;
     }
-    free(local), free(world), free(rot), free(tr);
+    uint32_t i = 0;
+    for (; ok && i + 1 < count; i += 2) { /* two poses at once: rf_rt_source_world_two */
+        double t[2] = {start + (frame ? frame[i] : i) / fps,
+                       start + (frame ? frame[i + 1] : i + 1) / fps};
+        rf_rt_source_world_two(rt, 0, t, pose, NULL);
+        out[i] = rt_clear_of(rt, pose[0].world), out[i + 1] = rt_clear_of(rt, pose[1].world);
+    }
+    if (ok && i < count) {
+        rf_rt_source_world(rt, 0, start + (frame ? frame[i] : i) / fps, pose[0].local,
+                           pose[0].world, pose[0].rot, pose[0].tr);
+        out[i] = rt_clear_of(rt, pose[0].world);
+    }
+    for (int k = 0; k < 2; k++)
+        free(pose[k].local), free(pose[k].world), free(pose[k].rot), free(pose[k].tr);
     return ok;
 }
 

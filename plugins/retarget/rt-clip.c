@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <rigflow/memory.h>
 #include <rigflow/model-copy.h>
 #include <rigflow/prefault.h>
 
@@ -99,6 +100,24 @@ static double rt_output_frames(const rf_retarget *rt)
     return floor(duration * rf_retarget_output_fps(rt) + 1e-9) + 1;
 }
 
+/* Whether a clip of `joints` x `frames` fits in `left` bytes (when `known`), counted twice: the
+ * nodes after the retarget (an exporter's buffer, a measure's poses) hold about as much again. A
+ * 200,000-joint target under a long clip would otherwise be killed partway through by the
+ * system, with no message. */
+bool rf_rt_output_fits(uint32_t joints, uint32_t frames, bool known, uint64_t left, char *err,
+                       size_t err_size)
+{
+    double bytes = 2.0 * joints * (double)frames * 7 * sizeof(float);
+    if (!known || bytes <= (double)left)
+        return true;
+    rf_rt_fail(err, err_size,
+               "the retargeted clip would hold %u joints x %u frames, about %.1f GB with what the "
+               "nodes after it keep, and %.1f GB of memory is left: retarget fewer frames "
+               "(retarget.first_frame, retarget.last_frame) or at a lower retarget.fps",
+               joints, frames, bytes / 1e9, (double)left / 1e9);
+    return false;
+}
+
 /* The output clip, its arrays left unset: every frame writes every value (rf_animation_new
  * would fill the rotations with identities first, one more pass over the memory). Freed with
  * rf_animation_free like any clip. */
@@ -131,10 +150,9 @@ static rf_animation *rt_output_new(const rf_retarget *rt, uint32_t frames)
     return out;
 }
 
-/* Frames [first, end) of the clip into out, with scratch w. Reports progress and stops when it
- * says so (false); progress may be NULL. */
-static bool rt_frames(const rf_retarget *rt, rf_rt_work *w, rf_animation *out, uint32_t first,
-                      uint32_t end, rf_rt_progress_fn progress, void *user)
+/* Frames [first, end) of the clip into out, with scratch w. */
+static void rt_frames(const rf_retarget *rt, rf_rt_work *w, rf_animation *out, uint32_t first,
+                      uint32_t end)
 {
     double start = rf_retarget_start_time(rt), fps = out->fps;
     size_t n = rt->n;
@@ -143,39 +161,47 @@ static bool rt_frames(const rf_retarget *rt, rf_rt_work *w, rf_animation *out, u
         for (uint32_t s = 0; s < rt->slot_count; s++)
             w->poses[s] = rt_slot_pose(rt, w, s, t);
         rf_rt_frame(rt, w, w->poses, out->rotations + f * n * 4, out->translations + f * n * 3);
-        if (progress && ((f - first) & 255) == 255 &&
-            !progress(user, (double)(f - first) / (end - first)))
-            return false;
     }
-    return true;
 }
 
-/* A helper thread doing the second half of a long clip with scratch of its own. */
+/* A helper thread taking chunks of a long clip (rf_rt_chunk) with scratch of its own. */
 typedef struct rt_half {
     const rf_retarget *rt;
     rf_rt_work work;
     rf_animation *out;
-    uint32_t first, end;
+    rf_rt_chunks *chunks;
 } rt_half;
 
 static void *rt_half_run(void *arg)
 {
     rt_half *h = arg;
-    rt_frames(h->rt, &h->work, h->out, h->first, h->end, NULL, NULL);
+    uint32_t first, end;
+    while (rf_rt_chunk(h->chunks, &first, &end))
+        rt_frames(h->rt, &h->work, h->out, first, end);
     return NULL;
 }
 
-/* All frames of the clip: on two threads when the clip is long and a second thread can be had,
- * else on this one. Frames are independent, so the halves need no coordination. */
+/* All frames of the clip: shared with a second thread when the clip is long and one can be
+ * had, else on this one. Frames are independent, so the threads need no other coordination.
+ * Progress is reported as chunks are taken here; when it says stop, the helper's next chunk is
+ * its last. */
 static bool rt_all_frames(rf_retarget *rt, rf_animation *out, rf_rt_progress_fn progress,
                           void *user)
 {
-    uint32_t frames = out->frame_count;
-    rt_half h = {rt, {0}, out, frames / 2, frames};
+    uint32_t frames = out->frame_count, first, end;
+    rf_rt_chunks chunks;
+    rf_rt_chunks_init(&chunks, frames);
+    rt_half h = {rt, {0}, out, &chunks};
     pthread_t thread;
     bool two = (uint64_t)frames * rt->n >= RT_THREAD_MIN && rf_rt_work_init(rt, &h.work) &&
                pthread_create(&thread, NULL, rt_half_run, &h) == 0;
-    bool ok = rt_frames(rt, &rt->work, out, 0, two ? frames / 2 : frames, progress, user);
+    bool ok = true;
+    while (ok && rf_rt_chunk(&chunks, &first, &end)) {
+        rt_frames(rt, &rt->work, out, first, end);
+        ok = !progress || progress(user, (double)end / frames);
+    }
+    if (!ok)
+        rf_rt_chunks_stop(&chunks);
     if (two)
         pthread_join(thread, NULL);
     rf_rt_work_free(rt, &h.work);
@@ -200,6 +226,10 @@ rf_animation *rf_retarget_clip(rf_retarget *rt, rf_rt_progress_fn progress, void
         return NULL;
     }
     uint32_t frames = (uint32_t)count;
+    uint64_t left = 0;
+    bool known = rf_memory_available(&left);
+    if (!rf_rt_output_fits(rt->n, frames, known, left, err, err_size))
+        return NULL;
     rf_animation *out = rt_output_new(rt, frames);
     if (!out) {
         rf_rt_fail(err, err_size, "out of memory for %u frames", frames);
@@ -237,21 +267,40 @@ void rf_rt_source_world(const rf_retarget *rt, uint32_t k, double t, rf_xform *l
     rf_rt_source_world_some(rt, k, t, local, world, rot, tr, NULL);
 }
 
-void rf_rt_source_world_some(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
-                             rf_xform *world, float *rot, float *tr, const uint8_t *need)
+/* Joint j of a source pose sampled into rot and tr: its local and world transforms. */
+static inline void rt_source_joint(const rf_rt_src *src, uint32_t j, rf_xform *local,
+                                   rf_xform *world, const float *rot, const float *tr)
+{
+    const float *q = rot + j * 4, *p = tr + j * 3;
+    local[j].r = rf_quat_normalize(rf_quat_make(q[0], q[1], q[2], q[3]));
+    local[j].t = rf_v3(p[0], p[1], p[2]);
+    local[j].s = src->skel->joints[j].rest.s;
+    int32_t par = src->skel->joints[j].parent;
+    world[j] = par < 0 ? local[j] : rf_xform_mul(world[par], local[j]);
+}
+
+__attribute__((flatten)) void rf_rt_source_world_some(const rf_retarget *rt, uint32_t k, double t,
+                                                      rf_xform *local, rf_xform *world, float *rot,
+                                                      float *tr, const uint8_t *need)
 {
     const rf_rt_src *src = &rt->src[k];
     rf_rt_sample(src->anim, t, rot, tr);
-    for (uint32_t j = 0; j < src->n; j++) {
-        if (need && !need[j])
-            continue;
-        const float *q = rot + j * 4, *p = tr + j * 3;
-        local[j].r = rf_quat_normalize(rf_quat_make(q[0], q[1], q[2], q[3]));
-        local[j].t = rf_v3(p[0], p[1], p[2]);
-        local[j].s = src->skel->joints[j].rest.s;
-        int32_t par = src->skel->joints[j].parent;
-        world[j] = par < 0 ? local[j] : rf_xform_mul(world[par], local[j]);
-    }
+    for (uint32_t j = 0; j < src->n; j++)
+        if (!need || need[j])
+            rt_source_joint(src, j, local, world, rot, tr);
+}
+
+__attribute__((flatten)) void rf_rt_source_world_two(const rf_retarget *rt, uint32_t k,
+                                                     const double t[2], rf_rt_source_pose pose[2],
+                                                     const uint8_t *need)
+{
+    const rf_rt_src *src = &rt->src[k];
+    rf_rt_sample(src->anim, t[0], pose[0].rot, pose[0].tr);
+    rf_rt_sample(src->anim, t[1], pose[1].rot, pose[1].tr);
+    for (uint32_t j = 0; j < src->n; j++)
+        if (!need || need[j])
+            for (int i = 0; i < 2; i++)
+                rt_source_joint(src, j, pose[i].local, pose[i].world, pose[i].rot, pose[i].tr);
 }
 
 /* ---- the cycle of mirrored inputs ---- */
@@ -334,6 +383,18 @@ static double rt_turn_off(rf_quat r, rf_quat q)
     return 2 * acos(fmin(1, fabs(d.w)));
 }
 
+/* Turn d (a unit quaternion turned further than the limit) cut back to the limit about its own
+ * axis: the shorter way's axis, turned by the limit (cos_half, sin_half of half of it). It is
+ * d's power limit / turn, with the sines and cosines of the limit made once a joint instead of an
+ * acos and three sines a frame. */
+static rf_quat rt_turn_cut(rf_quat d, double cos_half, double sin_half)
+{
+    if (d.w < 0)
+        d = rf_quat_neg(d);
+    double len = sqrt(d.x * d.x + d.y * d.y + d.z * d.z), k = len > 0 ? sin_half / len : 0;
+    return rf_quat_make(d.x * k, d.y * k, d.z * k, cos_half);
+}
+
 int rf_retarget_limit_turns(rf_retarget *rt, rf_animation *anim, const rf_animation *reference)
 {
     const rf_skeleton *s = rt->target;
@@ -357,7 +418,7 @@ int rf_retarget_limit_turns(rf_retarget *rt, rf_animation *anim, const rf_animat
                              * carried on past it */
             continue;
         /* Turned further than the limit when |cos(turn / 2)| is smaller: no acos per frame. */
-        double cos_half = cos(0.5 * fmin(limit, RF_PI));
+        double cos_half = cos(0.5 * limit), sin_half = sin(0.5 * limit);
         bool any = false;
         for (uint32_t f = 0; f < anim->frame_count; f++) {
             rf_quat q = rf_quat_normalize(rf_animation_rotation(anim, f, j));
@@ -365,9 +426,8 @@ int rf_retarget_limit_turns(rf_retarget *rt, rf_animation *anim, const rf_animat
                 continue;
             if (!moved && !(moved = calloc(anim->frame_count, 1)))
                 return -1;
-            rf_quat d = rf_quat_mul(rf_quat_conj(rest), q);
-            double a = rt_turn_off(rest, q);
-            q = rf_quat_normalize(rf_quat_mul(rest, rf_rt_quat_pow(d, limit / a)));
+            rf_quat cut = rt_turn_cut(rf_quat_mul(rf_quat_conj(rest), q), cos_half, sin_half);
+            q = rf_quat_normalize(rf_quat_mul(rest, cut));
             rf_animation_set_rotation(anim, f, j, q);
             any = true, moved[f] = 1;
         }

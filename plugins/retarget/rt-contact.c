@@ -193,10 +193,12 @@ static void rt_track_need(const rf_retarget *rt, uint32_t s, uint8_t *need)
             rt_sole_need(src, (int32_t)rt->effector_src[e], need);
 }
 
-/* Frames [first, end) of slot s's tracks, with scratch of its own (one thread's share). */
+/* Slot s's tracks, a chunk of frames at a time (rf_rt_chunk), with scratch of its own (one
+ * thread's share). */
 typedef struct rt_tracks {
     const rf_retarget *rt;
-    uint32_t s, first, end, frames;
+    rf_rt_chunks *chunks;
+    uint32_t s, frames;
     double fps, start;
     const uint8_t *need;
     const uint32_t *below, *below_count; /* [effector][source n], [effector]: rf_rt_below */
@@ -205,35 +207,67 @@ typedef struct rt_tracks {
     bool ok;
 } rt_tracks;
 
+/* Frame f's track values from its source pose `world`. */
+static void rt_track_frame(const rt_tracks *t, uint32_t k, uint32_t f, const rf_xform *world)
+{
+    const rf_retarget *rt = t->rt;
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        if (rt_effector_slot(rt, e) != t->s)
+            continue;
+        uint32_t j = rt->effector_src[e];
+        t->pos[(size_t)e * t->frames + f] = world[j].t;
+        t->sole[(size_t)e * t->frames + f] = rf_rt_over_floor_below(
+            rt, k, world, t->below + (size_t)e * rt->max_src_n, t->below_count[e]);
+    }
+}
+
+/* Frames [f, end) two at a time (rf_rt_source_world_two), the last one alone, into pose. */
+static void rt_tracks_chunk(const rt_tracks *t, uint32_t f, uint32_t end, rf_rt_source_pose *pose)
+{
+    const rf_retarget *rt = t->rt;
+    uint32_t k = rt->slots[t->s].source;
+    for (; f + 1 < end; f += 2) {
+        double at[2] = {rf_rt_slot_time(rt, t->s, t->start + f / t->fps),
+                        rf_rt_slot_time(rt, t->s, t->start + (f + 1) / t->fps)};
+        rf_rt_source_world_two(rt, k, at, pose, t->need);
+        rt_track_frame(t, k, f, pose[0].world);
+        rt_track_frame(t, k, f + 1, pose[1].world);
+    }
+    if (f < end) {
+        rf_rt_source_world_some(rt, k, rf_rt_slot_time(rt, t->s, t->start + f / t->fps),
+                                pose[0].local, pose[0].world, pose[0].rot, pose[0].tr, t->need);
+        rt_track_frame(t, k, f, pose[0].world);
+    }
+}
+
 static void *rt_tracks_run(void *arg)
 {
     rt_tracks *t = arg;
     const rf_retarget *rt = t->rt;
     size_t m = rt->max_src_n ? rt->max_src_n : 1;
-    rf_xform *local = malloc(m * sizeof *local), *world = malloc(m * sizeof *world);
-    float *rot = malloc(m * 4 * sizeof *rot), *tr = malloc(m * 3 * sizeof *tr);
-    t->ok = local && world && rot && tr;
-    uint32_t k = rt->slots[t->s].source;
-    for (uint32_t f = t->first; t->ok && f < t->end; f++) {
-        rf_rt_source_world_some(rt, k, rf_rt_slot_time(rt, t->s, t->start + f / t->fps), local,
-                                world, rot, tr, t->need);
-        for (uint32_t e = 0; e < rt->effector_count; e++) {
-            if (rt_effector_slot(rt, e) != t->s)
-                continue;
-            uint32_t j = rt->effector_src[e];
-            t->pos[(size_t)e * t->frames + f] = world[j].t;
-            t->sole[(size_t)e * t->frames + f] = rf_rt_over_floor_below(
-                rt, k, world, t->below + (size_t)e * rt->max_src_n, t->below_count[e]);
-        }
+    rf_rt_source_pose pose[2];
+    t->ok = true;
+    for (int i = 0; i < 2; i++) {
+        pose[i].local = malloc(m * sizeof *pose[i].local);
+        pose[i].world = malloc(m * sizeof *pose[i].world);
+        pose[i].rot = malloc(m * 4 * sizeof *pose[i].rot);
+        pose[i].tr = malloc(m * 3 * sizeof *pose[i].tr);
+        t->ok = t->ok && pose[i].local && pose[i].world && pose[i].rot && pose[i].tr;
     }
-    free(local), free(world), free(rot), free(tr);
+    uint32_t first, end;
+    while (t->ok && rf_rt_chunk(t->chunks, &first, &end))
+        rt_tracks_chunk(t, first, end, pose);
+    if (!t->ok) /* out of memory: the other thread takes the rest, or fails too */
+        rf_rt_chunks_stop(t->chunks);
+    for (int i = 0; i < 2; i++)
+        free(pose[i].local), free(pose[i].world), free(pose[i].rot), free(pose[i].tr);
     return NULL;
 }
 
 /* World positions of every effector's source joint at each output frame, and the heights of
  * their soles over the source floor in source leg lengths, each at its input's sample time
- * (half a cycle away for a mirrored input). A long clip's frames are split between this thread
- * and a second one, as the retarget's are: frames are independent. */
+ * (half a cycle away for a mirrored input). A long clip's frames are shared with a second
+ * thread, as the retarget's are: frames are independent. */
 static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps, double start,
                              rf_vec3 *pos, double *sole)
 {
@@ -253,15 +287,14 @@ static bool rt_source_tracks(const rf_retarget *rt, uint32_t frames, double fps,
         if (!used)
             continue;
         rt_track_need(rt, s, need);
-        rt_tracks a = {rt,   s,     0,           frames, frames, fps,  start,
-                       need, below, below_count, pos,    sole,   false},
+        rf_rt_chunks chunks;
+        rf_rt_chunks_init(&chunks, frames);
+        rt_tracks a = {rt,   &chunks, s,           frames, fps,  start,
+                       need, below,   below_count, pos,    sole, false},
                   b = a;
         pthread_t thread;
-        bool two = (uint64_t)frames * rt->src[rt->slots[s].source].n >= RT_THREAD_MIN;
-        a.end = b.first = two ? frames / 2 : frames;
-        two = two && pthread_create(&thread, NULL, rt_tracks_run, &b) == 0;
-        if (!two)
-            a.end = frames;
+        bool two = (uint64_t)frames * rt->src[rt->slots[s].source].n >= RT_THREAD_MIN &&
+                   pthread_create(&thread, NULL, rt_tracks_run, &b) == 0;
         rt_tracks_run(&a);
         if (two)
             pthread_join(thread, NULL);
@@ -867,8 +900,7 @@ typedef struct rt_parts {
     const uint8_t *holds; /* carries a foot in the hierarchy or body tree */
     const uint8_t *reach; /* the parts and their ancestors */
     const double *extent; /* [n] the farthest of a part's hull points and tip from its pivot */
-    const double *clear;  /* how far over its floor the source stands every `step` frames */
-    uint32_t step;
+    uint32_t step;        /* the source's clearance is read every `step` frames */
     double eps;
     /* [n] how far under joint j the lowest point rt_part_clear weighs for a part at or below it
      * can be in any frame (bone lengths at their longest in the clip, at the joints' scales);
@@ -894,8 +926,8 @@ static bool rt_part_clear(const rt_parts *c, const rf_xform *world, uint32_t j, 
  * from a joint standing so high over the floor (by c->hang, with a margin far above rounding)
  * that every part there surely passes rt_part_clear: gone[j] is then 1 for that joint and 2 for
  * those below it, not posed. */
-static void rt_parts_pose(const rt_parts *c, uint32_t f, double clear, rf_xform *local,
-                          rf_xform *world, uint8_t *gone)
+__attribute__((flatten)) static void rt_parts_pose(const rt_parts *c, uint32_t f, double clear,
+                                                   rf_xform *local, rf_xform *world, uint8_t *gone)
 {
     const rf_retarget *rt = c->rt;
     double floor = (rt->t_hull ? fmax(rt->floor_target, rt->mesh_floor) : rt->floor_target) + clear;
@@ -914,9 +946,11 @@ static void rt_parts_pose(const rt_parts *c, uint32_t f, double clear, rf_xform 
     }
 }
 
-/* One frame of the parts pass, with scratch (local, world, sp, gone) of the caller's. */
-static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xform *world,
-                           uint8_t *gone, rt_src_poses *sp, rf_rt_parts_stats *st)
+/* One frame of the parts pass, with scratch (local, world, sp, gone) of the caller's and the
+ * source's clearance at frames (first + i) * step in clear[i] (rt_parts_clearance). */
+static void rt_parts_frame(const rt_parts *c, uint32_t f, const double *clear_at, uint32_t first,
+                           rf_xform *local, rf_xform *world, uint8_t *gone, rt_src_poses *sp,
+                           rf_rt_parts_stats *st)
 {
     const rf_retarget *rt = c->rt;
     uint32_t n = rt->n;
@@ -925,7 +959,7 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xf
     bool low = false;
     uint32_t i = f / c->step;
     double t = (double)(f - i * c->step) / c->step;
-    double clear = (1 - t) * c->clear[i] + t * c->clear[i + 1];
+    double clear = (1 - t) * clear_at[i - first] + t * clear_at[i + 1 - first];
     rt_parts_pose(c, f, clear, local, world, gone);
     for (uint32_t j = 0; j < n && !low; j++) {
         double floor_h;
@@ -960,11 +994,45 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, rf_xform *local, rf_xf
                              c->anim->translations + (size_t)f * n * 3, NULL, world);
 }
 
-/* Frames [first, end) of the parts pass with scratch and counts of its own (one thread's
- * share: a frame reads and writes only itself). */
+/* The clearance's step: how far the source stands over its own floor (rf_rt_clearance) is read
+ * every tenth of a second, and rt_parts_frame interpolates between. Read at every frame of a
+ * long clip it cost a fifth of the whole run; a jump takes half a second or more, so a tenth of
+ * a second between reads misses little of it. */
+static uint32_t rt_parts_step(const rf_animation *anim)
+{
+    uint32_t frames = anim->frame_count;
+    /* Clamped before the conversion: a clip may claim any rate (1e300 fps). */
+    double per = floor(anim->fps / 10);
+    return per >= 1 ? (uint32_t)fmin(per, frames ? frames : 1) : 1;
+}
+
+/* The source's clearance at the reads frames [first, end) interpolate between: reads
+ * first / step .. (end - 1) / step + 1, each at its frame (the last frame past the end). Each
+ * thread reads those of the chunks of frames it takes, so the reads are shared between the
+ * threads as the frames are (a read between two chunks is made for each). */
+static double *rt_parts_clearance(const rt_parts *c, uint32_t first, uint32_t end)
+{
+    uint32_t frames = c->anim->frame_count, step = c->step;
+    uint32_t i0 = first / step, count = end > first ? (end - 1) / step + 2 - i0 : 1;
+    uint32_t *at = malloc(count * sizeof *at);
+    double *clear = malloc(count * sizeof *clear);
+    for (uint32_t i = 0; at && i < count; i++) {
+        uint64_t f = (uint64_t)(i0 + i) * step;
+        at[i] = f < frames ? (uint32_t)f : (frames ? frames - 1 : 0);
+    }
+    bool ok = at && clear &&
+              rf_rt_clearance(c->rt, rf_retarget_start_time(c->rt), c->anim->fps, count, at, clear);
+    free(at);
+    if (!ok)
+        free(clear);
+    return ok ? clear : NULL;
+}
+
+/* The parts pass's frames a chunk at a time (rf_rt_chunk), with scratch and counts of its own
+ * (one thread's share: a frame reads and writes only itself). */
 typedef struct rt_parts_share {
     const rt_parts *c;
-    uint32_t first, end;
+    rf_rt_chunks *chunks;
     rf_rt_parts_stats st;
     bool ok;
 } rt_parts_share;
@@ -976,56 +1044,41 @@ static void *rt_parts_run(void *arg)
     rf_xform *local = malloc(n * sizeof *local), *world = malloc(n * sizeof *world);
     uint8_t *gone = malloc(n);
     rt_src_poses sp = {0};
-    sh->ok = local && world && gone && rt_src_poses_init(sh->c->rt, &sp);
-    for (uint32_t f = sh->first; sh->ok && f < sh->end; f++)
-        rt_parts_frame(sh->c, f, local, world, gone, &sp, &sh->st);
-    if (sh->ok)
+    bool poses = local && world && gone && rt_src_poses_init(sh->c->rt, &sp);
+    uint32_t first, end;
+    sh->ok = poses;
+    while (sh->ok && rf_rt_chunk(sh->chunks, &first, &end)) {
+        double *clear = rt_parts_clearance(sh->c, first, end);
+        sh->ok = clear != NULL;
+        for (uint32_t f = first; sh->ok && f < end; f++)
+            rt_parts_frame(sh->c, f, clear, first / sh->c->step, local, world, gone, &sp, &sh->st);
+        free(clear);
+    }
+    if (!sh->ok) /* out of memory: the other thread takes the rest, or fails too */
+        rf_rt_chunks_stop(sh->chunks);
+    if (poses)
         rt_src_poses_free(sh->c->rt, &sp);
     free(local), free(world), free(gone);
     return NULL;
 }
 
-/* Every frame of the parts pass: on two threads for a long clip, as the retarget's frames. */
+/* Every frame of the parts pass: shared with a second thread for a long clip, as the
+ * retarget's frames. */
 static bool rt_parts_all(const rt_parts *c, rf_rt_parts_stats *st)
 {
     uint32_t frames = c->anim->frame_count;
-    rt_parts_share a = {c, 0, frames, {0, 0}, false}, b = a;
+    rf_rt_chunks chunks;
+    rf_rt_chunks_init(&chunks, frames);
+    rt_parts_share a = {c, &chunks, {0, 0}, false}, b = a;
     pthread_t thread;
-    bool two = (uint64_t)frames * c->rt->n >= RT_THREAD_MIN;
-    a.end = b.first = two ? frames / 2 : frames;
-    two = two && pthread_create(&thread, NULL, rt_parts_run, &b) == 0;
-    if (!two)
-        a.end = frames;
+    bool two = (uint64_t)frames * c->rt->n >= RT_THREAD_MIN &&
+               pthread_create(&thread, NULL, rt_parts_run, &b) == 0;
     rt_parts_run(&a);
     if (two)
         pthread_join(thread, NULL);
     st->frames = a.st.frames + b.st.frames; /* b's stay 0 when it did not run */
     st->turns = a.st.turns + b.st.turns;
     return a.ok && (!two || b.ok);
-}
-
-/* How far the source stands over its own floor (rf_rt_clearance), read every tenth of a second
- * (`step` frames) into clear[count]; rt_parts_frame interpolates between. Read at every frame of
- * a long clip it cost a fifth of the whole run; a jump takes half a second or more, so a tenth
- * of a second between reads misses little of it. */
-static double *rt_parts_clearance(const rf_retarget *rt, const rf_animation *anim, uint32_t *step,
-                                  uint32_t *count)
-{
-    uint32_t frames = anim->frame_count;
-    /* Clamped before the conversion: a clip may claim any rate (1e300 fps). */
-    double per = floor(anim->fps / 10);
-    *step = per >= 1 ? (uint32_t)fmin(per, frames ? frames : 1) : 1;
-    *count = frames ? (frames - 1) / *step + 2 : 1; /* one past the end: the last frame's */
-    uint32_t *at = malloc(*count * sizeof *at);
-    double *clear = malloc(*count * sizeof *clear);
-    for (uint32_t i = 0; at && i < *count; i++)
-        at[i] = frames && i * *step < frames ? i * *step : (frames ? frames - 1 : 0);
-    bool ok = at && clear &&
-              rf_rt_clearance(rt, rf_retarget_start_time(rt), anim->fps, *count, at, clear);
-    free(at);
-    if (!ok)
-        free(clear);
-    return ok ? clear : NULL;
 }
 
 /* rt_parts.hang: from the leaves up, each joint's farthest weighed point of a part at or below
@@ -1042,10 +1095,16 @@ static double *rt_parts_hang(const rf_retarget *rt, const rf_animation *anim, co
         free(hang), free(bone), free(scale);
         return NULL;
     }
+    /* the longest squared, then one square root: the root is monotone and correctly rounded,
+     * so this is the longest of the lengths exactly, without a root and an fmax call a frame */
     for (uint32_t f = 0; f < anim->frame_count; f++)
-        for (uint32_t j = 0; j < n; j++)
-            if (reach[j])
-                bone[j] = fmax(bone[j], rf_v3_len(rf_animation_translation(anim, f, j)));
+        for (uint32_t j = 0; j < n; j++) {
+            double len2 = rf_v3_len2(rf_animation_translation(anim, f, j));
+            if (reach[j] && len2 > bone[j])
+                bone[j] = len2;
+        }
+    for (uint32_t j = 0; j < n; j++)
+        bone[j] = sqrt(bone[j]);
     const rf_joint *joints = rt->target->joints;
     for (uint32_t j = 0; j < n; j++) {
         int32_t p = joints[j].parent;
@@ -1075,11 +1134,7 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
     uint8_t *foot = malloc(n ? n : 1), *part = malloc(n ? n : 1), *all = malloc(n ? n : 1);
     uint8_t *holds = calloc(n ? n : 1, 1), *reach = calloc(n ? n : 1, 1);
     double *extent = calloc(n ? n : 1, sizeof *extent);
-    uint32_t step, count;
-    double *clear = foot && part && all && holds && reach && extent
-                        ? rt_parts_clearance(rt, anim, &step, &count)
-                        : NULL;
-    if (!clear) {
+    if (!foot || !part || !all || !holds || !reach || !extent) {
         free(foot), free(part), free(all), free(holds), free(reach), free(extent);
         return false;
     }
@@ -1104,10 +1159,11 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
              a = rt->target->joints[a].parent)
             reach[a] = 1;
     double *hang = rt_parts_hang(rt, anim, part, reach, extent);
-    rt_parts c = {rt,  anim, part, all, holds, reach, extent, clear, step, 1e-3 * rt->leg_target,
-                  hang};
+    rt_parts c = {
+        rt,  anim, part, all, holds, reach, extent, rt_parts_step(anim), 1e-3 * rt->leg_target,
+        hang};
     bool ok = hang && rt_parts_all(&c, st);
-    free(foot), free(part), free(all), free(holds), free(reach), free(extent), free(clear);
+    free(foot), free(part), free(all), free(holds), free(reach), free(extent);
     free(hang);
     return ok;
 }

@@ -6,6 +6,8 @@
 #ifndef RF_RT_INTERNAL_H
 #define RF_RT_INTERNAL_H
 
+#include <stdatomic.h>
+
 #include "retarget.h"
 
 #define RF_RT_NONE (-1)
@@ -195,6 +197,10 @@ struct rf_retarget {
 };
 
 /* ---- rt-plan.c ---- */
+/* Whether the output clip of joints x frames fits in `left` bytes of memory (when `known`);
+ * if not, says in err how much it would take and what to change. */
+bool rf_rt_output_fits(uint32_t joints, uint32_t frames, bool known, uint64_t left, char *err,
+                       size_t err_size);
 void rf_rt_fail(char *err, size_t err_size, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
@@ -238,6 +244,38 @@ bool rf_rt_clearance(const rf_retarget *rt, double start, double fps, uint32_t c
 bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift);
 /* Below this many joint-frames a second thread costs more than it saves. */
 #define RT_THREAD_MIN 65536
+
+/* A long clip's frames shared between two threads in chunks of RT_CHUNK, taken in order from a
+ * counter (rf_rt_chunk) rather than in fixed halves: on a busy machine a new thread started
+ * 1-3 ms late (measured), and the thread that had finished its half waited for the other's whole
+ * half at the join; now it takes more chunks. A frame is computed the same whichever thread
+ * takes it. */
+#define RT_CHUNK 256
+typedef struct rf_rt_chunks {
+    atomic_ullong next;
+    uint32_t end;
+} rf_rt_chunks;
+
+static inline void rf_rt_chunks_init(rf_rt_chunks *c, uint32_t end)
+{
+    atomic_init(&c->next, 0);
+    c->end = end;
+}
+/* The next chunk of frames [*first, *end); false when none is left. */
+static inline bool rf_rt_chunk(rf_rt_chunks *c, uint32_t *first, uint32_t *end)
+{
+    unsigned long long f = atomic_fetch_add_explicit(&c->next, RT_CHUNK, memory_order_relaxed);
+    if (f >= c->end)
+        return false;
+    *first = (uint32_t)f;
+    *end = f + RT_CHUNK < c->end ? (uint32_t)(f + RT_CHUNK) : c->end;
+    return true;
+}
+/* Ends the sharing early: later calls find nothing left. */
+static inline void rf_rt_chunks_stop(rf_rt_chunks *c)
+{
+    atomic_store_explicit(&c->next, c->end, memory_order_relaxed);
+}
 
 /* The k-th smallest of `count` values, reordering them (rt-mesh.c). */
 double rf_rt_select(double *v, size_t count, size_t k);
@@ -320,6 +358,16 @@ void rf_rt_source_world(const rf_retarget *rt, uint32_t k, double t, rf_xform *l
 /* The same for the joints in `need` only (a joint's ancestors must be in it; NULL: all). */
 void rf_rt_source_world_some(const rf_retarget *rt, uint32_t k, double t, rf_xform *local,
                              rf_xform *world, float *rot, float *tr, const uint8_t *need);
+/* A source pose's scratch: local and world transforms, sampled rotations and translations. */
+typedef struct rf_rt_source_pose {
+    rf_xform *local, *world;
+    float *rot, *tr;
+} rf_rt_source_pose;
+/* rf_rt_source_world_some at two times at once, each into its own pose: the same operations for
+ * each, interleaved joint by joint, so the processor overlaps the two poses' chains (each joint
+ * waits on its parent's world rotation, a square root and four divisions away). */
+void rf_rt_source_world_two(const rf_retarget *rt, uint32_t k, const double t[2],
+                            rf_rt_source_pose pose[2], const uint8_t *need);
 
 /* ---- rt-contact.c ---- */
 /* Per effector and output frame: 1 when the source counterpart is in contact ([eff][frames],

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <rigflow/memory.h>
 #include <suitesparse/cholmod.h>
 
 #include "rig-embree.h"
@@ -861,6 +862,11 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
 bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_options *o, double **w,
                  rf_rig_stats *st, char *err, size_t n)
 {
+    uint64_t available = 0;
+    bool known = rf_memory_available(&available);
+    *w = NULL;
+    if (!rf_rig_heat_fits(p->proxy.nv, s->n, known, available, err, n))
+        return false;
     rf_rig_bone *bones = NULL;
     uint32_t nb = rf_rig_bones(s, &bones), nj = s->n;
     rf_rig_src *src = malloc((size_t)p->proxy.nv * sizeof *src);

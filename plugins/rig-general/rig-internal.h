@@ -66,6 +66,9 @@ bool rf_rig_fail(char *err, size_t n, const char *fmt, ...) RF_RIG_PRINTF(3, 4);
  * if not, says in err how much it needs and what to do. */
 bool rf_rig_memory_fits(uint64_t vertices, uint64_t triangles, bool known, uint64_t available,
                         char *err, size_t n);
+/* Whether bone heat over `vertices` proxy vertices for `joints` joints fits the same way. */
+bool rf_rig_heat_fits(uint64_t vertices, uint64_t joints, bool known, uint64_t available, char *err,
+                      size_t n);
 bool rf_rig_prepare(const rf_mesh *m, const rf_rig_options *o, rf_rig_prep *out, rf_rig_stats *st,
                     char *err, size_t n);
 void rf_rig_prep_free(rf_rig_prep *p);

@@ -122,6 +122,24 @@ bool rf_rig_memory_fits(uint64_t vertices, uint64_t triangles, bool known, uint6
                        vertices, triangles, need / 1e9, available / 1e9);
 }
 
+/* Bone heat's weights, CHOLMOD's right-hand sides and its solution: a double per proxy vertex
+ * and joint each. A given skeleton's joint count is the file's (up to 65535), so this, not the
+ * mesh, can be what does not fit. */
+#define RF_RIG_BYTES_PER_WEIGHT 24
+
+bool rf_rig_heat_fits(uint64_t vertices, uint64_t joints, bool known, uint64_t available, char *err,
+                      size_t n)
+{
+    uint64_t need = vertices * joints * RF_RIG_BYTES_PER_WEIGHT;
+    if (!known || need <= available)
+        return true;
+    return rf_rig_fail(err, n,
+                       "bone heat over %" PRIu64 " vertices for %" PRIu64
+                       " joints needs about %.1f GB and %.1f GB is available; mark the joints "
+                       "that carry no skin unweighted or simplify the mesh first",
+                       vertices, joints, need / 1e9, available / 1e9);
+}
+
 /* ---- welding ---- */
 
 typedef struct rf_rig_key {

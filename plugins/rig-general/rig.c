@@ -799,6 +799,22 @@ static void rf_rig_axes(const rf_skeleton *s, const rf_mat4 *world, const rf_rig
     }
 }
 
+/* Whether skeleton s keeps the model's promise that a parent comes before its child: every
+ * walk up the given skeleton (to a weighted ancestor, the world rest pose) relies on it, and a
+ * joint its own parent or a parent past the end would loop or read out of bounds. */
+static bool rf_rig_check_parents(const rf_skeleton *s, char *err, size_t n)
+{
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        int32_t p = s->joints[j].parent;
+        if (p < -1 || p >= (int32_t)j)
+            return rf_rig_fail(err, n,
+                               "joint %u has parent %d: expected a parent before its child (or -1 "
+                               "for a root)",
+                               j, (int)p);
+    }
+    return true;
+}
+
 /* World matrices of the joints: inverses of the given inverse binds, or the rest pose. */
 static bool rf_rig_world_of(const rf_skeleton *s, const rf_mat4 *inverse_bind, rf_mat4 *world,
                             char *err, size_t n)
@@ -814,6 +830,12 @@ static bool rf_rig_world_of(const rf_skeleton *s, const rf_mat4 *inverse_bind, r
         } else if (!rf_mat4_invert(inverse_bind[j], &world[j])) {
             free(rest);
             return rf_rig_fail(err, n, "joint %u's inverse bind matrix is singular", j);
+        }
+        /* a joint at NaN or infinity has no place to heat from (and a NaN ray aborts Embree) */
+        rf_vec3 at = rf_mat4_point(world[j], rf_v3(0, 0, 0));
+        if (!(rf_v3_isfinite(at) && fabs(at.x) + fabs(at.y) + fabs(at.z) < 1e30)) {
+            free(rest);
+            return rf_rig_fail(err, n, "joint %u stands at a non-finite or huge position", j);
         }
     }
     free(rest);
@@ -842,7 +864,8 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
     if (ok && nj > UINT16_MAX) /* skin joint indices are 16-bit */
         ok = rf_rig_fail(err, err_size, "the skeleton has %u joints; at most %u can carry weights",
                          nj, (unsigned)UINT16_MAX);
-    ok = ok && rf_rig_world_of(skeleton, inverse_bind, world, err, err_size);
+    ok = ok && rf_rig_check_parents(skeleton, err, err_size) &&
+         rf_rig_world_of(skeleton, inverse_bind, world, err, err_size);
     if (ok && !rf_rig_from_skeleton(skeleton, world, &k, ids))
         ok = rf_rig_fail(err, err_size, "out of memory");
     if (ok && !k.n)

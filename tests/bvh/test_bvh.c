@@ -207,6 +207,18 @@ static const char *const sample =
 
 /* ---- number parser ---- */
 
+#if BVH_TOKEN_AVX2
+/* bvh_short_avx2's shuffle table, made once. */
+static const uint8_t (*avx2_shuffles(void))[16]
+{
+    static uint8_t shuf[BVH_SHUFFLES][16];
+    static bool made;
+    if (!made)
+        bvh_shuffles_init(shuf), made = true;
+    return (const uint8_t(*)[16])shuf;
+}
+#endif
+
 static void check_number(const char *text)
 {
     double ours = -1, ref;
@@ -233,6 +245,24 @@ static void check_number(const char *text)
             assert_ptr_equal(e, padded + (end - text));
             assert_ptr_equal(next, e + 1); /* the NUL after the space */
             assert_memory_equal(&v, &ref, sizeof ref);
+        }
+#endif
+#if BVH_TOKEN_AVX2
+        if (__builtin_cpu_supports("avx2")) { /* the same tokens taken, the same values */
+            bvh_avx2_k k;
+            bvh_avx2_k_init(&k);
+            size_t len = strlen(text);
+            double w = -1;
+            bool ok = bvh_short_avx2(padded, (unsigned)len, &w, avx2_shuffles(), &k);
+            assert_int_equal(ok, e != NULL);
+            if (ok)
+                assert_memory_equal(&w, &ref, sizeof ref);
+            uint32_t pos[BVH_LINE_POS(1)];
+            w = -1;
+            ok = bvh_line_avx2(padded, padded + len, &w, 1, pos, avx2_shuffles(), &k);
+            assert_int_equal(ok, end == text + len && len > 0 && fabs(ref) < 1e15);
+            if (ok)
+                assert_memory_equal(&w, &ref, sizeof ref);
         }
 #endif
     }
@@ -294,6 +324,191 @@ static void test_number_exact(void **state)
         check_number(buf);
     }
 }
+
+/* Every number of every frame line of the shared BVH files, read as strtod reads it by each
+ * of the frame-line parsers (check_number). */
+static void test_number_data(void **state)
+{
+    (void)state;
+    NEED_DATA(dir);
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    size_t numbers = 0;
+    while ((e = readdir(d)) != NULL) {
+        size_t n = strlen(e->d_name);
+        if (n <= 4 || strcmp(e->d_name + n - 4, ".bvh") != 0)
+            continue;
+        char path[4200];
+        size_t size;
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        char *text = read_all(path, &size);
+        char *p = strstr(text, "Frame Time:");
+        assert_non_null(p);
+        p = strchr(p, '\n');
+        for (char *tok = p ? strtok(p, " \t\r\n") : NULL; tok; tok = strtok(NULL, " \t\r\n"))
+            check_number(tok), numbers++;
+        free(text);
+    }
+    closedir(d);
+    print_message("  %zu numbers\n", numbers);
+    assert_true(numbers > 500000);
+}
+
+#if BVH_TOKEN_AVX2
+static bool is_blank(char c)
+{
+    return c == ' ' || c == '\t' || c == '\r';
+}
+
+/* What a frame-line reader must answer, found the plain way: the line's blank-separated tokens,
+ * each read whole by rf_bvh_parse_double (checked against strtod above, and here again) and of
+ * magnitude below 1e15, exactly `count` of them, into v. */
+static bool line_reference(const char *line, size_t len, double *v, size_t count)
+{
+    size_t n = 0;
+    for (size_t i = 0, j; i < len; i = j) {
+        while (i < len && is_blank(line[i]))
+            i++;
+        if (i == len)
+            break;
+        for (j = i; j < len && !is_blank(line[j]);)
+            j++;
+        char tok[256];
+        if (j - i >= sizeof tok || n == count)
+            return false;
+        memcpy(tok, line + i, j - i);
+        tok[j - i] = '\0';
+        double x, ref;
+        const char *e = rf_bvh_parse_double(tok, &x);
+        if (!e || *e || !(fabs(x) < 1e15))
+            return false;
+        ref = strtod(tok, NULL);
+        assert_memory_equal(&x, &ref, sizeof x);
+        v[n++] = x;
+    }
+    return n == count;
+}
+
+/* bvh_line_avx2 on line[len] against line_reference; as in the reader's buffer, the line ends
+ * in a '\n' and the next line's digits and points follow, which must not change the answer.
+ * Returns whether the line was read. */
+static bool check_line(const char *text, size_t len, size_t count)
+{
+    char *line = malloc(len + BVH_PAD + 1);
+    uint32_t *pos = malloc(BVH_LINE_POS(count) * sizeof *pos);
+    double *v = malloc((count + 1) * sizeof *v), *ref = malloc((count + 1) * sizeof *ref);
+    assert_true(line && pos && v && ref);
+    memcpy(line, text, len);
+    line[len] = '\n';
+    for (size_t i = 1; i <= BVH_PAD; i++)
+        line[len + i] = "1.5-70"[i % 6];
+    bvh_avx2_k k;
+    bvh_avx2_k_init(&k);
+    bool ok = bvh_line_avx2(line, line + len, v, count, pos, avx2_shuffles(), &k);
+    bool want = line_reference(text, len, ref, count);
+    if (ok != want)
+        fail_msg("'%.*s' (%zu values): read %d, expected %d", (int)len, text, count, ok, want);
+    if (ok)
+        assert_memory_equal(v, ref, count * sizeof *v);
+    free(line), free(pos), free(v), free(ref);
+    return ok;
+}
+
+/* A random token: mostly numbers of the shapes exporters write, some that the short path
+ * declines (long, exponents, '+'), and, unless `clean`, some that are not numbers at all. */
+static int random_token(char *buf, bool clean)
+{
+    static const char junk[] = "+-.eE0x\v\f#,";
+    int n = 0, kind = clean ? 1 + rand() % 12 : rand() % 16;
+    if (kind == 0) { /* characters that may or may not make a number */
+        for (int i = 1 + rand() % 4; i > 0; i--)
+            buf[n++] = junk[rand() % (int)(sizeof junk - 1)];
+        return n;
+    }
+    int digits = kind < 12 ? 1 + rand() % 9 : 1 + rand() % 24, dot = rand() % (digits + 2);
+    if (rand() % 2)
+        buf[n++] = '-';
+    for (int d = 0; d < digits; d++) {
+        if (d == dot)
+            buf[n++] = '.';
+        buf[n++] = (char)('0' + rand() % 10);
+    }
+    if (kind == 12)
+        n += sprintf(buf + n, "e%d", rand() % 60 - 30);
+    if (kind == 13)
+        buf[rand() % n] = "+.eE"[rand() % 4];
+    return n;
+}
+
+/* Random frame lines for the AVX2 line reader: numbers and stray tokens between runs of
+ * spaces, tabs and CRs (some longer than its 32-byte blocks), with the right count of values or
+ * one off. */
+static void test_line_random(void **state)
+{
+    (void)state;
+    if (!__builtin_cpu_supports("avx2"))
+        skip();
+    srand(11);
+    int read = 0;
+    for (int i = 0; i < 40000; i++) {
+        char line[4096];
+        size_t len = 0, tokens = 0;
+        int count = rand() % 40;
+        bool clean = rand() % 2; /* half the lines hold only numbers */
+        for (int t = 0; t < count; t++) {
+            int blanks = rand() % 50 == 0 ? 30 + rand() % 100 : (t ? 1 : 0) + rand() % 3;
+            for (int b = 0; b < blanks; b++)
+                line[len++] = " \t\r"[rand() % 3 ? 0 : 1 + rand() % 2];
+            len += (size_t)random_token(line + len, clean);
+            tokens++;
+        }
+        for (int b = rand() % 4; b > 0; b--)
+            line[len++] = rand() % 2 ? ' ' : '\r';
+        size_t want = tokens;
+        if (rand() % 8 == 0)
+            want = rand() % 2 || !want ? want + 1 : want - 1;
+        read += check_line(line, len, want);
+    }
+    print_message("  %d of 40000 random lines read\n", read);
+    assert_true(read > 10000); /* the lines of numbers alone below 1e15, of the right count */
+}
+
+/* Every frame line of every shared BVH file, read by the AVX2 line reader exactly as strtod
+ * reads its numbers. */
+static void test_line_data(void **state)
+{
+    (void)state;
+    if (!__builtin_cpu_supports("avx2"))
+        skip();
+    NEED_DATA(dir);
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    size_t lines = 0;
+    while ((e = readdir(d)) != NULL) {
+        size_t n = strlen(e->d_name);
+        if (n <= 4 || strcmp(e->d_name + n - 4, ".bvh") != 0)
+            continue;
+        char path[4200];
+        size_t size;
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        char *text = read_all(path, &size);
+        const char *p = strstr(text, "Frame Time:");
+        assert_non_null(p);
+        for (p = strchr(p, '\n'); p && p[1]; p = strchr(p, '\n')) {
+            p++;
+            size_t len = strcspn(p, "\n"), count = 0;
+            for (size_t i = 0; i < len; i++)
+                count += !is_blank(p[i]) && (i == 0 || is_blank(p[i - 1]));
+            if (count)
+                assert_true(check_line(p, len, count)), lines++;
+        }
+        free(text);
+    }
+    closedir(d);
+    print_message("  %zu frame lines\n", lines);
+    assert_true(lines > 5000);
+}
+#endif
 
 /* A locale whose decimal point is a comma changes nothing, slow path included. */
 static void test_number_locale(void **state)
@@ -1478,6 +1693,11 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_number_exact),
         cmocka_unit_test(test_number_locale),
+        cmocka_unit_test(test_number_data),
+#if BVH_TOKEN_AVX2
+        cmocka_unit_test(test_line_random),
+        cmocka_unit_test(test_line_data),
+#endif
         cmocka_unit_test(test_number_rejects),
         cmocka_unit_test(test_sincos),
         cmocka_unit_test(test_format_number),

@@ -12,6 +12,10 @@
  *   then        3 bytes per vertex (a point on a 256^3 grid), then 3 bytes per triangle (indices
  *               modulo the vertex count, or raw with RF_FZ_RAW_INDEX), reused cyclically
  *
+ * With RF_FZ_BIND the mesh is weighted to a given skeleton instead (rf_rig_bind), made of the
+ * same bytes read from the end backwards: 1 to 8 joints, each a parent byte taken as signed (so
+ * roots, parents after their child, past the end, the joint itself) and a translation.
+ *
  * Then it checks what rig.h promises: either false with a message and nothing allocated, or a
  * skeleton whose parents come first and a copy of the mesh with every vertex weighted by at most
  * four existing joints, weights summing to 1.
@@ -34,6 +38,7 @@ enum {
     RF_FZ_FLAT = 1u << 4,        /* every z is 0 */
     RF_FZ_NO_VIS = 1u << 5,      /* no visibility rays */
     RF_FZ_SMALL_PROXY = 1u << 6, /* simplify above 1000 triangles... and the speck size at 0.3 */
+    RF_FZ_BIND = 1u << 7,        /* weight to a skeleton the bytes give (rf_rig_bind) */
 };
 
 static void rf_fz_broken(const char *what)
@@ -91,6 +96,58 @@ static void rf_fz_check(const rf_mesh *in, const rf_skeleton *s, const rf_mesh *
     }
 }
 
+/* A skeleton of 1 to 8 joints from the bytes read backwards: a parent byte as signed, then a
+ * translation on the mesh's grid. Nothing is made consistent: that is rf_rig_bind's job. */
+static rf_skeleton *rf_fz_skeleton(const uint8_t *data, size_t size, double scale)
+{
+    size_t k = size - 1;
+    uint32_t n = data[k] % 8 + 1;
+    rf_skeleton *s = rf_skeleton_new(n);
+    for (uint32_t j = 0; s && j < n; j++) {
+        uint8_t b[4];
+        for (int i = 0; i < 4; i++)
+            b[i] = data[k], k = k ? k - 1 : size - 1;
+        s->joints[j].parent = (int8_t)b[0] < 0 ? -1 : (int32_t)j - 1 - (int8_t)b[0] % 3;
+        if (b[0] == 0x7f)
+            s->joints[j].parent = (int32_t)j + 1; /* after its child, or past the end */
+        if (b[0] == 0x7e)
+            s->joints[j].parent = (int32_t)j; /* its own parent */
+        s->joints[j].rest = rf_xform_identity();
+        s->joints[j].rest.t = rf_v3(b[1] * scale, b[2] * scale, b[3] * scale);
+    }
+    return s;
+}
+
+/* rf_rig_bind's promise: false with a message and nothing allocated, or a copy of the mesh whose
+ * every vertex is weighted by at most four of the skeleton's joints, weights summing to 1. */
+static void rf_fz_bind(const rf_mesh *in, const rf_rig_options *o, const uint8_t *data, size_t size,
+                       double scale)
+{
+    rf_skeleton *s = rf_fz_skeleton(data, size, scale);
+    rf_mesh *m = (rf_mesh *)1;
+    char err[512] = "";
+    if (rf_rig_bind(in, s, NULL, o, &m, NULL, err, sizeof err)) {
+        if (!m || m->vertex_count != in->vertex_count || m->bind_count != s->joint_count)
+            rf_fz_broken("the weighted mesh does not match");
+        for (uint32_t v = 0; v < m->vertex_count; v++) {
+            double sum = 0;
+            for (int k = 0; k < 4; k++) {
+                if (m->skin_joints[v * 4 + k] >= s->joint_count)
+                    rf_fz_broken("a weight names a joint that does not exist");
+                if (!(m->skin_weights[v * 4 + k] >= 0))
+                    rf_fz_broken("a negative or NaN weight");
+                sum += m->skin_weights[v * 4 + k];
+            }
+            if (!(fabs(sum - 1) < 1e-3))
+                rf_fz_broken("a vertex whose weights do not sum to 1");
+        }
+        rf_mesh_free(m);
+    } else if (m || !err[0]) {
+        rf_fz_broken("a refusal without a message, or with something allocated");
+    }
+    rf_skeleton_free(s);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     if (size < 3)
@@ -100,6 +157,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     rf_rig_options o = {.resolution = 24, .no_visibility = (mode & RF_FZ_NO_VIS) != 0};
     if (mode & RF_FZ_SMALL_PROXY)
         o.proxy_triangles = 100, o.speck_size = 0.3;
+    if (mode & RF_FZ_BIND) {
+        rf_fz_bind(in, &o, data, size, mode & RF_FZ_HUGE ? 1e20 : mode & RF_FZ_TINY ? 1e-6 : 0.01);
+        rf_mesh_free(in);
+        return 0;
+    }
     rf_skeleton *s = (rf_skeleton *)1;
     rf_mesh *m = (rf_mesh *)1;
     char err[512] = "";

@@ -37,29 +37,7 @@ compare() {
         "$name: the GLB's binary chunk is the .gltf's buffer"
 }
 
-cat >"$tmp/arm.bvh" <<'BVH'
-HIERARCHY
-ROOT Hips
-{
-  OFFSET 0 0 0
-  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
-  JOINT Arm
-  {
-    OFFSET 0 1 0
-    CHANNELS 3 Zrotation Xrotation Yrotation
-    End Site
-    {
-      OFFSET 0 1 0
-    }
-  }
-}
-MOTION
-Frames: 3
-Frame Time: 0.1
-0 0 0 0 0 0 0 0 0
-0.5 0 0 10 0 0 200 0 0
-1 0 0 20 0 0 -170 30 0
-BVH
+cp "$RF_SRCDIR/tests/fixtures/arm.bvh" "$tmp/arm.bvh" # a root and an arm, 3 frames, turns past 180 degrees
 compare arm "$tmp/arm.bvh"
 # 9,000 frames of the arm turning slowly past a full turn: the writer makes a channel 8,192
 # frames at a time, and the short way between frames (a quaternion's sign, here the negative

@@ -10,28 +10,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 . "$RF_SRCDIR/tests/tap.sh"
 
-cat >"$tmp/arm.bvh" <<'BVH'
-HIERARCHY
-ROOT Hips
-{
-  OFFSET 0 0 0
-  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
-  JOINT Arm
-  {
-    OFFSET 0 1 0
-    CHANNELS 3 Zrotation Xrotation Yrotation
-    End Site
-    {
-      OFFSET 0 1 0
-    }
-  }
-}
-MOTION
-Frames: 2
-Frame Time: 0.1
-0 0 0 0 0 0 0 0 0
-0 0 0 10 0 0 20 0 0
-BVH
+cp "$RF_SRCDIR/tests/fixtures/arm.bvh" "$tmp/arm.bvh"
 run() { "$rigflow" -q run "$pipeline" -p "source.path=$1" -p "export.path=$2"; }
 
 # a stale plugin index (a new build) makes the first run open every plugin, assimp.import's

@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -413,6 +414,83 @@ static void centerline_turns_kept_in_own_range(void **state)
     assert_true(rot_diff(local_rot(r.out, 1, 7), fx_rot(X, 40)) < 1e-4);
     run_free(&r);
     rf_mapping_free(m), rf_animation_free(clip), rf_animation_free(own), rf_skeleton_free(s);
+}
+
+/* Turns past the limit in every direction, the long way round included (a quaternion with a
+ * negative w: 200 degrees is 160 the other way), are cut back to the limit about their own axis:
+ * the same rotations as raising the turn off rest to the power limit / turn (a slerp from
+ * identity), checked here against that form. */
+static void turns_cut_about_their_own_axis(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped(1, 0.5, 0.45);
+    rf_animation *clip = fx_rest_clip(s, 40, 10), *own = fx_rest_clip(s, 2, 10);
+    rf_animation_set_rotation(own, 1, 8, fx_rot(Z, 10));
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(s, clip, s, m, &o);
+    rf_quat rest = s->joints[8].rest.r, want[40];
+    double limit = (10 + RF_RT_TURN_SLACK) * DEG;
+    srand(3);
+    for (uint32_t f = 0; f < 40; f++) {
+        rf_vec3 axis = rf_v3(rand() % 201 - 100, rand() % 201 - 100, rand() % 201 - 100 + 0.5);
+        rf_quat q = rf_quat_mul(rest, fx_rot(axis, 20 + 320.0 * f / 39)); /* 20 to 340 degrees */
+        rf_animation_set_rotation(r.out, f, 8, q);
+        q = rf_quat_normalize(rf_animation_rotation(r.out, f, 8)); /* as stored, in floats */
+        rf_quat d = rf_quat_mul(rf_quat_conj(rest), q);
+        double turn = 2 * acos(fmin(1, fabs(d.w)));
+        want[f] = rf_quat_mul(rest, rf_rt_quat_pow(d, limit / turn));
+    }
+    assert_int_equal(rf_retarget_limit_turns(r.rt, r.out, own), 1);
+    for (uint32_t f = 0; f < 40; f++) {
+        assert_true(rot_diff(local_rot(r.out, f, 8), want[f]) < 1e-4);
+        assert_true(fabs(rot_diff(local_rot(r.out, f, 8), rest) - 15) < 1e-4);
+    }
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_animation_free(own), rf_skeleton_free(s);
+}
+
+/* The source posed at two times at once (the contact tracks and the clearance) is the source
+ * posed at each time alone, bit for bit: the same operations, interleaved. */
+static void source_posed_two_at_once(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped(1, 0.5, 0.45);
+    s->joints[3].rest.s = rf_v3(1.5, 1.5, 1.5); /* a scaled joint: its children's products */
+    rf_animation *clip = fx_rest_clip(s, 12, 10);
+    srand(5);
+    for (uint32_t f = 0; f < 12; f++)
+        for (uint32_t j = 0; j < s->joint_count; j++) {
+            rf_vec3 axis = rf_v3(rand() % 201 - 100, rand() % 201 - 100, rand() % 201 - 100 + 0.5);
+            rf_animation_set_rotation(clip, f, j, fx_rot(axis, rand() % 360));
+        }
+    rf_mapping *m = fx_mapping(9, 1);
+    fx_map_same(m, 9);
+    rf_retarget_options o = opts();
+    run r = do_run(s, clip, s, m, &o);
+    size_t n = s->joint_count;
+    rf_xform local[2][16], world[2][16], one_local[16], one_world[16];
+    float rot[2][64], tr[2][48], one_rot[64], one_tr[48];
+    assert_true(n <= 16);
+    rf_rt_source_pose pose[2] = {{local[0], world[0], rot[0], tr[0]},
+                                 {local[1], world[1], rot[1], tr[1]}};
+    double t[2] = {0.25, 0.83}; /* between frames: sampled */
+    uint8_t need[16] = {0};
+    for (int some = 0; some < 2; some++) {
+        for (size_t j = 0; j < n; j++)
+            need[j] = !some || j < 5; /* all joints, then a chain from the root */
+        rf_rt_source_world_two(r.rt, 0, t, pose, some ? need : NULL);
+        for (int i = 0; i < 2; i++) {
+            rf_rt_source_world_some(r.rt, 0, t[i], one_local, one_world, one_rot, one_tr,
+                                    some ? need : NULL);
+            for (size_t j = 0; j < n; j++)
+                if (!some || need[j])
+                    assert_memory_equal(&world[i][j], &one_world[j], sizeof one_world[j]);
+        }
+    }
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(s);
 }
 
 /* A target's own clip that turns the head 179 degrees sets no limit at all (no turn exceeds 180
@@ -975,6 +1053,19 @@ static void bad_inputs_refused(void **state)
     rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* A clip too large for the memory left is refused before it is allocated, with the figures:
+ * 200,000 joints x 2,752 frames x 7 floats x 2 = 30.8 GB (by hand). */
+static void huge_clip_refused(void **state)
+{
+    (void)state;
+    char err[512] = "";
+    assert_true(rf_rt_output_fits(200000, 2752, false, 0, err, sizeof err));
+    assert_true(rf_rt_output_fits(200000, 2752, true, 31000000000u, err, sizeof err));
+    assert_false(rf_rt_output_fits(200000, 2752, true, 16000000000u, err, sizeof err));
+    assert_non_null(strstr(err, "200000 joints x 2752 frames, about 30.8 GB"));
+    assert_non_null(strstr(err, "16.0 GB of memory is left"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -989,6 +1080,8 @@ int main(void)
         cmocka_unit_test(target_stays_on_its_floor),
         cmocka_unit_test(centerline_turns_kept_in_own_range),
         cmocka_unit_test(half_turn_kept_under_own_range),
+        cmocka_unit_test(turns_cut_about_their_own_axis),
+        cmocka_unit_test(source_posed_two_at_once),
         cmocka_unit_test(resampling_slerps),
         cmocka_unit_test(frame_range),
         cmocka_unit_test(identity_returns_the_clip),
@@ -1002,6 +1095,7 @@ int main(void)
         cmocka_unit_test(top_joint_keeps_level),
         cmocka_unit_test(level_keeps_turn_limits_tilt),
         cmocka_unit_test(bad_inputs_refused),
+        cmocka_unit_test(huge_clip_refused),
     };
     return cmocka_run_group_tests_name("retarget", tests, NULL, NULL);
 }

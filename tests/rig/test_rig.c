@@ -531,6 +531,41 @@ static void test_bind_given(void **state)
     rf_skeleton_free(s), rf_mesh_free(in);
 }
 
+/* A given skeleton that breaks the model's promises is refused with the joint named, never
+ * weighted: a joint that is its own parent (the walk to a weighted ancestor looped forever), a
+ * parent past the last joint (read out of bounds), a parent after its child (read before it was
+ * placed), and a joint placed at NaN or infinity (a NaN ray aborted inside Embree). */
+static void test_bind_bad_skeleton(void **state)
+{
+    (void)state;
+    rf_mesh *in = tube();
+    for (int c = 0; c < 5; c++) {
+        rf_skeleton *s = rf_skeleton_new(3);
+        for (uint32_t j = 0; j < 3; j++) {
+            s->joints[j].parent = (int32_t)j - 1;
+            s->joints[j].rest = rf_xform_identity();
+            s->joints[j].rest.t = rf_v3(0, j ? 0.6 : 0.2, 0);
+        }
+        if (c == 0)
+            s->joints[1].parent = 1;
+        else if (c == 1)
+            s->joints[1].parent = 99;
+        else if (c == 2)
+            s->joints[1].parent = 2;
+        else if (c == 3)
+            s->joints[1].rest.t.x = NAN;
+        else
+            s->joints[1].rest.t.y = INFINITY;
+        rf_mesh *m = (rf_mesh *)1;
+        char err[256] = "";
+        assert_false(rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err));
+        assert_null(m);
+        assert_non_null(strstr(err, "joint 1"));
+        rf_skeleton_free(s);
+    }
+    rf_mesh_free(in);
+}
+
 /* The weight vertex v of m gives joint j. */
 static double weight_of(const rf_mesh *m, uint32_t v, uint32_t j)
 {
@@ -1210,6 +1245,12 @@ static void test_memory_refusal(void **state)
     assert_true(rf_rig_memory_fits(120000000, 40000000, true, 14000000000u, err, sizeof err));
     assert_false(rf_rig_memory_fits(120000000, 40000000, true, 8000000000u, err, sizeof err));
     assert_non_null(strstr(err, "13.6 GB to rig and 8.0 GB is available"));
+    /* bone heat for a given skeleton: 15000 proxy vertices by 65535 joints by 24 bytes is
+     * 23.6 GB (by hand); by 100 joints, 36 MB */
+    assert_false(rf_rig_heat_fits(15000, 65535, true, 8000000000u, err, sizeof err));
+    assert_non_null(strstr(err, "23.6 GB and 8.0 GB is available"));
+    assert_true(rf_rig_heat_fits(15000, 100, true, 8000000000u, err, sizeof err));
+    assert_true(rf_rig_heat_fits(15000, 65535, false, 0, err, sizeof err));
     /* on Linux the system always says something, and a running process has some memory left */
     uint64_t left = 0;
     FILE *f = fopen("/proc/meminfo", "r");
@@ -1239,6 +1280,7 @@ int main(void)
         cmocka_unit_test(test_bind_speck),
         cmocka_unit_test(test_bind_sleeve),
         cmocka_unit_test(test_bind_open_sheet),
+        cmocka_unit_test(test_bind_bad_skeleton),
         cmocka_unit_test(test_bind_boneless_part),
         cmocka_unit_test(test_narrow_gap),
         cmocka_unit_test(test_template_refusal),

@@ -61,13 +61,22 @@ static void rf_ai_refuse(rf_ai_confine *cf, const char *path, const char *why)
 }
 
 /* Notes a file Assimp asked for that is not there (a probe, or a part of the model such as an
- * Ogre mesh's .skeleton): said only if the import then fails or lacks what it needed. */
+ * Ogre mesh's .skeleton): said only if the import then lacks the skeleton it needed. */
+static bool rf_ai_listed(const char *list, const char *name)
+{
+    size_t n = strlen(name);
+    for (const char *p = list; (p = strstr(p, name)) != NULL; p += n)
+        if ((p == list || p[-1] == ' ') && (p[n] == ',' || p[n] == '\0'))
+            return true; /* a whole entry, not the end of a longer name */
+    return false;
+}
+
 static void rf_ai_note_missing(rf_ai_confine *cf, const char *path)
 {
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     size_t used = strlen(cf->missing);
-    if (strstr(cf->missing, base) || used + strlen(base) + 3 >= sizeof cf->missing)
+    if (!*base || rf_ai_listed(cf->missing, base) || used + strlen(base) + 3 >= sizeof cf->missing)
         return;
     snprintf(cf->missing + used, sizeof cf->missing - used, "%s%s", used ? ", " : "", base);
 }

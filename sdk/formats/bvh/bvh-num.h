@@ -247,4 +247,135 @@ BVH_INLINE const char *bvh_token_number(const char *s, double *out, const char *
 #define BVH_TOKEN 0
 #endif
 
+#if BVH_TOKEN && defined(__x86_64__) && defined(__GNUC__) && !defined(__clang_analyzer__)
+#include <immintrin.h>
+#define BVH_TOKEN_AVX2 1
+
+/* Entries of bvh_short_avx2's shuffle table: one per leading '-' (0 or 1), digits before the '.'
+ * (0..8) and digits in all (0..8). */
+#define BVH_SHUFFLES (2 * 9 * 9)
+
+/* Fills shuf[BVH_SHUFFLES]: entry (neg * 9 + i) * 9 + n moves the n digits of a token with neg
+ * leading '-' and i digits before its '.' (n when it has none) to bytes 8 - n .. 7, the first
+ * digit lowest, skipping the '.'; every other byte becomes 0 (an index with its high bit set). */
+static inline void bvh_shuffles_init(uint8_t (*shuf)[16])
+{
+    for (int neg = 0; neg < 2; neg++)
+        for (int i = 0; i <= 8; i++)
+            for (int n = 0; n <= 8; n++) {
+                uint8_t *e = shuf[(neg * 9 + i) * 9 + n];
+                for (int k = 0; k < 16; k++) {
+                    int j = k - (8 - n); /* the digit that lands in byte k */
+                    e[k] = k < 8 && j >= 0 ? (uint8_t)(neg + j + (j >= i)) : 0x80;
+                }
+            }
+}
+
+/* bvh_short_avx2's byte constants, made once a line (bvh_avx2_k_init). */
+typedef struct bvh_avx2_k {
+    __m128i pt, zero, nine;
+} bvh_avx2_k;
+
+__attribute__((target("avx2"))) static inline void bvh_avx2_k_init(bvh_avx2_k *k)
+{
+    k->pt = _mm_set1_epi8('.'), k->zero = _mm_set1_epi8('0'), k->nine = _mm_set1_epi8(9);
+    /* hidden from the optimiser, which would otherwise build each again from an immediate at
+     * every number (a move, a vmovd and a broadcast each) instead of keeping it in a register */
+    __asm__("" : "+x"(k->pt), "+x"(k->zero), "+x"(k->nine));
+}
+
+/* The token of len bytes at s (16 readable bytes) when it is a number of at most 8 digits with
+ * an optional leading '-' and one '.': its value in *out, true; false to leave it to
+ * bvh_number_padded. For processors with AVX2 (which have SSSE3's byte shuffles and SSE4.1's
+ * packs): the digits are moved into place by one shuffle from the table above and converted by
+ * two multiply-adds and a pack, 8 digits at once. The same tokens as bvh_token_number are taken
+ * and the same value made (the digits' integer divided by a power of ten, exact). */
+__attribute__((target("avx2"))) static inline bool bvh_short_avx2(const char *s, unsigned len,
+                                                                  double *out,
+                                                                  const uint8_t (*shuf)[16],
+                                                                  const bvh_avx2_k *k)
+{
+    /* dividing by -10^k gives the sign for free, and exactly */
+    static const double pow10[2][9] = {{1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8},
+                                       {-1e0, -1e1, -1e2, -1e3, -1e4, -1e5, -1e6, -1e7, -1e8}};
+    if (len > 10)
+        return false; /* more than '-', 8 digits and '.' */
+    __m128i b = _mm_loadu_si128((const __m128i *)(const void *)s);
+    unsigned neg = *s == '-', token = (1u << len) - 1;
+    unsigned dots = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(b, k->pt)) & token;
+    unsigned dot = dots != 0, n = len - neg - dot; /* digits, if the token is a number */
+    __m128i d = _mm_sub_epi8(b, k->zero);
+    unsigned digit = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_min_epu8(d, k->nine), d));
+    /* every byte of the token a digit but a leading '-' and the first '.' (a second is not) */
+    if (n - 1 >= 8 || ((digit | neg | (dots & -dots)) & token) != token)
+        return false;
+    unsigned i = dot ? (unsigned)__builtin_ctz(dots) - neg : n; /* digits before the '.' */
+    __m128i m = _mm_shuffle_epi8(
+        d, _mm_loadu_si128((const __m128i *)(const void *)shuf[(neg * 9 + i) * 9 + n]));
+    m = _mm_maddubs_epi16(m, _mm_set1_epi16(0x010A));  /* pairs: 10 a + b */
+    m = _mm_madd_epi16(m, _mm_set1_epi32(0x00010064)); /* quads: 100 ab + cd */
+    m = _mm_packus_epi32(m, m);                        /* each quad below 10^4 */
+    m = _mm_madd_epi16(m, _mm_set1_epi32(0x00012710)); /* 10^4 abcd + efgh */
+    /* m < 10^8: exact, and so is 10^(digits after the '.'): one correctly rounded division */
+    *out = (double)_mm_cvtsi128_si32(m) / pow10[neg][n - i];
+    return true;
+}
+
+/* Work space bvh_line_avx2 needs for a line of `count` numbers (uint32_t each). */
+#define BVH_LINE_POS(count) (2 * ((count) + 1))
+
+/* The numbers of one frame line [line, end) (end at its '\n' or NUL, BVH_PAD readable bytes after
+ * it) into v[count], with pos[BVH_LINE_POS(count)] as work space. True only when the line holds
+ * exactly `count` numbers separated by spaces, tabs or CRs, each of magnitude below 1e15; false
+ * for anything else, which the caller then reads the careful way to say what is wrong.
+ * Where each number starts and ends is found first, for the whole line, 32 bytes at a time from
+ * bit masks; the numbers are then read independently of each other. Finding the next number
+ * from the end of the one before made every number wait about 20 cycles on its predecessor;
+ * this way the processor overlaps several. */
+__attribute__((target("avx2"))) static inline bool
+bvh_line_avx2(const char *line, const char *end, double *v, size_t count, uint32_t *pos,
+              const uint8_t (*shuf)[16], const bvh_avx2_k *k)
+{
+    size_t len = (size_t)(end - line), n = 0, m = 0;
+    if (len > UINT32_MAX - 64)
+        return false;
+    uint32_t *start = pos, *stop = pos + count + 1;
+    __m256i sp = _mm256_set1_epi8(' '), tab = _mm256_set1_epi8('\t'), cr = _mm256_set1_epi8('\r');
+    uint32_t carry = 1; /* the byte before the line counts as a blank */
+    for (size_t at = 0; at <= len; at += 32) {
+        __m256i b = _mm256_loadu_si256((const __m256i *)(const void *)(line + at));
+        __m256i blank =
+            _mm256_or_si256(_mm256_or_si256(_mm256_cmpeq_epi8(b, sp), _mm256_cmpeq_epi8(b, tab)),
+                            _mm256_cmpeq_epi8(b, cr));
+        uint32_t bits = (uint32_t)_mm256_movemask_epi8(blank);
+        if (len - at < 32)
+            bits |= ~UINT32_C(0) << (len - at); /* the end and after: blank */
+        uint32_t before = (bits << 1) | carry;  /* bit i: byte i - 1 is a blank */
+        uint32_t starts = ~bits & before, ends = bits & ~before;
+        carry = bits >> 31;
+        for (; starts; starts &= starts - 1, n++) {
+            if (n == count)
+                return false; /* more numbers than channels */
+            start[n] = (uint32_t)(at + (unsigned)__builtin_ctz(starts));
+        }
+        for (; ends; ends &= ends - 1) /* as many as starts: the line ends in blanks */
+            stop[m++] = (uint32_t)(at + (unsigned)__builtin_ctz(ends));
+    }
+    if (n != count)
+        return false;
+    for (size_t i = 0; i < count; i++) {
+        const char *s = line + start[i];
+        unsigned tl = stop[i] - start[i];
+        if (!bvh_short_avx2(s, tl, v + i, shuf, k)) {
+            const char *e = bvh_number_padded(s, v + i);
+            if (e != s + tl || !(fabs(v[i]) < 1e15))
+                return false;
+        }
+    }
+    return true;
+}
+#else
+#define BVH_TOKEN_AVX2 0
+#endif
+
 #endif

@@ -4,10 +4,10 @@
  * later, mid-run, by the out-of-memory killer, with no message naming the input. A node facing
  * an input whose size it can estimate (a scan of 100 million vertices) asks first and refuses
  * with the figures. The answer is the smallest of what the system has available (MemAvailable),
- * what the process's control group may still take (cgroup v2 memory.max less memory.current: a
- * Slurm job's allocation, a container's limit) and what its address-space limit leaves (ulimit
- * -v less its size). Only files under /proc and /sys are read, with ISO C's stdio, so the header
- * builds anywhere; where none of them is found it says nothing is known.
+ * what the process's control group and those above it may still take (cgroup v2 memory.max
+ * less memory.current: a Slurm job's allocation, a container's limit) and what its address-space
+ * limit leaves (ulimit -v less its size). Only files under /proc and /sys are read, with ISO C's
+ * stdio, so the header builds anywhere; where none of them is found it says nothing is known.
  */
 #ifndef RIGFLOW_MEMORY_H
 #define RIGFLOW_MEMORY_H
@@ -61,36 +61,64 @@ static inline void rf_memory_least(bool *known, uint64_t *best, uint64_t v)
     *known = true;
 }
 
-/* The bytes this process can still allocate and use, as far as the system tells; false when
- * it tells nothing (another system: then the caller goes ahead). */
-static inline bool rf_memory_available(uint64_t *bytes)
+/* The least that cgroup v2 directory `dir` (under `root`) and each cgroup above it may still
+ * take (memory.max less memory.current) into *best. The limit is often set above the process's
+ * own cgroup: Slurm limits the job and runs the task in job/step/user/task cgroups whose
+ * memory.max reads "max". dir is cut back in place, one level at a time. */
+static inline void rf_memory_cgroup(const char *root, char *dir, bool *known, uint64_t *best)
+{
+    char path[1024];
+    for (;;) {
+        uint64_t max, used;
+        snprintf(path, sizeof path, "%s%s/memory.max", root, dir);
+        bool limited = rf_memory_read_number(path, &max);
+        snprintf(path, sizeof path, "%s%s/memory.current", root, dir);
+        if (limited && rf_memory_read_number(path, &used))
+            rf_memory_least(known, best, max > used ? max - used : 0);
+        char *slash = strrchr(dir, '/');
+        if (!slash)
+            break;
+        *slash = '\0';
+    }
+}
+
+/* rf_memory_available reading the proc file system mounted at `proc` and the cgroup v2
+ * hierarchy at `cgroup` (tests point them at made-up trees). A cgroup path longer than the
+ * line read is cut: its cgroup is not found, those above it are. */
+static inline bool rf_memory_available_at(const char *proc, const char *cgroup, uint64_t *bytes)
 {
     bool known = false;
     uint64_t best = 0, v, used;
-    if (rf_memory_read_key("/proc/meminfo", "MemAvailable:", 1024, &v))
+    char path[1024], line[512];
+    snprintf(path, sizeof path, "%s/meminfo", proc);
+    if (rf_memory_read_key(path, "MemAvailable:", 1024, &v))
         rf_memory_least(&known, &best, v);
-    /* the process's own cgroup v2 (the line "0::/path" of /proc/self/cgroup) */
-    FILE *f = fopen("/proc/self/cgroup", "r");
-    char line[512], path[600];
+    /* the process's own cgroup v2: the line "0::/path" of /proc/self/cgroup */
+    snprintf(path, sizeof path, "%s/self/cgroup", proc);
+    FILE *f = fopen(path, "r");
     while (f && fgets(line, sizeof line, f)) {
         if (strncmp(line, "0::", 3) != 0)
             continue;
         line[strcspn(line, "\n")] = '\0';
-        snprintf(path, sizeof path, "/sys/fs/cgroup%s/memory.max", line + 3);
-        uint64_t max;
-        if (rf_memory_read_number(path, &max)) {
-            snprintf(path, sizeof path, "/sys/fs/cgroup%s/memory.current", line + 3);
-            if (rf_memory_read_number(path, &used))
-                rf_memory_least(&known, &best, max > used ? max - used : 0);
-        }
+        rf_memory_cgroup(cgroup, line + 3, &known, &best);
     }
     if (f)
         fclose(f);
-    if (rf_memory_read_key("/proc/self/limits", "Max address space", 1, &v) &&
-        rf_memory_read_key("/proc/self/status", "VmSize:", 1024, &used))
+    char status[1024];
+    snprintf(path, sizeof path, "%s/self/limits", proc);
+    snprintf(status, sizeof status, "%s/self/status", proc);
+    if (rf_memory_read_key(path, "Max address space", 1, &v) &&
+        rf_memory_read_key(status, "VmSize:", 1024, &used))
         rf_memory_least(&known, &best, v > used ? v - used : 0);
     *bytes = best;
     return known;
+}
+
+/* The bytes this process can still allocate and use, as far as the system tells; false when
+ * it tells nothing (another system: then the caller goes ahead). */
+static inline bool rf_memory_available(uint64_t *bytes)
+{
+    return rf_memory_available_at("/proc", "/sys/fs/cgroup", bytes);
 }
 
 #ifdef __cplusplus
