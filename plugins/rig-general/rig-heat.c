@@ -873,9 +873,9 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     rf_rig_bd *bd = malloc((size_t)(nb ? nb : 1) * sizeof *bd);
     uint8_t *lit = calloc(p->proxy_parts + 1, 1);
     *w = calloc((size_t)p->proxy.nv * nj, sizeof **w);
-    double *plain = malloc(((size_t)p->proxy.nv * nj + 1) * sizeof *plain);
+    double *plain = NULL; /* taken once the solver's arrays are freed: the peak stays theirs */
     rf_rig_rays rays = {0};
-    bool ok = nb && src && bd && lit && *w && plain;
+    bool ok = nb && src && bd && lit && *w;
     if (!ok)
         rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok && !rf_rig_rays_make(&rays, &p->proxy, p->proxy_part))
@@ -885,6 +885,8 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
                        lit, st);
         ok = rf_rig_solve(&p->proxy, src, nj, *w, err, n);
     }
+    if (ok && !(plain = malloc(((size_t)p->proxy.nv * nj + 1) * sizeof *plain)))
+        ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok)
         rf_rig_normalise(p, bones, nb, nj, *w, plain, st);
     if (ok && p->proxy_parts > 1 && !rf_rig_part_joints(p, &rays, bones, nb, nj, *w, plain))
