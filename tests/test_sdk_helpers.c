@@ -327,6 +327,23 @@ static void memory_limit_above_own_cgroup(void **state)
     left = 0;
     assert_true(rf_memory_available_at(proc, cg, &left));
     assert_int_equal(left, 1500000000u);
+    /* cgroup v1 (this memory controller's own hierarchy, cg/memory): the job's limit of 3 GB
+     * with 1 GB used, the step below it unlimited (v1 says so with a number near 2^63): 2 GB */
+    const char *v1[] = {"cg/memory", "cg/memory/job_9", "cg/memory/job_9/step_0"};
+    for (size_t i = 0; i < sizeof v1 / sizeof *v1; i++) {
+        snprintf(dir, sizeof dir, "%s/%s", root, v1[i]);
+        assert_int_equal(mkdir(dir, 0700), 0);
+    }
+    snprintf(dir, sizeof dir, "%s/cg/memory/job_9", root);
+    put(dir, "memory.limit_in_bytes", "3000000000\n");
+    put(dir, "memory.usage_in_bytes", "1000000000\n");
+    put(dir, "step_0/memory.limit_in_bytes", "9223372036854771712\n");
+    put(dir, "step_0/memory.usage_in_bytes", "900000000\n");
+    snprintf(dir, sizeof dir, "%s/proc/self", root);
+    put(dir, "cgroup", "5:cpu,cpuacct:/job_9\n4:memory:/job_9/step_0\n0::/\n");
+    left = 0;
+    assert_true(rf_memory_available_at(proc, cg, &left));
+    assert_int_equal(left, 2000000000u);
     /* nothing there at all: nothing known, not a limit of 0 */
     assert_false(rf_memory_available_at("/nonexistent/proc", "/nonexistent/cg", &left));
     char cmd[2100];
