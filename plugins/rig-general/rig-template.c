@@ -539,38 +539,24 @@ void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32
     free(c);
 }
 
-/* A leg: thigh, shin, foot, toe. */
-static void rf_tpl_leg(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, int32_t parent,
-                       bool hind)
+/* A limb of `kind` laid along its section's curve and named, from the girdle down: a leg's
+ * thigh, shin, foot and toe, or an arm's (a foreleg's) clavicle, upper arm, forearm and hand. A
+ * foreleg's curve, as a leg's, leaves out what rises above its girdle. */
+static void rf_tpl_lay_limb(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, int32_t parent,
+                            rf_rig_limb_kind kind)
 {
+    static const char *const leg[4] = {"UpLeg", "Leg", "Foot", "ToeBase"};
+    static const char *const arm[4] = {"Shoulder", "Arm", "ForeArm", "Hand"};
+    bool is_leg = kind == RF_RIG_LIMB_LEG || kind == RF_RIG_LIMB_HIND_LEG;
     uint32_t g, first;
     rf_tpl_ends(x->a, sec, &g, &first);
     rf_tpl_curve c = {0};
     double f[4];
-    rf_tpl_limb_laid(x->k, x->a->up, girdle, first, hind ? RF_RIG_LIMB_HIND_LEG : RF_RIG_LIMB_LEG,
-                     x->lay, &c, f);
+    rf_tpl_limb_laid(x->k, x->a->up, girdle, first, kind, x->lay, &c, f);
     char nb[4][24];
-    const char *names[4] = {rf_tpl_sided(nb[0], side, "UpLeg"), rf_tpl_sided(nb[1], side, "Leg"),
-                            rf_tpl_sided(nb[2], side, "Foot"),
-                            rf_tpl_sided(nb[3], side, "ToeBase")};
-    rf_tpl_chain(x->t, &c, parent, names, f, 4);
-}
-
-/* An arm (or a foreleg): clavicle, upper arm, forearm, hand. A foreleg's curve, as a leg's,
- * leaves out what rises above its girdle. */
-static void rf_tpl_arm(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, int32_t parent,
-                       bool foreleg)
-{
-    uint32_t g, first;
-    rf_tpl_ends(x->a, sec, &g, &first);
-    rf_tpl_curve c = {0};
-    double f[4];
-    rf_tpl_limb_laid(x->k, x->a->up, girdle, first, foreleg ? RF_RIG_LIMB_FORELEG : RF_RIG_LIMB_ARM,
-                     x->lay, &c, f);
-    char nb[4][24];
-    const char *names[4] = {rf_tpl_sided(nb[0], side, "Shoulder"), rf_tpl_sided(nb[1], side, "Arm"),
-                            rf_tpl_sided(nb[2], side, "ForeArm"),
-                            rf_tpl_sided(nb[3], side, "Hand")};
+    const char *names[4];
+    for (int i = 0; i < 4; i++)
+        names[i] = rf_tpl_sided(nb[i], side, is_leg ? leg[i] : arm[i]);
     rf_tpl_chain(x->t, &c, parent, names, f, 4);
 }
 
@@ -773,9 +759,9 @@ static bool rf_tpl_humanoid(rf_tpl_ctx *x, char *err, size_t n)
                            "the humanoid template found no neck and head above the "
                            "shoulders");
     for (int s = 0; s < 2; s++)
-        rf_tpl_arm(x, s, b->arm[0][s], chest, spine2, false);
+        rf_tpl_lay_limb(x, s, b->arm[0][s], chest, spine2, RF_RIG_LIMB_ARM);
     for (int s = 0; s < 2; s++)
-        rf_tpl_leg(x, s, b->leg[0][s], hips, hips_j, false);
+        rf_tpl_lay_limb(x, s, b->leg[0][s], hips, hips_j, RF_RIG_LIMB_LEG);
     return true;
 }
 
@@ -818,9 +804,9 @@ static bool rf_tpl_quadruped(rf_tpl_ctx *x, bool declared, char *err, size_t n)
                            "forelegs");
     rf_tpl_tail(x, hips, neck, hips_j);
     for (int s = 0; s < 2; s++)
-        rf_tpl_arm(x, s ^ front, b->leg[front][s], chest, spine2, true);
+        rf_tpl_lay_limb(x, s ^ front, b->leg[front][s], chest, spine2, RF_RIG_LIMB_FORELEG);
     for (int s = 0; s < 2; s++)
-        rf_tpl_leg(x, s ^ front, b->leg[1 - front][s], hips, hips_j, true);
+        rf_tpl_lay_limb(x, s ^ front, b->leg[1 - front][s], hips, hips_j, RF_RIG_LIMB_HIND_LEG);
     const double *hp = x->k->pos + (size_t)hips * 3, *cp = x->k->pos + (size_t)chest * 3;
     x->forward = rf_v3(cp[0] - hp[0], cp[1] - hp[1], cp[2] - hp[2]);
     return true;
