@@ -8,6 +8,7 @@
 
 #include <rigflow/ik.h>
 #include <rigflow/rigflow.h>
+#include <rigflow/text.h>
 
 #include "retarget.h"
 
@@ -397,17 +398,41 @@ static const rf_node_desc rt_node = {
 
 /* ---- retarget.measure ---- */
 
-/* The mesh measures of one clip as a JSON object. */
-static void rt_mesh_json(FILE *f, const rf_rt_mesh_report *m)
+/* `text` as a JSON string: escaped for a terminal first (rf_text_escape: no control byte is
+ * left), then its quotes and backslashes for JSON. */
+static void rt_json_string(FILE *f, const char *text)
+{
+    char buf[256];
+    rf_text_escape(text, buf, sizeof buf, 0);
+    fputc('"', f);
+    for (const char *c = buf; *c; c++) {
+        if (*c == '"' || *c == '\\')
+            fputc('\\', f);
+        fputc(*c, f);
+    }
+    fputc('"', f);
+}
+
+/* The mesh measures of one clip as a JSON object (`s`: the skeleton the mesh is skinned to). */
+static void rt_mesh_json(FILE *f, const rf_rt_mesh_report *m, const rf_skeleton *s)
 {
     fprintf(f,
             "{\"frames\": %u, \"height\": %.6g, \"seams\": %u, \"seam_p99\": %.6g, "
             "\"seam_max\": %.6g, \"floor_median\": %.6g, \"floor_p95\": %.6g, \"floating\": "
             "%.6g, \"sinking\": %.6g, \"parts_below\": %.6g, \"parts_depth\": %.6g, "
-            "\"edges\": %u, \"stretch_p99\": %.6g, \"rigid\": %s}",
+            "\"edges\": %u, \"stretch_p99\": %.6g, \"rigid\": %s",
             m->frames, m->height, m->seams, m->seam_p99, m->seam_max, m->floor_median, m->floor_p95,
             m->floating, m->sinking, m->parts_below, m->parts_depth, m->edges, m->stretch_p99,
             m->rigid ? "true" : "false");
+    if (m->parts) {
+        char name[128];
+        fprintf(f,
+                ", \"parts\": %u, \"part_stretch_p99\": %.6g, \"part_joint\": %u, "
+                "\"part_edges\": %u, \"part_joint_name\": ",
+                m->parts, m->part_stretch_p99, m->part_joint, m->part_edges);
+        rt_json_string(f, rf_joint_label(s, m->part_joint, name, sizeof name));
+    }
+    fputc('}', f);
 }
 
 /* What the mesh measures found, for this clip and the character's own clip (the reference). */
@@ -416,7 +441,8 @@ typedef struct rt_mesh_figures {
     rf_rt_mesh_report clip, ref;
 } rt_mesh_figures;
 
-static void rt_report_json(FILE *f, const rf_rt_report *r, const rt_mesh_figures *m)
+static void rt_report_json(FILE *f, const rf_rt_report *r, const rt_mesh_figures *m,
+                           const rf_skeleton *s)
 {
     fprintf(f,
             "{\"fidelity_mean_deg\": %.6g, \"fidelity_p95_deg\": %.6g, \"fidelity_max_deg\": "
@@ -426,17 +452,17 @@ static void rt_report_json(FILE *f, const rf_rt_report *r, const rt_mesh_figures
             r->skate_source, r->contact_frames, r->ground_error, r->frames);
     if (m->have) {
         fputs(", \"mesh\": ", f);
-        rt_mesh_json(f, &m->clip);
+        rt_mesh_json(f, &m->clip, s);
     }
     if (m->have_ref) {
         fputs(", \"mesh_reference\": ", f);
-        rt_mesh_json(f, &m->ref);
+        rt_mesh_json(f, &m->ref, s);
     }
     fputs("}\n", f);
 }
 
 static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_report *r,
-                            const rt_mesh_figures *m)
+                            const rt_mesh_figures *m, const rf_skeleton *s)
 {
     const char *path = host->param_string(node, "path");
     if (!*path)
@@ -446,7 +472,7 @@ static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_repo
         host->error(node, "cannot write %s", host->param_output_target(node, "path"));
         return false;
     }
-    rt_report_json(f, r, m);
+    rt_report_json(f, r, m, s);
     if (fclose(f) != 0) {
         host->error(node, "cannot write %s", host->param_output_target(node, "path"));
         return false;
@@ -455,7 +481,8 @@ static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_repo
 }
 
 /* One line of mesh figures: this clip's, and beside each the reference clip's. */
-static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m)
+static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m,
+                         const rf_skeleton *s)
 {
     const rf_rt_mesh_report *c = &m->clip, *r = m->have_ref ? &m->ref : NULL;
     if (c->rigid) {
@@ -485,6 +512,14 @@ static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m)
     fprintf(out, "; stretch p99 %.1f", 100 * c->stretch_p99);
     if (r)
         fprintf(out, " [%.1f]", 100 * r->stretch_p99);
+    if (c->parts) {
+        char name[128];
+        fprintf(out, "; worst part %.1f", 100 * c->part_stretch_p99);
+        if (r && r->parts)
+            fprintf(out, " [%.1f]", 100 * r->part_stretch_p99);
+        fprintf(out, " (joint '%s', %u edges, of %u parts)",
+                rf_joint_label(s, c->part_joint, name, sizeof name), c->part_edges, c->parts);
+    }
     fprintf(out, "\n");
 }
 
@@ -511,7 +546,7 @@ static void rt_measure_mesh(const rf_host *host, rf_node *node, rf_retarget *rt,
     m->have_ref =
         ref && ref->frame_count > 1 && !m->clip.rigid &&
         rf_rt_mesh_measure(target, mesh, ref, rf_v3(0, 0, 0), frames, &m->ref, err, sizeof err);
-    rt_mesh_line(rf_node_out(host, node), label, m);
+    rt_mesh_line(rf_node_out(host, node), label, m, target);
 }
 
 static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
@@ -561,7 +596,7 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
     rt_measure_mesh(host, node, rt, start, target, &mf);
     rf_retarget_free(rt);
     fflush(out);
-    return rt_write_report(host, node, &r, &mf);
+    return rt_write_report(host, node, &r, &mf, target);
 }
 
 static const rf_port_desc rt_measure_inputs[] = {

@@ -235,6 +235,14 @@ typedef struct rf_rt_mesh_report {
     bool rigid; /* the target is a node tree whose meshes hang rigidly on a few nodes (no skin
                  * for the body): the floor figures are of its joints, bone tips and those
                  * meshes, and no seams or edges are measured (rf_retarget_mesh_measure) */
+    /* Stretch per part, so one torn limb does not hide in the whole mesh's figure: a part is the
+     * vertices one joint carries most (its heaviest weight), and an edge counts in the part of
+     * each of its ends, so the edges between two parts, where a limb tears, count in both. Parts
+     * with fewer than 12 edges are not measured alone (a handful of edges at a bend is no limb). */
+    uint32_t parts;          /* parts measured */
+    double part_stretch_p99; /* the worst part's p99 over its edges and frames, as stretch_p99 */
+    uint32_t part_joint;     /* the worst part's joint (an index into the skeleton) */
+    uint32_t part_edges;     /* the worst part's edges */
 } rf_rt_mesh_report;
 
 /* Puts a clip of this plan (rf_retarget_clip's output) on the floor of the target's skinned

@@ -835,6 +835,75 @@ static void measure_by_hand(void **state)
     rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* Adds box `b` of a boxes mesh: 1 x 2 x 1 at x = 3b, its top corners (y = 2) weighted wholly
+ * to joint `top`, its bottom ones (y = 0) to `bottom`; 12 triangles. */
+static void add_box(rf_mesh *m, uint32_t b, uint16_t top, uint16_t bottom)
+{
+    static const uint32_t tri[12][3] = {{0, 1, 2}, {0, 2, 3}, {4, 6, 5}, {4, 7, 6},
+                                        {0, 4, 5}, {0, 5, 1}, {1, 5, 6}, {1, 6, 2},
+                                        {2, 6, 7}, {2, 7, 3}, {3, 7, 4}, {3, 4, 0}};
+    static const float corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (uint32_t i = 0; i < 8; i++) {
+        uint32_t v = b * 8 + i;
+        m->positions[v * 3] = (float)(3 * b) + corner[i % 4][0];
+        m->positions[v * 3 + 1] = i < 4 ? 0.0f : 2.0f;
+        m->positions[v * 3 + 2] = corner[i % 4][1];
+        m->skin_joints[v * 4] = i < 4 ? bottom : top;
+        m->skin_weights[v * 4] = 1;
+    }
+    for (uint32_t t = 0; t < 12; t++)
+        for (uint32_t k = 0; k < 3; k++)
+            m->triangles[(b * 12 + t) * 3 + k] = b * 8 + tri[t][k];
+}
+
+/* One box torn off and the rest still: 100 boxes held by joint 1, and a last one whose top
+ * corners joint 1 holds and whose bottom ones joint 2 (1 under joint 1) holds, pulled 2 down in
+ * every frame of the clip. The torn box's vertical edges grow from 2 to 4 (stretch 1.0 exactly)
+ * and its side diagonals from sqrt(5) to sqrt(17); no other edge changes length. The whole mesh
+ * counts 36 edges a box and at most 16 of the torn box's stretch, under 1% of 3636: its p99
+ * is 0. The worst part is joint 2's: the torn box's bottom half, its largest value 1.0 (the
+ * vertical edges, a third of its edges' length) is its p99. */
+static void mesh_part_torn(void **state)
+{
+    (void)state;
+    enum { BOXES = 101 };
+    rf_skeleton *s = rf_skeleton_new(3);
+    fx_joint(s, 0, "root", -1, rf_v3(0, 0, 0), rf_quat_identity());
+    fx_joint(s, 1, "body", 0, rf_v3(0, 2, 0), rf_quat_identity());
+    fx_joint(s, 2, "leg", 1, rf_v3(0, -1, 0), rf_quat_identity());
+    rf_mesh *m = rf_mesh_new();
+    m->vertex_count = BOXES * 8, m->triangle_count = BOXES * 12;
+    m->positions = calloc((size_t)m->vertex_count * 3, sizeof *m->positions);
+    m->skin_joints = calloc((size_t)m->vertex_count * 4, sizeof *m->skin_joints);
+    m->skin_weights = calloc((size_t)m->vertex_count * 4, sizeof *m->skin_weights);
+    m->triangles = calloc((size_t)m->triangle_count * 3, sizeof *m->triangles);
+    for (uint32_t b = 0; b < BOXES; b++)
+        add_box(m, b, 1, b == BOXES - 1 ? 2 : 1);
+    rf_animation *clip = fx_rest_clip(s, 8, 30);
+    for (uint32_t f = 0; f < 8; f++)
+        rf_animation_set_translation(clip, f, 2, rf_v3(0, -3, 0));
+    rf_rt_mesh_report rep;
+    char err[256] = "";
+    assert_true(rf_rt_mesh_measure(s, m, clip, Y, 0, &rep, err, sizeof err));
+    print_message("one box torn of %u: stretch p99 %.4f, worst part %.4f (joint %u, %u edges, "
+                  "of %u parts)\n",
+                  BOXES, rep.stretch_p99, rep.part_stretch_p99, rep.part_joint, rep.part_edges,
+                  rep.parts);
+    assert_int_equal(rep.edges, BOXES * 36);
+    assert_true(rep.stretch_p99 < 1e-6);
+    assert_int_equal(rep.parts, 2);
+    assert_int_equal(rep.part_joint, 2);
+    assert_true(fabs(rep.part_stretch_p99 - 1.0) < 1e-5);
+    /* Held at rest, nothing stretches anywhere. */
+    rf_animation_free(clip);
+    clip = fx_rest_clip(s, 8, 30);
+    assert_true(rf_rt_mesh_measure(s, m, clip, Y, 0, &rep, err, sizeof err));
+    assert_true(rep.stretch_p99 < 1e-6 && rep.part_stretch_p99 < 1e-6 && rep.parts == 2);
+    rf_animation_free(clip);
+    rf_mesh_free(m);
+    rf_skeleton_free(s);
+}
+
 /* A centerline bone of another body plan keeps its source's turn about up whole and its tilt eased
  * into 10 degrees (10 tanh(a / 10)): worked by hand for a pure turn, a pure 60 degree lean
  * (10 tanh 6 = 9.99988) and a 90 degree turn after a 40 degree lean (10 tanh 4 = 9.99329). */
@@ -1089,6 +1158,7 @@ int main(void)
         cmocka_unit_test(mirror_drives_second_pair),
         cmocka_unit_test(degenerate_rest_uses_a_frame),
         cmocka_unit_test(measure_by_hand),
+        cmocka_unit_test(mesh_part_torn),
         cmocka_unit_test(contact_pass_pins_feet),
         cmocka_unit_test(contact_pass_pins_bone_tips),
         cmocka_unit_test(contact_pass_aims_one_bone_legs),
