@@ -34,3 +34,5 @@ TESTS += tests/rig/test_rig_all.sh
 EXTRA_DIST += tests/rig/test_rig_all.sh
 TESTS += tests/rig/test_rig_boxes.sh
 EXTRA_DIST += tests/rig/test_rig_boxes.sh
+TESTS += tests/rig/test_rig_looks.sh
+EXTRA_DIST += tests/rig/test_rig_looks.sh
