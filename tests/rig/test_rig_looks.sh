@@ -12,7 +12,8 @@
 #   animalia cat 62.1 / 90.5 (a foreleg box twisted into a wedge; whole mesh 48.8 / 70.3), bar 80;
 #   spider.obj 111.8 / 2546 (a leg segment drawn into a spike down to the floor; whole mesh
 #     81.1 / 99.2), bar 400.
-# The visibly torn bull frog reads 91.4 (its rig is lopsided: not measured here).
+# The visibly torn bull frog reads 91.4 (its rig is lopsided: not measured here). Then the worst
+# part's joint name, from the file, is shown escaped in the line and in the JSON report.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
 src="${RF_SRCDIR:-.}"
 data="${RF_DATA_DIR:-}"
@@ -67,4 +68,45 @@ check() { # name, mesh, bar
 check Wizard "$data/models/Wizard.glb" 150
 check animalia_cat "$data/models/creatures/animalia_cat.b3d" 80
 check spider "$testmodels/spider.obj" 400
+
+# The worst part's joint name comes from the file: with ESC, BEL and a quote in every joint name
+# (spider.obj rigged and written as glTF, its names edited), the measure line shows it escaped,
+# and the JSON report stays valid JSON holding the escaped text.
+hostile='\\u001b]0;x\\u0007\\"q'
+if ! RIGFLOW_QUIET=1 "$rigflow" run "$src/pipelines/autorig.json" -p "mesh.path=$testmodels/spider.obj" \
+    -p "export.path=$tmp/spider.gltf" >"$tmp/out" 2>&1; then
+    cat "$tmp/out"
+    echo "FAIL: autorig spider.obj to glTF"
+    exit 1
+fi
+sed "s/\"name\":\"\([a-z]*_[lrc][0-9]_[0-9]\)\"/\"name\":\"\1$hostile\"/g" "$tmp/spider.gltf" \
+    >"$tmp/hostile.gltf"
+"$rigflow" --quiet run "$src/pipelines/retarget.json" -p "source.path=$walk" \
+    -p "target.path=$tmp/hostile.gltf" -p retarget.last_frame=60 -p "export.path=$tmp/h.glb" \
+    -p "measure.path=$tmp/h.json" >"$tmp/out" 2>&1
+code=$?
+controls="$(printf '\033\007')"
+if [ "$code" -ne 0 ]; then
+    cat "$tmp/out"
+    echo "FAIL: the CMU walk onto the spider with hostile joint names: exit $code"
+    fail=1
+elif grep -q "[$controls]" "$tmp/out" "$tmp/h.json"; then
+    echo "FAIL: a control byte from a joint name reached the measure line or its report"
+    fail=1
+elif ! grep -q "^measure: mesh .*; worst part [0-9.]* (joint '[a-z]*_[lrc][0-9]_[0-9]\\\\x1b]0;x\\\\x07\"q'" \
+    "$tmp/out"; then
+    grep "^measure: mesh" "$tmp/out"
+    echo "FAIL: the worst part's joint is not named escaped in the measure line"
+    fail=1
+elif ! grep -q '"part_joint_name": "[a-z]*_[lrc][0-9]_[0-9]\\\\x1b]0;x\\\\x07\\"q"' "$tmp/h.json"; then
+    cat "$tmp/h.json"
+    echo "FAIL: the worst part's joint is not named escaped in the JSON report"
+    fail=1
+elif command -v node >/dev/null 2>&1 &&
+    ! node -e 'JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"))' "$tmp/h.json"; then
+    echo "FAIL: the measure's JSON report does not parse"
+    fail=1
+else
+    echo "PASS: the worst part's joint name shown escaped: $(sed -n "s/.*(joint \('[^,]*'\),.*/\1/p" "$tmp/out")"
+fi
 exit $fail
