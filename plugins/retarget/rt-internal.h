@@ -279,6 +279,13 @@ static inline void rf_rt_chunks_stop(rf_rt_chunks *c)
 
 /* The k-th smallest of `count` values, reordering them (rt-mesh.c). */
 double rf_rt_select(double *v, size_t count, size_t k);
+/* A value with its weight (rf_rt_weighted_quantile). */
+typedef struct rf_rt_weighted {
+    double value, weight;
+} rf_rt_weighted;
+/* The weighted q-quantile of `count` values (reordering them): the least value whose weight with
+ * that of every smaller value reaches q of the whole weight; 0 without values (rt-mesh.c). */
+double rf_rt_weighted_quantile(rf_rt_weighted *v, size_t count, double q);
 /* Height of the lowest point of joint j and everything below it (joints and bone tips, `tip`
  * in each joint's frame): the sole of a foot, toes included. */
 double rf_rt_sole(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,

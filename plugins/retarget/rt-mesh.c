@@ -326,28 +326,41 @@ static uint32_t rt_part_of(const rt_mesh_work *w, uint32_t v)
     return j < w->n ? j : w->n;
 }
 
-typedef struct rt_weighted {
-    double value, weight;
-} rt_weighted;
-
-static int rt_cmp_weighted(const void *a, const void *b)
+static void rt_swap_weighted(rf_rt_weighted *a, rf_rt_weighted *b)
 {
-    double x = ((const rt_weighted *)a)->value, y = ((const rt_weighted *)b)->value;
-    return (x > y) - (x < y);
+    rf_rt_weighted t = *a;
+    *a = *b, *b = t;
 }
 
-/* The q-quantile of `count` weighted values (sorted): the least value whose own weight and the
- * weight of all smaller ones reach q of the whole; 0 without values. */
-static double rt_weighted_quantile(rt_weighted *v, size_t count, double q)
+/* By selection, as rf_rt_select (sorting every part's edges over every frame would cost what
+ * the whole measure costs): the range left holds the answer, `below` weighs what lies before it,
+ * and each pass splits the range three ways about a pivot. */
+double rf_rt_weighted_quantile(rf_rt_weighted *v, size_t count, double q)
 {
-    double total = 0, sum = 0;
+    double total = 0, below = 0;
     for (size_t i = 0; i < count; i++)
         total += v[i].weight;
-    qsort(v, count, sizeof *v, rt_cmp_weighted);
-    for (size_t i = 0; i < count; i++)
-        if ((sum += v[i].weight) >= q * total)
-            return v[i].value;
-    return count ? v[count - 1].value : 0;
+    double target = q * total;
+    size_t lo = 0, hi = count;
+    while (lo < hi) {
+        double pivot = v[lo + (hi - lo) / 2].value, less = 0, same = 0;
+        size_t lt = lo, i = lo, gt = hi;
+        while (i < gt) {
+            if (v[i].value < pivot)
+                less += v[i].weight, rt_swap_weighted(&v[lt++], &v[i++]);
+            else if (v[i].value > pivot)
+                rt_swap_weighted(&v[i], &v[--gt]);
+            else
+                same += v[i++].weight;
+        }
+        if (lt > lo && below + less >= target)
+            hi = lt;
+        else if (below + less + same >= target || gt == hi)
+            return pivot; /* or rounding left the whole short of the target: the largest */
+        else
+            below += less + same, lo = gt;
+    }
+    return 0; /* no values */
 }
 
 /* The worst part's stretch (rf_rt_mesh_report's parts): the edges listed by the joint carrying
@@ -381,7 +394,7 @@ static bool rt_mesh_parts(const rt_mesh_work *w, const double *stretch, uint32_t
         if (jb != ja)
             list[fill[jb]++] = i;
     }
-    rt_weighted *vals = malloc(((size_t)most * frames + 1) * sizeof *vals);
+    rf_rt_weighted *vals = malloc(((size_t)most * frames + 1) * sizeof *vals);
     for (uint32_t j = 0; vals && j < w->n; j++) {
         uint32_t count = start[j + 1] - start[j];
         if (count < RT_PART_MIN_EDGES)
@@ -393,7 +406,7 @@ static bool rt_mesh_parts(const rt_mesh_work *w, const double *stretch, uint32_t
             for (uint32_t f = 0; f < frames; f++, k++)
                 vals[k].value = stretch[(size_t)f * w->edges + list[e]], vals[k].weight = len;
         }
-        double p = rt_weighted_quantile(vals, k, 0.99);
+        double p = rf_rt_weighted_quantile(vals, k, 0.99);
         if (!r->parts || p > r->part_stretch_p99)
             r->part_stretch_p99 = p, r->part_joint = j, r->part_edges = count;
         r->parts++;

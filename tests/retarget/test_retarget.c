@@ -835,6 +835,53 @@ static void measure_by_hand(void **state)
     rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+static int cmp_weighted(const void *a, const void *b)
+{
+    double x = ((const rf_rt_weighted *)a)->value, y = ((const rf_rt_weighted *)b)->value;
+    return (x > y) - (x < y);
+}
+
+/* The weighted quantile the part figures read: by hand on three values, then against sorting
+ * and summing on 2000 values drawn with ties, at several q. */
+static void weighted_quantile(void **state)
+{
+    (void)state;
+    static const double q[] = {0, 0.25, 0.5, 0.75, 0.99, 1};
+    static const double expect[] = {1, 1, 2, 2, 3, 3}; /* cumulated 1, 3, 4 of 4 */
+    for (size_t i = 0; i < sizeof q / sizeof *q; i++) {
+        rf_rt_weighted v[] = {{3, 1}, {1, 1}, {2, 2}};
+        assert_true(rf_rt_weighted_quantile(v, 3, q[i]) == expect[i]);
+    }
+    assert_true(rf_rt_weighted_quantile(NULL, 0, 0.99) == 0);
+    enum { N = 2000 };
+    rf_rt_weighted *v = malloc(N * sizeof *v), *sorted = malloc(N * sizeof *v);
+    uint32_t seed = 12345;
+    for (size_t i = 0; i < N; i++) {
+        seed = seed * 1664525u + 1013904223u;
+        v[i].value = (double)(seed >> 24 & 63); /* 64 levels: many ties */
+        seed = seed * 1664525u + 1013904223u;
+        v[i].weight = 0.01 + (double)(seed >> 16 & 1023) / 64;
+    }
+    memcpy(sorted, v, N * sizeof *v);
+    qsort(sorted, N, sizeof *sorted, cmp_weighted);
+    double total = 0;
+    for (size_t i = 0; i < N; i++)
+        total += sorted[i].weight;
+    for (size_t i = 0; i < sizeof q / sizeof *q; i++) {
+        double sum = 0, want = sorted[N - 1].value;
+        for (size_t k = 0; k < N; k++)
+            if ((sum += sorted[k].weight) >= q[i] * total) {
+                want = sorted[k].value;
+                break;
+            }
+        rf_rt_weighted *copy = malloc(N * sizeof *copy);
+        memcpy(copy, v, N * sizeof *v);
+        assert_true(rf_rt_weighted_quantile(copy, N, q[i]) == want);
+        free(copy);
+    }
+    free(v), free(sorted);
+}
+
 /* Adds box `b` of a boxes mesh: 1 x 2 x 1 at x = 3b, its top corners (y = 2) weighted wholly
  * to joint `top`, its bottom ones (y = 0) to `bottom`; 12 triangles. */
 static void add_box(rf_mesh *m, uint32_t b, uint16_t top, uint16_t bottom)
@@ -1158,6 +1205,7 @@ int main(void)
         cmocka_unit_test(mirror_drives_second_pair),
         cmocka_unit_test(degenerate_rest_uses_a_frame),
         cmocka_unit_test(measure_by_hand),
+        cmocka_unit_test(weighted_quantile),
         cmocka_unit_test(mesh_part_torn),
         cmocka_unit_test(contact_pass_pins_feet),
         cmocka_unit_test(contact_pass_pins_bone_tips),
