@@ -1,7 +1,8 @@
 #!/bin/sh
 # How auto-rigged characters look walking, per part of the mesh: the CMU walk (frames 0-240)
-# through pipelines/scan-to-animation.json (the general rigger) onto meshes that look whole on
-# their rendered sheets (doc/autorig.md, "Rendered"), and retarget.measure's worst part (the
+# through pipelines/scan-to-animation.json (the general rigger) onto meshes whose parts keep their
+# shape on their rendered sheets (doc/autorig.md, "Rendered"; the Wizard's staff comes apart in two
+# whole pieces, which the torn-limb figure reads), and retarget.measure's worst part (the
 # stretch p99 of the vertices one joint carries most, in %, each edge counting by its length)
 # under a bar per model, read from the measure's JSON report and checked against its line.
 # The bars sit between each model's figure on the code as it is and on a torn build (bone heat's
