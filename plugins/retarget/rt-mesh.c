@@ -363,37 +363,50 @@ double rf_rt_weighted_quantile(rf_rt_weighted *v, size_t count, double q)
     return 0; /* no values */
 }
 
-/* The worst part's stretch (rf_rt_mesh_report's parts): the edges listed by the joint carrying
- * each end most, then each part's p99 over its edges and all frames (`stretch`, [frame][edge]),
- * each edge counting by its rest length: how much of the part's outline stretches, as the eye
- * sees it. Unweighted, the short edges of the ring where two bones' weights blend (a thin leg's
- * knee: 1.8 units of a 400-unit spider stretched to 6) made a limb that looks whole the worst. */
-static bool rt_mesh_parts(const rt_mesh_work *w, const double *stretch, uint32_t frames,
-                          rf_rt_mesh_report *r)
+/* The edges of each part: list[start[j] .. start[j + 1]) are part j's (an edge in the part of
+ * each of its ends), part w->n holding those of vertices without weights. *most gets the edges
+ * of the largest part. Arrays the caller frees, or false when memory runs out. */
+static bool rt_parts_list(const rt_mesh_work *w, uint32_t **start_out, uint32_t **list_out,
+                          uint32_t *most)
 {
     uint32_t *start = calloc((size_t)w->n + 2, sizeof *start);
     uint32_t *fill = malloc(((size_t)w->n + 1) * sizeof *fill);
     uint32_t *list = malloc(((size_t)w->edges * 2 + 1) * sizeof *list);
-    if (!start || !fill || !list) {
-        free(start), free(fill), free(list);
-        return false;
-    }
-    for (uint32_t i = 0; i < w->edges; i++) {
+    bool ok = start && fill && list;
+    for (uint32_t i = 0; ok && i < w->edges; i++) {
         uint32_t ja = rt_part_of(w, w->edge[i * 2]), jb = rt_part_of(w, w->edge[i * 2 + 1]);
         start[ja + 1]++;
         start[jb + 1] += jb != ja;
     }
-    uint32_t most = 0;
-    for (uint32_t j = 0; j < w->n; j++)
-        most = start[j + 1] > most ? start[j + 1] : most;
-    for (uint32_t j = 0; j <= w->n; j++)
+    *most = 0;
+    for (uint32_t j = 0; ok && j < w->n; j++)
+        *most = start[j + 1] > *most ? start[j + 1] : *most;
+    for (uint32_t j = 0; ok && j <= w->n; j++)
         start[j + 1] += start[j], fill[j] = start[j];
-    for (uint32_t i = 0; i < w->edges; i++) {
+    for (uint32_t i = 0; ok && i < w->edges; i++) {
         uint32_t ja = rt_part_of(w, w->edge[i * 2]), jb = rt_part_of(w, w->edge[i * 2 + 1]);
         list[fill[ja]++] = i;
         if (jb != ja)
             list[fill[jb]++] = i;
     }
+    free(fill);
+    if (!ok)
+        free(start), free(list), start = list = NULL;
+    *start_out = start, *list_out = list;
+    return ok;
+}
+
+/* The worst part's stretch (rf_rt_mesh_report's parts): each part's p99 over its edges and all
+ * frames (`stretch`, [frame][edge]), each edge counting by its rest length: how much of the
+ * part's outline stretches, as the eye sees it. Unweighted, the short edges of the ring where two
+ * bones' weights blend (a thin leg's knee: 1.8 units of an 80-unit spider.obj stretched to 6.3)
+ * made a limb that looks whole the worst. */
+static bool rt_mesh_parts(const rt_mesh_work *w, const double *stretch, uint32_t frames,
+                          rf_rt_mesh_report *r)
+{
+    uint32_t *start, *list, most;
+    if (!rt_parts_list(w, &start, &list, &most))
+        return false;
     rf_rt_weighted *vals = malloc(((size_t)most * frames + 1) * sizeof *vals);
     for (uint32_t j = 0; vals && j < w->n; j++) {
         uint32_t count = start[j + 1] - start[j];
@@ -412,7 +425,7 @@ static bool rt_mesh_parts(const rt_mesh_work *w, const double *stretch, uint32_t
         r->parts++;
     }
     bool ok = vals != NULL;
-    free(start), free(fill), free(list), free(vals);
+    free(start), free(list), free(vals);
     return ok;
 }
 
