@@ -7,12 +7,13 @@
 # under a bar per model, read from the measure's JSON report and checked against its line.
 # The bars sit between each model's figure on the code as it is and on a torn build (bone heat's
 # sharpened rows kept in loose parts blended between their bones, as before they kept the plain
-# ones), whose sheets show the tears:
-#   Wizard 68.8 whole / torn 323.3 (a loose piece on the right leg; whole mesh 45.3 / 49.1, so
-#     the whole-mesh figure does not see it), bar 150;
-#   animalia cat 62.1 / 90.5 (a foreleg box twisted into a wedge; whole mesh 48.8 / 70.3), bar 80;
-#   spider.obj 111.8 / 2546 (a leg segment drawn into a spike down to the floor; whole mesh
-#     81.1 / 99.2), bar 400.
+# ones), sound / torn:
+#   Wizard 68.8 / 323.3 (a small loose piece on the right leg, too small to see on a sheet; whole
+#     mesh 45.3 / 49.1, so the whole-mesh figure does not see it), bar 150;
+#   animalia cat 62.1 / 90.5 (a foreleg box twisted into a wedge on the sheet; whole mesh 48.8 /
+#     70.3), bar 80;
+#   spider.obj 111.8 / 2546 (a leg segment drawn into a spike down to the floor on the sheet;
+#     whole mesh 81.1 / 99.2), bar 400.
 # The visibly torn bull frog reads 91.4 (its rig is lopsided: not measured here). Then the worst
 # part's joint name, from the file, is shown escaped in the line and in the JSON report.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
