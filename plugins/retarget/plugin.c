@@ -432,6 +432,18 @@ static void rt_mesh_json(FILE *f, const rf_rt_mesh_report *m, const rf_skeleton 
                 m->parts, m->part_stretch_p99, m->part_joint, m->part_edges);
         rt_json_string(f, rf_joint_label(s, m->part_joint, name, sizeof name));
     }
+    if (m->seam_parts) {
+        char name[128];
+        fprintf(f,
+                ", \"seam_parts\": %u, \"seam_part_p99\": %.6g, \"seam_joints\": [%u, %u], "
+                "\"seam_part_seams\": %u, \"seam_joint_names\": [",
+                m->seam_parts, m->seam_part_p99, m->seam_joints[0], m->seam_joints[1],
+                m->seam_part_seams);
+        rt_json_string(f, rf_joint_label(s, m->seam_joints[0], name, sizeof name));
+        fputs(", ", f);
+        rt_json_string(f, rf_joint_label(s, m->seam_joints[1], name, sizeof name));
+        fputc(']', f);
+    }
     fputc('}', f);
 }
 
@@ -519,6 +531,15 @@ static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m,
             fprintf(out, " [%.1f]", 100 * r->part_stretch_p99);
         fprintf(out, " (joint '%s', %u edges, of %u parts)",
                 rf_joint_label(s, c->part_joint, name, sizeof name), c->part_edges, c->parts);
+    }
+    if (c->seam_parts) {
+        char a[128], b[128];
+        fprintf(out, "; worst seam %.2f", 100 * c->seam_part_p99);
+        if (r && r->seam_parts)
+            fprintf(out, " [%.2f]", 100 * r->seam_part_p99);
+        fprintf(out, " (joints '%s' and '%s', %u of the %u seams)",
+                rf_joint_label(s, c->seam_joints[0], a, sizeof a),
+                rf_joint_label(s, c->seam_joints[1], b, sizeof b), c->seam_part_seams, c->seams);
     }
     fprintf(out, "\n");
 }

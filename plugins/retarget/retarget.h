@@ -243,6 +243,13 @@ typedef struct rf_rt_mesh_report {
     double part_stretch_p99; /* the worst part's p99 over its edges and frames, as stretch_p99 */
     uint32_t part_joint;     /* the worst part's joint (an index into the skeleton) */
     uint32_t part_edges;     /* the worst part's edges */
+    /* Torn limbs per pair of parts, so one limb pulled off its neighbour does not hide in the
+     * whole mesh's seams: the seams grouped by the two joints carrying their ends most, each
+     * group of 4 seams or more measured alone. */
+    uint32_t seam_parts;      /* pairs of parts measured */
+    double seam_part_p99;     /* the worst pair's p99 over its seams and frames, as seam_p99 */
+    uint32_t seam_joints[2];  /* its two joints (indices into the skeleton, the smaller first) */
+    uint32_t seam_part_seams; /* its seams */
 } rf_rt_mesh_report;
 
 /* Puts a clip of this plan (rf_retarget_clip's output) on the floor of the target's skinned

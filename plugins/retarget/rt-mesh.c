@@ -17,6 +17,8 @@
 #define RT_MESH_HIGH 0.15
 /* A part with fewer edges than this is not measured alone (rf_rt_mesh_report's parts). */
 #define RT_PART_MIN_EDGES 12u
+/* ... nor a pair of parts with fewer seams than this (rf_rt_mesh_report's seam_parts). */
+#define RT_SEAM_MIN_PAIRS 4u
 
 typedef struct rt_mesh_work {
     const rf_skeleton *s;
@@ -429,6 +431,43 @@ static bool rt_mesh_parts(const rt_mesh_work *w, const double *stretch, uint32_t
     return ok;
 }
 
+/* The worst pair of parts' torn-limb figure (rf_rt_mesh_report's seam_parts): the seams
+ * sorted by the two joints carrying their ends most, then each group's p99 over its seams and
+ * all frames (`drift`, [frame][seam]). */
+static bool rt_mesh_seam_parts(const rt_mesh_work *w, const double *drift, uint32_t frames,
+                               rf_rt_mesh_report *r)
+{
+    rt_cell *by = malloc(((size_t)w->seams + 1) * sizeof *by);
+    double *vals = malloc(((size_t)w->seams * frames + 1) * sizeof *vals);
+    bool ok = by && vals;
+    for (uint32_t i = 0; ok && i < w->seams; i++) {
+        uint64_t a = rt_part_of(w, w->seam[i * 2]), b = rt_part_of(w, w->seam[i * 2 + 1]);
+        by[i].key = a < b ? a << 32 | b : b << 32 | a;
+        by[i].v = i;
+    }
+    if (ok)
+        qsort(by, w->seams, sizeof *by, rt_cmp_cell);
+    for (uint32_t i = 0, end = 0; ok && i < w->seams; i = end) {
+        for (end = i; end < w->seams && by[end].key == by[i].key; end++)
+            ;
+        uint32_t a = (uint32_t)(by[i].key >> 32), b = (uint32_t)by[i].key;
+        if (end - i < RT_SEAM_MIN_PAIRS || a >= w->n || b >= w->n)
+            continue;
+        size_t k = 0;
+        for (uint32_t f = 0; f < frames; f++)
+            for (uint32_t s = i; s < end; s++)
+                vals[k++] = drift[(size_t)f * w->seams + by[s].v];
+        double p = rt_quantile(vals, k, 0.99);
+        if (!r->seam_parts || p > r->seam_part_p99) {
+            r->seam_part_p99 = p, r->seam_part_seams = end - i;
+            r->seam_joints[0] = a, r->seam_joints[1] = b;
+        }
+        r->seam_parts++;
+    }
+    free(by), free(vals);
+    return ok;
+}
+
 /* The floor figures from the per-frame lowest points. */
 static void rt_mesh_floor(rf_rt_mesh_report *r, double *low, const double *part_low,
                           uint32_t frames)
@@ -487,8 +526,9 @@ static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t fram
         rt_mesh_floor(r, low, part_low, frames);
         size_t ns = (size_t)w->seams * frames;
         r->seam_max = rt_max(drift, ns);
+        ok = w->rigid || rt_mesh_seam_parts(w, drift, frames, r);
         r->seam_p99 = rt_quantile(drift, ns, 0.99);
-        ok = w->rigid || rt_mesh_parts(w, stretch, frames, r);
+        ok = ok && (w->rigid || rt_mesh_parts(w, stretch, frames, r));
         r->stretch_p99 = rt_quantile(stretch, (size_t)w->edges * frames, 0.99);
     }
     free(high), free(low), free(part_low), free(drift), free(stretch);

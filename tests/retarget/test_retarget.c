@@ -884,7 +884,7 @@ static void weighted_quantile(void **state)
 
 /* Adds box `b` of a boxes mesh: 1 x 2 x 1 at x = 3b, its top corners (y = 2) weighted wholly
  * to joint `top`, its bottom ones (y = 0) to `bottom`; 12 triangles. */
-static void add_box(rf_mesh *m, uint32_t b, uint16_t top, uint16_t bottom)
+static void add_box_at(rf_mesh *m, uint32_t b, float x, float y, uint16_t top, uint16_t bottom)
 {
     static const uint32_t tri[12][3] = {{0, 1, 2}, {0, 2, 3}, {4, 6, 5}, {4, 7, 6},
                                         {0, 4, 5}, {0, 5, 1}, {1, 5, 6}, {1, 6, 2},
@@ -892,8 +892,8 @@ static void add_box(rf_mesh *m, uint32_t b, uint16_t top, uint16_t bottom)
     static const float corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     for (uint32_t i = 0; i < 8; i++) {
         uint32_t v = b * 8 + i;
-        m->positions[v * 3] = (float)(3 * b) + corner[i % 4][0];
-        m->positions[v * 3 + 1] = i < 4 ? 0.0f : 2.0f;
+        m->positions[v * 3] = x + corner[i % 4][0];
+        m->positions[v * 3 + 1] = y + (i < 4 ? 0.0f : 2.0f);
         m->positions[v * 3 + 2] = corner[i % 4][1];
         m->skin_joints[v * 4] = i < 4 ? bottom : top;
         m->skin_weights[v * 4] = 1;
@@ -901,6 +901,23 @@ static void add_box(rf_mesh *m, uint32_t b, uint16_t top, uint16_t bottom)
     for (uint32_t t = 0; t < 12; t++)
         for (uint32_t k = 0; k < 3; k++)
             m->triangles[(b * 12 + t) * 3 + k] = b * 8 + tri[t][k];
+}
+
+static void add_box(rf_mesh *m, uint32_t b, uint16_t top, uint16_t bottom)
+{
+    add_box_at(m, b, (float)(3 * b), 0, top, bottom);
+}
+
+/* A boxes mesh of `boxes` boxes (add_box fills them). */
+static rf_mesh *boxes_mesh(uint32_t boxes)
+{
+    rf_mesh *m = rf_mesh_new();
+    m->vertex_count = boxes * 8, m->triangle_count = boxes * 12;
+    m->positions = calloc((size_t)m->vertex_count * 3, sizeof *m->positions);
+    m->skin_joints = calloc((size_t)m->vertex_count * 4, sizeof *m->skin_joints);
+    m->skin_weights = calloc((size_t)m->vertex_count * 4, sizeof *m->skin_weights);
+    m->triangles = calloc((size_t)m->triangle_count * 3, sizeof *m->triangles);
+    return m;
 }
 
 /* One box torn off and the rest still: 100 boxes held by joint 1, and a last one whose top
@@ -918,12 +935,7 @@ static void mesh_part_torn(void **state)
     fx_joint(s, 0, "root", -1, rf_v3(0, 0, 0), rf_quat_identity());
     fx_joint(s, 1, "body", 0, rf_v3(0, 2, 0), rf_quat_identity());
     fx_joint(s, 2, "leg", 1, rf_v3(0, -1, 0), rf_quat_identity());
-    rf_mesh *m = rf_mesh_new();
-    m->vertex_count = BOXES * 8, m->triangle_count = BOXES * 12;
-    m->positions = calloc((size_t)m->vertex_count * 3, sizeof *m->positions);
-    m->skin_joints = calloc((size_t)m->vertex_count * 4, sizeof *m->skin_joints);
-    m->skin_weights = calloc((size_t)m->vertex_count * 4, sizeof *m->skin_weights);
-    m->triangles = calloc((size_t)m->triangle_count * 3, sizeof *m->triangles);
+    rf_mesh *m = boxes_mesh(BOXES);
     for (uint32_t b = 0; b < BOXES; b++)
         add_box(m, b, 1, b == BOXES - 1 ? 2 : 1);
     rf_animation *clip = fx_rest_clip(s, 8, 30);
@@ -946,6 +958,48 @@ static void mesh_part_torn(void **state)
     clip = fx_rest_clip(s, 8, 30);
     assert_true(rf_rt_mesh_measure(s, m, clip, Y, 0, &rep, err, sizeof err));
     assert_true(rep.stretch_p99 < 1e-6 && rep.part_stretch_p99 < 1e-6 && rep.parts == 2);
+    rf_animation_free(clip);
+    rf_mesh_free(m);
+    rf_skeleton_free(s);
+}
+
+/* One limb pulled off its neighbour among many that hold: 101 stacks of two boxes, the upper
+ * box on joint 1, the lower one touching it (4 corners shared) on joint 3 (still, under joint 1)
+ * in 100 stacks and on joint 2 (pulled 2 down in every frame) in the last. The mesh is 4 high,
+ * so the last stack's 4 seams drift 2 / 4 = 0.5 and the other 400 do not move: the whole mesh's
+ * torn-limb p99 is 0 (4 of 404 seams), the pair of joints 1 and 2 reads 0.5. */
+static void mesh_seam_torn(void **state)
+{
+    (void)state;
+    enum { STACKS = 101 };
+    rf_skeleton *s = rf_skeleton_new(4);
+    fx_joint(s, 0, "root", -1, rf_v3(0, 0, 0), rf_quat_identity());
+    fx_joint(s, 1, "arm", 0, rf_v3(0, 4, 0), rf_quat_identity());
+    fx_joint(s, 2, "hand", 1, rf_v3(0, -2, 0), rf_quat_identity());
+    fx_joint(s, 3, "cuff", 1, rf_v3(0, -2, 0), rf_quat_identity());
+    rf_mesh *m = boxes_mesh(STACKS * 2);
+    for (uint32_t b = 0; b < STACKS; b++) {
+        add_box_at(m, b * 2, (float)(3 * b), 2, 1, 1);
+        add_box_at(m, b * 2 + 1, (float)(3 * b), 0, b == STACKS - 1 ? 2 : 3,
+                   b == STACKS - 1 ? 2 : 3);
+    }
+    rf_animation *clip = fx_rest_clip(s, 8, 30);
+    for (uint32_t f = 0; f < 8; f++)
+        rf_animation_set_translation(clip, f, 2, rf_v3(0, -4, 0));
+    rf_rt_mesh_report rep;
+    char err[256] = "";
+    assert_true(rf_rt_mesh_measure(s, m, clip, Y, 0, &rep, err, sizeof err));
+    print_message("one stack pulled apart of %u: torn p99 %.4f, worst seam %.4f (joints %u and "
+                  "%u, %u of %u seams, of %u pairs of joints)\n",
+                  STACKS, rep.seam_p99, rep.seam_part_p99, rep.seam_joints[0], rep.seam_joints[1],
+                  rep.seam_part_seams, rep.seams, rep.seam_parts);
+    assert_int_equal(rep.seams, STACKS * 4);
+    assert_true(rep.seam_p99 < 1e-6);
+    assert_int_equal(rep.seam_parts, 2);
+    assert_int_equal(rep.seam_joints[0], 1);
+    assert_int_equal(rep.seam_joints[1], 2);
+    assert_int_equal(rep.seam_part_seams, 4);
+    assert_true(fabs(rep.seam_part_p99 - 0.5) < 1e-6);
     rf_animation_free(clip);
     rf_mesh_free(m);
     rf_skeleton_free(s);
@@ -1207,6 +1261,7 @@ int main(void)
         cmocka_unit_test(measure_by_hand),
         cmocka_unit_test(weighted_quantile),
         cmocka_unit_test(mesh_part_torn),
+        cmocka_unit_test(mesh_seam_torn),
         cmocka_unit_test(contact_pass_pins_feet),
         cmocka_unit_test(contact_pass_pins_bone_tips),
         cmocka_unit_test(contact_pass_aims_one_bone_legs),
