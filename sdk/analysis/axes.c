@@ -453,6 +453,26 @@ static uint32_t far_leaf(const rf_awork *w, const rf_limb *l)
     return l->end;
 }
 
+/* Appends to pts the tips of the chain that goes on past a limb's far point, one child after
+ * another, and returns the new count; *last is the chain's last joint. The far point is the tip
+ * farthest from where the limb leaves the body, and a folded leg's foot turns back towards the
+ * body from there (a sitting frog's shin runs back and down, its foot forward): the foot is
+ * the chain's last bone, not the bone reaching farthest. A guessed leaf is left to far_leaf. */
+static uint32_t chain_past_far(const rf_awork *w, const rf_limb *l, rf_vec3 *pts, uint32_t np,
+                               uint32_t max, uint32_t *last)
+{
+    uint32_t j = l->end;
+    while (np < max && rf_an_child_count(w, j) == 1) {
+        uint32_t ch = w->child_idx[w->child_off[j]];
+        if (w->limb_of[ch] != (int32_t)l->root || (w->a->joints[ch].flags & RF_JI_TIP_GUESSED))
+            break;
+        pts[np++] = w->a->joints[ch].tip;
+        j = ch;
+    }
+    *last = j;
+    return np;
+}
+
 /* Feet: the part of a grounded limb near the ground points forward. Knees of a biped bend
  * forward. Both measured along c (forward up to sign). */
 static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32_t *legs)
@@ -470,10 +490,14 @@ static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32
         if (!l->leg)
             continue;
         (*legs)++;
+        uint32_t last;
+        np = chain_past_far(w, l, pts, np, 62, &last);
+        for (uint32_t k = 0; k < np; k++)
+            low = fmin(low, rf_an_height(w, pts[k]));
         /* A leaf's guessed tip points the right way in a rig with a bone axis: the foot may be
          * that leaf, measured along its own bone (a guessed length would weigh the bones above
          * it: a digitigrade shin running back to the hock is no foot). */
-        const rf_joint_info *end = &w->a->joints[far_leaf(w, l)];
+        const rf_joint_info *end = &w->a->joints[last == l->end ? far_leaf(w, l) : last];
         bool guessed_leaf = false;
         if (w->conv_axis >= 0 && (end->flags & RF_JI_TIP_GUESSED) &&
             rf_v3_dist(end->tip, pts[np - 1]) > w->eps)

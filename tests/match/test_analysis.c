@@ -615,6 +615,37 @@ static void test_digitigrade_foot_leaf(void **state)
     rf_skeleton_free(s);
 }
 
+/* A sitting frog facing +Z: each hind leg's shin runs back and down from the hip and its foot
+ * forward again along the ground, so the tip farthest from the hip is the heel. The foot that
+ * votes for the facing is the chain's last bone (toes forward), not the bone reaching farthest
+ * (the shin, pointing back); the head, higher at the front, agrees. Any yaw, any scale. */
+static void test_folded_hind_feet(void **state)
+{
+    (void)state;
+    static const sb_joint frog[] = {
+        {"torso", NULL, 0, 0.23, -0.18, 0},        {"head", "torso", 0, 0.40, 0.25, 0},
+        {".", "head", 0, 0.30, 0.50, 0},           {"l_leg", "torso", 0.28, 0.23, -0.18, 0},
+        {"l_foot", "l_leg", 0.28, 0.03, -0.40, 0}, {".", "l_foot", 0.32, 0.03, -0.08, 0},
+        {"r_leg", "torso", -0.28, 0.23, -0.18, 0}, {"r_foot", "r_leg", -0.28, 0.03, -0.40, 0},
+        {".", "r_foot", -0.32, 0.03, -0.08, 0},    {"l_arm", "torso", 0.28, 0.25, 0.16, 0},
+        {".", "l_arm", 0.26, 0.0, 0.18, 0},        {"r_arm", "torso", -0.28, 0.25, 0.16, 0},
+        {".", "r_arm", -0.26, 0.0, 0.18, 0},
+    };
+    const double yaws[] = {0, 90, 180, 270, 35};
+    for (size_t i = 0; i < SB_COUNT(yaws); i++) {
+        rf_quat r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), yaws[i] * RF_PI / 180);
+        rf_skeleton *s = sb_build_xf(frog, SB_COUNT(frog), r, 3.0, rf_v3(1, 0, -4));
+        rf_analysis *a = rf_analyze(s, NULL);
+        assert_non_null(a);
+        check_consistent(a);
+        assert_near_dir(a->up, rf_v3(0, 1, 0));
+        assert_near_dir(a->forward, rf_quat_rotate(r, rf_v3(0, 0, 1)));
+        assert_true(a->forward_cues[0] > 0); /* the feet agree */
+        rf_analysis_free(a);
+        rf_skeleton_free(s);
+    }
+}
+
 /* A rest pose with every bone along +X (Maya joint orients at zero rotation) is no body; the
  * clip shows it: its first frame repeats the line, the next two are the biped. */
 static void test_degenerate_rest(void **state)
@@ -949,6 +980,7 @@ int main(void)
         cmocka_unit_test(test_measures),
         cmocka_unit_test(test_partial_skin_and_fold),
         cmocka_unit_test(test_digitigrade_foot_leaf),
+        cmocka_unit_test(test_folded_hind_feet),
         cmocka_unit_test(test_degenerate_rest),
         cmocka_unit_test(test_socket),
         cmocka_unit_test(test_folded_leaf),
