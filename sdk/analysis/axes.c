@@ -4,7 +4,8 @@
  * away from: weighted by how much of each limb's reach points down and how steadily its chain
  * descends (a wing, a limb ending in a fan of long digits, at half weight), plus a bonus when a
  * mirrored pair of limbs touches the lowest level (feet on the ground), one for the ground the feet
- * span when the body stands over them, and a small one for the axis the file declares. Forward is
+ * span when the body stands over them, and one for the axis the file declares (RF_FILE_UP_VOTE,
+ * deciding close calls). Forward is
  * then one of two directions; its sign is voted by the feet (toes point forward), by the knees of a
  * biped and by the file. */
 #include <math.h>
@@ -355,6 +356,14 @@ int rf_up_dissent(const rf_analysis *a)
     return worst;
 }
 
+/* The declared up's vote: it decides close calls between the limbs' readings. A body lying
+ * level with its limbs flat (a bat on its belly, wings spread; a wyvern's curve skeleton with
+ * wings laid out) has its limbs hang nearly as well under the axis it lies along as under its
+ * real up, and 0.3 let the animalia bat's and the general rigger's jungle wyvern stand on their
+ * tails; 0.45 reads both right. It stays well under what the limbs and ground of a plain body
+ * give (0.8 also stood the artist's bat right, but cost the retarget sweep two passing runs). */
+#define RF_FILE_UP_VOTE 0.45
+
 static void detect_up(rf_awork *w, rf_limbs *ls)
 {
     rf_analysis *a = w->a;
@@ -376,7 +385,7 @@ static void detect_up(rf_awork *w, rf_limbs *ls)
         if (ls->n)
             up_score(w, ls, cands[c], c, cue[c]);
         cue[c][0] *= strength, cue[c][1] *= strength;
-        cue[c][2] = have_file && rf_v3_dot(cands[c], fu) > 0.9 ? 0.3 : 0;
+        cue[c][2] = have_file && rf_v3_dot(cands[c], fu) > 0.9 ? RF_FILE_UP_VOTE : 0;
         score[c] = cue[c][0] + cue[c][1] + cue[c][2];
         if (score[c] > score[best])
             best = c;

@@ -646,6 +646,58 @@ static void test_folded_hind_feet(void **state)
     }
 }
 
+/* The curve skeleton the general rigger drew in the animalia bat (positions rounded), which lies
+ * on its belly with its wings spread level (+Y up, facing -Z: its mesh spans 0.34 in Y against
+ * 1.5 across and 0.76 along, its feet on y = 0). Its legs trail back along the ground, so under
+ * -Z (stood on its tail) its limbs hang a little better than under +Y, where they lie flat:
+ * the file's declared +Y decides the close call. Any yaw. */
+static void test_lying_bat_declared_up(void **state)
+{
+    (void)state;
+    static const sb_joint bat[] = {
+        {"spine0", NULL, 0, 0.094, 0.078, 0},
+        {"spine1", "spine0", 0, 0.120, -0.143, 0},
+        {"head", "spine1", 0, 0.163, -0.328, 0},
+        {".", "head", 0.055, 0.219, -0.328, 0},
+        {"ear_r", "spine1", -0.137, 0.258, -0.203, 0},
+        {".", "ear_r", -0.172, 0.344, -0.203, 0},
+        {"ear_l", "spine1", 0.137, 0.258, -0.203, 0},
+        {".", "ear_l", 0.172, 0.344, -0.203, 0},
+        {"leg_r0", "spine0", -0.048, 0.062, 0.147, 0},
+        {"leg_r1", "leg_r0", -0.097, 0.030, 0.218, 0},
+        {"leg_r2", "leg_r1", -0.152, 0.003, 0.387, 0},
+        {"leg_r3", "leg_r2", -0.158, 0.002, 0.398, 0},
+        {".", "leg_r3", -0.172, 0.0, 0.422, 0},
+        {"leg_l0", "spine0", 0.048, 0.062, 0.147, 0},
+        {"leg_l1", "leg_l0", 0.097, 0.030, 0.218, 0},
+        {"leg_l2", "leg_l1", 0.152, 0.003, 0.387, 0},
+        {"leg_l3", "leg_l2", 0.158, 0.002, 0.398, 0},
+        {".", "leg_l3", 0.172, 0.0, 0.422, 0},
+        {"arm_r0", "spine1", -0.115, 0.122, -0.078, 0},
+        {"arm_r1", "arm_r0", -0.131, 0.122, -0.069, 0},
+        {"arm_r2", "arm_r1", -0.277, 0.125, 0.012, 0},
+        {"arm_r3", "arm_r2", -0.710, 0.125, 0.046, 0},
+        {".", "arm_r3", -0.750, 0.125, -0.133, 0},
+        {"arm_l0", "spine1", 0.115, 0.122, -0.078, 0},
+        {"arm_l1", "arm_l0", 0.131, 0.122, -0.069, 0},
+        {"arm_l2", "arm_l1", 0.277, 0.125, 0.012, 0},
+        {"arm_l3", "arm_l2", 0.710, 0.125, 0.046, 0},
+        {".", "arm_l3", 0.750, 0.125, -0.133, 0},
+    };
+    const double yaws[] = {0, 90, 200};
+    for (size_t i = 0; i < SB_COUNT(yaws); i++) {
+        rf_quat r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), yaws[i] * RF_PI / 180);
+        rf_skeleton *s = sb_build_xf(bat, SB_COUNT(bat), r, 2.0, rf_v3(0, 0, 0));
+        s->up = rf_v3(0, 1, 0);
+        rf_analysis *a = rf_analyze(s, NULL);
+        assert_non_null(a);
+        check_consistent(a);
+        assert_near_dir(a->up, rf_v3(0, 1, 0));
+        rf_analysis_free(a);
+        rf_skeleton_free(s);
+    }
+}
+
 /* A rest pose with every bone along +X (Maya joint orients at zero rotation) is no body; the
  * clip shows it: its first frame repeats the line, the next two are the biped. */
 static void test_degenerate_rest(void **state)
@@ -981,6 +1033,7 @@ int main(void)
         cmocka_unit_test(test_partial_skin_and_fold),
         cmocka_unit_test(test_digitigrade_foot_leaf),
         cmocka_unit_test(test_folded_hind_feet),
+        cmocka_unit_test(test_lying_bat_declared_up),
         cmocka_unit_test(test_degenerate_rest),
         cmocka_unit_test(test_socket),
         cmocka_unit_test(test_folded_leaf),
