@@ -698,6 +698,48 @@ static void test_lying_bat_declared_up(void **state)
     }
 }
 
+/* A quadruped rooted the way a curve skeleton is: the root low between the hind legs, the spine
+ * rising from it to the pelvis and running forward, the tail leaving the pelvis upwards and then
+ * back. The rear girdle (the root) carries no tail, so the chain behind it off the spine is the
+ * tail, all of it: its first bone turns from the spine's, which is no reason to cut the chain. */
+static void test_tail_off_spine(void **state)
+{
+    (void)state;
+    static const sb_joint quad[] = {
+        {"root", NULL, 0, 0.85, 0.50, 0},        {"pelvis", "root", 0, 1.00, 0.50, 0},
+        {"spine1", "pelvis", 0, 1.05, 0.20, 0},  {"spine2", "spine1", 0, 1.05, -0.10, 0},
+        {"chest", "spine2", 0, 1.00, -0.40, 0},  {"neck", "chest", 0, 1.20, -0.60, 0},
+        {"head", "neck", 0, 1.35, -0.75, 0},     {".", "head", 0, 1.30, -0.95, 0},
+        {"tail1", "pelvis", 0, 1.10, 0.55, 0},   {"tail2", "tail1", 0, 1.05, 0.75, 0},
+        {"tail3", "tail2", 0, 0.95, 0.95, 0},    {".", "tail3", 0, 0.85, 1.15, 0},
+        {"fl1", "chest", -0.15, 0.90, -0.40, 0}, {"fl2", "fl1", -0.15, 0.50, -0.36, 0},
+        {"fl3", "fl2", -0.15, 0.10, -0.42, 0},   {"fl4", "fl3", -0.15, 0.02, -0.50, 0},
+        {".", "fl4", -0.15, 0.0, -0.56, 0},      {"fr1", "chest", 0.15, 0.90, -0.40, 0},
+        {"fr2", "fr1", 0.15, 0.50, -0.36, 0},    {"fr3", "fr2", 0.15, 0.10, -0.42, 0},
+        {"fr4", "fr3", 0.15, 0.02, -0.50, 0},    {".", "fr4", 0.15, 0.0, -0.56, 0},
+        {"hl1", "root", -0.15, 0.80, 0.50, 0},   {"hl2", "hl1", -0.15, 0.55, 0.40, 0},
+        {"hl3", "hl2", -0.15, 0.30, 0.55, 0},    {"hl4", "hl3", -0.15, 0.03, 0.50, 0},
+        {".", "hl4", -0.15, 0.0, 0.44, 0},       {"hr1", "root", 0.15, 0.80, 0.50, 0},
+        {"hr2", "hr1", 0.15, 0.55, 0.40, 0},     {"hr3", "hr2", 0.15, 0.30, 0.55, 0},
+        {"hr4", "hr3", 0.15, 0.03, 0.50, 0},     {".", "hr4", 0.15, 0.0, 0.44, 0},
+    };
+    const double yaws[] = {0, 90, 215};
+    for (size_t i = 0; i < SB_COUNT(yaws); i++) {
+        rf_quat r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), yaws[i] * RF_PI / 180);
+        rf_skeleton *s = sb_build_xf(quad, SB_COUNT(quad), r, 1.5, rf_v3(2, 0, 1));
+        rf_analysis *a = rf_analyze(s, NULL);
+        assert_non_null(a);
+        check_consistent(a);
+        assert_near_dir(a->forward, rf_quat_rotate(r, rf_v3(0, 0, -1)));
+        assert_section(a, s, "tail1", RF_SECTION_TAIL, RF_SIDE_CENTER);
+        assert_section(a, s, "tail3", RF_SECTION_TAIL, RF_SIDE_CENTER);
+        assert_int_equal(section_of(a, s, "tail1")->bone_count, 3);
+        assert_section(a, s, "hl2", RF_SECTION_LEG, RF_SIDE_LEFT);
+        rf_analysis_free(a);
+        rf_skeleton_free(s);
+    }
+}
+
 /* A rest pose with every bone along +X (Maya joint orients at zero rotation) is no body; the
  * clip shows it: its first frame repeats the line, the next two are the biped. */
 static void test_degenerate_rest(void **state)
@@ -1034,6 +1076,7 @@ int main(void)
         cmocka_unit_test(test_digitigrade_foot_leaf),
         cmocka_unit_test(test_folded_hind_feet),
         cmocka_unit_test(test_lying_bat_declared_up),
+        cmocka_unit_test(test_tail_off_spine),
         cmocka_unit_test(test_degenerate_rest),
         cmocka_unit_test(test_socket),
         cmocka_unit_test(test_folded_leaf),
