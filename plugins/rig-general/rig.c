@@ -38,10 +38,13 @@ static bool rf_rig_name(rf_skeleton *s, rf_vec3 up, rf_vec3 forward)
         }
         ok = (s->joints[j].name = rf_strdup(name)) != NULL;
     }
-    if (rf_v3_len(up) == 0) {
+    /* What the file left unknown, the analysis's reading. A facing is kept however weak its
+     * margin: the matcher reads the same rig the same way, and a format with fixed axes (glTF)
+     * is written turned by it, so the exported rig reads back as the rig in memory is read. */
+    if (rf_v3_len(up) == 0)
         s->up = a->up;
-        s->forward = a->forward_confidence >= 0.3 ? a->forward : rf_v3(0, 0, 0);
-    }
+    if (rf_v3_len(forward) == 0)
+        s->forward = a->forward_confidence > 0 ? a->forward : rf_v3(0, 0, 0);
     rf_analysis_free(a);
     return ok;
 }
