@@ -791,6 +791,13 @@ static bool rf_rig_boneless_owners(const rf_rig_prep *p, const uint8_t *bends, c
     return true;
 }
 
+/* A part enclosing the bones of this many joints or more, with at least four vertices for each,
+ * is a piece modelled to deform (a head carrying a jaw, lips, eyes and a ponytail; an arm with
+ * its hand), not a box: the boxes of the artists' box models hold the bones of one to four
+ * joints, and a box of eight corners holding many of the rigger's own short bones cannot bend
+ * between them; BCN_Epileptic's head holds eleven joints' bones in 874 vertices. */
+#define RF_RIG_PIECE_JOINTS 5
+
 /* A loose part that encloses bones is moved by the joints whose bones it encloses, and only by
  * them: a sleeve over an elbow by the upper arm and the forearm, not by the chest beside it.
  * When one joint holds seven tenths of the bone length inside it or more, by that joint alone,
@@ -798,9 +805,12 @@ static bool rf_rig_boneless_owners(const rf_rig_prep *p, const uint8_t *bends, c
  * touches and shears it. Blended between its own joints, such a part keeps bone heat's plain
  * rows (plain[], not sharpened): sharpening sends each corner of a box to the joint nearest
  * it, a thigh box's top corners to the hips and its bottom ones to the knee, and tears the box
- * into a wedge as they turn. A closed part enclosing no bone moves with the joint bone heat
- * gives most of it (rf_rig_boneless_owners); an open one keeps its weights, and so does the
- * part with the largest surface (the body). */
+ * into a wedge as they turn. A part enclosing the bones of RF_RIG_PIECE_JOINTS joints or more
+ * is weighted as the body is, sharpened, among its own joints, and never moved by one alone: a
+ * head holding the neck's bone and the short bones of its face and jaw would go stiff with the
+ * neck. A closed part enclosing no bone moves with the joint bone heat gives most of it
+ * (rf_rig_boneless_owners); an open one keeps its weights, and so does the part with the
+ * largest surface (the body). */
 static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
                                const rf_rig_bone *bones, uint32_t nb, uint32_t nj, double *w,
                                const double *plain)
@@ -815,15 +825,19 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
              *touched = malloc((np + 1) * sizeof *touched);
     uint8_t *bends =
         calloc(np + 1, 1); /* parts that keep bone heat's blend (rf_rig_boneless_owners) */
-    bool ok =
-        held && sum && ahead && behind && crossed && area && owner && inside && touched && bends;
+    uint8_t *piece = calloc(np + 1, 1); /* parts holding RF_RIG_PIECE_JOINTS joints' bones */
+    bool ok = held && sum && ahead && behind && crossed && area && owner && inside && touched &&
+              bends && piece;
     if (ok)
         rf_rig_held(rays, bones, nb, nj, 4 * p->longest, held, sum, ahead, behind, crossed, inside,
                     touched);
     if (ok)
         rf_rig_around(rays, bones, nb, 4 * p->longest, ahead, behind, crossed, bends);
     ok = ok && rf_rig_open_parts(p, bends);
-    uint32_t largest = 0;
+    uint32_t largest = 0, *verts = ok ? calloc(np + 1, sizeof *verts) : NULL;
+    ok = ok && verts;
+    for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
+        verts[p->proxy_part[i]]++;
     for (uint32_t t = 0; ok && t < p->proxy.nt; t++) {
         double cot[3];
         area[p->proxy_part[p->proxy.t[t * 3]]] += rf_rig_tri(&p->proxy, t, cot);
@@ -832,10 +846,11 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         largest = area[part] > area[largest] ? part : largest;
         owner[part] = RF_RIG_NONE;
         const double *h = held + (size_t)part * nj;
-        uint32_t best = 0;
+        uint32_t best = 0, joints = h[0] > 0;
         for (uint32_t j = 1; j < nj; j++)
-            best = h[j] > h[best] ? j : best;
-        if (sum[part] > 0 && h[best] >= 0.7 * sum[part])
+            best = h[j] > h[best] ? j : best, joints += h[j] > 0;
+        piece[part] = joints >= RF_RIG_PIECE_JOINTS && verts[part] >= 4 * joints;
+        if (sum[part] > 0 && h[best] >= 0.7 * sum[part] && !piece[part])
             owner[part] = best;
     }
     if (ok)
@@ -844,7 +859,8 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
         if (p->proxy_part[i] != largest && sum[p->proxy_part[i]] > 0 &&
             owner[p->proxy_part[i]] == RF_RIG_NONE) {
-            memcpy(w + (size_t)i * nj, plain + (size_t)i * nj, nj * sizeof *w);
+            if (!piece[p->proxy_part[i]])
+                memcpy(w + (size_t)i * nj, plain + (size_t)i * nj, nj * sizeof *w);
             rf_rig_keep_enclosed(held + (size_t)p->proxy_part[i] * nj, nj, w + (size_t)i * nj);
         }
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++) {
@@ -855,7 +871,7 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         w[(size_t)i * nj + j] = 1;
     }
     free(held), free(sum), free(ahead), free(behind), free(crossed), free(area), free(owner);
-    free(inside), free(touched), free(bends);
+    free(inside), free(touched), free(bends), free(piece), free(verts);
     return ok;
 }
 
