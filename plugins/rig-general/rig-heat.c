@@ -791,6 +791,18 @@ static bool rf_rig_boneless_owners(const rf_rig_prep *p, const uint8_t *bends, c
     return true;
 }
 
+/* Whether bone heat gives joint j more than half of loose part q (the mean of its vertices'
+ * weights). */
+static bool rf_rig_heat_agrees(const rf_rig_prep *p, uint32_t q, uint32_t nj, const double *w,
+                               uint32_t j)
+{
+    double share = 0, n = 0;
+    for (uint32_t i = 0; i < p->proxy.nv; i++)
+        if (p->proxy_part[i] == q)
+            share += w[(size_t)i * nj + j], n++;
+    return share > 0.5 * n;
+}
+
 /* A part enclosing the bones of this many joints or more, with at least four vertices for each,
  * is a piece modelled to deform (a head carrying a jaw, lips, eyes and a ponytail; an arm with
  * its hand), not a box: the boxes of the artists' box models hold the bones of one to four
@@ -808,9 +820,12 @@ static bool rf_rig_boneless_owners(const rf_rig_prep *p, const uint8_t *bends, c
  * into a wedge as they turn. A part enclosing the bones of RF_RIG_PIECE_JOINTS joints or more
  * is weighted as the body is, sharpened, among its own joints, and never moved by one alone: a
  * head holding the neck's bone and the short bones of its face and jaw would go stiff with the
- * neck. A closed part enclosing no bone moves with the joint bone heat gives most of it
- * (rf_rig_boneless_owners); an open one keeps its weights, and so does the part with the
- * largest surface (the body). */
+ * neck. The part with the largest surface (the body) moves with one joint only when bone heat
+ * agrees, giving that joint more than half of it: a box model's body box holding the torso's
+ * bone (the animalia bird's, the owl's), a robot's head piece holding the head's; a bat's body
+ * box, which holds the torso's bone but carries the roots of the head and the wings, keeps its
+ * weights. A closed part enclosing no bone moves with the joint bone heat gives most of it
+ * (rf_rig_boneless_owners); an open one keeps its weights. */
 static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
                                const rf_rig_bone *bones, uint32_t nb, uint32_t nj, double *w,
                                const double *plain)
@@ -853,7 +868,8 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         if (sum[part] > 0 && h[best] >= 0.7 * sum[part] && !piece[part])
             owner[part] = best;
     }
-    if (ok)
+    if (ok && owner[largest] != RF_RIG_NONE &&
+        !rf_rig_heat_agrees(p, largest, nj, w, owner[largest]))
         owner[largest] = RF_RIG_NONE;
     ok = ok && rf_rig_boneless_owners(p, bends, sum, largest, nj, w, owner);
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
