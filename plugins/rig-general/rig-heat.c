@@ -369,6 +369,28 @@ static int rf_rig_bd_cmp(const void *pa, const void *pb)
     return a->d < b->d ? -1 : a->d > b->d;
 }
 
+/* Three bones or more meeting at one point (a wrist with fingers fanning from one pivot, a
+ * pelvis with the legs and the spine) are equally near every vertex whose nearest point on each
+ * is that point. The one bone ending there (the limb leading into the junction) heats such a
+ * vertex, not whichever two branches the sort put first: the fire dragon's wing membranes, whose
+ * corners at the wrist its artist gave to the forearm, 68% -> 69% (doc/autorig.md). Returns
+ * that bone's joint, or RF_RIG_NONE for two bones (a bend: both heat it) or no single ending
+ * one. bd is sorted, bd[k] the bone chosen, tie the tolerance of equal distances. */
+static uint32_t rf_rig_junction(const double q[3], const rf_rig_bone *bones, uint32_t nb,
+                                const rf_rig_bd *bd, uint32_t k, double tie)
+{
+    uint32_t meeting = 0, ending = RF_RIG_NONE, ends = 0;
+    for (uint32_t t = k; t < nb && t < 8 && bd[t].d - bd[k].d <= tie; t++) {
+        const rf_rig_bone *b = &bones[bd[t].b];
+        double c[3];
+        rf_rig_seg_dist(q, b, c);
+        meeting++;
+        if (!memcmp(c, b->b, sizeof c) && memcmp(b->a, b->b, sizeof c))
+            ending = b->joint, ends++;
+    }
+    return meeting >= 3 && ends == 1 ? ending : RF_RIG_NONE;
+}
+
 /* The nearest bone each vertex sees (trying the 8 nearest); src[i].h = 0 when it sees none. A
  * loose part where no vertex sees a bone takes its nearest bones unseen. */
 static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint32_t nb,
@@ -420,6 +442,10 @@ static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint3
                 break;
             }
         }
+        uint32_t into =
+            src[i].joint2 != RF_RIG_NONE ? rf_rig_junction(q, bones, nb, bd, k, tie) : RF_RIG_NONE;
+        if (into != RF_RIG_NONE)
+            src[i].joint = into, src[i].joint2 = RF_RIG_NONE;
         if (src[i].h == 0) {
             st->unseen_vertices++;
             src[i].h = -1.0 / (d0 * d0); /* kept for the part fallback below */
