@@ -300,6 +300,53 @@ static void test_biped_onto_quadruped(void **state)
     rf_skeleton_free(t);
 }
 
+/* sb_quadruped with its head (joints 5 and 6: the head and its tip) replaced by `head`, n joints
+ * hanging from its neck or from one another; returns the joint count. */
+static size_t quadruped_with_head(sb_joint *out, const sb_joint *head, size_t n)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++)
+        if (i != 5 && i != 6)
+            out[k++] = sb_quadruped[i];
+    for (size_t i = 0; i < n; i++)
+        out[k++] = head[i];
+    return k;
+}
+
+/* A curve skeleton's head chain runs on past the skull to the snout's tip; an artist's skull
+ * bone spans the whole head from where the neck enters it, longer than the neck. The target's
+ * joint at the skull's place takes the source's skull, and its snout joint follows it unmapped:
+ * driven by the source's skull at the chain's tip, the skull's skin would follow the neck. */
+static void test_skull_before_snout(void **state)
+{
+    (void)state;
+    /* the artist's: a short neck bone, the skull from the back of the head to the nose */
+    const sb_joint artist[] = {
+        {"neck", "chest", 0, 1.20, -0.60, 0},
+        {"skull", "neck", 0, 1.30, -0.68, 0},
+        {".", "skull", 0, 1.25, -1.05, 0},
+    };
+    /* the curve skeleton's: the same neck, a joint where the chain enters the head, one at the
+     * snout, the tip at the nose */
+    const sb_joint curve[] = {
+        {"c_neck", "chest", 0, 1.20, -0.60, 0},
+        {"c_skull", "c_neck", 0, 1.30, -0.68, 0},
+        {"c_snout", "c_skull", 0, 1.28, -0.88, 0},
+        {".", "c_snout", 0, 1.25, -1.05, 0},
+    };
+    sb_joint a[SB_COUNT(sb_quadruped) + 4], c[SB_COUNT(sb_quadruped) + 4];
+    size_t na = quadruped_with_head(a, artist, SB_COUNT(artist));
+    size_t nc = quadruped_with_head(c, curve, SB_COUNT(curve));
+    rf_skeleton *s = sb_build(a, na), *t = sb_build(c, nc);
+    rf_mapping *m = match1(t, s, NULL);
+    assert_driver(m, t, s, "c_neck", "neck");
+    assert_driver(m, t, s, "c_skull", "skull");
+    assert_driver(m, t, s, "c_snout", NULL);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
 /* Similar types map only when the threshold lets them: a target's thumb onto a source without
  * hands (the main finger goes with the arm: the source arm is too short to drive it). */
 static void test_threshold_and_similar(void **state)
@@ -573,6 +620,7 @@ int main(void)
         cmocka_unit_test(test_orientation_falloff),
         cmocka_unit_test(test_facing),
         cmocka_unit_test(test_biped_onto_quadruped),
+        cmocka_unit_test(test_skull_before_snout),
         cmocka_unit_test(test_threshold_and_similar),
         cmocka_unit_test(test_duplicates),
         cmocka_unit_test(test_several_sources),
