@@ -526,6 +526,19 @@ static uint8_t end_marks(const rf_ms_skel *s, const rf_ms_line *l, uint32_t i)
     return e;
 }
 
+/* Whether a target limb of several joints meets a source limb of one: a one-bone leg (a low-poly
+ * rig's one joint at the hip) is the whole leg, so it drives the first joint of the target's
+ * longer chain, a short offset bone at the hip or shoulder included, and the joints after it
+ * follow as its children. Its entries are then counted from the chain's first joint, not from its
+ * first real bone, and an offset meets the one bone unmarked: by steps and marks the one bone
+ * drove the first real bone, leaving the offset's skin to the body. Only this way round: a
+ * target limb of one joint takes the source's first real bone, the one that swings the leg (an
+ * offset barely moves). */
+static bool one_bone_limb(const rf_analysis *at, const rf_ms_line *tl, const rf_ms_line *sl)
+{
+    return sl->n == 1 && tl->n > 1 && is_limb(at, at->joints[tl->joint[0]].section);
+}
+
 /* The DP's cost of entry i of the target line against entry q of the source line: the thesis
  * compares bone length ratios; here pivot and tip places along the sections, bone counts along
  * limbs and digits, and landmarks, which only fit landmarks. */
@@ -558,7 +571,8 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
         cost *= 0.25;
     /* the spine's ends (pelvis, chest), a limb's offset bone (clavicle, hip offset), the skull at
      * the end of the neck */
-    uint32_t marks = (a->flags ^ b->flags) & RF_JI_OFFSET;
+    bool whole = one_bone_limb(at, tl, sl);
+    uint32_t marks = whole ? 0 : (a->flags ^ b->flags) & RF_JI_OFFSET;
     rf_section_type type = at->sections[a->section].type;
     /* a chain of one joint is anchored at its start: a one-bone tail is the tail's root */
     uint8_t et = tl->n == 1 ? 2 : end_marks(&c->tgt, tl, i),
@@ -586,9 +600,11 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
      * their places. */
     bool digit = (at->sections[a->section].flags & RF_SECFL_FAN) != 0;
     if (type != RF_SECTION_SPINE && type != RF_SECTION_HEAD && type != RF_SECTION_TAIL &&
-        type != RF_SECTION_ROOT)
+        type != RF_SECTION_ROOT) {
+        int32_t ts = whole ? (int32_t)i + sl->step[q] : tl->step[i];
         cost += step_weight(digit, tl, sl) *
-                (tl->step[i] == sl->step[q] ? 0 : 1 + 0.25 * (abs(tl->step[i] - sl->step[q]) - 1));
+                (ts == sl->step[q] ? 0 : 1 + 0.25 * (abs(ts - sl->step[q]) - 1));
+    }
     return cost;
 }
 

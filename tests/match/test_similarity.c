@@ -347,6 +347,60 @@ static void test_skull_before_snout(void **state)
     rf_skeleton_free(t);
 }
 
+/* A low-poly rig's leg of one joint at the hip against a leg of a short hip offset and three
+ * bones (a curve skeleton's, from the spine to the hip and on): the one joint is the whole leg,
+ * so it drives the offset, the chain's first joint, and the three bones follow it unmapped; a
+ * leg of four real bones takes it at its first. Driving the first real bone instead left the
+ * offset's skin to the pelvis. */
+static void test_one_bone_leg(void **state)
+{
+    (void)state;
+    sb_joint a[SB_COUNT(sb_quadruped)], c[SB_COUNT(sb_quadruped) + 2];
+    size_t na = 0, nc = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++) {
+        sb_joint j = sb_quadruped[i];
+        bool leg = j.name[0] == 'f' || j.name[0] == 'h';
+        /* the low-poly rig: each leg's first joint with the foot's tip as its end site */
+        if (!leg || j.name[2] == '1')
+            a[na++] = j;
+        else if (j.name[2] == '4') {
+            a[na++] = (sb_joint){
+                ".",
+                j.name[0] == 'f' ? (j.name[1] == 'l' ? "fl1" : "fr1") : (j.name[1] == 'l' ? "hl1" : "hr1"),
+                j.x,
+                0.0,
+                j.z,
+                0};
+        }
+    }
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++) {
+        sb_joint j = sb_quadruped[i];
+        /* the hind legs hang from a short offset beside the pelvis and lose their toe bone */
+        if (strcmp(j.name, "hl1") == 0 || strcmp(j.name, "hr1") == 0) {
+            bool l = j.name[1] == 'l';
+            c[nc++] = (sb_joint){l ? "hl0" : "hr0", "pelvis", l ? -0.08 : 0.08, 0.98, 0.50, 0};
+            j.parent = l ? "hl0" : "hr0";
+        }
+        if (strcmp(j.name, "hl4") == 0 || strcmp(j.name, "hr4") == 0)
+            j.name = ".";
+        if (strcmp(j.parent ? j.parent : "", "hl4") == 0 ||
+            strcmp(j.parent ? j.parent : "", "hr4") == 0)
+            continue;
+        c[nc++] = j;
+    }
+    rf_skeleton *s = sb_build(a, na), *t = sb_build(c, nc);
+    rf_mapping *m = match1(t, s, NULL);
+    assert_driver(m, t, s, "hl0", "hl1");
+    assert_driver(m, t, s, "hr0", "hr1");
+    assert_driver(m, t, s, "hl1", NULL);
+    assert_driver(m, t, s, "hl2", NULL);
+    assert_driver(m, t, s, "fl1", "fl1");
+    assert_driver(m, t, s, "fr2", NULL);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
 /* Similar types map only when the threshold lets them: a target's thumb onto a source without
  * hands (the main finger goes with the arm: the source arm is too short to drive it). */
 static void test_threshold_and_similar(void **state)
@@ -621,6 +675,7 @@ int main(void)
         cmocka_unit_test(test_facing),
         cmocka_unit_test(test_biped_onto_quadruped),
         cmocka_unit_test(test_skull_before_snout),
+        cmocka_unit_test(test_one_bone_leg),
         cmocka_unit_test(test_threshold_and_similar),
         cmocka_unit_test(test_duplicates),
         cmocka_unit_test(test_several_sources),
