@@ -348,9 +348,11 @@ rf_rig_options rf_rig_defaults(const rf_rig_options *opts)
  * bands grown from there reach one side's limbs before the other's: they come out unlike. */
 static bool rf_rig_off_middle(const rf_rig_skel *k, const double mirror[4], double h, double at[3])
 {
+    if (!k->n || rf_v3_len((rf_vec3){mirror[0], mirror[1], mirror[2]}) == 0)
+        return false;
     const double *p = k->pos; /* the root, joint 0 */
     double off = mirror[0] * p[0] + mirror[1] * p[1] + mirror[2] * p[2] - mirror[3];
-    if (!k->n || rf_v3_len((rf_vec3){mirror[0], mirror[1], mirror[2]}) == 0 || fabs(off) <= 3 * h)
+    if (fabs(off) <= 3 * h)
         return false;
     for (int a = 0; a < 3; a++)
         at[a] = p[a] - off * mirror[a];
