@@ -485,10 +485,9 @@ static bool rf_rig_append(rf_rig_skel *k, const double p[3], int32_t parent, con
 
 /* A body whose skeleton stops well above its bottom (a blob body on stubs too short to keep:
  * its trunk's two ends are cones shorter than the body is thick, pruned as bumps) gets a joint
- * below its root, three quarters of the way down to the surface under it, its bone reaching
- * the surface: artists put one at the body's bottom, and without it the lower body hangs from
- * a root in its middle. Up is the declared one, else the analysis's. False when out of
- * memory. */
+ * below its root, three quarters of the way down to the surface under it, and is rooted there:
+ * artists put one at the body's bottom, and without it the lower body hangs from a root in its
+ * middle. Up is the declared one, else the analysis's. False when out of memory. */
 static bool rf_rig_bottom(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
 {
     double u[3] = {up.x, up.y, up.z}, lo = INFINITY, hi = -INFINITY, low = INFINITY;
@@ -515,7 +514,13 @@ static bool rf_rig_bottom(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
     double at[3], end[3];
     for (int a = 0; a < 3; a++)
         at[a] = k->pos[a] + 0.75 * d * down[a], end[a] = k->pos[a] + d * down[a];
-    return rf_rig_append(k, at, 0, end);
+    if (!rf_rig_append(k, at, 0, end))
+        return false;
+    /* the rig's root, as artists root such a body at its bottom: hung from the old root, the
+     * joint took the clip's hips in the matcher and turned the body over (greenman under the
+     * CMU walk: stretch p99 84, parts under the floor in a quarter of the frames; rooted, 20) */
+    k->has_tip[k->n - 1] = 0;
+    return rf_rig_reroot(k, k->n - 1);
 }
 
 /* ---- limbs cut as artists cut them ---- */

@@ -224,40 +224,6 @@ static void world_joints(const rf_skeleton *s, rf_vec3 *out)
     free(w);
 }
 
-/* A blob body (a box 1.2 high on two stubs 0.2 high, arms out at its sides), up given: the
- * trunk's two ends are cones shorter than the body is thick and are pruned, so the skeleton
- * stopped in the body's middle (0.55 above the floor, 0.4 of the height) and the lower body
- * hung from there. Now a joint sits below the root, three quarters of the way down to the
- * body's bottom, its bone reaching the surface: a joint in the lowest quarter of the body. */
-static void test_blob_bottom(void **state)
-{
-    (void)state;
-    rf_mesh *m = rf_mesh_new();
-    m->positions = calloc(5 * 8 * 3, sizeof(float));
-    m->triangles = calloc(5 * 12 * 3, sizeof(uint32_t));
-    add_box(m, -0.5, 0.15, -0.4, 0.5, 1.35, 0.4);
-    add_box(m, -0.35, 0, -0.15, -0.15, 0.2, 0.15);
-    add_box(m, 0.15, 0, -0.15, 0.35, 0.2, 0.15);
-    add_box(m, 0.45, 0.8, -0.1, 1.1, 0.95, 0.1);
-    add_box(m, -1.1, 0.8, -0.1, -0.45, 0.95, 0.1);
-    rf_rig_options o = {.up = rf_v3(0, 1, 0)};
-    rf_skeleton *s;
-    rf_mesh *out;
-    char err[256];
-    if (!rf_rig_general(m, &o, &s, &out, NULL, NULL, NULL, err, sizeof err))
-        fail_msg("%s", err);
-    check_rig("blob", m, s, out);
-    rf_vec3 w[256];
-    assert_true(s->joint_count < 256);
-    world_joints(s, w);
-    double low = INFINITY;
-    for (uint32_t j = 0; j < s->joint_count; j++)
-        low = fmin(low, w[j].y);
-    if (low > 0.25 * 1.35)
-        fail_msg("the lowest joint stands %g above the floor, the body 1.35 high", low);
-    rf_skeleton_free(s), rf_mesh_free(out), rf_mesh_free(m);
-}
-
 /* A body symmetric about z = 0 (the table creature's body and legs, a wider head) with two eyes
  * on the head, mirror images: the two eyes are twigs to prune, and pruned one at a time the
  * second no longer left a junction once the first was gone and stayed as the head chain's end
@@ -1372,7 +1338,6 @@ int main(void)
         cmocka_unit_test(test_limb_layout),
         cmocka_unit_test(test_general_legs),
         cmocka_unit_test(test_mirror_twigs),
-        cmocka_unit_test(test_blob_bottom),
         cmocka_unit_test(test_memory_refusal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
