@@ -458,9 +458,8 @@ static void rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
 
 #define RF_RIG_BOTTOM_GAP 0.25 /* of the body's height between its bottom and the skeleton's */
 
-/* A joint appended to k at p hanging from `parent`, its bone ending at tip; false when out of
- * memory (k unchanged). */
-static bool rf_rig_append(rf_rig_skel *k, const double p[3], int32_t parent, const double tip[3])
+/* A joint appended to k at p hanging from `parent`; false when out of memory (k unchanged). */
+static bool rf_rig_append(rf_rig_skel *k, const double p[3], int32_t parent)
 {
     size_t n = (size_t)k->n + 1;
     double *pos = realloc(k->pos, n * 3 * sizeof *pos);
@@ -477,8 +476,8 @@ static bool rf_rig_append(rf_rig_skel *k, const double p[3], int32_t parent, con
         return false;
     k->has_tip = has;
     memcpy(k->pos + (n - 1) * 3, p, 3 * sizeof *p);
-    memcpy(k->tip + (n - 1) * 3, tip, 3 * sizeof *tip);
-    k->parent[n - 1] = parent, k->has_tip[n - 1] = 1;
+    memset(k->tip + (n - 1) * 3, 0, 3 * sizeof *k->tip);
+    k->parent[n - 1] = parent, k->has_tip[n - 1] = 0;
     k->n = (uint32_t)n;
     return true;
 }
@@ -511,16 +510,13 @@ static bool rf_rig_bottom(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
     rf_rig_surface_free(surf);
     if (!isfinite(d))
         return true;
-    double at[3], end[3];
+    double at[3];
     for (int a = 0; a < 3; a++)
-        at[a] = k->pos[a] + 0.75 * d * down[a], end[a] = k->pos[a] + d * down[a];
-    if (!rf_rig_append(k, at, 0, end))
-        return false;
+        at[a] = k->pos[a] + 0.75 * d * down[a];
     /* the rig's root, as artists root such a body at its bottom: hung from the old root, the
      * joint took the clip's hips in the matcher and turned the body over (greenman under the
      * CMU walk: stretch p99 84, parts under the floor in a quarter of the frames; rooted, 20) */
-    k->has_tip[k->n - 1] = 0;
-    return rf_rig_reroot(k, k->n - 1);
+    return rf_rig_append(k, at, 0) && rf_rig_reroot(k, k->n - 1);
 }
 
 /* ---- limbs cut as artists cut them ---- */
