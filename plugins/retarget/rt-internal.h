@@ -22,6 +22,9 @@ enum rf_rt_input_flags {
                                  * takes its turns, not its direction (rt_input_resolve) */
     RF_RT_IN_LEVEL = 1u << 10,  /* a centerline bone of another body plan: its tilt away from
                                  * the source's up is limited (rf_rt_level) */
+    RF_RT_IN_PHASE = 1u << 12,  /* a limb driven half a cycle later by the source's limb of its
+                                 * own side (a quadruped's foreleg under a biped's leg): another
+                                 * pair of legs, whose reach says nothing of the body's height */
 };
 
 /* One mapping input, resolved against its source's rest. */

@@ -377,6 +377,8 @@ static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in
         for (uint32_t i = 0; i < count; i++)
             pairs[i].s = rf_rt_reflect_v(pairs[i].s, src->left);
     }
+    if ((in->flags & RF_MAP_MIRROR) && !(out->flags & RF_RT_IN_REFLECT) && !rt->t_centerline[j])
+        out->flags |= RF_RT_IN_PHASE;
     bool keep = rt->t_centerline[j] && rt->plan_differs;
     if (keep)
         out->flags |= RF_RT_IN_LEVEL;

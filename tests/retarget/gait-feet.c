@@ -4,15 +4,17 @@
  *
  * FILE is an animated character (GLB, BVH, anything Assimp reads). Its legs are the skeleton
  * analysis's leg sections (limbs reaching the floor at rest), fore or hind by where they hang
- * along the body when they hang far apart (else "leg"). A leg's foot height in a frame is the
- * lowest point the leg carries (its feet and toes included) over the floor, in percent of the
- * rest height. With a skinned mesh (what render-frames draws): the vertices whose largest weight
- * lies on the leg's joints, over the mesh's lowest vertex at rest. For a skeleton alone (a BVH,
- * whose rest hangs from the origin): the leg's joints, over the 5th percentile through the clip
- * of the body's lowest joint. Prints per leg: its role and side, the least and the median
- * height, and the share of frames within NEAR percent (default 3) of the floor. A leg folded
- * forward or held level keeps its foot high; one that walks has it down part of the cycle.
- * Exit 0, or 1 with a message on bad input. */
+ * along the body when they hang far apart (else "leg"). A leg's foot is its point lowest at rest
+ * (its sole), followed through the clip: with a skinned mesh (what render-frames draws) a vertex
+ * whose largest weight lies on the leg's joints (its feet and toes included), its height counted
+ * over the mesh's lowest vertex at rest; for a skeleton alone (a BVH, whose rest hangs from the
+ * origin) a joint of the leg, over the 5th percentile through the clip of the body's lowest
+ * joint. Heights are in percent of the rest height. Prints per leg: its role and side, the least
+ * and the median height, the share of frames within NEAR percent (default 3) of the floor, and the
+ * leg's tilt: the angle between straight down and the line from its first joint to its foot's
+ * lowest point, the median and the 90th percentile over frames, in degrees. A leg folded flat
+ * forward or held level tilts 60-90 degrees; one that walks swings some 30 either way of down and
+ * has its foot on the floor part of the cycle. Exit 0, or 1 with a message on bad input. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -94,34 +96,49 @@ static uint32_t gf_dominant(const rf_mesh *m, uint32_t v)
     return m->skin_joints[(size_t)v * 4 + best];
 }
 
-/* The heights in pose `world`: per leg its lowest point into low[leg], the body's lowest into
+/* The heights in pose `world`: per leg its foot's (foot[leg]: the vertex or joint of the leg lowest
+ * at rest, found when -1) into low[leg] and where it is into lowp[leg]; the body's lowest into
  * *body and highest into *top (mesh vertices, else joints). */
 static void gf_pose(const gf_char *c, const rf_analysis *a, const int32_t *leg_of,
-                    const rf_xform *world, rf_mat4 *skin, uint32_t nlegs, double *low, double *body,
-                    double *top)
+                    const rf_xform *world, rf_mat4 *skin, uint32_t nlegs, int32_t *foot,
+                    double *low, rf_vec3 *lowp, double *body, double *top)
 {
     const rf_skeleton *s = c->skel;
     for (uint32_t l = 0; l < nlegs; l++)
-        low[l] = INFINITY;
+        low[l] = INFINITY, lowp[l] = rf_v3(0, 0, 0);
     *body = INFINITY, *top = -INFINITY;
-    if (c->mesh) {
+    if (c->mesh)
         for (uint32_t j = 0; j < s->joint_count; j++)
             skin[j] = rf_mat4_mul(rf_xform_to_mat4(world[j]), c->mesh->inverse_bind[j]);
-        for (uint32_t v = 0; v < c->mesh->vertex_count; v++) {
-            double h = rf_v3_dot(gf_skin(c->mesh, skin, v), a->up);
-            uint32_t j = gf_dominant(c->mesh, v);
-            *body = fmin(*body, h), *top = fmax(*top, h);
-            if (j < s->joint_count && leg_of[j] >= 0)
-                low[leg_of[j]] = fmin(low[leg_of[j]], h);
-        }
-        return;
-    }
-    for (uint32_t j = 0; j < s->joint_count; j++) {
-        double h = rf_v3_dot(world[j].t, a->up);
+    uint32_t count = c->mesh ? c->mesh->vertex_count : s->joint_count;
+    for (uint32_t i = 0; i < count; i++) {
+        rf_vec3 p = c->mesh ? gf_skin(c->mesh, skin, i) : world[i].t;
+        uint32_t j = c->mesh ? gf_dominant(c->mesh, i) : i;
+        double h = rf_v3_dot(p, a->up);
         *body = fmin(*body, h), *top = fmax(*top, h);
-        if (leg_of[j] >= 0)
-            low[leg_of[j]] = fmin(low[leg_of[j]], h);
+        int32_t l = j < s->joint_count ? leg_of[j] : -1;
+        if (l >= 0 && (foot[l] == (int32_t)i || (foot[l] < 0 && h < low[l])))
+            low[l] = h, lowp[l] = p;
     }
+}
+
+/* Each leg's foot: the index (vertex, or joint without a mesh) of its lowest point at rest, whose
+ * height is low[leg] (gf_pose in the rest pose). */
+static void gf_feet(const gf_char *c, const rf_analysis *a, const int32_t *leg_of,
+                    const rf_xform *world, uint32_t nlegs, const double *low, int32_t *foot)
+{
+    uint32_t count = c->mesh ? c->mesh->vertex_count : c->skel->joint_count;
+    rf_mat4 *skin = malloc(c->skel->joint_count * sizeof *skin);
+    for (uint32_t j = 0; skin && c->mesh && j < c->skel->joint_count; j++)
+        skin[j] = rf_mat4_mul(rf_xform_to_mat4(world[j]), c->mesh->inverse_bind[j]);
+    for (uint32_t i = 0; skin && i < count; i++) {
+        uint32_t j = c->mesh ? gf_dominant(c->mesh, i) : i;
+        int32_t l = j < c->skel->joint_count ? leg_of[j] : -1;
+        rf_vec3 p = c->mesh ? gf_skin(c->mesh, skin, i) : world[i].t;
+        if (l >= 0 && l < (int32_t)nlegs && foot[l] < 0 && rf_v3_dot(p, a->up) <= low[l])
+            foot[l] = (int32_t)i;
+    }
+    free(skin);
 }
 
 static void gf_world(const gf_char *c, uint32_t frame, rf_xform *local, rf_xform *world)
@@ -133,8 +150,15 @@ static void gf_world(const gf_char *c, uint32_t frame, rf_xform *local, rf_xform
     }
 }
 
+/* Degrees between straight down and the line from leg section s's first joint to `foot`. */
+static double gf_tilt(const rf_analysis *a, uint32_t s, const rf_xform *world, rf_vec3 foot)
+{
+    rf_vec3 d = rf_v3_sub(foot, world[rf_section_joints(a, s)[0]].t);
+    return rf_v3_len2(d) > 0 ? rf_v3_angle(d, rf_v3_scale(a->up, -1)) * 180 / RF_PI : 0;
+}
+
 static void gf_print(const rf_analysis *a, const uint32_t *legs, uint32_t nlegs, uint32_t l,
-                     double *col, uint32_t frames, double near)
+                     double *col, uint32_t frames, double near, double *tilt)
 {
     double blo = INFINITY, bhi = -INFINITY;
     for (uint32_t i = 0; i < nlegs; i++)
@@ -145,12 +169,14 @@ static void gf_print(const rf_analysis *a, const uint32_t *legs, uint32_t nlegs,
     for (uint32_t f = 0; f < frames; f++)
         down += col[f] <= near;
     qsort(col, frames, sizeof *col, gf_cmp);
+    qsort(tilt, frames, sizeof *tilt, gf_cmp);
     const char *role = bhi - blo <= 0.3                     ? "leg"
                        : sec->body_pos >= 0.5 * (blo + bhi) ? "fore"
                                                             : "hind";
     printf("%s %s: foot least %.1f%%, median %.1f%%, within %.1f%% of the floor in %.0f%% of "
-           "frames\n",
-           role, rf_side_name(sec->side), col[0], col[frames / 2], near, 100.0 * down / frames);
+           "frames; tilt %.0f deg (p90 %.0f)\n",
+           role, rf_side_name(sec->side), col[0], col[frames / 2], near, 100.0 * down / frames,
+           tilt[frames / 2], tilt[frames - 1 - frames / 10]);
 }
 
 static bool gf_report(const gf_char *c, const rf_analysis *a, const uint32_t *legs, uint32_t nlegs,
@@ -161,16 +187,25 @@ static bool gf_report(const gf_char *c, const rf_analysis *a, const uint32_t *le
     rf_xform *local = malloc(n * sizeof *local), *world = malloc(n * sizeof *world);
     rf_mat4 *skin = malloc(n * sizeof *skin);
     double *low = malloc((size_t)frames * w * sizeof *low), *col = malloc(frames * sizeof *col);
-    bool ok = leg_of && local && world && skin && low && col;
+    double *tilt = malloc((size_t)frames * nlegs * sizeof *tilt);
+    rf_vec3 lowp[GF_MAX_LEGS];
+    int32_t foot[GF_MAX_LEGS];
+    bool ok = leg_of && local && world && skin && low && col && tilt;
     double body, top, floor = 0;
     if (ok) {
         rf_skeleton_world_rest(c->skel, world);
-        gf_pose(c, a, leg_of, world, skin, nlegs, low, &floor, &top);
+        for (uint32_t l = 0; l < nlegs; l++)
+            foot[l] = -1;
+        gf_pose(c, a, leg_of, world, skin, nlegs, foot, low, lowp, &floor, &top);
+        gf_feet(c, a, leg_of, world, nlegs, low, foot);
         double height = c->mesh ? top - floor : a->height;
         for (uint32_t f = 0; f < frames; f++) {
             gf_world(c, f, local, world);
-            gf_pose(c, a, leg_of, world, skin, nlegs, &low[(size_t)f * w + 1], &body, &top);
+            gf_pose(c, a, leg_of, world, skin, nlegs, foot, &low[(size_t)f * w + 1], lowp, &body,
+                    &top);
             low[(size_t)f * w] = body;
+            for (uint32_t l = 0; l < nlegs; l++)
+                tilt[(size_t)l * frames + f] = gf_tilt(a, legs[l], world, lowp[l]);
         }
         if (!c->mesh) { /* the floor a skeleton alone stands on through its clip */
             for (uint32_t f = 0; f < frames; f++)
@@ -181,10 +216,10 @@ static bool gf_report(const gf_char *c, const rf_analysis *a, const uint32_t *le
         for (uint32_t l = 0; l < nlegs; l++) {
             for (uint32_t f = 0; f < frames; f++)
                 col[f] = 100.0 * (low[(size_t)f * w + 1 + l] - floor) / height;
-            gf_print(a, legs, nlegs, l, col, frames, near);
+            gf_print(a, legs, nlegs, l, col, frames, near, &tilt[(size_t)l * frames]);
         }
     }
-    free(col), free(low), free(skin), free(world), free(local), free(leg_of);
+    free(tilt), free(col), free(low), free(skin), free(world), free(local), free(leg_of);
     return ok;
 }
 
