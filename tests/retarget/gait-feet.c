@@ -4,17 +4,18 @@
  *
  * FILE is an animated character (GLB, BVH, anything Assimp reads). Its legs are the skeleton
  * analysis's leg sections (limbs reaching the floor at rest), fore or hind by where they hang
- * along the body when they hang far apart (else "leg"). A leg's foot is its point lowest at rest
- * (its sole), followed through the clip: with a skinned mesh (what render-frames draws) a vertex
- * whose largest weight lies on the leg's joints (its feet and toes included), its height counted
- * over the mesh's lowest vertex at rest; for a skeleton alone (a BVH, whose rest hangs from the
- * origin) a joint of the leg, over the 5th percentile through the clip of the body's lowest
- * joint. Heights are in percent of the rest height. Prints per leg: its role and side, the least
- * and the median height, the share of frames within NEAR percent (default 3) of the floor, and the
- * leg's tilt: the angle between straight down and the line from its first joint to its foot's
- * lowest point, the median and the 90th percentile over frames, in degrees. A leg folded flat
- * forward or held level tilts 60-90 degrees; one that walks swings some 30 either way of down and
- * has its foot on the floor part of the cycle. Exit 0, or 1 with a message on bad input. */
+ * along the body when they hang far apart (else "leg"). A leg is what it carries: with a skinned
+ * mesh (what render-frames draws) the vertices whose largest weight lies on its joints (its feet
+ * and toes included), its height the lowest of them over the mesh's lowest vertex at rest; for a
+ * skeleton alone (a BVH, whose rest hangs from the origin) its joints, over the 5th percentile
+ * through the clip of the body's lowest joint. Heights are in percent of the rest height. Its
+ * foot is its point lowest at rest (the sole), followed through the clip. Prints per leg: its
+ * role and side, the least and the median height, the share of frames within NEAR percent
+ * (default 3) of the floor, and the leg's tilt: the angle between straight down and the line
+ * from its first joint to its foot, the median and the 90th percentile over frames, in degrees.
+ * A leg folded flat forward or held level tilts 60-90 degrees; one that walks swings some 30
+ * either way of down and has its foot on the floor part of the cycle. Exit 0, or 1 with a
+ * message on bad input. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -96,9 +97,9 @@ static uint32_t gf_dominant(const rf_mesh *m, uint32_t v)
     return m->skin_joints[(size_t)v * 4 + best];
 }
 
-/* The heights in pose `world`: per leg its foot's (foot[leg]: the vertex or joint of the leg lowest
- * at rest, found when -1) into low[leg] and where it is into lowp[leg]; the body's lowest into
- * *body and highest into *top (mesh vertices, else joints). */
+/* The heights in pose `world`: per leg its lowest point into low[leg] and where its foot is
+ * (foot[leg]: the vertex or joint of the leg lowest at rest, see gf_feet) into lowp[leg]; the
+ * body's lowest into *body and highest into *top (mesh vertices, else joints). */
 static void gf_pose(const gf_char *c, const rf_analysis *a, const int32_t *leg_of,
                     const rf_xform *world, rf_mat4 *skin, uint32_t nlegs, int32_t *foot,
                     double *low, rf_vec3 *lowp, double *body, double *top)
@@ -117,8 +118,10 @@ static void gf_pose(const gf_char *c, const rf_analysis *a, const int32_t *leg_o
         double h = rf_v3_dot(p, a->up);
         *body = fmin(*body, h), *top = fmax(*top, h);
         int32_t l = j < s->joint_count ? leg_of[j] : -1;
-        if (l >= 0 && (foot[l] == (int32_t)i || (foot[l] < 0 && h < low[l])))
-            low[l] = h, lowp[l] = p;
+        if (l >= 0 && h < low[l])
+            low[l] = h;
+        if (l >= 0 && foot[l] == (int32_t)i)
+            lowp[l] = p;
     }
 }
 

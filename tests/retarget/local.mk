@@ -38,9 +38,10 @@ check_LTLIBRARIES += tests/retarget/fx_namemap.la
 tests_retarget_fx_namemap_la_SOURCES = tests/retarget/fx_namemap.c
 tests_retarget_fx_namemap_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 
-TESTS += tests/retarget/test_retarget_pipeline.sh tests/retarget/test_retarget_sweep.sh
+TESTS += tests/retarget/test_retarget_pipeline.sh tests/retarget/test_retarget_sweep.sh \
+	tests/retarget/test_gait.sh
 dist_noinst_SCRIPTS += tests/retarget/test_retarget_pipeline.sh \
-	tests/retarget/test_retarget_sweep.sh
+	tests/retarget/test_retarget_sweep.sh tests/retarget/test_gait.sh
 EXTRA_DIST += tests/retarget/sweep.mjs
 EXTRA_DIST += tests/retarget/maps
 
