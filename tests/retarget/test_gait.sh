@@ -72,7 +72,7 @@ awk 'BEGIN { RS = "" } { if (!match($0, /"floor_median": *-?[0-9.e+-]+/)) exit 1
      m = substr($0, RSTART, RLENGTH); sub(/.*: */, "", m);
      if (!match($0, /"floor_p95": *[0-9.e+-]+/)) exit 1;
      p = substr($0, RSTART, RLENGTH); sub(/.*: */, "", p);
-     exit (m < -0.03 || m > 0.03 || p > 0.10) }' "$tmp/gait.json" ||
+     m += 0; p += 0; exit (m < -0.03 || m > 0.03 || p > 0.10) }' "$tmp/gait.json" ||
     ko "gait: the walk leaves the floor (floor median or p95 past 3% / 10%)"
 [ "$fail" -eq 0 ] || exit 1
 echo "ok"
