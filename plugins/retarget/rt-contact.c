@@ -480,6 +480,10 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
  * a quadruped's forefoot under a biped's foot). Laid along the source's leg it may reach further
  * than the legs that set the body's height, so rt_pins lifts it out of the floor in every frame,
  * not only in its contacts. */
+/* How far (in leg lengths) a foot driven half a cycle later may be held from where the motion
+ * puts it before it is set down again. */
+#define RT_PHASE_DRIFT 0.5
+
 static bool rt_effector_phase(const rf_retarget *rt, uint32_t e)
 {
     return (rt->in[rt->tj[rt->effectors[e]].first_input].flags & RF_RT_IN_PHASE) != 0;
@@ -526,7 +530,14 @@ static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t fram
         bool phase = rt_effector_phase(rt, e);
         for (uint32_t f = 0; f < frames; f++) {
             if (c[f]) {
-                if (f == 0 || !c[f - 1])
+                /* A foot driven half a cycle later stays on its source's contact while the body
+                 * moves with the source half a cycle before: in a jump the body flies off the
+                 * planted foot. Pinned on, the foot dragged the leg out level behind the body
+                 * (the animalia wolf's forelegs 85 degrees off down at p90); past half a leg
+                 * from where the motion puts it, the foot is set down again there. */
+                if (f == 0 || !c[f - 1] ||
+                    (phase && rf_v3_len(rf_rt_horizontal(rt->up, rf_v3_sub(anchor, p[f]))) >
+                                  RT_PHASE_DRIFT * rt->leg_target))
                     anchor = p[f];
                 /* Only up: a foot through the floor is lifted out of it; pulling a floating
                  * foot down would stretch the leg out of reach (the root placement keeps the
