@@ -4,18 +4,19 @@
  *
  * FILE is an animated character (GLB, BVH, anything Assimp reads). Its legs are the skeleton
  * analysis's leg sections (limbs reaching the floor at rest), fore or hind by where they hang
- * along the body when they hang far apart (else "leg"). A leg is what it carries: with a skinned
- * mesh (what render-frames draws) the vertices whose largest weight lies on its joints (its feet
- * and toes included), its height the lowest of them over the mesh's lowest vertex at rest; for a
- * skeleton alone (a BVH, whose rest hangs from the origin) its joints, over the 5th percentile
- * through the clip of the body's lowest joint. Heights are in percent of the rest height. Its
- * foot is its point lowest at rest (the sole), followed through the clip. Prints per leg: its
- * role and side, the least and the median height, the share of frames within NEAR percent
- * (default 3) of the floor, and the leg's tilt: the angle between straight down and the line
- * from its first joint to its foot, the median and the 90th percentile over frames, in degrees.
- * A leg folded flat forward or held level tilts 60-90 degrees; one that walks swings some 30
- * either way of down and has its foot on the floor part of the cycle. Exit 0, or 1 with a
- * message on bad input. */
+ * along the body when they hang far apart (else "leg"), as the analysis reads the file's facing
+ * (it reads some exported quadrupeds back to front: the first joint named beside says which). A leg
+ * is what it carries: with a skinned mesh (what render-frames draws) the vertices whose largest
+ * weight lies on its joints (its feet and toes included), its height the lowest of them over the
+ * mesh's lowest vertex at rest; for a skeleton alone (a BVH, whose rest hangs from the origin) its
+ * joints, over the 5th percentile through the clip of the body's lowest joint. Heights are in
+ * percent of the rest height. Its foot is its point lowest at rest (the sole), followed through the
+ * clip. Prints per leg: its role, side and first joint, the least and the median height, the share
+ * of frames within NEAR percent (default 3) of the floor, and the leg's tilt: the angle between
+ * straight down and the line from its first joint to its foot, the median and the 90th percentile
+ * over frames, in degrees. A leg folded flat forward or held level tilts 60-90 degrees; one that
+ * walks swings some 30 either way of down and has its foot on the floor part of the cycle. Exit 0,
+ * or 1 with a message on bad input. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,6 +26,7 @@
 #include "rigflow/aimport.h"
 #include "rigflow/analysis.h"
 #include "rigflow/bvh.h"
+#include "rigflow/text.h"
 
 #define GF_MAX_LEGS 64
 
@@ -160,8 +162,8 @@ static double gf_tilt(const rf_analysis *a, uint32_t s, const rf_xform *world, r
     return rf_v3_len2(d) > 0 ? rf_v3_angle(d, rf_v3_scale(a->up, -1)) * 180 / RF_PI : 0;
 }
 
-static void gf_print(const rf_analysis *a, const uint32_t *legs, uint32_t nlegs, uint32_t l,
-                     double *col, uint32_t frames, double near, double *tilt)
+static void gf_print(const gf_char *c, const rf_analysis *a, const uint32_t *legs, uint32_t nlegs,
+                     uint32_t l, double *col, uint32_t frames, double near, double *tilt)
 {
     double blo = INFINITY, bhi = -INFINITY;
     for (uint32_t i = 0; i < nlegs; i++)
@@ -176,10 +178,12 @@ static void gf_print(const rf_analysis *a, const uint32_t *legs, uint32_t nlegs,
     const char *role = bhi - blo <= 0.3                     ? "leg"
                        : sec->body_pos >= 0.5 * (blo + bhi) ? "fore"
                                                             : "hind";
-    printf("%s %s: foot least %.1f%%, median %.1f%%, within %.1f%% of the floor in %.0f%% of "
+    char name[256];
+    rf_joint_label(c->skel, rf_section_joints(a, legs[l])[0], name, sizeof name);
+    printf("%s %s (%s): foot least %.1f%%, median %.1f%%, within %.1f%% of the floor in %.0f%% of "
            "frames; tilt %.0f deg (p90 %.0f)\n",
-           role, rf_side_name(sec->side), col[0], col[frames / 2], near, 100.0 * down / frames,
-           tilt[frames / 2], tilt[frames - 1 - frames / 10]);
+           role, rf_side_name(sec->side), name, col[0], col[frames / 2], near,
+           100.0 * down / frames, tilt[frames / 2], tilt[frames - 1 - frames / 10]);
 }
 
 static bool gf_report(const gf_char *c, const rf_analysis *a, const uint32_t *legs, uint32_t nlegs,
@@ -219,7 +223,7 @@ static bool gf_report(const gf_char *c, const rf_analysis *a, const uint32_t *le
         for (uint32_t l = 0; l < nlegs; l++) {
             for (uint32_t f = 0; f < frames; f++)
                 col[f] = 100.0 * (low[(size_t)f * w + 1 + l] - floor) / height;
-            gf_print(a, legs, nlegs, l, col, frames, near, &tilt[(size_t)l * frames]);
+            gf_print(c, a, legs, nlegs, l, col, frames, near, &tilt[(size_t)l * frames]);
         }
     }
     free(tilt), free(col), free(low), free(skin), free(world), free(local), free(leg_of);

@@ -44,9 +44,9 @@ walk() {
 }
 
 # The forelegs' worst figures: "SHARE TILT" (least share of frames near the floor, largest p90
-# tilt) over the lines of FILE whose role is fore.
+# tilt) over the lines of FILE for the Fox's forelegs (their first joints, read off the file).
 fore() {
-    awk '/^fore / { s = $0; sub(/.* in /, "", s); sub(/%.*/, "", s);
+    awk '/\(b_(Left|Right)UpperArm_/ { s = $0; sub(/.* in /, "", s); sub(/%.*/, "", s);
                     t = $0; sub(/.*p90 /, "", t); sub(/\).*/, "", t);
                     n++; if (n == 1 || s + 0 < share) share = s + 0; if (t + 0 > tilt) tilt = t + 0 }
          END { if (n != 2) print "none"; else print share, tilt }' "$1"
