@@ -15,8 +15,9 @@
  * of frames within NEAR percent (default 3) of the floor, and the leg's tilt: the angle between
  * straight down and the line from its first joint to its foot, the median and the 90th percentile
  * over frames, in degrees. A leg folded flat forward or held level tilts 60-90 degrees; one that
- * walks swings some 30 either way of down and has its foot on the floor part of the cycle. Exit 0,
- * or 1 with a message on bad input. */
+ * walks swings some 30 either way of down and has its foot on the floor part of the cycle. Last,
+ * how fast the sole slides along the floor between frames when the leg is down (within NEAR), in
+ * percent of the height per second. Exit 0, or 1 with a message on bad input. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -162,8 +163,26 @@ static double gf_tilt(const rf_analysis *a, uint32_t s, const rf_xform *world, r
     return rf_v3_len2(d) > 0 ? rf_v3_angle(d, rf_v3_scale(a->up, -1)) * 180 / RF_PI : 0;
 }
 
+/* The mean horizontal speed of the sole (sole[frames]) between frames when the leg is down
+ * (heights `col` within `near`), in percent of the height per second. */
+static double gf_skate(const gf_char *c, const rf_analysis *a, const rf_vec3 *sole,
+                       const double *col, uint32_t frames, double near, double height)
+{
+    double sum = 0;
+    uint32_t count = 0;
+    for (uint32_t f = 1; f < frames; f++) {
+        if (col[f] > near || col[f - 1] > near)
+            continue;
+        rf_vec3 d = rf_v3_sub(sole[f], sole[f - 1]);
+        d = rf_v3_sub(d, rf_v3_scale(a->up, rf_v3_dot(d, a->up)));
+        sum += rf_v3_len(d) * c->anim->fps, count++;
+    }
+    return count ? 100.0 * sum / count / height : 0;
+}
+
 static void gf_print(const gf_char *c, const rf_analysis *a, const uint32_t *legs, uint32_t nlegs,
-                     uint32_t l, double *col, uint32_t frames, double near, double *tilt)
+                     uint32_t l, double *col, uint32_t frames, double near, double *tilt,
+                     double skate)
 {
     double blo = INFINITY, bhi = -INFINITY;
     for (uint32_t i = 0; i < nlegs; i++)
@@ -181,9 +200,9 @@ static void gf_print(const gf_char *c, const rf_analysis *a, const uint32_t *leg
     char name[256];
     rf_joint_label(c->skel, rf_section_joints(a, legs[l])[0], name, sizeof name);
     printf("%s %s (%s): foot least %.1f%%, median %.1f%%, within %.1f%% of the floor in %.0f%% of "
-           "frames; tilt %.0f deg (p90 %.0f)\n",
+           "frames; tilt %.0f deg (p90 %.0f); sliding while down %.1f%%/s\n",
            role, rf_side_name(sec->side), name, col[0], col[frames / 2], near,
-           100.0 * down / frames, tilt[frames / 2], tilt[frames - 1 - frames / 10]);
+           100.0 * down / frames, tilt[frames / 2], tilt[frames - 1 - frames / 10], skate);
 }
 
 static bool gf_report(const gf_char *c, const rf_analysis *a, const uint32_t *legs, uint32_t nlegs,
@@ -195,9 +214,10 @@ static bool gf_report(const gf_char *c, const rf_analysis *a, const uint32_t *le
     rf_mat4 *skin = malloc(n * sizeof *skin);
     double *low = malloc((size_t)frames * w * sizeof *low), *col = malloc(frames * sizeof *col);
     double *tilt = malloc((size_t)frames * nlegs * sizeof *tilt);
+    rf_vec3 *sole = malloc((size_t)frames * nlegs * sizeof *sole);
     rf_vec3 lowp[GF_MAX_LEGS];
     int32_t foot[GF_MAX_LEGS];
-    bool ok = leg_of && local && world && skin && low && col && tilt;
+    bool ok = leg_of && local && world && skin && low && col && tilt && sole;
     double body, top, floor = 0;
     if (ok) {
         rf_skeleton_world_rest(c->skel, world);
@@ -211,8 +231,10 @@ static bool gf_report(const gf_char *c, const rf_analysis *a, const uint32_t *le
             gf_pose(c, a, leg_of, world, skin, nlegs, foot, &low[(size_t)f * w + 1], lowp, &body,
                     &top);
             low[(size_t)f * w] = body;
-            for (uint32_t l = 0; l < nlegs; l++)
+            for (uint32_t l = 0; l < nlegs; l++) {
                 tilt[(size_t)l * frames + f] = gf_tilt(a, legs[l], world, lowp[l]);
+                sole[(size_t)l * frames + f] = lowp[l];
+            }
         }
         if (!c->mesh) { /* the floor a skeleton alone stands on through its clip */
             for (uint32_t f = 0; f < frames; f++)
@@ -223,10 +245,12 @@ static bool gf_report(const gf_char *c, const rf_analysis *a, const uint32_t *le
         for (uint32_t l = 0; l < nlegs; l++) {
             for (uint32_t f = 0; f < frames; f++)
                 col[f] = 100.0 * (low[(size_t)f * w + 1 + l] - floor) / height;
-            gf_print(c, a, legs, nlegs, l, col, frames, near, &tilt[(size_t)l * frames]);
+            double skate = gf_skate(c, a, &sole[(size_t)l * frames], col, frames, near, height);
+            gf_print(c, a, legs, nlegs, l, col, frames, near, &tilt[(size_t)l * frames], skate);
         }
     }
-    free(tilt), free(col), free(low), free(skin), free(world), free(local), free(leg_of);
+    free(sole), free(tilt), free(col), free(low), free(skin), free(world), free(local),
+        free(leg_of);
     return ok;
 }
 
