@@ -486,7 +486,9 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
 
 static bool rt_effector_phase(const rf_retarget *rt, uint32_t e)
 {
-    return (rt->in[rt->tj[rt->effectors[e]].first_input].flags & RF_RT_IN_PHASE) != 0;
+    const rf_rt_tjoint *tj = &rt->tj[rt->effectors[e]];
+    return tj->kind == RF_RT_MAPPED && tj->input_count &&
+           (rt->in[tj->first_input].flags & RF_RT_IN_PHASE);
 }
 
 /* The frames rt_pins reads a foot's position and sole at, of any foot: during its contacts and
