@@ -25,6 +25,7 @@
 #include "rigflow/bvh.h"
 #include "rigflow/gltf-write.h"
 
+#include "bone-mesh.h"
 #include "convert-assimp.h"
 
 static const char *rf_cv_ext(const char *path)
@@ -168,6 +169,9 @@ static const rf_param_desc rf_cv_export_params[] = {
     RF_PARAM_DESC_OUTPUT_PATH(
         "path", RF_PARAM_REQUIRED,
         "the file to write; its extension picks the format: .glb, .gltf or .bvh"),
+    RF_PARAM_DESC_BOOL("bone_mesh", false,
+                       "glTF without a mesh input: write a mesh of one thin double pyramid per "
+                       "bone, skinned to it, so viewers that draw only meshes show the motion"),
 };
 
 /* Refuses an unknown extension when the pipeline is set up, before any import runs. */
@@ -181,6 +185,31 @@ static bool rf_cv_export_create(const rf_host *host, rf_node *node, void **self)
         return true;
     host->error(node, "%s: unknown output format '%s': expected .glb, .gltf or .bvh", target, ext);
     return false;
+}
+
+/* glTF, with the bones drawn as a mesh when asked for and no mesh is given. */
+static bool rf_cv_export_gltf(const rf_host *host, rf_node *node, const char *path,
+                              const char *target, const rf_skeleton *s, const rf_animation **a,
+                              uint32_t n, const rf_mesh *m)
+{
+    char err[1024];
+    rf_mesh *bones = NULL;
+    if (host->param_bool(node, "bone_mesh") && !(m && m->vertex_count)) {
+        m = bones = rf_cv_bone_mesh(s, err, sizeof err);
+        if (!bones) {
+            host->error(node, "%s: bone_mesh: %s", target, err);
+            return false;
+        }
+    } else if (host->param_bool(node, "bone_mesh")) {
+        host->log(node, RF_LOG_INFO, "%s: the given mesh is written; bone_mesh draws none", target);
+    }
+    rf_gltf_write_opts o = {
+        .binary = strcasecmp(rf_cv_ext(target && *target ? target : path), ".glb") == 0};
+    bool ok = rf_gltf_write_clips(path, target, s, a, n, m, &o, err, sizeof err);
+    if (!ok)
+        host->error(node, "%s", err);
+    rf_mesh_free(bones);
+    return ok;
 }
 
 static bool rf_cv_export(void *self, const rf_host *host, rf_node *node)
@@ -204,8 +233,9 @@ static bool rf_cv_export(void *self, const rf_host *host, rf_node *node)
         return false;
     }
     if (strcasecmp(ext, ".glb") == 0 || strcasecmp(ext, ".gltf") == 0) {
-        rf_gltf_write_opts o = {.binary = strcasecmp(ext, ".glb") == 0};
-        ok = rf_gltf_write_clips(path, target, s, a, n, m, &o, err, sizeof err);
+        ok = rf_cv_export_gltf(host, node, path, target, s, a, n, m);
+        free(a);
+        return ok;
     } else if (strcasecmp(ext, ".bvh") == 0) {
         if (m && m->vertex_count)
             host->log(node, RF_LOG_INFO, "%s: BVH keeps no mesh; the mesh is left out", target);

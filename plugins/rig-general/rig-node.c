@@ -9,16 +9,13 @@ void rf_rig_node_progress(void *user, double f)
 
 rf_rig_options rf_rig_node_options(const rf_host *host, rf_node *node)
 {
-    rf_rig_options o = {
-        .resolution = (uint32_t)host->param_int(node, "resolution"),
-        .proxy_triangles = (uint32_t)host->param_int(node, "proxy_triangles"),
-        .speck_size = host->param_float(node, "speck_size"),
-        .segment = host->param_float(node, "segment"),
-        .no_visibility = !host->param_bool(node, "visibility"),
-    };
     const rf_skeleton *axes = host->input_count(node, "axes") ? host->input(node, "axes", 0) : NULL;
-    if (axes)
-        o.up = axes->up, o.forward = axes->forward;
+    rf_rig_options o = rf_rig_axes_options(axes);
+    o.resolution = (uint32_t)host->param_int(node, "resolution");
+    o.proxy_triangles = (uint32_t)host->param_int(node, "proxy_triangles");
+    o.speck_size = host->param_float(node, "speck_size");
+    o.segment = host->param_float(node, "segment");
+    o.no_visibility = !host->param_bool(node, "visibility");
     return o;
 }
 

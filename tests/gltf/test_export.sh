@@ -6,7 +6,8 @@
 # Round trips GLB -> rigflow -> GLB keep every image's bytes and every material's factors; three.js's
 # GLTFLoader loads every export; clips: the Fox keeps its three, three BVH files retargeted onto the
 # Wizard give three named animations, a one-frame BVH gives a valid file with a skin, a morph
-# target survives (a fixture: none of the data's models has one). Bad textures
+# target survives (a fixture: none of the data's models has one), a BVH exported with
+# export.bone_mesh carries a skinned mesh. Bad textures
 # (missing, outside the model's folder, a link leading out, not an image) are left out with a
 # warning naming them; one named by a path from another machine (C:\textures\good.png) is found
 # by its file name beside the model, with a warning.
@@ -137,7 +138,12 @@ for b in cmu_01_01 dme_rest_cmu; do
 done
 if "$node" "$look" counts "$tmp/dme_rest_cmu.glb" | grep -q "animations=1 skins=1 meshes=0"; then ok; else
     ko "dme_rest_cmu.glb: expected a skin and its one-frame clip"; fi
-outs="$outs $tmp/wizard3.glb $tmp/sheet.glb"
+# export.bone_mesh draws a BVH's bones of any length (20 of cmu_01_01's 31 joints end one) as
+# one skinned mesh; the validator and three.js below read it
+if run "$convert_p" -p "source.path=$data/bvh/cmu_01_01.bvh" -p export.bone_mesh=true \
+    -p "export.path=$tmp/bones.glb" && "$node" "$look" counts "$tmp/bones.glb" |
+    grep -q "animations=1 skins=1 meshes=1"; then ok; else ko "bone_mesh: expected a skinned mesh"; fi
+outs="$outs $tmp/wizard3.glb $tmp/sheet.glb $tmp/bones.glb"
 
 # ---- round trips keep images and materials ----
 for b in Fox Wizard RobotExpressive vrm_sample girl; do

@@ -28,6 +28,11 @@ TESTS += tests/gltf/test_glb_limit
 tests_gltf_test_glb_limit_SOURCES = tests/gltf/test_glb_limit.c
 tests_gltf_test_glb_limit_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_gltf_test_glb_limit_LDADD = sdk/formats/gltf/librigflow-gltf.la $(CMOCKA_LIBS) -lm
+check_PROGRAMS += tests/gltf/test_bone_mesh
+TESTS += tests/gltf/test_bone_mesh
+tests_gltf_test_bone_mesh_SOURCES = tests/gltf/test_bone_mesh.c plugins/convert/bone-mesh.c
+tests_gltf_test_bone_mesh_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_gltf_test_bone_mesh_LDADD = $(CMOCKA_LIBS) -lm
 
 # pipelines/convert.json end to end (import and export nodes of plugins/convert).
 TESTS += tests/import/test_convert.sh

@@ -1,5 +1,5 @@
 /* rig-dump [--template] FILE: rigs the mesh of FILE (its rig ignored) with librigauto (the
- * general rigger, or the template rigger) and prints the joints
+ * general rigger, or the template rigger) with the axes the file declares and prints the joints
  * ("J index parent x y z") and every vertex with its heaviest joint ("V x y z joint"), for
  * tests/rig/rig-view.py to draw. A development aid; the tests check the same data. */
 #include <stdio.h>
@@ -27,9 +27,14 @@ int main(int argc, char **argv)
     rf_skeleton *s;
     rf_mesh *m;
     rf_rig_stats st;
-    bool ok = template ? rf_rig_template(r.mesh, NULL, RF_RIG_TEMPLATE_AUTO, &s, &m, &st, NULL,
+    /* The axes the file declares, as the pipelines' rigger node and rig-bench pass them: without
+     * them the analysis may read the body another way and the rig differs from theirs. */
+    rf_rig_options ro = {0};
+    if (r.skeleton)
+        ro.up = r.skeleton->up, ro.forward = r.skeleton->forward;
+    bool ok = template ? rf_rig_template(r.mesh, &ro, RF_RIG_TEMPLATE_AUTO, &s, &m, &st, NULL,
                                          NULL, err, sizeof err)
-                       : rf_rig_general(r.mesh, NULL, &s, &m, &st, NULL, NULL, err, sizeof err);
+                       : rf_rig_general(r.mesh, &ro, &s, &m, &st, NULL, NULL, err, sizeof err);
     if (!ok) {
         fprintf(stderr, "rig-dump: %s: %s\n", argv[1], err);
         rf_ai_result_clear(&r);
