@@ -369,6 +369,28 @@ static int rf_rig_bd_cmp(const void *pa, const void *pb)
     return a->d < b->d ? -1 : a->d > b->d;
 }
 
+/* Three bones or more meeting at one point (a wrist with fingers fanning from one pivot, a
+ * pelvis with the legs and the spine) are equally near every vertex whose nearest point on each
+ * is that point. The one bone ending there (the limb leading into the junction) heats such a
+ * vertex, not whichever two branches the sort put first: the fire dragon's wing membranes, whose
+ * corners at the wrist its artist gave to the forearm, 68% -> 69% (doc/autorig.md). Returns
+ * that bone's joint, or RF_RIG_NONE for two bones (a bend: both heat it) or no single ending
+ * one. bd is sorted, bd[k] the bone chosen, tie the tolerance of equal distances. */
+static uint32_t rf_rig_junction(const double q[3], const rf_rig_bone *bones, uint32_t nb,
+                                const rf_rig_bd *bd, uint32_t k, double tie)
+{
+    uint32_t meeting = 0, ending = RF_RIG_NONE, ends = 0;
+    for (uint32_t t = k; t < nb && t < 8 && bd[t].d - bd[k].d <= tie; t++) {
+        const rf_rig_bone *b = &bones[bd[t].b];
+        double c[3];
+        rf_rig_seg_dist(q, b, c);
+        meeting++;
+        if (!memcmp(c, b->b, sizeof c) && memcmp(b->a, b->b, sizeof c))
+            ending = b->joint, ends++;
+    }
+    return meeting >= 3 && ends == 1 ? ending : RF_RIG_NONE;
+}
+
 /* The nearest bone each vertex sees (trying the 8 nearest); src[i].h = 0 when it sees none. A
  * loose part where no vertex sees a bone takes its nearest bones unseen. */
 static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint32_t nb,
@@ -420,6 +442,10 @@ static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint3
                 break;
             }
         }
+        uint32_t into =
+            src[i].joint2 != RF_RIG_NONE ? rf_rig_junction(q, bones, nb, bd, k, tie) : RF_RIG_NONE;
+        if (into != RF_RIG_NONE)
+            src[i].joint = into, src[i].joint2 = RF_RIG_NONE;
         if (src[i].h == 0) {
             st->unseen_vertices++;
             src[i].h = -1.0 / (d0 * d0); /* kept for the part fallback below */
@@ -791,6 +817,25 @@ static bool rf_rig_boneless_owners(const rf_rig_prep *p, const uint8_t *bends, c
     return true;
 }
 
+/* Whether bone heat gives joint j more than half of loose part q (the mean of its vertices'
+ * weights). */
+static bool rf_rig_heat_agrees(const rf_rig_prep *p, uint32_t q, uint32_t nj, const double *w,
+                               uint32_t j)
+{
+    double share = 0, n = 0;
+    for (uint32_t i = 0; i < p->proxy.nv; i++)
+        if (p->proxy_part[i] == q)
+            share += w[(size_t)i * nj + j], n++;
+    return share > 0.5 * n;
+}
+
+/* A part enclosing the bones of this many joints or more, with at least four vertices for each,
+ * is a piece modelled to deform (a head carrying a jaw, lips, eyes and a ponytail; an arm with
+ * its hand), not a box: the boxes of the artists' box models hold the bones of one to four
+ * joints, and a box of eight corners holding many of the rigger's own short bones cannot bend
+ * between them; BCN_Epileptic's head holds eleven joints' bones in 874 vertices. */
+#define RF_RIG_PIECE_JOINTS 5
+
 /* A loose part that encloses bones is moved by the joints whose bones it encloses, and only by
  * them: a sleeve over an elbow by the upper arm and the forearm, not by the chest beside it.
  * When one joint holds seven tenths of the bone length inside it or more, by that joint alone,
@@ -798,9 +843,15 @@ static bool rf_rig_boneless_owners(const rf_rig_prep *p, const uint8_t *bends, c
  * touches and shears it. Blended between its own joints, such a part keeps bone heat's plain
  * rows (plain[], not sharpened): sharpening sends each corner of a box to the joint nearest
  * it, a thigh box's top corners to the hips and its bottom ones to the knee, and tears the box
- * into a wedge as they turn. A closed part enclosing no bone moves with the joint bone heat
- * gives most of it (rf_rig_boneless_owners); an open one keeps its weights, and so does the
- * part with the largest surface (the body). */
+ * into a wedge as they turn. A part enclosing the bones of RF_RIG_PIECE_JOINTS joints or more
+ * is weighted as the body is, sharpened, among its own joints, and never moved by one alone: a
+ * head holding the neck's bone and the short bones of its face and jaw would go stiff with the
+ * neck. The part with the largest surface (the body) moves with one joint only when bone heat
+ * agrees, giving that joint more than half of it: a box model's body box holding the torso's
+ * bone (the animalia bird's, the owl's), a robot's head piece holding the head's; a bat's body
+ * box, which holds the torso's bone but carries the roots of the head and the wings, keeps its
+ * weights. A closed part enclosing no bone moves with the joint bone heat gives most of it
+ * (rf_rig_boneless_owners); an open one keeps its weights. */
 static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
                                const rf_rig_bone *bones, uint32_t nb, uint32_t nj, double *w,
                                const double *plain)
@@ -815,15 +866,19 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
              *touched = malloc((np + 1) * sizeof *touched);
     uint8_t *bends =
         calloc(np + 1, 1); /* parts that keep bone heat's blend (rf_rig_boneless_owners) */
-    bool ok =
-        held && sum && ahead && behind && crossed && area && owner && inside && touched && bends;
+    uint8_t *piece = calloc(np + 1, 1); /* parts holding RF_RIG_PIECE_JOINTS joints' bones */
+    bool ok = held && sum && ahead && behind && crossed && area && owner && inside && touched &&
+              bends && piece;
     if (ok)
         rf_rig_held(rays, bones, nb, nj, 4 * p->longest, held, sum, ahead, behind, crossed, inside,
                     touched);
     if (ok)
         rf_rig_around(rays, bones, nb, 4 * p->longest, ahead, behind, crossed, bends);
     ok = ok && rf_rig_open_parts(p, bends);
-    uint32_t largest = 0;
+    uint32_t largest = 0, *verts = ok ? calloc(np + 1, sizeof *verts) : NULL;
+    ok = ok && verts;
+    for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
+        verts[p->proxy_part[i]]++;
     for (uint32_t t = 0; ok && t < p->proxy.nt; t++) {
         double cot[3];
         area[p->proxy_part[p->proxy.t[t * 3]]] += rf_rig_tri(&p->proxy, t, cot);
@@ -832,19 +887,22 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         largest = area[part] > area[largest] ? part : largest;
         owner[part] = RF_RIG_NONE;
         const double *h = held + (size_t)part * nj;
-        uint32_t best = 0;
+        uint32_t best = 0, joints = h[0] > 0;
         for (uint32_t j = 1; j < nj; j++)
-            best = h[j] > h[best] ? j : best;
-        if (sum[part] > 0 && h[best] >= 0.7 * sum[part])
+            best = h[j] > h[best] ? j : best, joints += h[j] > 0;
+        piece[part] = joints >= RF_RIG_PIECE_JOINTS && verts[part] >= 4 * joints;
+        if (sum[part] > 0 && h[best] >= 0.7 * sum[part] && !piece[part])
             owner[part] = best;
     }
-    if (ok)
+    if (ok && owner[largest] != RF_RIG_NONE &&
+        !rf_rig_heat_agrees(p, largest, nj, w, owner[largest]))
         owner[largest] = RF_RIG_NONE;
     ok = ok && rf_rig_boneless_owners(p, bends, sum, largest, nj, w, owner);
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
         if (p->proxy_part[i] != largest && sum[p->proxy_part[i]] > 0 &&
             owner[p->proxy_part[i]] == RF_RIG_NONE) {
-            memcpy(w + (size_t)i * nj, plain + (size_t)i * nj, nj * sizeof *w);
+            if (!piece[p->proxy_part[i]])
+                memcpy(w + (size_t)i * nj, plain + (size_t)i * nj, nj * sizeof *w);
             rf_rig_keep_enclosed(held + (size_t)p->proxy_part[i] * nj, nj, w + (size_t)i * nj);
         }
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++) {
@@ -855,7 +913,7 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         w[(size_t)i * nj + j] = 1;
     }
     free(held), free(sum), free(ahead), free(behind), free(crossed), free(area), free(owner);
-    free(inside), free(touched), free(bends);
+    free(inside), free(touched), free(bends), free(piece), free(verts);
     return ok;
 }
 

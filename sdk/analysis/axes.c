@@ -4,7 +4,8 @@
  * away from: weighted by how much of each limb's reach points down and how steadily its chain
  * descends (a wing, a limb ending in a fan of long digits, at half weight), plus a bonus when a
  * mirrored pair of limbs touches the lowest level (feet on the ground), one for the ground the feet
- * span when the body stands over them, and a small one for the axis the file declares. Forward is
+ * span when the body stands over them, and one for the axis the file declares (RF_FILE_UP_VOTE,
+ * deciding close calls). Forward is
  * then one of two directions; its sign is voted by the feet (toes point forward), by the knees of a
  * biped and by the file. */
 #include <math.h>
@@ -355,6 +356,14 @@ int rf_up_dissent(const rf_analysis *a)
     return worst;
 }
 
+/* The declared up's vote: it decides close calls between the limbs' readings. A body lying
+ * level with its limbs flat (a bat on its belly, wings spread; a wyvern's curve skeleton with
+ * wings laid out) has its limbs hang nearly as well under the axis it lies along as under its
+ * real up, and 0.3 let the animalia bat's and the general rigger's jungle wyvern stand on their
+ * tails; 0.45 reads both right. It stays well under what the limbs and ground of a plain body
+ * give (0.8 also stood the artist's bat right, but cost the retarget sweep two passing runs). */
+#define RF_FILE_UP_VOTE 0.45
+
 static void detect_up(rf_awork *w, rf_limbs *ls)
 {
     rf_analysis *a = w->a;
@@ -376,7 +385,7 @@ static void detect_up(rf_awork *w, rf_limbs *ls)
         if (ls->n)
             up_score(w, ls, cands[c], c, cue[c]);
         cue[c][0] *= strength, cue[c][1] *= strength;
-        cue[c][2] = have_file && rf_v3_dot(cands[c], fu) > 0.9 ? 0.3 : 0;
+        cue[c][2] = have_file && rf_v3_dot(cands[c], fu) > 0.9 ? RF_FILE_UP_VOTE : 0;
         score[c] = cue[c][0] + cue[c][1] + cue[c][2];
         if (score[c] > score[best])
             best = c;
@@ -453,6 +462,26 @@ static uint32_t far_leaf(const rf_awork *w, const rf_limb *l)
     return l->end;
 }
 
+/* Appends to pts the tips of the chain that goes on past a limb's far point, one child after
+ * another, and returns the new count; *last is the chain's last joint. The far point is the tip
+ * farthest from where the limb leaves the body, and a folded leg's foot turns back towards the
+ * body from there (a sitting frog's shin runs back and down, its foot forward): the foot is
+ * the chain's last bone, not the bone reaching farthest. A guessed leaf is left to far_leaf. */
+static uint32_t chain_past_far(const rf_awork *w, const rf_limb *l, rf_vec3 *pts, uint32_t np,
+                               uint32_t max, uint32_t *last)
+{
+    uint32_t j = l->end;
+    while (np < max && rf_an_child_count(w, j) == 1) {
+        uint32_t ch = w->child_idx[w->child_off[j]];
+        if (w->limb_of[ch] != (int32_t)l->root || (w->a->joints[ch].flags & RF_JI_TIP_GUESSED))
+            break;
+        pts[np++] = w->a->joints[ch].tip;
+        j = ch;
+    }
+    *last = j;
+    return np;
+}
+
 /* Feet: the part of a grounded limb near the ground points forward. Knees of a biped bend
  * forward. Both measured along c (forward up to sign). */
 static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32_t *legs)
@@ -470,10 +499,14 @@ static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32
         if (!l->leg)
             continue;
         (*legs)++;
+        uint32_t last;
+        np = chain_past_far(w, l, pts, np, 62, &last);
+        for (uint32_t k = 0; k < np; k++)
+            low = fmin(low, rf_an_height(w, pts[k]));
         /* A leaf's guessed tip points the right way in a rig with a bone axis: the foot may be
          * that leaf, measured along its own bone (a guessed length would weigh the bones above
          * it: a digitigrade shin running back to the hock is no foot). */
-        const rf_joint_info *end = &w->a->joints[far_leaf(w, l)];
+        const rf_joint_info *end = &w->a->joints[last == l->end ? far_leaf(w, l) : last];
         bool guessed_leaf = false;
         if (w->conv_axis >= 0 && (end->flags & RF_JI_TIP_GUESSED) &&
             rf_v3_dist(end->tip, pts[np - 1]) > w->eps)

@@ -279,7 +279,10 @@ static int32_t center_next(const rf_builder *b, uint32_t j)
     if (centers != 1 || all >= 3)
         return RF_NONE;
     /* Without a bone axis, a lone child continues the chain only if it goes on roughly the same
-     * way: a jaw hanging forward and down from the skull does not. */
+     * way: a jaw hanging forward and down from the skull does not. Only within the chain, as
+     * above: the bone into the chain's first joint is another section's. */
+    if (!inside)
+        return only;
     return turn(w, j, (uint32_t)only) > 75.0 ? RF_NONE : only;
 }
 
@@ -333,6 +336,39 @@ static void beyond(rf_builder *b, uint32_t end, rf_section_type type, int32_t pa
     }
     if (main >= 0)
         center_chain(b, (uint32_t)main, type, 0, parent_sec, (int32_t)end);
+}
+
+/* A tail that leaves the spine just in front of the rear girdle: a curve skeleton's root sits
+ * low between the hind legs and its tail rises from the spine joint above it, an artist's tail
+ * from the pelvis itself. When the rear girdle carries no tail, the longest center branch off
+ * the spine path in the rear half of the body whose joints lie behind the girdle is the tail. */
+static void tail_off_spine(rf_builder *b, uint32_t rear, uint32_t front, int32_t rear_sec)
+{
+    rf_awork *w = b->w;
+    for (uint32_t s = 0; s < b->count; s++)
+        if (b->secs[s].type == RF_SECTION_TAIL)
+            return;
+    rf_vec3 f = w->a->forward, at = rf_an_pos(w, rear);
+    double span = rf_v3_dot(rf_v3_sub(rf_an_pos(w, front), at), f);
+    int32_t main = RF_NONE, from = RF_NONE;
+    for (uint32_t i = 0; span > 0 && i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (!b->on_path[j] || rf_v3_dot(rf_v3_sub(rf_an_pos(w, j), at), f) > 0.5 * span)
+            continue;
+        for (uint32_t k = w->child_off[j]; k < w->child_off[j + 1]; k++) {
+            uint32_t c = w->child_idx[k];
+            if (!is_center(w, c) || b->on_path[c] || b->sec_of[c] >= 0)
+                continue;
+            rf_vec3 mid = rf_v3_scale(w->sub_sum[c], 1.0 / w->sub_count[c]);
+            if (rf_v3_dot(rf_v3_sub(mid, at), f) >= -0.05 * w->a->size)
+                continue;
+            if (main < 0 || b->down[c] > b->down[main])
+                main = (int32_t)c, from = (int32_t)j;
+        }
+    }
+    if (main >= 0)
+        center_chain(b, (uint32_t)main, RF_SECTION_TAIL, 0,
+                     from == (int32_t)rear ? rear_sec : b->sec_of[from], from);
 }
 
 static void root_section(rf_builder *b)
@@ -407,6 +443,7 @@ static void center_sections(rf_builder *b)
     } else {
         beyond(b, front, RF_SECTION_HEAD, spine, 0);
         beyond(b, rear, RF_SECTION_TAIL, rear_sec, 0);
+        tail_off_spine(b, rear, front, rear_sec);
     }
     /* center branches off the spine path */
     for (uint32_t i = 0; i < w->order_count; i++) {

@@ -362,16 +362,6 @@ static void refine_plane(rf_awork *w, const rf_grid *g)
     w->plane_p = rf_v3_scale(psum, 1.0 / count);
 }
 
-static void fallback_candidates(rf_awork *w, rf_candidates *cs, rf_vec3 center)
-{
-    const rf_skeleton *s = w->skel;
-    if (!w->opt.ignore_file_axes && rf_v3_len2(s->up) > 0 && rf_v3_len2(s->forward) > 0)
-        propose(cs, rf_v3_cross(s->up, s->forward), center, 0);
-    propose(cs, rf_v3(1, 0, 0), center, 0);
-    propose(cs, rf_v3(0, 0, 1), center, 0);
-    propose(cs, rf_v3(0, 1, 0), center, 0);
-}
-
 /* The up axis forced or declared by the file (zero when neither): the symmetry plane holds it. */
 static rf_vec3 known_up(const rf_awork *w)
 {
@@ -381,27 +371,27 @@ static rf_vec3 known_up(const rf_awork *w)
     return rf_v3_isfinite(u) && rf_v3_len2(u) > 1e-24 ? rf_v3_normalize(u) : rf_v3(0, 0, 0);
 }
 
+/* The normal kept when no plane wins (every joint then lies on the centerline): the file's
+ * left when it declares both axes, else a coordinate axis across the known up, so that the up
+ * and forward candidates drawn from it are directions. */
+static rf_vec3 no_plane_normal(const rf_awork *w, rf_vec3 up)
+{
+    const rf_skeleton *s = w->skel;
+    if (!w->opt.ignore_file_axes && rf_v3_len2(s->up) > 0 && rf_v3_len2(s->forward) > 0) {
+        rf_vec3 l = rf_v3_normalize(rf_v3_cross(s->up, s->forward));
+        if (rf_v3_len2(l) > 0 && fabs(rf_v3_dot(l, up)) < 0.5)
+            return l;
+    }
+    return fabs(up.x) < 0.7 ? rf_v3(1, 0, 0) : rf_v3(0, 0, 1);
+}
+
+/* The planes scored: the most heavily proposed. */
 #define RF_SCORED_CLUSTERS 12
 
 static int cmp_cluster(const void *a, const void *b)
 {
     double x = ((const rf_plane_cluster *)a)->weight, y = ((const rf_plane_cluster *)b)->weight;
     return x > y ? -1 : x < y;
-}
-
-/* Heaviest proposals first; the zero-weight fallback axes after them, kept in the scored set. */
-static void sort_clusters(rf_candidates *cs)
-{
-    qsort(cs->c, (size_t)cs->count, sizeof cs->c[0], cmp_cluster);
-    int fallbacks = 0;
-    for (int i = 0; i < cs->count; i++)
-        fallbacks += cs->c[i].weight == 0;
-    int proposals = cs->count - fallbacks;
-    if (proposals > RF_SCORED_CLUSTERS - fallbacks) {
-        int keep = RF_SCORED_CLUSTERS - fallbacks;
-        memmove(&cs->c[keep], &cs->c[proposals], (size_t)fallbacks * sizeof cs->c[0]);
-        cs->count = keep + fallbacks;
-    }
 }
 
 /* Chooses the symmetry plane: forced axes define it; otherwise the best scoring candidate. */
@@ -414,28 +404,31 @@ void rf_an_symmetry(rf_awork *w)
     w->plane_n = rf_v3(1, 0, 0), w->plane_p = center;
     if (!cs || !kids || !g)
         goto out;
-    rf_vec3 fu = w->opt.up, ff = w->opt.forward;
+    rf_vec3 fu = w->opt.up, ff = w->opt.forward, up = known_up(w);
+    /* No plane at all scores as every joint on it, a quarter point each: a proposed plane has
+     * to mirror more than a quarter of the joints off it to beat that (a fish's one chain, a
+     * rig whose siblings differ). Axes forced by the caller define the plane whatever it
+     * scores. Axis planes through a chosen offset were measured as candidates too (doc/
+     * matching.md, "Symmetry plane") and lost more rigs than they found. */
+    double best = 0.25 * w->order_count;
     if (rf_v3_len2(fu) > 0 && rf_v3_len2(ff) > 0 && rf_v3_len2(rf_v3_cross(fu, ff)) > 0) {
         propose(cs, rf_v3_cross(fu, ff), center, 1); /* forced: only the offset is searched */
+        best = -1;
     } else {
         gather_candidates(w, cs, kids);
-        fallback_candidates(w, cs, center);
     }
-    sort_clusters(cs);
-    rf_vec3 up = known_up(w);
-    double best = -1;
+    qsort(cs->c, (size_t)cs->count, sizeof cs->c[0], cmp_cluster);
     uint32_t best_off = 0, best_matched = 0;
-    rf_vec3 bn = w->plane_n, bp = center;
+    rf_vec3 bn = no_plane_normal(w, up), bp = center;
     for (int i = 0; i < cs->count && i < RF_SCORED_CLUSTERS; i++) {
         rf_vec3 n = rf_v3_normalize(cs->c[i].n_sum);
-        rf_vec3 p =
-            cs->c[i].weight > 0 ? rf_v3_scale(cs->c[i].p_sum, 1.0 / cs->c[i].weight) : center;
+        rf_vec3 p = rf_v3_scale(cs->c[i].p_sum, 1.0 / cs->c[i].weight);
         uint32_t off, matched;
-        /* Proposed planes beat the fallback axes on ties: they come from the skeleton. */
-        double bonus = cs->c[i].weight > 0 ? 1e-3 : 0;
+        /* A plane beats "no plane" on a tie: it comes from the skeleton. */
+        double bonus = 1e-3;
         double score = plane_score(w, g, n, p, best - bonus, &off, &matched);
         rf_vec3 nu = rf_v3_sub(n, rf_v3_scale(up, rf_v3_dot(n, up)));
-        if (cs->c[i].weight > 0 && rf_v3_len(nu) > 0.5 && fabs(rf_v3_dot(n, up)) > 0.02) {
+        if (rf_v3_len(nu) > 0.5 && fabs(rf_v3_dot(n, up)) > 0.02) {
             /* the same plane stood upright: mirrored limbs of a rig cut from a scan rarely
              * match to the degree, and a tilt of a few degrees misses the far joints */
             nu = rf_v3_normalize(nu);
@@ -453,12 +446,14 @@ void rf_an_symmetry(rf_awork *w)
             best = score + bonus, bn = n, bp = p, best_off = off, best_matched = matched;
     }
     w->plane_n = bn, w->plane_p = bp;
-    refine_plane(w, g);
-    uint32_t off, matched;
-    plane_score(w, g, w->plane_n, w->plane_p, -1, &off, &matched);
-    if (matched < best_matched) { /* the refinement made it worse: keep the original */
-        w->plane_n = bn, w->plane_p = bp;
-        off = best_off, matched = best_matched;
+    uint32_t off = 0, matched = 0;
+    if (best_matched > 0) { /* a plane won: move it onto its pairs */
+        refine_plane(w, g);
+        plane_score(w, g, w->plane_n, w->plane_p, -1, &off, &matched);
+        if (matched < best_matched) { /* the refinement made it worse: keep the original */
+            w->plane_n = bn, w->plane_p = bp;
+            off = best_off, matched = best_matched;
+        }
     }
     w->a->symmetry = off ? (double)matched / off : 1.0;
     w->have_plane = matched > 0;

@@ -33,6 +33,13 @@ TESTS += tests/gltf/test_bone_mesh
 tests_gltf_test_bone_mesh_SOURCES = tests/gltf/test_bone_mesh.c plugins/convert/bone-mesh.c
 tests_gltf_test_bone_mesh_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_gltf_test_bone_mesh_LDADD = $(CMOCKA_LIBS) -lm
+# glTF's axes: a character declared Z-up or facing -Z written turned, read back through Assimp.
+check_PROGRAMS += tests/gltf/test_gltf_axes
+TESTS += tests/gltf/test_gltf_axes
+tests_gltf_test_gltf_axes_SOURCES = tests/gltf/test_gltf_axes.c sdk/formats/gltf/gltf-axes.c
+tests_gltf_test_gltf_axes_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_gltf_test_gltf_axes_LDADD = sdk/formats/assimp/librigflow-assimp.la sdk/formats/gltf/librigflow-gltf.la \
+	$(CMOCKA_LIBS) -lm
 
 # pipelines/convert.json end to end (import and export nodes of plugins/convert).
 TESTS += tests/import/test_convert.sh

@@ -615,6 +615,131 @@ static void test_digitigrade_foot_leaf(void **state)
     rf_skeleton_free(s);
 }
 
+/* A sitting frog facing +Z: each hind leg's shin runs back and down from the hip and its foot
+ * forward again along the ground, so the tip farthest from the hip is the heel. The foot that
+ * votes for the facing is the chain's last bone (toes forward), not the bone reaching farthest
+ * (the shin, pointing back); the head, higher at the front, agrees. Any yaw, any scale. */
+static void test_folded_hind_feet(void **state)
+{
+    (void)state;
+    static const sb_joint frog[] = {
+        {"torso", NULL, 0, 0.23, -0.18, 0},        {"head", "torso", 0, 0.40, 0.25, 0},
+        {".", "head", 0, 0.30, 0.50, 0},           {"l_leg", "torso", 0.28, 0.23, -0.18, 0},
+        {"l_foot", "l_leg", 0.28, 0.03, -0.40, 0}, {".", "l_foot", 0.32, 0.03, -0.08, 0},
+        {"r_leg", "torso", -0.28, 0.23, -0.18, 0}, {"r_foot", "r_leg", -0.28, 0.03, -0.40, 0},
+        {".", "r_foot", -0.32, 0.03, -0.08, 0},    {"l_arm", "torso", 0.28, 0.25, 0.16, 0},
+        {".", "l_arm", 0.26, 0.0, 0.18, 0},        {"r_arm", "torso", -0.28, 0.25, 0.16, 0},
+        {".", "r_arm", -0.26, 0.0, 0.18, 0},
+    };
+    const double yaws[] = {0, 90, 180, 270, 35};
+    for (size_t i = 0; i < SB_COUNT(yaws); i++) {
+        rf_quat r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), yaws[i] * RF_PI / 180);
+        rf_skeleton *s = sb_build_xf(frog, SB_COUNT(frog), r, 3.0, rf_v3(1, 0, -4));
+        rf_analysis *a = rf_analyze(s, NULL);
+        assert_non_null(a);
+        check_consistent(a);
+        assert_near_dir(a->up, rf_v3(0, 1, 0));
+        assert_near_dir(a->forward, rf_quat_rotate(r, rf_v3(0, 0, 1)));
+        assert_true(a->forward_cues[0] > 0); /* the feet agree */
+        rf_analysis_free(a);
+        rf_skeleton_free(s);
+    }
+}
+
+/* The curve skeleton the general rigger drew in the animalia bat (positions rounded), which lies
+ * on its belly with its wings spread level (+Y up, facing -Z: its mesh spans 0.34 in Y against
+ * 1.5 across and 0.76 along, its feet on y = 0). Its legs trail back along the ground, so under
+ * -Z (stood on its tail) its limbs hang a little better than under +Y, where they lie flat:
+ * the file's declared +Y decides the close call. Any yaw. */
+static void test_lying_bat_declared_up(void **state)
+{
+    (void)state;
+    static const sb_joint bat[] = {
+        {"spine0", NULL, 0, 0.094, 0.078, 0},
+        {"spine1", "spine0", 0, 0.120, -0.143, 0},
+        {"head", "spine1", 0, 0.163, -0.328, 0},
+        {".", "head", 0.055, 0.219, -0.328, 0},
+        {"ear_r", "spine1", -0.137, 0.258, -0.203, 0},
+        {".", "ear_r", -0.172, 0.344, -0.203, 0},
+        {"ear_l", "spine1", 0.137, 0.258, -0.203, 0},
+        {".", "ear_l", 0.172, 0.344, -0.203, 0},
+        {"leg_r0", "spine0", -0.048, 0.062, 0.147, 0},
+        {"leg_r1", "leg_r0", -0.097, 0.030, 0.218, 0},
+        {"leg_r2", "leg_r1", -0.152, 0.003, 0.387, 0},
+        {"leg_r3", "leg_r2", -0.158, 0.002, 0.398, 0},
+        {".", "leg_r3", -0.172, 0.0, 0.422, 0},
+        {"leg_l0", "spine0", 0.048, 0.062, 0.147, 0},
+        {"leg_l1", "leg_l0", 0.097, 0.030, 0.218, 0},
+        {"leg_l2", "leg_l1", 0.152, 0.003, 0.387, 0},
+        {"leg_l3", "leg_l2", 0.158, 0.002, 0.398, 0},
+        {".", "leg_l3", 0.172, 0.0, 0.422, 0},
+        {"arm_r0", "spine1", -0.115, 0.122, -0.078, 0},
+        {"arm_r1", "arm_r0", -0.131, 0.122, -0.069, 0},
+        {"arm_r2", "arm_r1", -0.277, 0.125, 0.012, 0},
+        {"arm_r3", "arm_r2", -0.710, 0.125, 0.046, 0},
+        {".", "arm_r3", -0.750, 0.125, -0.133, 0},
+        {"arm_l0", "spine1", 0.115, 0.122, -0.078, 0},
+        {"arm_l1", "arm_l0", 0.131, 0.122, -0.069, 0},
+        {"arm_l2", "arm_l1", 0.277, 0.125, 0.012, 0},
+        {"arm_l3", "arm_l2", 0.710, 0.125, 0.046, 0},
+        {".", "arm_l3", 0.750, 0.125, -0.133, 0},
+    };
+    const double yaws[] = {0, 90, 200};
+    for (size_t i = 0; i < SB_COUNT(yaws); i++) {
+        rf_quat r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), yaws[i] * RF_PI / 180);
+        rf_skeleton *s = sb_build_xf(bat, SB_COUNT(bat), r, 2.0, rf_v3(0, 0, 0));
+        s->up = rf_v3(0, 1, 0);
+        rf_analysis *a = rf_analyze(s, NULL);
+        assert_non_null(a);
+        check_consistent(a);
+        assert_near_dir(a->up, rf_v3(0, 1, 0));
+        rf_analysis_free(a);
+        rf_skeleton_free(s);
+    }
+}
+
+/* A quadruped rooted the way a curve skeleton is: the root low between the hind legs, the spine
+ * rising from it to the pelvis and running forward, the tail leaving the pelvis upwards and then
+ * back. The rear girdle (the root) carries no tail, so the chain behind it off the spine is the
+ * tail, all of it: its first bone turns from the spine's, which is no reason to cut the chain. */
+static void test_tail_off_spine(void **state)
+{
+    (void)state;
+    static const sb_joint quad[] = {
+        {"root", NULL, 0, 0.85, 0.50, 0},        {"pelvis", "root", 0, 1.00, 0.50, 0},
+        {"spine1", "pelvis", 0, 1.05, 0.20, 0},  {"spine2", "spine1", 0, 1.05, -0.10, 0},
+        {"chest", "spine2", 0, 1.00, -0.40, 0},  {"neck", "chest", 0, 1.20, -0.60, 0},
+        {"head", "neck", 0, 1.35, -0.75, 0},     {".", "head", 0, 1.30, -0.95, 0},
+        {"tail1", "pelvis", 0, 1.10, 0.55, 0},   {"tail2", "tail1", 0, 1.05, 0.75, 0},
+        {"tail3", "tail2", 0, 0.95, 0.95, 0},    {".", "tail3", 0, 0.85, 1.15, 0},
+        {"fl1", "chest", -0.15, 0.90, -0.40, 0}, {"fl2", "fl1", -0.15, 0.50, -0.36, 0},
+        {"fl3", "fl2", -0.15, 0.10, -0.42, 0},   {"fl4", "fl3", -0.15, 0.02, -0.50, 0},
+        {".", "fl4", -0.15, 0.0, -0.56, 0},      {"fr1", "chest", 0.15, 0.90, -0.40, 0},
+        {"fr2", "fr1", 0.15, 0.50, -0.36, 0},    {"fr3", "fr2", 0.15, 0.10, -0.42, 0},
+        {"fr4", "fr3", 0.15, 0.02, -0.50, 0},    {".", "fr4", 0.15, 0.0, -0.56, 0},
+        {"hl1", "root", -0.15, 0.80, 0.50, 0},   {"hl2", "hl1", -0.15, 0.55, 0.40, 0},
+        {"hl3", "hl2", -0.15, 0.30, 0.55, 0},    {"hl4", "hl3", -0.15, 0.03, 0.50, 0},
+        {".", "hl4", -0.15, 0.0, 0.44, 0},       {"hr1", "root", 0.15, 0.80, 0.50, 0},
+        {"hr2", "hr1", 0.15, 0.55, 0.40, 0},     {"hr3", "hr2", 0.15, 0.30, 0.55, 0},
+        {"hr4", "hr3", 0.15, 0.03, 0.50, 0},     {".", "hr4", 0.15, 0.0, 0.44, 0},
+    };
+    const double yaws[] = {0, 90, 215};
+    for (size_t i = 0; i < SB_COUNT(yaws); i++) {
+        rf_quat r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), yaws[i] * RF_PI / 180);
+        rf_skeleton *s = sb_build_xf(quad, SB_COUNT(quad), r, 1.5, rf_v3(2, 0, 1));
+        rf_analysis *a = rf_analyze(s, NULL);
+        assert_non_null(a);
+        check_consistent(a);
+        assert_near_dir(a->forward, rf_quat_rotate(r, rf_v3(0, 0, -1)));
+        assert_section(a, s, "tail1", RF_SECTION_TAIL, RF_SIDE_CENTER);
+        assert_section(a, s, "tail3", RF_SECTION_TAIL, RF_SIDE_CENTER);
+        assert_int_equal(section_of(a, s, "tail1")->bone_count, 3);
+        assert_section(a, s, "hl2", RF_SECTION_LEG, RF_SIDE_LEFT);
+        rf_analysis_free(a);
+        rf_skeleton_free(s);
+    }
+}
+
 /* A rest pose with every bone along +X (Maya joint orients at zero rotation) is no body; the
  * clip shows it: its first frame repeats the line, the next two are the biped. */
 static void test_degenerate_rest(void **state)
@@ -949,6 +1074,9 @@ int main(void)
         cmocka_unit_test(test_measures),
         cmocka_unit_test(test_partial_skin_and_fold),
         cmocka_unit_test(test_digitigrade_foot_leaf),
+        cmocka_unit_test(test_folded_hind_feet),
+        cmocka_unit_test(test_lying_bat_declared_up),
+        cmocka_unit_test(test_tail_off_spine),
         cmocka_unit_test(test_degenerate_rest),
         cmocka_unit_test(test_socket),
         cmocka_unit_test(test_folded_leaf),

@@ -75,10 +75,29 @@ static void sd_vertex(const double *wa, const double *wo, uint32_t nj, sd_sums *
     conf[(size_t)ha * nj + ho]++;
 }
 
+/* Whether joint a lies above joint d in s (an ancestor). */
+static bool sd_above(const rf_skeleton *s, uint32_t a, uint32_t d)
+{
+    for (int32_t p = s->joints[d].parent; p >= 0; p = s->joints[p].parent)
+        if ((uint32_t)p == a)
+            return true;
+    return false;
+}
+
 static void sd_print_joints(const rf_skeleton *s, const double *jp, const double *jr,
                             const double *jn, unsigned *conf)
 {
     uint32_t nj = s->joint_count;
+    /* where the heaviest joints differ, on which side of the artist's joint ours lies: a joint
+     * below it (a boundary of ours nearer the root than the artist's), above it, or elsewhere */
+    unsigned below = 0, above = 0, apart = 0;
+    for (size_t i = 0; i < (size_t)nj * nj; i++)
+        if (i / nj != i % nj && conf[i]) {
+            uint32_t a = (uint32_t)(i / nj), o = (uint32_t)(i % nj);
+            *(sd_above(s, a, o) ? &below : sd_above(s, o, a) ? &above : &apart) += conf[i];
+        }
+    printf("  heaviest differs: ours below the artist's %u, above %u, elsewhere %u vertices\n",
+           below, above, apart);
     for (uint32_t j = 0; j < nj; j++)
         if (jn[j]) {
             char *name = sd_shown(s->joints[j].name);

@@ -95,7 +95,12 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 # fox's head, which bone heat gives mostly to the neck, move with it since (.70/.82/.61 ->
 # .66/.74/.70); its neck box, blended between the bones inside it, keeps bone heat's plain
 # rows, not sharpened ones, since (a box model's parts are not torn into wedges): .66/.74/.70
-# -> .64/.72/.74 on the skeleton of the artist, .58/.61 -> .60/.65 after the matcher
+# -> .64/.72/.74 on the skeleton of the artist, .58/.61 -> .60/.65 after the matcher. A one-joint
+# leg that has an end (from the skin) still owns the bone from the torso joint it hangs from: the
+# wolf's and the fox's limits on the skeleton of the artist fail without (.835/.851/.338,
+# .64/.72/.74). A box model's body box moves with the joint holding seven tenths of the bones
+# inside it when bone heat gives that joint most of the box: the owl's and the bird's limits on
+# the skeleton of the artist fail without (.813/.937/.331, .761/.820/.453)
 "$rigflow" rig-bench -r general "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
     "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" \
     "$data/models/Wizard.glb" "$data/models/creatures/animalia_owl.b3d" \
@@ -114,11 +119,11 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
         limits("\"Fox.glb\"", 0.045, 0.58, 0.57, 0.80, 0.82, 0.50)         # 0.040 .65/.64 .86/.87/.45
         limits("\"RiggedFigure.glb\"", 0.036, 0.67, 0.44, 0.88, 0.78, 0.32) # 0.032 .74/.50 .94/.84/.27
         limits("\"Testwuson.X\"", 0.047, 0.26, 0.38, 0.74, 0.78, 0.53)      # 0.043 .50/.56 .80/.84/.47
-        limits("\"animalia_wolf.b3d\"", 0.065, 0.39, 0.42, 0.80, 0.82, 0.37) # 0.061 .44/.48 .835/.851/.338
+        limits("\"animalia_wolf.b3d\"", 0.065, 0.39, 0.42, 0.88, 0.88, 0.24) # 0.061 .46/.52 .909/.909/.182
         limits("\"Wizard.glb\"", 0.066, 0.22, 0.22, 0.68, 0.72, 0.60)       # 0.061 .28/.28 .73/.77/.54
-        limits("\"animalia_owl.b3d\"", 0.095, 0.70, 0.72, 0.78, 0.84, 0.39) # 0.090 .74/.77 .80/.88/.36
-        limits("\"animalia_bird.b3d\"", 0.063, 0.80, 0.80, 0.72, 0.77, 0.50) # 0.058 .855/.855 .77/.82/.445
-        limits("\"animalia_fox.b3d\"", 0.085, 0.55, 0.60, 0.62, 0.70, 0.76)  # 0.079 .60/.65 .64/.72/.74
+        limits("\"animalia_owl.b3d\"", 0.095, 0.70, 0.72, 0.825, 0.90, 0.315) # 0.090 .73/.80 .836/.948/.295
+        limits("\"animalia_bird.b3d\"", 0.063, 0.80, 0.80, 0.78, 0.80, 0.42) # 0.058 .855/.855 .802/.844/.378
+        limits("\"animalia_fox.b3d\"", 0.085, 0.55, 0.60, 0.65, 0.70, 0.72)  # 0.079 .60/.65 .665/.717/.693
         limits("\"animalia_cat.b3d\"", 0.095, 0.43, 0.43, 0.88, 0.88, 0.20)  # 0.088 .48/.48 .92/.92/.15
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
@@ -145,20 +150,34 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # 0.090); the frog is read facing 0.74 (a quarter turn and more off before), so no facing check.
 # A hand on a hip is a contact, not tissue: BCN_Epileptic's arms reached through its shoulders
 # (CD-J2J 0.0446, skinning after the matcher precision 24%; with the volume's loop through the
-# hand 0.0480, 11%)
+# hand 0.0480, 11%); its head, one loose part holding the bones of the neck, jaw, lips, eyes and
+# ponytail, bends with them on the skeleton of the artist (.740/.780/.646; .731/.744/.671 with
+# the head moved by the neck alone). The fire dragon's wing membranes, whose corners at the wrist
+# (where the forearm's bone ends and four fingers' start) its artist gave to the forearm, take
+# the forearm's heat there, not two fingers' (.694/.719/.601 on the skeleton of the artist;
+# .675/.719/.634 with the two first in the sort)
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
-    "$data/models/BCN_Epileptic.X" >"$tmp/sbench.csv" 2>"$tmp/err" || ko "rig-bench short limbs exit $?"
+    "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
+    >"$tmp/sbench.csv" 2>"$tmp/err" || ko "rig-bench short limbs exit $?"
 cat "$tmp/sbench.csv"
 awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                      else { n++; cd[$c["model"]] = $c["cd_j2j"]; p[$c["model"]] = $c["precision"]
+                            gp[$c["model"]] = $c["given_precision"]
+                            gr[$c["model"]] = $c["given_recall"]; gl[$c["model"]] = $c["given_l1"]
                             uw += $c["unweighted"] }; next }
     FNR == 1 { for (i = 1; i <= NF; i++) j[$i] = i; next }
     $j["rig"] == "artist" && $j["joint"] == "\"Foot.L\"" { foot = $j["distance"] }
     END {
-        if (n != 3) print "FAIL: short limbs: " n " rows, expected 3"
+        if (n != 4) print "FAIL: short limbs: " n " rows, expected 4"
+        dragon = "\"draconis_fire_dragon.b3d\""
+        if (!(gp[dragon] >= 0.685 && gl[dragon] <= 0.615))
+            print "FAIL: fire dragon on the skeleton of the artist: precision " gp[dragon] ", L1 " gl[dragon]
         if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.18))
             print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " p["\"BCN_Epileptic.X\""]
+        if (!(gr["\"BCN_Epileptic.X\""] >= 0.765 && gl["\"BCN_Epileptic.X\""] <= 0.66))
+            print "FAIL: BCN_Epileptic on the skeleton of the artist: recall " gr["\"BCN_Epileptic.X\""] \
+                ", L1 " gl["\"BCN_Epileptic.X\""]
         if (!(cd["\"animalia_bull_frog.b3d\""] < 0.17)) print "FAIL: bull frog cd_j2j " cd["\"animalia_bull_frog.b3d\""]
         if (!(cd["\"huesitos.fbx\""] < 0.065)) print "FAIL: huesitos cd_j2j " cd["\"huesitos.fbx\""]
         if (!(foot != "" && foot < 0.15)) print "FAIL: bull frog: Foot.L " foot " from the nearest joint"

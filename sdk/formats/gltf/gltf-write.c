@@ -18,6 +18,7 @@
 
 #include <jansson.h>
 
+#include "gltf-axes.h"
 #include "rigflow/gltf-write.h"
 #include "rigflow/prefault.h"
 #include "rigflow/text.h"
@@ -1189,6 +1190,13 @@ bool rf_gltf_write_clips(const char *path, const char *name, const rf_skeleton *
         mesh = NULL;
     if (!rf_gw_check(skeleton, animations, animation_count, mesh, name, err, err_size))
         return false;
+    rf_gw_axes axes;
+    if (!rf_gw_axes_conform(&axes, skeleton, animations, animation_count, mesh)) {
+        rf_gw_axes_clear(&axes, animation_count);
+        snprintf(err, err_size, "%s: out of memory turning the character to glTF's axes", name);
+        return false;
+    }
+    skeleton = axes.skeleton, animations = axes.animations, mesh = axes.mesh;
     rf_gw g = {.stream = o.binary,
                .views = json_array(),
                .accessors = json_array(),
@@ -1206,5 +1214,6 @@ bool rf_gltf_write_clips(const char *path, const char *name, const rf_skeleton *
     free(g.image_index);
     free(g.morph), free(g.morph_view);
     free(g.buf), free(g.parts);
+    rf_gw_axes_clear(&axes, animation_count);
     return ok;
 }
