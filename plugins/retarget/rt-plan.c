@@ -506,6 +506,7 @@ static bool rt_inputs(rf_retarget *rt, const int32_t *mp, const int32_t *primary
             const rf_map_input *in = &e->inputs[i];
             rf_rt_input *out = &rt->in[rt->input_count++];
             rt_input_resolve(rt, j, in, out, mp, primary);
+            rt->level_flat = rt->level_flat || (out->flags & RF_RT_IN_PHASE);
             out->weight = in->weight / wsum;
             double offset = -in->delay + ((in->flags & RF_MAP_MIRROR) ? 0.5 * rt->cycle : 0);
             out->slot = rt_slot_for(rt, in->source, offset);

@@ -876,24 +876,29 @@ static void measure_by_hand(void **state)
 
 /* A centerline bone of another body plan keeps its source's turn about up whole and its tilt eased
  * into 10 degrees (10 tanh(a / 10)): worked by hand for a pure turn, a pure 60 degree lean
- * (10 tanh 6 = 9.99988) and a 90 degree turn after a 40 degree lean (10 tanh 4 = 9.99329). */
+ * (10 tanh 6 = 9.99988) and a 90 degree turn after a 40 degree lean (10 tanh 4 = 9.99329); with
+ * no lean allowed, the turn alone. */
 static void level_keeps_turn_limits_tilt(void **state)
 {
     (void)state;
     const double deg = RF_PI / 180;
     rf_vec3 up = rf_v3(0, 1, 0), left = rf_v3(1, 0, 0);
     rf_quat turn = rf_quat_from_axis_angle(up, 90 * deg);
-    rf_quat q = rf_rt_level(turn, up);
+    const double tilt = 10 * deg;
+    rf_quat q = rf_rt_level(turn, up, tilt);
     assert_true(rf_quat_angle(q, turn) < 1e-9);
-    q = rf_rt_level(rf_quat_from_axis_angle(left, 60 * deg), up);
+    q = rf_rt_level(rf_quat_from_axis_angle(left, 60 * deg), up, tilt);
     assert_true(rf_quat_angle(q, rf_quat_from_axis_angle(left, 9.99988 * deg)) < 1e-6);
     rf_quat lean = rf_quat_from_axis_angle(left, 40 * deg);
-    q = rf_rt_level(rf_quat_mul(lean, turn), up);
+    q = rf_rt_level(rf_quat_mul(lean, turn), up, tilt);
     rf_quat want = rf_quat_mul(rf_quat_from_axis_angle(left, 9.99329 * deg), turn);
     assert_true(rf_quat_angle(q, want) < 1e-6);
     /* No tilt at all: nothing to ease. */
-    q = rf_rt_level(rf_quat_identity(), up);
+    q = rf_rt_level(rf_quat_identity(), up, tilt);
     assert_true(rf_quat_angle(q, rf_quat_identity()) < 1e-12);
+    /* A limit of 0 (a body on four legs under a biped): the lean goes, the turn stays. */
+    q = rf_rt_level(rf_quat_mul(lean, turn), up, 0);
+    assert_true(rf_quat_angle(q, turn) < 1e-9);
 }
 /* Turns a leg (thigh at j, knee j + 1) so the ankle of a thigh and shin of lengths a and b
  * reaches `ankle` from the hip joint `hip`, bending the knee forward (+Z), in the YZ plane. */
