@@ -349,6 +349,111 @@ static void test_gait(void **state)
     rf_skeleton_free(q);
 }
 
+/* sb_quadruped with its head (joints 5 and 6: the head and its tip) replaced by `head`, n joints
+ * hanging from its neck or from one another; returns the joint count. */
+static size_t quadruped_with_head(sb_joint *out, const sb_joint *head, size_t n)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++)
+        if (i != 5 && i != 6)
+            out[k++] = sb_quadruped[i];
+    for (size_t i = 0; i < n; i++)
+        out[k++] = head[i];
+    return k;
+}
+
+/* A curve skeleton's head chain runs on past the skull to the snout's tip; an artist's skull
+ * bone spans the whole head from where the neck enters it, longer than the neck. The target's
+ * joint at the skull's place takes the source's skull, and its snout joint follows it unmapped:
+ * driven by the source's skull at the chain's tip, the skull's skin would follow the neck. */
+static void test_skull_before_snout(void **state)
+{
+    (void)state;
+    /* the artist's: a short neck bone, the skull from the back of the head to the nose */
+    const sb_joint artist[] = {
+        {"neck", "chest", 0, 1.20, -0.60, 0},
+        {"skull", "neck", 0, 1.30, -0.68, 0},
+        {".", "skull", 0, 1.25, -1.05, 0},
+    };
+    /* the curve skeleton's: the same neck, a joint where the chain enters the head, one at the
+     * snout, the tip at the nose */
+    const sb_joint curve[] = {
+        {"c_neck", "chest", 0, 1.20, -0.60, 0},
+        {"c_skull", "c_neck", 0, 1.30, -0.68, 0},
+        {"c_snout", "c_skull", 0, 1.28, -0.88, 0},
+        {".", "c_snout", 0, 1.25, -1.05, 0},
+    };
+    sb_joint a[SB_COUNT(sb_quadruped) + 4], c[SB_COUNT(sb_quadruped) + 4];
+    size_t na = quadruped_with_head(a, artist, SB_COUNT(artist));
+    size_t nc = quadruped_with_head(c, curve, SB_COUNT(curve));
+    rf_skeleton *s = sb_build(a, na), *t = sb_build(c, nc);
+    rf_mapping *m = match1(t, s, NULL);
+    assert_driver(m, t, s, "c_neck", "neck");
+    assert_driver(m, t, s, "c_skull", "skull");
+    assert_driver(m, t, s, "c_snout", NULL);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+/* A low-poly rig's leg of one joint at the hip against a leg of a short hip offset and three
+ * bones (a curve skeleton's, from the spine to the hip and on): the one joint is the whole leg,
+ * so it drives the offset, the chain's first joint, and the three bones follow it unmapped; a
+ * leg of four real bones takes it at its first. Driving the first real bone instead left the
+ * offset's skin to the pelvis. */
+/* A leg joint of sb_quadruped ("fl1" .. "hr4"): its bone's number (1 to 4), else 0. */
+static int leg_bone(const char *name)
+{
+    if (!name || strlen(name) != 3 || (name[0] != 'f' && name[0] != 'h') ||
+        (name[1] != 'l' && name[1] != 'r') || name[2] < '1' || name[2] > '4')
+        return 0;
+    return name[2] - '0';
+}
+
+static void test_one_bone_leg(void **state)
+{
+    (void)state;
+    static const char *const first[] = {"fl1", "fr1", "hl1", "hr1"};
+    sb_joint a[SB_COUNT(sb_quadruped)], c[SB_COUNT(sb_quadruped) + 2];
+    size_t na = 0, nc = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++) {
+        sb_joint j = sb_quadruped[i];
+        int bone = leg_bone(j.name), under = leg_bone(j.parent);
+        /* the low-poly rig: each leg's first joint with the foot's tip as its end site */
+        if (bone == 4)
+            a[na++] = (sb_joint){
+                ".", first[(j.name[0] == 'h') * 2 + (j.name[1] == 'r')], j.x, 0.0, j.z, 0};
+        else if (bone <= 1 && !(j.name[0] == '.' && under > 0))
+            a[na++] = j;
+    }
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++) {
+        sb_joint j = sb_quadruped[i];
+        /* the hind legs hang from a short offset beside the pelvis and lose their toe bone */
+        if (strcmp(j.name, "hl1") == 0 || strcmp(j.name, "hr1") == 0) {
+            bool l = j.name[1] == 'l';
+            c[nc++] = (sb_joint){l ? "hl0" : "hr0", "pelvis", l ? -0.08 : 0.08, 0.98, 0.50, 0};
+            j.parent = l ? "hl0" : "hr0";
+        }
+        if (strcmp(j.name, "hl4") == 0 || strcmp(j.name, "hr4") == 0)
+            j.name = ".";
+        if (strcmp(j.parent ? j.parent : "", "hl4") == 0 ||
+            strcmp(j.parent ? j.parent : "", "hr4") == 0)
+            continue;
+        c[nc++] = j;
+    }
+    rf_skeleton *s = sb_build(a, na), *t = sb_build(c, nc);
+    rf_mapping *m = match1(t, s, NULL);
+    assert_driver(m, t, s, "hl0", "hl1");
+    assert_driver(m, t, s, "hr0", "hr1");
+    assert_driver(m, t, s, "hl1", NULL);
+    assert_driver(m, t, s, "hl2", NULL);
+    assert_driver(m, t, s, "fl1", "fl1");
+    assert_driver(m, t, s, "fr2", NULL);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
 /* Similar types map only when the threshold lets them: a target's thumb onto a source without
  * hands (the main finger goes with the arm: the source arm is too short to drive it). */
 static void test_threshold_and_similar(void **state)
@@ -623,6 +728,8 @@ int main(void)
         cmocka_unit_test(test_facing),
         cmocka_unit_test(test_biped_onto_quadruped),
         cmocka_unit_test(test_gait),
+        cmocka_unit_test(test_skull_before_snout),
+        cmocka_unit_test(test_one_bone_leg),
         cmocka_unit_test(test_threshold_and_similar),
         cmocka_unit_test(test_duplicates),
         cmocka_unit_test(test_several_sources),
