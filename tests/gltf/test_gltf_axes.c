@@ -307,12 +307,45 @@ static void nan_axes(void **state)
          3);
 }
 
+/* The writer refuses, naming the joint and writing nothing, a skeleton it cannot write as glTF:
+ * a parent after its child (the contract of rigflow/model.h, unchecked by the host) and a rest
+ * pose that is not finite (JSON has no NaN: the number was dropped from the node, leaving a
+ * two-number translation that readers reject). */
+static void refuses_broken_skeleton(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/rf-axes-XXXXXX", path[64], err[512];
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof path, "%s/out.gltf", dir);
+    rf_skeleton *s = two_roots();
+    s->up = rf_v3(0, 1, 0), s->forward = rf_v3(0, 0, 1);
+    assert_true(rf_gltf_write_file(path, NULL, s, NULL, NULL, NULL, err, sizeof err));
+    assert_int_equal(unlink(path), 0);
+    s->joints[3].parent = 3;
+    assert_false(rf_gltf_write_file(path, "out.gltf", s, NULL, NULL, NULL, err, sizeof err));
+    assert_non_null(strstr(err, "joint 3"));
+    assert_int_not_equal(access(path, F_OK), 0);
+    s->joints[3].parent = 2;
+    for (int k = 0; k < 3; k++) {
+        rf_xform keep = s->joints[1].rest;
+        double *v[3] = {&s->joints[1].rest.t.y, &s->joints[1].rest.r.z, &s->joints[1].rest.s.x};
+        *v[k] = NAN;
+        assert_false(rf_gltf_write_file(path, "out.gltf", s, NULL, NULL, NULL, err, sizeof err));
+        assert_non_null(strstr(err, "joint 1"));
+        assert_int_not_equal(access(path, F_OK), 0);
+        s->joints[1].rest = keep;
+    }
+    rmdir(dir);
+    rf_skeleton_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(turns_by_hand),           cmocka_unit_test(round_trip),
         cmocka_unit_test(several_roots_and_clips), cmocka_unit_test(other_bind_count),
         cmocka_unit_test(no_copy_on_gltf_axes),    cmocka_unit_test(nan_axes),
+        cmocka_unit_test(refuses_broken_skeleton),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
