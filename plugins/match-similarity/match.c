@@ -34,7 +34,7 @@ static void mirror_setup(rf_ms_ctx *c)
             limb = a->sections[limb].type == RF_SECTION_FOOT ? a->sections[limb].parent : -1;
         bool second = limb >= 0 && a->sections[limb].pair_rank % 2 == 1;
         c->flip[s] = second && c->o->mirror == RF_MS_MIRROR_SWAP;
-        c->phase[s] = second && c->o->mirror == RF_MS_MIRROR_PHASE;
+        c->phase[s] = (second && c->o->mirror == RF_MS_MIRROR_PHASE) || c->gait[s];
         (void)sec;
     }
 }
@@ -68,10 +68,12 @@ static bool ctx_init(rf_ms_ctx *c, const rf_skeleton *target, const rf_skeleton 
     size_t ns = c->tgt.a->section_count ? c->tgt.a->section_count : 1;
     c->flip = calloc(ns, 1);
     c->phase = calloc(ns, 1);
-    if (!c->flip || !c->phase) {
+    c->gait = calloc(ns, 1);
+    if (!c->flip || !c->phase || !c->gait) {
         snprintf(err, err_size, "out of memory");
         return false;
     }
+    c->gait_legs = rf_ms_gait_setup(c);
     mirror_setup(c);
     return true;
 }
@@ -84,6 +86,7 @@ static void ctx_clear(rf_ms_ctx *c)
     free(c->src);
     free(c->flip);
     free(c->phase);
+    free(c->gait);
 }
 
 static bool source_on(const rf_ms_ctx *c, uint32_t k, int32_t only)
@@ -266,6 +269,8 @@ typedef struct rf_ms_line {
     int32_t last;  /* the largest step (line_summary) */
     bool cut;      /* a bone cut in two (has_cut), kept so each pair's cost stays O(1) */
     int32_t first; /* the first real bone's entry, -1 when none (line_summary, turned) */
+    int32_t skull; /* in a head, the entry standing for the skull when not its last (skull_at),
+                    * else -1 */
 } rf_ms_line;
 
 static bool line_alloc(rf_ms_line *l, uint32_t cap)
@@ -406,6 +411,7 @@ static bool has_cut(const rf_analysis *a, const rf_ms_line *l)
  * each pair made long chains (thousands of joints in one line) take minutes. */
 static void line_summary(const rf_analysis *a, rf_ms_line *l)
 {
+    l->skull = -1;
     l->last = last_step(l);
     l->cut = has_cut(a, l);
     l->first = -1;
@@ -470,6 +476,72 @@ static double turn_apart(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, u
     return fmin(1, d / (0.25 * RF_PI));
 }
 
+/* Where the target's head chain has its skull when its last bone is not it: a curve skeleton's
+ * head chain runs on past the skull to the snout's or the hat's tip, where an artist's skull bone
+ * spans the whole head from where the neck enters it. Where the source's skull (its last bone) is
+ * longer than the rest of its head chain (a skull, not a neck's last link) and more than one and
+ * a half times the target's last bone (as shares of the bodies' heights), the target entry whose
+ * pivot lies that share back from the chain's tip, nearer the source skull's place along its
+ * chain than the target's last pivot, stands for the skull; the bones beyond it (a snout) follow
+ * it unmapped. A target's last bone whose tip is guessed (a leaf without an end site) has no
+ * length to tell a snout from a short head, so it keeps its place. Only the target's: a source
+ * skull left unmapped would leave the target's head without its motion. */
+static void skull_at(const rf_ms_ctx *c, rf_ms_line *tl, uint32_t k, const rf_ms_line *sl)
+{
+    const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
+    if (tl->n < 3 || sl->n < 2 || at->height <= 0 || as->height <= 0 ||
+        at->sections[at->joints[tl->joint[0]].section].type != RF_SECTION_HEAD)
+        return;
+    double skull = as->joints[sl->joint[sl->n - 1]].length / as->height, neck = 0;
+    for (uint32_t q = 0; q + 1 < sl->n; q++)
+        neck += as->joints[sl->joint[q]].length / as->height;
+    double from_tip = at->joints[tl->joint[tl->n - 1]].length / at->height;
+    if (!(skull > 1.5 * from_tip) || !(skull > neck) ||
+        (at->joints[tl->joint[tl->n - 1]].flags & RF_JI_TIP_GUESSED))
+        return;
+    uint32_t near = tl->n - 1;
+    double best = fabs(from_tip - skull);
+    for (uint32_t i = tl->n - 1; i-- > 1;) {
+        from_tip += at->joints[tl->joint[i]].length / at->height;
+        if (fabs(from_tip - skull) < best)
+            best = fabs(from_tip - skull), near = i;
+    }
+    /* and by places along the chains: the source's skull starts nearer that pivot than the
+     * target's last */
+    double start = sl->u0[sl->n - 1];
+    if (near + 1 < tl->n && fabs(tl->u0[near] - start) < fabs(tl->u0[tl->n - 1] - start))
+        tl->skull = (int32_t)near;
+}
+
+/* The end marks of entry i (see rf_ms_skel.ends), with the skull where skull_at put it: the
+ * skull's entry is the head's end (1) and the one before it the neck's (4); entries past it
+ * carry no end mark. */
+static uint8_t end_marks(const rf_ms_skel *s, const rf_ms_line *l, uint32_t i)
+{
+    uint8_t e = s->ends[l->joint[i]];
+    if (l->skull < 0)
+        return e;
+    e &= 2;
+    if ((int32_t)i == l->skull)
+        e |= 1;
+    else if ((int32_t)i + 1 == l->skull)
+        e |= 4;
+    return e;
+}
+
+/* Whether a target limb of several joints meets a source limb of one: a one-bone leg (a low-poly
+ * rig's one joint at the hip) is the whole leg, so it drives the first joint of the target's
+ * longer chain, a short offset bone at the hip or shoulder included, and the joints after it
+ * follow as its children. Its entries are then counted from the chain's first joint, not from its
+ * first real bone, and an offset meets the one bone unmarked: by steps and marks the one bone
+ * drove the first real bone, leaving the offset's skin to the body. Only this way round: a
+ * target limb of one joint takes the source's first real bone, the one that swings the leg (an
+ * offset barely moves). */
+static bool one_bone_limb(const rf_analysis *at, const rf_ms_line *tl, const rf_ms_line *sl)
+{
+    return sl->n == 1 && tl->n > 1 && is_limb(at, at->joints[tl->joint[0]].section);
+}
+
 /* The DP's cost of entry i of the target line against entry q of the source line: the thesis
  * compares bone length ratios; here pivot and tip places along the sections, bone counts along
  * limbs and digits, and landmarks, which only fit landmarks. */
@@ -502,10 +574,12 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
         cost *= 0.25;
     /* the spine's ends (pelvis, chest), a limb's offset bone (clavicle, hip offset), the skull at
      * the end of the neck */
-    uint32_t marks = (a->flags ^ b->flags) & RF_JI_OFFSET;
+    bool whole = one_bone_limb(at, tl, sl);
+    uint32_t marks = whole ? 0 : (a->flags ^ b->flags) & RF_JI_OFFSET;
     rf_section_type type = at->sections[a->section].type;
     /* a chain of one joint is anchored at its start: a one-bone tail is the tail's root */
-    uint8_t et = tl->n == 1 ? 2 : c->tgt.ends[t], es = sl->n == 1 ? 2 : c->src[k].ends[j];
+    uint8_t et = tl->n == 1 ? 2 : end_marks(&c->tgt, tl, i),
+            es = sl->n == 1 ? 2 : end_marks(&c->src[k], sl, q);
     uint8_t ends = et ^ es;
     if (type == RF_SECTION_SPINE && !(at->sections[a->section].flags & RF_SECFL_REVERSE))
         marks |= (uint32_t)ends << 8;
@@ -529,9 +603,11 @@ static double pair_cost(const rf_ms_ctx *c, const rf_ms_line *tl, uint32_t i, ui
      * their places. */
     bool digit = (at->sections[a->section].flags & RF_SECFL_FAN) != 0;
     if (type != RF_SECTION_SPINE && type != RF_SECTION_HEAD && type != RF_SECTION_TAIL &&
-        type != RF_SECTION_ROOT)
+        type != RF_SECTION_ROOT) {
+        int32_t ts = whole ? (int32_t)i + sl->step[q] : tl->step[i];
         cost += step_weight(digit, tl, sl) *
-                (tl->step[i] == sl->step[q] ? 0 : 1 + 0.25 * (abs(tl->step[i] - sl->step[q]) - 1));
+                (ts == sl->step[q] ? 0 : 1 + 0.25 * (abs(ts - sl->step[q]) - 1));
+    }
     return cost;
 }
 
@@ -731,6 +807,8 @@ static bool settle_sections(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, r
             own_places(tl, sl);
         bool lent = lend_digits(c, p, ts, tl, k, ss, sl);
         line_summary(a, tl), line_summary(c->src[k].a, sl);
+        if (!c->o->thesis)
+            skull_at(c, tl, k, sl);
         if (c->o->keep_duplicates)
             best_within(c, p, tl, k, sl);
         else if (!remove_duplicates(c, p, tl, k, sl))
@@ -922,6 +1000,7 @@ static void keep_explanation(rf_ms_ctx *c, rf_ms_pass *p, rf_ms_explain *e)
     e->top = p->top, p->top = NULL;
     e->top_count = p->top_count, p->top_count = NULL;
     e->threshold = c->threshold;
+    e->gait_legs = c->gait_legs;
 }
 
 static rf_mapping *match_all(rf_ms_ctx *c, rf_ms_explain *explain, char *err, size_t err_size)

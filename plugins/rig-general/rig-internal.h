@@ -74,9 +74,10 @@ bool rf_rig_prepare(const rf_mesh *m, const rf_rig_options *o, rf_rig_prep *out,
 void rf_rig_prep_free(rf_rig_prep *p);
 
 /* The curve skeleton; its root at the thickest point, or at the solid voxel nearest `seed` when
- * seed is not NULL. */
+ * seed is not NULL. The body's mirror plane into mirror[4] when not NULL: points p with
+ * mirror[0..2] . p = mirror[3], the normal zero when the body has none. */
 bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double *seed,
-                    rf_rig_skel *out, char *err, size_t n);
+                    double *mirror, rf_rig_skel *out, char *err, size_t n);
 void rf_rig_skel_free(rf_rig_skel *s);
 
 /* Where the skeleton's two lowest leaves meet, or NONE (rig.c). */

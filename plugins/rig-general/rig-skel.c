@@ -16,11 +16,14 @@ typedef struct rf_rig_grid {
     size_t n;
     double org[3], h;
     uint8_t *solid;
-    int32_t *df;    /* chamfer 3-4-5 distance to the outside, in thirds of a voxel */
-    uint32_t *comp; /* solid component, NONE outside */
-    double *geo;    /* geodesic distance from the component's root, in voxels */
-    uint32_t *node; /* band piece */
-    uint32_t main;  /* the main solid component: the seed's, else the largest */
+    int32_t *df;     /* chamfer 3-4-5 distance to the outside, in thirds of a voxel */
+    uint32_t *comp;  /* solid component, NONE outside */
+    double *geo;     /* geodesic distance from the component's root, in voxels */
+    uint32_t *node;  /* band piece */
+    uint32_t main;   /* the main solid component: the seed's, else the largest */
+    double sym_n[3]; /* the body's mirror plane: points p with sym_n . p = sym_d ... */
+    double sym_d;
+    bool sym; /* ... when the body has one */
 } rf_rig_grid;
 
 typedef struct rf_rig_node {
@@ -31,6 +34,7 @@ typedef struct rf_rig_node {
     int32_t parent;
     uint32_t children; /* live children, while pruning */
     uint8_t dead;
+    uint8_t end; /* left a leaf by pruning a mirrored pair of twigs: an end of the body */
 } rf_rig_node;
 
 typedef struct rf_rig_nodes {
@@ -338,6 +342,117 @@ static bool rf_rig_neighbour(const rf_rig_grid *g, size_t i, int k, size_t *j)
     return true;
 }
 
+/* ---- the mirror plane ---- */
+
+/* Eigenvectors of the symmetric 3x3 matrix a (destroyed) into the columns of v, by Jacobi
+ * rotations. */
+static void rf_rig_eigen3(double a[3][3], double v[3][3])
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            v[i][j] = i == j;
+    for (int sweep = 0; sweep < 32; sweep++) {
+        double off = fabs(a[0][1]) + fabs(a[0][2]) + fabs(a[1][2]);
+        if (off < 1e-15 * (fabs(a[0][0]) + fabs(a[1][1]) + fabs(a[2][2]) + 1e-300))
+            break;
+        for (int p = 0; p < 2; p++)
+            for (int q = p + 1; q < 3; q++) {
+                if (a[p][q] == 0)
+                    continue;
+                double th = (a[q][q] - a[p][p]) / (2 * a[p][q]);
+                double tn = (th >= 0 ? 1 : -1) / (fabs(th) + sqrt(th * th + 1));
+                double c = 1 / sqrt(tn * tn + 1), sn = tn * c;
+                for (int k = 0; k < 3; k++) { /* a = J^T a J */
+                    double x = a[k][p], y = a[k][q];
+                    a[k][p] = c * x - sn * y, a[k][q] = sn * x + c * y;
+                }
+                for (int k = 0; k < 3; k++) {
+                    double x = a[p][k], y = a[q][k];
+                    a[p][k] = c * x - sn * y, a[q][k] = sn * x + c * y;
+                }
+                for (int k = 0; k < 3; k++) {
+                    double x = v[k][p], y = v[k][q];
+                    v[k][p] = c * x - sn * y, v[k][q] = sn * x + c * y;
+                }
+            }
+    }
+}
+
+/* The fraction of the sampled solid voxels whose mirror image across n . p = d is solid too. */
+static double rf_rig_mirror_score(const rf_rig_grid *g, const size_t *pick, size_t np,
+                                  const double n[3], double d)
+{
+    size_t hit = 0;
+    for (size_t s = 0; s < np; s++) {
+        int x, y, z;
+        rf_rig_xyz(g, pick[s], &x, &y, &z);
+        double p[3] = {g->org[0] + (x + 0.5) * g->h, g->org[1] + (y + 0.5) * g->h,
+                       g->org[2] + (z + 0.5) * g->h};
+        double off = n[0] * p[0] + n[1] * p[1] + n[2] * p[2] - d;
+        int c[3];
+        for (int a = 0; a < 3; a++)
+            c[a] = (int)floor((p[a] - 2 * off * n[a] - g->org[a]) / g->h);
+        if (c[0] >= 0 && c[1] >= 0 && c[2] >= 0 && c[0] < g->nx && c[1] < g->ny && c[2] < g->nz &&
+            g->solid[rf_rig_at(g, c[0], c[1], c[2])])
+            hit++;
+    }
+    return np ? (double)hit / np : 0;
+}
+
+#define RF_RIG_MIRROR_SAMPLES 5000
+#define RF_RIG_MIRROR_MIN 0.8 /* mirrored solid over solid for a body to count as symmetric */
+
+/* The body's mirror plane: of the planes square to its principal axes and to the grid's axes,
+ * through its centroid or up to two voxels either side, the one that maps most of its solid
+ * voxels onto solid ones (a sample of them). A body counts as symmetric when four in five map;
+ * a posed or asymmetric body (a staff held out, a curled tail) then simply has no plane. */
+static bool rf_rig_symmetry(rf_rig_grid *g)
+{
+    size_t count = 0;
+    for (size_t i = 0; i < g->n; i++)
+        count += g->solid[i] != 0;
+    size_t stride = count / RF_RIG_MIRROR_SAMPLES + 1, np = 0;
+    size_t *pick = malloc((count / stride + 1) * sizeof *pick);
+    if (!pick)
+        return false;
+    double c[3] = {0}, m[3][3] = {{0}};
+    for (size_t i = 0, seen = 0; i < g->n; i++)
+        if (g->solid[i] && seen++ % stride == 0)
+            pick[np++] = i;
+    for (size_t s = 0; s < np; s++) {
+        int x, y, z;
+        rf_rig_xyz(g, pick[s], &x, &y, &z);
+        double p[3] = {(x + 0.5) * g->h, (y + 0.5) * g->h, (z + 0.5) * g->h};
+        for (int a = 0; a < 3; a++) {
+            c[a] += p[a] / (double)np;
+            for (int b = 0; b < 3; b++)
+                m[a][b] += p[a] * p[b] / (double)np;
+        }
+    }
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            m[a][b] -= c[a] * c[b];
+    double v[3][3], best = 0;
+    rf_rig_eigen3(m, v);
+    for (int k = 0; np && k < 6; k++) {
+        double n[3] = {k < 3 ? v[0][k] : k == 3, k < 3 ? v[1][k] : k == 4,
+                       k < 3 ? v[2][k] : k == 5};
+        double at = 0;
+        for (int a = 0; a < 3; a++)
+            at += n[a] * (c[a] + g->org[a]);
+        for (int o = -4; o <= 4; o++) {
+            double score = rf_rig_mirror_score(g, pick, np, n, at + o * g->h / 2);
+            if (score > best) {
+                best = score, g->sym_d = at + o * g->h / 2;
+                memcpy(g->sym_n, n, sizeof n);
+            }
+        }
+    }
+    g->sym = best >= RF_RIG_MIRROR_MIN;
+    free(pick);
+    return true;
+}
+
 /* Labels solid components and grows geodesic distance in each from its thickest voxel. */
 /* The solid voxel nearest the seed, preferring thick ones: a junction's centroid can lie between
  * the legs, outside, and its nearest voxel in one thigh. */
@@ -568,6 +683,11 @@ typedef struct rf_rig_tree {
     double *radius;     /* world thickness per node */
     uint32_t main_comp; /* the largest solid component */
     double seg;         /* bone length, world units */
+    double *len;        /* per leaf while pruning: how far its side branch reaches */
+    double *score;      /* that over the length a limb needs (under 1: a bump) */
+    uint32_t *start;    /* the side branch's first node, below its junction */
+    uint32_t *far;      /* per node: the farthest band a pruned branch below it reached ... */
+    double *far_r;      /* ... and that branch's thickness at its end */
 } rf_rig_tree;
 
 static double rf_rig_dist3(const double *a, const double *b)
@@ -650,49 +770,128 @@ static double rf_rig_branch_thickness(const rf_rig_tree *t, uint32_t leaf)
     return sum / n;
 }
 
-static bool rf_rig_prune_one(rf_rig_tree *t, uint32_t *reach, uint8_t *leaves)
+/* Each live leaf's side branch measured into t->len, t->score and t->start (score INFINITY:
+ * not a side branch, so never pruned): how far it reaches beyond its junction, and that over
+ * what a limb needs, the body's thickness where it leaves and 3.5 times its own thickness (a
+ * limb is long and thin; a belly, a cheek or the corner of a box head is short and wide); 0 for
+ * a twig at an extremity (rf_rig_twig). */
+static void rf_rig_measure(rf_rig_tree *t, const uint32_t *reach, const uint8_t *leaves)
 {
     rf_rig_node *v = t->ns->v;
-    rf_rig_reach(t, reach, leaves);
-    double best = INFINITY;
-    uint32_t best_leaf = RF_RIG_NONE;
     for (uint32_t i = 0; i < t->ns->n; i++) {
+        t->score[i] = INFINITY;
         if (v[i].dead || v[i].children || v[i].parent < 0)
             continue;
-        uint32_t k = i;
-        while (rf_rig_chain_up(v, k))
-            k = (uint32_t)v[k].parent;
+        uint32_t k = i, far = i;
+        for (; rf_rig_chain_up(v, k); k = (uint32_t)v[k].parent)
+            far = t->far[k] > t->far[far] ? k : far;
+        far = t->far[k] > t->far[far] ? k : far;
         if (v[k].parent < 0)
             continue;
         double thick = rf_rig_branch_thickness(t, i);
         uint32_t junction = (uint32_t)v[k].parent;
         /* how far the branch reaches beyond its junction along the body: its bands (centroid
-         * distances mislead where a thin piece of a band lies far from the band's middle) */
-        double len = (double)(v[i].band - v[junction].band) * RF_RIG_BAND * t->g->h + t->radius[i];
+         * distances mislead where a thin piece of a band lies far from the band's middle), or
+         * the bumps pruned from it (a head's two ears: the head still reaches as far) */
+        double len =
+            (double)(t->far[far] - v[junction].band) * RF_RIG_BAND * t->g->h + t->far_r[far];
         bool apart = v[i].comp != v[junction].comp || v[i].band <= v[junction].band;
         if (apart) { /* a solid part hanging from another: its bands count from its own root */
             len = t->radius[i];
             for (uint32_t q = i; q != junction; q = (uint32_t)v[q].parent)
                 len += rf_rig_dist3(t->pos[q], t->pos[v[q].parent]);
         }
-        if (v[junction].children < 2)
+        if (v[junction].children < 2 || v[i].end)
             continue;
-        /* a bump: shorter than the body is thick where it leaves, or than 3.5 times its own
-         * thickness (a limb is long and thin; a belly, a cheek or the corner of a box head
-         * is short and wide) */
         bool twig = !apart && rf_rig_twig(t, reach, leaves, junction, k);
-        if ((len < t->radius[junction] || len < 3.5 * thick || twig) && len < best)
-            best = len, best_leaf = i;
+        t->len[i] = len, t->start[i] = k;
+        t->score[i] = twig ? 0 : len / fmax(t->radius[junction], 3.5 * thick);
+    }
+}
+
+/* The side branch leaf whose end lies nearest leaf i's mirror image across the body's plane,
+ * within half of i's reach (at least two voxels), reaching between half and twice as far as
+ * i's branch; NONE when the body has no plane, i ends on the plane (a tail, a snout: its own
+ * image) or nothing mirrors it. */
+static uint32_t rf_rig_mirror_leaf(const rf_rig_tree *t, uint32_t i)
+{
+    if (!t->g->sym)
+        return RF_RIG_NONE;
+    const double *p = t->pos[i], *n = t->g->sym_n;
+    double off = n[0] * p[0] + n[1] * p[1] + n[2] * p[2] - t->g->sym_d;
+    double tol = fmax(0.5 * t->len[i], 2 * t->g->h);
+    if (fabs(off) < tol / 2)
+        return RF_RIG_NONE;
+    double q[3] = {p[0] - 2 * off * n[0], p[1] - 2 * off * n[1], p[2] - 2 * off * n[2]};
+    uint32_t best = RF_RIG_NONE;
+    double near = tol;
+    for (uint32_t j = 0; j < t->ns->n; j++) {
+        if (j == i || !isfinite(t->score[j]) || t->len[j] > 2 * t->len[i] ||
+            2 * t->len[j] < t->len[i])
+            continue;
+        double d = rf_rig_dist3(q, t->pos[j]);
+        if (d < near)
+            near = d, best = j;
+    }
+    return best;
+}
+
+/* Kills the side branch of leaf i, from the leaf up to its junction, which keeps how far the
+ * branch reached (within the same solid part). */
+static void rf_rig_kill(rf_rig_tree *t, uint32_t i)
+{
+    rf_rig_node *v = t->ns->v;
+    uint32_t junction = (uint32_t)v[t->start[i]].parent;
+    for (uint32_t k = i;; k = (uint32_t)v[k].parent) {
+        if (v[k].comp == v[junction].comp && t->far[k] > t->far[junction])
+            t->far[junction] = t->far[k], t->far_r[junction] = t->far_r[k];
+        if (k == t->start[i])
+            break;
+    }
+    for (uint32_t k = i; k != t->start[i]; k = (uint32_t)v[k].parent)
+        v[k].dead = 1;
+    v[t->start[i]].dead = 1;
+}
+
+/* Prunes the shortest bump (a side branch scoring under 1) with its mirror image, if it has
+ * one: a twig and its image are kept or dropped as one, by their mean score, so the rig of a
+ * symmetric body comes out symmetric. Pruned one at a time, the second of two twigs alike (the
+ * two eyes at the front of a head) no longer leaves a junction once the first is gone, and
+ * stays as the chain's end. False when no bump is left. */
+static bool rf_rig_prune_one(rf_rig_tree *t, uint32_t *reach, uint8_t *leaves)
+{
+    rf_rig_node *v = t->ns->v;
+    rf_rig_reach(t, reach, leaves);
+    rf_rig_measure(t, reach, leaves);
+    double best = INFINITY;
+    uint32_t best_leaf = RF_RIG_NONE, best_pair = RF_RIG_NONE;
+    for (uint32_t i = 0; i < t->ns->n; i++) {
+        if (!isfinite(t->score[i]) || t->len[i] >= best)
+            continue;
+        uint32_t m = rf_rig_mirror_leaf(t, i);
+        double score = m == RF_RIG_NONE ? t->score[i] : (t->score[i] + t->score[m]) / 2;
+        if (score < 1)
+            best = t->len[i], best_leaf = i, best_pair = m;
     }
     if (best_leaf == RF_RIG_NONE)
         return false;
-    uint32_t k = best_leaf;
-    while (rf_rig_chain_up(v, k)) {
-        v[k].dead = 1;
-        k = (uint32_t)v[k].parent;
-    }
-    v[k].dead = 1;
+    rf_rig_kill(t, best_leaf);
+    if (best_pair != RF_RIG_NONE)
+        rf_rig_kill(t, best_pair);
     rf_rig_count_children(t);
+    /* a junction the pair leaves a leaf is an end of the body (a head whose two ears, eyes or
+     * box corners went): kept, as it was when one twig of the two went and the other carried
+     * the chain on, and when both left it, it ends halfway between their ends: the body
+     * reaches that far, on its middle */
+    for (int e = 0; e < 2 && best_pair != RF_RIG_NONE; e++) {
+        int32_t junction = v[t->start[e ? best_pair : best_leaf]].parent;
+        if (v[junction].children)
+            continue;
+        v[junction].end = 1;
+        if (junction == v[t->start[best_pair]].parent && !e)
+            for (int a = 0; a < 3; a++)
+                t->pos[junction][a] = 0.5 * (t->pos[best_leaf][a] + t->pos[best_pair][a]);
+    }
     return true;
 }
 
@@ -1038,7 +1237,7 @@ static bool rf_rig_cut_contacts(rf_rig_grid *g, const rf_rig_prep *p, const doub
 }
 
 bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double *seed,
-                    rf_rig_skel *out, char *err, size_t n)
+                    double *mirror, rf_rig_skel *out, char *err, size_t n)
 {
     memset(out, 0, sizeof *out);
     rf_rig_init26();
@@ -1048,9 +1247,14 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
     uint32_t ncomp = 0;
     rf_rig_grid_make(&g, p, o->resolution);
     bool ok = rf_rig_voxelise(&g, &p->proxy, p->proxy_part, p->proxy_parts) &&
-              rf_rig_distance(&g) && (!seed || rf_rig_cut_contacts(&g, p, seed)) &&
-              rf_rig_geodesic(&g, seed, &ncomp) && rf_rig_pieces(&g, &ns) && rf_rig_link(&g, &ns) &&
-              rf_rig_tree_make(&t, &g, &ns);
+              rf_rig_distance(&g) && rf_rig_symmetry(&g);
+    if (ok && mirror) {
+        for (int a = 0; a < 3; a++)
+            mirror[a] = g.sym ? g.sym_n[a] : 0;
+        mirror[3] = g.sym ? g.sym_d : 0;
+    }
+    ok = ok && (!seed || rf_rig_cut_contacts(&g, p, seed)) && rf_rig_geodesic(&g, seed, &ncomp) &&
+         rf_rig_pieces(&g, &ns) && rf_rig_link(&g, &ns) && rf_rig_tree_make(&t, &g, &ns);
     if (!ok) {
         rf_rig_fail(err, n, "out of memory on a %dx%dx%d voxel grid", g.nx, g.ny, g.nz);
         goto done;
@@ -1067,9 +1271,23 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
     rf_rig_count_children(&t);
     uint32_t *reach = malloc((size_t)ns.n * sizeof *reach);
     uint8_t *leaves = malloc(ns.n);
-    while (reach && leaves && rf_rig_prune_one(&t, reach, leaves))
+    t.len = malloc((size_t)ns.n * sizeof *t.len);
+    t.score = malloc((size_t)ns.n * sizeof *t.score);
+    t.start = malloc((size_t)ns.n * sizeof *t.start);
+    t.far = malloc((size_t)ns.n * sizeof *t.far);
+    t.far_r = malloc((size_t)ns.n * sizeof *t.far_r);
+    bool pruning = reach && leaves && t.len && t.score && t.start && t.far && t.far_r;
+    for (uint32_t i = 0; pruning && i < ns.n; i++)
+        t.far[i] = ns.v[i].band, t.far_r[i] = t.radius[i];
+    while (pruning && rf_rig_prune_one(&t, reach, leaves))
         ;
-    free(reach), free(leaves);
+    free(reach), free(leaves), free(t.len), free(t.score), free(t.start), free(t.far),
+        free(t.far_r);
+    t.len = NULL, t.score = NULL, t.start = NULL, t.far = NULL, t.far_r = NULL;
+    if (!pruning) {
+        ok = rf_rig_fail(err, n, "out of memory pruning the skeleton");
+        goto done;
+    }
     uint32_t root = RF_RIG_NONE;
     for (uint32_t i = 0; i < ns.n; i++)
         if (ns.v[i].parent < 0 && !ns.v[i].dead && ns.v[i].comp == t.main_comp)

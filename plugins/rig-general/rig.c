@@ -345,22 +345,43 @@ rf_rig_options rf_rig_defaults(const rf_rig_options *opts)
     return o;
 }
 
+/* Whether the root of k lies off the body's mirror plane (normal mirror[0..2], zero when the
+ * body has none) by more than three voxels of size h; if so its image on the plane into at[].
+ * The thickest point of a box body is anywhere along a flat ridge, often off to one side, and
+ * bands grown from there reach one side's limbs before the other's: they come out unlike. */
+static bool rf_rig_off_middle(const rf_rig_skel *k, const double mirror[4], double h, double at[3])
+{
+    if (!k->n || rf_v3_len((rf_vec3){mirror[0], mirror[1], mirror[2]}) == 0)
+        return false;
+    const double *p = k->pos; /* the root, joint 0 */
+    double off = mirror[0] * p[0] + mirror[1] * p[1] + mirror[2] * p[2] - mirror[3];
+    if (fabs(off) <= 3 * h)
+        return false;
+    for (int a = 0; a < 3; a++)
+        at[a] = p[a] - off * mirror[a];
+    return true;
+}
+
 bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
                   size_t err_size)
 {
-    bool ok = rf_rig_extract(p, o, NULL, k, err, err_size);
+    double mirror[4];
+    bool ok = rf_rig_extract(p, o, NULL, mirror, k, err, err_size);
     /* Level sets grown from the hips cut the body square to its length (shoulders level, limbs
      * leaving symmetrically); from the thickest point they would ring the chest. So a second pass
      * starts where the first pass's two lowest leaves meet. */
     uint32_t r = ok ? rf_rig_pick_root(k) : RF_RIG_NONE, hips = ok ? rf_rig_pick_hips(k) : r;
-    double hips_at[3];
+    double hips_at[3], seed[3];
     if (hips != RF_RIG_NONE)
         memcpy(hips_at, k->pos + (size_t)hips * 3, sizeof hips_at);
-    if (r != RF_RIG_NONE && k->parent[r] >= 0) {
-        double seed[3];
+    bool again = r != RF_RIG_NONE && k->parent[r] >= 0;
+    if (again)
         memcpy(seed, k->pos + (size_t)r * 3, sizeof seed);
+    else if (ok && rf_rig_off_middle(k, mirror, p->longest / o->resolution, seed))
+        again = true;
+    if (again) {
         rf_rig_skel_free(k);
-        ok = rf_rig_extract(p, o, seed, k, err, err_size);
+        ok = rf_rig_extract(p, o, seed, NULL, k, err, err_size);
     }
     /* The skeleton analysis (and so the matcher) reads which way a body faces partly from where
      * the root is: artists root a quadruped at its hips, and the spine runs from there to the
@@ -436,6 +457,69 @@ static void rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
     free(spine);
     rf_analysis_free(a);
     rf_skeleton_free(s);
+}
+
+#define RF_RIG_BOTTOM_GAP 0.25 /* of the body's height between its bottom and the skeleton's */
+
+/* A joint appended to k at p hanging from `parent`; false when out of memory (k unchanged). */
+static bool rf_rig_append(rf_rig_skel *k, const double p[3], int32_t parent)
+{
+    size_t n = (size_t)k->n + 1;
+    double *pos = realloc(k->pos, n * 3 * sizeof *pos);
+    if (pos)
+        k->pos = pos;
+    double *tips = pos ? realloc(k->tip, n * 3 * sizeof *tips) : NULL;
+    if (tips)
+        k->tip = tips;
+    int32_t *par = tips ? realloc(k->parent, n * sizeof *par) : NULL;
+    if (par)
+        k->parent = par;
+    uint8_t *has = par ? realloc(k->has_tip, n) : NULL;
+    if (!has)
+        return false;
+    k->has_tip = has;
+    memcpy(k->pos + (n - 1) * 3, p, 3 * sizeof *p);
+    memset(k->tip + (n - 1) * 3, 0, 3 * sizeof *k->tip);
+    k->parent[n - 1] = parent, k->has_tip[n - 1] = 0;
+    k->n = (uint32_t)n;
+    return true;
+}
+
+/* A body whose skeleton stops well above its bottom (a blob body on stubs too short to keep:
+ * its trunk's two ends are cones shorter than the body is thick, pruned as bumps) gets a joint
+ * below its root, three quarters of the way down to the surface under it, and is rooted there:
+ * artists put one at the body's bottom, and without it the lower body hangs from a root in its
+ * middle. Up is the declared one, else the analysis's. False when out of memory. */
+static bool rf_rig_bottom(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
+{
+    double u[3] = {up.x, up.y, up.z}, lo = INFINITY, hi = -INFINITY, low = INFINITY;
+    for (uint32_t v = 0; v < p->proxy.nv; v++) {
+        const double *q = p->proxy.p + (size_t)v * 3;
+        double h = q[0] * u[0] + q[1] * u[1] + q[2] * u[2];
+        lo = fmin(lo, h), hi = fmax(hi, h);
+    }
+    for (uint32_t j = 0; j < k->n; j++) /* joints and the ends of leaf bones */
+        for (int e = 0; e < 1 + k->has_tip[j]; e++) {
+            const double *q = (e ? k->tip : k->pos) + (size_t)j * 3;
+            low = fmin(low, q[0] * u[0] + q[1] * u[1] + q[2] * u[2]);
+        }
+    if (!k->n || rf_v3_len(up) == 0 || low - lo <= RF_RIG_BOTTOM_GAP * (hi - lo))
+        return true;
+    rf_rig_surface *surf = rf_rig_surface_make(&p->proxy);
+    if (!surf)
+        return true;
+    double down[3] = {-u[0], -u[1], -u[2]};
+    double d = rf_rig_surface_hit(surf, k->pos, down); /* from the root, joint 0 */
+    rf_rig_surface_free(surf);
+    if (!isfinite(d))
+        return true;
+    double at[3];
+    for (int a = 0; a < 3; a++)
+        at[a] = k->pos[a] + 0.75 * d * down[a];
+    /* the rig's root, as artists root such a body at its bottom: hung from the old root, the
+     * joint took the clip's hips in the matcher and turned the body over (greenman under the
+     * CMU walk: stretch p99 84, parts under the floor in a quarter of the frames; rooted, 20) */
+    return rf_rig_append(k, at, 0) && rf_rig_reroot(k, k->n - 1);
 }
 
 /* ---- limbs cut as artists cut them ---- */
@@ -647,7 +731,15 @@ bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
     if (!rf_rig_limbs(k, o, lay))
         return false;
     rf_rig_dorsal(p, k, o);
-    return true;
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    if (!s)
+        return false;
+    s->up = o->up, s->forward = o->forward;
+    rf_analysis *a = rf_analyze(s, NULL);
+    bool ok = a && rf_rig_bottom(p, k, rf_v3_len(o->up) > 0 ? rf_v3_normalize(o->up) : a->up);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    return ok;
 }
 
 bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton **skeleton,

@@ -285,7 +285,9 @@ static void test_biped_onto_quadruped(void **state)
     (void)state;
     rf_skeleton *s = biped_facing(0);
     rf_skeleton *t = sb_build(sb_quadruped, SB_COUNT(sb_quadruped));
-    rf_mapping *m = match1(t, s, NULL);
+    rf_ms_options homology = {0};
+    homology.forelegs_arms = true;
+    rf_mapping *m = match1(t, s, &homology);
     assert_driver(m, t, s, "pelvis", "hips");
     assert_driver(m, t, s, "chest", "chest");
     assert_driver(m, t, s, "head", "head");
@@ -295,6 +297,158 @@ static void test_biped_onto_quadruped(void **state)
     assert_driver(m, t, s, "hr2", "r_shin");
     assert_driver(m, t, s, "tail2", NULL);
     assert_true(metric(m, t, "fl1", "body_position") > 15);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+/* Whether target joint `name` is driven with RF_MAP_MIRROR (half a cycle later). */
+static bool phased(const rf_mapping *m, const rf_skeleton *t, const char *name)
+{
+    const rf_map_entry *e = &m->entries[sb_find(t, name)];
+    return e->input_count && (e->inputs[0].flags & RF_MAP_MIRROR);
+}
+
+/* The gait rule: forelegs standing on the floor under a source that walks on two legs take the
+ * source's leg of their side half a cycle later (a trot); the hind legs are unchanged. A source on
+ * four legs, or a biped target, keeps every limb on its counterpart in phase. */
+static void test_gait(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped_facing(0);
+    rf_skeleton *q = sb_build(sb_quadruped, SB_COUNT(sb_quadruped));
+    rf_mapping *m = match1(q, s, NULL);
+    assert_driver(m, q, s, "fl1", "l_thigh");
+    assert_driver(m, q, s, "fl2", "l_shin");
+    assert_driver(m, q, s, "fr1", "r_thigh");
+    assert_driver(m, q, s, "fr2", "r_shin");
+    assert_driver(m, q, s, "hl1", "l_thigh");
+    assert_driver(m, q, s, "hr2", "r_shin");
+    assert_driver(m, q, s, "chest", "chest");
+    assert_driver(m, q, s, "tail2", NULL);
+    assert_true(phased(m, q, "fl1") && phased(m, q, "fr2"));
+    assert_false(phased(m, q, "hl1") || phased(m, q, "hr2") || phased(m, q, "chest"));
+    rf_mapping_free(m);
+    m = match1(q, q, NULL); /* four legs onto four legs */
+    assert_driver(m, q, q, "fl2", "fl2");
+    assert_driver(m, q, q, "hr2", "hr2");
+    for (uint32_t j = 0; j < q->joint_count; j++)
+        assert_false(m->entries[j].input_count && (m->entries[j].inputs[0].flags & RF_MAP_MIRROR));
+    rf_mapping_free(m);
+    m = match1(s, s, NULL); /* two legs onto two legs */
+    assert_driver(m, s, s, "l_arm", "l_arm");
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        assert_false(m->entries[j].input_count && (m->entries[j].inputs[0].flags & RF_MAP_MIRROR));
+    rf_mapping_free(m);
+    /* the quadruped onto the biped: its arms keep the forelegs (the rule reads the target's) */
+    m = match1(s, q, NULL);
+    assert_driver(m, s, q, "l_arm", "fl1");
+    assert_false(phased(m, s, "l_arm"));
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(q);
+}
+
+/* sb_quadruped with its head (joints 5 and 6: the head and its tip) replaced by `head`, n joints
+ * hanging from its neck or from one another; returns the joint count. */
+static size_t quadruped_with_head(sb_joint *out, const sb_joint *head, size_t n)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++)
+        if (i != 5 && i != 6)
+            out[k++] = sb_quadruped[i];
+    for (size_t i = 0; i < n; i++)
+        out[k++] = head[i];
+    return k;
+}
+
+/* A curve skeleton's head chain runs on past the skull to the snout's tip; an artist's skull
+ * bone spans the whole head from where the neck enters it, longer than the neck. The target's
+ * joint at the skull's place takes the source's skull, and its snout joint follows it unmapped:
+ * driven by the source's skull at the chain's tip, the skull's skin would follow the neck. */
+static void test_skull_before_snout(void **state)
+{
+    (void)state;
+    /* the artist's: a short neck bone, the skull from the back of the head to the nose */
+    const sb_joint artist[] = {
+        {"neck", "chest", 0, 1.20, -0.60, 0},
+        {"skull", "neck", 0, 1.30, -0.68, 0},
+        {".", "skull", 0, 1.25, -1.05, 0},
+    };
+    /* the curve skeleton's: the same neck, a joint where the chain enters the head, one at the
+     * snout, the tip at the nose */
+    const sb_joint curve[] = {
+        {"c_neck", "chest", 0, 1.20, -0.60, 0},
+        {"c_skull", "c_neck", 0, 1.30, -0.68, 0},
+        {"c_snout", "c_skull", 0, 1.28, -0.88, 0},
+        {".", "c_snout", 0, 1.25, -1.05, 0},
+    };
+    sb_joint a[SB_COUNT(sb_quadruped) + 4], c[SB_COUNT(sb_quadruped) + 4];
+    size_t na = quadruped_with_head(a, artist, SB_COUNT(artist));
+    size_t nc = quadruped_with_head(c, curve, SB_COUNT(curve));
+    rf_skeleton *s = sb_build(a, na), *t = sb_build(c, nc);
+    rf_mapping *m = match1(t, s, NULL);
+    assert_driver(m, t, s, "c_neck", "neck");
+    assert_driver(m, t, s, "c_skull", "skull");
+    assert_driver(m, t, s, "c_snout", NULL);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+/* A low-poly rig's leg of one joint at the hip against a leg of a short hip offset and three
+ * bones (a curve skeleton's, from the spine to the hip and on): the one joint is the whole leg,
+ * so it drives the offset, the chain's first joint, and the three bones follow it unmapped; a
+ * leg of four real bones takes it at its first. Driving the first real bone instead left the
+ * offset's skin to the pelvis. */
+/* A leg joint of sb_quadruped ("fl1" .. "hr4"): its bone's number (1 to 4), else 0. */
+static int leg_bone(const char *name)
+{
+    if (!name || strlen(name) != 3 || (name[0] != 'f' && name[0] != 'h') ||
+        (name[1] != 'l' && name[1] != 'r') || name[2] < '1' || name[2] > '4')
+        return 0;
+    return name[2] - '0';
+}
+
+static void test_one_bone_leg(void **state)
+{
+    (void)state;
+    static const char *const first[] = {"fl1", "fr1", "hl1", "hr1"};
+    sb_joint a[SB_COUNT(sb_quadruped)], c[SB_COUNT(sb_quadruped) + 2];
+    size_t na = 0, nc = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++) {
+        sb_joint j = sb_quadruped[i];
+        int bone = leg_bone(j.name), under = leg_bone(j.parent);
+        /* the low-poly rig: each leg's first joint with the foot's tip as its end site */
+        if (bone == 4)
+            a[na++] = (sb_joint){
+                ".", first[(j.name[0] == 'h') * 2 + (j.name[1] == 'r')], j.x, 0.0, j.z, 0};
+        else if (bone <= 1 && !(j.name[0] == '.' && under > 0))
+            a[na++] = j;
+    }
+    for (size_t i = 0; i < SB_COUNT(sb_quadruped); i++) {
+        sb_joint j = sb_quadruped[i];
+        /* the hind legs hang from a short offset beside the pelvis and lose their toe bone */
+        if (strcmp(j.name, "hl1") == 0 || strcmp(j.name, "hr1") == 0) {
+            bool l = j.name[1] == 'l';
+            c[nc++] = (sb_joint){l ? "hl0" : "hr0", "pelvis", l ? -0.08 : 0.08, 0.98, 0.50, 0};
+            j.parent = l ? "hl0" : "hr0";
+        }
+        if (strcmp(j.name, "hl4") == 0 || strcmp(j.name, "hr4") == 0)
+            j.name = ".";
+        if (strcmp(j.parent ? j.parent : "", "hl4") == 0 ||
+            strcmp(j.parent ? j.parent : "", "hr4") == 0)
+            continue;
+        c[nc++] = j;
+    }
+    rf_skeleton *s = sb_build(a, na), *t = sb_build(c, nc);
+    rf_mapping *m = match1(t, s, NULL);
+    assert_driver(m, t, s, "hl0", "hl1");
+    assert_driver(m, t, s, "hr0", "hr1");
+    assert_driver(m, t, s, "hl1", NULL);
+    assert_driver(m, t, s, "hl2", NULL);
+    assert_driver(m, t, s, "fl1", "fl1");
+    assert_driver(m, t, s, "fr2", NULL);
     rf_mapping_free(m);
     rf_skeleton_free(s);
     rf_skeleton_free(t);
@@ -573,6 +727,9 @@ int main(void)
         cmocka_unit_test(test_orientation_falloff),
         cmocka_unit_test(test_facing),
         cmocka_unit_test(test_biped_onto_quadruped),
+        cmocka_unit_test(test_gait),
+        cmocka_unit_test(test_skull_before_snout),
+        cmocka_unit_test(test_one_bone_leg),
         cmocka_unit_test(test_threshold_and_similar),
         cmocka_unit_test(test_duplicates),
         cmocka_unit_test(test_several_sources),

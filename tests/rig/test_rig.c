@@ -224,6 +224,54 @@ static void world_joints(const rf_skeleton *s, rf_vec3 *out)
     free(w);
 }
 
+/* A body symmetric about z = 0 (the table creature's body and legs, a wider head) with two eyes
+ * on the head, mirror images: the two eyes are twigs to prune, and pruned one at a time the
+ * second no longer left a junction once the first was gone and stayed as the head chain's end
+ * (one eye rigged, 0.124 from any joint's mirror image). Pruned as a mirror pair, every joint
+ * of the rig has a joint near its mirror image (0.067 at worst: the spine's one-voxel wobble),
+ * and the head keeps a joint of its own. */
+static void test_mirror_twigs(void **state)
+{
+    (void)state;
+    rf_mesh *m = rf_mesh_new();
+    m->positions = calloc(8 * 8 * 3, sizeof(float));
+    m->triangles = calloc(8 * 12 * 3, sizeof(uint32_t));
+    add_box(m, -1, 1, -0.4, 1, 1.4, 0.4);
+    add_box(m, -1, 0, -0.4, -0.8, 1.05, -0.2);
+    add_box(m, 0.8, 0, -0.4, 1, 1.05, -0.2);
+    add_box(m, -1, 0, 0.2, -0.8, 1.05, 0.4);
+    add_box(m, 0.8, 0, 0.2, 1, 1.05, 0.4);
+    add_box(m, 0.95, 1.1, -0.3, 1.6, 1.6, 0.3);   /* the head */
+    add_box(m, 1.3, 1.6, -0.3, 1.5, 1.75, -0.15); /* its eyes */
+    add_box(m, 1.3, 1.6, 0.15, 1.5, 1.75, 0.3);
+    rf_skeleton *s;
+    rf_mesh *out;
+    char err[256];
+    if (!rf_rig_general(m, NULL, &s, &out, NULL, NULL, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    check_rig("eyed creature", m, s, out);
+    rf_vec3 w[256];
+    assert_true(s->joint_count < 256);
+    world_joints(s, w);
+    double worst = 0;
+    uint32_t worst_at = 0, head = 0;
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        rf_vec3 image = {w[j].x, w[j].y, -w[j].z};
+        double best = INFINITY;
+        for (uint32_t k = 0; k < s->joint_count; k++)
+            best = fmin(best, rf_v3_len(rf_v3_sub(image, w[k])));
+        if (best > worst)
+            worst = best, worst_at = j;
+        head += w[j].x > 1.1;
+    }
+    if (worst > 0.1)
+        fail_msg("joint %s (%g %g %g) lies %g from any joint's mirror image",
+                 s->joints[worst_at].name, w[worst_at].x, w[worst_at].y, w[worst_at].z, worst);
+    if (!head)
+        fail_msg("no joint in the head");
+    rf_skeleton_free(s), rf_mesh_free(out), rf_mesh_free(m);
+}
+
 /* The same body at 1 cm and at 100 m gives the same rig, scaled; at every scale four feet. */
 static void test_any_scale(void **state)
 {
@@ -1341,6 +1389,7 @@ int main(void)
         cmocka_unit_test(test_place_section),
         cmocka_unit_test(test_limb_layout),
         cmocka_unit_test(test_general_legs),
+        cmocka_unit_test(test_mirror_twigs),
         cmocka_unit_test(test_memory_refusal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

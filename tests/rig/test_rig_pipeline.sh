@@ -67,6 +67,20 @@ if RIGFLOW_QUIET=1 "$rigflow" run "$src/pipelines/scan-to-animation.json" -p "me
     -p "motion.path=$data/bvh/cmu_01_01.bvh" -p retarget.last_frame=240 \
     -p "export.path=$tmp/spider-walk.glb" >"$tmp/out" 2>&1; then ok; else cat "$tmp/out"; ko "scan-to-animation spider.obj"; fi
 valid "$tmp/spider-walk.glb"
+# greenman's blob body, rooted at the joint at its bottom, keeps its shape under the CMU walk
+# (retarget.measure's stretch p99, % of the edges' rest length): 20.3 rooted there; hung from
+# the old root in the body's middle, that joint took the walk's hips and turned the body over
+# (84.3, parts under the floor in a quarter of the frames)
+if autorig "$data/models/greenman.glb" "$tmp/greenman.glb" &&
+    "$rigflow" --quiet run "$src/pipelines/retarget.json" -p "source.path=$data/bvh/cmu_01_01.bvh" \
+        -p "target.path=$tmp/greenman.glb" -p retarget.last_frame=240 \
+        -p "export.path=$tmp/greenman-walk.glb" >"$tmp/out" 2>&1; then
+    stretch=$(sed -n 's/^measure: mesh .*stretch p99 \([0-9.]*\).*/\1/p' "$tmp/out")
+    if [ -n "$stretch" ] && awk -v s="$stretch" 'BEGIN { exit !(s < 40) }'; then ok; else
+        cat "$tmp/out"; ko "greenman under the CMU walk: stretch p99 $stretch, limit 40"; fi
+else
+    cat "$tmp/out"; ko "greenman: autorig and retarget"
+fi
 inspect_has "$tmp/spider-walk.glb" "241 frames"
 
 # refusals leave nothing behind
@@ -100,7 +114,11 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 # wolf's and the fox's limits on the skeleton of the artist fail without (.835/.851/.338,
 # .64/.72/.74). A box model's body box moves with the joint holding seven tenths of the bones
 # inside it when bone heat gives that joint most of the box: the owl's and the bird's limits on
-# the skeleton of the artist fail without (.813/.937/.331, .761/.820/.453)
+# the skeleton of the artist fail without (.813/.937/.331, .761/.820/.453). After the matcher
+# the wolf's and the Wizard's limits need the artist's skull given to the joint where the curve
+# skeleton's head chain enters the head, not its snout or hat tip (.61/.80, .28/.28 without), the
+# fox's and the cat's a one-joint leg driving the longer leg's first joint, its hip offset
+# included (.60/.65, .51/.58 without; doc/matching.md, "An eighth round")
 "$rigflow" rig-bench -r general "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
     "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" \
     "$data/models/Wizard.glb" "$data/models/creatures/animalia_owl.b3d" \
@@ -119,12 +137,12 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
         limits("\"Fox.glb\"", 0.045, 0.58, 0.57, 0.80, 0.82, 0.50)         # 0.040 .65/.64 .86/.87/.45
         limits("\"RiggedFigure.glb\"", 0.036, 0.67, 0.44, 0.88, 0.78, 0.32) # 0.032 .74/.50 .94/.84/.27
         limits("\"Testwuson.X\"", 0.047, 0.26, 0.38, 0.74, 0.78, 0.53)      # 0.043 .50/.56 .80/.84/.47
-        limits("\"animalia_wolf.b3d\"", 0.065, 0.39, 0.42, 0.88, 0.88, 0.24) # 0.061 .46/.52 .909/.909/.182
-        limits("\"Wizard.glb\"", 0.066, 0.22, 0.22, 0.68, 0.72, 0.60)       # 0.061 .28/.28 .73/.77/.54
+        limits("\"animalia_wolf.b3d\"", 0.065, 0.63, 0.82, 0.88, 0.88, 0.24) # 0.061 .65/.84 .909/.909/.182
+        limits("\"Wizard.glb\"", 0.066, 0.30, 0.31, 0.68, 0.72, 0.60)       # 0.061 .33/.34 .73/.77/.54
         limits("\"animalia_owl.b3d\"", 0.095, 0.70, 0.72, 0.825, 0.90, 0.315) # 0.090 .73/.80 .836/.948/.295
         limits("\"animalia_bird.b3d\"", 0.063, 0.80, 0.80, 0.78, 0.80, 0.42) # 0.058 .855/.855 .802/.844/.378
-        limits("\"animalia_fox.b3d\"", 0.085, 0.55, 0.60, 0.65, 0.70, 0.72)  # 0.079 .60/.65 .665/.717/.693
-        limits("\"animalia_cat.b3d\"", 0.095, 0.43, 0.43, 0.88, 0.88, 0.20)  # 0.088 .48/.48 .92/.92/.15
+        limits("\"animalia_fox.b3d\"", 0.085, 0.62, 0.68, 0.65, 0.70, 0.72)  # 0.079 .65/.70 .665/.717/.693
+        limits("\"animalia_cat.b3d\"", 0.095, 0.53, 0.55, 0.88, 0.88, 0.20)  # 0.088 .55/.58 .92/.92/.15
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -155,11 +173,17 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # the head moved by the neck alone). The fire dragon's wing membranes, whose corners at the wrist
 # (where the forearm's bone ends and four fingers' start) its artist gave to the forearm, take
 # the forearm's heat there, not two fingers' (.694/.719/.601 on the skeleton of the artist;
-# .675/.719/.634 with the two first in the sort)
+# .675/.719/.634 with the two first in the sort). Mirrored twigs are pruned as pairs, the frog's
+# second pass grown from its mirror plane (its thickest point lies off to one side of its box
+# body): every joint of its rig lies within 0.05 of another's mirror image across x = 0 (the
+# plane of the artist's Torso, Head and Jaw; 0.018 reached, 0.235 with one eye and one
+# forefoot's corners kept), CD-J2J 0.127 (0.159). Greenman's blob body gets a joint at its
+# bottom, where its artist puts one: CD-J2J 0.096 (0.122 when the skeleton stopped in the
+# body's middle).
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
     "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
-    >"$tmp/sbench.csv" 2>"$tmp/err" || ko "rig-bench short limbs exit $?"
+    "$data/models/greenman.glb" >"$tmp/sbench.csv" 2>"$tmp/err" || ko "rig-bench short limbs exit $?"
 cat "$tmp/sbench.csv"
 awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                      else { n++; cd[$c["model"]] = $c["cd_j2j"]; p[$c["model"]] = $c["precision"]
@@ -168,8 +192,10 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                             uw += $c["unweighted"] }; next }
     FNR == 1 { for (i = 1; i <= NF; i++) j[$i] = i; next }
     $j["rig"] == "artist" && $j["joint"] == "\"Foot.L\"" { foot = $j["distance"] }
+    $j["rig"] == "rigger" && $j["model"] == "\"animalia_bull_frog.b3d\"" {
+        fn++; fx[fn] = $j["x"]; fy[fn] = $j["y"]; fz[fn] = $j["z"]; fname[fn] = $j["joint"] }
     END {
-        if (n != 4) print "FAIL: short limbs: " n " rows, expected 4"
+        if (n != 5) print "FAIL: short limbs: " n " rows, expected 5"
         dragon = "\"draconis_fire_dragon.b3d\""
         if (!(gp[dragon] >= 0.685 && gl[dragon] <= 0.615))
             print "FAIL: fire dragon on the skeleton of the artist: precision " gp[dragon] ", L1 " gl[dragon]
@@ -178,10 +204,20 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
         if (!(gr["\"BCN_Epileptic.X\""] >= 0.765 && gl["\"BCN_Epileptic.X\""] <= 0.66))
             print "FAIL: BCN_Epileptic on the skeleton of the artist: recall " gr["\"BCN_Epileptic.X\""] \
                 ", L1 " gl["\"BCN_Epileptic.X\""]
-        if (!(cd["\"animalia_bull_frog.b3d\""] < 0.17)) print "FAIL: bull frog cd_j2j " cd["\"animalia_bull_frog.b3d\""]
+        if (!(cd["\"animalia_bull_frog.b3d\""] < 0.14)) print "FAIL: bull frog cd_j2j " cd["\"animalia_bull_frog.b3d\""]
         if (!(cd["\"huesitos.fbx\""] < 0.065)) print "FAIL: huesitos cd_j2j " cd["\"huesitos.fbx\""]
+        if (!(cd["\"greenman.glb\""] < 0.105)) print "FAIL: greenman cd_j2j " cd["\"greenman.glb\""]
         if (!(foot != "" && foot < 0.15)) print "FAIL: bull frog: Foot.L " foot " from the nearest joint"
         if (uw) print "FAIL: short limbs: " uw " vertices without weights"
+        if (!fn) print "FAIL: bull frog: no rigger joints in --joints"
+        for (a = 1; a <= fn; a++) {
+            best = 1e9
+            for (b = 1; b <= fn; b++) {
+                d = (fx[a] + fx[b]) ^ 2 + (fy[a] - fy[b]) ^ 2 + (fz[a] - fz[b]) ^ 2
+                best = d < best ? d : best
+            }
+            if (best > 0.05 ^ 2) print "FAIL: bull frog: " fname[a] " " sqrt(best) " from any mirror image"
+        }
     }' "$tmp/sbench.csv" "$tmp/sjoints.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench short limbs"; else ok; fi
 # the template rigger on six bodies (doc/autorig.md): limits a little beyond what it reaches (in
