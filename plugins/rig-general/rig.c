@@ -10,6 +10,18 @@
 
 #include "rig-internal.h"
 
+/* The analysis's facing made level to the skeleton's up, or zero when it has none or when the
+ * analysis read another up and its facing lies mostly along this one (it would say nothing of
+ * which way the body faces). */
+static rf_vec3 rf_rig_level_facing(rf_vec3 up, const rf_analysis *a)
+{
+    if (!(a->forward_confidence > 0) || !(rf_v3_len(up) > 0))
+        return rf_v3(0, 0, 0);
+    rf_vec3 u = rf_v3_normalize(up), f = a->forward;
+    f = rf_v3_sub(f, rf_v3_scale(u, rf_v3_dot(f, u)));
+    return rf_v3_len(f) > 0.7 ? rf_v3_normalize(f) : rf_v3(0, 0, 0);
+}
+
 /* Joint names say what the skeleton analysis found (section, side, rank, place in the chain),
  * e.g. leg_l0_1, so a person reading the rig sees its layout; the matcher never reads them. */
 static bool rf_rig_name(rf_skeleton *s, rf_vec3 up, rf_vec3 forward)
@@ -44,7 +56,7 @@ static bool rf_rig_name(rf_skeleton *s, rf_vec3 up, rf_vec3 forward)
     if (rf_v3_len(up) == 0)
         s->up = a->up;
     if (rf_v3_len(forward) == 0)
-        s->forward = a->forward_confidence > 0 ? a->forward : rf_v3(0, 0, 0);
+        s->forward = rf_rig_level_facing(s->up, a);
     rf_analysis_free(a);
     return ok;
 }
