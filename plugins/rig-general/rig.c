@@ -636,8 +636,45 @@ static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, b
     return n;
 }
 
+/* Where a pair of laid arms leaving trunk joint g well below their shoulders gets a chest
+ * joint: the curve skeleton's bands may meet the arms only where a coarse trunk bone starts (a
+ * robot's arms hung from its hips' joint, 0.7 of its height below where they leave the
+ * torso), and laid along the curve from there the elbow took the turn at the shoulder and the
+ * whole arm swung from the hips. The chest goes on the bone from g to its highest child that
+ * is no limb, at the mean height of the arms' first joints, when that is between a quarter
+ * and 0.85 of the bone's rise (nearer its ends, the joint there serves). True with the bone's
+ * child in *split and the point in at[]. */
+static bool rf_rig_chest(const rf_rig_skel *k, rf_vec3 up, const rf_rig_limb *limbs, uint32_t nl,
+                         const uint8_t *laid, const uint8_t *drop, uint32_t g, uint32_t *split,
+                         double at[3])
+{
+    double rise = 0;
+    uint32_t arms = 0;
+    for (uint32_t i = 0; i < nl; i++)
+        if (laid[i] && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == g)
+            rise += rf_rig_height(k, limbs[i].first, up), arms++;
+    if (arms < 2)
+        return false;
+    rise = rise / arms - rf_rig_height(k, g, up);
+    double best = 0;
+    uint32_t top = g;
+    for (uint32_t j = g + 1; j < k->n; j++) /* parents come first */
+        if (k->parent[j] == (int32_t)g && !drop[j] &&
+            rf_rig_height(k, j, up) - rf_rig_height(k, g, up) > best)
+            best = rf_rig_height(k, j, up) - rf_rig_height(k, g, up), top = j;
+    double t = best > 0 ? rise / best : 0;
+    if (t < 0.25 || t > 0.85)
+        return false;
+    *split = top;
+    const double *a = k->pos + (size_t)g * 3, *b = k->pos + (size_t)top * 3;
+    for (int c = 0; c < 3; c++)
+        at[c] = a[c] + t * (b[c] - a[c]);
+    return true;
+}
+
 /* k with each limb's joints (its first joint and all below it) replaced by the four its layout
- * places along the limb's curve, hanging from its girdle. Limbs inside another limb, or whose
+ * places along the limb's curve, hanging from its girdle (or from a chest joint put on the
+ * trunk where a pair of arms leaves it, rf_rig_chest). Limbs inside another limb, or whose
  * girdle another limb replaces, stay. */
 static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb *limbs,
                          uint32_t nl)
@@ -646,7 +683,7 @@ static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb
     uint8_t *drop = calloc(n + 1, 1);
     int32_t *to = malloc((n + 1) * sizeof *to);
     rf_rig_skel o = {0};
-    size_t cap = (size_t)n + 4 * nl + 1;
+    size_t cap = (size_t)n + 4 * nl + 2; /* a chest too */
     o.pos = malloc(cap * 3 * sizeof *o.pos), o.tip = calloc(cap * 3, sizeof *o.tip);
     o.parent = malloc(cap * sizeof *o.parent), o.has_tip = calloc(cap, 1);
     bool ok = drop && to && o.pos && o.tip && o.parent && o.has_tip;
@@ -665,24 +702,38 @@ static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb
             if (k->parent[j] >= 0 && drop[k->parent[j]])
                 drop[j] = 1;
     }
+    uint32_t chest_g = UINT32_MAX, split = UINT32_MAX;
+    int32_t chest = -1;
+    double at[3];
+    for (uint32_t i = 0; ok && i < nl && chest_g == UINT32_MAX; i++)
+        if (laid[i] && limbs[i].kind == RF_RIG_LIMB_ARM &&
+            rf_rig_chest(k, a->up, limbs, nl, laid, drop, limbs[i].girdle, &split, at))
+            chest_g = limbs[i].girdle;
     for (uint32_t j = 0; ok && j < n; j++) {
         to[j] = -1;
         if (drop[j])
             continue;
+        if (j == split) { /* the chest, on the trunk bone to j */
+            chest = (int32_t)o.n++;
+            memcpy(o.pos + (size_t)chest * 3, at, sizeof at);
+            o.has_tip[chest] = 0, o.parent[chest] = to[chest_g];
+        }
         uint32_t i = o.n++;
         to[j] = (int32_t)i;
         memcpy(o.pos + (size_t)i * 3, k->pos + (size_t)j * 3, 3 * sizeof *o.pos);
         memcpy(o.tip + (size_t)i * 3, k->tip + (size_t)j * 3, 3 * sizeof *o.tip);
         o.has_tip[i] = k->has_tip[j];
-        o.parent[i] = k->parent[j] >= 0 ? to[k->parent[j]] : -1;
+        o.parent[i] = j == split ? chest : k->parent[j] >= 0 ? to[k->parent[j]] : -1;
     }
     for (uint32_t i = 0; ok && i < nl; i++) {
         if (!laid[i])
             continue;
         double pos[4][3], tip[3];
+        bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM &&
+                       limbs[i].girdle == chest_g;
         rf_rig_limb_place(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind, limbs[i].lay,
-                          pos, tip);
-        int32_t parent = to[limbs[i].girdle];
+                          chested ? at : NULL, pos, tip);
+        int32_t parent = chested ? chest : to[limbs[i].girdle];
         for (int m = 0; m < 4; m++) {
             uint32_t j = o.n++;
             memcpy(o.pos + (size_t)j * 3, pos[m], sizeof pos[m]);
