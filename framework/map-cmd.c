@@ -109,7 +109,9 @@ static void rf_map_cmd_print(const rf_pipeline *p, int nsources)
             const rf_skeleton *s = in->source < 64 ? src[in->source] : NULL;
             g_autofree char *name =
                 rf_printable(s && in->joint < s->joint_count ? s->joints[in->joint].name : "?");
-            printf(" <- %u:%s%s", in->source, name, in->flags & RF_MAP_REVERSE ? " (reverse)" : "");
+            printf(" <- %u:%s%s%s", in->source, name,
+                   in->flags & RF_MAP_REVERSE ? " (reverse)" : "",
+                   in->flags & RF_MAP_MIRROR ? " (half a cycle later)" : "");
         }
         printf(e->input_count ? "  score %.1f\n" : " (unmapped)\n", e->score);
         mapped += e->input_count > 0;

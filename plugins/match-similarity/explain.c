@@ -137,6 +137,12 @@ void rf_ms_explain_print(const rf_ms_explain *e, const rf_mapping *m, const rf_s
         snprintf(what, sizeof what, "source %u", k);
         facing_warning(e->sources[k], what, out);
     }
+    if (e->gait_legs)
+        fprintf(out,
+                "gait: %u forelegs stand on the floor and every source walks on two legs: each "
+                "foreleg takes the source's leg of its side half a cycle later (mirrored), a trot "
+                "(-p map.forelegs=arms keeps the arms)\n",
+                e->gait_legs);
     fprintf(out, "Target joints, each with its three best candidates (source:joint total "
                  "metrics):\n");
     for (uint32_t j = 0; j < e->joint_count; j++)

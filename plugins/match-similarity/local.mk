@@ -9,6 +9,7 @@ plugins_match_similarity_libsimilarity_la_SOURCES = \
 	plugins/match-similarity/metrics.c \
 	plugins/match-similarity/assign.c \
 	plugins/match-similarity/match.c \
+	plugins/match-similarity/gait.c \
 	plugins/match-similarity/explain.c
 plugins_match_similarity_libsimilarity_la_LIBADD = -lm
 

@@ -34,7 +34,7 @@ static void mirror_setup(rf_ms_ctx *c)
             limb = a->sections[limb].type == RF_SECTION_FOOT ? a->sections[limb].parent : -1;
         bool second = limb >= 0 && a->sections[limb].pair_rank % 2 == 1;
         c->flip[s] = second && c->o->mirror == RF_MS_MIRROR_SWAP;
-        c->phase[s] = second && c->o->mirror == RF_MS_MIRROR_PHASE;
+        c->phase[s] = (second && c->o->mirror == RF_MS_MIRROR_PHASE) || c->gait[s];
         (void)sec;
     }
 }
@@ -68,10 +68,12 @@ static bool ctx_init(rf_ms_ctx *c, const rf_skeleton *target, const rf_skeleton 
     size_t ns = c->tgt.a->section_count ? c->tgt.a->section_count : 1;
     c->flip = calloc(ns, 1);
     c->phase = calloc(ns, 1);
-    if (!c->flip || !c->phase) {
+    c->gait = calloc(ns, 1);
+    if (!c->flip || !c->phase || !c->gait) {
         snprintf(err, err_size, "out of memory");
         return false;
     }
+    c->gait_legs = rf_ms_gait_setup(c);
     mirror_setup(c);
     return true;
 }
@@ -84,6 +86,7 @@ static void ctx_clear(rf_ms_ctx *c)
     free(c->src);
     free(c->flip);
     free(c->phase);
+    free(c->gait);
 }
 
 static bool source_on(const rf_ms_ctx *c, uint32_t k, int32_t only)
@@ -997,6 +1000,7 @@ static void keep_explanation(rf_ms_ctx *c, rf_ms_pass *p, rf_ms_explain *e)
     e->top = p->top, p->top = NULL;
     e->top_count = p->top_count, p->top_count = NULL;
     e->threshold = c->threshold;
+    e->gait_legs = c->gait_legs;
 }
 
 static rf_mapping *match_all(rf_ms_ctx *c, rf_ms_explain *explain, char *err, size_t err_size)

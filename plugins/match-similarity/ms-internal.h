@@ -50,11 +50,19 @@ typedef struct rf_ms_ctx {
     rf_ms_skel tgt;
     rf_ms_skel *src;
     uint32_t nsrc;
-    uint8_t *flip;  /* [target section] side swapped (mirror option) */
-    uint8_t *phase; /* [target section] mapped with RF_MAP_MIRROR */
+    uint8_t *flip;      /* [target section] side swapped (mirror option) */
+    uint8_t *phase;     /* [target section] mapped with RF_MAP_MIRROR */
+    uint8_t *gait;      /* [target section] a foreleg (or its foot) in the hind role (gait.c) */
+    uint32_t gait_legs; /* forelegs so marked */
 } rf_ms_ctx;
 
 #define RF_MS_NO_SOURCE UINT32_MAX
+
+/* The gait rule (gait.c): where the target's forelegs stand on the floor and every source walks
+ * on two legs (arms off the floor), marks the forelegs and their feet in c->gait and gives them
+ * the hind role, so each takes the source's leg of its side; match.c flags them RF_MAP_MIRROR.
+ * Returns the forelegs marked (0 with forelegs_arms, the thesis strategy, or no such pair). */
+uint32_t rf_ms_gait_setup(rf_ms_ctx *c);
 
 bool rf_ms_skel_init(rf_ms_skel *s, const rf_skeleton *skel, const rf_analysis_options *ao,
                      bool thesis);

@@ -129,6 +129,7 @@ static bool read_params(const rf_host *h, rf_node *node, uint32_t n, ms_params *
                   : strcmp(mirror, "phase") == 0 ? RF_MS_MIRROR_PHASE
                                                  : RF_MS_MIRROR_NONE;
     p->o.no_reverse = !h->param_bool(node, "reverse");
+    p->o.forelegs_arms = strcmp(h->param_string(node, "forelegs"), "arms") == 0;
     p->o.blend = h->param_bool(node, "blend");
     p->o.orientation_angle = h->param_float(node, "orientation_angle");
     p->o.target_analysis.leg_threshold = p->o.source_analysis.leg_threshold =
@@ -231,10 +232,17 @@ static bool match_and_output(const rf_host *h, rf_node *node, const ms_params *p
         fflush(stdout);
     }
     rf_ms_explain_clear(&ex);
-    uint32_t mapped = 0;
-    for (uint32_t j = 0; j < m->target_joint_count; j++)
+    uint32_t mapped = 0, phased = 0;
+    for (uint32_t j = 0; j < m->target_joint_count; j++) {
         mapped += m->entries[j].input_count > 0;
+        phased += m->entries[j].input_count > 0 && (m->entries[j].inputs[0].flags & RF_MAP_MIRROR);
+    }
     h->log(node, RF_LOG_INFO, "%u of %u target joints mapped", mapped, m->target_joint_count);
+    if (phased && p->o.mirror == RF_MS_MIRROR_NONE) /* only the gait rule flags them then */
+        h->log(node, RF_LOG_INFO,
+               "%u joints of forelegs on the floor driven by the source's legs of their side half "
+               "a cycle later, a trot (the source's fore limbs are arms; forelegs=arms keeps them)",
+               phased);
     return h->set_output(node, "mapping", m, rf_mapping_free);
 }
 
@@ -387,6 +395,10 @@ static const rf_param_desc params[] = {
     P("mirror", RF_PARAM_ENUM, 0, 0, "none", 0, 0, "none|swap|phase",
       "Every second pair of legs: swap takes the other side's source (the thesis's mirror "
       "setting), phase flags it to play half a cycle away."),
+    P("forelegs", RF_PARAM_ENUM, 0, 0, "gait", 0, 0, "gait|arms",
+      "Forelegs standing on the floor when every source walks on two legs (arms off the "
+      "floor): gait drives each from the source's leg of its side half a cycle later (a trot); "
+      "arms keeps the arms on them (homology)."),
     P("reverse", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
       "Flag joints whose chain bends the other way than their source's (knees) as reversed."),
     P("blend", RF_PARAM_BOOL, 0, 0, NULL, 0, 0, NULL,

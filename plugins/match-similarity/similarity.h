@@ -68,6 +68,8 @@ typedef struct rf_ms_options {
     const uint8_t *disabled;  /* [source_count] non-zero: ignore that source; may be NULL */
     rf_analysis_options target_analysis; /* forced axes, leg threshold... */
     rf_analysis_options source_analysis;
+    bool forelegs_arms; /* forelegs on the floor keep the source's arms (homology) even when every
+                         * source walks on two legs; false: the gait rule (gait.c) */
 } rf_ms_options;
 
 /* One scored candidate. */
@@ -87,6 +89,7 @@ typedef struct rf_ms_explain {
     rf_ms_candidate *top; /* [joint_count * 3] */
     uint8_t *top_count;   /* [joint_count] */
     double threshold;     /* the score a match needed */
+    uint32_t gait_legs;   /* forelegs driven by the sources' legs half a cycle later (gait.c) */
 } rf_ms_explain;
 
 /* Maps the target's joints onto the sources'. Returns NULL with a message in err when out of

@@ -592,6 +592,27 @@ bool rf_rt_clearance(const rf_retarget *rt, double start, double fps, uint32_t c
     return ok;
 }
 
+/* The joints above the hips (rt->t_above) and those of limbs driven by the source's legs half a
+ * cycle later (RF_RT_IN_PHASE): the legs in phase with the source say how long the target's legs
+ * are. A Fox's foreleg laid along a human's straight leg reaches 4 units (of 31) lower than its
+ * hind leg, and counted in it raised the Fox's root motion and its whole walk by as much. NULL
+ * when there are none. */
+static uint8_t *rt_phase_aside(const rf_retarget *rt)
+{
+    uint8_t *aside = NULL;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        const rf_rt_tjoint *tj = &rt->tj[j];
+        bool phase = false;
+        for (uint32_t i = 0; tj->kind == RF_RT_MAPPED && i < tj->input_count; i++)
+            phase = phase || (rt->in[tj->first_input + i].flags & RF_RT_IN_PHASE);
+        if (phase && !aside && (aside = malloc(rt->n)))
+            memcpy(aside, rt->t_above, rt->n);
+        for (uint32_t c = j; phase && aside && c < rt->n; c++)
+            aside[c] = aside[c] || rf_rt_carries(rt->target, (int32_t)j, c);
+    }
+    return aside;
+}
+
 /* The target posed in its aligned rest (each source at its rest): leg length and lowest point. */
 static bool rt_target_leg(rf_retarget *rt, double *leg)
 {
@@ -631,7 +652,9 @@ static bool rt_target_leg(rf_retarget *rt, double *leg)
     int32_t hip = rt_target_hip(rt);
     uint32_t h = rt_hip_below(rt->target, rt->lparent, hip >= 0 ? (uint32_t)hip : 0);
     rt_mark_above(rt->target, h, rt->t_above);
-    double lowest = rt_lowest(rt->target, world, rt->t_tip, rt->up, rt->t_above);
+    uint8_t *skip = rt_phase_aside(rt);
+    double lowest = rt_lowest(rt->target, world, rt->t_tip, rt->up, skip ? skip : rt->t_above);
+    free(skip);
     *leg = rf_rt_height(rt->up, world[h].t) - lowest;
     rt->aligned_low = lowest;
     rt->t_aligned = malloc((n ? n : 1) * sizeof *rt->t_aligned);

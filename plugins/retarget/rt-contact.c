@@ -476,8 +476,37 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
     return true;
 }
 
+/* Whether effector e is a foot of another pair of legs driven half a cycle later (RF_RT_IN_PHASE:
+ * a quadruped's forefoot under a biped's foot). Laid along the source's leg it may reach further
+ * than the legs that set the body's height, so rt_pins lifts it out of the floor in every frame,
+ * not only in its contacts. */
+/* How far (in leg lengths, horizontally) a foot driven half a cycle later may be held from where
+ * the motion puts it. CMU 01_01's walk onto the Fox, the animalia wolf and horse (forelegs' tilt
+ * p90 in degrees, skate over all feet in leg/s): set down again past 0.5 26-62, 0.85-0.99;
+ * dragged along (rt_phase_drag) past 0.5 33-71, 0.68-0.82; past 0.25 26-55, 0.80-0.90; past
+ * 0.15 25-51, 0.87-0.92. */
+#define RT_PHASE_DRIFT 0.25
+
+static bool rt_effector_phase(const rf_retarget *rt, uint32_t e)
+{
+    const rf_rt_tjoint *tj = &rt->tj[rt->effectors[e]];
+    return tj->kind == RF_RT_MAPPED && tj->input_count &&
+           (rt->in[tj->first_input].flags & RF_RT_IN_PHASE);
+}
+
+/* A pin of a foot driven half a cycle later held at most RT_PHASE_DRIFT legs (horizontally) from
+ * where the motion puts the foot `at`: dragged along behind it beyond that, not left behind. */
+static rf_vec3 rt_phase_drag(const rf_retarget *rt, rf_vec3 anchor, rf_vec3 at)
+{
+    rf_vec3 off = rf_rt_horizontal(rt->up, rf_v3_sub(anchor, at));
+    double len = rf_v3_len(off), most = RT_PHASE_DRIFT * rt->leg_target;
+    if (!(len > most))
+        return anchor;
+    return rf_v3_sub(anchor, rf_v3_scale(off, 1.0 - most / len));
+}
+
 /* The frames rt_pins reads a foot's position and sole at, of any foot: during its contacts and
- * the contact_blend after each. */
+ * the contact_blend after each; every frame for a foot driven half a cycle later. */
 static uint8_t *rt_pins_read(const rf_retarget *rt, const uint8_t *contact, uint32_t frames,
                              double fps)
 {
@@ -486,6 +515,8 @@ static uint8_t *rt_pins_read(const rf_retarget *rt, const uint8_t *contact, uint
     for (uint32_t e = 0; read && e < rt->effector_count; e++) {
         const uint8_t *c = contact + (size_t)e * frames;
         uint32_t since = UINT32_MAX; /* as in rt_pins */
+        if (rt_effector_phase(rt, e))
+            memset(read, 1, frames);
         for (uint32_t f = 0; f < frames; f++) {
             if (c[f])
                 since = 0;
@@ -500,7 +531,8 @@ static uint8_t *rt_pins_read(const rf_retarget *rt, const uint8_t *contact, uint
 /* The goal of every effector at every frame: during a contact, the horizontal position where it
  * began, and no lower than the height that puts its sole over the target's floor as the
  * source's is over its own (the foot can still roll); for contact_blend seconds after it, easing
- * back to the free motion. */
+ * back to the free motion. A foot driven half a cycle later is also lifted out of the floor
+ * where it would go through it between contacts. */
 static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t frames, double fps,
                     rt_pin_work *w)
 {
@@ -511,10 +543,18 @@ static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t fram
         const rf_vec3 *p = w->target_pos + at;
         rf_vec3 *pin = w->pin + at, anchor = p[0], lift = rf_v3(0, 0, 0);
         uint32_t since = UINT32_MAX; /* frames since the last contact ended */
+        bool phase = rt_effector_phase(rt, e);
         for (uint32_t f = 0; f < frames; f++) {
             if (c[f]) {
+                /* A foot driven half a cycle later stays on its source's contact while the body
+                 * moves with the source half a cycle before: in a jump the body flies off the
+                 * planted foot. Pinned on, the foot dragged the leg out level behind the body
+                 * (the animalia wolf's forelegs 85 degrees off down at p90): the pin is dragged
+                 * along behind the foot past RT_PHASE_DRIFT. */
                 if (f == 0 || !c[f - 1])
                     anchor = p[f];
+                else if (phase)
+                    anchor = rt_phase_drag(rt, anchor, p[f]);
                 /* Only up: a foot through the floor is lifted out of it; pulling a floating
                  * foot down would stretch the leg out of reach (the root placement keeps the
                  * feet at the floor on average). */
@@ -527,6 +567,9 @@ static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t fram
             rf_vec3 off = rf_v3_add(rf_rt_horizontal(rt->up, rf_v3_sub(anchor, p[f])), lift);
             double keep = c[f] ? 1 : since <= blend ? 1.0 - (double)since / (blend + 1) : 0;
             pin[f] = keep > 0 ? rf_v3_add(p[f], rf_v3_scale(off, keep)) : rf_v3(NAN, NAN, NAN);
+            double under = rt->floor_target - w->target_sole[at + f];
+            if (phase && keep == 0 && under > 0)
+                pin[f] = rf_v3_add(p[f], rf_v3_scale(rt->up, under));
         }
     }
 }

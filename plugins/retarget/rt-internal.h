@@ -22,6 +22,9 @@ enum rf_rt_input_flags {
                                  * takes its turns, not its direction (rt_input_resolve) */
     RF_RT_IN_LEVEL = 1u << 10,  /* a centerline bone of another body plan: its tilt away from
                                  * the source's up is limited (rf_rt_level) */
+    RF_RT_IN_PHASE = 1u << 12,  /* a limb driven half a cycle later by the source's limb of its
+                                 * own side (a quadruped's foreleg under a biped's leg): another
+                                 * pair of legs, whose reach says nothing of the body's height */
 };
 
 /* One mapping input, resolved against its source's rest. */
@@ -160,6 +163,8 @@ struct rf_retarget {
     bool t_degenerate;      /* the target's rest is no body: align every bone */
     bool plan_differs;      /* the bodies lie differently (an upright biped onto a level
                              * quadruped): centerline bones keep their own rest directions */
+    bool level_flat;        /* the target stands on legs driven half a cycle later too
+                             * (RF_RT_IN_PHASE): its levelled centerline takes no lean */
     double size;            /* extent of the target's rest (tolerances) */
     rf_xform *t_rest_world; /* [n] the target's rest */
     rf_vec3 *t_tip;         /* [n] target bone tips in the joint's local frame, zero when none */
@@ -326,8 +331,9 @@ void rf_rt_frame(const rf_retarget *rt, rf_rt_work *w, const rf_rt_pose *poses, 
                  float *translations);
 /* The quaternion power q^t along the shorter arc. */
 rf_quat rf_rt_quat_pow(rf_quat q, double t);
-/* The world delta d with its tilt away from up eased into a limit, its turn about up kept. */
-rf_quat rf_rt_level(rf_quat d, rf_vec3 up);
+/* The world delta d with its tilt away from up eased into `limit` radians (none at 0), its turn
+ * about up kept. */
+rf_quat rf_rt_level(rf_quat d, rf_vec3 up, double limit);
 /* The rotation about unit axis n that best turns the vectors a[i] onto b[i] (both already
  * perpendicular to n or not: only the parts perpendicular to n count). */
 double rf_rt_twist_fit(rf_vec3 n, const rf_vec3 *a, const rf_vec3 *b, uint32_t count);

@@ -479,9 +479,11 @@ static bool rt_mesh_hulls(rf_retarget *rt, const rt_mesh_work *w)
 }
 
 /* The joints of limbs driven by source limbs of another kind (RF_RT_IN_KIND: a quadruped's
- * forelegs hanging from shoulder blades that take a human's clavicle turns): their reach says
- * nothing of where the body stands, so the first placement leaves them to the parts pass. NULL
- * when there are none (or out of memory: then they count). */
+ * forelegs hanging from shoulder blades that take a human's clavicle turns) or by the source's
+ * legs half a cycle later (RF_RT_IN_PHASE: a quadruped's forelegs under a biped's legs, longer
+ * or shorter than its hind legs): their reach says nothing of where the body stands, so the
+ * first placement leaves them to the contact and parts passes. NULL when there are none (or out
+ * of memory: then they count). */
 static uint8_t *rt_limbs_aside(const rf_retarget *rt)
 {
     uint8_t *aside = NULL;
@@ -489,7 +491,7 @@ static uint8_t *rt_limbs_aside(const rf_retarget *rt)
         const rf_rt_tjoint *tj = &rt->tj[j];
         bool kind = false;
         for (uint32_t i = 0; tj->kind == RF_RT_MAPPED && i < tj->input_count; i++)
-            kind = kind || (rt->in[tj->first_input + i].flags & RF_RT_IN_KIND);
+            kind = kind || (rt->in[tj->first_input + i].flags & (RF_RT_IN_KIND | RF_RT_IN_PHASE));
         if (kind && !aside && !(aside = calloc(rt->n, 1)))
             return NULL;
         for (uint32_t c = j; kind && c < rt->n; c++)

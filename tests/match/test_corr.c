@@ -115,7 +115,9 @@ static void score_pair(const labelled *s, const labelled *t, int *joints, int *r
 {
     char err[256];
     const rf_skeleton *src = s->s;
-    rf_mapping *m = rf_ms_match(t->s, &src, 1, NULL, NULL, err, sizeof err);
+    rf_ms_options homology = {0}; /* the labels pair forelegs with arms, not the gait rule's */
+    homology.forelegs_arms = true;
+    rf_mapping *m = rf_ms_match(t->s, &src, 1, &homology, NULL, err, sizeof err);
     int n = 0, ok = 0, sw = 0;
     for (int i = 0; m && i < LABEL_COUNT; i++) {
         if (t->joint[i] < 0 || s->joint[i] < 0)

@@ -129,7 +129,9 @@ static void one_pair(const kind *k, const gen_skel *cmu, uint64_t seed, int *joi
     gen_skel t = gen_make(k->target, seed * 2 + 2);
     char err[256];
     const rf_skeleton *src[1] = {s.s};
-    rf_mapping *m = rf_ms_match(t.s, src, 1, NULL, NULL, err, sizeof err);
+    rf_ms_options homology = {0}; /* the labels pair forelegs with arms, not the gait rule's */
+    homology.forelegs_arms = true;
+    rf_mapping *m = rf_ms_match(t.s, src, 1, &homology, NULL, err, sizeof err);
     for (uint32_t j = 0; m && j < t.s->joint_count; j++) {
         int32_t got = m->entries[j].input_count ? (int32_t)m->entries[j].inputs[0].joint : -1;
         bool ok = gen_accepts(&t, j, &s, got);

@@ -19,9 +19,13 @@ expect 2 "--repeat 0 is a usage error" -- "$rigflow" map --repeat 0 "$cmu" "$fox
 
 expect 0 "CMU onto the Fox, printed" -- "$rigflow" map "$cmu" "$fox"
 matches "$tmp/out" "^b_LeftLeg01_015 +<- 0:LeftUpLeg " "left hind thigh from the left thigh"
-matches "$tmp/out" "^b_RightUpperArm_06 +<- 0:RightArm " "right foreleg from the right arm"
+matches "$tmp/out" "^b_RightUpperArm_06 +<- 0:RightUpLeg \(half a cycle later\) " \
+    "right foreleg from the right thigh half a cycle later (the gait rule)"
 matches "$tmp/out" "^b_Tail01_012 +\(unmapped\)" "a human has no tail"
 matches "$tmp/out" "target joints mapped$" "summary line"
+expect 0 "CMU onto the Fox, forelegs kept on the arms" -- "$rigflow" map "$cmu" "$fox" \
+    -p map.forelegs=arms
+matches "$tmp/out" "^b_RightUpperArm_06 +<- 0:RightArm  " "right foreleg from the right arm"
 
 expect 0 "-o writes a mapping file" -- "$rigflow" map "$cmu" "$fox" -o "$tmp/fox.json"
 matches "$tmp/fox.json" '"format": "rigflow.mapping"' "file has the format tag"

@@ -138,7 +138,9 @@ static void one_pair(const rigs_skel *s, const rigs_skel *t, tally *y, bool verb
     const rf_skeleton *src[1] = {s->s};
     rf_ms_explain ex = {0};
     bool explain = getenv("RF_RIGS_EXPLAIN") != NULL;
-    rf_mapping *m = rf_ms_match(t->s, src, 1, NULL, explain ? &ex : NULL, err, sizeof err);
+    rf_ms_options homology = {0}; /* the truth pairs forelegs with arms, not the gait rule's */
+    homology.forelegs_arms = true;
+    rf_mapping *m = rf_ms_match(t->s, src, 1, &homology, explain ? &ex : NULL, err, sizeof err);
     if (explain && m)
         rf_ms_explain_print(&ex, m, t->s, src, stdout);
     rf_ms_explain_clear(&ex);

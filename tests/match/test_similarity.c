@@ -285,7 +285,9 @@ static void test_biped_onto_quadruped(void **state)
     (void)state;
     rf_skeleton *s = biped_facing(0);
     rf_skeleton *t = sb_build(sb_quadruped, SB_COUNT(sb_quadruped));
-    rf_mapping *m = match1(t, s, NULL);
+    rf_ms_options homology = {0};
+    homology.forelegs_arms = true;
+    rf_mapping *m = match1(t, s, &homology);
     assert_driver(m, t, s, "pelvis", "hips");
     assert_driver(m, t, s, "chest", "chest");
     assert_driver(m, t, s, "head", "head");
@@ -298,6 +300,53 @@ static void test_biped_onto_quadruped(void **state)
     rf_mapping_free(m);
     rf_skeleton_free(s);
     rf_skeleton_free(t);
+}
+
+/* Whether target joint `name` is driven with RF_MAP_MIRROR (half a cycle later). */
+static bool phased(const rf_mapping *m, const rf_skeleton *t, const char *name)
+{
+    const rf_map_entry *e = &m->entries[sb_find(t, name)];
+    return e->input_count && (e->inputs[0].flags & RF_MAP_MIRROR);
+}
+
+/* The gait rule: forelegs standing on the floor under a source that walks on two legs take the
+ * source's leg of their side half a cycle later (a trot); the hind legs are unchanged. A source on
+ * four legs, or a biped target, keeps every limb on its counterpart in phase. */
+static void test_gait(void **state)
+{
+    (void)state;
+    rf_skeleton *s = biped_facing(0);
+    rf_skeleton *q = sb_build(sb_quadruped, SB_COUNT(sb_quadruped));
+    rf_mapping *m = match1(q, s, NULL);
+    assert_driver(m, q, s, "fl1", "l_thigh");
+    assert_driver(m, q, s, "fl2", "l_shin");
+    assert_driver(m, q, s, "fr1", "r_thigh");
+    assert_driver(m, q, s, "fr2", "r_shin");
+    assert_driver(m, q, s, "hl1", "l_thigh");
+    assert_driver(m, q, s, "hr2", "r_shin");
+    assert_driver(m, q, s, "chest", "chest");
+    assert_driver(m, q, s, "tail2", NULL);
+    assert_true(phased(m, q, "fl1") && phased(m, q, "fr2"));
+    assert_false(phased(m, q, "hl1") || phased(m, q, "hr2") || phased(m, q, "chest"));
+    rf_mapping_free(m);
+    m = match1(q, q, NULL); /* four legs onto four legs */
+    assert_driver(m, q, q, "fl2", "fl2");
+    assert_driver(m, q, q, "hr2", "hr2");
+    for (uint32_t j = 0; j < q->joint_count; j++)
+        assert_false(m->entries[j].input_count && (m->entries[j].inputs[0].flags & RF_MAP_MIRROR));
+    rf_mapping_free(m);
+    m = match1(s, s, NULL); /* two legs onto two legs */
+    assert_driver(m, s, s, "l_arm", "l_arm");
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        assert_false(m->entries[j].input_count && (m->entries[j].inputs[0].flags & RF_MAP_MIRROR));
+    rf_mapping_free(m);
+    /* the quadruped onto the biped: its arms keep the forelegs (the rule reads the target's) */
+    m = match1(s, q, NULL);
+    assert_driver(m, s, q, "l_arm", "fl1");
+    assert_false(phased(m, s, "l_arm"));
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(q);
 }
 
 /* sb_quadruped with its head (joints 5 and 6: the head and its tip) replaced by `head`, n joints
@@ -678,6 +727,7 @@ int main(void)
         cmocka_unit_test(test_orientation_falloff),
         cmocka_unit_test(test_facing),
         cmocka_unit_test(test_biped_onto_quadruped),
+        cmocka_unit_test(test_gait),
         cmocka_unit_test(test_skull_before_snout),
         cmocka_unit_test(test_one_bone_leg),
         cmocka_unit_test(test_threshold_and_similar),

@@ -38,8 +38,16 @@ check_LTLIBRARIES += tests/retarget/fx_namemap.la
 tests_retarget_fx_namemap_la_SOURCES = tests/retarget/fx_namemap.c
 tests_retarget_fx_namemap_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 
-TESTS += tests/retarget/test_retarget_pipeline.sh tests/retarget/test_retarget_sweep.sh
+TESTS += tests/retarget/test_retarget_pipeline.sh tests/retarget/test_retarget_sweep.sh \
+	tests/retarget/test_gait.sh
 dist_noinst_SCRIPTS += tests/retarget/test_retarget_pipeline.sh \
-	tests/retarget/test_retarget_sweep.sh
+	tests/retarget/test_retarget_sweep.sh tests/retarget/test_gait.sh
 EXTRA_DIST += tests/retarget/sweep.mjs
 EXTRA_DIST += tests/retarget/maps
+
+# gait-feet: each leg's foot height over the floor through a clip (test_gait.sh, doc/matching.md)
+check_PROGRAMS += tests/retarget/gait-feet
+tests_retarget_gait_feet_SOURCES = tests/retarget/gait-feet.c
+tests_retarget_gait_feet_CPPFLAGS = $(RT_TEST_CPPFLAGS)
+tests_retarget_gait_feet_LDADD = sdk/formats/bvh/librigflow-bvh.la \
+	sdk/formats/assimp/librigflow-assimp.la sdk/analysis/librigflow-analysis.la -lm

@@ -756,6 +756,45 @@ static void mirror_drives_second_pair(void **state)
     rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* Forelegs driven half a cycle later by the source's legs (the matcher's gait rule) are another
+ * pair of legs: the legs in phase with the source say how long the target's legs are. Here the
+ * forelegs are 0.2 longer than the hind legs. Aligned onto the source's straight legs, a hind
+ * ankle stands at 1.0 - 0.5 - 0.45 = 0.05 under hips at 1.0 and its foot's tip (0.1118 long)
+ * drops along the source foot's direction (0, -0.05, 0.15): by 0.1118 * 0.05 / 0.1581 = 0.0354,
+ * so the leg is 1.0 - 0.0146 = 0.9854; a foreleg's ankle stands at 1.0 - 0.6 - 0.55 = -0.15, and
+ * counted in (forelegs mapped in phase) the leg is 1.0 + 0.15 + 0.0354 = 1.1854. */
+static void phase_legs_leave_leg_length(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = quadruped();
+    for (uint32_t j = 9; j <= 12; j += 3) {
+        tgt->joints[j + 1].rest.t = rf_v3(0, -0.6, 0);
+        tgt->joints[j + 2].rest.t = rf_v3(0, -0.55, 0);
+    }
+    rf_animation *clip = stepping(src);
+    double drop = sqrt(0.05 * 0.05 + 0.1 * 0.1) * 0.05 / sqrt(0.05 * 0.05 + 0.15 * 0.15);
+    for (int phase = 1; phase >= 0; phase--) {
+        rf_mapping *m = fx_mapping(16, 1);
+        fx_map(m, 0, 0, 0, 1, 0, 0), fx_map(m, 7, 0, 7, 1, 0, 0), fx_map(m, 15, 0, 8, 1, 0, 0);
+        for (uint32_t k = 0; k < 3; k++) {
+            fx_map(m, 1 + k, 0, 1 + k, 1, 0, 0), fx_map(m, 4 + k, 0, 4 + k, 1, 0, 0);
+            fx_map(m, 9 + k, 0, 1 + k, 1, 0, phase ? RF_MAP_MIRROR : 0);
+            fx_map(m, 12 + k, 0, 4 + k, 1, 0, phase ? RF_MAP_MIRROR : 0);
+        }
+        rf_retarget_options o = opts();
+        run r = do_run(src, clip, tgt, m, &o);
+        rf_rt_info info;
+        rf_retarget_info(r.rt, &info);
+        double want = phase ? 1.0 - (0.05 - drop) : 1.0 + 0.15 + drop;
+        print_message("forelegs %s: leg %.4f (by hand %.4f)\n",
+                      phase ? "half a cycle later" : "in phase", info.leg_target, want);
+        assert_true(fabs(info.leg_target - want) < 1e-3);
+        run_free(&r);
+        rf_mapping_free(m);
+    }
+    rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 /* The biped's topology with every bone along local +X at zero rotation (as Maya joint orients
  * leave a BVH): its zero pose is no body; frame 0 of its clip stands it up. */
 static rf_skeleton *flat_biped(void)
@@ -837,24 +876,29 @@ static void measure_by_hand(void **state)
 
 /* A centerline bone of another body plan keeps its source's turn about up whole and its tilt eased
  * into 10 degrees (10 tanh(a / 10)): worked by hand for a pure turn, a pure 60 degree lean
- * (10 tanh 6 = 9.99988) and a 90 degree turn after a 40 degree lean (10 tanh 4 = 9.99329). */
+ * (10 tanh 6 = 9.99988) and a 90 degree turn after a 40 degree lean (10 tanh 4 = 9.99329); with
+ * no lean allowed, the turn alone. */
 static void level_keeps_turn_limits_tilt(void **state)
 {
     (void)state;
     const double deg = RF_PI / 180;
     rf_vec3 up = rf_v3(0, 1, 0), left = rf_v3(1, 0, 0);
     rf_quat turn = rf_quat_from_axis_angle(up, 90 * deg);
-    rf_quat q = rf_rt_level(turn, up);
+    const double tilt = 10 * deg;
+    rf_quat q = rf_rt_level(turn, up, tilt);
     assert_true(rf_quat_angle(q, turn) < 1e-9);
-    q = rf_rt_level(rf_quat_from_axis_angle(left, 60 * deg), up);
+    q = rf_rt_level(rf_quat_from_axis_angle(left, 60 * deg), up, tilt);
     assert_true(rf_quat_angle(q, rf_quat_from_axis_angle(left, 9.99988 * deg)) < 1e-6);
     rf_quat lean = rf_quat_from_axis_angle(left, 40 * deg);
-    q = rf_rt_level(rf_quat_mul(lean, turn), up);
+    q = rf_rt_level(rf_quat_mul(lean, turn), up, tilt);
     rf_quat want = rf_quat_mul(rf_quat_from_axis_angle(left, 9.99329 * deg), turn);
     assert_true(rf_quat_angle(q, want) < 1e-6);
     /* No tilt at all: nothing to ease. */
-    q = rf_rt_level(rf_quat_identity(), up);
+    q = rf_rt_level(rf_quat_identity(), up, tilt);
     assert_true(rf_quat_angle(q, rf_quat_identity()) < 1e-12);
+    /* A limit of 0 (a body on four legs under a biped): the lean goes, the turn stays. */
+    q = rf_rt_level(rf_quat_mul(lean, turn), up, 0);
+    assert_true(rf_quat_angle(q, turn) < 1e-9);
 }
 /* Turns a leg (thigh at j, knee j + 1) so the ankle of a thigh and shin of lengths a and b
  * reaches `ankle` from the hip joint `hip`, bending the knee forward (+Z), in the YZ plane. */
@@ -1087,6 +1131,7 @@ int main(void)
         cmocka_unit_test(identity_returns_the_clip),
         cmocka_unit_test(opposite_facing_turns_round),
         cmocka_unit_test(mirror_drives_second_pair),
+        cmocka_unit_test(phase_legs_leave_leg_length),
         cmocka_unit_test(degenerate_rest_uses_a_frame),
         cmocka_unit_test(measure_by_hand),
         cmocka_unit_test(contact_pass_pins_feet),
