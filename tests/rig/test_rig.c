@@ -1208,7 +1208,7 @@ static void test_limb_layout(void **state)
      * (at 0.378, in its window), the ankle at the first point no higher than 0.1 of the leg's
      * height (the ankle joint, at 0.849), the toe half way on from there (0.924: 0.1 along the
      * foot's last bone) */
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_LEG, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_LEG, &l, NULL, j, end);
     expect_at(j[0], 0, 1 - 0.1 * 1.324264, 0, "hip");
     expect_at(j[1], 0, 0.5, 0, "knee");
     expect_at(j[2], 0, 0, 0.3, "ankle");
@@ -1216,20 +1216,20 @@ static void test_limb_layout(void **state)
     expect_at(end, 0, 0, 0.5, "end");
     /* a hind leg: its hock at the sharpest bend in [0.6, 0.9], the ankle's right angle (0.849)
      * and not the 45 degrees at 0.698 */
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_HIND_LEG, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_HIND_LEG, &l, NULL, j, end);
     expect_at(j[1], 0, 0.5, 0, "stifle");
     expect_at(j[2], 0, 0, 0.3, "hock");
     /* an arm on the same curve, without the climbing branch: clavicle and upper arm at 0.1
      * and 0.2, the elbow at the bend, the hand at 0.8 (1.0594: 0.1352 down from (0, 0.2, 0.3)) */
     k.n = 5;
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, NULL, j, end);
     expect_at(j[0], 0, 1 - 0.1 * 1.324264, 0, "clavicle");
     expect_at(j[1], 0, 1 - 0.2 * 1.324264, 0, "upper arm");
     expect_at(j[2], 0, 0.5, 0, "elbow");
     expect_at(j[3], 0, 0.2 - (0.8 * 1.324264 - 0.924264), 0.3, "hand");
     /* with the climbing branch an arm follows it: its end is that branch's joint */
     k.n = 6;
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, NULL, j, end);
     expect_at(end, 0, 2.2, 0, "an arm's end");
 }
 
@@ -1281,6 +1281,60 @@ static void test_general_legs(void **state)
     assert_int_equal(feet, 4);
     assert_int_equal(hind, 2);
     rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
+}
+
+/* RobotExpressive's arms leave its torso at shoulder height, 0.67 above where its curve
+ * skeleton's trunk bone starts (the hips' joint): laid from there, the elbow went to the turn at
+ * the shoulder and the arm swung from the hips. With a chest joint on the trunk where the arms
+ * leave it, each arm hangs from a joint at the height of the artist's shoulders and its elbow
+ * lies at the artist's. The artist's joints, from `rigflow inspect` on the file: Shoulder.L at
+ * (0.583, 2.440), Shoulder.R (-0.637, 2.440), LowerArm.L (1.323, 2.432), LowerArm.R (-1.313,
+ * 2.432); the rig before the chest: the arms' parent at y 1.77, elbows at x +-0.80. */
+static void test_general_chest(void **state)
+{
+    (void)state;
+    const char *d = data_dir();
+    if (!d) {
+        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
+        skip();
+    }
+    char path[4096], err[1024];
+    snprintf(path, sizeof path, "%s/models/RobotExpressive.glb", d);
+    rf_ai_options ao = {.ignore_rig = true};
+    rf_ai_result r;
+    if (!rf_ai_import(path, &ao, &r, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_skeleton *s;
+    rf_mesh *m;
+    if (!rf_rig_general(r.mesh, NULL, &s, &m, NULL, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_vec3 *w = calloc(s->joint_count, sizeof *w);
+    assert_non_null(w);
+    world_joints(s, w);
+    static const struct {
+        const char *first, *elbow;
+        double elbow_x;
+    } arm[2] = {{"arm_l0_0", "arm_l0_2", 1.323}, {"arm_r0_0", "arm_r0_2", -1.313}};
+    for (int side = 0; side < 2; side++) {
+        int32_t first = -1, elbow = -1;
+        for (uint32_t j = 0; j < s->joint_count; j++) {
+            first = strcmp(s->joints[j].name, arm[side].first) ? first : (int32_t)j;
+            elbow = strcmp(s->joints[j].name, arm[side].elbow) ? elbow : (int32_t)j;
+        }
+        assert_true(first >= 0 && elbow >= 0 && s->joints[first].parent >= 0);
+        rf_vec3 hang = w[s->joints[first].parent], e = w[elbow];
+        printf("# %s hangs from y %.3f (the artist's shoulders 2.440); elbow (%.3f, %.3f), the "
+               "artist's (%.3f, 2.432)\n",
+               arm[side].first, hang.y, e.x, e.y, arm[side].elbow_x);
+        if (!(fabs(hang.y - 2.44) < 0.1))
+            fail_msg("%s hangs from y %g, the shoulders are at 2.44", arm[side].first, hang.y);
+        if (!(hypot(e.x - arm[side].elbow_x, e.y - 2.432) < 0.15))
+            fail_msg("%s at (%g, %g), the artist's elbow at (%g, 2.432)", arm[side].elbow, e.x,
+                     e.y, arm[side].elbow_x);
+    }
+    free(w);
+    rf_skeleton_free(s), rf_mesh_free(m);
+    rf_ai_result_clear(&r);
 }
 
 /* A scan too large for the memory left is refused before any work, with the figures: 120 million
@@ -1337,6 +1391,7 @@ int main(void)
         cmocka_unit_test(test_place_section),
         cmocka_unit_test(test_limb_layout),
         cmocka_unit_test(test_general_legs),
+        cmocka_unit_test(test_general_chest),
         cmocka_unit_test(test_mirror_twigs),
         cmocka_unit_test(test_memory_refusal),
     };
