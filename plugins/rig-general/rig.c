@@ -459,6 +459,75 @@ static void rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
     rf_skeleton_free(s);
 }
 
+/* The narrower of the body's two diameters across `up` at q (along `fwd` and to the side),
+ * by rays on the surface; INFINITY where a ray leaves the mesh. */
+static double rf_rig_girth(const rf_rig_surface *sf, const double q[3], rf_vec3 up, rf_vec3 fwd)
+{
+    rf_vec3 side = rf_v3_normalize(rf_v3_cross(up, fwd));
+    rf_vec3 f = rf_v3_normalize(rf_v3_cross(side, up));
+    double best = INFINITY;
+    for (int a = 0; a < 2; a++) {
+        rf_vec3 d = a ? side : f;
+        double dp[3] = {d.x, d.y, d.z}, dn[3] = {-d.x, -d.y, -d.z};
+        best = fmin(best, rf_rig_surface_hit(sf, q, dp) + rf_rig_surface_hit(sf, q, dn));
+    }
+    return best;
+}
+
+#define RF_RIG_NECK_STEPS 24
+#define RF_RIG_NECK_GIRTH 0.8 /* of the head's girth at its first joint: inside the head */
+
+/* An upright body's head chain starts where the trunk enters the head's bulk: the curve
+ * skeleton's first head joint may lie well inside a head wider than the trunk under it (a
+ * robot's head box starts 0.4 below it), and the clip's neck then turned the head about a
+ * pivot in its middle. The first joint of the analysis's head section moves down its bone to
+ * the lowest point from which the girth stays at least RF_RIG_NECK_GIRTH of the girth at the
+ * joint, when that point lies between a fifth and nine tenths of the bone from its parent (a
+ * neck narrower than the head below its first joint: nothing moves). */
+static void rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
+{
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    if (!s)
+        return;
+    s->up = o->up, s->forward = o->forward;
+    rf_analysis *a = rf_analyze(s, NULL);
+    int32_t h = -1;
+    for (uint32_t j = 0; a && j < k->n && h < 0; j++) {
+        int32_t sec = a->joints[j].section;
+        if (sec >= 0 && a->sections[sec].type == RF_SECTION_HEAD && k->parent[j] >= 0)
+            h = (int32_t)j;
+    }
+    rf_vec3 up = a ? a->up : rf_v3(0, 1, 0), fwd = a ? a->forward : rf_v3(0, 0, 1);
+    rf_rig_surface *sf = h >= 0 && rf_v3_len(rf_v3_cross(up, fwd)) > 0.5
+                             ? rf_rig_surface_make(&p->proxy)
+                             : NULL;
+    if (sf) {
+        double *q = k->pos + (size_t)h * 3, *b = k->pos + (size_t)k->parent[h] * 3;
+        double d[3] = {q[0] - b[0], q[1] - b[1], q[2] - b[2]};
+        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        double rise = d[0] * up.x + d[1] * up.y + d[2] * up.z;
+        double head = rf_rig_girth(sf, q, up, fwd);
+        int from = RF_RIG_NECK_STEPS;
+        while (len > 0 && rise > 0.7 * len && isfinite(head) && from > 0) {
+            double t = (double)(from - 1) / RF_RIG_NECK_STEPS, x[3];
+            for (int c = 0; c < 3; c++)
+                x[c] = b[c] + t * d[c];
+            if (!(rf_rig_girth(sf, x, up, fwd) >= RF_RIG_NECK_GIRTH * head))
+                break;
+            from--;
+        }
+        double t = (double)from / RF_RIG_NECK_STEPS;
+        if (getenv("RF_DBG"))
+            fprintf(stderr, "neck: joint %d t %.3f head girth %.3f\n", h, t, head);
+        if (from > 0 && t >= 0.2 && t <= 0.9)
+            for (int c = 0; c < 3; c++)
+                q[c] = b[c] + t * d[c];
+    }
+    rf_rig_surface_free(sf);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 #define RF_RIG_BOTTOM_GAP 0.25 /* of the body's height between its bottom and the skeleton's */
 
 /* A joint appended to k at p hanging from `parent`; false when out of memory (k unchanged). */
@@ -782,6 +851,7 @@ bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
     if (!rf_rig_limbs(k, o, lay))
         return false;
     rf_rig_dorsal(p, k, o);
+    rf_rig_neck(p, k, o);
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
         return false;
