@@ -517,8 +517,6 @@ static void rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_optio
             from--;
         }
         double t = (double)from / RF_RIG_NECK_STEPS;
-        if (getenv("RF_DBG"))
-            fprintf(stderr, "neck: joint %d t %.3f head girth %.3f\n", h, t, head);
         if (from > 0 && t >= 0.2 && t <= 0.9)
             for (int c = 0; c < 3; c++)
                 q[c] = b[c] + t * d[c];

@@ -1337,6 +1337,61 @@ static void test_general_chest(void **state)
     rf_ai_result_clear(&r);
 }
 
+/* Joint `name` of the general rigger's rig of `model` (shared data, rigged with the axes the
+ * file declares, as rig-dump and the pipelines do), in world coordinates. */
+static rf_vec3 general_joint(const char *d, const char *model, const char *name)
+{
+    char path[4096], err[1024];
+    snprintf(path, sizeof path, "%s/models/%s", d, model);
+    rf_ai_options ao = {.ignore_rig = true};
+    rf_ai_result r;
+    if (!rf_ai_import(path, &ao, &r, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_skeleton *s;
+    rf_mesh *m;
+    rf_rig_options o = {0}; /* the file's axes, as the pipelines pass them */
+    if (r.skeleton)
+        o.up = r.skeleton->up, o.forward = r.skeleton->forward;
+    if (!rf_rig_general(r.mesh, &o, &s, &m, NULL, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_vec3 *w = calloc(s->joint_count, sizeof *w), at = rf_v3(NAN, NAN, NAN);
+    assert_non_null(w);
+    world_joints(s, w);
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        if (!strcmp(s->joints[j].name, name))
+            at = w[j];
+    free(w);
+    rf_skeleton_free(s), rf_mesh_free(m);
+    rf_ai_result_clear(&r);
+    if (isnan(at.x))
+        fail_msg("%s: no joint %s", model, name);
+    return at;
+}
+
+/* An upright body's head chain starts where the trunk enters the head's bulk. The Wizard's
+ * curve skeleton put its first head joint at y 2.45, inside the hat and 0.32 above the artist's
+ * Head (y 2.127, `rigflow inspect`: Neck 1.996); moved down to where the girth reaches the
+ * head's, it lies within 0.2 of it. The girl's neck is narrower than her head above its first
+ * joint, so that joint stays at her artist's Neck (y 1.103; the rigger's 1.104). */
+static void test_general_neck(void **state)
+{
+    (void)state;
+    const char *d = data_dir();
+    if (!d) {
+        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
+        skip();
+    }
+    rf_vec3 wiz = general_joint(d, "Wizard.glb", "head_c0_0");
+    rf_vec3 girl = general_joint(d, "girl.glb", "head_c0_0");
+    printf("# Wizard's first head joint at y %.3f (the artist's Head 2.127), the girl's at %.3f "
+           "(Neck 1.103)\n",
+           wiz.y, girl.y);
+    if (!(fabs(wiz.y - 2.127) < 0.2))
+        fail_msg("Wizard's first head joint at y %g, the artist's Head at 2.127", wiz.y);
+    if (!(fabs(girl.y - 1.103) < 0.03))
+        fail_msg("girl's first head joint at y %g, the artist's Neck at 1.103", girl.y);
+}
+
 /* A scan too large for the memory left is refused before any work, with the figures: 120 million
  * vertices and 40 million triangles need 120e6 * 100 + 40e6 * 40 bytes = 13.6 GB (by hand). */
 static void test_memory_refusal(void **state)
@@ -1392,6 +1447,7 @@ int main(void)
         cmocka_unit_test(test_limb_layout),
         cmocka_unit_test(test_general_legs),
         cmocka_unit_test(test_general_chest),
+        cmocka_unit_test(test_general_neck),
         cmocka_unit_test(test_mirror_twigs),
         cmocka_unit_test(test_memory_refusal),
     };
