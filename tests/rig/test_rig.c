@@ -1392,6 +1392,25 @@ static void test_general_neck(void **state)
         fail_msg("girl's first head joint at y %g, the artist's Neck at 1.103", girl.y);
 }
 
+/* A level body's spine runs along its back (rf_rig_skel_across), and a spine joint lying
+ * outside under the belly (the animalia cat's root, where its curve skeleton's hind legs meet
+ * between them at y 0.22) takes its depth from the body above it: the cat's root comes to lie
+ * within 0.1 of the height of its artist's Torso (y 0.45, `rigflow inspect`; the body box
+ * spans y 0.25 to 0.625 above the root, by rays). */
+static void test_general_root_under(void **state)
+{
+    (void)state;
+    const char *d = data_dir();
+    if (!d) {
+        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
+        skip();
+    }
+    rf_vec3 root = general_joint(d, "creatures/animalia_cat.b3d", "spine_c0_0");
+    printf("# the cat's root at y %.3f (the artist's Torso 0.45)\n", root.y);
+    if (!(fabs(root.y - 0.45) < 0.1))
+        fail_msg("the cat's root at y %g, the artist's Torso at 0.45", root.y);
+}
+
 /* A scan too large for the memory left is refused before any work, with the figures: 120 million
  * vertices and 40 million triangles need 120e6 * 100 + 40e6 * 40 bytes = 13.6 GB (by hand). */
 static void test_memory_refusal(void **state)
@@ -1448,6 +1467,7 @@ int main(void)
         cmocka_unit_test(test_general_legs),
         cmocka_unit_test(test_general_chest),
         cmocka_unit_test(test_general_neck),
+        cmocka_unit_test(test_general_root_under),
         cmocka_unit_test(test_mirror_twigs),
         cmocka_unit_test(test_memory_refusal),
     };
