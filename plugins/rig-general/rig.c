@@ -498,9 +498,8 @@ static void rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_optio
             h = (int32_t)j;
     }
     rf_vec3 up = a ? a->up : rf_v3(0, 1, 0), fwd = a ? a->forward : rf_v3(0, 0, 1);
-    rf_rig_surface *sf = h >= 0 && rf_v3_len(rf_v3_cross(up, fwd)) > 0.5
-                             ? rf_rig_surface_make(&p->proxy)
-                             : NULL;
+    rf_rig_surface *sf =
+        h >= 0 && rf_v3_len(rf_v3_cross(up, fwd)) > 0.5 ? rf_rig_surface_make(&p->proxy) : NULL;
     if (sf) {
         double *q = k->pos + (size_t)h * 3, *b = k->pos + (size_t)k->parent[h] * 3;
         double d[3] = {q[0] - b[0], q[1] - b[1], q[2] - b[2]};
@@ -796,8 +795,7 @@ static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb
         if (!laid[i])
             continue;
         double pos[4][3], tip[3];
-        bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM &&
-                       limbs[i].girdle == chest_g;
+        bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == chest_g;
         rf_rig_limb_place(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind, limbs[i].lay,
                           chested ? at : NULL, pos, tip);
         int32_t parent = chested ? chest : to[limbs[i].girdle];

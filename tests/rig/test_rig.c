@@ -1329,8 +1329,8 @@ static void test_general_chest(void **state)
         if (!(fabs(hang.y - 2.44) < 0.1))
             fail_msg("%s hangs from y %g, the shoulders are at 2.44", arm[side].first, hang.y);
         if (!(hypot(e.x - arm[side].elbow_x, e.y - 2.432) < 0.15))
-            fail_msg("%s at (%g, %g), the artist's elbow at (%g, 2.432)", arm[side].elbow, e.x,
-                     e.y, arm[side].elbow_x);
+            fail_msg("%s at (%g, %g), the artist's elbow at (%g, 2.432)", arm[side].elbow, e.x, e.y,
+                     arm[side].elbow_x);
     }
     free(w);
     rf_skeleton_free(s), rf_mesh_free(m);
