@@ -480,10 +480,11 @@ static double rf_rig_girth(const rf_rig_surface *sf, const double q[3], rf_vec3 
 /* An upright body's head chain starts where the trunk enters the head's bulk: the curve
  * skeleton's first head joint may lie well inside a head wider than the trunk under it (a
  * robot's head box starts 0.4 below it), and the clip's neck then turned the head about a
- * pivot in its middle. The first joint of the analysis's head section moves down its bone to
- * the lowest point from which the girth stays at least RF_RIG_NECK_GIRTH of the girth at the
- * joint, when that point lies between a fifth and nine tenths of the bone from its parent (a
- * neck narrower than the head below its first joint: nothing moves). */
+ * pivot in its middle. The first joint of the analysis's head section, its bone from its parent
+ * rising within 45 degrees of up, moves down that bone to the lowest point from which the
+ * girth stays at least RF_RIG_NECK_GIRTH of the girth at the joint, when that point lies
+ * between a fifth and nine tenths of the bone from its parent (a neck narrower than the head
+ * below its first joint: nothing moves). */
 static void rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
@@ -704,7 +705,7 @@ static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, b
 
 /* Where a pair of laid arms leaving trunk joint g well below their shoulders gets a chest
  * joint: the curve skeleton's bands may meet the arms only where a coarse trunk bone starts (a
- * robot's arms hung from its hips' joint, 0.7 of its height below where they leave the
+ * robot's arms hung from its hips' joint, a sixth of its height below where they leave the
  * torso), and laid along the curve from there the elbow took the turn at the shoulder and the
  * whole arm swung from the hips. The chest goes on the bone from g to its highest child that
  * is no limb, at the mean height of the arms' first joints, when that is between a quarter
