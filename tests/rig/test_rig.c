@@ -961,6 +961,57 @@ static rf_mesh *sphere(uint32_t rings, uint32_t segs)
     return m;
 }
 
+/* Where three bones or more meet (a forearm ending at a wrist where three fingers start), a
+ * vertex nearest that point on every one of them is heated by the bone ending there alone. The
+ * joints here are placed by inverse binds, as an artist's skin places them, so the forearm's
+ * nearest point to the vertex, computed from its start, differs in the last digit from the
+ * wrist it ends at (0.4 + (-0.03 - 0.4) != -0.03): the rule must not rest on those digits. The
+ * vertex is the octahedron's corner straight on from the wrist along the forearm, 2 from the
+ * wrist and from the four bones. */
+static void test_bind_junction_digits(void **state)
+{
+    (void)state;
+    /* the forearm along d from the elbow; the fingers across it (u, -u, v), each 0.5 long */
+    rf_vec3 elbow = rf_v3(0.6, 0.9, 0.4), wrist = rf_v3(1.25, 1.0, -0.03);
+    rf_vec3 d = rf_v3_normalize(rf_v3_sub(wrist, elbow));
+    rf_vec3 u = rf_v3_normalize(rf_v3_cross(d, rf_v3(0, 0, 1))), v = rf_v3_cross(d, u);
+    rf_vec3 at[5] = {elbow, wrist, rf_v3_add(wrist, rf_v3_scale(u, 0.5)),
+                     rf_v3_add(wrist, rf_v3_scale(u, -0.5)), rf_v3_add(wrist, rf_v3_scale(v, 0.5))};
+    /* an octahedron about the wrist, its corners 2 away along +-d, +-u, +-v */
+    rf_vec3 axes[3] = {d, u, v};
+    rf_mesh *in = rf_mesh_new();
+    in->vertex_count = 6, in->triangle_count = 8;
+    in->positions = calloc(18, sizeof(float));
+    in->triangles = calloc(24, sizeof(uint32_t));
+    for (int c = 0; c < 6; c++) {
+        rf_vec3 p = rf_v3_add(wrist, rf_v3_scale(axes[c / 2], c % 2 ? -2 : 2));
+        in->positions[c * 3] = (float)p.x, in->positions[c * 3 + 1] = (float)p.y;
+        in->positions[c * 3 + 2] = (float)p.z;
+    }
+    static const uint32_t faces[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                         {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    memcpy(in->triangles, faces, sizeof faces);
+    rf_skeleton *s = rf_skeleton_new(5);
+    rf_mat4 inv[5];
+    for (uint32_t j = 0; j < 5; j++) {
+        s->joints[j].parent = j == 0 ? -1 : j == 1 ? 0 : 1;
+        s->joints[j].rest.t = j ? rf_v3_sub(at[j], at[s->joints[j].parent]) : at[0];
+        rf_xform x = rf_xform_identity();
+        x.t = rf_v3_scale(at[j], -1);
+        inv[j] = rf_xform_to_mat4(x);
+    }
+    rf_mesh *m = NULL;
+    char err[256];
+    if (!rf_rig_bind(in, s, inv, NULL, &m, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    printf("# junction: corner on from the wrist: elbow %.3f, wrist %.3f\n", weight_of(m, 0, 0),
+           weight_of(m, 0, 1));
+    /* heated by one bone alone, it takes nearly all of that bone's joint (measured 0.990 and
+     * 0.000; 0.425 and 0.375 when both joints heated it) */
+    assert_true(weight_of(m, 0, 0) > 0.9 && weight_of(m, 0, 1) < 0.05);
+    rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
+}
+
 /* A sphere has no legs: refused, the reason naming what was found and what a template needs;
  * asked for a humanoid, the table creature (four legs, no arms) is refused too. */
 static void test_template_refusal(void **state)
@@ -1458,6 +1509,7 @@ int main(void)
         cmocka_unit_test(test_bind_open_sheet),
         cmocka_unit_test(test_bind_bad_skeleton),
         cmocka_unit_test(test_bind_boneless_part),
+        cmocka_unit_test(test_bind_junction_digits),
         cmocka_unit_test(test_narrow_gap),
         cmocka_unit_test(test_template_refusal),
         cmocka_unit_test(test_template_quadruped),
