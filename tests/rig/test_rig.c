@@ -1259,7 +1259,7 @@ static void test_limb_layout(void **state)
      * (at 0.378, in its window), the ankle at the first point no higher than 0.1 of the leg's
      * height (the ankle joint, at 0.849), the toe half way on from there (0.924: 0.1 along the
      * foot's last bone) */
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_LEG, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_LEG, &l, NULL, j, end);
     expect_at(j[0], 0, 1 - 0.1 * 1.324264, 0, "hip");
     expect_at(j[1], 0, 0.5, 0, "knee");
     expect_at(j[2], 0, 0, 0.3, "ankle");
@@ -1267,20 +1267,20 @@ static void test_limb_layout(void **state)
     expect_at(end, 0, 0, 0.5, "end");
     /* a hind leg: its hock at the sharpest bend in [0.6, 0.9], the ankle's right angle (0.849)
      * and not the 45 degrees at 0.698 */
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_HIND_LEG, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_HIND_LEG, &l, NULL, j, end);
     expect_at(j[1], 0, 0.5, 0, "stifle");
     expect_at(j[2], 0, 0, 0.3, "hock");
     /* an arm on the same curve, without the climbing branch: clavicle and upper arm at 0.1
      * and 0.2, the elbow at the bend, the hand at 0.8 (1.0594: 0.1352 down from (0, 0.2, 0.3)) */
     k.n = 5;
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, NULL, j, end);
     expect_at(j[0], 0, 1 - 0.1 * 1.324264, 0, "clavicle");
     expect_at(j[1], 0, 1 - 0.2 * 1.324264, 0, "upper arm");
     expect_at(j[2], 0, 0.5, 0, "elbow");
     expect_at(j[3], 0, 0.2 - (0.8 * 1.324264 - 0.924264), 0.3, "hand");
     /* with the climbing branch an arm follows it: its end is that branch's joint */
     k.n = 6;
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, NULL, j, end);
     expect_at(end, 0, 2.2, 0, "an arm's end");
 }
 
@@ -1332,6 +1332,134 @@ static void test_general_legs(void **state)
     assert_int_equal(feet, 4);
     assert_int_equal(hind, 2);
     rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
+}
+
+/* RobotExpressive's arms leave its torso at shoulder height, 0.67 above where its curve
+ * skeleton's trunk bone starts (the hips' joint): laid from there, the elbow went to the turn at
+ * the shoulder and the arm swung from the hips. With a chest joint on the trunk where the arms
+ * leave it, each arm hangs from a joint at the height of the artist's shoulders and its elbow
+ * lies at the artist's. The artist's joints, from `rigflow inspect` on the file: Shoulder.L at
+ * (0.583, 2.440), Shoulder.R (-0.637, 2.440), LowerArm.L (1.323, 2.432), LowerArm.R (-1.313,
+ * 2.432); the rig before the chest: the arms' parent at y 1.77, elbows at x +-0.80. */
+static void test_general_chest(void **state)
+{
+    (void)state;
+    const char *d = data_dir();
+    if (!d) {
+        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
+        skip();
+    }
+    char path[4096], err[1024];
+    snprintf(path, sizeof path, "%s/models/RobotExpressive.glb", d);
+    rf_ai_options ao = {.ignore_rig = true};
+    rf_ai_result r;
+    if (!rf_ai_import(path, &ao, &r, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_skeleton *s;
+    rf_mesh *m;
+    if (!rf_rig_general(r.mesh, NULL, &s, &m, NULL, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_vec3 *w = calloc(s->joint_count, sizeof *w);
+    assert_non_null(w);
+    world_joints(s, w);
+    static const struct {
+        const char *first, *elbow;
+        double elbow_x;
+    } arm[2] = {{"arm_l0_0", "arm_l0_2", 1.323}, {"arm_r0_0", "arm_r0_2", -1.313}};
+    for (int side = 0; side < 2; side++) {
+        int32_t first = -1, elbow = -1;
+        for (uint32_t j = 0; j < s->joint_count; j++) {
+            first = strcmp(s->joints[j].name, arm[side].first) ? first : (int32_t)j;
+            elbow = strcmp(s->joints[j].name, arm[side].elbow) ? elbow : (int32_t)j;
+        }
+        assert_true(first >= 0 && elbow >= 0 && s->joints[first].parent >= 0);
+        rf_vec3 hang = w[s->joints[first].parent], e = w[elbow];
+        printf("# %s hangs from y %.3f (the artist's shoulders 2.440); elbow (%.3f, %.3f), the "
+               "artist's (%.3f, 2.432)\n",
+               arm[side].first, hang.y, e.x, e.y, arm[side].elbow_x);
+        if (!(fabs(hang.y - 2.44) < 0.1))
+            fail_msg("%s hangs from y %g, the shoulders are at 2.44", arm[side].first, hang.y);
+        if (!(hypot(e.x - arm[side].elbow_x, e.y - 2.432) < 0.15))
+            fail_msg("%s at (%g, %g), the artist's elbow at (%g, 2.432)", arm[side].elbow, e.x, e.y,
+                     arm[side].elbow_x);
+    }
+    free(w);
+    rf_skeleton_free(s), rf_mesh_free(m);
+    rf_ai_result_clear(&r);
+}
+
+/* Joint `name` of the general rigger's rig of `model` (shared data, rigged with the axes the
+ * file declares, as rig-dump and the pipelines do), in world coordinates. */
+static rf_vec3 general_joint(const char *d, const char *model, const char *name)
+{
+    char path[4096], err[1024];
+    snprintf(path, sizeof path, "%s/models/%s", d, model);
+    rf_ai_options ao = {.ignore_rig = true};
+    rf_ai_result r;
+    if (!rf_ai_import(path, &ao, &r, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_skeleton *s;
+    rf_mesh *m;
+    rf_rig_options o = {0}; /* the file's axes, as the pipelines pass them */
+    if (r.skeleton)
+        o.up = r.skeleton->up, o.forward = r.skeleton->forward;
+    if (!rf_rig_general(r.mesh, &o, &s, &m, NULL, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_vec3 *w = calloc(s->joint_count, sizeof *w), at = rf_v3(NAN, NAN, NAN);
+    assert_non_null(w);
+    world_joints(s, w);
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        if (!strcmp(s->joints[j].name, name))
+            at = w[j];
+    free(w);
+    rf_skeleton_free(s), rf_mesh_free(m);
+    rf_ai_result_clear(&r);
+    if (isnan(at.x))
+        fail_msg("%s: no joint %s", model, name);
+    return at;
+}
+
+/* An upright body's head chain starts where the trunk enters the head's bulk. The Wizard's
+ * curve skeleton put its first head joint at y 2.45, inside the hat and 0.32 above the artist's
+ * Head (y 2.127, `rigflow inspect`: Neck 1.996); moved down to where the girth reaches the
+ * head's, it lies within 0.2 of it. The girl's neck is narrower than her head above its first
+ * joint, so that joint stays at her artist's Neck (y 1.103; the rigger's 1.104). */
+static void test_general_neck(void **state)
+{
+    (void)state;
+    const char *d = data_dir();
+    if (!d) {
+        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
+        skip();
+    }
+    rf_vec3 wiz = general_joint(d, "Wizard.glb", "head_c0_0");
+    rf_vec3 girl = general_joint(d, "girl.glb", "head_c0_0");
+    printf("# Wizard's first head joint at y %.3f (the artist's Head 2.127), the girl's at %.3f "
+           "(Neck 1.103)\n",
+           wiz.y, girl.y);
+    if (!(fabs(wiz.y - 2.127) < 0.2))
+        fail_msg("Wizard's first head joint at y %g, the artist's Head at 2.127", wiz.y);
+    if (!(fabs(girl.y - 1.103) < 0.03))
+        fail_msg("girl's first head joint at y %g, the artist's Neck at 1.103", girl.y);
+}
+
+/* A level body's spine runs along its back (rf_rig_skel_across), and a spine joint lying
+ * outside under the belly (the animalia cat's root, where its curve skeleton's hind legs meet
+ * between them at y 0.22) takes its depth from the body above it: the cat's root comes to lie
+ * within 0.1 of the height of its artist's Torso (y 0.45, `rigflow inspect`; the body box
+ * spans y 0.25 to 0.625 above the root, by rays). */
+static void test_general_root_under(void **state)
+{
+    (void)state;
+    const char *d = data_dir();
+    if (!d) {
+        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
+        skip();
+    }
+    rf_vec3 root = general_joint(d, "creatures/animalia_cat.b3d", "spine_c0_0");
+    printf("# the cat's root at y %.3f (the artist's Torso 0.45)\n", root.y);
+    if (!(fabs(root.y - 0.45) < 0.1))
+        fail_msg("the cat's root at y %g, the artist's Torso at 0.45", root.y);
 }
 
 /* A scan too large for the memory left is refused before any work, with the figures: 120 million
@@ -1389,6 +1517,9 @@ int main(void)
         cmocka_unit_test(test_place_section),
         cmocka_unit_test(test_limb_layout),
         cmocka_unit_test(test_general_legs),
+        cmocka_unit_test(test_general_chest),
+        cmocka_unit_test(test_general_neck),
+        cmocka_unit_test(test_general_root_under),
         cmocka_unit_test(test_mirror_twigs),
         cmocka_unit_test(test_memory_refusal),
     };
