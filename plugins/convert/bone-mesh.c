@@ -70,9 +70,35 @@ static bool rf_bm_alloc(rf_mesh *m, uint32_t bones)
     return m->positions && m->triangles && m->skin_joints && m->skin_weights;
 }
 
+/* Parents before children, as rigflow/model.h promises but the host does not check of a
+ * plugin's skeleton: a parent past its child would be read before it is placed, or past the end. */
+static bool rf_bm_ordered(const rf_skeleton *s, char *err, size_t err_size)
+{
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        if (s->joints[j].parent >= (int32_t)j) {
+            snprintf(err, err_size, "joint %u has parent %d: expected parents before children", j,
+                     s->joints[j].parent);
+            return false;
+        }
+    return true;
+}
+
+/* Rest positions that are numbers: a bone not drawn for a NaN would be a silent guess. */
+static bool rf_bm_finite(const rf_xform *w, uint32_t n, char *err, size_t err_size)
+{
+    for (uint32_t j = 0; j < n; j++)
+        if (!rf_v3_isfinite(w[j].t)) {
+            snprintf(err, err_size, "joint %u's rest position is not finite", j);
+            return false;
+        }
+    return true;
+}
+
 rf_mesh *rf_cv_bone_mesh(const rf_skeleton *s, char *err, size_t err_size)
 {
     uint32_t n = s->joint_count, bones = 0;
+    if (!rf_bm_ordered(s, err, err_size))
+        return NULL;
     rf_xform *w = calloc(n ? n : 1, sizeof *w);
     rf_mesh *m = w && n <= UINT16_MAX + 1u ? rf_mesh_new() : NULL;
     if (!m) {
@@ -84,6 +110,10 @@ rf_mesh *rf_cv_bone_mesh(const rf_skeleton *s, char *err, size_t err_size)
         return NULL;
     }
     rf_skeleton_world_rest(s, w);
+    if (!rf_bm_finite(w, n, err, err_size)) {
+        free(w), rf_mesh_free(m);
+        return NULL;
+    }
     double span = n ? rf_bm_span(w, n) : 0;
     for (uint32_t j = 0; j < n; j++)
         bones += rf_bm_is_bone(s, w, j, span);

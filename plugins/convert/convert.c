@@ -194,7 +194,7 @@ static bool rf_cv_export_gltf(const rf_host *host, rf_node *node, const char *pa
 {
     char err[1024];
     rf_mesh *bones = NULL;
-    if (host->param_bool(node, "bone_mesh") && !(m && m->vertex_count)) {
+    if (host->param_bool(node, "bone_mesh") && !(m && m->vertex_count && m->triangle_count)) {
         m = bones = rf_cv_bone_mesh(s, err, sizeof err);
         if (!bones) {
             host->error(node, "%s: bone_mesh: %s", target, err);

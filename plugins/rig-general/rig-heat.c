@@ -369,6 +369,20 @@ static int rf_rig_bd_cmp(const void *pa, const void *pb)
     return a->d < b->d ? -1 : a->d > b->d;
 }
 
+/* Whether bone b's nearest point to q is its end (b->b), the bone having a length. Read from
+ * where q projects, not by comparing the nearest point with the end: that point is computed
+ * from the start (a + (b - a)), which differs from b in the last digit whenever the two are
+ * not of one magnitude, as joints placed by inverse binds or by the curve skeleton are. */
+static bool rf_rig_nearest_is_end(const double q[3], const rf_rig_bone *b)
+{
+    double l2 = 0, dot = 0;
+    for (int k = 0; k < 3; k++) {
+        double ab = b->b[k] - b->a[k];
+        l2 += ab * ab, dot += ab * (q[k] - b->a[k]);
+    }
+    return l2 > 0 && dot >= l2;
+}
+
 /* Three bones or more meeting at one point (a wrist with fingers fanning from one pivot, a
  * pelvis with the legs and the spine) are equally near every vertex whose nearest point on each
  * is that point. The one bone ending there (the limb leading into the junction) heats such a
@@ -382,10 +396,8 @@ static uint32_t rf_rig_junction(const double q[3], const rf_rig_bone *bones, uin
     uint32_t meeting = 0, ending = RF_RIG_NONE, ends = 0;
     for (uint32_t t = k; t < nb && t < 8 && bd[t].d - bd[k].d <= tie; t++) {
         const rf_rig_bone *b = &bones[bd[t].b];
-        double c[3];
-        rf_rig_seg_dist(q, b, c);
         meeting++;
-        if (!memcmp(c, b->b, sizeof c) && memcmp(b->a, b->b, sizeof c))
+        if (rf_rig_nearest_is_end(q, b))
             ending = b->joint, ends++;
     }
     return meeting >= 3 && ends == 1 ? ending : RF_RIG_NONE;
@@ -413,8 +425,7 @@ static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint3
             /* a vertex whose nearest point on a bone is the end of a leaf joint without an end
              * site lies beyond that joint: the leaf's point wins the tie, as a leaf joint of an
              * artist's skeleton owns the limb past it */
-            if (tipless && tipless[b] && c[0] == bones[b].b[0] && c[1] == bones[b].b[1] &&
-                c[2] == bones[b].b[2])
+            if (tipless && tipless[b] && rf_rig_nearest_is_end(q, &bones[b]))
                 bd[b].d += 1e-9 * (bd[b].d + p->longest);
         }
         qsort(bd, nb, sizeof *bd, rf_rig_bd_cmp);

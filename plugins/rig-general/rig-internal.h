@@ -190,10 +190,12 @@ typedef enum rf_rig_limb_kind {
  * from joint `girdle` (where the limb leaves the body) through its first joint `first` to the
  * farthest end below it (a leg's curve leaving out what climbs above the girdle, up the
  * analysis's `up`): pivots into pos, the curve's end into tip (rig-template.c; the template
- * rigger's limbs and the general rigger's, one home for where artists put limb joints). */
+ * rigger's limbs and the general rigger's, one home for where artists put limb joints). With
+ * `start` given (not NULL) the curve starts there instead of at the girdle's pivot: a chest
+ * joint on the trunk at the height where the arms leave it. */
 void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
-                       rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, double pos[4][3],
-                       double tip[3]);
+                       rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, const double *start,
+                       double pos[4][3], double tip[3]);
 
 /* The general rigger's joints short of bone heat, in place on its curve skeleton k
  * (rf_rig_curve): limbs cut where the layouts given put their joints (NULL: the built-in ones)

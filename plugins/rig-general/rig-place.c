@@ -202,6 +202,18 @@ void rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *whi
             continue;
         double *q = k->pos + (size_t)j * 3;
         double ahead = rf_rig_surface_hit(s, q, fw), behind = rf_rig_surface_hit(s, q, bw);
+        if (!isfinite(behind) && ahead <= 0.25 * p->longest) {
+            /* outside, under the body (a root where two legs meet below the belly): the depth
+             * is the body's above it, from the belly up */
+            double in[3], step = ahead + 1e-6 * p->longest;
+            for (int a = 0; a < 3; a++)
+                in[a] = q[a] + step * fw[a];
+            double depth = rf_rig_surface_hit(s, in, fw);
+            if (depth <= 0.5 * p->longest)
+                for (int a = 0; a < 3; a++)
+                    q[a] = in[a] + at * depth * fw[a];
+            continue;
+        }
         if (ahead > 0.25 * p->longest || behind > 0.25 * p->longest)
             continue;
         double shift = at * (ahead + behind) - behind;

@@ -520,9 +520,25 @@ static void rf_tpl_limb_laid(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, 
     rf_tpl_fractions(c, up, kind, l, f);
 }
 
+/* c with its first point (the girdle's pivot) moved to `start`, arc lengths measured again. */
+static void rf_tpl_restart(rf_tpl_curve *c, const double start[3])
+{
+    rf_tpl_curve *old = malloc(sizeof *old);
+    if (!old || !c->n) {
+        free(old);
+        return;
+    }
+    *old = *c;
+    c->n = 0;
+    rf_tpl_add(c, start);
+    for (uint32_t i = 1; i < old->n; i++)
+        rf_tpl_add(c, old->p[i]);
+    free(old);
+}
+
 void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
-                       rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, double pos[4][3],
-                       double tip[3])
+                       rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, const double *start,
+                       double pos[4][3], double tip[3])
 {
     rf_tpl_curve *c = malloc(sizeof *c);
     double f[4];
@@ -533,6 +549,10 @@ void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32
         return;
     }
     rf_tpl_limb_laid(k, up, girdle, first, kind, l, c, f);
+    if (start) {
+        rf_tpl_restart(c, start);
+        rf_tpl_fractions(c, up, kind, l, f);
+    }
     for (int i = 0; i < 4; i++)
         rf_tpl_at(c, f[i], pos[i]);
     rf_tpl_at(c, 1, tip);

@@ -10,6 +10,18 @@
 
 #include "rig-internal.h"
 
+/* The analysis's facing made level to the skeleton's up, or zero when it has none or when the
+ * analysis read another up and its facing lies mostly along this one (it would say nothing of
+ * which way the body faces). */
+static rf_vec3 rf_rig_level_facing(rf_vec3 up, const rf_analysis *a)
+{
+    if (!(a->forward_confidence > 0) || !(rf_v3_len(up) > 0))
+        return rf_v3(0, 0, 0);
+    rf_vec3 u = rf_v3_normalize(up), f = a->forward;
+    f = rf_v3_sub(f, rf_v3_scale(u, rf_v3_dot(f, u)));
+    return rf_v3_len(f) > 0.7 ? rf_v3_normalize(f) : rf_v3(0, 0, 0);
+}
+
 /* Joint names say what the skeleton analysis found (section, side, rank, place in the chain),
  * e.g. leg_l0_1, so a person reading the rig sees its layout; the matcher never reads them. */
 static bool rf_rig_name(rf_skeleton *s, rf_vec3 up, rf_vec3 forward)
@@ -44,7 +56,7 @@ static bool rf_rig_name(rf_skeleton *s, rf_vec3 up, rf_vec3 forward)
     if (rf_v3_len(up) == 0)
         s->up = a->up;
     if (rf_v3_len(forward) == 0)
-        s->forward = a->forward_confidence > 0 ? a->forward : rf_v3(0, 0, 0);
+        s->forward = rf_rig_level_facing(s->up, a);
     rf_analysis_free(a);
     return ok;
 }
@@ -459,6 +471,73 @@ static void rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
     rf_skeleton_free(s);
 }
 
+/* The narrower of the body's two diameters across `up` at q (along `fwd` and to the side),
+ * by rays on the surface; INFINITY where a ray leaves the mesh. */
+static double rf_rig_girth(const rf_rig_surface *sf, const double q[3], rf_vec3 up, rf_vec3 fwd)
+{
+    rf_vec3 side = rf_v3_normalize(rf_v3_cross(up, fwd));
+    rf_vec3 f = rf_v3_normalize(rf_v3_cross(side, up));
+    double best = INFINITY;
+    for (int a = 0; a < 2; a++) {
+        rf_vec3 d = a ? side : f;
+        double dp[3] = {d.x, d.y, d.z}, dn[3] = {-d.x, -d.y, -d.z};
+        best = fmin(best, rf_rig_surface_hit(sf, q, dp) + rf_rig_surface_hit(sf, q, dn));
+    }
+    return best;
+}
+
+#define RF_RIG_NECK_STEPS 24
+#define RF_RIG_NECK_GIRTH 0.8 /* of the head's girth at its first joint: inside the head */
+
+/* An upright body's head chain starts where the trunk enters the head's bulk: the curve
+ * skeleton's first head joint may lie well inside a head wider than the trunk under it (a
+ * robot's head box starts 0.4 below it), and the clip's neck then turned the head about a
+ * pivot in its middle. The first joint of the analysis's head section, its bone from its parent
+ * rising within 45 degrees of up, moves down that bone to the lowest point from which the
+ * girth stays at least RF_RIG_NECK_GIRTH of the girth at the joint, when that point lies
+ * between a fifth and nine tenths of the bone from its parent (a neck narrower than the head
+ * below its first joint: nothing moves). */
+static void rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
+{
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    if (!s)
+        return;
+    s->up = o->up, s->forward = o->forward;
+    rf_analysis *a = rf_analyze(s, NULL);
+    int32_t h = -1;
+    for (uint32_t j = 0; a && j < k->n && h < 0; j++) {
+        int32_t sec = a->joints[j].section;
+        if (sec >= 0 && a->sections[sec].type == RF_SECTION_HEAD && k->parent[j] >= 0)
+            h = (int32_t)j;
+    }
+    rf_vec3 up = a ? a->up : rf_v3(0, 1, 0), fwd = a ? a->forward : rf_v3(0, 0, 1);
+    rf_rig_surface *sf =
+        h >= 0 && rf_v3_len(rf_v3_cross(up, fwd)) > 0.5 ? rf_rig_surface_make(&p->proxy) : NULL;
+    if (sf) {
+        double *q = k->pos + (size_t)h * 3, *b = k->pos + (size_t)k->parent[h] * 3;
+        double d[3] = {q[0] - b[0], q[1] - b[1], q[2] - b[2]};
+        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        double rise = d[0] * up.x + d[1] * up.y + d[2] * up.z;
+        double head = rf_rig_girth(sf, q, up, fwd);
+        int from = RF_RIG_NECK_STEPS;
+        while (len > 0 && rise > 0.7 * len && isfinite(head) && from > 0) {
+            double t = (double)(from - 1) / RF_RIG_NECK_STEPS, x[3];
+            for (int c = 0; c < 3; c++)
+                x[c] = b[c] + t * d[c];
+            if (!(rf_rig_girth(sf, x, up, fwd) >= RF_RIG_NECK_GIRTH * head))
+                break;
+            from--;
+        }
+        double t = (double)from / RF_RIG_NECK_STEPS;
+        if (from > 0 && t >= 0.2 && t <= 0.9)
+            for (int c = 0; c < 3; c++)
+                q[c] = b[c] + t * d[c];
+    }
+    rf_rig_surface_free(sf);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 #define RF_RIG_BOTTOM_GAP 0.25 /* of the body's height between its bottom and the skeleton's */
 
 /* A joint appended to k at p hanging from `parent`; false when out of memory (k unchanged). */
@@ -636,8 +715,45 @@ static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, b
     return n;
 }
 
+/* Where a pair of laid arms leaving trunk joint g well below their shoulders gets a chest
+ * joint: the curve skeleton's bands may meet the arms only where a coarse trunk bone starts (a
+ * robot's arms hung from its hips' joint, a sixth of its height below where they leave the
+ * torso), and laid along the curve from there the elbow took the turn at the shoulder and the
+ * whole arm swung from the hips. The chest goes on the bone from g to its highest child that
+ * is no limb, at the mean height of the arms' first joints, when that is between a quarter
+ * and 0.85 of the bone's rise (nearer its ends, the joint there serves). True with the bone's
+ * child in *split and the point in at[]. */
+static bool rf_rig_chest(const rf_rig_skel *k, rf_vec3 up, const rf_rig_limb *limbs, uint32_t nl,
+                         const uint8_t *laid, const uint8_t *drop, uint32_t g, uint32_t *split,
+                         double at[3])
+{
+    double rise = 0;
+    uint32_t arms = 0;
+    for (uint32_t i = 0; i < nl; i++)
+        if (laid[i] && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == g)
+            rise += rf_rig_height(k, limbs[i].first, up), arms++;
+    if (arms < 2)
+        return false;
+    rise = rise / arms - rf_rig_height(k, g, up);
+    double best = 0;
+    uint32_t top = g;
+    for (uint32_t j = g + 1; j < k->n; j++) /* parents come first */
+        if (k->parent[j] == (int32_t)g && !drop[j] &&
+            rf_rig_height(k, j, up) - rf_rig_height(k, g, up) > best)
+            best = rf_rig_height(k, j, up) - rf_rig_height(k, g, up), top = j;
+    double t = best > 0 ? rise / best : 0;
+    if (t < 0.25 || t > 0.85)
+        return false;
+    *split = top;
+    const double *a = k->pos + (size_t)g * 3, *b = k->pos + (size_t)top * 3;
+    for (int c = 0; c < 3; c++)
+        at[c] = a[c] + t * (b[c] - a[c]);
+    return true;
+}
+
 /* k with each limb's joints (its first joint and all below it) replaced by the four its layout
- * places along the limb's curve, hanging from its girdle. Limbs inside another limb, or whose
+ * places along the limb's curve, hanging from its girdle (or from a chest joint put on the
+ * trunk where a pair of arms leaves it, rf_rig_chest). Limbs inside another limb, or whose
  * girdle another limb replaces, stay. */
 static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb *limbs,
                          uint32_t nl)
@@ -646,7 +762,7 @@ static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb
     uint8_t *drop = calloc(n + 1, 1);
     int32_t *to = malloc((n + 1) * sizeof *to);
     rf_rig_skel o = {0};
-    size_t cap = (size_t)n + 4 * nl + 1;
+    size_t cap = (size_t)n + 4 * nl + 2; /* a chest too */
     o.pos = malloc(cap * 3 * sizeof *o.pos), o.tip = calloc(cap * 3, sizeof *o.tip);
     o.parent = malloc(cap * sizeof *o.parent), o.has_tip = calloc(cap, 1);
     bool ok = drop && to && o.pos && o.tip && o.parent && o.has_tip;
@@ -665,24 +781,37 @@ static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb
             if (k->parent[j] >= 0 && drop[k->parent[j]])
                 drop[j] = 1;
     }
+    uint32_t chest_g = UINT32_MAX, split = UINT32_MAX;
+    int32_t chest = -1;
+    double at[3];
+    for (uint32_t i = 0; ok && i < nl && chest_g == UINT32_MAX; i++)
+        if (laid[i] && limbs[i].kind == RF_RIG_LIMB_ARM &&
+            rf_rig_chest(k, a->up, limbs, nl, laid, drop, limbs[i].girdle, &split, at))
+            chest_g = limbs[i].girdle;
     for (uint32_t j = 0; ok && j < n; j++) {
         to[j] = -1;
         if (drop[j])
             continue;
+        if (j == split) { /* the chest, on the trunk bone to j */
+            chest = (int32_t)o.n++;
+            memcpy(o.pos + (size_t)chest * 3, at, sizeof at);
+            o.has_tip[chest] = 0, o.parent[chest] = to[chest_g];
+        }
         uint32_t i = o.n++;
         to[j] = (int32_t)i;
         memcpy(o.pos + (size_t)i * 3, k->pos + (size_t)j * 3, 3 * sizeof *o.pos);
         memcpy(o.tip + (size_t)i * 3, k->tip + (size_t)j * 3, 3 * sizeof *o.tip);
         o.has_tip[i] = k->has_tip[j];
-        o.parent[i] = k->parent[j] >= 0 ? to[k->parent[j]] : -1;
+        o.parent[i] = j == split ? chest : k->parent[j] >= 0 ? to[k->parent[j]] : -1;
     }
     for (uint32_t i = 0; ok && i < nl; i++) {
         if (!laid[i])
             continue;
         double pos[4][3], tip[3];
+        bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == chest_g;
         rf_rig_limb_place(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind, limbs[i].lay,
-                          pos, tip);
-        int32_t parent = to[limbs[i].girdle];
+                          chested ? at : NULL, pos, tip);
+        int32_t parent = chested ? chest : to[limbs[i].girdle];
         for (int m = 0; m < 4; m++) {
             uint32_t j = o.n++;
             memcpy(o.pos + (size_t)j * 3, pos[m], sizeof pos[m]);
@@ -731,6 +860,7 @@ bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
     if (!rf_rig_limbs(k, o, lay))
         return false;
     rf_rig_dorsal(p, k, o);
+    rf_rig_neck(p, k, o);
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
         return false;

@@ -446,7 +446,9 @@ void rf_an_symmetry(rf_awork *w)
             best = score + bonus, bn = n, bp = p, best_off = off, best_matched = matched;
     }
     w->plane_n = bn, w->plane_p = bp;
-    uint32_t off = 0, matched = 0;
+    /* "no plane" leaves every joint on the centerline (off 0: symmetric); a forced plane that
+     * mirrors none of its off-plane joints keeps them counted (symmetry 0) */
+    uint32_t off = best_off, matched = best_matched;
     if (best_matched > 0) { /* a plane won: move it onto its pairs */
         refine_plane(w, g);
         plane_score(w, g, w->plane_n, w->plane_p, -1, &off, &matched);

@@ -174,6 +174,7 @@ static void rf_fz_check(const rf_analysis *a, uint32_t n)
     RF_FUZZ_CHECK(rf_fz_unit(a->up) && rf_fz_unit(a->forward) && rf_fz_unit(a->left));
     RF_FUZZ_CHECK(fabs(rf_v3_dot(a->up, a->forward)) < 1e-6);
     RF_FUZZ_CHECK(a->size > 0 && a->height > 0);
+    RF_FUZZ_CHECK(a->symmetry >= 0 && a->symmetry <= 1);
     for (uint32_t i = 0; i < n; i++) {
         const rf_joint_info *j = &a->joints[i];
         RF_FUZZ_CHECK(j->section >= 0 && j->section < (int32_t)a->section_count);

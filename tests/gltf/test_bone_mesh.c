@@ -78,11 +78,73 @@ static void test_no_bone(void **state)
     rf_skeleton_free(s);
 }
 
+/* A skeleton whose parents do not all come before their children breaks the model's contract
+ * (rigflow/model.h) and nothing upstream refuses it: it is refused by name, never read out of
+ * bounds. */
+static void test_parent_order(void **state)
+{
+    (void)state;
+    rf_skeleton *s = chain();
+    char err[256] = "";
+    s->joints[1].parent = 3; /* after its child */
+    assert_null(rf_cv_bone_mesh(s, err, sizeof err));
+    assert_non_null(strstr(err, "joint 1"));
+    s->joints[1].parent = 70000; /* past the end */
+    err[0] = '\0';
+    assert_null(rf_cv_bone_mesh(s, err, sizeof err));
+    assert_non_null(strstr(err, "joint 1"));
+    rf_skeleton_free(s);
+}
+
+/* A rest pose that is not a number is named, not drawn around ("no bone" would be a guess). */
+static void test_nan_rest(void **state)
+{
+    (void)state;
+    rf_skeleton *s = chain();
+    char err[256] = "";
+    s->joints[3].rest.t.y = NAN;
+    assert_null(rf_cv_bone_mesh(s, err, sizeof err));
+    assert_non_null(strstr(err, "joint 3"));
+    assert_non_null(strstr(err, "finite"));
+    rf_skeleton_free(s);
+}
+
+/* The joint index is 16 bits: 65536 joints are drawn (a chain: the last bone on joint 65534,
+ * 65535 bones of 6 vertices and 8 triangles), one more is refused with the limit. */
+static void test_joint_limit(void **state)
+{
+    (void)state;
+    uint32_t n = 65536;
+    rf_skeleton *s = calloc(1, sizeof *s);
+    s->size = sizeof *s;
+    s->joint_count = n;
+    s->joints = calloc(n + 1, sizeof *s->joints);
+    for (uint32_t j = 0; j <= n; j++) {
+        s->joints[j].parent = (int32_t)j - 1;
+        s->joints[j].rest = (rf_xform){{j ? 1 : 0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
+    }
+    char err[256] = "";
+    rf_mesh *m = rf_cv_bone_mesh(s, err, sizeof err);
+    assert_non_null(m);
+    assert_int_equal(m->vertex_count, 65535u * 6);
+    assert_int_equal(m->triangle_count, 65535u * 8);
+    assert_int_equal(m->skin_joints[(size_t)(m->vertex_count - 1) * 4], 65534);
+    assert_float_equal(m->positions[(size_t)(m->vertex_count - 6) * 3 + 3], 65535.0, 0);
+    for (size_t i = 0; i < (size_t)m->triangle_count * 3; i++)
+        assert_true(m->triangles[i] < m->vertex_count);
+    rf_mesh_free(m);
+    s->joint_count = n + 1;
+    assert_null(rf_cv_bone_mesh(s, err, sizeof err));
+    assert_non_null(strstr(err, "65536"));
+    rf_skeleton_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_two_bones),
-        cmocka_unit_test(test_no_bone),
+        cmocka_unit_test(test_two_bones),    cmocka_unit_test(test_no_bone),
+        cmocka_unit_test(test_parent_order), cmocka_unit_test(test_nan_rest),
+        cmocka_unit_test(test_joint_limit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

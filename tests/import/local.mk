@@ -40,6 +40,13 @@ tests_gltf_test_gltf_axes_SOURCES = tests/gltf/test_gltf_axes.c sdk/formats/gltf
 tests_gltf_test_gltf_axes_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_gltf_test_gltf_axes_LDADD = sdk/formats/assimp/librigflow-assimp.la sdk/formats/gltf/librigflow-gltf.la \
 	$(CMOCKA_LIBS) -lm
+# ... and when memory runs out at each of its allocations in turn (malloc and calloc wrapped)
+check_PROGRAMS += tests/gltf/test_gltf_axes_oom
+TESTS += tests/gltf/test_gltf_axes_oom
+tests_gltf_test_gltf_axes_oom_SOURCES = tests/gltf/test_gltf_axes_oom.c sdk/formats/gltf/gltf-axes.c
+tests_gltf_test_gltf_axes_oom_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_gltf_test_gltf_axes_oom_LDFLAGS = -Wl,--wrap=malloc,--wrap=calloc
+tests_gltf_test_gltf_axes_oom_LDADD = $(CMOCKA_LIBS) -lm
 
 # pipelines/convert.json end to end (import and export nodes of plugins/convert).
 TESTS += tests/import/test_convert.sh

@@ -479,6 +479,29 @@ static void test_forced_axes(void **state)
     rf_skeleton_free(s);
 }
 
+/* Axes forced on a body with one arm (no mirror pairs): the plane they define is the plane,
+ * its two off-plane joints have no mirror image, so the symmetry (analysis.h: the fraction of
+ * off-plane joints with a mirror image) is 0, not the 1 of a body with every joint on it. */
+static void test_forced_plane_unmatched(void **state)
+{
+    (void)state;
+    static const sb_joint one_arm[] = {
+        {"hips", NULL, 0, 1.0, 0, 0},       {"spine", "hips", 0, 1.5, 0, 0},
+        {"head", "spine", 0, 2.0, 0, 0},    {".", "head", 0, 2.3, 0, 0},
+        {"arm", "spine", 0.5, 1.2, 0.6, 0}, {"hand", "arm", 1.1, 0.7, 1.2, 0},
+        {"leg", "hips", 0, 0.5, 0, 0},      {"foot", "leg", 0, 0.0, 0.1, 0},
+    };
+    rf_skeleton *s = sb_build(one_arm, SB_COUNT(one_arm));
+    rf_analysis_options o = {0};
+    o.up = rf_v3(0, 1, 0), o.forward = rf_v3(0, 0, 1);
+    rf_analysis *a = rf_analyze(s, &o);
+    assert_near_dir(a->plane_normal, rf_v3(1, 0, 0));
+    assert_float_equal(a->symmetry, 0, 0);
+    check_consistent(a);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+}
+
 /* Unweighted leaves (IK target, pole, socket) are helpers, an unweighted joint on its only child
  * is a control joint, and a weighted foot parented to the ground root joins its leg. */
 static void test_helpers_and_forest(void **state)
@@ -1069,6 +1092,7 @@ int main(void)
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_large),
         cmocka_unit_test(test_forced_axes),
+        cmocka_unit_test(test_forced_plane_unmatched),
         cmocka_unit_test(test_helpers_and_forest),
         cmocka_unit_test(test_leg_threshold),
         cmocka_unit_test(test_measures),

@@ -100,15 +100,22 @@ static const char *data_dir(void)
     return d;
 }
 
-/* Every model of the shared data: the two flat or empty ones are refused, the rest rigged. */
-static void test_shared_models(void **state)
+/* The shared data's folder, or the test skipped (visibly) when it is absent. */
+static const char *need_data_dir(void)
 {
-    (void)state;
     const char *d = data_dir();
     if (!d) {
         printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
         skip();
     }
+    return d;
+}
+
+/* Every model of the shared data: the two flat or empty ones are refused, the rest rigged. */
+static void test_shared_models(void **state)
+{
+    (void)state;
+    const char *d = need_data_dir();
     static const char *const models[] = {"Fox.glb",
                                          "RiggedFigure.glb",
                                          "RobotExpressive.glb",
@@ -961,6 +968,57 @@ static rf_mesh *sphere(uint32_t rings, uint32_t segs)
     return m;
 }
 
+/* Where three bones or more meet (a forearm ending at a wrist where three fingers start), a
+ * vertex nearest that point on every one of them is heated by the bone ending there alone. The
+ * joints here are placed by inverse binds, as an artist's skin places them, so the forearm's
+ * nearest point to the vertex, computed from its start, differs in the last digit from the
+ * wrist it ends at (0.4 + (-0.03 - 0.4) != -0.03): the rule must not rest on those digits. The
+ * vertex is the octahedron's corner straight on from the wrist along the forearm, 2 from the
+ * wrist and from the four bones. */
+static void test_bind_junction_digits(void **state)
+{
+    (void)state;
+    /* the forearm along d from the elbow; the fingers across it (u, -u, v), each 0.5 long */
+    rf_vec3 elbow = rf_v3(0.6, 0.9, 0.4), wrist = rf_v3(1.25, 1.0, -0.03);
+    rf_vec3 d = rf_v3_normalize(rf_v3_sub(wrist, elbow));
+    rf_vec3 u = rf_v3_normalize(rf_v3_cross(d, rf_v3(0, 0, 1))), v = rf_v3_cross(d, u);
+    rf_vec3 at[5] = {elbow, wrist, rf_v3_add(wrist, rf_v3_scale(u, 0.5)),
+                     rf_v3_add(wrist, rf_v3_scale(u, -0.5)), rf_v3_add(wrist, rf_v3_scale(v, 0.5))};
+    /* an octahedron about the wrist, its corners 2 away along +-d, +-u, +-v */
+    rf_vec3 axes[3] = {d, u, v};
+    rf_mesh *in = rf_mesh_new();
+    in->vertex_count = 6, in->triangle_count = 8;
+    in->positions = calloc(18, sizeof(float));
+    in->triangles = calloc(24, sizeof(uint32_t));
+    for (int c = 0; c < 6; c++) {
+        rf_vec3 p = rf_v3_add(wrist, rf_v3_scale(axes[c / 2], c % 2 ? -2 : 2));
+        in->positions[c * 3] = (float)p.x, in->positions[c * 3 + 1] = (float)p.y;
+        in->positions[c * 3 + 2] = (float)p.z;
+    }
+    static const uint32_t faces[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                         {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    memcpy(in->triangles, faces, sizeof faces);
+    rf_skeleton *s = rf_skeleton_new(5);
+    rf_mat4 inv[5];
+    for (uint32_t j = 0; j < 5; j++) {
+        s->joints[j].parent = j == 0 ? -1 : j == 1 ? 0 : 1;
+        s->joints[j].rest.t = j ? rf_v3_sub(at[j], at[s->joints[j].parent]) : at[0];
+        rf_xform x = rf_xform_identity();
+        x.t = rf_v3_scale(at[j], -1);
+        inv[j] = rf_xform_to_mat4(x);
+    }
+    rf_mesh *m = NULL;
+    char err[256];
+    if (!rf_rig_bind(in, s, inv, NULL, &m, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    printf("# junction: corner on from the wrist: elbow %.3f, wrist %.3f\n", weight_of(m, 0, 0),
+           weight_of(m, 0, 1));
+    /* heated by one bone alone, it takes nearly all of that bone's joint (measured 0.990 and
+     * 0.000; 0.425 and 0.375 when both joints heated it) */
+    assert_true(weight_of(m, 0, 0) > 0.9 && weight_of(m, 0, 1) < 0.05);
+    rf_mesh_free(m), rf_skeleton_free(s), rf_mesh_free(in);
+}
+
 /* A sphere has no legs: refused, the reason naming what was found and what a template needs;
  * asked for a humanoid, the table creature (four legs, no arms) is refused too. */
 static void test_template_refusal(void **state)
@@ -1092,11 +1150,7 @@ static void template_model(const char *path, const char *const *names, uint32_t 
 static void test_template_models(void **state)
 {
     (void)state;
-    const char *d = data_dir();
-    if (!d) {
-        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
-        skip();
-    }
+    const char *d = need_data_dir();
     char path[4096];
     static const char *const humanoid[] = {"Hips",      "Spine2",       "Head",     "LeftArm",
                                            "LeftHand",  "RightForeArm", "LeftLeg",  "RightFoot",
@@ -1208,7 +1262,7 @@ static void test_limb_layout(void **state)
      * (at 0.378, in its window), the ankle at the first point no higher than 0.1 of the leg's
      * height (the ankle joint, at 0.849), the toe half way on from there (0.924: 0.1 along the
      * foot's last bone) */
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_LEG, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_LEG, &l, NULL, j, end);
     expect_at(j[0], 0, 1 - 0.1 * 1.324264, 0, "hip");
     expect_at(j[1], 0, 0.5, 0, "knee");
     expect_at(j[2], 0, 0, 0.3, "ankle");
@@ -1216,20 +1270,20 @@ static void test_limb_layout(void **state)
     expect_at(end, 0, 0, 0.5, "end");
     /* a hind leg: its hock at the sharpest bend in [0.6, 0.9], the ankle's right angle (0.849)
      * and not the 45 degrees at 0.698 */
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_HIND_LEG, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_HIND_LEG, &l, NULL, j, end);
     expect_at(j[1], 0, 0.5, 0, "stifle");
     expect_at(j[2], 0, 0, 0.3, "hock");
     /* an arm on the same curve, without the climbing branch: clavicle and upper arm at 0.1
      * and 0.2, the elbow at the bend, the hand at 0.8 (1.0594: 0.1352 down from (0, 0.2, 0.3)) */
     k.n = 5;
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, NULL, j, end);
     expect_at(j[0], 0, 1 - 0.1 * 1.324264, 0, "clavicle");
     expect_at(j[1], 0, 1 - 0.2 * 1.324264, 0, "upper arm");
     expect_at(j[2], 0, 0.5, 0, "elbow");
     expect_at(j[3], 0, 0.2 - (0.8 * 1.324264 - 0.924264), 0.3, "hand");
     /* with the climbing branch an arm follows it: its end is that branch's joint */
     k.n = 6;
-    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, j, end);
+    rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, NULL, j, end);
     expect_at(end, 0, 2.2, 0, "an arm's end");
 }
 
@@ -1283,6 +1337,122 @@ static void test_general_legs(void **state)
     rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
 }
 
+/* RobotExpressive's arms leave its torso at shoulder height, 0.67 above where its curve
+ * skeleton's trunk bone starts (the hips' joint): laid from there, the elbow went to the turn at
+ * the shoulder and the arm swung from the hips. With a chest joint on the trunk where the arms
+ * leave it, each arm hangs from a joint at the height of the artist's shoulders and its elbow
+ * lies at the artist's. The artist's joints, from `rigflow inspect` on the file: Shoulder.L at
+ * (0.583, 2.440), Shoulder.R (-0.637, 2.440), LowerArm.L (1.323, 2.432), LowerArm.R (-1.313,
+ * 2.432); the rig before the chest: the arms' parent at y 1.77, elbows at x +-0.80. */
+static void test_general_chest(void **state)
+{
+    (void)state;
+    const char *d = need_data_dir();
+    char path[4096], err[1024];
+    snprintf(path, sizeof path, "%s/models/RobotExpressive.glb", d);
+    rf_ai_options ao = {.ignore_rig = true};
+    rf_ai_result r;
+    if (!rf_ai_import(path, &ao, &r, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_skeleton *s;
+    rf_mesh *m;
+    if (!rf_rig_general(r.mesh, NULL, &s, &m, NULL, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_vec3 *w = calloc(s->joint_count, sizeof *w);
+    assert_non_null(w);
+    world_joints(s, w);
+    static const struct {
+        const char *first, *elbow;
+        double elbow_x;
+    } arm[2] = {{"arm_l0_0", "arm_l0_2", 1.323}, {"arm_r0_0", "arm_r0_2", -1.313}};
+    for (int side = 0; side < 2; side++) {
+        int32_t first = -1, elbow = -1;
+        for (uint32_t j = 0; j < s->joint_count; j++) {
+            first = strcmp(s->joints[j].name, arm[side].first) ? first : (int32_t)j;
+            elbow = strcmp(s->joints[j].name, arm[side].elbow) ? elbow : (int32_t)j;
+        }
+        assert_true(first >= 0 && elbow >= 0 && s->joints[first].parent >= 0);
+        rf_vec3 hang = w[s->joints[first].parent], e = w[elbow];
+        printf("# %s hangs from y %.3f (the artist's shoulders 2.440); elbow (%.3f, %.3f), the "
+               "artist's (%.3f, 2.432)\n",
+               arm[side].first, hang.y, e.x, e.y, arm[side].elbow_x);
+        if (!(fabs(hang.y - 2.44) < 0.1))
+            fail_msg("%s hangs from y %g, the shoulders are at 2.44", arm[side].first, hang.y);
+        if (!(hypot(e.x - arm[side].elbow_x, e.y - 2.432) < 0.15))
+            fail_msg("%s at (%g, %g), the artist's elbow at (%g, 2.432)", arm[side].elbow, e.x, e.y,
+                     arm[side].elbow_x);
+    }
+    free(w);
+    rf_skeleton_free(s), rf_mesh_free(m);
+    rf_ai_result_clear(&r);
+}
+
+/* Joint `name` of the general rigger's rig of `model` (shared data, rigged with the axes the
+ * file declares, as rig-dump and the pipelines do), in world coordinates. */
+static rf_vec3 general_joint(const char *d, const char *model, const char *name)
+{
+    char path[4096], err[1024];
+    snprintf(path, sizeof path, "%s/models/%s", d, model);
+    rf_ai_options ao = {.ignore_rig = true};
+    rf_ai_result r;
+    if (!rf_ai_import(path, &ao, &r, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_skeleton *s;
+    rf_mesh *m;
+    rf_rig_options o = {0}; /* the file's axes, as the pipelines pass them */
+    if (r.skeleton)
+        o.up = r.skeleton->up, o.forward = r.skeleton->forward;
+    if (!rf_rig_general(r.mesh, &o, &s, &m, NULL, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+    rf_vec3 *w = calloc(s->joint_count, sizeof *w), at = rf_v3(NAN, NAN, NAN);
+    assert_non_null(w);
+    world_joints(s, w);
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        if (!strcmp(s->joints[j].name, name))
+            at = w[j];
+    free(w);
+    rf_skeleton_free(s), rf_mesh_free(m);
+    rf_ai_result_clear(&r);
+    if (isnan(at.x))
+        fail_msg("%s: no joint %s", model, name);
+    return at;
+}
+
+/* An upright body's head chain starts where the trunk enters the head's bulk. The Wizard's
+ * curve skeleton put its first head joint at y 2.45, inside the hat and 0.32 above the artist's
+ * Head (y 2.127, `rigflow inspect`: Neck 1.996); moved down to where the girth reaches the
+ * head's, it lies within 0.2 of it. The girl's neck is narrower than her head above its first
+ * joint, so that joint stays at her artist's Neck (y 1.103; the rigger's 1.104). */
+static void test_general_neck(void **state)
+{
+    (void)state;
+    const char *d = need_data_dir();
+    rf_vec3 wiz = general_joint(d, "Wizard.glb", "head_c0_0");
+    rf_vec3 girl = general_joint(d, "girl.glb", "head_c0_0");
+    printf("# Wizard's first head joint at y %.3f (the artist's Head 2.127), the girl's at %.3f "
+           "(Neck 1.103)\n",
+           wiz.y, girl.y);
+    if (!(fabs(wiz.y - 2.127) < 0.2))
+        fail_msg("Wizard's first head joint at y %g, the artist's Head at 2.127", wiz.y);
+    if (!(fabs(girl.y - 1.103) < 0.03))
+        fail_msg("girl's first head joint at y %g, the artist's Neck at 1.103", girl.y);
+}
+
+/* A level body's spine runs along its back (rf_rig_skel_across), and a spine joint lying
+ * outside under the belly (the animalia cat's root, where its curve skeleton's hind legs meet
+ * between them at y 0.22) takes its depth from the body above it: the cat's root comes to lie
+ * within 0.1 of the height of its artist's Torso (y 0.45, `rigflow inspect`; the body box
+ * spans y 0.25 to 0.625 above the root, by rays). */
+static void test_general_root_under(void **state)
+{
+    (void)state;
+    const char *d = need_data_dir();
+    rf_vec3 root = general_joint(d, "creatures/animalia_cat.b3d", "spine_c0_0");
+    printf("# the cat's root at y %.3f (the artist's Torso 0.45)\n", root.y);
+    if (!(fabs(root.y - 0.45) < 0.1))
+        fail_msg("the cat's root at y %g, the artist's Torso at 0.45", root.y);
+}
+
 /* A scan too large for the memory left is refused before any work, with the figures: 120 million
  * vertices and 40 million triangles need 120e6 * 100 + 40e6 * 40 bytes = 13.6 GB (by hand). */
 static void test_memory_refusal(void **state)
@@ -1330,6 +1500,7 @@ int main(void)
         cmocka_unit_test(test_bind_open_sheet),
         cmocka_unit_test(test_bind_bad_skeleton),
         cmocka_unit_test(test_bind_boneless_part),
+        cmocka_unit_test(test_bind_junction_digits),
         cmocka_unit_test(test_narrow_gap),
         cmocka_unit_test(test_template_refusal),
         cmocka_unit_test(test_template_quadruped),
@@ -1337,6 +1508,9 @@ int main(void)
         cmocka_unit_test(test_place_section),
         cmocka_unit_test(test_limb_layout),
         cmocka_unit_test(test_general_legs),
+        cmocka_unit_test(test_general_chest),
+        cmocka_unit_test(test_general_neck),
+        cmocka_unit_test(test_general_root_under),
         cmocka_unit_test(test_mirror_twigs),
         cmocka_unit_test(test_memory_refusal),
     };

@@ -10,8 +10,10 @@
 
 rf_quat rf_gw_axes_turn(rf_vec3 up, rf_vec3 forward)
 {
-    if (!(rf_v3_len(up) > 0) || !rf_v3_isfinite(up) || !rf_v3_isfinite(forward))
+    if (!(rf_v3_len(up) > 0) || !rf_v3_isfinite(up))
         return rf_quat_identity();
+    if (!rf_v3_isfinite(forward)) /* no facing, as a zero one: the content is still stood up */
+        forward = rf_v3(0, 0, 0);
     rf_vec3 u = rf_v3_normalize(up);
     rf_quat q = rf_quat_from_two_vectors(u, rf_v3(0, 1, 0));
     rf_vec3 f = rf_v3_sub(forward, rf_v3_scale(u, rf_v3_dot(forward, u)));

@@ -1089,9 +1089,32 @@ static bool rf_gw_has_ext(const char *path, const char *ext)
     return true;
 }
 
+/* Joints glTF can hold: parents before children (rigflow/model.h; the host does not check a
+ * plugin's skeleton, and the nodes, the world rest and the scene's root rely on it) and a rest
+ * pose of numbers (JSON has none for NaN: the number would drop out of the node's array). */
+static bool rf_gw_check_joints(const rf_skeleton *s, const char *name, char *err, size_t err_size)
+{
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        const rf_xform *x = &s->joints[j].rest;
+        if (s->joints[j].parent >= (int32_t)j) {
+            snprintf(err, err_size, "%s: joint %u has parent %d: expected parents before children",
+                     name, j, s->joints[j].parent);
+            return false;
+        }
+        if (!rf_v3_isfinite(x->t) || !rf_v3_isfinite(x->s) ||
+            !isfinite(x->r.x + x->r.y + x->r.z + x->r.w)) {
+            snprintf(err, err_size, "%s: joint %u's rest pose is not finite", name, j);
+            return false;
+        }
+    }
+    return true;
+}
+
 static bool rf_gw_check(const rf_skeleton *s, const rf_animation *const *clips, uint32_t count,
                         const rf_mesh *m, const char *name, char *err, size_t err_size)
 {
+    if (!rf_gw_check_joints(s, name, err, err_size))
+        return false;
     for (uint32_t i = 0; i < count; i++) {
         const rf_animation *a = clips[i];
         const char *clip = a && a->name ? a->name : "";
