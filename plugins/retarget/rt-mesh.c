@@ -133,16 +133,6 @@ static void rt_mesh_skin(rt_mesh_work *w, rf_vec3 *out)
     }
 }
 
-/* The joint with the largest weight on vertex v. */
-static uint32_t rt_dominant(const rf_mesh *m, uint32_t v)
-{
-    uint32_t best = 0;
-    for (uint32_t i = 1; i < RF_MESH_MAX_INFLUENCES; i++)
-        if (m->skin_weights[(size_t)v * 4 + i] > m->skin_weights[(size_t)v * 4 + best])
-            best = i;
-    return m->skin_joints[(size_t)v * 4 + best];
-}
-
 typedef struct rt_cell {
     uint64_t key;
     uint32_t v;
@@ -179,7 +169,7 @@ static bool rt_mesh_seams(rt_mesh_work *w, double height)
     }
     qsort(cells, w->nv, sizeof *cells, rt_cmp_cell);
     for (uint32_t i = 0; i < w->nv && w->seams < RT_MESH_MAX_SEAMS; i++) {
-        uint32_t a = cells[i].v, ja = rt_dominant(w->m, a);
+        uint32_t a = cells[i].v, ja = rf_mesh_heaviest_joint(w->m, a);
         rf_vec3 p = w->rest[a];
         int64_t cx = (int64_t)floor(p.x / eps), cy = (int64_t)floor(p.y / eps),
                 cz = (int64_t)floor(p.z / eps);
@@ -190,7 +180,8 @@ static bool rt_mesh_seams(rt_mesh_work *w, double height)
                 hit--;
             for (; hit && hit < cells + w->nv && hit->key == probe.key; hit++) {
                 uint32_t b = hit->v;
-                if (b <= a || rt_dominant(w->m, b) == ja || rf_v3_dist(p, w->rest[b]) > eps)
+                if (b <= a || rf_mesh_heaviest_joint(w->m, b) == ja ||
+                    rf_v3_dist(p, w->rest[b]) > eps)
                     continue;
                 w->seam[w->seams * 2] = a, w->seam[w->seams * 2 + 1] = b;
                 if (++w->seams == RT_MESH_MAX_SEAMS)
@@ -427,7 +418,7 @@ static bool rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t cou
     for (uint32_t v = 0; v < w->nv; v++)
         base[v] =
             all || (rf_v3_dot(w->rest[v], w->up) <= floor_h + RT_MESH_HIGH * (top - floor_h) &&
-                    !(aside && aside[rt_dominant(w->m, v)]));
+                    !(aside && aside[rf_mesh_heaviest_joint(w->m, v)]));
     for (uint32_t i = 0; i < count; i++) {
         rf_animation_local_pose(anim, w->s, rt_sample_frame(i, count, anim->frame_count), w->local);
         for (uint32_t j = 0; j < w->n; j++)
@@ -464,7 +455,7 @@ static bool rt_mesh_hulls(rf_retarget *rt, const rt_mesh_work *w)
     for (size_t i = 0; i < n * RF_RT_HULL; i++)
         best[i] = 0; /* the pivot (0, 0, 0) reaches 0 along every direction */
     for (uint32_t v = 0; v < w->nv; v++) {
-        uint32_t j = rt_dominant(w->m, v);
+        uint32_t j = rf_mesh_heaviest_joint(w->m, v);
         if (j >= rt->n)
             continue;
         rf_vec3 p = rf_xform_point(rf_xform_invert(w->world[j]), w->rest[v]);

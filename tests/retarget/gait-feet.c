@@ -91,15 +91,6 @@ static rf_vec3 gf_skin(const rf_mesh *m, const rf_mat4 *skin, uint32_t v)
     return wsum > 0 ? rf_v3_scale(sum, 1.0 / wsum) : bind;
 }
 
-static uint32_t gf_dominant(const rf_mesh *m, uint32_t v)
-{
-    uint32_t best = 0;
-    for (uint32_t i = 1; i < RF_MESH_MAX_INFLUENCES; i++)
-        if (m->skin_weights[(size_t)v * 4 + i] > m->skin_weights[(size_t)v * 4 + best])
-            best = i;
-    return m->skin_joints[(size_t)v * 4 + best];
-}
-
 /* The heights in pose `world`: per leg its lowest point into low[leg] and where its foot is
  * (foot[leg]: the vertex or joint of the leg lowest at rest, see gf_feet) into lowp[leg]; the
  * body's lowest into *body and highest into *top (mesh vertices, else joints). */
@@ -117,7 +108,7 @@ static void gf_pose(const gf_char *c, const rf_analysis *a, const int32_t *leg_o
     uint32_t count = c->mesh ? c->mesh->vertex_count : s->joint_count;
     for (uint32_t i = 0; i < count; i++) {
         rf_vec3 p = c->mesh ? gf_skin(c->mesh, skin, i) : world[i].t;
-        uint32_t j = c->mesh ? gf_dominant(c->mesh, i) : i;
+        uint32_t j = c->mesh ? rf_mesh_heaviest_joint(c->mesh, i) : i;
         double h = rf_v3_dot(p, a->up);
         *body = fmin(*body, h), *top = fmax(*top, h);
         int32_t l = j < s->joint_count ? leg_of[j] : -1;
@@ -138,7 +129,7 @@ static void gf_feet(const gf_char *c, const rf_analysis *a, const int32_t *leg_o
     for (uint32_t j = 0; skin && c->mesh && j < c->skel->joint_count; j++)
         skin[j] = rf_mat4_mul(rf_xform_to_mat4(world[j]), c->mesh->inverse_bind[j]);
     for (uint32_t i = 0; skin && i < count; i++) {
-        uint32_t j = c->mesh ? gf_dominant(c->mesh, i) : i;
+        uint32_t j = c->mesh ? rf_mesh_heaviest_joint(c->mesh, i) : i;
         int32_t l = j < c->skel->joint_count ? leg_of[j] : -1;
         rf_vec3 p = c->mesh ? gf_skin(c->mesh, skin, i) : world[i].t;
         if (l >= 0 && l < (int32_t)nlegs && foot[l] < 0 && rf_v3_dot(p, a->up) <= low[l])

@@ -100,15 +100,22 @@ static const char *data_dir(void)
     return d;
 }
 
-/* Every model of the shared data: the two flat or empty ones are refused, the rest rigged. */
-static void test_shared_models(void **state)
+/* The shared data's folder, or the test skipped (visibly) when it is absent. */
+static const char *need_data_dir(void)
 {
-    (void)state;
     const char *d = data_dir();
     if (!d) {
         printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
         skip();
     }
+    return d;
+}
+
+/* Every model of the shared data: the two flat or empty ones are refused, the rest rigged. */
+static void test_shared_models(void **state)
+{
+    (void)state;
+    const char *d = need_data_dir();
     static const char *const models[] = {"Fox.glb",
                                          "RiggedFigure.glb",
                                          "RobotExpressive.glb",
@@ -1143,11 +1150,7 @@ static void template_model(const char *path, const char *const *names, uint32_t 
 static void test_template_models(void **state)
 {
     (void)state;
-    const char *d = data_dir();
-    if (!d) {
-        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
-        skip();
-    }
+    const char *d = need_data_dir();
     char path[4096];
     static const char *const humanoid[] = {"Hips",      "Spine2",       "Head",     "LeftArm",
                                            "LeftHand",  "RightForeArm", "LeftLeg",  "RightFoot",
@@ -1344,11 +1347,7 @@ static void test_general_legs(void **state)
 static void test_general_chest(void **state)
 {
     (void)state;
-    const char *d = data_dir();
-    if (!d) {
-        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
-        skip();
-    }
+    const char *d = need_data_dir();
     char path[4096], err[1024];
     snprintf(path, sizeof path, "%s/models/RobotExpressive.glb", d);
     rf_ai_options ao = {.ignore_rig = true};
@@ -1427,11 +1426,7 @@ static rf_vec3 general_joint(const char *d, const char *model, const char *name)
 static void test_general_neck(void **state)
 {
     (void)state;
-    const char *d = data_dir();
-    if (!d) {
-        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
-        skip();
-    }
+    const char *d = need_data_dir();
     rf_vec3 wiz = general_joint(d, "Wizard.glb", "head_c0_0");
     rf_vec3 girl = general_joint(d, "girl.glb", "head_c0_0");
     printf("# Wizard's first head joint at y %.3f (the artist's Head 2.127), the girl's at %.3f "
@@ -1451,11 +1446,7 @@ static void test_general_neck(void **state)
 static void test_general_root_under(void **state)
 {
     (void)state;
-    const char *d = data_dir();
-    if (!d) {
-        printf("# RF_DATA_DIR not found (../shared/data): skipped\n");
-        skip();
-    }
+    const char *d = need_data_dir();
     rf_vec3 root = general_joint(d, "creatures/animalia_cat.b3d", "spine_c0_0");
     printf("# the cat's root at y %.3f (the artist's Torso 0.45)\n", root.y);
     if (!(fabs(root.y - 0.45) < 0.1))

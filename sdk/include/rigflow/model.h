@@ -444,6 +444,17 @@ static inline rf_mesh *rf_mesh_new(void)
     return m;
 }
 
+/* The joint carrying the largest weight of skinned vertex v (the first of equals). */
+static inline uint32_t rf_mesh_heaviest_joint(const rf_mesh *m, uint32_t v)
+{
+    const float *w = m->skin_weights + (size_t)v * RF_MESH_MAX_INFLUENCES;
+    uint32_t best = 0;
+    for (uint32_t i = 1; i < RF_MESH_MAX_INFLUENCES; i++)
+        if (w[i] > w[best])
+            best = i;
+    return m->skin_joints[(size_t)v * RF_MESH_MAX_INFLUENCES + best];
+}
+
 /* Frees a mesh and every array it holds. NULL is allowed. Usable as a set_output destroy. */
 static inline void rf_mesh_free(void *mesh)
 {
