@@ -855,9 +855,10 @@ static bool rf_rig_heat_agrees(const rf_rig_prep *p, uint32_t q, uint32_t nj, co
  * rows (plain[], not sharpened): sharpening sends each corner of a box to the joint nearest
  * it, a thigh box's top corners to the hips and its bottom ones to the knee, and tears the box
  * into a wedge as they turn. A part enclosing the bones of RF_RIG_PIECE_JOINTS joints or more
- * is weighted as the body is, sharpened, among its own joints, and never moved by one alone: a
- * head holding the neck's bone and the short bones of its face and jaw would go stiff with the
- * neck. The part with the largest surface (the body) moves with one joint only when bone heat
+ * is blended the same way, among its own joints with the plain rows, and never moved by one
+ * alone: a head holding the neck's bone and the short bones of its face and jaw would go stiff
+ * with the neck. Sharpened, such a part tore: a loose spider leg of five joints' bones was drawn
+ * into a spike under the CMU walk. The part with the largest surface (the body) moves with one joint only when bone heat
  * agrees, giving that joint more than half of it: a box model's body box holding the torso's
  * bone (the animalia bird's, the owl's), a robot's head piece holding the head's; a bat's body
  * box, which holds the torso's bone but carries the roots of the head and the wings, keeps its
@@ -912,8 +913,7 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
         if (p->proxy_part[i] != largest && sum[p->proxy_part[i]] > 0 &&
             owner[p->proxy_part[i]] == RF_RIG_NONE) {
-            if (!piece[p->proxy_part[i]])
-                memcpy(w + (size_t)i * nj, plain + (size_t)i * nj, nj * sizeof *w);
+            memcpy(w + (size_t)i * nj, plain + (size_t)i * nj, nj * sizeof *w);
             rf_rig_keep_enclosed(held + (size_t)p->proxy_part[i] * nj, nj, w + (size_t)i * nj);
         }
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++) {
