@@ -4,9 +4,15 @@ check_LTLIBRARIES += tests/reliability/fx_overflow.la
 tests_reliability_fx_overflow_la_SOURCES = tests/reliability/fx_overflow.c
 tests_reliability_fx_overflow_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 
-TESTS += tests/reliability/test_bad_input.sh tests/reliability/test_sanitizers.sh
+TESTS += tests/reliability/test_bad_input.sh tests/reliability/test_sanitizers.sh tests/reliability/test_lsan_retry.sh
 dist_noinst_SCRIPTS += tests/reliability/test_bad_input.sh tests/reliability/test_sanitizers.sh \
-	tests/reliability/valgrind.sh tests/reliability/bench_memory.sh
+	tests/reliability/valgrind.sh tests/reliability/bench_memory.sh tests/reliability/lsan-retry.sh \
+	tests/reliability/test_lsan_retry.sh
+# In the sanitizer build every test runs through lsan-retry.sh, which reruns a test once when
+# LeakSanitizer's own tracer crashed at exit (no leak looked at), and never otherwise.
+if SANITIZERS
+LOG_COMPILER = $(SHELL) $(abs_top_srcdir)/tests/reliability/lsan-retry.sh
+endif
 EXTRA_DIST += tests/reliability/valgrind.supp
 
 # The end-to-end tests again, with every rigflow command under valgrind memcheck: any invalid
