@@ -1,4 +1,5 @@
 /* The exporter's stand-in mesh for a skeleton without one (bone-mesh.h). */
+#include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -74,13 +75,12 @@ static bool rf_bm_alloc(rf_mesh *m, uint32_t bones)
  * plugin's skeleton: a parent past its child would be read before it is placed, or past the end. */
 static bool rf_bm_ordered(const rf_skeleton *s, char *err, size_t err_size)
 {
-    for (uint32_t j = 0; j < s->joint_count; j++)
-        if (s->joints[j].parent >= (int32_t)j) {
-            snprintf(err, err_size, "joint %u has parent %d: expected parents before children", j,
-                     s->joints[j].parent);
-            return false;
-        }
-    return true;
+    int64_t bad = rf_skeleton_misordered(s);
+    if (bad >= 0)
+        snprintf(err, err_size,
+                 "joint %" PRId64 " has parent %" PRId32 ": expected parents before children", bad,
+                 s->joints[bad].parent);
+    return bad < 0;
 }
 
 /* Rest positions that are numbers: a bone not drawn for a NaN would be a silent guess. */

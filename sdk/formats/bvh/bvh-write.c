@@ -75,12 +75,11 @@ static bool validate(writer *w)
                          "finite numbers",
                          i, j->name ? j->name : "");
     }
-    for (uint32_t i = 0; i < s->joint_count; i++)
-        if (s->joints[i].parent >= (int32_t)i)
-            return wfail(w,
-                         "joint %" PRIu32 " has parent %" PRId32 ": expected parents before "
-                         "children",
-                         i, s->joints[i].parent);
+    int64_t bad = rf_skeleton_misordered(s);
+    if (bad >= 0)
+        return wfail(w,
+                     "joint %" PRId64 " has parent %" PRId32 ": expected parents before children",
+                     bad, s->joints[bad].parent);
     if (w->a && w->a->joint_count != s->joint_count)
         return wfail(
             w, "the animation has %" PRIu32 " joints, the skeleton %" PRIu32 ": expected the same",

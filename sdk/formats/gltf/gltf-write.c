@@ -1094,13 +1094,15 @@ static bool rf_gw_has_ext(const char *path, const char *ext)
  * pose of numbers (JSON has none for NaN: the number would drop out of the node's array). */
 static bool rf_gw_check_joints(const rf_skeleton *s, const char *name, char *err, size_t err_size)
 {
+    int64_t bad = rf_skeleton_misordered(s);
+    if (bad >= 0) {
+        snprintf(err, err_size,
+                 "%s: joint %" PRId64 " has parent %" PRId32 ": expected parents before children",
+                 name, bad, s->joints[bad].parent);
+        return false;
+    }
     for (uint32_t j = 0; j < s->joint_count; j++) {
         const rf_xform *x = &s->joints[j].rest;
-        if (s->joints[j].parent >= (int32_t)j) {
-            snprintf(err, err_size, "%s: joint %u has parent %d: expected parents before children",
-                     name, j, s->joints[j].parent);
-            return false;
-        }
         if (!rf_v3_isfinite(x->t) || !rf_v3_isfinite(x->s) ||
             !isfinite(x->r.x + x->r.y + x->r.z + x->r.w)) {
             snprintf(err, err_size, "%s: joint %u's rest pose is not finite", name, j);

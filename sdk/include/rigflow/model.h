@@ -120,6 +120,17 @@ static inline int32_t rf_skeleton_find(const rf_skeleton *s, const char *name)
     return -1;
 }
 
+/* The first joint whose parent does not come before it (itself, a later joint or past the end),
+ * or -1 when the skeleton keeps the promise above. Writers check it before they place joints:
+ * the host does not check a plugin's skeleton. */
+static inline int64_t rf_skeleton_misordered(const rf_skeleton *s)
+{
+    for (uint32_t i = 0; i < s->joint_count; i++)
+        if (s->joints[i].parent >= (int32_t)i)
+            return i;
+    return -1;
+}
+
 /* World (model-space) rest transform of every joint into `world` (joint_count entries, caller's).
  */
 static inline void rf_skeleton_world_rest(const rf_skeleton *s, rf_xform *world)
