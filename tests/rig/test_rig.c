@@ -279,6 +279,65 @@ static void test_mirror_twigs(void **state)
     rf_skeleton_free(s), rf_mesh_free(out), rf_mesh_free(m);
 }
 
+/* A quad (two triangles, no thickness) appended to m. */
+static void add_quad(rf_mesh *m, const float q[4][3])
+{
+    uint32_t b = m->vertex_count;
+    memcpy(m->positions + (size_t)b * 3, q, 12 * sizeof(float));
+    const uint32_t t[6] = {b, b + 1, b + 2, b, b + 2, b + 3};
+    memcpy(m->triangles + (size_t)m->triangle_count * 3, t, sizeof t);
+    m->vertex_count += 4, m->triangle_count += 2;
+}
+
+/* Fins and wings: the table creature (symmetric about z = 0) with a fin on its back, a sheet of
+ * no thickness in its mirror plane rising 0.8 above the body (x -0.8 to 0.5, y 1.4 to 2.2), and
+ * a pair of wings, sheets level at y 1.3 reaching 1 to each side. Artists rig the wings, not
+ * the fin: the curve skeleton ran a chain into the fin's corners, long and thin as a limb, and
+ * the skeleton analysis read it as a leg; the rig keeps no joint in the fin (none above the
+ * head's top, y 1.7; before, one at y 1.96) and a joint out in each wing (|z| beyond 0.8). */
+static void test_fin_sheet(void **state)
+{
+    (void)state;
+    rf_mesh *m = rf_mesh_new();
+    m->positions = calloc(6 * 8 * 3 + 3 * 4 * 3, sizeof(float));
+    m->triangles = calloc(6 * 12 * 3 + 3 * 2 * 3, sizeof(uint32_t));
+    rf_mesh *body = table_creature(1, 0);
+    memcpy(m->positions, body->positions, (size_t)body->vertex_count * 3 * sizeof(float));
+    memcpy(m->triangles, body->triangles, (size_t)body->triangle_count * 3 * sizeof(uint32_t));
+    m->vertex_count = body->vertex_count, m->triangle_count = body->triangle_count;
+    rf_mesh_free(body);
+    static const float fin[4][3] = {
+        {-0.8f, 1.4f, 0}, {0.5f, 1.4f, 0}, {0.5f, 2.2f, 0}, {-0.8f, 2.2f, 0}};
+    static const float wing[2][4][3] = {
+        {{-0.6f, 1.3f, 0.4f}, {0.6f, 1.3f, 0.4f}, {0.6f, 1.3f, 1.4f}, {-0.6f, 1.3f, 1.4f}},
+        {{-0.6f, 1.3f, -1.4f}, {0.6f, 1.3f, -1.4f}, {0.6f, 1.3f, -0.4f}, {-0.6f, 1.3f, -0.4f}}};
+    add_quad(m, fin);
+    add_quad(m, wing[0]);
+    add_quad(m, wing[1]);
+    rf_skeleton *s;
+    rf_mesh *out;
+    char err[256];
+    if (!rf_rig_general(m, NULL, &s, &out, NULL, NULL, NULL, err, sizeof err))
+        fail_msg("%s", err);
+    check_rig("finned creature", m, s, out);
+    rf_vec3 w[256];
+    assert_true(s->joint_count < 256);
+    world_joints(s, w);
+    double top = -INFINITY, wing_l = 0, wing_r = 0;
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        top = fmax(top, w[j].y);
+        wing_l = fmax(wing_l, w[j].z), wing_r = fmax(wing_r, -w[j].z);
+    }
+    printf("# highest joint at y %.3f (the head's top 1.7, the fin's 2.2); wings reached to z "
+           "%.3f and %.3f\n",
+           top, wing_l, -wing_r);
+    if (top > 1.7)
+        fail_msg("a joint at y %g, in the fin above the head's top (1.7)", top);
+    if (!(wing_l > 0.8 && wing_r > 0.8))
+        fail_msg("the wings' joints reach z %g and %g, not beyond 0.8", wing_l, -wing_r);
+    rf_skeleton_free(s), rf_mesh_free(out), rf_mesh_free(m);
+}
+
 /* The same body at 1 cm and at 100 m gives the same rig, scaled; at every scale four feet. */
 static void test_any_scale(void **state)
 {
@@ -1512,6 +1571,7 @@ int main(void)
         cmocka_unit_test(test_general_neck),
         cmocka_unit_test(test_general_root_under),
         cmocka_unit_test(test_mirror_twigs),
+        cmocka_unit_test(test_fin_sheet),
         cmocka_unit_test(test_memory_refusal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
