@@ -820,18 +820,22 @@ static bool rf_rig_fin(const rf_rig_tree *t, uint32_t leaf, uint32_t start)
         return false;
     const rf_rig_node *v = t->ns->v;
     const double *n = t->g->sym_n;
-    double across = 0, along = 0, off = 0, w = 0;
-    for (uint32_t k = leaf;; k = (uint32_t)v[k].parent) {
-        double a, l;
-        rf_rig_spread(t, k, n, &a, &l);
+    for (uint32_t k = leaf;; k = (uint32_t)v[k].parent) { /* on the plane first: cheap */
         double o = n[0] * t->pos[k][0] + n[1] * t->pos[k][1] + n[2] * t->pos[k][2] - t->g->sym_d;
-        across += a * v[k].count, along += l * v[k].count, w += v[k].count;
-        off = fmax(off, fabs(o) / t->g->h);
+        if (fabs(o) > RF_RIG_FIN_OFF * t->g->h)
+            return false;
         if (k == start)
             break;
     }
-    return off <= RF_RIG_FIN_OFF && across <= RF_RIG_FIN_ACROSS * w &&
-           along >= RF_RIG_FIN_ALONG * w;
+    double across = 0, along = 0, w = 0;
+    for (uint32_t k = leaf;; k = (uint32_t)v[k].parent) {
+        double a, l;
+        rf_rig_spread(t, k, n, &a, &l);
+        across += a * v[k].count, along += l * v[k].count, w += v[k].count;
+        if (k == start)
+            break;
+    }
+    return across <= RF_RIG_FIN_ACROSS * w && along >= RF_RIG_FIN_ALONG * w;
 }
 
 /* Whether node k is a piece of a sheet in the mirror plane: at most a voxel thick across it
@@ -839,10 +843,11 @@ static bool rf_rig_fin(const rf_rig_tree *t, uint32_t leaf, uint32_t start)
 static bool rf_rig_sheet_node(const rf_rig_tree *t, uint32_t k)
 {
     const double *n = t->g->sym_n;
-    double a, l;
+    double o = n[0] * t->pos[k][0] + n[1] * t->pos[k][1] + n[2] * t->pos[k][2] - t->g->sym_d, a, l;
+    if (fabs(o) > RF_RIG_FIN_OFF * t->g->h)
+        return false;
     rf_rig_spread(t, k, n, &a, &l);
-    double o = n[0] * t->pos[k][0] + n[1] * t->pos[k][1] + n[2] * t->pos[k][2] - t->g->sym_d;
-    return a <= RF_RIG_FIN_ACROSS && fabs(o) <= RF_RIG_FIN_OFF * t->g->h;
+    return a <= RF_RIG_FIN_ACROSS;
 }
 
 /* Chains that end in a fin end where the fin starts: a fish's tail runs on into its tail fin,

@@ -570,6 +570,22 @@ static uint32_t rf_rig_crossings(const rf_rig_geo *g, const uint32_t *part_of, u
     return n;
 }
 
+/* Whether q lies in the bounding box of loose part `part` (a cheap test before the rays). */
+static bool rf_rig_part_box_holds(const rf_rig_prep *p, uint32_t part, const double q[3])
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t v = 0; v < p->proxy.nv; v++) {
+        if (p->proxy_part[v] != part)
+            continue;
+        for (int a = 0; a < 3; a++) {
+            lo[a] = fmin(lo[a], p->proxy.p[(size_t)v * 3 + a]);
+            hi[a] = fmax(hi[a], p->proxy.p[(size_t)v * 3 + a]);
+        }
+    }
+    return q[0] >= lo[0] && q[0] <= hi[0] && q[1] >= lo[1] && q[1] <= hi[1] && q[2] >= lo[2] &&
+           q[2] <= hi[2];
+}
+
 /* Whether loose part `part` encloses q: the ray both ways along one oblique line (not along a
  * box's faces) crosses it an odd number of times; an open part (a sheet, a cape) is crossed
  * one way only, or evenly, and encloses nothing. */
@@ -682,7 +698,8 @@ static bool rf_rig_head_whole(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig
             drop[j] = 1, below++;
     const double *trunk = k->pos + (size_t)k->parent[h] * 3;
     for (uint32_t part = 0; below && part < p->proxy_parts; part++) {
-        bool whole = rf_rig_part_encloses(p, part, k->pos + (size_t)b * 3) &&
+        bool whole = rf_rig_part_box_holds(p, part, k->pos + (size_t)b * 3) &&
+                     rf_rig_part_encloses(p, part, k->pos + (size_t)b * 3) &&
                      !rf_rig_part_encloses(p, part, trunk);
         for (uint32_t j = b + 1; whole && j < k->n; j++)
             whole = !drop[j] || rf_rig_part_encloses(p, part, k->pos + (size_t)j * 3);
