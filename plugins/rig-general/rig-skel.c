@@ -805,7 +805,7 @@ static void rf_rig_spread(const rf_rig_tree *t, uint32_t i, const double n[3], d
 
 #define RF_RIG_FIN_ACROSS 0.5 /* voxels: the spread of a sheet one voxel thick is 0 */
 #define RF_RIG_FIN_ALONG 3.0  /* voxels: the spread within the plane a fin needs */
-#define RF_RIG_FIN_OFF 1.5    /* voxels from the mirror plane */
+#define RF_RIG_FIN_OFF 2.5    /* voxels from the mirror plane, which may tilt a little */
 
 /* Whether the side branch from `leaf` up to `start` is a fin: a sheet with no thickness of its
  * own (each band piece at most a voxel thick, wide within the plate), lying in the body's mirror
