@@ -661,9 +661,10 @@ static void rf_rig_farthest(const rf_rig_skel *k, const uint8_t *drop, const dou
  * piece, two or three joints inside one closed part, and the clip's neck and head joints bent
  * the box between them (the CMU walk tipped a robot's head forward and drew its rim into a V,
  * its lower ring bound to the chest). From the joint where the head's bulk starts
- * (rf_rig_bulk: the analysis's first head joint, or one past a neck), when it and every joint
- * below it lie inside one closed loose part that does not enclose the trunk joint the head
- * hangs from, the joints below it go and its bone reaches to the farthest of their ends; bone
+ * (rf_rig_bulk: the analysis's first head joint, or one past a neck), when it and the middle
+ * of every bone below it lie inside one closed loose part that does not enclose the trunk
+ * joint the head hangs from (a twig's pivot at a box's corner may lie just outside), the
+ * joints below it go and its bone reaches to the farthest of their ends; bone
  * heat then gives the piece's bulk to that joint alone. A head of the body's own surface (one
  * mesh, which encloses the trunk too) is left: its chain bends with the neck it models. False
  * when out of memory. */
@@ -701,8 +702,11 @@ static bool rf_rig_head_whole(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig
         bool whole = rf_rig_part_box_holds(p, part, k->pos + (size_t)b * 3) &&
                      rf_rig_part_encloses(p, part, k->pos + (size_t)b * 3) &&
                      !rf_rig_part_encloses(p, part, trunk);
-        for (uint32_t j = b + 1; whole && j < k->n; j++)
-            whole = !drop[j] || rf_rig_part_encloses(p, part, k->pos + (size_t)j * 3);
+        for (uint32_t j = b + 1; whole && j < k->n; j++) { /* the middle of each bone dropped */
+            const double *x = k->pos + (size_t)j * 3, *y = k->pos + (size_t)k->parent[j] * 3;
+            double mid[3] = {(x[0] + y[0]) / 2, (x[1] + y[1]) / 2, (x[2] + y[2]) / 2};
+            whole = !drop[j] || rf_rig_part_encloses(p, part, mid);
+        }
         if (!whole)
             continue;
         rf_rig_farthest(k, drop, k->pos + (size_t)b * 3, k->tip + (size_t)b * 3);
