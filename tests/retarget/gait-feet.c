@@ -67,7 +67,8 @@ static bool gf_load(const char *path, gf_char *c, char *err, size_t n)
     size_t bad = gf_stray_joint(c->mesh);
     if (bad != SIZE_MAX)
         snprintf(err, n, "%s: vertex %zu is skinned to joint %u of a skeleton of %u", path,
-                 bad / RF_MESH_MAX_INFLUENCES, (unsigned)c->mesh->skin_joints[bad], c->mesh->bind_count);
+                 bad / RF_MESH_MAX_INFLUENCES, (unsigned)c->mesh->skin_joints[bad],
+                 c->mesh->bind_count);
     return bad == SIZE_MAX;
 }
 

@@ -1104,8 +1104,8 @@ static bool rf_gw_check_joints(const rf_skeleton *s, const char *name, char *err
     if (bad >= 0) {
         uint32_t j = (uint32_t)bad, p = (uint32_t)s->joints[j].parent;
         snprintf(err, err_size,
-                 "%s: joint %u '%s' has parent %u '%s': expected parents before children", name,
-                 j, rf_joint_label(s, j, label, sizeof label), p,
+                 "%s: joint %u '%s' has parent %u '%s': expected parents before children", name, j,
+                 rf_joint_label(s, j, label, sizeof label), p,
                  rf_joint_label(s, p, parent, sizeof parent));
         return false;
     }
