@@ -1506,6 +1506,13 @@ static void test_write_names_and_rest_only(void **state)
     assert_non_null(strstr(err, "frame 2 of joint '\\x9bleg' is not finite"));
     rf_animation_free(nan);
     assert_int_equal(access(path, F_OK), -1);
+    /* a parent after its child: both named, escaped */
+    s->joints[2].parent = 3;
+    assert_false(rf_bvh_write_file(path, "out.bvh", s, NULL, NULL, err, sizeof err));
+    assert_non_null(strstr(err, "out.bvh: joint 2 '\\x9bleg' has parent 3 '#3': expected parents "
+                                "before children"));
+    assert_int_equal(access(path, F_OK), -1);
+    s->joints[2].parent = 1;
     rmdir(dir);
     free(dir);
     rf_skeleton_free(s);

@@ -78,10 +78,9 @@ static bool validate(writer *w)
                          i, rf_joint_label(s, i, label, sizeof label));
     }
     int64_t bad = rf_skeleton_misordered(s);
+    char why[416];
     if (bad >= 0)
-        return wfail(w,
-                     "joint %" PRId64 " has parent %" PRId32 ": expected parents before children",
-                     bad, s->joints[bad].parent);
+        return wfail(w, "%s", rf_skeleton_order_error(s, (uint32_t)bad, why, sizeof why));
     if (w->a && w->a->joint_count != s->joint_count)
         return wfail(
             w, "the animation has %" PRIu32 " joints, the skeleton %" PRIu32 ": expected the same",

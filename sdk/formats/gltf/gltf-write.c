@@ -1099,14 +1099,11 @@ static bool rf_gw_has_ext(const char *path, const char *ext)
 
 static bool rf_gw_check_joints(const rf_skeleton *s, const char *name, char *err, size_t err_size)
 {
-    char label[RF_GW_LABEL], parent[RF_GW_LABEL];
+    char label[RF_GW_LABEL], why[2 * RF_GW_LABEL + 96];
     int64_t bad = rf_skeleton_misordered(s);
     if (bad >= 0) {
-        uint32_t j = (uint32_t)bad, p = (uint32_t)s->joints[j].parent;
-        snprintf(err, err_size,
-                 "%s: joint %u '%s' has parent %u '%s': expected parents before children", name, j,
-                 rf_joint_label(s, j, label, sizeof label), p,
-                 rf_joint_label(s, p, parent, sizeof parent));
+        snprintf(err, err_size, "%s: %s", name,
+                 rf_skeleton_order_error(s, (uint32_t)bad, why, sizeof why));
         return false;
     }
     for (uint32_t j = 0; j < s->joint_count; j++) {
