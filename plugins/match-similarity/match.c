@@ -885,7 +885,8 @@ static void line_drop_first(rf_ms_line *l)
 static bool neck_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf_ms_line *sl)
 {
     const rf_analysis *at = c->tgt.a;
-    for (uint32_t th = 0; th < at->section_count && !c->o->thesis && !c->o->keep_duplicates;
+    for (uint32_t th = 0; th < at->section_count && c->o->girdle_neck && !c->o->thesis &&
+                          !c->o->keep_duplicates;
          th++) {
         int32_t g = at->sections[th].attach_joint;
         if (at->sections[th].type != RF_SECTION_HEAD || g < 0 || !c->tgt.matchable[g])

@@ -70,6 +70,9 @@ typedef struct rf_ms_options {
     rf_analysis_options source_analysis;
     bool forelegs_arms; /* forelegs on the floor keep the source's arms (homology) even when every
                          * source walks on two legs; false: the gait rule (gait.c) */
+    bool girdle_neck;   /* a girdle joint whose bone runs past the source's neck pivot takes the
+                         * source's neck (where its skin lies), not its chest (match.c,
+                         * neck_at_girdle) */
 } rf_ms_options;
 
 /* One scored candidate. */
