@@ -872,21 +872,26 @@ static void line_drop_first(rf_ms_line *l)
     l->n--;
 }
 
-/* The neck at the girdle. Artists hang the forelimbs from a chest joint whose bone ends where
- * they leave (the animalia cat's Torso, a human's upper chest) and start the neck there; a curve
- * skeleton's girdle joint sits where the limbs leave and its bone runs on out of the trunk: it
- * is the neck's first bone, and the section cut puts it at the end of the spine. Where the
- * target's spine ends at such a joint (its limbs leave in the first half of its bone) and the
- * source's spine at a chest (its limbs leave in the second half), the target's girdle joint takes
- * the source's first neck joint and its head chain is aligned with the rest of the source's head:
- * the cat's head joint took the artist's Neck, its girdle joint the Torso, so the neck's skin
- * followed the chest and the head's the neck. Only on the target's side, and only where the
- * source's head has a joint left for the target's head. */
+/* The neck at the girdle (girdle=neck). Artists hang the forelimbs from a chest joint whose bone
+ * ends where they leave (the animalia cat's Torso, a human's upper chest) and start the neck
+ * there; a curve skeleton's girdle joint sits where the limbs leave and its bone runs on out of
+ * the trunk into the neck: the section cut puts the neck's first bone at the end of the spine.
+ * Where the target's spine ends at such a joint (its limbs leave in the first half of the
+ * stretch to its head chain, and it is not the spine's first: a root's skin reaches behind it)
+ * and the source's at a chest (its limbs in the second half), and the target's girdle bone lies
+ * mostly past the source's neck pivot (both measured from where the limbs leave, in body
+ * heights), the target's girdle joint takes the source's first neck joint and its head chain is
+ * aligned with the rest of the source's head; a source head of one joint (pivoting where the
+ * neck starts) is taken by both. Before, the cat's head joint took the artist's Neck and its
+ * girdle joint the Torso: the neck's skin followed the chest and the head's the neck. Only on
+ * the target's side. Not by default: the truths of tests/match drive the joint carrying the
+ * limbs by the source's chest, as motion wants; rig-bench asks for it (the skin's
+ * correspondence). */
 static bool neck_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf_ms_line *sl)
 {
     const rf_analysis *at = c->tgt.a;
-    for (uint32_t th = 0; th < at->section_count && c->o->girdle_neck && !c->o->thesis &&
-                          !c->o->keep_duplicates;
+    for (uint32_t th = 0;
+         th < at->section_count && c->o->girdle_neck && !c->o->thesis && !c->o->keep_duplicates;
          th++) {
         int32_t g = at->sections[th].attach_joint;
         if (at->sections[th].type != RF_SECTION_HEAD || g < 0 || !c->tgt.matchable[g])
@@ -911,7 +916,7 @@ static bool neck_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf
             continue;
         line_section(&c->src[k], (uint32_t)hs, sl);
         rf_ms_trunk tt, ts;
-        if (sl->n < 2 || !trunk_at(at, (uint32_t)g, tl->joint[0], &tt) ||
+        if (sl->n < 1 || !trunk_at(at, (uint32_t)g, tl->joint[0], &tt) ||
             !trunk_at(as, (uint32_t)gk, sl->joint[0], &ts))
             continue;
         /* the target's limbs leave in the first half of the stretch to the head, the source's in
@@ -924,6 +929,8 @@ static bool neck_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf
             continue;
         p->final[g] = (rf_ms_candidate){k, sl->joint[0], 0, {0}};
         p->settled[g] = 3;
+        if (sl->n < 2)
+            continue;
         line_drop_first(sl);
         line_summary(at, tl), line_summary(as, sl);
         skull_at(c, tl, k, sl);

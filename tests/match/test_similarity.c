@@ -367,18 +367,18 @@ static size_t quadruped_with_head(sb_joint *out, const sb_joint *head, size_t n)
  * sb_quadruped's chest, which sits where the forelegs leave with its bone running up to the neck
  * as a curve skeleton's girdle joint does. */
 static const sb_joint artist_quadruped[] = {
-    {"pelvis", NULL, 0, 1.00, 0.50, 0},      {"spine", "pelvis", 0, 1.05, 0.20, 0},
-    {"chest", "spine", 0, 1.05, -0.05, 0},   {"neck", "chest", 0, 1.05, -0.42, 0},
-    {"head", "neck", 0, 1.30, -0.70, 0},     {".", "head", 0, 1.30, -0.95, 0},
-    {"tail1", "pelvis", 0, 1.05, 0.60, 0},   {"tail2", "tail1", 0, 0.95, 0.85, 0},
-    {".", "tail2", 0, 0.80, 1.10, 0},        {"fl1", "chest", -0.15, 0.90, -0.40, 0},
-    {"fl2", "fl1", -0.15, 0.50, -0.36, 0},   {"fl3", "fl2", -0.15, 0.05, -0.42, 0},
-    {".", "fl3", -0.15, 0.0, -0.52, 0},      {"fr1", "chest", 0.15, 0.90, -0.40, 0},
-    {"fr2", "fr1", 0.15, 0.50, -0.36, 0},    {"fr3", "fr2", 0.15, 0.05, -0.42, 0},
-    {".", "fr3", 0.15, 0.0, -0.52, 0},       {"hl1", "pelvis", -0.15, 0.90, 0.50, 0},
-    {"hl2", "hl1", -0.15, 0.50, 0.40, 0},    {"hl3", "hl2", -0.15, 0.05, 0.52, 0},
-    {".", "hl3", -0.15, 0.0, 0.44, 0},       {"hr1", "pelvis", 0.15, 0.90, 0.50, 0},
-    {"hr2", "hr1", 0.15, 0.50, 0.40, 0},     {"hr3", "hr2", 0.15, 0.05, 0.52, 0},
+    {"pelvis", NULL, 0, 1.00, 0.50, 0},    {"spine", "pelvis", 0, 1.05, 0.20, 0},
+    {"chest", "spine", 0, 1.05, -0.05, 0}, {"neck", "chest", 0, 1.05, -0.42, 0},
+    {"head", "neck", 0, 1.30, -0.70, 0},   {".", "head", 0, 1.30, -0.95, 0},
+    {"tail1", "pelvis", 0, 1.05, 0.60, 0}, {"tail2", "tail1", 0, 0.95, 0.85, 0},
+    {".", "tail2", 0, 0.80, 1.10, 0},      {"fl1", "chest", -0.15, 0.90, -0.40, 0},
+    {"fl2", "fl1", -0.15, 0.50, -0.36, 0}, {"fl3", "fl2", -0.15, 0.05, -0.42, 0},
+    {".", "fl3", -0.15, 0.0, -0.52, 0},    {"fr1", "chest", 0.15, 0.90, -0.40, 0},
+    {"fr2", "fr1", 0.15, 0.50, -0.36, 0},  {"fr3", "fr2", 0.15, 0.05, -0.42, 0},
+    {".", "fr3", 0.15, 0.0, -0.52, 0},     {"hl1", "pelvis", -0.15, 0.90, 0.50, 0},
+    {"hl2", "hl1", -0.15, 0.50, 0.40, 0},  {"hl3", "hl2", -0.15, 0.05, 0.52, 0},
+    {".", "hl3", -0.15, 0.0, 0.44, 0},     {"hr1", "pelvis", 0.15, 0.90, 0.50, 0},
+    {"hr2", "hr1", 0.15, 0.50, 0.40, 0},   {"hr3", "hr2", 0.15, 0.05, 0.52, 0},
     {".", "hr3", 0.15, 0.0, 0.44, 0},
 };
 
@@ -390,7 +390,9 @@ static const sb_joint artist_quadruped[] = {
  * the biped's neck starts 0.03 past its upper arms and the artist quadruped's 0.02 past its
  * forelegs. Only on the target's side, and not by default (the joint carrying the limbs drives
  * them as a chest for motion); a target whose chest ends where its limbs leave (the biped's
- * chest: its arms leave three quarters along it; the artist quadruped's) keeps the chest. */
+ * chest: its arms leave three quarters along it; the artist quadruped's) keeps the chest. A
+ * source whose head is one joint, pivoting where the neck starts (the animalia bat's Head), has
+ * no joint left for the head chain: the girdle joint takes it and so does the head chain. */
 static void test_girdle_neck(void **state)
 {
     (void)state;
@@ -421,6 +423,23 @@ static void test_girdle_neck(void **state)
     assert_driver(m, a, q, "chest", "chest");
     assert_driver(m, a, q, "neck", "neck");
     rf_mapping_free(m);
+    /* the artist quadruped with a one-joint head pivoting at the neck's place */
+    sb_joint one[SB_COUNT(artist_quadruped)];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(artist_quadruped); i++) {
+        if (strcmp(artist_quadruped[i].name, "neck") == 0)
+            continue;
+        one[n] = artist_quadruped[i];
+        if (strcmp(one[n].name, "head") == 0)
+            one[n].parent = "chest", one[n].y = 1.05, one[n].z = -0.42;
+        n++;
+    }
+    rf_skeleton *h = sb_build(one, n);
+    m = match1(q, h, &o);
+    assert_driver(m, q, h, "chest", "head");
+    assert_driver(m, q, h, "neck", "head");
+    rf_mapping_free(m);
+    rf_skeleton_free(h);
     m = match1(b, b, &o);
     assert_driver(m, b, b, "chest", "chest");
     assert_driver(m, b, b, "neck", "neck");
