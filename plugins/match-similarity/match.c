@@ -1121,6 +1121,7 @@ static void keep_explanation(rf_ms_ctx *c, rf_ms_pass *p, rf_ms_explain *e)
     e->joint_count = e->target->joint_count;
     e->top = p->top, p->top = NULL;
     e->top_count = p->top_count, p->top_count = NULL;
+    e->settled = p->settled, p->settled = NULL;
     e->threshold = c->threshold;
     e->gait_legs = c->gait_legs;
 }

@@ -93,6 +93,8 @@ typedef struct rf_ms_explain {
     uint8_t *top_count;   /* [joint_count] */
     double threshold;     /* the score a match needed */
     uint32_t gait_legs;   /* forelegs driven by the sources' legs half a cycle later (gait.c) */
+    uint8_t *settled;     /* [joint_count] how a joint was assigned apart from its own section
+                           * (3: a girdle joint that took a neck, girdle=neck), or NULL */
 } rf_ms_explain;
 
 /* Maps the target's joints onto the sources'. Returns NULL with a message in err when out of

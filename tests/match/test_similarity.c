@@ -400,11 +400,24 @@ static void test_girdle_neck(void **state)
     rf_skeleton *q = sb_build(sb_quadruped, SB_COUNT(sb_quadruped));
     rf_skeleton *a = sb_build(artist_quadruped, SB_COUNT(artist_quadruped));
     rf_ms_options o = {.forelegs_arms = true, .girdle_neck = true};
-    rf_mapping *m = match1(q, b, &o);
+    const rf_skeleton *src[1] = {b};
+    rf_ms_explain e = {0};
+    char err[256], *text = NULL;
+    size_t size = 0;
+    rf_mapping *m = rf_ms_match(q, src, 1, &o, &e, err, sizeof err);
+    assert_non_null(m);
     assert_driver(m, q, b, "chest", "neck");
     assert_driver(m, q, b, "neck", "head");
     assert_driver(m, q, b, "fl1", "l_arm");
     assert_driver(m, q, b, "hl1", "l_thigh");
+    /* --explain says why the chest took a neck */
+    FILE *out = open_memstream(&text, &size);
+    rf_ms_explain_print(&e, m, q, src, out);
+    fclose(out);
+    assert_non_null(strstr(text, "chest (center spine) <- 0:neck"));
+    assert_non_null(strstr(text, "takes the source's neck (girdle=neck)"));
+    free(text);
+    rf_ms_explain_clear(&e);
     rf_mapping_free(m);
     m = match1(q, a, &o);
     assert_driver(m, q, a, "chest", "neck");
