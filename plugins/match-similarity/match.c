@@ -872,6 +872,29 @@ static void line_drop_first(rf_ms_line *l)
     l->n--;
 }
 
+/* After the head chain's alignment under girdle=neck: its bones whose middle lies past the
+ * source's skull pivot (measured as for the girdle joint) are the skull's, the first of them
+ * taking it (unless an earlier joint has it) and the rest following. The alignment goes by places
+ * along each head chain, and an artist's skull joint may sit far back at the head's base
+ * (Testwuson's, after two neck joints), where the curve skeleton's head chain starts further on. */
+static void skull_past(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_line *tl, uint32_t k,
+                       const rf_ms_line *sl, const rf_ms_trunk *tt, const rf_ms_trunk *ts)
+{
+    const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
+    uint32_t skull = sl->joint[sl->n - 1];
+    double sp = trunk_place(as, ts, as->joints[skull].pos);
+    bool taken = false;
+    for (uint32_t i = 0; i < tl->n; i++) {
+        const rf_joint_info *ji = &at->joints[tl->joint[i]];
+        rf_vec3 end = i + 1 < tl->n ? at->joints[tl->joint[i + 1]].pos : ji->tip;
+        double m = 0.5 * (trunk_place(at, tt, ji->pos) + trunk_place(at, tt, end));
+        rf_ms_candidate *f = &p->final[tl->joint[i]];
+        if (m > sp)
+            *f = taken ? no_candidate : (rf_ms_candidate){k, skull, 0, {0}};
+        taken = taken || (f->source == k && f->joint == skull);
+    }
+}
+
 /* The neck at the girdle (girdle=neck). Artists hang the forelimbs from a chest joint whose bone
  * ends where they leave (the animalia cat's Torso, a human's upper chest) and start the neck
  * there; a curve skeleton's girdle joint sits where the limbs leave and its bone runs on out of
@@ -936,6 +959,7 @@ static bool neck_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf
         skull_at(c, tl, k, sl);
         if (!remove_duplicates(c, p, tl, k, sl))
             return false;
+        skull_past(c, p, tl, k, sl, &tt, &ts);
     }
     return true;
 }

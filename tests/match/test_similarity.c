@@ -390,7 +390,8 @@ static const sb_joint artist_quadruped[] = {
  * the biped's neck starts 0.03 past its upper arms and the artist quadruped's 0.02 past its
  * forelegs. Only on the target's side, and not by default (the joint carrying the limbs drives
  * them as a chest for motion); a target whose chest ends where its limbs leave (the biped's
- * chest: its arms leave three quarters along it; the artist quadruped's) keeps the chest. A
+ * chest: its arms leave three quarters along it; the artist quadruped's) keeps the chest. Head
+ * chain joints whose bone lies past the source's skull pivot take the skull. A
  * source whose head is one joint, pivoting where the neck starts (the animalia bat's Head), has
  * no joint left for the head chain: the girdle joint takes it and so does the head chain. */
 static void test_girdle_neck(void **state)
@@ -436,6 +437,28 @@ static void test_girdle_neck(void **state)
     assert_driver(m, a, q, "chest", "chest");
     assert_driver(m, a, q, "neck", "neck");
     rf_mapping_free(m);
+    /* the artist quadruped with a neck of two short joints and its skull joint at the head's
+     * base (z -0.58): the target's neck bone (its middle 0.34 of the height past the forelegs,
+     * the skull's pivot 0.14) lies in the skull; the alignment by places along the head chains
+     * alone leaves it unmapped, following the chest's neck */
+    sb_joint big[SB_COUNT(artist_quadruped) + 1];
+    size_t nb = 0;
+    for (size_t i = 0; i < SB_COUNT(artist_quadruped); i++) {
+        big[nb] = artist_quadruped[i];
+        if (strcmp(big[nb].name, "head") == 0) {
+            big[nb++] = (sb_joint){"neck2", "neck", 0, 1.08, -0.50, 0};
+            big[nb] = artist_quadruped[i];
+            big[nb].parent = "neck2", big[nb].y = 1.12, big[nb].z = -0.58;
+        }
+        nb++;
+    }
+    rf_skeleton *bh = sb_build(big, nb);
+    m = match1(q, bh, &o);
+    assert_driver(m, q, bh, "chest", "neck");
+    assert_driver(m, q, bh, "neck", "head");
+    assert_driver(m, q, bh, "head", NULL);
+    rf_mapping_free(m);
+    rf_skeleton_free(bh);
     /* the artist quadruped with a one-joint head pivoting at the neck's place */
     sb_joint one[SB_COUNT(artist_quadruped)];
     size_t n = 0;
