@@ -634,7 +634,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
     g_auto(GStrv) names = NULL;
     gboolean list = FALSE;
     g_autofree char *joint_map = NULL, *joints = NULL, *look = NULL;
-    gint look_frames = 120;
+    gint look_frames = -1; /* not given: 120 */
     const GOptionEntry entries[] = {
         {"joint-map", 0, 0, G_OPTION_ARG_STRING, &joint_map,
          "How predicted joints are matched to the artist's for the skinning columns: matcher "
@@ -683,7 +683,11 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         fprintf(stderr, "rigflow rig-bench: --joint-map: expected matcher or nearest\n");
         return RF_EXIT_USAGE;
     }
-    if (!rf_rig_look_begin(&rb_look_setup, look, look_frames))
+    if (look_frames != -1 && !look) {
+        fprintf(stderr, "rigflow rig-bench: --look-frames: only with --look MOTION\n");
+        return RF_EXIT_USAGE;
+    }
+    if (!rf_rig_look_begin(&rb_look_setup, look, look_frames == -1 ? 120 : look_frames))
         return RF_EXIT_USAGE;
     GArray *riggers = rb_find_riggers(reg, names);
     int code = RF_EXIT_OK;

@@ -8,7 +8,8 @@
 # - the old columns are what rig-bench gives without --look (the seconds aside), whose look
 #   columns read nan with the status "off".
 # Then a motion that cannot be read: the rig's row is still there and ok, the look's status
-# says the motion failed, exit 0; a missing motion file is a usage error (exit 2).
+# says the motion failed, exit 0; a missing motion file, --look-frames without --look or under
+# 2 are usage errors (exit 2).
 rigflow="${RF_BUILDDIR:-.}/rigflow"
 src="${RF_SRCDIR:-.}"
 data="${RF_DATA_DIR:-}"
@@ -126,4 +127,14 @@ if [ "$code" = 2 ] && grep -q "none.bvh: no such file" "$tmp/err" && [ ! -s "$tm
 else
     ko "a missing motion file: exit $code, $(cat "$tmp/err")"
 fi
+for args in "--look-frames 60" "--look $walk --look-frames 1"; do
+    # shellcheck disable=SC2086
+    "$rigflow" rig-bench -r general $args "$data/models/RiggedFigure.glb" >"$tmp/out" 2>"$tmp/err"
+    code=$?
+    if [ "$code" = 2 ] && grep -q -- "--look-frames: " "$tmp/err" && [ ! -s "$tmp/out" ]; then
+        echo "PASS: rig-bench $args is a usage error: $(cat "$tmp/err")"
+    else
+        ko "rig-bench $args: exit $code, $(cat "$tmp/err")"
+    fi
+done
 exit $fail
