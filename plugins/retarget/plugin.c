@@ -508,7 +508,8 @@ static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m,
                 "%.0f%%, sinking %.0f%% of frames); parts under the floor %.0f%% of frames, %.1f "
                 "deep; torn limbs and stretch do not apply (a rigid part neither tears nor "
                 "stretches)\n",
-                label, c->frames, 100 * c->floor_median, 100 * c->floor_p95, 100 * c->floating,
+                label, c->frames, rf_text_shown_zero(100 * c->floor_median, 1), 100 * c->floor_p95,
+                100 * c->floating,
                 100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
         return;
     }
@@ -516,9 +517,11 @@ static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m,
             r ? ", own clip in brackets" : "", 100 * c->seam_p99, r ? "" : "");
     if (r)
         fprintf(out, " [%.2f]", 100 * r->seam_p99);
-    fprintf(out, "; floor median %+.1f p95 %.1f", 100 * c->floor_median, 100 * c->floor_p95);
+    fprintf(out, "; floor median %+.1f p95 %.1f", rf_text_shown_zero(100 * c->floor_median, 1),
+            100 * c->floor_p95);
     if (r)
-        fprintf(out, " [%+.1f, %.1f]", 100 * r->floor_median, 100 * r->floor_p95);
+        fprintf(out, " [%+.1f, %.1f]", rf_text_shown_zero(100 * r->floor_median, 1),
+                100 * r->floor_p95);
     fprintf(out,
             " (floating %.0f%%, sinking %.0f%% of frames); parts under the floor %.0f%% of "
             "frames, %.1f deep",
