@@ -269,6 +269,7 @@ typedef struct rf_tpl {
     double pos[RF_TPL_MAXJ][3], tip[RF_TPL_MAXJ][3];
     uint8_t has_tip[RF_TPL_MAXJ];
     uint32_t trunk, trunk_count; /* Hips, the spine and the neck: joints [trunk, +count) */
+    int32_t head;                /* the Head joint, -1 before the trunk is laid */
 } rf_tpl;
 
 static int32_t rf_tpl_joint(rf_tpl *t, const char *name, int32_t parent, const double p[3])
@@ -716,7 +717,7 @@ static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_
     int32_t spine2 = j;
     const char *const hn[2] = {"Neck", "Head"};
     const double hf[2] = {0, neck_f};
-    rf_tpl_chain(x->t, &hd, spine2, hn, hf, 2);
+    x->t->head = rf_tpl_chain(x->t, &hd, spine2, hn, hf, 2) + 1; /* Neck, then Head */
     x->t->trunk = (uint32_t)h, x->t->trunk_count = (uint32_t)(spine2 - h) + 2;
     *hips_j = h;
     return spine2;
@@ -950,6 +951,18 @@ static bool rf_tpl_name(rf_skeleton *s, char (*names)[24], uint32_t n, rf_vec3 u
     return true;
 }
 
+/* The general rigger's head rule on the laid template. Its Head lies along the way from the
+ * neck's base to the head's top, inside a head wider than the neck (a robot's head box): bone
+ * heat split the box between Neck and Head, and the CMU walk's neck drew its lower rim down to
+ * the chest. The Head moves down to where the head's bulk starts (rf_rig_head_base, as the
+ * general rigger's first head joint does). */
+static void rf_tpl_head(const rf_rig_prep *p, rf_rig_skel *k, const rf_tpl *t, rf_vec3 up,
+                        rf_vec3 fwd)
+{
+    if (t->head > 0 && (uint32_t)t->head < k->n)
+        rf_rig_head_base(p, k, (uint32_t)t->head, up, fwd);
+}
+
 bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
                            rf_rig_template_kind want, const rf_rig_tpl_layout *humanoid,
                            const rf_rig_tpl_layout *quadruped, rf_rig_skel *out, char (*names)[24],
@@ -976,6 +989,7 @@ bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_
             trunk[j] = 1;
         if (l->dorsal > 0 && rf_v3_len(back) > 0)
             rf_rig_skel_across(p, out, trunk, back, l->dorsal);
+        rf_tpl_head(p, out, t, *up, *forward);
         for (uint32_t j = 0; j < t->n; j++)
             memcpy(names[j], t->name[j], 24);
     }
