@@ -509,8 +509,7 @@ static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m,
                 "deep; torn limbs and stretch do not apply (a rigid part neither tears nor "
                 "stretches)\n",
                 label, c->frames, rf_text_shown_zero(100 * c->floor_median, 1), 100 * c->floor_p95,
-                100 * c->floating,
-                100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
+                100 * c->floating, 100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
         return;
     }
     fprintf(out, "%s: mesh (%u frames, %% of height%s): torn p99 %.2f%s", label, c->frames,
