@@ -560,6 +560,43 @@ void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32
     free(c);
 }
 
+static double rf_tpl_up(const double p[3], rf_vec3 up)
+{
+    return p[0] * up.x + p[1] * up.y + p[2] * up.z;
+}
+
+#define RF_TPL_CHEST_RISE 0.25 /* of the laid trunk's rise: arms leaving that far below */
+
+/* Where an arm leaving the curve skeleton well below its first joint starts instead: on the
+ * laid trunk (Hips up to the Neck) at the height of the arm's first joint, as the general
+ * rigger's chest joint (rf_rig_chest in rig.c) hangs its arms. The curve skeleton's bands may
+ * meet a robot's arms only where a coarse trunk bone starts, a third of its height below its
+ * shoulders, and laid from there the elbow took the turn at the shoulder. True with the point
+ * in at[] when the girdle lies more than RF_TPL_CHEST_RISE of the trunk's rise below the arm's
+ * first joint and that height is on the trunk. */
+static bool rf_tpl_chest_at(const rf_tpl_ctx *x, uint32_t girdle, uint32_t first, double at[3])
+{
+    const rf_tpl *t = x->t;
+    rf_vec3 up = x->a->up;
+    uint32_t a = t->trunk, e = t->trunk + t->trunk_count - 1;
+    if (!x->human || t->trunk_count < 2 || e >= t->n)
+        return false;
+    double h = rf_tpl_height(x->k, first, up), lo = rf_tpl_up(t->pos[a], up),
+           hi = rf_tpl_up(t->pos[e], up);
+    if (hi - lo <= 0 || h - rf_tpl_height(x->k, girdle, up) < RF_TPL_CHEST_RISE * (hi - lo))
+        return false;
+    for (uint32_t j = a; j < e; j++) { /* the trunk is a chain, parents first */
+        double y0 = rf_tpl_up(t->pos[j], up), y1 = rf_tpl_up(t->pos[j + 1], up);
+        if (y1 <= y0 || h < y0 || h > y1)
+            continue;
+        double f = (h - y0) / (y1 - y0);
+        for (int c = 0; c < 3; c++)
+            at[c] = t->pos[j][c] + f * (t->pos[j + 1][c] - t->pos[j][c]);
+        return true;
+    }
+    return false;
+}
+
 /* A limb of `kind` laid along its section's curve and named, from the girdle down: a leg's
  * thigh, shin, foot and toe, or an arm's (a foreleg's) clavicle, upper arm, forearm and hand. A
  * foreleg's curve, as a leg's, leaves out what rises above its girdle. */
@@ -574,6 +611,11 @@ static void rf_tpl_lay_limb(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdl
     rf_tpl_curve c = {0};
     double f[4];
     rf_tpl_limb_laid(x->k, x->a->up, girdle, first, kind, x->lay, &c, f);
+    double at[3];
+    if (kind == RF_RIG_LIMB_ARM && rf_tpl_chest_at(x, girdle, first, at)) {
+        rf_tpl_restart(&c, at);
+        rf_tpl_fractions(&c, x->a->up, kind, x->lay, f);
+    }
     char nb[4][24];
     const char *names[4];
     for (int i = 0; i < 4; i++)

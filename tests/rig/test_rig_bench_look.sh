@@ -109,7 +109,7 @@ for name in RiggedFigure.glb Fox.glb; do
 done
 
 # Look bars. Each sits between the figures of the sound rigs (general / template, now: the
-# robot 28.3 / 45.5 and 56.6 / 115.5, RiggedFigure 31.7 / 29.9 and 49.1 / 49.1, the Fox
+# robot 28.3 / 30.7 and 56.6 / 68.6, RiggedFigure 31.7 / 29.9 and 49.1 / 49.1, the Fox
 # 66.7 / 62.6 and 86.0 / 82.0) and of a case seen broken on its rendered sheet:
 # - stretch p99 of the whole mesh under 100: RobotExpressive read 323.2 on the template rigger
 #   with its Head in the middle of its head box (the box's rim drawn down, the arms folded over
