@@ -137,7 +137,9 @@ static double rt_ground(const rf_retarget *rt, const rt_measure_work *w, uint32_
     for (size_t i = 0; i < (size_t)rt->effector_count * frames; i++) {
         if (!w->contact[i])
             continue;
-        double hs = w->src_sole[i]; /* at the input's own sample time */
+        /* at the input's own sample time; a foot whose contacts are its own motion's stands on
+         * the floor in them (rf_rt_phase_contacts) */
+        double hs = rf_rt_effector_steps(rt, (uint32_t)(i / frames)) ? 0 : w->src_sole[i];
         sum += fabs((w->t_sole[i] - rt->floor_target) / rt->leg_target - hs);
         count++;
     }
@@ -151,7 +153,7 @@ static double rt_ground(const rf_retarget *rt, const rt_measure_work *w, uint32_
 static void rt_skate(const rf_retarget *rt, uint32_t frames, uint32_t step, double fps,
                      const rt_measure_work *w, rf_rt_report *r, float *per_frame)
 {
-    uint32_t count = 0;
+    uint32_t count = 0, s_count = 0;
     double t_sum = 0, s_sum = 0;
     rf_vec3 *prev = malloc((rt->effector_count ? rt->effector_count : 1) * sizeof *prev);
     if (!prev)
@@ -169,11 +171,13 @@ static void rt_skate(const rf_retarget *rt, uint32_t frames, uint32_t step, doub
                 double speed = rf_v3_len(dt) * fps / rt->leg_target;
                 float *at = per_frame ? &per_frame[(size_t)f * step] : NULL;
                 t_sum += speed;
+                /* the source's reference over the feet whose contacts are its own */
+                if (!rf_rt_effector_steps(rt, e))
+                    s_sum += rf_v3_len(ds) * fps / src->leg, s_count++;
                 if (e < RF_RT_REPORT_FEET)
                     r->foot_skate[e] += speed, r->foot_frames[e]++;
                 if (at)
                     *at = isnan(*at) ? (float)speed : fmaxf(*at, (float)speed);
-                s_sum += rf_v3_len(ds) * fps / src->leg;
                 count++;
             }
             prev[e] = p;
@@ -187,7 +191,7 @@ static void rt_skate(const rf_retarget *rt, uint32_t frames, uint32_t step, doub
     }
     r->contact_frames = count;
     r->skate_target = count ? t_sum / count : 0;
-    r->skate_source = count ? s_sum / count : 0;
+    r->skate_source = s_count ? s_sum / s_count : 0;
 }
 
 /* The per-frame figures behind the report, as series for the nodes after the measure. */
