@@ -560,16 +560,18 @@ static bool rt_trots(const rf_retarget *rt)
 }
 
 /* The frames rt_pins reads a foot's position and sole at, of any foot: during its contacts and
- * the contact_blend after each; every frame for a foot driven half a cycle later. */
+ * the contact_blend after each; every frame for a body with feet driven half a cycle later
+ * (rt_trots). */
 static uint8_t *rt_pins_read(const rf_retarget *rt, const uint8_t *contact, uint32_t frames,
                              double fps)
 {
     uint32_t blend = (uint32_t)ceil(rt->opt.contact_blend * fps);
     uint8_t *read = calloc(frames ? frames : 1, 1);
+    bool trot = rt_trots(rt);
     for (uint32_t e = 0; read && e < rt->effector_count; e++) {
         const uint8_t *c = contact + (size_t)e * frames;
         uint32_t since = UINT32_MAX; /* as in rt_pins */
-        if (rt_effector_phase(rt, e) || rt_trots(rt))
+        if (trot)
             memset(read, 1, frames);
         for (uint32_t f = 0; f < frames; f++) {
             if (c[f])
@@ -602,7 +604,7 @@ typedef struct rt_step {
 
 /* Seconds a step takes, and how high its arc rises over the motion, in leg lengths. The arc
  * clears twice the contact height, so the measure reads the foot as lifted for most of the step
- * (rf_rt_detect_contacts_target), not as sliding. */
+ * (rf_rt_phase_contacts), not as sliding. */
 #define RT_PHASE_STEP 0.2
 #define RT_PHASE_LIFT 0.25
 
@@ -642,13 +644,15 @@ static rf_vec3 rt_step_at(const rf_retarget *rt, const rt_step *st, uint32_t f, 
 /* The goal of every effector at every frame: during a contact, the horizontal position where it
  * began, and no lower than the height that puts its sole over the target's floor as the
  * source's is over its own (the foot can still roll); for contact_blend seconds after it, easing
- * back to the free motion. A foot driven half a cycle later is also lifted out of the floor
- * where it would go through it between contacts, and steps when the body has moved on from its
- * pin (rt_phase_step). */
+ * back to the free motion. Every foot of a body with feet driven half a cycle later is also
+ * lifted out of the floor where it would go through it between contacts (rt_trots), and such a
+ * foot steps when the body has moved on from its pin (rt_phase_step) or, on a one-bone leg, has
+ * its pin dragged along (rt_phase_drag). */
 static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t frames, double fps,
                     rt_pin_work *w)
 {
     uint32_t blend = (uint32_t)ceil(rt->opt.contact_blend * fps);
+    bool trot = rt_trots(rt);
     for (uint32_t e = 0; e < rt->effector_count; e++) {
         size_t at = (size_t)e * frames;
         const uint8_t *c = contact + at;
@@ -656,18 +660,16 @@ static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t fram
         rf_vec3 *pin = w->pin + at, anchor = p[0], lift = rf_v3(0, 0, 0);
         uint32_t since = UINT32_MAX; /* frames since the last contact ended */
         bool phase = rt_effector_phase(rt, e), steps = rf_rt_effector_steps(rt, e);
-        bool trot = rt_trots(rt);
         rt_step st = {0};
         rf_quat *held = w->held + at, turn = rf_quat_identity();
         for (uint32_t f = 0; f < frames; f++) {
             bool stepping = false;
             held[f] = rf_quat_make(0, 0, 0, NAN);
             if (c[f]) {
-                /* A foot driven half a cycle later stays on its source's contact while the body
-                 * moves with the source half a cycle before: in a jump the body flies off the
-                 * planted foot. Dragged along behind the body past RT_PHASE_DRIFT, it slid as
-                 * fast as the body moved (1.0-2.0 leg/s under CMU 01_01): it steps instead,
-                 * lifted, and lands ahead. */
+                /* A foot driven half a cycle later is planted while the body moves on with the
+                 * source: dragged along behind the body past RT_PHASE_DRIFT, it slid as fast as
+                 * the body moved (the Fox's forefeet 1.0-1.2 leg/s under CMU 01_01); one that
+                 * can step steps instead, lifted, and lands ahead. */
                 if (f == 0 || !c[f - 1])
                     anchor = p[f], st.frames = 0, turn = w->target_rot[at + f];
                 else if (phase && !steps)
@@ -677,9 +679,8 @@ static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t fram
                 stepping = steps && st.frames && f < st.first + st.frames;
                 if (steps && st.frames && !stepping)
                     st.frames = 0, turn = w->target_rot[at + f];
-                /* A planted foot driven half a cycle later keeps its turn: its source's foot rolls
-                 * heel to toe in a stance that is not this foot's, and the paw rolled with it
-                 * swept its sole along the floor. */
+                /* A planted foot that steps keeps its turn from where it was set down: its
+                 * source's foot rolls heel to toe in a stance that is not this foot's. */
                 if (steps && !stepping)
                     held[f] = turn;
                 /* Only up: a foot through the floor is lifted out of it (one driven half a cycle
