@@ -149,6 +149,10 @@ static bool rt_contact_pass(rf_retarget *rt, rf_animation *out, const rf_retarge
         host->log(node, RF_LOG_INFO,
                   "contact pass (%s): %u feet, %u foot-frames pinned, %u solves, largest miss %.3g",
                   solver->api->name, st.effectors, st.contact_frames, st.solves, st.max_error);
+    if (st.steps)
+        host->log(node, RF_LOG_INFO,
+                  "feet driven half a cycle later took %u steps where the body moved on from them",
+                  st.steps);
     return true;
 }
 

@@ -123,6 +123,7 @@ typedef struct rf_rt_contact_stats {
     uint32_t solves;         /* IK calls */
     uint32_t failures;       /* solves the solver refused */
     double max_error;        /* largest residual distance to a pin, target units */
+    uint32_t steps;          /* steps of feet driven half a cycle later (the body moved on) */
 } rf_rt_contact_stats;
 
 /* Pins the target's end effectors where the source's are in contact, through `solver` (any

@@ -648,9 +648,10 @@ static rf_vec3 rt_step_at(const rf_retarget *rt, const rt_step *st, uint32_t f, 
  * lifted out of the floor where it would go through it between contacts (rt_trots), and such a
  * foot steps when the body has moved on from its pin (rt_phase_step) or, on a one-bone leg, has
  * its pin dragged along (rt_phase_drag). */
-static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t frames, double fps,
-                    rt_pin_work *w)
+static uint32_t rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t frames, double fps,
+                        rt_pin_work *w)
 {
+    uint32_t taken = 0; /* steps */
     uint32_t blend = (uint32_t)ceil(rt->opt.contact_blend * fps);
     bool trot = rt_trots(rt);
     for (uint32_t e = 0; e < rt->effector_count; e++) {
@@ -675,7 +676,7 @@ static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t fram
                 else if (phase && !steps)
                     anchor = rt_phase_drag(rt, anchor, p[f]);
                 else if (steps && !st.frames && rt_phase_step(rt, p, f, frames, fps, anchor, &st))
-                    anchor = st.to;
+                    anchor = st.to, taken++;
                 stepping = steps && st.frames && f < st.first + st.frames;
                 if (steps && st.frames && !stepping)
                     st.frames = 0, turn = w->target_rot[at + f];
@@ -703,6 +704,7 @@ static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t fram
                 pin[f] = rf_v3_add(p[f], rf_v3_scale(rt->up, under));
         }
     }
+    return taken;
 }
 
 static void rt_pose_of(const rf_retarget *rt, const rf_animation *a, uint32_t f, rf_xform *local,
@@ -942,7 +944,7 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
     }
     for (size_t i = 0; i < (size_t)rt->effector_count * frames; i++)
         stats->contact_frames += contact[i];
-    rt_pins(rt, contact, frames, anim->fps, &w);
+    stats->steps = rt_pins(rt, contact, frames, anim->fps, &w);
     for (uint32_t f = 0; ok && f < frames; f++)
         ok = rt_solve_frame(rt, anim, f, frames, solver, &w, stats, err, err_size);
     free(contact);
