@@ -403,11 +403,61 @@ static uint32_t rf_rig_junction(const double q[3], const rf_rig_bone *bones, uin
     return meeting >= 3 && ends == 1 ? ending : RF_RIG_NONE;
 }
 
+static bool rf_rig_open_parts(const rf_rig_prep *p, uint8_t *open, double *vol);
+
+/* Each proxy vertex's outward normal, area-weighted and not normalised, into nrm[nv * 3]: the
+ * triangles' winding turned by the sign of the volume its part holds, zero on a part holding
+ * none (a sheet: no side is out). False when out of memory. */
+static bool rf_rig_normals(const rf_rig_prep *p, double *nrm)
+{
+    const rf_rig_geo *g = &p->proxy;
+    uint8_t *open = calloc(p->proxy_parts + 1, 1);
+    double *vol = calloc(p->proxy_parts + 1, sizeof *vol);
+    bool ok = open && vol && rf_rig_open_parts(p, open, vol);
+    memset(nrm, 0, (size_t)g->nv * 3 * sizeof *nrm);
+    for (uint32_t t = 0; ok && t < g->nt; t++) {
+        const uint32_t *v = g->t + (size_t)t * 3;
+        const double *a = g->p + (size_t)v[0] * 3, *b = g->p + (size_t)v[1] * 3,
+                     *c = g->p + (size_t)v[2] * 3;
+        double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        double out = vol[p->proxy_part[v[0]]], f = out > 0 ? 1 : out < 0 ? -1 : 0;
+        double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                        e1[0] * e2[1] - e1[1] * e2[0]};
+        for (int k = 0; k < 3; k++)
+            for (int d = 0; d < 3; d++)
+                nrm[(size_t)v[k] * 3 + d] += f * cr[d];
+    }
+    free(open), free(vol);
+    return ok;
+}
+
+/* A bone of the rigger's own skeleton lies inside the volume it was grown from, so a vertex
+ * sees it from inside its surface. One lying in front of the surface, or behind its tangent
+ * plane by less than 17 degrees (the cosine of its direction with the outward normal above
+ * -0.3), lies across a gap: where a hand rests on a hip and the skins touch, the hip's vertices
+ * see the hand's bone through the contact, with no surface between to hide it, and the hand
+ * carried the hip's skin away in sheets under the CMU walk (BCN_Epileptic's worst part's
+ * stretch 511.9 -> 132.2). A given skeleton's bones may lie outside the skin (leaf ends,
+ * helpers) and keep the test off. -0.3 to -0.5 read alike on BCN_Epileptic (132 to 138) and
+ * after the matcher (doc/autorig.md, "Round five"). */
+#define RF_RIG_FRONT (-0.3)
+
+/* Whether point c lies in front of the surface at q (normal n, not normalised): its direction
+ * from q more than RF_RIG_FRONT towards n. False where n is unknown (zero). */
+static bool rf_rig_in_front(const double n[3], const double q[3], const double c[3])
+{
+    double d[3] = {c[0] - q[0], c[1] - q[1], c[2] - q[2]};
+    double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    double dd = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    return nn > 0 && dd > 0 && n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > RF_RIG_FRONT * nn * dd;
+}
+
 /* The nearest bone each vertex sees (trying the 8 nearest); src[i].h = 0 when it sees none. A
  * loose part where no vertex sees a bone takes its nearest bones unseen. */
 static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint32_t nb,
-                           const rf_rig_rays *rays, bool leaf_points_own, rf_rig_src *src,
-                           rf_rig_bd *bd, uint8_t *lit, rf_rig_stats *st)
+                           const rf_rig_rays *rays, bool leaf_points_own, const double *nrm,
+                           rf_rig_src *src, rf_rig_bd *bd, uint8_t *lit, rf_rig_stats *st)
 {
     double eps = 1e-5 * p->longest, floor_d = 1e-3 * p->longest;
     st->unseen_vertices = 0;
@@ -432,15 +482,20 @@ static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint3
         double d0 = fmax(bd[0].d, floor_d);
         src[i].h = 0, src[i].joint = bones[bd[0].b].joint, src[i].joint2 = RF_RIG_NONE;
         uint32_t k = 0;
-        for (; k < nb && k < 8; k++) {
-            rf_rig_seg_dist(q, &bones[bd[k].b], c);
-            if (!rays || rf_rig_sees(rays, p->proxy_part[i], q, c, eps)) {
-                double d = fmax(bd[k].d, floor_d);
-                src[i].h = RF_RIG_HEAT / (d * d), src[i].joint = bones[bd[k].b].joint;
-                lit[p->proxy_part[i]] = 1;
-                break;
+        /* the bones in front of the surface are passed over first (nrm given); when the vertex
+         * sees no other, seen ones in front are taken as before */
+        for (int front = nrm ? 0 : 1; front < 2 && src[i].h == 0; front++)
+            for (k = 0; k < nb && k < 8; k++) {
+                rf_rig_seg_dist(q, &bones[bd[k].b], c);
+                if (!front && rf_rig_in_front(nrm + (size_t)i * 3, q, c))
+                    continue;
+                if (!rays || rf_rig_sees(rays, p->proxy_part[i], q, c, eps)) {
+                    double d = fmax(bd[k].d, floor_d);
+                    src[i].h = RF_RIG_HEAT / (d * d), src[i].joint = bones[bd[k].b].joint;
+                    lit[p->proxy_part[i]] = 1;
+                    break;
+                }
             }
-        }
         /* two bones meeting at a joint are equally near every vertex whose nearest point on
          * both is that joint (the outside of a bend): both heat it, as in Pinocchio, instead
          * of whichever the sort put first */
@@ -707,15 +762,16 @@ static int rf_rig_edge_cmp(const void *pa, const void *pb)
 
 /* Marks open[part] for each loose part with an edge on one triangle only (a sheet, a cape, a
  * skirt open at its hem, a wing's membrane) or no volume inside it (a sheet made double-sided,
- * every edge on two triangles back to back). False when out of memory. */
-static bool rf_rig_open_parts(const rf_rig_prep *p, uint8_t *open)
+ * every edge on two triangles back to back). vol[part] (zeroed by the caller) gets the signed
+ * volume the part's triangles hold, positive when they face out, 0 for a part holding none (a
+ * part with a few holes still holds about its volume). False when out of memory. */
+static bool rf_rig_open_parts(const rf_rig_prep *p, uint8_t *open, double *vol)
 {
     size_t ne = (size_t)p->proxy.nt * 3;
     uint64_t *e = malloc((ne + 1) * sizeof *e);
-    double *vol = calloc(p->proxy_parts + 1, sizeof *vol),
-           *area = calloc(p->proxy_parts + 1, sizeof *area);
-    if (!e || !vol || !area) {
-        free(e), free(vol), free(area);
+    double *area = calloc(p->proxy_parts + 1, sizeof *area);
+    if (!e || !area) {
+        free(e), free(area);
         return false;
     }
     for (size_t t = 0; t < p->proxy.nt; t++) {
@@ -747,8 +803,9 @@ static bool rf_rig_open_parts(const rf_rig_prep *p, uint8_t *open)
     }
     /* a sphere holds 0.094 A^1.5, a box a hundred times thinner than it is wide 0.003 */
     for (uint32_t q = 0; q < p->proxy_parts; q++)
-        open[q] |= !(fabs(vol[q]) > 1e-5 * pow(area[q], 1.5));
-    free(e), free(vol), free(area);
+        if (!(fabs(vol[q]) > 1e-5 * pow(area[q], 1.5)))
+            open[q] = 1, vol[q] = 0;
+    free(e), free(area);
     return true;
 }
 
@@ -884,9 +941,9 @@ static bool rf_rig_branches(const rf_rig_skel *s, const double *held, uint8_t *s
  * box, which holds the torso's bone but carries the roots of the head and the wings, keeps its
  * weights. A closed part enclosing no bone moves with the joint bone heat gives most of it
  * (rf_rig_boneless_owners); an open one keeps its weights. */
-static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
-                               const rf_rig_skel *s, const rf_rig_bone *bones, uint32_t nb,
-                               double *w, const double *plain)
+static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, const rf_rig_skel *s,
+                               const rf_rig_bone *bones, uint32_t nb, double *w,
+                               const double *plain)
 {
     uint32_t nj = s->n;
     uint32_t np = p->proxy_parts;
@@ -908,7 +965,9 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
                     touched);
     if (ok)
         rf_rig_around(rays, bones, nb, 4 * p->longest, ahead, behind, crossed, bends);
-    ok = ok && rf_rig_open_parts(p, bends);
+    double *vol = ok ? calloc(np + 1, sizeof *vol) : NULL;
+    ok = ok && vol && rf_rig_open_parts(p, bends, vol);
+    free(vol);
     uint32_t largest = 0, *verts = ok ? calloc(np + 1, sizeof *verts) : NULL;
     ok = ok && verts;
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
@@ -967,15 +1026,20 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     uint8_t *lit = calloc(p->proxy_parts + 1, 1);
     *w = calloc((size_t)p->proxy.nv * nj, sizeof **w);
     double *plain = NULL; /* taken once the solver's arrays are freed: the peak stays theirs */
+    double *nrm = NULL;   /* outward normals for rf_rig_in_front (the rigger's own bones) */
     rf_rig_rays rays = {0};
     bool ok = nb && src && bd && lit && *w;
     if (!ok)
         rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok && !rf_rig_rays_make(&rays, &p->proxy, p->proxy_part))
         ok = rf_rig_fail(err, n, "Embree could not build the ray-casting scene");
+    if (ok && !o->given_bones &&
+        !((nrm = malloc(((size_t)p->proxy.nv + 1) * 3 * sizeof *nrm)) && rf_rig_normals(p, nrm)))
+        ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok) {
-        rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, o->leaf_points_own, src, bd,
-                       lit, st);
+        rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, o->leaf_points_own, nrm, src,
+                       bd, lit, st);
+        free(nrm), nrm = NULL;
         ok = rf_rig_solve(&p->proxy, src, nj, *w, err, n);
     }
     if (ok && !(plain = malloc(((size_t)p->proxy.nv * nj + 1) * sizeof *plain)))
@@ -985,7 +1049,7 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     if (ok && p->proxy_parts > 1 && !rf_rig_part_joints(p, &rays, s, bones, nb, *w, plain))
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     rf_rig_rays_free(&rays);
-    free(bones), free(src), free(bd), free(lit), free(plain);
+    free(bones), free(src), free(bd), free(lit), free(plain), free(nrm);
     if (!ok)
         free(*w), *w = NULL;
     return ok;
