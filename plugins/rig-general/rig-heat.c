@@ -342,6 +342,43 @@ uint32_t rf_rig_near_vertex(const rf_rig_near *gr, const double q[3])
     return at;
 }
 
+/* For each proxy vertex of a part marked in from[], the nearest vertex within r of another part
+ * but `skip` into touch[i] (RF_RIG_NONE when none is that near, and for the vertices of other
+ * parts): where loose parts touch. r is at most the grid's cell (longest / 32), so the 27 cells
+ * around a vertex's hold every vertex that near. */
+static void rf_rig_near_touch(const rf_rig_near *gr, const uint32_t *part, const uint8_t *from,
+                              uint32_t skip, double r, uint32_t *touch)
+{
+    const rf_rig_geo *g = gr->g;
+    for (uint32_t i = 0; i < g->nv; i++) {
+        const double *q = g->p + (size_t)i * 3;
+        double best = r * r;
+        uint32_t c[3];
+        touch[i] = RF_RIG_NONE;
+        if (!from[part[i]])
+            continue;
+        for (int a = 0; a < 3; a++)
+            c[a] = rf_rig_near_axis(gr, a, q[a]);
+        for (int dz = -1; dz <= 1; dz++)
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    long x = (long)c[0] + dx, y = (long)c[1] + dy, z = (long)c[2] + dz;
+                    if (x < 0 || y < 0 || z < 0 || x >= gr->n[0] || y >= gr->n[1] || z >= gr->n[2])
+                        continue;
+                    uint32_t cc[3] = {(uint32_t)x, (uint32_t)y, (uint32_t)z};
+                    size_t k = rf_rig_near_cell(gr, cc);
+                    for (uint32_t e = gr->start[k]; e < gr->start[k + 1]; e++) {
+                        uint32_t o = gr->id[e];
+                        const double *v = g->p + (size_t)o * 3;
+                        double d = (q[0] - v[0]) * (q[0] - v[0]) + (q[1] - v[1]) * (q[1] - v[1]) +
+                                   (q[2] - v[2]) * (q[2] - v[2]);
+                        if (part[o] != part[i] && part[o] != skip && d <= best)
+                            best = d, touch[i] = o;
+                    }
+                }
+    }
+}
+
 /* ---- heat sources ---- */
 
 /* The heat c in H = c / d^2. Larger c keeps each vertex closer to its nearest bone (sharper
@@ -886,6 +923,120 @@ static bool rf_rig_boneless_owners(const rf_rig_prep *p, const uint8_t *bends, c
     return true;
 }
 
+static uint32_t rf_rig_root(uint32_t *uf, uint32_t q)
+{
+    while (uf[q] != q)
+        q = uf[q] = uf[uf[q]];
+    return q;
+}
+
+/* The loose parts of each prop (rf_rig_props) into uf[] (union-find roots), its members' count
+ * into members[root] and whether they already move with one joint (owner[], the same for all)
+ * into agree[root]; the closed and the open members' surface into whole[] and bent[]. */
+static void rf_rig_prop_parts(const rf_rig_prep *p, const uint32_t *touch, const uint8_t *free_,
+                              const uint8_t *bends, const double *area, const uint32_t *owner,
+                              uint32_t *uf, uint32_t *members, uint8_t *agree, double *whole,
+                              double *bent)
+{
+    uint32_t np = p->proxy_parts;
+    for (uint32_t q = 0; q < np; q++)
+        uf[q] = q, members[q] = 0, agree[q] = 1;
+    for (uint32_t i = 0; i < p->proxy.nv; i++) {
+        uint32_t a = p->proxy_part[i];
+        if (free_[a] && touch[i] != RF_RIG_NONE && free_[p->proxy_part[touch[i]]])
+            uf[rf_rig_root(uf, a)] = rf_rig_root(uf, p->proxy_part[touch[i]]);
+    }
+    for (uint32_t q = 0; q < np; q++) {
+        if (!free_[q])
+            continue;
+        uint32_t g = rf_rig_root(uf, q);
+        (bends[q] ? bent : whole)[g] += area[q];
+        members[g]++;
+    }
+    /* every member's owner against the root's */
+    for (uint32_t q = 0; q < np; q++)
+        if (free_[q])
+            agree[rf_rig_root(uf, q)] &=
+                owner[q] != RF_RIG_NONE && owner[q] == owner[rf_rig_root(uf, q)];
+}
+
+/* Loose parts enclosing no bone that touch one another (a vertex within a hundredth of the
+ * longest edge of another's) make one prop: a staff's shaft, the wrap at its grip and the
+ * pieces of its head. A prop of two pieces or more that do not already move with one joint,
+ * touching a part that encloses bones (not the body: the staff the rigger ran a bone along, the
+ * hand holding it), moves with one joint, the one weighted most on that part's vertices where
+ * the prop touches it most, so it stays whole: each piece taken alone went with the joint bone
+ * heat gave it most or kept its blend, and the auto-rigged Wizard's staff came apart, its head
+ * with the forearm and its shaft with the hand (worst seam 37.0 -> 13.1 under the CMU walk). A
+ * prop made mostly of open parts (a cape with a brooch) keeps its weights and bends. Only the
+ * rigger's own rigs: on the artists' skeletons the pieces' own joints were measured better
+ * (doc/autorig.md, "Round five"). sum[] and area[] per part, bends[] the open parts and those
+ * lying around a bone, owner[] the joint moving each part alone. False when out of memory. */
+static bool rf_rig_props(const rf_rig_prep *p, uint32_t largest, const double *sum,
+                         const uint8_t *bends, const double *area, const uint32_t *owner,
+                         uint32_t nj, double *w)
+{
+    uint32_t np = p->proxy_parts, nv = p->proxy.nv, npairs = 0, nslots = 0, best = 0;
+    rf_rig_near *gr = rf_rig_near_new(p);
+    uint32_t *touch = malloc(((size_t)nv + 1) * sizeof *touch);
+    uint32_t *uf = malloc(((size_t)np + 1) * sizeof *uf), *host = malloc((np + 1) * sizeof *host);
+    uint32_t *members = malloc(((size_t)np + 1) * sizeof *members);
+    uint32_t *slot = malloc(((size_t)np + 1) * sizeof *slot);
+    uint64_t *pairs = malloc(((size_t)nv + 1) * sizeof *pairs);
+    double *bent = calloc(np + 1, sizeof *bent), *whole = calloc(np + 1, sizeof *whole);
+    uint8_t *free_ = calloc(np + 1, 1), *agree = malloc(np + 1);
+    bool ok =
+        gr && touch && uf && host && members && slot && pairs && bent && whole && free_ && agree;
+    for (uint32_t q = 0; ok && q < np; q++)
+        free_[q] = q != largest && !(sum[q] > 0), host[q] = RF_RIG_NONE;
+    if (ok) {
+        rf_rig_near_touch(gr, p->proxy_part, free_, largest, 0.01 * p->longest, touch);
+        rf_rig_prop_parts(p, touch, free_, bends, area, owner, uf, members, agree, whole, bent);
+    }
+    /* the part holding bones each prop touches with the most vertices */
+    for (uint32_t i = 0; ok && i < nv; i++) {
+        uint32_t a = p->proxy_part[i], b = touch[i] != RF_RIG_NONE ? p->proxy_part[touch[i]] : a;
+        if (free_[a] && sum[b] > 0)
+            pairs[npairs++] = (uint64_t)rf_rig_root(uf, a) << 32 | b;
+    }
+    if (ok)
+        qsort(pairs, npairs, sizeof *pairs, rf_rig_edge_cmp);
+    for (uint32_t k = 0; ok && k < npairs;) {
+        uint32_t e = k, g = (uint32_t)(pairs[k] >> 32);
+        while (e < npairs && pairs[e] == pairs[k])
+            e++;
+        best = k == 0 || (uint32_t)(pairs[k - 1] >> 32) != g ? 0 : best;
+        if (e - k > best && members[g] >= 2 && !agree[g] && whole[g] > bent[g])
+            best = e - k, host[g] = (uint32_t)pairs[k];
+        k = e;
+    }
+    for (uint32_t q = 0; ok && q < np; q++)
+        slot[q] = host[q] != RF_RIG_NONE ? nslots++ : RF_RIG_NONE;
+    double *row = ok ? calloc((size_t)nslots * nj + 1, sizeof *row) : NULL;
+    ok = ok && row;
+    for (uint32_t i = 0; ok && i < nv; i++) { /* the holder's weights where the prop touches it */
+        uint32_t a = p->proxy_part[i], g = free_[a] ? rf_rig_root(uf, a) : RF_RIG_NONE;
+        if (g != RF_RIG_NONE && slot[g] != RF_RIG_NONE && touch[i] != RF_RIG_NONE &&
+            p->proxy_part[touch[i]] == host[g])
+            for (uint32_t j = 0; j < nj; j++)
+                row[(size_t)slot[g] * nj + j] += w[(size_t)touch[i] * nj + j];
+    }
+    for (uint32_t i = 0; ok && i < nv; i++) {
+        uint32_t a = p->proxy_part[i], g = free_[a] ? rf_rig_root(uf, a) : RF_RIG_NONE, j = 0;
+        if (g == RF_RIG_NONE || slot[g] == RF_RIG_NONE)
+            continue;
+        const double *r = row + (size_t)slot[g] * nj;
+        for (uint32_t c = 1; c < nj; c++)
+            j = r[c] > r[j] ? c : j;
+        memset(w + (size_t)i * nj, 0, nj * sizeof *w);
+        w[(size_t)i * nj + j] = 1;
+    }
+    rf_rig_near_free(gr);
+    free(touch), free(uf), free(host), free(members), free(slot), free(pairs), free(bent);
+    free(whole), free(free_), free(agree), free(row);
+    return ok;
+}
+
 /* Whether bone heat gives joint j more than half of loose part q (the mean of its vertices'
  * weights). */
 static bool rf_rig_heat_agrees(const rf_rig_prep *p, uint32_t q, uint32_t nj, const double *w,
@@ -944,7 +1095,7 @@ static bool rf_rig_branches(const rf_rig_skel *s, const double *held, uint8_t *s
  * (rf_rig_boneless_owners); an open one keeps its weights. */
 static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, const rf_rig_skel *s,
                                const rf_rig_bone *bones, uint32_t nb, double *w,
-                               const double *plain)
+                               const double *plain, bool given_bones)
 {
     uint32_t nj = s->n;
     uint32_t np = p->proxy_parts;
@@ -1007,6 +1158,7 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, co
         memset(w + (size_t)i * nj, 0, nj * sizeof *w);
         w[(size_t)i * nj + j] = 1;
     }
+    ok = ok && (given_bones || rf_rig_props(p, largest, sum, bends, area, owner, nj, w));
     free(held), free(sum), free(ahead), free(behind), free(crossed), free(area), free(owner);
     free(inside), free(touched), free(bends), free(piece), free(verts), free(seen);
     return ok;
@@ -1047,7 +1199,8 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok)
         rf_rig_normalise(p, bones, nb, nj, *w, plain, st);
-    if (ok && p->proxy_parts > 1 && !rf_rig_part_joints(p, &rays, s, bones, nb, *w, plain))
+    if (ok && p->proxy_parts > 1 &&
+        !rf_rig_part_joints(p, &rays, s, bones, nb, *w, plain, o->given_bones))
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     rf_rig_rays_free(&rays);
     free(bones), free(src), free(bd), free(lit), free(plain), free(nrm);
