@@ -475,10 +475,9 @@ static bool rf_rig_normals(const rf_rig_prep *p, double *nrm)
  * -0.3), lies across a gap: where a hand rests on a hip and the skins touch, the hip's vertices
  * see the hand's bone through the contact, with no surface between to hide it, and the hand
  * carried the hip's skin away in sheets under the CMU walk (BCN_Epileptic's worst part's
- * stretch 511.9 -> 132.2; RobotExpressive's head rim, dragged by the arms, 444.7 -> 259.4). A given
- * skeleton's bones may lie outside the skin (leaf ends, helpers) and keep the test off. -0.3 to
- * -0.5 read alike on BCN_Epileptic (132 to 138) and after the matcher (doc/autorig.md, "Round
- * five"). */
+ * stretch 511.9 -> 132.2). A given skeleton's bones may lie outside the skin (leaf ends,
+ * helpers), and it keeps the test off. -0.3 to -0.5 read alike on BCN_Epileptic (132 to 138)
+ * and after the matcher (doc/autorig.md, "Round five"). */
 #define RF_RIG_FRONT (-0.3)
 
 /* Whether point c lies in front of the surface at q (normal n, not normalised): its direction
