@@ -931,8 +931,9 @@ static uint32_t rf_rig_root(uint32_t *uf, uint32_t q)
 
 /* The loose parts of each prop (rf_rig_props) into uf[] (union-find roots), its members' count
  * into members[root] and whether they already move with one joint (owner[], the same for all)
- * into agree[root]; the closed and the open members' surface into whole[] and bent[]. */
-static void rf_rig_prop_parts(const rf_rig_prep *p, const uint32_t *touch, const uint8_t *free_,
+ * into agree[root]; the surface of the members that bend (bends[]: open, or lying around a bone)
+ * into bent[root], of the others into whole[root]. */
+static void rf_rig_prop_parts(const rf_rig_prep *p, const uint32_t *touch, const uint8_t *boneless,
                               const uint8_t *bends, const double *area, const uint32_t *owner,
                               uint32_t *uf, uint32_t *members, uint8_t *agree, double *whole,
                               double *bent)
@@ -942,11 +943,11 @@ static void rf_rig_prop_parts(const rf_rig_prep *p, const uint32_t *touch, const
         uf[q] = q, members[q] = 0, agree[q] = 1;
     for (uint32_t i = 0; i < p->proxy.nv; i++) {
         uint32_t a = p->proxy_part[i];
-        if (free_[a] && touch[i] != RF_RIG_NONE && free_[p->proxy_part[touch[i]]])
+        if (boneless[a] && touch[i] != RF_RIG_NONE && boneless[p->proxy_part[touch[i]]])
             uf[rf_rig_root(uf, a)] = rf_rig_root(uf, p->proxy_part[touch[i]]);
     }
     for (uint32_t q = 0; q < np; q++) {
-        if (!free_[q])
+        if (!boneless[q])
             continue;
         uint32_t g = rf_rig_root(uf, q);
         (bends[q] ? bent : whole)[g] += area[q];
@@ -954,7 +955,7 @@ static void rf_rig_prop_parts(const rf_rig_prep *p, const uint32_t *touch, const
     }
     /* every member's owner against the root's */
     for (uint32_t q = 0; q < np; q++)
-        if (free_[q])
+        if (boneless[q])
             agree[rf_rig_root(uf, q)] &=
                 owner[q] != RF_RIG_NONE && owner[q] == owner[rf_rig_root(uf, q)];
 }
@@ -983,19 +984,19 @@ static bool rf_rig_props(const rf_rig_prep *p, uint32_t largest, const double *s
     uint32_t *slot = malloc(((size_t)np + 1) * sizeof *slot);
     uint64_t *pairs = malloc(((size_t)nv + 1) * sizeof *pairs);
     double *bent = calloc(np + 1, sizeof *bent), *whole = calloc(np + 1, sizeof *whole);
-    uint8_t *free_ = calloc(np + 1, 1), *agree = malloc(np + 1);
+    uint8_t *boneless = calloc(np + 1, 1), *agree = malloc(np + 1);
     bool ok =
-        gr && touch && uf && host && members && slot && pairs && bent && whole && free_ && agree;
+        gr && touch && uf && host && members && slot && pairs && bent && whole && boneless && agree;
     for (uint32_t q = 0; ok && q < np; q++)
-        free_[q] = q != largest && !(sum[q] > 0), host[q] = RF_RIG_NONE;
+        boneless[q] = q != largest && !(sum[q] > 0), host[q] = RF_RIG_NONE;
     if (ok) {
-        rf_rig_near_touch(gr, p->proxy_part, free_, largest, 0.01 * p->longest, touch);
-        rf_rig_prop_parts(p, touch, free_, bends, area, owner, uf, members, agree, whole, bent);
+        rf_rig_near_touch(gr, p->proxy_part, boneless, largest, 0.01 * p->longest, touch);
+        rf_rig_prop_parts(p, touch, boneless, bends, area, owner, uf, members, agree, whole, bent);
     }
     /* the part holding bones each prop touches with the most vertices */
     for (uint32_t i = 0; ok && i < nv; i++) {
         uint32_t a = p->proxy_part[i], b = touch[i] != RF_RIG_NONE ? p->proxy_part[touch[i]] : a;
-        if (free_[a] && sum[b] > 0)
+        if (boneless[a] && sum[b] > 0)
             pairs[npairs++] = (uint64_t)rf_rig_root(uf, a) << 32 | b;
     }
     if (ok)
@@ -1014,14 +1015,14 @@ static bool rf_rig_props(const rf_rig_prep *p, uint32_t largest, const double *s
     double *row = ok ? calloc((size_t)nslots * nj + 1, sizeof *row) : NULL;
     ok = ok && row;
     for (uint32_t i = 0; ok && i < nv; i++) { /* the holder's weights where the prop touches it */
-        uint32_t a = p->proxy_part[i], g = free_[a] ? rf_rig_root(uf, a) : RF_RIG_NONE;
+        uint32_t a = p->proxy_part[i], g = boneless[a] ? rf_rig_root(uf, a) : RF_RIG_NONE;
         if (g != RF_RIG_NONE && slot[g] != RF_RIG_NONE && touch[i] != RF_RIG_NONE &&
             p->proxy_part[touch[i]] == host[g])
             for (uint32_t j = 0; j < nj; j++)
                 row[(size_t)slot[g] * nj + j] += w[(size_t)touch[i] * nj + j];
     }
     for (uint32_t i = 0; ok && i < nv; i++) {
-        uint32_t a = p->proxy_part[i], g = free_[a] ? rf_rig_root(uf, a) : RF_RIG_NONE, j = 0;
+        uint32_t a = p->proxy_part[i], g = boneless[a] ? rf_rig_root(uf, a) : RF_RIG_NONE, j = 0;
         if (g == RF_RIG_NONE || slot[g] == RF_RIG_NONE)
             continue;
         const double *r = row + (size_t)slot[g] * nj;
@@ -1032,7 +1033,7 @@ static bool rf_rig_props(const rf_rig_prep *p, uint32_t largest, const double *s
     }
     rf_rig_near_free(gr);
     free(touch), free(uf), free(host), free(members), free(slot), free(pairs), free(bent);
-    free(whole), free(free_), free(agree), free(row);
+    free(whole), free(boneless), free(agree), free(row);
     return ok;
 }
 
