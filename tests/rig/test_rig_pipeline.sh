@@ -134,7 +134,7 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 cat "$tmp/bench.csv"
 rows=$(tail -n +2 "$tmp/bench.csv" | wc -l)
 [ "$rows" -eq 9 ] && ok || ko "rig-bench: $rows rows, expected 9"
-# columns by their header names; the status (last) is quoted text and may hold commas. Limits:
+# columns by their header names; the status is quoted text and may hold commas. Limits:
 # what the rigger reaches (in the comments: CD-J2J, skinning P / R after the matcher, P / R / L1
 # on the skeleton of the artist) with room for another machine's rounding
 awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
