@@ -149,6 +149,10 @@ static bool rt_contact_pass(rf_retarget *rt, rf_animation *out, const rf_retarge
         host->log(node, RF_LOG_INFO,
                   "contact pass (%s): %u feet, %u foot-frames pinned, %u solves, largest miss %.3g",
                   solver->api->name, st.effectors, st.contact_frames, st.solves, st.max_error);
+    if (st.steps)
+        host->log(node, RF_LOG_INFO,
+                  "feet driven half a cycle later took %u steps where the body moved on from them",
+                  st.steps);
     return true;
 }
 
@@ -457,6 +461,20 @@ typedef struct rt_mesh_figures {
     rf_rt_mesh_report clip, ref;
 } rt_mesh_figures;
 
+/* The skate foot by foot: "feet": [{"joint": I, "name": "N", "skate": S, "contact_frames": C}]. */
+static void rt_feet_json(FILE *f, const rf_rt_report *r, const rf_skeleton *s)
+{
+    fputs(", \"feet\": [", f);
+    for (uint32_t e = 0; e < r->effectors && e < RF_RT_REPORT_FEET; e++) {
+        char name[128];
+        fprintf(f, "%s{\"joint\": %u, \"name\": ", e ? ", " : "", r->foot_joint[e]);
+        rt_json_string(f, rf_joint_label(s, r->foot_joint[e], name, sizeof name));
+        fprintf(f, ", \"skate\": %.6g, \"contact_frames\": %u}", r->foot_skate[e],
+                r->foot_frames[e]);
+    }
+    fputc(']', f);
+}
+
 static void rt_report_json(FILE *f, const rf_rt_report *r, const rt_mesh_figures *m,
                            const rf_skeleton *s)
 {
@@ -466,6 +484,7 @@ static void rt_report_json(FILE *f, const rf_rt_report *r, const rt_mesh_figures
             "\"contact_frames\": %u, \"ground_error\": %.6g, \"frames\": %u",
             r->fidelity_mean, r->fidelity_p95, r->fidelity_max, r->fidelity_bones, r->skate_target,
             r->skate_source, r->contact_frames, r->ground_error, r->frames);
+    rt_feet_json(f, r, s);
     if (m->have) {
         fputs(", \"mesh\": ", f);
         rt_mesh_json(f, &m->clip, s);
