@@ -1333,6 +1333,7 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
 {
     rf_rig_options o = rf_rig_defaults(opts);
     o.leaf_points_own = true;
+    o.given_bones = true;
     rf_rig_stats st_local, *st = stats ? stats : &st_local;
     memset(st, 0, sizeof *st);
     *skinned = NULL;

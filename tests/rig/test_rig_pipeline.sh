@@ -176,7 +176,8 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # (CD-J2J 0.0446, skinning after the matcher precision 24%; with the volume's loop through the
 # hand 0.0480, 11%); its head, one loose part holding the bones of the neck, jaw, lips, eyes and
 # ponytail, bends with them on the skeleton of the artist (.740/.780/.646; .731/.744/.671 with
-# the head moved by the neck alone). The fire dragon's wing membranes, whose corners at the wrist
+# the head moved by the neck alone), its face joints fanning from the neck keeping bone heat's
+# sharpened rows (.719/.807/.651 with the plain rows a chain of joints in a loose part takes). The fire dragon's wing membranes, whose corners at the wrist
 # (where the forearm's bone ends and four fingers' start) its artist gave to the forearm, take
 # the forearm's heat there, not two fingers' (.694/.719/.601 on the skeleton of the artist;
 # .675/.719/.634 with the two first in the sort). Mirrored twigs are pruned as pairs, the frog's
@@ -213,9 +214,10 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             print "FAIL: fire dragon on the skeleton of the artist: precision " gp[dragon] ", L1 " gl[dragon]
         if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.18))
             print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " p["\"BCN_Epileptic.X\""]
-        if (!(gr["\"BCN_Epileptic.X\""] >= 0.765 && gl["\"BCN_Epileptic.X\""] <= 0.66))
-            print "FAIL: BCN_Epileptic on the skeleton of the artist: recall " gr["\"BCN_Epileptic.X\""] \
-                ", L1 " gl["\"BCN_Epileptic.X\""]
+        if (!(gp["\"BCN_Epileptic.X\""] >= 0.73 && gr["\"BCN_Epileptic.X\""] >= 0.765 &&
+              gl["\"BCN_Epileptic.X\""] <= 0.66))
+            print "FAIL: BCN_Epileptic on the skeleton of the artist: precision " \
+                gp["\"BCN_Epileptic.X\""] ", recall " gr["\"BCN_Epileptic.X\""] ", L1 " gl["\"BCN_Epileptic.X\""]
         if (!(cd["\"animalia_bull_frog.b3d\""] < 0.14)) print "FAIL: bull frog cd_j2j " cd["\"animalia_bull_frog.b3d\""]
         if (!(cd["\"huesitos.fbx\""] < 0.065)) print "FAIL: huesitos cd_j2j " cd["\"huesitos.fbx\""]
         if (!(p["\"huesitos.fbx\""] >= 0.5)) print "FAIL: huesitos precision " p["\"huesitos.fbx\""]
