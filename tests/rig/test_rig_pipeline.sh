@@ -278,7 +278,8 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joints"; else ok;
 awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r }
     BEGIN {
         limits("\"Fox.glb\"", 0.037, 0.68, 0.68)                # 0.034 .74/.73
-        limits("\"RiggedFigure.glb\"", 0.0292, 0.78, 0.56)      # 0.0286 .85/.62
+        limits("\"RiggedFigure.glb\"", 0.0292, 0.76, 0.53)      # 0.0265 .79/.55 (.85/.62 before the
+        # head at the base of its bulk, the arms from the chest and the front rule together)
         limits("\"Testwuson.X\"", 0.041, 0.18, 0.24)            # 0.038 .57/.56 (below)
         limits("\"animalia_wolf.b3d\"", 0.063, 0.68, 0.74)      # 0.059 .75/.80
         limits("\"animalia_owl.b3d\"", 0.076, 0.80, 0.84)       # 0.072 .85/.89 (.37/.39: head unmapped)
