@@ -36,3 +36,5 @@ TESTS += tests/rig/test_rig_boxes.sh
 EXTRA_DIST += tests/rig/test_rig_boxes.sh
 TESTS += tests/rig/test_rig_looks.sh
 EXTRA_DIST += tests/rig/test_rig_looks.sh
+TESTS += tests/rig/test_rig_invariance.sh
+EXTRA_DIST += tests/rig/test_rig_invariance.sh
