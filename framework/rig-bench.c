@@ -395,11 +395,11 @@ static void rb_add_motion(json_t *graph)
     for (int k = 0; k < 2; k++) {
         g_autofree char *sk = g_strdup_printf("%s.skeleton", from[k]);
         g_autofree char *me = g_strdup_printf("%s.mesh", from[k]);
-        json_array_append_new(
-            nodes, json_pack("{s:s, s:s, s:{s:s, s:s}, s:{s:f, s:s, s:f, s:s}}", "id", to[k],
-                             "type", "transform", "inputs", "skeleton", sk, "mesh", me, "params",
-                             "turn", rb_moved.turn, "axis", rb_moved.axis, "scale",
-                             rb_moved.scale, "offset", rb_moved.offset));
+        json_array_append_new(nodes, json_pack("{s:s, s:s, s:{s:s, s:s}, s:{s:f, s:s, s:f, s:s}}",
+                                               "id", to[k], "type", "transform", "inputs",
+                                               "skeleton", sk, "mesh", me, "params", "turn",
+                                               rb_moved.turn, "axis", rb_moved.axis, "scale",
+                                               rb_moved.scale, "offset", rb_moved.offset));
     }
     json_t *rig = json_object_get(json_array_get(nodes, 2), "inputs");
     json_object_set_new(rig, "mesh", json_string("mesh_moved.mesh"));
@@ -708,8 +708,8 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
 {
     g_auto(GStrv) names = NULL;
     gboolean list = FALSE;
-    g_autofree char *joint_map = NULL, *joints = NULL, *turn = NULL, *axis = NULL,
-                    *scale = NULL, *offset = NULL;
+    g_autofree char *joint_map = NULL, *joints = NULL, *turn = NULL, *axis = NULL, *scale = NULL,
+                    *offset = NULL;
     const GOptionEntry entries[] = {
         {"joint-map", 0, 0, G_OPTION_ARG_STRING, &joint_map,
          "How predicted joints are matched to the artist's for the skinning columns: matcher "

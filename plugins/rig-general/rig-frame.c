@@ -104,8 +104,8 @@ static rf_vec3 rf_rig_principal(const rf_mesh *m, rf_vec3 u)
     rf_vec3 a = rf_v3_normalize(rf_v3_cross(u, helper)), b = rf_v3_cross(u, a), c = {0, 0, 0};
     size_t n = m->vertex_count;
     for (size_t v = 0; v < n; v++)
-        c = rf_v3_add(c, rf_v3(m->positions[v * 3], m->positions[v * 3 + 1],
-                               m->positions[v * 3 + 2]));
+        c = rf_v3_add(c,
+                      rf_v3(m->positions[v * 3], m->positions[v * 3 + 1], m->positions[v * 3 + 2]));
     c = rf_v3_scale(c, n ? 1.0 / n : 0);
     double caa = 0, cab = 0, cbb = 0;
     for (size_t v = 0; v < n; v++) {
@@ -144,7 +144,8 @@ static rf_vec3 rf_rig_body_axis(const rf_mesh *m, rf_vec3 u)
  * facing back). */
 static rf_vec3 rf_rig_nearest_file_axis(rf_vec3 e, rf_vec3 u)
 {
-    rf_vec3 ref = fabs(u.z) < 0.9 ? rf_rig_level(rf_v3(0, 0, 1), u) : rf_rig_level(rf_v3(1, 0, 0), u);
+    rf_vec3 ref =
+        fabs(u.z) < 0.9 ? rf_rig_level(rf_v3(0, 0, 1), u) : rf_rig_level(rf_v3(1, 0, 0), u);
     rf_vec3 best = e, cand = e;
     for (int k = 0; k < 4; k++, cand = rf_v3_cross(u, cand))
         if (rf_v3_dot(cand, ref) > rf_v3_dot(best, ref))
@@ -162,8 +163,8 @@ static rf_vec3 rf_rig_nearest_file_axis(rf_vec3 e, rf_vec3 u)
 static bool rf_rig_frame_find(const rf_mesh *m, const rf_rig_options *o, rf_rig_frame *f)
 {
     rf_vec3 u = rf_v3_len(o->up) > 0 ? rf_v3_normalize(o->up) : rf_v3(0, 1, 0);
-    rf_vec3 z = rf_v3_len(o->forward) > 0 ? rf_rig_level(rf_v3_normalize(o->forward), u)
-                                          : rf_v3(0, 0, 0);
+    rf_vec3 z =
+        rf_v3_len(o->forward) > 0 ? rf_rig_level(rf_v3_normalize(o->forward), u) : rf_v3(0, 0, 0);
     if (!(rf_v3_len(z) > 0.5)) /* none declared, or one along up: the body's own axis */
         z = rf_rig_nearest_file_axis(rf_rig_body_axis(m, u), u);
     if (!(rf_v3_len(z) > 0))
@@ -187,16 +188,25 @@ bool rf_rig_frame_enter(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_
                         rf_mesh *in, rf_rig_options *o)
 {
     memset(f, 0, sizeof *f);
-    *in = *mesh; /* borrowed arrays: only the positions are the frame's own */
     *o = opts ? *opts : (rf_rig_options){0};
-    if (!mesh->positions || !mesh->vertex_count || !rf_rig_frame_find(mesh, o, f))
+    if (!mesh) {
+        memset(in, 0, sizeof *in);
+        return true;
+    }
+    *in = *mesh; /* borrowed arrays: only the positions are the frame's own */
+    /* a mesh the rigger's checks refuse (no positions, non-finite ones) is left as it is, for
+     * them to name what is wrong */
+    bool finite = mesh->positions != NULL;
+    for (size_t i = 0; finite && i < (size_t)mesh->vertex_count * 3; i++)
+        finite = isfinite(mesh->positions[i]);
+    if (!finite || !mesh->vertex_count || !rf_rig_frame_find(mesh, o, f))
         return true;
     f->positions = malloc((size_t)mesh->vertex_count * 3 * sizeof *f->positions);
     if (!f->positions)
         return false;
     for (size_t i = 0; i < (size_t)mesh->vertex_count * 3; i += 3) {
-        rf_vec3 p = rf_quat_rotate(f->q, rf_v3(mesh->positions[i], mesh->positions[i + 1],
-                                               mesh->positions[i + 2]));
+        rf_vec3 p = rf_quat_rotate(
+            f->q, rf_v3(mesh->positions[i], mesh->positions[i + 1], mesh->positions[i + 2]));
         f->positions[i] = (float)p.x, f->positions[i + 1] = (float)p.y;
         f->positions[i + 2] = (float)p.z;
     }
@@ -225,8 +235,7 @@ void rf_rig_frame_leave(rf_rig_frame *f, const rf_mesh *mesh, rf_skeleton *s, rf
         }
         s->up = rf_quat_rotate(back, s->up), s->forward = rf_quat_rotate(back, s->forward);
     }
-    if (f->turned && skinned && skinned->positions &&
-        skinned->vertex_count == mesh->vertex_count) {
+    if (f->turned && skinned && skinned->positions && skinned->vertex_count == mesh->vertex_count) {
         memcpy(skinned->positions, mesh->positions,
                (size_t)mesh->vertex_count * 3 * sizeof *mesh->positions);
         rf_mat4 to = rf_xform_to_mat4((rf_xform){{0, 0, 0}, f->q, {1, 1, 1}});

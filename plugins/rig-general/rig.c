@@ -917,9 +917,9 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
     *skeleton = NULL, *skinned = NULL;
     if (!rf_rig_frame_enter(mesh, opts, &f, &in, &o))
         return rf_rig_fail(err, err_size, "out of memory turning a mesh of %u vertices",
-                           mesh->vertex_count);
-    bool ok = rf_rig_general_framed(&in, &o, skeleton, skinned, stats, progress, user, err,
-                                    err_size);
+                           mesh ? mesh->vertex_count : 0);
+    bool ok = rf_rig_general_framed(mesh ? &in : NULL, &o, skeleton, skinned, stats, progress, user,
+                                    err, err_size);
     rf_rig_frame_leave(&f, mesh, ok ? *skeleton : NULL, ok ? *skinned : NULL);
     return ok;
 }

@@ -107,8 +107,8 @@ static void rf_tf_points(float *p, uint32_t n, uint32_t stride, rf_mat4 m, bool 
 static void rf_tf_mesh(const rf_tf *f, rf_mesh *m)
 {
     rf_xform turn = {rf_v3(0, 0, 0), f->r, rf_v3(1, 1, 1)};
-    rf_mat4 r = rf_xform_to_mat4(turn), sr = rf_xform_to_mat4((rf_xform){
-                                            rf_v3(0, 0, 0), f->r, rf_v3(f->s, f->s, f->s)});
+    rf_mat4 r = rf_xform_to_mat4(turn),
+            sr = rf_xform_to_mat4((rf_xform){rf_v3(0, 0, 0), f->r, rf_v3(f->s, f->s, f->s)});
     rf_tf_points(m->positions, m->vertex_count, 3, f->m, true);
     rf_tf_points(m->normals, m->vertex_count, 3, r, false);
     if (RF_HAS_FIELD(m, rf_mesh, tangents))
@@ -140,8 +140,7 @@ static bool rf_tf_process(void *self, const rf_host *host, rf_node *node)
         return false;
     }
     rf_tf f;
-    rf_tf_make(&f, host->param_float(node, "scale"), host->param_float(node, "turn"), axis,
-               offset);
+    rf_tf_make(&f, host->param_float(node, "scale"), host->param_float(node, "turn"), axis, offset);
     rf_skeleton *so = s ? rf_skeleton_copy(s) : NULL;
     rf_mesh *mo = m ? rf_mesh_copy(m) : NULL;
     if ((s && !so) || (m && !mo)) {
@@ -183,8 +182,7 @@ static const rf_param_desc rf_tf_params[] = {
                          "direction x,y,z"),
     RF_PARAM_DESC_FLOAT("scale", 1, 1e-9, 1e9,
                         "uniform scale, applied first (about the model's origin)"),
-    RF_PARAM_DESC_STRING("offset", "0,0,0",
-                         "x,y,z added last, in the model's units after scaling"),
+    RF_PARAM_DESC_STRING("offset", "0,0,0", "x,y,z added last, in the model's units after scaling"),
 };
 
 static const rf_node_desc rf_tf_desc = {
