@@ -67,6 +67,33 @@ same turn30 0.005
 same small 0.005
 same large 0.005
 
+# the artist's rig moves with the mesh, as computed by hand: turned 90 degrees about +y (the
+# wolf's declared up) a joint at (x, y, z) lies at (z, y, -x); scaled by 100 and moved by
+# (1000, 500, -2000) it lies at 100 (x, y, z) + that offset, the columns being fractions of the
+# longest edge times 100
+bench joints0 --joints="$tmp/j0.csv" "$wolf"
+bench joints90 --turn=90 --joints="$tmp/j90.csv" "$wolf"
+bench jointsL --scale=100 --offset=1000,500,-2000 --joints="$tmp/jL.csv" "$wolf"
+if awk -F, '
+    FNR == 1 { next }
+    $3 != "artist" { next }
+    FILENAME ~ /j0.csv$/ { x[$4] = $5; y[$4] = $6; z[$4] = $7; n++; next }
+    FILENAME ~ /j90.csv$/ { d = ($5 - z[$4]) ^ 2 + ($6 - y[$4]) ^ 2 + ($7 + x[$4]) ^ 2
+                            if (d > 1e-8) { print "turned:", $4, $5, $6, $7; bad = 1 }; m++; next }
+    END { exit bad || !n || m != n }' "$tmp/j0.csv" "$tmp/j90.csv"
+then ok; else ko "the artist's joints turned 90 degrees are not where a turn puts them"; fi
+# scaled and moved: the same fractions of the scaled edge, less one joint's (the offset in
+# fractions needs the edge's length, which the CSV does not give)
+if awk -F, '
+    FNR == 1 { next }
+    $3 != "artist" { next }
+    FILENAME ~ /j0.csv$/ { if (!n++) { x0 = $5; y0 = $6; z0 = $7 }
+                           x[$4] = $5 - x0; y[$4] = $6 - y0; z[$4] = $7 - z0; next }
+    { if (!m++) { x1 = $5; y1 = $6; z1 = $7 }
+      d = ($5 - x1 - x[$4]) ^ 2 + ($6 - y1 - y[$4]) ^ 2 + ($7 - z1 - z[$4]) ^ 2
+      if (d > 1e-8) { print "scaled:", $4, $5, $6, $7; bad = 1 } }
+    END { exit bad || !n || m != n }' "$tmp/j0.csv" "$tmp/jL.csv"
+then ok; else ko "the artist's joints scaled and moved are not where the scale puts them"; fi
 # a sheet has no volume at any facing: refused turned as unturned
 bench sheet --turn=30 "$models/simple_skin.gltf"
 if grep -q 'refused:.*flat' "$tmp/sheet.csv"; then ok; else cat "$tmp/sheet.csv"; ko "a flat strip turned 30 degrees was not refused as flat"; fi
