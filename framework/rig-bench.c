@@ -28,6 +28,7 @@ typedef struct rb_rigger {
  * skinning compare like with like. */
 typedef struct rb_motion {
     bool on;
+    bool fixed_axes; /* the declared up and forward stay as the file declares them */
     double turn, scale;
     char axis[96], offset[96]; /* the transform node's parameter text, checked */
 } rb_motion;
@@ -400,6 +401,9 @@ static void rb_add_motion(json_t *graph)
                                                "skeleton", sk, "mesh", me, "params", "turn",
                                                rb_moved.turn, "axis", rb_moved.axis, "scale",
                                                rb_moved.scale, "offset", rb_moved.offset));
+        json_t *params =
+            json_object_get(json_array_get(nodes, json_array_size(nodes) - 1), "params");
+        json_object_set_new(params, "turn_axes", json_boolean(!rb_moved.fixed_axes));
     }
     json_t *rig = json_object_get(json_array_get(nodes, 2), "inputs");
     json_object_set_new(rig, "mesh", json_string("mesh_moved.mesh"));
@@ -672,7 +676,7 @@ static bool rb_number_ok(const char *text, double min, double max, double *v)
 
 /* --turn, --axis, --scale and --offset checked into rb_moved; false after saying what is wrong. */
 static bool rb_motion_parse(const char *turn, const char *axis, const char *scale,
-                            const char *offset)
+                            const char *offset, bool fixed_axes)
 {
     double v[3];
     const char *bad = NULL;
@@ -700,14 +704,15 @@ static bool rb_motion_parse(const char *turn, const char *axis, const char *scal
     }
     g_strlcpy(rb_moved.axis, axis ? axis : "up", sizeof rb_moved.axis);
     g_strlcpy(rb_moved.offset, offset ? offset : "0,0,0", sizeof rb_moved.offset);
-    rb_moved.on = turn || axis || scale || offset;
+    rb_moved.fixed_axes = fixed_axes;
+    rb_moved.on = turn || axis || scale || offset || fixed_axes;
     return true;
 }
 
 int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
 {
     g_auto(GStrv) names = NULL;
-    gboolean list = FALSE;
+    gboolean list = FALSE, fixed_axes = FALSE;
     g_autofree char *joint_map = NULL, *joints = NULL, *turn = NULL, *axis = NULL, *scale = NULL,
                     *offset = NULL;
     const GOptionEntry entries[] = {
@@ -737,6 +742,10 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
          "Scale each model by F (about its origin, before the turn)", "F"},
         {"offset", 0, 0, G_OPTION_ARG_STRING, &offset,
          "Move each model by x,y,z in its own units (after the scale and the turn)", "X,Y,Z"},
+        {"fixed-axes", 0, 0, G_OPTION_ARG_NONE, &fixed_axes,
+         "With --turn, leave the up and forward the file declares as they were (a model saved "
+         "turned in a format whose axes are fixed: a scan lying on its side in an STL)",
+         NULL},
         {NULL, 0, 0, 0, NULL, NULL, NULL}};
     if (!rf_parse_options(
             "rig-bench", "MODEL...",
@@ -753,7 +762,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
             "of the unmoved mesh's longest bounding-box edge, scaled.",
             entries, &argc, &argv))
         return RF_EXIT_USAGE;
-    if (!rb_motion_parse(turn, axis, scale, offset))
+    if (!rb_motion_parse(turn, axis, scale, offset, fixed_axes))
         return RF_EXIT_USAGE;
     bool nearest = joint_map && !strcmp(joint_map, "nearest");
     if (joint_map && !nearest && strcmp(joint_map, "matcher")) {

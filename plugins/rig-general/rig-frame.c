@@ -138,14 +138,15 @@ static rf_vec3 rf_rig_body_axis(const rf_mesh *m, rf_vec3 u)
 }
 
 /* Of the four directions across up u square to or along axis e, the one nearest the file's own
- * forward (+z made level; +x when up lies along z): files that declare no facing still mostly
- * face +z, and the skeleton analysis that names the rig leans on that (rigged along the
- * footprint's longest side whichever way it pointed, four of the 23 shared rigs were read
- * facing back). */
+ * forward: files that declare no facing still mostly face +z with +y up, and the skeleton
+ * analysis that names the rig leans on that (rigged along the footprint's longest side
+ * whichever way it pointed, four of the 23 shared rigs were read facing back). A file whose up
+ * is not +y is taken as turned from there by the shortest turn, its +z with it (+z up: -y),
+ * so a model tipped over with its declared up is rigged as it was standing. */
 static rf_vec3 rf_rig_nearest_file_axis(rf_vec3 e, rf_vec3 u)
 {
-    rf_vec3 ref =
-        fabs(u.z) < 0.9 ? rf_rig_level(rf_v3(0, 0, 1), u) : rf_rig_level(rf_v3(1, 0, 0), u);
+    rf_vec3 ref = rf_rig_level(
+        rf_quat_rotate(rf_quat_from_two_vectors(rf_v3(0, 1, 0), u), rf_v3(0, 0, 1)), u);
     rf_vec3 best = e, cand = e;
     for (int k = 0; k < 4; k++, cand = rf_v3_cross(u, cand))
         if (rf_v3_dot(cand, ref) > rf_v3_dot(best, ref))

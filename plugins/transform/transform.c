@@ -3,7 +3,8 @@
  * mesh of any facing, scale and position alike; `rigflow rig-bench --turn/--scale/--offset`
  * puts this node after both imports (the artist's rig and the bare mesh), so the rig it measures
  * against moves with the mesh. The skeleton's declared up and forward turn with it, as they would
- * in a file saved turned. doc/autorig.md, "rig-bench".
+ * in a file saved turned (or, with turn_axes false, stay as declared: a format whose axes are
+ * fixed). doc/autorig.md, "rig-bench".
  *
  * Joints keep their rotations relative to their parents: a root's rest (and bind) takes the turn
  * and the offset, every joint's local translation and end site the scale, so no scale enters a
@@ -71,7 +72,7 @@ static void rf_tf_make(rf_tf *f, double scale, double degrees, rf_vec3 axis, rf_
     f->mi = rf_xform_to_mat4(rf_xform_invert(x));
 }
 
-static void rf_tf_skeleton(const rf_tf *f, rf_skeleton *s)
+static void rf_tf_skeleton(const rf_tf *f, rf_skeleton *s, bool turn_axes)
 {
     bool has_bind = RF_HAS_FIELD(s, rf_skeleton, bind) && s->bind;
     for (uint32_t j = 0; j < s->joint_count; j++) {
@@ -88,9 +89,9 @@ static void rf_tf_skeleton(const rf_tf *f, rf_skeleton *s)
             }
         }
     }
-    if (rf_v3_len(s->up) > 0)
+    if (turn_axes && rf_v3_len(s->up) > 0)
         s->up = rf_quat_rotate(f->r, s->up);
-    if (rf_v3_len(s->forward) > 0)
+    if (turn_axes && rf_v3_len(s->forward) > 0)
         s->forward = rf_quat_rotate(f->r, s->forward);
 }
 
@@ -150,7 +151,7 @@ static bool rf_tf_process(void *self, const rf_host *host, rf_node *node)
     }
     bool ok = true;
     if (so) {
-        rf_tf_skeleton(&f, so);
+        rf_tf_skeleton(&f, so, host->param_bool(node, "turn_axes"));
         ok = host->set_output(node, "skeleton", so, rf_skeleton_free);
     }
     if (mo) {
@@ -183,6 +184,10 @@ static const rf_param_desc rf_tf_params[] = {
     RF_PARAM_DESC_FLOAT("scale", 1, 1e-9, 1e9,
                         "uniform scale, applied first (about the model's origin)"),
     RF_PARAM_DESC_STRING("offset", "0,0,0", "x,y,z added last, in the model's units after scaling"),
+    RF_PARAM_DESC_BOOL("turn_axes", true,
+                       "turn the skeleton's declared up and forward with it; false keeps them as "
+                       "declared (a file saved turned whose format always declares the same "
+                       "axes: a scan lying on its side in an STL, read as +y up)"),
 };
 
 static const rf_node_desc rf_tf_desc = {

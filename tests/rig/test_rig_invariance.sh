@@ -14,6 +14,7 @@
 #   greenman.glb, declares its forward, turned 45 and 137 degrees: 0.0405, 0.0143;
 #   animalia_bird.b3d, declares none (so the body's own axis sets the frame), 30 degrees: 0.0419;
 #   animalia_wolf.b3d, declares none, 30 degrees: 0.0191;
+#   animalia_bird.b3d tipped over (a quarter turn about x, its declared up with it): 0.0164;
 # and simple_skin.gltf, a flat strip, was rigged once turned 30 degrees (its box no longer flat
 # along the file's axes). Scale and offset: 0.0000 and 0.0001 before and after on these three.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
@@ -59,11 +60,13 @@ bench base "$green" "$bird" "$wolf"
 bench green45 --turn=45 "$green"
 bench green137 --turn=137 "$green"
 bench turn30 --turn=30 "$bird" "$wolf"
+bench tilt --axis=1,0,0 --turn=90 "$bird"
 bench small --scale=0.01 "$wolf"
 bench large --scale=100 --offset=1000,500,-2000 "$wolf"
 same green45 0.005
 same green137 0.005
 same turn30 0.005
+same tilt 0.005
 same small 0.005
 same large 0.005
 
@@ -94,6 +97,10 @@ if awk -F, '
       if (d > 1e-8) { print "scaled:", $4, $5, $6, $7; bad = 1 } }
     END { exit bad || !n || m != n }' "$tmp/j0.csv" "$tmp/jL.csv"
 then ok; else ko "the artist's joints scaled and moved are not where the scale puts them"; fi
+# a model tipped over in a file that still declares +y up (--fixed-axes) is rigged, not refused
+bench fixed --axis=1,0,0 --turn=90 --fixed-axes "$wolf"
+if grep -q '"ok"$' "$tmp/fixed.csv"; then ok; else cat "$tmp/fixed.csv"; ko "--fixed-axes: no rig"; fi
+
 # a sheet has no volume at any facing: refused turned as unturned
 bench sheet --turn=30 "$models/simple_skin.gltf"
 if grep -q 'refused:.*flat' "$tmp/sheet.csv"; then ok; else cat "$tmp/sheet.csv"; ko "a flat strip turned 30 degrees was not refused as flat"; fi
