@@ -6,7 +6,8 @@
  * is rigged, and the rig turned back: y the declared up (+y when the file declares none), z the
  * declared forward made level; when the file declares no forward, the body's own axis across
  * up (a side of its footprint's smallest box, or its vertices' principal axis), of its four
- * directions the one nearest the file's +z, and +z itself within 15 degrees. A body turned
+ * directions the one nearest the file's forward (+z, turned with a declared up other than +y),
+ * and that forward itself within 15 degrees. A body turned
  * about up by a declared forward's turn, or (declaring none) by up to 45 degrees beyond those
  * 15, meets the grid as it did unturned; a file declaring +y up and +z forward, or one modelled
  * along its axes, is rigged in its own axes as before. doc/autorig.md, "Any facing, scale and
