@@ -7,10 +7,11 @@
  * declared forward made level; when the file declares no forward, the body's own axis across
  * up (a side of its footprint's smallest box, or its vertices' principal axis), of its four
  * directions the one nearest the file's forward (+z, turned with a declared up other than +y),
- * and that forward itself within 15 degrees. A body turned
- * about up by a declared forward's turn, or (declaring none) by up to 45 degrees beyond those
- * 15, meets the grid as it did unturned; a file declaring +y up and +z forward, or one modelled
- * along its axes, is rigged in its own axes as before. doc/autorig.md, "Any facing, scale and
+ * and that forward itself within 15 degrees. A body whose file declares a forward then meets
+ * the grid as it did unturned at any turn about up, or tipped over with its declared up; one
+ * declaring none at turns of 15 to 45 degrees, and otherwise on that grid turned by quarter
+ * turns. A file declaring +y up and +z forward, or one modelled along its axes, is rigged in
+ * its own axes as before. doc/autorig.md, "Any facing, scale and
  * position". */
 #include <math.h>
 #include <stdlib.h>
