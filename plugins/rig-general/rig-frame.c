@@ -17,6 +17,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <rigflow/memory.h>
+
 #include "rig-internal.h"
 
 #define RF_RIG_DEG (3.14159265358979323846 / 180) /* radians per degree */
@@ -197,12 +199,18 @@ bool rf_rig_frame_enter(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_
         return true;
     }
     *in = *mesh; /* borrowed arrays: only the positions are the frame's own */
-    /* a mesh the rigger's checks refuse (no positions, non-finite ones) is left as it is, for
-     * them to name what is wrong */
-    bool finite = mesh->positions != NULL;
-    for (size_t i = 0; finite && i < (size_t)mesh->vertex_count * 3; i++)
-        finite = isfinite(mesh->positions[i]);
-    if (!finite || !mesh->vertex_count || !rf_rig_frame_find(mesh, o, f))
+    /* a mesh the rigger's checks refuse (no positions, non-finite ones, too large for the
+     * memory left) is left as it is, for them to name what is wrong: turned, its copy and its
+     * footprint's hull would take memory before rf_rig_prepare could refuse it */
+    uint64_t available = 0;
+    bool known = rf_memory_available(&available);
+    char why[8];
+    bool usable =
+        mesh->positions != NULL && rf_rig_memory_fits(mesh->vertex_count, mesh->triangle_count,
+                                                      known, available, why, sizeof why);
+    for (size_t i = 0; usable && i < (size_t)mesh->vertex_count * 3; i++)
+        usable = isfinite(mesh->positions[i]);
+    if (!usable || !mesh->vertex_count || !rf_rig_frame_find(mesh, o, f))
         return true;
     f->positions = malloc((size_t)mesh->vertex_count * 3 * sizeof *f->positions);
     if (!f->positions)
