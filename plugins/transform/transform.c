@@ -125,6 +125,23 @@ static void rf_tf_mesh(const rf_tf *f, rf_mesh *m)
         m->inverse_bind[j] = rf_mat4_mul(scale, rf_mat4_mul(m->inverse_bind[j], f->mi));
 }
 
+/* Refuses a malformed axis or offset when the pipeline is set up, before any import runs. */
+static bool rf_tf_create(const rf_host *host, rf_node *node, void **self)
+{
+    rf_vec3 v;
+    char why[128];
+    *self = NULL;
+    if (!rf_tf_axis(host->param_string(node, "axis"), NULL, &v, why, sizeof why)) {
+        host->error(node, "%s", why);
+        return false;
+    }
+    if (!rf_tf_vec(host->param_string(node, "offset"), &v)) {
+        host->error(node, "offset: expected three numbers x,y,z");
+        return false;
+    }
+    return true;
+}
+
 static bool rf_tf_process(void *self, const rf_host *host, rf_node *node)
 {
     (void)self;
@@ -200,6 +217,7 @@ static const rf_node_desc rf_tf_desc = {
     RF_NODE_INPUTS(rf_tf_inputs),
     RF_NODE_OUTPUTS(rf_tf_outputs),
     RF_NODE_PARAMS(rf_tf_params),
+    .create = rf_tf_create,
     .process = rf_tf_process,
 };
 

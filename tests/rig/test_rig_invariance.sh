@@ -114,5 +114,21 @@ for bad in --turn=abc --turn=nan --scale=0 --scale=-1 --offset=1,2 --offset=1,2,
         cat "$tmp/usage"; ko "rig-bench $bad: exit $code, expected 2 and a message naming $opt"; fi
 done
 
+# the transform node refuses a malformed offset or axis by name before anything runs
+cat >"$tmp/moved.json" <<EOF
+{"format": "rigflow.pipeline", "version": 1, "nodes": [
+ {"id": "a", "type": "import", "params": {"path": "$wolf"}},
+ {"id": "t", "type": "transform", "inputs": {"skeleton": "a.skeleton", "mesh": "a.mesh"}},
+ {"id": "out", "type": "export", "inputs": {"skeleton": "t.skeleton", "mesh": "t.mesh"},
+  "params": {"path": "$tmp/moved.glb"}}]}
+EOF
+for bad in offset=1,2 axis=0,0,0 axis=sideways; do
+    RIGFLOW_QUIET=1 "$rigflow" run "$tmp/moved.json" -p "t.$bad" 2>"$tmp/err"
+    code=$?
+    if [ "$code" -ne 0 ] && grep -q "node 't'.*${bad%%=*}: expected" "$tmp/err" &&
+        [ ! -e "$tmp/moved.glb" ]; then ok; else
+        cat "$tmp/err"; ko "transform -p t.$bad: exit $code, no message naming the node and parameter"; fi
+done
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
