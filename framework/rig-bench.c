@@ -427,15 +427,16 @@ static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, cons
     json_t *rig_in = json_pack("{s:s}", "mesh", "mesh.mesh");
     if (rb_has_input(r->desc, "axes"))
         json_object_set_new(rig_in, "axes", json_string("mesh.skeleton"));
-    /* the matcher pairs joints by correspondence: forelegs with arms, not its gait rule */
+    /* the matcher pairs joints by correspondence: forelegs with arms, not its gait rule; a
+     * girdle joint whose bone is the neck's with the neck, not the chest */
     json_t *graph = json_pack(
         "{s:s, s:i, s:[{s:s, s:s, s:{s:s}}, {s:s, s:s, s:{s:s, s:b, s:b}}, {s:s, s:s, s:o}, "
-        "{s:s, s:s, s:{s:s, s:[s]}, s:{s:s}}]}",
+        "{s:s, s:s, s:{s:s, s:[s]}, s:{s:s, s:s}}]}",
         "format", "rigflow.pipeline", "version", 1, "nodes", "id", "artist", "type", imp->type,
         "params", param, path, "id", "mesh", "type", imp->type, "params", param, path, "ignore_rig",
         1, "require_skeleton", 0, "id", "rig", "type", r->desc->type, "inputs", rig_in, "id", "map",
         "type", "skeletal-similarity", "inputs", "target", "rig.skeleton", "sources",
-        "artist.skeleton", "params", "forelegs", "arms");
+        "artist.skeleton", "params", "forelegs", "arms", "girdle", "neck");
     if (graph && rb_moved.on)
         rb_add_motion(graph);
     char *text = graph ? json_dumps(graph, JSON_COMPACT) : NULL;

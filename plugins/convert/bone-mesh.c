@@ -6,6 +6,8 @@
 
 #include "bone-mesh.h"
 
+#include <rigflow/text.h>
+
 enum { RF_BM_VERTS = 6, RF_BM_TRIS = 8 };
 
 /* Two unit vectors perpendicular to the unit `d` and to each other, v = d x u. */
@@ -77,18 +79,18 @@ static bool rf_bm_ordered(const rf_skeleton *s, char *err, size_t err_size)
 {
     int64_t bad = rf_skeleton_misordered(s);
     if (bad >= 0)
-        snprintf(err, err_size,
-                 "joint %" PRId64 " has parent %" PRId32 ": expected parents before children", bad,
-                 s->joints[bad].parent);
+        rf_skeleton_order_error(s, (uint32_t)bad, err, err_size);
     return bad < 0;
 }
 
 /* Rest positions that are numbers: a bone not drawn for a NaN would be a silent guess. */
-static bool rf_bm_finite(const rf_xform *w, uint32_t n, char *err, size_t err_size)
+static bool rf_bm_finite(const rf_skeleton *s, const rf_xform *w, char *err, size_t err_size)
 {
-    for (uint32_t j = 0; j < n; j++)
+    char label[160]; /* the joint's name from the file, escaped */
+    for (uint32_t j = 0; j < s->joint_count; j++)
         if (!rf_v3_isfinite(w[j].t)) {
-            snprintf(err, err_size, "joint %u's rest position is not finite", j);
+            snprintf(err, err_size, "joint %u '%s': its rest position is not finite", j,
+                     rf_joint_label(s, j, label, sizeof label));
             return false;
         }
     return true;
@@ -110,7 +112,7 @@ rf_mesh *rf_cv_bone_mesh(const rf_skeleton *s, char *err, size_t err_size)
         return NULL;
     }
     rf_skeleton_world_rest(s, w);
-    if (!rf_bm_finite(w, n, err, err_size)) {
+    if (!rf_bm_finite(s, w, err, err_size)) {
         free(w), rf_mesh_free(m);
         return NULL;
     }

@@ -40,6 +40,12 @@ static void print_why(const rf_ms_explain *e, const rf_map_entry *en,
     const rf_ms_candidate *top = e->top ? &e->top[(size_t)j * 3] : NULL;
     const rf_map_input *in = en && en->input_count ? &en->inputs[0] : NULL;
     fputs("    why: ", out);
+    if (in && e->settled && e->settled[j] == 3) {
+        fputs("a girdle joint whose bone runs past the source's neck pivot takes the source's "
+              "neck (girdle=neck)\n",
+              out);
+        return;
+    }
     if (n == 0) {
         fputs(in ? "placed by the section alignment\n" : "no candidate of a kind that may match\n",
               out);
@@ -167,5 +173,6 @@ void rf_ms_explain_clear(rf_ms_explain *e)
     free(e->sources);
     free(e->top);
     free(e->top_count);
+    free(e->settled);
     memset(e, 0, sizeof *e);
 }

@@ -106,7 +106,8 @@ typedef struct rf_ms_row {
 typedef struct rf_ms_pass {
     rf_ms_candidate *best;  /* [target joint] */
     rf_ms_candidate *final; /* [target joint] */
-    uint8_t *settled;       /* [target joint] assigned with its limb (a lent digit; 2: a toe) */
+    uint8_t *settled;       /* [target joint] assigned with its limb (a lent digit; 2: a toe;
+                             * 3: a girdle joint taking a neck, neck_at_girdle) */
     rf_ms_candidate *top;   /* [target joint * 3] or NULL */
     uint8_t *top_count;
     double *sec;       /* section metrics of the current target section against every
@@ -819,6 +820,150 @@ static bool settle_sections(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, r
     return true;
 }
 
+/* The trunk from girdle joint g toward h, the head chain's first joint: where it starts (g's
+ * pivot; where g is a control joint sitting on h, the first ancestor's off it), its direction and
+ * length, and how far along it g's limbs leave (their first real bone's pivot, past an offset;
+ * the farthest of g's limbs: the front pair where one joint carries all four). Not g's own bone:
+ * a rig's bone axis may point it at an arm. */
+typedef struct rf_ms_trunk {
+    rf_vec3 from, dir;
+    double len, limbs;
+} rf_ms_trunk;
+
+static bool trunk_at(const rf_analysis *a, uint32_t g, uint32_t h, rf_ms_trunk *t)
+{
+    int32_t f = (int32_t)g;
+    while (f >= 0 && rf_v3_dist(a->joints[f].pos, a->joints[h].pos) <= 1e-6 * a->height)
+        f = a->joints[f].logical_parent;
+    if (f < 0 || !(a->height > 0))
+        return false;
+    t->from = a->joints[f].pos;
+    t->len = rf_v3_dist(a->joints[h].pos, t->from);
+    t->dir = rf_v3_scale(rf_v3_sub(a->joints[h].pos, t->from), 1 / t->len);
+    t->limbs = NAN;
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        if (a->sections[s].attach_joint != (int32_t)g || !is_limb(a, s))
+            continue;
+        const uint32_t *js = rf_section_joints(a, s);
+        uint32_t i = 0;
+        while (i + 1 < a->sections[s].bone_count && (a->joints[js[i]].flags & RF_JI_OFFSET))
+            i++;
+        double at = rf_v3_dot(rf_v3_sub(a->joints[js[i]].pos, t->from), t->dir);
+        if (!(at <= t->limbs))
+            t->limbs = at;
+    }
+    return isfinite(t->limbs);
+}
+
+/* Where point p lies along the trunk, in body heights from where the limbs leave. */
+static double trunk_place(const rf_analysis *a, const rf_ms_trunk *t, rf_vec3 p)
+{
+    return (rf_v3_dot(rf_v3_sub(p, t->from), t->dir) - t->limbs) / a->height;
+}
+
+/* Drops a line's first entry, the rest placed along what is left of the line. */
+static void line_drop_first(rf_ms_line *l)
+{
+    double base = l->u0[1], span = 1 - base > 1e-9 ? 1 - base : 1;
+    for (uint32_t i = 0; i + 1 < l->n; i++) {
+        l->joint[i] = l->joint[i + 1], l->step[i] = l->step[i + 1];
+        l->u0[i] = (l->u0[i + 1] - base) / span, l->u1[i] = (l->u1[i + 1] - base) / span;
+    }
+    l->n--;
+}
+
+/* After the head chain's alignment under girdle=neck: its bones whose middle lies past the
+ * source's skull pivot (measured as for the girdle joint) are the skull's, the first of them
+ * taking it (unless an earlier joint has it) and the rest following. The alignment goes by places
+ * along each head chain, and an artist's skull joint may sit far back at the head's base
+ * (Testwuson's, after two neck joints), where the curve skeleton's head chain starts further on. */
+static void skull_past(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_line *tl, uint32_t k,
+                       const rf_ms_line *sl, const rf_ms_trunk *tt, const rf_ms_trunk *ts)
+{
+    const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
+    uint32_t skull = sl->joint[sl->n - 1];
+    double sp = trunk_place(as, ts, as->joints[skull].pos);
+    bool taken = false;
+    for (uint32_t i = 0; i < tl->n; i++) {
+        const rf_joint_info *ji = &at->joints[tl->joint[i]];
+        rf_vec3 end = i + 1 < tl->n ? at->joints[tl->joint[i + 1]].pos : ji->tip;
+        double m = 0.5 * (trunk_place(at, tt, ji->pos) + trunk_place(at, tt, end));
+        rf_ms_candidate *f = &p->final[tl->joint[i]];
+        if (m > sp)
+            *f = taken ? no_candidate : (rf_ms_candidate){k, skull, 0, {0}};
+        taken = taken || (f->source == k && f->joint == skull);
+    }
+}
+
+/* The neck at the girdle (girdle=neck). Artists hang the forelimbs from a chest joint whose bone
+ * ends where they leave (the animalia cat's Torso, a human's upper chest) and start the neck
+ * there; a curve skeleton's girdle joint sits where the limbs leave and its bone runs on out of
+ * the trunk into the neck: the section cut puts the neck's first bone at the end of the spine.
+ * Where the target's spine ends at such a joint (its limbs leave in the first half of the
+ * stretch to its head chain, and it is not the spine's first: a root's skin reaches behind it)
+ * and the source's at a chest (its limbs in the second half), and the target's girdle bone lies
+ * mostly past the source's neck pivot (both measured from where the limbs leave, in body
+ * heights), the target's girdle joint takes the source's first neck joint and its head chain is
+ * aligned with the rest of the source's head; a source head of one joint (pivoting where the
+ * neck starts) is taken by both. Before, the cat's head joint took the artist's Neck and its
+ * girdle joint the Torso: the neck's skin followed the chest and the head's the neck. Only on
+ * the target's side. Not by default: the truths of tests/match drive the joint carrying the
+ * limbs by the source's chest, as motion wants; rig-bench asks for it (the skin's
+ * correspondence). */
+static bool neck_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf_ms_line *sl)
+{
+    const rf_analysis *at = c->tgt.a;
+    for (uint32_t th = 0;
+         th < at->section_count && c->o->girdle_neck && !c->o->thesis && !c->o->keep_duplicates;
+         th++) {
+        int32_t g = at->sections[th].attach_joint;
+        if (at->sections[th].type != RF_SECTION_HEAD || g < 0 || !c->tgt.matchable[g])
+            continue;
+        const rf_section *gs = &at->sections[at->joints[g].section];
+        if (gs->type != RF_SECTION_SPINE || (gs->flags & RF_SECFL_REVERSE) ||
+            (c->tgt.ends[g] & 3) != 1)
+            continue;
+        line_section(&c->tgt, th, tl);
+        const rf_ms_candidate *fh = tl->n ? &p->final[tl->joint[0]] : NULL;
+        if (!fh || fh->source == RF_MS_NO_SOURCE)
+            continue;
+        uint32_t k = fh->source;
+        const rf_analysis *as = c->src[k].a;
+        int32_t hs = as->joints[fh->joint].section, gk = as->sections[hs].attach_joint;
+        if (as->sections[hs].type != RF_SECTION_HEAD || gk < 0)
+            continue;
+        /* the girdle joint follows the source's spine (mapped to it, or left to its ancestors) */
+        const rf_ms_candidate *fg = &p->final[g];
+        if (fg->source != RF_MS_NO_SOURCE &&
+            (fg->source != k || as->joints[fg->joint].section != as->joints[gk].section))
+            continue;
+        line_section(&c->src[k], (uint32_t)hs, sl);
+        rf_ms_trunk tt, ts;
+        if (sl->n < 1 || !trunk_at(at, (uint32_t)g, tl->joint[0], &tt) ||
+            !trunk_at(as, (uint32_t)gk, sl->joint[0], &ts))
+            continue;
+        /* the target's limbs leave in the first half of the stretch to the head, the source's in
+         * the second, and the target's girdle bone lies mostly past the source's neck pivot
+         * (both from where the limbs leave, in body heights) */
+        double mid = 0.5 * (trunk_place(at, &tt, at->joints[g].pos) +
+                            trunk_place(at, &tt, at->joints[tl->joint[0]].pos));
+        if (!(tt.limbs < 0.5 * tt.len) || !(ts.limbs >= 0.5 * ts.len) ||
+            !(mid > trunk_place(as, &ts, as->joints[sl->joint[0]].pos)))
+            continue;
+        p->final[g] = (rf_ms_candidate){k, sl->joint[0], 0, {0}};
+        p->settled[g] = 3;
+        if (sl->n < 2)
+            continue;
+        line_drop_first(sl);
+        line_summary(at, tl), line_summary(as, sl);
+        skull_at(c, tl, k, sl);
+        if (!remove_duplicates(c, p, tl, k, sl))
+            return false;
+        skull_past(c, p, tl, k, sl, &tt, &ts);
+    }
+    return true;
+}
+
 /* Scores of the final choices (continuity with the final parents), then the threshold. */
 static void finalize(const rf_ms_ctx *c, rf_ms_pass *p)
 {
@@ -831,7 +976,8 @@ static void finalize(const rf_ms_ctx *c, rf_ms_pass *p)
                 continue;
             uint32_t k = f->source, ss = (uint32_t)c->src[k].a->joints[f->joint].section;
             rf_ms_section_metrics(c, ts, k, ss, f->metrics);
-            if (p->settled[js[i]] == 2 && is_limb(c->src[k].a, ss)) { /* toes lent to a foot */
+            /* toes lent to a foot; a girdle joint's neck bone taking the source's neck */
+            if ((p->settled[js[i]] == 2 && is_limb(c->src[k].a, ss)) || p->settled[js[i]] == 3) {
                 f->metrics[RF_MS_SAME_TYPE] = c->wt.w[RF_MS_SAME_TYPE];
                 f->metrics[RF_MS_SIMILAR_TYPE] = 0;
             }
@@ -855,7 +1001,7 @@ static bool run_pass(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
     bool ok = line_alloc(&tl, c->tgt.a->joint_count) && line_alloc(&sl, most);
     if (ok) {
         select_best(c, p, only);
-        ok = settle_sections(c, p, &tl, &sl);
+        ok = settle_sections(c, p, &tl, &sl) && neck_at_girdle(c, p, &tl, &sl);
         finalize(c, p);
     }
     line_free(&tl);
@@ -999,6 +1145,7 @@ static void keep_explanation(rf_ms_ctx *c, rf_ms_pass *p, rf_ms_explain *e)
     e->joint_count = e->target->joint_count;
     e->top = p->top, p->top = NULL;
     e->top_count = p->top_count, p->top_count = NULL;
+    e->settled = p->settled, p->settled = NULL;
     e->threshold = c->threshold;
     e->gait_legs = c->gait_legs;
 }

@@ -130,6 +130,7 @@ static bool read_params(const rf_host *h, rf_node *node, uint32_t n, ms_params *
                                                  : RF_MS_MIRROR_NONE;
     p->o.no_reverse = !h->param_bool(node, "reverse");
     p->o.forelegs_arms = strcmp(h->param_string(node, "forelegs"), "arms") == 0;
+    p->o.girdle_neck = strcmp(h->param_string(node, "girdle"), "neck") == 0;
     p->o.blend = h->param_bool(node, "blend");
     p->o.orientation_angle = h->param_float(node, "orientation_angle");
     p->o.target_analysis.leg_threshold = p->o.source_analysis.leg_threshold =
@@ -399,6 +400,11 @@ static const rf_param_desc params[] = {
       "Forelegs standing on the floor when every source walks on two legs (arms off the "
       "floor): gait drives each from the source's leg of its side half a cycle later (a trot); "
       "arms keeps the arms on them (homology)."),
+    P("girdle", RF_PARAM_ENUM, 0, 0, "chest", 0, 0, "chest|neck",
+      "A girdle joint whose limbs leave at its pivot and whose bone runs on past the source's "
+      "neck pivot (a curve skeleton's): chest drives it by the source's chest, the joint carrying "
+      "the limbs (for motion); neck by the source's first neck joint, where its bone and skin lie "
+      "(correspondence: rig-bench's skinning)."),
     P("reverse", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
       "Flag joints whose chain bends the other way than their source's (knees) as reversed."),
     P("blend", RF_PARAM_BOOL, 0, 0, NULL, 0, 0, NULL,

@@ -70,6 +70,9 @@ typedef struct rf_ms_options {
     rf_analysis_options source_analysis;
     bool forelegs_arms; /* forelegs on the floor keep the source's arms (homology) even when every
                          * source walks on two legs; false: the gait rule (gait.c) */
+    bool girdle_neck;   /* a girdle joint whose bone runs past the source's neck pivot takes the
+                         * source's neck (where its skin lies), not its chest (match.c,
+                         * neck_at_girdle) */
 } rf_ms_options;
 
 /* One scored candidate. */
@@ -90,6 +93,8 @@ typedef struct rf_ms_explain {
     uint8_t *top_count;   /* [joint_count] */
     double threshold;     /* the score a match needed */
     uint32_t gait_legs;   /* forelegs driven by the sources' legs half a cycle later (gait.c) */
+    uint8_t *settled;     /* [joint_count] how a joint was assigned apart from its own section
+                           * (3: a girdle joint that took a neck, girdle=neck), or NULL */
 } rf_ms_explain;
 
 /* Maps the target's joints onto the sources'. Returns NULL with a message in err when out of

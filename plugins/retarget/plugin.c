@@ -243,8 +243,10 @@ static bool rt_any_nonfinite(const float *v, size_t n)
     return (bad & 0x80000000u) != 0;
 }
 
-/* A clip with a non-finite value is refused, naming where, rather than written. */
-static bool rt_finite(const rf_animation *a, const rf_host *host, rf_node *node)
+/* A clip with a non-finite value is refused, naming where (the frame, the joint by index and
+ * escaped name), rather than written. */
+static bool rt_finite(const rf_animation *a, const rf_skeleton *s, const rf_host *host,
+                      rf_node *node)
 {
     size_t n = (size_t)a->frame_count * a->joint_count;
     /* A clip is finite but for a bug: looked over in bulk first (7 checks a joint-frame one
@@ -257,10 +259,12 @@ static bool rt_finite(const rf_animation *a, const rf_host *host, rf_node *node)
                   isfinite(t[0]) && isfinite(t[1]) && isfinite(t[2]);
         if (ok)
             continue;
+        char label[160];
+        uint32_t j = (uint32_t)(i % a->joint_count);
         host->error(node,
-                    "the retargeted clip has a non-finite value at frame %zu, joint %zu: "
+                    "the retargeted clip has a non-finite value at frame %zu, joint %u '%s': "
                     "not written",
-                    i / a->joint_count, i % a->joint_count);
+                    i / a->joint_count, j, rf_joint_label(s, j, label, sizeof label));
         return false;
     }
     return true;
@@ -311,7 +315,7 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
     bool ok = rt_contact_pass(rt, out, o, host, node) && rt_parts_pass(rt, out, host, node);
     if (ok)
         rt_mesh_clear(rt, out, host, node);
-    ok = ok && rt_finite(out, host, node);
+    ok = ok && rt_finite(out, target, host, node);
     rf_retarget_free(rt);
     if (!ok) {
         rf_animation_free(out);

@@ -677,6 +677,7 @@ bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size)
     if (!(rt->leg_target > 0))
         rt->leg_target = rt->src[0].leg;
     double lowest = rt_lowest(rt->target, rt->t_rest_world, rt->t_tip, rt->up, rt->t_above);
+    rt->t_rest_low = lowest;
     if (rt->opt.ground == RF_RT_GROUND_WORLD)
         rt->floor_target = 0;
     else if (rt->opt.ground == RF_RT_GROUND_REST)

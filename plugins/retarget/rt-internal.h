@@ -179,6 +179,8 @@ struct rf_retarget {
     double aligned_low;     /* lowest height of that pose */
     uint8_t *t_above;       /* [n] placement joints above the target's hips */
     double floor_target;
+    double t_rest_low;   /* the lowest point of the target's rest (joints and bone tips of the
+                          * body below its placement joints), along up */
     double ground_shift; /* the clip's vertical correction (rf_rt_ground_fix), target units */
     double cycle;
     bool root_motion_on; /* false while measuring the aligned rest */

@@ -8,6 +8,8 @@
 #include <string.h>
 
 #include "rigflow/analysis.h"
+#include "rigflow/text.h"
+
 #include "rt-internal.h"
 
 void rf_rt_fail(char *err, size_t err_size, const char *fmt, ...)
@@ -40,12 +42,12 @@ static bool rt_check_skeleton(const rf_skeleton *s, const char *what, char *err,
         rf_rt_fail(err, err_size, "%s has no joints", what);
         return false;
     }
-    for (uint32_t j = 0; j < s->joint_count; j++)
-        if (s->joints[j].parent >= (int32_t)j) {
-            rf_rt_fail(err, err_size, "%s: joint %u's parent comes after it", what, j);
-            return false;
-        }
-    return true;
+    int64_t bad = rf_skeleton_misordered(s);
+    char why[416];
+    if (bad >= 0)
+        rf_rt_fail(err, err_size, "%s: %s", what,
+                   rf_skeleton_order_error(s, (uint32_t)bad, why, sizeof why));
+    return bad < 0;
 }
 
 static bool rt_check(const rf_rt_source *sources, uint32_t count, const rf_skeleton *target,

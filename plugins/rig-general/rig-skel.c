@@ -28,6 +28,7 @@ typedef struct rf_rig_grid {
 
 typedef struct rf_rig_node {
     double sum[3];
+    double sq[3][3]; /* sums of the voxels' coordinate products: the piece's spread */
     uint32_t count;
     uint32_t band, comp;
     int32_t maxdf;
@@ -618,6 +619,10 @@ static bool rf_rig_pieces(rf_rig_grid *g, rf_rig_nodes *ns)
             int x, y, z;
             rf_rig_xyz(g, i, &x, &y, &z);
             nd->sum[0] += x, nd->sum[1] += y, nd->sum[2] += z;
+            int c[3] = {x, y, z};
+            for (int a = 0; a < 3; a++)
+                for (int b = 0; b < 3; b++)
+                    nd->sq[a][b] += (double)c[a] * c[b];
             nd->count++;
             nd->maxdf = g->df[i] > nd->maxdf ? g->df[i] : nd->maxdf;
             for (int k = 0; k < 26; k++)
@@ -770,6 +775,110 @@ static double rf_rig_branch_thickness(const rf_rig_tree *t, uint32_t leaf)
     return sum / n;
 }
 
+/* The spread of node i's voxels (in voxels): along the unit normal n into *across, and the
+ * largest spread of any direction square to n into *along. */
+static void rf_rig_spread(const rf_rig_tree *t, uint32_t i, const double n[3], double *across,
+                          double *along)
+{
+    const rf_rig_node *v = &t->ns->v[i];
+    double m[3], c[3][3], e[3][3];
+    for (int a = 0; a < 3; a++)
+        m[a] = v->sum[a] / v->count;
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            c[a][b] = v->sq[a][b] / v->count - m[a] * m[b];
+    double cn[3] = {0}, nn = 0;
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            cn[a] += c[a][b] * n[b];
+    for (int a = 0; a < 3; a++)
+        nn += n[a] * cn[a];
+    /* c with its part along n taken out: (I - nn^T) c (I - nn^T) */
+    double pc[3][3];
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            pc[a][b] = c[a][b] - n[a] * cn[b] - cn[a] * n[b] + n[a] * n[b] * nn;
+    rf_rig_eigen3(pc, e);
+    double big = fmax(pc[0][0], fmax(pc[1][1], pc[2][2]));
+    *across = sqrt(fmax(nn, 0)), *along = sqrt(fmax(big, 0));
+}
+
+#define RF_RIG_FIN_ACROSS 0.5 /* voxels: the spread of a sheet one voxel thick is 0 */
+#define RF_RIG_FIN_ALONG 3.0  /* voxels: the spread within the plane a fin needs */
+#define RF_RIG_FIN_OFF 2.5    /* voxels from the mirror plane, which may tilt a little */
+
+/* Whether the side branch from `leaf` up to `start` is a fin: a sheet with no thickness of its
+ * own (each band piece at most a voxel thick, wide within the plate), lying in the body's mirror
+ * plane: a fish's dorsal or anal fin, a crest. Artists do not rig such a plate; the curve
+ * skeleton runs a chain into each of its corners, and the skeleton analysis reads those as legs
+ * and feet. A leg is round, not a sheet; a wing is a plate too but leaves the body sideways, in
+ * pairs, never along its mirror plane. Voxels counted by weight, so the few voxels of a piece
+ * at a corner do not decide. */
+static bool rf_rig_fin(const rf_rig_tree *t, uint32_t leaf, uint32_t start)
+{
+    if (!t->g->sym)
+        return false;
+    const rf_rig_node *v = t->ns->v;
+    const double *n = t->g->sym_n;
+    for (uint32_t k = leaf;; k = (uint32_t)v[k].parent) { /* on the plane first: cheap */
+        double o = n[0] * t->pos[k][0] + n[1] * t->pos[k][1] + n[2] * t->pos[k][2] - t->g->sym_d;
+        if (fabs(o) > RF_RIG_FIN_OFF * t->g->h)
+            return false;
+        if (k == start)
+            break;
+    }
+    double across = 0, along = 0, w = 0;
+    for (uint32_t k = leaf;; k = (uint32_t)v[k].parent) {
+        double a, l;
+        rf_rig_spread(t, k, n, &a, &l);
+        across += a * v[k].count, along += l * v[k].count, w += v[k].count;
+        if (k == start)
+            break;
+    }
+    return across <= RF_RIG_FIN_ACROSS * w && along >= RF_RIG_FIN_ALONG * w;
+}
+
+/* Whether node k is a piece of a sheet in the mirror plane: at most a voxel thick across it
+ * and lying on it. */
+static bool rf_rig_sheet_node(const rf_rig_tree *t, uint32_t k)
+{
+    const double *n = t->g->sym_n;
+    double o = n[0] * t->pos[k][0] + n[1] * t->pos[k][1] + n[2] * t->pos[k][2] - t->g->sym_d, a, l;
+    if (fabs(o) > RF_RIG_FIN_OFF * t->g->h)
+        return false;
+    rf_rig_spread(t, k, n, &a, &l);
+    return a <= RF_RIG_FIN_ACROSS;
+}
+
+/* Chains that end in a fin end where the fin starts: a fish's tail runs on into its tail fin,
+ * a sheet the curve skeleton crosses to one of its corners. From each leaf, the nodes that are
+ * sheet pieces in the mirror plane (rf_rig_sheet_node) go when together they make a fin
+ * (rf_rig_fin) and something thicker is left above them; bone heat gives the fin to the bone
+ * that ends where it starts. */
+static void rf_rig_trim_fins(rf_rig_tree *t)
+{
+    rf_rig_node *v = t->ns->v;
+    if (!t->g->sym)
+        return;
+    for (uint32_t i = 0; i < t->ns->n; i++) {
+        if (v[i].dead || v[i].children || v[i].parent < 0 || !rf_rig_sheet_node(t, i))
+            continue;
+        uint32_t top = i;
+        while (v[top].parent >= 0 && v[v[top].parent].children == 1 &&
+               v[v[top].parent].parent >= 0 && rf_rig_sheet_node(t, (uint32_t)v[top].parent))
+            top = (uint32_t)v[top].parent;
+        uint32_t above = (uint32_t)v[top].parent;
+        if (rf_rig_sheet_node(t, above) || !rf_rig_fin(t, i, top))
+            continue;
+        for (uint32_t k = i;; k = (uint32_t)v[k].parent) {
+            v[k].dead = 1;
+            if (k == top)
+                break;
+        }
+        v[above].children--;
+    }
+}
+
 /* Each live leaf's side branch measured into t->len, t->score and t->start (score INFINITY:
  * not a side branch, so never pruned): how far it reaches beyond its junction, and that over
  * what a limb needs, the body's thickness where it leaves and 3.5 times its own thickness (a
@@ -803,7 +912,7 @@ static void rf_rig_measure(rf_rig_tree *t, const uint32_t *reach, const uint8_t 
         }
         if (v[junction].children < 2 || v[i].end)
             continue;
-        bool twig = !apart && rf_rig_twig(t, reach, leaves, junction, k);
+        bool twig = !apart && (rf_rig_twig(t, reach, leaves, junction, k) || rf_rig_fin(t, i, k));
         t->len[i] = len, t->start[i] = k;
         t->score[i] = twig ? 0 : len / fmax(t->radius[junction], 3.5 * thick);
     }
@@ -1281,6 +1390,8 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
         t.far[i] = ns.v[i].band, t.far_r[i] = t.radius[i];
     while (pruning && rf_rig_prune_one(&t, reach, leaves))
         ;
+    rf_rig_trim_fins(&t);
+    rf_rig_count_children(&t);
     free(reach), free(leaves), free(t.len), free(t.score), free(t.start), free(t.far),
         free(t.far_r);
     t.len = NULL, t.score = NULL, t.start = NULL, t.far = NULL, t.far_r = NULL;

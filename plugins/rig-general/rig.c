@@ -538,6 +538,186 @@ static void rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_optio
     rf_skeleton_free(s);
 }
 
+/* ---- a head piece turns whole ---- */
+
+/* How many triangles of loose part `part` of g the ray from q along d crosses (Moller and
+ * Trumbore's test). */
+static uint32_t rf_rig_crossings(const rf_rig_geo *g, const uint32_t *part_of, uint32_t part,
+                                 const double q[3], const double d[3])
+{
+    uint32_t n = 0;
+    for (uint32_t t = 0; t < g->nt; t++) {
+        const uint32_t *tv = g->t + (size_t)t * 3;
+        if (part_of[tv[0]] != part)
+            continue;
+        const double *a = g->p + (size_t)tv[0] * 3, *b = g->p + (size_t)tv[1] * 3,
+                     *c = g->p + (size_t)tv[2] * 3;
+        double e1[3], e2[3], s[3], h[3], qv[3];
+        for (int i = 0; i < 3; i++)
+            e1[i] = b[i] - a[i], e2[i] = c[i] - a[i], s[i] = q[i] - a[i];
+        h[0] = d[1] * e2[2] - d[2] * e2[1], h[1] = d[2] * e2[0] - d[0] * e2[2];
+        h[2] = d[0] * e2[1] - d[1] * e2[0];
+        double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
+        if (fabs(det) < 1e-300)
+            continue;
+        double u = (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]) / det;
+        qv[0] = s[1] * e1[2] - s[2] * e1[1], qv[1] = s[2] * e1[0] - s[0] * e1[2];
+        qv[2] = s[0] * e1[1] - s[1] * e1[0];
+        double v = (d[0] * qv[0] + d[1] * qv[1] + d[2] * qv[2]) / det;
+        double at = (e2[0] * qv[0] + e2[1] * qv[1] + e2[2] * qv[2]) / det;
+        n += u >= 0 && v >= 0 && u + v <= 1 && at > 0;
+    }
+    return n;
+}
+
+/* Whether q lies in the bounding box of loose part `part` (a cheap test before the rays). */
+static bool rf_rig_part_box_holds(const rf_rig_prep *p, uint32_t part, const double q[3])
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t v = 0; v < p->proxy.nv; v++) {
+        if (p->proxy_part[v] != part)
+            continue;
+        for (int a = 0; a < 3; a++) {
+            lo[a] = fmin(lo[a], p->proxy.p[(size_t)v * 3 + a]);
+            hi[a] = fmax(hi[a], p->proxy.p[(size_t)v * 3 + a]);
+        }
+    }
+    return q[0] >= lo[0] && q[0] <= hi[0] && q[1] >= lo[1] && q[1] <= hi[1] && q[2] >= lo[2] &&
+           q[2] <= hi[2];
+}
+
+/* Whether loose part `part` encloses q: the ray both ways along one oblique line (not along a
+ * box's faces) crosses it an odd number of times; an open part (a sheet, a cape) is crossed
+ * one way only, or evenly, and encloses nothing. */
+static bool rf_rig_part_encloses(const rf_rig_prep *p, uint32_t part, const double q[3])
+{
+    static const double d[3] = {0.5377, 0.7071, 0.4592}, e[3] = {-0.5377, -0.7071, -0.4592};
+    return rf_rig_crossings(&p->proxy, p->proxy_part, part, q, d) % 2 == 1 &&
+           rf_rig_crossings(&p->proxy, p->proxy_part, part, q, e) % 2 == 1;
+}
+
+/* k without the joints flagged in drop[] (whole subtrees: a dropped joint's children are
+ * dropped too); parents still come first. */
+static void rf_rig_drop(rf_rig_skel *k, const uint8_t *drop, int32_t *to)
+{
+    uint32_t n = 0;
+    for (uint32_t j = 0; j < k->n; j++) {
+        to[j] = -1;
+        if (drop[j])
+            continue;
+        to[j] = (int32_t)n;
+        memmove(k->pos + (size_t)n * 3, k->pos + (size_t)j * 3, 3 * sizeof *k->pos);
+        memmove(k->tip + (size_t)n * 3, k->tip + (size_t)j * 3, 3 * sizeof *k->tip);
+        k->has_tip[n] = k->has_tip[j];
+        k->parent[n] = k->parent[j] >= 0 ? to[k->parent[j]] : -1;
+        if (k->owns_in)
+            k->owns_in[n] = k->owns_in[j];
+        n++;
+    }
+    k->n = n;
+}
+
+/* The joint where the head's bulk starts: of the joints from the head's first joint h down
+ * (flagged in sub[]), the first whose girth (rf_rig_girth) is at least RF_RIG_NECK_GIRTH of the
+ * largest among them; a neck narrower than the head keeps its joint. NONE when no girth is
+ * measured. */
+static uint32_t rf_rig_bulk(const rf_rig_prep *p, const rf_rig_skel *k, const uint8_t *sub,
+                            rf_vec3 up, rf_vec3 fwd)
+{
+    rf_rig_surface *sf =
+        rf_v3_len(rf_v3_cross(up, fwd)) > 0.5 ? rf_rig_surface_make(&p->proxy) : NULL;
+    double *g = sf ? malloc((k->n + 1) * sizeof *g) : NULL, most = 0;
+    uint32_t b = RF_RIG_NONE;
+    for (uint32_t j = 0; g && j < k->n; j++) {
+        g[j] = sub[j] ? rf_rig_girth(sf, k->pos + (size_t)j * 3, up, fwd) : NAN;
+        most = isfinite(g[j]) ? fmax(most, g[j]) : most;
+    }
+    for (uint32_t j = 0; g && j < k->n && b == RF_RIG_NONE; j++) /* parents come first */
+        if (isfinite(g[j]) && most > 0 && g[j] >= RF_RIG_NECK_GIRTH * most)
+            b = j;
+    free(g);
+    rf_rig_surface_free(sf);
+    return b;
+}
+
+/* The ends of the bones of the joints flagged in drop[] (pivots and leaf ends), the farthest
+ * from q into end[]. */
+static void rf_rig_farthest(const rf_rig_skel *k, const uint8_t *drop, const double q[3],
+                            double end[3])
+{
+    double far = -1;
+    for (uint32_t j = 0; j < k->n; j++)
+        for (int e = 0; drop[j] && e < 1 + k->has_tip[j]; e++) {
+            const double *x = (e ? k->tip : k->pos) + (size_t)j * 3;
+            double d = (x[0] - q[0]) * (x[0] - q[0]) + (x[1] - q[1]) * (x[1] - q[1]) +
+                       (x[2] - q[2]) * (x[2] - q[2]);
+            if (d > far)
+                far = d, memcpy(end, x, 3 * sizeof *end);
+        }
+}
+
+/* A head modelled as a piece of its own (a robot's head box, a head with its neck) turns whole
+ * on one joint, as an artist binds it: the curve skeleton runs its head chain on through the
+ * piece, two or three joints inside one closed part, and the clip's neck and head joints bent
+ * the box between them (the CMU walk tipped a robot's head forward and drew its rim into a V,
+ * its lower ring bound to the chest). From the joint where the head's bulk starts
+ * (rf_rig_bulk: the analysis's first head joint, or one past a neck), when it and the middle
+ * of every bone below it lie inside one closed loose part that does not enclose the trunk
+ * joint the head hangs from (a twig's pivot at a box's corner may lie just outside), the
+ * joints below it go and its bone reaches to the farthest of their ends; bone
+ * heat then gives the piece's bulk to that joint alone. A head of the body's own surface (one
+ * mesh, which encloses the trunk too) is left: its chain bends with the neck it models. False
+ * when out of memory. */
+static bool rf_rig_head_whole(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
+{
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    if (!s)
+        return false;
+    s->up = o->up, s->forward = o->forward;
+    rf_analysis *a = rf_analyze(s, NULL);
+    rf_skeleton_free(s);
+    if (!a)
+        return false;
+    int32_t h = -1;
+    for (uint32_t j = 0; j < k->n && h < 0; j++) {
+        int32_t sec = a->joints[j].section;
+        if (sec >= 0 && a->sections[sec].type == RF_SECTION_HEAD && k->parent[j] >= 0)
+            h = (int32_t)j;
+    }
+    rf_vec3 up = a->up, fwd = a->forward;
+    rf_analysis_free(a);
+    if (h < 0)
+        return true;
+    uint8_t *sub = calloc(k->n + 1, 1), *drop = calloc(k->n + 1, 1);
+    int32_t *to = malloc((k->n + 1) * sizeof *to);
+    bool ok = sub && drop && to;
+    for (uint32_t j = (uint32_t)h; ok && j < k->n; j++) /* parents come first */
+        sub[j] = j == (uint32_t)h || (k->parent[j] >= 0 && sub[k->parent[j]]);
+    uint32_t b = ok ? rf_rig_bulk(p, k, sub, up, fwd) : RF_RIG_NONE, below = 0;
+    for (uint32_t j = b + 1; b != RF_RIG_NONE && j < k->n; j++)
+        if (k->parent[j] >= 0 && ((uint32_t)k->parent[j] == b || drop[k->parent[j]]))
+            drop[j] = 1, below++;
+    const double *trunk = k->pos + (size_t)k->parent[h] * 3;
+    for (uint32_t part = 0; below && part < p->proxy_parts; part++) {
+        bool whole = rf_rig_part_box_holds(p, part, k->pos + (size_t)b * 3) &&
+                     rf_rig_part_encloses(p, part, k->pos + (size_t)b * 3) &&
+                     !rf_rig_part_encloses(p, part, trunk);
+        for (uint32_t j = b + 1; whole && j < k->n; j++) { /* the middle of each bone dropped */
+            const double *x = k->pos + (size_t)j * 3, *y = k->pos + (size_t)k->parent[j] * 3;
+            double mid[3] = {(x[0] + y[0]) / 2, (x[1] + y[1]) / 2, (x[2] + y[2]) / 2};
+            whole = !drop[j] || rf_rig_part_encloses(p, part, mid);
+        }
+        if (!whole)
+            continue;
+        rf_rig_farthest(k, drop, k->pos + (size_t)b * 3, k->tip + (size_t)b * 3);
+        k->has_tip[b] = 1;
+        rf_rig_drop(k, drop, to);
+        break;
+    }
+    free(sub), free(drop), free(to);
+    return ok;
+}
+
 #define RF_RIG_BOTTOM_GAP 0.25 /* of the body's height between its bottom and the skeleton's */
 
 /* A joint appended to k at p hanging from `parent`; false when out of memory (k unchanged). */
@@ -861,6 +1041,8 @@ bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
         return false;
     rf_rig_dorsal(p, k, o);
     rf_rig_neck(p, k, o);
+    if (!rf_rig_head_whole(p, k, o))
+        return false;
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
         return false;

@@ -1491,6 +1491,28 @@ static void test_write_names_and_rest_only(void **state)
     assert_non_null(
         strstr(err, "out.bvh: joint 1 ('left_arm') has a rest pose that is not finite"));
     assert_int_equal(access(path, F_OK), -1);
+    /* the name comes from a file: a control or a C1 byte in it reaches the message escaped */
+    char *keep = s->joints[1].name;
+    s->joints[1].name = strdup("arm\x1b]0;x\x07\x9b");
+    assert_false(rf_bvh_write_file(path, "out.bvh", s, NULL, NULL, err, sizeof err));
+    assert_non_null(strstr(err, "joint 1 ('arm\\x1b]0;x\\x07\\x9b') has a rest pose"));
+    free(s->joints[1].name), s->joints[1].name = keep;
+    s->joints[1].rest.t.y = 0;
+    free(s->joints[2].name); /* a C1 byte, kept by the writer's names (they drop spaces) */
+    s->joints[2].name = strdup("\x9bleg");
+    nan = rf_animation_new(4, 2, 30);
+    rf_animation_set_rotation(nan, 1, 2, rf_quat_make(NAN, 0, 0, 1));
+    assert_false(rf_bvh_write_file(path, "out.bvh", s, nan, NULL, err, sizeof err));
+    assert_non_null(strstr(err, "frame 2 of joint '\\x9bleg' is not finite"));
+    rf_animation_free(nan);
+    assert_int_equal(access(path, F_OK), -1);
+    /* a parent after its child: both named, escaped */
+    s->joints[2].parent = 3;
+    assert_false(rf_bvh_write_file(path, "out.bvh", s, NULL, NULL, err, sizeof err));
+    assert_non_null(strstr(err, "out.bvh: joint 2 '\\x9bleg' has parent 3 '#3': expected parents "
+                                "before children"));
+    assert_int_equal(access(path, F_OK), -1);
+    s->joints[2].parent = 1;
     rmdir(dir);
     free(dir);
     rf_skeleton_free(s);

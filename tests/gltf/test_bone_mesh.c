@@ -86,13 +86,15 @@ static void test_parent_order(void **state)
     (void)state;
     rf_skeleton *s = chain();
     char err[256] = "";
-    s->joints[1].parent = 3; /* after its child */
+    s->joints[1].parent = 3;                  /* after its child */
+    s->joints[1].name = strdup("arm\x1b[2J"); /* from a file: reaches the message escaped */
     assert_null(rf_cv_bone_mesh(s, err, sizeof err));
-    assert_non_null(strstr(err, "joint 1"));
+    assert_string_equal(err, "joint 1 'arm\\x1b[2J' has parent 3 '#3': expected parents before "
+                             "children");
     s->joints[1].parent = 70000; /* past the end */
     err[0] = '\0';
     assert_null(rf_cv_bone_mesh(s, err, sizeof err));
-    assert_non_null(strstr(err, "joint 1"));
+    assert_non_null(strstr(err, "joint 1 'arm\\x1b[2J' has parent 70000 '#70000'"));
     rf_skeleton_free(s);
 }
 
@@ -104,8 +106,10 @@ static void test_nan_rest(void **state)
     char err[256] = "";
     s->joints[3].rest.t.y = NAN;
     assert_null(rf_cv_bone_mesh(s, err, sizeof err));
-    assert_non_null(strstr(err, "joint 3"));
-    assert_non_null(strstr(err, "finite"));
+    assert_string_equal(err, "joint 3 '#3': its rest position is not finite");
+    s->joints[3].name = strdup("tip\x07");
+    assert_null(rf_cv_bone_mesh(s, err, sizeof err));
+    assert_string_equal(err, "joint 3 'tip\\x07': its rest position is not finite");
     rf_skeleton_free(s);
 }
 

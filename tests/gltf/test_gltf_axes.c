@@ -307,10 +307,20 @@ static void nan_axes(void **state)
          3);
 }
 
+/* Whether `text` holds a control byte (a raw ESC or BEL from a hostile name). */
+static bool has_control(const char *text)
+{
+    for (const unsigned char *c = (const unsigned char *)text; *c; c++)
+        if (*c < 0x20 || *c == 0x7f)
+            return true;
+    return false;
+}
+
 /* The writer refuses, naming the joint and writing nothing, a skeleton it cannot write as glTF:
  * a parent after its child (the contract of rigflow/model.h, unchecked by the host) and a rest
  * pose that is not finite (JSON has no NaN: the number was dropped from the node, leaving a
- * two-number translation that readers reject). */
+ * two-number translation that readers reject). The joint is named by its index and by its name
+ * from the file, escaped: a name that sets a terminal's title reaches the message as text. */
 static void refuses_broken_skeleton(void **state)
 {
     (void)state;
@@ -319,22 +329,44 @@ static void refuses_broken_skeleton(void **state)
     snprintf(path, sizeof path, "%s/out.gltf", dir);
     rf_skeleton *s = two_roots();
     s->up = rf_v3(0, 1, 0), s->forward = rf_v3(0, 0, 1);
+    s->joints[1].name = strdup("knee\x1b]0;owned\x07");
+    s->joints[3].name = strdup("toe");
     assert_true(rf_gltf_write_file(path, NULL, s, NULL, NULL, NULL, err, sizeof err));
     assert_int_equal(unlink(path), 0);
     s->joints[3].parent = 3;
     assert_false(rf_gltf_write_file(path, "out.gltf", s, NULL, NULL, NULL, err, sizeof err));
-    assert_non_null(strstr(err, "joint 3"));
+    assert_string_equal(err, "out.gltf: joint 3 'toe' has parent 3 'toe': expected parents "
+                             "before children");
     assert_int_not_equal(access(path, F_OK), 0);
+    s->joints[3].parent = 7; /* past the end: no name to give, its index only */
+    assert_false(rf_gltf_write_file(path, "out.gltf", s, NULL, NULL, NULL, err, sizeof err));
+    assert_non_null(strstr(err, "joint 3 'toe' has parent 7 '#7'"));
     s->joints[3].parent = 2;
     for (int k = 0; k < 3; k++) {
         rf_xform keep = s->joints[1].rest;
         double *v[3] = {&s->joints[1].rest.t.y, &s->joints[1].rest.r.z, &s->joints[1].rest.s.x};
         *v[k] = NAN;
         assert_false(rf_gltf_write_file(path, "out.gltf", s, NULL, NULL, NULL, err, sizeof err));
-        assert_non_null(strstr(err, "joint 1"));
+        assert_string_equal(err, "out.gltf: joint 1 'knee\\x1b]0;owned\\x07': its rest pose is "
+                                 "not finite");
+        assert_false(has_control(err));
         assert_int_not_equal(access(path, F_OK), 0);
         s->joints[1].rest = keep;
     }
+    /* a joint with no name: its index stands in */
+    free(s->joints[1].name), s->joints[1].name = NULL;
+    s->joints[1].rest.t.x = INFINITY;
+    assert_false(rf_gltf_write_file(path, "out.gltf", s, NULL, NULL, NULL, err, sizeof err));
+    assert_string_equal(err, "out.gltf: joint 1 '#1': its rest pose is not finite");
+    s->joints[1].rest.t.x = 0;
+    /* a clip's name comes from a file too */
+    rf_animation *a = clip_of(s);
+    a->name = strdup("walk\x1b[2J");
+    a->fps = 0;
+    assert_false(rf_gltf_write_file(path, "out.gltf", s, a, NULL, NULL, err, sizeof err));
+    assert_string_equal(err, "out.gltf: animation 0 'walk\\x1b[2J': fps must be > 0 (got 0)");
+    assert_int_not_equal(access(path, F_OK), 0);
+    rf_animation_free(a);
     rmdir(dir);
     rf_skeleton_free(s);
 }

@@ -362,6 +362,130 @@ static size_t quadruped_with_head(sb_joint *out, const sb_joint *head, size_t n)
     return k;
 }
 
+/* A quadruped as artists build one: the chest joint sits behind the shoulders and its bone ends
+ * where the forelegs leave and the neck starts (the animalia cat's Torso and Neck), unlike
+ * sb_quadruped's chest, which sits where the forelegs leave with its bone running up to the neck
+ * as a curve skeleton's girdle joint does. */
+static const sb_joint artist_quadruped[] = {
+    {"pelvis", NULL, 0, 1.00, 0.50, 0},    {"spine", "pelvis", 0, 1.05, 0.20, 0},
+    {"chest", "spine", 0, 1.05, -0.05, 0}, {"neck", "chest", 0, 1.05, -0.42, 0},
+    {"head", "neck", 0, 1.30, -0.70, 0},   {".", "head", 0, 1.30, -0.95, 0},
+    {"tail1", "pelvis", 0, 1.05, 0.60, 0}, {"tail2", "tail1", 0, 0.95, 0.85, 0},
+    {".", "tail2", 0, 0.80, 1.10, 0},      {"fl1", "chest", -0.15, 0.90, -0.40, 0},
+    {"fl2", "fl1", -0.15, 0.50, -0.36, 0}, {"fl3", "fl2", -0.15, 0.05, -0.42, 0},
+    {".", "fl3", -0.15, 0.0, -0.52, 0},    {"fr1", "chest", 0.15, 0.90, -0.40, 0},
+    {"fr2", "fr1", 0.15, 0.50, -0.36, 0},  {"fr3", "fr2", 0.15, 0.05, -0.42, 0},
+    {".", "fr3", 0.15, 0.0, -0.52, 0},     {"hl1", "pelvis", -0.15, 0.90, 0.50, 0},
+    {"hl2", "hl1", -0.15, 0.50, 0.40, 0},  {"hl3", "hl2", -0.15, 0.05, 0.52, 0},
+    {".", "hl3", -0.15, 0.0, 0.44, 0},     {"hr1", "pelvis", 0.15, 0.90, 0.50, 0},
+    {"hr2", "hr1", 0.15, 0.50, 0.40, 0},   {"hr3", "hr2", 0.15, 0.05, 0.52, 0},
+    {".", "hr3", 0.15, 0.0, 0.44, 0},
+};
+
+/* girdle=neck: a target girdle joint whose forelimbs leave at its pivot (none of its bone behind
+ * them) and whose bone runs on past the source's neck pivot is the neck's first bone, and its
+ * skin is the neck's: it takes the source's first neck joint and its head chain the rest of the
+ * source's head. sb_quadruped's chest bone runs from where its forelegs leave, 0.28 up and
+ * forward to its neck joint: its middle lies 0.10 of the body's height past the forelegs, where
+ * the biped's neck starts 0.03 past its upper arms and the artist quadruped's 0.02 past its
+ * forelegs. Only on the target's side, and not by default (the joint carrying the limbs drives
+ * them as a chest for motion); a target whose chest ends where its limbs leave (the biped's
+ * chest: its arms leave three quarters along it; the artist quadruped's) keeps the chest. Head
+ * chain joints whose bone lies past the source's skull pivot take the skull. A
+ * source whose head is one joint, pivoting where the neck starts (the animalia bat's Head), has
+ * no joint left for the head chain: the girdle joint takes it and so does the head chain. */
+static void test_girdle_neck(void **state)
+{
+    (void)state;
+    rf_skeleton *b = biped_facing(0);
+    rf_skeleton *q = sb_build(sb_quadruped, SB_COUNT(sb_quadruped));
+    rf_skeleton *a = sb_build(artist_quadruped, SB_COUNT(artist_quadruped));
+    rf_ms_options o = {.forelegs_arms = true, .girdle_neck = true};
+    const rf_skeleton *src[1] = {b};
+    rf_ms_explain e = {0};
+    char err[256], *text = NULL;
+    size_t size = 0;
+    rf_mapping *m = rf_ms_match(q, src, 1, &o, &e, err, sizeof err);
+    assert_non_null(m);
+    assert_driver(m, q, b, "chest", "neck");
+    assert_driver(m, q, b, "neck", "head");
+    assert_driver(m, q, b, "fl1", "l_arm");
+    assert_driver(m, q, b, "hl1", "l_thigh");
+    /* --explain says why the chest took a neck */
+    FILE *out = open_memstream(&text, &size);
+    rf_ms_explain_print(&e, m, q, src, out);
+    fclose(out);
+    assert_non_null(strstr(text, "chest (center spine) <- 0:neck"));
+    assert_non_null(strstr(text, "takes the source's neck (girdle=neck)"));
+    free(text);
+    rf_ms_explain_clear(&e);
+    rf_mapping_free(m);
+    m = match1(q, a, &o);
+    assert_driver(m, q, a, "chest", "neck");
+    assert_driver(m, q, a, "neck", "head");
+    assert_driver(m, q, a, "fl1", "fl1");
+    rf_mapping_free(m);
+    /* not by default */
+    o.girdle_neck = false;
+    m = match1(q, a, &o);
+    assert_driver(m, q, a, "chest", "chest");
+    assert_driver(m, q, a, "neck", "neck");
+    rf_mapping_free(m);
+    /* not where the target's chest ends at its limbs */
+    o.girdle_neck = true;
+    m = match1(a, q, &o);
+    assert_driver(m, a, q, "chest", "chest");
+    assert_driver(m, a, q, "neck", "neck");
+    rf_mapping_free(m);
+    /* the artist quadruped with a neck of two short joints and its skull joint at the head's
+     * base (z -0.58): the target's neck bone (its middle 0.34 of the height past the forelegs,
+     * the skull's pivot 0.14) lies in the skull; the alignment by places along the head chains
+     * alone leaves it unmapped, following the chest's neck */
+    sb_joint big[SB_COUNT(artist_quadruped) + 1];
+    size_t nb = 0;
+    for (size_t i = 0; i < SB_COUNT(artist_quadruped); i++) {
+        big[nb] = artist_quadruped[i];
+        if (strcmp(big[nb].name, "head") == 0) {
+            big[nb++] = (sb_joint){"neck2", "neck", 0, 1.08, -0.50, 0};
+            big[nb] = artist_quadruped[i];
+            big[nb].parent = "neck2", big[nb].y = 1.12, big[nb].z = -0.58;
+        }
+        nb++;
+    }
+    rf_skeleton *bh = sb_build(big, nb);
+    m = match1(q, bh, &o);
+    assert_driver(m, q, bh, "chest", "neck");
+    assert_driver(m, q, bh, "neck", "head");
+    assert_driver(m, q, bh, "head", NULL);
+    rf_mapping_free(m);
+    rf_skeleton_free(bh);
+    /* the artist quadruped with a one-joint head pivoting at the neck's place */
+    sb_joint one[SB_COUNT(artist_quadruped)];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(artist_quadruped); i++) {
+        if (strcmp(artist_quadruped[i].name, "neck") == 0)
+            continue;
+        one[n] = artist_quadruped[i];
+        if (strcmp(one[n].name, "head") == 0)
+            one[n].parent = "chest", one[n].y = 1.05, one[n].z = -0.42;
+        n++;
+    }
+    rf_skeleton *h = sb_build(one, n);
+    m = match1(q, h, &o);
+    assert_driver(m, q, h, "chest", "head");
+    assert_driver(m, q, h, "neck", "head");
+    rf_mapping_free(m);
+    rf_skeleton_free(h);
+    m = match1(b, b, &o);
+    assert_driver(m, b, b, "chest", "chest");
+    assert_driver(m, b, b, "neck", "neck");
+    assert_driver(m, b, b, "head", "head");
+    rf_mapping_free(m);
+    rf_skeleton_free(a);
+    rf_skeleton_free(q);
+    rf_skeleton_free(b);
+}
+
 /* A curve skeleton's head chain runs on past the skull to the snout's tip; an artist's skull
  * bone spans the whole head from where the neck enters it, longer than the neck. The target's
  * joint at the skull's place takes the source's skull, and its snout joint follows it unmapped:
@@ -728,6 +852,7 @@ int main(void)
         cmocka_unit_test(test_facing),
         cmocka_unit_test(test_biped_onto_quadruped),
         cmocka_unit_test(test_gait),
+        cmocka_unit_test(test_girdle_neck),
         cmocka_unit_test(test_skull_before_snout),
         cmocka_unit_test(test_one_bone_leg),
         cmocka_unit_test(test_threshold_and_similar),

@@ -19,6 +19,7 @@
  * how fast the sole slides along the floor between frames when the leg is down (within NEAR), in
  * percent of the height per second. Exit 0, or 1 with a message on bad input. */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,6 +38,16 @@ typedef struct gf_char {
     rf_mesh *mesh; /* skinned to skel, or NULL */
 } gf_char;
 
+/* The first influence of a weight over 0 naming a joint past the mesh's bind matrices, or
+ * SIZE_MAX (also without a mesh). */
+static size_t gf_stray_joint(const rf_mesh *m)
+{
+    for (size_t k = 0; m && k < (size_t)m->vertex_count * RF_MESH_MAX_INFLUENCES; k++)
+        if (m->skin_weights[k] > 0 && m->skin_joints[k] >= m->bind_count)
+            return k;
+    return SIZE_MAX;
+}
+
 static bool gf_load(const char *path, gf_char *c, char *err, size_t n)
 {
     memset(c, 0, sizeof *c);
@@ -52,7 +63,13 @@ static bool gf_load(const char *path, gf_char *c, char *err, size_t n)
         c->mesh = r.mesh, r.mesh = NULL;
     r.skeleton = NULL, r.animation = NULL;
     rf_ai_result_clear(&r);
-    return true;
+    /* rf_mesh_skin_vertex reads a skinning matrix for every joint a vertex names */
+    size_t bad = gf_stray_joint(c->mesh);
+    if (bad != SIZE_MAX)
+        snprintf(err, n, "%s: vertex %zu is skinned to joint %u of a skeleton of %u", path,
+                 bad / RF_MESH_MAX_INFLUENCES, (unsigned)c->mesh->skin_joints[bad],
+                 c->mesh->bind_count);
+    return bad == SIZE_MAX;
 }
 
 /* [joint] the leg (index into legs, leg sections) whose section or hanging sections hold it,
@@ -76,21 +93,6 @@ static int gf_cmp(const void *x, const void *y)
     return (a > b) - (a < b);
 }
 
-static rf_vec3 gf_skin(const rf_mesh *m, const rf_mat4 *skin, uint32_t v)
-{
-    const float *p = m->positions + (size_t)v * 3;
-    rf_vec3 bind = rf_v3(p[0], p[1], p[2]), sum = rf_v3(0, 0, 0);
-    double wsum = 0;
-    for (uint32_t i = 0; i < RF_MESH_MAX_INFLUENCES; i++) {
-        size_t k = (size_t)v * RF_MESH_MAX_INFLUENCES + i;
-        double w = m->skin_weights[k];
-        if (w > 0 && m->skin_joints[k] < m->bind_count)
-            sum = rf_v3_add(sum, rf_v3_scale(rf_mat4_point(skin[m->skin_joints[k]], bind), w)),
-            wsum += w;
-    }
-    return wsum > 0 ? rf_v3_scale(sum, 1.0 / wsum) : bind;
-}
-
 /* The heights in pose `world`: per leg its lowest point into low[leg] and where its foot is
  * (foot[leg]: the vertex or joint of the leg lowest at rest, see gf_feet) into lowp[leg]; the
  * body's lowest into *body and highest into *top (mesh vertices, else joints). */
@@ -103,11 +105,10 @@ static void gf_pose(const gf_char *c, const rf_analysis *a, const int32_t *leg_o
         low[l] = INFINITY, lowp[l] = rf_v3(0, 0, 0);
     *body = INFINITY, *top = -INFINITY;
     if (c->mesh)
-        for (uint32_t j = 0; j < s->joint_count; j++)
-            skin[j] = rf_mat4_mul(rf_xform_to_mat4(world[j]), c->mesh->inverse_bind[j]);
+        rf_skin_matrices(world, c->mesh->inverse_bind, s->joint_count, skin);
     uint32_t count = c->mesh ? c->mesh->vertex_count : s->joint_count;
     for (uint32_t i = 0; i < count; i++) {
-        rf_vec3 p = c->mesh ? gf_skin(c->mesh, skin, i) : world[i].t;
+        rf_vec3 p = c->mesh ? rf_mesh_skin_vertex(c->mesh, skin, i) : world[i].t;
         uint32_t j = c->mesh ? rf_mesh_heaviest_joint(c->mesh, i) : i;
         double h = rf_v3_dot(p, a->up);
         *body = fmin(*body, h), *top = fmax(*top, h);
@@ -126,12 +127,12 @@ static void gf_feet(const gf_char *c, const rf_analysis *a, const int32_t *leg_o
 {
     uint32_t count = c->mesh ? c->mesh->vertex_count : c->skel->joint_count;
     rf_mat4 *skin = malloc(c->skel->joint_count * sizeof *skin);
-    for (uint32_t j = 0; skin && c->mesh && j < c->skel->joint_count; j++)
-        skin[j] = rf_mat4_mul(rf_xform_to_mat4(world[j]), c->mesh->inverse_bind[j]);
+    if (skin && c->mesh)
+        rf_skin_matrices(world, c->mesh->inverse_bind, c->skel->joint_count, skin);
     for (uint32_t i = 0; skin && i < count; i++) {
         uint32_t j = c->mesh ? rf_mesh_heaviest_joint(c->mesh, i) : i;
         int32_t l = j < c->skel->joint_count ? leg_of[j] : -1;
-        rf_vec3 p = c->mesh ? gf_skin(c->mesh, skin, i) : world[i].t;
+        rf_vec3 p = c->mesh ? rf_mesh_skin_vertex(c->mesh, skin, i) : world[i].t;
         if (l >= 0 && l < (int32_t)nlegs && foot[l] < 0 && rf_v3_dot(p, a->up) <= low[l])
             foot[l] = (int32_t)i;
     }

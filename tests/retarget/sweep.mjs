@@ -16,6 +16,10 @@ const REQUIRED = [
   'cmu_01_01__Testwuson', 'cmu_01_01__draconis_fire_dragon', 'bandai_walk__Wizard',
   'Fox-Walk__animala_horse', 'Fox-Walk__animalia_wolf', 'Fox-Walk__animalia_cat',
   'Fox-Walk__Testwuson',
+  // The Fox standing still onto bodies of other builds: they floated 3-19% of their height while
+  // the mesh placement's lift, pose and all, was taken for the skeleton's floor.
+  'Fox-Survey__RiggedFigure', 'Fox-Survey__BCN_Epileptic', 'Fox-Survey__ninja',
+  'Fox-Survey__Testwuson', 'Fox-Survey__animala_horse',
 ];
 // Still short, and why (doc/retargeting.md, "What is still short").
 const SHORT = {

@@ -1263,6 +1263,13 @@ static void bad_inputs_refused(void **state)
     assert_non_null(strstr(err, "3 entries"));
     assert_null(rf_retarget_new(&s, 1, tgt, far, NULL, err, sizeof err));
     assert_non_null(strstr(err, "joint 17"));
+    /* a parent after its child: both named, the name from the file escaped */
+    free(tgt->joints[2].name), tgt->joints[2].name = strdup("l\x1b]0;x\x07");
+    tgt->joints[2].parent = 3;
+    assert_null(rf_retarget_new(&s, 1, tgt, far, NULL, err, sizeof err));
+    assert_string_equal(err, "the target skeleton: joint 2 'l\\x1b]0;x\\x07' has parent 3 'h': "
+                             "expected parents before children");
+    tgt->joints[2].parent = 1;
     rf_mapping_free(empty), rf_mapping_free(wrong), rf_mapping_free(far);
     rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }

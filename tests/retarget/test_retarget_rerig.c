@@ -261,20 +261,11 @@ static void skin(const rig *r, const rf_animation *a, uint32_t f, rf_vec3 *pos)
         local[j].r = rf_quat_normalize(local[j].r);
         world[j] = p < 0 ? local[j] : rf_xform_mul(world[p], local[j]);
     }
-    for (uint32_t v = 0; v < r->m->vertex_count; v++) {
-        const float *p = r->m->positions + (size_t)v * 3;
-        rf_vec3 sum = rf_v3(0, 0, 0);
-        for (int i = 0; i < 4; i++) {
-            double w = r->m->skin_weights[v * 4 + i];
-            uint32_t j = r->m->skin_joints[v * 4 + i];
-            if (w > 0) {
-                rf_mat4 k = rf_mat4_mul(rf_xform_to_mat4(world[j]), r->m->inverse_bind[j]);
-                sum = rf_v3_add(sum, rf_v3_scale(rf_mat4_point(k, rf_v3(p[0], p[1], p[2])), w));
-            }
-        }
-        pos[v] = sum;
-    }
-    free(local), free(world);
+    rf_mat4 *skin = malloc(n * sizeof *skin);
+    rf_skin_matrices(world, r->m->inverse_bind, n, skin);
+    for (uint32_t v = 0; v < r->m->vertex_count; v++)
+        pos[v] = rf_mesh_skin_vertex(r->m, skin, v);
+    free(local), free(world), free(skin);
 }
 
 /* The largest distance between the two rigs' skinned vertices over sampled frames, over the

@@ -10,9 +10,13 @@
 # ones), sound / torn:
 #   Wizard 68.8 / 323.3 (a small loose piece on the right leg, too small to see on a sheet; whole
 #     mesh 45.3 / 49.0, so the whole-mesh figure does not see it), bar 150;
-#   spider.obj 111.8 / 2546.3 (a leg segment drawn into a spike down to the floor on the sheet;
+#   spider.obj 111.8 / 2546.3 (104.5 since its feet stand on the floor; a leg segment drawn into a spike down to the floor on the sheet;
 #     whole mesh 81.1 / 99.2), bar 400: it read 2546.3 on main while loose parts of five joints or
 #     more kept the sharpened rows.
+# Both also stand on the floor as the retarget's sweep judges it (tests/retarget/sweep.mjs): the
+# lowest vertex within 3% of the height in the median frame. spider.obj read +10.8 (its feet
+# pinned over the floor by the pose's dip taken for the skeleton's floor), +0.8 since; the
+# Wizard +1.8, +1.2 since.
 # Not barred: the bull frog (torn, 73.1); the animalia cat, whose foreleg box the torn build
 # twisted into a wedge (62.1 / 90.5) while its forelegs folded flat under the chest, but which
 # reads 58.1 / 64.8 since they step as legs (no bar between them holds). Then the worst
@@ -52,6 +56,17 @@ check() { # name, mesh, bar
         echo "FAIL: $name: no worst part in the measure's report or line"
         fail=1
         return
+    fi
+    floor=$(sed -n 's/.*"mesh": {[^}]*"floor_median": \([0-9.e+-]*\).*/\1/p' "$tmp/$name.json")
+    [ -n "$floor" ] && floor=$(awk -v p="$floor" 'BEGIN { printf "%.1f", 100 * p }')
+    if [ -z "$floor" ]; then
+        echo "FAIL: $name: no floor median in the measure's report"
+        fail=1
+    elif awk -v f="$floor" 'BEGIN { exit !(f < 3 && f > -3) }'; then
+        echo "PASS: $name, general rig, CMU walk: floor median $floor% of the height (bar 3)"
+    else
+        echo "FAIL: $name: floor median $floor% of the height, not within 3: floating or sinking"
+        fail=1
     fi
     part=$(awk -v p="$part" 'BEGIN { printf "%.2f", 100 * p }')
     whole=$(awk -v p="$whole" 'BEGIN { printf "%.1f", 100 * p }')

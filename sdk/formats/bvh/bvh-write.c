@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "rigflow/bvh.h"
+#include "rigflow/text.h"
 
 #define PROGRESS_FRAMES 1024u
 #define MAX_INDENT 32 /* deeper joints are not indented further: 100k levels stay readable */
@@ -68,18 +69,18 @@ static bool validate(writer *w)
     for (uint32_t i = 0; i < s->joint_count; i++) {
         const rf_joint *j = &s->joints[i];
         rf_quat r = j->rest.r;
+        char label[160]; /* the name from the file, escaped */
         if (!rf_v3_isfinite(j->rest.t) || !rf_v3_isfinite(j->rest.s) ||
             !rf_v3_isfinite(j->end_site) || !isfinite(r.x + r.y + r.z + r.w))
             return wfail(w,
                          "joint %" PRIu32 " ('%s') has a rest pose that is not finite: expected "
                          "finite numbers",
-                         i, j->name ? j->name : "");
+                         i, rf_joint_label(s, i, label, sizeof label));
     }
     int64_t bad = rf_skeleton_misordered(s);
+    char why[416];
     if (bad >= 0)
-        return wfail(w,
-                     "joint %" PRId64 " has parent %" PRId32 ": expected parents before children",
-                     bad, s->joints[bad].parent);
+        return wfail(w, "%s", rf_skeleton_order_error(s, (uint32_t)bad, why, sizeof why));
     if (w->a && w->a->joint_count != s->joint_count)
         return wfail(
             w, "the animation has %" PRIu32 " joints, the skeleton %" PRIu32 ": expected the same",
@@ -358,11 +359,14 @@ static bool write_frame(writer *w, uint32_t f)
         uint32_t i = w->order[k];
         double v[6];
         int n = joint_values(w, i, f, f == 0, v);
-        if (n < 0)
+        if (n < 0) {
+            char label[160]; /* the name as written keeps bytes past ASCII: escaped */
+            rf_text_escape(w->names[i], label, sizeof label, 0);
             return wfail(w,
                          "frame %" PRIu32 " of joint '%s' is not finite: expected finite "
                          "rotations and translations",
-                         f + 1, w->names[i]);
+                         f + 1, label);
+        }
         for (int c = 0; c < n; c++) {
             if (len)
                 w->line[len++] = ' ';

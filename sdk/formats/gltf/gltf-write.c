@@ -1092,20 +1092,26 @@ static bool rf_gw_has_ext(const char *path, const char *ext)
 /* Joints glTF can hold: parents before children (rigflow/model.h; the host does not check a
  * plugin's skeleton, and the nodes, the world rest and the scene's root rely on it) and a rest
  * pose of numbers (JSON has none for NaN: the number would drop out of the node's array). */
+/* Names come from files: a refusal names joint `j` by its index and its name escaped
+ * (rf_joint_label: "#j" when it has none), so the index finds it in the file and no control
+ * byte of a hostile name reaches the terminal. */
+#define RF_GW_LABEL 160
+
 static bool rf_gw_check_joints(const rf_skeleton *s, const char *name, char *err, size_t err_size)
 {
+    char label[RF_GW_LABEL], why[2 * RF_GW_LABEL + 96];
     int64_t bad = rf_skeleton_misordered(s);
     if (bad >= 0) {
-        snprintf(err, err_size,
-                 "%s: joint %" PRId64 " has parent %" PRId32 ": expected parents before children",
-                 name, bad, s->joints[bad].parent);
+        snprintf(err, err_size, "%s: %s", name,
+                 rf_skeleton_order_error(s, (uint32_t)bad, why, sizeof why));
         return false;
     }
     for (uint32_t j = 0; j < s->joint_count; j++) {
         const rf_xform *x = &s->joints[j].rest;
         if (!rf_v3_isfinite(x->t) || !rf_v3_isfinite(x->s) ||
             !isfinite(x->r.x + x->r.y + x->r.z + x->r.w)) {
-            snprintf(err, err_size, "%s: joint %u's rest pose is not finite", name, j);
+            snprintf(err, err_size, "%s: joint %u '%s': its rest pose is not finite", name, j,
+                     rf_joint_label(s, j, label, sizeof label));
             return false;
         }
     }
@@ -1117,9 +1123,10 @@ static bool rf_gw_check(const rf_skeleton *s, const rf_animation *const *clips, 
 {
     if (!rf_gw_check_joints(s, name, err, err_size))
         return false;
+    char clip[RF_GW_LABEL]; /* a clip's name, from a file too, escaped */
     for (uint32_t i = 0; i < count; i++) {
         const rf_animation *a = clips[i];
-        const char *clip = a && a->name ? a->name : "";
+        rf_text_escape(a ? a->name : NULL, clip, sizeof clip, 0);
         if (a && a->joint_count != s->joint_count) {
             snprintf(err, err_size, "%s: animation %u '%s' has %u joints, the skeleton %u", name, i,
                      clip, a->joint_count, s->joint_count);

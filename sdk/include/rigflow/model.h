@@ -466,6 +466,36 @@ static inline uint32_t rf_mesh_heaviest_joint(const rf_mesh *m, uint32_t v)
     return m->skin_joints[(size_t)v * RF_MESH_MAX_INFLUENCES + best];
 }
 
+/* The skinning matrices of a pose: for each of `n` joints its world transform times its inverse
+ * bind (model space to the joint's space at bind time), into skin[n]. */
+static inline void rf_skin_matrices(const rf_xform *world, const rf_mat4 *inverse_bind, uint32_t n,
+                                    rf_mat4 *skin)
+{
+    for (uint32_t j = 0; j < n; j++)
+        skin[j] = rf_mat4_mul(rf_xform_to_mat4(world[j]), inverse_bind[j]);
+}
+
+/* Vertex v of skinned mesh m posed by linear blend skinning: its bind position carried by the
+ * skinning matrix (rf_skin_matrices) of each joint weighing on it, averaged by the weights over
+ * their sum; its bind position when no weight is over 0. Every joint a vertex names must have a
+ * matrix in `skin`: callers check skin_joints against the skeleton once, not here per vertex
+ * (the mesh measures skin a mesh dozens of times a clip). */
+static inline rf_vec3 rf_mesh_skin_vertex(const rf_mesh *m, const rf_mat4 *skin, uint32_t v)
+{
+    const float *p = m->positions + (size_t)v * 3;
+    rf_vec3 bind = rf_v3(p[0], p[1], p[2]), sum = rf_v3(0, 0, 0);
+    double wsum = 0;
+    for (uint32_t i = 0; i < RF_MESH_MAX_INFLUENCES; i++) {
+        size_t k = (size_t)v * RF_MESH_MAX_INFLUENCES + i;
+        double w = m->skin_weights[k];
+        if (!(w > 0))
+            continue;
+        sum = rf_v3_add(sum, rf_v3_scale(rf_mat4_point(skin[m->skin_joints[k]], bind), w));
+        wsum += w;
+    }
+    return wsum > 0 ? rf_v3_scale(sum, 1.0 / wsum) : bind;
+}
+
 /* Frees a mesh and every array it holds. NULL is allowed. Usable as a set_output destroy. */
 static inline void rf_mesh_free(void *mesh)
 {

@@ -143,6 +143,20 @@ static inline const char *rf_joint_label(const rf_skeleton *s, uint32_t j, char 
     return buf;
 }
 
+/* The refusal of a skeleton whose joint `j` (rf_skeleton_misordered) does not come after its
+ * parent, both named by index and escaped name: "joint 3 'toe' has parent 7 '#7': expected
+ * parents before children" ('#7': no such joint, or no name), into `buf`. Returns buf. */
+static inline const char *rf_skeleton_order_error(const rf_skeleton *s, uint32_t j, char *buf,
+                                                  size_t size)
+{
+    char joint[160], parent[160];
+    uint32_t p = (uint32_t)s->joints[j].parent;
+    snprintf(buf, size, "joint %u '%s' has parent %u '%s': expected parents before children", j,
+             rf_joint_label(s, j, joint, sizeof joint), p,
+             rf_joint_label(s, p, parent, sizeof parent));
+    return buf;
+}
+
 #ifdef __cplusplus
 }
 #endif
