@@ -1,7 +1,7 @@
 /* The frame a mesh is rigged in. The voxel grid, the bounding box every length is measured
  * against and the flatness check all lie along the rigger's axes; rigged along the file's, a
  * body turned 30 degrees about its up was voxelised diagonally, its box grew, and its rig came
- * out unlike the unturned one's (CD-J2J over the 23 shared models 0.071 -> 0.079, a sheet
+ * out unlike the unturned one's (CD-J2J over the 23 shared models 0.068 -> 0.075, a sheet
  * refused unturned was rigged turned). So the mesh is turned into a frame of its own before it
  * is rigged, and the rig turned back: y the declared up (+y when the file declares none), z the
  * declared forward made level; when the file declares no forward, the body's own axis across
