@@ -30,6 +30,9 @@ int rf_run_interruptible(rf_pipeline *p, const rf_registry *reg, bool profile, b
  * report them in their own output, as rig-bench's rows do). */
 int rf_run_interruptible_diags(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet,
                                GPtrArray *diags);
+/* As rf_run_interruptible_diags, quiet, the nodes' result lines printed on `out` (NULL: stdout;
+ * rf_run_options.out). */
+int rf_run_interruptible_out(rf_pipeline *p, const rf_registry *reg, FILE *out, GPtrArray *diags);
 
 int rf_cmd_plugins(rf_registry *reg, int argc, char **argv);
 int rf_cmd_describe(rf_registry *reg, int argc, char **argv);

@@ -42,7 +42,10 @@ static void host_log(rf_node *node, rf_log_level level, const char *fmt, ...)
 
 static FILE *host_out(rf_node *node)
 {
-    return node && node->held ? rf_held_out(node->held) : stdout;
+    if (node && node->held)
+        return rf_held_out(node->held);
+    return node && node->pipeline->opts && node->pipeline->opts->out ? node->pipeline->opts->out
+                                                                     : stdout;
 }
 
 static void host_error(rf_node *node, const char *fmt, ...)

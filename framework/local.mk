@@ -47,7 +47,8 @@ rigflow_CPPFLAGS += -DRF_PIPELINESDIR='"$(pipelinesdir)"' \
 
 # rigflow rig-bench: the rigger plugins against artists' rigs (doc/autorig.md), through pipelines
 # it builds in memory; the skeleton analysis tells humanoids from other bodies.
-rigflow_SOURCES += framework/rig-bench.c framework/rig-bench.h
+rigflow_SOURCES += framework/rig-bench.c framework/rig-bench.h framework/rig-bench-look.c \
+	framework/rig-bench-look.h
 rigflow_LDADD += sdk/analysis/librigflow-analysis.la
 
 # rigflow batch: a pipeline over whole libraries, on a worker pool or a Slurm job array.

@@ -16,6 +16,7 @@
 #include <rigflow/text.h>
 
 #include "commands.h"
+#include "rig-bench-look.h"
 #include "rig-bench.h"
 
 typedef struct rb_rigger {
@@ -345,6 +346,26 @@ static void rb_csv_text(const char *s)
     rb_csv_text_to(stdout, s);
 }
 
+/* --look: the motion and the look of the model being measured (NULL while none is: its cells
+ * read nan and its status says why). */
+static rf_rig_look_setup rb_look_setup;
+static const rf_rig_look *rb_look_now;
+
+/* The look's cells at the end of a row: the figures in % of the mesh's height. */
+static void rb_look_cells(void)
+{
+    rf_rig_look none;
+    const rf_rig_look *l = rb_look_now;
+    if (!l) {
+        rf_rig_look_none(&none, rb_look_setup.motion ? "not run: no rig" : "off");
+        l = &none;
+    }
+    printf(",%.2f,%.2f,", l->stretch_p99, l->part_p99);
+    rb_csv_text(l->joint);
+    printf(",%.2f,%.2f,%.2f,", l->seam_p99, l->floor_median, l->floor_p95);
+    rb_csv_text(l->status);
+}
+
 static void rb_row(const rb_rigger *r, const char *model, const char *body, uint32_t nart,
                    uint32_t npred, const double *cd, const rb_skin *sk, const rb_skin *given,
                    double secs, const char *status)
@@ -356,6 +377,7 @@ static void rb_row(const rb_rigger *r, const char *model, const char *body, uint
            sk->unweighted, given->precision, given->recall, given->l1, cd[3], cd[4], cd[5], cd[6],
            secs);
     rb_csv_text(status);
+    rb_look_cells();
     putchar('\n');
     fflush(stdout);
 }
@@ -612,8 +634,15 @@ static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, 
     g_autoptr(GPtrArray) diags = rf_diags_new();
     bool unreadable = false;
     int code = rf_run_interruptible_diags(p, reg, false, true, diags);
+    rf_rig_look look;
+    if (code == RF_EXIT_OK && rb_look_setup.motion &&
+        rf_rig_look_run(reg, &rb_look_setup, r->desc, path, &look) == RF_EXIT_CANCELLED) {
+        code = RF_EXIT_CANCELLED;
+    }
     if (code == RF_EXIT_OK) {
+        rb_look_now = rb_look_setup.motion ? &look : NULL;
         rb_measure(r, base, p, nearest);
+        rb_look_now = NULL;
     } else if (code == RF_EXIT_CANCELLED) {
         g_autofree char *shown = rf_printable(path);
         fprintf(stderr, "rigflow rig-bench: interrupted during %s\n", shown);
@@ -641,7 +670,8 @@ static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **fi
     printf(
         "rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,cd_b2b,precision,recall,l1,"
         "unweighted,given_precision,given_recall,given_l1,j2j_to_artist,j2j_from_artist,up_agree,"
-        "forward_agree,seconds,status\n");
+        "forward_agree,seconds,status,look_stretch_p99,look_worst_part,look_worst_joint,"
+        "look_torn_p99,look_floor_median,look_floor_p95,look_status\n");
     int bad = 0;
     for (int i = 0; i < nfiles; i++)
         for (guint k = 0; k < riggers->len; k++) {
@@ -714,8 +744,9 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
 {
     g_auto(GStrv) names = NULL;
     gboolean list = FALSE, fixed_axes = FALSE;
-    g_autofree char *joint_map = NULL, *joints = NULL, *turn = NULL, *axis = NULL, *scale = NULL,
-                    *offset = NULL;
+    g_autofree char *joint_map = NULL, *joints = NULL, *look = NULL, *turn = NULL, *axis = NULL,
+                    *scale = NULL, *offset = NULL;
+    gint look_frames = -1; /* not given: 120 */
     const GOptionEntry entries[] = {
         {"joint-map", 0, 0, G_OPTION_ARG_STRING, &joint_map,
          "How predicted joints are matched to the artist's for the skinning columns: matcher "
@@ -731,6 +762,14 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
          "nearest,distance: positions and the distance to the other rig's nearest joint, "
          "named, as fractions of the longest bounding-box edge)",
          "FILE"},
+        {"look", 0, 0, G_OPTION_ARG_FILENAME, &look,
+         "Also play the motion in FILE (a BVH, glTF...) on each auto-rig as "
+         "pipelines/scan-to-animation.json does (the matcher, the retarget with feet pinned, on "
+         "the skin's floor) and add retarget.measure's figures on the mesh as the look_ columns "
+         "(default: not run, the columns nan)",
+         "FILE"},
+        {"look-frames", 0, 0, G_OPTION_ARG_INT, &look_frames,
+         "With --look, play the motion's first N frames (default 120)", "N"},
         {"turn", 0, 0, G_OPTION_ARG_STRING, &turn,
          "Turn each model (the artist's rig and the bare mesh alike) by DEG degrees about --axis "
          "before rigging, its declared up and forward with it",
@@ -758,9 +797,16 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
             "rigger's skinning alone, on the artist's skeleton),j2j_to_artist,j2j_from_artist "
             "(CD-J2J's two halves),up_agree,forward_agree (cosines between the skeleton "
             "analysis's axes for the two rigs: -1 is upside down or facing back),"
-            "seconds,status. With --turn, --axis, --scale or --offset every model is moved "
-            "so (the artist's rig with the mesh) before it is rigged; the columns stay fractions "
-            "of the unmoved mesh's longest bounding-box edge, scaled.",
+            "seconds,status, then with --look the motion on the auto-rig as retarget.measure "
+            "judges it on the mesh, in % of its height: look_stretch_p99 (edge stretch, whole "
+            "mesh),look_worst_part,look_worst_joint (the same in the part one joint carries "
+            "most),look_torn_p99 (seams between parts of different joints pulled apart),"
+            "look_floor_median,look_floor_p95 (the lowest vertex over the floor),look_status. "
+            "Exit status: 0 when every model was measured (a rigger's refusal or a failed look is "
+            "a row), 1 when a model could not be read, 2 on a usage error, 130 on Ctrl-C. With "
+            "--turn, --axis, --scale or --offset every model is moved so (the artist's rig with "
+            "the mesh) before it is rigged; the columns stay fractions of the unmoved mesh's "
+            "longest bounding-box edge, scaled.",
             entries, &argc, &argv))
         return RF_EXIT_USAGE;
     if (!rb_motion_parse(turn, axis, scale, offset, fixed_axes))
@@ -770,6 +816,12 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         fprintf(stderr, "rigflow rig-bench: --joint-map: expected matcher or nearest\n");
         return RF_EXIT_USAGE;
     }
+    if (look_frames != -1 && !look) {
+        fprintf(stderr, "rigflow rig-bench: --look-frames: only with --look MOTION\n");
+        return RF_EXIT_USAGE;
+    }
+    if (!rf_rig_look_begin(&rb_look_setup, look, look_frames == -1 ? 120 : look_frames))
+        return RF_EXIT_USAGE;
     GArray *riggers = rb_find_riggers(reg, names);
     int code = RF_EXIT_OK;
     if (list) {
@@ -800,5 +852,6 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         rb_joints_out = NULL;
     }
     g_array_free(riggers, TRUE);
+    rf_rig_look_end(&rb_look_setup);
     return code;
 }

@@ -5,10 +5,10 @@
 
 #include "rigflow-host.h"
 
-/* argv[0] is "rig-bench". Options: --rigger NAME... --list; then the model files. Prints
- * `rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,cd_b2b,precision,recall,l1,unweighted,
- * seconds,status` rows to stdout; refusals are rows too (status names the reason), notes go to
- * stderr. Returns an rf_exit code. */
+/* argv[0] is "rig-bench". Options: --rigger NAME... --list --joint-map --joints --look
+ * --look-frames; then the model files. Prints one CSV row per model and rigger to stdout (the
+ * columns in --help: the rig against the artist's, then the look_ columns); refusals are rows
+ * too (status names the reason), notes go to stderr. Returns an rf_exit code. */
 int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv);
 
 #endif

@@ -11,6 +11,7 @@
 
 #include <glib.h>
 #include <signal.h>
+#include <stdio.h>
 #include <rigflow/rigflow.h>
 
 /* librigflow is built with hidden visibility; this marks its public functions. */
@@ -121,6 +122,9 @@ typedef struct rf_run_options {
      * nodes of types marked RF_NODE_CONCURRENT that do not read each other's outputs process up
      * to N at a time, their output printed in the order a run of one at a time prints it */
     unsigned jobs;
+    /* where nodes print their results (rf_host.out): NULL for stdout; a command whose own
+     * stdout is a table (rig-bench's CSV) sends a node's lines elsewhere */
+    FILE *out;
 } rf_run_options;
 
 /* Parses a pipeline file. Returns NULL with diags on a syntax or structure error. */

@@ -64,19 +64,31 @@ bool rf_check_utf8_name(const char *name, const char *file)
 /* Nodes processed at once by the runs of this process: `run --jobs`, else one per processor. */
 static gint run_jobs;
 
-int rf_run_interruptible_diags(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet,
-                               GPtrArray *diags)
+static int run_with(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet, FILE *out,
+                    GPtrArray *diags)
 {
     rf_run_options opts = {.profile = profile,
                            .quiet = quiet,
                            .progress = isatty(2) != 0,
                            .cancel_flag = &interrupted,
-                           .jobs = run_jobs > 0 ? (unsigned)run_jobs : g_get_num_processors()};
+                           .jobs = run_jobs > 0 ? (unsigned)run_jobs : g_get_num_processors(),
+                           .out = out};
     interrupted = 0;
     signal(SIGINT, on_sigint);
     bool ok = rf_pipeline_run(p, reg, &opts, diags);
     signal(SIGINT, SIG_DFL);
     return ok ? RF_EXIT_OK : interrupted ? RF_EXIT_CANCELLED : RF_EXIT_RUN;
+}
+
+int rf_run_interruptible_diags(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet,
+                               GPtrArray *diags)
+{
+    return run_with(p, reg, profile, quiet, NULL, diags);
+}
+
+int rf_run_interruptible_out(rf_pipeline *p, const rf_registry *reg, FILE *out, GPtrArray *diags)
+{
+    return run_with(p, reg, false, true, out, diags);
 }
 
 int rf_run_interruptible(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet)

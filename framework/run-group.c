@@ -69,17 +69,17 @@ void rf_held_log(rf_held *h, const char *line)
 
 /* Copies a finished node's stdout and log lines out, interleaved as they were printed, through
  * the same stdio streams a lone node writes to (so their buffering is the same too). */
-static void held_flush(rf_held *h)
+static void held_flush(rf_held *h, FILE *out)
 {
     fflush(h->out);
     size_t at = 0;
     for (guint i = 0; i < h->logs->len; i++) {
         const rf_held_line *l = &g_array_index(h->logs, rf_held_line, i);
-        fwrite(h->buf + at, 1, l->at - at, stdout);
+        fwrite(h->buf + at, 1, l->at - at, out);
         fputs(l->text, stderr);
         at = l->at;
     }
-    fwrite(h->buf + at, 1, h->len - at, stdout);
+    fwrite(h->buf + at, 1, h->len - at, out);
 }
 
 /* ---- the group ---- */
@@ -163,7 +163,7 @@ static bool report_held(rf_pipeline *p, guint first, guint end, GPtrArray *diags
     for (guint i = first + 1; i < end; i++) {
         rf_node *n = rf_run_node_at(p, i);
         if (n->held)
-            held_flush(n->held);
+            held_flush(n->held, p->opts->out ? p->opts->out : stdout);
         g_clear_pointer(&n->held, held_free);
         if (!rf_node_report(n, diags))
             return false;

@@ -781,6 +781,72 @@ static bool rf_rig_bottom(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
     return rf_rig_append(k, at, 0) && rf_rig_reroot(k, k->n - 1);
 }
 
+#define RF_RIG_LOW_END 0.2 /* of the body's height: the bottom where a free end stands */
+#define RF_RIG_STEM 0.25   /* of the body's height: how far a stem rises to its junction */
+
+/* The low point of joint j along u: its pivot, or its leaf bone's end when lower. */
+static double rf_rig_low_of(const rf_rig_skel *k, uint32_t j, const double u[3])
+{
+    const double *q = k->pos + (size_t)j * 3, *t = k->tip + (size_t)j * 3;
+    double h = q[0] * u[0] + q[1] * u[1] + q[2] * u[2];
+    return k->has_tip[j] ? fmin(h, t[0] * u[0] + t[1] * u[1] + t[2] * u[2]) : h;
+}
+
+/* The one leaf of k that reaches the bottom fifth of the body (heights lo..hi along u), when
+ * the chain above it rises unbranched by a quarter of the height or more to a junction that is
+ * the root: the root stands in the trunk and the trunk's lower stretch hangs from it. NONE when
+ * no leaf, or more than one (feet, a quadruped's legs, a tail beside them), stands there, or
+ * when the chain leaves the body elsewhere (a fish's tail fin, whose root is at its head). */
+static uint32_t rf_rig_free_end(const rf_rig_skel *k, const double u[3], double lo, double hi)
+{
+    uint32_t *kids = calloc(k->n + 1, sizeof *kids), end = RF_RIG_NONE;
+    if (!kids)
+        return RF_RIG_NONE;
+    for (uint32_t j = 0; j < k->n; j++)
+        if (k->parent[j] >= 0)
+            kids[k->parent[j]]++;
+    double low = lo + RF_RIG_LOW_END * (hi - lo);
+    uint32_t count = 0;
+    for (uint32_t j = 0; j < k->n; j++)
+        if (!kids[j] && rf_rig_low_of(k, j, u) <= low)
+            count++, end = j;
+    if (count != 1 || k->parent[end] < 0) {
+        free(kids);
+        return RF_RIG_NONE;
+    }
+    int32_t up = k->parent[end]; /* up the chain to its junction */
+    while (k->parent[up] >= 0 && kids[up] == 1)
+        up = k->parent[up];
+    const double *q = k->pos + (size_t)up * 3;
+    bool rises = q[0] * u[0] + q[1] * u[1] + q[2] * u[2] - rf_rig_low_of(k, end, u) >=
+                 RF_RIG_STEM * (hi - lo);
+    free(kids);
+    return rises && k->parent[up] < 0 ? end : RF_RIG_NONE;
+}
+
+/* A body whose trunk ends low in one free end (a stem, a pole, a tail it stands on: no pair of
+ * feet meets in a girdle to root it at) and is rooted where that end's chain leaves the rest is
+ * rooted at the end instead, as artists root it, low in the body: rooted at its junction, the
+ * stem hung down from the root as an appendage and the matcher gave it an upper branch's joints
+ * (huesitos, its artist's lowest bone unmatched). The joints stay where they are. Up is the
+ * declared one, else the analysis's. False when out of memory. */
+static bool rf_rig_root_low(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
+{
+    double u[3] = {up.x, up.y, up.z}, lo = INFINITY, hi = -INFINITY;
+    if (!k->n || rf_v3_len(up) == 0)
+        return true;
+    for (uint32_t v = 0; v < p->proxy.nv; v++) {
+        const double *q = p->proxy.p + (size_t)v * 3;
+        double h = q[0] * u[0] + q[1] * u[1] + q[2] * u[2];
+        lo = fmin(lo, h), hi = fmax(hi, h);
+    }
+    uint32_t end = rf_rig_free_end(k, u, lo, hi);
+    if (end == RF_RIG_NONE)
+        return true;
+    k->has_tip[end] = 0; /* a root's bones are those to its children */
+    return rf_rig_reroot(k, end);
+}
+
 /* ---- limbs cut as artists cut them ---- */
 
 #define RF_RIG_MAX_LIMBS 16
@@ -1048,7 +1114,8 @@ bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
         return false;
     s->up = o->up, s->forward = o->forward;
     rf_analysis *a = rf_analyze(s, NULL);
-    bool ok = a && rf_rig_bottom(p, k, rf_v3_len(o->up) > 0 ? rf_v3_normalize(o->up) : a->up);
+    rf_vec3 up = a && rf_v3_len(o->up) > 0 ? rf_v3_normalize(o->up) : a ? a->up : rf_v3(0, 0, 0);
+    bool ok = a && rf_rig_bottom(p, k, up) && rf_rig_root_low(p, k, up);
     rf_analysis_free(a);
     rf_skeleton_free(s);
     return ok;

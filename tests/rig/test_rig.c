@@ -1533,6 +1533,54 @@ static void test_general_root_under(void **state)
         fail_msg("the cat's root at y %g, the artist's Torso at 0.45", root.y);
 }
 
+/* A signpost: a stem 3 high standing on one free end, a sign leaving it sideways at two thirds
+ * of its height from a knot, the body's thickest part, and the stem going on above. Nothing
+ * meets in a girdle to root it at, so the curve skeleton stayed rooted where it grew from, the
+ * knot (y 2.19), and the stem below hung down from there as an appendage (huesitos, whose
+ * artist roots it at the bottom). Rooted at its free end, the rig's root is its lowest joint, in
+ * the bottom fifth (y 0.06 to 0.24), whichever way it is turned about up. Without the knot the
+ * curve skeleton is rooted low already and the rule has nothing to do. */
+static void test_general_root_low(void **state)
+{
+    (void)state;
+    static const double turns[] = {0, 0.5, 1.2};
+    for (int i = 0; i < 3; i++) {
+        rf_mesh *in = rf_mesh_new();
+        in->positions = calloc(4 * 8 * 3, sizeof(float));
+        in->triangles = calloc(4 * 12 * 3, sizeof(uint32_t));
+        assert_non_null(in->positions), assert_non_null(in->triangles);
+        add_box(in, -0.2, 0, -0.2, 0.2, 1.95, 0.2);      /* the stem up to the sign */
+        add_box(in, -0.45, 1.8, -0.45, 0.45, 2.6, 0.45); /* a knot where the sign leaves */
+        add_box(in, -0.2, 2.45, -0.2, 0.2, 3, 0.2);      /* the stem above */
+        add_box(in, 0.2, 2.0, -0.15, 1.6, 2.4, 0.15);    /* the sign */
+        for (uint32_t v = 0; v < in->vertex_count; v++) {
+            float *p = in->positions + v * 3;
+            double x = p[0], z = p[2];
+            p[0] = (float)(x * cos(turns[i]) + z * sin(turns[i]));
+            p[2] = (float)(-x * sin(turns[i]) + z * cos(turns[i]));
+        }
+        rf_skeleton *s;
+        rf_mesh *m;
+        char err[256];
+        if (!rf_rig_general(in, NULL, &s, &m, NULL, NULL, NULL, err, sizeof err))
+            fail_msg("signpost turned %g: %s", turns[i], err);
+        check_rig("signpost", in, s, m);
+        rf_vec3 *w = calloc(s->joint_count, sizeof *w);
+        assert_non_null(w);
+        world_joints(s, w);
+        double low = INFINITY;
+        for (uint32_t j = 0; j < s->joint_count; j++)
+            low = fmin(low, w[j].y);
+        printf("# signpost turned %.1f: %u joints, the root at y %.3f, the lowest at %.3f\n",
+               turns[i], s->joint_count, w[0].y, low);
+        if (!(s->joints[0].parent < 0 && w[0].y == low && w[0].y < 0.6))
+            fail_msg("signpost turned %g: the root at y %g, the lowest joint at %g", turns[i],
+                     w[0].y, low);
+        free(w);
+        rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
+    }
+}
+
 /* RobotExpressive's head is a closed box of its own (y 2.88 to 4.54, x within 1.29: its loose
  * parts, listed with `assimp export` to OBJ), on a neck piece ending at y 2.94. The curve
  * skeleton ran three head joints through the box (y 2.94, 3.86 and 4.17) and bone heat split it
@@ -1658,6 +1706,7 @@ int main(void)
         cmocka_unit_test(test_general_chest),
         cmocka_unit_test(test_general_neck),
         cmocka_unit_test(test_general_root_under),
+        cmocka_unit_test(test_general_root_low),
         cmocka_unit_test(test_general_head_box),
         cmocka_unit_test(test_mirror_twigs),
         cmocka_unit_test(test_fin_sheet),

@@ -1,0 +1,42 @@
+/* rig-bench --look: how a motion looks on each auto-rig (doc/autorig.md, "rig-bench"). */
+#ifndef RF_RIG_BENCH_LOOK_H
+#define RF_RIG_BENCH_LOOK_H
+
+#include "rigflow-host.h"
+
+/* The figures of one look, as retarget.measure gives them on the mesh, in % of the mesh's
+ * height; NaN where not measured. */
+typedef struct rf_rig_look {
+    double stretch_p99;  /* edge stretch p99 over the whole mesh */
+    double part_p99;     /* the same in the worst part (the vertices one joint carries most) */
+    double seam_p99;     /* torn limbs: p99 drift of seams between parts of different joints */
+    double floor_median; /* the lowest vertex over the rest floor, median frame, signed */
+    double floor_p95;    /* its p95 either way */
+    char joint[128];     /* the worst part's joint, escaped by retarget.measure */
+    char status[400];    /* "ok", or why the look was not measured */
+} rf_rig_look;
+
+/* What every look of a bench run shares: the motion file and how much of it. */
+typedef struct rf_rig_look_setup {
+    char *motion; /* NULL: no look asked for */
+    int frames;   /* source frames from the first */
+    char *dir;    /* a folder of our own for the measure's reports */
+    FILE *lines;  /* where the pipeline's nodes print their lines (not the CSV) */
+} rf_rig_look_setup;
+
+/* Checks the motion file and makes the folder; false after saying on stderr what is wrong. */
+bool rf_rig_look_begin(rf_rig_look_setup *s, const char *motion, int frames);
+void rf_rig_look_end(rf_rig_look_setup *s);
+
+/* Sets every figure to NaN, the joint to "" and the status to `status`. */
+void rf_rig_look_none(rf_rig_look *l, const char *status);
+
+/* Rigs `model` (its rig ignored) with the node type `rigger`, maps the motion onto the new rig
+ * with the skeletal-similarity matcher, retargets it (feet pinned by ik.twobone, the clip on the
+ * skin's floor) and measures it with retarget.measure: the graph of
+ * pipelines/scan-to-animation.json without its export. A failure is a status in `out`.
+ * Returns RF_EXIT_CANCELLED on Ctrl-C, else RF_EXIT_OK. */
+int rf_rig_look_run(const rf_registry *reg, const rf_rig_look_setup *s, const rf_node_desc *rigger,
+                    const char *model, rf_rig_look *out);
+
+#endif

@@ -1,0 +1,140 @@
+#!/bin/sh
+# rig-bench --look: the CMU walk played on each auto-rig and judged on the mesh (doc/autorig.md,
+# "rig-bench"). On RiggedFigure and the Fox (the general rigger, the walk's first 60 frames):
+# - the look columns are there, after the old ones, finite, and their status ok;
+# - they agree with the measure line of `rigflow run pipelines/scan-to-animation.json` on the same
+#   model and frames, run as a user runs it (the line rounds to a tenth or a hundredth: within
+#   0.051 or 0.0051), so the bench's graph is the pipeline's and reads the figures it prints;
+# - the old columns are what rig-bench gives without --look (the seconds aside), whose look
+#   columns read nan with the status "off".
+# Then a motion that cannot be read: the rig's row is still there and ok, the look's status
+# says the motion failed, exit 0; a missing motion file, --look-frames without --look or under
+# 2 are usage errors (exit 2).
+rigflow="${RF_BUILDDIR:-.}/rigflow"
+src="${RF_SRCDIR:-.}"
+data="${RF_DATA_DIR:-}"
+walk="$data/bvh/cmu_01_01.bvh"
+if [ ! -f "$data/models/RiggedFigure.glb" ] || [ ! -f "$data/models/Fox.glb" ] ||
+    [ ! -f "$walk" ]; then
+    echo "SKIP: RF_DATA_DIR ($data) lacks RiggedFigure, the Fox or the CMU walk"
+    exit 77
+fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+ko() {
+    echo "FAIL: $*"
+    fail=1
+}
+models="$data/models/RiggedFigure.glb $data/models/Fox.glb"
+# shellcheck disable=SC2086
+if ! "$rigflow" rig-bench -r general --look "$walk" --look-frames 60 $models \
+    >"$tmp/look.csv" 2>"$tmp/err"; then
+    cat "$tmp/err"
+    ko "rig-bench --look exit $?"
+fi
+# shellcheck disable=SC2086
+"$rigflow" rig-bench -r general $models >"$tmp/plain.csv" 2>>"$tmp/err" || ko "rig-bench exit $?"
+cat "$tmp/look.csv"
+
+# A column by its header name (the model's row: rigger and model names hold no comma).
+cell() { # file, model, column
+    awk -F, -v m="\"$2\"" -v c="$3" 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+        $2 == m { print $(col[c]) }' "$1"
+}
+header=$(head -1 "$tmp/look.csv")
+case "$header" in
+*,seconds,status,look_stretch_p99,look_worst_part,look_worst_joint,look_torn_p99,look_floor_median,look_floor_p95,look_status)
+    echo "PASS: the look columns follow the old ones" ;;
+*) ko "header: $header" ;;
+esac
+[ "$(head -1 "$tmp/plain.csv")" = "$header" ] || ko "the header changes with --look"
+
+# near a b tolerance
+near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; exit !(d <= t && d >= -t) }'; }
+for name in RiggedFigure.glb Fox.glb; do
+    stretch=$(cell "$tmp/look.csv" "$name" look_stretch_p99)
+    part=$(cell "$tmp/look.csv" "$name" look_worst_part)
+    joint=$(cell "$tmp/look.csv" "$name" look_worst_joint)
+    torn=$(cell "$tmp/look.csv" "$name" look_torn_p99)
+    median=$(cell "$tmp/look.csv" "$name" look_floor_median)
+    p95=$(cell "$tmp/look.csv" "$name" look_floor_p95)
+    status=$(cell "$tmp/look.csv" "$name" look_status)
+    if [ "$status" != '"ok"' ]; then
+        ko "$name: look status $status"
+        continue
+    fi
+    for v in "$stretch" "$part" "$torn" "$median" "$p95"; do
+        awk -v v="$v" 'BEGIN { exit !(v ~ /^[-+]?[0-9]+\.[0-9]+$/) }' ||
+            ko "$name: a look figure is not a finite number: '$v'"
+    done
+    # the same model and frames as a user runs the pipeline
+    if ! RIGFLOW_QUIET=1 "$rigflow" run "$src/pipelines/scan-to-animation.json" \
+        -p "mesh.path=$data/models/$name" -p "motion.path=$walk" -p retarget.last_frame=59 \
+        -p "export.path=$tmp/out.glb" >"$tmp/run" 2>&1; then
+        cat "$tmp/run"
+        ko "scan-to-animation on $name"
+        continue
+    fi
+    line=$(grep '^measure: mesh' "$tmp/run")
+    l_torn=$(echo "$line" | sed -n 's/.*torn p99 \([0-9.]*\);.*/\1/p')
+    l_median=$(echo "$line" | sed -n 's/.*; floor median \([-+0-9.]*\) p95.*/\1/p')
+    l_p95=$(echo "$line" | sed -n 's/.*; floor median [-+0-9.]* p95 \([0-9.]*\) .*/\1/p')
+    l_stretch=$(echo "$line" | sed -n 's/.*; stretch p99 \([0-9.]*\);.*/\1/p')
+    l_part=$(echo "$line" | sed -n "s/.*; worst part \([0-9.]*\) (joint '\([^']*\)'.*/\1/p")
+    l_joint=$(echo "$line" | sed -n "s/.*; worst part [0-9.]* (joint '\([^']*\)'.*/\1/p")
+    if [ -z "$l_torn" ] || [ -z "$l_median" ] || [ -z "$l_p95" ] || [ -z "$l_stretch" ] ||
+        [ -z "$l_part" ]; then
+        echo "$line"
+        ko "$name: the measure line does not read"
+    elif near "$stretch" "$l_stretch" 0.051 && near "$part" "$l_part" 0.051 &&
+        near "$torn" "$l_torn" 0.0051 && near "$median" "$l_median" 0.051 &&
+        near "$p95" "$l_p95" 0.051 && [ "$joint" = "\"$l_joint\"" ]; then
+        echo "PASS: $name: look $stretch / $part ($joint) / torn $torn / floor $median, $p95" \
+            "as the pipeline's line: $l_stretch / $l_part / $l_torn / $l_median, $l_p95"
+    else
+        echo "$line"
+        ko "$name: look $stretch / $part ($joint) / $torn / $median / $p95, the pipeline's line" \
+            "$l_stretch / $l_part ($l_joint) / $l_torn / $l_median / $l_p95"
+    fi
+    # the old columns as without --look (all but the seconds), the look's nan and "off"
+    a=$(grep -F ",\"$name\"," "$tmp/look.csv" | cut -d, -f1-19,21)
+    b=$(grep -F ",\"$name\"," "$tmp/plain.csv" | cut -d, -f1-19,21)
+    [ -n "$a" ] && [ "$a" = "$b" ] || ko "$name: the old columns differ with --look: $a / $b"
+    off=$(grep -F ",\"$name\"," "$tmp/plain.csv" | cut -d, -f22-)
+    [ "$off" = 'nan,nan,"",nan,nan,nan,"off"' ] || ko "$name: without --look the look reads $off"
+done
+
+# A motion that cannot be read fails the look, not the row.
+printf 'HIERARCHY\nROOT Hips\n{\n' >"$tmp/cut.bvh"
+"$rigflow" rig-bench -r general --look "$tmp/cut.bvh" "$data/models/RiggedFigure.glb" \
+    >"$tmp/bad.csv" 2>"$tmp/err"
+code=$?
+row=$(tail -n +2 "$tmp/bad.csv")
+if [ "$code" != 0 ]; then
+    cat "$tmp/err"
+    ko "a motion that cannot be read: exit $code, expected 0"
+elif ! echo "$row" | grep -q ',"ok",nan,nan,"",nan,nan,nan,"failed: .*motion'; then
+    ko "a motion that cannot be read: row $row"
+else
+    echo "PASS: a motion that cannot be read is the look's status: $(echo "$row" | cut -d, -f28-)"
+fi
+"$rigflow" rig-bench -r general --look "$tmp/none.bvh" "$data/models/RiggedFigure.glb" \
+    >"$tmp/out" 2>"$tmp/err"
+code=$?
+if [ "$code" = 2 ] && grep -q "none.bvh: no such file" "$tmp/err" && [ ! -s "$tmp/out" ]; then
+    echo "PASS: a missing motion file is a usage error"
+else
+    ko "a missing motion file: exit $code, $(cat "$tmp/err")"
+fi
+for args in "--look-frames 60" "--look $walk --look-frames 1"; do
+    # shellcheck disable=SC2086
+    "$rigflow" rig-bench -r general $args "$data/models/RiggedFigure.glb" >"$tmp/out" 2>"$tmp/err"
+    code=$?
+    if [ "$code" = 2 ] && grep -q -- "--look-frames: " "$tmp/err" && [ ! -s "$tmp/out" ]; then
+        echo "PASS: rig-bench $args is a usage error: $(cat "$tmp/err")"
+    else
+        ko "rig-bench $args: exit $code, $(cat "$tmp/err")"
+    fi
+done
+exit $fail
