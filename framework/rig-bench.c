@@ -362,7 +362,7 @@ static void rb_look_cells(void)
     }
     printf(",%.2f,%.2f,", l->stretch_p99, l->part_p99);
     rb_csv_text(l->joint);
-    printf(",%.2f,%.2f,%.2f,", l->seam_p99, l->floor_median, l->floor_p95);
+    printf(",%.2f,%.2f,%.2f,", l->seam_p99, rf_text_shown_zero(l->floor_median, 2), l->floor_p95);
     rb_csv_text(l->status);
 }
 

@@ -122,6 +122,28 @@ static rf_skeleton *two_joints(void)
     return s;
 }
 
+static void shown_is(double v, int decimals, const char *fmt, const char *want)
+{
+    char out[64];
+    snprintf(out, sizeof out, fmt, rf_text_shown_zero(v, decimals));
+    assert_string_equal(out, want);
+}
+
+/* rf_text_shown_zero: what shows as zero prints unsigned, any other value as printf has it. */
+static void shown_zero_has_no_sign(void **state)
+{
+    (void)state;
+    shown_is(-0.0, 2, "%.2f", "0.00");
+    shown_is(-2.3e-9, 2, "%.2f", "0.00");
+    shown_is(-0.0049, 2, "%.2f", "0.00");
+    shown_is(-0.006, 2, "%.2f", "-0.01");
+    shown_is(-0.04, 1, "%+.1f", "+0.0");
+    shown_is(-0.06, 1, "%+.1f", "-0.1");
+    shown_is(0.0, 2, "%.2f", "0.00");
+    shown_is(1.7, 1, "%+.1f", "+1.7");
+    shown_is(-1e300, 2, "%.0e", "-1e+300"); /* 300 digits before the point: kept */
+}
+
 static void skeleton_copy_is_deep(void **state)
 {
     (void)state;
@@ -360,6 +382,7 @@ int main(void)
         cmocka_unit_test(c1_and_invalid_utf8_are_escaped),
         cmocka_unit_test(printable_utf8_is_kept),
         cmocka_unit_test(escape_truncates_between_characters),
+        cmocka_unit_test(shown_zero_has_no_sign),
         cmocka_unit_test(skeleton_copy_is_deep),
         cmocka_unit_test(animation_mesh_mapping_copies),
         cmocka_unit_test(memory_limit_above_own_cgroup),

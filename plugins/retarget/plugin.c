@@ -149,6 +149,10 @@ static bool rt_contact_pass(rf_retarget *rt, rf_animation *out, const rf_retarge
         host->log(node, RF_LOG_INFO,
                   "contact pass (%s): %u feet, %u foot-frames pinned, %u solves, largest miss %.3g",
                   solver->api->name, st.effectors, st.contact_frames, st.solves, st.max_error);
+    if (st.steps)
+        host->log(node, RF_LOG_INFO,
+                  "feet driven half a cycle later took %u steps where the body moved on from them",
+                  st.steps);
     return true;
 }
 
@@ -457,6 +461,20 @@ typedef struct rt_mesh_figures {
     rf_rt_mesh_report clip, ref;
 } rt_mesh_figures;
 
+/* The skate foot by foot: "feet": [{"joint": I, "name": "N", "skate": S, "contact_frames": C}]. */
+static void rt_feet_json(FILE *f, const rf_rt_report *r, const rf_skeleton *s)
+{
+    fputs(", \"feet\": [", f);
+    for (uint32_t e = 0; e < r->effectors && e < RF_RT_REPORT_FEET; e++) {
+        char name[128];
+        fprintf(f, "%s{\"joint\": %u, \"name\": ", e ? ", " : "", r->foot_joint[e]);
+        rt_json_string(f, rf_joint_label(s, r->foot_joint[e], name, sizeof name));
+        fprintf(f, ", \"skate\": %.6g, \"contact_frames\": %u}", r->foot_skate[e],
+                r->foot_frames[e]);
+    }
+    fputc(']', f);
+}
+
 static void rt_report_json(FILE *f, const rf_rt_report *r, const rt_mesh_figures *m,
                            const rf_skeleton *s)
 {
@@ -466,6 +484,7 @@ static void rt_report_json(FILE *f, const rf_rt_report *r, const rt_mesh_figures
             "\"contact_frames\": %u, \"ground_error\": %.6g, \"frames\": %u",
             r->fidelity_mean, r->fidelity_p95, r->fidelity_max, r->fidelity_bones, r->skate_target,
             r->skate_source, r->contact_frames, r->ground_error, r->frames);
+    rt_feet_json(f, r, s);
     if (m->have) {
         fputs(", \"mesh\": ", f);
         rt_mesh_json(f, &m->clip, s);
@@ -508,17 +527,19 @@ static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m,
                 "%.0f%%, sinking %.0f%% of frames); parts under the floor %.0f%% of frames, %.1f "
                 "deep; torn limbs and stretch do not apply (a rigid part neither tears nor "
                 "stretches)\n",
-                label, c->frames, 100 * c->floor_median, 100 * c->floor_p95, 100 * c->floating,
-                100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
+                label, c->frames, rf_text_shown_zero(100 * c->floor_median, 1), 100 * c->floor_p95,
+                100 * c->floating, 100 * c->sinking, 100 * c->parts_below, 100 * c->parts_depth);
         return;
     }
     fprintf(out, "%s: mesh (%u frames, %% of height%s): torn p99 %.2f%s", label, c->frames,
             r ? ", own clip in brackets" : "", 100 * c->seam_p99, r ? "" : "");
     if (r)
         fprintf(out, " [%.2f]", 100 * r->seam_p99);
-    fprintf(out, "; floor median %+.1f p95 %.1f", 100 * c->floor_median, 100 * c->floor_p95);
+    fprintf(out, "; floor median %+.1f p95 %.1f", rf_text_shown_zero(100 * c->floor_median, 1),
+            100 * c->floor_p95);
     if (r)
-        fprintf(out, " [%+.1f, %.1f]", 100 * r->floor_median, 100 * r->floor_p95);
+        fprintf(out, " [%+.1f, %.1f]", rf_text_shown_zero(100 * r->floor_median, 1),
+                100 * r->floor_p95);
     fprintf(out,
             " (floating %.0f%%, sinking %.0f%% of frames); parts under the floor %.0f%% of "
             "frames, %.1f deep",

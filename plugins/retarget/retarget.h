@@ -123,6 +123,7 @@ typedef struct rf_rt_contact_stats {
     uint32_t solves;         /* IK calls */
     uint32_t failures;       /* solves the solver refused */
     double max_error;        /* largest residual distance to a pin, target units */
+    uint32_t steps;          /* steps of feet driven half a cycle later (the body moved on) */
 } rf_rt_contact_stats;
 
 /* Pins the target's end effectors where the source's are in contact, through `solver` (any
@@ -178,6 +179,8 @@ void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info);
 
 /* ---- measures ---- */
 
+#define RF_RT_REPORT_FEET 8
+
 typedef struct rf_rt_report {
     /* Direction fidelity over mapped bones (a target joint and its only mapped child, both
      * driven by one undelayed input from the same source): the angle between the target bone's
@@ -195,6 +198,14 @@ typedef struct rf_rt_report {
      * its ground as the source's touch theirs). */
     double ground_error;
     uint32_t frames;
+    /* The skate foot by foot, for the first RF_RT_REPORT_FEET feet (of `effectors`): the target
+     * joint pinned, its mean speed over its own contact frames (leg lengths per second) and how
+     * many there were. One foot sliding hides in the mean over all: a quadruped's forefeet driven
+     * half a cycle later against its hind feet. */
+    uint32_t effectors;
+    uint32_t foot_joint[RF_RT_REPORT_FEET];
+    double foot_skate[RF_RT_REPORT_FEET];
+    uint32_t foot_frames[RF_RT_REPORT_FEET];
 } rf_rt_report;
 
 /* Measures `anim` (a clip for the plan's target whose frame 0 is at time `start` of the source

@@ -364,6 +364,54 @@ uint8_t *rf_rt_detect_contacts(const rf_retarget *rt, uint32_t frames, double fp
     return c;
 }
 
+/* Whether effector e is a foot of another pair of legs driven half a cycle later (RF_RT_IN_PHASE:
+ * a quadruped's forefoot under a biped's foot). */
+static bool rt_effector_phase(const rf_retarget *rt, uint32_t e)
+{
+    const rf_rt_tjoint *tj = &rt->tj[rt->effectors[e]];
+    return tj->kind == RF_RT_MAPPED && tj->input_count &&
+           (rt->in[tj->first_input].flags & RF_RT_IN_PHASE);
+}
+
+/* Whether effector e is a foot driven half a cycle later that steps (rt_phase_step): one its
+ * solver's chain can lift. A one-bone leg hanging from the body (RT_TIP_AIM) is only turned
+ * about its pivot, so its tip cannot rise off the floor without swinging along it: it keeps its
+ * source's contacts half a cycle later and is dragged along (rt_phase_drag). Stepping, the
+ * animalia fox's forefeet slid more (26 and 54% of the height a second -> 37 and 68). */
+bool rf_rt_effector_steps(const rf_retarget *rt, uint32_t e)
+{
+    return rt_effector_phase(rt, e) && rt->effector_tip[e] != RT_TIP_AIM;
+}
+
+/* A foot driven half a cycle later moves with the body now and its leg half a cycle later: its
+ * source's leg is down when the source's body, half a cycle later, stands over it, not when this
+ * body does. Under CMU 01_01 the Fox's forefeet, in their source's contacts, stood over the floor
+ * (0.1-0.2 leg at the middle of each) and moved at 1.5 leg/s, and between them went through it
+ * (every frame of the swing, at 2.2 leg/s) and were held at its level, sliding. Such a foot is
+ * down where its own motion is, read as a source foot is: its sole (`sole`, [eff][frames],
+ * heights along up in the clip read) within contact_height leg lengths of its low (the 10th
+ * percentile over the clip: one frame deep through the floor does not set it). */
+bool rf_rt_phase_contacts(const rf_retarget *rt, uint32_t frames, double fps, const double *sole,
+                          uint8_t *contact)
+{
+    double *low = malloc((frames ? frames : 1) * sizeof *low);
+    if (!low)
+        return false;
+    for (uint32_t e = 0; frames && e < rt->effector_count; e++) {
+        if (!rf_rt_effector_steps(rt, e))
+            continue;
+        const double *h = sole + (size_t)e * frames;
+        memcpy(low, h, frames * sizeof *low);
+        double lowest = rf_rt_select(low, frames, frames / 10);
+        uint8_t *c = contact + (size_t)e * frames;
+        for (uint32_t f = 0; f < frames; f++)
+            c[f] = h[f] <= lowest + rt->opt.contact_height * rt->leg_target;
+        rt_clean_runs(c, frames, (uint32_t)ceil(0.05 * fps));
+    }
+    free(low);
+    return true;
+}
+
 /* ---- pinning ---- */
 
 typedef struct rt_pin_work {
@@ -384,6 +432,10 @@ typedef struct rt_pin_work {
     rf_ik_goal *goals;
     rf_vec3 *target_pos; /* [eff][frames] target effector positions before pinning */
     double *target_sole; /* [eff][frames] heights of the target feet's soles */
+    double *clear_sole;  /* [eff][frames] the same, held out of the floor */
+    rf_quat *target_rot; /* [eff][frames] the target feet's world rotations before pinning */
+    rf_quat *held;       /* [eff][frames] a planted foot's world rotation, w = NAN: its own */
+    uint32_t *goal_eff;  /* [eff] the effector of each goal of a frame */
     double *src_sole;    /* [eff][frames] the source's soles over its floor, in its legs */
     rf_vec3 *pin;        /* [eff][frames] the goal, or NaN when free */
 } rt_pin_work;
@@ -393,7 +445,8 @@ static void rt_pin_work_free(rt_pin_work *w)
     free(w->local), free(w->world), free(w->before), free(w->parents), free(w->goals);
     free(w->chain), free(w->cparent), free(w->clocal), free(w->want), free(w->solved);
     free(w->need), free(w->below), free(w->below_at);
-    free(w->target_pos), free(w->target_sole), free(w->src_sole), free(w->pin);
+    free(w->target_pos), free(w->target_sole), free(w->clear_sole), free(w->target_rot),
+        free(w->held), free(w->goal_eff), free(w->src_sole), free(w->pin);
 }
 
 /* Marks j and its hierarchy ancestors in need. */
@@ -413,6 +466,8 @@ static void rt_pin_need(const rf_retarget *rt, rt_pin_work *w)
         rt_need_up(rt, w->need, eff);
         rt_need_up(rt, w->need, knee);
         rt_need_up(rt, w->need, knee >= 0 ? rt->lparent[knee] : RF_RT_NONE);
+        int32_t hip = knee >= 0 ? rt->lparent[knee] : RF_RT_NONE;
+        rt_need_up(rt, w->need, hip >= 0 ? rt->lparent[hip] : RF_RT_NONE); /* rt_phase_whole_leg */
         w->below_at[e] = at;
         for (uint32_t c = (uint32_t)eff; c < rt->n; c++)
             if (rf_rt_carries(rt->target, eff, c))
@@ -450,6 +505,10 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
     w->goals = calloc(rt->effector_count ? rt->effector_count : 1, sizeof *w->goals);
     w->target_pos = malloc((ef ? ef : 1) * sizeof *w->target_pos);
     w->target_sole = malloc((ef ? ef : 1) * sizeof *w->target_sole);
+    w->clear_sole = malloc((ef ? ef : 1) * sizeof *w->clear_sole);
+    w->target_rot = malloc((ef ? ef : 1) * sizeof *w->target_rot);
+    w->held = malloc((ef ? ef : 1) * sizeof *w->held);
+    w->goal_eff = malloc((rt->effector_count ? rt->effector_count : 1) * sizeof *w->goal_eff);
     w->src_sole = malloc((ef ? ef : 1) * sizeof *w->src_sole);
     w->pin = malloc((ef ? ef : 1) * sizeof *w->pin);
     size_t c = (rt->effector_count ? rt->effector_count : 1) * 3;
@@ -462,8 +521,9 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
     w->below = malloc((c / 3 * n + 1) * sizeof *w->below);
     w->below_at = malloc((c / 3 + 1) * sizeof *w->below_at);
     if (!w->local || !w->world || !w->before || !w->parents || !w->goals || !w->target_pos ||
-        !w->target_sole || !w->src_sole || !w->pin || !w->chain || !w->cparent || !w->clocal ||
-        !w->want || !w->solved || !w->need || !w->below || !w->below_at)
+        !w->target_sole || !w->clear_sole || !w->target_rot || !w->held || !w->goal_eff ||
+        !w->src_sole || !w->pin || !w->chain || !w->cparent || !w->clocal || !w->want ||
+        !w->solved || !w->need || !w->below || !w->below_at)
         return false;
     /* the per-frame arrays: every frame of every foot is written */
     rf_prefault(w->target_pos, ef * sizeof *w->target_pos);
@@ -476,10 +536,6 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
     return true;
 }
 
-/* Whether effector e is a foot of another pair of legs driven half a cycle later (RF_RT_IN_PHASE:
- * a quadruped's forefoot under a biped's foot). Laid along the source's leg it may reach further
- * than the legs that set the body's height, so rt_pins lifts it out of the floor in every frame,
- * not only in its contacts. */
 /* How far (in leg lengths, horizontally) a foot driven half a cycle later may be held from where
  * the motion puts it. CMU 01_01's walk onto the Fox, the animalia wolf and horse (forelegs' tilt
  * p90 in degrees, skate over all feet in leg/s): set down again past 0.5 26-62, 0.85-0.99;
@@ -487,11 +543,45 @@ static bool rt_pin_work_alloc(rt_pin_work *w, const rf_retarget *rt, uint32_t fr
  * 0.15 25-51, 0.87-0.92. */
 #define RT_PHASE_DRIFT 0.25
 
-static bool rt_effector_phase(const rf_retarget *rt, uint32_t e)
+/* Whether the body stands on two pairs of legs, one driven half a cycle later (a quadruped under
+ * a biped's walk): every foot of it is then kept out of the floor between its contacts too
+ * (rt_pins). Its height is set by the legs in phase; the forefeet, kept out of the floor, no
+ * longer raised the whole clip at the end (the Fox under the whole of CMU 01_01: 2.4 units ->
+ * 0.05), and its hind feet, which that raise had held over the floor, went through it between their
+ * contacts (least -10.3% of the height, the sweep's floor p95 7.4 -> 10.3; now 8.3). A biped's
+ * feet are left as they were: held out of the floor, greenman's under the Fox's Walk stood
+ * 4.6% of the height over it in the median frame. */
+static bool rt_trots(const rf_retarget *rt)
 {
-    const rf_rt_tjoint *tj = &rt->tj[rt->effectors[e]];
-    return tj->kind == RF_RT_MAPPED && tj->input_count &&
-           (rt->in[tj->first_input].flags & RF_RT_IN_PHASE);
+    for (uint32_t e = 0; e < rt->effector_count; e++)
+        if (rt_effector_phase(rt, e))
+            return true;
+    return false;
+}
+
+/* The frames rt_pins reads a foot's position and sole at, of any foot: during its contacts and
+ * the contact_blend after each; every frame for a body with feet driven half a cycle later
+ * (rt_trots). */
+static uint8_t *rt_pins_read(const rf_retarget *rt, const uint8_t *contact, uint32_t frames,
+                             double fps)
+{
+    uint32_t blend = (uint32_t)ceil(rt->opt.contact_blend * fps);
+    uint8_t *read = calloc(frames ? frames : 1, 1);
+    bool trot = rt_trots(rt);
+    for (uint32_t e = 0; read && e < rt->effector_count; e++) {
+        const uint8_t *c = contact + (size_t)e * frames;
+        uint32_t since = UINT32_MAX; /* as in rt_pins */
+        if (trot)
+            memset(read, 1, frames);
+        for (uint32_t f = 0; f < frames; f++) {
+            if (c[f])
+                since = 0;
+            else if (since != UINT32_MAX)
+                since++;
+            read[f] |= since <= blend;
+        }
+    }
+    return read;
 }
 
 /* A pin of a foot driven half a cycle later held at most RT_PHASE_DRIFT legs (horizontally) from
@@ -505,60 +595,100 @@ static rf_vec3 rt_phase_drag(const rf_retarget *rt, rf_vec3 anchor, rf_vec3 at)
     return rf_v3_sub(anchor, rf_v3_scale(off, 1.0 - most / len));
 }
 
-/* The frames rt_pins reads a foot's position and sole at, of any foot: during its contacts and
- * the contact_blend after each; every frame for a foot driven half a cycle later. */
-static uint8_t *rt_pins_read(const rf_retarget *rt, const uint8_t *contact, uint32_t frames,
-                             double fps)
+/* A step of a foot driven half a cycle later (rt_phase_step): from where it stood to where it
+ * lands, over RT_PHASE_STEP seconds. */
+typedef struct rt_step {
+    uint32_t first, frames; /* frames == 0: not stepping */
+    rf_vec3 from, to;
+} rt_step;
+
+/* Seconds a step takes, and how high its arc rises over the motion, in leg lengths. The arc
+ * clears twice the contact height, so the measure reads the foot as lifted for most of the step
+ * (rf_rt_phase_contacts), not as sliding. */
+#define RT_PHASE_STEP 0.2
+#define RT_PHASE_LIFT 0.25
+
+/* Starts a step for a foot driven half a cycle later whose pin `anchor` lies more than
+ * RT_PHASE_DRIFT legs (horizontally) behind where the motion puts it at frame f: it lands where
+ * the motion puts it at the step's end, as far ahead along the way it moves as it was let fall
+ * behind, so the next step comes a whole drift later. Returns false when it needs none. */
+static bool rt_phase_step(const rf_retarget *rt, const rf_vec3 *p, uint32_t f, uint32_t frames,
+                          double fps, rf_vec3 anchor, rt_step *st)
 {
-    uint32_t blend = (uint32_t)ceil(rt->opt.contact_blend * fps);
-    uint8_t *read = calloc(frames ? frames : 1, 1);
-    for (uint32_t e = 0; read && e < rt->effector_count; e++) {
-        const uint8_t *c = contact + (size_t)e * frames;
-        uint32_t since = UINT32_MAX; /* as in rt_pins */
-        if (rt_effector_phase(rt, e))
-            memset(read, 1, frames);
-        for (uint32_t f = 0; f < frames; f++) {
-            if (c[f])
-                since = 0;
-            else if (since != UINT32_MAX)
-                since++;
-            read[f] |= since <= blend;
-        }
-    }
-    return read;
+    rf_vec3 off = rf_rt_horizontal(rt->up, rf_v3_sub(p[f], anchor));
+    double len = rf_v3_len(off), most = RT_PHASE_DRIFT * rt->leg_target;
+    if (!(len > most))
+        return false;
+    uint32_t n = (uint32_t)fmax(2, ceil(RT_PHASE_STEP * fps));
+    uint32_t end = f + n < frames ? f + n : frames - 1;
+    st->first = f, st->frames = n, st->from = anchor;
+    rf_vec3 ahead = rf_rt_horizontal(rt->up, rf_v3_sub(p[end], anchor));
+    double a = rf_v3_len(ahead);
+    st->to = rf_v3_add(p[end], a > 0 ? rf_v3_scale(ahead, most / a) : rf_v3(0, 0, 0));
+    return true;
+}
+
+/* Where a stepping foot is at frame f: eased along the floor from `from` to `to`, raised on an
+ * arc over the motion's height (p, with the lift out of the floor already in `lift`). */
+static rf_vec3 rt_step_at(const rf_retarget *rt, const rt_step *st, uint32_t f, rf_vec3 p,
+                          rf_vec3 lift)
+{
+    double u = (double)(f - st->first + 1) / st->frames;
+    double ease = u * u * (3 - 2 * u);
+    rf_vec3 along = rf_v3_add(st->from, rf_v3_scale(rf_v3_sub(st->to, st->from), ease));
+    rf_vec3 at = rf_v3_add(p, rf_rt_horizontal(rt->up, rf_v3_sub(along, p)));
+    double arc = sin(RF_PI * u) * RT_PHASE_LIFT * rt->leg_target;
+    return rf_v3_add(rf_v3_add(at, lift), rf_v3_scale(rt->up, arc / rf_v3_len2(rt->up)));
 }
 
 /* The goal of every effector at every frame: during a contact, the horizontal position where it
  * began, and no lower than the height that puts its sole over the target's floor as the
  * source's is over its own (the foot can still roll); for contact_blend seconds after it, easing
- * back to the free motion. A foot driven half a cycle later is also lifted out of the floor
- * where it would go through it between contacts. */
-static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t frames, double fps,
-                    rt_pin_work *w)
+ * back to the free motion. Every foot of a body with feet driven half a cycle later is also
+ * lifted out of the floor where it would go through it between contacts (rt_trots), and such a
+ * foot steps when the body has moved on from its pin (rt_phase_step) or, on a one-bone leg, has
+ * its pin dragged along (rt_phase_drag). */
+static uint32_t rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t frames, double fps,
+                        rt_pin_work *w)
 {
+    uint32_t taken = 0; /* steps */
     uint32_t blend = (uint32_t)ceil(rt->opt.contact_blend * fps);
+    bool trot = rt_trots(rt);
     for (uint32_t e = 0; e < rt->effector_count; e++) {
         size_t at = (size_t)e * frames;
         const uint8_t *c = contact + at;
         const rf_vec3 *p = w->target_pos + at;
         rf_vec3 *pin = w->pin + at, anchor = p[0], lift = rf_v3(0, 0, 0);
         uint32_t since = UINT32_MAX; /* frames since the last contact ended */
-        bool phase = rt_effector_phase(rt, e);
+        bool phase = rt_effector_phase(rt, e), steps = rf_rt_effector_steps(rt, e);
+        rt_step st = {0};
+        rf_quat *held = w->held + at, turn = rf_quat_identity();
         for (uint32_t f = 0; f < frames; f++) {
+            bool stepping = false;
+            held[f] = rf_quat_make(0, 0, 0, NAN);
             if (c[f]) {
-                /* A foot driven half a cycle later stays on its source's contact while the body
-                 * moves with the source half a cycle before: in a jump the body flies off the
-                 * planted foot. Pinned on, the foot dragged the leg out level behind the body
-                 * (the animalia wolf's forelegs 85 degrees off down at p90): the pin is dragged
-                 * along behind the foot past RT_PHASE_DRIFT. */
+                /* A foot driven half a cycle later is planted while the body moves on with the
+                 * source: dragged along behind the body past RT_PHASE_DRIFT, it slid as fast as
+                 * the body moved (the Fox's forefeet 1.0-1.2 leg/s under CMU 01_01); one that
+                 * can step steps instead, lifted, and lands ahead. */
                 if (f == 0 || !c[f - 1])
-                    anchor = p[f];
-                else if (phase)
+                    anchor = p[f], st.frames = 0, turn = w->target_rot[at + f];
+                else if (phase && !steps)
                     anchor = rt_phase_drag(rt, anchor, p[f]);
-                /* Only up: a foot through the floor is lifted out of it; pulling a floating
+                else if (steps && !st.frames && rt_phase_step(rt, p, f, frames, fps, anchor, &st))
+                    anchor = st.to, taken++;
+                stepping = steps && st.frames && f < st.first + st.frames;
+                if (steps && st.frames && !stepping)
+                    st.frames = 0, turn = w->target_rot[at + f];
+                /* A planted foot that steps keeps its turn from where it was set down: its
+                 * source's foot rolls heel to toe in a stance that is not this foot's. */
+                if (steps && !stepping)
+                    held[f] = turn;
+                /* Only up: a foot through the floor is lifted out of it (one driven half a cycle
+                 * later onto the floor, its contacts its own); pulling a floating
                  * foot down would stretch the leg out of reach (the root placement keeps the
                  * feet at the floor on average). */
-                double want = rt->floor_target + w->src_sole[at + f] * rt->leg_target;
+                double want = rt->floor_target + (steps ? 0 : w->src_sole[at + f]) * rt->leg_target;
                 lift = rf_v3_scale(rt->up, fmax(0, want - w->target_sole[at + f]));
                 since = 0;
             } else if (since != UINT32_MAX) {
@@ -567,11 +697,14 @@ static void rt_pins(const rf_retarget *rt, const uint8_t *contact, uint32_t fram
             rf_vec3 off = rf_v3_add(rf_rt_horizontal(rt->up, rf_v3_sub(anchor, p[f])), lift);
             double keep = c[f] ? 1 : since <= blend ? 1.0 - (double)since / (blend + 1) : 0;
             pin[f] = keep > 0 ? rf_v3_add(p[f], rf_v3_scale(off, keep)) : rf_v3(NAN, NAN, NAN);
+            if (stepping)
+                pin[f] = rt_step_at(rt, &st, f, p[f], lift);
             double under = rt->floor_target - w->target_sole[at + f];
-            if (phase && keep == 0 && under > 0)
+            if ((phase || trot) && keep == 0 && under > 0)
                 pin[f] = rf_v3_add(p[f], rf_v3_scale(rt->up, under));
         }
     }
+    return taken;
 }
 
 static void rt_pose_of(const rf_retarget *rt, const rf_animation *a, uint32_t f, rf_xform *local,
@@ -605,6 +738,19 @@ static rf_xform rt_relative(rf_xform parent, rf_xform child)
     return rf_xform_mul(rf_xform_invert(parent), child);
 }
 
+/* Whether effector e, a foot at its bone's tip driven half a cycle later, is solved with the
+ * two limb bones above its joint instead of its own bone and the one above: a step lifts it
+ * (rt_phase_step). The Fox's forefoot at its hand's tip, turned about the elbow and the wrist,
+ * could not rise (the forearm stayed on the floor and the paw slid along it while stepping); a
+ * horse's two-bone leg hanging from the body keeps its chain. */
+static bool rt_phase_whole_leg(const rf_retarget *rt, uint32_t e)
+{
+    if (rt->effector_tip[e] != RT_TIP_CHAIN || !rt_effector_phase(rt, e))
+        return false;
+    int32_t knee = rt->lparent[rt->effectors[e]], hip = knee >= 0 ? rt->lparent[knee] : -1;
+    return hip >= 0 && !rt->tj[hip].root_motion && !rt->t_centerline[hip];
+}
+
 /* Poses the problem's chains from the frame's world transforms: one goal per pinned effector. */
 static uint32_t rt_chains_pose(const rf_retarget *rt, uint32_t f, uint32_t frames, rt_pin_work *w)
 {
@@ -616,7 +762,17 @@ static uint32_t rt_chains_pose(const rf_retarget *rt, uint32_t f, uint32_t frame
         bool tip = rt->effector_tip[e];
         if (rt->effector_tip[e] == RT_TIP_AIM)
             continue; /* a one-bone leg: rt_aim_frame */
-        uint32_t eff = rt->effectors[e], knee = tip ? eff : (uint32_t)rt->lparent[eff];
+        uint32_t eff = rt->effectors[e];
+        if (rt_phase_whole_leg(rt, e)) {
+            /* the joint carrying the tip goes where puts the tip on the pin, turned as it is
+             * held (rt_chains_write) */
+            rf_quat held = w->held[(size_t)e * frames + f];
+            rf_xform turn = w->before[eff];
+            turn.t = rf_v3(0, 0, 0), turn.r = isnan(held.w) ? turn.r : held;
+            pin = rf_v3_sub(pin, rf_xform_point(turn, rt->t_tip[eff]));
+            tip = false;
+        }
+        uint32_t knee = tip ? eff : (uint32_t)rt->lparent[eff];
         uint32_t hip = (uint32_t)rt->lparent[knee], b = count * 3;
         w->chain[b] = hip, w->chain[b + 1] = knee, w->chain[b + 2] = eff;
         w->cparent[b] = -1, w->cparent[b + 1] = (int32_t)b, w->cparent[b + 2] = (int32_t)b + 1;
@@ -625,6 +781,7 @@ static uint32_t rt_chains_pose(const rf_retarget *rt, uint32_t f, uint32_t frame
         /* A foot at the bone's tip ends the chain at a point of the joint's own frame. */
         w->clocal[b + 2] = tip ? (rf_xform){rt->t_tip[eff], rf_quat_identity(), rf_v3(1, 1, 1)}
                                : rt_relative(w->before[knee], w->before[eff]);
+        w->goal_eff[count] = e;
         w->goals[count] = rf_ik_goal_make(b + 2, pin);
         w->goals[count++].chain_root = (int32_t)b;
     }
@@ -633,8 +790,8 @@ static uint32_t rt_chains_pose(const rf_retarget *rt, uint32_t f, uint32_t frame
 
 /* Writes the solved chains back into the hierarchy's local pose of frame f (each effector keeps
  * its world rotation), then places the anchored joints again from their moved body joints. */
-static void rt_chains_write(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t count,
-                            rt_pin_work *w)
+static void rt_chains_write(const rf_retarget *rt, rf_animation *a, uint32_t f, uint32_t frames,
+                            uint32_t count, rt_pin_work *w)
 {
     memset(w->solved, 0, rt->n);
     for (uint32_t g = 0; g < count; g++) {
@@ -645,7 +802,8 @@ static void rt_chains_write(const rf_retarget *rt, rf_animation *a, uint32_t f, 
         if (w->chain[b + 2] == w->chain[b + 1])
             continue; /* a foot at the bone's tip: the knee's own turn places it */
         rf_xform eff = rf_xform_mul(knee, w->clocal[b + 2]);
-        eff.r = w->before[w->chain[b + 2]].r;
+        rf_quat held = w->held[(size_t)w->goal_eff[g] * frames + f];
+        eff.r = isnan(held.w) ? w->before[w->chain[b + 2]].r : held;
         w->want[w->chain[b + 2]] = eff, w->solved[w->chain[b + 2]] = 1;
     }
     for (uint32_t j = 0; j < rt->n; j++) {
@@ -725,7 +883,7 @@ static bool rt_solve_frame(const rf_retarget *rt, rf_animation *a, uint32_t f, u
             return false;
         }
         st->max_error = fmax(st->max_error, res.max_error);
-        rt_chains_write(rt, a, f, count, w);
+        rt_chains_write(rt, a, f, frames, count, w);
     }
     rt_aim_frame(rt, a, f, frames, w);
     return true;
@@ -754,6 +912,7 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
         if (!read[f]) { /* nothing pinned: the values are never read */
             for (uint32_t e = 0; e < rt->effector_count; e++) {
                 w.target_pos[(size_t)e * frames + f] = rf_v3(0, 0, 0);
+                w.target_rot[(size_t)e * frames + f] = rf_quat_identity();
                 w.target_sole[(size_t)e * frames + f] = 0;
             }
             continue;
@@ -762,6 +921,7 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
         rt_fk(rt, w.local, w.world, w.need);
         for (uint32_t e = 0; e < rt->effector_count; e++) {
             w.target_pos[(size_t)e * frames + f] = rf_rt_effector_point(rt, w.world, e);
+            w.target_rot[(size_t)e * frames + f] = w.world[rt->effectors[e]].r;
             w.target_sole[(size_t)e * frames + f] = rt_pin_sole(rt, &w, e, w.world);
         }
     }
@@ -772,9 +932,19 @@ bool rf_retarget_contacts(rf_retarget *rt, rf_animation *anim, const rf_ik_solve
         return false;
     }
     free(read);
+    /* the feet driven half a cycle later by their own motion, as the clip will show it: held out
+     * of the floor where they would go through it (rt_pins) */
+    for (size_t i = 0; i < (size_t)rt->effector_count * frames; i++)
+        w.clear_sole[i] = fmax(w.target_sole[i], rt->floor_target);
+    if (!rf_rt_phase_contacts(rt, frames, anim->fps, w.clear_sole, contact)) {
+        free(contact);
+        rt_pin_work_free(&w);
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
     for (size_t i = 0; i < (size_t)rt->effector_count * frames; i++)
         stats->contact_frames += contact[i];
-    rt_pins(rt, contact, frames, anim->fps, &w);
+    stats->steps = rt_pins(rt, contact, frames, anim->fps, &w);
     for (uint32_t f = 0; ok && f < frames; f++)
         ok = rt_solve_frame(rt, anim, f, frames, solver, &w, stats, err, err_size);
     free(contact);

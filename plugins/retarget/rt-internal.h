@@ -391,6 +391,14 @@ void rf_rt_source_world_two(const rf_retarget *rt, uint32_t k, const double t[2]
  * at the time its input samples the source. NULL when out of memory. */
 uint8_t *rf_rt_detect_contacts(const rf_retarget *rt, uint32_t frames, double fps, double start,
                                rf_vec3 *src_pos, double *src_sole);
+/* Whether effector e is a foot driven half a cycle later (RF_RT_IN_PHASE) that steps: its contacts
+ * are its own motion's (rf_rt_phase_contacts), not its source's. */
+bool rf_rt_effector_steps(const rf_retarget *rt, uint32_t e);
+/* The contacts of the feet driven half a cycle later (RF_RT_IN_PHASE) in `contact` replaced by
+ * where their own motion is down: sole ([eff][frames], heights along up of the target feet's
+ * soles in the clip read) within contact_height leg lengths of the target's floor. */
+bool rf_rt_phase_contacts(const rf_retarget *rt, uint32_t frames, double fps, const double *sole,
+                          uint8_t *contact);
 /* Picks the end effectors (rt->effectors) from the aligned rest. */
 bool rf_rt_effectors_prepare(rf_retarget *rt);
 /* ---- rt-clip.c ---- */

@@ -18,6 +18,7 @@ typedef struct rt_measure_work {
     double *angles;   /* [frame][bone] degrees */
     rf_vec3 *src_pos; /* [eff][frame] */
     rf_vec3 *t_eff;   /* [eff][frame] the target's effector points, for the skate */
+    double *t_sole;   /* [eff][frame] the target feet's soles, heights along up */
     double *src_sole; /* [eff][frame] */
     uint8_t *contact;
     uint8_t **need; /* [source][joint] what the fidelity angles read and what carries it */
@@ -34,7 +35,8 @@ static void rt_mw_free(rt_measure_work *w, uint32_t sources)
             free(w->need[k]);
     }
     free(w->t_world), free(w->s_local), free(w->s_world), free(w->rot), free(w->tr), free(w->need);
-    free(w->angles), free(w->src_pos), free(w->src_sole), free(w->contact), free(w->t_eff);
+    free(w->angles), free(w->src_pos), free(w->src_sole), free(w->contact), free(w->t_eff),
+        free(w->t_sole);
 }
 
 static bool rt_mw_alloc(rt_measure_work *w, const rf_retarget *rt, uint32_t frames)
@@ -50,8 +52,9 @@ static bool rt_mw_alloc(rt_measure_work *w, const rf_retarget *rt, uint32_t fram
     w->src_pos = malloc((ef ? ef : 1) * sizeof *w->src_pos);
     w->src_sole = malloc((ef ? ef : 1) * sizeof *w->src_sole);
     w->t_eff = malloc((ef ? ef : 1) * sizeof *w->t_eff);
-    if (!w->t_world || !w->s_local || !w->s_world || !w->need || !w->rot || !w->tr || !w->angles ||
-        !w->src_pos || !w->src_sole || !w->t_eff)
+    w->t_sole = malloc((ef ? ef : 1) * sizeof *w->t_sole);
+    if (!w->t_sole || !w->t_world || !w->s_local || !w->s_world || !w->need || !w->rot || !w->tr ||
+        !w->angles || !w->src_pos || !w->src_sole || !w->t_eff)
         return false;
     for (uint32_t k = 0; k < rt->source_count; k++) {
         w->s_local[k] = malloc(m * sizeof **w->s_local);
@@ -125,19 +128,22 @@ static void rt_fidelity(const rf_retarget *rt, rt_measure_work *w, uint32_t fram
     r->fidelity_p95 = rf_rt_select(w->angles, count, (size_t)(0.95 * (count - 1)));
 }
 
-/* Ground at one frame: for each effector in contact, how far its sole is over the target's
+/* Ground: for each effector in contact at each frame, how far its sole is over the target's
  * floor against how far the source's is over its own, each in its own leg lengths. */
-static void rt_frame_ground(const rf_retarget *rt, rt_measure_work *w, uint32_t f, uint32_t frames,
-                            double *sum, uint32_t *count)
+static double rt_ground(const rf_retarget *rt, const rt_measure_work *w, uint32_t frames)
 {
-    for (uint32_t e = 0; e < rt->effector_count; e++) {
-        if (!w->contact[(size_t)e * frames + f])
+    double sum = 0;
+    uint32_t count = 0;
+    for (size_t i = 0; i < (size_t)rt->effector_count * frames; i++) {
+        if (!w->contact[i])
             continue;
-        double ht = rf_rt_sole(rt->target, w->t_world, rt->t_tip, rt->up, rt->effectors[e]);
-        double hs = w->src_sole[(size_t)e * frames + f]; /* at the input's own sample time */
-        *sum += fabs((ht - rt->floor_target) / rt->leg_target - hs);
-        (*count)++;
+        /* at the input's own sample time; a foot whose contacts are its own motion's stands on
+         * the floor in them (rf_rt_phase_contacts) */
+        double hs = rf_rt_effector_steps(rt, (uint32_t)(i / frames)) ? 0 : w->src_sole[i];
+        sum += fabs((w->t_sole[i] - rt->floor_target) / rt->leg_target - hs);
+        count++;
     }
+    return count ? sum / count : 0;
 }
 
 /* Skate: effector speeds while in contact, the target's positions from its FK at the measured
@@ -147,7 +153,7 @@ static void rt_frame_ground(const rf_retarget *rt, rt_measure_work *w, uint32_t 
 static void rt_skate(const rf_retarget *rt, uint32_t frames, uint32_t step, double fps,
                      const rt_measure_work *w, rf_rt_report *r, float *per_frame)
 {
-    uint32_t count = 0;
+    uint32_t count = 0, s_count = 0;
     double t_sum = 0, s_sum = 0;
     rf_vec3 *prev = malloc((rt->effector_count ? rt->effector_count : 1) * sizeof *prev);
     if (!prev)
@@ -165,18 +171,27 @@ static void rt_skate(const rf_retarget *rt, uint32_t frames, uint32_t step, doub
                 double speed = rf_v3_len(dt) * fps / rt->leg_target;
                 float *at = per_frame ? &per_frame[(size_t)f * step] : NULL;
                 t_sum += speed;
+                /* the source's reference over the feet whose contacts are its own */
+                if (!rf_rt_effector_steps(rt, e))
+                    s_sum += rf_v3_len(ds) * fps / src->leg, s_count++;
+                if (e < RF_RT_REPORT_FEET)
+                    r->foot_skate[e] += speed, r->foot_frames[e]++;
                 if (at)
                     *at = isnan(*at) ? (float)speed : fmaxf(*at, (float)speed);
-                s_sum += rf_v3_len(ds) * fps / src->leg;
                 count++;
             }
             prev[e] = p;
         }
     }
     free(prev);
+    r->effectors = rt->effector_count;
+    for (uint32_t e = 0; e < rt->effector_count && e < RF_RT_REPORT_FEET; e++) {
+        r->foot_joint[e] = rt->effectors[e];
+        r->foot_skate[e] = r->foot_frames[e] ? r->foot_skate[e] / r->foot_frames[e] : 0;
+    }
     r->contact_frames = count;
     r->skate_target = count ? t_sum / count : 0;
-    r->skate_source = count ? s_sum / count : 0;
+    r->skate_source = s_count ? s_sum / s_count : 0;
 }
 
 /* The per-frame figures behind the report, as series for the nodes after the measure. */
@@ -241,20 +256,28 @@ bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, doubl
         rf_rt_fail(err, err_size, "out of memory");
         return false;
     }
-    double ground = 0;
-    uint32_t grounded = 0;
     rt_mw_need(rt, &w);
     for (uint32_t f = 0; f < frames; f++) {
         rf_rt_target_fk(rt, anim, f * step, w.t_world);
-        for (uint32_t e = 0; e < rt->effector_count; e++)
+        for (uint32_t e = 0; e < rt->effector_count; e++) {
             w.t_eff[(size_t)e * frames + f] = rf_rt_effector_point(rt, w.t_world, e);
+            w.t_sole[(size_t)e * frames + f] =
+                rf_rt_sole(rt->target, w.t_world, rt->t_tip, rt->up, rt->effectors[e]);
+        }
         for (uint32_t k = 0; k < rt->source_count; k++)
             rf_rt_source_world_some(rt, k, start + f / fps, w.s_local[k], w.s_world[k], w.rot, w.tr,
                                     w.need[k]);
         rt_frame_angles(rt, &w, w.angles + (size_t)f * rt->bone_count);
-        rt_frame_ground(rt, &w, f, frames, &ground, &grounded);
     }
-    report->ground_error = grounded ? ground / grounded : 0;
+    /* a foot driven half a cycle later that steps is down where its own motion is, as the
+     * contact pass reads it (rf_rt_phase_contacts): its source's leg is down where the source's
+     * body, half a cycle later, stands over it */
+    if (!rf_rt_phase_contacts(rt, frames, fps, w.t_sole, w.contact)) {
+        rt_mw_free(&w, rt->source_count);
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    report->ground_error = rt_ground(rt, &w, frames);
     report->frames = frames;
     float *skate = NULL;
     if (series && (!rt_series(rt, &w, frames, step, series) ||

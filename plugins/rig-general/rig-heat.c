@@ -342,6 +342,43 @@ uint32_t rf_rig_near_vertex(const rf_rig_near *gr, const double q[3])
     return at;
 }
 
+/* For each proxy vertex of a part marked in from[], the nearest vertex within r of another part
+ * but `skip` into touch[i] (RF_RIG_NONE when none is that near, and for the vertices of other
+ * parts): where loose parts touch. r is at most the grid's cell (longest / 32), so the 27 cells
+ * around a vertex's hold every vertex that near. */
+static void rf_rig_near_touch(const rf_rig_near *gr, const uint32_t *part, const uint8_t *from,
+                              uint32_t skip, double r, uint32_t *touch)
+{
+    const rf_rig_geo *g = gr->g;
+    for (uint32_t i = 0; i < g->nv; i++) {
+        const double *q = g->p + (size_t)i * 3;
+        double best = r * r;
+        uint32_t c[3];
+        touch[i] = RF_RIG_NONE;
+        if (!from[part[i]])
+            continue;
+        for (int a = 0; a < 3; a++)
+            c[a] = rf_rig_near_axis(gr, a, q[a]);
+        for (int dz = -1; dz <= 1; dz++)
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    long x = (long)c[0] + dx, y = (long)c[1] + dy, z = (long)c[2] + dz;
+                    if (x < 0 || y < 0 || z < 0 || x >= gr->n[0] || y >= gr->n[1] || z >= gr->n[2])
+                        continue;
+                    uint32_t cc[3] = {(uint32_t)x, (uint32_t)y, (uint32_t)z};
+                    size_t k = rf_rig_near_cell(gr, cc);
+                    for (uint32_t e = gr->start[k]; e < gr->start[k + 1]; e++) {
+                        uint32_t o = gr->id[e];
+                        const double *v = g->p + (size_t)o * 3;
+                        double d = (q[0] - v[0]) * (q[0] - v[0]) + (q[1] - v[1]) * (q[1] - v[1]) +
+                                   (q[2] - v[2]) * (q[2] - v[2]);
+                        if (part[o] != part[i] && part[o] != skip && d <= best)
+                            best = d, touch[i] = o;
+                    }
+                }
+    }
+}
+
 /* ---- heat sources ---- */
 
 /* The heat c in H = c / d^2. Larger c keeps each vertex closer to its nearest bone (sharper
@@ -403,11 +440,61 @@ static uint32_t rf_rig_junction(const double q[3], const rf_rig_bone *bones, uin
     return meeting >= 3 && ends == 1 ? ending : RF_RIG_NONE;
 }
 
+static bool rf_rig_open_parts(const rf_rig_prep *p, uint8_t *open, double *vol);
+
+/* Each proxy vertex's outward normal, area-weighted and not normalised, into nrm[nv * 3]: the
+ * triangles' winding turned by the sign of the volume its part holds, zero on a part holding
+ * none (a sheet: no side is out). False when out of memory. */
+static bool rf_rig_normals(const rf_rig_prep *p, double *nrm)
+{
+    const rf_rig_geo *g = &p->proxy;
+    uint8_t *open = calloc(p->proxy_parts + 1, 1);
+    double *vol = calloc(p->proxy_parts + 1, sizeof *vol);
+    bool ok = open && vol && rf_rig_open_parts(p, open, vol);
+    memset(nrm, 0, (size_t)g->nv * 3 * sizeof *nrm);
+    for (uint32_t t = 0; ok && t < g->nt; t++) {
+        const uint32_t *v = g->t + (size_t)t * 3;
+        const double *a = g->p + (size_t)v[0] * 3, *b = g->p + (size_t)v[1] * 3,
+                     *c = g->p + (size_t)v[2] * 3;
+        double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        double out = vol[p->proxy_part[v[0]]], f = out > 0 ? 1 : out < 0 ? -1 : 0;
+        double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                        e1[0] * e2[1] - e1[1] * e2[0]};
+        for (int k = 0; k < 3; k++)
+            for (int d = 0; d < 3; d++)
+                nrm[(size_t)v[k] * 3 + d] += f * cr[d];
+    }
+    free(open), free(vol);
+    return ok;
+}
+
+/* A bone of the rigger's own skeleton lies inside the volume it was grown from, so a vertex
+ * sees it from inside its surface. One lying in front of the surface, or behind its tangent
+ * plane by less than 17 degrees (the cosine of its direction with the outward normal above
+ * -0.3), lies across a gap: where a hand rests on a hip and the skins touch, the hip's vertices
+ * see the hand's bone through the contact, with no surface between to hide it, and the hand
+ * carried the hip's skin away in sheets under the CMU walk (BCN_Epileptic's worst part's
+ * stretch 511.9 -> 132.2). A given skeleton's bones may lie outside the skin (leaf ends,
+ * helpers), and it keeps the test off. -0.3 to -0.5 read alike on BCN_Epileptic (132 to 138)
+ * and after the matcher (doc/autorig.md, "Round five"). */
+#define RF_RIG_FRONT (-0.3)
+
+/* Whether point c lies in front of the surface at q (normal n, not normalised): its direction
+ * from q more than RF_RIG_FRONT towards n. False where n is unknown (zero). */
+static bool rf_rig_in_front(const double n[3], const double q[3], const double c[3])
+{
+    double d[3] = {c[0] - q[0], c[1] - q[1], c[2] - q[2]};
+    double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    double dd = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    return nn > 0 && dd > 0 && n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > RF_RIG_FRONT * nn * dd;
+}
+
 /* The nearest bone each vertex sees (trying the 8 nearest); src[i].h = 0 when it sees none. A
  * loose part where no vertex sees a bone takes its nearest bones unseen. */
 static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint32_t nb,
-                           const rf_rig_rays *rays, bool leaf_points_own, rf_rig_src *src,
-                           rf_rig_bd *bd, uint8_t *lit, rf_rig_stats *st)
+                           const rf_rig_rays *rays, bool leaf_points_own, const double *nrm,
+                           rf_rig_src *src, rf_rig_bd *bd, uint8_t *lit, rf_rig_stats *st)
 {
     double eps = 1e-5 * p->longest, floor_d = 1e-3 * p->longest;
     st->unseen_vertices = 0;
@@ -432,15 +519,20 @@ static void rf_rig_sources(const rf_rig_prep *p, const rf_rig_bone *bones, uint3
         double d0 = fmax(bd[0].d, floor_d);
         src[i].h = 0, src[i].joint = bones[bd[0].b].joint, src[i].joint2 = RF_RIG_NONE;
         uint32_t k = 0;
-        for (; k < nb && k < 8; k++) {
-            rf_rig_seg_dist(q, &bones[bd[k].b], c);
-            if (!rays || rf_rig_sees(rays, p->proxy_part[i], q, c, eps)) {
-                double d = fmax(bd[k].d, floor_d);
-                src[i].h = RF_RIG_HEAT / (d * d), src[i].joint = bones[bd[k].b].joint;
-                lit[p->proxy_part[i]] = 1;
-                break;
+        /* the bones in front of the surface are passed over first (nrm given); when the vertex
+         * sees no other, seen ones in front are taken as before */
+        for (int front = nrm ? 0 : 1; front < 2 && src[i].h == 0; front++)
+            for (k = 0; k < nb && k < 8; k++) {
+                rf_rig_seg_dist(q, &bones[bd[k].b], c);
+                if (!front && rf_rig_in_front(nrm + (size_t)i * 3, q, c))
+                    continue;
+                if (!rays || rf_rig_sees(rays, p->proxy_part[i], q, c, eps)) {
+                    double d = fmax(bd[k].d, floor_d);
+                    src[i].h = RF_RIG_HEAT / (d * d), src[i].joint = bones[bd[k].b].joint;
+                    lit[p->proxy_part[i]] = 1;
+                    break;
+                }
             }
-        }
         /* two bones meeting at a joint are equally near every vertex whose nearest point on
          * both is that joint (the outside of a bend): both heat it, as in Pinocchio, instead
          * of whichever the sort put first */
@@ -707,15 +799,16 @@ static int rf_rig_edge_cmp(const void *pa, const void *pb)
 
 /* Marks open[part] for each loose part with an edge on one triangle only (a sheet, a cape, a
  * skirt open at its hem, a wing's membrane) or no volume inside it (a sheet made double-sided,
- * every edge on two triangles back to back). False when out of memory. */
-static bool rf_rig_open_parts(const rf_rig_prep *p, uint8_t *open)
+ * every edge on two triangles back to back). vol[part] (zeroed by the caller) gets the signed
+ * volume the part's triangles hold, positive when they face out, 0 for a part holding none (a
+ * part with a few holes still holds about its volume). False when out of memory. */
+static bool rf_rig_open_parts(const rf_rig_prep *p, uint8_t *open, double *vol)
 {
     size_t ne = (size_t)p->proxy.nt * 3;
     uint64_t *e = malloc((ne + 1) * sizeof *e);
-    double *vol = calloc(p->proxy_parts + 1, sizeof *vol),
-           *area = calloc(p->proxy_parts + 1, sizeof *area);
-    if (!e || !vol || !area) {
-        free(e), free(vol), free(area);
+    double *area = calloc(p->proxy_parts + 1, sizeof *area);
+    if (!e || !area) {
+        free(e), free(area);
         return false;
     }
     for (size_t t = 0; t < p->proxy.nt; t++) {
@@ -747,8 +840,9 @@ static bool rf_rig_open_parts(const rf_rig_prep *p, uint8_t *open)
     }
     /* a sphere holds 0.094 A^1.5, a box a hundred times thinner than it is wide 0.003 */
     for (uint32_t q = 0; q < p->proxy_parts; q++)
-        open[q] |= !(fabs(vol[q]) > 1e-5 * pow(area[q], 1.5));
-    free(e), free(vol), free(area);
+        if (!(fabs(vol[q]) > 1e-5 * pow(area[q], 1.5)))
+            open[q] = 1, vol[q] = 0;
+    free(e), free(area);
     return true;
 }
 
@@ -828,6 +922,121 @@ static bool rf_rig_boneless_owners(const rf_rig_prep *p, const uint8_t *bends, c
     return true;
 }
 
+static uint32_t rf_rig_root(uint32_t *uf, uint32_t q)
+{
+    while (uf[q] != q)
+        q = uf[q] = uf[uf[q]];
+    return q;
+}
+
+/* The loose parts of each prop (rf_rig_props) into uf[] (union-find roots), its members' count
+ * into members[root] and whether they already move with one joint (owner[], the same for all)
+ * into agree[root]; the surface of the members that bend (bends[]: open, or lying around a bone)
+ * into bent[root], of the others into whole[root]. */
+static void rf_rig_prop_parts(const rf_rig_prep *p, const uint32_t *touch, const uint8_t *boneless,
+                              const uint8_t *bends, const double *area, const uint32_t *owner,
+                              uint32_t *uf, uint32_t *members, uint8_t *agree, double *whole,
+                              double *bent)
+{
+    uint32_t np = p->proxy_parts;
+    for (uint32_t q = 0; q < np; q++)
+        uf[q] = q, members[q] = 0, agree[q] = 1;
+    for (uint32_t i = 0; i < p->proxy.nv; i++) {
+        uint32_t a = p->proxy_part[i];
+        if (boneless[a] && touch[i] != RF_RIG_NONE && boneless[p->proxy_part[touch[i]]])
+            uf[rf_rig_root(uf, a)] = rf_rig_root(uf, p->proxy_part[touch[i]]);
+    }
+    for (uint32_t q = 0; q < np; q++) {
+        if (!boneless[q])
+            continue;
+        uint32_t g = rf_rig_root(uf, q);
+        (bends[q] ? bent : whole)[g] += area[q];
+        members[g]++;
+    }
+    /* every member's owner against the root's */
+    for (uint32_t q = 0; q < np; q++)
+        if (boneless[q])
+            agree[rf_rig_root(uf, q)] &=
+                owner[q] != RF_RIG_NONE && owner[q] == owner[rf_rig_root(uf, q)];
+}
+
+/* Loose parts enclosing no bone that touch one another (a vertex within a hundredth of the
+ * longest edge of another's) make one prop: a staff's shaft, the wrap at its grip and the
+ * pieces of its head. A prop of two pieces or more that do not already move with one joint,
+ * touching a part that encloses bones (not the body: the staff the rigger ran a bone along, the
+ * hand holding it), moves with one joint, the one weighted most on that part's vertices where
+ * the prop touches it most, so it stays whole: each piece taken alone went with the joint bone
+ * heat gave it most or kept its blend, and the auto-rigged Wizard's staff came apart, its head
+ * with the forearm and its shaft with the hand (worst seam 37.0 -> 13.1 under the CMU walk). A
+ * prop made mostly of open parts (a cape with a brooch) keeps its weights and bends. Only the
+ * rigger's own rigs: on the artists' skeletons the pieces' own joints were measured better
+ * (doc/autorig.md, "Round five"). sum[] and area[] per part, bends[] the open parts and those
+ * lying around a bone, owner[] the joint moving each part alone. False when out of memory. */
+static bool rf_rig_props(const rf_rig_prep *p, uint32_t largest, const double *sum,
+                         const uint8_t *bends, const double *area, const uint32_t *owner,
+                         uint32_t nj, double *w)
+{
+    uint32_t np = p->proxy_parts, nv = p->proxy.nv, npairs = 0, nslots = 0, best = 0;
+    rf_rig_near *gr = rf_rig_near_new(p);
+    uint32_t *touch = malloc(((size_t)nv + 1) * sizeof *touch);
+    uint32_t *uf = malloc(((size_t)np + 1) * sizeof *uf), *host = malloc((np + 1) * sizeof *host);
+    uint32_t *members = malloc(((size_t)np + 1) * sizeof *members);
+    uint32_t *slot = malloc(((size_t)np + 1) * sizeof *slot);
+    uint64_t *pairs = malloc(((size_t)nv + 1) * sizeof *pairs);
+    double *bent = calloc(np + 1, sizeof *bent), *whole = calloc(np + 1, sizeof *whole);
+    uint8_t *boneless = calloc(np + 1, 1), *agree = malloc(np + 1);
+    bool ok =
+        gr && touch && uf && host && members && slot && pairs && bent && whole && boneless && agree;
+    for (uint32_t q = 0; ok && q < np; q++)
+        boneless[q] = q != largest && !(sum[q] > 0), host[q] = RF_RIG_NONE;
+    if (ok) {
+        rf_rig_near_touch(gr, p->proxy_part, boneless, largest, 0.01 * p->longest, touch);
+        rf_rig_prop_parts(p, touch, boneless, bends, area, owner, uf, members, agree, whole, bent);
+    }
+    /* the part holding bones each prop touches with the most vertices */
+    for (uint32_t i = 0; ok && i < nv; i++) {
+        uint32_t a = p->proxy_part[i], b = touch[i] != RF_RIG_NONE ? p->proxy_part[touch[i]] : a;
+        if (boneless[a] && sum[b] > 0)
+            pairs[npairs++] = (uint64_t)rf_rig_root(uf, a) << 32 | b;
+    }
+    if (ok)
+        qsort(pairs, npairs, sizeof *pairs, rf_rig_edge_cmp);
+    for (uint32_t k = 0; ok && k < npairs;) {
+        uint32_t e = k, g = (uint32_t)(pairs[k] >> 32);
+        while (e < npairs && pairs[e] == pairs[k])
+            e++;
+        best = k == 0 || (uint32_t)(pairs[k - 1] >> 32) != g ? 0 : best;
+        if (e - k > best && members[g] >= 2 && !agree[g] && whole[g] > bent[g])
+            best = e - k, host[g] = (uint32_t)pairs[k];
+        k = e;
+    }
+    for (uint32_t q = 0; ok && q < np; q++)
+        slot[q] = host[q] != RF_RIG_NONE ? nslots++ : RF_RIG_NONE;
+    double *row = ok ? calloc((size_t)nslots * nj + 1, sizeof *row) : NULL;
+    ok = ok && row;
+    for (uint32_t i = 0; ok && i < nv; i++) { /* the holder's weights where the prop touches it */
+        uint32_t a = p->proxy_part[i], g = boneless[a] ? rf_rig_root(uf, a) : RF_RIG_NONE;
+        if (g != RF_RIG_NONE && slot[g] != RF_RIG_NONE && touch[i] != RF_RIG_NONE &&
+            p->proxy_part[touch[i]] == host[g])
+            for (uint32_t j = 0; j < nj; j++)
+                row[(size_t)slot[g] * nj + j] += w[(size_t)touch[i] * nj + j];
+    }
+    for (uint32_t i = 0; ok && i < nv; i++) {
+        uint32_t a = p->proxy_part[i], g = boneless[a] ? rf_rig_root(uf, a) : RF_RIG_NONE, j = 0;
+        if (g == RF_RIG_NONE || slot[g] == RF_RIG_NONE)
+            continue;
+        const double *r = row + (size_t)slot[g] * nj;
+        for (uint32_t c = 1; c < nj; c++)
+            j = r[c] > r[j] ? c : j;
+        memset(w + (size_t)i * nj, 0, nj * sizeof *w);
+        w[(size_t)i * nj + j] = 1;
+    }
+    rf_rig_near_free(gr);
+    free(touch), free(uf), free(host), free(members), free(slot), free(pairs), free(bent);
+    free(whole), free(boneless), free(agree), free(row);
+    return ok;
+}
+
 /* Whether bone heat gives joint j more than half of loose part q (the mean of its vertices'
  * weights). */
 static bool rf_rig_heat_agrees(const rf_rig_prep *p, uint32_t q, uint32_t nj, const double *w,
@@ -847,6 +1056,23 @@ static bool rf_rig_heat_agrees(const rf_rig_prep *p, uint32_t q, uint32_t nj, co
  * between them; BCN_Epileptic's head holds eleven joints' bones in 874 vertices. */
 #define RF_RIG_PIECE_JOINTS 5
 
+/* Whether the joints whose bones a part holds (held[j] > 0) branch in it: some joint has two
+ * children or more among them (a neck carrying a jaw, lips, eyes and a ponytail; a hand its
+ * fingers), not one chain (a spider's loose leg). seen is scratch, [n]. */
+static bool rf_rig_branches(const rf_rig_skel *s, const double *held, uint8_t *seen)
+{
+    bool branch = false;
+    memset(seen, 0, s->n);
+    for (uint32_t c = 0; c < s->n && !branch; c++) {
+        int32_t j = s->parent[c];
+        if (j < 0 || !(held[c] > 0))
+            continue;
+        branch = seen[j];
+        seen[j] = 1;
+    }
+    return branch;
+}
+
 /* A loose part that encloses bones is moved by the joints whose bones it encloses, and only by
  * them: a sleeve over an elbow by the upper arm and the forearm, not by the chest beside it.
  * When one joint holds seven tenths of the bone length inside it or more, by that joint alone,
@@ -855,19 +1081,23 @@ static bool rf_rig_heat_agrees(const rf_rig_prep *p, uint32_t q, uint32_t nj, co
  * rows (plain[], not sharpened): sharpening sends each corner of a box to the joint nearest
  * it, a thigh box's top corners to the hips and its bottom ones to the knee, and tears the box
  * into a wedge as they turn. A part enclosing the bones of RF_RIG_PIECE_JOINTS joints or more
- * is blended the same way, among its own joints with the plain rows, and never moved by one
- * alone: a head holding the neck's bone and the short bones of its face and jaw would go stiff
- * with the neck. Sharpened, such a part tore: a loose spider leg of five joints' bones was drawn
- * into a spike under the CMU walk. The part with the largest surface (the body) moves with one joint only when bone heat
+ * is blended among its own joints and never moved by one alone: a head holding the neck's bone
+ * and the short bones of its face and jaw would go stiff with the neck. Where its joints branch
+ * (a face fanning from the neck, fingers from a hand) it keeps the sharpened rows, as the body
+ * does: each face joint then owns its region as the artists give it (BCN_Epileptic 72% -> 74%
+ * precision on its artist's skeleton). Where they run as one chain it takes the plain rows:
+ * sharpened, a loose spider leg of five joints' bones was drawn into a spike under the CMU walk.
+ * The part with the largest surface (the body) moves with one joint only when bone heat
  * agrees, giving that joint more than half of it: a box model's body box holding the torso's
  * bone (the animalia bird's, the owl's), a robot's head piece holding the head's; a bat's body
  * box, which holds the torso's bone but carries the roots of the head and the wings, keeps its
  * weights. A closed part enclosing no bone moves with the joint bone heat gives most of it
  * (rf_rig_boneless_owners); an open one keeps its weights. */
-static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
-                               const rf_rig_bone *bones, uint32_t nb, uint32_t nj, double *w,
-                               const double *plain)
+static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, const rf_rig_skel *s,
+                               const rf_rig_bone *bones, uint32_t nb, double *w,
+                               const double *plain, bool given_bones)
 {
+    uint32_t nj = s->n;
     uint32_t np = p->proxy_parts;
     double *held = calloc((size_t)np * nj + 1, sizeof *held), *sum = calloc(np + 1, sizeof *sum);
     uint32_t *ahead = calloc(np + 1, sizeof *ahead), *behind = calloc(np + 1, sizeof *behind);
@@ -878,15 +1108,18 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
              *touched = malloc((np + 1) * sizeof *touched);
     uint8_t *bends =
         calloc(np + 1, 1); /* parts that keep bone heat's blend (rf_rig_boneless_owners) */
-    uint8_t *piece = calloc(np + 1, 1); /* parts holding RF_RIG_PIECE_JOINTS joints' bones */
+    /* parts holding RF_RIG_PIECE_JOINTS joints' bones; 2 set where those joints branch */
+    uint8_t *piece = calloc(np + 1, 1), *seen = malloc(nj + 1);
     bool ok = held && sum && ahead && behind && crossed && area && owner && inside && touched &&
-              bends && piece;
+              bends && piece && seen;
     if (ok)
         rf_rig_held(rays, bones, nb, nj, 4 * p->longest, held, sum, ahead, behind, crossed, inside,
                     touched);
     if (ok)
         rf_rig_around(rays, bones, nb, 4 * p->longest, ahead, behind, crossed, bends);
-    ok = ok && rf_rig_open_parts(p, bends);
+    double *vol = ok ? calloc(np + 1, sizeof *vol) : NULL;
+    ok = ok && vol && rf_rig_open_parts(p, bends, vol);
+    free(vol);
     uint32_t largest = 0, *verts = ok ? calloc(np + 1, sizeof *verts) : NULL;
     ok = ok && verts;
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
@@ -903,6 +1136,7 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         for (uint32_t j = 1; j < nj; j++)
             best = h[j] > h[best] ? j : best, joints += h[j] > 0;
         piece[part] = joints >= RF_RIG_PIECE_JOINTS && verts[part] >= 4 * joints;
+        piece[part] |= piece[part] && rf_rig_branches(s, h, seen) ? 2 : 0;
         if (sum[part] > 0 && h[best] >= 0.7 * sum[part] && !piece[part])
             owner[part] = best;
     }
@@ -913,7 +1147,8 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
         if (p->proxy_part[i] != largest && sum[p->proxy_part[i]] > 0 &&
             owner[p->proxy_part[i]] == RF_RIG_NONE) {
-            memcpy(w + (size_t)i * nj, plain + (size_t)i * nj, nj * sizeof *w);
+            if (!(piece[p->proxy_part[i]] & 2))
+                memcpy(w + (size_t)i * nj, plain + (size_t)i * nj, nj * sizeof *w);
             rf_rig_keep_enclosed(held + (size_t)p->proxy_part[i] * nj, nj, w + (size_t)i * nj);
         }
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++) {
@@ -923,8 +1158,9 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays,
         memset(w + (size_t)i * nj, 0, nj * sizeof *w);
         w[(size_t)i * nj + j] = 1;
     }
+    ok = ok && (given_bones || rf_rig_props(p, largest, sum, bends, area, owner, nj, w));
     free(held), free(sum), free(ahead), free(behind), free(crossed), free(area), free(owner);
-    free(inside), free(touched), free(bends), free(piece), free(verts);
+    free(inside), free(touched), free(bends), free(piece), free(verts), free(seen);
     return ok;
 }
 
@@ -943,25 +1179,31 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     uint8_t *lit = calloc(p->proxy_parts + 1, 1);
     *w = calloc((size_t)p->proxy.nv * nj, sizeof **w);
     double *plain = NULL; /* taken once the solver's arrays are freed: the peak stays theirs */
+    double *nrm = NULL;   /* outward normals for rf_rig_in_front (the rigger's own bones) */
     rf_rig_rays rays = {0};
     bool ok = nb && src && bd && lit && *w;
     if (!ok)
         rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok && !rf_rig_rays_make(&rays, &p->proxy, p->proxy_part))
         ok = rf_rig_fail(err, n, "Embree could not build the ray-casting scene");
+    if (ok && !o->given_bones &&
+        !((nrm = malloc(((size_t)p->proxy.nv + 1) * 3 * sizeof *nrm)) && rf_rig_normals(p, nrm)))
+        ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok) {
-        rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, o->leaf_points_own, src, bd,
-                       lit, st);
+        rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, o->leaf_points_own, nrm, src,
+                       bd, lit, st);
+        free(nrm), nrm = NULL;
         ok = rf_rig_solve(&p->proxy, src, nj, *w, err, n);
     }
     if (ok && !(plain = malloc(((size_t)p->proxy.nv * nj + 1) * sizeof *plain)))
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok)
         rf_rig_normalise(p, bones, nb, nj, *w, plain, st);
-    if (ok && p->proxy_parts > 1 && !rf_rig_part_joints(p, &rays, bones, nb, nj, *w, plain))
+    if (ok && p->proxy_parts > 1 &&
+        !rf_rig_part_joints(p, &rays, s, bones, nb, *w, plain, o->given_bones))
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     rf_rig_rays_free(&rays);
-    free(bones), free(src), free(bd), free(lit), free(plain);
+    free(bones), free(src), free(bd), free(lit), free(plain), free(nrm);
     if (!ok)
         free(*w), *w = NULL;
     return ok;

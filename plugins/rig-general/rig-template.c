@@ -269,6 +269,7 @@ typedef struct rf_tpl {
     double pos[RF_TPL_MAXJ][3], tip[RF_TPL_MAXJ][3];
     uint8_t has_tip[RF_TPL_MAXJ];
     uint32_t trunk, trunk_count; /* Hips, the spine and the neck: joints [trunk, +count) */
+    int32_t head;                /* the Head joint, -1 before the trunk is laid */
 } rf_tpl;
 
 static int32_t rf_tpl_joint(rf_tpl *t, const char *name, int32_t parent, const double p[3])
@@ -559,6 +560,43 @@ void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32
     free(c);
 }
 
+static double rf_tpl_up(const double p[3], rf_vec3 up)
+{
+    return p[0] * up.x + p[1] * up.y + p[2] * up.z;
+}
+
+#define RF_TPL_CHEST_RISE 0.25 /* of the laid trunk's rise: arms leaving that far below */
+
+/* Where an arm leaving the curve skeleton well below its first joint starts instead: on the
+ * laid trunk (Hips up to the Neck) at the height of the arm's first joint, as the general
+ * rigger's chest joint (rf_rig_chest in rig.c) hangs its arms. The curve skeleton's bands may
+ * meet a robot's arms only where a coarse trunk bone starts, a third of its height below its
+ * shoulders, and laid from there the elbow took the turn at the shoulder. True with the point
+ * in at[] when the girdle lies more than RF_TPL_CHEST_RISE of the trunk's rise below the arm's
+ * first joint and that height is on the trunk. */
+static bool rf_tpl_chest_at(const rf_tpl_ctx *x, uint32_t girdle, uint32_t first, double at[3])
+{
+    const rf_tpl *t = x->t;
+    rf_vec3 up = x->a->up;
+    uint32_t a = t->trunk, e = t->trunk + t->trunk_count - 1;
+    if (!x->human || t->trunk_count < 2 || e >= t->n)
+        return false;
+    double h = rf_tpl_height(x->k, first, up), lo = rf_tpl_up(t->pos[a], up),
+           hi = rf_tpl_up(t->pos[e], up);
+    if (hi - lo <= 0 || h - rf_tpl_height(x->k, girdle, up) < RF_TPL_CHEST_RISE * (hi - lo))
+        return false;
+    for (uint32_t j = a; j < e; j++) { /* the trunk is a chain, parents first */
+        double y0 = rf_tpl_up(t->pos[j], up), y1 = rf_tpl_up(t->pos[j + 1], up);
+        if (y1 <= y0 || h < y0 || h > y1)
+            continue;
+        double f = (h - y0) / (y1 - y0);
+        for (int c = 0; c < 3; c++)
+            at[c] = t->pos[j][c] + f * (t->pos[j + 1][c] - t->pos[j][c]);
+        return true;
+    }
+    return false;
+}
+
 /* A limb of `kind` laid along its section's curve and named, from the girdle down: a leg's
  * thigh, shin, foot and toe, or an arm's (a foreleg's) clavicle, upper arm, forearm and hand. A
  * foreleg's curve, as a leg's, leaves out what rises above its girdle. */
@@ -573,6 +611,11 @@ static void rf_tpl_lay_limb(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdl
     rf_tpl_curve c = {0};
     double f[4];
     rf_tpl_limb_laid(x->k, x->a->up, girdle, first, kind, x->lay, &c, f);
+    double at[3];
+    if (kind == RF_RIG_LIMB_ARM && rf_tpl_chest_at(x, girdle, first, at)) {
+        rf_tpl_restart(&c, at);
+        rf_tpl_fractions(&c, x->a->up, kind, x->lay, f);
+    }
     char nb[4][24];
     const char *names[4];
     for (int i = 0; i < 4; i++)
@@ -716,7 +759,7 @@ static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_
     int32_t spine2 = j;
     const char *const hn[2] = {"Neck", "Head"};
     const double hf[2] = {0, neck_f};
-    rf_tpl_chain(x->t, &hd, spine2, hn, hf, 2);
+    x->t->head = rf_tpl_chain(x->t, &hd, spine2, hn, hf, 2) + 1; /* Neck, then Head */
     x->t->trunk = (uint32_t)h, x->t->trunk_count = (uint32_t)(spine2 - h) + 2;
     *hips_j = h;
     return spine2;
@@ -950,6 +993,18 @@ static bool rf_tpl_name(rf_skeleton *s, char (*names)[24], uint32_t n, rf_vec3 u
     return true;
 }
 
+/* The general rigger's head rule on the laid template. Its Head lies along the way from the
+ * neck's base to the head's top, inside a head wider than the neck (a robot's head box): bone
+ * heat split the box between Neck and Head, and the CMU walk's neck drew its lower rim down to
+ * the chest. The Head moves down to where the head's bulk starts (rf_rig_head_base, as the
+ * general rigger's first head joint does). */
+static void rf_tpl_head(const rf_rig_prep *p, rf_rig_skel *k, const rf_tpl *t, rf_vec3 up,
+                        rf_vec3 fwd)
+{
+    if (t->head > 0 && (uint32_t)t->head < k->n)
+        rf_rig_head_base(p, k, (uint32_t)t->head, up, fwd);
+}
+
 bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
                            rf_rig_template_kind want, const rf_rig_tpl_layout *humanoid,
                            const rf_rig_tpl_layout *quadruped, rf_rig_skel *out, char (*names)[24],
@@ -976,6 +1031,7 @@ bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_
             trunk[j] = 1;
         if (l->dorsal > 0 && rf_v3_len(back) > 0)
             rf_rig_skel_across(p, out, trunk, back, l->dorsal);
+        rf_tpl_head(p, out, t, *up, *forward);
         for (uint32_t j = 0; j < t->n; j++)
             memcpy(names[j], t->name[j], 24);
     }

@@ -489,14 +489,44 @@ static double rf_rig_girth(const rf_rig_surface *sf, const double q[3], rf_vec3 
 #define RF_RIG_NECK_STEPS 24
 #define RF_RIG_NECK_GIRTH 0.8 /* of the head's girth at its first joint: inside the head */
 
+/* Head joint h of k moved down its bone to where the trunk enters the head's bulk: to the
+ * lowest point from which the girth (rf_rig_girth, across up and fwd) stays at least
+ * RF_RIG_NECK_GIRTH of the girth at the joint, when its bone from its parent rises within 45
+ * degrees of up and that point lies between a fifth and nine tenths of the bone from its
+ * parent (a neck narrower than the head below the joint: nothing moves). */
+void rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 up, rf_vec3 fwd)
+{
+    rf_rig_surface *sf = h < k->n && k->parent[h] >= 0 && rf_v3_len(rf_v3_cross(up, fwd)) > 0.5
+                             ? rf_rig_surface_make(&p->proxy)
+                             : NULL;
+    if (!sf)
+        return;
+    double *q = k->pos + (size_t)h * 3, *b = k->pos + (size_t)k->parent[h] * 3;
+    double d[3] = {q[0] - b[0], q[1] - b[1], q[2] - b[2]};
+    double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    double rise = d[0] * up.x + d[1] * up.y + d[2] * up.z;
+    double head = rf_rig_girth(sf, q, up, fwd);
+    int from = RF_RIG_NECK_STEPS;
+    while (len > 0 && rise > 0.7 * len && isfinite(head) && from > 0) {
+        double t = (double)(from - 1) / RF_RIG_NECK_STEPS, x[3];
+        for (int c = 0; c < 3; c++)
+            x[c] = b[c] + t * d[c];
+        if (!(rf_rig_girth(sf, x, up, fwd) >= RF_RIG_NECK_GIRTH * head))
+            break;
+        from--;
+    }
+    double t = (double)from / RF_RIG_NECK_STEPS;
+    if (from > 0 && t >= 0.2 && t <= 0.9)
+        for (int c = 0; c < 3; c++)
+            q[c] = b[c] + t * d[c];
+    rf_rig_surface_free(sf);
+}
+
 /* An upright body's head chain starts where the trunk enters the head's bulk: the curve
  * skeleton's first head joint may lie well inside a head wider than the trunk under it (a
  * robot's head box starts 0.4 below it), and the clip's neck then turned the head about a
- * pivot in its middle. The first joint of the analysis's head section, its bone from its parent
- * rising within 45 degrees of up, moves down that bone to the lowest point from which the
- * girth stays at least RF_RIG_NECK_GIRTH of the girth at the joint, when that point lies
- * between a fifth and nine tenths of the bone from its parent (a neck narrower than the head
- * below its first joint: nothing moves). */
+ * pivot in its middle. The first joint of the analysis's head section moves down its bone
+ * (rf_rig_head_base). */
 static void rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
@@ -511,29 +541,8 @@ static void rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_optio
             h = (int32_t)j;
     }
     rf_vec3 up = a ? a->up : rf_v3(0, 1, 0), fwd = a ? a->forward : rf_v3(0, 0, 1);
-    rf_rig_surface *sf =
-        h >= 0 && rf_v3_len(rf_v3_cross(up, fwd)) > 0.5 ? rf_rig_surface_make(&p->proxy) : NULL;
-    if (sf) {
-        double *q = k->pos + (size_t)h * 3, *b = k->pos + (size_t)k->parent[h] * 3;
-        double d[3] = {q[0] - b[0], q[1] - b[1], q[2] - b[2]};
-        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        double rise = d[0] * up.x + d[1] * up.y + d[2] * up.z;
-        double head = rf_rig_girth(sf, q, up, fwd);
-        int from = RF_RIG_NECK_STEPS;
-        while (len > 0 && rise > 0.7 * len && isfinite(head) && from > 0) {
-            double t = (double)(from - 1) / RF_RIG_NECK_STEPS, x[3];
-            for (int c = 0; c < 3; c++)
-                x[c] = b[c] + t * d[c];
-            if (!(rf_rig_girth(sf, x, up, fwd) >= RF_RIG_NECK_GIRTH * head))
-                break;
-            from--;
-        }
-        double t = (double)from / RF_RIG_NECK_STEPS;
-        if (from > 0 && t >= 0.2 && t <= 0.9)
-            for (int c = 0; c < 3; c++)
-                q[c] = b[c] + t * d[c];
-    }
-    rf_rig_surface_free(sf);
+    if (h >= 0)
+        rf_rig_head_base(p, k, (uint32_t)h, up, fwd);
     rf_analysis_free(a);
     rf_skeleton_free(s);
 }
@@ -1342,6 +1351,7 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
 {
     rf_rig_options o = rf_rig_defaults(opts);
     o.leaf_points_own = true;
+    o.given_bones = true;
     rf_rig_stats st_local, *st = stats ? stats : &st_local;
     memset(st, 0, sizeof *st);
     *skinned = NULL;

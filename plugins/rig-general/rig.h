@@ -29,6 +29,9 @@ typedef struct rf_rig_options {
                                * them and the analysis naming its joints starts from them */
     bool leaf_points_own;     /* a leaf joint without an end site owns the vertices past it (an
                                * artist's convention; set when binding a given skeleton) */
+    bool given_bones;         /* the skeleton was not grown inside this mesh: its bones may lie
+                               * outside the skin, so a bone in front of a vertex's surface is
+                               * not passed over (set when binding a given skeleton) */
 } rf_rig_options;
 
 /* What happened, for logs and the benchmark. */

@@ -7,7 +7,12 @@
 # its frames and its legs tilt 16 degrees from down at p90: the Fox's forefeet must be within 3%
 # of the floor in at least a quarter of the frames and its forelegs tilt at most 45 degrees at
 # p90 (on the arms: 4-12% of the frames, 52-57 degrees: folded forward under the chest); the whole
-# walk on the floor as tests/retarget/sweep.mjs judges it. Skips without ../shared/data.
+# walk on the floor as tests/retarget/sweep.mjs judges it. While down, the forefeet must not slide:
+# their soles at most 20% of the height a second on the mesh (the source's own feet 11; the
+# forefeet kept their source's contacts half a cycle later and slid 59-67, now 4), and
+# retarget.measure's skate of each forefoot at most 0.8 leg/s (1.02-1.18 before, over their
+# source's contacts half a cycle later; now 0.55-0.62 over their own; the hind feet 0.35-0.40).
+# Skips without ../shared/data.
 rigflow="${RF_BUILDDIR:-.}/rigflow"
 feet="${RF_BUILDDIR:-.}/tests/retarget/gait-feet"
 pipeline="${RF_SRCDIR:-.}/pipelines/retarget.json"
@@ -43,13 +48,24 @@ walk() {
     cat "$tmp/$name.feet"
 }
 
-# The forelegs' worst figures: "SHARE TILT" (least share of frames near the floor, largest p90
-# tilt) over the lines of FILE for the Fox's forelegs (their first joints, read off the file).
+# The forelegs' worst figures: "SHARE TILT SLIDE" (least share of frames near the floor, largest
+# p90 tilt, fastest sliding while down, rounded up) over the lines of FILE for the Fox's forelegs
+# (their first joints, read off the file).
 fore() {
     awk '/\(b_(Left|Right)UpperArm_/ { s = $0; sub(/.* in /, "", s); sub(/%.*/, "", s);
                     t = $0; sub(/.*p90 /, "", t); sub(/\).*/, "", t);
-                    n++; if (n == 1 || s + 0 < share) share = s + 0; if (t + 0 > tilt) tilt = t + 0 }
-         END { if (n != 2) print "none"; else print share, tilt }' "$1"
+                    v = $0; sub(/.*sliding while down /, "", v); sub(/%.*/, "", v);
+                    n++; if (n == 1 || s + 0 < share) share = s + 0; if (t + 0 > tilt) tilt = t + 0
+                    if (v + 0 > slide) slide = v + 0 }
+         END { if (n != 2) print "none"; else print share, tilt, int(slide) + 1 }' "$1"
+}
+
+# The fastest skate (leg/s) of the Fox's forefeet in retarget.measure's JSON FILE ("feet": the
+# effectors at its hands), or "none".
+fore_skate() {
+    tr '{' '\n' <"$1" | awk '/"name": "b_(Left|Right)Hand_/ { v = $0; sub(/.*"skate": */, "", v);
+                                 sub(/,.*/, "", v); n++; if (v + 0 > most) most = v + 0 }
+                               END { if (n != 2) print "none"; else print most }'
 }
 
 walk gait
@@ -62,6 +78,15 @@ if [ "$1" = none ]; then
 else
     [ "$1" -ge 25 ] || ko "gait: a forefoot within 3% of the floor in $1% of frames (at least 25)"
     [ "$2" -le 45 ] || ko "gait: a foreleg tilts $2 degrees at p90 (at most 45)"
+    [ "$3" -le 20 ] || ko "gait: a forefoot slides $3% of the height a second while down (at most 20)"
+fi
+skate=$(fore_skate "$tmp/gait.json")
+if [ "$skate" = none ]; then
+    ko "gait: no skate for two forefeet in the measure"
+else
+    echo "gait: forefeet skate at most $skate leg/s"
+    awk -v v="$skate" 'BEGIN { exit !(v <= 0.8) }' ||
+        ko "gait: a forefoot skates $skate leg/s (at most 0.8)"
 fi
 set -- $(fore "$tmp/arms.feet")
 if [ "$1" != none ] && [ "$1" -ge 25 ] && [ "$2" -le 45 ]; then

@@ -795,6 +795,51 @@ static void phase_legs_leave_leg_length(void **state)
     rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* A foot driven half a cycle later that steps is down where its own motion is (a quadruped's
+ * forefoot under a biped's walk: its source's contacts are another body's). On 100 frames at 30
+ * fps of made-up sole heights, 1 leg over the floor but frames 20-49 at 0.05 and frame 70 five
+ * legs under it: by hand, its low (the 10th percentile) is 0.05 and its contacts are frames
+ * 20-49, the one frame at 70 dropped as a run shorter than 0.05 s (two frames); the feet in phase
+ * keep the contacts they had. */
+static void phase_feet_down_by_own_motion(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = quadruped();
+    rf_animation *clip = stepping(src);
+    rf_mapping *m = fx_mapping(16, 1);
+    fx_map(m, 0, 0, 0, 1, 0, 0), fx_map(m, 7, 0, 7, 1, 0, 0), fx_map(m, 15, 0, 8, 1, 0, 0);
+    for (uint32_t k = 0; k < 3; k++) {
+        fx_map(m, 1 + k, 0, 1 + k, 1, 0, 0), fx_map(m, 4 + k, 0, 4 + k, 1, 0, 0);
+        fx_map(m, 9 + k, 0, 1 + k, 1, 0, RF_MAP_MIRROR);
+        fx_map(m, 12 + k, 0, 4 + k, 1, 0, RF_MAP_MIRROR);
+    }
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    enum { FRAMES = 100 };
+    uint32_t feet = r.rt->effector_count, steps = 0;
+    double *sole = malloc((size_t)feet * FRAMES * sizeof *sole);
+    uint8_t *c = malloc((size_t)feet * FRAMES);
+    assert_non_null(sole), assert_non_null(c);
+    double floor = r.rt->floor_target, leg = r.rt->leg_target;
+    for (uint32_t e = 0; e < feet; e++)
+        for (uint32_t f = 0; f < FRAMES; f++) {
+            double h = f >= 20 && f < 50 ? 0.05 : f == 70 ? -5 : 1;
+            sole[(size_t)e * FRAMES + f] = floor + h * leg;
+            c[(size_t)e * FRAMES + f] = f % 2; /* what the source's contacts said */
+        }
+    assert_true(rf_rt_phase_contacts(r.rt, FRAMES, 30, sole, c));
+    for (uint32_t e = 0; e < feet; e++) {
+        bool own = rf_rt_effector_steps(r.rt, e);
+        steps += own;
+        for (uint32_t f = 0; f < FRAMES; f++)
+            assert_int_equal(c[(size_t)e * FRAMES + f], own ? f >= 20 && f < 50 : f % 2);
+    }
+    assert_int_equal(steps, 2); /* the two forefeet */
+    free(sole), free(c);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 /* The biped's topology with every bone along local +X at zero rotation (as Maya joint orients
  * leave a BVH): its zero pose is no body; frame 0 of its clip stands it up. */
 static rf_skeleton *flat_biped(void)
@@ -1309,6 +1354,7 @@ int main(void)
         cmocka_unit_test(opposite_facing_turns_round),
         cmocka_unit_test(mirror_drives_second_pair),
         cmocka_unit_test(phase_legs_leave_leg_length),
+        cmocka_unit_test(phase_feet_down_by_own_motion),
         cmocka_unit_test(degenerate_rest_uses_a_frame),
         cmocka_unit_test(measure_by_hand),
         cmocka_unit_test(weighted_quantile),

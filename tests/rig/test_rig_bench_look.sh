@@ -7,7 +7,10 @@
 #   0.051 or 0.0051), so the bench's graph is the pipeline's and reads the figures it prints;
 # - the old columns are what rig-bench gives without --look (the seconds aside), whose look
 #   columns read nan with the status "off".
-# Then a motion that cannot be read: the rig's row is still there and ok, the look's status
+# Then look bars, the CMU walk's frames 0-119 (rig-bench's default) on RobotExpressive,
+# RiggedFigure and the Fox with each rigger, each of which looks right on its rendered sheet
+# (doc/autorig.md, "The look"); below, with the broken figures that set them. Then a motion that
+# cannot be read: the rig's row is still there and ok, the look's status
 # says the motion failed, exit 0; a missing motion file, --look-frames without --look or under
 # 2 are usage errors (exit 2).
 rigflow="${RF_BUILDDIR:-.}/rigflow"
@@ -103,6 +106,53 @@ for name in RiggedFigure.glb Fox.glb; do
     [ -n "$a" ] && [ "$a" = "$b" ] || ko "$name: the old columns differ with --look: $a / $b"
     off=$(grep -F ",\"$name\"," "$tmp/plain.csv" | cut -d, -f22-)
     [ "$off" = 'nan,nan,"",nan,nan,nan,"off"' ] || ko "$name: without --look the look reads $off"
+done
+
+# Look bars. Each sits between the figures of the sound rigs (general / template, now: the
+# robot 28.3 / 30.7 and 56.6 / 68.6, RiggedFigure 31.7 / 29.9 and 49.1 / 49.1, the Fox
+# 66.7 / 62.6 and 86.0 / 82.0) and of a case seen broken on its rendered sheet:
+# - stretch p99 of the whole mesh under 100: RobotExpressive read 323.2 on the template rigger
+#   with its Head in the middle of its head box (the box's rim drawn down, the arms folded over
+#   the body) and 309.9 on the general rigger without its head-piece rule (the box tipped and
+#   sheared);
+# - the worst part under 150: the same two read 282.5 (RightForeArm) and 498.0 (arm_r0_1);
+# - the floor median within 3% of the height (the retarget sweep's rule): spider.obj read
+#   +10.8, walking in the air over its feet pinned to the pose's dip (test_rig_looks).
+# Each bar was checked to fail on those builds; the recorded broken rows are run through the
+# same bars below, so a bar loosened past them fails here.
+bars() { # stretch, worst part, floor median: the broken bars, one per line
+    awk -v s="$1" -v p="$2" -v f="$3" 'BEGIN {
+        if (!(s < 100)) print "stretch p99 " s " (bar 100)";
+        if (!(p < 150)) print "worst part " p " (bar 150)";
+        if (!(f <= 3 && f >= -3)) print "floor median " f " (bar 3)" }'
+}
+# each broken row (stretch, worst part, floor) with the number of bars it breaks: the robot's
+# two both, spider.obj's (81.1 / 111.8 then) the floor's alone
+for broken in "323.24 282.50 0.00 2" "309.94 497.99 0.00 2" "81.1 111.8 10.8 1"; do
+    # shellcheck disable=SC2086
+    set -- $broken
+    [ "$(bars "$1" "$2" "$3" | wc -l)" -eq "$4" ] || ko "the look bars on a broken case: $broken"
+done
+for rigger in general template; do
+    # shellcheck disable=SC2086
+    if ! "$rigflow" rig-bench -r "$rigger" --look "$walk" "$data/models/RobotExpressive.glb" \
+        $models >"$tmp/bars.csv" 2>"$tmp/err"; then
+        cat "$tmp/err"
+        ko "rig-bench -r $rigger --look exit $?"
+        continue
+    fi
+    for name in RobotExpressive.glb RiggedFigure.glb Fox.glb; do
+        stretch=$(cell "$tmp/bars.csv" "$name" look_stretch_p99)
+        part=$(cell "$tmp/bars.csv" "$name" look_worst_part)
+        median=$(cell "$tmp/bars.csv" "$name" look_floor_median)
+        status=$(cell "$tmp/bars.csv" "$name" look_status)
+        broken=$(bars "$stretch" "$part" "$median")
+        if [ "$status" != '"ok"' ] || [ -n "$broken" ]; then
+            ko "$rigger on $name: look $status: $broken"
+        else
+            echo "PASS: $rigger on $name: stretch $stretch, worst part $part, floor $median"
+        fi
+    done
 done
 
 # A motion that cannot be read fails the look, not the row.

@@ -176,7 +176,8 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # (CD-J2J 0.0446, skinning after the matcher precision 24%; with the volume's loop through the
 # hand 0.0480, 11%); its head, one loose part holding the bones of the neck, jaw, lips, eyes and
 # ponytail, bends with them on the skeleton of the artist (.740/.780/.646; .731/.744/.671 with
-# the head moved by the neck alone). The fire dragon's wing membranes, whose corners at the wrist
+# the head moved by the neck alone), its face joints fanning from the neck keeping bone heat's
+# sharpened rows (.719/.807/.651 with the plain rows a chain of joints in a loose part takes). The fire dragon's wing membranes, whose corners at the wrist
 # (where the forearm's bone ends and four fingers' start) its artist gave to the forearm, take
 # the forearm's heat there, not two fingers' (.694/.719/.601 on the skeleton of the artist;
 # .675/.719/.634 with the two first in the sort). Mirrored twigs are pruned as pairs, the frog's
@@ -213,9 +214,10 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             print "FAIL: fire dragon on the skeleton of the artist: precision " gp[dragon] ", L1 " gl[dragon]
         if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.18))
             print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " p["\"BCN_Epileptic.X\""]
-        if (!(gr["\"BCN_Epileptic.X\""] >= 0.765 && gl["\"BCN_Epileptic.X\""] <= 0.66))
-            print "FAIL: BCN_Epileptic on the skeleton of the artist: recall " gr["\"BCN_Epileptic.X\""] \
-                ", L1 " gl["\"BCN_Epileptic.X\""]
+        if (!(gp["\"BCN_Epileptic.X\""] >= 0.73 && gr["\"BCN_Epileptic.X\""] >= 0.765 &&
+              gl["\"BCN_Epileptic.X\""] <= 0.66))
+            print "FAIL: BCN_Epileptic on the skeleton of the artist: precision " \
+                gp["\"BCN_Epileptic.X\""] ", recall " gr["\"BCN_Epileptic.X\""] ", L1 " gl["\"BCN_Epileptic.X\""]
         if (!(cd["\"animalia_bull_frog.b3d\""] < 0.14)) print "FAIL: bull frog cd_j2j " cd["\"animalia_bull_frog.b3d\""]
         if (!(cd["\"huesitos.fbx\""] < 0.065)) print "FAIL: huesitos cd_j2j " cd["\"huesitos.fbx\""]
         if (!(p["\"huesitos.fbx\""] >= 0.5)) print "FAIL: huesitos precision " p["\"huesitos.fbx\""]
@@ -236,7 +238,7 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
         }
     }' "$tmp/sbench.csv" "$tmp/sjoints.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench short limbs"; else ok; fi
-# the template rigger on six bodies (doc/autorig.md): limits a little beyond what it reaches (in
+# the template rigger on seven bodies (doc/autorig.md): limits a little beyond what it reaches (in
 # the comments: CD-J2J, skinning P / R after the matcher); the CD-J2J limits fail if the joints
 # go back to where the layouts before their fit to artist rigs put them (0.0296, 0.039, 0.051,
 # 0.078). Testwuson's skinning after the matcher has two readings for joints a few thousandths
@@ -244,11 +246,15 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench short limbs"; else 
 # a rig the matcher cannot read at all, so another machine's rounding cannot fail it. The animalia
 # bird's limits need its head looked for as the highest leaf beyond the wings, not the farthest
 # (its tail, which took the template's neck and head: 0.053, 29% / 29%), and the owl's and the
-# bird's their legs' length from the skin (.75/.77 and .47/.51 with it guessed)
+# bird's their legs' length from the skin (.75/.77 and .47/.51 with it guessed). RobotExpressive's
+# need its arms laid from the trunk at their shoulders' height, not from the curve skeleton's
+# girdle a third of the trunk lower (0.0478, .60/.63 without; 0.0496, .57/.64 with its Head in
+# the middle of the head box too)
 "$rigflow" rig-bench -r template --joints "$tmp/joints.csv" "$data/models/Fox.glb" \
     "$data/models/RiggedFigure.glb" "$data/models/Testwuson.X" \
     "$data/models/creatures/animalia_wolf.b3d" "$data/models/creatures/animalia_owl.b3d" \
-    "$data/models/creatures/animalia_bird.b3d" >"$tmp/tbench.csv" 2>"$tmp/err" ||
+    "$data/models/creatures/animalia_bird.b3d" "$data/models/RobotExpressive.glb" \
+    >"$tmp/tbench.csv" 2>"$tmp/err" ||
     ko "rig-bench -r template exit $?"
 cat "$tmp/tbench.csv"
 # --joints: per model, the mean distance of the rigger's joints and of the artist's to the other
@@ -266,7 +272,7 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             if (got - cd[m] > 0.0002 || cd[m] - got > 0.0002)
                 print "FAIL: --joints: " m " gives CD-J2J " got ", the bench " cd[m]
         }
-        if (legs != 6) print "FAIL: --joints: " legs " LeftUpLeg rows, expected 6"
+        if (legs != 7) print "FAIL: --joints: " legs " LeftUpLeg rows, expected 7"
     }' "$tmp/tbench.csv" "$tmp/joints.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joints"; else ok; fi
 awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r }
@@ -277,6 +283,7 @@ awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r 
         limits("\"animalia_wolf.b3d\"", 0.063, 0.68, 0.74)      # 0.059 .75/.80
         limits("\"animalia_owl.b3d\"", 0.076, 0.80, 0.84)       # 0.072 .85/.89 (.37/.39: head unmapped)
         limits("\"animalia_bird.b3d\"", 0.048, 0.76, 0.76)      # 0.0445 .81/.81 (0.053 .29/.29: tail as head)
+        limits("\"RobotExpressive.glb\"", 0.044, 0.66, 0.69)  # 0.0408 .70/.73
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
@@ -290,7 +297,7 @@ awk -F, 'function limits(m, cd, p, r) { cdmax[m] = cd; pmin[m] = p; rmin[m] = r 
         if ($col["unweighted"] != 0) print "FAIL: template " m ": vertices without weights"
         if ($col["status"] != "\"ok\"") print "FAIL: template " m ": " $col["status"]
     }
-    END { if (n != 6) print "FAIL: template rig-bench: " n " rows, expected 6" }' "$tmp/tbench.csv" >"$tmp/fails"
+    END { if (n != 7) print "FAIL: template rig-bench: " n " rows, expected 7" }' "$tmp/tbench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench template thresholds"; else ok; fi
 # the rigger timed alone runs with the axes its pipeline node had: the template rigger on the
 # Wizard (a file that declares up) fits only with them, and the seconds were "nan" without

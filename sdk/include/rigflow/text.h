@@ -132,6 +132,19 @@ static inline void rf_text_fputs(const char *text, FILE *f, uint32_t flags)
     }
 }
 
+/* v as it should be printed with `decimals` places ("%.2f", "%+.1f"): a value that shows as
+ * zero at that precision comes back as +0.0, so a figure a hair under zero (a floor at
+ * -2e-9 of the height) or a negative zero prints "0.00" or "+0.0", never "-0.00". The one home
+ * for that rule: every printed signed figure that may sit at zero passes through here. */
+static inline double rf_text_shown_zero(double v, int decimals)
+{
+    char b[512];
+    int n = snprintf(b, sizeof b, "%.*f", decimals, v);
+    if (n <= 1 || (size_t)n >= sizeof b || b[0] != '-')
+        return v;
+    return strspn(b + 1, "0.") == (size_t)(n - 1) ? 0.0 : v;
+}
+
 /* Joint `j` of `s` for a listing: its name escaped as above, or "#j" when it has none (or `s`
  * is NULL), in `buf` (`size` bytes). Returns buf. */
 static inline const char *rf_joint_label(const rf_skeleton *s, uint32_t j, char *buf, size_t size)
