@@ -24,6 +24,18 @@ typedef struct rb_rigger {
     const rf_rigger_api *api;
 } rb_rigger;
 
+/* How each model is moved before it is rigged (--turn, --axis, --scale, --offset): the artist's
+ * rig and the bare mesh alike, through a `transform` node after each import, so CD-J2J and the
+ * skinning compare like with like. */
+typedef struct rb_motion {
+    bool on;
+    bool fixed_axes; /* the declared up and forward stay as the file declares them */
+    double turn, scale;
+    char axis[96], offset[96]; /* the transform node's parameter text, checked */
+} rb_motion;
+
+static rb_motion rb_moved = {.scale = 1, .axis = "up", .offset = "0,0,0"};
+
 /* Joints as points and bones as segments, in model space. */
 typedef struct rb_rig {
     uint32_t n;
@@ -386,6 +398,43 @@ static bool rb_has_param(const rf_node_desc *d, const char *name)
     return false;
 }
 
+/* The node ids whose outputs are the artist's rig and the bare mesh: the imports', or the
+ * transform nodes' after them when the model is moved. */
+static const char *rb_artist_id(void)
+{
+    return rb_moved.on ? "artist_moved" : "artist";
+}
+
+static const char *rb_mesh_id(void)
+{
+    return rb_moved.on ? "mesh_moved" : "mesh";
+}
+
+/* A transform node after each import, and the rigger and the matcher fed from them. */
+static void rb_add_motion(json_t *graph)
+{
+    json_t *nodes = json_object_get(graph, "nodes");
+    const char *from[2] = {"artist", "mesh"}, *to[2] = {"artist_moved", "mesh_moved"};
+    for (int k = 0; k < 2; k++) {
+        g_autofree char *sk = g_strdup_printf("%s.skeleton", from[k]);
+        g_autofree char *me = g_strdup_printf("%s.mesh", from[k]);
+        json_array_append_new(nodes, json_pack("{s:s, s:s, s:{s:s, s:s}, s:{s:f, s:s, s:f, s:s}}",
+                                               "id", to[k], "type", "transform", "inputs",
+                                               "skeleton", sk, "mesh", me, "params", "turn",
+                                               rb_moved.turn, "axis", rb_moved.axis, "scale",
+                                               rb_moved.scale, "offset", rb_moved.offset));
+        json_t *params =
+            json_object_get(json_array_get(nodes, json_array_size(nodes) - 1), "params");
+        json_object_set_new(params, "turn_axes", json_boolean(!rb_moved.fixed_axes));
+    }
+    json_t *rig = json_object_get(json_array_get(nodes, 2), "inputs");
+    json_object_set_new(rig, "mesh", json_string("mesh_moved.mesh"));
+    if (json_object_get(rig, "axes"))
+        json_object_set_new(rig, "axes", json_string("mesh_moved.skeleton"));
+    json_t *map = json_object_get(json_array_get(nodes, 3), "inputs");
+    json_object_set_new(map, "sources", json_pack("[s]", "artist_moved.skeleton"));
+}
+
 /* The graph for one model and one rigger (see the file comment), validated; NULL with a reason
  * in why. */
 static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, const char *path,
@@ -410,6 +459,8 @@ static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, cons
         1, "require_skeleton", 0, "id", "rig", "type", r->desc->type, "inputs", rig_in, "id", "map",
         "type", "skeletal-similarity", "inputs", "target", "rig.skeleton", "sources",
         "artist.skeleton", "params", "forelegs", "arms", "girdle", "neck");
+    if (graph && rb_moved.on)
+        rb_add_motion(graph);
     char *text = graph ? json_dumps(graph, JSON_COMPACT) : NULL;
     json_decref(graph);
     g_autofree char *cwd = g_get_current_dir();
@@ -508,8 +559,8 @@ static void rb_joint_rows(const char *rigger, const char *model, const char *whi
 
 static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *pl, bool nearest)
 {
-    const rf_skeleton *as = rf_pipeline_result(pl, "artist", "skeleton");
-    const rf_mesh *am = rf_pipeline_result(pl, "artist", "mesh");
+    const rf_skeleton *as = rf_pipeline_result(pl, rb_artist_id(), "skeleton");
+    const rf_mesh *am = rf_pipeline_result(pl, rb_artist_id(), "mesh");
     const rf_skeleton *ps = rf_pipeline_result(pl, "rig", "skeleton");
     const rf_mesh *pm = rf_pipeline_result(pl, "rig", "mesh");
     const rf_mapping *map = rf_pipeline_result(pl, "map", "mapping");
@@ -519,7 +570,10 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
         rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, "skipped: no skinned mesh to compare with");
         return;
     }
-    double L = rb_longest(am);
+    /* the unmoved mesh's edge, scaled: a turn changes a box's edges, not the body's size, and
+     * the columns of a moved model must be comparable with the unmoved run's */
+    const rf_mesh *as_read = rf_pipeline_result(pl, "artist", "mesh");
+    double L = rb_longest(as_read ? as_read : am) * (rb_moved.on ? rb_moved.scale : 1);
     if (!(L > 0) || !isfinite(L)) {
         /* Every column is a fraction of this length: none can be given without it. */
         rb_row(r, base, "-", 0, 0, cd, &sk, &sk, NAN, "skipped: the artist's mesh has no extent");
@@ -547,7 +601,7 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
     rb_skin given;
     rb_skin_given(r, as, am, &given);
     rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, &given,
-           rb_time(r, am, rf_pipeline_result(pl, "mesh", "skeleton")), why);
+           rb_time(r, am, rf_pipeline_result(pl, rb_mesh_id(), "skeleton")), why);
     g_free(to);
     rb_rig_free(&g), rb_rig_free(&p);
 }
@@ -629,11 +683,69 @@ static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **fi
     return bad ? RF_EXIT_RUN : RF_EXIT_OK;
 }
 
+/* "x,y,z": three finite numbers. */
+static bool rb_vec_ok(const char *text, double v[3])
+{
+    const char *s = text;
+    char *end = NULL;
+    for (int a = 0; a < 3; a++) {
+        v[a] = g_ascii_strtod(s, &end);
+        if (end == s || !isfinite(v[a]) || (a < 2 && *end != ','))
+            return false;
+        s = end + (a < 2);
+    }
+    return !*end;
+}
+
+/* One number, finite, from min to max. */
+static bool rb_number_ok(const char *text, double min, double max, double *v)
+{
+    char *end = NULL;
+    *v = g_ascii_strtod(text, &end);
+    return end != text && !*end && isfinite(*v) && *v >= min && *v <= max;
+}
+
+/* --turn, --axis, --scale and --offset checked into rb_moved; false after saying what is wrong. */
+static bool rb_motion_parse(const char *turn, const char *axis, const char *scale,
+                            const char *offset, bool fixed_axes)
+{
+    double v[3];
+    const char *bad = NULL;
+    rb_moved = (rb_motion){.scale = 1, .axis = "up", .offset = "0,0,0"};
+    if (turn && !rb_number_ok(turn, -36000, 36000, &rb_moved.turn))
+        bad = "--turn: expected degrees, a number from -36000 to 36000";
+    else if (scale && !rb_number_ok(scale, 1e-9, 1e9, &rb_moved.scale))
+        bad = "--scale: expected a factor from 1e-9 to 1e9 (1 keeps the size)";
+    else if (axis && strcmp(axis, "up") &&
+             (!rb_vec_ok(axis, v) || (v[0] == 0 && v[1] == 0 && v[2] == 0)))
+        bad = "--axis: expected up or a direction x,y,z (three numbers, not all zero)";
+    else if (offset && !rb_vec_ok(offset, v))
+        bad = "--offset: expected x,y,z (three numbers, in the model's units)";
+    if (bad) {
+        fprintf(stderr, "rigflow rig-bench: %s\n", bad);
+        return false;
+    }
+    if (axis && strlen(axis) >= sizeof rb_moved.axis) {
+        fprintf(stderr, "rigflow rig-bench: --axis: too long\n");
+        return false;
+    }
+    if (offset && strlen(offset) >= sizeof rb_moved.offset) {
+        fprintf(stderr, "rigflow rig-bench: --offset: too long\n");
+        return false;
+    }
+    g_strlcpy(rb_moved.axis, axis ? axis : "up", sizeof rb_moved.axis);
+    g_strlcpy(rb_moved.offset, offset ? offset : "0,0,0", sizeof rb_moved.offset);
+    rb_moved.fixed_axes = fixed_axes;
+    rb_moved.on = turn || axis || scale || offset || fixed_axes;
+    return true;
+}
+
 int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
 {
     g_auto(GStrv) names = NULL;
-    gboolean list = FALSE;
-    g_autofree char *joint_map = NULL, *joints = NULL, *look = NULL;
+    gboolean list = FALSE, fixed_axes = FALSE;
+    g_autofree char *joint_map = NULL, *joints = NULL, *look = NULL, *turn = NULL, *axis = NULL,
+                    *scale = NULL, *offset = NULL;
     gint look_frames = -1; /* not given: 120 */
     const GOptionEntry entries[] = {
         {"joint-map", 0, 0, G_OPTION_ARG_STRING, &joint_map,
@@ -658,6 +770,22 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
          "FILE"},
         {"look-frames", 0, 0, G_OPTION_ARG_INT, &look_frames,
          "With --look, play the motion's first N frames (default 120)", "N"},
+        {"turn", 0, 0, G_OPTION_ARG_STRING, &turn,
+         "Turn each model (the artist's rig and the bare mesh alike) by DEG degrees about --axis "
+         "before rigging, its declared up and forward with it",
+         "DEG"},
+        {"axis", 0, 0, G_OPTION_ARG_STRING, &axis,
+         "The axis --turn turns about: up (default: the up the file declares, +y when it "
+         "declares none) or a direction x,y,z",
+         "AXIS"},
+        {"scale", 0, 0, G_OPTION_ARG_STRING, &scale,
+         "Scale each model by F (about its origin, before the turn)", "F"},
+        {"offset", 0, 0, G_OPTION_ARG_STRING, &offset,
+         "Move each model by x,y,z in its own units (after the scale and the turn)", "X,Y,Z"},
+        {"fixed-axes", 0, 0, G_OPTION_ARG_NONE, &fixed_axes,
+         "With --turn, leave the up and forward the file declares as they were (a model saved "
+         "turned in a format whose axes are fixed: a scan lying on its side in an STL)",
+         NULL},
         {NULL, 0, 0, 0, NULL, NULL, NULL}};
     if (!rf_parse_options(
             "rig-bench", "MODEL...",
@@ -675,8 +803,13 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
             "most),look_torn_p99 (seams between parts of different joints pulled apart),"
             "look_floor_median,look_floor_p95 (the lowest vertex over the floor),look_status. "
             "Exit status: 0 when every model was measured (a rigger's refusal or a failed look is "
-            "a row), 1 when a model could not be read, 2 on a usage error, 130 on Ctrl-C.",
+            "a row), 1 when a model could not be read, 2 on a usage error, 130 on Ctrl-C. With "
+            "--turn, --axis, --scale or --offset every model is moved so (the artist's rig with "
+            "the mesh) before it is rigged; the columns stay fractions of the unmoved mesh's "
+            "longest bounding-box edge, scaled.",
             entries, &argc, &argv))
+        return RF_EXIT_USAGE;
+    if (!rb_motion_parse(turn, axis, scale, offset, fixed_axes))
         return RF_EXIT_USAGE;
     bool nearest = joint_map && !strcmp(joint_map, "nearest");
     if (joint_map && !nearest && strcmp(joint_map, "matcher")) {

@@ -12,6 +12,7 @@ plugins_rig_general_librigauto_la_SOURCES = \
 	plugins/rig-general/rig-skel.c \
 	plugins/rig-general/rig-heat.c \
 	plugins/rig-general/rig-place.c \
+	plugins/rig-general/rig-frame.c \
 	plugins/rig-general/rig-template.c
 plugins_rig_general_librigauto_la_LIBADD = $(CHOLMOD_LIBS) $(EMBREE_LIBS) $(MESHOPT_LIBS) -lm
 

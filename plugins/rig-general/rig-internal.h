@@ -73,6 +73,22 @@ bool rf_rig_prepare(const rf_mesh *m, const rf_rig_options *o, rf_rig_prep *out,
                     char *err, size_t n);
 void rf_rig_prep_free(rf_rig_prep *p);
 
+/* The frame a mesh is rigged in (rig-frame.c): the file's up as y and its forward, or the body's
+ * longest principal axis across up, as z, so the voxel grid meets a body the same way at any
+ * facing. */
+typedef struct rf_rig_frame {
+    rf_quat q;        /* the file's axes into the frame's */
+    bool turned;      /* false: the file's own axes */
+    float *positions; /* the turned positions `in` borrows; owned */
+} rf_rig_frame;
+/* The mesh as the rigger sees it in its frame: *in borrows mesh's arrays but the positions, and
+ * o is opts with up and forward turned. False when out of memory. */
+bool rf_rig_frame_enter(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_frame *f,
+                        rf_mesh *in, rf_rig_options *o);
+/* The rig made in the frame turned back to the file's axes: s's joints, end sites and axes;
+ * skinned's positions (mesh's again) and inverse binds. Either may be NULL. Frees f's copy. */
+void rf_rig_frame_leave(rf_rig_frame *f, const rf_mesh *mesh, rf_skeleton *s, rf_mesh *skinned);
+
 /* The curve skeleton; its root at the thickest point, or at the solid voxel nearest `seed` when
  * seed is not NULL. The body's mirror plane into mirror[4] when not NULL: points p with
  * mirror[0..2] . p = mirror[3], the normal zero when the body has none. */

@@ -1039,9 +1039,11 @@ bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_
     return ok;
 }
 
-bool rf_rig_template(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_template_kind kind,
-                     rf_skeleton **skeleton, rf_mesh **skinned, rf_rig_stats *stats,
-                     rf_rig_progress_fn progress, void *user, char *err, size_t err_size)
+static bool rf_rig_template_framed(const rf_mesh *mesh, const rf_rig_options *opts,
+                                   rf_rig_template_kind kind, rf_skeleton **skeleton,
+                                   rf_mesh **skinned, rf_rig_stats *stats,
+                                   rf_rig_progress_fn progress, void *user, char *err,
+                                   size_t err_size)
 {
     rf_rig_options o = rf_rig_defaults(opts);
     rf_rig_stats st_local, *st = stats ? stats : &st_local;
@@ -1071,5 +1073,23 @@ bool rf_rig_template(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_tem
         rf_skeleton_free(s);
     rf_rig_skel_free(&k), rf_rig_skel_free(&tk);
     rf_rig_prep_free(&p);
+    return ok;
+}
+
+/* Rigged in its own frame (rig-frame.c) and turned back, as rf_rig_general. */
+bool rf_rig_template(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_template_kind kind,
+                     rf_skeleton **skeleton, rf_mesh **skinned, rf_rig_stats *stats,
+                     rf_rig_progress_fn progress, void *user, char *err, size_t err_size)
+{
+    rf_rig_frame f;
+    rf_mesh in;
+    rf_rig_options o;
+    *skeleton = NULL, *skinned = NULL;
+    if (!rf_rig_frame_enter(mesh, opts, &f, &in, &o))
+        return rf_rig_fail(err, err_size, "out of memory turning a mesh of %u vertices",
+                           mesh ? mesh->vertex_count : 0);
+    bool ok = rf_rig_template_framed(mesh ? &in : NULL, &o, kind, skeleton, skinned, stats,
+                                     progress, user, err, err_size);
+    rf_rig_frame_leave(&f, mesh, ok ? *skeleton : NULL, ok ? *skinned : NULL);
     return ok;
 }

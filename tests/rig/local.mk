@@ -36,5 +36,7 @@ TESTS += tests/rig/test_rig_boxes.sh
 EXTRA_DIST += tests/rig/test_rig_boxes.sh
 TESTS += tests/rig/test_rig_looks.sh
 EXTRA_DIST += tests/rig/test_rig_looks.sh
+TESTS += tests/rig/test_rig_invariance.sh
+EXTRA_DIST += tests/rig/test_rig_invariance.sh
 TESTS += tests/rig/test_rig_bench_look.sh
 EXTRA_DIST += tests/rig/test_rig_bench_look.sh
