@@ -155,13 +155,18 @@ static void look_read(const char *json, rf_rig_look *out)
 {
     json_error_t err;
     json_t *report = json_load_file(json, 0, &err);
-    json_t *mesh = json_object_get(report, "mesh");
+    json_t *mesh = json_object_get(report, "mesh"), *bones = json_object_get(report, "bones");
     if (!report)
         snprintf(out->status, sizeof out->status, "error: the measure's report: %s", err.text);
     else if (!json_is_object(mesh))
         snprintf(out->status, sizeof out->status, "no mesh measures (a mesh without skin?)");
     else if (json_is_true(json_object_get(mesh, "rigid")))
         snprintf(out->status, sizeof out->status, "no skin: the mesh moved rigidly");
+    else if (json_is_integer(bones) && json_integer_value(bones) <= 0)
+        /* the matcher mapped too little for any bone to follow the motion (a collapsed source):
+         * the mesh barely moves and its figures would read as the best look of all */
+        snprintf(out->status, sizeof out->status,
+                 "not measured: the motion moves no bone of the rig (too little mapped)");
     else {
         out->stretch_p99 = look_pct(mesh, "stretch_p99");
         out->part_p99 = look_pct(mesh, "part_stretch_p99");

@@ -155,6 +155,20 @@ for rigger in general template; do
     done
 done
 
+# A motion that moves no bone of the rig is not a look: the CMU walk with every offset zero
+# (each joint at the root: the matcher maps the root alone, retarget.measure reads 0 bones and
+# every mesh figure 0) read 0.00 everywhere and "ok", the best look of any row.
+sed 's/OFFSET.*/OFFSET 0 0 0/' "$walk" >"$tmp/collapsed.bvh"
+"$rigflow" rig-bench -r general --look "$tmp/collapsed.bvh" --look-frames 2 \
+    "$data/models/Fox.glb" >"$tmp/none.csv" 2>"$tmp/err"
+code=$?
+row=$(tail -n +2 "$tmp/none.csv")
+if [ "$code" = 0 ] && echo "$row" | grep -q ',"ok",nan,nan,"",nan,nan,nan,"not measured: .*no bone'; then
+    echo "PASS: a motion that moves no bone is the look's status: $(echo "$row" | cut -d, -f28-)"
+else
+    ko "a motion that moves no bone: exit $code, row $row"
+fi
+
 # A motion that cannot be read fails the look, not the row.
 printf 'HIERARCHY\nROOT Hips\n{\n' >"$tmp/cut.bvh"
 "$rigflow" rig-bench -r general --look "$tmp/cut.bvh" "$data/models/RiggedFigure.glb" \
