@@ -65,6 +65,12 @@ void rf_an_tips(rf_awork *w);
 void rf_an_helpers(rf_awork *w);
 bool rf_an_build_tree(rf_awork *w);
 rf_vec3 rf_an_axis_dir(const rf_awork *w, uint32_t j, int sign);
+/* The body's reference axes (left, up, forward): the up and forward forced by the caller or
+ * declared by the file, made orthonormal, else the coordinate axes x, y, z. Whatever the
+ * analysis measures or snaps along fixed axes uses these, so a skeleton turned together with
+ * its declared axes reads as it does unturned; axes along the coordinate axes give the
+ * coordinates themselves, so an unturned body reads exactly as before. */
+void rf_an_frame(const rf_awork *w, rf_vec3 ax[3]);
 
 /* symmetry.c */
 void rf_an_subtree_stats(rf_awork *w);

@@ -299,12 +299,18 @@ static rf_vec3 perpendicular_to(rf_vec3 n, rf_vec3 hint)
     return rf_v3_normalize(a);
 }
 
-/* The four in-plane candidates: coordinate axes when the plane is axis-aligned. */
+/* The four in-plane candidates: the body's reference axes (rf_an_frame) when the plane is
+ * aligned with one of them. Snapping to the coordinate axes instead read a rig turned 30 degrees
+ * with its declared axes another way than the same rig unturned: the unturned plane, 4 degrees
+ * off x, snapped up to +y, the turned one kept its tilt and the spine read as an arm. */
 static void up_candidates(const rf_awork *w, rf_vec3 *c)
 {
-    rf_vec3 n = w->plane_n, hint = rf_v3(0, 1, 0);
-    const rf_vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-    int k = fabs(n.x) >= fabs(n.y) && fabs(n.x) >= fabs(n.z) ? 0 : fabs(n.y) >= fabs(n.z) ? 1 : 2;
+    rf_vec3 axes[3];
+    rf_an_frame(w, axes);
+    rf_vec3 n = w->plane_n, hint = axes[1];
+    double nx = fabs(rf_v3_dot(n, axes[0])), ny = fabs(rf_v3_dot(n, axes[1])),
+           nz = fabs(rf_v3_dot(n, axes[2]));
+    int k = nx >= ny && nx >= nz ? 0 : ny >= nz ? 1 : 2;
     bool aligned = fabs(rf_v3_dot(n, axes[k])) >= cos(10.0 * RF_PI / 180.0);
     if (aligned)
         hint = axes[k == 1 ? 2 : 1];
@@ -781,8 +787,10 @@ static void detect_forward(rf_awork *w, rf_limbs *ls)
     a->forward_source = strongest >= 0 ? rf_forward_cue_names[strongest] : "default";
     for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
         a->forward_cues[i] = sum < 0 ? -cue[i] : cue[i];
-    if (strongest < 0 || sum == 0) /* nothing to go by: +Z (glTF) when it is a choice */
-        a->forward = rf_v3_scale(c, c.z < 0 ? -1 : 1);
+    rf_vec3 ax[3];
+    rf_an_frame(w, ax);
+    if (strongest < 0 || sum == 0) /* nothing to go by: the frame's forward, +Z (glTF) */
+        a->forward = rf_v3_scale(c, rf_v3_dot(c, ax[2]) < 0 ? -1 : 1);
 }
 
 static void measure_heights(rf_awork *w)
@@ -815,7 +823,9 @@ void rf_an_axes(rf_awork *w)
     } else if (ok) {
         detect_up(w, &ls);
     } else {
-        a->up = perpendicular_to(w->plane_n, rf_v3(0, 1, 0)), a->up_source = "default";
+        rf_vec3 ax[3];
+        rf_an_frame(w, ax); /* the declared up, else +Y */
+        a->up = perpendicular_to(w->plane_n, ax[1]), a->up_source = "default";
     }
     w->plane_n = perpendicular_to(a->up, w->plane_n);
     measure_heights(w);

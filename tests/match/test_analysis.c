@@ -1076,11 +1076,80 @@ static void test_quadruped_ears(void **state)
     rf_skeleton_free(s);
 }
 
+/* The general rigger's rig of the Wizard in /work/shared/data (rig-dump, to 4 decimals): a
+ * biped with one arm reaching forward and down to a staff, declared +y up and +z forward. */
+static const sb_joint wizard_auto[] = {
+    {"spine0", NULL, -0.0192, 0.9265, -0.0156, 0},
+    {"spine1", "spine0", 0.0573, 1.3475, -0.0739, 0},
+    {"spine2", "spine1", -0.0049, 1.7543, -0.0277, 0},
+    {"spine3", "spine2", 0.0088, 2.1103, -0.0532, 0},
+    {"head0", "spine3", 0.0046, 2.2651, -0.0464, 0},
+    {"head1", "head0", -0.0017, 2.7467, -0.0908, 0},
+    {"head2", "head1", 0.0233, 2.9473, -0.3304, 0},
+    {"l_leg0", "spine0", 0.1506, 0.7378, -0.0468, 0},
+    {"l_leg1", "l_leg0", 0.2849, 0.5884, -0.0715, 0},
+    {"l_leg2", "l_leg1", 0.2480, 0.2409, -0.0401, 0},
+    {"l_leg3", "l_leg2", 0.2497, 0.1627, 0.0396, 0},
+    {"r_leg0", "spine0", -0.1191, 0.7149, -0.0427, 0},
+    {"r_leg1", "r_leg0", -0.2238, 0.4930, -0.0712, 0},
+    {"r_leg2", "r_leg1", -0.2501, 0.2316, -0.0452, 0},
+    {"r_leg3", "r_leg2", -0.2489, 0.1620, 0.0305, 0},
+    {"l_arm0", "spine3", 0.2190, 2.0421, -0.0527, 0},
+    {"l_arm1", "l_arm0", 0.2491, 2.0324, -0.0526, 0},
+    {"l_arm2", "l_arm1", 0.6095, 1.9154, -0.0517, 0},
+    {"l_arm3", "l_arm2", 1.2272, 1.8455, -0.0544, 0},
+    {"r_arm0", "spine3", -0.3603, 1.9936, -0.0502, 0},
+    {"r_arm1", "r_arm0", -0.4131, 1.9769, -0.0497, 0},
+    {"r_arm2", "r_arm1", -1.3470, 1.8301, 0.0145, 0},
+    {"r_arm3", "r_arm2", -1.3075, 1.8082, -0.7929, 0},
+};
+
+/* A skeleton turned about up together with its declared axes is the same body: every joint
+ * keeps its section, type and side (the rigger's Wizard rig turned 30 degrees once read its
+ * spine, neck and head as the left arm and hand). */
+static void test_turned_with_declared_axes(void **state)
+{
+    (void)state;
+    const sb_joint *rigs[] = {wizard_auto, sb_biped};
+    const size_t counts[] = {SB_COUNT(wizard_auto), SB_COUNT(sb_biped)};
+    const double yaws[] = {30, 137, -61, 90};
+    for (size_t k = 0; k < 2; k++) {
+        rf_skeleton *s0 = sb_build(rigs[k], counts[k]);
+        s0->up = rf_v3(0, 1, 0), s0->forward = rf_v3(0, 0, 1);
+        rf_analysis *a0 = rf_analyze(s0, NULL);
+        assert_non_null(a0);
+        for (size_t i = 0; i < sizeof yaws / sizeof yaws[0]; i++) {
+            rf_quat r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), yaws[i] * RF_PI / 180);
+            rf_skeleton *s = sb_build_xf(rigs[k], counts[k], r, 1.0, rf_v3(0, 0, 0));
+            s->up = rf_v3(0, 1, 0), s->forward = rf_quat_rotate(r, rf_v3(0, 0, 1));
+            rf_analysis *a = rf_analyze(s, NULL);
+            assert_non_null(a);
+            assert_near_dir(a->up, a0->up);
+            assert_near_dir(a->forward, rf_quat_rotate(r, a0->forward));
+            for (uint32_t j = 0; j < s->joint_count; j++) {
+                int32_t x = a0->joints[j].section, y = a->joints[j].section;
+                rf_side sx = a0->joints[j].side, sy = a->joints[j].side;
+                rf_section_type tx = x >= 0 ? a0->sections[x].type : RF_SECTION_NONE;
+                rf_section_type ty = y >= 0 ? a->sections[y].type : RF_SECTION_NONE;
+                if (tx != ty || sx != sy)
+                    fail_msg("turned %.0f degrees: %s reads %s %s, unturned %s %s", yaws[i],
+                             s->joints[j].name, rf_side_name(sy), rf_section_type_name(ty),
+                             rf_side_name(sx), rf_section_type_name(tx));
+            }
+            rf_analysis_free(a);
+            rf_skeleton_free(s);
+        }
+        rf_analysis_free(a0);
+        rf_skeleton_free(s0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_biped),
         cmocka_unit_test(test_biped_facing),
+        cmocka_unit_test(test_turned_with_declared_axes),
         cmocka_unit_test(test_quadruped),
         cmocka_unit_test(test_facing_dissent),
         cmocka_unit_test(test_bird_ground),
