@@ -299,15 +299,34 @@ static rf_vec3 perpendicular_to(rf_vec3 n, rf_vec3 hint)
     return rf_v3_normalize(a);
 }
 
+/* The axes an in-plane up candidate snaps to: the body's reference axes, or with a declared up
+ * but no forward, that up and the plane's normal laid level (the coordinate axes would tilt the
+ * up of a body turned about it, whose plane then is no longer near one of them). */
+static void snap_axes(const rf_awork *w, rf_vec3 n, rf_vec3 axes[3])
+{
+    rf_an_frame(w, axes);
+    rf_vec3 u = w->skel->up, f = w->skel->forward;
+    bool up_only = !w->opt.ignore_file_axes && rf_v3_isfinite(u) && rf_v3_len2(u) > 1e-24 &&
+                   !(rf_v3_isfinite(f) && rf_v3_len2(f) > 1e-24) && rf_v3_len2(w->opt.up) == 0 &&
+                   rf_v3_len2(w->opt.forward) == 0;
+    if (!up_only)
+        return;
+    u = rf_v3_normalize(u);
+    rf_vec3 l = rf_v3_sub(n, rf_v3_scale(u, rf_v3_dot(n, u)));
+    if (rf_v3_len(l) < 0.5) /* the plane lies level: keep the coordinate axes */
+        return;
+    axes[0] = rf_v3_normalize(l), axes[1] = u, axes[2] = rf_v3_normalize(rf_v3_cross(axes[0], u));
+}
+
 /* The four in-plane candidates: the body's reference axes (rf_an_frame) when the plane is
  * aligned with one of them. Snapping to the coordinate axes instead read a rig turned 30 degrees
  * with its declared axes another way than the same rig unturned: the unturned plane, 4 degrees
  * off x, snapped up to +y, the turned one kept its tilt and the spine read as an arm. */
 static void up_candidates(const rf_awork *w, rf_vec3 *c)
 {
-    rf_vec3 axes[3];
-    rf_an_frame(w, axes);
-    rf_vec3 n = w->plane_n, hint = axes[1];
+    rf_vec3 axes[3], n = w->plane_n;
+    snap_axes(w, n, axes);
+    rf_vec3 hint = axes[1];
     double nx = fabs(rf_v3_dot(n, axes[0])), ny = fabs(rf_v3_dot(n, axes[1])),
            nz = fabs(rf_v3_dot(n, axes[2]));
     int k = nx >= ny && nx >= nz ? 0 : ny >= nz ? 1 : 2;
