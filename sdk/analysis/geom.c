@@ -60,13 +60,39 @@ void rf_an_frame(const rf_awork *w, rf_vec3 ax[3])
     ax[0] = rf_v3_cross(u, f), ax[1] = u, ax[2] = f;
 }
 
+/* rf_an_frame, or with a declared up and no forward, that up and the pivots' horizontal
+ * principal axes, which turn with the body about its up. */
+static void box_frame(const rf_awork *w, rf_vec3 ax[3])
+{
+    rf_an_frame(w, ax);
+    rf_vec3 u = w->skel->up, f = w->skel->forward;
+    if (w->opt.ignore_file_axes || rf_v3_len2(w->opt.up) > 0 || !rf_v3_isfinite(u) ||
+        rf_v3_len2(u) < 1e-24 || (rf_v3_isfinite(f) && rf_v3_len2(f) > 1e-24))
+        return;
+    u = rf_v3_normalize(u);
+    rf_vec3 e0 = rf_v3_normalize(rf_v3_cross(u, fabs(u.x) < 0.9 ? rf_v3(1, 0, 0) : rf_v3(0, 0, 1)));
+    rf_vec3 e1 = rf_v3_cross(u, e0), mean = rf_v3(0, 0, 0);
+    for (uint32_t i = 0; i < w->n; i++)
+        mean = rf_v3_add(mean, w->a->joints[i].pos);
+    mean = rf_v3_scale(mean, 1.0 / (w->n ? w->n : 1));
+    double sxx = 0, syy = 0, sxy = 0;
+    for (uint32_t i = 0; i < w->n; i++) {
+        rf_vec3 d = rf_v3_sub(w->a->joints[i].pos, mean);
+        double x = rf_v3_dot(d, e0), y = rf_v3_dot(d, e1);
+        sxx += x * x, syy += y * y, sxy += x * y;
+    }
+    double t = 0.5 * atan2(2 * sxy, sxx - syy); /* the major axis's angle from e0 */
+    rf_vec3 h = rf_v3_add(rf_v3_scale(e0, cos(t)), rf_v3_scale(e1, sin(t)));
+    ax[0] = h, ax[1] = u, ax[2] = rf_v3_cross(h, u);
+}
+
 /* The diagonal of the box around the pivots of the joints with flag `want` (unweighted or
  * not), or of all joints when `all`, along rf_an_frame; 0 when there are none. */
 static double extent(const rf_awork *w, bool all, bool want)
 {
     rf_vec3 lo = rf_v3(INFINITY, INFINITY, INFINITY), hi = rf_v3(-INFINITY, -INFINITY, -INFINITY);
     rf_vec3 ax[3];
-    rf_an_frame(w, ax);
+    box_frame(w, ax);
     uint32_t count = 0;
     for (uint32_t i = 0; i < w->n; i++) {
         bool unweighted = (w->skel->joints[i].flags & RF_JOINT_UNWEIGHTED) != 0;

@@ -1126,17 +1126,24 @@ static void test_turned_with_declared_axes(void **state)
             rf_analysis *a = rf_analyze(s, NULL);
             assert_non_null(a);
             assert_near_dir(a->up, a0->up);
-            /* with up alone a body without a facing cue takes the coordinate +z: at a turn past
-             * 90 degrees it reads facing back, and its sides swap; its sections must not */
-            bool facing = !up_only || strcmp(a0->forward_source, "default") != 0;
-            if (facing)
+            /* the size sets every tolerance: measured along the body's axes, not the file's */
+            if (fabs(a->size - a0->size) > 1e-9 * a0->size)
+                fail_msg("turned %.0f degrees: size %.6g, unturned %.6g", yaws[i], a->size,
+                         a0->size);
+            /* with up alone a body without a facing cue takes the coordinate +z: turned past 90
+             * degrees it reads facing back, a reading of its own (the Wizard's rig declared
+             * facing -z reads its spine as an arm: doc/autorig.md), so it is compared only
+             * while it faces the same way */
+            bool facing = !up_only || strcmp(a0->forward_source, "default") != 0 ||
+                          rf_v3_dot(a->forward, rf_quat_rotate(r, a0->forward)) > 0.99;
+            if (!up_only || strcmp(a0->forward_source, "default") != 0)
                 assert_near_dir(a->forward, rf_quat_rotate(r, a0->forward));
             for (uint32_t j = 0; j < s->joint_count; j++) {
                 int32_t x = a0->joints[j].section, y = a->joints[j].section;
                 rf_side sx = a0->joints[j].side, sy = a->joints[j].side;
                 rf_section_type tx = x >= 0 ? a0->sections[x].type : RF_SECTION_NONE;
                 rf_section_type ty = y >= 0 ? a->sections[y].type : RF_SECTION_NONE;
-                if (tx != ty || (facing && sx != sy))
+                if (facing && (tx != ty || sx != sy))
                     fail_msg("turned %.0f degrees%s: %s reads %s %s, unturned %s %s", yaws[i],
                              up_only ? " (up alone declared)" : "", s->joints[j].name,
                              rf_side_name(sy), rf_section_type_name(ty), rf_side_name(sx),
