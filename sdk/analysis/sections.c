@@ -395,9 +395,11 @@ static void center_sections(rf_builder *b)
         return;
     int32_t root_sec = b->count ? 0 : RF_NONE;
     int32_t top_attach = w->parent[top];
-    /* Girdles in different trees (a forest) have no spine between them: the spine path would
-     * run up one tree and list its joints again (found by fuzz_analysis). */
-    if (b->rear >= 0 && lca(w, (uint32_t)b->rear, (uint32_t)b->front) < 0)
+    /* Girdles in different trees (a forest) have no spine between them, and girdles whose
+     * common ancestor already lies in the root section none of their own: either way the spine
+     * path would list joints another section holds (found by fuzz_analysis). */
+    int32_t common = b->rear >= 0 ? lca(w, (uint32_t)b->rear, (uint32_t)b->front) : RF_NONE;
+    if (b->rear >= 0 && (common < 0 || b->sec_of[common] >= 0))
         b->rear = b->front = RF_NONE;
     if (b->rear < 0) {
         int32_t sec = new_section(b, RF_SECTION_SPINE, 0, root_sec, top_attach);
