@@ -77,8 +77,9 @@ static bool look_has_input(const rf_node_desc *d, const char *name)
 static json_t *look_node(json_t *nodes, const char *id, const char *type)
 {
     json_t *n = json_pack("{s:s, s:s, s:{}, s:{}}", "id", id, "type", type, "inputs", "params");
-    json_array_append_new(nodes, n);
-    return n;
+    /* json_array_append_new releases n when it fails (out of memory): NULL then, and the graph
+     * misses the node, which the pipeline's validation names */
+    return n && json_array_append_new(nodes, n) == 0 ? n : NULL;
 }
 
 static void look_in(json_t *node, const char *port, const char *from, bool list)
@@ -118,6 +119,11 @@ static json_t *look_graph(const rf_registry *reg, const rf_rig_look_setup *s,
     json_t *graph =
         json_pack("{s:s, s:i, s:[]}", "format", "rigflow.pipeline", "version", 1, "nodes");
     json_t *nodes = json_object_get(graph, "nodes");
+    if (!nodes) {
+        json_decref(graph);
+        snprintf(why, n, "out of memory building the look's pipeline");
+        return NULL;
+    }
     json_t *mesh = look_node(nodes, "mesh", mesh_imp->type);
     look_param(mesh, mesh_param, json_string(model));
     look_param(mesh, "require_skeleton", json_false());
