@@ -40,3 +40,10 @@ TESTS += tests/rig/test_rig_invariance.sh
 EXTRA_DIST += tests/rig/test_rig_invariance.sh
 TESTS += tests/rig/test_rig_bench_look.sh
 EXTRA_DIST += tests/rig/test_rig_bench_look.sh
+
+# creature: a random creature mesh skinned to a generated skeleton (tests/match/gen.c), the
+# random set of test_rig_creatures.sh and bench/creatures.sh (doc/autorig.md, "Random creatures")
+noinst_PROGRAMS += tests/rig/creature
+tests_rig_creature_SOURCES = tests/rig/creature.c tests/match/gen.c tests/match/gen.h
+tests_rig_creature_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/match
+tests_rig_creature_LDADD = sdk/formats/gltf/librigflow-gltf.la -lm
