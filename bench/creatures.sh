@@ -10,7 +10,9 @@
 #     the model column names plan and seed);
 #   - pipelines/scan-to-animation.json on every OBJ (the scan case: no rig, no declared facing,
 #     Z up for a quarter of them), the output through the Khronos glTF-Validator: scan.csv
-#     (plan,seed,exit,valid,joints,stretch_p99,worst_part,torn_p99,floor_median,floor_p95,reason);
+#     (plan,seed,exit,valid,joints,stretch_p99,worst_part,torn_p99,floor_median,floor_p95,
+#     height_ratio,reason: the height along the up the rig stands on over the height along the
+#     body's own up, 1 when it stands as built, far from 1 when it was rigged lying);
 #   - the figures per plan and rigger on stdout, and every row that breaks a rule: a crash (exit
 #     status over 2), a rigger row neither ok nor refused, a vertex without weights, a NaN where a
 #     figure is due, a GLB the validator rejects.
@@ -28,29 +30,34 @@ export RIGFLOW_PLUGIN_PATH="$build/plugins" RIGFLOW_QUIET=1
 export RF_BUILDDIR="$build" RF_NPM_DIR="${RF_NPM_DIR:-$build/npm/node_modules}"
 [ -f "$walk" ] || { echo "no CMU walk at $walk"; exit 77; }
 
+: >"$out/creatures.txt"
+glbs="" objs=""
 i=$first
 last=$((first + seeds - 1))
 while [ "$i" -le "$last" ]; do
     for plan in biped quadruped dragon; do
         "$build/tests/rig/creature" --plan "$plan" --seed "$i" --obj "$out/$plan-$i.obj" \
             "$out/$plan-$i.glb" >>"$out/creatures.txt" || echo "creature $plan $i failed"
+        glbs="$glbs $out/$plan-$i.glb" objs="$objs $out/$plan-$i.obj"
     done
     i=$((i + 1))
 done
 
-"$build/rigflow" rig-bench --look "$walk" "$out"/*.glb >"$out/bench.csv" 2>"$out/bench.err"
+# shellcheck disable=SC2086 # lists of files
+"$build/rigflow" rig-bench --look "$walk" $glbs >"$out/bench.csv" 2>"$out/bench.err"
 echo "rig-bench: exit $? ($(grep -c . "$out/bench.err") lines on stderr)"
 
-echo "plan,seed,exit,valid,joints,stretch_p99,worst_part,torn_p99,floor_median,floor_p95,reason" \
+echo "plan,seed,exit,valid,joints,stretch_p99,worst_part,torn_p99,floor_median,floor_p95,height_ratio,reason" \
     >"$out/scan.csv"
 num() { sed -n "s/.*\"$1\": \([-0-9.e+naif]*\).*/\1/p" "$2"; }
-for obj in "$out"/*.obj; do
+for obj in $objs; do
     base=$(basename "$obj" .obj) plan=${base%-*} seed=${base##*-}
     glb="$out/$base-walk.glb" json="$out/$base-walk.json"
     "$build/rigflow" run "$src/pipelines/scan-to-animation.json" -p "mesh.path=$obj" \
         -p "motion.path=$walk" -p "export.path=$glb" -p retarget.last_frame=119 \
         -p "measure.path=$json" >"$out/$base-walk.out" 2>"$out/$base-walk.err"
-    code=$? valid=- joints=- f="nan,nan,nan,nan,nan" reason=
+    code=$? valid=- joints=- f="nan,nan,nan,nan,nan,nan" reason=
+    height=$(sed -n "s/^$plan seed $seed: .*, height \([0-9.e+-]*\)$/\1/p" "$out/creatures.txt")
     if [ "$code" -eq 0 ]; then
         node "$src/tests/gltf/validate.js" "$glb" >"$out/$base-valid.txt" 2>&1
         case $? in 0) valid=yes ;; 77) valid=skipped ;; *) valid=no ;; esac
@@ -59,7 +66,8 @@ for obj in "$out"/*.obj; do
         f="$f$(awk -v v="$(num part_stretch_p99 "$json")" 'BEGIN { printf "%.2f", 100 * v }'),"
         f="$f$(awk -v v="$(num seam_p99 "$json")" 'BEGIN { printf "%.2f", 100 * v }'),"
         f="$f$(awk -v v="$(num floor_median "$json")" 'BEGIN { printf "%.2f", 100 * v }'),"
-        f="$f$(awk -v v="$(num floor_p95 "$json")" 'BEGIN { printf "%.2f", 100 * v }')"
+        f="$f$(awk -v v="$(num floor_p95 "$json")" 'BEGIN { printf "%.2f", 100 * v }'),"
+        f="$f$(awk -v v="$(num height "$json")" -v h="$height" 'BEGIN { printf "%.3f", v / h }')"
     else
         reason=$(grep -m1 "node '" "$out/$base-walk.err" | tr ',' ';')
     fi
@@ -107,11 +115,12 @@ awk -F, 'NR > 1 { rows[$1]++
       if ($3 == 0) { ok[$1]++; if ($4 == "no") printf "INVALID %s-%s\n", $1, $2
         if ($6 == "nan" || $10 == "nan") printf "NAN scan %s-%s\n", $1, $2
         t = $8 + 0; if (t > tmax[$1]) tmax[$1] = t; f = $9 < 0 ? -$9 : $9; if (f > fmax[$1]) fmax[$1] = f
-        p = $10 + 0; if (p > pmax[$1]) pmax[$1] = p; w = $7 + 0; if (w > wmax[$1]) wmax[$1] = w }
+        p = $10 + 0; if (p > pmax[$1]) pmax[$1] = p; w = $7 + 0; if (w > wmax[$1]) wmax[$1] = w
+        if ($11 < 0.95 || $11 > 1.05) { lying[$1]++; printf "LYING scan %s-%s: height ratio %s\n", $1, $2, $11 } }
       else if ($3 == 1) ref[$1]++
       else printf "CRASH scan %s-%s: exit %s\n", $1, $2, $3 }
     END { for (p in rows)
-        printf "scan %s: %d rigged, %d refused of %d; worst part max %.1f; torn p99 max %.1f; floor median max |.| %.2f, p95 max %.2f\n",
-          p, ok[p], ref[p], rows[p], wmax[p], tmax[p], fmax[p], pmax[p] }' "$out/scan.csv" | sort
+        printf "scan %s: %d rigged, %d refused of %d; %d rigged lying; worst part max %.1f; torn p99 max %.1f; floor median max |.| %.2f, p95 max %.2f\n",
+          p, ok[p], ref[p], rows[p], lying[p], wmax[p], tmax[p], fmax[p], pmax[p] }' "$out/scan.csv" | sort
 grep -h . "$out"/*-walk.err 2>/dev/null | grep -v ': info: ' | sort | uniq -c | sort -rn | head -5
 echo "output in $out"

@@ -237,6 +237,18 @@ static bool cr_write_obj(const char *path, const rf_mesh *m)
     return ok;
 }
 
+/* The mesh's extent along up (the body's height as generated, whatever its frame). */
+static double cr_height(const rf_mesh *m, rf_vec3 up)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        const float *q = m->positions + (size_t)v * 3;
+        double h = rf_v3_dot(rf_v3(q[0], q[1], q[2]), up);
+        lo = fmin(lo, h), hi = fmax(hi, h);
+    }
+    return hi - lo;
+}
+
 /* The mesh's signed volume (positive when its triangles wind outwards). */
 static double cr_volume(const rf_mesh *m)
 {
@@ -308,9 +320,10 @@ int main(int argc, char **argv)
     if (ok)
         printf(
             "%s seed %llu: %u joints, %u vertices, %u triangles, volume %.4g, up %.2f,%.2f,%.2f, "
-            "facing %.2f,%.2f,%.2f, scale %.4g\n",
+            "facing %.2f,%.2f,%.2f, scale %.4g, height %.6g\n",
             plans[plan], seed, g.s->joint_count, m->vertex_count, m->triangle_count, cr_volume(m),
-            g.up.x, g.up.y, g.up.z, g.forward.x, g.forward.y, g.forward.z, g.scale);
+            g.up.x, g.up.y, g.up.z, g.forward.x, g.forward.y, g.forward.z, g.scale,
+            cr_height(m, g.up));
     rf_mesh_free(m);
     gen_free(&g);
     return ok ? 0 : 1;
