@@ -48,4 +48,4 @@ tests_rig_creature_SOURCES = tests/rig/creature.c tests/match/gen.c tests/match/
 tests_rig_creature_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/match
 tests_rig_creature_LDADD = sdk/formats/gltf/librigflow-gltf.la -lm
 TESTS += tests/rig/test_rig_creatures.sh
-EXTRA_DIST += tests/rig/test_rig_creatures.sh bench/creatures.sh
+EXTRA_DIST += tests/rig/test_rig_creatures.sh
