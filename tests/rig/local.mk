@@ -49,3 +49,11 @@ tests_rig_creature_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/match
 tests_rig_creature_LDADD = sdk/formats/gltf/librigflow-gltf.la -lm
 TESTS += tests/rig/test_rig_creatures.sh
 EXTRA_DIST += tests/rig/test_rig_creatures.sh
+
+# rerig: a rigged model's skeleton laid out again in tests/match/gen.c's conventions (a ground
+# root, IK helpers, long bones split, frames along the bones), its skin kept: test_rig_rerig.sh
+noinst_PROGRAMS += tests/rig/rerig
+tests_rig_rerig_SOURCES = tests/rig/rerig.c
+tests_rig_rerig_LDADD = sdk/formats/assimp/librigflow-assimp.la sdk/formats/gltf/librigflow-gltf.la -lm
+TESTS += tests/rig/test_rig_rerig.sh
+EXTRA_DIST += tests/rig/test_rig_rerig.sh
