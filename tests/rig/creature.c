@@ -5,7 +5,9 @@
  *
  * Each bone gets a closed capsule around it (its thickness from what the bone is: a trunk, a
  * limb segment, a digit, a tail tapering to its tip), weighted wholly to its joint: loose parts
- * overlapping at the joints, as many real models are built (RobotExpressive has 19). Helpers and
+ * overlapping at the joints, as many real models are built (RobotExpressive has 19). Most
+ * dragons' wings (7 in 10) get a membrane, one open sheet between the fingers and back to the
+ * flank, each vertex weighted to the wing bone nearest it. Helpers and
  * ground roots get no surface and no weight. The GLB holds the skeleton and the skinned mesh, the
  * answer rig-bench measures a rigger against; glTF fixes +Y up, so it is written with the body's
  * up turned onto +Y (by the glTF writer, from the skeleton's declared up) and its facing left as
@@ -170,14 +172,112 @@ static double cr_radius(const gen_skel *g, uint32_t i, double trunk, double limb
     }
 }
 
-static bool cr_build(const gen_skel *g, cr_mesh *m)
+#define CR_SHEET 6 /* each membrane triangle cut into CR_SHEET^2 */
+
+/* Distance from x to the bone of joint i. */
+static double cr_bone_dist(const gen_skel *g, uint32_t i, rf_vec3 x)
+{
+    rf_vec3 a = g->bone_from[i], d = rf_v3_sub(g->bone_to[i], a);
+    double dd = rf_v3_dot(d, d);
+    double t = dd > 0 ? fmin(1, fmax(0, rf_v3_dot(rf_v3_sub(x, a), d) / dd)) : 0;
+    return rf_v3_dist(x, rf_v3_add(a, rf_v3_scale(d, t)));
+}
+
+/* The wing bone of `side` (its upper and lower wing, its fingers) nearest x. */
+static uint16_t cr_wing_bone(const gen_skel *g, int side, rf_vec3 x)
+{
+    uint16_t best = 0;
+    double near = INFINITY;
+    for (uint32_t i = 0; i < g->s->joint_count; i++) {
+        const gen_label *l = &g->label[i];
+        if (l->side != side || !(l->part == GEN_WING || (l->part == GEN_DIGIT && l->wing)))
+            continue;
+        double d = cr_bone_dist(g, i, x);
+        if (d < near)
+            near = d, best = (uint16_t)i;
+    }
+    return best;
+}
+
+/* One membrane triangle, cut into a grid of small ones (one sheet, both sides showing, as
+ * modellers build wings), each vertex weighted to the wing bone nearest it. */
+static bool cr_sheet_tri(const gen_skel *g, cr_mesh *m, int side, rf_vec3 a, rf_vec3 b, rf_vec3 c)
+{
+    rf_vec3 n = rf_v3_cross(rf_v3_sub(b, a), rf_v3_sub(c, a));
+    if (rf_v3_len(n) <= 0)
+        return true;
+    n = rf_v3_normalize(n);
+    if (!cr_grow(m, (CR_SHEET + 1) * (CR_SHEET + 2) / 2, CR_SHEET * CR_SHEET))
+        return false;
+    uint32_t first = m->nv, row[CR_SHEET + 2];
+    for (int i = 0, at = 0; i <= CR_SHEET; i++) { /* rows from a towards b, c */
+        row[i] = (uint32_t)at;
+        for (int j = 0; j <= CR_SHEET - i; j++, at++) {
+            rf_vec3 x = rf_v3_add(a, rf_v3_add(rf_v3_scale(rf_v3_sub(b, a), (double)j / CR_SHEET),
+                                               rf_v3_scale(rf_v3_sub(c, a), (double)i / CR_SHEET)));
+            cr_vertex(m, x, n, cr_wing_bone(g, side, x));
+        }
+    }
+    for (int i = 0; i < CR_SHEET; i++)
+        for (int j = 0; j < CR_SHEET - i; j++) {
+            uint32_t p = first + row[i] + (uint32_t)j, q = first + row[i + 1] + (uint32_t)j;
+            cr_tri(m, p, p + 1, q);
+            if (j + 1 < CR_SHEET - i)
+                cr_tri(m, p + 1, q + 1, q);
+        }
+    return true;
+}
+
+/* A wing's membrane: from the wrist between each two fingers' tips, and from the wrist, the
+ * elbow and the shoulder back to the flank (the hind leg's socket on that side). */
+static bool cr_membrane(const gen_skel *g, cr_mesh *m, int side)
+{
+    rf_vec3 tip[8], shoulder = {0}, elbow = {0}, flank = {0};
+    int tips = 0;
+    bool have_flank = false;
+    for (uint32_t i = 0; i < g->s->joint_count; i++) {
+        const gen_label *l = &g->label[i];
+        if (l->side != side)
+            continue;
+        if (l->part == GEN_WING && l->seg == 1)
+            shoulder = g->bone_from[i];
+        else if (l->part == GEN_WING && l->seg == 2)
+            elbow = g->bone_from[i];
+        else if (l->part == GEN_HIND && l->seg == 1)
+            flank = g->bone_from[i], have_flank = true;
+        else if (l->part == GEN_DIGIT && l->wing && l->digit < 8) {
+            tip[l->digit] = g->bone_to[i]; /* the finger's last segment comes last */
+            tips = l->digit + 1 > tips ? l->digit + 1 : tips;
+        }
+    }
+    if (tips < 2 || !have_flank)
+        return true;
+    rf_vec3 wrist = elbow;
+    for (uint32_t i = 0; i < g->s->joint_count; i++)
+        if (g->label[i].side == side && g->label[i].part == GEN_WING && g->label[i].seg == 2)
+            wrist = g->bone_to[i];
+    bool ok = true;
+    for (int d = 0; ok && d + 1 < tips; d++)
+        ok = cr_sheet_tri(g, m, side, wrist, tip[d], tip[d + 1]);
+    return ok && cr_sheet_tri(g, m, side, wrist, tip[tips - 1], flank) &&
+           cr_sheet_tri(g, m, side, wrist, flank, elbow) &&
+           cr_sheet_tri(g, m, side, elbow, flank, shoulder);
+}
+
+/* The capsules (their triangles first, *closed of them), then the membranes. */
+static bool cr_build(const gen_skel *g, cr_mesh *m, uint32_t *closed)
 {
     double trunk = cr_rnd(0.7, 1.4), limbs = cr_rnd(0.7, 1.2);
+    bool membranes = cr_rnd(0, 1) < 0.7;
     for (uint32_t i = 0; i < g->s->joint_count; i++) {
         double r = cr_radius(g, i, trunk, limbs) * g->scale;
         if (r > 0 && !cr_capsule(m, g->bone_from[i], g->bone_to[i], r, (uint16_t)i))
             return false;
     }
+    *closed = m->nt;
+    for (int side = 1; membranes && side <= 2; side++)
+        if (!cr_membrane(g, m, side))
+            return false;
     return m->nv > 0;
 }
 
@@ -249,11 +349,12 @@ static double cr_height(const rf_mesh *m, rf_vec3 up)
     return hi - lo;
 }
 
-/* The mesh's signed volume (positive when its triangles wind outwards). */
-static double cr_volume(const rf_mesh *m)
+/* The signed volume of the mesh's first `closed` triangles, the closed capsules (positive when
+ * they wind outwards). */
+static double cr_volume(const rf_mesh *m, uint32_t closed)
 {
     double vol = 0;
-    for (uint32_t t = 0; t < m->triangle_count; t++) {
+    for (uint32_t t = 0; t < closed; t++) {
         rf_vec3 p[3];
         for (int k = 0; k < 3; k++) {
             const float *q = m->positions + (size_t)m->triangles[t * 3 + k] * 3;
@@ -303,7 +404,8 @@ int main(int argc, char **argv)
     gen_skel g = gen_make((gen_plan)plan, seed);
     cr_rng = seed * 0xD1B54A32D192ED03ULL + 7;
     cr_mesh c = {0};
-    rf_mesh *m = cr_build(&g, &c) ? cr_skinned(&g, &c) : NULL;
+    uint32_t closed = 0;
+    rf_mesh *m = cr_build(&g, &c, &closed) ? cr_skinned(&g, &c) : NULL;
     free(c.pos), free(c.nrm), free(c.tri), free(c.joint);
     if (!m) {
         fprintf(stderr, "creature: out of memory\n");
@@ -321,9 +423,9 @@ int main(int argc, char **argv)
         printf(
             "%s seed %llu: %u joints, %u vertices, %u triangles, volume %.4g, up %.2f,%.2f,%.2f, "
             "facing %.2f,%.2f,%.2f, scale %.4g, height %.6g\n",
-            plans[plan], seed, g.s->joint_count, m->vertex_count, m->triangle_count, cr_volume(m),
-            g.up.x, g.up.y, g.up.z, g.forward.x, g.forward.y, g.forward.z, g.scale,
-            cr_height(m, g.up));
+            plans[plan], seed, g.s->joint_count, m->vertex_count, m->triangle_count,
+            cr_volume(m, closed), g.up.x, g.up.y, g.up.z, g.forward.x, g.forward.y, g.forward.z,
+            g.scale, cr_height(m, g.up));
     rf_mesh_free(m);
     gen_free(&g);
     return ok ? 0 : 1;
