@@ -3,7 +3,8 @@
 #
 #   bench/creatures.sh [BUILDDIR] [SEEDS] [FIRST]
 #
-# For seeds FIRST .. FIRST+SEEDS-1 (default 1 .. 20) of each body plan (biped, quadruped, dragon),
+# For seeds FIRST .. FIRST+SEEDS-1 (default 1 .. 20) of each body plan (biped, quadruped, dragon,
+# and "legs": the quadruped of that seed with 1 to 3 more pairs of legs along its trunk),
 # tests/rig/creature makes a creature: a GLB with its generated skeleton and skin (the answer) and
 # the bare mesh as an OBJ as generated (any up, facing and scale). Then:
 #   - rigflow rig-bench --look CMU-walk on every GLB, both riggers: bench.csv (rig-bench's columns;
@@ -40,6 +41,14 @@ while [ "$i" -le "$last" ]; do
             "$out/$plan-$i.glb" >>"$out/creatures.txt" || echo "creature $plan $i failed"
         glbs="$glbs $out/$plan-$i.glb" objs="$objs $out/$plan-$i.obj"
     done
+    # many legs: a quadruped with 1 to 3 more pairs along its trunk
+    if "$build/tests/rig/creature" --plan quadruped --seed "$i" --legs $((1 + i % 3)) \
+        --obj "$out/legs-$i.obj" "$out/legs-$i.glb" >"$out/made"; then
+        sed 's/^quadruped seed/legs seed/' "$out/made" >>"$out/creatures.txt"
+    else
+        echo "creature legs $i failed"
+    fi
+    glbs="$glbs $out/legs-$i.glb" objs="$objs $out/legs-$i.obj"
     i=$((i + 1))
 done
 

@@ -1,13 +1,14 @@
 /* creature: a random creature mesh skinned to a generated skeleton (tests/match/gen.c), for
  * testing the riggers and scan-to-animation on bodies nobody tuned them to.
  *
- *   creature [--plan biped|quadruped|dragon] [--seed N] [--obj BARE.obj] OUT.glb
+ *   creature [--plan biped|quadruped|dragon] [--seed N] [--legs PAIRS] [--obj BARE.obj] OUT.glb
  *
  * Each bone gets a closed capsule around it (its thickness from what the bone is: a trunk, a
  * limb segment, a digit, a tail tapering to its tip), weighted wholly to its joint: loose parts
  * overlapping at the joints, as many real models are built (RobotExpressive has 19). Most
  * dragons' wings (7 in 10) get a membrane, one open sheet between the fingers and back to the
- * flank, each vertex weighted to the wing bone nearest it. Helpers and
+ * flank, each vertex weighted to the wing bone nearest it. --legs adds PAIRS (1 to 4) more pairs
+ * of legs along the trunk of a quadruped or a dragon, copies of its hind legs. Helpers and
  * ground roots get no surface and no weight. The GLB holds the skeleton and the skinned mesh, the
  * answer rig-bench measures a rigger against; glTF fixes +Y up, so it is written with the body's
  * up turned onto +Y (by the glTF writer, from the skeleton's declared up) and its facing left as
@@ -22,6 +23,7 @@
 #include <string.h>
 
 #include <rigflow/gltf-write.h>
+#include <rigflow/model-copy.h>
 
 #include "gen.h"
 
@@ -281,6 +283,81 @@ static bool cr_build(const gen_skel *g, cr_mesh *m, uint32_t *closed)
     return m->nv > 0;
 }
 
+/* Extra pairs of legs along the trunk (an insect's, a centipede's middle legs): each a copy of
+ * the hind legs (thigh to toe, frames and end sites alike) moved k/(pairs + 1) of the way from
+ * the pelvis to the chest, level, so its feet stand on the floor (spaced evenly along the trunk,
+ * each hung from the spine joint nearest its place). Appended to the skeleton, labels and bones.
+ * False when out of memory. */
+static bool cr_add_legs(gen_skel *g, int pairs)
+{
+    uint32_t n = g->s->joint_count, spine[64], ns = 0, legs[32], nl = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        const gen_label *l = &g->label[i];
+        if ((l->part == GEN_PELVIS || l->part == GEN_SPINE || l->part == GEN_CHEST) && ns < 64)
+            spine[ns++] = i;
+        if (l->part == GEN_HIND && l->seg >= 1 && nl < 32)
+            legs[nl++] = i;
+    }
+    if (ns < 3 || !nl || pairs <= 0)
+        return true;
+    uint32_t add = (uint32_t)pairs * nl, total = n + add;
+    rf_skeleton *s = rf_skeleton_new(total);
+    gen_label *label = realloc(g->label, total * sizeof *label);
+    rf_vec3 *from = realloc(g->bone_from, total * sizeof *from);
+    rf_vec3 *to = realloc(g->bone_to, total * sizeof *to);
+    rf_xform *w = calloc(total, sizeof *w);
+    int32_t *copy = malloc(n * sizeof *copy);
+    if (label)
+        g->label = label;
+    if (from)
+        g->bone_from = from;
+    if (to)
+        g->bone_to = to;
+    if (!s || !label || !from || !to || !w || !copy) {
+        rf_skeleton_free(s), free(w), free(copy);
+        return false;
+    }
+    s->up = g->s->up, s->forward = g->s->forward;
+    for (uint32_t i = 0; i < n; i++) { /* the old joints as they were */
+        s->joints[i] = g->s->joints[i];
+        s->joints[i].name = rf_strdup(g->s->joints[i].name);
+    }
+    rf_skeleton_world_rest(g->s, w);
+    uint32_t at = n;
+    char name[64];
+    for (int k = 1; k <= pairs; k++) {
+        rf_vec3 at_k = rf_v3_lerp(w[spine[0]].t, w[spine[ns - 1]].t, (double)k / (pairs + 1));
+        uint32_t host = spine[0];
+        for (uint32_t i = 1; i < ns; i++) /* the spine joint nearest that place */
+            if (rf_v3_dist(w[spine[i]].t, at_k) < rf_v3_dist(w[host].t, at_k))
+                host = spine[i];
+        rf_vec3 d = rf_v3_sub(at_k, w[spine[0]].t);
+        d = rf_v3_sub(d, rf_v3_scale(g->up, rf_v3_dot(d, g->up))); /* level: feet on the floor */
+        for (uint32_t i = 0; i < n; i++)
+            copy[i] = -1;
+        for (uint32_t e = 0; e < nl; e++, at++) {
+            uint32_t h = legs[e];
+            int32_t hp = g->s->joints[h].parent;
+            int32_t parent = copy[hp] >= 0 ? copy[hp] : (int32_t)host;
+            copy[h] = (int32_t)at;
+            w[at] = w[h], w[at].t = rf_v3_add(w[h].t, d);
+            rf_joint *j = &s->joints[at];
+            *j = g->s->joints[h];
+            j->parent = parent;
+            j->rest = rf_xform_mul(rf_xform_invert(w[parent]), w[at]);
+            snprintf(name, sizeof name, "%s_pair%d", g->s->joints[h].name, k);
+            j->name = rf_strdup(name);
+            g->label[at] = g->label[h];
+            g->bone_from[at] = rf_v3_add(g->bone_from[h], d);
+            g->bone_to[at] = rf_v3_add(g->bone_to[h], d);
+        }
+    }
+    rf_skeleton_free(g->s);
+    g->s = s;
+    free(w), free(copy);
+    return true;
+}
+
 /* The generated skeleton and the capsules as a skinned rf_mesh (the arrays handed over). */
 static rf_mesh *cr_skinned(const gen_skel *g, cr_mesh *c)
 {
@@ -379,6 +456,7 @@ int main(int argc, char **argv)
     int plan = GEN_BIPED;
     unsigned long long seed = 1;
     const char *obj = NULL, *out = NULL;
+    long legs = 0;
     for (int a = 1; a < argc; a++) {
         if (strcmp(argv[a], "--plan") == 0 && a + 1 < argc) {
             for (plan = 0; plan < GEN_PLAN_COUNT && strcmp(plans[plan], argv[a + 1]); plan++)
@@ -391,6 +469,11 @@ int main(int argc, char **argv)
             seed = strtoull(argv[++a], &end, 10);
             if (*end || !*argv[a])
                 return cr_usage();
+        } else if (strcmp(argv[a], "--legs") == 0 && a + 1 < argc) {
+            char *end;
+            legs = strtol(argv[++a], &end, 10);
+            if (*end || !*argv[a] || legs < 0 || legs > 4)
+                return cr_usage();
         } else if (strcmp(argv[a], "--obj") == 0 && a + 1 < argc) {
             obj = argv[++a];
         } else if (argv[a][0] != '-' && !out) {
@@ -402,6 +485,13 @@ int main(int argc, char **argv)
     if (!out)
         return cr_usage();
     gen_skel g = gen_make((gen_plan)plan, seed);
+    if ((legs && plan == GEN_BIPED) || !cr_add_legs(&g, (int)legs)) {
+        fprintf(stderr, legs && plan == GEN_BIPED
+                            ? "creature: --legs needs a quadruped or a dragon\n"
+                            : "creature: out of memory\n");
+        gen_free(&g);
+        return legs && plan == GEN_BIPED ? 2 : 1;
+    }
     cr_rng = seed * 0xD1B54A32D192ED03ULL + 7;
     cr_mesh c = {0};
     uint32_t closed = 0;
