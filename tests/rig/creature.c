@@ -444,9 +444,9 @@ static double cr_volume(const rf_mesh *m, uint32_t closed)
 
 static int cr_usage(void)
 {
-    fprintf(
-        stderr,
-        "usage: creature [--plan biped|quadruped|dragon] [--seed N] [--obj BARE.obj] OUT.glb\n");
+    fprintf(stderr,
+            "usage: creature [--plan biped|quadruped|dragon] [--seed N] [--legs PAIRS] [--obj "
+            "BARE.obj] OUT.glb\n");
     return 2;
 }
 
