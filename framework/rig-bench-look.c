@@ -16,9 +16,11 @@
 #include "commands.h"
 #include "rig-bench-look.h"
 
-bool rf_rig_look_begin(rf_rig_look_setup *s, const char *motion, int frames)
+bool rf_rig_look_begin(rf_rig_look_setup *s, const char *motion, int frames,
+                       const rf_rig_move *move)
 {
     memset(s, 0, sizeof *s);
+    s->move = move;
     if (!motion)
         return true;
     if (frames < 2) {
@@ -146,6 +148,9 @@ static json_t *look_graph(const rf_registry *reg, const rf_rig_look_setup *s,
     look_sources(measure);
     look_in(measure, "animation", "retarget.animation", false);
     look_param(measure, "path", json_string(json));
+    /* the motion plays on the mesh that was rigged: moved, when the bench moves it */
+    if (s->move && s->move->on)
+        rf_rig_move_insert(graph, s->move, "mesh", "mesh_moved");
     return graph;
 }
 
