@@ -301,6 +301,12 @@ char *rf_build_tree_dir(void)
     return NULL;
 }
 
+char *rf_pipeline_file(const char *name)
+{
+    g_autofree char *build = rf_build_tree_dir();
+    return g_build_filename(build ? RF_SRC_PIPELINESDIR : RF_PIPELINESDIR, name, NULL);
+}
+
 static char *build_tree_plugins(void)
 {
     g_autofree char *dir = rf_build_tree_dir();
