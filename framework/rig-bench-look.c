@@ -81,14 +81,6 @@ void rf_rig_look_none(rf_rig_look *l, const char *status)
     g_strlcpy(l->status, status, sizeof l->status);
 }
 
-static bool look_has_input(const rf_node_desc *d, const char *name)
-{
-    for (uint32_t i = 0; i < d->input_count; i++)
-        if (!strcmp(d->inputs[i].name, name))
-            return true;
-    return false;
-}
-
 /* The node `id` of the graph's nodes, and its index into *at (may be NULL); NULL when none. */
 static json_t *look_node(json_t *nodes, const char *id, size_t *at)
 {
@@ -125,7 +117,7 @@ static char *look_graph(const rf_rig_look_setup *s, const rf_node_desc *rigger, 
         if (!type || strcmp(type, rigger->type))
             json_object_del(rig, "params");
         json_object_set_new(rig, "type", json_string(rigger->type));
-        if (!look_has_input(rigger, "axes"))
+        if (!rf_rig_has_input(rigger, "axes"))
             json_object_del(json_object_get(rig, "inputs"), "axes");
         /* the motion plays on the mesh that was rigged: moved, when the bench moves it */
         if (s->move && s->move->on)

@@ -374,7 +374,7 @@ static void rb_row(const rb_rigger *r, const char *model, const char *body, uint
     fflush(stdout);
 }
 
-static bool rb_has_input(const rf_node_desc *d, const char *name)
+bool rf_rig_has_input(const rf_node_desc *d, const char *name)
 {
     for (uint32_t i = 0; i < d->input_count; i++)
         if (!strcmp(d->inputs[i].name, name))
@@ -449,7 +449,7 @@ static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, cons
         return NULL;
     }
     json_t *rig_in = json_pack("{s:s}", "mesh", "mesh.mesh");
-    if (rb_has_input(r->desc, "axes"))
+    if (rf_rig_has_input(r->desc, "axes"))
         json_object_set_new(rig_in, "axes", json_string("mesh.skeleton"));
     /* the matcher pairs joints by correspondence: forelegs with arms, not its gait rule; a
      * girdle joint whose bone is the neck's with the neck, not the chest */

@@ -17,6 +17,9 @@ typedef struct rf_rig_move {
     char axis[96], offset[96]; /* the transform node's parameter text, checked */
 } rf_rig_move;
 
+/* Whether node type `d` declares an input port `name` (a rigger reading the mesh's axes). */
+bool rf_rig_has_input(const rf_node_desc *d, const char *name);
+
 /* Appends to `graph` a transform node `to` moving node `from`'s skeleton and mesh as `m` says,
  * and points every input that read `from`'s skeleton or mesh at the transform's. False when out
  * of memory (the graph is then incomplete and its validation names what is missing). */

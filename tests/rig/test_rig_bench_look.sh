@@ -55,6 +55,24 @@ esac
 
 # near a b tolerance
 near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; exit !(d <= t && d >= -t) }'; }
+# animate FILE: pipelines/scan-to-animation.json on FILE over the walk's first 60 frames, run as
+# a user runs it; its measure line on the mesh into $line and its figures into l_torn, l_median,
+# l_p95, l_stretch, l_part and l_joint (false, the run's output shown, when the run fails)
+animate() {
+    if ! RIGFLOW_QUIET=1 "$rigflow" run "$src/pipelines/scan-to-animation.json" \
+        -p "mesh.path=$1" -p "motion.path=$walk" -p retarget.last_frame=59 \
+        -p "export.path=$tmp/out.glb" >"$tmp/run" 2>&1; then
+        cat "$tmp/run"
+        return 1
+    fi
+    line=$(grep '^measure: mesh' "$tmp/run")
+    l_torn=$(echo "$line" | sed -n 's/.*torn p99 \([0-9.]*\);.*/\1/p')
+    l_median=$(echo "$line" | sed -n 's/.*; floor median \([-+0-9.]*\) p95.*/\1/p')
+    l_p95=$(echo "$line" | sed -n 's/.*; floor median [-+0-9.]* p95 \([0-9.]*\) .*/\1/p')
+    l_stretch=$(echo "$line" | sed -n 's/.*; stretch p99 \([0-9.]*\);.*/\1/p')
+    l_part=$(echo "$line" | sed -n "s/.*; worst part \([0-9.]*\) (joint '\([^']*\)'.*/\1/p")
+    l_joint=$(echo "$line" | sed -n "s/.*; worst part [0-9.]* (joint '\([^']*\)'.*/\1/p")
+}
 for name in RiggedFigure.glb Fox.glb; do
     stretch=$(cell "$tmp/look.csv" "$name" look_stretch_p99)
     part=$(cell "$tmp/look.csv" "$name" look_worst_part)
@@ -72,20 +90,10 @@ for name in RiggedFigure.glb Fox.glb; do
             ko "$name: a look figure is not a finite number: '$v'"
     done
     # the same model and frames as a user runs the pipeline
-    if ! RIGFLOW_QUIET=1 "$rigflow" run "$src/pipelines/scan-to-animation.json" \
-        -p "mesh.path=$data/models/$name" -p "motion.path=$walk" -p retarget.last_frame=59 \
-        -p "export.path=$tmp/out.glb" >"$tmp/run" 2>&1; then
-        cat "$tmp/run"
+    if ! animate "$data/models/$name"; then
         ko "scan-to-animation on $name"
         continue
     fi
-    line=$(grep '^measure: mesh' "$tmp/run")
-    l_torn=$(echo "$line" | sed -n 's/.*torn p99 \([0-9.]*\);.*/\1/p')
-    l_median=$(echo "$line" | sed -n 's/.*; floor median \([-+0-9.]*\) p95.*/\1/p')
-    l_p95=$(echo "$line" | sed -n 's/.*; floor median [-+0-9.]* p95 \([0-9.]*\) .*/\1/p')
-    l_stretch=$(echo "$line" | sed -n 's/.*; stretch p99 \([0-9.]*\);.*/\1/p')
-    l_part=$(echo "$line" | sed -n "s/.*; worst part \([0-9.]*\) (joint '\([^']*\)'.*/\1/p")
-    l_joint=$(echo "$line" | sed -n "s/.*; worst part [0-9.]* (joint '\([^']*\)'.*/\1/p")
     if [ -z "$l_torn" ] || [ -z "$l_median" ] || [ -z "$l_p95" ] || [ -z "$l_stretch" ] ||
         [ -z "$l_part" ]; then
         echo "$line"
@@ -147,17 +155,15 @@ for name in RiggedFigure.glb Fox.glb; do
         ko "$name turned 30 degrees: status $(cell "$tmp/turned.csv" "$name" look_status),$bad"
     fi
     if ! RIGFLOW_QUIET=1 "$rigflow" run "$tmp/lay.json" -p "in.path=$data/models/$name" \
-        -p "export.path=$tmp/lying-$name" >"$tmp/run" 2>&1 ||
-        ! RIGFLOW_QUIET=1 "$rigflow" run "$src/pipelines/scan-to-animation.json" \
-            -p "mesh.path=$tmp/lying-$name" -p "motion.path=$walk" -p retarget.last_frame=59 \
-            -p "export.path=$tmp/out.glb" >"$tmp/run" 2>&1; then
+        -p "export.path=$tmp/lying-$name" >"$tmp/run" 2>&1; then
         cat "$tmp/run"
-        ko "$name written lying and animated"
+        ko "$name written lying"
         continue
     fi
-    line=$(grep '^measure: mesh' "$tmp/run")
-    l_stretch=$(echo "$line" | sed -n 's/.*; stretch p99 \([0-9.]*\);.*/\1/p')
-    l_part=$(echo "$line" | sed -n "s/.*; worst part \([0-9.]*\) (joint .*/\1/p")
+    if ! animate "$tmp/lying-$name"; then
+        ko "scan-to-animation on $name written lying"
+        continue
+    fi
     stretch=$(cell "$tmp/lying.csv" "$name" look_stretch_p99)
     part=$(cell "$tmp/lying.csv" "$name" look_worst_part)
     plain=$(cell "$tmp/look.csv" "$name" look_stretch_p99)
