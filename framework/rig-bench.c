@@ -767,10 +767,10 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
          "named, as fractions of the longest bounding-box edge)",
          "FILE"},
         {"look", 0, 0, G_OPTION_ARG_FILENAME, &look,
-         "Also play the motion in FILE (a BVH, glTF...) on each auto-rig as "
-         "pipelines/scan-to-animation.json does (the matcher, the retarget with feet pinned, on "
-         "the skin's floor) and add retarget.measure's figures on the mesh as the look_ columns "
-         "(default: not run, the columns nan)",
+         "Also play the motion in FILE (a BVH, glTF...) on each auto-rig through the pipeline "
+         "file scan-to-animation.json, its rigger node the bench's (the matcher, the retarget "
+         "with feet pinned, on the skin's floor), and add retarget.measure's figures on the mesh "
+         "as the look_ columns (default: not run, the columns nan)",
          "FILE"},
         {"look-frames", 0, 0, G_OPTION_ARG_INT, &look_frames,
          "With --look, play the motion's first N frames (default 120)", "N"},
