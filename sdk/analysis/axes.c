@@ -779,6 +779,42 @@ static double vote_file(const rf_awork *w, rf_vec3 c)
     return d > 0.5 ? 0.3 : d < -0.5 ? -0.3 : 0;
 }
 
+/* Whether the caller or the file gives a forward (rf_an_frame's z is then a facing). */
+static bool declared_forward(const rf_awork *w)
+{
+    rf_vec3 f = w->opt.forward;
+    if (!(rf_v3_isfinite(f) && rf_v3_len2(f) > 1e-24) && !w->opt.ignore_file_axes)
+        f = w->skel->forward;
+    return rf_v3_isfinite(f) && rf_v3_len2(f) > 1e-24;
+}
+
+/* The very last resort when no forward is declared and no cue speaks (a fish's one chain, a
+ * standing body without feet or knees to read): rigs grow from the hips, behind the body's
+ * middle (as vote_hierarchy has it), so the body's joints lie mostly on the front side of its
+ * top joint: a quadruped's chest and head, a biped's toes, hands and face. Weaker than any
+ * cue, and read at a finer margin than they are (a hundredth of the body, the lean's fifth),
+ * since only a body the same front and back has nothing to go by. The coordinate +z it
+ * replaces read a body turned about up facing another way relative to the body at most
+ * turns. */
+static double vote_from_root(const rf_awork *w, rf_vec3 c)
+{
+    int32_t r = w->top >= 0 ? w->top : w->a->root;
+    if (r < 0)
+        return 0;
+    rf_vec3 sum = rf_v3(0, 0, 0);
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (!w->root_chain[j])
+            sum = rf_v3_add(sum, rf_v3_add(rf_an_pos(w, j), w->a->joints[j].tip)), count += 2;
+    }
+    if (count < 2)
+        return 0;
+    rf_vec3 mid = rf_v3_scale(sum, 1.0 / count);
+    double along = rf_v3_dot(rf_v3_sub(mid, rf_an_pos(w, (uint32_t)r)), c);
+    return fabs(along) > 0.01 * w->a->size ? (along > 0 ? 0.05 : -0.05) : 0;
+}
+
 static void detect_forward(rf_awork *w, rf_limbs *ls)
 {
     rf_analysis *a = w->a;
@@ -794,6 +830,8 @@ static void detect_forward(rf_awork *w, rf_limbs *ls)
         silent = silent && cue[i] == 0;
     if (silent)
         cue[5] = vote_lean(w, c); /* only when nothing else says anything */
+    if (silent && cue[5] == 0 && !declared_forward(w))
+        cue[7] = vote_from_root(w, c);
     double sum = 0, weight = 0;
     int strongest = -1;
     for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
