@@ -7,7 +7,9 @@
  * span when the body stands over them, and one for the axis the file declares (RF_FILE_UP_VOTE,
  * deciding close calls). Forward is
  * then one of two directions; its sign is voted by the feet (toes point forward), by the knees of a
- * biped and by the file. */
+ * biped, the head marks, the ends' heights, the girdles, the hierarchy and by the file. Without
+ * a declared forward nothing is read from the coordinate axes, so a body turned about its up
+ * reads the same facing relative to itself (tests/match/test_facing). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -616,29 +618,36 @@ static double vote_head(const rf_awork *w, const rf_limbs *ls, rf_vec3 c)
     return fmax(-0.6, fmin(0.6, vote));
 }
 
-/* A horizontal body holds its head higher than its tail. */
+/* A horizontal body holds its head higher than its tail: the mean height of the centerline's
+ * pivots in the front and in the rear fifth of its length. Its two end joints alone read a
+ * curve skeleton's ears or snout, drooping past the head's end, as the lower end. */
 static double vote_elevation(const rf_awork *w, rf_vec3 c)
 {
-    int32_t lo = RF_NONE, hi = RF_NONE;
-    double hmin = INFINITY, hmax = -INFINITY;
+    double xlo = INFINITY, xhi = -INFINITY, hmin = INFINITY, hmax = -INFINITY;
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
         if (!w->center[j] || w->root_chain[j])
             continue;
-        double h = rf_an_height(w, rf_an_pos(w, j));
-        hmin = fmin(hmin, h), hmax = fmax(hmax, h);
-        double x = rf_v3_dot(rf_an_pos(w, j), c);
-        if (lo < 0 || x < rf_v3_dot(rf_an_pos(w, (uint32_t)lo), c))
-            lo = (int32_t)j;
-        if (hi < 0 || x > rf_v3_dot(rf_an_pos(w, (uint32_t)hi), c))
-            hi = (int32_t)j;
+        double h = rf_an_height(w, rf_an_pos(w, j)), x = rf_v3_dot(rf_an_pos(w, j), c);
+        hmin = fmin(hmin, h), hmax = fmax(hmax, h), xlo = fmin(xlo, x), xhi = fmax(xhi, x);
     }
-    if (lo < 0)
+    if (!(xhi - xlo > hmax - hmin))
         return 0;
-    double span = rf_v3_dot(rf_v3_sub(rf_an_pos(w, (uint32_t)hi), rf_an_pos(w, (uint32_t)lo)), c);
-    double dh =
-        rf_an_height(w, rf_an_pos(w, (uint32_t)hi)) - rf_an_height(w, rf_an_pos(w, (uint32_t)lo));
-    if (span <= hmax - hmin || fabs(dh) < 0.05 * w->a->height)
+    double sum[2] = {0, 0}, cut = 0.2 * (xhi - xlo);
+    uint32_t count[2] = {0, 0};
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (!w->center[j] || w->root_chain[j])
+            continue;
+        double h = rf_an_height(w, rf_an_pos(w, j)), x = rf_v3_dot(rf_an_pos(w, j), c);
+        int e = x >= xhi - cut ? 1 : x <= xlo + cut ? 0 : -1;
+        if (e >= 0)
+            sum[e] += h, count[e]++;
+    }
+    if (!count[0] || !count[1])
+        return 0;
+    double dh = sum[1] / count[1] - sum[0] / count[0];
+    if (fabs(dh) < 0.05 * w->a->height)
         return 0;
     return dh > 0 ? 0.2 : -0.2;
 }

@@ -86,10 +86,12 @@ static void check_turns(const char *label, rf_skeleton *s, rf_vec3 up, int *bad)
     rf_analysis_free(a0);
 }
 
-/* A quadruped facing -x with +y up: a level spine of four joints from the hips, a neck rising
- * to the head at the front, a tail hanging low at the back, four straight one-bone legs. No
- * feet, knees, head marks or hierarchy say which end is the front (the root is the middle of
- * the spine); the head held high over the front legs does. */
+/* A quadruped facing -x with +y up: a level spine from its middle joint to the hips and the
+ * chest, a neck rising to the head at the front and a jaw hanging from it lower than the tail's
+ * root, which is carried high at the back; four straight one-bone legs. No feet, knees, head
+ * marks or hierarchy say which end is the front (the root is the middle of the spine); the
+ * neck and head held high over the front legs do, though the body's front end (the jaw) is
+ * lower than its rear end (the tail's root): read from those two joints, it faced back. */
 static rf_skeleton *made_quadruped(void)
 {
     static const struct {
@@ -102,8 +104,9 @@ static rf_skeleton *made_quadruped(void)
         {"hips", 0, 0.5, 1, 0, 0, 0, 0},
         {"chest", 0, -0.5, 1, 0, 0, 0, 0},
         {"neck", 2, -0.8, 1.2, 0, 0, 0, 0},
-        {"head", 3, -1.0, 1.6, 0, -1.3, 1.55, 0},
-        {"tail", 1, 0.8, 0.95, 0, 1.4, 0.6, 0},
+        {"head", 3, -1.0, 1.6, 0, 0, 0, 0},
+        {"jaw", 4, -1.2, 0.9, 0, -1.4, 0.85, 0},
+        {"tail", 1, 0.8, 1.2, 0, 1.4, 0.9, 0},
         {"fl", 2, -0.5, 0.9, 0.2, -0.5, 0, 0.2},
         {"fr", 2, -0.5, 0.9, -0.2, -0.5, 0, -0.2},
         {"hl", 1, 0.5, 0.9, 0.2, 0.5, 0, 0.2},
@@ -191,6 +194,6 @@ int main(void)
         check_turns(models[m], s, up, &bad);
         rf_skeleton_free(s);
     }
-    printf("%d turns read otherwise\n", bad);
+    printf("%d checks failed (a wrong facing, or a turn read otherwise)\n", bad);
     return bad ? 1 : 0;
 }
