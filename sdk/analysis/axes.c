@@ -731,6 +731,31 @@ static double vote_one_girdle(const rf_awork *w, uint32_t j, rf_vec3 c)
     return far_x > 0 ? 0.25 : -0.25;
 }
 
+/* A body without limbs lying level (a fish, a snake) is rigged from its head or trunk towards
+ * the tail, the end that moves most: the chain's root lies at the front end, the rest of it
+ * behind (the Ogre fish and the animalia angelfish both; the angelfish's two joints said
+ * nothing else, and the lean cue read it facing its tail). */
+static double vote_chain_root(const rf_awork *w, rf_vec3 c)
+{
+    int32_t r = w->top;
+    if (r < 0 || upright(w))
+        return 0;
+    rf_vec3 sum = rf_v3(0, 0, 0);
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (w->limb_of[j] >= 0)
+            return 0;
+        if (!w->root_chain[j])
+            sum = rf_v3_add(sum, rf_v3_add(rf_an_pos(w, j), w->a->joints[j].tip)), count += 2;
+    }
+    if (count < 4)
+        return 0;
+    double along =
+        rf_v3_dot(rf_v3_sub(rf_v3_scale(sum, 1.0 / count), rf_an_pos(w, (uint32_t)r)), c);
+    return fabs(along) > 0.05 * w->a->size ? (along > 0 ? -0.25 : 0.25) : 0;
+}
+
 /* Rigs are built from the hips outwards: the body's root is the rear girdle (or near it) and
  * the hierarchy runs forward through the spine to the front girdle. The girdle deepest in the
  * hierarchy is the front one. It outweighs the elevation of the ends (0.25 against 0.2: an
@@ -755,7 +780,7 @@ static double vote_hierarchy(const rf_awork *w, rf_vec3 c)
         if (deep < 0 || depth[j] > depth[deep])
             deep = (int32_t)j;
     }
-    double vote = 0;
+    double vote = shallow < 0 ? vote_chain_root(w, c) : 0;
     if (shallow >= 0 && deep == shallow && !upright(w))
         vote = vote_one_girdle(w, (uint32_t)shallow, c);
     if (shallow >= 0 && deep != shallow && !upright(w)) {
