@@ -113,6 +113,7 @@ awk -F, '
             " torn p99 median, max; floor median max |.|; unweighted"
       for (key in rows) {
         n = cnt[key]; fmx = 0
+        if (!n) { printf "%s: 0/%d of %d\n", key, ref[key], rows[key]; continue }
         for (i = 1; i <= n; i++) { v = fm[key, i] + 0; if (v < 0) v = -v; if (v > fmx) fmx = v }
         printf "%s: %d/%d of %d; cd %.4f, %.4f; after %.2f, %.2f; given %.2f, %.2f; back %d; stretch %.1f, %.1f; worst %.1f, %.1f; torn %.1f, %.1f; floor %.2f; unweighted %d\n",
           key, ok[key], ref[key], rows[key], med(cd, key, n), mx(cd, key, n), med(pr, key, n),
