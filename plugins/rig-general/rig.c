@@ -378,6 +378,103 @@ static bool rf_rig_off_middle(const rf_rig_skel *k, const double mirror[4], doub
     return true;
 }
 
+/* Signed distance of point q from the plane mirror[0..2] . p = mirror[3]. */
+static double rf_rig_plane_off(const double mirror[4], const double q[3])
+{
+    return mirror[0] * q[0] + mirror[1] * q[1] + mirror[2] * q[2] - mirror[3];
+}
+
+/* The end of joint j's bone when it is a leaf: its tip, else its pivot. */
+static const double *rf_rig_end(const rf_rig_skel *k, uint32_t j)
+{
+    return k->has_tip[j] ? k->tip + (size_t)j * 3 : k->pos + (size_t)j * 3;
+}
+
+/* The first joint of leaf's chain: up from the leaf while the parent has one child and is no
+ * root. */
+static uint32_t rf_rig_chain_top(const rf_rig_skel *k, const uint32_t *kids, uint32_t leaf)
+{
+    uint32_t top = leaf;
+    while (k->parent[top] >= 0 && kids[k->parent[top]] == 1 && k->parent[k->parent[top]] >= 0)
+        top = (uint32_t)k->parent[top];
+    return top;
+}
+
+/* Whether leaf a's chain has a mirror image among the chains leaving the same joint: one whose
+ * end lies on the other side of the plane, between a third and three times as far from it (two
+ * legs close together under a skirt both lie near the plane). */
+static bool rf_rig_chain_paired(const rf_rig_skel *k, const uint32_t *kids, const double mirror[4],
+                                uint32_t a)
+{
+    int32_t from = k->parent[rf_rig_chain_top(k, kids, a)];
+    double oa = rf_rig_plane_off(mirror, rf_rig_end(k, a));
+    for (uint32_t b = 0; b < k->n; b++) {
+        if (b == a || kids[b] || k->parent[rf_rig_chain_top(k, kids, b)] != from)
+            continue;
+        double ob = rf_rig_plane_off(mirror, rf_rig_end(k, b));
+        if (oa * ob < 0 && fabs(ob) >= fabs(oa) / 3 && fabs(ob) <= 3 * fabs(oa))
+            return true;
+    }
+    return false;
+}
+
+#define RF_RIG_MIDDLE_OFF 4.0 /* voxels: how far off the mirror plane a middle chain may lie */
+
+/* A chain of k (from the joint after a junction, or the root, down to a leaf) without a mirror
+ * image, lying within four voxels of the body's mirror plane (h: a voxel's size) and a voxel or
+ * more off it somewhere, is moved onto the plane: the spine, neck, head and tail of a symmetric
+ * body lie on its middle, as artists put them. Left a few voxels to one side (the centroids of
+ * band pieces a tilted or lopsided head or a hand near the neck pulls over), the skeleton
+ * analysis read the neck and head of BCN_Epileptic as an unpaired right arm, and the matcher
+ * gave the face's 20 joints to it. Offsets under a voxel are the grid's own and stay. */
+static bool rf_rig_on_plane(rf_rig_skel *k, const double mirror[4], double h)
+{
+    if (rf_v3_len((rf_vec3){mirror[0], mirror[1], mirror[2]}) == 0)
+        return true;
+    uint32_t *kids = calloc(k->n + 1, sizeof *kids);
+    uint8_t *move = calloc(k->n + 1, 1);
+    if (!kids || !move) {
+        free(kids), free(move);
+        return false;
+    }
+    for (uint32_t j = 0; j < k->n; j++)
+        if (k->parent[j] >= 0)
+            kids[k->parent[j]]++;
+    for (uint32_t leaf = 0; leaf < k->n; leaf++) {
+        if (kids[leaf] || k->parent[leaf] < 0)
+            continue;
+        uint32_t top = rf_rig_chain_top(k, kids, leaf);
+        double most = fabs(rf_rig_plane_off(mirror, rf_rig_end(k, leaf)));
+        for (uint32_t j = leaf;; j = (uint32_t)k->parent[j]) {
+            most = fmax(most, fabs(rf_rig_plane_off(mirror, k->pos + (size_t)j * 3)));
+            if (j == top)
+                break;
+        }
+        bool near = most <= RF_RIG_MIDDLE_OFF * h && most >= h;
+        if (!near || rf_rig_chain_paired(k, kids, mirror, leaf))
+            continue;
+        for (uint32_t j = leaf;; j = (uint32_t)k->parent[j]) {
+            move[j] = 1;
+            if (j == top)
+                break;
+        }
+    }
+    for (uint32_t j = 0; j < k->n; j++) {
+        if (!move[j])
+            continue;
+        double *p = k->pos + (size_t)j * 3, off = rf_rig_plane_off(mirror, p);
+        for (int c = 0; c < 3; c++)
+            p[c] -= off * mirror[c];
+        if (k->has_tip[j]) {
+            double *t = k->tip + (size_t)j * 3, to = rf_rig_plane_off(mirror, t);
+            for (int c = 0; c < 3; c++)
+                t[c] -= to * mirror[c];
+        }
+    }
+    free(kids), free(move);
+    return true;
+}
+
 bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
                   size_t err_size)
 {
@@ -407,6 +504,8 @@ bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k,
         rf_rig_skel_free(k);
         ok = rf_rig_extract(p, o, seed, NULL, NULL, k, err, err_size);
     }
+    if (ok && !rf_rig_on_plane(k, mirror, p->longest / o->resolution))
+        ok = rf_rig_fail(err, err_size, "out of memory centring the skeleton");
     /* The skeleton analysis (and so the matcher) reads which way a body faces partly from where
      * the root is: artists root a quadruped at its hips, and the spine runs from there to the
      * shoulders. The second pass's root, the highest girdle, is often the shoulders; the rig is

@@ -174,7 +174,9 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # 0.090); the frog is read facing 0.74 (a quarter turn and more off before), so no facing check.
 # A hand on a hip is a contact, not tissue: BCN_Epileptic's arms reached through its shoulders
 # (CD-J2J 0.0446, skinning after the matcher precision 24%; with the volume's loop through the
-# hand 0.0480, 11%); its head, one loose part holding the bones of the neck, jaw, lips, eyes and
+# hand 0.0480, 11%); its neck and head, three voxels off the mirror plane, are moved onto it and
+# read as a head, not an unpaired arm (CD-J2J 0.0435, after the matcher 40% / 47%; 25% / 25%
+# left off the plane); its head, one loose part holding the bones of the neck, jaw, lips, eyes and
 # ponytail, bends with them on the skeleton of the artist (.740/.780/.646; .731/.744/.671 with
 # the head moved by the neck alone), its face joints fanning from the neck keeping bone heat's
 # sharpened rows (.719/.807/.651 with the plain rows a chain of joints in a loose part takes). The fire dragon's wing membranes, whose corners at the wrist
@@ -202,6 +204,7 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 cat "$tmp/sbench.csv"
 awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                      else { n++; cd[$c["model"]] = $c["cd_j2j"]; p[$c["model"]] = $c["precision"]
+                            r[$c["model"]] = $c["recall"]
                             gp[$c["model"]] = $c["given_precision"]
                             gr[$c["model"]] = $c["given_recall"]; gl[$c["model"]] = $c["given_l1"]
                             ua[$c["model"]] = $c["up_agree"]; fa[$c["model"]] = $c["forward_agree"]
@@ -222,8 +225,10 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
               foot[dragon] != "" && foot[dragon] < 0.03))
             print "FAIL: fire dragon: up " ua[dragon] ", forward " fa[dragon] ", cd_j2j " cd[dragon] \
                 ", precision " p[dragon] ", Foot.L " foot[dragon] " from the nearest joint"
-        if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.18))
-            print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " p["\"BCN_Epileptic.X\""]
+        if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.36 &&
+              r["\"BCN_Epileptic.X\""] >= 0.42))
+            print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " \
+                p["\"BCN_Epileptic.X\""] ", recall " r["\"BCN_Epileptic.X\""]
         if (!(gp["\"BCN_Epileptic.X\""] >= 0.73 && gr["\"BCN_Epileptic.X\""] >= 0.765 &&
               gl["\"BCN_Epileptic.X\""] <= 0.66))
             print "FAIL: BCN_Epileptic on the skeleton of the artist: precision " \
