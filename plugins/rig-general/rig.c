@@ -475,6 +475,22 @@ static bool rf_rig_on_plane(rf_rig_skel *k, const double mirror[4], double h)
     return true;
 }
 
+/* Whether the skeleton analysis reads k's up within 45 degrees of the declared up (true when
+ * none is declared, or when out of memory). The fire dragon turned 137 degrees kept its legs in
+ * the first pass but was read lying on its side, its wings hanging: its girdles, looked for
+ * along that up, put the second pass's seed on a wing. */
+static bool rf_rig_reads_up(const rf_rig_skel *k, rf_vec3 declared)
+{
+    if (!(rf_v3_len(declared) > 0))
+        return true;
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
+    bool agree = !a || rf_v3_dot(a->up, rf_v3_normalize(declared)) >= 0.7;
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    return agree;
+}
+
 bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
                   size_t err_size)
 {
@@ -485,9 +501,12 @@ bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k,
      * starts where the first pass's two lowest leaves meet. Where the first pass kept legs the
      * bands had scored as bumps (rf_rig_stands_on), it starts where those legs leave the body,
      * found before junctions a short chain apart became one joint (the fire dragon's hips and
-     * chest, a bone apart, were one), and the feet are the lowest along the declared up. */
+     * chest, a bone apart, were one), and the feet are the lowest along the declared up; so
+     * they are where the analysis reads the first pass's up a quarter turn or more off it. */
     bool legs = ok && stand[3];
-    rf_vec3 up = legs ? o->up : rf_v3(0, 0, 0);
+    rf_vec3 up = legs ? o->up : rf_v3(0, 0, 0); /* zero: the analysis's */
+    if (ok && !legs && !rf_rig_reads_up(k, o->up))
+        up = o->up;
     uint32_t r = ok ? rf_rig_pick_root(k, up) : RF_RIG_NONE,
              hips = ok ? rf_rig_pick_hips(k, up) : r;
     double hips_at[3], seed[3];
