@@ -494,7 +494,7 @@ static bool rf_rig_reads_up(const rf_rig_skel *k, rf_vec3 declared)
 bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
                   size_t err_size)
 {
-    double mirror[4], stand[4];
+    double mirror[4], stand[4] = {0};
     bool ok = rf_rig_extract(p, o, NULL, mirror, stand, k, err, err_size);
     /* Level sets grown from the hips cut the body square to its length (shoulders level, limbs
      * leaving symmetrically); from the thickest point they would ring the chest. So a second pass
@@ -502,7 +502,7 @@ bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k,
      * bands had scored as bumps (rf_rig_stands_on), it starts where those legs leave the body,
      * found before junctions a short chain apart became one joint (the fire dragon's hips and
      * chest, a bone apart, were one), and the feet are the lowest along the declared up; so
-     * they are where the analysis reads the first pass's up a quarter turn or more off it. */
+     * they are where the analysis reads the first pass's up over 45 degrees off it. */
     bool legs = ok && stand[3];
     rf_vec3 up = legs ? o->up : rf_v3(0, 0, 0); /* zero: the analysis's */
     if (ok && !legs && !rf_rig_reads_up(k, o->up))
