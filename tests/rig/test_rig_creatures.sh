@@ -12,14 +12,15 @@
 # on its own up (the height along the rig's up, retarget.measure's `height`, within 5% of the
 # body's: 1.000 on the 64 such scans of the 80; the 16 generated Z up, read as Y up by Assimp's
 # OBJ reader, are rigged lying, 0.34 to 3.9, and only printed). The bars, from
-# bench/creatures.sh over seeds 1 to 20 (80 creatures, 160 rig-bench rows) on main at c3e5dfc:
-#   - CD-J2J at most 0.075 (general) and 0.08 (template): the most reached 0.068 and 0.072;
+# bench/creatures.sh over seeds 1 to 20 (80 creatures, 160 rig-bench rows) on main at 6208c3b:
+#   - CD-J2J at most 0.075 (general) and 0.08 (template): the most reached 0.074 (dragon seed
+#     14; 0.068 without the dragons) and 0.072;
 #   - skinning on the generated skeleton (bone heat alone) precision at least 0.35, recall 0.4:
 #     the least reached 0.415 and 0.489 (a rigid capsule per bone is the answer; bone heat
 #     blends where capsules overlap, so 0.6 to 0.8 is typical);
 #   - after the matcher, the rows' median precision at least 0.25 (0.33 to 0.47 per plan, 0.23 on
 #     the many-legged, 0.11 on the dragons), and at most a quarter of the rows read facing back
-#     (16 of 80 general rows);
+#     (15 of 80 general rows);
 #   - the look (CMU walk, % of the height): stretch p99 under 100 (the most 70.7) on every rigged
 #     row; on bipeds and (many-legged) quadrupeds the floor median within 3 (the most 1.2), the
 #     worst part under 150 (the most 95.9) and torn p99 under 30: the sound rigs reach at most
