@@ -4,7 +4,7 @@
 # the CMU walk retargeted onto each through pipelines/retarget.json (doc/autorig.md, "Random
 # creatures"). The baseline is the same character written by rerig with nothing changed (so the
 # file's GLB axes are the same in both). The bars, from the four characters below and the rest of
-# ../shared/data (16 models, 5 layouts each, on main at 69e1de3):
+# ../shared/data (16 models, 5 layouts each, on main at 69e1de3 and 6208c3b):
 #   - every layout written, valid (glTF-Validator) and retargeted (exit 0);
 #   - helper bones change nothing on a smooth-skinned humanoid: as many joints mapped, the look's
 #     worst part and floor median within 0.05 of the baseline's (equal on all four);
