@@ -610,7 +610,9 @@ static double vote_head(const rf_awork *w, const rf_limbs *ls, rf_vec3 c)
                 connected |= on, offset |= !on;
             }
         }
-        mark = !girdle && (shorts >= 2 || (offset && !connected));
+        /* a skull hangs from a neck: a root's children are offset from its tip as a rule (a
+         * control root's torso), so a root's offset child marks no head */
+        mark = !girdle && (shorts >= 2 || (offset && !connected && w->parent[j] >= 0));
         double along = rf_v3_dot(rf_v3_sub(rf_an_pos(w, j), mid), c);
         if (mark && fabs(along) > 0.05 * w->a->size)
             vote += along > 0 ? 0.3 : -0.3;

@@ -301,8 +301,12 @@ static void gather_candidates(rf_awork *w, rf_candidates *cs, rf_hashed *kids)
 }
 
 /* Mirror matches of the plane (n, p): off-plane joints whose reflection lands on a joint on
- * the other side, plus a quarter point per joint on the plane. Gives up, returning -1, as soon
- * as the score cannot exceed `need` even if every joint left matched. */
+ * the other side, plus a quarter point per joint on the plane, less a quarter point per
+ * off-plane joint without a twin. A body's own plane leaves few of those; a plane across it
+ * (front to back) pairs forelegs with hind legs and leaves the rest single, and without the
+ * cost one chance pair more (a neck's extra joint landing on the tail's mirror image) outvoted
+ * the body's plane. Gives up, returning -1, as soon as the score cannot exceed `need` even if
+ * every joint left matched. */
 static double plane_score(rf_awork *w, const rf_grid *g, rf_vec3 n, rf_vec3 p, double need,
                           uint32_t *off, uint32_t *matched)
 {
@@ -310,7 +314,7 @@ static double plane_score(rf_awork *w, const rf_grid *g, rf_vec3 n, rf_vec3 p, d
     uint32_t on = 0;
     *off = *matched = 0;
     for (uint32_t i = 0; i < w->order_count; i++) {
-        if (*matched + 0.25 * on + (w->order_count - i) <= need)
+        if (*matched + 0.25 * on - 0.25 * (*off - *matched) + (w->order_count - i) <= need)
             return -1;
         uint32_t j = w->order[i];
         rf_vec3 q = rf_an_pos(w, j);
@@ -324,7 +328,7 @@ static double plane_score(rf_awork *w, const rf_grid *g, rf_vec3 n, rf_vec3 p, d
         if (grid_nearest(g, w, r, j, d > 0 ? -1 : 1) >= 0)
             (*matched)++;
     }
-    return *matched + 0.25 * on;
+    return fmax(0.0, *matched + 0.25 * on - 0.25 * (*off - *matched)); /* -1 is "gave up" */
 }
 
 static rf_vec3 all_centroid(const rf_awork *w)
