@@ -290,8 +290,8 @@ static rf_quat rt_align(const rt_pair *pairs, uint32_t count, rf_quat ref, bool 
     return rf_quat_normalize(rf_quat_mul(rf_quat_from_axis_angle(n, angle), a));
 }
 
-/* The alignment of the nearest mapped ancestor's input from the same source, or the turn of
- * the target's body frame onto the source's. */
+/* The alignment of the nearest mapped ancestor's input from the same source, or none: the
+ * source is read in the target's frame (rt_source_turn, rt-body.c), body frames aligned. */
 static rf_quat rt_parent_align(const rf_retarget *rt, uint32_t j, uint32_t source,
                                const int32_t *mp)
 {
@@ -301,7 +301,7 @@ static rf_quat rt_parent_align(const rf_retarget *rt, uint32_t j, uint32_t sourc
             if (rt->in[tj->first_input + i].source == source)
                 return rt->in[tj->first_input + i].align;
     }
-    return rt->src[source].body;
+    return rf_quat_identity();
 }
 
 /* Whether source joint j and target joint t lie on opposite sides of their bodies (each side
@@ -477,8 +477,7 @@ static bool rt_plan_differs(const rf_retarget *rt, const int32_t *mp)
     if (!a || !b)
         return false;
     const rf_rt_src *src = &rt->src[0];
-    rf_vec3 vt = rf_quat_rotate(src->body,
-                                rf_v3_sub(rt_tpos(rt, (uint32_t)far), rt_tpos(rt, (uint32_t)top)));
+    rf_vec3 vt = rf_v3_sub(rt_tpos(rt, (uint32_t)far), rt_tpos(rt, (uint32_t)top));
     rf_vec3 vs = rf_v3_sub(src->rest_world[b->joint].t, src->rest_world[a->joint].t);
     return rf_v3_angle(vt, vs) > RT_BODY_PLAN_ANGLE;
 }
