@@ -375,9 +375,9 @@ static rf_vec3 rt_translate(const rf_retarget *rt, const rf_rt_work *w, const rf
         const float *t = poses[in->slot].translations + (size_t)in->joint * 3;
         rf_vec3 off = rf_v3_sub(rf_v3(t[0], t[1], t[2]), src->rest_local[in->joint].t);
         int32_t par = src->skel->joints[in->joint].parent;
-        off = par >= 0 ? rf_quat_rotate(w->s_rot[in->slot][par],
-                                        rf_v3_mul(src->rest_world[par].s, off))
-                       : rf_quat_rotate(src->turn, off);
+        off = par >= 0
+                  ? rf_quat_rotate(w->s_rot[in->slot][par], rf_v3_mul(src->rest_world[par].s, off))
+                  : rf_quat_rotate(src->turn, off);
         d = rf_v3_add(d, rf_v3_scale(off, src->scale * in->weight));
     }
     rf_vec3 rest = rt->target->joints[j].rest.t;

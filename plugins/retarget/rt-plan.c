@@ -414,11 +414,12 @@ static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in
         out->flags |= keep ? RF_RT_IN_KIND : 0;
     }
     /* A top joint with three directions or more (a quadruped's hips: legs, spine, tail) carries
-     * the body's attitude: its alignment is the turn of the body frames (up, forward), so a level
-     * source keeps it level. Laying it by its directions tilts it wherever the two bodies are
-     * built differently: a horse's rising tail laid along the Fox's hanging one tilted the horse
-     * 45 degrees, and a fit of all of them still pitched the cat (whose forelegs hang from its
-     * one torso bone, low, where the Fox's shoulders are high) and the horse nose up. */
+     * the body's attitude: its alignment is the body frames' (the identity: the source is read
+     * in the target's frame, body frames aligned), so a level source keeps it level. Laying it by
+     * its directions tilts it wherever the two bodies are built differently: a horse's rising tail
+     * laid along the Fox's hanging one tilted the horse 45 degrees, and a fit of all of them still
+     * pitched the cat (whose forelegs hang from its one torso bone, low, where the Fox's shoulders
+     * are high) and the horse nose up. */
     out->align = mp[j] < 0 && count >= 3 && !keep && !rt->t_degenerate
                      ? ref
                      : rt_align(pairs, count, ref, keep);

@@ -537,10 +537,10 @@ static void turned_alike(const char *rel, const char *map, int32_t first, int32_
         turn_skeleton(turned.skel, turns[i]);
         result r = retarget(&src, &turned, m, &o);
         assert_true(rf_retarget_contacts(r.rt, r.out, solver, &st, err, sizeof err));
-        assert_true(
-            rf_retarget_measure(r.rt, r.out, rf_retarget_start_time(r.rt), &r.rep, err, sizeof err));
-        double apart = turned_apart(tgt.skel, base.out, turned.skel, r.out, axis, turns[i],
-                                    info.leg_target);
+        assert_true(rf_retarget_measure(r.rt, r.out, rf_retarget_start_time(r.rt), &r.rep, err,
+                                        sizeof err));
+        double apart =
+            turned_apart(tgt.skel, base.out, turned.skel, r.out, axis, turns[i], info.leg_target);
         print_message("CMU onto %s turned %g degrees: joints %.3g leg from the unturned run "
                       "turned; fidelity %.4f (%.4f), skate %.4f (%.4f) leg/s, ground %.4f (%.4f) "
                       "leg\n",
