@@ -16,9 +16,9 @@
 #     baseline's plus 5 (the girl 7.35 -> 9.77);
 #   - all three at once: at least as many joints mapped, floor median within 3%.
 # The animalia wolf and cat, long bones split (their one-bone necks become two): at least as
-# many joints mapped as unsplit (wolf 7 -> 8, cat 6 -> 6; 1 of 15 while the split neck's middle joint, mirrored
-# across a front-to-back plane, landed on the tail and that plane outscored the body's own:
-# doc/matching.md, "Symmetry plane").
+# many joints mapped as unsplit (wolf 7 -> 8, cat 6 -> 6; 1 of 15 while the split neck's middle
+# joint, mirrored across a front-to-back plane, landed on the tail and that plane outscored the
+# body's own: doc/matching.md, "Symmetry plane").
 rigflow="${RF_BUILDDIR:-.}/rigflow"
 rerig="${RF_BUILDDIR:-.}/tests/rig/rerig"
 src="${RF_SRCDIR:-.}"
