@@ -2,7 +2,8 @@
  *
  * Up lies in the symmetry plane. Of the four in-plane directions, up is the one the limbs hang
  * away from: weighted by how much of each limb's reach points down and how steadily its chain
- * descends (a wing, a limb ending in a fan of long digits, at half weight), plus a bonus when a
+ * descends (a wing, a limb ending in a fan of long digits, at half weight; a limb short of the
+ * ground by the share of its reach in that plane, hang_share), plus a bonus when a
  * mirrored pair of limbs touches the lowest level (feet on the ground), one for the ground the feet
  * span when the body stands over them, and one for the axis the file declares (RF_FILE_UP_VOTE,
  * deciding close calls). Forward is
