@@ -1159,6 +1159,31 @@ __attribute__((flatten)) static void rt_parts_pose(const rt_parts *c, uint32_t f
     }
 }
 
+/* Turns at most this many times for one part in one frame: each turn puts the point then
+ * deepest on the floor, and another of the part's points may then be the deepest. */
+#define RT_LIFT_ROUNDS 6
+
+/* Lifts part j, its point p under floor_h, by turning its ancestors (rt_lift_joint) until none
+ * of the points rt_part_low weighs is under its floor: one turn puts the deepest point on the
+ * floor and may leave another under it (a wing's membrane lifted by its tip keeps its trailing
+ * edge down). The turns made (local and world posed after them, the clip's rotations written). */
+static uint32_t rt_part_lift(const rt_parts *c, uint32_t f, rf_xform *local, rf_xform *world,
+                             uint32_t j, rf_vec3 p, double floor_h, double clear)
+{
+    const rf_retarget *rt = c->rt;
+    uint32_t turns = 0;
+    while (turns < RT_LIFT_ROUNDS && rf_rt_height(rt->up, p) < floor_h) {
+        int32_t a = rt_lift_joint(rt, local, world, c->holds, j, p, floor_h + c->eps);
+        if (a < 0)
+            break;
+        rt_fk(rt, local, world, c->all);
+        rf_animation_set_rotation(c->anim, f, (uint32_t)a, local[a].r);
+        turns++;
+        p = rt_part_low(rt, world, j, clear, &floor_h);
+    }
+    return turns;
+}
+
 /* One frame of the parts pass, with scratch (local, world, sp, gone) of the caller's and the
  * source's clearance at frames (first + i) * step in clear[i] (rt_parts_clearance). */
 static void rt_parts_frame(const rt_parts *c, uint32_t f, const double *clear_at, uint32_t first,
@@ -1194,12 +1219,8 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, const double *clear_at
             continue;
         if (rt_source_down(rt, sp, c->anim, f, j))
             continue; /* its source touches its own floor: so may it (a hand on all fours) */
-        int32_t a = rt_lift_joint(rt, local, world, c->holds, j, p, floor_h + c->eps);
-        if (a >= 0) {
-            rt_fk(rt, local, world, c->all);
-            rf_animation_set_rotation(c->anim, f, (uint32_t)a, local[a].r);
-            lifted = true, st->turns++;
-        }
+        uint32_t turns = rt_part_lift(c, f, local, world, j, p, floor_h, clear);
+        lifted = lifted || turns, st->turns += turns;
     }
     st->frames += lifted;
     if (lifted && rt->anchored)
