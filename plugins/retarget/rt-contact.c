@@ -1163,23 +1163,32 @@ __attribute__((flatten)) static void rt_parts_pose(const rt_parts *c, uint32_t f
  * deepest on the floor, and another of the part's points may then be the deepest. */
 #define RT_LIFT_ROUNDS 6
 
-/* Lifts part j, its point p under floor_h, by turning its ancestors (rt_lift_joint) until none
- * of the points rt_part_low weighs is under its floor: one turn puts the deepest point on the
- * floor and may leave another under it (a wing's membrane lifted by its tip keeps its trailing
- * edge down). The turns made (local and world posed after them, the clip's rotations written). */
+/* Lifts part j, its point p under floor_h, by turning its ancestors (rt_lift_joint): one turn
+ * puts the deepest point on the floor and may leave another under it (a wing lifted by the tip
+ * of its membrane keeps the membrane's other edge through the floor), so the part is turned
+ * again from its new deepest point. A further turn is kept only where it leaves the part less
+ * deep than before it: turned about another axis, it may put the first point back under. The
+ * turns kept (local and world posed after them, the clip's rotations written). */
 static uint32_t rt_part_lift(const rt_parts *c, uint32_t f, rf_xform *local, rf_xform *world,
                              uint32_t j, rf_vec3 p, double floor_h, double clear)
 {
     const rf_retarget *rt = c->rt;
     uint32_t turns = 0;
-    while (turns < RT_LIFT_ROUNDS && rf_rt_height(rt->up, p) < floor_h) {
+    double depth = floor_h - rf_rt_height(rt->up, p);
+    while (turns < RT_LIFT_ROUNDS && depth > 0) {
         int32_t a = rt_lift_joint(rt, local, world, c->holds, j, p, floor_h + c->eps);
         if (a < 0)
             break;
         rt_fk(rt, local, world, c->all);
-        rf_animation_set_rotation(c->anim, f, (uint32_t)a, local[a].r);
-        turns++;
         p = rt_part_low(rt, world, j, clear, &floor_h);
+        double now = floor_h - rf_rt_height(rt->up, p);
+        if (turns > 0 && !(now < depth)) { /* undone: the clip still holds the last turn kept */
+            local[a].r = rf_quat_normalize(rf_animation_rotation(c->anim, f, (uint32_t)a));
+            rt_fk(rt, local, world, c->all);
+            break;
+        }
+        rf_animation_set_rotation(c->anim, f, (uint32_t)a, local[a].r);
+        turns++, depth = now;
     }
     return turns;
 }
