@@ -964,6 +964,74 @@ static bool neck_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf
     return true;
 }
 
+/* The source head section hanging from the last joint of source section ss, or -1. */
+static int32_t head_on(const rf_analysis *as, uint32_t ss)
+{
+    const uint32_t *js = rf_section_joints(as, ss);
+    int32_t last = as->sections[ss].bone_count ? (int32_t)js[as->sections[ss].bone_count - 1] : -1;
+    for (uint32_t h = 0; last >= 0 && h < as->section_count; h++)
+        if (as->sections[h].type == RF_SECTION_HEAD && as->sections[h].attach_joint == last)
+            return (int32_t)h;
+    return -1;
+}
+
+/* A target without a head (girdle=neck): a curve skeleton of a body whose head is no protrusion
+ * of its own (greenman's blob) ends its spine at the girdle joint, whose bone carries all the
+ * skin above where the limbs leave. Where the source's head chain hangs from its spine's end and
+ * its limbs leave in the second half of the stretch to it (its neck starts at the girdle, as the
+ * rule above reads it), that skin is the source head's first joint's: the target's girdle joint
+ * takes it. The target's girdle is its spine's last joint, not its first (a root's skin reaches
+ * behind it), and its limbs leave in the second half of its last bone's stretch (not far beyond
+ * the joint). */
+static void head_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p)
+{
+    const rf_analysis *at = c->tgt.a;
+    if (!c->o->girdle_neck || c->o->thesis || c->o->keep_duplicates)
+        return;
+    for (uint32_t s = 0; s < at->section_count; s++)
+        if (at->sections[s].type == RF_SECTION_HEAD)
+            return;
+    for (uint32_t ts = 0; ts < at->section_count; ts++) {
+        const rf_section *sec = &at->sections[ts];
+        if (sec->type != RF_SECTION_SPINE || (sec->flags & RF_SECFL_REVERSE) || sec->bone_count < 2)
+            continue;
+        const uint32_t *js = rf_section_joints(at, ts);
+        uint32_t g = js[sec->bone_count - 1];
+        int32_t before = at->joints[g].logical_parent;
+        const rf_ms_candidate *fs = &p->final[js[0]];
+        if (!c->tgt.matchable[g] || before < 0 || fs->source == RF_MS_NO_SOURCE)
+            continue;
+        uint32_t k = fs->source;
+        const rf_analysis *as = c->src[k].a;
+        int32_t ss = as->joints[fs->joint].section;
+        int32_t hs = ss >= 0 && as->sections[ss].type == RF_SECTION_SPINE ? head_on(as, (uint32_t)ss)
+                                                                         : -1;
+        if (hs < 0)
+            continue;
+        uint32_t gk = (uint32_t)as->sections[hs].attach_joint, h0 = rf_section_joints(as, (uint32_t)hs)[0];
+        rf_ms_trunk tt, tsrc;
+        if (!trunk_at(as, gk, h0, &tsrc))
+            continue;
+        /* the target's last spine bone, and where g's limbs leave along it */
+        tt.from = at->joints[before].pos;
+        tt.len = rf_v3_dist(at->joints[g].pos, tt.from);
+        if (!(tt.len > 0))
+            continue;
+        tt.dir = rf_v3_scale(rf_v3_sub(at->joints[g].pos, tt.from), 1 / tt.len);
+        tt.limbs = NAN;
+        for (uint32_t l = 0; l < at->section_count; l++) {
+            if (at->sections[l].attach_joint != (int32_t)g || !is_limb(at, l))
+                continue;
+            double place = rf_v3_dot(rf_v3_sub(at->joints[rf_section_joints(at, l)[0]].pos, tt.from), tt.dir);
+            tt.limbs = isnan(tt.limbs) ? place : fmax(tt.limbs, place);
+        }
+        if (!(tt.limbs >= 0.5 * tt.len) || !(tsrc.limbs >= 0.5 * tsrc.len))
+            continue;
+        p->final[g] = (rf_ms_candidate){k, h0, 0, {0}};
+        p->settled[g] = 3;
+    }
+}
+
 /* Scores of the final choices (continuity with the final parents), then the threshold. */
 static void finalize(const rf_ms_ctx *c, rf_ms_pass *p)
 {
@@ -1002,6 +1070,8 @@ static bool run_pass(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
     if (ok) {
         select_best(c, p, only);
         ok = settle_sections(c, p, &tl, &sl) && neck_at_girdle(c, p, &tl, &sl);
+        if (ok)
+            head_at_girdle(c, p);
         finalize(c, p);
     }
     line_free(&tl);
