@@ -270,6 +270,8 @@ typedef struct rf_ms_line {
     int32_t last;  /* the largest step (line_summary) */
     bool cut;      /* a bone cut in two (has_cut), kept so each pair's cost stays O(1) */
     int32_t first; /* the first real bone's entry, -1 when none (line_summary, turned) */
+    bool cut_end;  /* its last entry ends the section though it is not the section's last
+                    * (spine_before_girdle) */
     int32_t skull; /* in a head, the entry standing for the skull when not its last (skull_at),
                     * else -1 */
 } rf_ms_line;
@@ -413,6 +415,7 @@ static bool has_cut(const rf_analysis *a, const rf_ms_line *l)
 static void line_summary(const rf_analysis *a, rf_ms_line *l)
 {
     l->skull = -1;
+    l->cut_end = false;
     l->last = last_step(l);
     l->cut = has_cut(a, l);
     l->first = -1;
@@ -520,6 +523,8 @@ static void skull_at(const rf_ms_ctx *c, rf_ms_line *tl, uint32_t k, const rf_ms
 static uint8_t end_marks(const rf_ms_skel *s, const rf_ms_line *l, uint32_t i)
 {
     uint8_t e = s->ends[l->joint[i]];
+    if (l->cut_end && i + 1 == l->n)
+        e |= 1;
     if (l->skull < 0)
         return e;
     e &= 2;
@@ -872,6 +877,41 @@ static void line_drop_first(rf_ms_line *l)
     l->n--;
 }
 
+/* Places a spine line so that 1 is where the limbs leave, `limbs` past the pivot of its last
+ * entry (the girdle joint) along the trunk: a line's places run to its girdle joint's pivot,
+ * and an artist's chest joint pivots well below the shoulders (the Wizard's Torso, at the base
+ * of the ribs), a curve skeleton's girdle joint where the arms leave. */
+static void line_to_limbs(const rf_analysis *a, rf_ms_line *l, double limbs)
+{
+    const rf_joint_info *g = &a->joints[l->joint[l->n - 1]];
+    double per = g->length > 0 ? (l->u1[l->n - 1] - l->u0[l->n - 1]) / g->length : 0;
+    double end = l->u0[l->n - 1] + fmax(0, limbs) * per;
+    for (uint32_t i = 0; end > 1e-9 && i < l->n; i++)
+        l->u0[i] /= end, l->u1[i] /= end;
+}
+
+/* After the girdle rule gave the target's girdle joint the source's neck, the rest of the
+ * target's spine is aligned again with the whole of the source's, both placed from where their
+ * limbs leave: the joint before the girdle now ends the target's trunk, and takes the source's
+ * chest where the girdle joint had held it (the Wizard's curve skeleton: its spine's middle
+ * joints took the artist's Hips and Abdomen, lying below them, and the chest, Torso, drove no
+ * joint). */
+static bool spine_before_girdle(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t g, uint32_t k,
+                                uint32_t gk, const rf_ms_trunk *tt, const rf_ms_trunk *ts,
+                                rf_ms_line *tl, rf_ms_line *sl)
+{
+    const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
+    line_section(&c->tgt, (uint32_t)at->joints[g].section, tl);
+    line_section(&c->src[k], (uint32_t)as->joints[gk].section, sl);
+    if (tl->n < 2 || tl->joint[tl->n - 1] != g || sl->n < 1 || sl->joint[sl->n - 1] != gk)
+        return true;
+    line_to_limbs(at, tl, tt->limbs), line_to_limbs(as, sl, ts->limbs);
+    tl->n--;
+    line_summary(at, tl), line_summary(as, sl);
+    tl->cut_end = true;
+    return remove_duplicates(c, p, tl, k, sl);
+}
+
 /* After the head chain's alignment under girdle=neck: its bones whose middle lies past the
  * source's skull pivot (measured as for the girdle joint) are the skull's, the first of them
  * taking it (unless an earlier joint has it) and the rest following. The alignment goes by places
@@ -952,7 +992,12 @@ static bool neck_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf
             continue;
         p->final[g] = (rf_ms_candidate){k, sl->joint[0], 0, {0}};
         p->settled[g] = 3;
-        if (sl->n < 2)
+        uint32_t h0 = sl->joint[0], n0 = sl->n;
+        if (!spine_before_girdle(c, p, (uint32_t)g, k, (uint32_t)gk, &tt, &ts, tl, sl))
+            return false;
+        line_section(&c->tgt, th, tl);
+        line_section(&c->src[k], (uint32_t)hs, sl);
+        if (sl->n != n0 || sl->joint[0] != h0 || n0 < 2)
             continue;
         line_drop_first(sl);
         line_summary(at, tl), line_summary(as, sl);
@@ -1032,6 +1077,20 @@ static void head_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p)
     }
 }
 
+/* Under girdle=neck (the skin's correspondence), a target limb without digits whose last joints
+ * the alignment gave the source's lent main digit (a mitten hand against a fist: the general
+ * rigger's Wizard) keeps it: the skin around it is the source hand's. Not for motion: a human's
+ * finger would curl a quadruped's paw. */
+static bool lent_hand(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t ss)
+{
+    const rf_analysis *as = c->src[k].a;
+    int32_t limb = as->sections[ss].attach_joint >= 0
+                       ? as->joints[as->sections[ss].attach_joint].section
+                       : -1;
+    return c->o->girdle_neck && !c->o->thesis && is_limb(c->tgt.a, ts) &&
+           (as->sections[ss].flags & RF_SECFL_FAN) && limb >= 0 && is_limb(as, (uint32_t)limb);
+}
+
 /* Scores of the final choices (continuity with the final parents), then the threshold. */
 static void finalize(const rf_ms_ctx *c, rf_ms_pass *p)
 {
@@ -1045,7 +1104,8 @@ static void finalize(const rf_ms_ctx *c, rf_ms_pass *p)
             uint32_t k = f->source, ss = (uint32_t)c->src[k].a->joints[f->joint].section;
             rf_ms_section_metrics(c, ts, k, ss, f->metrics);
             /* toes lent to a foot; a girdle joint's neck bone taking the source's neck */
-            if ((p->settled[js[i]] == 2 && is_limb(c->src[k].a, ss)) || p->settled[js[i]] == 3) {
+            if ((p->settled[js[i]] == 2 && is_limb(c->src[k].a, ss)) || p->settled[js[i]] == 3 ||
+                lent_hand(c, ts, k, ss)) {
                 f->metrics[RF_MS_SAME_TYPE] = c->wt.w[RF_MS_SAME_TYPE];
                 f->metrics[RF_MS_SIMILAR_TYPE] = 0;
             }
