@@ -1049,11 +1049,12 @@ static void head_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p)
         uint32_t k = fs->source;
         const rf_analysis *as = c->src[k].a;
         int32_t ss = as->joints[fs->joint].section;
-        int32_t hs = ss >= 0 && as->sections[ss].type == RF_SECTION_SPINE ? head_on(as, (uint32_t)ss)
-                                                                         : -1;
+        int32_t hs =
+            ss >= 0 && as->sections[ss].type == RF_SECTION_SPINE ? head_on(as, (uint32_t)ss) : -1;
         if (hs < 0)
             continue;
-        uint32_t gk = (uint32_t)as->sections[hs].attach_joint, h0 = rf_section_joints(as, (uint32_t)hs)[0];
+        uint32_t gk = (uint32_t)as->sections[hs].attach_joint,
+                 h0 = rf_section_joints(as, (uint32_t)hs)[0];
         rf_ms_trunk tt, tsrc;
         if (!trunk_at(as, gk, h0, &tsrc))
             continue;
@@ -1067,7 +1068,8 @@ static void head_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p)
         for (uint32_t l = 0; l < at->section_count; l++) {
             if (at->sections[l].attach_joint != (int32_t)g || !is_limb(at, l))
                 continue;
-            double place = rf_v3_dot(rf_v3_sub(at->joints[rf_section_joints(at, l)[0]].pos, tt.from), tt.dir);
+            double place =
+                rf_v3_dot(rf_v3_sub(at->joints[rf_section_joints(at, l)[0]].pos, tt.from), tt.dir);
             tt.limbs = isnan(tt.limbs) ? place : fmax(tt.limbs, place);
         }
         if (!(tt.limbs >= 0.5 * tt.len) || !(tsrc.limbs >= 0.5 * tsrc.len))
@@ -1084,9 +1086,8 @@ static void head_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p)
 static bool lent_hand(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t ss)
 {
     const rf_analysis *as = c->src[k].a;
-    int32_t limb = as->sections[ss].attach_joint >= 0
-                       ? as->joints[as->sections[ss].attach_joint].section
-                       : -1;
+    int32_t limb =
+        as->sections[ss].attach_joint >= 0 ? as->joints[as->sections[ss].attach_joint].section : -1;
     return c->o->girdle_neck && !c->o->thesis && is_limb(c->tgt.a, ts) &&
            (as->sections[ss].flags & RF_SECFL_FAN) && limb >= 0 && is_limb(as, (uint32_t)limb);
 }

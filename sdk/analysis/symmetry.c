@@ -282,7 +282,8 @@ static void propose_ends(rf_awork *w, rf_candidates *cs, uint32_t ja, uint32_t j
     int32_t ea = chain_end(w, ja), eb = chain_end(w, jb), p = w->parent[ja];
     if (ea < 0 || eb < 0 || p < 0 || w->parent[jb] != p)
         return;
-    rf_vec3 a = rf_an_pos(w, (uint32_t)ea), b = rf_an_pos(w, (uint32_t)eb), o = rf_an_pos(w, (uint32_t)p);
+    rf_vec3 a = rf_an_pos(w, (uint32_t)ea), b = rf_an_pos(w, (uint32_t)eb),
+            o = rf_an_pos(w, (uint32_t)p);
     double da = rf_v3_dist(a, o), db = rf_v3_dist(b, o);
     if (fabs(da - db) > 0.1 * fmax(da, db) || rf_v3_dist(a, b) <= w->tol)
         return;
