@@ -107,7 +107,8 @@ typedef struct rf_ms_pass {
     rf_ms_candidate *best;  /* [target joint] */
     rf_ms_candidate *final; /* [target joint] */
     uint8_t *settled;       /* [target joint] assigned with its limb (a lent digit; 2: a toe;
-                             * 3: a girdle joint taking a neck, neck_at_girdle) */
+                             * 3: a girdle joint taking a neck, neck_at_girdle; 4: a headless
+                             * trunk's girdle joint taking the head, head_at_girdle) */
     rf_ms_candidate *top;   /* [target joint * 3] or NULL */
     uint8_t *top_count;
     double *sec;       /* section metrics of the current target section against every
@@ -1075,7 +1076,7 @@ static void head_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p)
         if (!(tt.limbs >= 0.5 * tt.len) || !(tsrc.limbs >= 0.5 * tsrc.len))
             continue;
         p->final[g] = (rf_ms_candidate){k, h0, 0, {0}};
-        p->settled[g] = 3;
+        p->settled[g] = 4;
     }
 }
 
@@ -1105,7 +1106,7 @@ static void finalize(const rf_ms_ctx *c, rf_ms_pass *p)
             uint32_t k = f->source, ss = (uint32_t)c->src[k].a->joints[f->joint].section;
             rf_ms_section_metrics(c, ts, k, ss, f->metrics);
             /* toes lent to a foot; a girdle joint's neck bone taking the source's neck */
-            if ((p->settled[js[i]] == 2 && is_limb(c->src[k].a, ss)) || p->settled[js[i]] == 3 ||
+            if ((p->settled[js[i]] == 2 && is_limb(c->src[k].a, ss)) || p->settled[js[i]] >= 3 ||
                 lent_hand(c, ts, k, ss)) {
                 f->metrics[RF_MS_SAME_TYPE] = c->wt.w[RF_MS_SAME_TYPE];
                 f->metrics[RF_MS_SIMILAR_TYPE] = 0;

@@ -416,6 +416,21 @@ static void test_headless_target(void **state)
     assert_driver(m, t, s, "chest", "body_up");
     assert_driver(m, t, s, "r0", "hand_R");
     rf_mapping_free(m);
+    /* --explain says why */
+    rf_ms_explain e = {0};
+    char err[256], *text = NULL;
+    size_t size = 0;
+    const rf_skeleton *src[1] = {s};
+    m = rf_ms_match(t, src, 1, &o, &e, err, sizeof err);
+    assert_non_null(m);
+    FILE *out = open_memstream(&text, &size);
+    rf_ms_explain_print(&e, m, t, src, out);
+    fclose(out);
+    assert_non_null(strstr(text, "chest (center spine) <- 0:body_up"));
+    assert_non_null(strstr(text, "ending a trunk without a head takes the source's head"));
+    free(text);
+    rf_ms_explain_clear(&e);
+    rf_mapping_free(m);
     o.girdle_neck = false;
     m = match1(t, s, &o);
     assert_driver(m, t, s, "root", "body_low");
