@@ -544,11 +544,20 @@ static int32_t twin_of(const rf_awork *w, const rf_grid *g, uint32_t j, double t
 static uint8_t *twins(const rf_awork *w, const rf_grid *g, double tiny)
 {
     uint8_t *twin = calloc(w->n ? w->n : 1, 1);
-    for (uint32_t i = 0; twin && g && i < w->order_count; i++) {
-        uint32_t j = w->order[i];
-        int32_t m = twin_of(w, g, j, tiny);
-        twin[j] = m >= 0 && twin_of(w, g, (uint32_t)m, tiny) == (int32_t)j;
+    int32_t *near = malloc((size_t)(w->n ? w->n : 1) * sizeof *near);
+    if (!twin || !near) {
+        free(near);
+        return twin;
     }
+    for (uint32_t j = 0; j < w->n; j++)
+        near[j] = RF_NONE;
+    for (uint32_t i = 0; g && i < w->order_count; i++)
+        near[w->order[i]] = twin_of(w, g, w->order[i], tiny);
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        twin[j] = near[j] >= 0 && near[near[j]] == (int32_t)j;
+    }
+    free(near);
     return twin;
 }
 
