@@ -1027,8 +1027,8 @@ static int32_t head_on(const rf_analysis *as, uint32_t ss)
  * its limbs leave in the second half of the stretch to it (its neck starts at the girdle, as the
  * rule above reads it), that skin is the source head's first joint's: the target's girdle joint
  * takes it. The target's girdle is its spine's last joint, not its first (a root's skin reaches
- * behind it), and its limbs leave in the second half of its last bone's stretch (not far beyond
- * the joint). */
+ * behind it), and its limbs leave at it: in the second half of the last bone's stretch, or past
+ * it, not halfway up the trunk. */
 static void head_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p)
 {
     const rf_analysis *at = c->tgt.a;
