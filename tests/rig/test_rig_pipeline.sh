@@ -201,7 +201,11 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # body's middle). Huesitos, a bent tube standing on one free end, is rooted at that end, its
 # lowest joint, as its artist roots it (0.003 of the longest edge above the artist's lowest
 # joint); rooted at its fork, its stem hung down as an appendage and took the artist's upper
-# branch: skinning precision after the matcher 57% (29%).
+# branch: skinning precision after the matcher 57% (29%); 69% since the analysis's root chain
+# stops where nothing under it reaches the ground (doc/matching.md, the tenth round). Greenman's
+# curve skeleton, whose left arm leaves the chest by a detour up the body, is read with a pair of
+# arms, its root as body and its chest taking the artist's head: after the matcher 55% / 52%
+# (35% / 15% with no sides read and the root a placement helper).
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
     "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
@@ -209,6 +213,7 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 cat "$tmp/sbench.csv"
 awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                      else { n++; cd[$c["model"]] = $c["cd_j2j"]; p[$c["model"]] = $c["precision"]
+                            r[$c["model"]] = $c["recall"]
                             gp[$c["model"]] = $c["given_precision"]
                             gr[$c["model"]] = $c["given_recall"]; gl[$c["model"]] = $c["given_l1"]
                             uw += $c["unweighted"] }; next }
@@ -232,7 +237,9 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                 gp["\"BCN_Epileptic.X\""] ", recall " gr["\"BCN_Epileptic.X\""] ", L1 " gl["\"BCN_Epileptic.X\""]
         if (!(cd["\"animalia_bull_frog.b3d\""] < 0.14)) print "FAIL: bull frog cd_j2j " cd["\"animalia_bull_frog.b3d\""]
         if (!(cd["\"huesitos.fbx\""] < 0.065)) print "FAIL: huesitos cd_j2j " cd["\"huesitos.fbx\""]
-        if (!(p["\"huesitos.fbx\""] >= 0.5)) print "FAIL: huesitos precision " p["\"huesitos.fbx\""]
+        if (!(p["\"huesitos.fbx\""] >= 0.62)) print "FAIL: huesitos precision " p["\"huesitos.fbx\""]
+        if (!(p["\"greenman.glb\""] >= 0.5 && r["\"greenman.glb\""] >= 0.45))
+            print "FAIL: greenman after the matcher: precision " p["\"greenman.glb\""] ", recall " r["\"greenman.glb\""]
         if (!(hy != "" && hy == ylow["rigger"] && hy - ylow["artist"] < 0.02))
             print "FAIL: huesitos: its root at y " hy ", its lowest joint " ylow["rigger"] \
                 ", the artist rig lowest " ylow["artist"]
