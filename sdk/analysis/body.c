@@ -58,6 +58,7 @@ static void root_chain(rf_awork *w, uint32_t root)
 {
     rf_analysis *a = w->a;
     uint32_t r = root, steps = 0;
+    bool ground = false; /* the chain has passed an unweighted joint */
     for (;;) {
         int32_t b = largest_child(w, r);
         if (b < 0)
@@ -74,10 +75,10 @@ static void root_chain(rf_awork *w, uint32_t root)
                    rf_v3_dist(rf_an_pos(w, r), rf_an_pos(w, (uint32_t)b)) > 0.5 * w->sub_len[b];
         /* a ground root stands among the feet: a root far below all the body under it is
          * that body's bottom (a curve skeleton rooted in greenman's belly, no legs; huesitos'
-         * stem). Not for a root the skin says is no body (an artist's unweighted ground roots,
-         * whose reading, facing included, is left as it was) */
-        low = low && ((w->weights_known && !w->weighted[r]) ||
-                      descendants_low(w, r) <= a->ground + 0.15 * a->height);
+         * stem). Not once the chain has passed a joint the skin says is no body: an artist's
+         * unweighted ground roots, whose chain reads as it did (facing included) */
+        ground |= w->weights_known && !w->weighted[r];
+        low = low && (ground || descendants_low(w, r) <= a->ground + 0.15 * a->height);
         if (!small || !(low || far))
             break;
         r = (uint32_t)b, steps++;
