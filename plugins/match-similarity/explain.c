@@ -46,6 +46,12 @@ static void print_why(const rf_ms_explain *e, const rf_map_entry *en,
               out);
         return;
     }
+    if (in && e->settled && e->settled[j] == 4) {
+        fputs("the girdle joint ending a trunk without a head takes the source's head "
+              "(girdle=neck)\n",
+              out);
+        return;
+    }
     if (n == 0) {
         fputs(in ? "placed by the section alignment\n" : "no candidate of a kind that may match\n",
               out);

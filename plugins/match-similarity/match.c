@@ -107,7 +107,8 @@ typedef struct rf_ms_pass {
     rf_ms_candidate *best;  /* [target joint] */
     rf_ms_candidate *final; /* [target joint] */
     uint8_t *settled;       /* [target joint] assigned with its limb (a lent digit; 2: a toe;
-                             * 3: a girdle joint taking a neck, neck_at_girdle) */
+                             * 3: a girdle joint taking a neck, neck_at_girdle; 4: a headless
+                             * trunk's girdle joint taking the head, head_at_girdle) */
     rf_ms_candidate *top;   /* [target joint * 3] or NULL */
     uint8_t *top_count;
     double *sec;       /* section metrics of the current target section against every
@@ -270,6 +271,8 @@ typedef struct rf_ms_line {
     int32_t last;  /* the largest step (line_summary) */
     bool cut;      /* a bone cut in two (has_cut), kept so each pair's cost stays O(1) */
     int32_t first; /* the first real bone's entry, -1 when none (line_summary, turned) */
+    bool cut_end;  /* its last entry ends the section though it is not the section's last
+                    * (spine_before_girdle) */
     int32_t skull; /* in a head, the entry standing for the skull when not its last (skull_at),
                     * else -1 */
 } rf_ms_line;
@@ -413,6 +416,7 @@ static bool has_cut(const rf_analysis *a, const rf_ms_line *l)
 static void line_summary(const rf_analysis *a, rf_ms_line *l)
 {
     l->skull = -1;
+    l->cut_end = false;
     l->last = last_step(l);
     l->cut = has_cut(a, l);
     l->first = -1;
@@ -520,6 +524,8 @@ static void skull_at(const rf_ms_ctx *c, rf_ms_line *tl, uint32_t k, const rf_ms
 static uint8_t end_marks(const rf_ms_skel *s, const rf_ms_line *l, uint32_t i)
 {
     uint8_t e = s->ends[l->joint[i]];
+    if (l->cut_end && i + 1 == l->n)
+        e |= 1;
     if (l->skull < 0)
         return e;
     e &= 2;
@@ -872,6 +878,41 @@ static void line_drop_first(rf_ms_line *l)
     l->n--;
 }
 
+/* Places a spine line so that 1 is where the limbs leave, `limbs` past the pivot of its last
+ * entry (the girdle joint) along the trunk: a line's places run to its girdle joint's pivot,
+ * and an artist's chest joint pivots well below the shoulders (the Wizard's Torso, at the base
+ * of the ribs), a curve skeleton's girdle joint where the arms leave. */
+static void line_to_limbs(const rf_analysis *a, rf_ms_line *l, double limbs)
+{
+    const rf_joint_info *g = &a->joints[l->joint[l->n - 1]];
+    double per = g->length > 0 ? (l->u1[l->n - 1] - l->u0[l->n - 1]) / g->length : 0;
+    double end = l->u0[l->n - 1] + fmax(0, limbs) * per;
+    for (uint32_t i = 0; end > 1e-9 && i < l->n; i++)
+        l->u0[i] /= end, l->u1[i] /= end;
+}
+
+/* After the girdle rule gave the target's girdle joint the source's neck, the rest of the
+ * target's spine is aligned again with the whole of the source's, both placed from where their
+ * limbs leave: the joint before the girdle now ends the target's trunk, and takes the source's
+ * chest where the girdle joint had held it (the Wizard's curve skeleton: its spine's middle
+ * joints took the artist's Hips and Abdomen, lying below them, and the chest, Torso, drove no
+ * joint). */
+static bool spine_before_girdle(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t g, uint32_t k,
+                                uint32_t gk, const rf_ms_trunk *tt, const rf_ms_trunk *ts,
+                                rf_ms_line *tl, rf_ms_line *sl)
+{
+    const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
+    line_section(&c->tgt, (uint32_t)at->joints[g].section, tl);
+    line_section(&c->src[k], (uint32_t)as->joints[gk].section, sl);
+    if (tl->n < 2 || tl->joint[tl->n - 1] != g || sl->n < 1 || sl->joint[sl->n - 1] != gk)
+        return true;
+    line_to_limbs(at, tl, tt->limbs), line_to_limbs(as, sl, ts->limbs);
+    tl->n--;
+    line_summary(at, tl), line_summary(as, sl);
+    tl->cut_end = true;
+    return remove_duplicates(c, p, tl, k, sl);
+}
+
 /* After the head chain's alignment under girdle=neck: its bones whose middle lies past the
  * source's skull pivot (measured as for the girdle joint) are the skull's, the first of them
  * taking it (unless an earlier joint has it) and the rest following. The alignment goes by places
@@ -952,7 +993,12 @@ static bool neck_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf
             continue;
         p->final[g] = (rf_ms_candidate){k, sl->joint[0], 0, {0}};
         p->settled[g] = 3;
-        if (sl->n < 2)
+        uint32_t h0 = sl->joint[0], n0 = sl->n;
+        if (!spine_before_girdle(c, p, (uint32_t)g, k, (uint32_t)gk, &tt, &ts, tl, sl))
+            return false;
+        line_section(&c->tgt, th, tl);
+        line_section(&c->src[k], (uint32_t)hs, sl);
+        if (sl->n != n0 || sl->joint[0] != h0 || n0 < 2)
             continue;
         line_drop_first(sl);
         line_summary(at, tl), line_summary(as, sl);
@@ -962,6 +1008,89 @@ static bool neck_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf
         skull_past(c, p, tl, k, sl, &tt, &ts);
     }
     return true;
+}
+
+/* The source head section hanging from the last joint of source section ss, or -1. */
+static int32_t head_on(const rf_analysis *as, uint32_t ss)
+{
+    const uint32_t *js = rf_section_joints(as, ss);
+    int32_t last = as->sections[ss].bone_count ? (int32_t)js[as->sections[ss].bone_count - 1] : -1;
+    for (uint32_t h = 0; last >= 0 && h < as->section_count; h++)
+        if (as->sections[h].type == RF_SECTION_HEAD && as->sections[h].attach_joint == last)
+            return (int32_t)h;
+    return -1;
+}
+
+/* A target without a head (girdle=neck): a curve skeleton of a body whose head is no protrusion
+ * of its own (greenman's blob) ends its spine at the girdle joint, whose bone carries all the
+ * skin above where the limbs leave. Where the source's head chain hangs from its spine's end and
+ * its limbs leave in the second half of the stretch to it (its neck starts at the girdle, as the
+ * rule above reads it), that skin is the source head's first joint's: the target's girdle joint
+ * takes it. The target's girdle is its spine's last joint, not its first (a root's skin reaches
+ * behind it), and its limbs leave at it: in the second half of the last bone's stretch, or past
+ * it, not halfway up the trunk. */
+static void head_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p)
+{
+    const rf_analysis *at = c->tgt.a;
+    if (!c->o->girdle_neck || c->o->thesis || c->o->keep_duplicates)
+        return;
+    for (uint32_t s = 0; s < at->section_count; s++)
+        if (at->sections[s].type == RF_SECTION_HEAD)
+            return;
+    for (uint32_t ts = 0; ts < at->section_count; ts++) {
+        const rf_section *sec = &at->sections[ts];
+        if (sec->type != RF_SECTION_SPINE || (sec->flags & RF_SECFL_REVERSE) || sec->bone_count < 2)
+            continue;
+        const uint32_t *js = rf_section_joints(at, ts);
+        uint32_t g = js[sec->bone_count - 1];
+        int32_t before = at->joints[g].logical_parent;
+        const rf_ms_candidate *fs = &p->final[js[0]];
+        if (!c->tgt.matchable[g] || before < 0 || fs->source == RF_MS_NO_SOURCE)
+            continue;
+        uint32_t k = fs->source;
+        const rf_analysis *as = c->src[k].a;
+        int32_t ss = as->joints[fs->joint].section;
+        int32_t hs =
+            ss >= 0 && as->sections[ss].type == RF_SECTION_SPINE ? head_on(as, (uint32_t)ss) : -1;
+        if (hs < 0)
+            continue;
+        uint32_t gk = (uint32_t)as->sections[hs].attach_joint,
+                 h0 = rf_section_joints(as, (uint32_t)hs)[0];
+        rf_ms_trunk tt, tsrc;
+        if (!trunk_at(as, gk, h0, &tsrc))
+            continue;
+        /* the target's last spine bone, and where g's limbs leave along it */
+        tt.from = at->joints[before].pos;
+        tt.len = rf_v3_dist(at->joints[g].pos, tt.from);
+        if (!(tt.len > 0))
+            continue;
+        tt.dir = rf_v3_scale(rf_v3_sub(at->joints[g].pos, tt.from), 1 / tt.len);
+        tt.limbs = NAN;
+        for (uint32_t l = 0; l < at->section_count; l++) {
+            if (at->sections[l].attach_joint != (int32_t)g || !is_limb(at, l))
+                continue;
+            double place =
+                rf_v3_dot(rf_v3_sub(at->joints[rf_section_joints(at, l)[0]].pos, tt.from), tt.dir);
+            tt.limbs = isnan(tt.limbs) ? place : fmax(tt.limbs, place);
+        }
+        if (!(tt.limbs >= 0.5 * tt.len) || !(tsrc.limbs >= 0.5 * tsrc.len))
+            continue;
+        p->final[g] = (rf_ms_candidate){k, h0, 0, {0}};
+        p->settled[g] = 4;
+    }
+}
+
+/* Under girdle=neck (the skin's correspondence), a target limb without digits whose last joints
+ * the alignment gave the source's lent main digit (a mitten hand against a fist: the general
+ * rigger's Wizard) keeps it: the skin around it is the source hand's. Not for motion: a human's
+ * finger would curl a quadruped's paw. */
+static bool lent_hand(const rf_ms_ctx *c, uint32_t ts, uint32_t k, uint32_t ss)
+{
+    const rf_analysis *as = c->src[k].a;
+    int32_t limb =
+        as->sections[ss].attach_joint >= 0 ? as->joints[as->sections[ss].attach_joint].section : -1;
+    return c->o->girdle_neck && !c->o->thesis && is_limb(c->tgt.a, ts) &&
+           (as->sections[ss].flags & RF_SECFL_FAN) && limb >= 0 && is_limb(as, (uint32_t)limb);
 }
 
 /* Scores of the final choices (continuity with the final parents), then the threshold. */
@@ -977,7 +1106,8 @@ static void finalize(const rf_ms_ctx *c, rf_ms_pass *p)
             uint32_t k = f->source, ss = (uint32_t)c->src[k].a->joints[f->joint].section;
             rf_ms_section_metrics(c, ts, k, ss, f->metrics);
             /* toes lent to a foot; a girdle joint's neck bone taking the source's neck */
-            if ((p->settled[js[i]] == 2 && is_limb(c->src[k].a, ss)) || p->settled[js[i]] == 3) {
+            if ((p->settled[js[i]] == 2 && is_limb(c->src[k].a, ss)) || p->settled[js[i]] >= 3 ||
+                lent_hand(c, ts, k, ss)) {
                 f->metrics[RF_MS_SAME_TYPE] = c->wt.w[RF_MS_SAME_TYPE];
                 f->metrics[RF_MS_SIMILAR_TYPE] = 0;
             }
@@ -1002,6 +1132,8 @@ static bool run_pass(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
     if (ok) {
         select_best(c, p, only);
         ok = settle_sections(c, p, &tl, &sl) && neck_at_girdle(c, p, &tl, &sl);
+        if (ok)
+            head_at_girdle(c, p);
         finalize(c, p);
     }
     line_free(&tl);

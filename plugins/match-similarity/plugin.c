@@ -404,7 +404,9 @@ static const rf_param_desc params[] = {
       "A girdle joint whose limbs leave at its pivot and whose bone runs on past the source's "
       "neck pivot (a curve skeleton's): chest drives it by the source's chest, the joint carrying "
       "the limbs (for motion); neck by the source's first neck joint, where its bone and skin lie "
-      "(correspondence: rig-bench's skinning)."),
+      "(correspondence: rig-bench's skinning), with the rest of the spine aligned again below "
+      "it, a trunk without a head giving its girdle joint the source's head, and a limb without "
+      "digits keeping the source's fist."),
     P("reverse", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
       "Flag joints whose chain bends the other way than their source's (knees) as reversed."),
     P("blend", RF_PARAM_BOOL, 0, 0, NULL, 0, 0, NULL,

@@ -70,9 +70,12 @@ typedef struct rf_ms_options {
     rf_analysis_options source_analysis;
     bool forelegs_arms; /* forelegs on the floor keep the source's arms (homology) even when every
                          * source walks on two legs; false: the gait rule (gait.c) */
-    bool girdle_neck;   /* a girdle joint whose bone runs past the source's neck pivot takes the
-                         * source's neck (where its skin lies), not its chest (match.c,
-                         * neck_at_girdle) */
+    bool girdle_neck;   /* correspondence, not motion: a girdle joint whose bone runs past the
+                         * source's neck pivot takes the source's neck (where its skin lies), not
+                         * its chest, and the spine before it the rest of the source's trunk
+                         * (match.c, neck_at_girdle); a headless trunk's girdle joint takes the
+                         * source's head (head_at_girdle); a limb without digits keeps the
+                         * source's fist (lent_hand) */
 } rf_ms_options;
 
 /* One scored candidate. */
@@ -94,7 +97,8 @@ typedef struct rf_ms_explain {
     double threshold;     /* the score a match needed */
     uint32_t gait_legs;   /* forelegs driven by the sources' legs half a cycle later (gait.c) */
     uint8_t *settled;     /* [joint_count] how a joint was assigned apart from its own section
-                           * (3: a girdle joint that took a neck, girdle=neck), or NULL */
+                           * (3: a girdle joint that took a neck, girdle=neck; 4: a headless
+                           * trunk's girdle joint that took the head), or NULL */
 } rf_ms_explain;
 
 /* Maps the target's joints onto the sources'. Returns NULL with a message in err when out of

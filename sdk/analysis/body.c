@@ -31,6 +31,26 @@ static int32_t largest_child(const rf_awork *w, uint32_t j)
     return best;
 }
 
+/* The lowest height of the pivots and tips of j's descendants. */
+static double descendants_low(const rf_awork *w, uint32_t j)
+{
+    double lo = INFINITY;
+    uint32_t *stack = malloc((size_t)(w->n ? w->n : 1) * sizeof *stack), top = 0;
+    if (!stack)
+        return -INFINITY; /* out of memory: as low as anything, the rule as before */
+    for (uint32_t c = w->child_off[j]; c < w->child_off[j + 1]; c++)
+        stack[top++] = w->child_idx[c];
+    while (top > 0) {
+        uint32_t k = stack[--top];
+        const rf_joint_info *ji = &w->a->joints[k];
+        lo = fmin(lo, fmin(rf_an_height(w, ji->pos), rf_an_height(w, ji->tip)));
+        for (uint32_t c = w->child_off[k]; c < w->child_off[k + 1]; c++)
+            stack[top++] = w->child_idx[c];
+    }
+    free(stack);
+    return lo;
+}
+
 /* A root-chain joint sits low (at the ground) or far from the body, with its body in one child
  * and at most small parts (IK feet) beside it. The chain only counts if it leads to a branching
  * body. */
@@ -38,6 +58,7 @@ static void root_chain(rf_awork *w, uint32_t root)
 {
     rf_analysis *a = w->a;
     uint32_t r = root, steps = 0;
+    bool ground = false; /* the chain has passed an unweighted joint */
     for (;;) {
         int32_t b = largest_child(w, r);
         if (b < 0)
@@ -52,6 +73,12 @@ static void root_chain(rf_awork *w, uint32_t root)
          * leave the body metres from the origin's root */
         bool far = rf_an_child_count(w, r) == 1 &&
                    rf_v3_dist(rf_an_pos(w, r), rf_an_pos(w, (uint32_t)b)) > 0.5 * w->sub_len[b];
+        /* a ground root stands among the feet: a root far below all the body under it is
+         * that body's bottom (a curve skeleton rooted in greenman's belly, no legs; huesitos'
+         * stem). Not once the chain has passed a joint the skin says is no body: an artist's
+         * unweighted ground roots, whose chain reads as it did (facing included) */
+        ground |= w->weights_known && !w->weighted[r];
+        low = low && (ground || descendants_low(w, r) <= a->ground + 0.15 * a->height);
         if (!small || !(low || far))
             break;
         r = (uint32_t)b, steps++;

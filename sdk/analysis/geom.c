@@ -525,6 +525,24 @@ static bool outside(rf_vec3 p, rf_vec3 lo, rf_vec3 hi)
     return rf_v3_dist(p, q) > 0.1 * rf_v3_dist(lo, hi);
 }
 
+/* Whether p lies under the box lo..hi along the up the file declares (or the caller forced),
+ * within its extent across that up: the bottom of a body without legs (a curve skeleton rooted
+ * in greenman's belly, its first bone rising to the arms), or a ground root (the root chain's,
+ * body.c), not a placement beside the body. */
+static bool under(const rf_awork *w, rf_vec3 p, rf_vec3 lo, rf_vec3 hi)
+{
+    rf_vec3 up = w->opt.up;
+    if (!(rf_v3_isfinite(up) && rf_v3_len2(up) > 1e-24) && !w->opt.ignore_file_axes)
+        up = w->skel->up;
+    if (!(rf_v3_isfinite(up) && rf_v3_len2(up) > 1e-24))
+        return false;
+    up = rf_v3_normalize(up);
+    rf_vec3 mid = rf_v3_scale(rf_v3_add(lo, hi), 0.5);
+    double rise = rf_v3_dot(rf_v3_sub(mid, p), up);
+    /* raised to the box's middle, it falls inside the box */
+    return rise > 0 && !outside(rf_v3_add(p, rf_v3_scale(up, rise)), lo, hi);
+}
+
 /* Roots placed away from their body: a root with one branching child, outside the box of the
  * child's subtree (a clip's frame may put the body metres from the origin). Helpers; the size
  * and tolerances are measured without them. */
@@ -546,7 +564,8 @@ static void placements(rf_awork *w)
         if (w->file_parent[r] >= 0 || rf_an_child_count(w, r) != 1 || w->helper[r])
             continue;
         uint32_t c = w->child_idx[w->child_off[r]];
-        if (rf_an_child_count(w, c) >= 2 && outside(rf_an_pos(w, r), lo[c], hi[c])) {
+        if (rf_an_child_count(w, c) >= 2 && outside(rf_an_pos(w, r), lo[c], hi[c]) &&
+            !under(w, rf_an_pos(w, r), lo[c], hi[c])) {
             w->helper[r] = 1, any = true;
             w->a->joints[r].flags |= RF_JI_PLACEMENT;
             w->parent[c] = RF_NONE; /* the body's root, measured from its own pivot */

@@ -259,6 +259,38 @@ static rf_vec3 centroid(const rf_awork *w, uint32_t j)
     return rf_v3_scale(w->sub_sum[j], 1.0 / w->sub_count[j]);
 }
 
+/* The last joint of the chain starting at j, or -1 when the subtree branches. */
+static int32_t chain_end(const rf_awork *w, uint32_t j)
+{
+    for (uint32_t steps = w->sub_count[j]; steps-- > 0;) {
+        uint32_t k0 = w->child_off[j], k1 = w->child_off[j + 1];
+        if (k1 == k0)
+            return (int32_t)j;
+        if (k1 - k0 > 1)
+            return RF_NONE;
+        j = w->child_idx[k0];
+    }
+    return RF_NONE;
+}
+
+/* Two sibling chains whose lengths differ, but whose ends lie as far from the joint they leave
+ * (within a tenth): a curve skeleton's arms, one reaching the shoulder straight from the chest,
+ * the other by a detour up the body (greenman's). Their centroids say little of a plane; their
+ * ends, the hands, do. */
+static void propose_ends(rf_awork *w, rf_candidates *cs, uint32_t ja, uint32_t jb)
+{
+    int32_t ea = chain_end(w, ja), eb = chain_end(w, jb), p = w->parent[ja];
+    if (ea < 0 || eb < 0 || p < 0 || w->parent[jb] != p)
+        return;
+    rf_vec3 a = rf_an_pos(w, (uint32_t)ea), b = rf_an_pos(w, (uint32_t)eb),
+            o = rf_an_pos(w, (uint32_t)p);
+    double da = rf_v3_dist(a, o), db = rf_v3_dist(b, o);
+    if (fabs(da - db) > 0.1 * fmax(da, db) || rf_v3_dist(a, b) <= w->tol)
+        return;
+    propose(cs, rf_v3_sub(a, b), rf_v3_scale(rf_v3_add(a, b), 0.5),
+            w->sub_count[ja] + w->sub_count[jb]);
+}
+
 /* Pairs of siblings with equal topology and similar length propose the plane between them. */
 static void propose_siblings(rf_awork *w, rf_candidates *cs, rf_hashed *kids, uint32_t k)
 {
@@ -268,8 +300,10 @@ static void propose_siblings(rf_awork *w, rf_candidates *cs, rf_hashed *kids, ui
         for (uint32_t b = a + 1; b < k && b < a + 8 && kids[b].hash == kids[a].hash; b++) {
             uint32_t ja = kids[a].joint, jb = kids[b].joint;
             double la = w->sub_len[ja], lb = w->sub_len[jb];
-            if (fabs(la - lb) > 0.25 * fmax(la, lb) + w->eps)
+            if (fabs(la - lb) > 0.25 * fmax(la, lb) + w->eps) {
+                propose_ends(w, cs, ja, jb);
                 continue;
+            }
             rf_vec3 ca = centroid(w, ja), cb = centroid(w, jb);
             if (rf_v3_dist(ca, cb) <= 0.25 * w->tol)
                 continue;
@@ -541,16 +575,36 @@ void rf_an_recentre(rf_awork *w)
  * twin across the plane (eyes close to the plane are a pair, not the centerline). */
 /* Per joint off the plane by more than `tiny`: whether a joint lies near its reflection on the
  * other side (its twin). One query per joint, shared by the tests below. */
+static int32_t twin_of(const rf_awork *w, const rf_grid *g, uint32_t j, double tiny)
+{
+    rf_vec3 q = rf_an_pos(w, j);
+    double d = rf_an_plane_dist(w, q);
+    if (fabs(d) <= tiny)
+        return RF_NONE;
+    return grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), j, d > 0 ? -1 : 1);
+}
+
+/* Twins are mutual: each the nearest to the other's reflection. Where one side's chain has a
+ * joint more than the other's (a curve skeleton's arms of 4 and 5 joints, a hair apart), the
+ * joint left over finds a twin that has one already, and would weigh its side in the centring
+ * (balanced_offset) alone. */
 static uint8_t *twins(const rf_awork *w, const rf_grid *g, double tiny)
 {
     uint8_t *twin = calloc(w->n ? w->n : 1, 1);
-    for (uint32_t i = 0; twin && g && i < w->order_count; i++) {
-        uint32_t j = w->order[i];
-        rf_vec3 q = rf_an_pos(w, j);
-        double d = rf_an_plane_dist(w, q);
-        twin[j] = fabs(d) > tiny && grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)),
-                                                 j, d > 0 ? -1 : 1) >= 0;
+    int32_t *near = malloc((size_t)(w->n ? w->n : 1) * sizeof *near);
+    if (!twin || !near) {
+        free(near);
+        return twin;
     }
+    for (uint32_t j = 0; j < w->n; j++)
+        near[j] = RF_NONE;
+    for (uint32_t i = 0; g && i < w->order_count; i++)
+        near[w->order[i]] = twin_of(w, g, w->order[i], tiny);
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        twin[j] = near[j] >= 0 && near[near[j]] == (int32_t)j;
+    }
+    free(near);
     return twin;
 }
 

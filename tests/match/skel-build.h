@@ -131,6 +131,19 @@ static const sb_joint sb_quadruped[] = {
     {".", "hr4", 0.15, 0.0, 0.44, 0},
 };
 
+/* The general rigger's curve skeleton of greenman (a blob body with two stubby arms and no legs
+ * or head of its own; positions as the rigger placed them, +Y up, facing +Z, left +X): the root
+ * at the bottom of the belly, the chest above it, the right arm straight out from the chest, the
+ * left one by a detour up the body first, so the arms' chains are the same length in joints but
+ * not in bones, and their hands a hair apart in height. */
+static const sb_joint sb_blob_rig[] = {
+    {"root", NULL, -0.0567, 0.2977, 0.0141, 0},  {"chest", "root", -0.0567, 0.8367, 0.0141, 0},
+    {"l0", "chest", 0.3351, 1.0910, -0.0031, 0}, {"l1", "l0", 0.3190, 1.1220, -0.0017, 0},
+    {"l2", "l1", 0.9649, 0.8326, 0.0134, 0},     {"l3", "l2", 1.0224, 0.8132, 0.0124, 0},
+    {"r0", "chest", -0.9649, 0.7804, 0.0134, 0}, {"r1", "r0", -1.0224, 0.7621, 0.0124, 0},
+    {"r2", "r1", -1.0794, 0.7471, 0.0117, 0},    {"r3", "r2", -1.1340, 0.7294, 0.0102, 0},
+};
+
 #define SB_COUNT(a) (sizeof(a) / sizeof((a)[0]))
 
 #endif

@@ -985,6 +985,37 @@ static void test_placement_root_off_plane(void **state)
     rf_skeleton_free(s);
 }
 
+/* The general rigger's curve skeleton of greenman (sb_blob_rig). The root is body (not a placement:
+ * it lies under the body, along the declared up; not a ground root: nothing under it reaches the
+ * ground), the chest on the centerline, the arms a left and a right arm mirroring each other;
+ * turned about up with the declared forward. Before, no plane was proposed (the chains' centroids
+ * are no mirror images), every joint read as centerline and the root as a placement helper. */
+static void test_blob_uneven_arms(void **state)
+{
+    (void)state;
+    const double yaws[] = {0, 30, 137, -61};
+    for (size_t i = 0; i < SB_COUNT(yaws); i++) {
+        rf_quat r = rf_quat_from_axis_angle(rf_v3(0, 1, 0), yaws[i] * RF_PI / 180);
+        rf_skeleton *s = sb_build_xf(sb_blob_rig, SB_COUNT(sb_blob_rig), r, 1.0, rf_v3(0, 0, 0));
+        s->up = rf_v3(0, 1, 0), s->forward = rf_quat_rotate(r, rf_v3(0, 0, 1));
+        rf_analysis *a = rf_analyze(s, NULL);
+        check_consistent(a);
+        assert_near_dir(a->left, rf_quat_rotate(r, rf_v3(1, 0, 0)));
+        assert_int_equal(section_of(a, s, "root")->type, RF_SECTION_SPINE);
+        const rf_section *chest = section_of(a, s, "chest");
+        assert_int_equal(chest->type, RF_SECTION_SPINE);
+        assert_int_equal(chest->side, RF_SIDE_CENTER);
+        const rf_section *l = section_of(a, s, "l2"), *rt = section_of(a, s, "r2");
+        assert_int_equal(l->type, RF_SECTION_ARM);
+        assert_int_equal(l->side, RF_SIDE_LEFT);
+        assert_int_equal(rt->type, RF_SECTION_ARM);
+        assert_int_equal(rt->side, RF_SIDE_RIGHT);
+        assert_ptr_equal(&a->sections[l->mirror], rt);
+        rf_analysis_free(a);
+        rf_skeleton_free(s);
+    }
+}
+
 /* A head whose chain leans a little to one side (a curve skeleton through a box head): all of
  * the neck's descendants lie on one side of the plane, as a hip offset's leg does, but nothing
  * mirrors them: the neck and head stay on the centerline, not an unpaired arm. */
@@ -1212,6 +1243,7 @@ int main(void)
         cmocka_unit_test(test_staff_in_one_hand),
         cmocka_unit_test(test_placement_root_off_plane),
         cmocka_unit_test(test_head_leaning),
+        cmocka_unit_test(test_blob_uneven_arms),
         cmocka_unit_test(test_staff_laid_out),
         cmocka_unit_test(test_quadruped_ears),
     };

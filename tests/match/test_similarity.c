@@ -382,6 +382,179 @@ static const sb_joint artist_quadruped[] = {
     {".", "hr3", 0.15, 0.0, 0.44, 0},
 };
 
+/* A target without a head (girdle=neck): greenman's curve skeleton (sb_blob_rig: root, a chest
+ * carrying both arms, no head) against an artist's rig of such a blob (the pelvis joint carrying
+ * the arms, the legs and a one-joint head pivoting where the arms leave, whose skin is the whole
+ * top of the body): the chest takes the head; not by default, where it is left to the root's
+ * pelvis; not where the source has a chest joint of its own carrying the arms (the chest takes
+ * it). */
+static const sb_joint blob_artist[] = {
+    {"body_low", NULL, 0, 0.45, 0, 0},        {"body_up", "body_low", 0, 0.84, 0, 0},
+    {".", "body_up", 0, 1.60, 0, 0},          {"hand_L", "body_low", 0.80, 0.78, 0, 0},
+    {".", "hand_L", 1.30, 0.74, 0, 0},        {"hand_R", "body_low", -0.80, 0.78, 0, 0},
+    {".", "hand_R", -1.30, 0.74, 0, 0},       {"hip_L", "body_low", 0.40, 0.40, 0, 0},
+    {"leg_L", "hip_L", 0.45, 0.20, 0, 0},     {".", "leg_L", 0.45, 0.0, 0, 0},
+    {"hip_R", "body_low", -0.40, 0.40, 0, 0}, {"leg_R", "hip_R", -0.45, 0.20, 0, 0},
+    {".", "leg_R", -0.45, 0.0, 0, 0},
+};
+
+static rf_skeleton *build_axes(const sb_joint *js, size_t n)
+{
+    rf_skeleton *s = sb_build(js, n);
+    s->up = rf_v3(0, 1, 0), s->forward = rf_v3(0, 0, 1);
+    return s;
+}
+
+static void test_headless_target(void **state)
+{
+    (void)state;
+    rf_skeleton *t = build_axes(sb_blob_rig, SB_COUNT(sb_blob_rig));
+    rf_skeleton *s = build_axes(blob_artist, SB_COUNT(blob_artist));
+    rf_ms_options o = {.forelegs_arms = true, .girdle_neck = true};
+    rf_mapping *m = match1(t, s, &o);
+    assert_driver(m, t, s, "root", "body_low");
+    assert_driver(m, t, s, "chest", "body_up");
+    assert_driver(m, t, s, "r0", "hand_R");
+    rf_mapping_free(m);
+    /* --explain says why */
+    rf_ms_explain e = {0};
+    char err[256], *text = NULL;
+    size_t size = 0;
+    const rf_skeleton *src[1] = {s};
+    m = rf_ms_match(t, src, 1, &o, &e, err, sizeof err);
+    assert_non_null(m);
+    FILE *out = open_memstream(&text, &size);
+    rf_ms_explain_print(&e, m, t, src, out);
+    fclose(out);
+    assert_non_null(strstr(text, "chest (center spine) <- 0:body_up"));
+    assert_non_null(strstr(text, "ending a trunk without a head takes the source's head"));
+    free(text);
+    rf_ms_explain_clear(&e);
+    rf_mapping_free(m);
+    o.girdle_neck = false;
+    m = match1(t, s, &o);
+    assert_driver(m, t, s, "root", "body_low");
+    assert_driver(m, t, s, "chest", NULL);
+    rf_mapping_free(m);
+    /* a source with a chest joint of its own carrying the arms, the head above it */
+    sb_joint chest[SB_COUNT(blob_artist) + 1];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(blob_artist); i++) {
+        chest[n] = blob_artist[i];
+        if (strcmp(chest[n].name, "body_up") == 0) {
+            chest[n++] = (sb_joint){"chest", "body_low", 0, 0.78, 0, 0};
+            chest[n] = blob_artist[i];
+            chest[n].parent = "chest", chest[n].y = 1.0;
+        } else if (strncmp(chest[n].name, "hand_", 5) == 0) {
+            chest[n].parent = "chest";
+        }
+        n++;
+    }
+    rf_skeleton *sc = build_axes(chest, n);
+    o.girdle_neck = true;
+    m = match1(t, sc, &o);
+    assert_driver(m, t, sc, "chest", "chest");
+    rf_mapping_free(m);
+    rf_skeleton_free(sc);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+/* After the girdle joint takes the source's neck (girdle=neck), the rest of the target's spine
+ * is aligned again with the whole source spine, both placed from where their limbs leave: a
+ * curve skeleton whose girdle joint sits where its arms leave (c3) against an artist's spine
+ * whose chest joint (Torso) pivots well below the shoulders, its clavicles rising to the arms
+ * (the Wizard's, as both rigs place them): c3 takes the neck and c2, below it, the chest; before,
+ * c2 kept the abdomen and the chest drove nothing. The artist's hands are fists (a fist digit and
+ * a thumb), the curve skeleton's arms end at the fist without digits. */
+static const sb_joint trunk_artist[] = {
+    {"hips", NULL, 0, 1.03, 0, 0},
+    {"abdomen", "hips", 0, 1.24, 0, 0},
+    {"torso", "abdomen", 0, 1.56, 0, 0},
+    {"neck", "torso", 0, 2.00, 0, 0},
+    {"head", "neck", 0, 2.13, 0, 0},
+    {".", "head", 0, 2.90, 0, 0},
+    {"shoulder_l", "torso", 0.13, 1.70, 0, 0},
+    {"arm_l", "shoulder_l", 0.32, 1.87, 0, 0},
+    {"forearm_l", "arm_l", 0.71, 1.87, 0, 0},
+    {"fist_l", "forearm_l", 1.16, 1.86, 0, 0},
+    {"fist1_l", "fist_l", 1.29, 1.86, 0, 0},
+    {".", "fist1_l", 1.40, 1.85, 0, 0},
+    {"thumb_l", "forearm_l", 1.16, 1.86, 0, 0},
+    {"thumb1_l", "thumb_l", 1.22, 1.82, 0.08, 0},
+    {".", "thumb1_l", 1.26, 1.80, 0.12, 0},
+    {"shoulder_r", "torso", -0.13, 1.70, 0, 0},
+    {"arm_r", "shoulder_r", -0.32, 1.87, 0, 0},
+    {"forearm_r", "arm_r", -0.71, 1.87, 0, 0},
+    {"fist_r", "forearm_r", -1.16, 1.86, 0, 0},
+    {"fist1_r", "fist_r", -1.29, 1.86, 0, 0},
+    {".", "fist1_r", -1.40, 1.85, 0, 0},
+    {"thumb_r", "forearm_r", -1.16, 1.86, 0, 0},
+    {"thumb1_r", "thumb_r", -1.22, 1.82, 0.08, 0},
+    {".", "thumb1_r", -1.26, 1.80, 0.12, 0},
+    {"thigh_l", "hips", 0.20, 1.00, 0, 0},
+    {"shin_l", "thigh_l", 0.20, 0.60, 0.02, 0},
+    {"foot_l", "shin_l", 0.20, 0.06, 0, 0},
+    {".", "foot_l", 0.20, 0.0, 0.20, 0},
+    {"thigh_r", "hips", -0.20, 1.00, 0, 0},
+    {"shin_r", "thigh_r", -0.20, 0.60, 0.02, 0},
+    {"foot_r", "shin_r", -0.20, 0.06, 0, 0},
+    {".", "foot_r", -0.20, 0.0, 0.20, 0},
+};
+
+static const sb_joint trunk_rig[] = {
+    {"c0", NULL, 0, 0.93, 0, 0},
+    {"c1", "c0", 0, 1.35, 0, 0},
+    {"c2", "c1", 0, 1.76, 0, 0},
+    {"c3", "c2", 0, 2.11, 0, 0},
+    {"h0", "c3", 0, 2.27, 0, 0},
+    {"h1", "h0", 0, 2.75, 0, 0},
+    {".", "h1", 0, 2.95, 0, 0},
+    {"a0_l", "c3", 0.22, 2.04, 0, 0},
+    {"a1_l", "a0_l", 0.25, 2.03, 0, 0},
+    {"a2_l", "a1_l", 0.61, 1.92, 0, 0},
+    {"a3_l", "a2_l", 1.23, 1.85, 0, 0},
+    {".", "a3_l", 1.40, 1.84, 0, 0},
+    {"a0_r", "c3", -0.22, 2.04, 0, 0},
+    {"a1_r", "a0_r", -0.25, 2.03, 0, 0},
+    {"a2_r", "a1_r", -0.61, 1.92, 0, 0},
+    {"a3_r", "a2_r", -1.23, 1.85, 0, 0},
+    {".", "a3_r", -1.40, 1.84, 0, 0},
+    {"l0_l", "c0", 0.15, 0.74, 0, 0},
+    {"l1_l", "l0_l", 0.25, 0.24, 0.02, 0},
+    {"l2_l", "l1_l", 0.25, 0.05, 0, 0},
+    {".", "l2_l", 0.25, 0.0, 0.15, 0},
+    {"l0_r", "c0", -0.15, 0.74, 0, 0},
+    {"l1_r", "l0_r", -0.25, 0.24, 0.02, 0},
+    {"l2_r", "l1_r", -0.25, 0.05, 0, 0},
+    {".", "l2_r", -0.25, 0.0, 0.15, 0},
+};
+
+static void test_spine_before_girdle(void **state)
+{
+    (void)state;
+    rf_skeleton *t = build_axes(trunk_rig, SB_COUNT(trunk_rig));
+    rf_skeleton *s = build_axes(trunk_artist, SB_COUNT(trunk_artist));
+    rf_ms_options o = {.forelegs_arms = true, .girdle_neck = true};
+    rf_mapping *m = match1(t, s, &o);
+    assert_driver(m, t, s, "c0", "hips");
+    assert_driver(m, t, s, "c3", "neck");
+    assert_driver(m, t, s, "c2", "torso");
+    /* the mitten hand against the fist: the arm's last joint keeps the fist the alignment gave
+     * it (left to the forearm by the threshold before: no same type) */
+    assert_driver(m, t, s, "a2_l", "forearm_l");
+    assert_driver(m, t, s, "a3_l", "fist_l");
+    assert_driver(m, t, s, "a3_r", "fist_r");
+    rf_mapping_free(m);
+    /* by default (motion) the fist drives no arm joint */
+    o.girdle_neck = false;
+    m = match1(t, s, &o);
+    assert_driver(m, t, s, "a3_l", NULL);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
 /* girdle=neck: a target girdle joint whose forelimbs leave at its pivot (none of its bone behind
  * them) and whose bone runs on past the source's neck pivot is the neck's first bone, and its
  * skin is the neck's: it takes the source's first neck joint and its head chain the rest of the
@@ -853,6 +1026,8 @@ int main(void)
         cmocka_unit_test(test_biped_onto_quadruped),
         cmocka_unit_test(test_gait),
         cmocka_unit_test(test_girdle_neck),
+        cmocka_unit_test(test_headless_target),
+        cmocka_unit_test(test_spine_before_girdle),
         cmocka_unit_test(test_skull_before_snout),
         cmocka_unit_test(test_one_bone_leg),
         cmocka_unit_test(test_threshold_and_similar),

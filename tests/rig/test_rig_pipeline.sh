@@ -67,19 +67,31 @@ if RIGFLOW_QUIET=1 "$rigflow" run "$src/pipelines/scan-to-animation.json" -p "me
     -p "motion.path=$data/bvh/cmu_01_01.bvh" -p retarget.last_frame=240 \
     -p "export.path=$tmp/spider-walk.glb" >"$tmp/out" 2>&1; then ok; else cat "$tmp/out"; ko "scan-to-animation spider.obj"; fi
 valid "$tmp/spider-walk.glb"
-# greenman's blob body, rooted at the joint at its bottom, keeps its shape under the CMU walk
-# (retarget.measure's stretch p99, % of the edges' rest length): 20.3 rooted there; hung from
-# the old root in the body's middle, that joint took the walk's hips and turned the body over
-# (84.3, parts under the floor in a quarter of the frames)
+# greenman's blob body, rooted at the joint at its bottom, keeps its shape under the CMU walk:
+# hung from the old root in the body's middle, that joint took the walk's hips and turned the body
+# over (parts under the floor in a quarter of the frames, stretch p99 84.3); rooted there, no part
+# under the floor in more than 5% of the frames (0%), and retarget.measure's stretch p99 (% of the
+# edges' rest length) no more than the artist's own rig gives under the same walk (171.5: its
+# stub arms swing down to its sides). Since the analysis reads the rig's two arms as a pair they
+# swing too (64.7; 20.3 when they were read as the spine and the walk moved none of them).
 if autorig "$data/models/greenman.glb" "$tmp/greenman.glb" &&
     "$rigflow" --quiet run "$src/pipelines/retarget.json" -p "source.path=$data/bvh/cmu_01_01.bvh" \
         -p "target.path=$tmp/greenman.glb" -p retarget.last_frame=240 \
-        -p "export.path=$tmp/greenman-walk.glb" >"$tmp/out" 2>&1; then
+        -p "export.path=$tmp/greenman-walk.glb" >"$tmp/out" 2>&1 &&
+    "$rigflow" --quiet run "$src/pipelines/retarget.json" -p "source.path=$data/bvh/cmu_01_01.bvh" \
+        -p "target.path=$data/models/greenman.glb" -p retarget.last_frame=240 \
+        -p "export.path=$tmp/greenman-artist-walk.glb" >"$tmp/artist" 2>&1; then
     stretch=$(sed -n 's/^measure: mesh .*stretch p99 \([0-9.]*\).*/\1/p' "$tmp/out")
-    if [ -n "$stretch" ] && awk -v s="$stretch" 'BEGIN { exit !(s < 40) }'; then ok; else
-        cat "$tmp/out"; ko "greenman under the CMU walk: stretch p99 $stretch, limit 40"; fi
+    under=$(sed -n 's/^measure: mesh .*parts under the floor \([0-9.]*\)% of frames.*/\1/p' "$tmp/out")
+    artist=$(sed -n 's/^measure: mesh .*stretch p99 \([0-9.]*\).*/\1/p' "$tmp/artist")
+    if [ -n "$stretch" ] && [ -n "$under" ] && [ -n "$artist" ] &&
+        awk -v s="$stretch" -v u="$under" -v a="$artist" 'BEGIN { exit !(s <= a && u <= 5) }'; then ok
+    else
+        cat "$tmp/out" "$tmp/artist"
+        ko "greenman under the CMU walk: stretch p99 $stretch (the artist's rig $artist), parts under the floor in $under% of frames (limit 5)"
+    fi
 else
-    cat "$tmp/out"; ko "greenman: autorig and retarget"
+    cat "$tmp/out" "$tmp/artist" 2>/dev/null; ko "greenman: autorig and retarget"
 fi
 inspect_has "$tmp/spider-walk.glb" "241 frames"
 
@@ -196,7 +208,11 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # body's middle). Huesitos, a bent tube standing on one free end, is rooted at that end, its
 # lowest joint, as its artist roots it (0.003 of the longest edge above the artist's lowest
 # joint); rooted at its fork, its stem hung down as an appendage and took the artist's upper
-# branch: skinning precision after the matcher 57% (29%).
+# branch: skinning precision after the matcher 57% (29%); 69% since the analysis's root chain
+# stops where nothing under it reaches the ground (doc/matching.md, the tenth round). Greenman's
+# curve skeleton, whose left arm leaves the chest by a detour up the body, is read with a pair of
+# arms, its root as body and its chest taking the artist's head: after the matcher 55% / 52%
+# (35% / 15% with no sides read and the root a placement helper).
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
     "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
@@ -235,7 +251,9 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                 gp["\"BCN_Epileptic.X\""] ", recall " gr["\"BCN_Epileptic.X\""] ", L1 " gl["\"BCN_Epileptic.X\""]
         if (!(cd["\"animalia_bull_frog.b3d\""] < 0.14)) print "FAIL: bull frog cd_j2j " cd["\"animalia_bull_frog.b3d\""]
         if (!(cd["\"huesitos.fbx\""] < 0.065)) print "FAIL: huesitos cd_j2j " cd["\"huesitos.fbx\""]
-        if (!(p["\"huesitos.fbx\""] >= 0.5)) print "FAIL: huesitos precision " p["\"huesitos.fbx\""]
+        if (!(p["\"huesitos.fbx\""] >= 0.62)) print "FAIL: huesitos precision " p["\"huesitos.fbx\""]
+        if (!(p["\"greenman.glb\""] >= 0.5 && r["\"greenman.glb\""] >= 0.45))
+            print "FAIL: greenman after the matcher: precision " p["\"greenman.glb\""] ", recall " r["\"greenman.glb\""]
         if (!(hy != "" && hy == ylow["rigger"] && hy - ylow["artist"] < 0.02))
             print "FAIL: huesitos: its root at y " hy ", its lowest joint " ylow["rigger"] \
                 ", the artist rig lowest " ylow["artist"]
