@@ -36,6 +36,10 @@ typedef struct rb_motion {
 
 static rb_motion rb_moved = {.scale = 1, .axis = "up", .offset = "0,0,0"};
 
+/* --no-axes: the riggers are given no up or forward, as from a format that declares none (OBJ,
+ * STL, PLY), so they find the body's up themselves; the artist's rig keeps its axes. */
+static bool rb_no_axes;
+
 /* Joints as points and bones as segments, in model space. */
 typedef struct rb_rig {
     uint32_t n;
@@ -447,7 +451,7 @@ static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, cons
         return NULL;
     }
     json_t *rig_in = json_pack("{s:s}", "mesh", "mesh.mesh");
-    if (rb_has_input(r->desc, "axes"))
+    if (rb_has_input(r->desc, "axes") && !rb_no_axes)
         json_object_set_new(rig_in, "axes", json_string("mesh.skeleton"));
     /* the matcher pairs joints by correspondence: forelegs with arms, not its gait rule; a
      * girdle joint whose bone is the neck's with the neck, not the chest */
@@ -601,7 +605,8 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
     rb_skin given;
     rb_skin_given(r, as, am, &given);
     rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, &given,
-           rb_time(r, am, rf_pipeline_result(pl, rb_mesh_id(), "skeleton")), why);
+           rb_time(r, am, rb_no_axes ? NULL : rf_pipeline_result(pl, rb_mesh_id(), "skeleton")),
+           why);
     g_free(to);
     rb_rig_free(&g), rb_rig_free(&p);
 }
@@ -743,7 +748,7 @@ static bool rb_motion_parse(const char *turn, const char *axis, const char *scal
 int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
 {
     g_auto(GStrv) names = NULL;
-    gboolean list = FALSE, fixed_axes = FALSE;
+    gboolean list = FALSE, fixed_axes = FALSE, no_axes = FALSE;
     g_autofree char *joint_map = NULL, *joints = NULL, *look = NULL, *turn = NULL, *axis = NULL,
                     *scale = NULL, *offset = NULL;
     gint look_frames = -1; /* not given: 120 */
@@ -786,6 +791,10 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
          "With --turn, leave the up and forward the file declares as they were (a model saved "
          "turned in a format whose axes are fixed: a scan lying on its side in an STL)",
          NULL},
+        {"no-axes", 0, 0, G_OPTION_ARG_NONE, &no_axes,
+         "Give the riggers no declared up or forward, as from an OBJ, STL or PLY file: they find "
+         "the body's up themselves (with --turn 90 --axis 1,0,0, a Z-up scan)",
+         NULL},
         {NULL, 0, 0, 0, NULL, NULL, NULL}};
     if (!rf_parse_options(
             "rig-bench", "MODEL...",
@@ -811,6 +820,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         return RF_EXIT_USAGE;
     if (!rb_motion_parse(turn, axis, scale, offset, fixed_axes))
         return RF_EXIT_USAGE;
+    rb_no_axes = no_axes;
     bool nearest = joint_map && !strcmp(joint_map, "nearest");
     if (joint_map && !nearest && strcmp(joint_map, "matcher")) {
         fprintf(stderr, "rigflow rig-bench: --joint-map: expected matcher or nearest\n");
