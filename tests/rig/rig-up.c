@@ -52,9 +52,9 @@ int main(int argc, char **argv)
             wrong += !ok;
 
             printf("%-28s %-8s true %5.2f %5.2f %5.2f found %5.2f %5.2f %5.2f read %6.3f %6.3f "
-                   "%6.3f conf %.3f %-8s support %6.3f %s\n",
+                   "%6.3f conf %.3f %-8s support %6.3f %s %s\n",
                    base, turns[t].name, truth.x, truth.y, truth.z, up.x, up.y, up.z,
-                   u.read.x, u.read.y, u.read.z, u.confidence, u.source, u.support, ok ? "ok" : "WRONG");
+                   u.read.x, u.read.y, u.read.z, u.confidence, u.source, u.support, u.found ? "found" : "assumed", ok ? "ok" : "WRONG");
 
         }
         free(pos);
