@@ -324,7 +324,8 @@ static bool rt_turn_target(const rf_skeleton *s, const rf_mesh *m, rf_quat q, rt
         if (RF_HAS_FIELD(k, rf_mesh, tangents))
             rt_turn_floats(k->tangents, k->vertex_count, 4, q);
         /* model space turned: a point's old coordinates are its turned ones turned back */
-        rf_mat4 undo = rf_xform_to_mat4((rf_xform){rf_v3(0, 0, 0), rf_quat_conj(q), rf_v3(1, 1, 1)});
+        rf_mat4 undo =
+            rf_xform_to_mat4((rf_xform){rf_v3(0, 0, 0), rf_quat_conj(q), rf_v3(1, 1, 1)});
         for (uint32_t j = 0; k->inverse_bind && j < k->bind_count; j++)
             k->inverse_bind[j] = rf_mat4_mul(k->inverse_bind[j], undo);
     }

@@ -12,7 +12,9 @@
  * declaring none at turns of 15 to 45 degrees, and otherwise on that grid turned by quarter
  * turns. A file declaring +y up and +z forward, or one modelled along its axes, is rigged in
  * its own axes as before. doc/autorig.md, "Any facing, scale and
- * position". */
+ * position". A file that declares no up (OBJ, STL, PLY: the importer leaves it zero) gets the
+ * body's own, found from its curve skeleton and how it stands (rf_rig_body_up), or +y with a
+ * warning when none is found ("An up the file does not declare"). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -261,8 +263,8 @@ static rf_vec3 rf_rig_snap_axis(rf_vec3 v)
 {
     const double c[3] = {v.x, v.y, v.z};
     int k = fabs(c[0]) >= fabs(c[1]) && fabs(c[0]) >= fabs(c[2]) ? 0
-            : fabs(c[1]) >= fabs(c[2])                          ? 1
-                                                                : 2;
+            : fabs(c[1]) >= fabs(c[2])                           ? 1
+                                                                 : 2;
     if (!(fabs(c[k]) >= cos(25 * RF_RIG_DEG) * rf_v3_len(v)))
         return rf_v3(0, 0, 0);
     double s = c[k] > 0 ? 1 : -1;

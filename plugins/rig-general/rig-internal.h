@@ -77,10 +77,10 @@ void rf_rig_prep_free(rf_rig_prep *p);
  * longest principal axis across up, as z, so the voxel grid meets a body the same way at any
  * facing. */
 typedef struct rf_rig_frame {
-    rf_quat q;        /* the file's axes into the frame's */
-    bool turned;      /* false: the file's own axes */
-    float *positions; /* the turned positions `in` borrows; owned */
-    bool up_assumed;  /* the file declares no up and the body showed none: +y assumed */
+    rf_quat q;                    /* the file's axes into the frame's */
+    bool turned;                  /* false: the file's own axes */
+    float *positions;             /* the turned positions `in` borrows; owned */
+    bool up_assumed;              /* the file declares no up and the body showed none: +y assumed */
     char up_note[RF_RIG_UP_NOTE]; /* how the up was found when the file declares none, or "" */
 } rf_rig_frame;
 /* The up of a body whose file declares none (rig-frame.c): the general rigger's curve skeleton

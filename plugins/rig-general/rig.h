@@ -42,11 +42,11 @@ typedef struct rf_rig_stats {
     uint32_t parts, specks;    /* loose parts, of which specks */
     uint32_t proxy_triangles;  /* triangles the heat was solved on */
     uint32_t joints;
-    uint32_t heat_vertices;     /* proxy vertices weighted by heat */
-    uint32_t fallback_vertices; /* vertices not heated: specks and strays, weighted like the
-                                 * surface nearest them (or the nearest bone) */
-    uint32_t unseen_vertices;   /* proxy vertices that saw no bone (heated by their neighbours) */
-    bool up_assumed;            /* the file declared no up and the body showed none: +y taken */
+    uint32_t heat_vertices;       /* proxy vertices weighted by heat */
+    uint32_t fallback_vertices;   /* vertices not heated: specks and strays, weighted like the
+                                   * surface nearest them (or the nearest bone) */
+    uint32_t unseen_vertices;     /* proxy vertices that saw no bone (heated by their neighbours) */
+    bool up_assumed;              /* the file declared no up and the body showed none: +y taken */
     char up_note[RF_RIG_UP_NOTE]; /* how the up of a file that declares none was decided, or "" */
 } rf_rig_stats;
 

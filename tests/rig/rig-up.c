@@ -13,7 +13,8 @@
 static void turn(const rf_mesh *m, float *out, rf_quat q)
 {
     for (size_t i = 0; i < (size_t)m->vertex_count * 3; i += 3) {
-        rf_vec3 p = rf_quat_rotate(q, rf_v3(m->positions[i], m->positions[i + 1], m->positions[i + 2]));
+        rf_vec3 p =
+            rf_quat_rotate(q, rf_v3(m->positions[i], m->positions[i + 1], m->positions[i + 2]));
         out[i] = (float)p.x, out[i + 1] = (float)p.y, out[i + 2] = (float)p.z;
     }
 }
@@ -26,8 +27,11 @@ int main(int argc, char **argv)
         const char *name;
         rf_vec3 axis;
         double angle;
-    } turns[] = {{"unmoved", {1, 0, 0}, 0}, {"x90", {1, 0, 0}, h}, {"z90", {0, 0, 1}, h},
-                 {"x-90", {1, 0, 0}, -h}, {"x180", {1, 0, 0}, 2 * h}};
+    } turns[] = {{"unmoved", {1, 0, 0}, 0},
+                 {"x90", {1, 0, 0}, h},
+                 {"z90", {0, 0, 1}, h},
+                 {"x-90", {1, 0, 0}, -h},
+                 {"x180", {1, 0, 0}, 2 * h}};
     for (int i = 1; i < argc; i++) {
         rf_ai_options o = {.ignore_rig = true};
         rf_ai_result r;
@@ -53,9 +57,9 @@ int main(int argc, char **argv)
 
             printf("%-28s %-8s true %5.2f %5.2f %5.2f found %5.2f %5.2f %5.2f read %6.3f %6.3f "
                    "%6.3f conf %.3f %-8s support %6.3f %s %s\n",
-                   base, turns[t].name, truth.x, truth.y, truth.z, up.x, up.y, up.z,
-                   u.read.x, u.read.y, u.read.z, u.confidence, u.source, u.support, u.found ? "found" : "assumed", ok ? "ok" : "WRONG");
-
+                   base, turns[t].name, truth.x, truth.y, truth.z, up.x, up.y, up.z, u.read.x,
+                   u.read.y, u.read.z, u.confidence, u.source, u.support,
+                   u.found ? "found" : "assumed", ok ? "ok" : "WRONG");
         }
         free(pos);
         rf_ai_result_clear(&r);
