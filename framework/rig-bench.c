@@ -789,7 +789,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
          "Move each model by x,y,z in its own units (after the scale and the turn)", "X,Y,Z"},
         {"fixed-axes", 0, 0, G_OPTION_ARG_NONE, &fixed_axes,
          "With --turn, leave the up and forward the file declares as they were (a model saved "
-         "turned in a format whose axes are fixed: a scan lying on its side in an STL)",
+         "turned in a format whose axes are fixed: a model lying on its side in a glTF)",
          NULL},
         {"no-axes", 0, 0, G_OPTION_ARG_NONE, &no_axes,
          "Give the riggers no declared up or forward, as from an OBJ, STL or PLY file: they find "
