@@ -109,7 +109,9 @@ else
 fi
 
 if [ -n "$data" ] && [ -f "$data/models/Testwuson.X" ]; then
-    row() { awk -F, -v m="$2" '$2 == "\"" m "\"" { print $6, $9, $18; exit }' "$1"; }
+    # columns by their header names (the status, last, is quoted text and may hold commas)
+    row() { awk -F, -v m="$2" 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+        $col["model"] == "\"" m "\"" { print $col["cd_j2j"], $col["precision"], $col["up_agree"]; exit }' "$1"; }
     "$rigflow" rig-bench -r general "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" >"$tmp/plain.csv" 2>/dev/null
     "$rigflow" rig-bench -r general --no-axes --turn 90 --axis 1,0,0 "$data/models/Testwuson.X" \
         "$data/models/creatures/animalia_wolf.b3d" >"$tmp/lying.csv" 2>/dev/null
