@@ -130,7 +130,7 @@ static json_t *look_graph(const rf_registry *reg, const rf_rig_look_setup *s,
     look_param(mesh, "ignore_rig", json_true());
     json_t *rig = look_node(nodes, "rig", rigger->type);
     look_in(rig, "mesh", "mesh.mesh", false);
-    if (look_has_input(rigger, "axes"))
+    if (look_has_input(rigger, "axes") && !s->no_axes)
         look_in(rig, "axes", "mesh.skeleton", false);
     look_param(look_node(nodes, "motion", motion_imp->type), motion_param, json_string(s->motion));
     json_t *map = look_node(nodes, "map", "skeletal-similarity");

@@ -22,6 +22,7 @@ typedef struct rf_rig_look_setup {
     int frames;   /* source frames from the first */
     char *dir;    /* a folder of our own for the measure's reports */
     FILE *lines;  /* where the pipeline's nodes print their lines (not the CSV) */
+    bool no_axes; /* the rigger given no up or forward (rig-bench --no-axes) */
 } rf_rig_look_setup;
 
 /* Checks the motion file and makes the folder; false after saying on stderr what is wrong. */

@@ -832,6 +832,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
     }
     if (!rf_rig_look_begin(&rb_look_setup, look, look_frames == -1 ? 120 : look_frames))
         return RF_EXIT_USAGE;
+    rb_look_setup.no_axes = rb_no_axes;
     GArray *riggers = rb_find_riggers(reg, names);
     int code = RF_EXIT_OK;
     if (list) {
