@@ -168,7 +168,9 @@ static bool run_pipeline(const rf_batch *b, const rf_registry *reg, const rf_bat
     for (guint i = 0; p && i < job->assign->len; i++)
         rf_pipeline_override(p, g_ptr_array_index(job->assign, i), diags);
     bool ok = p && diags->len == 0 && rf_pipeline_validate(p, reg, diags);
-    rf_run_options opts = {.cancel_flag = &job_cancelled};
+    rf_run_options opts;
+    rf_run_options_init(&opts);
+    opts.cancel_flag = &job_cancelled;
     ok = ok && rf_pipeline_run(p, reg, &opts, diags);
     rf_pipeline_free(p);
     return ok;

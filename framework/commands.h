@@ -21,6 +21,9 @@ bool rf_parse_options(const char *name, const char *args, const char *summary,
 /* The build folder when this command is the one built there (its folder, or the folder above
  * libtool's .libs, holds config.status), else NULL. (transfer full) */
 char *rf_build_tree_dir(void);
+/* The path of the pipeline file `name` that ships with rigflow (pipelines/NAME): the source
+ * tree's when this command is a build tree's, else the installed one. (transfer full) */
+char *rf_pipeline_file(const char *name);
 
 /* Runs a validated pipeline as `rigflow run` does: progress on a terminal, Ctrl-C stops it at the
  * next check and removes every output (a second Ctrl-C stops at once), the run's errors printed.

@@ -16,7 +16,7 @@ framework_librigflow_la_SOURCES = \
 framework_librigflow_la_CPPFLAGS = $(AM_CPPFLAGS) -DRF_PLUGINSDIR='"$(pluginsdir)"'
 framework_librigflow_la_CFLAGS = $(AM_CFLAGS) $(GLIB_CFLAGS) $(JANSSON_CFLAGS)
 framework_librigflow_la_LIBADD = $(GLIB_LIBS) $(JANSSON_LIBS) $(LTDL_LIBS) -lm
-framework_librigflow_la_LDFLAGS = -version-info 0:0:0 -no-undefined
+framework_librigflow_la_LDFLAGS = -version-info 1:0:0 -no-undefined
 rigflowinclude_HEADERS += framework/rigflow-host.h
 pkgconfig_DATA += framework/rigflow.pc
 

@@ -72,9 +72,10 @@ struct rf_pipeline {
     GPtrArray *load_diags; /* structural problems found at load, reported by validate */
     GArray *order;         /* node indices in dependency order, after validation */
     bool valid;
-    const rf_run_options *opts;
-    GPtrArray *temp_files; /* outputs written during a run, removed unless it succeeds */
-    GPtrArray *syncs;      /* rf_file_sync of the outputs whose node has finished (run.c) */
+    const rf_run_options *opts; /* &run_opts during a run */
+    rf_run_options run_opts;    /* the caller's options, whatever its struct's size (run.c) */
+    GPtrArray *temp_files;      /* outputs written during a run, removed unless it succeeds */
+    GPtrArray *syncs;           /* rf_file_sync of the outputs whose node has finished (run.c) */
 };
 
 /* Index of a declared param / input / output port by name, or -1. */

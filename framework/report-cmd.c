@@ -8,14 +8,6 @@
 #include "commands.h"
 #include "report-cmd.h"
 
-/* The pipeline file: the source tree's when this is a build tree's command (its folder holds
- * config.status), else the installed one. (transfer full) */
-static char *rf_report_pipeline_path(void)
-{
-    g_autofree char *build = rf_build_tree_dir();
-    return g_build_filename(build ? RF_SRC_PIPELINESDIR : RF_PIPELINESDIR, "retarget.json", NULL);
-}
-
 /* The pipeline as text, without its export node when no GLB is asked for. */
 static char *rf_report_graph(const char *path, bool export, GPtrArray *diags)
 {
@@ -42,7 +34,7 @@ static char *rf_report_graph(const char *path, bool export, GPtrArray *diags)
 static int rf_report_run(rf_registry *reg, const char *source, const char *target, const char *out,
                          const char *glb, char **params)
 {
-    g_autofree char *path = rf_report_pipeline_path();
+    g_autofree char *path = rf_pipeline_file("retarget.json");
     g_autoptr(GPtrArray) diags = rf_diags_new();
     char *text = rf_report_graph(path, glb != NULL, diags);
     g_autofree char *dir = g_path_get_dirname(path);

@@ -1,10 +1,12 @@
 /* rig-bench --look: the animated result judged as a person sees it, a mesh moving on a floor.
- * For each model and rigger a second graph is run through the engine, the graph of
- * pipelines/scan-to-animation.json with the bench's rigger and without the export, so the
- * figures are the ones a user gets from that pipeline; retarget.measure writes them as JSON into
- * a folder of the bench's own, and its line goes to a stream that is not the CSV. The rigger
- * runs again (it is deterministic, and fast beside the retarget): the bench's own graph fails as
- * a whole when any node does, and a look that fails must not take the rig's row with it. */
+ * For each model and rigger the pipeline file pipelines/scan-to-animation.json itself (the
+ * installed one, or the source tree's from a build tree, as `rigflow report` reads its own) is
+ * run through the engine with its rigger node's type set to the bench's rigger and without its
+ * export, so the figures are the ones a user gets from that pipeline; retarget.measure writes
+ * them as JSON into a folder of the bench's own, and the nodes' lines go to a stream that is not
+ * the CSV. The rigger runs again (it is deterministic, and fast beside the retarget): the
+ * bench's own graph fails as a whole when any node does, and a look that fails must not take
+ * the rig's row with it. */
 #include <errno.h>
 #include <jansson.h>
 #include <math.h>
@@ -16,9 +18,11 @@
 #include "commands.h"
 #include "rig-bench-look.h"
 
-bool rf_rig_look_begin(rf_rig_look_setup *s, const char *motion, int frames)
+bool rf_rig_look_begin(rf_rig_look_setup *s, const char *motion, int frames,
+                       const rf_rig_move *move)
 {
     memset(s, 0, sizeof *s);
+    s->move = move;
     if (!motion)
         return true;
     if (frames < 2) {
@@ -41,6 +45,16 @@ bool rf_rig_look_begin(rf_rig_look_setup *s, const char *motion, int frames)
         rf_rig_look_end(s);
         return false;
     }
+    s->pipeline = rf_pipeline_file("scan-to-animation.json");
+    json_error_t e;
+    s->graph = json_load_file(s->pipeline, 0, &e);
+    if (!json_is_array(json_object_get(s->graph, "nodes"))) {
+        g_autofree char *shown = rf_printable(s->pipeline);
+        fprintf(stderr, "rigflow rig-bench: --look: cannot read the pipeline %s: %s\n", shown,
+                s->graph ? "it has no nodes" : e.text);
+        rf_rig_look_end(s);
+        return false;
+    }
     s->motion = g_strdup(motion);
     s->frames = frames;
     return true;
@@ -55,7 +69,8 @@ void rf_rig_look_end(rf_rig_look_setup *s)
     }
     if (s->lines)
         fclose(s->lines);
-    g_free(s->dir), g_free(s->motion);
+    json_decref(s->graph);
+    g_free(s->dir), g_free(s->motion), g_free(s->pipeline);
     memset(s, 0, sizeof *s);
 }
 
@@ -66,87 +81,53 @@ void rf_rig_look_none(rf_rig_look *l, const char *status)
     g_strlcpy(l->status, status, sizeof l->status);
 }
 
-static bool look_has_input(const rf_node_desc *d, const char *name)
+/* The node `id` of the graph's nodes, and its index into *at (may be NULL); NULL when none. */
+static json_t *look_node(json_t *nodes, const char *id, size_t *at)
 {
-    for (uint32_t i = 0; i < d->input_count; i++)
-        if (!strcmp(d->inputs[i].name, name))
-            return true;
-    return false;
-}
-
-static json_t *look_node(json_t *nodes, const char *id, const char *type)
-{
-    json_t *n = json_pack("{s:s, s:s, s:{}, s:{}}", "id", id, "type", type, "inputs", "params");
-    /* json_array_append_new releases n when it fails (out of memory): NULL then, and the graph
-     * misses the node, which the pipeline's validation names */
-    return n && json_array_append_new(nodes, n) == 0 ? n : NULL;
-}
-
-static void look_in(json_t *node, const char *port, const char *from, bool list)
-{
-    json_object_set_new(json_object_get(node, "inputs"), port,
-                        list ? json_pack("[s]", from) : json_string(from));
-}
-
-static void look_param(json_t *node, const char *name, json_t *value)
-{
-    json_object_set_new(json_object_get(node, "params"), name, value);
-}
-
-/* The retarget's and the measure's shared inputs: the motion, the new rig and the mapping. */
-static void look_sources(json_t *node)
-{
-    look_in(node, "sources", "motion.animation", true);
-    look_in(node, "source_skeletons", "motion.skeleton", true);
-    look_in(node, "target", "rig.skeleton", false);
-    look_in(node, "mapping", "map.mapping", false);
-    look_in(node, "mesh", "rig.mesh", false);
-}
-
-/* pipelines/scan-to-animation.json's graph (its nodes and links, the retarget cut at the last
- * frame asked for) with `rigger`; NULL with why. */
-static json_t *look_graph(const rf_registry *reg, const rf_rig_look_setup *s,
-                          const rf_node_desc *rigger, const char *model, const char *json,
-                          char *why, size_t n)
-{
-    const char *mesh_param = NULL, *motion_param = NULL;
-    const rf_node_desc *mesh_imp = rf_registry_importer_for(reg, model, &mesh_param);
-    const rf_node_desc *motion_imp = rf_registry_importer_for(reg, s->motion, &motion_param);
-    if (!mesh_imp || !motion_imp) {
-        snprintf(why, n, "no importer reads the %s", mesh_imp ? "motion" : "model");
-        return NULL;
+    size_t i;
+    json_t *node;
+    json_array_foreach(nodes, i, node)
+    {
+        const char *nid = json_string_value(json_object_get(node, "id"));
+        if (nid && !strcmp(nid, id)) {
+            if (at)
+                *at = i;
+            return node;
+        }
     }
-    json_t *graph =
-        json_pack("{s:s, s:i, s:[]}", "format", "rigflow.pipeline", "version", 1, "nodes");
-    json_t *nodes = json_object_get(graph, "nodes");
-    if (!nodes) {
-        json_decref(graph);
-        snprintf(why, n, "out of memory building the look's pipeline");
-        return NULL;
+    return NULL;
+}
+
+/* The pipeline file's graph for `rigger`, as text: its export left out (the bench writes no
+ * character), its rigger node of type `rigger`, fed the mesh's axes only when that rigger reads
+ * them, and without the parameters the file gives another rigger type (they need not exist in
+ * this one), the mesh moved as the bench moves it. NULL with why. (free()) */
+static char *look_graph(const rf_rig_look_setup *s, const rf_node_desc *rigger, char *why, size_t n)
+{
+    json_t *graph = json_deep_copy(s->graph), *nodes = json_object_get(graph, "nodes");
+    json_t *rig = look_node(nodes, "rig", NULL);
+    size_t at;
+    char *text = NULL;
+    if (!rig || !look_node(nodes, "mesh", NULL) || !look_node(nodes, "measure", NULL)) {
+        snprintf(why, n, "failed: the pipeline has no node 'mesh', 'rig' or 'measure'");
+    } else {
+        if (look_node(nodes, "export", &at))
+            json_array_remove(nodes, at);
+        const char *type = json_string_value(json_object_get(rig, "type"));
+        if (!type || strcmp(type, rigger->type))
+            json_object_del(rig, "params");
+        json_object_set_new(rig, "type", json_string(rigger->type));
+        if (!rf_rig_has_input(rigger, "axes") || s->no_axes)
+            json_object_del(json_object_get(rig, "inputs"), "axes");
+        /* the motion plays on the mesh that was rigged: moved, when the bench moves it */
+        if (s->move && s->move->on)
+            rf_rig_move_insert(graph, s->move, "mesh", "mesh_moved");
+        text = json_dumps(graph, JSON_COMPACT);
+        if (!text)
+            snprintf(why, n, "failed: out of memory building the look's pipeline");
     }
-    json_t *mesh = look_node(nodes, "mesh", mesh_imp->type);
-    look_param(mesh, mesh_param, json_string(model));
-    look_param(mesh, "require_skeleton", json_false());
-    look_param(mesh, "ignore_rig", json_true());
-    json_t *rig = look_node(nodes, "rig", rigger->type);
-    look_in(rig, "mesh", "mesh.mesh", false);
-    if (look_has_input(rigger, "axes") && !s->no_axes)
-        look_in(rig, "axes", "mesh.skeleton", false);
-    look_param(look_node(nodes, "motion", motion_imp->type), motion_param, json_string(s->motion));
-    json_t *map = look_node(nodes, "map", "skeletal-similarity");
-    look_in(map, "target", "rig.skeleton", false);
-    look_in(map, "sources", "motion.skeleton", true);
-    look_in(map, "source_animations", "motion.animation", true);
-    look_node(nodes, "ik", "ik.twobone");
-    json_t *rt = look_node(nodes, "retarget", "retarget");
-    look_sources(rt);
-    look_in(rt, "ik", "ik.solver", false);
-    look_param(rt, "last_frame", json_integer(s->frames - 1));
-    json_t *measure = look_node(nodes, "measure", "retarget.measure");
-    look_sources(measure);
-    look_in(measure, "animation", "retarget.animation", false);
-    look_param(measure, "path", json_string(json));
-    return graph;
+    json_decref(graph);
+    return text;
 }
 
 /* A number of the measure's "mesh" object in %, NaN when absent. */
@@ -186,17 +167,30 @@ static void look_read(const char *json, rf_rig_look *out)
     json_decref(report);
 }
 
-/* Runs the graph; false with a status in out (RF_EXIT_CANCELLED in *code on Ctrl-C). */
-static bool look_execute(const rf_registry *reg, const rf_rig_look_setup *s, json_t *graph,
-                         rf_rig_look *out, int *code)
+/* The file's parameters the bench sets, as `rigflow run -p` sets them: the model, the motion
+ * (paths from the current folder), the retarget cut at the last frame asked for and the
+ * measure's report written. */
+static bool look_params(rf_pipeline *p, const rf_rig_look_setup *s, const char *model,
+                        const char *json, GPtrArray *diags)
 {
-    char *text = json_dumps(graph, JSON_COMPACT);
-    g_autofree char *cwd = g_get_current_dir();
+    g_autofree char *mesh = g_strdup_printf("mesh.path=%s", model);
+    g_autofree char *motion = g_strdup_printf("motion.path=%s", s->motion);
+    g_autofree char *last = g_strdup_printf("retarget.last_frame=%d", s->frames - 1);
+    g_autofree char *report = g_strdup_printf("measure.path=%s", json);
+    return rf_pipeline_override(p, mesh, diags) && rf_pipeline_override(p, motion, diags) &&
+           rf_pipeline_override(p, last, diags) && rf_pipeline_override(p, report, diags);
+}
+
+/* Runs the graph; false with a status in out (RF_EXIT_CANCELLED in *code on Ctrl-C). */
+static bool look_execute(const rf_registry *reg, const rf_rig_look_setup *s, const char *text,
+                         const char *model, const char *json, rf_rig_look *out, int *code)
+{
+    g_autofree char *dir = g_path_get_dirname(s->pipeline);
     g_autoptr(GPtrArray) diags = rf_diags_new();
-    rf_pipeline *p = text ? rf_pipeline_load_string(text, "rig-bench look", cwd, diags) : NULL;
-    free(text);
+    rf_pipeline *p = rf_pipeline_load_string(text, s->pipeline, dir, diags);
     *code = RF_EXIT_RUN;
-    if (p && rf_pipeline_validate(p, reg, diags) && !diags->len)
+    if (p && look_params(p, s, model, json, diags) && rf_pipeline_validate(p, reg, diags) &&
+        !diags->len)
         *code = rf_run_interruptible_out(p, reg, s->lines, diags);
     rf_pipeline_free(p);
     if (*code == RF_EXIT_OK)
@@ -216,10 +210,10 @@ int rf_rig_look_run(const rf_registry *reg, const rf_rig_look_setup *s, const rf
         return RF_EXIT_OK;
     g_autofree char *json = g_build_filename(s->dir, "measure.json", NULL);
     (void)remove(json); /* a report from the model before must not be read as this one's */
-    json_t *graph = look_graph(reg, s, rigger, model, json, out->status, sizeof out->status);
+    char *text = look_graph(s, rigger, out->status, sizeof out->status);
     int code = RF_EXIT_OK;
-    if (graph && look_execute(reg, s, graph, out, &code))
+    if (text && look_execute(reg, s, text, model, json, out, &code))
         look_read(json, out);
-    json_decref(graph);
+    free(text);
     return code == RF_EXIT_CANCELLED ? code : RF_EXIT_OK;
 }

@@ -2,6 +2,7 @@
 #ifndef RF_RIG_BENCH_LOOK_H
 #define RF_RIG_BENCH_LOOK_H
 
+#include "rig-bench.h"
 #include "rigflow-host.h"
 
 /* The figures of one look, as retarget.measure gives them on the mesh, in % of the mesh's
@@ -16,26 +17,32 @@ typedef struct rf_rig_look {
     char status[400];    /* "ok", or why the look was not measured */
 } rf_rig_look;
 
-/* What every look of a bench run shares: the motion file and how much of it. */
+/* What every look of a bench run shares: the motion file and how much of it, and the pipeline. */
 typedef struct rf_rig_look_setup {
-    char *motion; /* NULL: no look asked for */
-    int frames;   /* source frames from the first */
-    char *dir;    /* a folder of our own for the measure's reports */
-    FILE *lines;  /* where the pipeline's nodes print their lines (not the CSV) */
-    bool no_axes; /* the rigger given no up or forward (rig-bench --no-axes) */
+    char *motion;            /* NULL: no look asked for */
+    int frames;              /* source frames from the first */
+    char *dir;               /* a folder of our own for the measure's reports */
+    FILE *lines;             /* where the pipeline's nodes print their lines (not the CSV) */
+    const rf_rig_move *move; /* how the model is moved before it is rigged (borrowed) */
+    char *pipeline;          /* pipelines/scan-to-animation.json, where it was read */
+    json_t *graph;           /* its JSON, read once */
+    bool no_axes;            /* the rigger given no up or forward (rig-bench --no-axes) */
 } rf_rig_look_setup;
 
-/* Checks the motion file and makes the folder; false after saying on stderr what is wrong. */
-bool rf_rig_look_begin(rf_rig_look_setup *s, const char *motion, int frames);
+/* Checks the motion file, reads the pipeline file and makes the folder; false after saying on
+ * stderr what is wrong. The look plays on the model moved as `move` says (borrowed: it must
+ * outlive the setup), the mesh that was rigged. */
+bool rf_rig_look_begin(rf_rig_look_setup *s, const char *motion, int frames,
+                       const rf_rig_move *move);
 void rf_rig_look_end(rf_rig_look_setup *s);
 
 /* Sets every figure to NaN, the joint to "" and the status to `status`. */
 void rf_rig_look_none(rf_rig_look *l, const char *status);
 
-/* Rigs `model` (its rig ignored) with the node type `rigger`, maps the motion onto the new rig
- * with the skeletal-similarity matcher, retargets it (feet pinned by ik.twobone, the clip on the
- * skin's floor) and measures it with retarget.measure: the graph of
- * pipelines/scan-to-animation.json without its export. A failure is a status in `out`.
+/* Runs pipelines/scan-to-animation.json without its export on `model` (its rig ignored, moved
+ * as the setup says) with its rigger node of type `rigger`: the mesh rigged, the motion mapped
+ * onto the new rig by the skeletal-similarity matcher, retargeted (feet pinned, the clip on the
+ * skin's floor) and measured by retarget.measure. A failure is a status in `out`.
  * Returns RF_EXIT_CANCELLED on Ctrl-C, else RF_EXIT_OK. */
 int rf_rig_look_run(const rf_registry *reg, const rf_rig_look_setup *s, const rf_node_desc *rigger,
                     const char *model, rf_rig_look *out);

@@ -24,17 +24,9 @@ typedef struct rb_rigger {
     const rf_rigger_api *api;
 } rb_rigger;
 
-/* How each model is moved before it is rigged (--turn, --axis, --scale, --offset): the artist's
- * rig and the bare mesh alike, through a `transform` node after each import, so CD-J2J and the
- * skinning compare like with like. */
-typedef struct rb_motion {
-    bool on;
-    bool fixed_axes; /* the declared up and forward stay as the file declares them */
-    double turn, scale;
-    char axis[96], offset[96]; /* the transform node's parameter text, checked */
-} rb_motion;
-
-static rb_motion rb_moved = {.scale = 1, .axis = "up", .offset = "0,0,0"};
+/* How each model is moved before it is rigged: the artist's rig and the bare mesh alike, so
+ * CD-J2J and the skinning compare like with like. */
+static rf_rig_move rb_moved = {.scale = 1, .axis = "up", .offset = "0,0,0"};
 
 /* --no-axes: the riggers are given no up or forward, as from a format that declares none (OBJ,
  * STL, PLY), so they find the body's up themselves; the artist's rig keeps its axes. */
@@ -386,7 +378,7 @@ static void rb_row(const rb_rigger *r, const char *model, const char *body, uint
     fflush(stdout);
 }
 
-static bool rb_has_input(const rf_node_desc *d, const char *name)
+bool rf_rig_has_input(const rf_node_desc *d, const char *name)
 {
     for (uint32_t i = 0; i < d->input_count; i++)
         if (!strcmp(d->inputs[i].name, name))
@@ -414,29 +406,39 @@ static const char *rb_mesh_id(void)
     return rb_moved.on ? "mesh_moved" : "mesh";
 }
 
-/* A transform node after each import, and the rigger and the matcher fed from them. */
-static void rb_add_motion(json_t *graph)
+/* An input's source "node.port" read from `from`'s skeleton or mesh, rewritten to `to`'s. */
+static void rb_rewire_one(json_t *src, const char *from, const char *to)
 {
-    json_t *nodes = json_object_get(graph, "nodes");
-    const char *from[2] = {"artist", "mesh"}, *to[2] = {"artist_moved", "mesh_moved"};
-    for (int k = 0; k < 2; k++) {
-        g_autofree char *sk = g_strdup_printf("%s.skeleton", from[k]);
-        g_autofree char *me = g_strdup_printf("%s.mesh", from[k]);
-        json_array_append_new(nodes, json_pack("{s:s, s:s, s:{s:s, s:s}, s:{s:f, s:s, s:f, s:s}}",
-                                               "id", to[k], "type", "transform", "inputs",
-                                               "skeleton", sk, "mesh", me, "params", "turn",
-                                               rb_moved.turn, "axis", rb_moved.axis, "scale",
-                                               rb_moved.scale, "offset", rb_moved.offset));
-        json_t *params =
-            json_object_get(json_array_get(nodes, json_array_size(nodes) - 1), "params");
-        json_object_set_new(params, "turn_axes", json_boolean(!rb_moved.fixed_axes));
+    const char *text = json_string_value(src);
+    size_t n = strlen(from);
+    if (!text || strncmp(text, from, n) || text[n] != '.' ||
+        (strcmp(text + n + 1, "skeleton") && strcmp(text + n + 1, "mesh")))
+        return;
+    g_autofree char *moved = g_strdup_printf("%s.%s", to, text + n + 1);
+    json_string_set(src, moved);
+}
+
+bool rf_rig_move_insert(json_t *graph, const rf_rig_move *m, const char *from, const char *to)
+{
+    json_t *nodes = json_object_get(graph, "nodes"), *node;
+    size_t i, k;
+    json_array_foreach(nodes, i, node)
+    {
+        const char *port;
+        json_t *src, *item;
+        json_object_foreach(json_object_get(node, "inputs"), port, src)
+        {
+            rb_rewire_one(src, from, to);
+            json_array_foreach(src, k, item) rb_rewire_one(item, from, to);
+        }
     }
-    json_t *rig = json_object_get(json_array_get(nodes, 2), "inputs");
-    json_object_set_new(rig, "mesh", json_string("mesh_moved.mesh"));
-    if (json_object_get(rig, "axes"))
-        json_object_set_new(rig, "axes", json_string("mesh_moved.skeleton"));
-    json_t *map = json_object_get(json_array_get(nodes, 3), "inputs");
-    json_object_set_new(map, "sources", json_pack("[s]", "artist_moved.skeleton"));
+    g_autofree char *sk = g_strdup_printf("%s.skeleton", from);
+    g_autofree char *me = g_strdup_printf("%s.mesh", from);
+    json_t *t = json_pack("{s:s, s:s, s:{s:s, s:s}, s:{s:f, s:s, s:f, s:s, s:b}}", "id", to, "type",
+                          "transform", "inputs", "skeleton", sk, "mesh", me, "params", "turn",
+                          m->turn, "axis", m->axis, "scale", m->scale, "offset", m->offset,
+                          "turn_axes", !m->fixed_axes);
+    return t && json_array_append_new(nodes, t) == 0;
 }
 
 /* The graph for one model and one rigger (see the file comment), validated; NULL with a reason
@@ -451,7 +453,7 @@ static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, cons
         return NULL;
     }
     json_t *rig_in = json_pack("{s:s}", "mesh", "mesh.mesh");
-    if (rb_has_input(r->desc, "axes") && !rb_no_axes)
+    if (rf_rig_has_input(r->desc, "axes") && !rb_no_axes)
         json_object_set_new(rig_in, "axes", json_string("mesh.skeleton"));
     /* the matcher pairs joints by correspondence: forelegs with arms, not its gait rule; a
      * girdle joint whose bone is the neck's with the neck, not the chest */
@@ -463,8 +465,10 @@ static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, cons
         1, "require_skeleton", 0, "id", "rig", "type", r->desc->type, "inputs", rig_in, "id", "map",
         "type", "skeletal-similarity", "inputs", "target", "rig.skeleton", "sources",
         "artist.skeleton", "params", "forelegs", "arms", "girdle", "neck");
-    if (graph && rb_moved.on)
-        rb_add_motion(graph);
+    if (graph && rb_moved.on) {
+        rf_rig_move_insert(graph, &rb_moved, "artist", "artist_moved");
+        rf_rig_move_insert(graph, &rb_moved, "mesh", "mesh_moved");
+    }
     char *text = graph ? json_dumps(graph, JSON_COMPACT) : NULL;
     json_decref(graph);
     g_autofree char *cwd = g_get_current_dir();
@@ -716,7 +720,7 @@ static bool rb_motion_parse(const char *turn, const char *axis, const char *scal
 {
     double v[3];
     const char *bad = NULL;
-    rb_moved = (rb_motion){.scale = 1, .axis = "up", .offset = "0,0,0"};
+    rb_moved = (rf_rig_move){.scale = 1, .axis = "up", .offset = "0,0,0"};
     if (turn && !rb_number_ok(turn, -36000, 36000, &rb_moved.turn))
         bad = "--turn: expected degrees, a number from -36000 to 36000";
     else if (scale && !rb_number_ok(scale, 1e-9, 1e9, &rb_moved.scale))
@@ -768,10 +772,10 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
          "named, as fractions of the longest bounding-box edge)",
          "FILE"},
         {"look", 0, 0, G_OPTION_ARG_FILENAME, &look,
-         "Also play the motion in FILE (a BVH, glTF...) on each auto-rig as "
-         "pipelines/scan-to-animation.json does (the matcher, the retarget with feet pinned, on "
-         "the skin's floor) and add retarget.measure's figures on the mesh as the look_ columns "
-         "(default: not run, the columns nan)",
+         "Also play the motion in FILE (a BVH, glTF...) on each auto-rig through the pipeline "
+         "file scan-to-animation.json, its rigger node the bench's (the matcher, the retarget "
+         "with feet pinned, on the skin's floor), and add retarget.measure's figures on the mesh "
+         "as the look_ columns (default: not run, the columns nan)",
          "FILE"},
         {"look-frames", 0, 0, G_OPTION_ARG_INT, &look_frames,
          "With --look, play the motion's first N frames (default 120)", "N"},
@@ -814,7 +818,8 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
             "Exit status: 0 when every model was measured (a rigger's refusal or a failed look is "
             "a row), 1 when a model could not be read, 2 on a usage error, 130 on Ctrl-C. With "
             "--turn, --axis, --scale or --offset every model is moved so (the artist's rig with "
-            "the mesh) before it is rigged; the columns stay fractions of the unmoved mesh's "
+            "the mesh) before it is rigged, and --look plays on it moved; the columns stay "
+            "fractions of the unmoved mesh's "
             "longest bounding-box edge, scaled.",
             entries, &argc, &argv))
         return RF_EXIT_USAGE;
@@ -830,7 +835,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         fprintf(stderr, "rigflow rig-bench: --look-frames: only with --look MOTION\n");
         return RF_EXIT_USAGE;
     }
-    if (!rf_rig_look_begin(&rb_look_setup, look, look_frames == -1 ? 120 : look_frames))
+    if (!rf_rig_look_begin(&rb_look_setup, look, look_frames == -1 ? 120 : look_frames, &rb_moved))
         return RF_EXIT_USAGE;
     rb_look_setup.no_axes = rb_no_axes;
     GArray *riggers = rb_find_riggers(reg, names);

@@ -12,6 +12,7 @@
 #include <glib.h>
 #include <signal.h>
 #include <stdio.h>
+#include <string.h>
 #include <rigflow/rigflow.h>
 
 /* librigflow is built with hidden visibility; this marks its public functions. */
@@ -108,8 +109,18 @@ RF_HOST_API const char *rf_param_type_name(rf_param_type type);
 
 typedef struct rf_pipeline rf_pipeline;
 
-/* Options for a run. Zero-initialise: every zero is a sensible default. */
+/* Options for a run. The struct grows by appending fields, as the plugin ABI's structs do, and
+ * starts with its size so librigflow reads only the fields the caller was built with (older or
+ * newer): begin with rf_run_options_init(&o), then set what you need. Every zero is a sensible
+ * default. A struct zero-initialised without it (size 0, `rf_run_options o = {.quiet = true}`)
+ * still works: it is read as the fields through `out`, and fields appended later take their
+ * defaults there. A caller built against a newer librigflow whose struct is longer than this
+ * one's may leave the fields this librigflow does not know at zero (their defaults); any of them
+ * set fails the run with a diag rather than be ignored. doc/architecture.md, "The host API". */
 typedef struct rf_run_options {
+    /* sizeof(rf_run_options) as the caller was built (rf_run_options_init sets it); 0: every
+     * field through `out` */
+    size_t size;
     bool profile;  /* print per-node wall time to stderr */
     bool quiet;    /* no progress, no info logs */
     bool progress; /* draw progress on stderr (the command sets it for a terminal) */
@@ -118,14 +129,27 @@ typedef struct rf_run_options {
      * and sig_atomic_t is int on the platforms it builds for, so hosts built against
      * `volatile int *` still link and run */
     volatile sig_atomic_t *cancel_flag;
-    /* the most nodes processed at once: 0 or 1, one after another (as before this field); N,
-     * nodes of types marked RF_NODE_CONCURRENT that do not read each other's outputs process up
-     * to N at a time, their output printed in the order a run of one at a time prints it */
+    /* the most nodes processed at once: 0 or 1, one after another; N, nodes of types marked
+     * RF_NODE_CONCURRENT that do not read each other's outputs process up to N at a time, their
+     * output printed in the order a run of one at a time prints it */
     unsigned jobs;
     /* where nodes print their results (rf_host.out): NULL for stdout; a command whose own
      * stdout is a table (rig-bench's CSV) sends a node's lines elsewhere */
     FILE *out;
+    /* new fields go here, at the end, read only when `size` covers them (RF_HAS_FIELD) */
 } rf_run_options;
+
+/* The fields a struct with size 0 holds: the layout when `size` was introduced. */
+#define RF_RUN_OPTIONS_SIZE_1 RF_SIZE_THROUGH(rf_run_options, out)
+
+/* Every option at its default and `size` set to this header's struct: inline, so the size is
+ * the caller's, whatever librigflow it runs against. Every byte is cleared, padding too: a longer
+ * struct's bytes past the fields librigflow knows must read zero. */
+static inline void rf_run_options_init(rf_run_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o;
+}
 
 /* Parses a pipeline file. Returns NULL with diags on a syntax or structure error. */
 RF_HOST_API rf_pipeline *rf_pipeline_load(const char *path, GPtrArray *diags);
@@ -143,8 +167,8 @@ RF_HOST_API void rf_pipeline_free(rf_pipeline *p);
 RF_HOST_API bool rf_pipeline_override(rf_pipeline *p, const char *assignment, GPtrArray *diags);
 /* Staged validation against the registry. Adds every problem found to diags; true when none. */
 RF_HOST_API bool rf_pipeline_validate(rf_pipeline *p, const rf_registry *reg, GPtrArray *diags);
-/* Runs a validated pipeline. On failure returns false with a diag naming the failing node; no
- * output file is left behind. */
+/* Runs a validated pipeline with `opts` (NULL: every default; see rf_run_options). On failure
+ * returns false with a diag naming the failing node; no output file is left behind. */
 RF_HOST_API bool rf_pipeline_run(rf_pipeline *p, const rf_registry *reg, const rf_run_options *opts,
                                  GPtrArray *diags);
 /* The output value of `node.port` after a successful run (borrowed, valid until the pipeline is

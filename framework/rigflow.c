@@ -67,12 +67,12 @@ static gint run_jobs;
 static int run_with(rf_pipeline *p, const rf_registry *reg, bool profile, bool quiet, FILE *out,
                     GPtrArray *diags)
 {
-    rf_run_options opts = {.profile = profile,
-                           .quiet = quiet,
-                           .progress = isatty(2) != 0,
-                           .cancel_flag = &interrupted,
-                           .jobs = run_jobs > 0 ? (unsigned)run_jobs : g_get_num_processors(),
-                           .out = out};
+    rf_run_options opts;
+    rf_run_options_init(&opts);
+    opts.profile = profile, opts.quiet = quiet, opts.progress = isatty(2) != 0;
+    opts.cancel_flag = &interrupted;
+    opts.jobs = run_jobs > 0 ? (unsigned)run_jobs : g_get_num_processors();
+    opts.out = out;
     interrupted = 0;
     signal(SIGINT, on_sigint);
     bool ok = rf_pipeline_run(p, reg, &opts, diags);
@@ -299,6 +299,12 @@ char *rf_build_tree_dir(void)
         return dir;
     g_free(dir);
     return NULL;
+}
+
+char *rf_pipeline_file(const char *name)
+{
+    g_autofree char *build = rf_build_tree_dir();
+    return g_build_filename(build ? RF_SRC_PIPELINESDIR : RF_PIPELINESDIR, name, NULL);
 }
 
 static char *build_tree_plugins(void)

@@ -285,17 +285,44 @@ static bool run_nodes(rf_pipeline *p, GPtrArray *diags)
     return true;
 }
 
+/* The caller's options into *out, this librigflow's struct: the fields its `size` covers (a
+ * size of 0, a struct zero-initialised without rf_run_options_init, covers those through `out`),
+ * the others at their defaults. A longer struct (a caller built against a newer librigflow) is
+ * refused when a field this one does not know is set: a run must not ignore an option. */
+static bool run_options_take(const rf_run_options *in, rf_run_options *out, const char *name,
+                             GPtrArray *diags)
+{
+    *out = (rf_run_options){.size = sizeof *out};
+    if (!in)
+        return true;
+    size_t n = in->size ? in->size : RF_RUN_OPTIONS_SIZE_1;
+    const unsigned char *bytes = (const unsigned char *)in;
+    for (size_t i = sizeof *out; i < n; i++)
+        if (bytes[i]) {
+            rf_diags_add(diags, name, 0, 0, NULL, NULL,
+                         "the run's options set a field this librigflow does not know (the "
+                         "host was built against a newer one: its options are %zu bytes, these "
+                         "%zu)",
+                         n, sizeof *out);
+            return false;
+        }
+    memcpy(out, in, MIN(n, sizeof *out));
+    out->size = sizeof *out;
+    return true;
+}
+
 bool rf_pipeline_run(rf_pipeline *p, const rf_registry *reg, const rf_run_options *opts,
                      GPtrArray *diags)
 {
     (void)reg; /* node types were bound at validation; kept for symmetry and future lookups */
-    static const rf_run_options defaults = {0};
     if (!p->valid || !p->order) {
         rf_diags_add(diags, p->name, 0, 0, NULL, NULL, "the pipeline must validate before it runs");
         return false;
     }
+    if (!run_options_take(opts, &p->run_opts, p->name, diags))
+        return false;
     rf_pipeline_reset_run(p);
-    p->opts = opts ? opts : &defaults;
+    p->opts = &p->run_opts;
     if (!p->temp_files)
         p->temp_files = g_ptr_array_new_with_free_func(g_free);
     bool ok = run_nodes(p, diags) && !cancelled(p);

@@ -407,11 +407,57 @@ static void cancelled_run_leaves_no_output(void **state)
                            "\"out.txt\"}, \"inputs\": {\"in\": \"s.value\"}}",
                            true);
     volatile sig_atomic_t flag = 1;
-    rf_run_options opts = {.cancel_flag = &flag};
+    rf_run_options opts;
+    rf_run_options_init(&opts);
+    opts.cancel_flag = &flag;
     assert_false(rf_pipeline_run(p, f->reg, &opts, f->diags));
     assert_non_null(find_diag(f->diags, "interrupted", NULL));
     assert_int_equal(count_files(f->dir), 0);
     rf_pipeline_free(p);
+}
+
+/* The run's options by their size (rigflow-host.h): a run with `opts`, true when it succeeded. */
+static bool run_sized(fixture *f, const rf_run_options *opts)
+{
+    rf_pipeline *p = check(f,
+                           "{\"id\": \"s\", \"type\": \"test.source\"},"
+                           "{\"id\": \"w\", \"type\": \"test.sink\", \"params\": {\"path\": "
+                           "\"out.txt\"}, \"inputs\": {\"in\": \"s.value\"}}",
+                           true);
+    bool ok = rf_pipeline_run(p, f->reg, opts, f->diags);
+    rf_pipeline_free(p);
+    return ok;
+}
+
+/* rf_run_options grows by appending: librigflow reads the fields a caller's `size` covers. A
+ * struct zero-initialised without rf_run_options_init (size 0) is read through `out` (its
+ * cancel flag stops the run); an older caller's, whose size ends before cancel_flag, has
+ * whatever lies beyond left unread (the run goes on, as that caller could not ask otherwise); a
+ * newer caller's longer struct runs when the fields this librigflow does not know are zero, and
+ * is refused, naming why, when one is set. */
+static void run_options_by_size(void **state)
+{
+    fixture *f = *state;
+    volatile sig_atomic_t flag = 1;
+    rf_run_options zeroed = {.cancel_flag = &flag};
+    assert_false(run_sized(f, &zeroed));
+    assert_non_null(find_diag(f->diags, "interrupted", NULL));
+    assert_int_equal(count_files(f->dir), 0);
+    g_ptr_array_set_size(f->diags, 0);
+    rf_run_options older = {.size = RF_SIZE_THROUGH(rf_run_options, progress),
+                            .cancel_flag = &flag};
+    assert_true(run_sized(f, &older));
+    assert_int_equal(count_files(f->dir), 1);
+    struct {
+        rf_run_options o;
+        uint64_t unknown;
+    } newer = {.unknown = 0};
+    rf_run_options_init(&newer.o);
+    newer.o.size = sizeof newer;
+    assert_true(run_sized(f, &newer.o));
+    newer.unknown = 7;
+    assert_false(run_sized(f, &newer.o));
+    assert_non_null(find_diag(f->diags, "does not know", "newer", NULL));
 }
 
 static void overrides_are_typed_and_relative_to_cwd(void **state)
@@ -524,6 +570,7 @@ int main(void)
         T(output_naming_a_folder_is_refused_first),
         T(two_outputs_naming_one_file_refused),
         T(cancelled_run_leaves_no_output),
+        T(run_options_by_size),
         T(overrides_are_typed_and_relative_to_cwd),
         T(relative_paths_resolve_against_pipeline_folder),
         T(getters_read_their_own_type_only),

@@ -1,6 +1,6 @@
-# Retargeting: the library (libretarget: plan, frame, clip, contact pass, measures; linked by the
-# plugin, the tests and the benchmarks) and the retarget plugin (node types retarget and
-# retarget.measure).
+# Retargeting: the library (libretarget: plan, frame, clip, contact pass, measures and their JSON
+# report, written with jansson; linked by the plugin, the tests and the benchmarks) and the
+# retarget plugin (node types retarget and retarget.measure).
 noinst_LTLIBRARIES += plugins/retarget/libretarget.la
 plugins_retarget_libretarget_la_SOURCES = \
 	plugins/retarget/retarget.h \
@@ -12,8 +12,10 @@ plugins_retarget_libretarget_la_SOURCES = \
 	plugins/retarget/rt-contact.c \
 	plugins/retarget/rt-measure.c \
 	plugins/retarget/rt-roles.c \
-	plugins/retarget/rt-mesh.c
-plugins_retarget_libretarget_la_LIBADD = -lpthread -lm
+	plugins/retarget/rt-mesh.c \
+	plugins/retarget/rt-report.c
+plugins_retarget_libretarget_la_CFLAGS = $(AM_CFLAGS) $(JANSSON_CFLAGS)
+plugins_retarget_libretarget_la_LIBADD = $(JANSSON_LIBS) -lpthread -lm
 
 plugins_LTLIBRARIES += plugins/retarget.la
 plugins_retarget_la_SOURCES = plugins/retarget/plugin.c

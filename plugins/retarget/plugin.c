@@ -524,95 +524,11 @@ static const rf_node_desc rt_node = {
 
 /* ---- retarget.measure ---- */
 
-/* `text` as a JSON string: escaped for a terminal first (rf_text_escape: no control byte is
- * left), then its quotes and backslashes for JSON. */
-static void rt_json_string(FILE *f, const char *text)
-{
-    char buf[256];
-    rf_text_escape(text, buf, sizeof buf, 0);
-    fputc('"', f);
-    for (const char *c = buf; *c; c++) {
-        if (*c == '"' || *c == '\\')
-            fputc('\\', f);
-        fputc(*c, f);
-    }
-    fputc('"', f);
-}
-
-/* The mesh measures of one clip as a JSON object (`s`: the skeleton the mesh is skinned to). */
-static void rt_mesh_json(FILE *f, const rf_rt_mesh_report *m, const rf_skeleton *s)
-{
-    fprintf(f,
-            "{\"frames\": %u, \"height\": %.6g, \"seams\": %u, \"seam_p99\": %.6g, "
-            "\"seam_max\": %.6g, \"floor_median\": %.6g, \"floor_p95\": %.6g, \"floating\": "
-            "%.6g, \"sinking\": %.6g, \"parts_below\": %.6g, \"parts_depth\": %.6g, "
-            "\"edges\": %u, \"stretch_p99\": %.6g, \"rigid\": %s",
-            m->frames, m->height, m->seams, m->seam_p99, m->seam_max, m->floor_median, m->floor_p95,
-            m->floating, m->sinking, m->parts_below, m->parts_depth, m->edges, m->stretch_p99,
-            m->rigid ? "true" : "false");
-    if (m->parts) {
-        char name[128];
-        fprintf(f,
-                ", \"parts\": %u, \"part_stretch_p99\": %.6g, \"part_joint\": %u, "
-                "\"part_edges\": %u, \"part_joint_name\": ",
-                m->parts, m->part_stretch_p99, m->part_joint, m->part_edges);
-        rt_json_string(f, rf_joint_label(s, m->part_joint, name, sizeof name));
-    }
-    if (m->seam_parts) {
-        char name[128];
-        fprintf(f,
-                ", \"seam_parts\": %u, \"seam_part_p99\": %.6g, \"seam_joints\": [%u, %u], "
-                "\"seam_part_seams\": %u, \"seam_joint_names\": [",
-                m->seam_parts, m->seam_part_p99, m->seam_joints[0], m->seam_joints[1],
-                m->seam_part_seams);
-        rt_json_string(f, rf_joint_label(s, m->seam_joints[0], name, sizeof name));
-        fputs(", ", f);
-        rt_json_string(f, rf_joint_label(s, m->seam_joints[1], name, sizeof name));
-        fputc(']', f);
-    }
-    fputc('}', f);
-}
-
 /* What the mesh measures found, for this clip and the character's own clip (the reference). */
 typedef struct rt_mesh_figures {
     bool have, have_ref;
     rf_rt_mesh_report clip, ref;
 } rt_mesh_figures;
-
-/* The skate foot by foot: "feet": [{"joint": I, "name": "N", "skate": S, "contact_frames": C}]. */
-static void rt_feet_json(FILE *f, const rf_rt_report *r, const rf_skeleton *s)
-{
-    fputs(", \"feet\": [", f);
-    for (uint32_t e = 0; e < r->effectors && e < RF_RT_REPORT_FEET; e++) {
-        char name[128];
-        fprintf(f, "%s{\"joint\": %u, \"name\": ", e ? ", " : "", r->foot_joint[e]);
-        rt_json_string(f, rf_joint_label(s, r->foot_joint[e], name, sizeof name));
-        fprintf(f, ", \"skate\": %.6g, \"contact_frames\": %u}", r->foot_skate[e],
-                r->foot_frames[e]);
-    }
-    fputc(']', f);
-}
-
-static void rt_report_json(FILE *f, const rf_rt_report *r, const rt_mesh_figures *m,
-                           const rf_skeleton *s)
-{
-    fprintf(f,
-            "{\"fidelity_mean_deg\": %.6g, \"fidelity_p95_deg\": %.6g, \"fidelity_max_deg\": "
-            "%.6g, \"bones\": %u, \"skate_target\": %.6g, \"skate_source\": %.6g, "
-            "\"contact_frames\": %u, \"ground_error\": %.6g, \"frames\": %u",
-            r->fidelity_mean, r->fidelity_p95, r->fidelity_max, r->fidelity_bones, r->skate_target,
-            r->skate_source, r->contact_frames, r->ground_error, r->frames);
-    rt_feet_json(f, r, s);
-    if (m->have) {
-        fputs(", \"mesh\": ", f);
-        rt_mesh_json(f, &m->clip, s);
-    }
-    if (m->have_ref) {
-        fputs(", \"mesh_reference\": ", f);
-        rt_mesh_json(f, &m->ref, s);
-    }
-    fputs("}\n", f);
-}
 
 static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_report *r,
                             const rt_mesh_figures *m, const rf_skeleton *s)
@@ -625,8 +541,9 @@ static bool rt_write_report(const rf_host *host, rf_node *node, const rf_rt_repo
         host->error(node, "cannot write %s", host->param_output_target(node, "path"));
         return false;
     }
-    rt_report_json(f, r, m, s);
-    if (fclose(f) != 0) {
+    bool written =
+        rf_rt_report_write(f, r, m->have ? &m->clip : NULL, m->have_ref ? &m->ref : NULL, s);
+    if (fclose(f) != 0 || !written) {
         host->error(node, "cannot write %s", host->param_output_target(node, "path"));
         return false;
     }
@@ -807,7 +724,8 @@ static const rf_param_desc rt_measure_params[] = {
         "frames spread over the clip that the mesh measures skin (they cost a skinning each)"),
     RF_PARAM_DESC_STRING("label", "", "text before the figures (default: the node id)"),
     RF_PARAM_DESC(.name = "path", .type = RF_PARAM_OUTPUT_PATH, .default_string = "",
-                  .doc = "also write the figures as JSON to this file (optional)"),
+                  .doc = "also write the figures as JSON to this file (optional; a figure that is "
+                         "not finite is null)"),
 };
 
 static const rf_node_desc rt_measure_node = {

@@ -26,6 +26,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include <rigflow/ik.h>
 #include <rigflow/rigflow.h>
@@ -264,6 +265,19 @@ typedef struct rf_rt_mesh_report {
     uint32_t seam_joints[2];  /* its two joints (indices into the skeleton, the smaller first) */
     uint32_t seam_part_seams; /* its seams */
 } rf_rt_mesh_report;
+
+/* ---- retarget.measure's JSON report (rt-report.c) ---- */
+
+/* The measures as JSON: `r`'s figures, the feet, and "mesh" and "mesh_reference" from clip and
+ * ref (each may be NULL: left out), joint names from `s`; a figure that is not finite is null.
+ * NULL when out of memory. (transfer full; json_t is jansson's) */
+struct json_t;
+struct json_t *rf_rt_report_json(const rf_rt_report *r, const rf_rt_mesh_report *clip,
+                                 const rf_rt_mesh_report *ref, const rf_skeleton *s);
+/* rf_rt_report_json written to f on one line (6 significant digits); false when out of memory
+ * or the write fails. */
+bool rf_rt_report_write(FILE *f, const rf_rt_report *r, const rf_rt_mesh_report *clip,
+                        const rf_rt_mesh_report *ref, const rf_skeleton *s);
 
 /* Puts a clip of this plan (rf_retarget_clip's output) on the floor of the target's skinned
  * mesh: the lowest vertex of what stands on the floor at rest (the mesh less its parts over 15%

@@ -791,31 +791,51 @@ static void rf_rig_held(const rf_rig_rays *rays, const rf_rig_bone *bones, uint3
     }
 }
 
-/* Clears the outward normals of the vertices of loose parts that enclose no bone (rf_rig_held),
- * so the test of bones in front of the surface (rf_rig_in_front) is off there: its premise, a
- * bone seen from inside the surface around it, holds only for a part around a bone. Every bone
- * lies outside a strand of hair or a tuft, so half its vertices passed the nearest bone over
- * and took one beyond it: Testwuson's tail tuft flew off its tip under the CMU walk (worst part
- * 75.7 -> 867.4). False when out of memory. */
-static bool rf_rig_front_parts(const rf_rig_prep *p, const rf_rig_rays *rays,
-                               const rf_rig_bone *bones, uint32_t nb, uint32_t nj, double *nrm)
+/* The bone length each loose part encloses per joint (rf_rig_held): held[part * nj + joint] and
+ * its sum over joints, sum[part]. Measured once per rig, for the front rule's parts
+ * (rf_rig_front_parts) and the ownership rules (rf_rig_part_joints): the rays cost more than the
+ * np * nj doubles kept between them. */
+typedef struct rf_rig_enclosed {
+    double *held, *sum;
+} rf_rig_enclosed;
+
+/* False when out of memory. */
+static bool rf_rig_enclosed_make(const rf_rig_prep *p, const rf_rig_rays *rays,
+                                 const rf_rig_bone *bones, uint32_t nb, uint32_t nj,
+                                 rf_rig_enclosed *e)
 {
     uint32_t np = p->proxy_parts;
-    if (np < 2)
-        return true;
-    double *held = calloc((size_t)np * nj + 1, sizeof *held), *sum = calloc(np + 1, sizeof *sum);
+    e->held = calloc((size_t)np * nj + 1, sizeof *e->held);
+    e->sum = calloc(np + 1, sizeof *e->sum);
     uint32_t *ahead = calloc(np + 1, sizeof *ahead), *behind = calloc(np + 1, sizeof *behind);
     uint32_t *crossed = malloc((2 * (size_t)np + 1) * sizeof *crossed);
-    uint32_t *inside = calloc(np + 1, sizeof *inside), *touched = malloc((np + 1) * sizeof *touched);
-    bool ok = held && sum && ahead && behind && crossed && inside && touched;
+    uint32_t *inside = calloc(np + 1, sizeof *inside),
+             *touched = malloc((np + 1) * sizeof *touched);
+    bool ok = e->held && e->sum && ahead && behind && crossed && inside && touched;
     if (ok)
-        rf_rig_held(rays, bones, nb, nj, 4 * p->longest, held, sum, ahead, behind, crossed, inside,
-                    touched);
-    for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
-        if (!(sum[p->proxy_part[i]] > 0))
-            memset(nrm + (size_t)i * 3, 0, 3 * sizeof *nrm);
-    free(held), free(sum), free(ahead), free(behind), free(crossed), free(inside), free(touched);
+        rf_rig_held(rays, bones, nb, nj, 4 * p->longest, e->held, e->sum, ahead, behind, crossed,
+                    inside, touched);
+    free(ahead), free(behind), free(crossed), free(inside), free(touched);
     return ok;
+}
+
+static void rf_rig_enclosed_free(rf_rig_enclosed *e)
+{
+    free(e->held), free(e->sum);
+    e->held = e->sum = NULL;
+}
+
+/* Clears the outward normals of the vertices of loose parts that enclose no bone (`e`), so the
+ * test of bones in front of the surface (rf_rig_in_front) is off there: its premise, a bone seen
+ * from inside the surface around it, holds only for a part around a bone. Every bone lies
+ * outside a strand of hair or a tuft, so half its vertices passed the nearest bone over and took
+ * one beyond it: Testwuson's tail tuft flew off its tip under the CMU walk (worst part 75.7 ->
+ * 867.4). */
+static void rf_rig_front_parts(const rf_rig_prep *p, const rf_rig_enclosed *e, double *nrm)
+{
+    for (uint32_t i = 0; p->proxy_parts > 1 && i < p->proxy.nv; i++)
+        if (!(e->sum[p->proxy_part[i]] > 0))
+            memset(nrm + (size_t)i * 3, 0, 3 * sizeof *nrm);
 }
 
 static int rf_rig_edge_cmp(const void *pa, const void *pb)
@@ -1121,27 +1141,21 @@ static bool rf_rig_branches(const rf_rig_skel *s, const double *held, uint8_t *s
  * weights. A closed part enclosing no bone moves with the joint bone heat gives most of it
  * (rf_rig_boneless_owners); an open one keeps its weights. */
 static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, const rf_rig_skel *s,
-                               const rf_rig_bone *bones, uint32_t nb, double *w,
-                               const double *plain, bool given_bones)
+                               const rf_rig_bone *bones, uint32_t nb, const rf_rig_enclosed *e,
+                               double *w, const double *plain, bool given_bones)
 {
     uint32_t nj = s->n;
     uint32_t np = p->proxy_parts;
-    double *held = calloc((size_t)np * nj + 1, sizeof *held), *sum = calloc(np + 1, sizeof *sum);
+    const double *held = e->held, *sum = e->sum;
     uint32_t *ahead = calloc(np + 1, sizeof *ahead), *behind = calloc(np + 1, sizeof *behind);
     uint32_t *crossed = malloc((2 * (size_t)np + 1) * sizeof *crossed);
     double *area = calloc(np + 1, sizeof *area);
     uint32_t *owner = malloc((np + 1) * sizeof *owner);
-    uint32_t *inside = calloc(np + 1, sizeof *inside),
-             *touched = malloc((np + 1) * sizeof *touched);
     uint8_t *bends =
         calloc(np + 1, 1); /* parts that keep bone heat's blend (rf_rig_boneless_owners) */
     /* parts holding RF_RIG_PIECE_JOINTS joints' bones; 2 set where those joints branch */
     uint8_t *piece = calloc(np + 1, 1), *seen = malloc(nj + 1);
-    bool ok = held && sum && ahead && behind && crossed && area && owner && inside && touched &&
-              bends && piece && seen;
-    if (ok)
-        rf_rig_held(rays, bones, nb, nj, 4 * p->longest, held, sum, ahead, behind, crossed, inside,
-                    touched);
+    bool ok = ahead && behind && crossed && area && owner && bends && piece && seen;
     if (ok)
         rf_rig_around(rays, bones, nb, 4 * p->longest, ahead, behind, crossed, bends);
     double *vol = ok ? calloc(np + 1, sizeof *vol) : NULL;
@@ -1186,8 +1200,8 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, co
         w[(size_t)i * nj + j] = 1;
     }
     ok = ok && (given_bones || rf_rig_props(p, largest, sum, bends, area, owner, nj, w));
-    free(held), free(sum), free(ahead), free(behind), free(crossed), free(area), free(owner);
-    free(inside), free(touched), free(bends), free(piece), free(verts), free(seen);
+    free(ahead), free(behind), free(crossed), free(area), free(owner);
+    free(bends), free(piece), free(verts), free(seen);
     return ok;
 }
 
@@ -1208,15 +1222,19 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     double *plain = NULL; /* taken once the solver's arrays are freed: the peak stays theirs */
     double *nrm = NULL;   /* outward normals for rf_rig_in_front (the rigger's own bones) */
     rf_rig_rays rays = {0};
+    rf_rig_enclosed enc = {0}; /* which loose parts enclose which bones: two rules read it */
     bool ok = nb && src && bd && lit && *w;
     if (!ok)
         rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok && !rf_rig_rays_make(&rays, &p->proxy, p->proxy_part))
         ok = rf_rig_fail(err, n, "Embree could not build the ray-casting scene");
-    if (ok && !o->given_bones &&
-        !((nrm = malloc(((size_t)p->proxy.nv + 1) * 3 * sizeof *nrm)) && rf_rig_normals(p, nrm) &&
-          rf_rig_front_parts(p, &rays, bones, nb, nj, nrm)))
+    if (ok && p->proxy_parts > 1 && !rf_rig_enclosed_make(p, &rays, bones, nb, nj, &enc))
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
+    if (ok && !o->given_bones &&
+        !((nrm = malloc(((size_t)p->proxy.nv + 1) * 3 * sizeof *nrm)) && rf_rig_normals(p, nrm)))
+        ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
+    if (ok && !o->given_bones)
+        rf_rig_front_parts(p, &enc, nrm);
     if (ok) {
         rf_rig_sources(p, bones, nb, o->no_visibility ? NULL : &rays, o->leaf_points_own, nrm, src,
                        bd, lit, st);
@@ -1228,9 +1246,10 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     if (ok)
         rf_rig_normalise(p, bones, nb, nj, *w, plain, st);
     if (ok && p->proxy_parts > 1 &&
-        !rf_rig_part_joints(p, &rays, s, bones, nb, *w, plain, o->given_bones))
+        !rf_rig_part_joints(p, &rays, s, bones, nb, &enc, *w, plain, o->given_bones))
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     rf_rig_rays_free(&rays);
+    rf_rig_enclosed_free(&enc);
     free(bones), free(src), free(bd), free(lit), free(plain), free(nrm);
     if (!ok)
         free(*w), *w = NULL;

@@ -7,7 +7,9 @@
  * span when the body stands over them, and one for the axis the file declares (RF_FILE_UP_VOTE,
  * deciding close calls). Forward is
  * then one of two directions; its sign is voted by the feet (toes point forward), by the knees of a
- * biped and by the file. */
+ * biped, the head marks, the ends' heights, the girdles, the hierarchy and by the file. Without
+ * a declared forward nothing is read from the coordinate axes, so a body turned about its up
+ * reads the same facing relative to itself (tests/match/test_facing). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -616,29 +618,36 @@ static double vote_head(const rf_awork *w, const rf_limbs *ls, rf_vec3 c)
     return fmax(-0.6, fmin(0.6, vote));
 }
 
-/* A horizontal body holds its head higher than its tail. */
+/* A horizontal body holds its head higher than its tail: the mean height of the centerline's
+ * pivots in the front and in the rear fifth of its length. Its two end joints alone read a
+ * curve skeleton's ears or snout, drooping past the head's end, as the lower end. */
 static double vote_elevation(const rf_awork *w, rf_vec3 c)
 {
-    int32_t lo = RF_NONE, hi = RF_NONE;
-    double hmin = INFINITY, hmax = -INFINITY;
+    double xlo = INFINITY, xhi = -INFINITY, hmin = INFINITY, hmax = -INFINITY;
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
         if (!w->center[j] || w->root_chain[j])
             continue;
-        double h = rf_an_height(w, rf_an_pos(w, j));
-        hmin = fmin(hmin, h), hmax = fmax(hmax, h);
-        double x = rf_v3_dot(rf_an_pos(w, j), c);
-        if (lo < 0 || x < rf_v3_dot(rf_an_pos(w, (uint32_t)lo), c))
-            lo = (int32_t)j;
-        if (hi < 0 || x > rf_v3_dot(rf_an_pos(w, (uint32_t)hi), c))
-            hi = (int32_t)j;
+        double h = rf_an_height(w, rf_an_pos(w, j)), x = rf_v3_dot(rf_an_pos(w, j), c);
+        hmin = fmin(hmin, h), hmax = fmax(hmax, h), xlo = fmin(xlo, x), xhi = fmax(xhi, x);
     }
-    if (lo < 0)
+    if (!(xhi - xlo > hmax - hmin))
         return 0;
-    double span = rf_v3_dot(rf_v3_sub(rf_an_pos(w, (uint32_t)hi), rf_an_pos(w, (uint32_t)lo)), c);
-    double dh =
-        rf_an_height(w, rf_an_pos(w, (uint32_t)hi)) - rf_an_height(w, rf_an_pos(w, (uint32_t)lo));
-    if (span <= hmax - hmin || fabs(dh) < 0.05 * w->a->height)
+    double sum[2] = {0, 0}, cut = 0.2 * (xhi - xlo);
+    uint32_t count[2] = {0, 0};
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (!w->center[j] || w->root_chain[j])
+            continue;
+        double h = rf_an_height(w, rf_an_pos(w, j)), x = rf_v3_dot(rf_an_pos(w, j), c);
+        int e = x >= xhi - cut ? 1 : x <= xlo + cut ? 0 : -1;
+        if (e >= 0)
+            sum[e] += h, count[e]++;
+    }
+    if (!count[0] || !count[1])
+        return 0;
+    double dh = sum[1] / count[1] - sum[0] / count[0];
+    if (fabs(dh) < 0.05 * w->a->height)
         return 0;
     return dh > 0 ? 0.2 : -0.2;
 }
@@ -722,6 +731,31 @@ static double vote_one_girdle(const rf_awork *w, uint32_t j, rf_vec3 c)
     return far_x > 0 ? 0.25 : -0.25;
 }
 
+/* A body without limbs lying level (a fish, a snake) is rigged from its head or trunk towards
+ * the tail, the end that moves most: the chain's root lies at the front end, the rest of it
+ * behind (the Ogre fish and the animalia angelfish both; the angelfish's two joints said
+ * nothing else, and the lean cue read it facing its tail). */
+static double vote_chain_root(const rf_awork *w, rf_vec3 c)
+{
+    int32_t r = w->top;
+    if (r < 0 || upright(w))
+        return 0;
+    rf_vec3 sum = rf_v3(0, 0, 0);
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (w->limb_of[j] >= 0)
+            return 0;
+        if (!w->root_chain[j])
+            sum = rf_v3_add(sum, rf_v3_add(rf_an_pos(w, j), w->a->joints[j].tip)), count += 2;
+    }
+    if (count < 4)
+        return 0;
+    double along =
+        rf_v3_dot(rf_v3_sub(rf_v3_scale(sum, 1.0 / count), rf_an_pos(w, (uint32_t)r)), c);
+    return fabs(along) > 0.05 * w->a->size ? (along > 0 ? -0.25 : 0.25) : 0;
+}
+
 /* Rigs are built from the hips outwards: the body's root is the rear girdle (or near it) and
  * the hierarchy runs forward through the spine to the front girdle. The girdle deepest in the
  * hierarchy is the front one. It outweighs the elevation of the ends (0.25 against 0.2: an
@@ -746,7 +780,7 @@ static double vote_hierarchy(const rf_awork *w, rf_vec3 c)
         if (deep < 0 || depth[j] > depth[deep])
             deep = (int32_t)j;
     }
-    double vote = 0;
+    double vote = shallow < 0 ? vote_chain_root(w, c) : 0;
     if (shallow >= 0 && deep == shallow && !upright(w))
         vote = vote_one_girdle(w, (uint32_t)shallow, c);
     if (shallow >= 0 && deep != shallow && !upright(w)) {
@@ -779,6 +813,42 @@ static double vote_file(const rf_awork *w, rf_vec3 c)
     return d > 0.5 ? 0.3 : d < -0.5 ? -0.3 : 0;
 }
 
+/* Whether the caller or the file gives a forward (rf_an_frame's z is then a facing). */
+static bool declared_forward(const rf_awork *w)
+{
+    rf_vec3 f = w->opt.forward;
+    if (!(rf_v3_isfinite(f) && rf_v3_len2(f) > 1e-24) && !w->opt.ignore_file_axes)
+        f = w->skel->forward;
+    return rf_v3_isfinite(f) && rf_v3_len2(f) > 1e-24;
+}
+
+/* The very last resort when no forward is declared and no cue speaks (a fish's one chain, a
+ * standing body without feet or knees to read): rigs grow from the hips, behind the body's
+ * middle (as vote_hierarchy has it), so the body's joints lie mostly on the front side of its
+ * top joint: a quadruped's chest and head, a biped's toes, hands and face. Weaker than any
+ * cue, and read at a finer margin than they are (a hundredth of the body, the lean's fifth),
+ * since only a body the same front and back has nothing to go by. The coordinate +z it
+ * replaces read a body turned about up facing another way relative to the body at most
+ * turns. */
+static double vote_from_root(const rf_awork *w, rf_vec3 c)
+{
+    int32_t r = w->top >= 0 ? w->top : w->a->root;
+    if (r < 0)
+        return 0;
+    rf_vec3 sum = rf_v3(0, 0, 0);
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        uint32_t j = w->order[i];
+        if (!w->root_chain[j])
+            sum = rf_v3_add(sum, rf_v3_add(rf_an_pos(w, j), w->a->joints[j].tip)), count += 2;
+    }
+    if (count < 2)
+        return 0;
+    rf_vec3 mid = rf_v3_scale(sum, 1.0 / count);
+    double along = rf_v3_dot(rf_v3_sub(mid, rf_an_pos(w, (uint32_t)r)), c);
+    return fabs(along) > 0.01 * w->a->size ? (along > 0 ? 0.05 : -0.05) : 0;
+}
+
 static void detect_forward(rf_awork *w, rf_limbs *ls)
 {
     rf_analysis *a = w->a;
@@ -794,6 +864,8 @@ static void detect_forward(rf_awork *w, rf_limbs *ls)
         silent = silent && cue[i] == 0;
     if (silent)
         cue[5] = vote_lean(w, c); /* only when nothing else says anything */
+    if (silent && cue[5] == 0 && !declared_forward(w))
+        cue[7] = vote_from_root(w, c);
     double sum = 0, weight = 0;
     int strongest = -1;
     for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)

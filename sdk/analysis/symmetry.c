@@ -371,9 +371,42 @@ static rf_vec3 known_up(const rf_awork *w)
     return rf_v3_isfinite(u) && rf_v3_len2(u) > 1e-24 ? rf_v3_normalize(u) : rf_v3(0, 0, 0);
 }
 
+/* The pivots' horizontal principal axis across up `u` (the way a fish or a snake lies), snapped
+ * to a reference axis within 10 degrees (a body modelled along its file's axes keeps them);
+ * zero when the pivots stand in one vertical line. */
+static rf_vec3 level_body_axis(const rf_awork *w, rf_vec3 u)
+{
+    rf_vec3 ax[3];
+    rf_an_frame(w, ax);
+    rf_vec3 e0 = rf_v3_sub(ax[0], rf_v3_scale(u, rf_v3_dot(ax[0], u)));
+    if (rf_v3_len(e0) < 0.5)
+        e0 = rf_v3_sub(ax[2], rf_v3_scale(u, rf_v3_dot(ax[2], u)));
+    e0 = rf_v3_normalize(e0);
+    rf_vec3 e1 = rf_v3_cross(u, e0), mean = all_centroid(w);
+    double sxx = 0, syy = 0, sxy = 0;
+    for (uint32_t i = 0; i < w->order_count; i++) {
+        rf_vec3 d = rf_v3_sub(rf_an_pos(w, w->order[i]), mean);
+        double x = rf_v3_dot(d, e0), y = rf_v3_dot(d, e1);
+        sxx += x * x, syy += y * y, sxy += x * y;
+    }
+    if (!(sxx + syy > 1e-12 * w->a->size * w->a->size * (w->order_count + 1)))
+        return rf_v3(0, 0, 0);
+    double t = 0.5 * atan2(2 * sxy, sxx - syy);
+    rf_vec3 h = rf_v3_add(rf_v3_scale(e0, cos(t)), rf_v3_scale(e1, sin(t)));
+    for (int k = 0; k < 3; k += 2) {
+        rf_vec3 a = rf_v3_sub(ax[k], rf_v3_scale(u, rf_v3_dot(ax[k], u)));
+        if (rf_v3_len(a) > 0.99 && fabs(rf_v3_dot(rf_v3_normalize(a), h)) >= cos(RF_PI / 18))
+            return rf_v3_normalize(a);
+    }
+    return h;
+}
+
 /* The normal kept when no plane wins (every joint then lies on the centerline): the file's
- * left when it declares both axes, else a coordinate axis across the known up, so that the up
- * and forward candidates drawn from it are directions. */
+ * left when it declares both axes; with an up alone, the level axis across the pivots' level
+ * principal axis, so the plane holds the body's length and turns with it (a coordinate axis
+ * read a fish turned 137 degrees about up across its length, facing sideways); else a
+ * coordinate axis across the known up, so that the up and forward candidates drawn from it are
+ * directions. */
 static rf_vec3 no_plane_normal(const rf_awork *w, rf_vec3 up)
 {
     const rf_skeleton *s = w->skel;
@@ -381,6 +414,11 @@ static rf_vec3 no_plane_normal(const rf_awork *w, rf_vec3 up)
         rf_vec3 l = rf_v3_normalize(rf_v3_cross(s->up, s->forward));
         if (rf_v3_len2(l) > 0 && fabs(rf_v3_dot(l, up)) < 0.5)
             return l;
+    }
+    if (rf_v3_len2(up) > 0) {
+        rf_vec3 e = level_body_axis(w, up);
+        if (rf_v3_len2(e) > 0)
+            return rf_v3_normalize(rf_v3_cross(up, e));
     }
     return fabs(up.x) < 0.7 ? rf_v3(1, 0, 0) : rf_v3(0, 0, 1);
 }
@@ -467,7 +505,11 @@ out:
 /* Moves the plane along its normal to the mean midpoint of its twin pairs. Called once up is
  * known and the normal stood upright: the offset found with a tilted normal (a curve skeleton's
  * legs a tenth of the body apart in height) is off by the tilt times the body's height at the
- * chest, enough to put the spine off the centerline. */
+ * chest, enough to put the spine off the centerline. Pairs are looked for from both sides: the
+ * nearest image of a left joint need not have that joint as its own nearest (an arm longer than
+ * the other, a staff), and looked for from one side only the offset depended on which way the
+ * normal pointed, that is on which way the body was read to face (the general rigger's Wizard
+ * rig read facing -z put its spine off the centerline, an arm). */
 void rf_an_recentre(rf_awork *w)
 {
     const rf_grid *g = w->have_plane ? work_grid(w) : NULL;
@@ -477,9 +519,10 @@ void rf_an_recentre(rf_awork *w)
         uint32_t j = w->order[i];
         rf_vec3 q = rf_an_pos(w, j);
         double d = rf_an_plane_dist(w, q);
-        if (d <= 0.5 * w->tol) /* one side only: each pair once */
+        if (fabs(d) <= 0.5 * w->tol)
             continue;
-        int32_t m = grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), j, -1);
+        int32_t m =
+            grid_nearest(g, w, rf_v3_sub(q, rf_v3_scale(w->plane_n, 2 * d)), j, d > 0 ? -1 : 1);
         if (m >= 0)
             sum += 0.5 * (d + rf_an_plane_dist(w, rf_an_pos(w, (uint32_t)m))), count++;
     }
@@ -511,7 +554,7 @@ static uint8_t *twins(const rf_awork *w, const rf_grid *g, double tiny)
  * the pelvis pivot carrying a leg), however narrow the hips are next to the wingspan that sets
  * the tolerances, and one of them has a twin across the plane (the other leg): a head whose
  * chain leans a little to one side has none and stays on the centerline. */
-static uint8_t *one_sided(const rf_awork *w, const uint8_t *twin, double tiny)
+static uint8_t *one_sided(const rf_awork *w, const uint8_t *twin, double tiny, uint8_t *trunk)
 {
     uint8_t *side = calloc(w->n ? w->n : 1, 1); /* bits: 1 left, 2 right, 4 on, 8 twinned */
     uint8_t *out = calloc(w->n ? w->n : 1, 1);
@@ -530,6 +573,7 @@ static uint8_t *one_sided(const rf_awork *w, const uint8_t *twin, double tiny)
         }
         side[j] = below;
         out[j] = (below & 7) == 1 || (below & 7) == 2 ? (below & 8) != 0 : 0;
+        trunk[j] = (below & 3) == 3 && (below & 8);
     }
     free(side);
     return out;
@@ -568,7 +612,8 @@ void rf_an_classify(rf_awork *w)
     double tol_c = 0.5 * w->tol, tiny = 0.05 * w->tol;
     /* without a plane every joint is on the centerline (below): nothing to measure */
     uint8_t *twinned = w->have_plane && grid ? twins(w, grid, 0.25 * w->tol) : NULL;
-    uint8_t *lateral = twinned ? one_sided(w, twinned, 0.25 * w->tol) : NULL;
+    uint8_t *trunk = twinned ? calloc(w->n ? w->n : 1, 1) : NULL;
+    uint8_t *lateral = trunk ? one_sided(w, twinned, 0.25 * w->tol, trunk) : NULL;
     double *offset = twinned ? balanced_offset(w, twinned, tol_c) : NULL;
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
@@ -576,7 +621,12 @@ void rf_an_classify(rf_awork *w)
         rf_vec3 q = rf_an_pos(w, j);
         double d = rf_an_plane_dist(w, q);
         double sub = offset && !isnan(offset[j]) ? offset[j] : rf_an_plane_dist(w, centroid(w, j));
-        bool center = (p < 0 || w->center[p]) && fabs(d) <= tol_c && fabs(sub) <= tol_c &&
+        /* A joint carrying twins on both sides (the arms hang from it) is the trunk: it may
+         * wobble off the plane by the whole tolerance (a curve skeleton's spine). At half of it
+         * the general rigger's Wizard rig had its spine 0.0774 off with the limit at 0.0777,
+         * and read facing -z (the plane's offset 0.002 elsewhere) its spine was an arm. */
+        double lim = lateral && trunk[j] ? w->tol : tol_c;
+        bool center = (p < 0 || w->center[p]) && fabs(d) <= lim && fabs(sub) <= tol_c &&
                       !(lateral && lateral[j]);
         /* No symmetry: no sides. The root chain and the body's top are the centerline, and
          * before they are known the root carrying most of the skeleton (a placement node at the
@@ -597,6 +647,7 @@ void rf_an_classify(rf_awork *w)
     }
     free(offset);
     free(lateral);
+    free(trunk);
     free(twinned);
 }
 

@@ -48,7 +48,9 @@ static rf_pipeline *run_text(rf_registry *reg, const char *text)
 {
     g_autoptr(GPtrArray) diags = rf_diags_new();
     rf_pipeline *p = rf_pipeline_load_string(text, "ik-test.json", g_get_tmp_dir(), diags);
-    rf_run_options opts = {.quiet = true};
+    rf_run_options opts;
+    rf_run_options_init(&opts);
+    opts.quiet = true;
     if (!p || !rf_pipeline_validate(p, reg, diags) || !rf_pipeline_run(p, reg, &opts, diags)) {
         for (guint i = 0; i < diags->len; i++)
             print_message("%s\n", rf_diag_format(g_ptr_array_index(diags, i)));

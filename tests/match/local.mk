@@ -8,10 +8,10 @@ MATCH_LIBS = plugins/match-similarity/libsimilarity.la sdk/analysis/librigflow-a
 
 check_PROGRAMS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
 	tests/match/test_generated tests/match/test_mapfile tests/match/test_names \
-	tests/match/test_map_pipeline tests/match/test_corr tests/match/test_rigs
+	tests/match/test_map_pipeline tests/match/test_corr tests/match/test_rigs tests/match/test_facing
 TESTS += tests/match/test_analysis tests/match/test_similarity tests/match/test_accuracy \
 	tests/match/test_generated tests/match/test_mapfile tests/match/test_names \
-	tests/match/test_map_pipeline tests/match/test_corr tests/match/test_rigs
+	tests/match/test_map_pipeline tests/match/test_corr tests/match/test_rigs tests/match/test_facing
 EXTRA_DIST += tests/match/truth/
 
 tests_match_test_analysis_SOURCES = tests/match/test_analysis.c tests/match/skel-build.h
@@ -25,6 +25,12 @@ tests_match_test_accuracy_CPPFLAGS = $(MATCH_TEST_CPPFLAGS)
 tests_match_test_accuracy_CFLAGS = $(MATCH_TEST_CFLAGS)
 tests_match_test_accuracy_LDADD = $(MATCH_LIBS) sdk/formats/assimp/librigflow-assimp.la \
 	sdk/formats/bvh/librigflow-bvh.la
+
+# Facing without a declared forward: shared rigs and a made-up quadruped turned about up.
+tests_match_test_facing_SOURCES = tests/match/test_facing.c tests/match/truth.c tests/match/truth.h
+tests_match_test_facing_CPPFLAGS = $(tests_match_test_accuracy_CPPFLAGS)
+tests_match_test_facing_CFLAGS = $(MATCH_TEST_CFLAGS)
+tests_match_test_facing_LDADD = $(tests_match_test_accuracy_LDADD)
 
 # Against the name maps of ../shared/data/correspondences.
 tests_match_test_corr_SOURCES = tests/match/test_corr.c tests/match/truth.c tests/match/truth.h

@@ -65,7 +65,9 @@ static char *run(const fixture *f, const char *file, const char *const *override
     rf_pipeline *p = rf_pipeline_load(file, diags);
     for (; p && *overrides; overrides++)
         rf_pipeline_override(p, *overrides, diags);
-    rf_run_options opts = {.quiet = true};
+    rf_run_options opts;
+    rf_run_options_init(&opts);
+    opts.quiet = true;
     bool ok = p && diags->len == 0 && rf_pipeline_validate(p, f->reg, diags) &&
               rf_pipeline_run(p, f->reg, &opts, diags);
     GString *text = g_string_new("");

@@ -11,7 +11,7 @@ check_PROGRAMS += tests/retarget/test_retarget tests/retarget/test_retarget_data
 TESTS += tests/retarget/test_retarget tests/retarget/test_retarget_data
 tests_retarget_test_retarget_SOURCES = tests/retarget/test_retarget.c tests/retarget/rt-fixtures.h
 tests_retarget_test_retarget_CPPFLAGS = $(RT_TEST_CPPFLAGS)
-tests_retarget_test_retarget_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_retarget_test_retarget_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS) $(JANSSON_CFLAGS)
 tests_retarget_test_retarget_LDADD = $(RT_TEST_LDADD)
 tests_retarget_test_retarget_data_SOURCES = tests/retarget/test_retarget_data.c \
 	tests/retarget/rt-maps.h

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include <cmocka.h>
+#include <jansson.h>
 
 #include "retarget.h"
 #include "rt-internal.h"
@@ -1052,6 +1053,75 @@ static void mesh_part_torn(void **state)
  * in 100 stacks and on joint 2 (pulled 2 down in every frame) in the last. The mesh is 4 high,
  * so the last stack's 4 seams drift 2 / 4 = 0.5 and the other 400 do not move: the whole mesh's
  * torn-limb p99 is 0 (4 of 404 seams), the pair of joints 1 and 2 reads 0.5. */
+/* retarget.measure's JSON report: a figure that is not finite (a mean over no bone, an overflow)
+ * is null, so the report stays JSON (printf's "nan" and "inf" made jansson, and any reader,
+ * refuse the whole file); finite figures and counts are kept, and a joint's name reaches the file
+ * escaped for a terminal (ESC as the text \x1b), its quote and backslash escaped for JSON. */
+static void measure_report_json(void **state)
+{
+    (void)state;
+    rf_skeleton *s = rf_skeleton_new(3);
+    fx_joint(s, 0, "hips", -1, rf_v3(0, 1, 0), rf_quat_identity());
+    fx_joint(s, 1, "fo\"ot\x1b[31m", 0, rf_v3(0, -1, 0), rf_quat_identity());
+    fx_joint(s, 2, "toe\\", 1, rf_v3(0, 0, 1), rf_quat_identity());
+    rf_rt_report r = {.fidelity_mean = NAN,
+                      .fidelity_max = INFINITY,
+                      .fidelity_p95 = 12.5,
+                      .fidelity_bones = 3,
+                      .skate_target = -INFINITY,
+                      .skate_source = 0.25,
+                      .contact_frames = 4,
+                      .ground_error = NAN,
+                      .frames = 10,
+                      .effectors = 1,
+                      .foot_joint = {1},
+                      .foot_skate = {NAN},
+                      .foot_frames = {4}};
+    rf_rt_mesh_report m = {.frames = 10,
+                           .height = 2,
+                           .seams = 8,
+                           .seam_p99 = NAN,
+                           .stretch_p99 = 0.5,
+                           .parts = 2,
+                           .part_stretch_p99 = INFINITY,
+                           .part_joint = 1,
+                           .seam_parts = 1,
+                           .seam_part_p99 = NAN,
+                           .seam_joints = {1, 2},
+                           .seam_part_seams = 8};
+    FILE *f = tmpfile();
+    assert_non_null(f);
+    assert_true(rf_rt_report_write(f, &r, &m, NULL, s));
+    rewind(f);
+    json_error_t e;
+    json_t *o = json_loadf(f, 0, &e);
+    fclose(f);
+    if (!o)
+        fail_msg("the report is not JSON: line %d: %s", e.line, e.text);
+    json_t *mesh = json_object_get(o, "mesh");
+    json_t *foot = json_array_get(json_object_get(o, "feet"), 0);
+    const char *nulls[] = {"fidelity_mean_deg", "fidelity_max_deg", "skate_target", "ground_error"};
+    for (size_t i = 0; i < sizeof nulls / sizeof *nulls; i++)
+        assert_true(json_is_null(json_object_get(o, nulls[i])));
+    assert_true(json_is_null(json_object_get(mesh, "seam_p99")));
+    assert_true(json_is_null(json_object_get(mesh, "part_stretch_p99")));
+    assert_true(json_is_null(json_object_get(mesh, "seam_part_p99")));
+    assert_true(json_is_null(json_object_get(foot, "skate")));
+    assert_float_equal(json_number_value(json_object_get(o, "fidelity_p95_deg")), 12.5, 0);
+    assert_float_equal(json_number_value(json_object_get(o, "skate_source")), 0.25, 0);
+    assert_float_equal(json_number_value(json_object_get(mesh, "stretch_p99")), 0.5, 0);
+    assert_int_equal(json_integer_value(json_object_get(o, "bones")), 3);
+    assert_int_equal(json_integer_value(json_object_get(foot, "contact_frames")), 4);
+    assert_string_equal(json_string_value(json_object_get(foot, "name")), "fo\"ot\\x1b[31m");
+    assert_string_equal(json_string_value(json_object_get(mesh, "part_joint_name")),
+                        "fo\"ot\\x1b[31m");
+    assert_string_equal(
+        json_string_value(json_array_get(json_object_get(mesh, "seam_joint_names"), 1)), "toe\\");
+    assert_null(json_object_get(o, "mesh_reference"));
+    json_decref(o);
+    rf_skeleton_free(s);
+}
+
 static void mesh_seam_torn(void **state)
 {
     (void)state;
@@ -1360,6 +1430,7 @@ int main(void)
         cmocka_unit_test(weighted_quantile),
         cmocka_unit_test(mesh_part_torn),
         cmocka_unit_test(mesh_seam_torn),
+        cmocka_unit_test(measure_report_json),
         cmocka_unit_test(contact_pass_pins_feet),
         cmocka_unit_test(contact_pass_pins_bone_tips),
         cmocka_unit_test(contact_pass_aims_one_bone_legs),
