@@ -112,13 +112,16 @@ void rf_rig_frame_leave(rf_rig_frame *f, const rf_mesh *mesh, rf_skeleton *s, rf
 
 /* The curve skeleton; its root at the thickest point, or at the solid voxel nearest `seed` when
  * seed is not NULL. The body's mirror plane into mirror[4] when not NULL: points p with
- * mirror[0..2] . p = mirror[3], the normal zero when the body has none. */
+ * mirror[0..2] . p = mirror[3], the normal zero when the body has none. Into stand[4] when not
+ * NULL: where a pair of legs the bands misjudged as bumps leaves the body (rf_rig_stands_on),
+ * stand[3] 1 when there is one, else 0. */
 bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double *seed,
-                    double *mirror, rf_rig_skel *out, char *err, size_t n);
+                    double *mirror, double *stand, rf_rig_skel *out, char *err, size_t n);
 void rf_rig_skel_free(rf_rig_skel *s);
 
-/* Where the skeleton's two lowest leaves meet, or NONE (rig.c). */
-uint32_t rf_rig_pick_root(const rf_rig_skel *k);
+/* Where the skeleton's two lowest leaves meet (lowest along `up` when it is not zero, else along
+ * the up the skeleton analysis reads), or NONE (rig.c). */
+uint32_t rf_rig_pick_root(const rf_rig_skel *k, rf_vec3 up);
 
 /* The bones of a skeleton (one per parent-child pair and per leaf tip; a lone joint is a point).
  * Returns the count, *out malloc'd, or 0 when out of memory. */

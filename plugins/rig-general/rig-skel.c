@@ -36,6 +36,7 @@ typedef struct rf_rig_node {
     uint32_t children; /* live children, while pruning */
     uint8_t dead;
     uint8_t end; /* left a leaf by pruning a mirrored pair of twigs: an end of the body */
+    uint8_t leg; /* the end of a leg kept from pruning by rf_rig_stands_on */
 } rf_rig_node;
 
 typedef struct rf_rig_nodes {
@@ -693,6 +694,8 @@ typedef struct rf_rig_tree {
     uint32_t *start;    /* the side branch's first node, below its junction */
     uint32_t *far;      /* per node: the farthest band a pruned branch below it reached ... */
     double *far_r;      /* ... and that branch's thickness at its end */
+    double floor, top;  /* the body's lowest and highest points along up (the frame's y) */
+    double stand[4];    /* where legs scored as bumps leave the body, stand[3] 1 if any */
 } rf_rig_tree;
 
 static double rf_rig_dist3(const double *a, const double *b)
@@ -962,6 +965,31 @@ static void rf_rig_kill(rf_rig_tree *t, uint32_t i)
     v[t->start[i]].dead = 1;
 }
 
+#define RF_RIG_STAND_LOW 0.2  /* of the body's height: where feet end */
+#define RF_RIG_STAND_DROP 0.4 /* of the body's height: how far legs reach below their girdle */
+
+/* Whether leaf i and its mirror image m are legs the body stands on: both leave one junction,
+ * end in the lowest fifth of the body along up (the rigger's frame has the declared up as y)
+ * and reach down from the junction at least 0.4 of the body's height. Such a pair is never a
+ * bump. Measured by bands, a leg leaving the body across them (bands grown from the chest ring
+ * the trunk and the leg's top together) reaches only as far as it hangs below the last band it
+ * shares with the body: the fire dragon's box legs, under a thick body and a wingspan that sets
+ * the bone length, scored as a heel beside its tail and went, the second pass found no feet to
+ * grow from, and the skeleton analysis read the wings as the legs the body hangs from. An ear,
+ * an eye, a jaw's corners, a bat's head lying low do not reach that far below where they leave
+ * the body. */
+static bool rf_rig_stands_on(const rf_rig_tree *t, uint32_t i, uint32_t m)
+{
+    if (m == RF_RIG_NONE)
+        return false;
+    const rf_rig_node *v = t->ns->v;
+    int32_t junction = v[t->start[i]].parent;
+    double h = t->top - t->floor, low = t->floor + RF_RIG_STAND_LOW * h;
+    return junction >= 0 && junction == v[t->start[m]].parent && t->pos[i][1] < low &&
+           t->pos[m][1] < low &&
+           t->pos[junction][1] - fmax(t->pos[i][1], t->pos[m][1]) >= RF_RIG_STAND_DROP * h;
+}
+
 /* Prunes the shortest bump (a side branch scoring under 1) with its mirror image, if it has
  * one: a twig and its image are kept or dropped as one, by their mean score, so the rig of a
  * symmetric body comes out symmetric. Pruned one at a time, the second of two twigs alike (the
@@ -979,6 +1007,13 @@ static bool rf_rig_prune_one(rf_rig_tree *t, uint32_t *reach, uint8_t *leaves)
             continue;
         uint32_t m = rf_rig_mirror_leaf(t, i);
         double score = m == RF_RIG_NONE ? t->score[i] : (t->score[i] + t->score[m]) / 2;
+        if (score < 1 && rf_rig_stands_on(t, i, m)) {
+            const double *at = t->pos[v[t->start[i]].parent];
+            if (!t->stand[3] || at[1] > t->stand[1])
+                t->stand[0] = at[0], t->stand[1] = at[1], t->stand[2] = at[2], t->stand[3] = 1;
+            v[i].leg = v[m].leg = 1;
+            continue;
+        }
         if (score < 1)
             best = t->len[i], best_leaf = i, best_pair = m;
     }
@@ -1084,6 +1119,20 @@ static uint32_t rf_rig_chain(rf_rig_build *b, uint32_t to, uint32_t from_joint, 
     uint32_t len = rf_rig_chain_path(b, to, &total), joint = from_joint;
     double arc = 0;
     uint32_t next = 1; /* the next cut wanted, in pieces */
+    if (b->t->ns->v[to].leg && len >= 2 && len < pieces + 1) {
+        /* a leg with fewer band pieces than the cuts it needs: cut along the polyline */
+        for (uint32_t i = 1; i < len && next < pieces; i++) {
+            const double *p = b->t->pos[b->path[i - 1]], *q = b->t->pos[b->path[i]];
+            double step = rf_rig_dist3(p, q);
+            for (; next < pieces && step > 0 && arc + step >= total * next / pieces; next++) {
+                double f = (total * next / pieces - arc) / step, at[3];
+                for (int c = 0; c < 3; c++)
+                    at[c] = p[c] + f * (q[c] - p[c]);
+                joint = rf_rig_joint_add(b->s, at, (int32_t)joint);
+            }
+            arc += step;
+        }
+    }
     for (uint32_t i = 1; i + 1 < len && next < pieces; i++) {
         arc += rf_rig_dist3(b->t->pos[b->path[i]], b->t->pos[b->path[i - 1]]);
         double step = rf_rig_dist3(b->t->pos[b->path[i + 1]], b->t->pos[b->path[i]]);
@@ -1117,6 +1166,8 @@ static void rf_rig_pieces_of(rf_rig_build *b, const uint32_t *ends, uint32_t n, 
         pieces[i] = (uint32_t)fmax(1, floor(len[i] / b->seg + 0.5));
         if (!v[ends[i]].children && pieces[i] < 2)
             pieces[i] = 2;
+        if (v[ends[i]].leg && pieces[i] < 3) /* a thigh, a shin and a foot */
+            pieces[i] = 3;
     }
     for (uint32_t i = 0; i < n && i < 64; i++)
         for (uint32_t j = 0; j < n && j < 64; j++)
@@ -1346,7 +1397,7 @@ static bool rf_rig_cut_contacts(rf_rig_grid *g, const rf_rig_prep *p, const doub
 }
 
 bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double *seed,
-                    double *mirror, rf_rig_skel *out, char *err, size_t n)
+                    double *mirror, double *stand, rf_rig_skel *out, char *err, size_t n)
 {
     memset(out, 0, sizeof *out);
     rf_rig_init26();
@@ -1373,6 +1424,7 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
         goto done;
     }
     t.seg = o->segment * p->longest;
+    t.floor = p->lo[1], t.top = p->hi[1];
     if (!rf_rig_attach(&t)) {
         ok = rf_rig_fail(err, n, "out of memory linking the mesh's parts");
         goto done;
@@ -1392,6 +1444,8 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
         ;
     rf_rig_trim_fins(&t);
     rf_rig_count_children(&t);
+    if (stand)
+        memcpy(stand, t.stand, sizeof t.stand);
     free(reach), free(leaves), free(t.len), free(t.score), free(t.start), free(t.far),
         free(t.far_r);
     t.len = NULL, t.score = NULL, t.start = NULL, t.far = NULL, t.far_r = NULL;

@@ -121,17 +121,21 @@ static uint32_t rf_rig_lca(const rf_rig_skel *k, uint32_t a, uint32_t b)
     return a;
 }
 
-/* Girdles: where two leaves of the lowest fifth of the body (along the up the skeleton analysis
- * finds) meet above that fifth, flagged in girdle[] (k->n entries); feet that meet near the floor
- * are a heel and its toes, or legs merged into one column under a skirt. Each girdle's height
- * into height[]. Returns how many, or -1 when out of memory. */
-static int rf_rig_girdles(const rf_rig_skel *k, uint8_t *girdle, double *height)
+/* Girdles: where two leaves of the lowest fifth of the body (along `declared` when it is not
+ * zero, else along the up the skeleton analysis finds) meet above that fifth, flagged in
+ * girdle[] (k->n entries); feet that meet near the floor are a heel and its toes, or legs merged
+ * into one column under a skirt. Each girdle's height into height[]. Returns how many, or -1
+ * when out of memory. */
+static int rf_rig_girdles(const rf_rig_skel *k, rf_vec3 declared, uint8_t *girdle, double *height)
 {
-    rf_skeleton *s = rf_rig_skeleton(k, NULL);
-    rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
-    rf_vec3 up = a ? a->up : rf_v3(0, 1, 0);
-    rf_analysis_free(a);
-    rf_skeleton_free(s);
+    rf_vec3 up = rf_v3_len(declared) > 0 ? rf_v3_normalize(declared) : rf_v3(0, 1, 0);
+    if (!(rf_v3_len(declared) > 0)) {
+        rf_skeleton *s = rf_rig_skeleton(k, NULL);
+        rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
+        up = a ? a->up : up;
+        rf_analysis_free(a);
+        rf_skeleton_free(s);
+    }
     uint8_t *inner = calloc(k->n + 1, 1);
     if (!inner)
         return -1;
@@ -162,12 +166,12 @@ static int rf_rig_girdles(const rf_rig_skel *k, uint8_t *girdle, double *height)
 /* Where the feet meet: the highest girdle, the hips of a biped (not the ankle, where heel and
  * toe meet), a girdle or the spine of a quadruped, the body of a spider; the second pass grows
  * from there. NONE when there is no girdle. */
-uint32_t rf_rig_pick_root(const rf_rig_skel *k)
+uint32_t rf_rig_pick_root(const rf_rig_skel *k, rf_vec3 up)
 {
     uint8_t *girdle = malloc(k->n + 1);
     double *height = malloc((k->n + 1) * sizeof *height), best = -INFINITY;
     uint32_t root = RF_RIG_NONE;
-    if (girdle && height && rf_rig_girdles(k, girdle, height) > 0)
+    if (girdle && height && rf_rig_girdles(k, up, girdle, height) > 0)
         for (uint32_t m = 0; m < k->n; m++)
             if (girdle[m] && height[m] > best)
                 best = height[m], root = m;
@@ -178,13 +182,13 @@ uint32_t rf_rig_pick_root(const rf_rig_skel *k)
 /* The hips of a first-pass skeleton (rooted at the thickest point): of its girdles, the one
  * farthest along the skeleton from that point. A quadruped's rib cage, the thickest part, sits
  * by its shoulders; its hips are the other girdle. NONE when there is no girdle. */
-static uint32_t rf_rig_pick_hips(const rf_rig_skel *k)
+static uint32_t rf_rig_pick_hips(const rf_rig_skel *k, rf_vec3 up)
 {
     uint8_t *girdle = malloc(k->n + 1);
     double *height = malloc((k->n + 1) * sizeof *height);
     double *along = calloc(k->n + 1, sizeof *along), best = -INFINITY;
     uint32_t hips = RF_RIG_NONE;
-    if (girdle && height && along && rf_rig_girdles(k, girdle, height) > 0) {
+    if (girdle && height && along && rf_rig_girdles(k, up, girdle, height) > 0) {
         for (uint32_t j = 0; j < k->n; j++) /* parents come first */
             if (k->parent[j] >= 0) {
                 const double *c = k->pos + (size_t)j * 3, *d = k->pos + (size_t)k->parent[j] * 3;
@@ -201,12 +205,12 @@ static uint32_t rf_rig_pick_hips(const rf_rig_skel *k)
 }
 
 /* The girdle of k nearest to point q, or NONE. */
-static uint32_t rf_rig_girdle_near(const rf_rig_skel *k, const double q[3])
+static uint32_t rf_rig_girdle_near(const rf_rig_skel *k, rf_vec3 up, const double q[3])
 {
     uint8_t *girdle = malloc(k->n + 1);
     double *height = malloc((k->n + 1) * sizeof *height), best = INFINITY;
     uint32_t at = RF_RIG_NONE;
-    if (girdle && height && rf_rig_girdles(k, girdle, height) > 0)
+    if (girdle && height && rf_rig_girdles(k, up, girdle, height) > 0)
         for (uint32_t m = 0; m < k->n; m++) {
             const double *p = k->pos + (size_t)m * 3;
             double d = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
@@ -374,32 +378,158 @@ static bool rf_rig_off_middle(const rf_rig_skel *k, const double mirror[4], doub
     return true;
 }
 
+/* Signed distance of point q from the plane mirror[0..2] . p = mirror[3]. */
+static double rf_rig_plane_off(const double mirror[4], const double q[3])
+{
+    return mirror[0] * q[0] + mirror[1] * q[1] + mirror[2] * q[2] - mirror[3];
+}
+
+/* The end of joint j's bone when it is a leaf: its tip, else its pivot. */
+static const double *rf_rig_end(const rf_rig_skel *k, uint32_t j)
+{
+    return k->has_tip[j] ? k->tip + (size_t)j * 3 : k->pos + (size_t)j * 3;
+}
+
+/* The first joint of leaf's chain: up from the leaf while the parent has one child and is no
+ * root. */
+static uint32_t rf_rig_chain_top(const rf_rig_skel *k, const uint32_t *kids, uint32_t leaf)
+{
+    uint32_t top = leaf;
+    while (k->parent[top] >= 0 && kids[k->parent[top]] == 1 && k->parent[k->parent[top]] >= 0)
+        top = (uint32_t)k->parent[top];
+    return top;
+}
+
+/* Whether leaf a's chain has a mirror image among the chains leaving the same joint: one whose
+ * end lies on the other side of the plane, between a third and three times as far from it (two
+ * legs close together under a skirt both lie near the plane). */
+static bool rf_rig_chain_paired(const rf_rig_skel *k, const uint32_t *kids, const double mirror[4],
+                                uint32_t a)
+{
+    int32_t from = k->parent[rf_rig_chain_top(k, kids, a)];
+    double oa = rf_rig_plane_off(mirror, rf_rig_end(k, a));
+    for (uint32_t b = 0; b < k->n; b++) {
+        if (b == a || kids[b] || k->parent[rf_rig_chain_top(k, kids, b)] != from)
+            continue;
+        double ob = rf_rig_plane_off(mirror, rf_rig_end(k, b));
+        if (oa * ob < 0 && fabs(ob) >= fabs(oa) / 3 && fabs(ob) <= 3 * fabs(oa))
+            return true;
+    }
+    return false;
+}
+
+#define RF_RIG_MIDDLE_OFF 4.0 /* voxels: how far off the mirror plane a middle chain may lie */
+
+/* A chain of k (from the joint after a junction, or the root, down to a leaf) without a mirror
+ * image, lying within four voxels of the body's mirror plane (h: a voxel's size) and a voxel or
+ * more off it somewhere, is moved onto the plane: the spine, neck, head and tail of a symmetric
+ * body lie on its middle, as artists put them. Left a few voxels to one side (the centroids of
+ * band pieces a tilted or lopsided head or a hand near the neck pulls over), the skeleton
+ * analysis read the neck and head of BCN_Epileptic as an unpaired right arm, and the matcher
+ * gave the face's 20 joints to it. Offsets under a voxel are the grid's own and stay. */
+static bool rf_rig_on_plane(rf_rig_skel *k, const double mirror[4], double h)
+{
+    if (rf_v3_len((rf_vec3){mirror[0], mirror[1], mirror[2]}) == 0)
+        return true;
+    uint32_t *kids = calloc(k->n + 1, sizeof *kids);
+    uint8_t *move = calloc(k->n + 1, 1);
+    if (!kids || !move) {
+        free(kids), free(move);
+        return false;
+    }
+    for (uint32_t j = 0; j < k->n; j++)
+        if (k->parent[j] >= 0)
+            kids[k->parent[j]]++;
+    for (uint32_t leaf = 0; leaf < k->n; leaf++) {
+        if (kids[leaf] || k->parent[leaf] < 0)
+            continue;
+        uint32_t top = rf_rig_chain_top(k, kids, leaf);
+        double most = fabs(rf_rig_plane_off(mirror, rf_rig_end(k, leaf)));
+        for (uint32_t j = leaf;; j = (uint32_t)k->parent[j]) {
+            most = fmax(most, fabs(rf_rig_plane_off(mirror, k->pos + (size_t)j * 3)));
+            if (j == top)
+                break;
+        }
+        bool near = most <= RF_RIG_MIDDLE_OFF * h && most >= h;
+        if (!near || rf_rig_chain_paired(k, kids, mirror, leaf))
+            continue;
+        for (uint32_t j = leaf;; j = (uint32_t)k->parent[j]) {
+            move[j] = 1;
+            if (j == top)
+                break;
+        }
+    }
+    for (uint32_t j = 0; j < k->n; j++) {
+        if (!move[j])
+            continue;
+        double *p = k->pos + (size_t)j * 3, off = rf_rig_plane_off(mirror, p);
+        for (int c = 0; c < 3; c++)
+            p[c] -= off * mirror[c];
+        if (k->has_tip[j]) {
+            double *t = k->tip + (size_t)j * 3, to = rf_rig_plane_off(mirror, t);
+            for (int c = 0; c < 3; c++)
+                t[c] -= to * mirror[c];
+        }
+    }
+    free(kids), free(move);
+    return true;
+}
+
+/* Whether the skeleton analysis reads k's up within 45 degrees of the declared up (true when
+ * none is declared, or when out of memory). The fire dragon turned 137 degrees kept its legs in
+ * the first pass but was read lying on its side, its wings hanging: its girdles, looked for
+ * along that up, put the second pass's seed on a wing. */
+static bool rf_rig_reads_up(const rf_rig_skel *k, rf_vec3 declared)
+{
+    if (!(rf_v3_len(declared) > 0))
+        return true;
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
+    bool agree = !a || rf_v3_dot(a->up, rf_v3_normalize(declared)) >= 0.7;
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    return agree;
+}
+
 bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
                   size_t err_size)
 {
-    double mirror[4];
-    bool ok = rf_rig_extract(p, o, NULL, mirror, k, err, err_size);
+    double mirror[4], stand[4] = {0};
+    bool ok = rf_rig_extract(p, o, NULL, mirror, stand, k, err, err_size);
     /* Level sets grown from the hips cut the body square to its length (shoulders level, limbs
      * leaving symmetrically); from the thickest point they would ring the chest. So a second pass
-     * starts where the first pass's two lowest leaves meet. */
-    uint32_t r = ok ? rf_rig_pick_root(k) : RF_RIG_NONE, hips = ok ? rf_rig_pick_hips(k) : r;
+     * starts where the first pass's two lowest leaves meet. Where the first pass kept legs the
+     * bands had scored as bumps (rf_rig_stands_on), it starts where those legs leave the body,
+     * found before junctions a short chain apart became one joint (the fire dragon's hips and
+     * chest, a bone apart, were one), and the feet are the lowest along the declared up; so
+     * they are where the analysis reads the first pass's up over 45 degrees off it. */
+    bool legs = ok && stand[3];
+    rf_vec3 up = legs ? o->up : rf_v3(0, 0, 0); /* zero: the analysis's */
+    if (ok && !legs && !rf_rig_reads_up(k, o->up))
+        up = o->up;
+    uint32_t r = ok ? rf_rig_pick_root(k, up) : RF_RIG_NONE,
+             hips = ok ? rf_rig_pick_hips(k, up) : r;
     double hips_at[3], seed[3];
     if (hips != RF_RIG_NONE)
         memcpy(hips_at, k->pos + (size_t)hips * 3, sizeof hips_at);
-    bool again = r != RF_RIG_NONE && k->parent[r] >= 0;
-    if (again)
+    bool again = legs || (r != RF_RIG_NONE && k->parent[r] >= 0);
+    if (legs)
+        memcpy(seed, stand, sizeof seed);
+    else if (again)
         memcpy(seed, k->pos + (size_t)r * 3, sizeof seed);
     else if (ok && rf_rig_off_middle(k, mirror, p->longest / o->resolution, seed))
         again = true;
     if (again) {
         rf_rig_skel_free(k);
-        ok = rf_rig_extract(p, o, seed, NULL, k, err, err_size);
+        ok = rf_rig_extract(p, o, seed, NULL, NULL, k, err, err_size);
     }
+    if (ok && !rf_rig_on_plane(k, mirror, p->longest / o->resolution))
+        ok = rf_rig_fail(err, err_size, "out of memory centring the skeleton");
     /* The skeleton analysis (and so the matcher) reads which way a body faces partly from where
      * the root is: artists root a quadruped at its hips, and the spine runs from there to the
      * shoulders. The second pass's root, the highest girdle, is often the shoulders; the rig is
      * rooted again at the girdle nearest the hips, its joints unmoved. */
-    uint32_t g = ok && hips != RF_RIG_NONE ? rf_rig_girdle_near(k, hips_at) : RF_RIG_NONE;
+    uint32_t g = ok && hips != RF_RIG_NONE ? rf_rig_girdle_near(k, up, hips_at) : RF_RIG_NONE;
     if (g != RF_RIG_NONE && k->parent[g] >= 0 && !rf_rig_reroot(k, g))
         ok = rf_rig_fail(err, err_size, "out of memory re-rooting the skeleton");
     return ok;
@@ -1096,7 +1226,13 @@ static bool rf_rig_limbs(rf_rig_skel *k, const rf_rig_options *o,
     if (!s)
         return false;
     s->up = o->up, s->forward = o->forward; /* hints, as a file's axes are */
-    rf_analysis *a = rf_analyze(s, NULL);
+    /* Which limbs are legs is read with the declared up as fact, not as a hint: the mesh stands
+     * on it (the rig's frame has it as y). As a hint it is one vote among the limbs' own, and a
+     * pair of wings spread level, sweeping forward a little, outvoted the fire dragon's short
+     * legs: the wings were laid as legs and the legs as nothing. Without a declared up the
+     * analysis reads it from the limbs as before. */
+    rf_analysis_options ao = {.up = o->up};
+    rf_analysis *a = rf_analyze(s, &ao);
     rf_rig_limb limbs[RF_RIG_MAX_LIMBS];
     bool ok = a != NULL;
     uint32_t nl = ok ? rf_rig_limbs_found(k, a, rf_v3_len(o->forward) > 0, lay, limbs) : 0;

@@ -174,13 +174,20 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # 0.090); the frog is read facing 0.74 (a quarter turn and more off before), so no facing check.
 # A hand on a hip is a contact, not tissue: BCN_Epileptic's arms reached through its shoulders
 # (CD-J2J 0.0446, skinning after the matcher precision 24%; with the volume's loop through the
-# hand 0.0480, 11%); its head, one loose part holding the bones of the neck, jaw, lips, eyes and
+# hand 0.0480, 11%); its neck and head, three voxels off the mirror plane, are moved onto it and
+# read as a head, not an unpaired arm (CD-J2J 0.0435, after the matcher 40% / 47%; 25% / 25%
+# left off the plane); its head, one loose part holding the bones of the neck, jaw, lips, eyes and
 # ponytail, bends with them on the skeleton of the artist (.740/.780/.646; .731/.744/.671 with
 # the head moved by the neck alone), its face joints fanning from the neck keeping bone heat's
 # sharpened rows (.719/.807/.651 with the plain rows a chain of joints in a loose part takes). The fire dragon's wing membranes, whose corners at the wrist
 # (where the forearm's bone ends and four fingers' start) its artist gave to the forearm, take
 # the forearm's heat there, not two fingers' (.694/.719/.601 on the skeleton of the artist;
-# .675/.719/.634 with the two first in the sort). Mirrored twigs are pruned as pairs, the frog's
+# .675/.719/.634 with the two first in the sort). Its short box legs, under a thick body and a
+# wingspan that sets the bone length, are legs the body stands on, not bumps (rf_rig_stands_on),
+# and the limbs are read with the declared up: read up and facing as its artist rig is, its
+# artist's Foot.L 0.011 from a rigger joint, CD-J2J 0.051, precision after the matcher 33%
+# (without: legs pruned, wings read as legs, up and facing a quarter turn off, 0.131, 0.074, 8%).
+# Mirrored twigs are pruned as pairs, the frog's
 # second pass grown from its mirror plane (its thickest point lies off to one side of its box
 # body): every joint of its rig lies within 0.05 of another's mirror image across x = 0 (the
 # plane of the artist's Torso, Head and Jaw; 0.018 reached, 0.235 with one eye and one
@@ -197,11 +204,13 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 cat "$tmp/sbench.csv"
 awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                      else { n++; cd[$c["model"]] = $c["cd_j2j"]; p[$c["model"]] = $c["precision"]
+                            r[$c["model"]] = $c["recall"]
                             gp[$c["model"]] = $c["given_precision"]
                             gr[$c["model"]] = $c["given_recall"]; gl[$c["model"]] = $c["given_l1"]
+                            ua[$c["model"]] = $c["up_agree"]; fa[$c["model"]] = $c["forward_agree"]
                             uw += $c["unweighted"] }; next }
     FNR == 1 { for (i = 1; i <= NF; i++) j[$i] = i; next }
-    $j["rig"] == "artist" && $j["joint"] == "\"Foot.L\"" { foot = $j["distance"] }
+    $j["rig"] == "artist" && $j["joint"] == "\"Foot.L\"" { foot[$j["model"]] = $j["distance"] }
     $j["model"] == "\"huesitos.fbx\"" && $j["rig"] == "rigger" && !hroot++ { hy = $j["y"] }
     $j["model"] == "\"huesitos.fbx\"" && (ylow[$j["rig"]] == "" || $j["y"] < ylow[$j["rig"]]) {
         ylow[$j["rig"]] = $j["y"] }
@@ -212,8 +221,14 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
         dragon = "\"draconis_fire_dragon.b3d\""
         if (!(gp[dragon] >= 0.685 && gl[dragon] <= 0.615))
             print "FAIL: fire dragon on the skeleton of the artist: precision " gp[dragon] ", L1 " gl[dragon]
-        if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.18))
-            print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " p["\"BCN_Epileptic.X\""]
+        if (!(ua[dragon] > 0.9 && fa[dragon] > 0.9 && cd[dragon] < 0.056 && p[dragon] >= 0.28 &&
+              foot[dragon] != "" && foot[dragon] < 0.03))
+            print "FAIL: fire dragon: up " ua[dragon] ", forward " fa[dragon] ", cd_j2j " cd[dragon] \
+                ", precision " p[dragon] ", Foot.L " foot[dragon] " from the nearest joint"
+        if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.36 &&
+              r["\"BCN_Epileptic.X\""] >= 0.42))
+            print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " \
+                p["\"BCN_Epileptic.X\""] ", recall " r["\"BCN_Epileptic.X\""]
         if (!(gp["\"BCN_Epileptic.X\""] >= 0.73 && gr["\"BCN_Epileptic.X\""] >= 0.765 &&
               gl["\"BCN_Epileptic.X\""] <= 0.66))
             print "FAIL: BCN_Epileptic on the skeleton of the artist: precision " \
@@ -225,7 +240,9 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             print "FAIL: huesitos: its root at y " hy ", its lowest joint " ylow["rigger"] \
                 ", the artist rig lowest " ylow["artist"]
         if (!(cd["\"greenman.glb\""] < 0.105)) print "FAIL: greenman cd_j2j " cd["\"greenman.glb\""]
-        if (!(foot != "" && foot < 0.15)) print "FAIL: bull frog: Foot.L " foot " from the nearest joint"
+        frog = "\"animalia_bull_frog.b3d\""
+        if (!(foot[frog] != "" && foot[frog] < 0.15))
+            print "FAIL: bull frog: Foot.L " foot[frog] " from the nearest joint"
         if (uw) print "FAIL: short limbs: " uw " vertices without weights"
         if (!fn) print "FAIL: bull frog: no rigger joints in --joints"
         for (a = 1; a <= fn; a++) {
