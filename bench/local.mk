@@ -16,3 +16,11 @@ bench-batch: all
 	$(SHELL) $(srcdir)/bench/batch/run.sh '$(abs_top_builddir)' $(BENCH_BATCH_ARGS)
 bench: bench-batch
 .PHONY: bench-batch
+# Random creatures (tests/rig/creature) through both riggers, rig-bench --look and
+# scan-to-animation: `make bench-creatures` (BENCH_CREATURES_ARGS: seeds per plan, first seed).
+EXTRA_DIST += bench/creatures.sh
+bench-creatures: all
+	RF_DATA_DIR='$(RF_DATA_DIR)' RF_NPM_DIR='$(RF_NPM_DIR)' \
+		$(SHELL) $(srcdir)/bench/creatures.sh '$(abs_top_builddir)' $(BENCH_CREATURES_ARGS)
+bench: bench-creatures
+.PHONY: bench-creatures

@@ -339,6 +339,25 @@ static rf_skeleton *emit(gen_build *b, const gen_frame *f, bool meaningful)
     return s;
 }
 
+static rf_vec3 to_frame(const gen_frame *f, rf_vec3 p)
+{
+    return rf_v3_add(rf_quat_rotate(f->rot, rf_v3_scale(p, f->scale)), f->offset);
+}
+
+/* The bones and axes as built, for gen_skel's body fields; draws nothing from the generator. */
+static void body_frame(const gen_build *b, const gen_frame *f, gen_skel *g)
+{
+    g->bone_from = malloc((size_t)b->n * sizeof *g->bone_from);
+    g->bone_to = malloc((size_t)b->n * sizeof *g->bone_to);
+    for (int i = 0; i < b->n; i++) {
+        g->bone_from[i] = to_frame(f, b->j[i].pos);
+        g->bone_to[i] = to_frame(f, bone_end(b, i));
+    }
+    g->up = rf_quat_rotate(f->rot, rf_v3(0, 1, 0));
+    g->forward = rf_quat_rotate(f->rot, rf_v3(0, 0, 1));
+    g->scale = f->scale;
+}
+
 gen_skel gen_make(gen_plan plan, uint64_t seed)
 {
     gen_build *b = calloc(1, sizeof *b);
@@ -363,6 +382,7 @@ gen_skel gen_make(gen_plan plan, uint64_t seed)
         f.rot = rf_quat_mul(rf_quat_from_axis_angle(rf_v3(1, 0, 0), RF_PI / 2), f.rot);
     g.s = emit(b, &f, rnd(b) < 0.5);
     g.plan = plan;
+    body_frame(b, &f, &g);
     g.label = malloc((size_t)b->n * sizeof *g.label);
     for (int i = 0; i < b->n; i++)
         g.label[i] = b->j[i].label;
@@ -374,6 +394,8 @@ void gen_free(gen_skel *g)
 {
     rf_skeleton_free(g->s);
     free(g->label);
+    free(g->bone_from);
+    free(g->bone_to);
     memset(g, 0, sizeof *g);
 }
 

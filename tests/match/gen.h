@@ -48,6 +48,12 @@ typedef struct gen_skel {
     rf_skeleton *s;
     gen_label *label; /* [joint_count] */
     gen_plan plan;
+    /* The body as built, in the skeleton's frame (for meshes made around it): each joint's bone
+     * from its pivot to where it ends (its continuing child, or its tip), whatever the rig
+     * convention wrote; the up and forward the body was turned to, and its scale. */
+    rf_vec3 *bone_from, *bone_to; /* [joint_count] */
+    rf_vec3 up, forward;
+    double scale;
 } gen_skel;
 
 /* A random skeleton of `plan` from `seed`. (transfer full: gen_free) */

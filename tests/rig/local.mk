@@ -47,3 +47,20 @@ noinst_PROGRAMS += tests/rig/rig-up
 tests_rig_rig_up_SOURCES = tests/rig/rig-up.c
 tests_rig_rig_up_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
 tests_rig_rig_up_LDADD = $(tests_rig_rig_dump_LDADD)
+
+# creature: a random creature mesh skinned to a generated skeleton (tests/match/gen.c), the
+# random set of test_rig_creatures.sh and bench/creatures.sh (doc/autorig.md, "Random creatures")
+noinst_PROGRAMS += tests/rig/creature
+tests_rig_creature_SOURCES = tests/rig/creature.c tests/match/gen.c tests/match/gen.h
+tests_rig_creature_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/match
+tests_rig_creature_LDADD = sdk/formats/gltf/librigflow-gltf.la -lm
+TESTS += tests/rig/test_rig_creatures.sh
+EXTRA_DIST += tests/rig/test_rig_creatures.sh
+
+# rerig: a rigged model's skeleton laid out again in tests/match/gen.c's conventions (a ground
+# root, IK helpers, long bones split, frames along the bones), its skin kept: test_rig_rerig.sh
+noinst_PROGRAMS += tests/rig/rerig
+tests_rig_rerig_SOURCES = tests/rig/rerig.c
+tests_rig_rerig_LDADD = sdk/formats/assimp/librigflow-assimp.la sdk/formats/gltf/librigflow-gltf.la -lm
+TESTS += tests/rig/test_rig_rerig.sh
+EXTRA_DIST += tests/rig/test_rig_rerig.sh
