@@ -64,6 +64,15 @@ static void rt_world(const rf_skeleton *s, const rf_xform *local, rf_xform *worl
     }
 }
 
+/* A source's world pose from its local one, read in the target's frame (src->turn). */
+static void rt_source_world(const rf_rt_src *src, const rf_xform *local, rf_xform *world)
+{
+    for (uint32_t j = 0; j < src->n; j++) {
+        int32_t p = src->skel->joints[j].parent;
+        world[j] = p < 0 ? rf_rt_source_root(src, local[j]) : rf_xform_mul(world[p], local[j]);
+    }
+}
+
 /* A branched pose whose bones nearly all lie on one line across the up axis is no body (Maya
  * joint orients leave every bone along its local X at zero rotation). A straight chain (a fish,
  * a strip) may be straight, and a body with its limbs hanging along up (arms down) is a body. */
@@ -144,7 +153,7 @@ static bool rt_source_rest(rf_retarget *rt, rf_rt_src *src, char *err, size_t er
     const rf_skeleton *s = src->skel;
     for (uint32_t j = 0; j < src->n; j++)
         src->rest_local[j] = s->joints[j].rest;
-    rt_world(s, src->rest_local, src->rest_world);
+    rt_source_world(src, src->rest_local, src->rest_world);
     for (uint32_t j = 0; j < src->n; j++)
         src->skel_pos[j] = src->rest_world[j].t;
     int32_t frame = rt->opt.rest_frame;
@@ -159,7 +168,7 @@ static bool rt_source_rest(rf_retarget *rt, rf_rt_src *src, char *err, size_t er
         rf_animation_local_pose(src->anim, s, (uint32_t)frame, src->rest_local);
         for (uint32_t j = 0; j < src->n; j++)
             src->rest_local[j].r = rf_quat_normalize(src->rest_local[j].r);
-        rt_world(s, src->rest_local, src->rest_world);
+        rt_source_world(src, src->rest_local, src->rest_world);
     }
     src->rest_frame = frame;
     return true;
@@ -170,6 +179,7 @@ bool rf_rt_sources_prepare(rf_retarget *rt, char *err, size_t err_size)
     for (uint32_t k = 0; k < rt->source_count; k++) {
         rf_rt_src *src = &rt->src[k];
         size_t n = src->n ? src->n : 1;
+        src->turn = rf_quat_identity(); /* read in its own frame until the target's is known */
         src->rest_local = malloc(n * sizeof *src->rest_local);
         src->rest_world = malloc(n * sizeof *src->rest_world);
         src->skel_pos = malloc(n * sizeof *src->skel_pos);
@@ -334,6 +344,30 @@ static bool rt_target_analyse(rf_retarget *rt, const rf_xform *local, rt_axes *a
     return ok;
 }
 
+/* Reads source `src` in the target's frame from now on: its rest, axes and every pose turned
+ * (about the origin) by the inverse of the turn of the target's body frame (up, forward) onto
+ * the source's. The clip then plays where the target faces, with the target's up: a target
+ * turned by any angle with its axes gets the same motion turned, and the joints above its mapped
+ * body (an unmapped root carrying skin) stay in line with the body they carry, where turning the
+ * target onto the source's facing turned the mapped body alone (the general rigger's greenman
+ * turned 30 degrees: stretch p99 18.1 -> 41.2% of the height, torn between its unmapped root
+ * and its spine). Heights along up, lengths and angles are unchanged by the turn. */
+static void rt_source_turn(const rf_retarget *rt, rf_rt_src *src)
+{
+    rf_quat ft = rt_frame_rot(rt->left, rt->up, rt->forward);
+    rf_quat fs = rt_frame_rot(src->left, src->up, src->forward);
+    rf_quat body = rt->t_degenerate ? rf_quat_identity() : rf_quat_mul(fs, rf_quat_conj(ft));
+    src->turn = rf_quat_normalize(rf_quat_conj(body));
+    for (uint32_t j = 0; j < src->n; j++) {
+        src->rest_world[j] = rf_rt_source_root(src, src->rest_world[j]);
+        src->skel_pos[j] = rf_quat_rotate(src->turn, src->skel_pos[j]);
+    }
+    src->up = rf_quat_rotate(src->turn, src->up);
+    src->forward = rf_quat_rotate(src->turn, src->forward);
+    src->left = rf_quat_rotate(src->turn, src->left);
+    src->center = rf_quat_rotate(src->turn, src->center);
+}
+
 bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
 {
     const rf_skeleton *t = rt->target;
@@ -367,13 +401,8 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
          * does, so it has the source's. */
         rt->up = rt->src[0].up, rt->forward = rt->src[0].forward, rt->left = rt->src[0].left;
     }
-    /* The rotation turning the target's body frame onto each source's. */
-    for (uint32_t k = 0; k < rt->source_count; k++) {
-        rf_rt_src *src = &rt->src[k];
-        rf_quat ft = rt_frame_rot(rt->left, rt->up, rt->forward);
-        rf_quat fs = rt_frame_rot(src->left, src->up, src->forward);
-        src->body = rt->t_degenerate ? rf_quat_identity() : rf_quat_mul(fs, rf_quat_conj(ft));
-    }
+    for (uint32_t k = 0; k < rt->source_count; k++)
+        rt_source_turn(rt, &rt->src[k]);
     return true;
 }
 
@@ -495,7 +524,7 @@ static double rt_clip_floor(const rf_retarget *rt, uint32_t k, const uint8_t *ab
         for (uint32_t i = 0; i < samples; i++) {
             uint32_t f = samples > 1 ? (uint32_t)((uint64_t)i * (frames - 1) / (samples - 1)) : 0;
             rf_animation_local_pose(src->anim, src->skel, f, local);
-            rt_world(src->skel, local, world);
+            rt_source_world(src, local, world);
             low[i] = rt_lowest(src->skel, world, src->tip, src->up, above);
         }
         qsort(low, samples, sizeof *low, rt_cmp_double);
@@ -529,7 +558,7 @@ static bool rt_source_ground(rf_retarget *rt, uint32_t k)
         return false;
     for (uint32_t j = 0; j < src->n; j++)
         world[j] = src->skel->joints[j].rest;
-    rt_world(src->skel, world, world);
+    rt_source_world(src, world, world);
     double rest = src->rest_frame < 0 ? lowest : clip;
     double floor = rt_rest_floor(src->skel, world, rest, src->leg);
     /* A clip whose feet stay away from the rest's floor has a floor of its own. */

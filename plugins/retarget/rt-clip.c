@@ -276,7 +276,7 @@ static inline void rt_source_joint(const rf_rt_src *src, uint32_t j, rf_xform *l
     local[j].t = rf_v3(p[0], p[1], p[2]);
     local[j].s = src->skel->joints[j].rest.s;
     int32_t par = src->skel->joints[j].parent;
-    world[j] = par < 0 ? local[j] : rf_xform_mul(world[par], local[j]);
+    world[j] = par < 0 ? rf_rt_source_root(src, local[j]) : rf_xform_mul(world[par], local[j]);
 }
 
 __attribute__((flatten)) void rf_rt_source_world_some(const rf_retarget *rt, uint32_t k, double t,

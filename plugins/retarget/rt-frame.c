@@ -174,13 +174,13 @@ static void rt_source_fk(const rf_retarget *rt, rf_rt_work *w, uint32_t s, const
             continue; /* only LOCAL joints read it, through its local rotation */
         int32_t par = parent[j];
         rf_quat l = rt_load(pose->rotations + (size_t)j * 4);
-        q[j] = par < 0 ? l : rf_quat_mul(q[par], l);
+        q[j] = par < 0 ? rf_quat_mul(src->turn, l) : rf_quat_mul(q[par], l);
         if (!src->need_pos[j])
             continue;
         const float *t = pose->translations + (size_t)j * 3;
         rf_vec3 lt = rf_v3(t[0], t[1], t[2]);
         /* The parent's world scale is its rest's: clips carry no scale. */
-        p[j] = par < 0 ? lt
+        p[j] = par < 0 ? rf_quat_rotate(src->turn, lt)
                        : rf_v3_add(p[par],
                                    rf_quat_rotate(q[par], rf_v3_mul(src->rest_world[par].s, lt)));
     }
@@ -375,8 +375,9 @@ static rf_vec3 rt_translate(const rf_retarget *rt, const rf_rt_work *w, const rf
         const float *t = poses[in->slot].translations + (size_t)in->joint * 3;
         rf_vec3 off = rf_v3_sub(rf_v3(t[0], t[1], t[2]), src->rest_local[in->joint].t);
         int32_t par = src->skel->joints[in->joint].parent;
-        if (par >= 0)
-            off = rf_quat_rotate(w->s_rot[in->slot][par], rf_v3_mul(src->rest_world[par].s, off));
+        off = par >= 0
+                  ? rf_quat_rotate(w->s_rot[in->slot][par], rf_v3_mul(src->rest_world[par].s, off))
+                  : rf_quat_rotate(src->turn, off);
         d = rf_v3_add(d, rf_v3_scale(off, src->scale * in->weight));
     }
     rf_vec3 rest = rt->target->joints[j].rest.t;

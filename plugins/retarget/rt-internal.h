@@ -96,7 +96,9 @@ typedef struct rf_rt_src {
     int32_t *parent;      /* [n] parents, packed for the frame loop */
     uint8_t *need_rot;    /* [n] the frame function needs this joint's world rotation */
     rf_vec3 up, forward, left; /* body axes (unit, orthogonal) */
-    rf_quat body;              /* turns the target's body axes onto this source's (up, forward) */
+    rf_quat turn;              /* turns the source's world into the target's (the inverse of the
+                                * body turn, about the origin): every world pose of the source
+                                * is read turned by it, at its roots (rf_rt_source_root) */
     rf_vec3 center;            /* a point on the symmetry plane */
     double size;               /* extent of the rest pose (tolerances) */
     double leg;                /* hip height over the lowest rest point */
@@ -110,6 +112,15 @@ typedef struct rf_rt_src {
                                 * point */
     double scale;              /* root motion scale for this source */
 } rf_rt_src;
+
+/* The world transform of a source root joint whose local transform is `local`: turned into the
+ * target's frame. */
+static inline rf_xform rf_rt_source_root(const rf_rt_src *src, rf_xform local)
+{
+    local.t = rf_quat_rotate(src->turn, local.t);
+    local.r = rf_quat_mul(src->turn, local.r);
+    return local;
+}
 
 /* The scratch of one thread's frames, allocated once per thread and clip. */
 typedef struct rf_rt_work {

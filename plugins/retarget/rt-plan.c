@@ -290,8 +290,8 @@ static rf_quat rt_align(const rt_pair *pairs, uint32_t count, rf_quat ref, bool 
     return rf_quat_normalize(rf_quat_mul(rf_quat_from_axis_angle(n, angle), a));
 }
 
-/* The alignment of the nearest mapped ancestor's input from the same source, or the turn of
- * the target's body frame onto the source's. */
+/* The alignment of the nearest mapped ancestor's input from the same source, or none: the
+ * source is read in the target's frame (rt_source_turn, rt-body.c), body frames aligned. */
 static rf_quat rt_parent_align(const rf_retarget *rt, uint32_t j, uint32_t source,
                                const int32_t *mp)
 {
@@ -301,7 +301,7 @@ static rf_quat rt_parent_align(const rf_retarget *rt, uint32_t j, uint32_t sourc
             if (rt->in[tj->first_input + i].source == source)
                 return rt->in[tj->first_input + i].align;
     }
-    return rt->src[source].body;
+    return rf_quat_identity();
 }
 
 /* Whether source joint j and target joint t lie on opposite sides of their bodies (each side
@@ -414,11 +414,12 @@ static void rt_input_resolve(rf_retarget *rt, uint32_t j, const rf_map_input *in
         out->flags |= keep ? RF_RT_IN_KIND : 0;
     }
     /* A top joint with three directions or more (a quadruped's hips: legs, spine, tail) carries
-     * the body's attitude: its alignment is the turn of the body frames (up, forward), so a level
-     * source keeps it level. Laying it by its directions tilts it wherever the two bodies are
-     * built differently: a horse's rising tail laid along the Fox's hanging one tilted the horse
-     * 45 degrees, and a fit of all of them still pitched the cat (whose forelegs hang from its
-     * one torso bone, low, where the Fox's shoulders are high) and the horse nose up. */
+     * the body's attitude: its alignment is the body frames' (the identity: the source is read
+     * in the target's frame, body frames aligned), so a level source keeps it level. Laying it by
+     * its directions tilts it wherever the two bodies are built differently: a horse's rising tail
+     * laid along the Fox's hanging one tilted the horse 45 degrees, and a fit of all of them still
+     * pitched the cat (whose forelegs hang from its one torso bone, low, where the Fox's shoulders
+     * are high) and the horse nose up. */
     out->align = mp[j] < 0 && count >= 3 && !keep && !rt->t_degenerate
                      ? ref
                      : rt_align(pairs, count, ref, keep);
@@ -477,8 +478,7 @@ static bool rt_plan_differs(const rf_retarget *rt, const int32_t *mp)
     if (!a || !b)
         return false;
     const rf_rt_src *src = &rt->src[0];
-    rf_vec3 vt = rf_quat_rotate(src->body,
-                                rf_v3_sub(rt_tpos(rt, (uint32_t)far), rt_tpos(rt, (uint32_t)top)));
+    rf_vec3 vt = rf_v3_sub(rt_tpos(rt, (uint32_t)far), rt_tpos(rt, (uint32_t)top));
     rf_vec3 vs = rf_v3_sub(src->rest_world[b->joint].t, src->rest_world[a->joint].t);
     return rf_v3_angle(vt, vs) > RT_BODY_PLAN_ANGLE;
 }

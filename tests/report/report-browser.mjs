@@ -203,19 +203,30 @@ async function full(name, file, joints) {
   const meshError2 = await page.evaluate(() => rigflowReport.meshJointError());
   check(meshError2 < 1e-3, `${name}: mesh and joints agree at frame ${shown} (off by ${meshError2} heights)`);
 
-  // feet in contact turn red: the first shown frame with a contact, around that foot
-  const contact = await page.evaluate(() => {
-    for (let k = 0; k < rigflowReport.shown; k++) {
+  // feet in contact turn red: the first shown frames with a contact (up to 24), around each foot
+  // in contact, until one shows red (a foot may be hidden behind the body in one frame: the
+  // fire dragon, seen from the front, hides its feet behind its body in most frames)
+  const contacts = await page.evaluate(() => {
+    const out = [];
+    for (let k = 0; k < rigflowReport.shown && out.length < 24; k++) {
       const on = rigflowReport.contactsAt(k);
-      if (on.length) return { k, j: on[0] };
+      if (on.length) out.push({ k, on });
     }
-    return null;
+    return out;
   });
-  if (check(contact !== null, `${name}: the measures mark contacts`)) {
-    await page.locator('#scrub').fill(String(contact.k));
-    const at = await page.evaluate((j) => rigflowReport.screenOf('target', j), contact.j);
-    const red = at ? await redNear(await shot(page, art('contact')), at) : 0;
-    check(red >= 12, `${name}: target joint ${contact.j}, in contact at position ${contact.k}, drawn red (${red} pixels)`);
+  if (check(contacts.length > 0, `${name}: the measures mark contacts`)) {
+    let red = 0, joint = contacts[0].on[0], at_k = contacts[0].k;
+    for (const c of contacts) {
+      await page.locator('#scrub').fill(String(c.k));
+      const picture = await shot(page, art('contact'));
+      for (const j of c.on) {
+        const at = await page.evaluate((j) => rigflowReport.screenOf('target', j), j);
+        const r = at ? await redNear(picture, at) : 0;
+        if (r > red) red = r, joint = j, at_k = c.k;
+      }
+      if (red >= 24) break; // clearly red: no need to look further
+    }
+    check(red >= 12, `${name}: target joint ${joint}, in contact at position ${at_k}, drawn red (${red} pixels)`);
   }
 
   // worst frame one click away
