@@ -11,7 +11,6 @@
 #include <rigflow/text.h>
 
 #include "retarget.h"
-#include "rigflow/model-copy.h"
 
 #define ERR_SIZE 512
 
@@ -186,9 +185,9 @@ static bool rt_limit_turns(rf_retarget *rt, rf_animation *out, const rf_skeleton
 
 /* With the target's skinned mesh connected, the clip stands on the mesh's floor. A mesh that
  * cannot be used is said in one line; the clip keeps the skeleton's floor. */
-static void rt_mesh_floor(rf_retarget *rt, rf_animation *out, const rf_mesh *mesh,
-                          const rf_host *host, rf_node *node)
+static void rt_mesh_floor(rf_retarget *rt, rf_animation *out, const rf_host *host, rf_node *node)
 {
+    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
     char err[ERR_SIZE];
     double shift;
     if (!mesh)
@@ -216,9 +215,9 @@ static bool rt_parts_pass(rf_retarget *rt, rf_animation *out, const rf_host *hos
 
 /* What the parts pass could not lift out of the floor in the median frame raises the whole clip,
  * said in one line. */
-static void rt_mesh_clear(rf_retarget *rt, rf_animation *out, const rf_mesh *mesh,
-                          const rf_host *host, rf_node *node)
+static void rt_mesh_clear(rf_retarget *rt, rf_animation *out, const rf_host *host, rf_node *node)
 {
+    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
     char err[ERR_SIZE];
     double shift = 0;
     if (mesh && rf_retarget_mesh_clear(rt, out, mesh, &shift, err, sizeof err) && shift > 0)
@@ -275,115 +274,6 @@ static bool rt_finite(const rf_animation *a, const rf_skeleton *s, const rf_host
     return true;
 }
 
-/* ---- a target whose up is not its source's ---- */
-
-/* The plan lays the target's rest into the source's body frame (its alignment turns the
- * target's up onto the source's) and reads the target's heights, floors and legs along the
- * target's own up: the two agree when the ups do. A target standing along another up (a scan
- * found standing along +z in a file that declares no axes, a model tipped over with its axes)
- * came out standing on its tail, its legs read a twentieth as long. So such a target is
- * retargeted turned onto the source's up, and its clip turned back. */
-typedef struct rt_turned {
-    rf_quat q; /* the target's axes onto the turned ones */
-    rf_skeleton *target;
-    rf_mesh *mesh;
-} rt_turned;
-
-static void rt_turn_root(rf_xform *x, rf_quat q)
-{
-    x->t = rf_quat_rotate(q, x->t);
-    x->r = rf_quat_normalize(rf_quat_mul(q, x->r));
-}
-
-static void rt_turn_floats(float *v, size_t count, size_t stride, rf_quat q)
-{
-    for (size_t i = 0; v && i < count; i++) {
-        rf_vec3 r = rf_quat_rotate(q, rf_v3(v[i * stride], v[i * stride + 1], v[i * stride + 2]));
-        v[i * stride] = (float)r.x, v[i * stride + 1] = (float)r.y, v[i * stride + 2] = (float)r.z;
-    }
-}
-
-/* The target (and its mesh, may be NULL) turned by q into t; false when out of memory. */
-static bool rt_turn_target(const rf_skeleton *s, const rf_mesh *m, rf_quat q, rt_turned *t)
-{
-    t->q = q;
-    if (!(t->target = rf_skeleton_copy(s)) || (m && !(t->mesh = rf_mesh_copy(m))))
-        return false;
-    rf_skeleton *c = t->target;
-    for (uint32_t j = 0; j < c->joint_count; j++)
-        if (c->joints[j].parent < 0) {
-            rt_turn_root(&c->joints[j].rest, q);
-            if (RF_HAS_FIELD(c, rf_skeleton, bind) && c->bind)
-                rt_turn_root(&c->bind[j], q);
-        }
-    c->up = rf_quat_rotate(q, c->up), c->forward = rf_quat_rotate(q, c->forward);
-    if (t->mesh) {
-        rf_mesh *k = t->mesh;
-        rt_turn_floats(k->positions, k->vertex_count, 3, q);
-        rt_turn_floats(k->normals, k->vertex_count, 3, q);
-        if (RF_HAS_FIELD(k, rf_mesh, tangents))
-            rt_turn_floats(k->tangents, k->vertex_count, 4, q);
-        /* model space turned: a point's old coordinates are its turned ones turned back */
-        rf_mat4 undo =
-            rf_xform_to_mat4((rf_xform){rf_v3(0, 0, 0), rf_quat_conj(q), rf_v3(1, 1, 1)});
-        for (uint32_t j = 0; k->inverse_bind && j < k->bind_count; j++)
-            k->inverse_bind[j] = rf_mat4_mul(k->inverse_bind[j], undo);
-    }
-    return true;
-}
-
-/* A clip of the target turned by q: its roots (conj(q) turns a turned target's clip back). */
-static void rt_turn_clip(rf_animation *a, const rf_skeleton *s, rf_quat q)
-{
-    for (uint32_t j = 0; j < a->joint_count && j < s->joint_count; j++)
-        for (uint32_t f = 0; s->joints[j].parent < 0 && f < a->frame_count; f++) {
-            rf_xform x = {rf_animation_translation(a, f, j), rf_animation_rotation(a, f, j),
-                          rf_v3(1, 1, 1)};
-            rt_turn_root(&x, q);
-            rf_animation_set_translation(a, f, j, x.t);
-            rf_animation_set_rotation(a, f, j, x.r);
-        }
-}
-
-/* When the plan reads the target standing along another up than source 0 (more than 30
- * degrees apart), the plan remade on the target turned onto the source's up (into t, *rt
- * replaced); false when out of memory. */
-static bool rt_stand_on_source(rf_retarget **rt, const rf_rt_source *src, uint32_t count,
-                               const rf_skeleton *target, const rf_mesh *mesh,
-                               const rf_mapping *mapping, const rf_retarget_options *o,
-                               rt_turned *t, const rf_host *host, rf_node *node, char *err,
-                               size_t err_size)
-{
-    rf_rt_info info;
-    rf_retarget_info(*rt, &info);
-    memset(t, 0, sizeof *t);
-    t->q = rf_quat_identity();
-    if (!(rf_v3_dot(info.up_source, info.up_target) < cos(30.0 * RF_PI / 180.0)))
-        return true;
-    if (!rt_turn_target(target, mesh, rf_quat_from_two_vectors(info.up_target, info.up_source),
-                        t)) {
-        snprintf(err, err_size, "out of memory");
-        return false;
-    }
-    rf_retarget *turned = rf_retarget_new(src, count, t->target, mapping, o, err, err_size);
-    if (!turned)
-        return false;
-    rf_retarget_free(*rt);
-    *rt = turned;
-    host->log(node, RF_LOG_INFO,
-              "the target stands along (%.3g %.3g %.3g), the source along (%.3g %.3g %.3g): "
-              "worked on the target stood on the source's up, the clip turned to match",
-              info.up_target.x, info.up_target.y, info.up_target.z, info.up_source.x,
-              info.up_source.y, info.up_source.z);
-    return true;
-}
-
-static void rt_turned_free(rt_turned *t)
-{
-    rf_skeleton_free(t->target);
-    rf_mesh_free(t->mesh);
-}
-
 static bool rt_process(void *self, const rf_host *host, rf_node *node)
 {
     const rf_retarget_options *o = self;
@@ -394,21 +284,15 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
     if (!rt_gather(host, node, src, 64, &count, &target, &mapping))
         return false;
     char err[ERR_SIZE];
-    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
-    rt_turned turned = {.q = rf_quat_identity()};
     rf_retarget *rt = rf_retarget_new(src, count, target, mapping, o, err, sizeof err);
-    if (!rt || !rt_stand_on_source(&rt, src, count, target, mesh, mapping, o, &turned, host, node,
-                                   err, sizeof err)) {
-        rf_retarget_free(rt), rt_turned_free(&turned);
+    if (!rt) {
         host->error(node, "%s", err);
         return false;
     }
-    if (turned.mesh)
-        mesh = turned.mesh;
     rt_progress_ctx ctx = {host, node};
     rf_animation *out = rf_retarget_clip(rt, rt_on_progress, &ctx, err, sizeof err);
     if (!out) {
-        rf_retarget_free(rt), rt_turned_free(&turned);
+        rf_retarget_free(rt);
         host->error(node, "%s", err);
         return false;
     }
@@ -428,17 +312,15 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
                   "dropped; %u joints placed from the body joint they belong to",
                   info.dropped, info.anchored);
     if (!rt_limit_turns(rt, out, target, host, node)) {
-        rf_retarget_free(rt), rf_animation_free(out), rt_turned_free(&turned);
+        rf_retarget_free(rt), rf_animation_free(out);
         return false;
     }
-    rt_mesh_floor(rt, out, mesh, host, node);
+    rt_mesh_floor(rt, out, host, node);
     bool ok = rt_contact_pass(rt, out, o, host, node) && rt_parts_pass(rt, out, host, node);
     if (ok)
-        rt_mesh_clear(rt, out, mesh, host, node);
-    if (turned.target)
-        rt_turn_clip(out, target, rf_quat_conj(turned.q));
+        rt_mesh_clear(rt, out, host, node);
     ok = ok && rt_finite(out, target, host, node);
-    rf_retarget_free(rt), rt_turned_free(&turned);
+    rf_retarget_free(rt);
     if (!ok) {
         rf_animation_free(out);
         return false;
@@ -607,9 +489,9 @@ static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m,
 /* The mesh measures, when a skinned mesh is connected: a mesh that cannot be measured is said
  * in one line and does not fail the node. */
 static void rt_measure_mesh(const rf_host *host, rf_node *node, rf_retarget *rt, double start,
-                            const rf_skeleton *target, const rf_mesh *mesh,
-                            const rf_mesh *plan_mesh, const rf_animation *anim, rt_mesh_figures *m)
+                            const rf_skeleton *target, rt_mesh_figures *m)
 {
+    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
     if (!mesh)
         return;
     const rf_animation *ref =
@@ -618,8 +500,8 @@ static void rt_measure_mesh(const rf_host *host, rf_node *node, rf_retarget *rt,
     char err[ERR_SIZE];
     const char *label = host->param_string(node, "label");
     label = *label ? label : host->node_id(node);
-    m->have =
-        rf_retarget_mesh_measure(rt, plan_mesh, anim, start, frames, &m->clip, err, sizeof err);
+    m->have = rf_retarget_mesh_measure(rt, mesh, host->input(node, "animation", 0), start, frames,
+                                       &m->clip, err, sizeof err);
     if (!m->have) {
         host->log(node, RF_LOG_INFO, "no mesh measures: %s", err);
         return;
@@ -647,23 +529,6 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
     rf_retarget *rt = rf_retarget_new(src, count, target, mapping, &o, err, sizeof err);
     rf_rt_report r;
     const rf_animation *anim = host->input(node, "animation", 0);
-    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
-    /* measured as it was made: on the target stood on the source's up, the clip turned so */
-    rt_turned turned = {.q = rf_quat_identity()};
-    rf_animation *own = NULL;
-    if (rt && !rt_stand_on_source(&rt, src, count, target, mesh, mapping, &o, &turned, host, node,
-                                  err, sizeof err)) {
-        rf_retarget_free(rt), rt_turned_free(&turned);
-        host->error(node, "%s", err);
-        return false;
-    }
-    if (turned.target && anim && !(own = rf_animation_copy(anim))) {
-        rf_retarget_free(rt), rt_turned_free(&turned);
-        host->error(node, "out of memory");
-        return false;
-    }
-    if (own)
-        rt_turn_clip(own, target, turned.q), anim = own;
     rf_measures *series = anim ? rf_measures_new(anim->frame_count, anim->fps) : NULL;
     double start = src[0].animation && src[0].animation->fps > 0
                        ? host->param_int(node, "first_frame") / src[0].animation->fps
@@ -673,13 +538,13 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
     if (!ok) {
         if (rt && !series)
             snprintf(err, sizeof err, "out of memory");
-        rf_retarget_free(rt), rt_turned_free(&turned), rf_animation_free(own);
+        rf_retarget_free(rt);
         host->error(node, "%s", err);
         rf_measures_free(series);
         return false;
     }
     if (!host->set_output(node, "measures", series, rf_measures_free)) {
-        rf_retarget_free(rt), rt_turned_free(&turned), rf_animation_free(own);
+        rf_retarget_free(rt);
         return false;
     }
     const char *label = host->param_string(node, "label");
@@ -691,9 +556,8 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
             r.fidelity_bones, r.frames, r.skate_target, r.skate_source, r.contact_frames,
             r.ground_error);
     rt_mesh_figures mf = {0};
-    rt_measure_mesh(host, node, rt, start, target, mesh, turned.mesh ? turned.mesh : mesh, anim,
-                    &mf);
-    rf_retarget_free(rt), rt_turned_free(&turned), rf_animation_free(own);
+    rt_measure_mesh(host, node, rt, start, target, &mf);
+    rf_retarget_free(rt);
     fflush(out);
     return rt_write_report(host, node, &r, &mf, target);
 }

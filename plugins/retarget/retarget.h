@@ -174,8 +174,6 @@ typedef struct rf_rt_info {
                           * or from source placement or axis joints */
     uint32_t anchored;   /* target joints placed from the body joint they belong to (their
                           * hierarchy parent does not carry them) */
-    rf_vec3 up_source;   /* source 0's up and the target's (unit), as the plan reads them */
-    rf_vec3 up_target;
 } rf_rt_info;
 
 void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info);

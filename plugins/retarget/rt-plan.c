@@ -815,5 +815,4 @@ void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info)
     info->effectors = rt->effector_count;
     info->dropped = rt->dropped;
     info->anchored = rt->anchored;
-    info->up_source = rt->src[0].up, info->up_target = rt->up;
 }

@@ -95,7 +95,7 @@ if [ -f "$sphere" ]; then
 fi
 
 # the Z-up Wuson walks as the unmoved one: scan-to-animation.json's measure line the same (the
-# retarget works on a target stood on the source's up; before, it stood on its tail: floor p95
+# retarget reads the source in the target's frame; before, it stood on its tail: floor p95
 # 15.8 against 1.4, parts under the floor in 25% of frames, on frames 0-240)
 walk() { "$rigflow" run "$src/pipelines/scan-to-animation.json" -p "mesh.path=$1" \
     -p "motion.path=$data/bvh/cmu_01_01.bvh" -p "export.path=$2" -p retarget.last_frame=119 2>/dev/null |
