@@ -846,8 +846,8 @@ static bool rf_tpl_quadruped(rf_tpl_ctx *x, bool declared, char *err, size_t n)
     uint32_t chest = rf_tpl_meet(x->k, g[0][0], g[0][1]),
              hips = rf_tpl_meet(x->k, g[1][0], g[1][1]);
     /* Without a forward the file declares, which end is the front is the analysis's weakest
-     * guess; the curve skeleton is rooted at the hips (the girdle farther from the rib cage,
-     * rf_rig_curve), so the girdle nearer the root is the hips. Swapping the ends swaps the
+     * guess; the curve skeleton is rooted at the hips (the girdle farther from the body's
+     * middle, rf_rig_curve), so the girdle nearer the root is the hips. Swapping the ends swaps the
      * sides too. */
     int front = 0;
     if (!declared && rf_tpl_from_root(x->k, chest) < rf_tpl_from_root(x->k, hips)) {

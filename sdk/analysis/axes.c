@@ -2,7 +2,8 @@
  *
  * Up lies in the symmetry plane. Of the four in-plane directions, up is the one the limbs hang
  * away from: weighted by how much of each limb's reach points down and how steadily its chain
- * descends (a wing, a limb ending in a fan of long digits, at half weight), plus a bonus when a
+ * descends (a wing, a limb ending in a fan of long digits, at half weight; a limb short of the
+ * ground by the share of its reach in that plane, hang_share), plus a bonus when a
  * mirrored pair of limbs touches the lowest level (feet on the ground), one for the ground the feet
  * span when the body stands over them, and one for the axis the file declares (RF_FILE_UP_VOTE,
  * deciding close calls). Forward is
@@ -228,6 +229,19 @@ static double ground_support(const rf_awork *w, rf_limbs *ls, rf_vec3 u, int can
     return stand * fmin(1, fmin(xhi - xlo, yhi - ylo) / (0.15 * unit));
 }
 
+/* How much of a limb's in-plane drop counts as hanging: all of it for a limb reaching the ground
+ * level `floor` (a leg stands on its foot, however far it splays: an insect's), else the share of
+ * its reach that lies in the mirror plane. A level wing swept a little back reaches mostly
+ * sideways: counted whole, its small backward part read the animalia bat lying on its belly as
+ * standing on its tail. */
+static double hang_share(const rf_limb *l, rf_vec3 full, rf_vec3 in_plane, int cand, double floor)
+{
+    double len = rf_v3_len(full);
+    if (l->lowest[cand] <= floor || len <= 0)
+        return 1;
+    return rf_v3_len(in_plane) / len;
+}
+
 /* How well u explains the limbs as hanging down (0..1), plus 0.15 per limb (up to four) when two
  * or more reach the lowest level (feet on the ground: four legs say more than two wing tips) and
  * up to 0.45 more as their end bones lie flat (feet, not tips pointing down: a bird's flat toes
@@ -237,16 +251,18 @@ static double ground_support(const rf_awork *w, rf_limbs *ls, rf_vec3 u, int can
 static void up_score(const rf_awork *w, rf_limbs *ls, rf_vec3 u, int cand, double *cue)
 {
     double hang = 0, reach = 0, lo = INFINITY, hi = -INFINITY;
-    for (uint32_t i = 0; i < ls->n; i++) {
-        rf_vec3 v = rf_v3_sub(ls->v[i].far, ls->v[i].attach);
-        v = rf_v3_sub(v, rf_v3_scale(w->plane_n, rf_v3_dot(v, w->plane_n)));
-        reach += ls->v[i].vote * rf_v3_len(v);
-        hang += ls->v[i].vote * descent(w, &ls->v[i], u) * fmax(0, -rf_v3_dot(v, u));
+    for (uint32_t i = 0; i < ls->n; i++)
         lo = fmin(lo, ls->v[i].lowest[cand]);
-    }
     for (uint32_t i = 0; i < w->order_count; i++) {
         const rf_joint_info *ji = &w->a->joints[w->order[i]];
         hi = fmax(hi, fmax(rf_v3_dot(ji->pos, u), rf_v3_dot(ji->tip, u)));
+    }
+    for (uint32_t i = 0; i < ls->n; i++) {
+        rf_vec3 full = rf_v3_sub(ls->v[i].far, ls->v[i].attach);
+        rf_vec3 v = rf_v3_sub(full, rf_v3_scale(w->plane_n, rf_v3_dot(full, w->plane_n)));
+        reach += ls->v[i].vote * rf_v3_len(v);
+        hang += ls->v[i].vote * hang_share(&ls->v[i], full, v, cand, lo + 0.05 * (hi - lo)) *
+                descent(w, &ls->v[i], u) * fmax(0, -rf_v3_dot(v, u));
     }
     uint32_t grounded = 0;
     double flat = 0;
@@ -399,13 +415,16 @@ static void detect_up(rf_awork *w, rf_limbs *ls)
     limb_lowest(w, ls, cands);
     bool have_file = file_up(w, &fu);
     /* Limbs measured over little of the body (single leaf bones) are weak evidence: the axis
-     * the file declares then weighs more. */
-    double extent = 0;
+     * the file declares then weighs more. So are limbs reaching mostly sideways, out of the
+     * mirror plane the candidates lie in (wings spread level, arms in a T): their weight is the
+     * share of their reach that lies in the plane. */
+    double extent = 0, span = 0;
     for (uint32_t i = 0; i < ls->n; i++) {
         rf_vec3 v = rf_v3_sub(ls->v[i].far, ls->v[i].attach);
         extent += rf_v3_len(rf_v3_sub(v, rf_v3_scale(w->plane_n, rf_v3_dot(v, w->plane_n))));
+        span += rf_v3_len(v);
     }
-    double strength = fmin(1, extent / (0.3 * a->size));
+    double strength = fmin(1, extent / (0.3 * a->size)) * (span > 0 ? extent / span : 1);
     double score[4], cue[4][RF_UP_CUE_COUNT] = {{0}};
     int best = 0;
     for (int c = 0; c < 4; c++) {
