@@ -1159,6 +1159,40 @@ __attribute__((flatten)) static void rt_parts_pose(const rt_parts *c, uint32_t f
     }
 }
 
+/* Turns at most this many times for one part in one frame: each turn puts the point then
+ * deepest on the floor, and another of the part's points may then be the deepest. */
+#define RT_LIFT_ROUNDS 6
+
+/* Lifts part j, its point p under floor_h, by turning its ancestors (rt_lift_joint): one turn
+ * puts the deepest point on the floor and may leave another under it (a wing lifted by the tip
+ * of its membrane keeps the membrane's other edge through the floor), so the part is turned
+ * again from its new deepest point. A further turn is kept only where it leaves the part less
+ * deep than before it: turned about another axis, it may put the first point back under. The
+ * turns kept (local and world posed after them, the clip's rotations written). */
+static uint32_t rt_part_lift(const rt_parts *c, uint32_t f, rf_xform *local, rf_xform *world,
+                             uint32_t j, rf_vec3 p, double floor_h, double clear)
+{
+    const rf_retarget *rt = c->rt;
+    uint32_t turns = 0;
+    double depth = floor_h - rf_rt_height(rt->up, p);
+    while (turns < RT_LIFT_ROUNDS && depth > 0) {
+        int32_t a = rt_lift_joint(rt, local, world, c->holds, j, p, floor_h + c->eps);
+        if (a < 0)
+            break;
+        rt_fk(rt, local, world, c->all);
+        p = rt_part_low(rt, world, j, clear, &floor_h);
+        double now = floor_h - rf_rt_height(rt->up, p);
+        if (turns > 0 && !(now < depth)) { /* undone: the clip still holds the last turn kept */
+            local[a].r = rf_quat_normalize(rf_animation_rotation(c->anim, f, (uint32_t)a));
+            rt_fk(rt, local, world, c->all);
+            break;
+        }
+        rf_animation_set_rotation(c->anim, f, (uint32_t)a, local[a].r);
+        turns++, depth = now;
+    }
+    return turns;
+}
+
 /* One frame of the parts pass, with scratch (local, world, sp, gone) of the caller's and the
  * source's clearance at frames (first + i) * step in clear[i] (rt_parts_clearance). */
 static void rt_parts_frame(const rt_parts *c, uint32_t f, const double *clear_at, uint32_t first,
@@ -1194,12 +1228,8 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, const double *clear_at
             continue;
         if (rt_source_down(rt, sp, c->anim, f, j))
             continue; /* its source touches its own floor: so may it (a hand on all fours) */
-        int32_t a = rt_lift_joint(rt, local, world, c->holds, j, p, floor_h + c->eps);
-        if (a >= 0) {
-            rt_fk(rt, local, world, c->all);
-            rf_animation_set_rotation(c->anim, f, (uint32_t)a, local[a].r);
-            lifted = true, st->turns++;
-        }
+        uint32_t turns = rt_part_lift(c, f, local, world, j, p, floor_h, clear);
+        lifted = lifted || turns, st->turns += turns;
     }
     st->frames += lifted;
     if (lifted && rt->anchored)
