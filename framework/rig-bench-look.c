@@ -117,7 +117,7 @@ static char *look_graph(const rf_rig_look_setup *s, const rf_node_desc *rigger, 
         if (!type || strcmp(type, rigger->type))
             json_object_del(rig, "params");
         json_object_set_new(rig, "type", json_string(rigger->type));
-        if (!rf_rig_has_input(rigger, "axes"))
+        if (!rf_rig_has_input(rigger, "axes") || s->no_axes)
             json_object_del(json_object_get(rig, "inputs"), "axes");
         /* the motion plays on the mesh that was rigged: moved, when the bench moves it */
         if (s->move && s->move->on)

@@ -26,6 +26,7 @@ typedef struct rf_rig_look_setup {
     const rf_rig_move *move; /* how the model is moved before it is rigged (borrowed) */
     char *pipeline;          /* pipelines/scan-to-animation.json, where it was read */
     json_t *graph;           /* its JSON, read once */
+    bool no_axes;            /* the rigger given no up or forward (rig-bench --no-axes) */
 } rf_rig_look_setup;
 
 /* Checks the motion file, reads the pipeline file and makes the folder; false after saying on

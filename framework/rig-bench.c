@@ -28,6 +28,10 @@ typedef struct rb_rigger {
  * CD-J2J and the skinning compare like with like. */
 static rf_rig_move rb_moved = {.scale = 1, .axis = "up", .offset = "0,0,0"};
 
+/* --no-axes: the riggers are given no up or forward, as from a format that declares none (OBJ,
+ * STL, PLY), so they find the body's up themselves; the artist's rig keeps its axes. */
+static bool rb_no_axes;
+
 /* Joints as points and bones as segments, in model space. */
 typedef struct rb_rig {
     uint32_t n;
@@ -449,7 +453,7 @@ static rf_pipeline *rb_pipeline(const rf_registry *reg, const rb_rigger *r, cons
         return NULL;
     }
     json_t *rig_in = json_pack("{s:s}", "mesh", "mesh.mesh");
-    if (rf_rig_has_input(r->desc, "axes"))
+    if (rf_rig_has_input(r->desc, "axes") && !rb_no_axes)
         json_object_set_new(rig_in, "axes", json_string("mesh.skeleton"));
     /* the matcher pairs joints by correspondence: forelegs with arms, not its gait rule; a
      * girdle joint whose bone is the neck's with the neck, not the chest */
@@ -605,7 +609,8 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
     rb_skin given;
     rb_skin_given(r, as, am, &given);
     rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, &given,
-           rb_time(r, am, rf_pipeline_result(pl, rb_mesh_id(), "skeleton")), why);
+           rb_time(r, am, rb_no_axes ? NULL : rf_pipeline_result(pl, rb_mesh_id(), "skeleton")),
+           why);
     g_free(to);
     rb_rig_free(&g), rb_rig_free(&p);
 }
@@ -747,7 +752,7 @@ static bool rb_motion_parse(const char *turn, const char *axis, const char *scal
 int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
 {
     g_auto(GStrv) names = NULL;
-    gboolean list = FALSE, fixed_axes = FALSE;
+    gboolean list = FALSE, fixed_axes = FALSE, no_axes = FALSE;
     g_autofree char *joint_map = NULL, *joints = NULL, *look = NULL, *turn = NULL, *axis = NULL,
                     *scale = NULL, *offset = NULL;
     gint look_frames = -1; /* not given: 120 */
@@ -788,7 +793,11 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
          "Move each model by x,y,z in its own units (after the scale and the turn)", "X,Y,Z"},
         {"fixed-axes", 0, 0, G_OPTION_ARG_NONE, &fixed_axes,
          "With --turn, leave the up and forward the file declares as they were (a model saved "
-         "turned in a format whose axes are fixed: a scan lying on its side in an STL)",
+         "turned in a format whose axes are fixed: a model lying on its side in a glTF)",
+         NULL},
+        {"no-axes", 0, 0, G_OPTION_ARG_NONE, &no_axes,
+         "Give the riggers no declared up or forward, as from an OBJ, STL or PLY file: they find "
+         "the body's up themselves (with --turn 90 --axis 1,0,0, a Z-up scan)",
          NULL},
         {NULL, 0, 0, 0, NULL, NULL, NULL}};
     if (!rf_parse_options(
@@ -816,6 +825,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         return RF_EXIT_USAGE;
     if (!rb_motion_parse(turn, axis, scale, offset, fixed_axes))
         return RF_EXIT_USAGE;
+    rb_no_axes = no_axes;
     bool nearest = joint_map && !strcmp(joint_map, "nearest");
     if (joint_map && !nearest && strcmp(joint_map, "matcher")) {
         fprintf(stderr, "rigflow rig-bench: --joint-map: expected matcher or nearest\n");
@@ -827,6 +837,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
     }
     if (!rf_rig_look_begin(&rb_look_setup, look, look_frames == -1 ? 120 : look_frames, &rb_moved))
         return RF_EXIT_USAGE;
+    rb_look_setup.no_axes = rb_no_axes;
     GArray *riggers = rb_find_riggers(reg, names);
     int code = RF_EXIT_OK;
     if (list) {

@@ -77,14 +77,35 @@ void rf_rig_prep_free(rf_rig_prep *p);
  * longest principal axis across up, as z, so the voxel grid meets a body the same way at any
  * facing. */
 typedef struct rf_rig_frame {
-    rf_quat q;        /* the file's axes into the frame's */
-    bool turned;      /* false: the file's own axes */
-    float *positions; /* the turned positions `in` borrows; owned */
+    rf_quat q;                    /* the file's axes into the frame's */
+    bool turned;                  /* false: the file's own axes */
+    float *positions;             /* the turned positions `in` borrows; owned */
+    bool up_assumed;              /* the file declares no up and the body showed none: +y assumed */
+    char up_note[RF_RIG_UP_NOTE]; /* how the up was found when the file declares none, or "" */
 } rf_rig_frame;
+/* The up of a body whose file declares none (rig-frame.c): the general rigger's curve skeleton
+ * made in the file's axes, read by the skeleton analysis and snapped to the nearest of the
+ * file's six axis directions, taken when the analysis is sure enough and the body stands over
+ * its lowest points along it. */
+typedef struct rf_rig_up {
+    rf_vec3 axis;       /* the axis direction the analysis read, snapped; zero when none */
+    bool found;         /* axis is the body's up */
+    rf_vec3 read;       /* the analysis's up before snapping (zero when it could not run) */
+    double confidence;  /* the analysis's up_confidence */
+    double support;     /* rf_rig_support along axis (-1 without one) */
+    const char *source; /* the analysis's up_source, or why there is none (static) */
+} rf_rig_up;
+void rf_rig_body_up(const rf_mesh *m, const rf_rig_options *o, rf_rig_up *out);
+/* How squarely m stands over its lowest points under up u (positive: its centre over them),
+ * as a fraction of its footprint's size. */
+double rf_rig_support(const rf_mesh *m, rf_vec3 u);
+
 /* The mesh as the rigger sees it in its frame: *in borrows mesh's arrays but the positions, and
  * o is opts with up and forward turned. False when out of memory. */
 bool rf_rig_frame_enter(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_frame *f,
                         rf_mesh *in, rf_rig_options *o);
+/* What the frame decided about up, into st (may be NULL). */
+void rf_rig_frame_stats(const rf_rig_frame *f, rf_rig_stats *st);
 /* The rig made in the frame turned back to the file's axes: s's joints, end sites and axes;
  * skinned's positions (mesh's again) and inverse binds. Either may be NULL. Frees f's copy. */
 void rf_rig_frame_leave(rf_rig_frame *f, const rf_mesh *mesh, rf_skeleton *s, rf_mesh *skinned);

@@ -47,6 +47,8 @@ bool rf_rig_node_output(const rf_host *host, rf_node *node, rf_skeleton *s, rf_m
         "triangles: %u vertices by heat, %u (specks) by the surface nearest them, %u saw no bone",
         st->joints, st->vertices, st->welded, st->parts, st->specks, st->proxy_triangles,
         st->heat_vertices, st->fallback_vertices, st->unseen_vertices);
+    if (st->up_note[0]) /* a file that declares no up: how the rig's up was decided */
+        host->log(node, st->up_assumed ? RF_LOG_WARNING : RF_LOG_INFO, "%s", st->up_note);
     rf_animation *a = rf_rig_rest_clip(s);
     if (!a) {
         rf_skeleton_free(s), rf_mesh_free(m);

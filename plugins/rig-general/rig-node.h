@@ -13,8 +13,8 @@
                  "the mesh to rig (any skin it has is ignored): one body, loose parts allowed"),   \
         RF_PORT_DESC("axes", RF_TYPE_SKELETON, RF_PORT_OPTIONAL,                                   \
                      "the importer's skeleton (even an empty one): its up and forward, as the "    \
-                     "file declares them, are kept; without it they come from the skeleton "       \
-                     "analysis")
+                     "file declares them, are kept; an up it does not declare (OBJ, STL, PLY), "   \
+                     "or no axes at all, is found from the body (+y when none is: a warning)")
 #define RF_RIG_NODE_PARAMS                                                                         \
     RF_PARAM_DESC_INT("resolution", 96, 16, 256,                                                   \
                       "voxels along the longest bounding-box edge for the skeleton (default 96)"), \

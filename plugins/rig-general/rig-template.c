@@ -1090,6 +1090,7 @@ bool rf_rig_template(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_tem
                            mesh ? mesh->vertex_count : 0);
     bool ok = rf_rig_template_framed(mesh ? &in : NULL, &o, kind, skeleton, skinned, stats,
                                      progress, user, err, err_size);
+    rf_rig_frame_stats(&f, stats);
     rf_rig_frame_leave(&f, mesh, ok ? *skeleton : NULL, ok ? *skinned : NULL);
     return ok;
 }

@@ -1318,6 +1318,7 @@ bool rf_rig_general(const rf_mesh *mesh, const rf_rig_options *opts, rf_skeleton
                            mesh ? mesh->vertex_count : 0);
     bool ok = rf_rig_general_framed(mesh ? &in : NULL, &o, skeleton, skinned, stats, progress, user,
                                     err, err_size);
+    rf_rig_frame_stats(&f, stats);
     rf_rig_frame_leave(&f, mesh, ok ? *skeleton : NULL, ok ? *skinned : NULL);
     return ok;
 }

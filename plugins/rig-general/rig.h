@@ -34,16 +34,20 @@ typedef struct rf_rig_options {
                                * not passed over (set when binding a given skeleton) */
 } rf_rig_options;
 
+#define RF_RIG_UP_NOTE 320 /* bytes of rf_rig_stats.up_note */
+
 /* What happened, for logs and the benchmark. */
 typedef struct rf_rig_stats {
     uint32_t vertices, welded; /* input vertices, after welding */
     uint32_t parts, specks;    /* loose parts, of which specks */
     uint32_t proxy_triangles;  /* triangles the heat was solved on */
     uint32_t joints;
-    uint32_t heat_vertices;     /* proxy vertices weighted by heat */
-    uint32_t fallback_vertices; /* vertices not heated: specks and strays, weighted like the
-                                 * surface nearest them (or the nearest bone) */
-    uint32_t unseen_vertices;   /* proxy vertices that saw no bone (heated by their neighbours) */
+    uint32_t heat_vertices;       /* proxy vertices weighted by heat */
+    uint32_t fallback_vertices;   /* vertices not heated: specks and strays, weighted like the
+                                   * surface nearest them (or the nearest bone) */
+    uint32_t unseen_vertices;     /* proxy vertices that saw no bone (heated by their neighbours) */
+    bool up_assumed;              /* the file declared no up and the body showed none: +y taken */
+    char up_note[RF_RIG_UP_NOTE]; /* how the up of a file that declares none was decided, or "" */
 } rf_rig_stats;
 
 /* Called with the fraction done; may be NULL. */

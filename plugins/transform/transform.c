@@ -204,7 +204,7 @@ static const rf_param_desc rf_tf_params[] = {
     RF_PARAM_DESC_BOOL("turn_axes", true,
                        "turn the skeleton's declared up and forward with it; false keeps them as "
                        "declared (a file saved turned whose format always declares the same "
-                       "axes: a scan lying on its side in an STL, read as +y up)"),
+                       "axes: a model lying on its side in a glTF, read as +y up)"),
 };
 
 static const rf_node_desc rf_tf_desc = {

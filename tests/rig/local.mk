@@ -40,6 +40,13 @@ TESTS += tests/rig/test_rig_invariance.sh
 EXTRA_DIST += tests/rig/test_rig_invariance.sh
 TESTS += tests/rig/test_rig_bench_look.sh
 EXTRA_DIST += tests/rig/test_rig_bench_look.sh
+TESTS += tests/rig/test_rig_scan_up.sh
+EXTRA_DIST += tests/rig/test_rig_scan_up.sh
+# rig-up: the up the rigger finds from a body whose file declares none, on models turned lying
+noinst_PROGRAMS += tests/rig/rig-up
+tests_rig_rig_up_SOURCES = tests/rig/rig-up.c
+tests_rig_rig_up_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
+tests_rig_rig_up_LDADD = $(tests_rig_rig_dump_LDADD)
 
 # creature: a random creature mesh skinned to a generated skeleton (tests/match/gen.c), the
 # random set of test_rig_creatures.sh and bench/creatures.sh (doc/autorig.md, "Random creatures")

@@ -714,6 +714,16 @@ static bool rf_ai_has_ext(const char *path, const char *ext)
     return true;
 }
 
+/* Formats that declare no axes and have no convention for them. */
+static bool rf_ai_no_axes(const char *path)
+{
+    static const char *const exts[] = {".obj", ".stl", ".ply", ".off"};
+    for (size_t i = 0; i < sizeof exts / sizeof *exts; i++)
+        if (rf_ai_has_ext(path, exts[i]))
+            return true;
+    return false;
+}
+
 static void rf_ai_axes(rf_ai_ctx *c, rf_skeleton *s)
 {
     const struct aiMetadata *md = c->scene->mMetaData;
@@ -728,6 +738,16 @@ static void rf_ai_axes(rf_ai_ctx *c, rf_skeleton *s)
         rf_ai_meta_int(md, "UpAxisSign", &up_sign);
         rf_ai_meta_int(md, "FrontAxisSign", &front_sign);
         s->up = rf_ai_axis(up, up_sign), s->forward = rf_ai_axis(front, front_sign);
+        return;
+    }
+    if (rf_ai_no_axes(c->path)) {
+        /* OBJ, STL, PLY and OFF have no axes at all: a scan or a CAD part is as often saved
+         * Z-up as Y-up. Up is left unknown (zero, as rf_skeleton says) rather than read as
+         * Assimp's +Y: a rigger then finds it from the body, and every other user takes +Y
+         * as before (doc/formats.md, "Axes"). */
+        s->up = rf_v3(0, 0, 0), s->forward = rf_v3(0, 0, 0);
+        rf_ai_logf(c, 2, "%s: up and facing not declared by the format (+Y assumed unless found)",
+                   c->path);
         return;
     }
     /* Every other Assimp importer hands over Y-up, right-handed data (.x and B3D are converted
