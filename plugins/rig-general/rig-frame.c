@@ -291,8 +291,10 @@ static void rf_rig_read_up(const rf_mesh *m, rf_rig_prep *p, rf_quat q, const rf
     out->support = -1;
     rf_rig_prep t = *p;
     size_t n = (size_t)p->proxy.nv * 3;
-    if (!(t.proxy.p = malloc(n * sizeof *t.proxy.p + 1)))
+    if (!(t.proxy.p = malloc((n ? n : 1) * sizeof *t.proxy.p))) {
+        snprintf(out->why, sizeof out->why, "out of memory");
         return;
+    }
     for (int a = 0; a < 3; a++)
         t.lo[a] = INFINITY, t.hi[a] = -INFINITY;
     for (size_t i = 0; i < n; i += 3) {
@@ -304,7 +306,12 @@ static void rf_rig_read_up(const rf_mesh *m, rf_rig_prep *p, rf_quat q, const rf
     rf_rig_skel k = {0};
     char err[256];
     rf_skeleton *s = NULL;
-    if (rf_rig_curve(&t, o, &k, err, sizeof err) && (s = rf_rig_skeleton(&k, NULL))) {
+    err[0] = '\0';
+    if (!rf_rig_curve(&t, o, &k, err, sizeof err))
+        snprintf(out->why, sizeof out->why, "%.199s", err);
+    else if (!(s = rf_rig_skeleton(&k, NULL)))
+        snprintf(out->why, sizeof out->why, "out of memory");
+    else {
         rf_analysis_options ao = {.ignore_file_axes = true};
         rf_analysis *a = rf_analyze(s, &ao);
         if (a) {
@@ -337,8 +344,10 @@ void rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out
     rf_rig_stats st;
     rf_rig_prep p;
     char err[256];
-    if (!rf_rig_prepare(m, &o, &p, &st, err, sizeof err))
+    if (!rf_rig_prepare(m, &o, &p, &st, err, sizeof err)) {
+        snprintf(out->why, sizeof out->why, "%.199s", err);
         return;
+    }
     rf_rig_read_up(m, &p, rf_quat_identity(), &o, out);
     const rf_vec3 stand[5] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {-1, 0, 0}, {0, -1, 0}};
     for (int i = 0; !out->found && i < 5; i++) {
@@ -382,10 +391,11 @@ static void rf_rig_frame_up(const rf_mesh *m, rf_rig_options *o, rf_rig_frame *f
                  "saved lying is rigged lying (stand it up with a transform node)",
                  rf_rig_axis_name(u.axis), u.source, u.confidence, u.support);
     else
-        snprintf(f->up_note, sizeof f->up_note,
-                 "up not declared by the file and not found from the body (%s): +y assumed; a "
-                 "body saved lying is rigged lying (stand it up with a transform node)",
-                 u.source);
+        snprintf(
+            f->up_note, sizeof f->up_note,
+            "up not declared by the file and not found from the body (%s%s%.100s): +y assumed; "
+            "a body saved lying is rigged lying (stand it up with a transform node)",
+            u.source, u.why[0] ? ": " : "", u.why);
 }
 
 void rf_rig_frame_stats(const rf_rig_frame *f, rf_rig_stats *st)

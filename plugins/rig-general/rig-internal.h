@@ -94,6 +94,7 @@ typedef struct rf_rig_up {
     double confidence;  /* the analysis's up_confidence */
     double support;     /* rf_rig_support along axis (-1 without one) */
     const char *source; /* the analysis's up_source, or why there is none (static) */
+    char why[200];      /* when no curve skeleton could be read: the rigger's reason, else "" */
 } rf_rig_up;
 void rf_rig_body_up(const rf_mesh *m, const rf_rig_options *o, rf_rig_up *out);
 /* How squarely m stands over its lowest points under up u (positive: its centre over them),
