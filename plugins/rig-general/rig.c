@@ -491,11 +491,87 @@ static bool rf_rig_reads_up(const rf_rig_skel *k, rf_vec3 declared)
     return agree;
 }
 
+/* The first pass on the body turned half round about y, the frame's up (x and z negated: the grid
+ * met from its other end), turned back. */
+static bool rf_rig_extract_turned(const rf_rig_prep *p, const rf_rig_options *o, double *mirror,
+                                  double *stand, rf_rig_skel *k, char *err, size_t err_size)
+{
+    rf_rig_prep q = *p;
+    q.proxy.p = malloc(((size_t)p->proxy.nv + 1) * 3 * sizeof *q.proxy.p);
+    if (!q.proxy.p)
+        return rf_rig_fail(err, err_size, "out of memory turning the body");
+    for (size_t v = 0; v < p->proxy.nv; v++) {
+        q.proxy.p[v * 3] = -p->proxy.p[v * 3], q.proxy.p[v * 3 + 1] = p->proxy.p[v * 3 + 1];
+        q.proxy.p[v * 3 + 2] = -p->proxy.p[v * 3 + 2];
+    }
+    for (int a = 0; a < 3; a += 2)
+        q.lo[a] = -p->hi[a], q.hi[a] = -p->lo[a];
+    bool ok = rf_rig_extract(&q, o, NULL, mirror, stand, k, err, err_size);
+    free(q.proxy.p);
+    if (!ok)
+        return false;
+    for (size_t j = 0; j < k->n; j++)
+        for (int a = 0; a < 3; a += 2)
+            k->pos[j * 3 + a] = -k->pos[j * 3 + a], k->tip[j * 3 + a] = -k->tip[j * 3 + a];
+    mirror[0] = -mirror[0], mirror[2] = -mirror[2];
+    stand[0] = -stand[0], stand[2] = -stand[2];
+    return true;
+}
+
+/* How far k's root lies from point q. */
+static double rf_rig_root_off(const rf_rig_skel *k, const double q[3])
+{
+    for (uint32_t j = 0; j < k->n; j++)
+        if (k->parent[j] < 0)
+            return sqrt((k->pos[j * 3] - q[0]) * (k->pos[j * 3] - q[0]) +
+                        (k->pos[j * 3 + 1] - q[1]) * (k->pos[j * 3 + 1] - q[1]) +
+                        (k->pos[j * 3 + 2] - q[2]) * (k->pos[j * 3 + 2] - q[2]));
+    return INFINITY;
+}
+
+/* Of the first pass's roots, the two ends of its thickest voxels' ties, one must lie this many
+ * voxels nearer the middle of the body for it to be taken over the frame's own scan's. */
+#define RF_RIG_ROOT_APART 2.0
+
+/* The first pass, grown from the thickest voxel. Thickness is a whole number of thirds of a
+ * voxel and it often ties along a ridge; the grid's scan takes the tie it meets first, at one
+ * end of the ridge. A body whose file declares no forward, turned half round, is rigged in a
+ * frame turned half round with it ("Any facing, scale and position" in doc/autorig.md), its grid
+ * scanned from the other end, and its first pass grew from the ridge's other end: the animalia
+ * bird and bull frog were then read facing back. So the pass is grown from both ends (the grid
+ * scanned as it lies and turned half round about up) and the one whose root lies nearer the
+ * middle of the body's surface (mid), which turns with the body, is kept; within
+ * RF_RIG_ROOT_APART voxels of each other the frame's own is, as before. */
+static bool rf_rig_first_pass(const rf_rig_prep *p, const rf_rig_options *o, const double mid[3],
+                              double mirror[4], double stand[4], rf_rig_skel *k, char *err,
+                              size_t err_size)
+{
+    if (!rf_rig_extract(p, o, NULL, mirror, stand, k, err, err_size))
+        return false;
+    rf_rig_skel other;
+    double other_mirror[4], other_stand[4] = {0};
+    if (!rf_rig_extract_turned(p, o, other_mirror, other_stand, &other, err, err_size))
+        return true; /* the frame's own pass stands */
+    double apart = RF_RIG_ROOT_APART * p->longest / o->resolution;
+    if (rf_rig_root_off(&other, mid) < rf_rig_root_off(k, mid) - apart) {
+        rf_rig_skel_free(k);
+        *k = other;
+        memcpy(mirror, other_mirror, sizeof other_mirror);
+        memcpy(stand, other_stand, sizeof other_stand);
+    } else
+        rf_rig_skel_free(&other);
+    return true;
+}
+
 bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
                   size_t err_size)
 {
     double mirror[4], stand[4] = {0};
-    bool ok = rf_rig_extract(p, o, NULL, mirror, stand, k, err, err_size);
+    double mid[3] = {0, 0, 0}; /* the proxy's vertices' mean: where the hips are not */
+    for (uint32_t v = 0; v < p->proxy.nv; v++)
+        for (int a = 0; a < 3; a++)
+            mid[a] += p->proxy.p[(size_t)v * 3 + a] / p->proxy.nv;
+    bool ok = rf_rig_first_pass(p, o, mid, mirror, stand, k, err, err_size);
     /* Level sets grown from the hips cut the body square to its length (shoulders level, limbs
      * leaving symmetrically); from the thickest point they would ring the chest. So a second pass
      * starts where the first pass's two lowest leaves meet. Where the first pass kept legs the
@@ -503,10 +579,6 @@ bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k,
      * found before junctions a short chain apart became one joint (the fire dragon's hips and
      * chest, a bone apart, were one), and the feet are the lowest along the declared up; so
      * they are where the analysis reads the first pass's up over 45 degrees off it. */
-    double mid[3] = {0, 0, 0}; /* the proxy's vertices' mean: where the hips are not */
-    for (uint32_t v = 0; v < p->proxy.nv; v++)
-        for (int a = 0; a < 3; a++)
-            mid[a] += p->proxy.p[(size_t)v * 3 + a] / p->proxy.nv;
     bool legs = ok && stand[3];
     rf_vec3 up = legs ? o->up : rf_v3(0, 0, 0); /* zero: the analysis's */
     if (ok && !legs && !rf_rig_reads_up(k, o->up))
