@@ -529,9 +529,11 @@ static double rf_rig_root_off(const rf_rig_skel *k, const double q[3])
     return INFINITY;
 }
 
-/* Of the first pass's roots, the two ends of its thickest voxels' ties, one must lie this many
- * voxels nearer the middle of the body for it to be taken over the frame's own scan's. */
+/* Of the first pass's roots, the two ends of its thickest voxels' ties, the turned pass's is
+ * taken over the frame's own scan's only when it lies clearly nearer the middle of the body:
+ * by this many voxels, and at most this fraction of the other's distance from it. */
 #define RF_RIG_ROOT_APART 2.0
+#define RF_RIG_ROOT_NEARER (2.0 / 3)
 
 /* The first pass, grown from the thickest voxel. Thickness is a whole number of thirds of a
  * voxel and it often ties along a ridge; the grid's scan takes the tie it meets first, at one
@@ -540,8 +542,8 @@ static double rf_rig_root_off(const rf_rig_skel *k, const double q[3])
  * scanned from the other end, and its first pass grew from the ridge's other end: the animalia
  * bird and bull frog were then read facing back. So the pass is grown from both ends (the grid
  * scanned as it lies and turned half round about up) and the one whose root lies nearer the
- * middle of the body's surface (mid), which turns with the body, is kept; within
- * RF_RIG_ROOT_APART voxels of each other the frame's own is, as before. */
+ * middle of the body's surface (mid), which turns with the body, is kept when it is clearly
+ * the nearer (RF_RIG_ROOT_APART, RF_RIG_ROOT_NEARER); else the frame's own, as before. */
 static bool rf_rig_first_pass(const rf_rig_prep *p, const rf_rig_options *o, const double mid[3],
                               double mirror[4], double stand[4], rf_rig_skel *k, char *err,
                               size_t err_size)
@@ -553,7 +555,8 @@ static bool rf_rig_first_pass(const rf_rig_prep *p, const rf_rig_options *o, con
     if (!rf_rig_extract_turned(p, o, other_mirror, other_stand, &other, err, err_size))
         return true; /* the frame's own pass stands */
     double apart = RF_RIG_ROOT_APART * p->longest / o->resolution;
-    if (rf_rig_root_off(&other, mid) < rf_rig_root_off(k, mid) - apart) {
+    double own_off = rf_rig_root_off(k, mid), other_off = rf_rig_root_off(&other, mid);
+    if (other_off < own_off - apart && other_off < RF_RIG_ROOT_NEARER * own_off) {
         rf_rig_skel_free(k);
         *k = other;
         memcpy(mirror, other_mirror, sizeof other_mirror);
