@@ -1306,7 +1306,7 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
                 cut = reach[m];
         rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
                                  limbs[i].lay, chested ? at : NULL, cut, pos, tip);
-        if (limbs[i].kind == RF_RIG_LIMB_ARM)
+        if (limbs[i].kind == RF_RIG_LIMB_ARM && sf) /* sf: p given and its surface made */
             rf_rig_shoulder(sf, p->longest, rf_v3_normalize(a->up),
                             chested ? at : k->pos + (size_t)limbs[i].girdle * 3, limbs[i].lay, pos);
         int32_t parent = chested ? chest : to[limbs[i].girdle];
