@@ -32,6 +32,9 @@ typedef struct rf_ms_skel {
     uint8_t *matchable;    /* [joint] */
     int32_t *anc;          /* [joint] nearest matchable ancestor, -1 */
     rf_vec3 *bdir;         /* [joint] bone direction in the body frame (left, up, forward) */
+    rf_vec3 *bplace;       /* [joint] its pivot in the body frame (left from the symmetry plane,
+                            * up from the ground, forward from the joints' mean), in the body's
+                            * largest extent */
     uint8_t *ends;         /* [joint] 1: the last matchable joint of its section, 2: the first,
                             * 4: in a head, the neck's last joint before the skull */
     int32_t *main_digit;   /* [joint] the middle non-thumb digit section of the fan hanging from

@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -707,6 +708,69 @@ static int leg_bone(const char *name)
     return name[2] - '0';
 }
 
+/* Rigs of one body paired joint for joint (girdle=neck): a curve skeleton's legs that start at
+ * the knee, no offset at either socket (the ninja's, BCN_Epileptic's), against the biped's thigh,
+ * shin, foot and toe: the knee joint takes the shin, whose pivot lies where it starts, not the
+ * thigh its first real bone lines up with by count, and the ankle the foot; by default (motion)
+ * the count decides as before. Legs that start with an offset bone at the hip are counted from
+ * their first real bones either way. The root sits low
+ * in the crotch, just above the knees, as a curve skeleton's does where the legs branch off. */
+static rf_skeleton *knee_legs(bool offset_l, bool offset_r)
+{
+    sb_joint j[SB_COUNT(sb_biped) + 4];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) {
+        const sb_joint *b = &sb_biped[i];
+        const char *p = b->parent ? b->parent : "";
+        if (strstr(b->name, "thigh") || strstr(b->name, "shin") || strstr(b->name, "foot") ||
+            strstr(b->name, "toe") || strstr(p, "toe"))
+            continue;
+        j[n++] = *b;
+        if (!b->parent) /* the root low in the crotch, just above the knees */
+            j[n - 1].y = 0.62;
+    }
+    for (int side = 0; side < 2; side++) {
+        double x = side ? -0.10 : 0.10;
+        bool offset = side ? offset_r : offset_l;
+        const char *const *nm = side ? (const char *const[]){"r_sock", "r_k0", "r_k1", "r_k2"}
+                                     : (const char *const[]){"l_sock", "l_k0", "l_k1", "l_k2"};
+        if (offset)
+            j[n++] = (sb_joint){nm[0], "hips", x * 0.6, 0.96, 0, 0};
+        j[n++] = (sb_joint){nm[1], offset ? nm[0] : "hips", x, offset ? 0.90 : 0.52, 0.03, 0};
+        j[n++] = (sb_joint){nm[2], nm[1], x, 0.08, 0, 0};
+        j[n++] = (sb_joint){nm[3], nm[2], x, 0.01, 0.13, 0};
+        j[n++] = (sb_joint){".", nm[3], x, 0.0, 0.20, 0};
+    }
+    return build_axes(j, n);
+}
+
+static void test_legs_from_the_knee(void **state)
+{
+    (void)state;
+    rf_skeleton *s = build_axes(sb_biped, SB_COUNT(sb_biped)), *t = knee_legs(false, false);
+    rf_ms_options o = {.forelegs_arms = true, .girdle_neck = true};
+    rf_mapping *m = match1(t, s, &o);
+    assert_driver(m, t, s, "l_k0", "l_shin");
+    assert_driver(m, t, s, "r_k0", "r_shin");
+    assert_driver(m, t, s, "l_k1", "l_foot");
+    assert_driver(m, t, s, "r_k2", "r_toe");
+    rf_mapping_free(m);
+    o.girdle_neck = false;
+    m = match1(t, s, &o);
+    assert_driver(m, t, s, "l_k0", "l_thigh");
+    rf_mapping_free(m);
+    rf_skeleton_free(t);
+    /* an offset at each socket: counted from the first real bone */
+    o.girdle_neck = true;
+    t = knee_legs(true, true);
+    m = match1(t, s, &o);
+    assert_driver(m, t, s, "l_k0", "l_thigh");
+    assert_driver(m, t, s, "r_k0", "r_thigh");
+    rf_mapping_free(m);
+    rf_skeleton_free(t);
+    rf_skeleton_free(s);
+}
+
 static void test_one_bone_leg(void **state)
 {
     (void)state;
@@ -1030,6 +1094,7 @@ int main(void)
         cmocka_unit_test(test_spine_before_girdle),
         cmocka_unit_test(test_skull_before_snout),
         cmocka_unit_test(test_one_bone_leg),
+        cmocka_unit_test(test_legs_from_the_knee),
         cmocka_unit_test(test_threshold_and_similar),
         cmocka_unit_test(test_duplicates),
         cmocka_unit_test(test_several_sources),
