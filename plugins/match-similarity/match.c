@@ -563,29 +563,17 @@ static bool starts_unsocketed(const rf_analysis *a, const rf_ms_line *l)
     return mj[0] == (uint32_t)m && !(a->joints[m].flags & RF_JI_OFFSET) && a->joints[m].length > 0;
 }
 
-/* Where two rigs of one body are paired joint for joint (girdle=neck, the skin's
- * correspondence): a target limb that starts without an offset, it and its mirror, whose first
- * bone's pivot lies nearer a later pivot of the source limb than under half the distance to the
- * source's first real one, in the bodies' frames, counts its bones from that source bone and is
- * placed from its place on. A curve skeleton's leg that starts at the knee (its thigh's skin
- * left to the trunk's root: the ninja, BCN_Epileptic) otherwise lines up with the source's
- * thigh by its first real bone, and every bone below follows one off. Only such limbs: where a
- * limb starts with an offset at its socket (the Fox's forelegs, RobotExpressive's legs) the
- * rigger's skin of its first real bone reaches up over the source's first bone, and counting
- * from the first real bones pairs the skin better (measured: Fox 68% -> 63%, RobotExpressive
- * 63% -> 52% with them). */
-static void steps_from_body(const rf_ms_ctx *c, rf_ms_line *tl, uint32_t k, const rf_ms_line *sl)
+/* The source limb entry whose pivot lies nearest target joint t's in the bodies' frames (the
+ * limb's own bones, past any offset), and how far off it and the entry of step `want` lie
+ * (infinite when there is none). */
+static int32_t nearest_pivot(const rf_ms_ctx *c, uint32_t t, uint32_t k, const rf_ms_line *sl,
+                             int32_t want, double *best, double *wanted)
 {
     const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
-    if (!c->o->girdle_neck || c->o->thesis || sl->first < 0 ||
-        !is_limb(at, at->joints[tl->joint[0]].section) ||
-        !is_limb(as, as->joints[sl->joint[0]].section) || !starts_unsocketed(at, tl))
-        return;
-    uint32_t t = tl->joint[0];
     rf_vec3 p = c->tgt.bplace[t];
     rf_side st = at->joints[t].side;
-    double first = NAN, best = INFINITY, at_u = 0;
-    int32_t step = 0;
+    int32_t near = -1;
+    *best = *wanted = INFINITY;
     for (uint32_t q = (uint32_t)sl->first; q < sl->n; q++) {
         uint32_t j = sl->joint[q];
         if (as->sections[as->joints[j].section].flags & RF_SECFL_FAN)
@@ -595,18 +583,75 @@ static void steps_from_body(const rf_ms_ctx *c, rf_ms_line *tl, uint32_t k, cons
         if (st != RF_SIDE_CENTER && ss != RF_SIDE_CENTER && st != ss)
             b.x = -b.x;
         double d = rf_v3_len(rf_v3_sub(p, b));
-        if (isnan(first))
-            first = d;
-        if (d < best)
-            best = d, step = sl->step[q] - sl->step[sl->first], at_u = sl->u0[q];
+        if (sl->step[q] == want && d < *wanted)
+            *wanted = d;
+        if (d < *best)
+            *best = d, near = (int32_t)q;
     }
-    if (step <= 0 || !(best < 0.5 * first))
+    return near;
+}
+
+/* Where two rigs of one body are paired joint for joint (girdle=neck, the skin's
+ * correspondence), a target limb that lacks the source limb's first bones counts its bones from
+ * the source bone its pivots say, and is placed from that bone's place on; by steps from their
+ * first real bones every bone follows one or two off. Two readings, in the bodies' frames:
+ * - a limb that starts without an offset, it and its mirror (a curve skeleton's branch that met
+ *   the trunk wherever its thinning joined it), whose first pivot lies under half as far from a
+ *   later source pivot as from the source's first real one: the ninja's and BCN_Epileptic's legs,
+ *   from the knee, their thighs' skin left to the trunk's root;
+ * - a limb whose last own pivot lies under half as far from a later source pivot than from the
+ *   one its count gives, its first real pivot nearer the source pivot it then counts from too:
+ *   the ninja's arms, lying against the body, from an offset at its side by the elbow.
+ * Not a limb that starts with an offset at its socket and lines up at its end (the Fox's
+ * forelegs, RobotExpressive's legs, from the elbow and the knee too by their pivots): the skin
+ * of their first real bone covers the source's first bone as well, and counting from the first
+ * real bones pairs the skin better (Fox 68% -> 63%, RobotExpressive 63% -> 52% counted from
+ * their pivots). */
+static void steps_from_body(const rf_ms_ctx *c, rf_ms_line *tl, uint32_t k, const rf_ms_line *sl)
+{
+    const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
+    if (!c->o->girdle_neck || c->o->thesis || sl->first < 0 || tl->first < 0 ||
+        !is_limb(at, at->joints[tl->joint[0]].section) ||
+        !is_limb(as, as->joints[sl->joint[0]].section))
         return;
-    /* its places run from that pivot's place to the limb's end, as the source's do */
-    double base = tl->u0[0], span = 1 - base > 1e-9 ? 1 - base : 1;
+    int32_t s0 = sl->step[sl->first], shift = 0;
+    double best, wanted;
+    if (starts_unsocketed(at, tl)) {
+        int32_t q = nearest_pivot(c, tl->joint[0], k, sl, s0, &best, &wanted);
+        if (q >= 0 && best < 0.5 * wanted)
+            shift = sl->step[q] - s0 - tl->step[0];
+    }
+    /* the limb's end: its last own bone against the source's */
+    uint32_t e = (uint32_t)tl->first;
+    while (e + 1 < tl->n &&
+           at->joints[tl->joint[e + 1]].section == at->joints[tl->joint[0]].section)
+        e++;
+    if (shift <= 0) {
+        int32_t q = nearest_pivot(c, tl->joint[e], k, sl, s0 + tl->step[e], &best, &wanted);
+        if (q >= 0 && best < 0.5 * wanted)
+            shift = sl->step[q] - s0 - tl->step[e];
+        /* and its first real bone's pivot lies nearer the source pivot it then counts from */
+        double moved, stays;
+        uint32_t f = tl->joint[tl->first];
+        nearest_pivot(c, f, k, sl, s0 + tl->step[tl->first] + shift, &best, &moved);
+        nearest_pivot(c, f, k, sl, s0 + tl->step[tl->first], &best, &stays);
+        if (shift > 0 && !(moved < stays))
+            shift = 0;
+    }
+    if (shift <= 0)
+        return;
+    /* its places run from the place of the source pivot its first real bone now counts from to
+     * the limb's end, as the source's do */
+    double at_u = NAN;
+    for (uint32_t q = (uint32_t)sl->first; q < sl->n && isnan(at_u); q++)
+        if (sl->step[q] == s0 + shift)
+            at_u = sl->u0[q];
+    double base = tl->u0[tl->first], span = 1 - base > 1e-9 ? 1 - base : 1;
     for (uint32_t i = 0; i < tl->n; i++) {
         if (tl->step[i] >= 0)
-            tl->step[i] += step;
+            tl->step[i] += shift;
+        if (isnan(at_u))
+            continue;
         tl->u0[i] = at_u + (1 - at_u) * (tl->u0[i] - base) / span;
         tl->u1[i] = at_u + (1 - at_u) * (tl->u1[i] - base) / span;
     }

@@ -712,10 +712,11 @@ static int leg_bone(const char *name)
  * the knee, no offset at either socket (the ninja's, BCN_Epileptic's), against the biped's thigh,
  * shin, foot and toe: the knee joint takes the shin, whose pivot lies where it starts, not the
  * thigh its first real bone lines up with by count, and the ankle the foot; by default (motion)
- * the count decides as before. Legs that start with an offset bone at the hip are counted from
- * their first real bones either way. The root sits low
- * in the crotch, just above the knees, as a curve skeleton's does where the legs branch off. */
-static rf_skeleton *knee_legs(bool offset_l, bool offset_r)
+ * the count decides as before. Legs that start with an offset bone at the hip count from the
+ * shin where both their ends say so (the foot's pivot on the source's toe, the first real
+ * bone's on its knee), not where the first real bone starts at the hip. The root sits low in
+ * the crotch, just above the knees, as a curve skeleton's does where the legs branch off. */
+static rf_skeleton *knee_legs(bool offset, bool from_knee)
 {
     sb_joint j[SB_COUNT(sb_biped) + 4];
     size_t n = 0;
@@ -731,12 +732,11 @@ static rf_skeleton *knee_legs(bool offset_l, bool offset_r)
     }
     for (int side = 0; side < 2; side++) {
         double x = side ? -0.10 : 0.10;
-        bool offset = side ? offset_r : offset_l;
         const char *const *nm = side ? (const char *const[]){"r_sock", "r_k0", "r_k1", "r_k2"}
                                      : (const char *const[]){"l_sock", "l_k0", "l_k1", "l_k2"};
         if (offset)
-            j[n++] = (sb_joint){nm[0], "hips", x * 0.6, 0.96, 0, 0};
-        j[n++] = (sb_joint){nm[1], offset ? nm[0] : "hips", x, offset ? 0.90 : 0.52, 0.03, 0};
+            j[n++] = (sb_joint){nm[0], "hips", x * 0.6, from_knee ? 0.56 : 0.96, 0, 0};
+        j[n++] = (sb_joint){nm[1], offset ? nm[0] : "hips", x, from_knee ? 0.52 : 0.90, 0.03, 0};
         j[n++] = (sb_joint){nm[2], nm[1], x, 0.08, 0, 0};
         j[n++] = (sb_joint){nm[3], nm[2], x, 0.01, 0.13, 0};
         j[n++] = (sb_joint){".", nm[3], x, 0.0, 0.20, 0};
@@ -747,7 +747,7 @@ static rf_skeleton *knee_legs(bool offset_l, bool offset_r)
 static void test_legs_from_the_knee(void **state)
 {
     (void)state;
-    rf_skeleton *s = build_axes(sb_biped, SB_COUNT(sb_biped)), *t = knee_legs(false, false);
+    rf_skeleton *s = build_axes(sb_biped, SB_COUNT(sb_biped)), *t = knee_legs(false, true);
     rf_ms_options o = {.forelegs_arms = true, .girdle_neck = true};
     rf_mapping *m = match1(t, s, &o);
     assert_driver(m, t, s, "l_k0", "l_shin");
@@ -760,14 +760,21 @@ static void test_legs_from_the_knee(void **state)
     assert_driver(m, t, s, "l_k0", "l_thigh");
     rf_mapping_free(m);
     rf_skeleton_free(t);
-    /* an offset at each socket: counted from the first real bone */
+    /* an offset at each socket, just above the knee: its foot's pivot on the source's toe and
+     * its first real bone's at the source's knee, the leg counts from the shin (the ninja's arms,
+     * from an offset at the body's side by the elbow); an offset at the hip and a first real
+     * bone from there over thigh and shin: from the thigh */
     o.girdle_neck = true;
-    t = knee_legs(true, true);
-    m = match1(t, s, &o);
-    assert_driver(m, t, s, "l_k0", "l_thigh");
-    assert_driver(m, t, s, "r_k0", "r_thigh");
-    rf_mapping_free(m);
-    rf_skeleton_free(t);
+    for (int knee = 0; knee < 2; knee++) {
+        t = knee_legs(true, knee);
+        m = match1(t, s, &o);
+        assert_driver(m, t, s, "l_k0", knee ? "l_shin" : "l_thigh");
+        assert_driver(m, t, s, "r_k0", knee ? "r_shin" : "r_thigh");
+        if (knee)
+            assert_driver(m, t, s, "r_k2", "r_toe");
+        rf_mapping_free(m);
+        rf_skeleton_free(t);
+    }
     rf_skeleton_free(s);
 }
 

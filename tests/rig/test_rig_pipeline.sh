@@ -232,9 +232,11 @@ else ko "rig-bench --joint-map best: $(cat "$tmp/err")"; fi
 # curve skeleton, whose left arm leaves the chest by a detour up the body, is read with a pair of
 # arms, its root as body and its chest taking the artist's head: after the matcher 55% / 52%
 # (35% / 15% with no sides read and the root a placement helper). The legs of BCN_Epileptic's and
-# the ninja's curve skeletons start at the knee, with no offset at either socket: the matcher
-# counts their bones from the artist's shin (doc/matching.md, "An eleventh round"), after the
-# matcher 43.8% / 50.4% and 33.1% / 42.8% (40.1% / 46.8% and 29.3% / 38.4% counted from the thigh).
+# the ninja's curve skeletons start at the knee, with no offset at either socket, and the ninja's
+# arms, lying against its body, at an offset by the elbow: the matcher counts their bones from the
+# artist's shin and forearm (doc/matching.md, "An eleventh round"), after the matcher 43.8% /
+# 50.4% and 35.8% / 47.4% (40.1% / 46.8% and 29.3% / 38.4% counted from the thigh and upper arm,
+# the ninja 33.1% / 42.8% with its legs alone counted from the shin).
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
     "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
@@ -281,7 +283,7 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             print "FAIL: huesitos: its root at y " hy ", its lowest joint " ylow["rigger"] \
                 ", the artist rig lowest " ylow["artist"]
         if (!(cd["\"greenman.glb\""] < 0.105)) print "FAIL: greenman cd_j2j " cd["\"greenman.glb\""]
-        if (!(p["\"ninja.mesh\""] >= 0.32 && r["\"ninja.mesh\""] >= 0.415))
+        if (!(p["\"ninja.mesh\""] >= 0.345 && r["\"ninja.mesh\""] >= 0.455))
             print "FAIL: ninja after the matcher: precision " p["\"ninja.mesh\""] ", recall " r["\"ninja.mesh\""]
         frog = "\"animalia_bull_frog.b3d\""
         if (!(foot[frog] != "" && foot[frog] < 0.15))
