@@ -1046,6 +1046,31 @@ static void skull_past(const rf_ms_ctx *c, rf_ms_pass *p, const rf_ms_line *tl, 
     }
 }
 
+/* After the girdle joint took the source's neck (girdle=neck): where the middle of its bone lies
+ * past the source's skull pivot, both placed in the bodies' frames from the target's girdle
+ * pivot along its bone, it takes the skull. The Wizard's curve skeleton carries its arms near
+ * its chin, so its girdle joint sits at the artist's skull pivot and its bone runs into the big
+ * head (a fifth of the mesh's vertices); measured from where each rig's limbs leave (the rule
+ * above), the rig's arms leaving higher than the artist's, that bone lies in the artist's neck. */
+static void girdle_past_skull(const rf_ms_ctx *c, rf_ms_pass *p, uint32_t g, const rf_ms_line *tl,
+                              uint32_t k, const rf_ms_line *sl)
+{
+    const rf_analysis *at = c->tgt.a, *as = c->src[k].a;
+    if (tl->n < 1 || sl->n < 1 || p->final[g].source != k)
+        return;
+    uint32_t skull = sl->joint[sl->n - 1];
+    rf_vec3 g0 = rf_ms_body_place(&c->tgt, at->joints[g].pos),
+            h0 = rf_ms_body_place(&c->tgt, at->joints[tl->joint[0]].pos);
+    rf_vec3 dir = rf_v3_sub(h0, g0);
+    double len = rf_v3_len(dir);
+    if (!(len > 0))
+        return;
+    dir = rf_v3_scale(dir, 1 / len);
+    double sp = rf_v3_dot(rf_v3_sub(rf_ms_body_place(&c->src[k], as->joints[skull].pos), g0), dir);
+    if (0.5 * len > sp)
+        p->final[g] = (rf_ms_candidate){k, skull, 0, {0}};
+}
+
 /* The neck at the girdle (girdle=neck). Artists hang the forelimbs from a chest joint whose bone
  * ends where they leave (the animalia cat's Torso, a human's upper chest) and start the neck
  * there; a curve skeleton's girdle joint sits where the limbs leave and its bone runs on out of
@@ -1116,6 +1141,7 @@ static bool neck_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p, rf_ms_line *tl, rf
         if (!remove_duplicates(c, p, tl, k, sl))
             return false;
         skull_past(c, p, tl, k, sl, &tt, &ts);
+        girdle_past_skull(c, p, (uint32_t)g, tl, k, sl);
     }
     return true;
 }

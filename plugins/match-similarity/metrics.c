@@ -253,10 +253,7 @@ static void leave_out_non_body(rf_ms_skel *s)
     rf_joint_roles_free(r);
 }
 
-/* Where each joint's pivot lies in the body's frame: across from the symmetry plane, up
- * from the ground, forward from the mean of the body's joints (a rig has no landmark along its
- * length that every rig shares), in the body's largest extent (its height, or the span of a
- * flat body's wings). Two rigs of one body compare there as they lie. */
+/* Every joint's pivot in the body's frame (rf_ms_body_place), and that frame. */
 static void body_places(rf_ms_skel *s)
 {
     const rf_analysis *a = s->a;
@@ -274,15 +271,11 @@ static void body_places(rf_ms_skel *s)
             hi = rf_v3(fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z));
         }
     }
-    fwd = n ? fwd / n : 0;
+    s->bfwd = n ? fwd / n : 0;
     double h = n ? fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z)) : 0;
-    h = h > 0 && isfinite(h) ? h : 1;
-    for (uint32_t j = 0; j < a->joint_count; j++) {
-        rf_vec3 p = a->joints[j].pos;
-        s->bplace[j] =
-            rf_v3(rf_v3_dot(rf_v3_sub(p, a->plane_point), a->left) / h,
-                  (rf_v3_dot(p, a->up) - a->ground) / h, (rf_v3_dot(p, a->forward) - fwd) / h);
-    }
+    s->bscale = h > 0 && isfinite(h) ? h : 1;
+    for (uint32_t j = 0; j < a->joint_count; j++)
+        s->bplace[j] = rf_ms_body_place(s, a->joints[j].pos);
 }
 
 /* Joints a mapping can drive: not helpers, not control joints sitting on their child. */

@@ -466,8 +466,10 @@ static void test_headless_target(void **state)
  * curve skeleton whose girdle joint sits where its arms leave (c3) against an artist's spine
  * whose chest joint (Torso) pivots well below the shoulders, its clavicles rising to the arms
  * (the Wizard's, as both rigs place them): c3 takes the neck and c2, below it, the chest; before,
- * c2 kept the abdomen and the chest drove nothing. The artist's hands are fists (a fist digit and
- * a thumb), the curve skeleton's arms end at the fist without digits. */
+ * c2 kept the abdomen and the chest drove nothing. c3's bone then runs past the artist's skull
+ * pivot, in the bodies' frames, and it takes the head (girdle_past_skull); with the skull pivot
+ * higher, the neck. The artist's hands are fists (a fist digit and a thumb), the curve
+ * skeleton's arms end at the fist without digits. */
 static const sb_joint trunk_artist[] = {
     {"hips", NULL, 0, 1.03, 0, 0},
     {"abdomen", "hips", 0, 1.24, 0, 0},
@@ -539,7 +541,8 @@ static void test_spine_before_girdle(void **state)
     rf_ms_options o = {.forelegs_arms = true, .girdle_neck = true};
     rf_mapping *m = match1(t, s, &o);
     assert_driver(m, t, s, "c0", "hips");
-    assert_driver(m, t, s, "c3", "neck");
+    /* c3's bone (2.11 to 2.27) has its middle past the artist's skull pivot (2.13): the head */
+    assert_driver(m, t, s, "c3", "head");
     assert_driver(m, t, s, "c2", "torso");
     /* the mitten hand against the fist: the arm's last joint keeps the fist the alignment gave
      * it (left to the forearm by the threshold before: no same type) */
@@ -551,6 +554,20 @@ static void test_spine_before_girdle(void **state)
     o.girdle_neck = false;
     m = match1(t, s, &o);
     assert_driver(m, t, s, "a3_l", NULL);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    /* the artist's skull pivot above that middle (2.25): c3 keeps the neck */
+    sb_joint high[SB_COUNT(trunk_artist)];
+    for (size_t i = 0; i < SB_COUNT(trunk_artist); i++) {
+        high[i] = trunk_artist[i];
+        if (strcmp(high[i].name, "head") == 0)
+            high[i].y = 2.25;
+    }
+    s = build_axes(high, SB_COUNT(high));
+    o.girdle_neck = true;
+    m = match1(t, s, &o);
+    assert_driver(m, t, s, "c3", "neck");
+    assert_driver(m, t, s, "c2", "torso");
     rf_mapping_free(m);
     rf_skeleton_free(s);
     rf_skeleton_free(t);
