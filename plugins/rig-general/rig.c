@@ -475,10 +475,10 @@ static bool rf_rig_on_plane(rf_rig_skel *k, const double mirror[4], double h)
     return true;
 }
 
-/* Whether the skeleton analysis reads k's up within 45 degrees of the declared up (true when
- * none is declared, or when out of memory). The fire dragon turned 137 degrees kept its legs in
- * the first pass but was read lying on its side, its wings hanging: its girdles, looked for
- * along that up, put the second pass's seed on a wing. */
+/* Whether the skeleton analysis reads k's up within about 45 degrees (cosine 0.7) of the
+ * declared up (true when none is declared, or when out of memory). The fire dragon turned 137
+ * degrees kept its legs in the first pass but was read lying on its side, its wings hanging:
+ * its girdles, looked for along that up, put the second pass's seed on a wing. */
 static bool rf_rig_reads_up(const rf_rig_skel *k, rf_vec3 declared)
 {
     if (!(rf_v3_len(declared) > 0))

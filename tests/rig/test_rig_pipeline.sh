@@ -238,7 +238,9 @@ else ko "rig-bench --joint-map best: $(cat "$tmp/err")"; fi
 # arms, lying against its body, at an offset by the elbow: the matcher counts their bones from the
 # artist's shin and forearm (doc/matching.md, "An eleventh round"), after the matcher 43.8% /
 # 50.4% and 35.8% / 47.4% (40.1% / 46.8% and 29.3% / 38.4% counted from the thigh and upper arm,
-# the ninja 33.1% / 42.8% with its legs alone counted from the shin).
+# the ninja 33.1% / 42.8% with its legs alone counted from the shin). With BCN_Epileptic's arms
+# laid from the shoulder the trunk's width finds (joint placement round nine) it reads 42.7% /
+# 47.9%: its bar is what both changes together give, less a point.
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
     "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
@@ -269,7 +271,7 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             print "FAIL: fire dragon: up " ua[dragon] ", forward " fa[dragon] ", cd_j2j " cd[dragon] \
                 ", precision " p[dragon] ", Foot.L " foot[dragon] " from the nearest joint"
         if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.42 &&
-              r["\"BCN_Epileptic.X\""] >= 0.49))
+              r["\"BCN_Epileptic.X\""] >= 0.47))
             print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " \
                 p["\"BCN_Epileptic.X\""] ", recall " r["\"BCN_Epileptic.X\""]
         if (!(gp["\"BCN_Epileptic.X\""] >= 0.73 && gr["\"BCN_Epileptic.X\""] >= 0.765 &&
