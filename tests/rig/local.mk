@@ -56,6 +56,8 @@ noinst_PROGRAMS += tests/rig/rig-up
 tests_rig_rig_up_SOURCES = tests/rig/rig-up.c
 tests_rig_rig_up_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
 tests_rig_rig_up_LDADD = $(tests_rig_rig_dump_LDADD)
+TESTS += tests/rig/test_rig_up.sh
+EXTRA_DIST += tests/rig/test_rig_up.sh
 
 # creature: a random creature mesh skinned to a generated skeleton (tests/match/gen.c), the
 # random set of test_rig_creatures.sh and bench/creatures.sh (doc/autorig.md, "Random creatures")
