@@ -360,8 +360,7 @@ static bool rf_rig_read_up(rf_rig_prep *p, rf_quat q, const rf_rig_options *o,
     if (!rf_rig_curve(&t, o, &k, err, sizeof err)) {
         ok = !rf_rig_no_memory(err);
         snprintf(out->why, sizeof out->why, "%.199s", err);
-    }
-    else if (!(s = rf_rig_skeleton(&k, NULL)))
+    } else if (!(s = rf_rig_skeleton(&k, NULL)))
         ok = false;
     else {
         rf_analysis_options ao = {.ignore_file_axes = true};
@@ -382,6 +381,63 @@ static bool rf_rig_read_up(rf_rig_prep *p, rf_quat q, const rf_rig_options *o,
     out->found = rf_v3_len(out->axis) > 0 && strcmp(out->source, "limbs") == 0 &&
                  out->confidence >= RF_RIG_UP_CONFIDENCE && out->support >= RF_RIG_UP_SUPPORT;
     return ok;
+}
+
+/* A standing margin for ordering: none (NAN) below any. */
+static double rf_rig_margin_rank(double margin)
+{
+    return isnan(margin) ? -INFINITY : margin;
+}
+
+/* The five axis directions other than +y (the file's own, read first) into stand, as indices
+ * of rf_rig_axes, the one the body stands on best first: a body mostly stands on its feet by
+ * more than on its side or back (the bull frog upside down, stood on its feet first, not last:
+ * 2.0 -> 0.8 s of processor time). */
+static void rf_rig_stand_order(const double support[6], int stand[5])
+{
+    const int axes[5] = {4, 5, 0, 1, 3}; /* +z, -z, +x, -x, -y: the order among equals */
+    for (int i = 0; i < 5; i++) {
+        int j = i;
+        for (; j > 0 &&
+               rf_rig_margin_rank(support[axes[i]]) > rf_rig_margin_rank(support[stand[j - 1]]);
+             j--)
+            stand[j] = stand[j - 1];
+        stand[j] = axes[i];
+    }
+}
+
+/* The body p stood on each axis direction other than +y it stands on (support[], in
+ * rf_rig_axes' order) and read, into out when an up is found (see rf_rig_body_up); false when
+ * out of memory. */
+static bool rf_rig_read_stands(rf_rig_prep *p, const rf_rig_options *o, const double support[6],
+                               rf_rig_up *out)
+{
+    rf_rig_up other = {.found = false};
+    bool agree = true;
+    int stand[5];
+    rf_rig_stand_order(support, stand);
+    for (int i = 0; i < 5; i++) {
+        rf_vec3 d = rf_rig_axes[stand[i]];
+        if (!(support[stand[i]] >= RF_RIG_UP_SUPPORT))
+            continue;
+        rf_quat q = stand[i] == 3 ? rf_quat_from_axis_angle(rf_v3(1, 0, 0), 3.14159265358979323846)
+                                  : rf_quat_from_two_vectors(d, rf_v3(0, 1, 0));
+        rf_rig_up u;
+        if (!rf_rig_read_up(p, q, o, support, &u))
+            return false;
+        if (u.found && rf_v3_dot(u.axis, d) > 0.99) { /* stood on it, read standing on it */
+            *out = u;
+            return true;
+        }
+        if (u.found) {
+            agree = agree && (!other.found || rf_v3_dot(u.axis, other.axis) > 0.99);
+            if (!other.found || u.confidence > other.confidence)
+                other = u;
+        }
+    }
+    if (other.found && agree)
+        *out = other;
+    return true;
 }
 
 /* The body read as the file has it first; when that finds no up, the body stood on each other
@@ -422,30 +478,8 @@ bool rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out
         snprintf(out->why, sizeof out->why, "%.199s", err);
         return !rf_rig_no_memory(err);
     }
-    bool ok = rf_rig_read_up(&p, rf_quat_identity(), &o, support, out), agree = true;
-    rf_rig_up other = {.found = false};
-    /* +z, -z, +x, -x, then -y (+y is the file's own, read above) */
-    const int stand[5] = {4, 5, 0, 1, 3};
-    for (int i = 0; ok && !out->found && i < 5; i++) {
-        rf_vec3 d = rf_rig_axes[stand[i]];
-        if (!(support[stand[i]] >= RF_RIG_UP_SUPPORT))
-            continue;
-        rf_quat q = stand[i] == 3 ? rf_quat_from_axis_angle(rf_v3(1, 0, 0), 3.14159265358979323846)
-                                  : rf_quat_from_two_vectors(d, rf_v3(0, 1, 0));
-        rf_rig_up u;
-        ok = rf_rig_read_up(&p, q, &o, support, &u);
-        if (!ok || !u.found)
-            continue;
-        if (rf_v3_dot(u.axis, d) > 0.99)
-            *out = u;
-        else {
-            agree = agree && (!other.found || rf_v3_dot(u.axis, other.axis) > 0.99);
-            if (!other.found || u.confidence > other.confidence)
-                other = u;
-        }
-    }
-    if (ok && !out->found && other.found && agree)
-        *out = other;
+    bool ok = rf_rig_read_up(&p, rf_quat_identity(), &o, support, out) &&
+              (out->found || rf_rig_read_stands(&p, &o, support, out));
     rf_rig_prep_free(&p);
     return ok;
 }
