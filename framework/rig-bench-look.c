@@ -49,9 +49,10 @@ bool rf_rig_look_begin(rf_rig_look_setup *s, const char *motion, int frames,
     json_error_t e;
     s->graph = json_load_file(s->pipeline, 0, &e);
     if (!json_is_array(json_object_get(s->graph, "nodes"))) {
+        /* jansson's message quotes the bytes near the error as they are (an ESC) */
         g_autofree char *shown = rf_printable(s->pipeline);
-        fprintf(stderr, "rigflow rig-bench: --look: cannot read the pipeline %s: %s\n", shown,
-                s->graph ? "it has no nodes" : e.text);
+        g_autofree char *why = rf_printable(s->graph ? "it has no nodes" : e.text);
+        fprintf(stderr, "rigflow rig-bench: --look: cannot read the pipeline %s: %s\n", shown, why);
         rf_rig_look_end(s);
         return false;
     }

@@ -1078,10 +1078,42 @@ typedef struct rf_rig_build {
     rf_rig_skel *s;
     double seg;     /* bone length, world units */
     uint32_t *path; /* scratch */
+    uint32_t cap;   /* joints s's arrays hold */
+    bool full;      /* out of memory growing them: joints were left out */
 } rf_rig_build;
 
-static uint32_t rf_rig_joint_add(rf_rig_skel *s, const double p[3], int32_t parent)
+/* Room in b->s for one joint more. A chain gives at most a joint per band piece, but a leg cut
+ * along its polyline (rf_rig_chain) may take more joints than it has pieces, so the arrays,
+ * sized by the pieces, grow when full. */
+static bool rf_rig_joint_room(rf_rig_build *b)
 {
+    rf_rig_skel *s = b->s;
+    if (s->n < b->cap)
+        return true;
+    uint32_t cap = b->cap > UINT32_MAX / 2 ? UINT32_MAX : 2 * b->cap + 8;
+    double *pos = realloc(s->pos, (size_t)cap * 3 * sizeof *pos);
+    s->pos = pos ? pos : s->pos;
+    double *tip = pos ? realloc(s->tip, (size_t)cap * 3 * sizeof *tip) : NULL;
+    s->tip = tip ? tip : s->tip;
+    int32_t *parent = tip ? realloc(s->parent, (size_t)cap * sizeof *parent) : NULL;
+    s->parent = parent ? parent : s->parent;
+    uint8_t *has_tip = parent ? realloc(s->has_tip, cap) : NULL;
+    s->has_tip = has_tip ? has_tip : s->has_tip;
+    if (!has_tip || cap <= s->n)
+        return false;
+    memset(s->tip + (size_t)b->cap * 3, 0, (size_t)(cap - b->cap) * 3 * sizeof *s->tip);
+    b->cap = cap;
+    return true;
+}
+
+/* Adds a joint at p under `parent`; out of room (b->full), the parent stands for it. */
+static uint32_t rf_rig_joint_add(rf_rig_build *b, const double p[3], int32_t parent)
+{
+    if (!rf_rig_joint_room(b)) {
+        b->full = true;
+        return parent >= 0 ? (uint32_t)parent : 0;
+    }
+    rf_rig_skel *s = b->s;
     uint32_t j = s->n++;
     memcpy(s->pos + (size_t)j * 3, p, 3 * sizeof(double));
     s->parent[j] = parent;
@@ -1128,7 +1160,7 @@ static uint32_t rf_rig_chain(rf_rig_build *b, uint32_t to, uint32_t from_joint, 
                 double f = (total * next / pieces - arc) / step, at[3];
                 for (int c = 0; c < 3; c++)
                     at[c] = p[c] + f * (q[c] - p[c]);
-                joint = rf_rig_joint_add(b->s, at, (int32_t)joint);
+                joint = rf_rig_joint_add(b, at, (int32_t)joint);
             }
             arc += step;
         }
@@ -1139,7 +1171,7 @@ static uint32_t rf_rig_chain(rf_rig_build *b, uint32_t to, uint32_t from_joint, 
         double want = total * next / pieces;
         /* cut at the path point nearest the wanted length */
         if (arc >= want || arc + step / 2 >= want) {
-            joint = rf_rig_joint_add(b->s, b->t->pos[b->path[i]], (int32_t)joint);
+            joint = rf_rig_joint_add(b, b->t->pos[b->path[i]], (int32_t)joint);
             next++;
         }
     }
@@ -1148,7 +1180,7 @@ static uint32_t rf_rig_chain(rf_rig_build *b, uint32_t to, uint32_t from_joint, 
         memcpy(b->s->tip + (size_t)joint * 3, end, 3 * sizeof(double));
         b->s->has_tip[joint] = 1;
     } else {
-        joint = rf_rig_joint_add(b->s, end, (int32_t)joint);
+        joint = rf_rig_joint_add(b, end, (int32_t)joint);
     }
     return joint;
 }
@@ -1200,7 +1232,7 @@ static bool rf_rig_emit(rf_rig_build *b, uint32_t root)
         if (!v[i].dead && v[i].parent >= 0)
             kids[fill[v[i].parent]++] = i;
     size_t sp = 0;
-    stack[sp++] = root, stack[sp++] = rf_rig_joint_add(b->s, b->t->pos[root], -1);
+    stack[sp++] = root, stack[sp++] = rf_rig_joint_add(b, b->t->pos[root], -1);
     while (sp) {
         uint32_t joint = stack[--sp], key = stack[--sp];
         uint32_t ends[64], pieces[64], n = 0;
@@ -1231,7 +1263,7 @@ static bool rf_rig_emit(rf_rig_build *b, uint32_t root)
         }
     }
     free(stack), free(first), free(kids), free(fill);
-    return true;
+    return !b->full;
 }
 
 /* ---- entry ---- */
@@ -1462,7 +1494,7 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
     out->tip = calloc((size_t)ns.n * 3, sizeof *out->tip);
     out->parent = malloc((size_t)ns.n * sizeof *out->parent);
     out->has_tip = calloc(ns.n, 1);
-    rf_rig_build b = {.t = &t, .s = out, .seg = o->segment * p->longest};
+    rf_rig_build b = {.t = &t, .s = out, .seg = o->segment * p->longest, .cap = ns.n};
     b.path = malloc((size_t)ns.n * sizeof *b.path);
     ok = out->pos && out->tip && out->parent && out->has_tip && b.path && root != RF_RIG_NONE &&
          rf_rig_emit(&b, root);

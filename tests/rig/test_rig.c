@@ -360,22 +360,51 @@ static void test_fin_sheet(void **state)
 }
 
 /* A made-up dragon, symmetric about z = 0: a thick body (x -1 to 1, y 0.65 to 1.85), a head in
- * front, a tail behind, short hind legs (0.3 square, y 0 to 0.7) under the hips and wings, thin
- * boxes at the shoulders, spanning 14 across: the wingspan is the longest edge and sets the bone
- * length (1.68), longer than the legs hang below the body. */
-static rf_mesh *winged_creature(void)
+ * front, a tail behind, short hind legs (0.3 square, y `foot` to 0.7) under the hips and wings,
+ * thin boxes at the shoulders reaching `wing` to each side: with feet at 0 and wings of 7 (14
+ * across) the wingspan is the longest edge and sets the bone length (1.68), longer than the legs
+ * hang below the body. */
+static rf_mesh *winged_creature(double foot, double wing)
 {
     rf_mesh *m = rf_mesh_new();
     m->positions = calloc(7 * 8 * 3, sizeof(float));
     m->triangles = calloc(7 * 12 * 3, sizeof(uint32_t));
-    add_box(m, -1, 0.65, -0.4, 1, 1.85, 0.4);     /* body */
-    add_box(m, 1, 1, -0.25, 1.7, 1.85, 0.25);     /* head */
-    add_box(m, -3, 1.5, -0.12, -1, 1.75, 0.12);   /* tail */
-    add_box(m, -0.75, 0, 0.12, -0.45, 0.7, 0.42); /* hind legs */
-    add_box(m, -0.75, 0, -0.42, -0.45, 0.7, -0.12);
-    add_box(m, 0.2, 1.75, 0.35, 0.7, 1.82, 7); /* wings */
-    add_box(m, 0.2, 1.75, -7, 0.7, 1.82, -0.35);
+    add_box(m, -1, 0.65, -0.4, 1, 1.85, 0.4);        /* body */
+    add_box(m, 1, 1, -0.25, 1.7, 1.85, 0.25);        /* head */
+    add_box(m, -3, 1.5, -0.12, -1, 1.75, 0.12);      /* tail */
+    add_box(m, -0.75, foot, 0.12, -0.45, 0.7, 0.42); /* hind legs */
+    add_box(m, -0.75, foot, -0.42, -0.45, 0.7, -0.12);
+    add_box(m, 0.2, 1.75, 0.35, 0.7, 1.82, wing); /* wings */
+    add_box(m, 0.2, 1.75, -wing, 0.7, 1.82, -0.35);
     return m;
+}
+
+/* Rigs winged_creature(foot, wing) with the general rigger and `o`: a whole rig, with a joint
+ * within 0.25 of each foot's bottom. */
+static void rig_winged(const char *what, double foot, double wing, const rf_rig_options *o)
+{
+    rf_mesh *in = winged_creature(foot, wing);
+    rf_skeleton *s;
+    rf_mesh *m;
+    char err[512];
+    if (!rf_rig_general(in, o, &s, &m, NULL, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", what, err);
+    check_rig(what, in, s, m);
+    rf_vec3 w[256];
+    assert_true(s->joint_count <= 256);
+    world_joints(s, w);
+    for (int side = -1; side <= 1; side += 2) {
+        double best = INFINITY;
+        for (uint32_t j = 0; j < s->joint_count; j++) {
+            rf_vec3 d = rf_v3_sub(w[j], rf_v3(-0.6, foot, 0.27 * side));
+            best = fmin(best, rf_v3_len(d));
+        }
+        printf("# %s: the foot at z %+.2f %.3f from the nearest joint\n", what, 0.27 * side, best);
+        if (!(best < 0.25))
+            fail_msg("%s: the foot at z %g: the nearest joint %g away (%u joints)", what,
+                     0.27 * side, best, s->joint_count);
+    }
+    rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
 }
 
 /* The winged creature's legs: bands grown from its chest ring the trunk and the legs' tops
@@ -387,30 +416,21 @@ static rf_mesh *winged_creature(void)
 static void test_general_stands(void **state)
 {
     (void)state;
-    rf_mesh *in = winged_creature();
-    rf_skeleton *s;
-    rf_mesh *m;
-    char err[512];
     rf_rig_options o = {.up = rf_v3(0, 1, 0)};
-    if (!rf_rig_general(in, &o, &s, &m, NULL, NULL, NULL, err, sizeof err))
-        fail_msg("winged creature: %s", err);
-    check_rig("winged creature", in, s, m);
-    rf_vec3 w[256];
-    assert_true(s->joint_count <= 256);
-    world_joints(s, w);
-    for (int side = -1; side <= 1; side += 2) {
-        double best = INFINITY;
-        for (uint32_t j = 0; j < s->joint_count; j++) {
-            rf_vec3 d = rf_v3_sub(w[j], rf_v3(-0.6, 0, 0.27 * side));
-            best = fmin(best, rf_v3_len(d));
-        }
-        printf("# winged creature: the foot at z %+.2f %.3f from the nearest joint\n", 0.27 * side,
-               best);
-        if (!(best < 0.25))
-            fail_msg("the foot at z %g: the nearest joint %g away (%u joints)", 0.27 * side, best,
-                     s->joint_count);
-    }
-    rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
+    rig_winged("winged creature", 0, 7, &o);
+}
+
+/* Legs kept from pruning are cut along their polyline into as many bones as the bone length
+ * asks (rf_rig_chain), which may be more joints than the leg has band pieces: at the finest
+ * bones (segment 0.02) and 60 voxels across, the winged creature with its feet a little lower
+ * and wings of 6 has 2 joints more than the band pieces the skeleton's arrays were sized by, and
+ * the rigger wrote past them (ASan: heap-buffer-overflow in rf_rig_joint_add). The rig comes
+ * out whole, with a joint near each foot. */
+static void test_general_stands_fine_bones(void **state)
+{
+    (void)state;
+    rf_rig_options o = {.up = rf_v3(0, 1, 0), .resolution = 60, .segment = 0.02};
+    rig_winged("winged creature, fine bones", -0.05, 6, &o);
 }
 
 /* The same body at 1 cm and at 100 m gives the same rig, scaled; at every scale four feet. */
@@ -1765,6 +1785,7 @@ int main(void)
         cmocka_unit_test(test_mirror_twigs),
         cmocka_unit_test(test_fin_sheet),
         cmocka_unit_test(test_general_stands),
+        cmocka_unit_test(test_general_stands_fine_bones),
         cmocka_unit_test(test_memory_refusal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
