@@ -1,8 +1,10 @@
-/* rig-up [-s] FILE...: each mesh (its rig ignored) unmoved, tipped over (a quarter turn about x: +y
- * to +z, as a Z-up scan reads) and laid on its side (a quarter turn about z: +y to -x), and the
- * up the rigger finds from the body for each (rf_rig_body_up), against the true one; the time
- * each took (processor time, so other work on the machine does not count). -s: also the
- * unmoved body's standing margin along each of the file's six axis directions (rf_rig_support). */
+/* rig-up [-s] FILE...: each mesh (its rig ignored) unmoved, tipped over both ways (a quarter
+ * turn about x: +y to +z, as a Z-up scan reads, and back), laid on its side (a quarter turn
+ * about z: +y to -x) and upside down, and the up the rigger finds from the body for each
+ * (rf_rig_body_up), against the true one (the file's, turned); the time each took (processor
+ * time, so other work on the machine does not count); last, how many were found right, kept
+ * +y wrongly, or turned to a wrong axis. -s: also the unmoved body's standing margin along each
+ * of the file's six axis directions (rf_rig_support). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -54,14 +56,14 @@ int main(int argc, char **argv)
         }
         const char *base = strrchr(argv[i], '/') ? strrchr(argv[i], '/') + 1 : argv[i];
         rf_vec3 up0 = r.skeleton && rf_v3_len(r.skeleton->up) > 0 ? r.skeleton->up : rf_v3(0, 1, 0);
-        static const rf_vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
+        static const rf_vec3 axes[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
                                         {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
         for (int a = 0; margins && a < 6; a++) {
             double s = NAN;
             if (!rf_rig_support(r.mesh, axes[a], &s))
                 return 1;
-            printf("%s%s %+.0f %+.0f %+.0f %6.3f%s", a ? "" : "margins ", a ? "" : base,
-                   axes[a].x, axes[a].y, axes[a].z, s, a == 5 ? "\n" : ";");
+            printf("%s%s %+.0f %+.0f %+.0f %6.3f%s", a ? "" : "margins ", a ? "" : base, axes[a].x,
+                   axes[a].y, axes[a].z, s, a == 5 ? "\n" : ";");
         }
         float *pos = malloc((size_t)r.mesh->vertex_count * 3 * sizeof *pos);
         for (size_t t = 0; t < sizeof turns / sizeof *turns; t++) {

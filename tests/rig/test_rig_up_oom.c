@@ -1,8 +1,10 @@
-/* The up of a body whose file declares none, when memory runs out: rf_rig_support and
- * rf_rig_frame_enter (the rigger's frame: the body's up from its curve skeleton, its standing
- * margins, its footprint's box) are run with their k-th allocation failing, for every k until
- * they need no more, on a box quadruped saved Z-up. Each run either says it ran out (false) or
- * gives the answer it gives with memory to spare: a failed allocation is never read as "no
+/* The up of a body whose file declares none, and the rigger's frame, when memory runs out:
+ * rf_rig_support and rf_rig_frame_enter (the body's up from its standing margins and its curve
+ * skeleton; the footprint's box the frame follows) are run with their k-th allocation failing,
+ * for every k until they need no more, on a box quadruped saved Z-up and on one declaring +y
+ * up, turned. Each run either says it ran out (false) or gives the up and the frame it gives
+ * with memory to spare (a failure inside the curve skeleton's own steps, a girdle not looked
+ * for, may move the analysis's confidence only): a failed allocation is never read as "no
  * footprint" or "no up", which would rig the body lying, or in another frame, without saying
  * why. */
 #include <math.h>
@@ -10,7 +12,6 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -28,15 +29,11 @@ static long fail_at = -1, calls;
 
 void *__wrap_malloc(size_t n)
 {
-    if (calls == fail_at && getenv("OOM_WHERE"))
-        fprintf(stderr, "malloc %ld from %p\n", calls, __builtin_return_address(0));
     return calls++ == fail_at ? NULL : __real_malloc(n);
 }
 
 void *__wrap_calloc(size_t n, size_t size)
 {
-    if (calls == fail_at && getenv("OOM_WHERE"))
-        fprintf(stderr, "calloc %ld from %p\n", calls, __builtin_return_address(0));
     return calls++ == fail_at ? NULL : __real_calloc(n, size);
 }
 
