@@ -175,6 +175,8 @@ static double rb_chamfer(const rb_rig *p, const rb_rig *g, bool from_bones, bool
  * unmapped joints take their nearest mapped ancestor's, else the nearest artist joint. With
  * `nearest`, every joint takes the nearest artist joint (the skin compared without the
  * matcher's judgement). */
+typedef enum rb_map_how { RB_MAP_MATCHER, RB_MAP_NEAREST, RB_MAP_SKIN } rb_map_how;
+
 static void rb_map_joints(const rf_skeleton *pred, const rb_rig *p, const rf_mapping *m,
                           const rf_skeleton *art, const rb_rig *g, bool nearest, uint32_t *to)
 {
@@ -201,6 +203,36 @@ static void rb_map_joints(const rf_skeleton *pred, const rb_rig *p, const rf_map
                 best = d, to[j] = g->joint[i];
         }
     }
+}
+
+/* `--joint-map skin`: each predicted joint stands for the artist joint whose weights overlap
+ * its own most over the shared vertices (the sum over vertices of the two weights' products),
+ * the answer's own skin read back: what a mapping joint for joint could reach at best on this
+ * rig, so a row's loss can be told the mapping's or the rig's. Joints without weights keep the
+ * nearest artist joint `to` holds (they change no figure). Not a strict bound: summing several
+ * predicted joints into one artist joint can do better per vertex than each one's best. */
+static void rb_map_skin(const rf_mesh *am, const rf_mesh *pm, uint32_t np, uint32_t na,
+                        uint32_t *to)
+{
+    double *ov = g_new0(double, (size_t)np *na + 1);
+    for (uint32_t v = 0; v < am->vertex_count && v < pm->vertex_count; v++)
+        for (int k = 0; k < 4; k++) {
+            uint32_t a = pm->skin_joints[v * 4 + k];
+            for (int l = 0; a < np && l < 4; l++) {
+                uint32_t b = am->skin_joints[v * 4 + l];
+                if (b < na)
+                    ov[(size_t)a * na + b] +=
+                        (double)pm->skin_weights[v * 4 + k] * am->skin_weights[v * 4 + l];
+            }
+        }
+    for (uint32_t j = 0; j < np; j++) {
+        const double *row = ov + (size_t)j * na;
+        double best = 0;
+        for (uint32_t b = 0; b < na; b++)
+            if (row[b] > best)
+                best = row[b], to[j] = b;
+    }
+    g_free(ov);
 }
 
 typedef struct rb_skin {
@@ -565,7 +597,7 @@ static void rb_joint_rows(const char *rigger, const char *model, const char *whi
     }
 }
 
-static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *pl, bool nearest)
+static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *pl, rb_map_how how)
 {
     const rf_skeleton *as = rf_pipeline_result(pl, rb_artist_id(), "skeleton");
     const rf_mesh *am = rf_pipeline_result(pl, rb_artist_id(), "mesh");
@@ -603,9 +635,12 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
     }
     char why[300] = "ok";
     uint32_t *to = g_new(uint32_t, ps->joint_count + 1);
-    rb_map_joints(ps, &p, map, as, &g, nearest, to);
-    if (rb_skin_usable(am, pm, ps->joint_count, why, sizeof why))
+    rb_map_joints(ps, &p, map, as, &g, how != RB_MAP_MATCHER, to);
+    if (rb_skin_usable(am, pm, ps->joint_count, why, sizeof why)) {
+        if (how == RB_MAP_SKIN)
+            rb_map_skin(am, pm, ps->joint_count, as->joint_count, to);
         rb_skin_compare(am, pm, to, as->joint_count, &sk);
+    }
     rb_skin given;
     rb_skin_given(r, as, am, &given);
     rb_row(r, base, rb_body(as), g.n, ps->joint_count, cd, &sk, &given,
@@ -617,7 +652,7 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
 
 /* One model through one rigger: a row, whatever happens. RF_EXIT_RUN when the model could not
  * be read at all, RF_EXIT_CANCELLED on Ctrl-C (no row: the bench stops). */
-static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, bool nearest)
+static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, rb_map_how how)
 {
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     double cd[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
@@ -650,7 +685,7 @@ static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, 
     }
     if (code == RF_EXIT_OK) {
         rb_look_now = rb_look_setup.motion ? &look : NULL;
-        rb_measure(r, base, p, nearest);
+        rb_measure(r, base, p, how);
         rb_look_now = NULL;
     } else if (code == RF_EXIT_CANCELLED) {
         g_autofree char *shown = rf_printable(path);
@@ -674,7 +709,7 @@ static int rb_one(const rf_registry *reg, const rb_rigger *r, const char *path, 
     return code == RF_EXIT_CANCELLED ? code : unreadable ? RF_EXIT_RUN : RF_EXIT_OK;
 }
 
-static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **files, bool nearest)
+static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **files, rb_map_how how)
 {
     printf(
         "rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,cd_b2b,precision,recall,l1,"
@@ -684,7 +719,7 @@ static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **fi
     int bad = 0;
     for (int i = 0; i < nfiles; i++)
         for (guint k = 0; k < riggers->len; k++) {
-            int code = rb_one(reg, &g_array_index(riggers, rb_rigger, k), files[i], nearest);
+            int code = rb_one(reg, &g_array_index(riggers, rb_rigger, k), files[i], how);
             if (code == RF_EXIT_CANCELLED)
                 return code;
             bad += code != RF_EXIT_OK;
@@ -760,8 +795,9 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         {"joint-map", 0, 0, G_OPTION_ARG_STRING, &joint_map,
          "How predicted joints are matched to the artist's for the skinning columns: matcher "
          "(default: the skeletal-similarity matcher; a joint it leaves unmapped, or maps to an "
-         "artist joint without weights, takes its nearest mapped ancestor's) or nearest (the "
-         "nearest artist joint)",
+         "artist joint without weights, takes its nearest mapped ancestor's), nearest (the "
+         "nearest artist joint) or skin (the artist joint whose weights overlap its own most: "
+         "what a mapping could reach on the rig)",
          "HOW"},
         {"rigger", 'r', 0, G_OPTION_ARG_STRING_ARRAY, &names,
          "A rigger by name or node type (repeatable; default: every rigger found)", "NAME"},
@@ -826,9 +862,13 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
     if (!rb_motion_parse(turn, axis, scale, offset, fixed_axes))
         return RF_EXIT_USAGE;
     rb_no_axes = no_axes;
-    bool nearest = joint_map && !strcmp(joint_map, "nearest");
-    if (joint_map && !nearest && strcmp(joint_map, "matcher")) {
-        fprintf(stderr, "rigflow rig-bench: --joint-map: expected matcher or nearest\n");
+    rb_map_how how = RB_MAP_MATCHER;
+    if (joint_map && !strcmp(joint_map, "nearest"))
+        how = RB_MAP_NEAREST;
+    else if (joint_map && !strcmp(joint_map, "skin"))
+        how = RB_MAP_SKIN;
+    else if (joint_map && strcmp(joint_map, "matcher")) {
+        fprintf(stderr, "rigflow rig-bench: --joint-map: expected matcher, nearest or skin\n");
         return RF_EXIT_USAGE;
     }
     if (look_frames != -1 && !look) {
@@ -860,7 +900,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
     } else {
         if (rb_joints_out)
             fputs("rigger,model,rig,joint,x,y,z,nearest,distance\n", rb_joints_out);
-        code = rb_run(reg, riggers, argc - 1, argv + 1, nearest);
+        code = rb_run(reg, riggers, argc - 1, argv + 1, how);
         if (rb_joints_out && fclose(rb_joints_out) != 0) {
             fprintf(stderr, "rigflow rig-bench: --joints: write failed\n");
             code = RF_EXIT_RUN;

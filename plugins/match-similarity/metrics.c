@@ -1,7 +1,6 @@
 /* The metrics of the skeletal-similarity matcher (thesis Table 1, plus body position and digit
  * order), the named weight sets, and the per-skeleton facts they read. */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -254,6 +253,31 @@ static void leave_out_non_body(rf_ms_skel *s)
     rf_joint_roles_free(r);
 }
 
+/* Every joint's pivot in the body's frame (rf_ms_body_place), and that frame. */
+static void body_places(rf_ms_skel *s)
+{
+    const rf_analysis *a = s->a;
+    rf_vec3 lo = rf_v3(INFINITY, INFINITY, INFINITY), hi = rf_v3(-INFINITY, -INFINITY, -INFINITY);
+    double fwd = 0;
+    uint32_t n = 0;
+    for (uint32_t j = 0; j < a->joint_count; j++) {
+        if (!s->matchable[j])
+            continue;
+        fwd += rf_v3_dot(a->joints[j].pos, a->forward), n++;
+        for (int e = 0; e < 2; e++) {
+            rf_vec3 p = e ? a->joints[j].tip : a->joints[j].pos;
+            rf_vec3 b = rf_v3(rf_v3_dot(p, a->left), rf_v3_dot(p, a->up), rf_v3_dot(p, a->forward));
+            lo = rf_v3(fmin(lo.x, b.x), fmin(lo.y, b.y), fmin(lo.z, b.z));
+            hi = rf_v3(fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z));
+        }
+    }
+    s->bfwd = n ? fwd / n : 0;
+    double h = n ? fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z)) : 0;
+    s->bscale = h > 0 && isfinite(h) ? h : 1;
+    for (uint32_t j = 0; j < a->joint_count; j++)
+        s->bplace[j] = rf_ms_body_place(s, a->joints[j].pos);
+}
+
 /* Joints a mapping can drive: not helpers, not control joints sitting on their child. */
 static void per_joint(rf_ms_skel *s)
 {
@@ -266,6 +290,7 @@ static void per_joint(rf_ms_skel *s)
                            rf_v3_dot(ji->dir, a->forward));
     }
     leave_out_non_body(s);
+    body_places(s);
     for (uint32_t j = 0; j < a->joint_count; j++) {
         int32_t p = a->joints[j].logical_parent;
         for (uint32_t step = 0; p >= 0 && !s->matchable[p] && step < a->joint_count; step++)
@@ -317,11 +342,12 @@ bool rf_ms_skel_init(rf_ms_skel *s, const rf_skeleton *skel, const rf_analysis_o
     s->matchable = calloc(n, 1);
     s->anc = calloc(n, sizeof *s->anc);
     s->bdir = calloc(n, sizeof *s->bdir);
+    s->bplace = calloc(n, sizeof *s->bplace);
     s->ends = calloc(n, 1);
     s->step = calloc(n, sizeof *s->step);
     s->main_digit = malloc(n * sizeof *s->main_digit);
     if (!s->kind || !s->count || !s->digit_frac || !s->matchable || !s->anc || !s->bdir ||
-        !s->ends || !s->step || !s->main_digit)
+        !s->bplace || !s->ends || !s->step || !s->main_digit)
         return false;
     per_joint(s);
     if (!thesis)
@@ -339,6 +365,7 @@ void rf_ms_skel_clear(rf_ms_skel *s)
     free(s->matchable);
     free(s->anc);
     free(s->bdir);
+    free(s->bplace);
     free(s->ends);
     free(s->step);
     free(s->main_digit);

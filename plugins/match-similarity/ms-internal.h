@@ -32,6 +32,9 @@ typedef struct rf_ms_skel {
     uint8_t *matchable;    /* [joint] */
     int32_t *anc;          /* [joint] nearest matchable ancestor, -1 */
     rf_vec3 *bdir;         /* [joint] bone direction in the body frame (left, up, forward) */
+    rf_vec3 *bplace;       /* [joint] its pivot in the body frame, rf_ms_body_place */
+    double bfwd, bscale;   /* that frame's forward origin (the joints' mean) and unit (the
+                            * body's largest extent) */
     uint8_t *ends;         /* [joint] 1: the last matchable joint of its section, 2: the first,
                             * 4: in a head, the neck's last joint before the skull */
     int32_t *main_digit;   /* [joint] the middle non-thumb digit section of the fan hanging from
@@ -85,6 +88,18 @@ static inline bool rf_ms_body_dirs(const rf_ms_ctx *c, uint32_t t, uint32_t k, u
     if (st != RF_SIDE_CENTER && ss != RF_SIDE_CENTER && st != ss)
         b->x = -b->x;
     return true;
+}
+
+/* Where world point p lies in skeleton s's body frame: across from the symmetry plane, up from
+ * the ground, forward from the mean of the body's joints (a rig has no landmark along its length
+ * that every rig shares), in the body's largest extent (its height, or the span of a flat body's
+ * wings). Two rigs of one body compare there as they lie. */
+static inline rf_vec3 rf_ms_body_place(const rf_ms_skel *s, rf_vec3 p)
+{
+    const rf_analysis *a = s->a;
+    return rf_v3(rf_v3_dot(rf_v3_sub(p, a->plane_point), a->left) / s->bscale,
+                 (rf_v3_dot(p, a->up) - a->ground) / s->bscale,
+                 (rf_v3_dot(p, a->forward) - s->bfwd) / s->bscale);
 }
 
 /* The two per-joint metrics apart, so a candidate can be dropped before the dearer one. */

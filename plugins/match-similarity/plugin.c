@@ -405,8 +405,10 @@ static const rf_param_desc params[] = {
       "neck pivot (a curve skeleton's): chest drives it by the source's chest, the joint carrying "
       "the limbs (for motion); neck by the source's first neck joint, where its bone and skin lie "
       "(correspondence: rig-bench's skinning), with the rest of the spine aligned again below "
-      "it, a trunk without a head giving its girdle joint the source's head, and a limb without "
-      "digits keeping the source's fist."),
+      "it, a trunk without a head giving its girdle joint the source's head, a limb without "
+      "digits keeping the source's fist, limbs that lack the source's first bones counted from "
+      "where their pivots lie in the bodies' frames, and a girdle bone lying past the source's "
+      "skull pivot given the skull."),
     P("reverse", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
       "Flag joints whose chain bends the other way than their source's (knees) as reversed."),
     P("blend", RF_PARAM_BOOL, 0, 0, NULL, 0, 0, NULL,

@@ -75,7 +75,10 @@ typedef struct rf_ms_options {
                          * its chest, and the spine before it the rest of the source's trunk
                          * (match.c, neck_at_girdle); a headless trunk's girdle joint takes the
                          * source's head (head_at_girdle); a limb without digits keeps the
-                         * source's fist (lent_hand) */
+                         * source's fist (lent_hand); a limb that lacks the source's first
+                         * bones counts from where its pivots lie (steps_from_body); a girdle
+                         * bone past the source's skull pivot takes the skull
+                         * (girdle_past_skull) */
 } rf_ms_options;
 
 /* One scored candidate. */

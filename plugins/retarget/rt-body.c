@@ -419,6 +419,14 @@ bool rf_rt_weights_known(const rf_skeleton *s)
     return weighted * 4 >= s->joint_count;
 }
 
+/* Whether a skin says which of s's joints carry it: s was bound to a mesh (it has a bind pose)
+ * and its joints are marked as rf_rt_weights_known reads them. A BVH skeleton marks none
+ * unweighted and was bound to nothing: its joints say nothing of a skin. */
+static bool rt_skin_says(const rf_skeleton *s)
+{
+    return RF_HAS_FIELD(s, rf_skeleton, bind) && s->bind && rf_rt_weights_known(s);
+}
+
 static double rt_lowest(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
                         const uint8_t *above)
 {
@@ -434,6 +442,23 @@ static double rt_lowest(const rf_skeleton *s, const rf_xform *world, const rf_ve
     return isfinite(low) ? low : 0;
 }
 
+/* The height of a rest from its lowest point to its highest (joints and bone tips, as
+ * rt_lowest counts them). */
+static double rt_extent(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
+                        const uint8_t *above)
+{
+    double high = -INFINITY;
+    bool known = rf_rt_weights_known(s);
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        if ((known && (s->joints[j].flags & RF_JOINT_UNWEIGHTED)) || (above && above[j]))
+            continue;
+        high = fmax(high, rf_rt_height(up, world[j].t));
+        if (rf_v3_len2(tip[j]) > 0)
+            high = fmax(high, rf_rt_height(up, rf_xform_point(world[j], tip[j])));
+    }
+    return isfinite(high) ? high - rt_lowest(s, world, tip, up, above) : 0;
+}
+
 /* Whether joint j has children (parents given per joint). */
 static bool rt_has_children(const rf_skeleton *s, const int32_t *parent, uint32_t j)
 {
@@ -446,10 +471,18 @@ static bool rt_has_children(const rf_skeleton *s, const int32_t *parent, uint32_
 /* The joint whose height is the hip height: from j down while it has exactly one child besides
  * unweighted leaves (placement roots, armature nodes and ground roots sit above the hips; IK
  * targets and sockets hang from them). `parent` is the tree to walk: the file's, or the body
- * parents that carry a leg hanging elsewhere (a forest's, a placement root's) back to its hips. */
+ * parents that carry a leg hanging elsewhere (a forest's, a placement root's) back to its hips.
+ * Where the skin says which joints carry it, a joint that does is body, not placement, and the
+ * walk stops there: a body with no legs (greenman's auto-rig: its bottom joint, then its chest
+ * with the two arms) was read with its hips at the chest, its bottom above them, its "legs" from
+ * the chest down to the hands' tips (0.018 units for 16.3 of CMU's), and the floor for parts that
+ * are not feet at the hands' height: the parts pass held the hanging arms up there, and the arm
+ * whose shoulder lies high in the body swung through the top of it. */
 static uint32_t rt_hip_below(const rf_skeleton *s, const int32_t *parent, uint32_t j)
 {
-    for (int guard = 0; guard < 64; guard++) {
+    bool known = rt_skin_says(s);
+    for (int guard = 0; guard < 64 && !(known && !(s->joints[j].flags & RF_JOINT_UNWEIGHTED));
+         guard++) {
         uint32_t only = 0, count = 0;
         for (uint32_t c = 0; c < s->joint_count; c++)
             if (parent[c] == (int32_t)j &&
@@ -462,12 +495,16 @@ static uint32_t rt_hip_below(const rf_skeleton *s, const int32_t *parent, uint32
     return j;
 }
 
-/* Marks the proper ancestors of `hip` in `above` ([joint_count], the caller's). */
+/* Marks the proper ancestors of `hip` in `above` ([joint_count], the caller's): placement, not
+ * body. Where the skin says which joints carry it, an ancestor that does is body and stays
+ * unmarked (huesitos' auto-rig stands on a stem hanging above its hips in the tree: its legs are
+ * the hips' height over the stem's foot). */
 static void rt_mark_above(const rf_skeleton *s, uint32_t hip, uint8_t *above)
 {
+    bool known = rt_skin_says(s);
     memset(above, 0, s->joint_count);
     for (int32_t p = s->joints[hip].parent; p >= 0; p = s->joints[p].parent)
-        above[p] = 1;
+        above[p] = !(known && !(s->joints[p].flags & RF_JOINT_UNWEIGHTED));
 }
 
 /* The source joint whose motion moves the root of the target (the first root-motion input from
@@ -703,8 +740,16 @@ bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size)
         rf_rt_fail(err, err_size, "out of memory");
         return false;
     }
-    if (!(rt->leg_target > 0))
-        rt->leg_target = rt->src[0].leg;
+    if (!(rt->leg_target > 0)) {
+        /* No legs (the hips are the body's lowest point: a blob, a fish): the source's legs
+         * scaled by the two bodies' heights, so root motion and the clearances keep the
+         * target's proportions (the source's legs in its own units moved greenman's auto-rig,
+         * 2 units tall, by CMU's 16-unit strides). */
+        const rf_rt_src *s0 = &rt->src[0];
+        double ht = rt_extent(rt->target, rt->t_rest_world, rt->t_tip, rt->up, rt->t_above);
+        double hs = rt_extent(s0->skel, s0->rest_world, s0->tip, s0->up, s0->above);
+        rt->leg_target = ht > 0 && hs > 0 ? s0->leg * ht / hs : s0->leg;
+    }
     double lowest = rt_lowest(rt->target, rt->t_rest_world, rt->t_tip, rt->up, rt->t_above);
     rt->t_rest_low = lowest;
     if (rt->opt.ground == RF_RT_GROUND_WORLD)
@@ -854,6 +899,57 @@ static bool rt_contact_shift(rf_retarget *rt, const rf_animation *out, double *s
     return count > 0;
 }
 
+/* The topmost of the joints above root-motion joint j that carry skin and that nothing drives
+ * (kept at their rest, not placed from another joint), all of them up to j's parent; -1 when
+ * j's parent is no such joint or the skin does not say which joints carry it. */
+static int32_t rt_body_above(const rf_retarget *rt, uint32_t j)
+{
+    const rf_skeleton *s = rt->target;
+    int32_t top = -1;
+    if (!rt_skin_says(s))
+        return -1;
+    for (int32_t p = s->joints[j].parent; p >= 0; p = s->joints[p].parent) {
+        if (rt->tj[p].kind != RF_RT_REST || rt->anchor[p] >= 0 ||
+            (s->joints[p].flags & RF_JOINT_UNWEIGHTED))
+            break;
+        top = p;
+    }
+    return top;
+}
+
+/* Root motion moves the whole body: where a root-motion joint hangs from joints that carry skin
+ * and that nothing drives (the general rigger's root under huesitos' spine: the stem it stands
+ * on), its horizontal displacement is handed up to the topmost of them, which keep their rest
+ * rotations, so the body walks with what it stands on instead of sliding off it (CMU 01_01's
+ * first 120 frames tore huesitos' stem from its spine, stretch p99 52% of its height with its
+ * legs measured to the stem's foot, 12% in place). Height stays with the joint: a crouch
+ * bends over what it stands on. */
+bool rf_rt_carry_root(rf_retarget *rt, rf_animation *out)
+{
+    for (uint32_t j = 0; j < rt->n; j++) {
+        int32_t a = rt->tj[j].root_motion ? rt_body_above(rt, j) : -1;
+        if (a < 0)
+            continue;
+        int32_t p = rt->target->joints[j].parent, pa = rt->target->joints[a].parent;
+        rf_xform pw = rt->t_rest_world[p],
+                 aw_inv = pa >= 0 ? rf_xform_invert(rt->t_rest_world[pa]) : rf_xform_identity();
+        rf_vec3 rest = rt->target->joints[j].rest.t;
+        for (uint32_t f = 0; f < out->frame_count; f++) {
+            rf_vec3 t = rf_animation_translation(out, f, j);
+            rf_vec3 d = rf_quat_rotate(pw.r, rf_v3_mul(pw.s, rf_v3_sub(t, rest)));
+            rf_vec3 h = rf_rt_horizontal(rt->up, d);
+            rf_vec3 hj = rf_v3_mul(rt->tj[j].parent_world_inv.s,
+                                   rf_quat_rotate(rt->tj[j].parent_world_inv.r, h));
+            rf_vec3 ha = rf_v3_mul(aw_inv.s, rf_quat_rotate(aw_inv.r, h));
+            rf_animation_set_translation(out, f, j, rf_v3_sub(t, hj));
+            rf_animation_set_translation(
+                out, f, (uint32_t)a, rf_v3_add(rf_animation_translation(out, f, (uint32_t)a), ha));
+        }
+        out->channels[a] |= RF_CHANNEL_TRANSLATION;
+    }
+    return true;
+}
+
 /* The leg ratio places the hips; the feet then sit over the floor as the source's do only if
  * the legs are built alike. Measure where the clip's feet in contact (or, without feet, its
  * lowest points) fall, relative to each floor and leg, and move the root-motion joints up or down
@@ -872,19 +968,21 @@ bool rf_rt_ground_fix(rf_retarget *rt, rf_animation *out)
     return rf_rt_lift(rt, out, shift);
 }
 
-bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift)
+/* Moves the root-motion joints along up by shift, or by each[f] in frame f when each is given. */
+static bool rt_lift_by(rf_retarget *rt, rf_animation *out, double shift, const double *each)
 {
-    rf_vec3 lift = rf_v3_scale(rt->up, shift);
     bool moved = false;
     for (uint32_t j = 0; j < rt->n; j++) {
         if (!rt->tj[j].root_motion)
             continue;
-        rf_vec3 d = rf_quat_rotate(rt->tj[j].parent_world_inv.r, lift);
-        d = rf_v3_mul(rt->tj[j].parent_world_inv.s, d);
         moved = true;
-        for (uint32_t f = 0; f < out->frame_count; f++)
+        for (uint32_t f = 0; f < out->frame_count; f++) {
+            rf_vec3 lift = rf_v3_scale(rt->up, each ? each[f] : shift);
+            rf_vec3 d = rf_quat_rotate(rt->tj[j].parent_world_inv.r, lift);
+            d = rf_v3_mul(rt->tj[j].parent_world_inv.s, d);
             rf_animation_set_translation(out, f, j,
                                          rf_v3_add(rf_animation_translation(out, f, j), d));
+        }
     }
     if (!moved || !rt->anchored)
         return true;
@@ -897,4 +995,14 @@ bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift)
                              out->translations + (size_t)f * rt->n * 3, NULL, tw);
     free(tw);
     return true;
+}
+
+bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift)
+{
+    return rt_lift_by(rt, out, shift, NULL);
+}
+
+bool rf_rt_lift_each(rf_retarget *rt, rf_animation *out, const double *shift)
+{
+    return rt_lift_by(rt, out, 0, shift);
 }

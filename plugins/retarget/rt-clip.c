@@ -240,7 +240,7 @@ rf_animation *rf_retarget_clip(rf_retarget *rt, rf_rt_progress_fn progress, void
         rf_rt_fail(err, err_size, "cancelled");
         return NULL;
     }
-    if (!rf_rt_ground_fix(rt, out)) {
+    if (!rf_rt_carry_root(rt, out) || !rf_rt_ground_fix(rt, out)) {
         rf_animation_free(out);
         rf_rt_fail(err, err_size, "out of memory");
         return NULL;

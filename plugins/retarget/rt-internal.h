@@ -259,7 +259,12 @@ bool rf_rt_clearance(const rf_retarget *rt, double start, double fps, uint32_t c
                      const uint32_t *frame, double *out);
 /* Moves the root-motion joints of every frame of `out` by `shift` along up (the anchored joints
  * placed again after). False when out of memory. */
+/* Hands a root-motion joint's horizontal motion up to the unmapped joints carrying skin above it
+ * (rt-body.c). */
+bool rf_rt_carry_root(rf_retarget *rt, rf_animation *out);
 bool rf_rt_lift(rf_retarget *rt, rf_animation *out, double shift);
+/* ... by shift[f] in frame f (one a frame). */
+bool rf_rt_lift_each(rf_retarget *rt, rf_animation *out, const double *shift);
 /* Below this many joint-frames a second thread costs more than it saves. */
 #define RT_THREAD_MIN 65536
 

@@ -539,38 +539,56 @@ static uint32_t rt_sample_frame(uint32_t i, uint32_t count, uint32_t frames)
     return count > 1 ? (uint32_t)((uint64_t)i * (frames - 1) / (count - 1)) : 0;
 }
 
+/* What stands on the floor at rest, as a mask over the vertices into *base, and the rest mesh's
+ * lowest along up into *floor_h: the whole mesh (`all`) or its vertices low at rest (parts high
+ * at rest left out: a dragon's wings hanging through the floor must not lift its feet off it;
+ * the parts pass lifts them), less the limbs `aside` carries. */
+static bool rt_mesh_base(const rt_mesh_work *w, bool all, const uint8_t *aside, uint8_t **base,
+                         double *floor_h)
+{
+    double lo = INFINITY, top = -INFINITY;
+    for (uint32_t v = 0; v < w->nv; v++) {
+        double h = rf_v3_dot(w->rest[v], w->up);
+        lo = fmin(lo, h), top = fmax(top, h);
+    }
+    *floor_h = lo;
+    if (!(*base = malloc(w->nv ? w->nv : 1)))
+        return false;
+    for (uint32_t v = 0; v < w->nv; v++)
+        (*base)[v] = all || (rf_v3_dot(w->rest[v], w->up) <= lo + RT_MESH_HIGH * (top - lo) &&
+                             !(aside && aside[rf_mesh_heaviest_joint(w->m, v)]));
+    return true;
+}
+
+/* The lowest vertex of `base` with the clip posed at frame f, along up. */
+static double rt_mesh_low_at(rt_mesh_work *w, const rf_animation *anim, uint32_t f,
+                             const uint8_t *base)
+{
+    rf_animation_local_pose(anim, w->s, f, w->local);
+    for (uint32_t j = 0; j < w->n; j++)
+        w->local[j].r = rf_quat_normalize(w->local[j].r);
+    rt_mesh_fk(w);
+    rt_mesh_skin(w, w->pos);
+    double low = INFINITY;
+    for (uint32_t v = 0; v < w->nv; v++)
+        if (base[v])
+            low = fmin(low, rf_v3_dot(w->pos[v], w->up));
+    return low;
+}
+
 /* The lowest vertex in each of `count` frames spread over the clip, over the rest mesh's lowest
- * raised by clear[i] (how far the source stands over its floor then), into low (sorted): of the
- * whole mesh (`all`) or of what stands on the floor at rest (parts high at rest left out: a
- * dragon's wings hanging through the floor must not lift its feet off it; the parts pass lifts
- * them). */
+ * raised by clear[i] (how far the source stands over its floor then), into low (sorted), of
+ * what stands on the floor (rt_mesh_base). */
 static bool rt_mesh_lows(rt_mesh_work *w, const rf_animation *anim, uint32_t count, bool all,
                          const uint8_t *aside, const double *clear, double *low)
 {
-    double floor_h = INFINITY, top = -INFINITY;
-    for (uint32_t v = 0; v < w->nv; v++) {
-        double h = rf_v3_dot(w->rest[v], w->up);
-        floor_h = fmin(floor_h, h), top = fmax(top, h);
-    }
-    uint8_t *base = malloc(w->nv ? w->nv : 1);
-    if (!base)
+    uint8_t *base;
+    double floor_h;
+    if (!rt_mesh_base(w, all, aside, &base, &floor_h))
         return false;
-    for (uint32_t v = 0; v < w->nv; v++)
-        base[v] =
-            all || (rf_v3_dot(w->rest[v], w->up) <= floor_h + RT_MESH_HIGH * (top - floor_h) &&
-                    !(aside && aside[rf_mesh_heaviest_joint(w->m, v)]));
-    for (uint32_t i = 0; i < count; i++) {
-        rf_animation_local_pose(anim, w->s, rt_sample_frame(i, count, anim->frame_count), w->local);
-        for (uint32_t j = 0; j < w->n; j++)
-            w->local[j].r = rf_quat_normalize(w->local[j].r);
-        rt_mesh_fk(w);
-        rt_mesh_skin(w, w->pos);
-        low[i] = INFINITY;
-        for (uint32_t v = 0; v < w->nv; v++)
-            if (base[v])
-                low[i] = fmin(low[i], rf_v3_dot(w->pos[v], w->up));
-        low[i] -= floor_h + clear[i];
-    }
+    for (uint32_t i = 0; i < count; i++)
+        low[i] = rt_mesh_low_at(w, anim, rt_sample_frame(i, count, anim->frame_count), base) -
+                 (floor_h + clear[i]);
     free(base);
     qsort(low, count, sizeof *low, rt_cmp_double);
     return true;
@@ -687,10 +705,78 @@ static bool rt_mesh_place(rf_retarget *rt, rf_animation *anim, const rf_mesh *me
     return true;
 }
 
+/* A body with no foot to pin (a fish lying on its fins, a blob standing on its bottom) stands on
+ * nothing but its skin, so its lowest vertex of what stands on the floor at rest is put on the
+ * floor in every frame, raised by how far the source stands over its own (in a jump, in the
+ * air), not only in the median frame: a level body taking a human's lean (eased, "Body plans")
+ * pitches its nose or its belly through the floor in the frames the source leans furthest. Read
+ * every tenth of a second (rt_rest_step) and interpolated between. */
+static uint32_t rt_rest_step(const rf_animation *anim)
+{
+    double per = floor(anim->fps / 10); /* clamped before the conversion: any rate may come */
+    return per >= 1 ? (uint32_t)fmin(per, anim->frame_count) : 1;
+}
+
+/* Whether some target joint is driven by a source joint low in its source's rest (under half
+ * its legs' height: a knee, a foot): the target has legs in this mapping, even where no foot of
+ * theirs could be pinned (the fire dragon under the Fox's Walk), and stands on them. */
+static bool rt_legs_driven(const rf_retarget *rt)
+{
+    for (uint32_t j = 0; j < rt->n; j++) {
+        const rf_rt_tjoint *tj = &rt->tj[j];
+        for (uint32_t i = 0; tj->kind == RF_RT_MAPPED && i < tj->input_count; i++) {
+            const rf_rt_input *in = &rt->in[tj->first_input + i];
+            const rf_rt_src *src = &rt->src[in->source];
+            double h = rf_rt_height(src->up, src->rest_world[in->joint].t);
+            if (h < src->lowest + 0.5 * src->leg)
+                return true;
+        }
+    }
+    return false;
+}
+
+static bool rt_mesh_rest_each(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh)
+{
+    uint32_t frames = anim->frame_count, step = rt_rest_step(anim);
+    uint32_t count = (frames - 1) / step + 2;
+    rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n, .nv = mesh->vertex_count};
+    w.up = rt->up;
+    uint32_t *at = malloc(count * sizeof *at);
+    double *clear = calloc(count, sizeof *clear), *lift = malloc(frames * sizeof *lift);
+    uint8_t *aside = rt_limbs_aside(rt), *base = NULL;
+    double floor_h = 0;
+    for (uint32_t i = 0; at && i < count; i++)
+        at[i] = (uint64_t)i * step < frames ? i * step : frames - 1;
+    bool ok = at && clear && lift &&
+              rf_rt_clearance(rt, rf_retarget_start_time(rt), anim->fps, count, at, clear) &&
+              rt_mesh_prepare(&w) && rt_mesh_base(&w, false, aside, &base, &floor_h);
+    for (uint32_t i = 0; ok && i < count; i++) {
+        clear[i] = floor_h + clear[i] - rt_mesh_low_at(&w, anim, at[i], base);
+        ok = isfinite(clear[i]);
+    }
+    for (uint32_t f = 0; ok && f < frames; f++) {
+        uint32_t i = f / step;
+        double span = at[i + 1] > at[i] ? at[i + 1] - at[i] : 1, t = (f - at[i]) / span;
+        lift[f] = clear[i] + t * (clear[i + 1] - clear[i]);
+    }
+    ok = ok && rf_rt_lift_each(rt, anim, lift);
+    rt_mw_free(&w);
+    free(at), free(clear), free(lift), free(aside), free(base);
+    return ok;
+}
+
 bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
                             char *err, size_t err_size)
 {
-    return rt_mesh_place(rt, anim, mesh, false, false, shift, err, err_size);
+    if (!rt_mesh_place(rt, anim, mesh, false, false, shift, err, err_size))
+        return false;
+    if (rt->effector_count || !anim->frame_count || rt->opt.root_scale > 0 || rt_legs_driven(rt))
+        return true;
+    if (!rt_mesh_rest_each(rt, anim, mesh)) {
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    return true;
 }
 
 bool rf_retarget_mesh_clear(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,

@@ -668,6 +668,60 @@ static bool rt_alloc_frame(rf_retarget *rt)
     return true;
 }
 
+/* The height of the lowest and highest of a rest's joints and bone tips along up. */
+static void rt_rest_span(const rf_xform *world, const rf_vec3 *tip, uint32_t n, rf_vec3 up,
+                         double *low, double *high)
+{
+    *low = INFINITY, *high = -INFINITY;
+    for (uint32_t j = 0; j < n; j++) {
+        double h = rf_rt_height(up, world[j].t);
+        if (rf_v3_len2(tip[j]) > 0)
+            h = fmin(h, rf_rt_height(up, rf_xform_point(world[j], tip[j])));
+        *low = fmin(*low, h), *high = fmax(*high, rf_rt_height(up, world[j].t));
+    }
+}
+
+/* A limb that cannot hang as its source's does: off the centerline, driven by a source joint in
+ * the upper half of its source (an arm, not a leg), reaching from its root more than RT_HANG
+ * times its root's height over the target's lowest point (a dragon's wing, three times its
+ * shoulder's height). Its joints past the root keep their rest turns, so it moves whole from its
+ * root; a human's arm bends at the elbow and the wrist, and laid on such a limb those bends fold
+ * it through the floor and fan the pieces of its membrane apart. */
+#define RT_HANG 2.5
+
+static void rt_rigid_limbs(rf_retarget *rt)
+{
+    double low, high;
+    rt_rest_span(rt->t_rest_world, rt->t_tip, rt->n, rt->up, &low, &high);
+    for (uint32_t r = 0; r < rt->n; r++) {
+        const rf_rt_tjoint *tr = &rt->tj[r];
+        int32_t lp = rt->lparent[r];
+        if (tr->kind != RF_RT_MAPPED || rt->t_centerline[r] || lp < 0 || !rt->t_centerline[lp])
+            continue;
+        const rf_rt_input *in = &rt->in[tr->first_input];
+        const rf_rt_src *src = &rt->src[in->source];
+        double slow, shigh;
+        rt_rest_span(src->rest_world, src->tip, src->n, src->up, &slow, &shigh);
+        if (rf_rt_height(src->up, src->rest_world[in->joint].t) < 0.5 * (slow + shigh))
+            continue; /* a leg */
+        rf_vec3 o = rt->t_rest_world[r].t;
+        double reach = 0;
+        for (uint32_t c = r + 1; c < rt->n; c++) {
+            if (!rf_rt_carries(rt->target, (int32_t)r, c))
+                continue;
+            reach = fmax(reach, rf_v3_dist(rt->t_rest_world[c].t, o));
+            if (rf_v3_len2(rt->t_tip[c]) > 0)
+                reach =
+                    fmax(reach, rf_v3_dist(rf_xform_point(rt->t_rest_world[c], rt->t_tip[c]), o));
+        }
+        if (!(reach > RT_HANG * (rf_rt_height(rt->up, o) - low)))
+            continue;
+        for (uint32_t c = r + 1; c < rt->n; c++)
+            if (rf_rt_carries(rt->target, (int32_t)r, c))
+                rt->tj[c].kind = RF_RT_REST;
+    }
+}
+
 static bool rt_plan(rf_retarget *rt, char *err, size_t err_size)
 {
     uint32_t n = rt->n;
@@ -683,6 +737,8 @@ static bool rt_plan(rf_retarget *rt, char *err, size_t err_size)
                              ? rt_primary_child(rt, j, mp, weight, 1e-6 * rt->size)
                              : RF_RT_NONE;
         ok = rt_inputs(rt, mp, primary) && rt_chains(rt, primary);
+        if (ok)
+            rt_rigid_limbs(rt);
     }
     if (ok) {
         rt_root_motion(rt, mp);

@@ -239,6 +239,14 @@ typedef enum rf_rig_limb_kind {
 void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
                        rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, const double *start,
                        double pos[4][3], double tip[3]);
+/* rf_rig_limb_place with the curve cut at arc length `reach` from its start when that is
+ * shorter (0: the whole curve): a limb laid no farther than its mirror image reaches. */
+void rf_rig_limb_place_within(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                              rf_rig_limb_kind kind, const rf_rig_tpl_layout *l,
+                              const double *start, double reach, double pos[4][3], double tip[3]);
+/* The length of the curve rf_rig_limb_place lays a limb's joints along; 0 when out of memory. */
+double rf_rig_limb_reach(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                         rf_rig_limb_kind kind, const double *start);
 
 /* The general rigger's joints short of bone heat, in place on its curve skeleton k
  * (rf_rig_curve): limbs cut where the layouts given put their joints (NULL: the built-in ones)

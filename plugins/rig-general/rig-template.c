@@ -537,27 +537,67 @@ static void rf_tpl_restart(rf_tpl_curve *c, const double start[3])
     free(old);
 }
 
-void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
-                       rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, const double *start,
-                       double pos[4][3], double tip[3])
+/* The curve a limb's joints are laid along into c (from `start` when given) and where its
+ * joints go into f[]; cut at arc length `reach` when that is shorter (0: whole). False when
+ * out of memory. */
+static bool rf_tpl_limb_curve(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                              rf_rig_limb_kind kind, const rf_rig_tpl_layout *l,
+                              const double *start, double reach, rf_tpl_curve *c, double f[4])
 {
-    rf_tpl_curve *c = malloc(sizeof *c);
-    double f[4];
-    if (!c) { /* no curve to lay joints along: all at the first joint, as a point */
-        for (int i = 0; i < 4; i++)
-            memcpy(pos[i], k->pos + (size_t)first * 3, 3 * sizeof(double));
-        memcpy(tip, pos[3], 3 * sizeof(double));
-        return;
-    }
     rf_tpl_limb_laid(k, up, girdle, first, kind, l, c, f);
     if (start) {
         rf_tpl_restart(c, start);
         rf_tpl_fractions(c, up, kind, l, f);
     }
+    double len = rf_tpl_len(c);
+    if (reach > 0 && reach < len) {
+        rf_tpl_curve *cut = malloc(sizeof *cut);
+        if (!cut)
+            return false;
+        rf_tpl_sub(c, 0, reach / len, cut);
+        memcpy(c, cut, sizeof *c);
+        free(cut);
+        rf_tpl_fractions(c, up, kind, l, f);
+    }
+    return true;
+}
+
+double rf_rig_limb_reach(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                         rf_rig_limb_kind kind, const double *start)
+{
+    rf_tpl_curve *c = malloc(sizeof *c);
+    double f[4], len = 0;
+    if (c && rf_tpl_limb_curve(k, up, girdle, first, kind, &rf_rig_tpl_humanoid, start, 0, c, f))
+        len = rf_tpl_len(c);
+    free(c);
+    return len;
+}
+
+void rf_rig_limb_place_within(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                              rf_rig_limb_kind kind, const rf_rig_tpl_layout *l,
+                              const double *start, double reach, double pos[4][3], double tip[3])
+{
+    rf_tpl_curve *c = malloc(sizeof *c);
+    double f[4];
+    if (!c || !rf_tpl_limb_curve(k, up, girdle, first, kind, l, start, reach, c, f)) {
+        /* no curve to lay joints along: all at the first joint, as a point */
+        for (int i = 0; i < 4; i++)
+            memcpy(pos[i], k->pos + (size_t)first * 3, 3 * sizeof(double));
+        memcpy(tip, pos[3], 3 * sizeof(double));
+        free(c);
+        return;
+    }
     for (int i = 0; i < 4; i++)
         rf_tpl_at(c, f[i], pos[i]);
     rf_tpl_at(c, 1, tip);
     free(c);
+}
+
+void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                       rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, const double *start,
+                       double pos[4][3], double tip[3])
+{
+    rf_rig_limb_place_within(k, up, girdle, first, kind, l, start, 0, pos, tip);
 }
 
 static double rf_tpl_up(const double p[3], rf_vec3 up)

@@ -475,10 +475,10 @@ static bool rf_rig_on_plane(rf_rig_skel *k, const double mirror[4], double h)
     return true;
 }
 
-/* Whether the skeleton analysis reads k's up within 45 degrees of the declared up (true when
- * none is declared, or when out of memory). The fire dragon turned 137 degrees kept its legs in
- * the first pass but was read lying on its side, its wings hanging: its girdles, looked for
- * along that up, put the second pass's seed on a wing. */
+/* Whether the skeleton analysis reads k's up within about 45 degrees (cosine 0.7) of the
+ * declared up (true when none is declared, or when out of memory). The fire dragon turned 137
+ * degrees kept its legs in the first pass but was read lying on its side, its wings hanging:
+ * its girdles, looked for along that up, put the second pass's seed on a wing. */
 static bool rf_rig_reads_up(const rf_rig_skel *k, rf_vec3 declared)
 {
     if (!(rf_v3_len(declared) > 0))
@@ -993,10 +993,18 @@ static bool rf_rig_root_low(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
 /* ---- limbs cut as artists cut them ---- */
 
 #define RF_RIG_MAX_LIMBS 16
+/* A laid limb whose curve reaches more than this many times as far as its mirror image's
+ * carries a prop past its hand (the Wizard's staff, the ninja's sword: 1.75 and 1.93 times;
+ * every other pair of the shared models, at any turn, within 1.19): it is laid along its curve
+ * only as far as its mirror image reaches, so its elbow and hand lie where its twin's do, and
+ * the prop goes with its last joint, as artists bind a weapon to the hand. Laid along the whole
+ * curve, the hand went into the prop and the elbow to the wrist. */
+#define RF_RIG_PROP_REACH 1.4
 
 /* A limb to lay out again: where it leaves the body, its first joint, its kind and layout. */
 typedef struct rf_rig_limb {
     uint32_t girdle, first;
+    uint32_t sec, mirror; /* its analysis section, and its mirror image's */
     rf_rig_limb_kind kind;
     const rf_rig_tpl_layout *lay;
 } rf_rig_limb;
@@ -1082,6 +1090,7 @@ static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, b
                 : legs != 2 || sec->length + a->sections[sec->mirror].length < arm_len)
             continue;
         rf_rig_limb *l = &out[n];
+        l->sec = s, l->mirror = (uint32_t)sec->mirror;
         l->first = rf_section_joints(a, s)[0];
         l->girdle = rf_rig_girdle_of(k, a, s);
         if (l->girdle == l->first || !rf_rig_below(k, l->first, l->girdle) ||
@@ -1140,12 +1149,94 @@ static bool rf_rig_chest(const rf_rig_skel *k, rf_vec3 up, const rf_rig_limb *li
     return true;
 }
 
+#define RF_RIG_SHOULDER_STEP 0.01 /* of the longest edge, up the trunk */
+#define RF_RIG_SHOULDER_REACH 0.4 /* of the longest edge: how far up to look */
+#define RF_RIG_SHOULDER_ARMS 0.9  /* of the widest: where the arms have joined the chest */
+#define RF_RIG_SHOULDER_NECK 0.5  /* of the widest: the neck above the shoulders */
+#define RF_RIG_SHOULDER_JOIN 1.2  /* the widest at least this of the width at the arm's start */
+#define RF_RIG_SHOULDER_OUT 0.8   /* of the way out to the shoulder's surface */
+#define RF_RIG_SHOULDER_RISE 0.03 /* of the longest edge above the upper arm joint: a move */
+#define RF_RIG_SHOULDER_MAX 64    /* steps */
+
+/* The width of the mesh through q along d both ways (first surface each way), and the way
+ * along d into *ahead; INFINITY when a ray leaves without meeting it. */
+static double rf_rig_width(const rf_rig_surface *sf, const double q[3], rf_vec3 d, double *ahead)
+{
+    double dp[3] = {d.x, d.y, d.z}, dn[3] = {-d.x, -d.y, -d.z};
+    *ahead = rf_rig_surface_hit(sf, q, dp);
+    return *ahead + rf_rig_surface_hit(sf, q, dn);
+}
+
+static double rf_rig_along(const double q[3], rf_vec3 d)
+{
+    return q[0] * d.x + q[1] * d.y + q[2] * d.z;
+}
+
+/* An arm laid from girdle point g (pos: clavicle, upper arm, elbow, hand) that hangs beside the
+ * trunk (its hand lower under its upper arm joint than it lies out from it) leaves the trunk
+ * below the armpit, where the curve skeleton's bands first part arm from chest, and the layout
+ * put clavicle and upper arm there, a tenth of the height or more under the shoulder (the
+ * ninja, BCN_Epileptic). The trunk's width across the body (from the line up through g towards
+ * the arm, by rays) says where the shoulder is: above the armpit the rays run on into the arms
+ * and the width jumps (to RF_RIG_SHOULDER_ARMS of its largest), above the shoulders it falls to
+ * the neck's (under RF_RIG_SHOULDER_NECK of it); the shoulder joint lies halfway between, where
+ * both artists put it (within 0.01 of the longest edge). The upper arm joint moves there,
+ * RF_RIG_SHOULDER_OUT of the way out to the surface, the clavicle on the way out to it where
+ * the layout has it against the upper arm (l->shoulder over l->arm), the elbow halfway on to
+ * the hand. No jump (the arm held out, its rays running into it from its start) or no neck
+ * within reach: nothing moves. */
+static void rf_rig_shoulder(const rf_rig_surface *sf, double longest, rf_vec3 up, const double g[3],
+                            const rf_rig_tpl_layout *l, double pos[4][3])
+{
+    rf_vec3 out = rf_v3(pos[3][0] - g[0], pos[3][1] - g[1], pos[3][2] - g[2]);
+    out = rf_v3_sub(out, rf_v3_scale(up, rf_v3_dot(out, up)));
+    rf_vec3 span = rf_v3(pos[3][0] - pos[1][0], pos[3][1] - pos[1][1], pos[3][2] - pos[1][2]);
+    double drop = -rf_v3_dot(span, up);
+    if (!sf || rf_v3_len(out) < 1e-9 * longest ||
+        !(drop > rf_v3_len(rf_v3_sub(span, rf_v3_scale(up, rf_v3_dot(span, up))))))
+        return; /* no surface, or an arm held out, not hanging */
+    rf_vec3 side = rf_v3_normalize(out);
+    double hg = rf_rig_along(g, up), from = fmax(hg, rf_rig_along(pos[1], up));
+    double w[RF_RIG_SHOULDER_MAX], ahead[RF_RIG_SHOULDER_MAX], widest = 0;
+    int n = 0, top = -1;
+    for (; n < RF_RIG_SHOULDER_MAX && n * RF_RIG_SHOULDER_STEP <= RF_RIG_SHOULDER_REACH; n++) {
+        double q[3], y = from + n * RF_RIG_SHOULDER_STEP * longest;
+        for (int c = 0; c < 3; c++)
+            q[c] = g[c] + (y - hg) * (c == 0 ? up.x : c == 1 ? up.y : up.z);
+        w[n] = rf_rig_width(sf, q, side, &ahead[n]);
+        if (!isfinite(w[n]))
+            break;
+        if (w[n] > widest)
+            widest = w[n], top = n;
+    }
+    int arms = -1, neck = -1;
+    for (int i = 0; i <= top && arms < 0; i++)
+        arms = w[i] >= RF_RIG_SHOULDER_ARMS * widest ? i : -1;
+    for (int i = top + 1; top >= 0 && i < n && neck < 0; i++)
+        neck = w[i] < RF_RIG_SHOULDER_NECK * widest ? i : -1;
+    if (arms < 0 || neck < 0 || !(widest >= RF_RIG_SHOULDER_JOIN * w[0]))
+        return;
+    int at = (arms + neck) / 2;
+    double y = from + 0.5 * (arms + neck) * RF_RIG_SHOULDER_STEP * longest;
+    if (y - rf_rig_along(pos[1], up) < RF_RIG_SHOULDER_RISE * longest)
+        return;
+    double reach = RF_RIG_SHOULDER_OUT * ahead[at];
+    double clavicle = l->arm > 0 ? fmin(l->shoulder / l->arm, 1) : 1; /* as the layout has it */
+    for (int c = 0; c < 3; c++) {
+        double on = g[c] + (y - hg) * (c == 0 ? up.x : c == 1 ? up.y : up.z);
+        double s = c == 0 ? side.x : c == 1 ? side.y : side.z;
+        pos[0][c] = on + clavicle * reach * s;
+        pos[1][c] = on + reach * s;
+        pos[2][c] = 0.5 * (pos[1][c] + pos[3][c]);
+    }
+}
+
 /* k with each limb's joints (its first joint and all below it) replaced by the four its layout
  * places along the limb's curve, hanging from its girdle (or from a chest joint put on the
  * trunk where a pair of arms leaves it, rf_rig_chest). Limbs inside another limb, or whose
  * girdle another limb replaces, stay. */
-static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb *limbs,
-                         uint32_t nl)
+static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis *a,
+                         const rf_rig_limb *limbs, uint32_t nl)
 {
     uint32_t n = k->n;
     uint8_t *drop = calloc(n + 1, 1);
@@ -1156,6 +1247,10 @@ static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb
     o.parent = malloc(cap * sizeof *o.parent), o.has_tip = calloc(cap, 1);
     bool ok = drop && to && o.pos && o.tip && o.parent && o.has_tip;
     uint8_t laid[RF_RIG_MAX_LIMBS] = {0};
+    bool arms = false;
+    for (uint32_t i = 0; i < nl; i++)
+        arms = arms || limbs[i].kind == RF_RIG_LIMB_ARM;
+    rf_rig_surface *sf = p && arms ? rf_rig_surface_make(&p->proxy) : NULL;
     for (uint32_t i = 0; ok && i < nl; i++) {
         laid[i] = 1;
         for (uint32_t m = 0; m < nl; m++)
@@ -1193,13 +1288,27 @@ static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb
         o.has_tip[i] = k->has_tip[j];
         o.parent[i] = j == split ? chest : k->parent[j] >= 0 ? to[k->parent[j]] : -1;
     }
+    double reach[RF_RIG_MAX_LIMBS] = {0};
+    for (uint32_t i = 0; ok && i < nl; i++) {
+        bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == chest_g;
+        if (laid[i])
+            reach[i] = rf_rig_limb_reach(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
+                                         chested ? at : NULL);
+    }
     for (uint32_t i = 0; ok && i < nl; i++) {
         if (!laid[i])
             continue;
-        double pos[4][3], tip[3];
+        double pos[4][3], tip[3], cut = 0;
         bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == chest_g;
-        rf_rig_limb_place(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind, limbs[i].lay,
-                          chested ? at : NULL, pos, tip);
+        for (uint32_t m = 0; m < nl; m++) /* a limb reaching far past its mirror image's reach */
+            if (laid[m] && limbs[m].sec == limbs[i].mirror && reach[m] > 0 &&
+                reach[i] > RF_RIG_PROP_REACH * reach[m])
+                cut = reach[m];
+        rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
+                                 limbs[i].lay, chested ? at : NULL, cut, pos, tip);
+        if (limbs[i].kind == RF_RIG_LIMB_ARM && sf) /* sf: p given and its surface made */
+            rf_rig_shoulder(sf, p->longest, rf_v3_normalize(a->up),
+                            chested ? at : k->pos + (size_t)limbs[i].girdle * 3, limbs[i].lay, pos);
         int32_t parent = chested ? chest : to[limbs[i].girdle];
         for (int m = 0; m < 4; m++) {
             uint32_t j = o.n++;
@@ -1210,6 +1319,7 @@ static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb
         o.has_tip[parent] = 1;
     }
     free(drop), free(to);
+    rf_rig_surface_free(sf);
     if (!ok) {
         rf_rig_skel_free(&o);
         return false;
@@ -1223,7 +1333,7 @@ static bool rf_rig_relay(rf_rig_skel *k, const rf_analysis *a, const rf_rig_limb
  * template's fitted layouts), not into even bones: a knee at the leg's bend, the hip joint a
  * little into the leg, one bone for the hand and its fingers. The rest of the curve skeleton
  * (spine, neck, tail, fins, a spider's legs) keeps its even bones. False when out of memory. */
-static bool rf_rig_limbs(rf_rig_skel *k, const rf_rig_options *o,
+static bool rf_rig_limbs(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o,
                          const rf_rig_tpl_layout *const lay[2])
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
@@ -1241,7 +1351,7 @@ static bool rf_rig_limbs(rf_rig_skel *k, const rf_rig_options *o,
     bool ok = a != NULL;
     uint32_t nl = ok ? rf_rig_limbs_found(k, a, rf_v3_len(o->forward) > 0, lay, limbs) : 0;
     if (ok && nl)
-        ok = rf_rig_relay(k, a, limbs, nl);
+        ok = rf_rig_relay(p, k, a, limbs, nl);
     rf_analysis_free(a);
     rf_skeleton_free(s);
     return ok;
@@ -1252,7 +1362,7 @@ bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
 {
     const rf_rig_tpl_layout *const lay[2] = {humanoid ? humanoid : &rf_rig_tpl_humanoid,
                                              quadruped ? quadruped : &rf_rig_tpl_quadruped};
-    if (!rf_rig_limbs(k, o, lay))
+    if (!rf_rig_limbs(p, k, o, lay))
         return false;
     rf_rig_dorsal(p, k, o);
     rf_rig_neck(p, k, o);

@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -465,8 +466,10 @@ static void test_headless_target(void **state)
  * curve skeleton whose girdle joint sits where its arms leave (c3) against an artist's spine
  * whose chest joint (Torso) pivots well below the shoulders, its clavicles rising to the arms
  * (the Wizard's, as both rigs place them): c3 takes the neck and c2, below it, the chest; before,
- * c2 kept the abdomen and the chest drove nothing. The artist's hands are fists (a fist digit and
- * a thumb), the curve skeleton's arms end at the fist without digits. */
+ * c2 kept the abdomen and the chest drove nothing. c3's bone then runs past the artist's skull
+ * pivot, in the bodies' frames, and it takes the head (girdle_past_skull); with the skull pivot
+ * higher, the neck. The artist's hands are fists (a fist digit and a thumb), the curve
+ * skeleton's arms end at the fist without digits. */
 static const sb_joint trunk_artist[] = {
     {"hips", NULL, 0, 1.03, 0, 0},
     {"abdomen", "hips", 0, 1.24, 0, 0},
@@ -538,7 +541,8 @@ static void test_spine_before_girdle(void **state)
     rf_ms_options o = {.forelegs_arms = true, .girdle_neck = true};
     rf_mapping *m = match1(t, s, &o);
     assert_driver(m, t, s, "c0", "hips");
-    assert_driver(m, t, s, "c3", "neck");
+    /* c3's bone (2.11 to 2.27) has its middle past the artist's skull pivot (2.13): the head */
+    assert_driver(m, t, s, "c3", "head");
     assert_driver(m, t, s, "c2", "torso");
     /* the mitten hand against the fist: the arm's last joint keeps the fist the alignment gave
      * it (left to the forearm by the threshold before: no same type) */
@@ -550,6 +554,20 @@ static void test_spine_before_girdle(void **state)
     o.girdle_neck = false;
     m = match1(t, s, &o);
     assert_driver(m, t, s, "a3_l", NULL);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    /* the artist's skull pivot above that middle (2.25): c3 keeps the neck */
+    sb_joint high[SB_COUNT(trunk_artist)];
+    for (size_t i = 0; i < SB_COUNT(trunk_artist); i++) {
+        high[i] = trunk_artist[i];
+        if (strcmp(high[i].name, "head") == 0)
+            high[i].y = 2.25;
+    }
+    s = build_axes(high, SB_COUNT(high));
+    o.girdle_neck = true;
+    m = match1(t, s, &o);
+    assert_driver(m, t, s, "c3", "neck");
+    assert_driver(m, t, s, "c2", "torso");
     rf_mapping_free(m);
     rf_skeleton_free(s);
     rf_skeleton_free(t);
@@ -705,6 +723,76 @@ static int leg_bone(const char *name)
         (name[1] != 'l' && name[1] != 'r') || name[2] < '1' || name[2] > '4')
         return 0;
     return name[2] - '0';
+}
+
+/* Rigs of one body paired joint for joint (girdle=neck): a curve skeleton's legs that start at
+ * the knee, no offset at either socket (the ninja's, BCN_Epileptic's), against the biped's thigh,
+ * shin, foot and toe: the knee joint takes the shin, whose pivot lies where it starts, not the
+ * thigh its first real bone lines up with by count, and the ankle the foot; by default (motion)
+ * the count decides as before. Legs that start with an offset bone at the hip count from the
+ * shin where both their ends say so (the foot's pivot on the source's toe, the first real
+ * bone's on its knee), not where the first real bone starts at the hip. The root sits low in
+ * the crotch, just above the knees, as a curve skeleton's does where the legs branch off. */
+static rf_skeleton *knee_legs(bool offset, bool from_knee)
+{
+    sb_joint j[SB_COUNT(sb_biped) + 4];
+    size_t n = 0;
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) {
+        const sb_joint *b = &sb_biped[i];
+        const char *p = b->parent ? b->parent : "";
+        if (strstr(b->name, "thigh") || strstr(b->name, "shin") || strstr(b->name, "foot") ||
+            strstr(b->name, "toe") || strstr(p, "toe"))
+            continue;
+        j[n++] = *b;
+        if (!b->parent) /* the root low in the crotch, just above the knees */
+            j[n - 1].y = 0.62;
+    }
+    for (int side = 0; side < 2; side++) {
+        double x = side ? -0.10 : 0.10;
+        const char *const *nm = side ? (const char *const[]){"r_sock", "r_k0", "r_k1", "r_k2"}
+                                     : (const char *const[]){"l_sock", "l_k0", "l_k1", "l_k2"};
+        if (offset)
+            j[n++] = (sb_joint){nm[0], "hips", x * 0.6, from_knee ? 0.56 : 0.96, 0, 0};
+        j[n++] = (sb_joint){nm[1], offset ? nm[0] : "hips", x, from_knee ? 0.52 : 0.90, 0.03, 0};
+        j[n++] = (sb_joint){nm[2], nm[1], x, 0.08, 0, 0};
+        j[n++] = (sb_joint){nm[3], nm[2], x, 0.01, 0.13, 0};
+        j[n++] = (sb_joint){".", nm[3], x, 0.0, 0.20, 0};
+    }
+    return build_axes(j, n);
+}
+
+static void test_legs_from_the_knee(void **state)
+{
+    (void)state;
+    rf_skeleton *s = build_axes(sb_biped, SB_COUNT(sb_biped)), *t = knee_legs(false, true);
+    rf_ms_options o = {.forelegs_arms = true, .girdle_neck = true};
+    rf_mapping *m = match1(t, s, &o);
+    assert_driver(m, t, s, "l_k0", "l_shin");
+    assert_driver(m, t, s, "r_k0", "r_shin");
+    assert_driver(m, t, s, "l_k1", "l_foot");
+    assert_driver(m, t, s, "r_k2", "r_toe");
+    rf_mapping_free(m);
+    o.girdle_neck = false;
+    m = match1(t, s, &o);
+    assert_driver(m, t, s, "l_k0", "l_thigh");
+    rf_mapping_free(m);
+    rf_skeleton_free(t);
+    /* an offset at each socket, just above the knee: its foot's pivot on the source's toe and
+     * its first real bone's at the source's knee, the leg counts from the shin (the ninja's arms,
+     * from an offset at the body's side by the elbow); an offset at the hip and a first real
+     * bone from there over thigh and shin: from the thigh */
+    o.girdle_neck = true;
+    for (int knee = 0; knee < 2; knee++) {
+        t = knee_legs(true, knee);
+        m = match1(t, s, &o);
+        assert_driver(m, t, s, "l_k0", knee ? "l_shin" : "l_thigh");
+        assert_driver(m, t, s, "r_k0", knee ? "r_shin" : "r_thigh");
+        if (knee)
+            assert_driver(m, t, s, "r_k2", "r_toe");
+        rf_mapping_free(m);
+        rf_skeleton_free(t);
+    }
+    rf_skeleton_free(s);
 }
 
 static void test_one_bone_leg(void **state)
@@ -1030,6 +1118,7 @@ int main(void)
         cmocka_unit_test(test_spine_before_girdle),
         cmocka_unit_test(test_skull_before_snout),
         cmocka_unit_test(test_one_bone_leg),
+        cmocka_unit_test(test_legs_from_the_knee),
         cmocka_unit_test(test_threshold_and_similar),
         cmocka_unit_test(test_duplicates),
         cmocka_unit_test(test_several_sources),

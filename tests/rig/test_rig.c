@@ -1435,6 +1435,17 @@ static void test_limb_layout(void **state)
     expect_at(j[1], 0, 1 - 0.2 * 1.324264, 0, "upper arm");
     expect_at(j[2], 0, 0.5, 0, "elbow");
     expect_at(j[3], 0, 0.2 - (0.8 * 1.324264 - 0.924264), 0.3, "hand");
+    /* laid only as far as a twin reaching 1.0 (an arm carrying a prop past its hand): the curve
+     * ends 0.0757 down the last bone, at (0, 0.1243, 0.3), the hand at 0.8 of 1.0 lies 0.3 along
+     * the 45 degree bone and the elbow stays at the bend (at 0.5 of the cut curve); a twin
+     * reaching farther than the curve cuts nothing */
+    rf_rig_limb_place_within(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, NULL, 1.0, j, end);
+    expect_at(end, 0, 0.2 - (1.0 - 0.924264), 0.3, "the cut arm's end");
+    expect_at(j[0], 0, 0.9, 0, "the cut arm's clavicle");
+    expect_at(j[2], 0, 0.5, 0, "the cut arm's elbow");
+    expect_at(j[3], 0, 0.5 - 0.3 / sqrt(2), 0.3 / sqrt(2), "the cut arm's hand");
+    rf_rig_limb_place_within(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, NULL, 2.0, j, end);
+    expect_at(j[3], 0, 0.2 - (0.8 * 1.324264 - 0.924264), 0.3, "the hand, nothing cut");
     /* with the climbing branch an arm follows it: its end is that branch's joint */
     k.n = 6;
     rf_rig_limb_place(&k, up, 0, 1, RF_RIG_LIMB_ARM, &l, NULL, j, end);

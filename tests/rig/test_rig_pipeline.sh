@@ -136,7 +136,9 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 # artist's neck (or one-joint head), not its chest (rig-bench maps with girdle=neck; without it
 # .56/.58, .65/.71, .65/.84, .74/.81, .33/.35; doc/matching.md, "A ninth round"); Testwuson's
 # its head chain's joints past the artist's skull pivot (at the head's base) given the skull
-# (.49/.53 without)
+# (.49/.53 without); the Wizard's its girdle joint, whose bone runs into its big head past the
+# artist's skull pivot in the bodies' frames, given the head (.50/.54 with the neck; doc/matching.md,
+# "An eleventh round")
 "$rigflow" rig-bench -r general "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
     "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" \
     "$data/models/Wizard.glb" "$data/models/creatures/animalia_owl.b3d" \
@@ -156,7 +158,7 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
         limits("\"RiggedFigure.glb\"", 0.036, 0.67, 0.44, 0.88, 0.78, 0.32) # 0.032 .74/.50 .94/.84/.27
         limits("\"Testwuson.X\"", 0.047, 0.52, 0.50, 0.74, 0.78, 0.53)      # 0.043 .56/.55 .79/.83/.50
         limits("\"animalia_wolf.b3d\"", 0.065, 0.70, 0.86, 0.88, 0.88, 0.24) # 0.062 .75/.91 .909/.909/.182
-        limits("\"Wizard.glb\"", 0.066, 0.43, 0.46, 0.68, 0.72, 0.60)       # 0.060 .475/.51 .72/.78/.56
+        limits("\"Wizard.glb\"", 0.066, 0.60, 0.60, 0.68, 0.72, 0.60)       # 0.060 .67/.66 .72/.78/.56
         limits("\"animalia_owl.b3d\"", 0.095, 0.80, 0.86, 0.825, 0.90, 0.315) # 0.090 .85/.92 .836/.948/.295
         limits("\"animalia_bird.b3d\"", 0.063, 0.80, 0.80, 0.78, 0.80, 0.42) # 0.058 .855/.855 .802/.844/.378
         limits("\"animalia_fox.b3d\"", 0.085, 0.78, 0.83, 0.65, 0.70, 0.72)  # 0.077 .84/.89 .665/.717/.693
@@ -180,6 +182,25 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
         if ($col["status"] != "\"ok\"") print "FAIL: " m ": " $col["status"]
     }' "$tmp/bench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else ok; fi
+# --joint-map skin: each rigger joint stands for the artist joint whose weights overlap its own
+# most, the artist's skin read back; on the Fox and RiggedFigure it reaches more than the matcher
+# (79% / 77% and 89% / 67% against 68% / 67% and 84% / 59%): a mapping that read the overlap
+# wrong (a joint's least overlap, or the artist's first joint for every one) falls below it
+"$rigflow" rig-bench -r general --joint-map skin "$data/models/Fox.glb" \
+    "$data/models/RiggedFigure.glb" >"$tmp/kbench.csv" 2>"$tmp/err" || ko "rig-bench skin exit $?"
+awk -F, 'FNR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    NR == FNR { p[$c["model"]] = $c["precision"]; r[$c["model"]] = $c["recall"]; next }
+    { n++; m = $c["model"]
+      if (!($c["precision"] > p[m] + 0.03 && $c["recall"] > r[m] + 0.03))
+          print "FAIL: " m ": --joint-map skin " $c["precision"] " / " $c["recall"] \
+              ", the matcher " p[m] " / " r[m] }
+    END { if (n != 2) print "FAIL: --joint-map skin: " n " rows, expected 2" }' \
+    "$tmp/bench.csv" "$tmp/kbench.csv" >"$tmp/fails"
+if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joint-map skin"; else ok; fi
+if "$rigflow" rig-bench --joint-map best "$data/models/Fox.glb" >/dev/null 2>"$tmp/err"; then
+    ko "rig-bench --joint-map best: accepted"
+elif [ $? -eq 2 ] && grep -q "expected matcher, nearest or skin" "$tmp/err"; then ok
+else ko "rig-bench --joint-map best: $(cat "$tmp/err")"; fi
 # short thick limbs are limbs, not bumps (a branch's thickness is its outer half's): the animalia
 # bull frog keeps its left hind leg (the artist's Foot.L 0.095 from the nearest rigger joint, 0.51
 # with the whole chain's mean thickness; CD-J2J 0.158, 0.191) and huesitos its arm (CD-J2J 0.058,
@@ -212,11 +233,19 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # stops where nothing under it reaches the ground (doc/matching.md, the tenth round). Greenman's
 # curve skeleton, whose left arm leaves the chest by a detour up the body, is read with a pair of
 # arms, its root as body and its chest taking the artist's head: after the matcher 55% / 52%
-# (35% / 15% with no sides read and the root a placement helper).
+# (35% / 15% with no sides read and the root a placement helper). The legs of BCN_Epileptic's and
+# the ninja's curve skeletons start at the knee, with no offset at either socket, and the ninja's
+# arms, lying against its body, at an offset by the elbow: the matcher counts their bones from the
+# artist's shin and forearm (doc/matching.md, "An eleventh round"), after the matcher 43.8% /
+# 50.4% and 35.8% / 47.4% (40.1% / 46.8% and 29.3% / 38.4% counted from the thigh and upper arm,
+# the ninja 33.1% / 42.8% with its legs alone counted from the shin). With BCN_Epileptic's arms
+# laid from the shoulder the trunk's width finds (joint placement round nine) it reads 42.7% /
+# 47.9%: its bar is what both changes together give, less a point.
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
     "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
-    "$data/models/greenman.glb" >"$tmp/sbench.csv" 2>"$tmp/err" || ko "rig-bench short limbs exit $?"
+    "$data/models/greenman.glb" "$data/models/ogre/ninja.mesh" >"$tmp/sbench.csv" 2>"$tmp/err" ||
+    ko "rig-bench short limbs exit $?"
 cat "$tmp/sbench.csv"
 awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                      else { n++; cd[$c["model"]] = $c["cd_j2j"]; p[$c["model"]] = $c["precision"]
@@ -233,7 +262,7 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
     $j["rig"] == "rigger" && $j["model"] == "\"animalia_bull_frog.b3d\"" {
         fn++; fx[fn] = $j["x"]; fy[fn] = $j["y"]; fz[fn] = $j["z"]; fname[fn] = $j["joint"] }
     END {
-        if (n != 5) print "FAIL: short limbs: " n " rows, expected 5"
+        if (n != 6) print "FAIL: short limbs: " n " rows, expected 6"
         dragon = "\"draconis_fire_dragon.b3d\""
         if (!(gp[dragon] >= 0.685 && gl[dragon] <= 0.615))
             print "FAIL: fire dragon on the skeleton of the artist: precision " gp[dragon] ", L1 " gl[dragon]
@@ -241,8 +270,8 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
               foot[dragon] != "" && foot[dragon] < 0.03))
             print "FAIL: fire dragon: up " ua[dragon] ", forward " fa[dragon] ", cd_j2j " cd[dragon] \
                 ", precision " p[dragon] ", Foot.L " foot[dragon] " from the nearest joint"
-        if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.36 &&
-              r["\"BCN_Epileptic.X\""] >= 0.42))
+        if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.42 &&
+              r["\"BCN_Epileptic.X\""] >= 0.47))
             print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " \
                 p["\"BCN_Epileptic.X\""] ", recall " r["\"BCN_Epileptic.X\""]
         if (!(gp["\"BCN_Epileptic.X\""] >= 0.73 && gr["\"BCN_Epileptic.X\""] >= 0.765 &&
@@ -258,6 +287,8 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             print "FAIL: huesitos: its root at y " hy ", its lowest joint " ylow["rigger"] \
                 ", the artist rig lowest " ylow["artist"]
         if (!(cd["\"greenman.glb\""] < 0.105)) print "FAIL: greenman cd_j2j " cd["\"greenman.glb\""]
+        if (!(p["\"ninja.mesh\""] >= 0.345 && r["\"ninja.mesh\""] >= 0.455))
+            print "FAIL: ninja after the matcher: precision " p["\"ninja.mesh\""] ", recall " r["\"ninja.mesh\""]
         frog = "\"animalia_bull_frog.b3d\""
         if (!(foot[frog] != "" && foot[frog] < 0.15))
             print "FAIL: bull frog: Foot.L " foot[frog] " from the nearest joint"
@@ -273,6 +304,65 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
         }
     }' "$tmp/sbench.csv" "$tmp/sjoints.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench short limbs"; else ok; fi
+# A hand holding a prop: the Wizard's staff and the ninja's sword run on from the right hand's
+# curve, which reached 1.75 and 1.93 times as far as the left's, and laid along the whole curve
+# the right arm's last joint went into the prop and its elbow to the wrist. Laid only as far as
+# the left arm reaches, the right arm mirrors the left: the Wizard's artist LowerArm.R (at x
+# -0.231, its LowerArm.L at +0.231) within 0.06 of a rigger joint (0.042 reached, 0.103 before),
+# none of the rigger's arm joints farther than 0.1 from an artist joint (0.069; 0.238 before, in
+# the staff), and no joint of the ninja's farther than 0.15 from one (0.118, a knee under its
+# wide trousers; 0.266 before, in the sword). Skinning after the matcher: the Wizard 52.4%, the
+# ninja 32.0% (49.9% and 29.3% before).
+"$rigflow" rig-bench -r general --joints "$tmp/pjoints.csv" "$data/models/Wizard.glb" \
+    "$data/models/ogre/ninja.mesh" >"$tmp/pbench.csv" 2>"$tmp/err" || ko "rig-bench props exit $?"
+awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
+                     else { n++; p[$c["model"]] = $c["precision"] }; next }
+    FNR == 1 { for (i = 1; i <= NF; i++) j[$i] = i; next }
+    $j["rig"] == "artist" && $j["joint"] == "\"LowerArm.R\"" { elbow = $j["distance"] }
+    $j["rig"] == "rigger" && $j["model"] == "\"Wizard.glb\"" && $j["joint"] ~ /^"arm_/ &&
+        $j["distance"] > warm { warm = $j["distance"] }
+    $j["rig"] == "rigger" && $j["model"] == "\"ninja.mesh\"" && $j["distance"] > nall {
+        nall = $j["distance"] }
+    END {
+        if (n != 2) print "FAIL: props: " n " rows, expected 2"
+        if (!(elbow != "" && elbow < 0.06)) print "FAIL: Wizard: LowerArm.R " elbow " from any joint"
+        if (!(warm != "" && warm < 0.1)) print "FAIL: Wizard: an arm joint " warm " from the artist rig"
+        if (!(nall != "" && nall < 0.15)) print "FAIL: ninja: a joint " nall " from the artist rig"
+        if (!(p["\"Wizard.glb\""] >= 0.51)) print "FAIL: Wizard precision " p["\"Wizard.glb\""]
+        if (!(p["\"ninja.mesh\""] >= 0.31)) print "FAIL: ninja precision " p["\"ninja.mesh\""]
+    }' "$tmp/pbench.csv" "$tmp/pjoints.csv" >"$tmp/fails"
+if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench props"; else ok; fi
+# Arms hanging beside the trunk leave it below the armpit, where the bands first part arm from
+# chest, 0.11 (BCN_Epileptic) and 0.21 (the ninja) of the longest edge under the artist's
+# shoulder, and the layout put clavicle and upper arm there; the trunk's width by rays (the
+# arms joining it above the armpit, the neck above the shoulders) puts the upper arm joint at
+# the shoulder: BCN_Epileptic's artist B_UpperArm_Left and _Right within 0.03 of a rigger joint
+# (0.014 and 0.015 reached, 0.115 before), the ninja's Joint10 and Joint15 within 0.09 (0.069,
+# 0.063; 0.122, 0.125 before), precision after the matcher at least 41.5% and 39% (42.7% and
+# 40.1% reached; 40.1% and 32.0% before).
+"$rigflow" rig-bench -r general --joints "$tmp/hjoints.csv" "$data/models/BCN_Epileptic.X" \
+    "$data/models/ogre/ninja.mesh" >"$tmp/hbench.csv" 2>"$tmp/err" ||
+    ko "rig-bench hanging arms exit $?"
+awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
+                     else { n++; p[$c["model"]] = $c["precision"] }; next }
+    FNR == 1 { for (i = 1; i <= NF; i++) j[$i] = i; next }
+    $j["rig"] == "artist" { d[$j["model"] " " $j["joint"]] = $j["distance"] }
+    END {
+        if (n != 2) print "FAIL: hanging arms: " n " rows, expected 2"
+        split("\"B_UpperArm_Left\" \"B_UpperArm_Right\"", bcn, " ")
+        for (i in bcn) {
+            k = "\"BCN_Epileptic.X\" " bcn[i]
+            if (!(d[k] != "" && d[k] < 0.03)) print "FAIL: BCN_Epileptic: " bcn[i] " " d[k] " from any joint"
+        }
+        split("\"Joint10\" \"Joint15\"", nin, " ")
+        for (i in nin) {
+            k = "\"ninja.mesh\" " nin[i]
+            if (!(d[k] != "" && d[k] < 0.09)) print "FAIL: ninja: " nin[i] " " d[k] " from any joint"
+        }
+        if (!(p["\"BCN_Epileptic.X\""] >= 0.415)) print "FAIL: BCN_Epileptic precision " p["\"BCN_Epileptic.X\""]
+        if (!(p["\"ninja.mesh\""] >= 0.39)) print "FAIL: ninja precision " p["\"ninja.mesh\""]
+    }' "$tmp/hbench.csv" "$tmp/hjoints.csv" >"$tmp/fails"
+if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench hanging arms"; else ok; fi
 # the template rigger on seven bodies (doc/autorig.md): limits a little beyond what it reaches (in
 # the comments: CD-J2J, skinning P / R after the matcher); the CD-J2J limits fail if the joints
 # go back to where the layouts before their fit to artist rigs put them (0.0296, 0.039, 0.051,
