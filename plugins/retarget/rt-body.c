@@ -571,6 +571,31 @@ static double rt_clip_floor(const rf_retarget *rt, uint32_t k, const uint8_t *ab
     return result;
 }
 
+/* The source's leg when the joint that drives the target's root is not the source's hips: the
+ * walk down from it ended on a limb's last joint (a target whose root maps to a source thigh
+ * reads the toe's height above the other foot) or no higher than the lowest point. The height
+ * then comes from the source's own hips, found from its root as for any skeleton, else half its
+ * height. Read from the toe, or as one unit, it scaled the root motion by the file's units:
+ * Bandai's walk, kick and run onto Testwuson moved ten to eighty times too far (floor p95 11,
+ * 101 and 563% of the height). */
+static double rt_own_leg(const rf_rt_src *src, uint32_t h, double lowest)
+{
+    double leg = rf_rt_height(src->up, src->rest_world[h].t) - lowest;
+    if (leg > 0 && rt_has_children(src->skel, src->parent, h))
+        return leg;
+    uint32_t root = 0;
+    while (root + 1 < src->n && src->parent[root] >= 0)
+        root++;
+    uint32_t own = rt_hip_below(src->skel, src->parent, root);
+    double own_leg = rf_rt_height(src->up, src->rest_world[own].t) - lowest;
+    if (own_leg > 0 && rt_has_children(src->skel, src->parent, own))
+        return own_leg;
+    if (leg > 0)
+        return leg;
+    leg = 0.5 * rt_extent(src->skel, src->rest_world, src->tip, src->up, NULL);
+    return leg > 0 ? leg : 1;
+}
+
 static bool rt_source_ground(rf_retarget *rt, uint32_t k)
 {
     rf_rt_src *src = &rt->src[k];
@@ -581,10 +606,8 @@ static bool rt_source_ground(rf_retarget *rt, uint32_t k)
     uint32_t h = rt_hip_below(src->skel, src->parent, hip >= 0 ? (uint32_t)hip : 0);
     rt_mark_above(src->skel, h, src->above);
     double lowest = rt_lowest(src->skel, src->rest_world, src->tip, src->up, src->above);
-    src->leg = rf_rt_height(src->up, src->rest_world[h].t) - lowest;
+    src->leg = rt_own_leg(src, h, lowest);
     src->lowest = lowest;
-    if (!(src->leg > 0))
-        src->leg = 1;
     double clip = rt->opt.ground == RF_RT_GROUND_WORLD ? 0 : rt_clip_floor(rt, k, src->above);
     src->floor = src->stand = clip;
     if (rt->opt.ground != RF_RT_GROUND_AUTO)

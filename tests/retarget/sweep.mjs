@@ -2,7 +2,9 @@
 // holds the run's exit status) and prints the table of mesh measures beside each target's own
 // clip. Judged: torn limbs (seam drift p99 within 1.5x the own clip's, or 5% of the height) and
 // the floor (lowest vertex within 3% of the height in the median frame, 10% at p95, counted from
-// where the source is: a jump is in the air on both sides). A node tree with no skin (its meshes
+// where the source is: a jump is in the air on both sides) and stretch (edges' stretch p99
+// within 3x the own clip's, or 300%: a body pulled into a bar along its spine read ok on torn
+// seams and floor alone). A node tree with no skin (its meshes
 // hung rigidly on a few nodes, "rigid" in the JSON) is judged on the floor of its joints, bone tips
 // and those meshes only: a rigid part cannot tear or stretch. Pairs in
 // REQUIRED must pass unless listed in SHORT (with why); every run must succeed and no figure
@@ -43,7 +45,9 @@ for (const f of readdirSync(dir).filter((f) => f.endsWith('.rc')).sort()) {
     const tornLimit = Math.max(r ? 1.5 * r.seam_p99 : 0, 0.05);
     const torn = m.rigid || m.seam_p99 <= tornLimit;
     const floor = Math.abs(m.floor_median) <= 0.03 && m.floor_p95 <= 0.10;
-    verdict = torn && floor ? 'ok' : [torn ? '' : 'torn', floor ? '' : 'floor'].filter(Boolean).join('+');
+    const stretch = m.rigid || m.stretch_p99 <= Math.max(r ? 3 * r.stretch_p99 : 0, 3.0);
+    verdict = torn && floor && stretch ? 'ok'
+      : [torn ? '' : 'torn', floor ? '' : 'floor', stretch ? '' : 'stretch'].filter(Boolean).join('+');
     if (m.rigid) verdict += ' (no skin: floor of its skeleton and node meshes)';
   }
   const required = REQUIRED.includes(name);
