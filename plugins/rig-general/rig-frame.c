@@ -33,7 +33,8 @@ static rf_vec3 rf_rig_level(rf_vec3 v, rf_vec3 u)
 }
 
 typedef struct rf_rig_pt {
-    double x, y;
+    double x, y; /* in the plane across up */
+    double h;    /* the height along up (carried through the hull's sort, not compared) */
 } rf_rig_pt;
 
 static int rf_rig_pt_cmp(const void *pa, const void *pb)
@@ -61,31 +62,64 @@ static size_t rf_rig_hull(rf_rig_pt *p, size_t n, rf_rig_pt *h)
     return k > 1 ? k - 1 : k;
 }
 
+/* m's vertices seen along up u, projected once for every measure across u: in the plane axes
+ * a, b (u, a and b right-handed; the same for the footprint's box and the standing margin), each
+ * with its height along u, with room for a subset of them and for a convex hull. */
+typedef struct rf_rig_view {
+    rf_vec3 a, b;
+    size_t n;
+    rf_rig_pt *p;   /* [n] every vertex (sorted by the hull of all of them) */
+    rf_rig_pt *sub; /* [n + 1] room for a subset */
+    rf_rig_pt *h;   /* [2n + 2] room for a hull */
+    double lo, hi;  /* the lowest and highest height */
+} rf_rig_view;
+
+static void rf_rig_view_free(rf_rig_view *v)
+{
+    free(v->p), free(v->sub), free(v->h);
+    memset(v, 0, sizeof *v);
+}
+
+/* False when out of memory (v left empty). */
+static bool rf_rig_view_make(const rf_mesh *m, rf_vec3 u, rf_rig_view *v)
+{
+    memset(v, 0, sizeof *v);
+    rf_vec3 helper = fabs(u.x) < 0.9 ? rf_v3(1, 0, 0) : rf_v3(0, 0, 1);
+    v->a = rf_v3_normalize(rf_v3_cross(u, helper)), v->b = rf_v3_cross(u, v->a);
+    v->n = m->vertex_count, v->lo = INFINITY, v->hi = -INFINITY;
+    v->p = malloc((v->n + 1) * sizeof *v->p), v->sub = malloc((v->n + 1) * sizeof *v->sub);
+    v->h = malloc((2 * v->n + 2) * sizeof *v->h);
+    if (!v->p || !v->sub || !v->h) {
+        rf_rig_view_free(v);
+        return false;
+    }
+    for (size_t i = 0; i < v->n; i++) {
+        rf_vec3 q = rf_v3(m->positions[i * 3], m->positions[i * 3 + 1], m->positions[i * 3 + 2]);
+        v->p[i] = (rf_rig_pt){rf_v3_dot(q, v->a), rf_v3_dot(q, v->b), rf_v3_dot(q, u)};
+        v->lo = fmin(v->lo, v->p[i].h), v->hi = fmax(v->hi, v->p[i].h);
+    }
+    return true;
+}
+
 /* The direction, across up u, of a side of the smallest rectangle around m's footprint (its
  * vertices seen from above; the smallest lies along a side of their convex hull): a body
  * modelled along the file's axes has its footprint's box along them, where the vertices'
  * principal axes lean with any lopsided pose (the ninja's by 4 degrees, the fish's by 13), and
- * a body turned turns its box with it. Zero when the vertices do not spread across u; NULL-free
- * but may fail for lack of memory (zero too). */
-static rf_vec3 rf_rig_footprint(const rf_mesh *m, rf_vec3 u)
+ * a body turned turns its box with it. Zero into *out when the vertices do not spread across u;
+ * false when out of memory. */
+static bool rf_rig_footprint(const rf_mesh *m, rf_vec3 u, rf_vec3 *out)
 {
-    rf_vec3 helper = fabs(u.x) < 0.9 ? rf_v3(1, 0, 0) : rf_v3(0, 0, 1);
-    rf_vec3 a = rf_v3_normalize(rf_v3_cross(u, helper)), b = rf_v3_cross(u, a);
-    size_t n = m->vertex_count;
-    rf_rig_pt *p = malloc((n + 1) * sizeof *p), *h = malloc((2 * n + 2) * sizeof *h);
-    rf_vec3 best = rf_v3(0, 0, 0);
-    if (!p || !h || n < 3) {
-        free(p), free(h);
-        return best;
-    }
-    for (size_t v = 0; v < n; v++) {
-        rf_vec3 q = rf_v3(m->positions[v * 3], m->positions[v * 3 + 1], m->positions[v * 3 + 2]);
-        p[v] = (rf_rig_pt){rf_v3_dot(q, a), rf_v3_dot(q, b)};
-    }
-    size_t k = rf_rig_hull(p, n, h);
+    *out = rf_v3(0, 0, 0);
+    if (m->vertex_count < 3)
+        return true;
+    rf_rig_view v;
+    if (!rf_rig_view_make(m, u, &v))
+        return false;
+    size_t k = rf_rig_hull(v.p, v.n, v.h);
+    const rf_rig_pt *h = v.h;
     double least = INFINITY;
     for (size_t i = 0; i < k; i++) {
-        rf_rig_pt e = {h[(i + 1) % k].x - h[i].x, h[(i + 1) % k].y - h[i].y};
+        rf_rig_pt e = {h[(i + 1) % k].x - h[i].x, h[(i + 1) % k].y - h[i].y, 0};
         double len = hypot(e.x, e.y);
         if (!(len > 0))
             continue;
@@ -98,10 +132,10 @@ static rf_vec3 rf_rig_footprint(const rf_mesh *m, rf_vec3 u)
         }
         double area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
         if (area < least * (1 - 1e-9))
-            least = area, best = rf_v3_add(rf_v3_scale(a, e.x), rf_v3_scale(b, e.y));
+            least = area, *out = rf_v3_add(rf_v3_scale(v.a, e.x), rf_v3_scale(v.b, e.y));
     }
-    free(p), free(h);
-    return best;
+    rf_rig_view_free(&v);
+    return true;
 }
 
 /* The longest principal axis of m's vertices across up u (either sign); zero when they do not
@@ -133,16 +167,20 @@ static rf_vec3 rf_rig_principal(const rf_mesh *m, rf_vec3 u)
  * axes has its footprint's box exactly along them, where the principal axis leans with a
  * lopsided pose (half a degree on the animalia box models, enough to move a voxel boundary);
  * but the smallest box of a body with spread wings or fins lies anywhere (the wyvern's at 45
- * degrees), and there the principal axis is the steadier. Both turn with the body. */
-static rf_vec3 rf_rig_body_axis(const rf_mesh *m, rf_vec3 u)
+ * degrees), and there the principal axis is the steadier. Both turn with the body. False when
+ * out of memory. */
+static bool rf_rig_body_axis(const rf_mesh *m, rf_vec3 u, rf_vec3 *out)
 {
-    rf_vec3 e = rf_rig_principal(m, u), f = rf_rig_footprint(m, u);
-    if (!(rf_v3_len(f) > 0))
-        return e;
-    for (int k = 0; k < 4; k++, f = rf_v3_cross(u, f))
-        if (rf_v3_dot(f, e) >= cos(5 * RF_RIG_DEG))
-            return f;
-    return e;
+    rf_vec3 e = rf_rig_principal(m, u), f;
+    if (!rf_rig_footprint(m, u, &f))
+        return false;
+    *out = e;
+    for (int k = 0; rf_v3_len(f) > 0 && k < 4; k++, f = rf_v3_cross(u, f))
+        if (rf_v3_dot(f, e) >= cos(5 * RF_RIG_DEG)) {
+            *out = f;
+            break;
+        }
+    return true;
 }
 
 /* Of the four directions across up u square to or along axis e, the one nearest the file's own
@@ -185,7 +223,7 @@ static double rf_rig_inside(const rf_rig_pt *h, size_t n, rf_rig_pt c)
 {
     double margin = INFINITY;
     for (size_t i = 0; i < n; i++) {
-        rf_rig_pt e = {h[(i + 1) % n].x - h[i].x, h[(i + 1) % n].y - h[i].y};
+        rf_rig_pt e = {h[(i + 1) % n].x - h[i].x, h[(i + 1) % n].y - h[i].y, 0};
         double len = hypot(e.x, e.y);
         if (len > 0)
             margin = fmin(margin, (e.x * (c.y - h[i].y) - e.y * (c.x - h[i].x)) / len);
@@ -208,7 +246,7 @@ static bool rf_rig_surface_centre(const rf_mesh *m, rf_vec3 a, rf_vec3 b, rf_rig
         rf_vec3 mid = rf_v3_scale(rf_v3_add(rf_v3_add(q[0], q[1]), q[2]), 1.0 / 3);
         cx += w * rf_v3_dot(mid, a), cy += w * rf_v3_dot(mid, b), area += w;
     }
-    *c = (rf_rig_pt){area > 0 ? cx / area : 0, area > 0 ? cy / area : 0};
+    *c = (rf_rig_pt){area > 0 ? cx / area : 0, area > 0 ? cy / area : 0, 0};
     return area > 0 && isfinite(cx) && isfinite(cy);
 }
 
@@ -217,43 +255,30 @@ static bool rf_rig_surface_centre(const rf_mesh *m, rf_vec3 a, rf_vec3 b, rf_rig
  * of its height of the lowest (positive inside), as a fraction of the square root of its whole
  * footprint's area (the hull of all its vertices). A body stands over its feet; seen along a
  * wrong up it rests on a snout, a tail or a wing tip with its centre beside them (the
- * measures are in doc/autorig.md, "An up the file does not declare"). -1 when the lowest
- * vertices make no area (a point, a line) or memory is short. */
-double rf_rig_support(const rf_mesh *m, rf_vec3 u)
+ * measures are in doc/autorig.md, "An up the file does not declare"). NAN into *margin when
+ * the lowest vertices or the whole footprint make no area (a point, a line) or the surface
+ * has none; false when out of memory. */
+bool rf_rig_support(const rf_mesh *m, rf_vec3 u, double *margin)
 {
-    rf_vec3 helper = fabs(u.x) < 0.9 ? rf_v3(1, 0, 0) : rf_v3(0, 0, 1);
-    rf_vec3 a = rf_v3_normalize(rf_v3_cross(u, helper)), b = rf_v3_cross(u, a);
-    size_t n = m->vertex_count, k = 0;
-    double lo = INFINITY, hi = -INFINITY, margin = -1;
-    for (size_t v = 0; v < n; v++) {
-        const float *q = m->positions + v * 3;
-        double h = q[0] * u.x + q[1] * u.y + q[2] * u.z;
-        lo = fmin(lo, h), hi = fmax(hi, h);
+    *margin = NAN;
+    rf_rig_view v;
+    rf_rig_pt c;
+    if (!rf_rig_view_make(m, u, &v))
+        return false;
+    size_t k = 0;
+    for (size_t i = 0; i < v.n; i++)
+        if (v.p[i].h <= v.lo + 0.05 * (v.hi - v.lo))
+            v.sub[k++] = v.p[i];
+    size_t nh = k >= 3 ? rf_rig_hull(v.sub, k, v.h) : 0;
+    if (nh >= 3 && rf_rig_area2(v.h, nh) > 0 && rf_rig_surface_centre(m, v.a, v.b, &c)) {
+        double inside = rf_rig_inside(v.h, nh, c);
+        size_t na = rf_rig_hull(v.p, v.n, v.h);
+        double all = 0.5 * rf_rig_area2(v.h, na);
+        if (all > 0)
+            *margin = inside / sqrt(all);
     }
-    rf_rig_pt *p = malloc((n + 1) * sizeof *p), *h = malloc((2 * n + 2) * sizeof *h), c;
-    if (!p || !h || !rf_rig_surface_centre(m, a, b, &c)) {
-        free(p), free(h);
-        return -1;
-    }
-    for (size_t v = 0; v < n; v++) {
-        rf_vec3 q = rf_v3(m->positions[v * 3], m->positions[v * 3 + 1], m->positions[v * 3 + 2]);
-        if (rf_v3_dot(q, u) <= lo + 0.05 * (hi - lo))
-            p[k++] = (rf_rig_pt){rf_v3_dot(q, a), rf_v3_dot(q, b)};
-    }
-    size_t nh = k >= 3 ? rf_rig_hull(p, k, h) : 0;
-    if (nh >= 3 && rf_rig_area2(h, nh) > 0) {
-        margin = rf_rig_inside(h, nh, c);
-        for (size_t v = 0; v < n; v++) {
-            rf_vec3 q =
-                rf_v3(m->positions[v * 3], m->positions[v * 3 + 1], m->positions[v * 3 + 2]);
-            p[v] = (rf_rig_pt){rf_v3_dot(q, a), rf_v3_dot(q, b)};
-        }
-        size_t na = rf_rig_hull(p, n, h);
-        double all = 0.5 * rf_rig_area2(h, na);
-        margin = all > 0 ? margin / sqrt(all) : -1;
-    }
-    free(p), free(h);
-    return margin;
+    rf_rig_view_free(&v);
+    return true;
 }
 
 /* The file's axis direction nearest v, or zero when v lies more than 25 degrees from every
@@ -280,21 +305,45 @@ static rf_vec3 rf_rig_snap_axis(rf_vec3 v)
 #define RF_RIG_UP_CONFIDENCE 0.35
 #define RF_RIG_UP_SUPPORT 0.07
 
+/* Whether the rigger's reason for failing, err, is a lack of memory: every such reason starts
+ * so (rig.c, rig-mesh.c, rig-skel.c). It is no fact about the body, and is passed on. */
+static bool rf_rig_no_memory(const char *err)
+{
+    return strncmp(err, "out of memory", 13) == 0;
+}
+
+/* The file's six axis directions, in the order rf_rig_axis_index numbers them. */
+static const rf_vec3 rf_rig_axes[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                       {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+
+/* The index in rf_rig_axes of the axis direction v (snapped: one component +-1). */
+static int rf_rig_axis_index(rf_vec3 v)
+{
+    int k = fabs(v.x) >= fabs(v.y) && fabs(v.x) >= fabs(v.z) ? 0 : fabs(v.y) >= fabs(v.z) ? 1 : 2;
+    double c = k == 0 ? v.x : k == 1 ? v.y : v.z;
+    return k * 2 + (c < 0);
+}
+
+static const char *rf_rig_axis_name(rf_vec3 v)
+{
+    static const char *const names[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+    return names[rf_rig_axis_index(v)];
+}
+
 /* The curve skeleton of the prepared body p turned by q (its proxy's vertices, box and all),
  * read by the skeleton analysis with no axes: its up turned back to the file's axes and
- * snapped into out, with m's support along it. p is left as it was. */
-static void rf_rig_read_up(const rf_mesh *m, rf_rig_prep *p, rf_quat q, const rf_rig_options *o,
-                           rf_rig_up *out)
+ * snapped into out, with m's standing margin along it from support[] (rf_rig_axes' order). p
+ * is left as it was. False when out of memory. */
+static bool rf_rig_read_up(rf_rig_prep *p, rf_quat q, const rf_rig_options *o,
+                           const double support[6], rf_rig_up *out)
 {
     memset(out, 0, sizeof *out);
     out->source = "no curve skeleton";
-    out->support = -1;
+    out->support = NAN;
     rf_rig_prep t = *p;
     size_t n = (size_t)p->proxy.nv * 3;
-    if (!(t.proxy.p = malloc((n ? n : 1) * sizeof *t.proxy.p))) {
-        snprintf(out->why, sizeof out->why, "out of memory");
-        return;
-    }
+    if (!(t.proxy.p = malloc((n ? n : 1) * sizeof *t.proxy.p)))
+        return false;
     for (int a = 0; a < 3; a++)
         t.lo[a] = INFINITY, t.hi[a] = -INFINITY;
     for (size_t i = 0; i < n; i += 3) {
@@ -306,11 +355,13 @@ static void rf_rig_read_up(const rf_mesh *m, rf_rig_prep *p, rf_quat q, const rf
     rf_rig_skel k = {0};
     char err[256];
     rf_skeleton *s = NULL;
+    bool ok = true;
     err[0] = '\0';
-    if (!rf_rig_curve(&t, o, &k, err, sizeof err))
+    if (!rf_rig_curve(&t, o, &k, err, sizeof err)) {
+        ok = !rf_rig_no_memory(err);
         snprintf(out->why, sizeof out->why, "%.199s", err);
-    else if (!(s = rf_rig_skeleton(&k, NULL)))
-        snprintf(out->why, sizeof out->why, "out of memory");
+    } else if (!(s = rf_rig_skeleton(&k, NULL)))
+        ok = false;
     else {
         rf_analysis_options ao = {.ignore_file_axes = true};
         rf_analysis *a = rf_analyze(s, &ao);
@@ -318,27 +369,106 @@ static void rf_rig_read_up(const rf_mesh *m, rf_rig_prep *p, rf_quat q, const rf
             out->read = rf_quat_rotate(rf_quat_conj(q), a->up);
             out->confidence = a->up_confidence, out->source = a->up_source;
             out->axis = rf_rig_snap_axis(out->read);
-        }
+        } else
+            snprintf(out->why, sizeof out->why, "the skeleton analysis could not read it");
         rf_analysis_free(a);
     }
     rf_skeleton_free(s);
     rf_rig_skel_free(&k);
     free(t.proxy.p);
     if (rf_v3_len(out->axis) > 0)
-        out->support = rf_rig_support(m, out->axis);
+        out->support = support[rf_rig_axis_index(out->axis)];
     out->found = rf_v3_len(out->axis) > 0 && strcmp(out->source, "limbs") == 0 &&
                  out->confidence >= RF_RIG_UP_CONFIDENCE && out->support >= RF_RIG_UP_SUPPORT;
+    return ok;
+}
+
+/* A standing margin for ordering: none (NAN) below any. */
+static double rf_rig_margin_rank(double margin)
+{
+    return isnan(margin) ? -INFINITY : margin;
+}
+
+/* The five axis directions other than +y (the file's own, read first) into stand, as indices
+ * of rf_rig_axes, the one the body stands on best first: a body mostly stands on its feet by
+ * more than on its side or back (the bull frog upside down, stood on its feet first, not last:
+ * 2.0 -> 0.8 s of processor time). */
+static void rf_rig_stand_order(const double support[6], int stand[5])
+{
+    const int axes[5] = {4, 5, 0, 1, 3}; /* +z, -z, +x, -x, -y: the order among equals */
+    for (int i = 0; i < 5; i++) {
+        int j = i;
+        for (; j > 0 &&
+               rf_rig_margin_rank(support[axes[i]]) > rf_rig_margin_rank(support[stand[j - 1]]);
+             j--)
+            stand[j] = stand[j - 1];
+        stand[j] = axes[i];
+    }
+}
+
+/* The body p stood on each axis direction other than +y it stands on (support[], in
+ * rf_rig_axes' order) and read, into out when an up is found (see rf_rig_body_up); false when
+ * out of memory. */
+static bool rf_rig_read_stands(rf_rig_prep *p, const rf_rig_options *o, const double support[6],
+                               rf_rig_up *out)
+{
+    rf_rig_up other = {.found = false};
+    bool agree = true;
+    int stand[5];
+    rf_rig_stand_order(support, stand);
+    for (int i = 0; i < 5; i++) {
+        rf_vec3 d = rf_rig_axes[stand[i]];
+        if (!(support[stand[i]] >= RF_RIG_UP_SUPPORT))
+            continue;
+        rf_quat q = stand[i] == 3 ? rf_quat_from_axis_angle(rf_v3(1, 0, 0), 3.14159265358979323846)
+                                  : rf_quat_from_two_vectors(d, rf_v3(0, 1, 0));
+        rf_rig_up u;
+        if (!rf_rig_read_up(p, q, o, support, &u))
+            return false;
+        if (u.found && rf_v3_dot(u.axis, d) > 0.99) { /* stood on it, read standing on it */
+            *out = u;
+            return true;
+        }
+        if (u.found) {
+            agree = agree && (!other.found || rf_v3_dot(u.axis, other.axis) > 0.99);
+            if (!other.found || u.confidence > other.confidence)
+                other = u;
+        }
+    }
+    if (other.found && agree)
+        *out = other;
+    return true;
 }
 
 /* The body read as the file has it first; when that finds no up, the body stood on each other
  * axis direction in turn (the curve skeleton is grown from where the feet meet, its highest
- * girdle, so a body lying down can grow one the analysis reads nothing from), and an axis is
- * taken when the body stood on it is read standing on it; of several, the surest. */
-void rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out)
+ * girdle, so a body lying down can grow one the analysis reads nothing from). An axis is taken
+ * at once when the body stood on it is read standing on it; else an up read with the body stood
+ * on another axis is taken when every reading sure enough and standing names it (stood on its
+ * back or its head RobotExpressive's curve skeleton reads its true up at 0.68, stood on its
+ * feet at 0.28 only; no reading that passes both bars named a wrong axis on the shared models
+ * turned every quarter way, doc/autorig.md). A reading is only taken along an axis the body
+ * stands on (rf_rig_support), so the standing margin along each of the six is measured first,
+ * and no curve skeleton is grown for the body stood on one it does not stand on, nor at all
+ * when it stands on none. */
+bool rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out)
 {
     memset(out, 0, sizeof *out);
     out->source = "no curve skeleton";
-    out->support = -1;
+    out->support = NAN;
+    double support[6];
+    bool stands = false;
+    for (int i = 0; i < 6; i++) {
+        if (!rf_rig_support(m, rf_rig_axes[i], &support[i]))
+            return false;
+        stands |= support[i] >= RF_RIG_UP_SUPPORT;
+    }
+    if (!stands) {
+        out->source = "no axis to stand on";
+        snprintf(out->why, sizeof out->why,
+                 "it stands over its lowest points along none of the file's axes");
+        return true;
+    }
     rf_rig_options o = rf_rig_defaults(opts);
     o.up = o.forward = rf_v3(0, 0, 0);
     rf_rig_stats st;
@@ -346,36 +476,21 @@ void rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out
     char err[256];
     if (!rf_rig_prepare(m, &o, &p, &st, err, sizeof err)) {
         snprintf(out->why, sizeof out->why, "%.199s", err);
-        return;
+        return !rf_rig_no_memory(err);
     }
-    rf_rig_read_up(m, &p, rf_quat_identity(), &o, out);
-    const rf_vec3 stand[5] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {-1, 0, 0}, {0, -1, 0}};
-    for (int i = 0; !out->found && i < 5; i++) {
-        rf_quat q = i == 4 ? rf_quat_from_axis_angle(rf_v3(1, 0, 0), 3.14159265358979323846)
-                           : rf_quat_from_two_vectors(stand[i], rf_v3(0, 1, 0));
-        rf_rig_up u;
-        rf_rig_read_up(m, &p, q, &o, &u);
-        if (u.found && rf_v3_dot(u.axis, stand[i]) > 0.99 &&
-            (!out->found || u.confidence > out->confidence))
-            *out = u;
-    }
+    bool ok = rf_rig_read_up(&p, rf_quat_identity(), &o, support, out) &&
+              (out->found || rf_rig_read_stands(&p, &o, support, out));
     rf_rig_prep_free(&p);
-}
-
-static const char *rf_rig_axis_name(rf_vec3 v)
-{
-    static const char *const names[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
-    int k = fabs(v.x) >= fabs(v.y) && fabs(v.x) >= fabs(v.z) ? 0 : fabs(v.y) >= fabs(v.z) ? 1 : 2;
-    double c = k == 0 ? v.x : k == 1 ? v.y : v.z;
-    return names[k * 2 + (c < 0)];
+    return ok;
 }
 
 /* The up of a body whose file declares none into o->up (the found one, else +y), and what was
- * decided into f's note for the node's log. */
-static void rf_rig_frame_up(const rf_mesh *m, rf_rig_options *o, rf_rig_frame *f)
+ * decided into f's note for the node's log. False when out of memory. */
+static bool rf_rig_frame_up(const rf_mesh *m, rf_rig_options *o, rf_rig_frame *f)
 {
     rf_rig_up u;
-    rf_rig_body_up(m, o, &u);
+    if (!rf_rig_body_up(m, o, &u))
+        return false;
     o->up = u.found ? u.axis : rf_v3(0, 1, 0);
     f->up_assumed = !u.found;
     if (u.found)
@@ -384,18 +499,22 @@ static void rf_rig_frame_up(const rf_mesh *m, rf_rig_options *o, rf_rig_frame *f
                  "skeleton analysis, confidence %.2f, and it stands over its lowest points, "
                  "margin %.2f)",
                  rf_rig_axis_name(u.axis), u.confidence, u.support);
-    else if (rf_v3_len(u.axis) > 0)
+    else if (rf_v3_len(u.axis) > 0) {
+        char margin[32] = "none (no footprint)";
+        if (!isnan(u.support))
+            snprintf(margin, sizeof margin, "%.2f", u.support);
         snprintf(f->up_note, sizeof f->up_note,
                  "up not declared by the file and not found from the body (the skeleton analysis "
-                 "read %s from %s, confidence %.2f; standing margin %.2f): +y assumed; a body "
+                 "read %s from %s, confidence %.2f; standing margin %s): +y assumed; a body "
                  "saved lying is rigged lying (stand it up with a transform node)",
-                 rf_rig_axis_name(u.axis), u.source, u.confidence, u.support);
-    else
+                 rf_rig_axis_name(u.axis), u.source, u.confidence, margin);
+    } else
         snprintf(
             f->up_note, sizeof f->up_note,
             "up not declared by the file and not found from the body (%s%s%.100s): +y assumed; "
             "a body saved lying is rigged lying (stand it up with a transform node)",
             u.source, u.why[0] ? ": " : "", u.why);
+    return true;
 }
 
 void rf_rig_frame_stats(const rf_rig_frame *f, rf_rig_stats *st)
@@ -406,16 +525,21 @@ void rf_rig_frame_stats(const rf_rig_frame *f, rf_rig_stats *st)
     st->up_assumed = f->up_assumed;
 }
 
-/* The turn from the file's axes into the rigging frame, into f->q; false when it is none. */
+/* The turn from the file's axes into the rigging frame, into f->q, f->turned false when it is
+ * none; false when out of memory. */
 static bool rf_rig_frame_find(const rf_mesh *m, const rf_rig_options *o, rf_rig_frame *f)
 {
     rf_vec3 u = rf_v3_len(o->up) > 0 ? rf_v3_normalize(o->up) : rf_v3(0, 1, 0);
     rf_vec3 z =
         rf_v3_len(o->forward) > 0 ? rf_rig_level(rf_v3_normalize(o->forward), u) : rf_v3(0, 0, 0);
-    if (!(rf_v3_len(z) > 0.5)) /* none declared, or one along up: the body's own axis */
-        z = rf_rig_nearest_file_axis(rf_rig_body_axis(m, u), u);
+    if (!(rf_v3_len(z) > 0.5)) { /* none declared, or one along up: the body's own axis */
+        if (!rf_rig_body_axis(m, u, &z))
+            return false;
+        z = rf_rig_nearest_file_axis(z, u);
+    }
+    f->turned = false;
     if (!(rf_v3_len(z) > 0))
-        return false;
+        return true;
     z = rf_v3_normalize(z);
     rf_vec3 x = rf_v3_cross(u, z);
     /* rows x, u, z turn the file's axes into the frame's: column-major, so m[c * 4 + r] */
@@ -425,10 +549,10 @@ static bool rf_rig_frame_find(const rf_mesh *m, const rf_rig_options *o, rf_rig_
         t.m[0 * 4 + r] = rows[r].x, t.m[1 * 4 + r] = rows[r].y, t.m[2 * 4 + r] = rows[r].z;
     rf_xform xf;
     if (!rf_mat4_to_xform(t, &xf))
-        return false;
+        return true;
     f->q = rf_quat_normalize(xf.r);
     f->turned = fabs(f->q.w) < 1 - 1e-12;
-    return f->turned;
+    return true;
 }
 
 bool rf_rig_frame_enter(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_frame *f,
@@ -452,9 +576,13 @@ bool rf_rig_frame_enter(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_
                                                       known, available, why, sizeof why);
     for (size_t i = 0; usable && i < (size_t)mesh->vertex_count * 3; i++)
         usable = isfinite(mesh->positions[i]);
-    if (usable && mesh->vertex_count && !(rf_v3_len(o->up) > 0) && rf_v3_isfinite(o->up))
-        rf_rig_frame_up(mesh, o, f);
-    if (!usable || !mesh->vertex_count || !rf_rig_frame_find(mesh, o, f))
+    if (!usable || !mesh->vertex_count)
+        return true;
+    if (!(rf_v3_len(o->up) > 0) && rf_v3_isfinite(o->up) && !rf_rig_frame_up(mesh, o, f))
+        return false;
+    if (!rf_rig_frame_find(mesh, o, f))
+        return false;
+    if (!f->turned)
         return true;
     f->positions = malloc((size_t)mesh->vertex_count * 3 * sizeof *f->positions);
     if (!f->positions)

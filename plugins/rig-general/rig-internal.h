@@ -92,14 +92,16 @@ typedef struct rf_rig_up {
     bool found;         /* axis is the body's up */
     rf_vec3 read;       /* the analysis's up before snapping (zero when it could not run) */
     double confidence;  /* the analysis's up_confidence */
-    double support;     /* rf_rig_support along axis (-1 without one) */
+    double support;     /* rf_rig_support along axis (NAN without one, or without a footprint) */
     const char *source; /* the analysis's up_source, or why there is none (static) */
     char why[200];      /* when no curve skeleton could be read: the rigger's reason, else "" */
 } rf_rig_up;
-void rf_rig_body_up(const rf_mesh *m, const rf_rig_options *o, rf_rig_up *out);
+/* False when out of memory (out then holds nothing found). */
+bool rf_rig_body_up(const rf_mesh *m, const rf_rig_options *o, rf_rig_up *out);
 /* How squarely m stands over its lowest points under up u (positive: its centre over them),
- * as a fraction of its footprint's size. */
-double rf_rig_support(const rf_mesh *m, rf_vec3 u);
+ * as a fraction of its footprint's size, into *margin: NAN when its lowest points or its
+ * footprint make no area. False when out of memory. */
+bool rf_rig_support(const rf_mesh *m, rf_vec3 u, double *margin);
 
 /* The mesh as the rigger sees it in its frame: *in borrows mesh's arrays but the positions, and
  * o is opts with up and forward turned. False when out of memory. */

@@ -42,11 +42,22 @@ TESTS += tests/rig/test_rig_bench_look.sh
 EXTRA_DIST += tests/rig/test_rig_bench_look.sh
 TESTS += tests/rig/test_rig_scan_up.sh
 EXTRA_DIST += tests/rig/test_rig_scan_up.sh
+# ... and when memory runs out at each of its allocations in turn (malloc and calloc wrapped)
+check_PROGRAMS += tests/rig/test_rig_up_oom
+TESTS += tests/rig/test_rig_up_oom
+tests_rig_test_rig_up_oom_SOURCES = tests/rig/test_rig_up_oom.c
+tests_rig_test_rig_up_oom_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
+tests_rig_test_rig_up_oom_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_rig_test_rig_up_oom_LDFLAGS = -Wl,--wrap=malloc,--wrap=calloc
+tests_rig_test_rig_up_oom_LDADD = plugins/rig-general/librigauto.la sdk/analysis/librigflow-analysis.la \
+	$(CMOCKA_LIBS) -lm
 # rig-up: the up the rigger finds from a body whose file declares none, on models turned lying
 noinst_PROGRAMS += tests/rig/rig-up
 tests_rig_rig_up_SOURCES = tests/rig/rig-up.c
 tests_rig_rig_up_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
 tests_rig_rig_up_LDADD = $(tests_rig_rig_dump_LDADD)
+TESTS += tests/rig/test_rig_up.sh
+EXTRA_DIST += tests/rig/test_rig_up.sh
 
 # creature: a random creature mesh skinned to a generated skeleton (tests/match/gen.c), the
 # random set of test_rig_creatures.sh and bench/creatures.sh (doc/autorig.md, "Random creatures")

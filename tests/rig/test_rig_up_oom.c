@@ -1,0 +1,194 @@
+/* The up of a body whose file declares none, and the rigger's frame, when memory runs out:
+ * rf_rig_support and rf_rig_frame_enter (the body's up from its standing margins and its curve
+ * skeleton; the footprint's box the frame follows) are run with their k-th allocation failing,
+ * for every k until they need no more, on a box quadruped saved Z-up and on one declaring +y
+ * up, turned. Each run either says it ran out (false) or gives the up and the frame it gives
+ * with memory to spare (a failure inside the curve skeleton's own steps, a girdle not looked
+ * for, may move the analysis's confidence only): a failed allocation is never read as "no
+ * footprint" or "no up", which would rig the body lying, or in another frame, without saying
+ * why. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "rig-internal.h"
+
+/* linked with -Wl,--wrap=malloc,--wrap=calloc: the allocations of this program and of the
+ * rigger's library linked into it */
+void *__real_malloc(size_t n);
+void *__real_calloc(size_t n, size_t size);
+void *__wrap_malloc(size_t n);
+void *__wrap_calloc(size_t n, size_t size);
+static long fail_at = -1, calls;
+
+void *__wrap_malloc(size_t n)
+{
+    return calls++ == fail_at ? NULL : __real_malloc(n);
+}
+
+void *__wrap_calloc(size_t n, size_t size)
+{
+    return calls++ == fail_at ? NULL : __real_calloc(n, size);
+}
+
+/* One box; lying: saved Z-up (the body's y along +z, its -z along +y), else turned by `turn`
+ * radians about y. */
+static void add_box(rf_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1,
+                    bool lying, double turn)
+{
+    static const int corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                     {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    static const uint32_t face[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
+                                         {0, 1, 5}, {0, 5, 4}, {3, 6, 2}, {3, 7, 6},
+                                         {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+    uint32_t base = m->vertex_count;
+    for (int c = 0; c < 8; c++) {
+        float *p = m->positions + (size_t)(base + c) * 3;
+        double x = corner[c][0] ? x1 : x0, y = corner[c][1] ? y1 : y0, z = corner[c][2] ? z1 : z0;
+        if (lying)
+            p[0] = (float)x, p[1] = (float)-z, p[2] = (float)y;
+        else
+            p[0] = (float)(x * cos(turn) + z * sin(turn)), p[1] = (float)y,
+            p[2] = (float)(-x * sin(turn) + z * cos(turn));
+    }
+    for (int t = 0; t < 12; t++)
+        for (int k = 0; k < 3; k++)
+            m->triangles[(size_t)(m->triangle_count + t) * 3 + k] = base + face[t][k];
+    m->vertex_count += 8, m->triangle_count += 12;
+}
+
+/* A box body on four box legs with a box head, saved Z-up (standing on +z) when lying, else
+ * turned by `turn` about its up, +y, with a tail off to one side: its vertices' principal axis
+ * leans a little from its footprint's box, which the rigger's frame follows. */
+static rf_mesh *creature(bool lying, double turn)
+{
+    static float pos[7 * 8 * 3];
+    static uint32_t tri[7 * 12 * 3];
+    static rf_mesh m;
+    memset(&m, 0, sizeof m);
+    m.positions = pos, m.triangles = tri;
+    add_box(&m, -1, 1, -0.4, 1, 1.4, 0.4, lying, turn);
+    add_box(&m, 0.95, 1.2, -0.25, 1.5, 1.7, 0.25, lying, turn);
+    add_box(&m, -1, 0, -0.4, -0.8, 1.05, -0.2, lying, turn);
+    add_box(&m, 0.8, 0, -0.4, 1, 1.05, -0.2, lying, turn);
+    add_box(&m, -1, 0, 0.2, -0.8, 1.05, 0.4, lying, turn);
+    add_box(&m, 0.8, 0, 0.2, 1, 1.05, 0.4, lying, turn);
+    if (!lying)
+        add_box(&m, -1.5, 1.1, 0.2, -0.95, 1.3, 0.38, lying, turn);
+    return &m;
+}
+
+static void support_fails_or_measures(void **state)
+{
+    (void)state;
+    const rf_mesh *m = creature(true, 0);
+    double want, got;
+    assert_true(rf_rig_support(m, rf_v3(0, 0, 1), &want));
+    print_message("# standing margin along +z %.3f\n", want);
+    assert_true(want > 0.1); /* it stands on its four feet */
+    long k, failed = 0;
+    for (k = 0;; k++) {
+        calls = 0, fail_at = k;
+        bool ok = rf_rig_support(m, rf_v3(0, 0, 1), &got);
+        fail_at = -1;
+        failed += !ok;
+        if (ok) {
+            assert_true(got == want);
+            if (calls <= k)
+                break;
+        }
+    }
+    print_message("# %ld allocations, each failing once: out of memory said %ld times\n", k,
+                  failed);
+    assert_int_equal(failed, k);
+    assert_true(k >= 3);
+}
+
+static void frame_fails_or_finds(void **state)
+{
+    (void)state;
+    const rf_mesh *m = creature(true, 0);
+    rf_rig_frame f;
+    rf_mesh in;
+    /* a coarse grid (the legs 2.5 voxels thick, still read): each of the hundreds of runs grows
+     * curve skeletons, at the default 96 voxels 1.5 minutes in all, 5 under the sanitizers */
+    rf_rig_options coarse = {.resolution = 32}, o;
+    assert_true(rf_rig_frame_enter(m, &coarse, &f, &in, &o));
+    rf_rig_frame want = f;
+    print_message("# %s\n", f.up_note);
+    assert_false(f.up_assumed);
+    const char *found = "up +z, not declared by the file: found from the body";
+    assert_true(strncmp(f.up_note, found, strlen(found)) == 0);
+    want.positions = NULL;
+    rf_rig_frame_leave(&f, m, NULL, NULL);
+    long k, failed = 0, same = 0;
+    for (k = 0;; k++) {
+        calls = 0, fail_at = k;
+        bool ok = rf_rig_frame_enter(m, &coarse, &f, &in, &o);
+        fail_at = -1;
+        failed += !ok;
+        /* an allocation failing inside the curve skeleton's own steps (a girdle not looked
+         * for) may move the analysis's confidence; the up found and the frame stay */
+        if (ok &&
+            (strncmp(f.up_note, found, strlen(found)) != 0 || f.turned != want.turned ||
+             f.q.w != want.q.w || f.q.x != want.q.x || f.q.y != want.q.y || f.q.z != want.q.z))
+            fail_msg("allocation %ld failing: '%s'", k, f.up_note);
+        same += ok && strcmp(f.up_note, want.up_note) == 0;
+        bool done = ok && calls <= k;
+        rf_rig_frame_leave(&f, m, NULL, NULL);
+        if (done)
+            break;
+    }
+    print_message("# %ld allocations, each failing once: out of memory said %ld times, the same "
+                  "up found %ld times (%ld of them with the same confidence)\n",
+                  k, failed, k - failed, same);
+    assert_true(k > 20);
+}
+
+/* A body with a declared up and no forward is rigged along its footprint's box: a failed
+ * allocation is not read as a footprint with no box (the principal axis taken instead). */
+static void frame_fails_or_turns(void **state)
+{
+    (void)state;
+    const rf_mesh *m = creature(false, 0.5);
+    rf_rig_options up = {.up = rf_v3(0, 1, 0)}, o;
+    rf_rig_frame f;
+    rf_mesh in;
+    assert_true(rf_rig_frame_enter(m, &up, &f, &in, &o));
+    rf_quat want = f.q;
+    assert_true(f.turned);
+    print_message("# turned %.4f %.4f %.4f %.4f\n", want.w, want.x, want.y, want.z);
+    rf_rig_frame_leave(&f, m, NULL, NULL);
+    long k, failed = 0;
+    for (k = 0;; k++) {
+        calls = 0, fail_at = k;
+        bool ok = rf_rig_frame_enter(m, &up, &f, &in, &o);
+        fail_at = -1;
+        failed += !ok;
+        if (ok && !(f.q.w == want.w && f.q.x == want.x && f.q.y == want.y && f.q.z == want.z))
+            fail_msg("allocation %ld failing: turned %.4f %.4f %.4f %.4f", k, f.q.w, f.q.x, f.q.y,
+                     f.q.z);
+        bool done = ok && calls <= k;
+        rf_rig_frame_leave(&f, m, NULL, NULL);
+        if (done)
+            break;
+    }
+    print_message("# %ld allocations, each failing once: out of memory said %ld times\n", k,
+                  failed);
+    assert_int_equal(failed, k);
+    assert_true(k >= 3);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {cmocka_unit_test(support_fails_or_measures),
+                                       cmocka_unit_test(frame_fails_or_finds),
+                                       cmocka_unit_test(frame_fails_or_turns)};
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
