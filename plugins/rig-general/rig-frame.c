@@ -305,9 +305,7 @@ static rf_vec3 rf_rig_snap_axis(rf_vec3 v)
 #define RF_RIG_UP_CONFIDENCE 0.35
 #define RF_RIG_UP_SUPPORT 0.07
 
-/* Whether the rigger's reason for failing, err, is a lack of memory: every such reason starts
- * so (rig.c, rig-mesh.c, rig-skel.c). It is no fact about the body, and is passed on. */
-static bool rf_rig_no_memory(const char *err)
+bool rf_rig_no_memory(const char *err)
 {
     return strncmp(err, "out of memory", 13) == 0;
 }

@@ -61,6 +61,10 @@ void rf_rig_heap_free(rf_rig_heap *h);
 
 /* printf into err; returns false so callers can `return rf_rig_fail(...)`. */
 bool rf_rig_fail(char *err, size_t n, const char *fmt, ...) RF_RIG_PRINTF(3, 4);
+/* Whether the rigger's reason for failing, err, is a lack of memory: every such reason starts
+ * so (rig.c, rig-mesh.c, rig-skel.c). It is no fact about the body, and is passed on
+ * (rig-frame.c). */
+bool rf_rig_no_memory(const char *err);
 
 /* Whether cleaning and weighting a mesh of this size fits in `available` bytes (when `known`);
  * if not, says in err how much it needs and what to do. */

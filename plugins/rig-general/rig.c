@@ -552,8 +552,13 @@ static bool rf_rig_first_pass(const rf_rig_prep *p, const rf_rig_options *o, con
         return false;
     rf_rig_skel other;
     double other_mirror[4], other_stand[4] = {0};
-    if (!rf_rig_extract_turned(p, o, other_mirror, other_stand, &other, err, err_size))
-        return true; /* the frame's own pass stands */
+    if (!rf_rig_extract_turned(p, o, other_mirror, other_stand, &other, err, err_size)) {
+        if (!rf_rig_no_memory(err))
+            return true; /* the frame's own pass stands */
+        /* a lack of memory says nothing of which pass to keep */
+        rf_rig_skel_free(k);
+        return false;
+    }
     double apart = RF_RIG_ROOT_APART * p->longest / o->resolution;
     double own_off = rf_rig_root_off(k, mid), other_off = rf_rig_root_off(&other, mid);
     if (other_off < own_off - apart && other_off < RF_RIG_ROOT_NEARER * own_off) {

@@ -185,10 +185,76 @@ static void frame_fails_or_turns(void **state)
     assert_true(k >= 3);
 }
 
+/* The general rigger's curve skeleton grows its first pass twice (the grid scanned as it lies
+ * and turned half round about up) and keeps the one rooted nearer the body's middle: an
+ * allocation failing in either pass says so (false, "out of memory..."), never keeps the other
+ * pass in silence, which can root the skeleton at the body's other end (read facing back). The
+ * allocations of the first pass are counted by running its two extractions alone; past them the
+ * steps that look for girdles may fail without saying so (frame_fails_or_finds). */
+static long extract_calls(const rf_rig_prep *p, const rf_rig_options *o, bool turned)
+{
+    rf_rig_prep q = *p;
+    double *turn = malloc(((size_t)p->proxy.nv + 1) * 3 * sizeof *turn);
+    assert_non_null(turn);
+    for (size_t i = 0; i < (size_t)p->proxy.nv * 3; i++)
+        turn[i] = i % 3 == 1 || !turned ? p->proxy.p[i] : -p->proxy.p[i];
+    for (int a = 0; a < 3; a += 2)
+        q.lo[a] = turned ? -p->hi[a] : p->lo[a], q.hi[a] = turned ? -p->lo[a] : p->hi[a];
+    q.proxy.p = turn;
+    rf_rig_skel k;
+    double mirror[4], stand[4] = {0};
+    char err[256];
+    calls = 0;
+    assert_true(rf_rig_extract(&q, o, NULL, mirror, stand, &k, err, sizeof err));
+    long n = calls;
+    rf_rig_skel_free(&k);
+    free(turn);
+    return n + turned; /* the turned copy's vertices */
+}
+
+static void curve_fails_or_same(void **state)
+{
+    (void)state;
+    for (int turn = 0; turn < 4; turn++) {
+        const rf_mesh *m = creature(false, turn * 1.5707963267948966);
+        rf_rig_options up = {.up = rf_v3(0, 1, 0), .resolution = 32};
+        rf_rig_options o = rf_rig_defaults(&up);
+        rf_rig_prep p;
+        rf_rig_stats st;
+        char err[256];
+        assert_true(rf_rig_prepare(m, &o, &p, &st, err, sizeof err));
+        rf_rig_skel want = {0};
+        assert_true(rf_rig_curve(&p, &o, &want, err, sizeof err));
+        long first = extract_calls(&p, &o, false) + extract_calls(&p, &o, true), failed = 0;
+        for (long k = 0; k < first; k++) {
+            rf_rig_skel got = {0};
+            err[0] = '\0';
+            calls = 0, fail_at = k;
+            bool ok = rf_rig_curve(&p, &o, &got, err, sizeof err);
+            fail_at = -1;
+            failed += !ok;
+            if (!ok && strncmp(err, "out of memory", 13) != 0)
+                fail_msg("turned %d quarters, allocation %ld failing: '%s'", turn, k, err);
+            if (ok && (got.n != want.n ||
+                       memcmp(got.pos, want.pos, (size_t)want.n * 3 * sizeof *got.pos) != 0))
+                fail_msg("turned %d quarters, allocation %ld failing: another skeleton, not out "
+                         "of memory",
+                         turn, k);
+            rf_rig_skel_free(&got);
+        }
+        print_message("# turned %d quarters: %u joints; the first pass's %ld allocations, each "
+                      "failing once: out of memory said %ld times\n",
+                      turn, want.n, first, failed);
+        assert_int_equal(failed, first);
+        rf_rig_skel_free(&want);
+        rf_rig_prep_free(&p);
+    }
+}
+
 int main(void)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(support_fails_or_measures),
-                                       cmocka_unit_test(frame_fails_or_finds),
-                                       cmocka_unit_test(frame_fails_or_turns)};
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(support_fails_or_measures), cmocka_unit_test(frame_fails_or_finds),
+        cmocka_unit_test(frame_fails_or_turns), cmocka_unit_test(curve_fails_or_same)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
