@@ -563,18 +563,17 @@ bool rf_rig_frame_enter(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_
         return true;
     }
     *in = *mesh; /* borrowed arrays: only the positions are the frame's own */
-    /* a mesh the rigger's checks refuse (no positions, non-finite ones, too large for the
-     * memory left) is left as it is, for them to name what is wrong: turned, its copy and its
-     * footprint's hull would take memory before rf_rig_prepare could refuse it */
+    /* a mesh the rigger's checks refuse (no positions, non-finite ones, a triangle naming a
+     * vertex it lacks, too large for the memory left) is left as it is, for them to name what
+     * is wrong: turned, its copy and its footprint's hull would take memory before
+     * rf_rig_prepare could refuse it, and the standing margins (rf_rig_support) read the
+     * positions its triangles name */
     uint64_t available = 0;
     bool known = rf_memory_available(&available);
     char why[8];
-    bool usable =
-        mesh->positions != NULL && rf_rig_memory_fits(mesh->vertex_count, mesh->triangle_count,
-                                                      known, available, why, sizeof why);
-    for (size_t i = 0; usable && i < (size_t)mesh->vertex_count * 3; i++)
-        usable = isfinite(mesh->positions[i]);
-    if (!usable || !mesh->vertex_count)
+    if (!rf_rig_check_input(mesh, why, sizeof why) ||
+        !rf_rig_memory_fits(mesh->vertex_count, mesh->triangle_count, known, available, why,
+                            sizeof why))
         return true;
     if (!(rf_v3_len(o->up) > 0) && rf_v3_isfinite(o->up) && !rf_rig_frame_up(mesh, o, f))
         return false;
