@@ -564,16 +564,21 @@ bool rf_rig_frame_enter(const rf_mesh *mesh, const rf_rig_options *opts, rf_rig_
     }
     *in = *mesh; /* borrowed arrays: only the positions are the frame's own */
     /* a mesh the rigger's checks refuse (no positions, non-finite ones, a triangle naming a
-     * vertex it lacks, too large for the memory left) is left as it is, for them to name what
-     * is wrong: turned, its copy and its footprint's hull would take memory before
-     * rf_rig_prepare could refuse it, and the standing margins (rf_rig_support) read the
-     * positions its triangles name */
+     * vertex it does not have, too large for the memory left) is left as it is, for them to
+     * name what is wrong: turned, its copy and its footprint's hull would take memory before
+     * rf_rig_prepare could refuse it, and the up's search reads its triangles */
     uint64_t available = 0;
     bool known = rf_memory_available(&available);
     char why[8];
-    if (!rf_rig_check_input(mesh, why, sizeof why) ||
-        !rf_rig_memory_fits(mesh->vertex_count, mesh->triangle_count, known, available, why,
-                            sizeof why))
+    bool usable =
+        mesh->positions != NULL && rf_rig_memory_fits(mesh->vertex_count, mesh->triangle_count,
+                                                      known, available, why, sizeof why);
+    for (size_t i = 0; usable && i < (size_t)mesh->vertex_count * 3; i++)
+        usable = isfinite(mesh->positions[i]);
+    usable = usable && (mesh->triangles || !mesh->triangle_count);
+    for (size_t i = 0; usable && i < (size_t)mesh->triangle_count * 3; i++)
+        usable = mesh->triangles[i] < mesh->vertex_count;
+    if (!usable || !mesh->vertex_count)
         return true;
     if (!(rf_v3_len(o->up) > 0) && rf_v3_isfinite(o->up) && !rf_rig_frame_up(mesh, o, f))
         return false;

@@ -73,9 +73,6 @@ bool rf_rig_memory_fits(uint64_t vertices, uint64_t triangles, bool known, uint6
 /* Whether bone heat over `vertices` proxy vertices for `joints` joints fits the same way. */
 bool rf_rig_heat_fits(uint64_t vertices, uint64_t joints, bool known, uint64_t available, char *err,
                       size_t n);
-/* Whether m is a surface the rigger can read: positions, finite and not huge, and triangles
- * naming its vertices; if not, says in err what is wrong (rig-mesh.c). */
-bool rf_rig_check_input(const rf_mesh *m, char *err, size_t n);
 bool rf_rig_prepare(const rf_mesh *m, const rf_rig_options *o, rf_rig_prep *out, rf_rig_stats *st,
                     char *err, size_t n);
 void rf_rig_prep_free(rf_rig_prep *p);

@@ -83,7 +83,7 @@ void rf_rig_heap_free(rf_rig_heap *h)
 
 /* ---- input checks ---- */
 
-bool rf_rig_check_input(const rf_mesh *m, char *err, size_t n)
+static bool rf_rig_check_input(const rf_mesh *m, char *err, size_t n)
 {
     if (!m || !m->vertex_count || !m->positions)
         return rf_rig_fail(err, n, "the mesh is empty: nothing to rig");

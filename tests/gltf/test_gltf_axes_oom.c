@@ -16,22 +16,7 @@
 
 #include "../../sdk/formats/gltf/gltf-axes.h"
 
-/* linked with -Wl,--wrap=malloc,--wrap=calloc: the allocations of this program's own code */
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t n, size_t size);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t n, size_t size);
-static long fail_at = -1, calls;
-
-void *__wrap_malloc(size_t n)
-{
-    return calls++ == fail_at ? NULL : __real_malloc(n);
-}
-
-void *__wrap_calloc(size_t n, size_t size)
-{
-    return calls++ == fail_at ? NULL : __real_calloc(n, size);
-}
+#include "../alloc-fail.h" /* this program's own allocations fail on demand */
 
 static void every_allocation_fails_once(void **state)
 {

@@ -43,7 +43,8 @@ tests_gltf_test_gltf_axes_LDADD = sdk/formats/assimp/librigflow-assimp.la sdk/fo
 # ... and when memory runs out at each of its allocations in turn (malloc and calloc wrapped)
 check_PROGRAMS += tests/gltf/test_gltf_axes_oom
 TESTS += tests/gltf/test_gltf_axes_oom
-tests_gltf_test_gltf_axes_oom_SOURCES = tests/gltf/test_gltf_axes_oom.c sdk/formats/gltf/gltf-axes.c
+tests_gltf_test_gltf_axes_oom_SOURCES = tests/gltf/test_gltf_axes_oom.c sdk/formats/gltf/gltf-axes.c \
+    tests/alloc-fail.h
 tests_gltf_test_gltf_axes_oom_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_gltf_test_gltf_axes_oom_LDFLAGS = -Wl,--wrap=malloc,--wrap=calloc
 tests_gltf_test_gltf_axes_oom_LDADD = $(CMOCKA_LIBS) -lm

@@ -45,7 +45,7 @@ EXTRA_DIST += tests/rig/test_rig_scan_up.sh
 # ... and when memory runs out at each of its allocations in turn (malloc and calloc wrapped)
 check_PROGRAMS += tests/rig/test_rig_up_oom
 TESTS += tests/rig/test_rig_up_oom
-tests_rig_test_rig_up_oom_SOURCES = tests/rig/test_rig_up_oom.c
+tests_rig_test_rig_up_oom_SOURCES = tests/rig/test_rig_up_oom.c tests/alloc-fail.h
 tests_rig_test_rig_up_oom_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
 tests_rig_test_rig_up_oom_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_rig_test_rig_up_oom_LDFLAGS = -Wl,--wrap=malloc,--wrap=calloc

@@ -19,23 +19,8 @@
 
 #include "rig-internal.h"
 
-/* linked with -Wl,--wrap=malloc,--wrap=calloc: the allocations of this program and of the
- * rigger's library linked into it */
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t n, size_t size);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t n, size_t size);
-static long fail_at = -1, calls;
-
-void *__wrap_malloc(size_t n)
-{
-    return calls++ == fail_at ? NULL : __real_malloc(n);
-}
-
-void *__wrap_calloc(size_t n, size_t size)
-{
-    return calls++ == fail_at ? NULL : __real_calloc(n, size);
-}
+/* allocations of this program and of the rigger code linked into it fail on demand */
+#include "../alloc-fail.h"
 
 /* One box; lying: saved Z-up (the body's y along +z, its -z along +y), else turned by `turn`
  * radians about y. */
