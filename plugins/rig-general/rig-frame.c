@@ -368,7 +368,7 @@ static bool rf_rig_read_up(rf_rig_prep *p, rf_quat q, const rf_rig_options *o,
             out->confidence = a->up_confidence, out->source = a->up_source;
             out->axis = rf_rig_snap_axis(out->read);
         } else
-            snprintf(out->why, sizeof out->why, "the skeleton analysis could not read it");
+            ok = false; /* the analysis fails only when out of memory: no reading of the body */
         rf_analysis_free(a);
     }
     rf_skeleton_free(s);

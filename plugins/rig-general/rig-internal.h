@@ -126,10 +126,6 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
                     double *mirror, double *stand, rf_rig_skel *out, char *err, size_t n);
 void rf_rig_skel_free(rf_rig_skel *s);
 
-/* Where the skeleton's two lowest leaves meet (lowest along `up` when it is not zero, else along
- * the up the skeleton analysis reads), or NONE (rig.c). */
-uint32_t rf_rig_pick_root(const rf_rig_skel *k, rf_vec3 up);
-
 /* The bones of a skeleton (one per parent-child pair and per leaf tip; a lone joint is a point).
  * Returns the count, *out malloc'd, or 0 when out of memory. */
 uint32_t rf_rig_bones(const rf_rig_skel *s, rf_rig_bone **out);

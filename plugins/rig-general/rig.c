@@ -121,62 +121,90 @@ static uint32_t rf_rig_lca(const rf_rig_skel *k, uint32_t a, uint32_t b)
     return a;
 }
 
-/* Girdles: where two leaves of the lowest fifth of the body (along `declared` when it is not
- * zero, else along the up the skeleton analysis finds) meet above that fifth, flagged in
- * girdle[] (k->n entries); feet that meet near the floor are a heel and its toes, or legs merged
- * into one column under a skirt. Each girdle's height into height[]. Returns how many, or -1
- * when out of memory. */
-static int rf_rig_girdles(const rf_rig_skel *k, rf_vec3 declared, uint8_t *girdle, double *height)
+/* The girdles of a skeleton: where two leaves of the lowest fifth of the body (along the up they
+ * are looked for by) meet above that fifth; feet that meet near the floor are a heel and its
+ * toes, or legs merged into one column under a skirt. */
+typedef struct rf_rig_girdle_set {
+    uint8_t *on;    /* [n] 1 at a girdle */
+    double *height; /* [n] a girdle's height along that up */
+    int count;
+} rf_rig_girdle_set;
+
+static void rf_rig_girdle_set_free(rf_rig_girdle_set *g)
 {
-    rf_vec3 up = rf_v3_len(declared) > 0 ? rf_v3_normalize(declared) : rf_v3(0, 1, 0);
-    if (!(rf_v3_len(declared) > 0)) {
-        rf_skeleton *s = rf_rig_skeleton(k, NULL);
-        rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
-        up = a ? a->up : up;
-        rf_analysis_free(a);
-        rf_skeleton_free(s);
+    free(g->on), free(g->height);
+    memset(g, 0, sizeof *g);
+}
+
+/* The up girdles are looked for along: `declared` when it is not zero, else the one the skeleton
+ * analysis reads. False when out of memory: +y in its place would look for feet on a body lying
+ * on its side, and the second pass would grow from wherever they seemed to meet. */
+static bool rf_rig_girdle_up(const rf_rig_skel *k, rf_vec3 declared, rf_vec3 *up)
+{
+    if (rf_v3_len(declared) > 0 || !k->n) {
+        *up = k->n ? rf_v3_normalize(declared) : rf_v3(0, 1, 0);
+        return true;
     }
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
+    if (a)
+        *up = a->up;
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    return a != NULL;
+}
+
+/* k's girdles into g along `declared` (rf_rig_girdle_up). False when out of memory (g empty). */
+static bool rf_rig_girdles(const rf_rig_skel *k, rf_vec3 declared, rf_rig_girdle_set *g)
+{
+    rf_vec3 up;
+    memset(g, 0, sizeof *g);
     uint8_t *inner = calloc(k->n + 1, 1);
-    if (!inner)
-        return -1;
+    g->on = calloc(k->n + 1, 1);
+    g->height = calloc(k->n + 1, sizeof *g->height);
+    bool ok = inner && g->on && g->height && rf_rig_girdle_up(k, declared, &up);
     double lo = INFINITY, hi = -INFINITY;
-    for (uint32_t j = 0; j < k->n; j++) {
+    for (uint32_t j = 0; ok && j < k->n; j++) {
         if (k->parent[j] >= 0)
             inner[k->parent[j]] = 1;
         lo = fmin(lo, rf_rig_height(k, j, up)), hi = fmax(hi, rf_rig_height(k, j, up));
-        girdle[j] = 0;
     }
     double low = lo + 0.2 * (hi - lo);
-    int count = 0;
-    for (uint32_t i = 0; i < k->n; i++)
+    for (uint32_t i = 0; ok && i < k->n; i++)
         for (uint32_t j = i + 1; j < k->n; j++) {
             if (inner[i] || inner[j] || rf_rig_height(k, i, up) > low ||
                 rf_rig_height(k, j, up) > low)
                 continue;
             uint32_t m = rf_rig_lca(k, i, j);
             const double *p = k->pos + (size_t)m * 3;
-            height[m] = p[0] * up.x + p[1] * up.y + p[2] * up.z;
-            if (height[m] > low && !girdle[m])
-                girdle[m] = 1, count++;
+            g->height[m] = p[0] * up.x + p[1] * up.y + p[2] * up.z;
+            if (g->height[m] > low && !g->on[m])
+                g->on[m] = 1, g->count++;
         }
     free(inner);
-    return count;
+    if (!ok)
+        rf_rig_girdle_set_free(g);
+    return ok;
 }
 
 /* Where the feet meet: the highest girdle, the hips of a biped (not the ankle, where heel and
  * toe meet), a girdle or the spine of a quadruped, the body of a spider; the second pass grows
  * from there. NONE when there is no girdle. */
-uint32_t rf_rig_pick_root(const rf_rig_skel *k, rf_vec3 up)
+static uint32_t rf_rig_pick_root(const rf_rig_skel *k, const rf_rig_girdle_set *g)
 {
-    uint8_t *girdle = malloc(k->n + 1);
-    double *height = malloc((k->n + 1) * sizeof *height), best = -INFINITY;
+    double best = -INFINITY;
     uint32_t root = RF_RIG_NONE;
-    if (girdle && height && rf_rig_girdles(k, up, girdle, height) > 0)
-        for (uint32_t m = 0; m < k->n; m++)
-            if (girdle[m] && height[m] > best)
-                best = height[m], root = m;
-    free(girdle), free(height);
+    for (uint32_t m = 0; m < k->n; m++)
+        if (g->on[m] && g->height[m] > best)
+            best = g->height[m], root = m;
     return root;
+}
+
+/* The squared distance between points p and q. */
+static double rf_rig_apart2(const double p[3], const double q[3])
+{
+    return (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+           (p[2] - q[2]) * (p[2] - q[2]);
 }
 
 /* The hips of a first-pass skeleton: of its girdles, the one farthest from mid, the middle of
@@ -187,38 +215,30 @@ uint32_t rf_rig_pick_root(const rf_rig_skel *k, rf_vec3 up)
  * first: a body without a declared forward turned 137 degrees is rigged in a frame turned half
  * round, its grid scanned from the other end, and the horse, cat, fox and wolf were rooted at the
  * shoulders. The middle turns with the body. NONE when there is no girdle. */
-static uint32_t rf_rig_pick_hips(const rf_rig_skel *k, rf_vec3 up, const double mid[3])
+static uint32_t rf_rig_pick_hips(const rf_rig_skel *k, const rf_rig_girdle_set *g,
+                                 const double mid[3])
 {
-    uint8_t *girdle = malloc(k->n + 1);
-    double *height = malloc((k->n + 1) * sizeof *height), best = -INFINITY;
+    double best = -INFINITY;
     uint32_t hips = RF_RIG_NONE;
-    if (girdle && height && rf_rig_girdles(k, up, girdle, height) > 0)
-        for (uint32_t m = 0; m < k->n; m++) {
-            const double *q = k->pos + (size_t)m * 3;
-            double apart = (q[0] - mid[0]) * (q[0] - mid[0]) + (q[1] - mid[1]) * (q[1] - mid[1]) +
-                           (q[2] - mid[2]) * (q[2] - mid[2]);
-            if (girdle[m] && apart > best)
-                best = apart, hips = m;
-        }
-    free(girdle), free(height);
+    for (uint32_t m = 0; m < k->n; m++) {
+        double apart = rf_rig_apart2(k->pos + (size_t)m * 3, mid);
+        if (g->on[m] && apart > best)
+            best = apart, hips = m;
+    }
     return hips;
 }
 
 /* The girdle of k nearest to point q, or NONE. */
-static uint32_t rf_rig_girdle_near(const rf_rig_skel *k, rf_vec3 up, const double q[3])
+static uint32_t rf_rig_girdle_near(const rf_rig_skel *k, const rf_rig_girdle_set *g,
+                                   const double q[3])
 {
-    uint8_t *girdle = malloc(k->n + 1);
-    double *height = malloc((k->n + 1) * sizeof *height), best = INFINITY;
+    double best = INFINITY;
     uint32_t at = RF_RIG_NONE;
-    if (girdle && height && rf_rig_girdles(k, up, girdle, height) > 0)
-        for (uint32_t m = 0; m < k->n; m++) {
-            const double *p = k->pos + (size_t)m * 3;
-            double d = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                       (p[2] - q[2]) * (p[2] - q[2]);
-            if (girdle[m] && d < best)
-                best = d, at = m;
-        }
-    free(girdle), free(height);
+    for (uint32_t m = 0; m < k->n; m++) {
+        double d = rf_rig_apart2(k->pos + (size_t)m * 3, q);
+        if (g->on[m] && d < best)
+            best = d, at = m;
+    }
     return at;
 }
 
@@ -476,19 +496,19 @@ static bool rf_rig_on_plane(rf_rig_skel *k, const double mirror[4], double h)
 }
 
 /* Whether the skeleton analysis reads k's up within about 45 degrees (cosine 0.7) of the
- * declared up (true when none is declared, or when out of memory). The fire dragon turned 137
- * degrees kept its legs in the first pass but was read lying on its side, its wings hanging:
- * its girdles, looked for along that up, put the second pass's seed on a wing. */
-static bool rf_rig_reads_up(const rf_rig_skel *k, rf_vec3 declared)
+ * declared up (true when none is declared), into *agree. The fire dragon turned 137 degrees kept
+ * its legs in the first pass but was read lying on its side, its wings hanging: its girdles,
+ * looked for along that up, put the second pass's seed on a wing. False when out of memory. */
+static bool rf_rig_reads_up(const rf_rig_skel *k, rf_vec3 declared, bool *agree)
 {
+    rf_vec3 read;
+    *agree = true;
     if (!(rf_v3_len(declared) > 0))
         return true;
-    rf_skeleton *s = rf_rig_skeleton(k, NULL);
-    rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
-    bool agree = !a || rf_v3_dot(a->up, rf_v3_normalize(declared)) >= 0.7;
-    rf_analysis_free(a);
-    rf_skeleton_free(s);
-    return agree;
+    if (!rf_rig_girdle_up(k, rf_v3(0, 0, 0), &read))
+        return false;
+    *agree = rf_v3_dot(read, rf_v3_normalize(declared)) >= 0.7;
+    return true;
 }
 
 /* The first pass on the body turned half round about y, the frame's up (x and z negated: the grid
@@ -589,10 +609,18 @@ bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k,
      * they are where the analysis reads the first pass's up over 45 degrees off it. */
     bool legs = ok && stand[3];
     rf_vec3 up = legs ? o->up : rf_v3(0, 0, 0); /* zero: the analysis's */
-    if (ok && !legs && !rf_rig_reads_up(k, o->up))
+    bool agree = true;
+    rf_rig_girdle_set girdles = {0};
+    if (ok && !legs && !rf_rig_reads_up(k, o->up, &agree))
+        ok = rf_rig_fail(err, err_size, "out of memory reading the skeleton's up");
+    if (!agree)
         up = o->up;
-    uint32_t r = ok ? rf_rig_pick_root(k, up) : RF_RIG_NONE,
-             hips = ok ? rf_rig_pick_hips(k, up, mid) : r;
+    /* girdles not looked for are no answer: a lack of memory is said, not read as "no feet" */
+    if (ok && !rf_rig_girdles(k, up, &girdles))
+        ok = rf_rig_fail(err, err_size, "out of memory looking for the hips");
+    uint32_t r = ok ? rf_rig_pick_root(k, &girdles) : RF_RIG_NONE,
+             hips = ok ? rf_rig_pick_hips(k, &girdles, mid) : r;
+    rf_rig_girdle_set_free(&girdles);
     double hips_at[3], seed[3];
     if (hips != RF_RIG_NONE)
         memcpy(hips_at, k->pos + (size_t)hips * 3, sizeof hips_at);
@@ -613,9 +641,14 @@ bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k,
      * the root is: artists root a quadruped at its hips, and the spine runs from there to the
      * shoulders. The second pass's root, the highest girdle, is often the shoulders; the rig is
      * rooted again at the girdle nearest the hips, its joints unmoved. */
-    uint32_t g = ok && hips != RF_RIG_NONE ? rf_rig_girdle_near(k, up, hips_at) : RF_RIG_NONE;
+    if (ok && hips != RF_RIG_NONE && !rf_rig_girdles(k, up, &girdles))
+        ok = rf_rig_fail(err, err_size, "out of memory looking for the hips");
+    uint32_t g = ok && hips != RF_RIG_NONE ? rf_rig_girdle_near(k, &girdles, hips_at) : RF_RIG_NONE;
+    rf_rig_girdle_set_free(&girdles);
     if (g != RF_RIG_NONE && k->parent[g] >= 0 && !rf_rig_reroot(k, g))
         ok = rf_rig_fail(err, err_size, "out of memory re-rooting the skeleton");
+    if (!ok)
+        rf_rig_skel_free(k);
     return ok;
 }
 

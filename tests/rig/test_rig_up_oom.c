@@ -3,9 +3,9 @@
  * skeleton; the footprint's box the frame follows) are run with their k-th allocation failing,
  * for every k until they need no more, on a box quadruped saved Z-up and on one declaring +y
  * up, turned. Each run either says it ran out (false) or gives the up and the frame it gives
- * with memory to spare (a failure inside the curve skeleton's own steps, a girdle not looked
- * for, may move the analysis's confidence only): a failed allocation is never read as "no
- * footprint" or "no up", which would rig the body lying, or in another frame, without saying
+ * with memory to spare (a failure inside the skeleton analysis, which falls back to defaults
+ * where its own allocations fail, may move its confidence only): a failed allocation is never read
+ * as "no footprint" or "no up", which would rig the body lying, or in another frame, without saying
  * why. */
 #include <math.h>
 #include <setjmp.h>
@@ -118,8 +118,8 @@ static void frame_fails_or_finds(void **state)
         bool ok = rf_rig_frame_enter(m, &coarse, &f, &in, &o);
         fail_at = -1;
         failed += !ok;
-        /* an allocation failing inside the curve skeleton's own steps (a girdle not looked
-         * for) may move the analysis's confidence; the up found and the frame stay */
+        /* an allocation failing inside the skeleton analysis (its limbs not collected: it
+         * falls back to defaults) may move its confidence; the up found and the frame stay */
         if (ok &&
             (strncmp(f.up_note, found, strlen(found)) != 0 || f.turned != want.turned ||
              f.q.w != want.q.w || f.q.x != want.q.x || f.q.y != want.q.y || f.q.z != want.q.z))
@@ -170,31 +170,20 @@ static void frame_fails_or_turns(void **state)
     assert_true(k >= 3);
 }
 
-/* The general rigger's curve skeleton grows its first pass twice (the grid scanned as it lies
- * and turned half round about up) and keeps the one rooted nearer the body's middle: an
- * allocation failing in either pass says so (false, "out of memory..."), never keeps the other
- * pass in silence, which can root the skeleton at the body's other end (read facing back). The
- * allocations of the first pass are counted by running its two extractions alone; past them the
- * steps that look for girdles may fail without saying so (frame_fails_or_finds). */
-static long extract_calls(const rf_rig_prep *p, const rf_rig_options *o, bool turned)
+/* The general rigger's curve skeleton (rf_rig_curve) grows its first pass twice (the grid
+ * scanned as it lies and turned half round about up) and keeps the one rooted nearer the body's
+ * middle, looks for the girdles where the feet meet, grows a second pass from there and roots
+ * the skeleton at the hips. An allocation failing in any of these steps says so (false, "out of
+ * memory..."): never keeps the other pass in silence, which can root the skeleton at the body's
+ * other end (read facing back), nor reads girdles not looked for as none, which grows the second
+ * pass from the thickest point instead of the hips. Every allocation fails in turn, until a run
+ * needs no more. Those of the skeleton analysis (sdk/analysis) are the exception: it falls back
+ * to defaults when its own allocations fail, and the up it then reads may move the girdles; its
+ * allocations that fail leave the skeleton as it was on this body. */
+static bool same_skel(const rf_rig_skel *a, const rf_rig_skel *b)
 {
-    rf_rig_prep q = *p;
-    double *turn = malloc(((size_t)p->proxy.nv + 1) * 3 * sizeof *turn);
-    assert_non_null(turn);
-    for (size_t i = 0; i < (size_t)p->proxy.nv * 3; i++)
-        turn[i] = i % 3 == 1 || !turned ? p->proxy.p[i] : -p->proxy.p[i];
-    for (int a = 0; a < 3; a += 2)
-        q.lo[a] = turned ? -p->hi[a] : p->lo[a], q.hi[a] = turned ? -p->lo[a] : p->hi[a];
-    q.proxy.p = turn;
-    rf_rig_skel k;
-    double mirror[4], stand[4] = {0};
-    char err[256];
-    calls = 0;
-    assert_true(rf_rig_extract(&q, o, NULL, mirror, stand, &k, err, sizeof err));
-    long n = calls;
-    rf_rig_skel_free(&k);
-    free(turn);
-    return n + turned; /* the turned copy's vertices */
+    return a->n == b->n && memcmp(a->pos, b->pos, (size_t)a->n * 3 * sizeof *a->pos) == 0 &&
+           memcmp(a->parent, b->parent, (size_t)a->n * sizeof *a->parent) == 0;
 }
 
 static void curve_fails_or_same(void **state)
@@ -210,8 +199,8 @@ static void curve_fails_or_same(void **state)
         assert_true(rf_rig_prepare(m, &o, &p, &st, err, sizeof err));
         rf_rig_skel want = {0};
         assert_true(rf_rig_curve(&p, &o, &want, err, sizeof err));
-        long first = extract_calls(&p, &o, false) + extract_calls(&p, &o, true), failed = 0;
-        for (long k = 0; k < first; k++) {
+        long k, failed = 0, other = 0;
+        for (k = 0;; k++) {
             rf_rig_skel got = {0};
             err[0] = '\0';
             calls = 0, fail_at = k;
@@ -220,17 +209,20 @@ static void curve_fails_or_same(void **state)
             failed += !ok;
             if (!ok && strncmp(err, "out of memory", 13) != 0)
                 fail_msg("turned %d quarters, allocation %ld failing: '%s'", turn, k, err);
-            if (ok && (got.n != want.n ||
-                       memcmp(got.pos, want.pos, (size_t)want.n * 3 * sizeof *got.pos) != 0))
-                fail_msg("turned %d quarters, allocation %ld failing: another skeleton, not out "
-                         "of memory",
-                         turn, k);
+            if (ok && !same_skel(&got, &want))
+                print_message("# turned %d quarters, allocation %ld failing: another skeleton, "
+                              "not out of memory\n",
+                              turn, k),
+                    other++;
             rf_rig_skel_free(&got);
+            if (ok && calls <= k)
+                break;
         }
-        print_message("# turned %d quarters: %u joints; the first pass's %ld allocations, each "
-                      "failing once: out of memory said %ld times\n",
-                      turn, want.n, first, failed);
-        assert_int_equal(failed, first);
+        print_message("# turned %d quarters: %u joints; %ld allocations, each failing once: out "
+                      "of memory said %ld times, another skeleton %ld times\n",
+                      turn, want.n, k, failed, other);
+        assert_int_equal(other, 0);
+        assert_true(failed > 200); /* both first passes, the girdles, the second pass */
         rf_rig_skel_free(&want);
         rf_rig_prep_free(&p);
     }
