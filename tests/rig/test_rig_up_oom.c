@@ -17,40 +17,15 @@
 
 #include <cmocka.h>
 
+#include "boxes.h"
 #include "rig-internal.h"
 
 /* allocations of this program and of the rigger code linked into it fail on demand */
 #include "../alloc-fail.h"
 
-/* One box; lying: saved Z-up (the body's y along +z, its -z along +y), else turned by `turn`
- * radians about y. */
-static void add_box(rf_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1,
-                    bool lying, double turn)
-{
-    static const int corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                                     {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
-    static const uint32_t face[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
-                                         {0, 1, 5}, {0, 5, 4}, {3, 6, 2}, {3, 7, 6},
-                                         {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
-    uint32_t base = m->vertex_count;
-    for (int c = 0; c < 8; c++) {
-        float *p = m->positions + (size_t)(base + c) * 3;
-        double x = corner[c][0] ? x1 : x0, y = corner[c][1] ? y1 : y0, z = corner[c][2] ? z1 : z0;
-        if (lying)
-            p[0] = (float)x, p[1] = (float)-z, p[2] = (float)y;
-        else
-            p[0] = (float)(x * cos(turn) + z * sin(turn)), p[1] = (float)y,
-            p[2] = (float)(-x * sin(turn) + z * cos(turn));
-    }
-    for (int t = 0; t < 12; t++)
-        for (int k = 0; k < 3; k++)
-            m->triangles[(size_t)(m->triangle_count + t) * 3 + k] = base + face[t][k];
-    m->vertex_count += 8, m->triangle_count += 12;
-}
-
-/* A box body on four box legs with a box head, saved Z-up (standing on +z) when lying, else
- * turned by `turn` about its up, +y, with a tail off to one side: its vertices' principal axis
- * leans a little from its footprint's box, which the rigger's frame follows. */
+/* The table creature (boxes.h) saved Z-up (standing on +z) when lying, else turned by `turn`
+ * about its up, +y, with a tail off to one side: its vertices' principal axis leans a little
+ * from its footprint's box, which the rigger's frame follows. */
 static rf_mesh *creature(bool lying, double turn)
 {
     static float pos[7 * 8 * 3];
@@ -58,14 +33,13 @@ static rf_mesh *creature(bool lying, double turn)
     static rf_mesh m;
     memset(&m, 0, sizeof m);
     m.positions = pos, m.triangles = tri;
-    add_box(&m, -1, 1, -0.4, 1, 1.4, 0.4, lying, turn);
-    add_box(&m, 0.95, 1.2, -0.25, 1.5, 1.7, 0.25, lying, turn);
-    add_box(&m, -1, 0, -0.4, -0.8, 1.05, -0.2, lying, turn);
-    add_box(&m, 0.8, 0, -0.4, 1, 1.05, -0.2, lying, turn);
-    add_box(&m, -1, 0, 0.2, -0.8, 1.05, 0.4, lying, turn);
-    add_box(&m, 0.8, 0, 0.2, 1, 1.05, 0.4, lying, turn);
-    if (!lying)
-        add_box(&m, -1.5, 1.1, 0.2, -0.95, 1.3, 0.38, lying, turn);
+    add_table_boxes(&m);
+    if (lying)
+        lay_z_up(&m);
+    else {
+        add_box(&m, -1.5, 1.1, 0.2, -0.95, 1.3, 0.38);
+        scale_turn(&m, 1, turn);
+    }
     return &m;
 }
 
