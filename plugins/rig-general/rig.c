@@ -513,29 +513,30 @@ static bool rf_rig_reads_up(const rf_rig_skel *k, rf_vec3 declared, bool *agree)
 
 /* The first pass on the body turned half round about y, the frame's up (x and z negated: the grid
  * met from its other end), turned back. */
-static bool rf_rig_extract_turned(const rf_rig_prep *p, const rf_rig_options *o, double *mirror,
-                                  double *stand, rf_rig_skel *k, char *err, size_t err_size)
+static rf_rig_status rf_rig_extract_turned(const rf_rig_prep *p, const rf_rig_options *o,
+                                           double *mirror, double *stand, rf_rig_skel *k, char *err,
+                                           size_t err_size)
 {
     rf_rig_prep q = *p;
     q.proxy.p = malloc(((size_t)p->proxy.nv + 1) * 3 * sizeof *q.proxy.p);
     if (!q.proxy.p)
-        return rf_rig_fail(err, err_size, "out of memory turning the body");
+        return rf_rig_oom(err, err_size, "out of memory turning the body");
     for (size_t v = 0; v < p->proxy.nv; v++) {
         q.proxy.p[v * 3] = -p->proxy.p[v * 3], q.proxy.p[v * 3 + 1] = p->proxy.p[v * 3 + 1];
         q.proxy.p[v * 3 + 2] = -p->proxy.p[v * 3 + 2];
     }
     for (int a = 0; a < 3; a += 2)
         q.lo[a] = -p->hi[a], q.hi[a] = -p->lo[a];
-    bool ok = rf_rig_extract(&q, o, NULL, mirror, stand, k, err, err_size);
+    rf_rig_status status = rf_rig_extract(&q, o, NULL, mirror, stand, k, err, err_size);
     free(q.proxy.p);
-    if (!ok)
-        return false;
+    if (status != RF_RIG_OK)
+        return status;
     for (size_t j = 0; j < k->n; j++)
         for (int a = 0; a < 3; a += 2)
             k->pos[j * 3 + a] = -k->pos[j * 3 + a], k->tip[j * 3 + a] = -k->tip[j * 3 + a];
     mirror[0] = -mirror[0], mirror[2] = -mirror[2];
     stand[0] = -stand[0], stand[2] = -stand[2];
-    return true;
+    return RF_RIG_OK;
 }
 
 /* How far k's root lies from point q. */
@@ -564,20 +565,22 @@ static double rf_rig_root_off(const rf_rig_skel *k, const double q[3])
  * scanned as it lies and turned half round about up) and the one whose root lies nearer the
  * middle of the body's surface (mid), which turns with the body, is kept when it is clearly
  * the nearer (RF_RIG_ROOT_APART, RF_RIG_ROOT_NEARER); else the frame's own, as before. */
-static bool rf_rig_first_pass(const rf_rig_prep *p, const rf_rig_options *o, const double mid[3],
-                              double mirror[4], double stand[4], rf_rig_skel *k, char *err,
-                              size_t err_size)
+static rf_rig_status rf_rig_first_pass(const rf_rig_prep *p, const rf_rig_options *o,
+                                       const double mid[3], double mirror[4], double stand[4],
+                                       rf_rig_skel *k, char *err, size_t err_size)
 {
-    if (!rf_rig_extract(p, o, NULL, mirror, stand, k, err, err_size))
-        return false;
+    rf_rig_status status = rf_rig_extract(p, o, NULL, mirror, stand, k, err, err_size);
+    if (status != RF_RIG_OK)
+        return status;
     rf_rig_skel other;
     double other_mirror[4], other_stand[4] = {0};
-    if (!rf_rig_extract_turned(p, o, other_mirror, other_stand, &other, err, err_size)) {
-        if (!rf_rig_no_memory(err))
-            return true; /* the frame's own pass stands */
+    status = rf_rig_extract_turned(p, o, other_mirror, other_stand, &other, err, err_size);
+    if (status == RF_RIG_REFUSED)
+        return RF_RIG_OK; /* the frame's own pass stands */
+    if (status == RF_RIG_NO_MEMORY) {
         /* a lack of memory says nothing of which pass to keep */
         rf_rig_skel_free(k);
-        return false;
+        return status;
     }
     double apart = RF_RIG_ROOT_APART * p->longest / o->resolution;
     double own_off = rf_rig_root_off(k, mid), other_off = rf_rig_root_off(&other, mid);
@@ -588,40 +591,41 @@ static bool rf_rig_first_pass(const rf_rig_prep *p, const rf_rig_options *o, con
         memcpy(stand, other_stand, sizeof other_stand);
     } else
         rf_rig_skel_free(&other);
-    return true;
+    return RF_RIG_OK;
 }
 
-bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
-                  size_t err_size)
+rf_rig_status rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
+                           size_t err_size)
 {
-    double mirror[4], stand[4] = {0};
+    double mirror[4], stand[4] = {0}, hips_at[3], seed[3];
     double mid[3] = {0, 0, 0}; /* the proxy's vertices' mean: where the hips are not */
     for (uint32_t v = 0; v < p->proxy.nv; v++)
         for (int a = 0; a < 3; a++)
             mid[a] += p->proxy.p[(size_t)v * 3 + a] / p->proxy.nv;
-    bool ok = rf_rig_first_pass(p, o, mid, mirror, stand, k, err, err_size);
+    rf_rig_status status = rf_rig_first_pass(p, o, mid, mirror, stand, k, err, err_size);
+    if (status != RF_RIG_OK)
+        return status; /* k holds nothing */
     /* Level sets grown from the hips cut the body square to its length (shoulders level, limbs
      * leaving symmetrically); from the thickest point they would ring the chest. So a second pass
      * starts where the first pass's two lowest leaves meet. Where the first pass kept legs the
      * bands had scored as bumps (rf_rig_stands_on), it starts where those legs leave the body,
      * found before junctions a short chain apart became one joint (the fire dragon's hips and
      * chest, a bone apart, were one), and the feet are the lowest along the declared up; so
-     * they are where the analysis reads the first pass's up over 45 degrees off it. */
-    bool legs = ok && stand[3];
+     * they are where the analysis reads the first pass's up over 45 degrees off it. Girdles
+     * not looked for are no answer: a lack of memory is said, not read as "no feet". */
+    bool legs = stand[3] != 0, agree = true;
     rf_vec3 up = legs ? o->up : rf_v3(0, 0, 0); /* zero: the analysis's */
-    bool agree = true;
     rf_rig_girdle_set girdles = {0};
-    if (ok && !legs && !rf_rig_reads_up(k, o->up, &agree))
-        ok = rf_rig_fail(err, err_size, "out of memory reading the skeleton's up");
+    const char *doing = "reading its up";
+    if (!legs && !rf_rig_reads_up(k, o->up, &agree))
+        goto no_memory;
     if (!agree)
         up = o->up;
-    /* girdles not looked for are no answer: a lack of memory is said, not read as "no feet" */
-    if (ok && !rf_rig_girdles(k, up, &girdles))
-        ok = rf_rig_fail(err, err_size, "out of memory looking for the hips");
-    uint32_t r = ok ? rf_rig_pick_root(k, &girdles) : RF_RIG_NONE,
-             hips = ok ? rf_rig_pick_hips(k, &girdles, mid) : r;
+    doing = "looking for the hips";
+    if (!rf_rig_girdles(k, up, &girdles))
+        goto no_memory;
+    uint32_t r = rf_rig_pick_root(k, &girdles), hips = rf_rig_pick_hips(k, &girdles, mid);
     rf_rig_girdle_set_free(&girdles);
-    double hips_at[3], seed[3];
     if (hips != RF_RIG_NONE)
         memcpy(hips_at, k->pos + (size_t)hips * 3, sizeof hips_at);
     bool again = legs || (r != RF_RIG_NONE && k->parent[r] >= 0);
@@ -629,27 +633,34 @@ bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k,
         memcpy(seed, stand, sizeof seed);
     else if (again)
         memcpy(seed, k->pos + (size_t)r * 3, sizeof seed);
-    else if (ok && rf_rig_off_middle(k, mirror, p->longest / o->resolution, seed))
+    else if (rf_rig_off_middle(k, mirror, p->longest / o->resolution, seed))
         again = true;
     if (again) {
         rf_rig_skel_free(k);
-        ok = rf_rig_extract(p, o, seed, NULL, NULL, k, err, err_size);
+        status = rf_rig_extract(p, o, seed, NULL, NULL, k, err, err_size);
+        if (status != RF_RIG_OK)
+            return status;
     }
-    if (ok && !rf_rig_on_plane(k, mirror, p->longest / o->resolution))
-        ok = rf_rig_fail(err, err_size, "out of memory centring the skeleton");
+    doing = "centring the skeleton";
+    if (!rf_rig_on_plane(k, mirror, p->longest / o->resolution))
+        goto no_memory;
     /* The skeleton analysis (and so the matcher) reads which way a body faces partly from where
      * the root is: artists root a quadruped at its hips, and the spine runs from there to the
      * shoulders. The second pass's root, the highest girdle, is often the shoulders; the rig is
      * rooted again at the girdle nearest the hips, its joints unmoved. */
-    if (ok && hips != RF_RIG_NONE && !rf_rig_girdles(k, up, &girdles))
-        ok = rf_rig_fail(err, err_size, "out of memory looking for the hips");
-    uint32_t g = ok && hips != RF_RIG_NONE ? rf_rig_girdle_near(k, &girdles, hips_at) : RF_RIG_NONE;
+    if (hips == RF_RIG_NONE)
+        return RF_RIG_OK;
+    doing = "re-rooting the skeleton";
+    if (!rf_rig_girdles(k, up, &girdles))
+        goto no_memory;
+    uint32_t g = rf_rig_girdle_near(k, &girdles, hips_at);
     rf_rig_girdle_set_free(&girdles);
-    if (g != RF_RIG_NONE && k->parent[g] >= 0 && !rf_rig_reroot(k, g))
-        ok = rf_rig_fail(err, err_size, "out of memory re-rooting the skeleton");
-    if (!ok)
-        rf_rig_skel_free(k);
-    return ok;
+    if (g == RF_RIG_NONE || k->parent[g] < 0 || rf_rig_reroot(k, g))
+        return RF_RIG_OK;
+no_memory:
+    rf_rig_girdle_set_free(&girdles);
+    rf_rig_skel_free(k);
+    return rf_rig_oom(err, err_size, "out of memory %s", doing);
 }
 
 bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *k,
@@ -1504,11 +1515,11 @@ static bool rf_rig_general_framed(const rf_mesh *mesh, const rf_rig_options *opt
     *skeleton = NULL, *skinned = NULL;
     rf_rig_prep p;
     rf_rig_skel k = {0};
-    if (!rf_rig_prepare(mesh, &o, &p, st, err, err_size))
+    if (rf_rig_prepare(mesh, &o, &p, st, err, err_size) != RF_RIG_OK)
         return false;
     if (progress)
         progress(user, 0.1);
-    bool ok = rf_rig_curve(&p, &o, &k, err, err_size);
+    bool ok = rf_rig_curve(&p, &o, &k, err, err_size) == RF_RIG_OK;
     if (ok && !rf_rig_general_place(&p, &k, &o, NULL, NULL))
         ok = rf_rig_fail(err, err_size, "out of memory laying out the limbs");
     if (ok && progress)
@@ -1738,7 +1749,7 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
         ok = rf_rig_fail(err, err_size, "out of memory");
     if (ok && !k.n)
         ok = rf_rig_fail(err, err_size, "the skeleton has no joint that may carry weights");
-    ok = ok && (prepared = rf_rig_prepare(mesh, &o, &p, st, err, err_size));
+    ok = ok && (prepared = rf_rig_prepare(mesh, &o, &p, st, err, err_size) == RF_RIG_OK);
     /* Artists' leaf joints (a head, a hand, a tail's last joint) move the part of the mesh
      * beyond them, along a bone whose end most formats do not store; heated as points they lost
      * that part to their parent's bone. Given an end along their bone's axis, they keep it. */

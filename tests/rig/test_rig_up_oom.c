@@ -147,11 +147,11 @@ static void frame_fails_or_turns(void **state)
 /* The general rigger's curve skeleton (rf_rig_curve) grows its first pass twice (the grid
  * scanned as it lies and turned half round about up) and keeps the one rooted nearer the body's
  * middle, looks for the girdles where the feet meet, grows a second pass from there and roots
- * the skeleton at the hips. An allocation failing in any of these steps says so (false, "out of
- * memory..."): never keeps the other pass in silence, which can root the skeleton at the body's
- * other end (read facing back), nor reads girdles not looked for as none, which grows the second
- * pass from the thickest point instead of the hips. Every allocation fails in turn, until a run
- * needs no more. Those of the skeleton analysis (sdk/analysis) are the exception: it falls back
+ * the skeleton at the hips. An allocation failing in any of these steps says so (RF_RIG_NO_MEMORY,
+ * "out of memory..."): never keeps the other pass in silence, which can root the skeleton at the
+ * body's other end (read facing back), nor reads girdles not looked for as none, which grows the
+ * second pass from the thickest point instead of the hips. Every allocation fails in turn, until a
+ * run needs no more. Those of the skeleton analysis (sdk/analysis) are the exception: it falls back
  * to defaults when its own allocations fail, and the up it then reads may move the girdles; its
  * allocations that fail leave the skeleton as it was on this body. */
 static bool same_skel(const rf_rig_skel *a, const rf_rig_skel *b)
@@ -170,19 +170,21 @@ static void curve_fails_or_same(void **state)
         rf_rig_prep p;
         rf_rig_stats st;
         char err[256];
-        assert_true(rf_rig_prepare(m, &o, &p, &st, err, sizeof err));
+        assert_int_equal(rf_rig_prepare(m, &o, &p, &st, err, sizeof err), RF_RIG_OK);
         rf_rig_skel want = {0};
-        assert_true(rf_rig_curve(&p, &o, &want, err, sizeof err));
+        assert_int_equal(rf_rig_curve(&p, &o, &want, err, sizeof err), RF_RIG_OK);
         long k, failed = 0, other = 0;
         for (k = 0;; k++) {
             rf_rig_skel got = {0};
             err[0] = '\0';
             calls = 0, fail_at = k;
-            bool ok = rf_rig_curve(&p, &o, &got, err, sizeof err);
+            rf_rig_status status = rf_rig_curve(&p, &o, &got, err, sizeof err);
             fail_at = -1;
+            bool ok = status == RF_RIG_OK;
             failed += !ok;
-            if (!ok && strncmp(err, "out of memory", 13) != 0)
-                fail_msg("turned %d quarters, allocation %ld failing: '%s'", turn, k, err);
+            if (!ok && (status != RF_RIG_NO_MEMORY || strncmp(err, "out of memory", 13) != 0))
+                fail_msg("turned %d quarters, allocation %ld failing: status %d, '%s'", turn, k,
+                         (int)status, err);
             if (ok && !same_skel(&got, &want))
                 print_message("# turned %d quarters, allocation %ld failing: another skeleton, "
                               "not out of memory\n",
@@ -202,10 +204,65 @@ static void curve_fails_or_same(void **state)
     }
 }
 
+/* Cleaning the mesh (rf_rig_prepare), as it is and through the simplifier (a proxy asked above
+ * 40 triangles; the boxes keep their 84): each allocation failing in turn gives
+ * RF_RIG_NO_MEMORY, never a refusal (a body of nothing but specks, say, when its loose parts
+ * were not counted), or the same proxy. Bad input is refused (RF_RIG_REFUSED), which no lack of
+ * memory is. */
+static void prepare_fails_or_cleans(void **state)
+{
+    (void)state;
+    static const uint32_t proxy[2] = {0, 40};
+    for (int i = 0; i < 2; i++) {
+        const rf_mesh *m = creature(false, 0.5);
+        rf_rig_options set = {.proxy_triangles = proxy[i]};
+        rf_rig_options o = rf_rig_defaults(&set);
+        rf_rig_prep want, got;
+        rf_rig_stats st;
+        char err[256];
+        assert_int_equal(rf_rig_prepare(m, &o, &want, &st, err, sizeof err), RF_RIG_OK);
+        long k, failed = 0;
+        for (k = 0;; k++) {
+            calls = 0, fail_at = k;
+            rf_rig_status status = rf_rig_prepare(m, &o, &got, &st, err, sizeof err);
+            fail_at = -1;
+            if (status != RF_RIG_OK && status != RF_RIG_NO_MEMORY)
+                fail_msg("proxy %u, allocation %ld failing: status %d, '%s'", proxy[i], k,
+                         (int)status, err);
+            failed += status == RF_RIG_NO_MEMORY;
+            if (status == RF_RIG_OK &&
+                (got.proxy.nv != want.proxy.nv || got.proxy.nt != want.proxy.nt ||
+                 memcmp(got.proxy.p, want.proxy.p, (size_t)want.proxy.nv * 3 * sizeof(double))))
+                fail_msg("proxy %u, allocation %ld failing: another proxy", proxy[i], k);
+            bool done = status == RF_RIG_OK && calls <= k;
+            rf_rig_prep_free(&got);
+            if (done)
+                break;
+        }
+        print_message("# cleaning, proxy above %u triangles (0: the default; %u made): %ld "
+                      "allocations, each failing once: out of memory said %ld times\n",
+                      proxy[i], want.proxy.nt, k, failed);
+        assert_int_equal(failed, k);
+        rf_rig_prep_free(&want);
+    }
+    rf_rig_options o = rf_rig_defaults(NULL);
+    rf_rig_prep p;
+    rf_rig_stats st;
+    char err[256];
+    rf_mesh empty = {0}, flat = *creature(false, 0);
+    for (uint32_t v = 0; v < flat.vertex_count; v++)
+        flat.positions[v * 3 + 1] = 0; /* every box pressed onto the floor */
+    assert_int_equal(rf_rig_prepare(&empty, &o, &p, &st, err, sizeof err), RF_RIG_REFUSED);
+    print_message("# empty: %s\n", err);
+    assert_int_equal(rf_rig_prepare(&flat, &o, &p, &st, err, sizeof err), RF_RIG_REFUSED);
+    print_message("# flat: %s\n", err);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(support_fails_or_measures), cmocka_unit_test(frame_fails_or_finds),
-        cmocka_unit_test(frame_fails_or_turns), cmocka_unit_test(curve_fails_or_same)};
+        cmocka_unit_test(frame_fails_or_turns), cmocka_unit_test(curve_fails_or_same),
+        cmocka_unit_test(prepare_fails_or_cleans)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
