@@ -266,8 +266,8 @@ bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
 
 /* Head joint h of k moved down its bone to where the trunk enters the head's bulk, when the
  * bone rises within 45 degrees of `up` (rig.c; the general rigger's first head joint, the
- * template's Head). */
-void rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 up, rf_vec3 fwd);
+ * template's Head). False when out of memory (h unmoved). */
+bool rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 up, rf_vec3 fwd);
 
 /* The template laid into curve skeleton k of the cleaned mesh p, as a working skeleton into
  * *out (names into names[joint], 24 bytes each, up to 40 joints), with the layouts given

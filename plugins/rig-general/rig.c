@@ -701,18 +701,19 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
 /* A body carried level (a quadruped, a lizard, a bird in flight) has its spine along its back,
  * not through the middle where the curve skeleton runs: its spine joints (by the skeleton
  * analysis) move to RF_RIG_DORSAL of the body's depth from the belly along up. A trunk that
- * stands (a biped) is left. */
+ * stands (a biped) is left. False when out of memory. */
 #define RF_RIG_DORSAL 0.66
-static void rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
+static bool rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
-        return;
+        return false;
     s->up = o->up, s->forward = o->forward;
     rf_analysis *a = rf_analyze(s, NULL);
     uint8_t *spine = calloc(k->n + 1, 1);
+    bool ok = a && spine;
     int32_t first = -1, last = -1;
-    for (uint32_t j = 0; a && spine && j < k->n; j++) {
+    for (uint32_t j = 0; ok && j < k->n; j++) {
         int32_t sec = a->joints[j].section;
         if (sec < 0 || a->sections[sec].type != RF_SECTION_SPINE)
             continue;
@@ -727,6 +728,7 @@ static void rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
     free(spine);
     rf_analysis_free(a);
     rf_skeleton_free(s);
+    return ok;
 }
 
 /* The narrower of the body's two diameters across `up` at q (along `fwd` and to the side),
@@ -752,13 +754,13 @@ static double rf_rig_girth(const rf_rig_surface *sf, const double q[3], rf_vec3 
  * RF_RIG_NECK_GIRTH of the girth at the joint, when its bone from its parent rises within 45
  * degrees of up and that point lies between a fifth and nine tenths of the bone from its
  * parent (a neck narrower than the head below the joint: nothing moves). */
-void rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 up, rf_vec3 fwd)
+bool rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 up, rf_vec3 fwd)
 {
-    rf_rig_surface *sf = h < k->n && k->parent[h] >= 0 && rf_v3_len(rf_v3_cross(up, fwd)) > 0.5
-                             ? rf_rig_surface_make(&p->proxy)
-                             : NULL;
+    if (!(h < k->n && k->parent[h] >= 0 && rf_v3_len(rf_v3_cross(up, fwd)) > 0.5))
+        return true;
+    rf_rig_surface *sf = rf_rig_surface_make(&p->proxy);
     if (!sf)
-        return;
+        return false;
     double *q = k->pos + (size_t)h * 3, *b = k->pos + (size_t)k->parent[h] * 3;
     double d[3] = {q[0] - b[0], q[1] - b[1], q[2] - b[2]};
     double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -778,6 +780,7 @@ void rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 
         for (int c = 0; c < 3; c++)
             q[c] = b[c] + t * d[c];
     rf_rig_surface_free(sf);
+    return true;
 }
 
 /* An upright body's head chain starts where the trunk enters the head's bulk: the curve
@@ -785,24 +788,25 @@ void rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 
  * robot's head box starts 0.4 below it), and the clip's neck then turned the head about a
  * pivot in its middle. The first joint of the analysis's head section moves down its bone
  * (rf_rig_head_base). */
-static void rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
+static bool rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
-        return;
+        return false;
     s->up = o->up, s->forward = o->forward;
     rf_analysis *a = rf_analyze(s, NULL);
+    bool ok = a != NULL;
     int32_t h = -1;
     for (uint32_t j = 0; a && j < k->n && h < 0; j++) {
         int32_t sec = a->joints[j].section;
         if (sec >= 0 && a->sections[sec].type == RF_SECTION_HEAD && k->parent[j] >= 0)
             h = (int32_t)j;
     }
-    rf_vec3 up = a ? a->up : rf_v3(0, 1, 0), fwd = a ? a->forward : rf_v3(0, 0, 1);
-    if (h >= 0)
-        rf_rig_head_base(p, k, (uint32_t)h, up, fwd);
+    if (ok && h >= 0)
+        ok = rf_rig_head_base(p, k, (uint32_t)h, a->up, a->forward);
     rf_analysis_free(a);
     rf_skeleton_free(s);
+    return ok;
 }
 
 /* ---- a head piece turns whole ---- */
@@ -1488,9 +1492,7 @@ bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
                                              quadruped ? quadruped : &rf_rig_tpl_quadruped};
     if (!rf_rig_limbs(p, k, o, lay))
         return false;
-    rf_rig_dorsal(p, k, o);
-    rf_rig_neck(p, k, o);
-    if (!rf_rig_head_whole(p, k, o))
+    if (!rf_rig_dorsal(p, k, o) || !rf_rig_neck(p, k, o) || !rf_rig_head_whole(p, k, o))
         return false;
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
