@@ -1,12 +1,13 @@
-/* The up of a body whose file declares none, and the rigger's frame, when memory runs out:
- * rf_rig_support and rf_rig_frame_enter (the body's up from its standing margins and its curve
- * skeleton; the footprint's box the frame follows) are run with their k-th allocation failing,
- * for every k until they need no more, on a box quadruped saved Z-up and on one declaring +y
- * up, turned. Each run either says it ran out (false) or gives the up and the frame it gives
- * with memory to spare (a failure inside the skeleton analysis, which falls back to defaults
- * where its own allocations fail, may move its confidence only): a failed allocation is never read
- * as "no footprint" or "no up", which would rig the body lying, or in another frame, without saying
- * why. */
+/* The general rigger when memory runs out: its steps are run with their k-th allocation
+ * failing, for every k until they need no more, on a box quadruped (boxes.h). The up of a body
+ * whose file declares none and the rigger's frame (rf_rig_support and rf_rig_frame_enter: the
+ * body's up from its standing margins and its curve skeleton; the footprint's box the frame
+ * follows), on the body saved Z-up and on one declaring +y up, turned: each run either says it
+ * ran out (false) or gives the up and the frame it gives with memory to spare (a failure inside
+ * the skeleton analysis, which falls back to defaults where its own allocations fail, may move
+ * its confidence only); a failed allocation is never read as "no footprint" or "no up", which
+ * would rig the body lying, or in another frame, without saying why. Then the curve skeleton
+ * (rf_rig_curve), the clean-up (rf_rig_prepare) and the rigger as a whole (rf_rig_general). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
