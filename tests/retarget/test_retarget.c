@@ -376,6 +376,56 @@ static void root_scaled_by_hip_height(void **state)
     rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* `b` under a new root "base" at the origin (joint 0; b's joints follow, one index on). */
+static rf_skeleton *on_base(const rf_skeleton *b)
+{
+    rf_skeleton *s = rf_skeleton_new(b->joint_count + 1);
+    fx_joint(s, 0, "base", -1, rf_v3(0, 0, 0), rf_quat_identity());
+    for (uint32_t j = 0; j < b->joint_count; j++) {
+        const rf_joint *o = &b->joints[j];
+        fx_joint(s, j + 1, o->name, o->parent + 1, o->rest.t, o->rest.r);
+        s->joints[j + 1].flags = o->flags, s->joints[j + 1].end_site = o->end_site;
+    }
+    return s;
+}
+
+/* A source root its clip holds still while the hips' own translation walks (the Bandai files'
+ * root on the floor), mapped onto the target's root as a matcher may: it drives nothing, and
+ * the hips' walk is root motion, scaled by the legs and dropped by in_place. Driven by the still
+ * root, the target's root stayed and its hips walked in their own translation, in place too. */
+static void still_source_root_drives_nothing(void **state)
+{
+    (void)state;
+    rf_skeleton *b1 = biped(1, 0.5, 0.45), *b2 = biped(0.5, 0.5, 0.45);
+    rf_skeleton *src = on_base(b1), *tgt = on_base(b2);
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_animation_set_translation(clip, 1, 1, rf_v3(2, 1.1, 0));
+    clip->channels[0] |= RF_CHANNEL_TRANSLATION, clip->channels[1] |= RF_CHANNEL_TRANSLATION;
+    rf_mapping *m = fx_mapping(10, 1);
+    fx_map_same(m, 10);
+    rf_retarget_options o = opts();
+    o.in_place = true;
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_xform w0[10], w1[10];
+    fx_world(tgt, r.out, 0, w0);
+    fx_world(tgt, r.out, 1, w1);
+    /* In place: the hips stay over where they stood, and every joint keeps to its rest's
+     * distance from them (nothing left behind). */
+    print_message("in place: hips moved (%.4f, %.4f, %.4f)\n", w1[1].t.x - w0[1].t.x,
+                  w1[1].t.y - w0[1].t.y, w1[1].t.z - w0[1].t.z);
+    assert_true(fabs(w1[1].t.x - w0[1].t.x) < 1e-6 && fabs(w1[1].t.z - w0[1].t.z) < 1e-6);
+    run_free(&r);
+    /* With root motion: 2 forward at the legs' ratio (hip heights 1 and 0.5) is 1. */
+    o.in_place = false;
+    r = do_run(src, clip, tgt, m, &o);
+    fx_world(tgt, r.out, 0, w0);
+    fx_world(tgt, r.out, 1, w1);
+    assert_true(fabs(w1[1].t.x - w0[1].t.x - 1) < 1e-6 && fabs(w1[1].t.z - w0[1].t.z) < 1e-6);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip);
+    rf_skeleton_free(src), rf_skeleton_free(tgt), rf_skeleton_free(b1), rf_skeleton_free(b2);
+}
+
 /* A target standing on a floor below the origin keeps its feet there. */
 static void target_stays_on_its_floor(void **state)
 {
@@ -1010,6 +1060,44 @@ static rf_mesh *boxes_mesh(uint32_t boxes)
     return m;
 }
 
+/* A body without legs is put on its mesh's floor frame by frame (rt_mesh_rest_each); a mesh
+ * whose lowest point is no number (here every position NaN) gives no floor, and the clip is
+ * left where it was, as the median frame's placement leaves it, not refused as "out of
+ * memory". The target is the biped's hips, spine and head, driven by the source's. */
+static void mesh_floor_without_number(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = rf_skeleton_new(3);
+    fx_joint(tgt, 0, "hips", -1, rf_v3(0, 1, 0), rf_quat_identity());
+    fx_joint(tgt, 1, "spine", 0, rf_v3(0, 0.1, 0), rf_quat_identity());
+    fx_joint(tgt, 2, "head", 1, rf_v3(0, 0.5, 0), rf_quat_identity());
+    fx_end_site(tgt, 2, rf_v3(0, 0.2, 0));
+    rf_animation *clip = fx_rest_clip(src, 20, 30);
+    for (uint32_t f = 0; f < 20; f++)
+        rf_animation_set_rotation(clip, f, 7, fx_rot(X, f));
+    rf_mapping *m = fx_mapping(3, 1);
+    fx_map(m, 0, 0, 0, 1, 0, 0), fx_map(m, 1, 0, 7, 1, 0, 0), fx_map(m, 2, 0, 8, 1, 0, 0);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_mesh *mesh = boxes_mesh(1);
+    add_box(mesh, 0, 2, 0);
+    for (uint32_t i = 0; i < mesh->vertex_count * 3; i++)
+        mesh->positions[i] = NAN;
+    size_t size = (size_t)r.out->frame_count * r.out->joint_count * 3 * sizeof(float);
+    float *before = malloc(size);
+    memcpy(before, r.out->translations, size);
+    char err[256] = "";
+    bool ok = rf_retarget_mesh_floor(r.rt, r.out, mesh, NULL, err, sizeof err);
+    if (!ok)
+        print_message("refused: %s\n", err);
+    assert_true(ok);
+    assert_memory_equal(before, r.out->translations, size);
+    free(before);
+    rf_mesh_free(mesh);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 /* One box torn off and the rest still: 100 boxes held by joint 1, and a last one whose top
  * corners joint 1 holds and whose bottom ones joint 2 (1 under joint 1) holds, pulled 2 down in
  * every frame of the clip. The torn box's vertical edges grow from 2 to 4 (stretch 1.0 exactly)
@@ -1443,6 +1531,8 @@ int main(void)
         cmocka_unit_test(level_keeps_turn_limits_tilt),
         cmocka_unit_test(bad_inputs_refused),
         cmocka_unit_test(huge_clip_refused),
+        cmocka_unit_test(still_source_root_drives_nothing),
+        cmocka_unit_test(mesh_floor_without_number),
     };
     return cmocka_run_group_tests_name("retarget", tests, NULL, NULL);
 }
