@@ -408,9 +408,6 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
 
 /* ---- leg lengths and floors ---- */
 
-/* Lowest height along up of the joints of `s` posed in `world` and of their tips; unweighted
- * helpers (IK targets, sockets) and the joints in `above` (placement roots above the hips, may
- * be NULL) do not count. */
 bool rf_rt_weights_known(const rf_skeleton *s)
 {
     uint32_t weighted = 0;
@@ -427,36 +424,40 @@ static bool rt_skin_says(const rf_skeleton *s)
     return RF_HAS_FIELD(s, rf_skeleton, bind) && s->bind && rf_rt_weights_known(s);
 }
 
+bool rf_rt_span(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
+                const uint8_t *skip, bool weighted, double *low, double *high)
+{
+    *low = INFINITY, *high = -INFINITY;
+    bool known = weighted && rf_rt_weights_known(s);
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        if ((known && (s->joints[j].flags & RF_JOINT_UNWEIGHTED)) || (skip && skip[j]))
+            continue;
+        double h = rf_rt_height(up, world[j].t);
+        *low = fmin(*low, h), *high = fmax(*high, h);
+        if (rf_v3_len2(tip[j]) > 0) {
+            h = rf_rt_height(up, rf_xform_point(world[j], tip[j]));
+            *low = fmin(*low, h), *high = fmax(*high, h);
+        }
+    }
+    return isfinite(*low) && isfinite(*high);
+}
+
+/* Lowest height along up of the joints of `s` posed in `world` and of their tips; unweighted
+ * helpers (IK targets, sockets) and the joints in `above` (placement roots above the hips, may
+ * be NULL) do not count (0 when none does). */
 static double rt_lowest(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
                         const uint8_t *above)
 {
-    double low = INFINITY;
-    bool known = rf_rt_weights_known(s);
-    for (uint32_t j = 0; j < s->joint_count; j++) {
-        if ((known && (s->joints[j].flags & RF_JOINT_UNWEIGHTED)) || (above && above[j]))
-            continue;
-        low = fmin(low, rf_rt_height(up, world[j].t));
-        if (rf_v3_len2(tip[j]) > 0)
-            low = fmin(low, rf_rt_height(up, rf_xform_point(world[j], tip[j])));
-    }
-    return isfinite(low) ? low : 0;
+    double low, high;
+    return rf_rt_span(s, world, tip, up, above, true, &low, &high) ? low : 0;
 }
 
-/* The height of a rest from its lowest point to its highest (joints and bone tips, as
- * rt_lowest counts them). */
+/* The height of a rest from its lowest point to its highest (joints and bone tips). */
 static double rt_extent(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
                         const uint8_t *above)
 {
-    double high = -INFINITY;
-    bool known = rf_rt_weights_known(s);
-    for (uint32_t j = 0; j < s->joint_count; j++) {
-        if ((known && (s->joints[j].flags & RF_JOINT_UNWEIGHTED)) || (above && above[j]))
-            continue;
-        high = fmax(high, rf_rt_height(up, world[j].t));
-        if (rf_v3_len2(tip[j]) > 0)
-            high = fmax(high, rf_rt_height(up, rf_xform_point(world[j], tip[j])));
-    }
-    return isfinite(high) ? high - rt_lowest(s, world, tip, up, above) : 0;
+    double low, high;
+    return rf_rt_span(s, world, tip, up, above, true, &low, &high) ? high - low : 0;
 }
 
 /* Whether joint j has children (parents given per joint). */

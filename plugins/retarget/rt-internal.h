@@ -236,6 +236,13 @@ bool rf_rt_ground_fix(rf_retarget *rt, rf_animation *out);
  * quarter of the joints (a node tree with a mesh hung on one or two nodes) says nothing, and
  * every joint then counts. */
 bool rf_rt_weights_known(const rf_skeleton *s);
+/* The lowest and highest points of a pose along up, into *low and *high: each counted joint's
+ * pivot and bone tip (tip[j] in j's frame; a zero tip is none). A joint counts unless `skip`
+ * (may be NULL) marks it or, with `weighted` and a skin that says which joints carry it
+ * (rf_rt_weights_known), it carries none. False, *low INFINITY and *high -INFINITY, when no
+ * joint counts. One walk for the floors, the legs' and bodies' heights and the reaches. */
+bool rf_rt_span(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
+                const uint8_t *skip, bool weighted, double *low, double *high);
 /* With the target's skinned mesh its floor is measured (its lowest vertex at rest), not taken
  * from a convention; each source's floor is then measured too: where it stands in its clip
  * (the 5th percentile of its lowest points), not its rest's origin plane. CMU's BVH hangs its

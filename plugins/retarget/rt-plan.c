@@ -668,19 +668,6 @@ static bool rt_alloc_frame(rf_retarget *rt)
     return true;
 }
 
-/* The height of the lowest and highest of a rest's joints and bone tips along up. */
-static void rt_rest_span(const rf_xform *world, const rf_vec3 *tip, uint32_t n, rf_vec3 up,
-                         double *low, double *high)
-{
-    *low = INFINITY, *high = -INFINITY;
-    for (uint32_t j = 0; j < n; j++) {
-        double h = rf_rt_height(up, world[j].t);
-        if (rf_v3_len2(tip[j]) > 0)
-            h = fmin(h, rf_rt_height(up, rf_xform_point(world[j], tip[j])));
-        *low = fmin(*low, h), *high = fmax(*high, rf_rt_height(up, world[j].t));
-    }
-}
-
 /* A limb that cannot hang as its source's does: off the centerline, driven by a source joint in
  * the upper half of its source (an arm, not a leg), reaching from its root more than RT_HANG
  * times its root's height over the target's lowest point (a dragon's wing, three times its
@@ -692,7 +679,7 @@ static void rt_rest_span(const rf_xform *world, const rf_vec3 *tip, uint32_t n, 
 static void rt_rigid_limbs(rf_retarget *rt)
 {
     double low, high;
-    rt_rest_span(rt->t_rest_world, rt->t_tip, rt->n, rt->up, &low, &high);
+    rf_rt_span(rt->target, rt->t_rest_world, rt->t_tip, rt->up, NULL, false, &low, &high);
     for (uint32_t r = 0; r < rt->n; r++) {
         const rf_rt_tjoint *tr = &rt->tj[r];
         int32_t lp = rt->lparent[r];
@@ -701,7 +688,7 @@ static void rt_rigid_limbs(rf_retarget *rt)
         const rf_rt_input *in = &rt->in[tr->first_input];
         const rf_rt_src *src = &rt->src[in->source];
         double slow, shigh;
-        rt_rest_span(src->rest_world, src->tip, src->n, src->up, &slow, &shigh);
+        rf_rt_span(src->skel, src->rest_world, src->tip, src->up, NULL, false, &slow, &shigh);
         if (rf_rt_height(src->up, src->rest_world[in->joint].t) < 0.5 * (slow + shigh))
             continue; /* a leg */
         rf_vec3 o = rt->t_rest_world[r].t;
