@@ -89,6 +89,7 @@ static bool rt_degenerate(const rf_skeleton *s, const rf_xform *world)
 typedef struct rt_axes {
     rf_vec3 up, forward, left, center;
     double size;
+    rf_vec3 own_up;      /* the analysis's up (from the limbs), whatever the file states */
     uint8_t *centerline; /* [n] or NULL: joints the analysis puts on the centerline */
     int32_t *logical;    /* [n] or NULL: parents in the analysed tree (a part hanging from a
                           * placement root or a root of its own, attached where it sits) */
@@ -129,6 +130,7 @@ static bool rt_analyse(const rf_skeleton *s, const rf_xform *local, const rf_xfo
     axes->left = rf_v3_normalize(rf_v3_cross(axes->up, fwd));
     axes->center = a->plane_point;
     axes->size = a->size > 0 ? a->size : 1;
+    axes->own_up = a->up;
     for (uint32_t j = 0; axes->centerline && j < s->joint_count; j++)
         axes->centerline[j] = a->joints[j].side == RF_SIDE_CENTER;
     for (uint32_t j = 0; axes->logical && j < s->joint_count; j++)
@@ -297,8 +299,8 @@ static bool rt_body_analyse(rf_retarget *rt, rt_body_view *v, uint32_t count, rt
         rt->t_logical[j] = logical[k] >= 0 ? (int32_t)v->from[logical[k]] : RF_RT_NONE;
     }
     if (ok)
-        *axes = (rt_axes){ba.up,   ba.forward,       ba.left,      ba.center,
-                          ba.size, axes->centerline, axes->logical};
+        *axes = (rt_axes){ba.up,     ba.forward,      ba.left,      ba.center,
+                          ba.size,   ba.own_up,       axes->centerline, axes->logical};
     free(logical), free(tip), free(center);
     return ok;
 }
@@ -394,7 +396,7 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
         return false;
     }
     rt->up = axes.up, rt->forward = axes.forward, rt->left = axes.left;
-    rt->center = axes.center, rt->size = axes.size;
+    rt->center = axes.center, rt->size = axes.size, rt->t_own_up = axes.own_up;
     rt->t_degenerate = rt_degenerate(t, rt->t_rest_world);
     if (rt->t_degenerate && rf_v3_len2(t->up) < 0.5) {
         /* An analysis of a pose that is no body finds no up: the target will stand as the source

@@ -177,6 +177,8 @@ struct rf_retarget {
     bool level_flat;        /* the target stands on legs driven half a cycle later too
                              * (RF_RT_IN_PHASE): its levelled centerline takes no lean */
     double size;            /* extent of the target's rest (tolerances) */
+    rf_vec3 t_own_up;       /* the analysis's up of the target's rest (from its limbs), which a
+                             * rest lying across the file's up does not share */
     rf_xform *t_rest_world; /* [n] the target's rest */
     rf_vec3 *t_tip;         /* [n] target bone tips in the joint's local frame, zero when none */
     rf_vec3 *t_hull;        /* [n][RF_RT_HULL] with a skinned mesh (rf_retarget_mesh_floor): the

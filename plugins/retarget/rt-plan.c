@@ -678,8 +678,16 @@ static bool rt_alloc_frame(rf_retarget *rt)
 
 static void rt_rigid_limbs(rf_retarget *rt)
 {
+    /* A rest lying across its up (its own up, the analysis's from its limbs, more than 45
+     * degrees off the one it is retargeted along) is measured along its own: lying on its back,
+     * a human's shoulders stand no more than the body's thickness over its lowest point, and its
+     * arms, reaching many times that, were held whole as wings; standing as its source has it
+     * stand, they hang. */
+    rf_vec3 up = rt->up;
+    if (rf_v3_len2(rt->t_own_up) > 0.5 && rf_v3_dot(rt->t_own_up, rt->up) < sqrt(0.5))
+        up = rf_v3_normalize(rt->t_own_up);
     double low, high;
-    rf_rt_span(rt->target, rt->t_rest_world, rt->t_tip, rt->up, NULL, false, &low, &high);
+    rf_rt_span(rt->target, rt->t_rest_world, rt->t_tip, up, NULL, false, &low, &high);
     for (uint32_t r = 0; r < rt->n; r++) {
         const rf_rt_tjoint *tr = &rt->tj[r];
         int32_t lp = rt->lparent[r];
@@ -701,7 +709,7 @@ static void rt_rigid_limbs(rf_retarget *rt)
                 reach =
                     fmax(reach, rf_v3_dist(rf_xform_point(rt->t_rest_world[c], rt->t_tip[c]), o));
         }
-        if (!(reach > RT_HANG * (rf_rt_height(rt->up, o) - low)))
+        if (!(reach > RT_HANG * (rf_rt_height(up, o) - low)))
             continue;
         for (uint32_t c = r + 1; c < rt->n; c++)
             if (rf_rt_carries(rt->target, (int32_t)r, c))

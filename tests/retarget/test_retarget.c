@@ -426,6 +426,54 @@ static void still_source_root_drives_nothing(void **state)
     rf_skeleton_free(src), rf_skeleton_free(tgt), rf_skeleton_free(b1), rf_skeleton_free(b2);
 }
 
+/* The biped with arms along x from its spine: shoulders, elbows and wrists (15 joints). */
+static rf_skeleton *biped_arms(void)
+{
+    rf_skeleton *b = biped(1, 0.5, 0.45), *s = rf_skeleton_new(15);
+    for (uint32_t j = 0; j < 9; j++) {
+        const rf_joint *o = &b->joints[j];
+        fx_joint(s, j, o->name, o->parent, o->rest.t, o->rest.r);
+        s->joints[j].flags = o->flags, s->joints[j].end_site = o->end_site;
+    }
+    rf_skeleton_free(b);
+    static const char *names[2][3] = {{"lshoulder", "lelbow", "lwrist"},
+                                      {"rshoulder", "relbow", "rwrist"}};
+    for (uint32_t k = 0; k < 2; k++) {
+        double x = k ? -1 : 1;
+        uint32_t j = 9 + 3 * k;
+        fx_joint(s, j, names[k][0], 7, rf_v3(0.1 * x, 0.4, 0), rf_quat_identity());
+        fx_joint(s, j + 1, names[k][1], (int32_t)j, rf_v3(0.25 * x, 0, 0), rf_quat_identity());
+        fx_joint(s, j + 2, names[k][2], (int32_t)j + 1, rf_v3(0.25 * x, 0, 0),
+                 rf_quat_identity());
+        fx_end_site(s, j + 2, rf_v3(0.1 * x, 0, 0));
+    }
+    return s;
+}
+
+/* A target whose rest lies on its back (the same body turned a quarter about x, hips a little
+ * over the floor) keeps its arms driven: lying, the shoulders stand a body's thickness over
+ * the lowest point, but the arms hang from them once the body stands as its source does. */
+static void lying_rest_keeps_arms(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped_arms(), *tgt = biped_arms();
+    tgt->joints[0].rest.t = rf_v3(0, 0.2, 0);
+    tgt->joints[0].rest.r = fx_rot(X, -90);
+    tgt->up = Y;
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_mapping *m = fx_mapping(15, 1);
+    fx_map_same(m, 15);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    for (uint32_t j = 9; j < 15; j++)
+        print_message("%s: %s\n", tgt->joints[j].name,
+                      r.rt->tj[j].kind == RF_RT_MAPPED ? "driven" : "held");
+    for (uint32_t j = 9; j < 15; j++)
+        assert_int_equal(r.rt->tj[j].kind, RF_RT_MAPPED);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 /* A target standing on a floor below the origin keeps its feet there. */
 static void target_stays_on_its_floor(void **state)
 {
@@ -1533,6 +1581,7 @@ int main(void)
         cmocka_unit_test(huge_clip_refused),
         cmocka_unit_test(still_source_root_drives_nothing),
         cmocka_unit_test(mesh_floor_without_number),
+        cmocka_unit_test(lying_rest_keeps_arms),
     };
     return cmocka_run_group_tests_name("retarget", tests, NULL, NULL);
 }
