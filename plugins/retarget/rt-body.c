@@ -410,6 +410,12 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
 
 /* ---- leg lengths and floors ---- */
 
+/* A body standing on its trunk: hips no higher than this fraction of the rest's height over its
+ * lowest point (a body without legs, or on stubs beside its bottom); a body on legs stands
+ * with its hips higher. */
+#define RT_TRUNK_HIPS 0.25
+
+
 bool rf_rt_weights_known(const rf_skeleton *s)
 {
     uint32_t weighted = 0;
@@ -611,6 +617,8 @@ static bool rt_source_ground(rf_retarget *rt, uint32_t k)
     double lowest = rt_lowest(src->skel, src->rest_world, src->tip, src->up, src->above);
     src->leg = rt_own_leg(src, h, lowest);
     src->lowest = lowest;
+    src->on_legs = rf_rt_height(src->up, src->rest_world[h].t) - lowest >=
+                   RT_TRUNK_HIPS * rt_extent(src->skel, src->rest_world, src->tip, src->up, src->above);
     double clip = rt->opt.ground == RF_RT_GROUND_WORLD ? 0 : rt_clip_floor(rt, k, src->above);
     src->floor = src->stand = clip;
     if (rt->opt.ground != RF_RT_GROUND_AUTO)
@@ -743,6 +751,7 @@ static bool rt_target_leg(rf_retarget *rt, double *leg)
     }
     int32_t hip = rt_target_hip(rt);
     uint32_t h = rt_hip_below(rt->target, rt->lparent, hip >= 0 ? (uint32_t)hip : 0);
+    rt->t_hip = h;
     rt_mark_above(rt->target, h, rt->t_above);
     uint8_t *skip = rt_phase_aside(rt);
     double lowest = rt_lowest(rt->target, world, rt->t_tip, rt->up, skip ? skip : rt->t_above);
@@ -754,6 +763,36 @@ static bool rt_target_leg(rf_retarget *rt, double *leg)
         rt->t_aligned[j] = world[j].t;
     free(rot), free(srot), free(poses), free(world);
     return rt->t_aligned && rt->w0;
+}
+
+/* An upright body standing on its trunk (greenman, legless or on stubs at its sides: hips under
+ * a quarter of its height over its lowest point at rest) takes a source's lean eased as a body
+ * of another plan does ("Body plans"), when the source stands on legs: a human leans its trunk
+ * 30-60 degrees in a crouch and balances it over legs bent back; laid on a trunk standing on the
+ * floor, the lean tipped the whole body forward, 54 degrees at most under CMU 01_01's jumps. The
+ * top mapped centerline joints (the trunk, carrying the body) are eased; the centerline above
+ * keeps its source's turns (eased too, greenman's auto-rig's worst part read 87.8% of its
+ * height for 86.5). Their inputs are flagged RF_RT_IN_LEVEL after the plan (the aligned rest is
+ * the same either way: at the source's rest there is no lean), and the frame's fast paths are
+ * chosen again. */
+static bool rt_trunk_lean(rf_retarget *rt, double lowest)
+{
+    if (rt->plan_differs || rt->t_degenerate || rt->t_hip >= rt->n || !rt->src[0].on_legs)
+        return true; /* a source on its trunk too leans as such a body does */
+    double height = rt_extent(rt->target, rt->t_rest_world, rt->t_tip, rt->up, rt->t_above);
+    double hips = rf_rt_height(rt->up, rt->t_rest_world[rt->t_hip].t) - lowest;
+    if (!(height > 0) || !(hips < RT_TRUNK_HIPS * height))
+        return true;
+    bool any = false;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        const rf_rt_tjoint *tj = &rt->tj[j];
+        for (uint32_t i = 0; rt->t_centerline[j] && tj->root_motion && i < tj->input_count; i++)
+            rt->in[tj->first_input + i].flags |= RF_RT_IN_LEVEL, any = true;
+    }
+    if (!any)
+        return true;
+    free(rt->hot);
+    return rf_rt_hot_init(rt);
 }
 
 bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size)
@@ -778,6 +817,10 @@ bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size)
     }
     double lowest = rt_lowest(rt->target, rt->t_rest_world, rt->t_tip, rt->up, rt->t_above);
     rt->t_rest_low = lowest;
+    if (!rt_trunk_lean(rt, lowest)) {
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
     if (rt->opt.ground == RF_RT_GROUND_WORLD)
         rt->floor_target = 0;
     else if (rt->opt.ground == RF_RT_GROUND_REST)

@@ -102,6 +102,7 @@ typedef struct rf_rt_src {
     rf_vec3 center;            /* a point on the symmetry plane */
     double size;               /* extent of the rest pose (tolerances) */
     double leg;                /* hip height over the lowest rest point */
+    bool on_legs; /* its hips stand over a quarter of its rest's height (RT_TRUNK_HIPS) */
     double lowest;             /* that lowest point's height along up */
     double floor;              /* floor height along up (rf_rt_over_floor counts from it) */
     double stand;              /* the floor once the target's is measured on its mesh
@@ -174,6 +175,7 @@ struct rf_retarget {
     bool t_degenerate;      /* the target's rest is no body: align every bone */
     bool plan_differs;      /* the bodies lie differently (an upright biped onto a level
                              * quadruped): centerline bones keep their own rest directions */
+    uint32_t t_hip;         /* the target's hips: the joint its legs are measured from */
     bool level_flat;        /* the target stands on legs driven half a cycle later too
                              * (RF_RT_IN_PHASE): its levelled centerline takes no lean */
     double size;            /* extent of the target's rest (tolerances) */

@@ -474,6 +474,44 @@ static void lying_rest_keeps_arms(void **state)
     rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* An upright body standing on its trunk (a bottom joint at its lowest point, a chest, a head:
+ * greenman's build) takes a biped source's lean eased into 10 degrees: the biped balances its
+ * leaning trunk over its legs, the trunk on the floor tips over. The biped's hips lean 50
+ * degrees forward; the bottom tilts 10 tanh(50 / 10) = 9.9991 degrees (by hand), where it took
+ * all 50. A source standing on its trunk too passes its lean as it is. */
+static void trunk_standing_body_eases_lean(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = rf_skeleton_new(3);
+    fx_joint(tgt, 0, "bottom", -1, rf_v3(0, 0, 0), rf_quat_identity());
+    fx_joint(tgt, 1, "chest", 0, rf_v3(0, 0.8, 0), rf_quat_identity());
+    fx_joint(tgt, 2, "head", 1, rf_v3(0, 0.6, 0), rf_quat_identity());
+    fx_end_site(tgt, 2, rf_v3(0, 0.3, 0));
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_animation_set_rotation(clip, 1, 0, fx_rot(X, 50));
+    rf_mapping *m = fx_mapping(3, 1);
+    fx_map(m, 0, 0, 0, 1, 0, 0), fx_map(m, 1, 0, 7, 1, 0, 0), fx_map(m, 2, 0, 8, 1, 0, 0);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_xform w[3];
+    fx_world(tgt, r.out, 1, w);
+    double tilt = fx_angle(rf_v3_sub(w[1].t, w[0].t), Y);
+    print_message("trunk on the floor under a 50-degree lean: %.4f degrees\n", tilt);
+    assert_true(fabs(tilt - 10 * tanh(5)) < 1e-3);
+    run_free(&r);
+    /* The chain's own source (a bottom at its lowest point too) passes the lean whole. */
+    rf_animation *own = fx_rest_clip(tgt, 2, 10);
+    rf_animation_set_rotation(own, 1, 0, fx_rot(X, 50));
+    rf_mapping *same = fx_mapping(3, 1);
+    fx_map_same(same, 3);
+    r = do_run(tgt, own, tgt, same, &o);
+    fx_world(tgt, r.out, 1, w);
+    assert_true(fabs(fx_angle(rf_v3_sub(w[1].t, w[0].t), Y) - 50) < 1e-3);
+    run_free(&r);
+    rf_mapping_free(m), rf_mapping_free(same), rf_animation_free(clip), rf_animation_free(own);
+    rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 /* A target standing on a floor below the origin keeps its feet there. */
 static void target_stays_on_its_floor(void **state)
 {
@@ -1582,6 +1620,7 @@ int main(void)
         cmocka_unit_test(still_source_root_drives_nothing),
         cmocka_unit_test(mesh_floor_without_number),
         cmocka_unit_test(lying_rest_keeps_arms),
+        cmocka_unit_test(trunk_standing_body_eases_lean),
     };
     return cmocka_run_group_tests_name("retarget", tests, NULL, NULL);
 }
