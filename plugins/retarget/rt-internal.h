@@ -172,6 +172,7 @@ struct rf_retarget {
     uint8_t *t_need;        /* [n] world transforms the placement reads (anchors, parents) */
     uint8_t *t_tip_set;     /* [n] tips set to where a part placed from the joint begins */
     uint32_t dropped;       /* mapping inputs dropped (on or from placement and axis joints) */
+    int32_t top_from, top_to; /* a frame joint whose inputs drive the body's top instead, or -1 */
     bool t_degenerate;      /* the target's rest is no body: align every bone */
     bool plan_differs;      /* the bodies lie differently (an upright biped onto a level
                              * quadruped): centerline bones keep their own rest directions */

@@ -786,6 +786,7 @@ rf_retarget *rf_retarget_new(const rf_rt_source *sources, uint32_t source_count,
     rt->target = target, rt->mapping = mapping, rt->n = target->joint_count;
     rt->source_count = source_count;
     rt->root_motion_on = true;
+    rt->top_from = rt->top_to = RF_RT_NONE;
     for (uint32_t k = 0; k < source_count; k++) {
         rt->src[k].skel = sources[k].skeleton, rt->src[k].anim = sources[k].animation;
         rt->src[k].n = sources[k].skeleton->joint_count;
@@ -866,4 +867,5 @@ void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info)
     info->effectors = rt->effector_count;
     info->dropped = rt->dropped;
     info->anchored = rt->anchored;
+    info->top_from = rt->top_from, info->top_to = rt->top_to;
 }

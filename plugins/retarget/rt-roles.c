@@ -106,6 +106,7 @@ static bool rt_filter_mapping(rf_retarget *rt, rf_joint_roles *const *sroles, in
         return false;
     rt->own_map = own;
     int32_t moved = rt_top_input(rt, top);
+    rt->top_from = moved, rt->top_to = moved >= 0 ? top : RF_RT_NONE;
     for (uint32_t j = 0; j < m->target_joint_count; j++) {
         uint32_t from = (int32_t)j == top && moved >= 0 ? (uint32_t)moved : j;
         const rf_map_entry *e = &m->entries[from];
