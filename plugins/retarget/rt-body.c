@@ -299,8 +299,8 @@ static bool rt_body_analyse(rf_retarget *rt, rt_body_view *v, uint32_t count, rt
         rt->t_logical[j] = logical[k] >= 0 ? (int32_t)v->from[logical[k]] : RF_RT_NONE;
     }
     if (ok)
-        *axes = (rt_axes){ba.up,     ba.forward,      ba.left,      ba.center,
-                          ba.size,   ba.own_up,       axes->centerline, axes->logical};
+        *axes = (rt_axes){ba.up,   ba.forward, ba.left,          ba.center,
+                          ba.size, ba.own_up,  axes->centerline, axes->logical};
     free(logical), free(tip), free(center);
     return ok;
 }
@@ -414,7 +414,6 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
  * lowest point (a body without legs, or on stubs beside its bottom); a body on legs stands
  * with its hips higher. */
 #define RT_TRUNK_HIPS 0.25
-
 
 bool rf_rt_weights_known(const rf_skeleton *s)
 {
@@ -617,8 +616,9 @@ static bool rt_source_ground(rf_retarget *rt, uint32_t k)
     double lowest = rt_lowest(src->skel, src->rest_world, src->tip, src->up, src->above);
     src->leg = rt_own_leg(src, h, lowest);
     src->lowest = lowest;
-    src->on_legs = rf_rt_height(src->up, src->rest_world[h].t) - lowest >=
-                   RT_TRUNK_HIPS * rt_extent(src->skel, src->rest_world, src->tip, src->up, src->above);
+    src->on_legs =
+        rf_rt_height(src->up, src->rest_world[h].t) - lowest >=
+        RT_TRUNK_HIPS * rt_extent(src->skel, src->rest_world, src->tip, src->up, src->above);
     double clip = rt->opt.ground == RF_RT_GROUND_WORLD ? 0 : rt_clip_floor(rt, k, src->above);
     src->floor = src->stand = clip;
     if (rt->opt.ground != RF_RT_GROUND_AUTO)

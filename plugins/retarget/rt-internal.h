@@ -102,7 +102,7 @@ typedef struct rf_rt_src {
     rf_vec3 center;            /* a point on the symmetry plane */
     double size;               /* extent of the rest pose (tolerances) */
     double leg;                /* hip height over the lowest rest point */
-    bool on_legs; /* its hips stand over a quarter of its rest's height (RT_TRUNK_HIPS) */
+    bool on_legs;              /* its hips stand over a quarter of its rest's height */
     double lowest;             /* that lowest point's height along up */
     double floor;              /* floor height along up (rf_rt_over_floor counts from it) */
     double stand;              /* the floor once the target's is measured on its mesh
@@ -172,7 +172,8 @@ struct rf_retarget {
     uint8_t *t_need;        /* [n] world transforms the placement reads (anchors, parents) */
     uint8_t *t_tip_set;     /* [n] tips set to where a part placed from the joint begins */
     uint32_t dropped;       /* mapping inputs dropped (on or from placement and axis joints) */
-    int32_t top_from, top_to; /* a frame joint whose inputs drive the body's top instead, or -1 */
+    int32_t top_from;       /* a frame joint whose inputs drive the body's top, or -1 */
+    int32_t top_to;         /* that top joint, or -1 */
     bool t_degenerate;      /* the target's rest is no body: align every bone */
     bool plan_differs;      /* the bodies lie differently (an upright biped onto a level
                              * quadruped): centerline bones keep their own rest directions */

@@ -682,9 +682,11 @@ static void rt_rigid_limbs(rf_retarget *rt)
      * degrees off the one it is retargeted along) is measured along its own: lying on its back,
      * a human's shoulders stand no more than the body's thickness over its lowest point, and its
      * arms, reaching many times that, were held whole as wings; standing as its source has it
-     * stand, they hang. */
+     * stand, they hang. A rest that is no body (all its bones on one line) has no up of its
+     * own to read. */
     rf_vec3 up = rt->up;
-    if (rf_v3_len2(rt->t_own_up) > 0.5 && rf_v3_dot(rt->t_own_up, rt->up) < sqrt(0.5))
+    if (!rt->t_degenerate && rf_v3_len2(rt->t_own_up) > 0.5 &&
+        rf_v3_dot(rt->t_own_up, rt->up) < sqrt(0.5))
         up = rf_v3_normalize(rt->t_own_up);
     double low, high;
     rf_rt_span(rt->target, rt->t_rest_world, rt->t_tip, up, NULL, false, &low, &high);

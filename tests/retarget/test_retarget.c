@@ -443,8 +443,7 @@ static rf_skeleton *biped_arms(void)
         uint32_t j = 9 + 3 * k;
         fx_joint(s, j, names[k][0], 7, rf_v3(0.1 * x, 0.4, 0), rf_quat_identity());
         fx_joint(s, j + 1, names[k][1], (int32_t)j, rf_v3(0.25 * x, 0, 0), rf_quat_identity());
-        fx_joint(s, j + 2, names[k][2], (int32_t)j + 1, rf_v3(0.25 * x, 0, 0),
-                 rf_quat_identity());
+        fx_joint(s, j + 2, names[k][2], (int32_t)j + 1, rf_v3(0.25 * x, 0, 0), rf_quat_identity());
         fx_end_site(s, j + 2, rf_v3(0.1 * x, 0, 0));
     }
     return s;
