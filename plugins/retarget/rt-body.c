@@ -789,10 +789,7 @@ static bool rt_trunk_lean(rf_retarget *rt, double lowest)
         for (uint32_t i = 0; rt->t_centerline[j] && tj->root_motion && i < tj->input_count; i++)
             rt->in[tj->first_input + i].flags |= RF_RT_IN_LEVEL, any = true;
     }
-    if (!any)
-        return true;
-    free(rt->hot);
-    return rf_rt_hot_init(rt);
+    return !any || rf_rt_hot_init(rt);
 }
 
 bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size)
