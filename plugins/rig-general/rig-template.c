@@ -652,14 +652,12 @@ static bool rf_tpl_chest_at(const rf_tpl_ctx *x, uint32_t girdle, uint32_t first
     return false;
 }
 
-/* Where the curve of the limb section `sec` hanging from `girdle` starts: on the laid trunk for
- * a humanoid's arm leaving the curve skeleton well below its first joint (rf_tpl_chest_at, into
- * at[]), else at the girdle (NULL). */
-static const double *rf_tpl_limb_start(const rf_tpl_ctx *x, int32_t sec, uint32_t girdle,
+/* Where the curve of a limb from `girdle` through its first joint `first` starts: on the laid
+ * trunk for a humanoid's arm leaving the curve skeleton well below its first joint
+ * (rf_tpl_chest_at, into at[]), else at the girdle (NULL). */
+static const double *rf_tpl_limb_start(const rf_tpl_ctx *x, uint32_t girdle, uint32_t first,
                                        rf_rig_limb_kind kind, double at[3])
 {
-    uint32_t g, first;
-    rf_tpl_ends(x->a, sec, &g, &first);
     return kind == RF_RIG_LIMB_ARM && rf_tpl_chest_at(x, girdle, first, at) ? at : NULL;
 }
 
@@ -682,7 +680,7 @@ static void rf_tpl_lay_pair(rf_tpl_ctx *x, const int32_t sec[2], int swap, uint3
     for (int s = 0; s < 2; s++) {
         uint32_t g;
         rf_tpl_ends(x->a, sec[s], &g, &first[s]);
-        start[s] = rf_tpl_limb_start(x, sec[s], girdle, kind, at[s]);
+        start[s] = rf_tpl_limb_start(x, girdle, first[s], kind, at[s]);
         reach[s] = rf_rig_limb_reach(x->k, x->a->up, girdle, first[s], kind, start[s]);
     }
     for (int s = 0; s < 2; s++) {
