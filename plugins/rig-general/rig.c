@@ -1423,7 +1423,7 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
     }
     rf_vec3 facing = ok && wings ? rf_rig_level_facing(a->up, a) : rf_v3(0, 0, 0);
     if (p && rf_v3_len(facing) > 0)
-        rf_rig_skel_across(p, &o, wing, facing, RF_RIG_WING_EDGE);
+        rf_rig_skel_chord(p, &o, wing, facing, RF_RIG_WING_EDGE);
     free(drop), free(to), free(wing);
     rf_rig_surface_free(sf);
     if (!ok) {
