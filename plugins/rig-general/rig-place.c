@@ -1,8 +1,10 @@
 /* Joint placement by the mesh itself: the curve skeleton gives each joint's place along a limb
  * or the body; the surface, found by casting rays (Embree), gives its place across: a level
  * trunk's spine at a given depth between belly and back (rf_rig_skel_across, used by both
- * riggers), or the centre of the cross-section square to the bone (rf_rig_skel_centre, a layout
- * option of the template rigger, off: doc/autorig.md says why). */
+ * riggers), a wing's joints towards its leading edge (rf_rig_skel_chord, which also measures a
+ * wing modelled as a sheet of no thickness), or the centre of the cross-section square to the
+ * bone (rf_rig_skel_centre, a layout option of the template rigger, off: doc/autorig.md says
+ * why). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1085,10 +1085,9 @@ static bool rf_rig_root_low(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
  * and RobotExpressive's, 1.36 and 1.47). A wing's bones run along its leading edge, the
  * membrane or feathers trailing behind them, where the curve skeleton of the flat wing runs
  * through the middle of its chord: its joints past the clavicle go this far from the back edge
- * to the front (rf_rig_skel_across along the body's level facing). The clavicle stays with the
- * body: moved too, the matcher read the bird's and the bat's shoulders otherwise and their
- * bodies stretched under a walk. A wing of no thickness (the bat's sheet) has no chord the rays
- * can measure and stays as it was. */
+ * to the front (rf_rig_skel_chord along the body's level facing; a wing of no thickness, the
+ * bat's sheet, walked in its plane). The clavicle stays with the body: moved too, the matcher
+ * read the bird's and the bat's shoulders otherwise and their bodies stretched under a walk. */
 #define RF_RIG_WING_REACH 2.0
 #define RF_RIG_WING_EDGE 0.85
 
