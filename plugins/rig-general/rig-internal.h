@@ -204,6 +204,12 @@ void rf_rig_skel_centre(const rf_rig_prep *p, rf_rig_skel *k);
  * surface both ways within a quarter of the longest edge stays. */
 void rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
                         double at);
+/* rf_rig_skel_across for joints that may lie in a sheet of no thickness (a wing modelled as one
+ * surface), whose rays along it meet nothing: there the sheet's own reach each way along `axis`
+ * is measured, in the plane of the joint's bone and `axis`. Joints with surface ahead but none
+ * behind (outside the mesh) stay. */
+void rf_rig_skel_chord(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
+                       double at);
 
 /* Where the template rigger puts each joint along the curve it follows: fractions of the
  * curve's length from its start (rig-template.c; the values and how they were chosen are in

@@ -1,8 +1,10 @@
 /* Joint placement by the mesh itself: the curve skeleton gives each joint's place along a limb
  * or the body; the surface, found by casting rays (Embree), gives its place across: a level
  * trunk's spine at a given depth between belly and back (rf_rig_skel_across, used by both
- * riggers), or the centre of the cross-section square to the bone (rf_rig_skel_centre, a layout
- * option of the template rigger, off: doc/autorig.md says why). */
+ * riggers), a wing's joints towards its leading edge (rf_rig_skel_chord, which also measures a
+ * wing modelled as a sheet of no thickness), or the centre of the cross-section square to the
+ * bone (rf_rig_skel_centre, a layout option of the template rigger, off: doc/autorig.md says
+ * why). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -191,8 +193,101 @@ void rf_rig_skel_centre(const rf_rig_prep *p, rf_rig_skel *k)
     rf_rig_surface_free(s);
 }
 
+/* Joint q moved along unit fw to fraction `at` of the way through the mesh from its surface
+ * behind to its surface ahead (rf_rig_skel_across, one joint). */
+static void rf_place_across(const rf_rig_surface *s, double longest, double q[3],
+                            const double fw[3], double at)
+{
+    double bw[3] = {-fw[0], -fw[1], -fw[2]};
+    double ahead = rf_rig_surface_hit(s, q, fw), behind = rf_rig_surface_hit(s, q, bw);
+    if (!isfinite(behind) && ahead <= 0.25 * longest) {
+        /* outside, under the body (a root where two legs meet below the belly): the depth
+         * is the body's above it, from the belly up */
+        double in[3], step = ahead + 1e-6 * longest;
+        for (int a = 0; a < 3; a++)
+            in[a] = q[a] + step * fw[a];
+        double depth = rf_rig_surface_hit(s, in, fw);
+        if (depth <= 0.5 * longest)
+            for (int a = 0; a < 3; a++)
+                q[a] = in[a] + at * depth * fw[a];
+        return;
+    }
+    if (ahead > 0.25 * longest || behind > 0.25 * longest)
+        return;
+    double shift = at * (ahead + behind) - behind;
+    for (int a = 0; a < 3; a++)
+        q[a] += shift * fw[a];
+}
+
 void rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
                         double at)
+{
+    double n = rf_v3_len(axis);
+    rf_rig_surface *s = n > 0 ? rf_rig_surface_make(&p->proxy) : NULL;
+    double fw[3] = {axis.x / n, axis.y / n, axis.z / n};
+    for (uint32_t j = 0; s && j < k->n; j++)
+        if (which[j])
+            rf_place_across(s, p->longest, k->pos + (size_t)j * 3, fw, at);
+    rf_rig_surface_free(s);
+}
+
+#define RF_PLACE_SHEET_STEP 0.004 /* of the longest edge: how finely a sheet's reach is walked */
+#define RF_PLACE_SHEET_OFF 0.002  /* of the longest edge: how far off the sheet the rays start */
+
+/* Whether the sheet through q (a surface of no thickness lying in the plane of unit vectors d
+ * and fw, unit normal n) covers the point q + t fw: a ray from just off the plane at q to that
+ * point crosses the plane there alone, so it meets the surface at that distance, or the sheet
+ * has an edge or a hole there. A part in the way is met sooner and ends the sheet too: the
+ * body where a wing leaves it, so the joints at a wing's root stay (moved forward like the
+ * clavicle, they cost the bat's look under a walk, stretch p99 53.5 -> 66.1). */
+static bool rf_place_covers(const rf_rig_surface *s, const double q[3], const double n[3],
+                            const double fw[3], double t, double off)
+{
+    double o[3], dir[3], len = 0;
+    for (int a = 0; a < 3; a++)
+        o[a] = q[a] - off * n[a], dir[a] = q[a] + t * fw[a] - o[a], len += dir[a] * dir[a];
+    len = sqrt(len);
+    for (int a = 0; a < 3; a++)
+        dir[a] /= len;
+    return fabs(rf_rig_surface_hit(s, o, dir) - len) <= 0.5 * off;
+}
+
+/* How far the sheet through q reaches along fw (0 when it does not cover q's own neighbourhood),
+ * walked in steps up to `reach`; INFINITY when it reaches that far. */
+static double rf_place_sheet_reach(const rf_rig_surface *s, const double q[3], const double n[3],
+                                   const double fw[3], double longest, double reach)
+{
+    double step = RF_PLACE_SHEET_STEP * longest, off = RF_PLACE_SHEET_OFF * longest, t = step;
+    for (; t <= reach; t += step)
+        if (!rf_place_covers(s, q, n, fw, t, off))
+            return t - step;
+    return INFINITY;
+}
+
+/* The chord through joint j of k along unit fw, for a joint lying in a sheet: the ways the sheet
+ * reaches ahead and behind into *ahead and *behind; false when j is not on a sheet across fw
+ * (no bone direction, a bone along fw, or no sheet under it). */
+static bool rf_place_sheet_chord(const rf_rig_surface *s, const rf_rig_skel *k, uint32_t j,
+                                 const double fw[3], double longest, double *ahead, double *behind)
+{
+    double d[3], n[3];
+    if (!rf_place_bone_dir(k, j, d))
+        return false;
+    n[0] = d[1] * fw[2] - d[2] * fw[1], n[1] = d[2] * fw[0] - d[0] * fw[2],
+    n[2] = d[0] * fw[1] - d[1] * fw[0];
+    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 0.5 * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])))
+        return false; /* the bone runs too near fw for a plane of the two */
+    for (int a = 0; a < 3; a++)
+        n[a] /= len;
+    const double *q = k->pos + (size_t)j * 3, bw[3] = {-fw[0], -fw[1], -fw[2]};
+    *ahead = rf_place_sheet_reach(s, q, n, fw, longest, 0.25 * longest);
+    *behind = rf_place_sheet_reach(s, q, n, bw, longest, 0.25 * longest);
+    return isfinite(*ahead) && isfinite(*behind) && *ahead + *behind > 0;
+}
+
+void rf_rig_skel_chord(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
+                       double at)
 {
     double n = rf_v3_len(axis);
     rf_rig_surface *s = n > 0 ? rf_rig_surface_make(&p->proxy) : NULL;
@@ -200,21 +295,12 @@ void rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *whi
     for (uint32_t j = 0; s && j < k->n; j++) {
         if (!which[j])
             continue;
-        double *q = k->pos + (size_t)j * 3;
-        double ahead = rf_rig_surface_hit(s, q, fw), behind = rf_rig_surface_hit(s, q, bw);
-        if (!isfinite(behind) && ahead <= 0.25 * p->longest) {
-            /* outside, under the body (a root where two legs meet below the belly): the depth
-             * is the body's above it, from the belly up */
-            double in[3], step = ahead + 1e-6 * p->longest;
-            for (int a = 0; a < 3; a++)
-                in[a] = q[a] + step * fw[a];
-            double depth = rf_rig_surface_hit(s, in, fw);
-            if (depth <= 0.5 * p->longest)
-                for (int a = 0; a < 3; a++)
-                    q[a] = in[a] + at * depth * fw[a];
+        double *q = k->pos + (size_t)j * 3, ahead, behind;
+        if (isfinite(rf_rig_surface_hit(s, q, fw)) || isfinite(rf_rig_surface_hit(s, q, bw))) {
+            rf_place_across(s, p->longest, q, fw, at); /* inside a volume, or beside one */
             continue;
         }
-        if (ahead > 0.25 * p->longest || behind > 0.25 * p->longest)
+        if (!rf_place_sheet_chord(s, k, j, fw, p->longest, &ahead, &behind))
             continue;
         double shift = at * (ahead + behind) - behind;
         for (int a = 0; a < 3; a++)

@@ -1121,6 +1121,17 @@ static bool rf_rig_root_low(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
 /* ---- limbs cut as artists cut them ---- */
 
 #define RF_RIG_MAX_LIMBS 16
+/* An arm whose curve reaches more than this many times as far as the longest laid leg's is a
+ * wing (the bat's, bird's, owl's and the dragons' 2.3 to 5.6 times; a human's arm, the Wizard's
+ * and RobotExpressive's, 1.36 and 1.47). A wing's bones run along its leading edge, the
+ * membrane or feathers trailing behind them, where the curve skeleton of the flat wing runs
+ * through the middle of its chord: its joints past the clavicle go this far from the back edge
+ * to the front (rf_rig_skel_chord along the body's level facing; a wing of no thickness, the
+ * bat's sheet, walked in its plane). The clavicle stays with the body: moved too, the matcher
+ * read the bird's and the bat's shoulders otherwise and their bodies stretched under a walk. */
+#define RF_RIG_WING_REACH 2.0
+#define RF_RIG_WING_EDGE 0.85
+
 /* A limb to lay out again: where it leaves the body, its first joint, its kind and layout. */
 typedef struct rf_rig_limb {
     uint32_t girdle, first;
@@ -1415,6 +1426,13 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
             reach[i] = rf_rig_limb_reach(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
                                          chested ? at : NULL);
     }
+    double legs = 0; /* the longest laid leg's reach, against which an arm is a wing */
+    for (uint32_t i = 0; ok && i < nl; i++)
+        if (limbs[i].kind != RF_RIG_LIMB_ARM)
+            legs = fmax(legs, reach[i]);
+    uint8_t *wing = ok ? calloc(cap, 1) : NULL;
+    bool wings = false;
+    ok = ok && wing;
     for (uint32_t i = 0; ok && i < nl; i++) {
         if (!laid[i])
             continue;
@@ -1429,15 +1447,23 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
             rf_rig_shoulder(sf, p->longest, rf_v3_normalize(a->up),
                             chested ? at : k->pos + (size_t)limbs[i].girdle * 3, limbs[i].lay, pos);
         int32_t parent = chested ? chest : to[limbs[i].girdle];
+        double laid_reach = cut > 0 ? fmin(cut, reach[i]) : reach[i];
+        bool is_wing =
+            limbs[i].kind == RF_RIG_LIMB_ARM && legs > 0 && laid_reach > RF_RIG_WING_REACH * legs;
+        wings = wings || is_wing;
         for (int m = 0; m < 4; m++) {
             uint32_t j = o.n++;
+            wing[j] = is_wing && m > 0; /* the clavicle stays with the body */
             memcpy(o.pos + (size_t)j * 3, pos[m], sizeof pos[m]);
             o.parent[j] = parent, o.has_tip[j] = 0, parent = (int32_t)j;
         }
         memcpy(o.tip + (size_t)parent * 3, tip, sizeof tip);
         o.has_tip[parent] = 1;
     }
-    free(drop), free(to);
+    rf_vec3 facing = ok && wings ? rf_rig_level_facing(a->up, a) : rf_v3(0, 0, 0);
+    if (p && rf_v3_len(facing) > 0)
+        rf_rig_skel_chord(p, &o, wing, facing, RF_RIG_WING_EDGE);
+    free(drop), free(to), free(wing);
     rf_rig_surface_free(sf);
     if (!ok) {
         rf_rig_skel_free(&o);
