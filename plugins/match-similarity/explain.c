@@ -52,6 +52,12 @@ static void print_why(const rf_ms_explain *e, const rf_map_entry *en,
               out);
         return;
     }
+    if (in && e->settled && e->settled[j] == 5) {
+        fputs("a trunk joint behind the source's split lies along the source's reverse spine and "
+              "takes its joint there (girdle=neck)\n",
+              out);
+        return;
+    }
     if (n == 0) {
         fputs(in ? "placed by the section alignment\n" : "no candidate of a kind that may match\n",
               out);

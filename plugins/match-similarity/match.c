@@ -108,7 +108,8 @@ typedef struct rf_ms_pass {
     rf_ms_candidate *final; /* [target joint] */
     uint8_t *settled;       /* [target joint] assigned with its limb (a lent digit; 2: a toe;
                              * 3: a girdle joint taking a neck, neck_at_girdle; 4: a headless
-                             * trunk's girdle joint taking the head, head_at_girdle) */
+                             * trunk's girdle joint taking the head, head_at_girdle; 5: a
+                             * rear trunk joint taking a reverse spine, trunk_from_rear) */
     rf_ms_candidate *top;   /* [target joint * 3] or NULL */
     uint8_t *top_count;
     double *sec;       /* section metrics of the current target section against every
@@ -1216,6 +1217,90 @@ static void head_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p)
     }
 }
 
+/* Where point p of the target lies along source k's reverse spine, from that spine's first
+ * pivot `from` toward its end (unit `d`), both in their bodies' frames: two rigs of one body
+ * compare there as they lie. */
+static double rear_place(const rf_ms_ctx *c, rf_vec3 p, rf_vec3 from, rf_vec3 d)
+{
+    return rf_v3_dot(rf_v3_sub(rf_ms_body_place(&c->tgt, p), from), d);
+}
+
+/* Source k's reverse spine (an artist's back rooted in its middle: Testwuson's Root between
+ * Spine_Front and Spine_Back to the pelvis, BCN_Epileptic's B_LowerPelvis below its root): its
+ * section, its first pivot's place and its direction, from that pivot to its last bone's tip (not
+ * from the joint it leaves: Testwuson's root lies in the belly, below the back), or -1. */
+static int32_t rear_spine(const rf_ms_ctx *c, uint32_t k, rf_vec3 *from, rf_vec3 *d)
+{
+    const rf_analysis *as = c->src[k].a;
+    for (uint32_t s = 0; s < as->section_count; s++) {
+        const rf_section *sec = &as->sections[s];
+        if (sec->type != RF_SECTION_SPINE || !(sec->flags & RF_SECFL_REVERSE) || !sec->bone_count)
+            continue;
+        const uint32_t *js = rf_section_joints(as, s);
+        *from = rf_ms_body_place(&c->src[k], as->joints[js[0]].pos);
+        rf_vec3 rear = rf_ms_body_place(&c->src[k], as->joints[js[sec->bone_count - 1]].tip);
+        double len = rf_v3_len(rf_v3_sub(rear, *from));
+        if (!(len > 0))
+            continue;
+        *d = rf_v3_scale(rf_v3_sub(rear, *from), 1 / len);
+        return (int32_t)s;
+    }
+    return -1;
+}
+
+/* A trunk rooted at the rear (girdle=neck). The general rigger roots its spine at the hips and
+ * runs it forward; an artist may root the back in its middle and run a reverse spine from there
+ * to the pelvis, which the section alignment cannot reach from the target's one forward spine:
+ * the target's rear joints took the forward spine's first joints (Testwuson's hips, 842 of its
+ * 11196 vertices, the artist's tail; BCN_Epileptic's pelvis, 1122 of 15378, the unweighted
+ * root's nearest). Each leading target spine joint lying behind the reverse spine's first pivot,
+ * placed along it in the bodies' frames, takes the reverse joint whose bone holds that place:
+ * the spine's first joint by its pivot (at the trunk's rear end, its skin lies about it: the
+ * hips), the others by their bone's middle. */
+static void trunk_from_rear(const rf_ms_ctx *c, rf_ms_pass *p)
+{
+    const rf_analysis *at = c->tgt.a;
+    if (!c->o->girdle_neck || c->o->thesis || c->o->keep_duplicates)
+        return;
+    for (uint32_t ts = 0; ts < at->section_count; ts++)
+        if (at->sections[ts].type == RF_SECTION_SPINE &&
+            (at->sections[ts].flags & RF_SECFL_REVERSE))
+            return; /* the target has a rear spine of its own: the alignment paired them */
+    for (uint32_t ts = 0; ts < at->section_count; ts++) {
+        const rf_section *sec = &at->sections[ts];
+        if (sec->type != RF_SECTION_SPINE || sec->bone_count < 2)
+            continue;
+        const uint32_t *js = rf_section_joints(at, ts);
+        const rf_ms_candidate *f0 = &p->final[js[0]];
+        if (f0->source == RF_MS_NO_SOURCE)
+            continue;
+        uint32_t k = f0->source;
+        const rf_analysis *as = c->src[k].a;
+        int32_t s0 = as->joints[f0->joint].section;
+        rf_vec3 from, d;
+        int32_t sr = rear_spine(c, k, &from, &d);
+        if (sr < 0 || s0 < 0 || (as->sections[s0].flags & RF_SECFL_REVERSE))
+            continue;
+        const uint32_t *rj = rf_section_joints(as, (uint32_t)sr);
+        uint32_t rn = as->sections[sr].bone_count;
+        for (uint32_t i = 0; i + 1 < sec->bone_count; i++) {
+            double m = rear_place(c, at->joints[js[i]].pos, from, d);
+            if (i > 0)
+                m = 0.5 * (m + rear_place(c, at->joints[js[i + 1]].pos, from, d));
+            if (!(m > 0))
+                break;
+            uint32_t r = 0;
+            while (
+                r + 1 < rn &&
+                rf_v3_dot(rf_v3_sub(rf_ms_body_place(&c->src[k], as->joints[rj[r + 1]].pos), from),
+                          d) <= m)
+                r++;
+            p->final[js[i]] = (rf_ms_candidate){k, rj[r], 0, {0}};
+            p->settled[js[i]] = 5;
+        }
+    }
+}
+
 /* Under girdle=neck (the skin's correspondence), a target limb without digits whose last joints
  * the alignment gave the source's lent main digit (a mitten hand against a fist: the general
  * rigger's Wizard) keeps it: the skin around it is the source hand's. Not for motion: a human's
@@ -1269,7 +1354,7 @@ static bool run_pass(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
         select_best(c, p, only);
         ok = settle_sections(c, p, &tl, &sl) && neck_at_girdle(c, p, &tl, &sl);
         if (ok)
-            head_at_girdle(c, p);
+            head_at_girdle(c, p), trunk_from_rear(c, p);
         finalize(c, p);
     }
     line_free(&tl);
