@@ -192,9 +192,24 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else o
 # matcher (93% / 91% and 89% / 67% against 69% / 67% and 84% / 59%; the Fox's 79% / 77% is
 # within 3 points of the matcher's 76% / 77% since its trunk is placed along the artist's): a
 # mapping that read the overlap wrong (a joint's least overlap, or the artist's first joint for
-# every one) falls below it
-"$rigflow" rig-bench -r general --joint-map skin "$data/models/Wizard.glb" \
-    "$data/models/RiggedFigure.glb" >"$tmp/kbench.csv" 2>"$tmp/err" || ko "rig-bench skin exit $?"
+# every one) falls below it. --joints gives each rigger joint the artist joint the skinning
+# columns count it as (`mapped`), the one its skin overlaps most (`skin_mapped`) and its weight:
+# under --joint-map skin the two are the same joint on every weighted row, and the weights of a
+# model's rows sum to its vertex count (5413 and 370, as `rigflow inspect` counts them; every
+# vertex's weights sum to 1)
+"$rigflow" rig-bench -r general --joint-map skin --joints "$tmp/kjoints.csv" \
+    "$data/models/Wizard.glb" "$data/models/RiggedFigure.glb" >"$tmp/kbench.csv" 2>"$tmp/err" ||
+    ko "rig-bench skin exit $?"
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    $c["rig"] == "rigger" { w[$c["model"]] += $c["weight"]
+        if ($c["weight"] > 0 && ($c["mapped"] == "\"\"" || $c["mapped"] != $c["skin_mapped"]))
+            print "FAIL: " $c["model"] " " $c["joint"] ": mapped " $c["mapped"] ", skin " $c["skin_mapped"] }
+    $c["rig"] == "artist" && $c["mapped"] != "\"\"" { print "FAIL: artist row mapped: " $0 }
+    END { want["\"Wizard.glb\""] = 5413; want["\"RiggedFigure.glb\""] = 370
+          for (m in want) if (!(w[m] > want[m] - 0.5 && w[m] < want[m] + 0.5))
+              print "FAIL: " m ": weights sum to " w[m] ", expected " want[m] }' \
+    "$tmp/kjoints.csv" >"$tmp/fails"
+if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joints mapped columns"; else ok; fi
 awk -F, 'FNR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
     NR == FNR { p[$c["model"]] = $c["precision"]; r[$c["model"]] = $c["recall"]; next }
     { n++; m = $c["model"]
