@@ -1289,7 +1289,8 @@ static void take_along(rf_ms_pass *p, uint32_t t, uint32_t k, uint32_t j, uint8_
  * root's nearest). Each leading target spine joint lying behind the reverse spine's first pivot,
  * placed along it in the bodies' frames, takes the reverse joint whose bone holds that place:
  * the spine's first joint by its pivot (at the trunk's rear end, its skin lies about it: the
- * hips), the others by their bone's middle. */
+ * hips), the others by their bone's middle; the joints after them, to the girdle joint, take
+ * the forward spine's joint whose bone holds their bone's middle. */
 static void trunk_from_rear(const rf_ms_ctx *c, rf_ms_pass *p)
 {
     const rf_analysis *at = c->tgt.a;
@@ -1310,7 +1311,8 @@ static void trunk_from_rear(const rf_ms_ctx *c, rf_ms_pass *p)
         if (sr < 0 || s0 < 0 || (as->sections[s0].flags & RF_SECFL_REVERSE) ||
             !section_axis(c, k, (uint32_t)sr, &from, &d))
             continue;
-        for (uint32_t i = 0; i + 1 < sec->bone_count; i++) {
+        uint32_t i = 0;
+        for (; i + 1 < sec->bone_count; i++) {
             double m = axis_place(c, at->joints[js[i]].pos, from, d);
             if (i > 0)
                 m = 0.5 * (m + axis_place(c, at->joints[js[i + 1]].pos, from, d));
@@ -1319,6 +1321,16 @@ static void trunk_from_rear(const rf_ms_ctx *c, rf_ms_pass *p)
             if (c->tgt.matchable[js[i]])
                 take_along(p, js[i], k, joint_along(c, k, (uint32_t)sr, from, d, m), 5);
         }
+        /* the rest, but for the girdle joint (its own rules'), was aligned from the wrong
+         * start: placed along the forward spine the same way (BCN_Epileptic's took the artist
+         * joint above the one whose skin they hold) */
+        if (i > 0 && section_axis(c, k, (uint32_t)s0, &from, &d))
+            for (; i + 1 < sec->bone_count; i++) {
+                double m = 0.5 * (axis_place(c, at->joints[js[i]].pos, from, d) +
+                                  axis_place(c, at->joints[js[i + 1]].pos, from, d));
+                if (c->tgt.matchable[js[i]])
+                    take_along(p, js[i], k, joint_along(c, k, (uint32_t)s0, from, d, m), 5);
+            }
     }
 }
 

@@ -139,8 +139,9 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 # (.49/.53 without); the Wizard's its girdle joint, whose bone runs into its big head past the
 # artist's skull pivot in the bodies' frames, given the head (.50/.54 with the neck; doc/matching.md,
 # "An eleventh round"); Testwuson's its hips, where the rig roots its trunk, given the artist's
-# Pelvis at the end of the reverse spine its back runs from a root mid-back (.53/.54 with the
-# root's nearest joint, the tail's first); the Fox's its trunk, rooted at the shoulders with a
+# Pelvis at the end of the reverse spine its back runs from a root mid-back and the rest of its
+# spine placed along the forward one (.53/.54 with the root's nearest joint, the tail's first;
+# .568/.566 with the rest as aligned from the root); the Fox's its trunk, rooted at the shoulders with a
 # reverse spine to the hips, placed along the artist's spine, rooted at the hips (.68/.67 with
 # the root given the artist's b_Hip_01 and the reverse spine nothing; doc/matching.md, "A twelfth
 # round")
@@ -161,7 +162,7 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
     BEGIN {
         limits("\"Fox.glb\"", 0.045, 0.75, 0.76, 0.80, 0.82, 0.50)         # 0.040 .764/.771 .86/.87/.45
         limits("\"RiggedFigure.glb\"", 0.036, 0.67, 0.44, 0.88, 0.78, 0.32) # 0.032 .74/.50 .94/.84/.27
-        limits("\"Testwuson.X\"", 0.047, 0.555, 0.555, 0.74, 0.78, 0.53)    # 0.043 .568/.566 .79/.83/.50
+        limits("\"Testwuson.X\"", 0.047, 0.57, 0.57, 0.74, 0.78, 0.53)      # 0.043 .578/.580 .79/.83/.50
         limits("\"animalia_wolf.b3d\"", 0.065, 0.70, 0.86, 0.88, 0.88, 0.24) # 0.062 .75/.91 .909/.909/.182
         limits("\"Wizard.glb\"", 0.066, 0.60, 0.60, 0.68, 0.72, 0.60)       # 0.060 .67/.66 .72/.78/.56
         limits("\"animalia_owl.b3d\"", 0.095, 0.80, 0.86, 0.825, 0.90, 0.315) # 0.090 .85/.92 .836/.948/.295
@@ -262,9 +263,10 @@ else ko "rig-bench --joint-map best: $(cat "$tmp/err")"; fi
 # 50.4% and 35.8% / 47.4% (40.1% / 46.8% and 29.3% / 38.4% counted from the thigh and upper arm,
 # the ninja 33.1% / 42.8% with its legs alone counted from the shin). With BCN_Epileptic's arms
 # laid from the shoulder the trunk's width finds (joint placement round nine) it reads 42.7% /
-# 47.9%, and 46.6% / 50.7% with its root, in the crotch, given the artist's B_LowerPelvis, the
-# reverse spine below its pelvis root (doc/matching.md, "A twelfth round"): its bar is that, less
-# a point.
+# 47.9%, 46.6% / 50.7% with its root, in the crotch, given the artist's B_LowerPelvis, the
+# reverse spine below its pelvis root, and 48.0% / 51.9% with its spine's other joints placed
+# along the artist's forward spine (doc/matching.md, "A twelfth round"): its bar is that, less
+# most of a point.
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
     "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
@@ -294,8 +296,8 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
               foot[dragon] != "" && foot[dragon] < 0.03))
             print "FAIL: fire dragon: up " ua[dragon] ", forward " fa[dragon] ", cd_j2j " cd[dragon] \
                 ", precision " p[dragon] ", Foot.L " foot[dragon] " from the nearest joint"
-        if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.455 &&
-              r["\"BCN_Epileptic.X\""] >= 0.495))
+        if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.472 &&
+              r["\"BCN_Epileptic.X\""] >= 0.51))
             print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " \
                 p["\"BCN_Epileptic.X\""] ", recall " r["\"BCN_Epileptic.X\""]
         if (!(gp["\"BCN_Epileptic.X\""] >= 0.73 && gr["\"BCN_Epileptic.X\""] >= 0.765 &&
