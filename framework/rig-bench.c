@@ -574,12 +574,21 @@ static double rb_time(const rb_rigger *r, const rf_mesh *mesh, const rf_skeleton
  * to the joints that make it. NULL when not asked for. */
 static FILE *rb_joints_out;
 
+/* What --joints adds to a rigger joint's row: the artist joint the skinning columns count it
+ * as (`to`, by --joint-map), the one whose skin its own overlaps most (`skin_to`) and its skin's
+ * weight summed over the vertices (`weight`), so a row's loss can be traced to the joints that
+ * make it; NULL for the artist's rows and where the skins cannot be compared. */
+typedef struct rb_joint_maps {
+    const uint32_t *to, *skin_to;
+    const double *weight;
+} rb_joint_maps;
+
 static void rb_joint_rows(const char *rigger, const char *model, const char *which,
                           const rf_skeleton *as, const rb_rig *a, const rf_skeleton *bs,
-                          const rb_rig *b, double L)
+                          const rb_rig *b, double L, const rb_joint_maps *maps)
 {
     for (uint32_t j = 0; j < a->n; j++) {
-        uint32_t near = 0;
+        uint32_t near = 0, i = a->joint[j];
         double best = INFINITY;
         for (uint32_t k = 0; k < b->n; k++) {
             double d = rf_v3_len(rf_v3_sub(a->pos[j], b->pos[k]));
@@ -589,12 +598,27 @@ static void rb_joint_rows(const char *rigger, const char *model, const char *whi
         fprintf(rb_joints_out, "%s,", rigger);
         rb_csv_text_to(rb_joints_out, model);
         fprintf(rb_joints_out, ",%s,", which);
-        rb_csv_text_to(rb_joints_out, as->joints[a->joint[j]].name);
+        rb_csv_text_to(rb_joints_out, as->joints[i].name);
         fprintf(rb_joints_out, ",%.5f,%.5f,%.5f,", a->pos[j].x / L, a->pos[j].y / L,
                 a->pos[j].z / L);
         rb_csv_text_to(rb_joints_out, b->n ? bs->joints[b->joint[near]].name : "");
-        fprintf(rb_joints_out, ",%.5f\n", b->n ? best / L : NAN);
+        fprintf(rb_joints_out, ",%.5f,", b->n ? best / L : NAN);
+        rb_csv_text_to(rb_joints_out, maps && maps->to ? bs->joints[maps->to[i]].name : "");
+        fputc(',', rb_joints_out);
+        rb_csv_text_to(rb_joints_out,
+                       maps && maps->skin_to ? bs->joints[maps->skin_to[i]].name : "");
+        fprintf(rb_joints_out, ",%.1f\n", maps && maps->weight ? maps->weight[i] : NAN);
     }
+}
+
+/* Each predicted joint's skin weight summed over the vertices (joints without weights 0). */
+static double *rb_joint_weights(const rf_mesh *pm, uint32_t np)
+{
+    double *w = g_new0(double, (size_t)np + 1);
+    for (size_t v = 0; v < (size_t)pm->vertex_count * 4; v++)
+        if (pm->skin_joints[v] < np)
+            w[pm->skin_joints[v]] += pm->skin_weights[v];
+    return w;
 }
 
 static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *pl, rb_map_how how)
@@ -629,17 +653,28 @@ static void rb_measure(const rb_rigger *r, const char *base, const rf_pipeline *
      * joints), the artist's joints far from any of the rigger's (missing ones) */
     cd[3] = rb_mean(&p, &g, false, false) / L, cd[4] = rb_mean(&g, &p, false, false) / L;
     rb_axes_agree(as, ps, cd + 5);
-    if (rb_joints_out) {
-        rb_joint_rows(r->api->name, base, "rigger", ps, &p, as, &g, L);
-        rb_joint_rows(r->api->name, base, "artist", as, &g, ps, &p, L);
-    }
     char why[300] = "ok";
     uint32_t *to = g_new(uint32_t, ps->joint_count + 1);
     rb_map_joints(ps, &p, map, as, &g, how != RB_MAP_MATCHER, to);
-    if (rb_skin_usable(am, pm, ps->joint_count, why, sizeof why)) {
+    bool usable = rb_skin_usable(am, pm, ps->joint_count, why, sizeof why);
+    if (usable) {
         if (how == RB_MAP_SKIN)
             rb_map_skin(am, pm, ps->joint_count, as->joint_count, to);
         rb_skin_compare(am, pm, to, as->joint_count, &sk);
+    }
+    if (rb_joints_out) {
+        rb_joint_maps maps = {to, NULL, NULL};
+        uint32_t *skin_to = NULL;
+        double *weight = NULL;
+        if (usable) {
+            skin_to = g_memdup2(to, sizeof *to * (ps->joint_count + 1));
+            rb_map_skin(am, pm, ps->joint_count, as->joint_count, skin_to);
+            weight = rb_joint_weights(pm, ps->joint_count);
+            maps.skin_to = skin_to, maps.weight = weight;
+        }
+        rb_joint_rows(r->api->name, base, "rigger", ps, &p, as, &g, L, &maps);
+        rb_joint_rows(r->api->name, base, "artist", as, &g, ps, &p, L, NULL);
+        g_free(skin_to), g_free(weight);
     }
     rb_skin given;
     rb_skin_given(r, as, am, &given);
@@ -805,7 +840,9 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         {"joints", 0, 0, G_OPTION_ARG_FILENAME, &joints,
          "Also write every joint of both rigs to FILE as CSV (rigger,model,rig,joint,x,y,z,"
          "nearest,distance: positions and the distance to the other rig's nearest joint, "
-         "named, as fractions of the longest bounding-box edge)",
+         "named, as fractions of the longest bounding-box edge; mapped,skin_mapped,weight on "
+         "the rigger's rows: the artist joint the skinning columns count the joint as, the "
+         "one its skin overlaps most, and its skin's weight summed over the vertices)",
          "FILE"},
         {"look", 0, 0, G_OPTION_ARG_FILENAME, &look,
          "Also play the motion in FILE (a BVH, glTF...) on each auto-rig through the pipeline "
@@ -899,7 +936,8 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         code = RF_EXIT_USAGE;
     } else {
         if (rb_joints_out)
-            fputs("rigger,model,rig,joint,x,y,z,nearest,distance\n", rb_joints_out);
+            fputs("rigger,model,rig,joint,x,y,z,nearest,distance,mapped,skin_mapped,weight\n",
+                  rb_joints_out);
         code = rb_run(reg, riggers, argc - 1, argv + 1, how);
         if (rb_joints_out && fclose(rb_joints_out) != 0) {
             fprintf(stderr, "rigflow rig-bench: --joints: write failed\n");

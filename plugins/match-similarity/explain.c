@@ -52,6 +52,18 @@ static void print_why(const rf_ms_explain *e, const rf_map_entry *en,
               out);
         return;
     }
+    if (in && e->settled && e->settled[j] == 5) {
+        fputs("a trunk joint lying behind where the source's reverse spine starts takes the "
+              "reverse spine's joint there (girdle=neck)\n",
+              out);
+        return;
+    }
+    if (in && e->settled && e->settled[j] == 6) {
+        fputs("a trunk rooted at the front, against a source's rooted at the rear, takes the "
+              "source spine's joint where it lies (girdle=neck)\n",
+              out);
+        return;
+    }
     if (n == 0) {
         fputs(in ? "placed by the section alignment\n" : "no candidate of a kind that may match\n",
               out);

@@ -108,7 +108,9 @@ typedef struct rf_ms_pass {
     rf_ms_candidate *final; /* [target joint] */
     uint8_t *settled;       /* [target joint] assigned with its limb (a lent digit; 2: a toe;
                              * 3: a girdle joint taking a neck, neck_at_girdle; 4: a headless
-                             * trunk's girdle joint taking the head, head_at_girdle) */
+                             * trunk's girdle joint taking the head, head_at_girdle; 5: a
+                             * rear trunk joint taking a reverse spine, trunk_from_rear; 6: a
+                             * trunk rooted at the front taking places, trunk_from_front) */
     rf_ms_candidate *top;   /* [target joint * 3] or NULL */
     uint8_t *top_count;
     double *sec;       /* section metrics of the current target section against every
@@ -1216,6 +1218,169 @@ static void head_at_girdle(const rf_ms_ctx *c, rf_ms_pass *p)
     }
 }
 
+/* Where target point p lies along a source section's axis (from its first pivot `from`, unit
+ * `d`), both in their bodies' frames: two rigs of one body compare there as they lie. */
+static double axis_place(const rf_ms_ctx *c, rf_vec3 p, rf_vec3 from, rf_vec3 d)
+{
+    return rf_v3_dot(rf_v3_sub(rf_ms_body_place(&c->tgt, p), from), d);
+}
+
+/* Source k's section s as an axis in its body's frame: from its first pivot toward its last
+ * bone's tip (not from the joint it leaves: Testwuson's root lies in the belly, below the back). */
+static bool section_axis(const rf_ms_ctx *c, uint32_t k, uint32_t s, rf_vec3 *from, rf_vec3 *d)
+{
+    const rf_analysis *as = c->src[k].a;
+    const uint32_t *js = rf_section_joints(as, s);
+    uint32_t n = as->sections[s].bone_count;
+    if (!n)
+        return false;
+    *from = rf_ms_body_place(&c->src[k], as->joints[js[0]].pos);
+    rf_vec3 end = rf_ms_body_place(&c->src[k], as->joints[js[n - 1]].tip);
+    double len = rf_v3_len(rf_v3_sub(end, *from));
+    if (!(len > 0))
+        return false;
+    *d = rf_v3_scale(rf_v3_sub(end, *from), 1 / len);
+    return true;
+}
+
+/* The matchable joint of source k's section s whose bone holds place m along its axis (the
+ * first where m lies before it), or RF_MS_NO_SOURCE. */
+static uint32_t joint_along(const rf_ms_ctx *c, uint32_t k, uint32_t s, rf_vec3 from, rf_vec3 d,
+                            double m)
+{
+    const rf_analysis *as = c->src[k].a;
+    const uint32_t *js = rf_section_joints(as, s);
+    uint32_t got = RF_MS_NO_SOURCE;
+    for (uint32_t i = 0; i < as->sections[s].bone_count; i++) {
+        if (!c->src[k].matchable[js[i]])
+            continue;
+        rf_vec3 q = rf_ms_body_place(&c->src[k], as->joints[js[i]].pos);
+        if (got != RF_MS_NO_SOURCE && rf_v3_dot(rf_v3_sub(q, from), d) > m)
+            break;
+        got = js[i];
+    }
+    return got;
+}
+
+/* The first spine section of a that runs from the root toward the rear girdle, or -1. */
+static int32_t reverse_spine(const rf_analysis *a)
+{
+    for (uint32_t s = 0; s < a->section_count; s++)
+        if (a->sections[s].type == RF_SECTION_SPINE && (a->sections[s].flags & RF_SECFL_REVERSE) &&
+            a->sections[s].bone_count)
+            return (int32_t)s;
+    return -1;
+}
+
+/* Target joint t takes source k's joint j, set apart from the alignment as `how` says. */
+static void take_along(rf_ms_pass *p, uint32_t t, uint32_t k, uint32_t j, uint8_t how)
+{
+    if (j == RF_MS_NO_SOURCE)
+        return;
+    p->final[t] = (rf_ms_candidate){k, j, 0, {0}};
+    p->settled[t] = how;
+}
+
+/* A trunk rooted at the rear (girdle=neck). The general rigger roots its spine at the hips and
+ * runs it forward; an artist may root the back in its middle and run a reverse spine from there
+ * to the pelvis, which the section alignment cannot reach from the target's one forward spine:
+ * the target's rear joints took the forward spine's first joints (Testwuson's hips, 842 of its
+ * 11196 vertices, the artist's tail; BCN_Epileptic's pelvis, 1122 of 15378, the unweighted
+ * root's nearest). Each leading target spine joint lying behind the reverse spine's first pivot,
+ * placed along it in the bodies' frames, takes the reverse joint whose bone holds that place:
+ * the spine's first joint by its pivot (at the trunk's rear end, its skin lies about it: the
+ * hips), the others by their bone's middle; the joints after them, to the girdle joint, take
+ * the forward spine's joint whose bone holds their bone's middle. */
+static void trunk_from_rear(const rf_ms_ctx *c, rf_ms_pass *p)
+{
+    const rf_analysis *at = c->tgt.a;
+    if (reverse_spine(at) >= 0)
+        return; /* the target has a rear spine of its own: the alignment paired them */
+    for (uint32_t ts = 0; ts < at->section_count; ts++) {
+        const rf_section *sec = &at->sections[ts];
+        if (sec->type != RF_SECTION_SPINE || sec->bone_count < 2)
+            continue;
+        const uint32_t *js = rf_section_joints(at, ts);
+        const rf_ms_candidate *f0 = &p->final[js[0]];
+        if (f0->source == RF_MS_NO_SOURCE)
+            continue;
+        uint32_t k = f0->source;
+        const rf_analysis *as = c->src[k].a;
+        int32_t s0 = as->joints[f0->joint].section, sr = reverse_spine(as);
+        rf_vec3 from, d;
+        if (sr < 0 || s0 < 0 || (as->sections[s0].flags & RF_SECFL_REVERSE) ||
+            !section_axis(c, k, (uint32_t)sr, &from, &d))
+            continue;
+        uint32_t i = 0;
+        for (; i + 1 < sec->bone_count; i++) {
+            double m = axis_place(c, at->joints[js[i]].pos, from, d);
+            if (i > 0)
+                m = 0.5 * (m + axis_place(c, at->joints[js[i + 1]].pos, from, d));
+            if (!(m > 0))
+                break;
+            if (c->tgt.matchable[js[i]])
+                take_along(p, js[i], k, joint_along(c, k, (uint32_t)sr, from, d, m), 5);
+        }
+        /* the rest, but for the girdle joint (its own rules'), was aligned from the wrong
+         * start: placed along the forward spine the same way (BCN_Epileptic's took the artist
+         * joint above the one whose skin they hold) */
+        if (i > 0 && section_axis(c, k, (uint32_t)s0, &from, &d))
+            for (; i + 1 < sec->bone_count; i++) {
+                double m = 0.5 * (axis_place(c, at->joints[js[i]].pos, from, d) +
+                                  axis_place(c, at->joints[js[i + 1]].pos, from, d));
+                if (c->tgt.matchable[js[i]])
+                    take_along(p, js[i], k, joint_along(c, k, (uint32_t)s0, from, d, m), 5);
+            }
+    }
+}
+
+/* A trunk rooted at the front (girdle=neck): the general rigger may root a quadruped's trunk at
+ * its shoulders (the Fox: a one-bone spine on to the neck, a reverse spine back to the hips
+ * carrying the tail and hind legs) where the artist roots it at the hips and runs one spine
+ * forward. The alignment paired the target's one-bone forward spine with the source spine's
+ * first joint (the root at the shoulders took the artist's b_Hip_01) and its reverse spine with
+ * nothing (its skin followed the root's). Each joint of both, placed by its bone's middle along
+ * the source's spine in the bodies' frames, takes the source joint whose bone holds that place
+ * (its first or last where the place lies beyond its ends). */
+static void trunk_from_front(const rf_ms_ctx *c, rf_ms_pass *p)
+{
+    const rf_analysis *at = c->tgt.a;
+    int32_t tr = reverse_spine(at), a = tr >= 0 ? at->sections[tr].attach_joint : -1;
+    if (a < 0 || at->joints[a].section < 0)
+        return;
+    uint32_t tf = (uint32_t)at->joints[a].section;
+    if (at->sections[tf].type != RF_SECTION_SPINE || (at->sections[tf].flags & RF_SECFL_REVERSE) ||
+        rf_section_joints(at, tf)[0] != (uint32_t)a || p->final[a].source == RF_MS_NO_SOURCE)
+        return;
+    uint32_t k = p->final[a].source;
+    const rf_analysis *as = c->src[k].a;
+    int32_t s0 = as->joints[p->final[a].joint].section;
+    rf_vec3 from, d;
+    if (s0 < 0 || reverse_spine(as) >= 0 || as->sections[s0].type != RF_SECTION_SPINE ||
+        !section_axis(c, k, (uint32_t)s0, &from, &d))
+        return; /* a source with a reverse spine of its own: the alignment paired them */
+    const uint32_t secs[2] = {tf, (uint32_t)tr};
+    for (int q = 0; q < 2; q++) {
+        const uint32_t *js = rf_section_joints(at, secs[q]);
+        for (uint32_t i = 0; i < at->sections[secs[q]].bone_count; i++) {
+            const rf_joint_info *ji = &at->joints[js[i]];
+            double m = 0.5 * (axis_place(c, ji->pos, from, d) + axis_place(c, ji->tip, from, d));
+            if (c->tgt.matchable[js[i]])
+                take_along(p, js[i], k, joint_along(c, k, (uint32_t)s0, from, d, m), 6);
+        }
+    }
+}
+
+/* The trunk rooted at its other end than the source's (girdle=neck only: the skin's
+ * correspondence; for motion the alignment's answer drives the trunk from the source's root). */
+static void trunk_ends(const rf_ms_ctx *c, rf_ms_pass *p)
+{
+    if (!c->o->girdle_neck || c->o->thesis || c->o->keep_duplicates)
+        return;
+    trunk_from_rear(c, p);
+    trunk_from_front(c, p);
+}
+
 /* Under girdle=neck (the skin's correspondence), a target limb without digits whose last joints
  * the alignment gave the source's lent main digit (a mitten hand against a fist: the general
  * rigger's Wizard) keeps it: the skin around it is the source hand's. Not for motion: a human's
@@ -1269,7 +1434,7 @@ static bool run_pass(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
         select_best(c, p, only);
         ok = settle_sections(c, p, &tl, &sl) && neck_at_girdle(c, p, &tl, &sl);
         if (ok)
-            head_at_girdle(c, p);
+            head_at_girdle(c, p), trunk_ends(c, p);
         finalize(c, p);
     }
     line_free(&tl);

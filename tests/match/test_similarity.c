@@ -795,6 +795,109 @@ static void test_legs_from_the_knee(void **state)
     rf_skeleton_free(s);
 }
 
+/* A back rooted in its middle (Testwuson's Root, BCN_Epileptic's pelvis root): the artist's
+ * spine runs forward from the root to the chest and a reverse spine back from it to the pelvis,
+ * which carries the hind legs and the tail; sb_quadruped, rooted at its pelvis as the general
+ * rigger roots a trunk, runs one spine forward. Under girdle=neck the target's pelvis takes the
+ * source's (by default, and without the rule, the source's root), and its spine's middle, in
+ * front of the source's back spine, the forward spine's joint whose bone holds its own's middle. */
+static const sb_joint mid_rooted[] = {
+    {"root", NULL, 0, 1.00, 0.00, 0},      {"front", "root", 0, 1.05, -0.20, 0},
+    {"chest", "front", 0, 1.05, -0.40, 0}, {"neck", "chest", 0, 1.20, -0.60, 0},
+    {"head", "neck", 0, 1.35, -0.75, 0},   {".", "head", 0, 1.30, -0.95, 0},
+    {"back", "root", 0, 1.05, 0.12, 0},    {"hips", "back", 0, 1.00, 0.40, 0},
+    {"tail1", "hips", 0, 1.05, 0.60, 0},   {"tail2", "tail1", 0, 0.95, 0.85, 0},
+    {".", "tail2", 0, 0.80, 1.10, 0},      {"fl1", "chest", -0.15, 0.90, -0.40, 0},
+    {"fl2", "fl1", -0.15, 0.50, -0.36, 0}, {"fl3", "fl2", -0.15, 0.05, -0.42, 0},
+    {".", "fl3", -0.15, 0.0, -0.52, 0},    {"fr1", "chest", 0.15, 0.90, -0.40, 0},
+    {"fr2", "fr1", 0.15, 0.50, -0.36, 0},  {"fr3", "fr2", 0.15, 0.05, -0.42, 0},
+    {".", "fr3", 0.15, 0.0, -0.52, 0},     {"hl1", "hips", -0.15, 0.90, 0.50, 0},
+    {"hl2", "hl1", -0.15, 0.50, 0.40, 0},  {"hl3", "hl2", -0.15, 0.05, 0.52, 0},
+    {".", "hl3", -0.15, 0.0, 0.44, 0},     {"hr1", "hips", 0.15, 0.90, 0.50, 0},
+    {"hr2", "hr1", 0.15, 0.50, 0.40, 0},   {"hr3", "hr2", 0.15, 0.05, 0.52, 0},
+    {".", "hr3", 0.15, 0.0, 0.44, 0},
+};
+
+static void test_trunk_from_rear(void **state)
+{
+    (void)state;
+    rf_skeleton *s = build_axes(mid_rooted, SB_COUNT(mid_rooted));
+    rf_skeleton *t = build_axes(sb_quadruped, SB_COUNT(sb_quadruped));
+    s->forward = t->forward = rf_v3(0, 0, -1);
+    rf_ms_options o = {.forelegs_arms = true, .girdle_neck = true};
+    rf_mapping *m = match1(t, s, &o);
+    assert_driver(m, t, s, "pelvis", "hips");
+    assert_driver(m, t, s, "hl1", "hl1");
+    assert_driver(m, t, s, "spine2", "front");
+    rf_mapping_free(m);
+    /* --explain says why */
+    rf_ms_explain e = {0};
+    char err[256], *text = NULL;
+    size_t size = 0;
+    const rf_skeleton *src[1] = {s};
+    m = rf_ms_match(t, src, 1, &o, &e, err, sizeof err);
+    assert_non_null(m);
+    FILE *out = open_memstream(&text, &size);
+    rf_ms_explain_print(&e, m, t, src, out);
+    fclose(out);
+    assert_non_null(strstr(text, "pelvis (center spine) <- 0:hips"));
+    assert_non_null(strstr(text, "lying behind where the source's reverse spine starts"));
+    free(text);
+    rf_ms_explain_clear(&e);
+    rf_mapping_free(m);
+    o.girdle_neck = false;
+    m = match1(t, s, &o);
+    const char *got = driver(m, t, src, "pelvis", NULL);
+    assert_true(got == NULL || strcmp(got, "hips") != 0);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+/* A trunk rooted at the front, as the general rigger roots the Fox: the root at the shoulders
+ * (by the source's neck pivot, as the Fox's lies 0.034 of the longest edge from its artist's
+ * b_Neck_04) carrying the forelegs and the head, a reverse spine back to the hips carrying the tail
+ * and hind legs, against sb_quadruped rooted at its pelvis. Under girdle=neck the root takes the
+ * source's chest and the hips its pelvis (by default, and without the rule, the root takes the
+ * source's pelvis, the alignment's first joint). */
+static const sb_joint front_rooted[] = {
+    {"root", NULL, 0, 1.05, -0.50, 0},     {"mid", "root", 0, 1.05, 0.05, 0},
+    {"hips", "mid", 0, 1.00, 0.50, 0},     {"neck", "root", 0, 1.20, -0.60, 0},
+    {"head", "neck", 0, 1.35, -0.75, 0},   {".", "head", 0, 1.30, -0.95, 0},
+    {"tail1", "hips", 0, 1.05, 0.60, 0},   {"tail2", "tail1", 0, 0.95, 0.85, 0},
+    {".", "tail2", 0, 0.80, 1.10, 0},      {"fl1", "root", -0.15, 0.90, -0.40, 0},
+    {"fl2", "fl1", -0.15, 0.50, -0.36, 0}, {"fl3", "fl2", -0.15, 0.05, -0.42, 0},
+    {".", "fl3", -0.15, 0.0, -0.52, 0},    {"fr1", "root", 0.15, 0.90, -0.40, 0},
+    {"fr2", "fr1", 0.15, 0.50, -0.36, 0},  {"fr3", "fr2", 0.15, 0.05, -0.42, 0},
+    {".", "fr3", 0.15, 0.0, -0.52, 0},     {"hl1", "hips", -0.15, 0.90, 0.50, 0},
+    {"hl2", "hl1", -0.15, 0.50, 0.40, 0},  {"hl3", "hl2", -0.15, 0.05, 0.52, 0},
+    {".", "hl3", -0.15, 0.0, 0.44, 0},     {"hr1", "hips", 0.15, 0.90, 0.50, 0},
+    {"hr2", "hr1", 0.15, 0.50, 0.40, 0},   {"hr3", "hr2", 0.15, 0.05, 0.52, 0},
+    {".", "hr3", 0.15, 0.0, 0.44, 0},
+};
+
+static void test_trunk_from_front(void **state)
+{
+    (void)state;
+    rf_skeleton *s = build_axes(sb_quadruped, SB_COUNT(sb_quadruped));
+    rf_skeleton *t = build_axes(front_rooted, SB_COUNT(front_rooted));
+    s->forward = t->forward = rf_v3(0, 0, -1);
+    rf_ms_options o = {.forelegs_arms = true, .girdle_neck = true};
+    rf_mapping *m = match1(t, s, &o);
+    assert_driver(m, t, s, "root", "chest");
+    assert_driver(m, t, s, "hips", "pelvis");
+    assert_driver(m, t, s, "hl1", "hl1");
+    rf_mapping_free(m);
+    o.girdle_neck = false;
+    m = match1(t, s, &o);
+    const rf_skeleton *src[1] = {s};
+    const char *got = driver(m, t, src, "root", NULL);
+    assert_true(got == NULL || strcmp(got, "chest") != 0);
+    rf_mapping_free(m);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
 static void test_one_bone_leg(void **state)
 {
     (void)state;
@@ -1119,6 +1222,8 @@ int main(void)
         cmocka_unit_test(test_skull_before_snout),
         cmocka_unit_test(test_one_bone_leg),
         cmocka_unit_test(test_legs_from_the_knee),
+        cmocka_unit_test(test_trunk_from_rear),
+        cmocka_unit_test(test_trunk_from_front),
         cmocka_unit_test(test_threshold_and_similar),
         cmocka_unit_test(test_duplicates),
         cmocka_unit_test(test_several_sources),

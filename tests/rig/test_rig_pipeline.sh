@@ -138,7 +138,13 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 # its head chain's joints past the artist's skull pivot (at the head's base) given the skull
 # (.49/.53 without); the Wizard's its girdle joint, whose bone runs into its big head past the
 # artist's skull pivot in the bodies' frames, given the head (.50/.54 with the neck; doc/matching.md,
-# "An eleventh round")
+# "An eleventh round"); Testwuson's its hips, where the rig roots its trunk, given the artist's
+# Pelvis at the end of the reverse spine its back runs from a root mid-back and the rest of its
+# spine placed along the forward one (.53/.54 with the root's nearest joint, the tail's first;
+# .568/.566 with the rest as aligned from the root); the Fox's its trunk, rooted at the shoulders with a
+# reverse spine to the hips, placed along the artist's spine, rooted at the hips (.68/.67 with
+# the root given the artist's b_Hip_01 and the reverse spine nothing; doc/matching.md, "A twelfth
+# round")
 "$rigflow" rig-bench -r general "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
     "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" \
     "$data/models/Wizard.glb" "$data/models/creatures/animalia_owl.b3d" \
@@ -154,9 +160,9 @@ rows=$(tail -n +2 "$tmp/bench.csv" | wc -l)
 awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
                  cdmax[m] = cd; pmin[m] = p; rmin[m] = r; gpmin[m] = gp; grmin[m] = gr; glmax[m] = gl }
     BEGIN {
-        limits("\"Fox.glb\"", 0.045, 0.58, 0.57, 0.80, 0.82, 0.50)         # 0.040 .65/.64 .86/.87/.45
+        limits("\"Fox.glb\"", 0.045, 0.75, 0.76, 0.80, 0.82, 0.50)         # 0.040 .764/.771 .86/.87/.45
         limits("\"RiggedFigure.glb\"", 0.036, 0.67, 0.44, 0.88, 0.78, 0.32) # 0.032 .74/.50 .94/.84/.27
-        limits("\"Testwuson.X\"", 0.047, 0.52, 0.50, 0.74, 0.78, 0.53)      # 0.043 .56/.55 .79/.83/.50
+        limits("\"Testwuson.X\"", 0.047, 0.57, 0.57, 0.74, 0.78, 0.53)      # 0.043 .578/.580 .79/.83/.50
         limits("\"animalia_wolf.b3d\"", 0.065, 0.70, 0.86, 0.88, 0.88, 0.24) # 0.062 .75/.91 .909/.909/.182
         limits("\"Wizard.glb\"", 0.066, 0.60, 0.60, 0.68, 0.72, 0.60)       # 0.060 .67/.66 .72/.78/.56
         limits("\"animalia_owl.b3d\"", 0.095, 0.80, 0.86, 0.825, 0.90, 0.315) # 0.090 .85/.92 .836/.948/.295
@@ -183,11 +189,28 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
     }' "$tmp/bench.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench thresholds"; else ok; fi
 # --joint-map skin: each rigger joint stands for the artist joint whose weights overlap its own
-# most, the artist's skin read back; on the Fox and RiggedFigure it reaches more than the matcher
-# (79% / 77% and 89% / 67% against 68% / 67% and 84% / 59%): a mapping that read the overlap
-# wrong (a joint's least overlap, or the artist's first joint for every one) falls below it
-"$rigflow" rig-bench -r general --joint-map skin "$data/models/Fox.glb" \
-    "$data/models/RiggedFigure.glb" >"$tmp/kbench.csv" 2>"$tmp/err" || ko "rig-bench skin exit $?"
+# most, the artist's skin read back; on the Wizard and RiggedFigure it reaches more than the
+# matcher (93% / 91% and 89% / 67% against 69% / 67% and 84% / 59%; the Fox's 79% / 77% is
+# within 3 points of the matcher's 76% / 77% since its trunk is placed along the artist's): a
+# mapping that read the overlap wrong (a joint's least overlap, or the artist's first joint for
+# every one) falls below it. --joints gives each rigger joint the artist joint the skinning
+# columns count it as (`mapped`), the one its skin overlaps most (`skin_mapped`) and its weight:
+# under --joint-map skin the two are the same joint on every weighted row, and the weights of a
+# model's rows sum to its vertex count (5413 and 370, as `rigflow inspect` counts them; every
+# vertex's weights sum to 1)
+"$rigflow" rig-bench -r general --joint-map skin --joints "$tmp/kjoints.csv" \
+    "$data/models/Wizard.glb" "$data/models/RiggedFigure.glb" >"$tmp/kbench.csv" 2>"$tmp/err" ||
+    ko "rig-bench skin exit $?"
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    $c["rig"] == "rigger" { w[$c["model"]] += $c["weight"]
+        if ($c["weight"] > 0 && ($c["mapped"] == "\"\"" || $c["mapped"] != $c["skin_mapped"]))
+            print "FAIL: " $c["model"] " " $c["joint"] ": mapped " $c["mapped"] ", skin " $c["skin_mapped"] }
+    $c["rig"] == "artist" && $c["mapped"] != "\"\"" { print "FAIL: artist row mapped: " $0 }
+    END { want["\"Wizard.glb\""] = 5413; want["\"RiggedFigure.glb\""] = 370
+          for (m in want) if (!(w[m] > want[m] - 0.5 && w[m] < want[m] + 0.5))
+              print "FAIL: " m ": weights sum to " w[m] ", expected " want[m] }' \
+    "$tmp/kjoints.csv" >"$tmp/fails"
+if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --joints mapped columns"; else ok; fi
 awk -F, 'FNR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
     NR == FNR { p[$c["model"]] = $c["precision"]; r[$c["model"]] = $c["recall"]; next }
     { n++; m = $c["model"]
@@ -240,7 +263,10 @@ else ko "rig-bench --joint-map best: $(cat "$tmp/err")"; fi
 # 50.4% and 35.8% / 47.4% (40.1% / 46.8% and 29.3% / 38.4% counted from the thigh and upper arm,
 # the ninja 33.1% / 42.8% with its legs alone counted from the shin). With BCN_Epileptic's arms
 # laid from the shoulder the trunk's width finds (joint placement round nine) it reads 42.7% /
-# 47.9%: its bar is what both changes together give, less a point.
+# 47.9%, 46.6% / 50.7% with its root, in the crotch, given the artist's B_LowerPelvis, the
+# reverse spine below its pelvis root, and 48.0% / 51.9% with its spine's other joints placed
+# along the artist's forward spine (doc/matching.md, "A twelfth round"): its bar is that, less
+# most of a point.
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
     "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
@@ -270,8 +296,8 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
               foot[dragon] != "" && foot[dragon] < 0.03))
             print "FAIL: fire dragon: up " ua[dragon] ", forward " fa[dragon] ", cd_j2j " cd[dragon] \
                 ", precision " p[dragon] ", Foot.L " foot[dragon] " from the nearest joint"
-        if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.42 &&
-              r["\"BCN_Epileptic.X\""] >= 0.47))
+        if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.472 &&
+              r["\"BCN_Epileptic.X\""] >= 0.51))
             print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " \
                 p["\"BCN_Epileptic.X\""] ", recall " r["\"BCN_Epileptic.X\""]
         if (!(gp["\"BCN_Epileptic.X\""] >= 0.73 && gr["\"BCN_Epileptic.X\""] >= 0.765 &&
