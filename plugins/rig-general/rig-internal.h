@@ -258,6 +258,19 @@ void rf_rig_limb_place_within(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle,
 double rf_rig_limb_reach(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
                          rf_rig_limb_kind kind, const double *start);
 
+/* The arc length a limb whose curve reaches `reach` is laid within (rf_rig_limb_place_within)
+ * beside its mirror image reaching `twin`: `twin` when the limb reaches more than
+ * RF_RIG_PROP_REACH times as far (it carries a prop past its hand), else 0 (the whole curve).
+ * Both riggers' rule (rig-template.c). */
+double rf_rig_limb_prop_cut(double reach, double twin);
+
+/* An arm laid from girdle point g (pos: clavicle, upper arm, elbow, hand, by layout l) that hangs
+ * beside the trunk gets its clavicle, upper arm and elbow moved to where the trunk's width across
+ * the body says the shoulder is (rays on surface sf; longest: the mesh's longest edge); an arm
+ * held out, or no shoulder found, is left as it is. Both riggers' rule (rig.c). */
+void rf_rig_shoulder(const rf_rig_surface *sf, double longest, rf_vec3 up, const double g[3],
+                     const rf_rig_tpl_layout *l, double pos[4][3]);
+
 /* The general rigger's joints short of bone heat, in place on its curve skeleton k
  * (rf_rig_curve): limbs cut where the layouts given put their joints (NULL: the built-in ones)
  * and a level body's spine moved along its back (rig.c). False when out of memory. The fitting

@@ -420,6 +420,8 @@ typedef struct rf_tpl_ctx {
     const rf_rig_tpl_layout *lay; /* where the joints go along each curve */
     bool human;                   /* the humanoid template: its head is the highest leaf */
     rf_vec3 up;                   /* the body's up (declared, else the analysis's) */
+    const rf_rig_prep *p;         /* the cleaned mesh (NULL: no shoulder rule) */
+    rf_rig_surface *sf;           /* its surface for rays, made for a humanoid's arms */
 } rf_tpl_ctx;
 
 /* The built-in layouts (doc/autorig.md, "The template rigger", says how they were chosen). */
@@ -573,6 +575,19 @@ double rf_rig_limb_reach(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint
     return len;
 }
 
+/* A laid limb whose curve reaches more than this many times as far as its mirror image's
+ * carries a prop past its hand (the Wizard's staff, the ninja's sword: 1.75 and 1.93 times;
+ * every other pair of the shared models, at any turn, within 1.19): it is laid along its curve
+ * only as far as its mirror image reaches, so its elbow and hand lie where its twin's do, and
+ * the prop goes with its last joint, as artists bind a weapon to the hand. Laid along the whole
+ * curve, the hand went into the prop and the elbow to the wrist. */
+#define RF_RIG_PROP_REACH 1.4
+
+double rf_rig_limb_prop_cut(double reach, double twin)
+{
+    return twin > 0 && reach > RF_RIG_PROP_REACH * twin ? twin : 0;
+}
+
 void rf_rig_limb_place_within(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
                               rf_rig_limb_kind kind, const rf_rig_tpl_layout *l,
                               const double *start, double reach, double pos[4][3], double tip[3])
@@ -637,30 +652,50 @@ static bool rf_tpl_chest_at(const rf_tpl_ctx *x, uint32_t girdle, uint32_t first
     return false;
 }
 
-/* A limb of `kind` laid along its section's curve and named, from the girdle down: a leg's
- * thigh, shin, foot and toe, or an arm's (a foreleg's) clavicle, upper arm, forearm and hand. A
- * foreleg's curve, as a leg's, leaves out what rises above its girdle. */
-static void rf_tpl_lay_limb(rf_tpl_ctx *x, int side, int32_t sec, uint32_t girdle, int32_t parent,
-                            rf_rig_limb_kind kind)
+/* Where the curve of a limb from `girdle` through its first joint `first` starts: on the laid
+ * trunk for a humanoid's arm leaving the curve skeleton well below its first joint
+ * (rf_tpl_chest_at, into at[]), else at the girdle (NULL). */
+static const double *rf_tpl_limb_start(const rf_tpl_ctx *x, uint32_t girdle, uint32_t first,
+                                       rf_rig_limb_kind kind, double at[3])
+{
+    return kind == RF_RIG_LIMB_ARM && rf_tpl_chest_at(x, girdle, first, at) ? at : NULL;
+}
+
+/* A mirrored pair of limbs of `kind` (sections sec[0], sec[1]) laid along their curves from
+ * `girdle` and named, from the girdle down: a leg's thigh, shin, foot and toe, or an arm's (a
+ * foreleg's) clavicle, upper arm, forearm and hand; sec[s] takes side s ^ swap's names. The
+ * general rigger's limb rules: a limb reaching far past its twin is laid only as far as the twin
+ * reaches (rf_rig_limb_prop_cut), an arm hanging beside the trunk gets its shoulder where the
+ * trunk's width says (rf_rig_shoulder). A foreleg's curve, as a leg's, leaves out what rises
+ * above its girdle. */
+static void rf_tpl_lay_pair(rf_tpl_ctx *x, const int32_t sec[2], int swap, uint32_t girdle,
+                            int32_t parent, rf_rig_limb_kind kind)
 {
     static const char *const leg[4] = {"UpLeg", "Leg", "Foot", "ToeBase"};
     static const char *const arm[4] = {"Shoulder", "Arm", "ForeArm", "Hand"};
     bool is_leg = kind == RF_RIG_LIMB_LEG || kind == RF_RIG_LIMB_HIND_LEG;
-    uint32_t g, first;
-    rf_tpl_ends(x->a, sec, &g, &first);
-    rf_tpl_curve c = {0};
-    double f[4];
-    rf_tpl_limb_laid(x->k, x->a->up, girdle, first, kind, x->lay, &c, f);
-    double at[3];
-    if (kind == RF_RIG_LIMB_ARM && rf_tpl_chest_at(x, girdle, first, at)) {
-        rf_tpl_restart(&c, at);
-        rf_tpl_fractions(&c, x->a->up, kind, x->lay, f);
+    double at[2][3], reach[2];
+    const double *start[2];
+    uint32_t first[2];
+    for (int s = 0; s < 2; s++) {
+        uint32_t g;
+        rf_tpl_ends(x->a, sec[s], &g, &first[s]);
+        start[s] = rf_tpl_limb_start(x, girdle, first[s], kind, at[s]);
+        reach[s] = rf_rig_limb_reach(x->k, x->a->up, girdle, first[s], kind, start[s]);
     }
-    char nb[4][24];
-    const char *names[4];
-    for (int i = 0; i < 4; i++)
-        names[i] = rf_tpl_sided(nb[i], side, is_leg ? leg[i] : arm[i]);
-    rf_tpl_chain(x->t, &c, parent, names, f, 4);
+    for (int s = 0; s < 2; s++) {
+        double pos[4][3], tip[3];
+        rf_rig_limb_place_within(x->k, x->a->up, girdle, first[s], kind, x->lay, start[s],
+                                 rf_rig_limb_prop_cut(reach[s], reach[1 - s]), pos, tip);
+        if (kind == RF_RIG_LIMB_ARM && x->sf)
+            rf_rig_shoulder(x->sf, x->p->longest, rf_v3_normalize(x->a->up),
+                            start[s] ? start[s] : x->k->pos + (size_t)girdle * 3, x->lay, pos);
+        char nb[24];
+        int32_t j = parent;
+        for (int i = 0; i < 4; i++)
+            j = rf_tpl_joint(x->t, rf_tpl_sided(nb, s ^ swap, is_leg ? leg[i] : arm[i]), j, pos[i]);
+        rf_tpl_tip(x->t, j, tip);
+    }
 }
 
 /* Flags the joints of the limbs the template uses, and everything below them. */
@@ -861,10 +896,8 @@ static bool rf_tpl_humanoid(rf_tpl_ctx *x, char *err, size_t n)
         return rf_rig_fail(err, n,
                            "the humanoid template found no neck and head above the "
                            "shoulders");
-    for (int s = 0; s < 2; s++)
-        rf_tpl_lay_limb(x, s, b->arm[0][s], chest, spine2, RF_RIG_LIMB_ARM);
-    for (int s = 0; s < 2; s++)
-        rf_tpl_lay_limb(x, s, b->leg[0][s], hips, hips_j, RF_RIG_LIMB_LEG);
+    rf_tpl_lay_pair(x, b->arm[0], 0, chest, spine2, RF_RIG_LIMB_ARM);
+    rf_tpl_lay_pair(x, b->leg[0], 0, hips, hips_j, RF_RIG_LIMB_LEG);
     return true;
 }
 
@@ -906,10 +939,8 @@ static bool rf_tpl_quadruped(rf_tpl_ctx *x, bool declared, char *err, size_t n)
                            "the quadruped template found no neck and head beyond the "
                            "forelegs");
     rf_tpl_tail(x, hips, neck, hips_j);
-    for (int s = 0; s < 2; s++)
-        rf_tpl_lay_limb(x, s ^ front, b->leg[front][s], chest, spine2, RF_RIG_LIMB_FORELEG);
-    for (int s = 0; s < 2; s++)
-        rf_tpl_lay_limb(x, s ^ front, b->leg[1 - front][s], hips, hips_j, RF_RIG_LIMB_HIND_LEG);
+    rf_tpl_lay_pair(x, b->leg[front], front, chest, spine2, RF_RIG_LIMB_FORELEG);
+    rf_tpl_lay_pair(x, b->leg[1 - front], front, hips, hips_j, RF_RIG_LIMB_HIND_LEG);
     const double *hp = x->k->pos + (size_t)hips * 3, *cp = x->k->pos + (size_t)chest * 3;
     x->forward = rf_v3(cp[0] - hp[0], cp[1] - hp[1], cp[2] - hp[2]);
     return true;
@@ -970,9 +1001,10 @@ static bool rf_tpl_to_skel(const rf_tpl *t, rf_rig_skel *k)
 }
 
 /* The template laid into the curve skeleton k, into t. */
-static bool rf_tpl_embed(const rf_rig_skel *k, const rf_rig_options *o, rf_rig_template_kind want,
-                         const rf_rig_tpl_layout *lay[2], rf_tpl *t, rf_rig_template_kind *kind,
-                         rf_vec3 *up, rf_vec3 *forward, char *err, size_t n)
+static bool rf_tpl_embed(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
+                         rf_rig_template_kind want, const rf_rig_tpl_layout *lay[2], rf_tpl *t,
+                         rf_rig_template_kind *kind, rf_vec3 *up, rf_vec3 *forward, char *err,
+                         size_t n)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
@@ -1000,11 +1032,14 @@ static bool rf_tpl_embed(const rf_rig_skel *k, const rf_rig_options *o, rf_rig_t
                         .limb = limb,
                         .lay = lay[!human],
                         .human = human,
-                        .up = rf_v3_len(o->up) > 0 ? o->up : a->up};
+                        .up = rf_v3_len(o->up) > 0 ? o->up : a->up,
+                        .p = p,
+                        .sf = p && human ? rf_rig_surface_make(&p->proxy) : NULL};
         *kind = got;
         memset(t, 0, sizeof *t);
         ok = got == RF_RIG_TEMPLATE_HUMANOID ? rf_tpl_humanoid(&x, err, n)
                                              : rf_tpl_quadruped(&x, declared, err, n);
+        rf_rig_surface_free(x.sf);
         *up = rf_v3_len(o->up) > 0 ? o->up : a->up;
         /* the quadruped's forward, hips to chest, made level */
         rf_vec3 f = x.forward;
@@ -1056,7 +1091,7 @@ bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_
     rf_tpl *t = calloc(1, sizeof *t);
     if (!t)
         return rf_rig_fail(err, n, "out of memory");
-    bool ok = rf_tpl_embed(k, o, want, lay, t, got, up, forward, err, n);
+    bool ok = rf_tpl_embed(p, k, o, want, lay, t, got, up, forward, err, n);
     if (ok && !rf_tpl_to_skel(t, out))
         ok = rf_rig_fail(err, n, "out of memory");
     if (ok) {

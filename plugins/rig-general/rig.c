@@ -1073,14 +1073,6 @@ static bool rf_rig_root_low(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
 /* ---- limbs cut as artists cut them ---- */
 
 #define RF_RIG_MAX_LIMBS 16
-/* A laid limb whose curve reaches more than this many times as far as its mirror image's
- * carries a prop past its hand (the Wizard's staff, the ninja's sword: 1.75 and 1.93 times;
- * every other pair of the shared models, at any turn, within 1.19): it is laid along its curve
- * only as far as its mirror image reaches, so its elbow and hand lie where its twin's do, and
- * the prop goes with its last joint, as artists bind a weapon to the hand. Laid along the whole
- * curve, the hand went into the prop and the elbow to the wrist. */
-#define RF_RIG_PROP_REACH 1.4
-
 /* A limb to lay out again: where it leaves the body, its first joint, its kind and layout. */
 typedef struct rf_rig_limb {
     uint32_t girdle, first;
@@ -1265,8 +1257,8 @@ static double rf_rig_along(const double q[3], rf_vec3 d)
  * the layout has it against the upper arm (l->shoulder over l->arm), the elbow halfway on to
  * the hand. No jump (the arm held out, its rays running into it from its start) or no neck
  * within reach: nothing moves. */
-static void rf_rig_shoulder(const rf_rig_surface *sf, double longest, rf_vec3 up, const double g[3],
-                            const rf_rig_tpl_layout *l, double pos[4][3])
+void rf_rig_shoulder(const rf_rig_surface *sf, double longest, rf_vec3 up, const double g[3],
+                     const rf_rig_tpl_layout *l, double pos[4][3])
 {
     rf_vec3 out = rf_v3(pos[3][0] - g[0], pos[3][1] - g[1], pos[3][2] - g[2]);
     out = rf_v3_sub(out, rf_v3_scale(up, rf_v3_dot(out, up)));
@@ -1381,9 +1373,8 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
         double pos[4][3], tip[3], cut = 0;
         bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == chest_g;
         for (uint32_t m = 0; m < nl; m++) /* a limb reaching far past its mirror image's reach */
-            if (laid[m] && limbs[m].sec == limbs[i].mirror && reach[m] > 0 &&
-                reach[i] > RF_RIG_PROP_REACH * reach[m])
-                cut = reach[m];
+            if (laid[m] && limbs[m].sec == limbs[i].mirror)
+                cut = rf_rig_limb_prop_cut(reach[i], reach[m]);
         rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
                                  limbs[i].lay, chested ? at : NULL, cut, pos, tip);
         if (limbs[i].kind == RF_RIG_LIMB_ARM && sf) /* sf: p given and its surface made */
