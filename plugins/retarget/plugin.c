@@ -311,6 +311,17 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
                   "%u mapping inputs on or from placement, axis-conversion or helper joints "
                   "dropped; %u joints placed from the body joint they belong to",
                   info.dropped, info.anchored);
+    if (info.top_from >= 0 && info.top_to >= 0) {
+        char a[128], b[128], sa[256], sb[256];
+        rf_text_escape(rf_joint_label(target, (uint32_t)info.top_from, a, sizeof a), sa, sizeof sa,
+                       0);
+        rf_text_escape(rf_joint_label(target, (uint32_t)info.top_to, b, sizeof b), sb, sizeof sb,
+                       0);
+        host->log(node, RF_LOG_INFO,
+                  "the inputs of '%s', which only places the body, drive its top joint '%s' "
+                  "(mapped to nothing): the whole body moves with them",
+                  sa, sb);
+    }
     if (!rt_limit_turns(rt, out, target, host, node)) {
         rf_retarget_free(rt), rf_animation_free(out);
         return false;

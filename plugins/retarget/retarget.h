@@ -174,6 +174,9 @@ typedef struct rf_rt_info {
                           * or from source placement or axis joints */
     uint32_t anchored;   /* target joints placed from the body joint they belong to (their
                           * hierarchy parent does not carry them) */
+    int32_t top_from;    /* a placement or axis joint whose inputs drive the body's top joint
+                          * `top_to` instead (the top had none), or -1 */
+    int32_t top_to;
 } rf_rt_info;
 
 void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info);

@@ -89,6 +89,7 @@ static bool rt_degenerate(const rf_skeleton *s, const rf_xform *world)
 typedef struct rt_axes {
     rf_vec3 up, forward, left, center;
     double size;
+    rf_vec3 own_up;      /* the analysis's up (from the limbs), whatever the file states */
     uint8_t *centerline; /* [n] or NULL: joints the analysis puts on the centerline */
     int32_t *logical;    /* [n] or NULL: parents in the analysed tree (a part hanging from a
                           * placement root or a root of its own, attached where it sits) */
@@ -129,6 +130,7 @@ static bool rt_analyse(const rf_skeleton *s, const rf_xform *local, const rf_xfo
     axes->left = rf_v3_normalize(rf_v3_cross(axes->up, fwd));
     axes->center = a->plane_point;
     axes->size = a->size > 0 ? a->size : 1;
+    axes->own_up = a->up;
     for (uint32_t j = 0; axes->centerline && j < s->joint_count; j++)
         axes->centerline[j] = a->joints[j].side == RF_SIDE_CENTER;
     for (uint32_t j = 0; axes->logical && j < s->joint_count; j++)
@@ -297,8 +299,8 @@ static bool rt_body_analyse(rf_retarget *rt, rt_body_view *v, uint32_t count, rt
         rt->t_logical[j] = logical[k] >= 0 ? (int32_t)v->from[logical[k]] : RF_RT_NONE;
     }
     if (ok)
-        *axes = (rt_axes){ba.up,   ba.forward,       ba.left,      ba.center,
-                          ba.size, axes->centerline, axes->logical};
+        *axes = (rt_axes){ba.up,   ba.forward, ba.left,          ba.center,
+                          ba.size, ba.own_up,  axes->centerline, axes->logical};
     free(logical), free(tip), free(center);
     return ok;
 }
@@ -394,7 +396,7 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
         return false;
     }
     rt->up = axes.up, rt->forward = axes.forward, rt->left = axes.left;
-    rt->center = axes.center, rt->size = axes.size;
+    rt->center = axes.center, rt->size = axes.size, rt->t_own_up = axes.own_up;
     rt->t_degenerate = rt_degenerate(t, rt->t_rest_world);
     if (rt->t_degenerate && rf_v3_len2(t->up) < 0.5) {
         /* An analysis of a pose that is no body finds no up: the target will stand as the source
@@ -408,9 +410,11 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
 
 /* ---- leg lengths and floors ---- */
 
-/* Lowest height along up of the joints of `s` posed in `world` and of their tips; unweighted
- * helpers (IK targets, sockets) and the joints in `above` (placement roots above the hips, may
- * be NULL) do not count. */
+/* A body standing on its trunk: hips no higher than this fraction of the rest's height over its
+ * lowest point (a body without legs, or on stubs beside its bottom); a body on legs stands
+ * with its hips higher. */
+#define RT_TRUNK_HIPS 0.25
+
 bool rf_rt_weights_known(const rf_skeleton *s)
 {
     uint32_t weighted = 0;
@@ -427,36 +431,40 @@ static bool rt_skin_says(const rf_skeleton *s)
     return RF_HAS_FIELD(s, rf_skeleton, bind) && s->bind && rf_rt_weights_known(s);
 }
 
+bool rf_rt_span(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
+                const uint8_t *skip, bool weighted, double *low, double *high)
+{
+    *low = INFINITY, *high = -INFINITY;
+    bool known = weighted && rf_rt_weights_known(s);
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        if ((known && (s->joints[j].flags & RF_JOINT_UNWEIGHTED)) || (skip && skip[j]))
+            continue;
+        double h = rf_rt_height(up, world[j].t);
+        *low = fmin(*low, h), *high = fmax(*high, h);
+        if (rf_v3_len2(tip[j]) > 0) {
+            h = rf_rt_height(up, rf_xform_point(world[j], tip[j]));
+            *low = fmin(*low, h), *high = fmax(*high, h);
+        }
+    }
+    return isfinite(*low) && isfinite(*high);
+}
+
+/* Lowest height along up of the joints of `s` posed in `world` and of their tips; unweighted
+ * helpers (IK targets, sockets) and the joints in `above` (placement roots above the hips, may
+ * be NULL) do not count (0 when none does). */
 static double rt_lowest(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
                         const uint8_t *above)
 {
-    double low = INFINITY;
-    bool known = rf_rt_weights_known(s);
-    for (uint32_t j = 0; j < s->joint_count; j++) {
-        if ((known && (s->joints[j].flags & RF_JOINT_UNWEIGHTED)) || (above && above[j]))
-            continue;
-        low = fmin(low, rf_rt_height(up, world[j].t));
-        if (rf_v3_len2(tip[j]) > 0)
-            low = fmin(low, rf_rt_height(up, rf_xform_point(world[j], tip[j])));
-    }
-    return isfinite(low) ? low : 0;
+    double low, high;
+    return rf_rt_span(s, world, tip, up, above, true, &low, &high) ? low : 0;
 }
 
-/* The height of a rest from its lowest point to its highest (joints and bone tips, as
- * rt_lowest counts them). */
+/* The height of a rest from its lowest point to its highest (joints and bone tips). */
 static double rt_extent(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
                         const uint8_t *above)
 {
-    double high = -INFINITY;
-    bool known = rf_rt_weights_known(s);
-    for (uint32_t j = 0; j < s->joint_count; j++) {
-        if ((known && (s->joints[j].flags & RF_JOINT_UNWEIGHTED)) || (above && above[j]))
-            continue;
-        high = fmax(high, rf_rt_height(up, world[j].t));
-        if (rf_v3_len2(tip[j]) > 0)
-            high = fmax(high, rf_rt_height(up, rf_xform_point(world[j], tip[j])));
-    }
-    return isfinite(high) ? high - rt_lowest(s, world, tip, up, above) : 0;
+    double low, high;
+    return rf_rt_span(s, world, tip, up, above, true, &low, &high) ? high - low : 0;
 }
 
 /* Whether joint j has children (parents given per joint). */
@@ -608,6 +616,9 @@ static bool rt_source_ground(rf_retarget *rt, uint32_t k)
     double lowest = rt_lowest(src->skel, src->rest_world, src->tip, src->up, src->above);
     src->leg = rt_own_leg(src, h, lowest);
     src->lowest = lowest;
+    src->on_legs =
+        rf_rt_height(src->up, src->rest_world[h].t) - lowest >=
+        RT_TRUNK_HIPS * rt_extent(src->skel, src->rest_world, src->tip, src->up, src->above);
     double clip = rt->opt.ground == RF_RT_GROUND_WORLD ? 0 : rt_clip_floor(rt, k, src->above);
     src->floor = src->stand = clip;
     if (rt->opt.ground != RF_RT_GROUND_AUTO)
@@ -740,6 +751,7 @@ static bool rt_target_leg(rf_retarget *rt, double *leg)
     }
     int32_t hip = rt_target_hip(rt);
     uint32_t h = rt_hip_below(rt->target, rt->lparent, hip >= 0 ? (uint32_t)hip : 0);
+    rt->t_hip = h;
     rt_mark_above(rt->target, h, rt->t_above);
     uint8_t *skip = rt_phase_aside(rt);
     double lowest = rt_lowest(rt->target, world, rt->t_tip, rt->up, skip ? skip : rt->t_above);
@@ -751,6 +763,33 @@ static bool rt_target_leg(rf_retarget *rt, double *leg)
         rt->t_aligned[j] = world[j].t;
     free(rot), free(srot), free(poses), free(world);
     return rt->t_aligned && rt->w0;
+}
+
+/* An upright body standing on its trunk (greenman, legless or on stubs at its sides: hips under
+ * a quarter of its height over its lowest point at rest) takes a source's lean eased as a body
+ * of another plan does ("Body plans"), when the source stands on legs: a human leans its trunk
+ * 30-60 degrees in a crouch and balances it over legs bent back; laid on a trunk standing on the
+ * floor, the lean tipped the whole body forward, 54 degrees at most under CMU 01_01's jumps. The
+ * top mapped centerline joints (the trunk, carrying the body) are eased; the centerline above
+ * keeps its source's turns (eased too, greenman's auto-rig's worst part read 87.8% of its
+ * height for 86.5). Their inputs are flagged RF_RT_IN_LEVEL after the plan (the aligned rest is
+ * the same either way: at the source's rest there is no lean), and the frame's fast paths are
+ * chosen again. */
+static bool rt_trunk_lean(rf_retarget *rt, double lowest)
+{
+    if (rt->plan_differs || rt->t_degenerate || rt->t_hip >= rt->n || !rt->src[0].on_legs)
+        return true; /* a source on its trunk too leans as such a body does */
+    double height = rt_extent(rt->target, rt->t_rest_world, rt->t_tip, rt->up, rt->t_above);
+    double hips = rf_rt_height(rt->up, rt->t_rest_world[rt->t_hip].t) - lowest;
+    if (!(height > 0) || !(hips < RT_TRUNK_HIPS * height))
+        return true;
+    bool any = false;
+    for (uint32_t j = 0; j < rt->n; j++) {
+        const rf_rt_tjoint *tj = &rt->tj[j];
+        for (uint32_t i = 0; rt->t_centerline[j] && tj->root_motion && i < tj->input_count; i++)
+            rt->in[tj->first_input + i].flags |= RF_RT_IN_LEVEL, any = true;
+    }
+    return !any || rf_rt_hot_init(rt);
 }
 
 bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size)
@@ -775,6 +814,10 @@ bool rf_rt_ground_prepare(rf_retarget *rt, char *err, size_t err_size)
     }
     double lowest = rt_lowest(rt->target, rt->t_rest_world, rt->t_tip, rt->up, rt->t_above);
     rt->t_rest_low = lowest;
+    if (!rt_trunk_lean(rt, lowest)) {
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
     if (rt->opt.ground == RF_RT_GROUND_WORLD)
         rt->floor_target = 0;
     else if (rt->opt.ground == RF_RT_GROUND_REST)

@@ -75,6 +75,10 @@ static void rt_need_rots(rf_retarget *rt)
 
 bool rf_rt_hot_init(rf_retarget *rt)
 {
+    /* Run again when the inputs' flags change after the plan (rt_trunk_lean). */
+    free(rt->hot);
+    for (uint32_t k = 0; k < rt->source_count; k++)
+        free(rt->src[k].need_rot), rt->src[k].need_rot = NULL;
     rt->hot = calloc(rt->n ? rt->n : 1, sizeof *rt->hot);
     if (!rt->hot)
         return false;

@@ -102,6 +102,7 @@ typedef struct rf_rt_src {
     rf_vec3 center;            /* a point on the symmetry plane */
     double size;               /* extent of the rest pose (tolerances) */
     double leg;                /* hip height over the lowest rest point */
+    bool on_legs;              /* its hips stand over a quarter of its rest's height */
     double lowest;             /* that lowest point's height along up */
     double floor;              /* floor height along up (rf_rt_over_floor counts from it) */
     double stand;              /* the floor once the target's is measured on its mesh
@@ -171,12 +172,17 @@ struct rf_retarget {
     uint8_t *t_need;        /* [n] world transforms the placement reads (anchors, parents) */
     uint8_t *t_tip_set;     /* [n] tips set to where a part placed from the joint begins */
     uint32_t dropped;       /* mapping inputs dropped (on or from placement and axis joints) */
+    int32_t top_from;       /* a frame joint whose inputs drive the body's top, or -1 */
+    int32_t top_to;         /* that top joint, or -1 */
     bool t_degenerate;      /* the target's rest is no body: align every bone */
     bool plan_differs;      /* the bodies lie differently (an upright biped onto a level
                              * quadruped): centerline bones keep their own rest directions */
+    uint32_t t_hip;         /* the target's hips: the joint its legs are measured from */
     bool level_flat;        /* the target stands on legs driven half a cycle later too
                              * (RF_RT_IN_PHASE): its levelled centerline takes no lean */
     double size;            /* extent of the target's rest (tolerances) */
+    rf_vec3 t_own_up;       /* the analysis's up of the target's rest (from its limbs), which a
+                             * rest lying across the file's up does not share */
     rf_xform *t_rest_world; /* [n] the target's rest */
     rf_vec3 *t_tip;         /* [n] target bone tips in the joint's local frame, zero when none */
     rf_vec3 *t_hull;        /* [n][RF_RT_HULL] with a skinned mesh (rf_retarget_mesh_floor): the
@@ -236,6 +242,13 @@ bool rf_rt_ground_fix(rf_retarget *rt, rf_animation *out);
  * quarter of the joints (a node tree with a mesh hung on one or two nodes) says nothing, and
  * every joint then counts. */
 bool rf_rt_weights_known(const rf_skeleton *s);
+/* The lowest and highest points of a pose along up, into *low and *high: each counted joint's
+ * pivot and bone tip (tip[j] in j's frame; a zero tip is none). A joint counts unless `skip`
+ * (may be NULL) marks it or, with `weighted` and a skin that says which joints carry it
+ * (rf_rt_weights_known), it carries none. False, *low INFINITY and *high -INFINITY, when no
+ * joint counts. One walk for the floors, the legs' and bodies' heights and the reaches. */
+bool rf_rt_span(const rf_skeleton *s, const rf_xform *world, const rf_vec3 *tip, rf_vec3 up,
+                const uint8_t *skip, bool weighted, double *low, double *high);
 /* With the target's skinned mesh its floor is measured (its lowest vertex at rest), not taken
  * from a convention; each source's floor is then measured too: where it stands in its clip
  * (the 5th percentile of its lowest points), not its rest's origin plane. CMU's BVH hangs its

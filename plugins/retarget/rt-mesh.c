@@ -750,16 +750,19 @@ static bool rt_mesh_rest_each(rf_retarget *rt, rf_animation *anim, const rf_mesh
     bool ok = at && clear && lift &&
               rf_rt_clearance(rt, rf_retarget_start_time(rt), anim->fps, count, at, clear) &&
               rt_mesh_prepare(&w) && rt_mesh_base(&w, false, aside, &base, &floor_h);
-    for (uint32_t i = 0; ok && i < count; i++) {
+    /* A frame whose lowest point is no number (no vertex stands, or none is one) gives no lift:
+     * the clip stays where rt_mesh_place put it, as that does with such a median frame. */
+    bool finite = true;
+    for (uint32_t i = 0; ok && finite && i < count; i++) {
         clear[i] = floor_h + clear[i] - rt_mesh_low_at(&w, anim, at[i], base);
-        ok = isfinite(clear[i]);
+        finite = isfinite(clear[i]);
     }
-    for (uint32_t f = 0; ok && f < frames; f++) {
+    for (uint32_t f = 0; ok && finite && f < frames; f++) {
         uint32_t i = f / step;
         double span = at[i + 1] > at[i] ? at[i + 1] - at[i] : 1, t = (f - at[i]) / span;
         lift[f] = clear[i] + t * (clear[i + 1] - clear[i]);
     }
-    ok = ok && rf_rt_lift_each(rt, anim, lift);
+    ok = ok && (!finite || rf_rt_lift_each(rt, anim, lift));
     rt_mw_free(&w);
     free(at), free(clear), free(lift), free(aside), free(base);
     return ok;

@@ -668,19 +668,6 @@ static bool rt_alloc_frame(rf_retarget *rt)
     return true;
 }
 
-/* The height of the lowest and highest of a rest's joints and bone tips along up. */
-static void rt_rest_span(const rf_xform *world, const rf_vec3 *tip, uint32_t n, rf_vec3 up,
-                         double *low, double *high)
-{
-    *low = INFINITY, *high = -INFINITY;
-    for (uint32_t j = 0; j < n; j++) {
-        double h = rf_rt_height(up, world[j].t);
-        if (rf_v3_len2(tip[j]) > 0)
-            h = fmin(h, rf_rt_height(up, rf_xform_point(world[j], tip[j])));
-        *low = fmin(*low, h), *high = fmax(*high, rf_rt_height(up, world[j].t));
-    }
-}
-
 /* A limb that cannot hang as its source's does: off the centerline, driven by a source joint in
  * the upper half of its source (an arm, not a leg), reaching from its root more than RT_HANG
  * times its root's height over the target's lowest point (a dragon's wing, three times its
@@ -691,8 +678,18 @@ static void rt_rest_span(const rf_xform *world, const rf_vec3 *tip, uint32_t n, 
 
 static void rt_rigid_limbs(rf_retarget *rt)
 {
+    /* A rest lying across its up (its own up, the analysis's from its limbs, more than 45
+     * degrees off the one it is retargeted along) is measured along its own: lying on its back,
+     * a human's shoulders stand no more than the body's thickness over its lowest point, and its
+     * arms, reaching many times that, were held whole as wings; standing as its source has it
+     * stand, they hang. A rest that is no body (all its bones on one line) has no up of its
+     * own to read. */
+    rf_vec3 up = rt->up;
+    if (!rt->t_degenerate && rf_v3_len2(rt->t_own_up) > 0.5 &&
+        rf_v3_dot(rt->t_own_up, rt->up) < sqrt(0.5))
+        up = rf_v3_normalize(rt->t_own_up);
     double low, high;
-    rt_rest_span(rt->t_rest_world, rt->t_tip, rt->n, rt->up, &low, &high);
+    rf_rt_span(rt->target, rt->t_rest_world, rt->t_tip, up, NULL, false, &low, &high);
     for (uint32_t r = 0; r < rt->n; r++) {
         const rf_rt_tjoint *tr = &rt->tj[r];
         int32_t lp = rt->lparent[r];
@@ -701,7 +698,7 @@ static void rt_rigid_limbs(rf_retarget *rt)
         const rf_rt_input *in = &rt->in[tr->first_input];
         const rf_rt_src *src = &rt->src[in->source];
         double slow, shigh;
-        rt_rest_span(src->rest_world, src->tip, src->n, src->up, &slow, &shigh);
+        rf_rt_span(src->skel, src->rest_world, src->tip, src->up, NULL, false, &slow, &shigh);
         if (rf_rt_height(src->up, src->rest_world[in->joint].t) < 0.5 * (slow + shigh))
             continue; /* a leg */
         rf_vec3 o = rt->t_rest_world[r].t;
@@ -714,7 +711,7 @@ static void rt_rigid_limbs(rf_retarget *rt)
                 reach =
                     fmax(reach, rf_v3_dist(rf_xform_point(rt->t_rest_world[c], rt->t_tip[c]), o));
         }
-        if (!(reach > RT_HANG * (rf_rt_height(rt->up, o) - low)))
+        if (!(reach > RT_HANG * (rf_rt_height(up, o) - low)))
             continue;
         for (uint32_t c = r + 1; c < rt->n; c++)
             if (rf_rt_carries(rt->target, (int32_t)r, c))
@@ -791,6 +788,7 @@ rf_retarget *rf_retarget_new(const rf_rt_source *sources, uint32_t source_count,
     rt->target = target, rt->mapping = mapping, rt->n = target->joint_count;
     rt->source_count = source_count;
     rt->root_motion_on = true;
+    rt->top_from = rt->top_to = RF_RT_NONE;
     for (uint32_t k = 0; k < source_count; k++) {
         rt->src[k].skel = sources[k].skeleton, rt->src[k].anim = sources[k].animation;
         rt->src[k].n = sources[k].skeleton->joint_count;
@@ -871,4 +869,5 @@ void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info)
     info->effectors = rt->effector_count;
     info->dropped = rt->dropped;
     info->anchored = rt->anchored;
+    info->top_from = rt->top_from, info->top_to = rt->top_to;
 }

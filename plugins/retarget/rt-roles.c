@@ -23,20 +23,96 @@ static bool rt_is_helper(uint8_t role)
     return role == RF_ROLE_IK_TARGET || role == RF_ROLE_IK_POLE || role == RF_ROLE_HELPER;
 }
 
+/* Body joints below each joint in the hierarchy, and the top of the body: the body joint hanging
+ * from no body joint that carries the most of them (the others hanging so are parts placed
+ * elsewhere: feet under a placement root, legs that are roots of their own). */
+static int32_t rt_body_top(const rf_retarget *rt, const rf_joint_roles *r)
+{
+    uint32_t *count = calloc(rt->n, sizeof *count), best_count = 0;
+    int32_t best = RF_RT_NONE;
+    if (!count)
+        return RF_RT_NONE;
+    for (uint32_t j = rt->n; j-- > 0;) {
+        count[j] += r->role[j] == RF_ROLE_BODY;
+        int32_t p = rt->target->joints[j].parent;
+        if (p >= 0)
+            count[p] += count[j];
+    }
+    for (uint32_t j = 0; j < rt->n; j++) {
+        int32_t p = rt->target->joints[j].parent;
+        bool root = r->role[j] == RF_ROLE_BODY && (p < 0 || r->role[p] != RF_ROLE_BODY);
+        if (root && count[j] > best_count)
+            best_count = count[j], best = (int32_t)j;
+    }
+    free(count);
+    return best;
+}
+
+/* Whether source joint j is a root its clip holds still (every frame's local transform the
+ * first's, within a millionth of the skeleton's size or rotation) while a child's translation
+ * moves: a placement root the body travels from, as the Bandai files' root on the floor under
+ * their hips. Without skin weights the roles cannot tell it from a body root; driving the
+ * target's root from it left the travel to the target's hips' own translation, outside root
+ * motion (huesitos under the Bandai walk: its stem stretched 22 times, in place too). */
+static bool rt_still_root(const rf_rt_src *src, uint32_t j)
+{
+    const rf_skeleton *s = src->skel;
+    const rf_animation *a = src->anim;
+    if (s->joints[j].parent >= 0 || !a || a->joint_count != s->joint_count || a->frame_count < 2)
+        return false;
+    double eps = 1e-6 * (src->size > 0 ? src->size : 1);
+    rf_vec3 t0 = rf_animation_translation(a, 0, j);
+    rf_quat r0 = rf_quat_normalize(rf_animation_rotation(a, 0, j));
+    for (uint32_t f = 1; f < a->frame_count; f++)
+        if (rf_v3_dist(rf_animation_translation(a, f, j), t0) > eps ||
+            fabs(rf_quat_dot(rf_quat_normalize(rf_animation_rotation(a, f, j)), r0)) < 1 - 1e-9)
+            return false;
+    for (uint32_t c = 0; c < s->joint_count; c++) {
+        if (s->joints[c].parent != (int32_t)j || !(a->channels[c] & RF_CHANNEL_TRANSLATION))
+            continue;
+        rf_vec3 c0 = rf_animation_translation(a, 0, c);
+        for (uint32_t f = 1; f < a->frame_count; f++)
+            if (rf_v3_dist(rf_animation_translation(a, f, c), c0) > eps)
+                return true;
+    }
+    return false;
+}
+
+/* The placement or axis joint above the body top nearest it whose mapping has inputs, when the
+ * top itself has none: its inputs are the body's (a root the matcher gave the source's hips,
+ * which only places the body). Moved to the top, the hips drive and carry the root motion of the
+ * whole body; dropped, the body's first driven joints below the top each carried root motion of
+ * their own and the unmapped joints between stayed behind (a quadruped whose hind legs hang from
+ * an unmapped pelvis was pulled into a bar along its spine). -1 when there is none. */
+static int32_t rt_top_input(const rf_retarget *rt, int32_t top)
+{
+    const rf_mapping *m = rt->mapping;
+    if (top < 0 || m->entries[top].input_count)
+        return RF_RT_NONE;
+    for (int32_t p = rt->target->joints[top].parent; p >= 0; p = rt->target->joints[p].parent)
+        if (rf_joint_role_is_frame((rf_joint_role)rt->t_role[p]) && m->entries[p].input_count)
+            return p;
+    return RF_RT_NONE;
+}
+
 /* The caller's mapping without inputs on target placement, axis and helper joints (helpers are
- * placed from their body joint) or from source placement and axis joints. */
-static bool rt_filter_mapping(rf_retarget *rt, rf_joint_roles *const *sroles)
+ * placed from their body joint) or from source placement and axis joints; the inputs of the
+ * frame joint rt_top_input finds go to the body's top instead. */
+static bool rt_filter_mapping(rf_retarget *rt, rf_joint_roles *const *sroles, int32_t top)
 {
     const rf_mapping *m = rt->mapping;
     rf_mapping *own = rf_mapping_new(m->target_joint_count, m->source_count);
     if (!own)
         return false;
     rt->own_map = own;
+    int32_t moved = rt_top_input(rt, top);
+    rt->top_from = moved, rt->top_to = moved >= 0 ? top : RF_RT_NONE;
     for (uint32_t j = 0; j < m->target_joint_count; j++) {
-        const rf_map_entry *e = &m->entries[j];
+        uint32_t from = (int32_t)j == top && moved >= 0 ? (uint32_t)moved : j;
+        const rf_map_entry *e = &m->entries[from];
         rf_map_entry *out = &own->entries[j];
         uint8_t role = rt->t_role[j];
-        if (!e->input_count)
+        if (!e->input_count || (int32_t)j == moved)
             continue;
         if (rf_joint_role_is_frame((rf_joint_role)role) || rt_is_helper(role)) {
             rt->dropped += e->input_count;
@@ -49,7 +125,8 @@ static bool rt_filter_mapping(rf_retarget *rt, rf_joint_roles *const *sroles)
         for (uint32_t i = 0; i < e->input_count; i++) {
             const rf_map_input *in = &e->inputs[i];
             const rf_joint_roles *sr = sroles[in->source];
-            if (sr && rf_joint_role_is_frame((rf_joint_role)sr->role[in->joint]))
+            if ((sr && rf_joint_role_is_frame((rf_joint_role)sr->role[in->joint])) ||
+                rt_still_root(&rt->src[in->source], in->joint))
                 rt->dropped++;
             else
                 out->inputs[out->input_count++] = *in;
@@ -88,31 +165,6 @@ static int32_t rt_nearest_body(const rf_retarget *rt, const rf_joint_roles *r, u
         if (d < best_d)
             best_d = d, best = d < rf_v3_dist(p, rt->t_rest_world[b].t) ? up : (int32_t)b;
     }
-    return best;
-}
-
-/* Body joints below each joint in the hierarchy, and the top of the body: the body joint hanging
- * from no body joint that carries the most of them (the others hanging so are parts placed
- * elsewhere: feet under a placement root, legs that are roots of their own). */
-static int32_t rt_body_top(const rf_retarget *rt, const rf_joint_roles *r)
-{
-    uint32_t *count = calloc(rt->n, sizeof *count), best_count = 0;
-    int32_t best = RF_RT_NONE;
-    if (!count)
-        return RF_RT_NONE;
-    for (uint32_t j = rt->n; j-- > 0;) {
-        count[j] += r->role[j] == RF_ROLE_BODY;
-        int32_t p = rt->target->joints[j].parent;
-        if (p >= 0)
-            count[p] += count[j];
-    }
-    for (uint32_t j = 0; j < rt->n; j++) {
-        int32_t p = rt->target->joints[j].parent;
-        bool root = r->role[j] == RF_ROLE_BODY && (p < 0 || r->role[p] != RF_ROLE_BODY);
-        if (root && count[j] > best_count)
-            best_count = count[j], best = (int32_t)j;
-    }
-    free(count);
     return best;
 }
 
@@ -249,7 +301,7 @@ bool rf_rt_roles_prepare(rf_retarget *rt, char *err, size_t err_size)
     }
     if (ok) {
         memcpy(rt->t_role, tr->role, n);
-        ok = rt_filter_mapping(rt, sr);
+        ok = rt_filter_mapping(rt, sr, rt_body_top(rt, tr));
     }
     if (ok) {
         rt_anchors(rt, tr);

@@ -376,6 +376,141 @@ static void root_scaled_by_hip_height(void **state)
     rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* `b` under a new root "base" at the origin (joint 0; b's joints follow, one index on). */
+static rf_skeleton *on_base(const rf_skeleton *b)
+{
+    rf_skeleton *s = rf_skeleton_new(b->joint_count + 1);
+    fx_joint(s, 0, "base", -1, rf_v3(0, 0, 0), rf_quat_identity());
+    for (uint32_t j = 0; j < b->joint_count; j++) {
+        const rf_joint *o = &b->joints[j];
+        fx_joint(s, j + 1, o->name, o->parent + 1, o->rest.t, o->rest.r);
+        s->joints[j + 1].flags = o->flags, s->joints[j + 1].end_site = o->end_site;
+    }
+    return s;
+}
+
+/* A source root its clip holds still while the hips' own translation walks (the Bandai files'
+ * root on the floor), mapped onto the target's root as a matcher may: it drives nothing, and
+ * the hips' walk is root motion, scaled by the legs and dropped by in_place. Driven by the still
+ * root, the target's root stayed and its hips walked in their own translation, in place too. */
+static void still_source_root_drives_nothing(void **state)
+{
+    (void)state;
+    rf_skeleton *b1 = biped(1, 0.5, 0.45), *b2 = biped(0.5, 0.5, 0.45);
+    rf_skeleton *src = on_base(b1), *tgt = on_base(b2);
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_animation_set_translation(clip, 1, 1, rf_v3(2, 1.1, 0));
+    clip->channels[0] |= RF_CHANNEL_TRANSLATION, clip->channels[1] |= RF_CHANNEL_TRANSLATION;
+    rf_mapping *m = fx_mapping(10, 1);
+    fx_map_same(m, 10);
+    rf_retarget_options o = opts();
+    o.in_place = true;
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_xform w0[10], w1[10];
+    fx_world(tgt, r.out, 0, w0);
+    fx_world(tgt, r.out, 1, w1);
+    /* In place: the hips stay over where they stood, and every joint keeps to its rest's
+     * distance from them (nothing left behind). */
+    print_message("in place: hips moved (%.4f, %.4f, %.4f)\n", w1[1].t.x - w0[1].t.x,
+                  w1[1].t.y - w0[1].t.y, w1[1].t.z - w0[1].t.z);
+    assert_true(fabs(w1[1].t.x - w0[1].t.x) < 1e-6 && fabs(w1[1].t.z - w0[1].t.z) < 1e-6);
+    run_free(&r);
+    /* With root motion: 2 forward at the legs' ratio (hip heights 1 and 0.5) is 1. */
+    o.in_place = false;
+    r = do_run(src, clip, tgt, m, &o);
+    fx_world(tgt, r.out, 0, w0);
+    fx_world(tgt, r.out, 1, w1);
+    assert_true(fabs(w1[1].t.x - w0[1].t.x - 1) < 1e-6 && fabs(w1[1].t.z - w0[1].t.z) < 1e-6);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip);
+    rf_skeleton_free(src), rf_skeleton_free(tgt), rf_skeleton_free(b1), rf_skeleton_free(b2);
+}
+
+/* The biped with arms along x from its spine: shoulders, elbows and wrists (15 joints). */
+static rf_skeleton *biped_arms(void)
+{
+    rf_skeleton *b = biped(1, 0.5, 0.45), *s = rf_skeleton_new(15);
+    for (uint32_t j = 0; j < 9; j++) {
+        const rf_joint *o = &b->joints[j];
+        fx_joint(s, j, o->name, o->parent, o->rest.t, o->rest.r);
+        s->joints[j].flags = o->flags, s->joints[j].end_site = o->end_site;
+    }
+    rf_skeleton_free(b);
+    static const char *names[2][3] = {{"lshoulder", "lelbow", "lwrist"},
+                                      {"rshoulder", "relbow", "rwrist"}};
+    for (uint32_t k = 0; k < 2; k++) {
+        double x = k ? -1 : 1;
+        uint32_t j = 9 + 3 * k;
+        fx_joint(s, j, names[k][0], 7, rf_v3(0.1 * x, 0.4, 0), rf_quat_identity());
+        fx_joint(s, j + 1, names[k][1], (int32_t)j, rf_v3(0.25 * x, 0, 0), rf_quat_identity());
+        fx_joint(s, j + 2, names[k][2], (int32_t)j + 1, rf_v3(0.25 * x, 0, 0), rf_quat_identity());
+        fx_end_site(s, j + 2, rf_v3(0.1 * x, 0, 0));
+    }
+    return s;
+}
+
+/* A target whose rest lies on its back (the same body turned a quarter about x, hips a little
+ * over the floor) keeps its arms driven: lying, the shoulders stand a body's thickness over
+ * the lowest point, but the arms hang from them once the body stands as its source does. */
+static void lying_rest_keeps_arms(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped_arms(), *tgt = biped_arms();
+    tgt->joints[0].rest.t = rf_v3(0, 0.2, 0);
+    tgt->joints[0].rest.r = fx_rot(X, -90);
+    tgt->up = Y;
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_mapping *m = fx_mapping(15, 1);
+    fx_map_same(m, 15);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    for (uint32_t j = 9; j < 15; j++)
+        print_message("%s: %s\n", tgt->joints[j].name,
+                      r.rt->tj[j].kind == RF_RT_MAPPED ? "driven" : "held");
+    for (uint32_t j = 9; j < 15; j++)
+        assert_int_equal(r.rt->tj[j].kind, RF_RT_MAPPED);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* An upright body standing on its trunk (a bottom joint at its lowest point, a chest, a head:
+ * greenman's build) takes a biped source's lean eased into 10 degrees: the biped balances its
+ * leaning trunk over its legs, the trunk on the floor tips over. The biped's hips lean 50
+ * degrees forward; the bottom tilts 10 tanh(50 / 10) = 9.9991 degrees (by hand), where it took
+ * all 50. A source standing on its trunk too passes its lean as it is. */
+static void trunk_standing_body_eases_lean(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = rf_skeleton_new(3);
+    fx_joint(tgt, 0, "bottom", -1, rf_v3(0, 0, 0), rf_quat_identity());
+    fx_joint(tgt, 1, "chest", 0, rf_v3(0, 0.8, 0), rf_quat_identity());
+    fx_joint(tgt, 2, "head", 1, rf_v3(0, 0.6, 0), rf_quat_identity());
+    fx_end_site(tgt, 2, rf_v3(0, 0.3, 0));
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_animation_set_rotation(clip, 1, 0, fx_rot(X, 50));
+    rf_mapping *m = fx_mapping(3, 1);
+    fx_map(m, 0, 0, 0, 1, 0, 0), fx_map(m, 1, 0, 7, 1, 0, 0), fx_map(m, 2, 0, 8, 1, 0, 0);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_xform w[3];
+    fx_world(tgt, r.out, 1, w);
+    double tilt = fx_angle(rf_v3_sub(w[1].t, w[0].t), Y);
+    print_message("trunk on the floor under a 50-degree lean: %.4f degrees\n", tilt);
+    assert_true(fabs(tilt - 10 * tanh(5)) < 1e-3);
+    run_free(&r);
+    /* The chain's own source (a bottom at its lowest point too) passes the lean whole. */
+    rf_animation *own = fx_rest_clip(tgt, 2, 10);
+    rf_animation_set_rotation(own, 1, 0, fx_rot(X, 50));
+    rf_mapping *same = fx_mapping(3, 1);
+    fx_map_same(same, 3);
+    r = do_run(tgt, own, tgt, same, &o);
+    fx_world(tgt, r.out, 1, w);
+    assert_true(fabs(fx_angle(rf_v3_sub(w[1].t, w[0].t), Y) - 50) < 1e-3);
+    run_free(&r);
+    rf_mapping_free(m), rf_mapping_free(same), rf_animation_free(clip), rf_animation_free(own);
+    rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 /* A target standing on a floor below the origin keeps its feet there. */
 static void target_stays_on_its_floor(void **state)
 {
@@ -1010,6 +1145,44 @@ static rf_mesh *boxes_mesh(uint32_t boxes)
     return m;
 }
 
+/* A body without legs is put on its mesh's floor frame by frame (rt_mesh_rest_each); a mesh
+ * whose lowest point is no number (here every position NaN) gives no floor, and the clip is
+ * left where it was, as the median frame's placement leaves it, not refused as "out of
+ * memory". The target is the biped's hips, spine and head, driven by the source's. */
+static void mesh_floor_without_number(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = rf_skeleton_new(3);
+    fx_joint(tgt, 0, "hips", -1, rf_v3(0, 1, 0), rf_quat_identity());
+    fx_joint(tgt, 1, "spine", 0, rf_v3(0, 0.1, 0), rf_quat_identity());
+    fx_joint(tgt, 2, "head", 1, rf_v3(0, 0.5, 0), rf_quat_identity());
+    fx_end_site(tgt, 2, rf_v3(0, 0.2, 0));
+    rf_animation *clip = fx_rest_clip(src, 20, 30);
+    for (uint32_t f = 0; f < 20; f++)
+        rf_animation_set_rotation(clip, f, 7, fx_rot(X, f));
+    rf_mapping *m = fx_mapping(3, 1);
+    fx_map(m, 0, 0, 0, 1, 0, 0), fx_map(m, 1, 0, 7, 1, 0, 0), fx_map(m, 2, 0, 8, 1, 0, 0);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_mesh *mesh = boxes_mesh(1);
+    add_box(mesh, 0, 2, 0);
+    for (uint32_t i = 0; i < mesh->vertex_count * 3; i++)
+        mesh->positions[i] = NAN;
+    size_t size = (size_t)r.out->frame_count * r.out->joint_count * 3 * sizeof(float);
+    float *before = malloc(size);
+    memcpy(before, r.out->translations, size);
+    char err[256] = "";
+    bool ok = rf_retarget_mesh_floor(r.rt, r.out, mesh, NULL, err, sizeof err);
+    if (!ok)
+        print_message("refused: %s\n", err);
+    assert_true(ok);
+    assert_memory_equal(before, r.out->translations, size);
+    free(before);
+    rf_mesh_free(mesh);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 /* One box torn off and the rest still: 100 boxes held by joint 1, and a last one whose top
  * corners joint 1 holds and whose bottom ones joint 2 (1 under joint 1) holds, pulled 2 down in
  * every frame of the clip. The torn box's vertical edges grow from 2 to 4 (stretch 1.0 exactly)
@@ -1443,6 +1616,10 @@ int main(void)
         cmocka_unit_test(level_keeps_turn_limits_tilt),
         cmocka_unit_test(bad_inputs_refused),
         cmocka_unit_test(huge_clip_refused),
+        cmocka_unit_test(still_source_root_drives_nothing),
+        cmocka_unit_test(mesh_floor_without_number),
+        cmocka_unit_test(lying_rest_keeps_arms),
+        cmocka_unit_test(trunk_standing_body_eases_lean),
     };
     return cmocka_run_group_tests_name("retarget", tests, NULL, NULL);
 }

@@ -146,6 +146,23 @@ if "$rigflow" describe skeletal-similarity >/dev/null 2>&1; then
         if awk -v l="$leg" 'BEGIN { exit !(l + 0 > 70 && l + 0 < 94) }'; then ok
         else ko "Bandai kick onto Testwuson: source leg '$leg', expected 70 to 94"; fi
     else ko "Bandai kick onto Testwuson"; cat "$tmp/out"; fi
+    # Bodies the Bandai clips pulled into a bar: Testwuson's placement root mapped to the
+    # source's hips (the body's top, unmapped, and the pelvis under it stayed behind while the
+    # hind legs and the chest each carried root motion; stretch p99 419% of its height under the
+    # walk, 439% under the run), and huesitos' stem root mapped to the Bandai root that never
+    # moves (its hips' own translation then carried the walk, in place too: 2165%). The bar is
+    # the sweep judge's: stretch p99 within three times the model's own clip's (in brackets).
+    for case in bandai_walk:Testwuson.X bandai_run:Testwuson.X bandai_walk:huesitos.fbx; do
+        clip=${case%%:*} model=${case#*:}
+        if "$rigflow" run "$pipeline" -p "source.path=$data/bvh/$clip.bvh" \
+            -p "target.path=$data/models/$model" -p "export.path=$tmp/bar.glb" >"$tmp/out" 2>&1
+        then
+            st=$(sed -n 's/.*; stretch p99 \([0-9.]*\) \[\([0-9.]*\)\].*/\1 \2/p' "$tmp/out")
+            if awk -v s="$st" 'BEGIN { split(s, v, " "); exit !(v[1] != "" && v[1] + 0 < 3 * v[2]) }'
+            then ok; else ko "$clip onto $model: stretch p99 [own] '$st', over 3 times its own"; fi
+            [ "$model" = Testwuson.X ] && has "$tmp/out" "inputs of 'Root', which only places"
+        else ko "$clip onto $model"; cat "$tmp/out"; fi
+    done
 else
     echo "skeletal-similarity not installed: pipelines/retarget.json not run"
 fi
