@@ -307,11 +307,6 @@ static rf_vec3 rf_rig_snap_axis(rf_vec3 v)
 #define RF_RIG_UP_CONFIDENCE 0.35
 #define RF_RIG_UP_SUPPORT 0.07
 
-bool rf_rig_no_memory(const char *err)
-{
-    return strncmp(err, "out of memory", 13) == 0;
-}
-
 /* The file's six axis directions, in the order rf_rig_axis_index numbers them. */
 static const rf_vec3 rf_rig_axes[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
                                        {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
@@ -368,8 +363,9 @@ static bool rf_rig_read_up(rf_rig_prep *p, rf_quat q, const rf_rig_options *o,
     rf_skeleton *s = NULL;
     bool ok = true;
     err[0] = '\0';
-    if (!rf_rig_curve(&t, o, &k, err, sizeof err)) {
-        ok = !rf_rig_no_memory(err);
+    rf_rig_status status = rf_rig_curve(&t, o, &k, err, sizeof err);
+    if (status != RF_RIG_OK) {
+        ok = status != RF_RIG_NO_MEMORY;
         snprintf(out->why, sizeof out->why, "%.199s", err);
     } else if (!(s = rf_rig_skeleton(&k, NULL)))
         ok = false;
@@ -381,7 +377,7 @@ static bool rf_rig_read_up(rf_rig_prep *p, rf_quat q, const rf_rig_options *o,
             out->confidence = a->up_confidence, out->source = a->up_source;
             out->axis = rf_rig_snap_axis(out->read);
         } else
-            snprintf(out->why, sizeof out->why, "the skeleton analysis could not read it");
+            ok = false; /* the analysis fails only when out of memory: no reading of the body */
         rf_analysis_free(a);
     }
     rf_skeleton_free(s);
@@ -485,9 +481,10 @@ bool rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out
     rf_rig_stats st;
     rf_rig_prep p;
     char err[256];
-    if (!rf_rig_prepare(m, &o, &p, &st, err, sizeof err)) {
+    rf_rig_status status = rf_rig_prepare(m, &o, &p, &st, err, sizeof err);
+    if (status != RF_RIG_OK) {
         snprintf(out->why, sizeof out->why, "%.199s", err);
-        return !rf_rig_no_memory(err);
+        return status != RF_RIG_NO_MEMORY;
     }
     bool ok = rf_rig_read_up(&p, rf_quat_identity(), &o, support, out) &&
               (out->found || rf_rig_read_stands(&p, &o, support, out));

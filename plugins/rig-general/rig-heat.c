@@ -639,6 +639,8 @@ static bool rf_rig_solve(const rf_rig_geo *g, const rf_rig_src *src, uint32_t nj
         for (uint32_t i = 0; i < g->nv; i++)
             for (uint32_t j = 0; j < nj; j++)
                 w[(size_t)i * nj + j] = xx[(size_t)j * g->nv + i];
+    } else if (!area || !diag || cc.status == CHOLMOD_OUT_OF_MEMORY) {
+        ok = rf_rig_fail(err, n, "out of memory solving bone heat over %u vertices", g->nv);
     } else {
         ok = false;
         rf_rig_fail(err, n,
@@ -1227,7 +1229,7 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     if (!ok)
         rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok && !rf_rig_rays_make(&rays, &p->proxy, p->proxy_part))
-        ok = rf_rig_fail(err, n, "Embree could not build the ray-casting scene");
+        ok = rf_rig_fail(err, n, "out of memory building the ray-casting scene (Embree)");
     if (ok && p->proxy_parts > 1 && !rf_rig_enclosed_make(p, &rays, bones, nb, nj, &enc))
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     if (ok && !o->given_bones &&

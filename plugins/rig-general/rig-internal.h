@@ -61,10 +61,18 @@ void rf_rig_heap_free(rf_rig_heap *h);
 
 /* printf into err; returns false so callers can `return rf_rig_fail(...)`. */
 bool rf_rig_fail(char *err, size_t n, const char *fmt, ...) RF_RIG_PRINTF(3, 4);
-/* Whether the rigger's reason for failing, err, is a lack of memory: every such reason starts
- * so (rig.c, rig-mesh.c, rig-skel.c). It is no fact about the body, and is passed on
- * (rig-frame.c). */
-bool rf_rig_no_memory(const char *err);
+
+/* How a step of the rigger ended, returned beside the reason it writes into err. A lack of
+ * memory is no fact about the body: a caller that would read a failed step as an answer (no up
+ * found, the other first pass kept) passes it on instead (rig.c, rig-frame.c). */
+typedef enum rf_rig_status {
+    RF_RIG_OK = 0,
+    RF_RIG_REFUSED,   /* the body cannot be rigged so: err says why */
+    RF_RIG_NO_MEMORY, /* an allocation failed: err says in which step */
+} rf_rig_status;
+/* printf into err; return RF_RIG_REFUSED and RF_RIG_NO_MEMORY, for `return rf_rig_oom(...)`. */
+rf_rig_status rf_rig_refuse(char *err, size_t n, const char *fmt, ...) RF_RIG_PRINTF(3, 4);
+rf_rig_status rf_rig_oom(char *err, size_t n, const char *fmt, ...) RF_RIG_PRINTF(3, 4);
 
 /* Whether cleaning and weighting a mesh of this size fits in `available` bytes (when `known`);
  * if not, says in err how much it needs and what to do. */
@@ -73,8 +81,9 @@ bool rf_rig_memory_fits(uint64_t vertices, uint64_t triangles, bool known, uint6
 /* Whether bone heat over `vertices` proxy vertices for `joints` joints fits the same way. */
 bool rf_rig_heat_fits(uint64_t vertices, uint64_t joints, bool known, uint64_t available, char *err,
                       size_t n);
-bool rf_rig_prepare(const rf_mesh *m, const rf_rig_options *o, rf_rig_prep *out, rf_rig_stats *st,
-                    char *err, size_t n);
+/* The mesh checked and cleaned into out (rf_rig_prep); on failure nothing is held. */
+rf_rig_status rf_rig_prepare(const rf_mesh *m, const rf_rig_options *o, rf_rig_prep *out,
+                             rf_rig_stats *st, char *err, size_t n);
 void rf_rig_prep_free(rf_rig_prep *p);
 
 /* The frame a mesh is rigged in (rig-frame.c): the file's up as y and its forward, or the body's
@@ -128,13 +137,9 @@ bool rf_rig_pooled_facing(const rf_rig_prep *p, const rf_rig_skel *k, const rf_r
  * mirror[0..2] . p = mirror[3], the normal zero when the body has none. Into stand[4] when not
  * NULL: where a pair of legs the bands misjudged as bumps leaves the body (rf_rig_stands_on),
  * stand[3] 1 when there is one, else 0. */
-bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double *seed,
-                    double *mirror, double *stand, rf_rig_skel *out, char *err, size_t n);
+rf_rig_status rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double *seed,
+                             double *mirror, double *stand, rf_rig_skel *out, char *err, size_t n);
 void rf_rig_skel_free(rf_rig_skel *s);
-
-/* Where the skeleton's two lowest leaves meet (lowest along `up` when it is not zero, else along
- * the up the skeleton analysis reads), or NONE (rig.c). */
-uint32_t rf_rig_pick_root(const rf_rig_skel *k, rf_vec3 up);
 
 /* The bones of a skeleton (one per parent-child pair and per leaf tip; a lone joint is a point).
  * Returns the count, *out malloc'd, or 0 when out of memory. */
@@ -165,8 +170,8 @@ rf_rig_options rf_rig_defaults(const rf_rig_options *opts);
 
 /* The general rigger's curve skeleton, cut into joints: extracted twice (the second time from
  * where the feet meet) and rooted at the hips (rig.c). */
-bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
-                  size_t n);
+rf_rig_status rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
+                           size_t n);
 
 /* k as an rf_skeleton (rest = bind, unrotated joints); named by the skeleton analysis when
  * `named` is not NULL (its up and forward as hints), else unnamed. NULL when out of memory. */
@@ -280,8 +285,8 @@ bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
 
 /* Head joint h of k moved down its bone to where the trunk enters the head's bulk, when the
  * bone rises within 45 degrees of `up` (rig.c; the general rigger's first head joint, the
- * template's Head). */
-void rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 up, rf_vec3 fwd);
+ * template's Head). False when out of memory (h unmoved). */
+bool rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 up, rf_vec3 fwd);
 
 /* The template laid into curve skeleton k of the cleaned mesh p, as a working skeleton into
  * *out (names into names[joint], 24 bytes each, up to 40 joints), with the layouts given

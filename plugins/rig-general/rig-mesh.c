@@ -23,6 +23,26 @@ bool rf_rig_fail(char *err, size_t n, const char *fmt, ...)
     return false;
 }
 
+rf_rig_status rf_rig_refuse(char *err, size_t n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    if (err && n)
+        vsnprintf(err, n, fmt, ap);
+    va_end(ap);
+    return RF_RIG_REFUSED;
+}
+
+rf_rig_status rf_rig_oom(char *err, size_t n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    if (err && n)
+        vsnprintf(err, n, fmt, ap);
+    va_end(ap);
+    return RF_RIG_NO_MEMORY;
+}
+
 /* ---- heap ---- */
 
 bool rf_rig_heap_push(rf_rig_heap *h, double key, uint32_t id)
@@ -486,36 +506,38 @@ static bool rf_rig_bbox(rf_rig_prep *p, char *err, size_t n)
     return true;
 }
 
-bool rf_rig_prepare(const rf_mesh *m, const rf_rig_options *o, rf_rig_prep *out, rf_rig_stats *st,
-                    char *err, size_t n)
+rf_rig_status rf_rig_prepare(const rf_mesh *m, const rf_rig_options *o, rf_rig_prep *out,
+                             rf_rig_stats *st, char *err, size_t n)
 {
     memset(out, 0, sizeof *out);
     uint64_t available = 0;
     bool known = rf_memory_available(&available);
     if (!rf_rig_check_input(m, err, n) ||
         !rf_rig_memory_fits(m->vertex_count, m->triangle_count, known, available, err, n))
-        return false;
+        return RF_RIG_REFUSED;
     rf_rig_clean c = {.m = m};
     rf_rig_geo body = {0};
     uint32_t *w2b = NULL, *b2p = NULL;
+    rf_rig_status status = RF_RIG_OK;
     bool ok = (c.weld = malloc((size_t)m->vertex_count * sizeof *c.weld)) &&
               rf_rig_weld(m, c.weld, &c.nw) && rf_rig_welded_triangles(&c) &&
               rf_rig_parts(&c, o->speck_size, &st->parts, &st->specks) &&
               (w2b = malloc((size_t)c.nw * sizeof *w2b)) && rf_rig_body(&c, &body, w2b);
     if (!ok) {
-        rf_rig_fail(err, n, "out of memory cleaning a mesh of %u vertices", m->vertex_count);
+        status =
+            rf_rig_oom(err, n, "out of memory cleaning a mesh of %u vertices", m->vertex_count);
         goto done;
     }
     st->vertices = m->vertex_count, st->welded = c.nw;
     if (!body.nt) {
         if (c.nt)
-            ok = rf_rig_fail(err, n,
-                             "the mesh is nothing but specks: %u loose parts, none spanning %.0f%% "
-                             "of the whole",
-                             st->parts, o->speck_size * 100);
+            status = rf_rig_refuse(err, n,
+                                   "the mesh is nothing but specks: %u loose parts, none "
+                                   "spanning %.0f%% of the whole",
+                                   st->parts, o->speck_size * 100);
         else
-            ok = rf_rig_fail(err, n, "the mesh has only degenerate triangles (%u of them)",
-                             m->triangle_count);
+            status = rf_rig_refuse(err, n, "the mesh has only degenerate triangles (%u of them)",
+                                   m->triangle_count);
         goto done;
     }
     ok = (b2p = malloc((size_t)body.nv * sizeof *b2p)) != NULL;
@@ -535,16 +557,17 @@ bool rf_rig_prepare(const rf_mesh *m, const rf_rig_options *o, rf_rig_prep *out,
     }
     ok = ok && rf_rig_proxy_parts(out);
     if (!ok)
-        rf_rig_fail(err, n, "out of memory simplifying a mesh of %u triangles", body.nt);
-    ok = ok && rf_rig_bbox(out, err, n);
+        status = rf_rig_oom(err, n, "out of memory simplifying a mesh of %u triangles", body.nt);
+    else if (!rf_rig_bbox(out, err, n))
+        status = RF_RIG_REFUSED;
     st->proxy_triangles = out->proxy.nt;
 done:
     free(c.weld), free(c.wp), free(c.tris), free(c.part), free(c.speck);
     free(w2b), free(b2p);
     rf_rig_geo_free(&body);
-    if (!ok)
+    if (status != RF_RIG_OK)
         rf_rig_prep_free(out);
-    return ok;
+    return status;
 }
 
 void rf_rig_prep_free(rf_rig_prep *p)

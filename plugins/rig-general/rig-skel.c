@@ -1428,9 +1428,10 @@ static bool rf_rig_cut_contacts(rf_rig_grid *g, const rf_rig_prep *p, const doub
     return ok || !m->nv;
 }
 
-bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double *seed,
-                    double *mirror, double *stand, rf_rig_skel *out, char *err, size_t n)
+rf_rig_status rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double *seed,
+                             double *mirror, double *stand, rf_rig_skel *out, char *err, size_t n)
 {
+    rf_rig_status status = RF_RIG_OK;
     memset(out, 0, sizeof *out);
     rf_rig_init26();
     rf_rig_grid g;
@@ -1448,17 +1449,18 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
     ok = ok && (!seed || rf_rig_cut_contacts(&g, p, seed)) && rf_rig_geodesic(&g, seed, &ncomp) &&
          rf_rig_pieces(&g, &ns) && rf_rig_link(&g, &ns) && rf_rig_tree_make(&t, &g, &ns);
     if (!ok) {
-        rf_rig_fail(err, n, "out of memory on a %dx%dx%d voxel grid", g.nx, g.ny, g.nz);
+        status = rf_rig_oom(err, n, "out of memory on a %dx%dx%d voxel grid", g.nx, g.ny, g.nz);
         goto done;
     }
     if (!ns.n) {
-        ok = rf_rig_fail(err, n, "the mesh encloses no volume at %u voxels across", o->resolution);
+        status =
+            rf_rig_refuse(err, n, "the mesh encloses no volume at %u voxels across", o->resolution);
         goto done;
     }
     t.seg = o->segment * p->longest;
     t.floor = p->lo[1], t.top = p->hi[1];
     if (!rf_rig_attach(&t)) {
-        ok = rf_rig_fail(err, n, "out of memory linking the mesh's parts");
+        status = rf_rig_oom(err, n, "out of memory linking the mesh's parts");
         goto done;
     }
     rf_rig_count_children(&t);
@@ -1482,7 +1484,7 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
         free(t.far_r);
     t.len = NULL, t.score = NULL, t.start = NULL, t.far = NULL, t.far_r = NULL;
     if (!pruning) {
-        ok = rf_rig_fail(err, n, "out of memory pruning the skeleton");
+        status = rf_rig_oom(err, n, "out of memory pruning the skeleton");
         goto done;
     }
     uint32_t root = RF_RIG_NONE;
@@ -1500,13 +1502,13 @@ bool rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double 
          rf_rig_emit(&b, root);
     free(b.path);
     if (!ok)
-        rf_rig_fail(err, n, "out of memory building the skeleton");
+        status = rf_rig_oom(err, n, "out of memory building the skeleton");
 done:
     free(t.pos), free(t.radius), free(ns.v);
     rf_rig_grid_free(&g);
-    if (!ok)
+    if (status != RF_RIG_OK)
         rf_rig_skel_free(out);
-    return ok;
+    return status;
 }
 
 void rf_rig_skel_free(rf_rig_skel *s)

@@ -1129,11 +1129,11 @@ static bool rf_rig_template_framed(const rf_mesh *mesh, const rf_rig_options *op
     char names[RF_TPL_MAXJ][24];
     rf_rig_template_kind got = RF_RIG_TEMPLATE_AUTO;
     rf_vec3 up = rf_v3(0, 0, 0), forward = rf_v3(0, 0, 0);
-    if (!rf_rig_prepare(mesh, &o, &p, st, err, err_size))
+    if (rf_rig_prepare(mesh, &o, &p, st, err, err_size) != RF_RIG_OK)
         return false;
     if (progress)
         progress(user, 0.1);
-    bool ok = rf_rig_curve(&p, &o, &k, err, err_size) &&
+    bool ok = rf_rig_curve(&p, &o, &k, err, err_size) == RF_RIG_OK &&
               rf_rig_template_place(&p, &k, &o, kind, NULL, NULL, &tk, names, &got, &up, &forward,
                                     err, err_size);
     if (ok && progress)

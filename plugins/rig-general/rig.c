@@ -121,62 +121,90 @@ static uint32_t rf_rig_lca(const rf_rig_skel *k, uint32_t a, uint32_t b)
     return a;
 }
 
-/* Girdles: where two leaves of the lowest fifth of the body (along `declared` when it is not
- * zero, else along the up the skeleton analysis finds) meet above that fifth, flagged in
- * girdle[] (k->n entries); feet that meet near the floor are a heel and its toes, or legs merged
- * into one column under a skirt. Each girdle's height into height[]. Returns how many, or -1
- * when out of memory. */
-static int rf_rig_girdles(const rf_rig_skel *k, rf_vec3 declared, uint8_t *girdle, double *height)
+/* The girdles of a skeleton: where two leaves of the lowest fifth of the body (along the up they
+ * are looked for by) meet above that fifth; feet that meet near the floor are a heel and its
+ * toes, or legs merged into one column under a skirt. */
+typedef struct rf_rig_girdle_set {
+    uint8_t *on;    /* [n] 1 at a girdle */
+    double *height; /* [n] a girdle's height along that up */
+    int count;
+} rf_rig_girdle_set;
+
+static void rf_rig_girdle_set_free(rf_rig_girdle_set *g)
 {
-    rf_vec3 up = rf_v3_len(declared) > 0 ? rf_v3_normalize(declared) : rf_v3(0, 1, 0);
-    if (!(rf_v3_len(declared) > 0)) {
-        rf_skeleton *s = rf_rig_skeleton(k, NULL);
-        rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
-        up = a ? a->up : up;
-        rf_analysis_free(a);
-        rf_skeleton_free(s);
+    free(g->on), free(g->height);
+    memset(g, 0, sizeof *g);
+}
+
+/* The up girdles are looked for along: `declared` when it is not zero, else the one the skeleton
+ * analysis reads. False when out of memory: +y in its place would look for feet on a body lying
+ * on its side, and the second pass would grow from wherever they seemed to meet. */
+static bool rf_rig_girdle_up(const rf_rig_skel *k, rf_vec3 declared, rf_vec3 *up)
+{
+    if (rf_v3_len(declared) > 0 || !k->n) {
+        *up = k->n ? rf_v3_normalize(declared) : rf_v3(0, 1, 0);
+        return true;
     }
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
+    if (a)
+        *up = a->up;
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    return a != NULL;
+}
+
+/* k's girdles into g along `declared` (rf_rig_girdle_up). False when out of memory (g empty). */
+static bool rf_rig_girdles(const rf_rig_skel *k, rf_vec3 declared, rf_rig_girdle_set *g)
+{
+    rf_vec3 up;
+    memset(g, 0, sizeof *g);
     uint8_t *inner = calloc(k->n + 1, 1);
-    if (!inner)
-        return -1;
+    g->on = calloc(k->n + 1, 1);
+    g->height = calloc(k->n + 1, sizeof *g->height);
+    bool ok = inner && g->on && g->height && rf_rig_girdle_up(k, declared, &up);
     double lo = INFINITY, hi = -INFINITY;
-    for (uint32_t j = 0; j < k->n; j++) {
+    for (uint32_t j = 0; ok && j < k->n; j++) {
         if (k->parent[j] >= 0)
             inner[k->parent[j]] = 1;
         lo = fmin(lo, rf_rig_height(k, j, up)), hi = fmax(hi, rf_rig_height(k, j, up));
-        girdle[j] = 0;
     }
     double low = lo + 0.2 * (hi - lo);
-    int count = 0;
-    for (uint32_t i = 0; i < k->n; i++)
+    for (uint32_t i = 0; ok && i < k->n; i++)
         for (uint32_t j = i + 1; j < k->n; j++) {
             if (inner[i] || inner[j] || rf_rig_height(k, i, up) > low ||
                 rf_rig_height(k, j, up) > low)
                 continue;
             uint32_t m = rf_rig_lca(k, i, j);
             const double *p = k->pos + (size_t)m * 3;
-            height[m] = p[0] * up.x + p[1] * up.y + p[2] * up.z;
-            if (height[m] > low && !girdle[m])
-                girdle[m] = 1, count++;
+            g->height[m] = p[0] * up.x + p[1] * up.y + p[2] * up.z;
+            if (g->height[m] > low && !g->on[m])
+                g->on[m] = 1, g->count++;
         }
     free(inner);
-    return count;
+    if (!ok)
+        rf_rig_girdle_set_free(g);
+    return ok;
 }
 
 /* Where the feet meet: the highest girdle, the hips of a biped (not the ankle, where heel and
  * toe meet), a girdle or the spine of a quadruped, the body of a spider; the second pass grows
  * from there. NONE when there is no girdle. */
-uint32_t rf_rig_pick_root(const rf_rig_skel *k, rf_vec3 up)
+static uint32_t rf_rig_pick_root(const rf_rig_skel *k, const rf_rig_girdle_set *g)
 {
-    uint8_t *girdle = malloc(k->n + 1);
-    double *height = malloc((k->n + 1) * sizeof *height), best = -INFINITY;
+    double best = -INFINITY;
     uint32_t root = RF_RIG_NONE;
-    if (girdle && height && rf_rig_girdles(k, up, girdle, height) > 0)
-        for (uint32_t m = 0; m < k->n; m++)
-            if (girdle[m] && height[m] > best)
-                best = height[m], root = m;
-    free(girdle), free(height);
+    for (uint32_t m = 0; m < k->n; m++)
+        if (g->on[m] && g->height[m] > best)
+            best = g->height[m], root = m;
     return root;
+}
+
+/* The squared distance between points p and q. */
+static double rf_rig_apart2(const double p[3], const double q[3])
+{
+    return (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+           (p[2] - q[2]) * (p[2] - q[2]);
 }
 
 /* The hips of a first-pass skeleton: of its girdles, the one farthest from mid, the middle of
@@ -187,38 +215,30 @@ uint32_t rf_rig_pick_root(const rf_rig_skel *k, rf_vec3 up)
  * first: a body without a declared forward turned 137 degrees is rigged in a frame turned half
  * round, its grid scanned from the other end, and the horse, cat, fox and wolf were rooted at the
  * shoulders. The middle turns with the body. NONE when there is no girdle. */
-static uint32_t rf_rig_pick_hips(const rf_rig_skel *k, rf_vec3 up, const double mid[3])
+static uint32_t rf_rig_pick_hips(const rf_rig_skel *k, const rf_rig_girdle_set *g,
+                                 const double mid[3])
 {
-    uint8_t *girdle = malloc(k->n + 1);
-    double *height = malloc((k->n + 1) * sizeof *height), best = -INFINITY;
+    double best = -INFINITY;
     uint32_t hips = RF_RIG_NONE;
-    if (girdle && height && rf_rig_girdles(k, up, girdle, height) > 0)
-        for (uint32_t m = 0; m < k->n; m++) {
-            const double *q = k->pos + (size_t)m * 3;
-            double apart = (q[0] - mid[0]) * (q[0] - mid[0]) + (q[1] - mid[1]) * (q[1] - mid[1]) +
-                           (q[2] - mid[2]) * (q[2] - mid[2]);
-            if (girdle[m] && apart > best)
-                best = apart, hips = m;
-        }
-    free(girdle), free(height);
+    for (uint32_t m = 0; m < k->n; m++) {
+        double apart = rf_rig_apart2(k->pos + (size_t)m * 3, mid);
+        if (g->on[m] && apart > best)
+            best = apart, hips = m;
+    }
     return hips;
 }
 
 /* The girdle of k nearest to point q, or NONE. */
-static uint32_t rf_rig_girdle_near(const rf_rig_skel *k, rf_vec3 up, const double q[3])
+static uint32_t rf_rig_girdle_near(const rf_rig_skel *k, const rf_rig_girdle_set *g,
+                                   const double q[3])
 {
-    uint8_t *girdle = malloc(k->n + 1);
-    double *height = malloc((k->n + 1) * sizeof *height), best = INFINITY;
+    double best = INFINITY;
     uint32_t at = RF_RIG_NONE;
-    if (girdle && height && rf_rig_girdles(k, up, girdle, height) > 0)
-        for (uint32_t m = 0; m < k->n; m++) {
-            const double *p = k->pos + (size_t)m * 3;
-            double d = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                       (p[2] - q[2]) * (p[2] - q[2]);
-            if (girdle[m] && d < best)
-                best = d, at = m;
-        }
-    free(girdle), free(height);
+    for (uint32_t m = 0; m < k->n; m++) {
+        double d = rf_rig_apart2(k->pos + (size_t)m * 3, q);
+        if (g->on[m] && d < best)
+            best = d, at = m;
+    }
     return at;
 }
 
@@ -476,46 +496,47 @@ static bool rf_rig_on_plane(rf_rig_skel *k, const double mirror[4], double h)
 }
 
 /* Whether the skeleton analysis reads k's up within about 45 degrees (cosine 0.7) of the
- * declared up (true when none is declared, or when out of memory). The fire dragon turned 137
- * degrees kept its legs in the first pass but was read lying on its side, its wings hanging:
- * its girdles, looked for along that up, put the second pass's seed on a wing. */
-static bool rf_rig_reads_up(const rf_rig_skel *k, rf_vec3 declared)
+ * declared up (true when none is declared), into *agree. The fire dragon turned 137 degrees kept
+ * its legs in the first pass but was read lying on its side, its wings hanging: its girdles,
+ * looked for along that up, put the second pass's seed on a wing. False when out of memory. */
+static bool rf_rig_reads_up(const rf_rig_skel *k, rf_vec3 declared, bool *agree)
 {
+    rf_vec3 read;
+    *agree = true;
     if (!(rf_v3_len(declared) > 0))
         return true;
-    rf_skeleton *s = rf_rig_skeleton(k, NULL);
-    rf_analysis *a = s ? rf_analyze(s, NULL) : NULL;
-    bool agree = !a || rf_v3_dot(a->up, rf_v3_normalize(declared)) >= 0.7;
-    rf_analysis_free(a);
-    rf_skeleton_free(s);
-    return agree;
+    if (!rf_rig_girdle_up(k, rf_v3(0, 0, 0), &read))
+        return false;
+    *agree = rf_v3_dot(read, rf_v3_normalize(declared)) >= 0.7;
+    return true;
 }
 
 /* The first pass on the body turned half round about y, the frame's up (x and z negated: the grid
  * met from its other end), turned back. */
-static bool rf_rig_extract_turned(const rf_rig_prep *p, const rf_rig_options *o, double *mirror,
-                                  double *stand, rf_rig_skel *k, char *err, size_t err_size)
+static rf_rig_status rf_rig_extract_turned(const rf_rig_prep *p, const rf_rig_options *o,
+                                           double *mirror, double *stand, rf_rig_skel *k, char *err,
+                                           size_t err_size)
 {
     rf_rig_prep q = *p;
     q.proxy.p = malloc(((size_t)p->proxy.nv + 1) * 3 * sizeof *q.proxy.p);
     if (!q.proxy.p)
-        return rf_rig_fail(err, err_size, "out of memory turning the body");
+        return rf_rig_oom(err, err_size, "out of memory turning the body");
     for (size_t v = 0; v < p->proxy.nv; v++) {
         q.proxy.p[v * 3] = -p->proxy.p[v * 3], q.proxy.p[v * 3 + 1] = p->proxy.p[v * 3 + 1];
         q.proxy.p[v * 3 + 2] = -p->proxy.p[v * 3 + 2];
     }
     for (int a = 0; a < 3; a += 2)
         q.lo[a] = -p->hi[a], q.hi[a] = -p->lo[a];
-    bool ok = rf_rig_extract(&q, o, NULL, mirror, stand, k, err, err_size);
+    rf_rig_status status = rf_rig_extract(&q, o, NULL, mirror, stand, k, err, err_size);
     free(q.proxy.p);
-    if (!ok)
-        return false;
+    if (status != RF_RIG_OK)
+        return status;
     for (size_t j = 0; j < k->n; j++)
         for (int a = 0; a < 3; a += 2)
             k->pos[j * 3 + a] = -k->pos[j * 3 + a], k->tip[j * 3 + a] = -k->tip[j * 3 + a];
     mirror[0] = -mirror[0], mirror[2] = -mirror[2];
     stand[0] = -stand[0], stand[2] = -stand[2];
-    return true;
+    return RF_RIG_OK;
 }
 
 /* How far k's root lies from point q. */
@@ -544,20 +565,22 @@ static double rf_rig_root_off(const rf_rig_skel *k, const double q[3])
  * scanned as it lies and turned half round about up) and the one whose root lies nearer the
  * middle of the body's surface (mid), which turns with the body, is kept when it is clearly
  * the nearer (RF_RIG_ROOT_APART, RF_RIG_ROOT_NEARER); else the frame's own, as before. */
-static bool rf_rig_first_pass(const rf_rig_prep *p, const rf_rig_options *o, const double mid[3],
-                              double mirror[4], double stand[4], rf_rig_skel *k, char *err,
-                              size_t err_size)
+static rf_rig_status rf_rig_first_pass(const rf_rig_prep *p, const rf_rig_options *o,
+                                       const double mid[3], double mirror[4], double stand[4],
+                                       rf_rig_skel *k, char *err, size_t err_size)
 {
-    if (!rf_rig_extract(p, o, NULL, mirror, stand, k, err, err_size))
-        return false;
+    rf_rig_status status = rf_rig_extract(p, o, NULL, mirror, stand, k, err, err_size);
+    if (status != RF_RIG_OK)
+        return status;
     rf_rig_skel other;
     double other_mirror[4], other_stand[4] = {0};
-    if (!rf_rig_extract_turned(p, o, other_mirror, other_stand, &other, err, err_size)) {
-        if (!rf_rig_no_memory(err))
-            return true; /* the frame's own pass stands */
+    status = rf_rig_extract_turned(p, o, other_mirror, other_stand, &other, err, err_size);
+    if (status == RF_RIG_REFUSED)
+        return RF_RIG_OK; /* the frame's own pass stands */
+    if (status == RF_RIG_NO_MEMORY) {
         /* a lack of memory says nothing of which pass to keep */
         rf_rig_skel_free(k);
-        return false;
+        return status;
     }
     double apart = RF_RIG_ROOT_APART * p->longest / o->resolution;
     double own_off = rf_rig_root_off(k, mid), other_off = rf_rig_root_off(&other, mid);
@@ -568,32 +591,41 @@ static bool rf_rig_first_pass(const rf_rig_prep *p, const rf_rig_options *o, con
         memcpy(stand, other_stand, sizeof other_stand);
     } else
         rf_rig_skel_free(&other);
-    return true;
+    return RF_RIG_OK;
 }
 
-bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
-                  size_t err_size)
+rf_rig_status rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
+                           size_t err_size)
 {
-    double mirror[4], stand[4] = {0};
+    double mirror[4], stand[4] = {0}, hips_at[3], seed[3];
     double mid[3] = {0, 0, 0}; /* the proxy's vertices' mean: where the hips are not */
     for (uint32_t v = 0; v < p->proxy.nv; v++)
         for (int a = 0; a < 3; a++)
             mid[a] += p->proxy.p[(size_t)v * 3 + a] / p->proxy.nv;
-    bool ok = rf_rig_first_pass(p, o, mid, mirror, stand, k, err, err_size);
+    rf_rig_status status = rf_rig_first_pass(p, o, mid, mirror, stand, k, err, err_size);
+    if (status != RF_RIG_OK)
+        return status; /* k holds nothing */
     /* Level sets grown from the hips cut the body square to its length (shoulders level, limbs
      * leaving symmetrically); from the thickest point they would ring the chest. So a second pass
      * starts where the first pass's two lowest leaves meet. Where the first pass kept legs the
      * bands had scored as bumps (rf_rig_stands_on), it starts where those legs leave the body,
      * found before junctions a short chain apart became one joint (the fire dragon's hips and
      * chest, a bone apart, were one), and the feet are the lowest along the declared up; so
-     * they are where the analysis reads the first pass's up over 45 degrees off it. */
-    bool legs = ok && stand[3];
+     * they are where the analysis reads the first pass's up over 45 degrees off it. Girdles
+     * not looked for are no answer: a lack of memory is said, not read as "no feet". */
+    bool legs = stand[3] != 0, agree = true;
     rf_vec3 up = legs ? o->up : rf_v3(0, 0, 0); /* zero: the analysis's */
-    if (ok && !legs && !rf_rig_reads_up(k, o->up))
+    rf_rig_girdle_set girdles = {0};
+    const char *doing = "reading its up";
+    if (!legs && !rf_rig_reads_up(k, o->up, &agree))
+        goto no_memory;
+    if (!agree)
         up = o->up;
-    uint32_t r = ok ? rf_rig_pick_root(k, up) : RF_RIG_NONE,
-             hips = ok ? rf_rig_pick_hips(k, up, mid) : r;
-    double hips_at[3], seed[3];
+    doing = "looking for the hips";
+    if (!rf_rig_girdles(k, up, &girdles))
+        goto no_memory;
+    uint32_t r = rf_rig_pick_root(k, &girdles), hips = rf_rig_pick_hips(k, &girdles, mid);
+    rf_rig_girdle_set_free(&girdles);
     if (hips != RF_RIG_NONE)
         memcpy(hips_at, k->pos + (size_t)hips * 3, sizeof hips_at);
     bool again = legs || (r != RF_RIG_NONE && k->parent[r] >= 0);
@@ -601,22 +633,34 @@ bool rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k,
         memcpy(seed, stand, sizeof seed);
     else if (again)
         memcpy(seed, k->pos + (size_t)r * 3, sizeof seed);
-    else if (ok && rf_rig_off_middle(k, mirror, p->longest / o->resolution, seed))
+    else if (rf_rig_off_middle(k, mirror, p->longest / o->resolution, seed))
         again = true;
     if (again) {
         rf_rig_skel_free(k);
-        ok = rf_rig_extract(p, o, seed, NULL, NULL, k, err, err_size);
+        status = rf_rig_extract(p, o, seed, NULL, NULL, k, err, err_size);
+        if (status != RF_RIG_OK)
+            return status;
     }
-    if (ok && !rf_rig_on_plane(k, mirror, p->longest / o->resolution))
-        ok = rf_rig_fail(err, err_size, "out of memory centring the skeleton");
+    doing = "centring the skeleton";
+    if (!rf_rig_on_plane(k, mirror, p->longest / o->resolution))
+        goto no_memory;
     /* The skeleton analysis (and so the matcher) reads which way a body faces partly from where
      * the root is: artists root a quadruped at its hips, and the spine runs from there to the
      * shoulders. The second pass's root, the highest girdle, is often the shoulders; the rig is
      * rooted again at the girdle nearest the hips, its joints unmoved. */
-    uint32_t g = ok && hips != RF_RIG_NONE ? rf_rig_girdle_near(k, up, hips_at) : RF_RIG_NONE;
-    if (g != RF_RIG_NONE && k->parent[g] >= 0 && !rf_rig_reroot(k, g))
-        ok = rf_rig_fail(err, err_size, "out of memory re-rooting the skeleton");
-    return ok;
+    if (hips == RF_RIG_NONE)
+        return RF_RIG_OK;
+    doing = "re-rooting the skeleton";
+    if (!rf_rig_girdles(k, up, &girdles))
+        goto no_memory;
+    uint32_t g = rf_rig_girdle_near(k, &girdles, hips_at);
+    rf_rig_girdle_set_free(&girdles);
+    if (g == RF_RIG_NONE || k->parent[g] < 0 || rf_rig_reroot(k, g))
+        return RF_RIG_OK;
+no_memory:
+    rf_rig_girdle_set_free(&girdles);
+    rf_rig_skel_free(k);
+    return rf_rig_oom(err, err_size, "out of memory %s", doing);
 }
 
 bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *k,
@@ -657,18 +701,19 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
 /* A body carried level (a quadruped, a lizard, a bird in flight) has its spine along its back,
  * not through the middle where the curve skeleton runs: its spine joints (by the skeleton
  * analysis) move to RF_RIG_DORSAL of the body's depth from the belly along up. A trunk that
- * stands (a biped) is left. */
+ * stands (a biped) is left. False when out of memory. */
 #define RF_RIG_DORSAL 0.66
-static void rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
+static bool rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
-        return;
+        return false;
     s->up = o->up, s->forward = o->forward;
     rf_analysis *a = rf_analyze(s, NULL);
     uint8_t *spine = calloc(k->n + 1, 1);
+    bool ok = a && spine;
     int32_t first = -1, last = -1;
-    for (uint32_t j = 0; a && spine && j < k->n; j++) {
+    for (uint32_t j = 0; ok && j < k->n; j++) {
         int32_t sec = a->joints[j].section;
         if (sec < 0 || a->sections[sec].type != RF_SECTION_SPINE)
             continue;
@@ -683,6 +728,7 @@ static void rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
     free(spine);
     rf_analysis_free(a);
     rf_skeleton_free(s);
+    return ok;
 }
 
 /* The narrower of the body's two diameters across `up` at q (along `fwd` and to the side),
@@ -708,13 +754,13 @@ static double rf_rig_girth(const rf_rig_surface *sf, const double q[3], rf_vec3 
  * RF_RIG_NECK_GIRTH of the girth at the joint, when its bone from its parent rises within 45
  * degrees of up and that point lies between a fifth and nine tenths of the bone from its
  * parent (a neck narrower than the head below the joint: nothing moves). */
-void rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 up, rf_vec3 fwd)
+bool rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 up, rf_vec3 fwd)
 {
-    rf_rig_surface *sf = h < k->n && k->parent[h] >= 0 && rf_v3_len(rf_v3_cross(up, fwd)) > 0.5
-                             ? rf_rig_surface_make(&p->proxy)
-                             : NULL;
+    if (!(h < k->n && k->parent[h] >= 0 && rf_v3_len(rf_v3_cross(up, fwd)) > 0.5))
+        return true;
+    rf_rig_surface *sf = rf_rig_surface_make(&p->proxy);
     if (!sf)
-        return;
+        return false;
     double *q = k->pos + (size_t)h * 3, *b = k->pos + (size_t)k->parent[h] * 3;
     double d[3] = {q[0] - b[0], q[1] - b[1], q[2] - b[2]};
     double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -734,6 +780,7 @@ void rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 
         for (int c = 0; c < 3; c++)
             q[c] = b[c] + t * d[c];
     rf_rig_surface_free(sf);
+    return true;
 }
 
 /* An upright body's head chain starts where the trunk enters the head's bulk: the curve
@@ -741,24 +788,25 @@ void rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 
  * robot's head box starts 0.4 below it), and the clip's neck then turned the head about a
  * pivot in its middle. The first joint of the analysis's head section moves down its bone
  * (rf_rig_head_base). */
-static void rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
+static bool rf_rig_neck(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
-        return;
+        return false;
     s->up = o->up, s->forward = o->forward;
     rf_analysis *a = rf_analyze(s, NULL);
+    bool ok = a != NULL;
     int32_t h = -1;
     for (uint32_t j = 0; a && j < k->n && h < 0; j++) {
         int32_t sec = a->joints[j].section;
         if (sec >= 0 && a->sections[sec].type == RF_SECTION_HEAD && k->parent[j] >= 0)
             h = (int32_t)j;
     }
-    rf_vec3 up = a ? a->up : rf_v3(0, 1, 0), fwd = a ? a->forward : rf_v3(0, 0, 1);
-    if (h >= 0)
-        rf_rig_head_base(p, k, (uint32_t)h, up, fwd);
+    if (ok && h >= 0)
+        ok = rf_rig_head_base(p, k, (uint32_t)h, a->up, a->forward);
     rf_analysis_free(a);
     rf_skeleton_free(s);
+    return ok;
 }
 
 /* ---- a head piece turns whole ---- */
@@ -1435,9 +1483,7 @@ bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
                                              quadruped ? quadruped : &rf_rig_tpl_quadruped};
     if (!rf_rig_limbs(p, k, o, lay))
         return false;
-    rf_rig_dorsal(p, k, o);
-    rf_rig_neck(p, k, o);
-    if (!rf_rig_head_whole(p, k, o))
+    if (!rf_rig_dorsal(p, k, o) || !rf_rig_neck(p, k, o) || !rf_rig_head_whole(p, k, o))
         return false;
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
@@ -1462,11 +1508,11 @@ static bool rf_rig_general_framed(const rf_mesh *mesh, const rf_rig_options *opt
     *skeleton = NULL, *skinned = NULL;
     rf_rig_prep p;
     rf_rig_skel k = {0};
-    if (!rf_rig_prepare(mesh, &o, &p, st, err, err_size))
+    if (rf_rig_prepare(mesh, &o, &p, st, err, err_size) != RF_RIG_OK)
         return false;
     if (progress)
         progress(user, 0.1);
-    bool ok = rf_rig_curve(&p, &o, &k, err, err_size);
+    bool ok = rf_rig_curve(&p, &o, &k, err, err_size) == RF_RIG_OK;
     if (ok && !rf_rig_general_place(&p, &k, &o, NULL, NULL))
         ok = rf_rig_fail(err, err_size, "out of memory laying out the limbs");
     if (ok && progress)
@@ -1701,7 +1747,7 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
         ok = rf_rig_fail(err, err_size, "out of memory");
     if (ok && !k.n)
         ok = rf_rig_fail(err, err_size, "the skeleton has no joint that may carry weights");
-    ok = ok && (prepared = rf_rig_prepare(mesh, &o, &p, st, err, err_size));
+    ok = ok && (prepared = rf_rig_prepare(mesh, &o, &p, st, err, err_size) == RF_RIG_OK);
     /* Artists' leaf joints (a head, a hand, a tail's last joint) move the part of the mesh
      * beyond them, along a bone whose end most formats do not store; heated as points they lost
      * that part to their parent's bone. Given an end along their bone's axis, they keep it. */

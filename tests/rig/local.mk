@@ -20,7 +20,7 @@ tests_rig_skin_diag_LDADD = $(tests_rig_rig_dump_LDADD)
 
 check_PROGRAMS += tests/rig/test_rig
 TESTS += tests/rig/test_rig
-tests_rig_test_rig_SOURCES = tests/rig/test_rig.c
+tests_rig_test_rig_SOURCES = tests/rig/test_rig.c tests/rig/boxes.c tests/rig/boxes.h
 tests_rig_test_rig_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
 tests_rig_test_rig_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_rig_test_rig_LDADD = sdk/formats/assimp/librigflow-assimp.la plugins/rig-general/librigauto.la \
@@ -45,7 +45,8 @@ EXTRA_DIST += tests/rig/test_rig_scan_up.sh
 # ... and when memory runs out at each of its allocations in turn (malloc and calloc wrapped)
 check_PROGRAMS += tests/rig/test_rig_up_oom
 TESTS += tests/rig/test_rig_up_oom
-tests_rig_test_rig_up_oom_SOURCES = tests/rig/test_rig_up_oom.c tests/alloc-fail.h
+tests_rig_test_rig_up_oom_SOURCES = tests/rig/test_rig_up_oom.c tests/rig/boxes.c tests/rig/boxes.h \
+	tests/alloc-fail.h
 tests_rig_test_rig_up_oom_CPPFLAGS = $(tests_rig_rig_dump_CPPFLAGS)
 tests_rig_test_rig_up_oom_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 tests_rig_test_rig_up_oom_LDFLAGS = -Wl,--wrap=malloc,--wrap=calloc

@@ -267,8 +267,8 @@ static bool fit_load(const char *path, fit_model *m)
         o.up = bare.skeleton->up, o.forward = bare.skeleton->forward;
     m->opts = rf_rig_defaults(&o);
     rf_rig_stats st;
-    ok = rf_rig_prepare(bare.mesh, &m->opts, &m->prep, &st, err, sizeof err) &&
-         rf_rig_curve(&m->prep, &m->opts, &m->curve, err, sizeof err);
+    ok = rf_rig_prepare(bare.mesh, &m->opts, &m->prep, &st, err, sizeof err) == RF_RIG_OK &&
+         rf_rig_curve(&m->prep, &m->opts, &m->curve, err, sizeof err) == RF_RIG_OK;
     if (ok) {
         rf_rig_skel t = {0};
         char names[40][24];

@@ -21,6 +21,7 @@
 #include <rigflow/aimport.h>
 #include <rigflow/memory.h>
 
+#include "boxes.h"
 #include "rig-internal.h"
 
 /* The invariants every rig must hold: parents first, one root, finite joints, every vertex
@@ -111,6 +112,17 @@ static const char *need_data_dir(void)
     return d;
 }
 
+/* The mesh of `model` in d's models/ (its path into path), read with its rig ignored: a mesh to
+ * rig, with the axes the file declares. The test fails when it cannot be read. */
+static void bare_model(const char *d, const char *model, char *path, size_t n, rf_ai_result *r)
+{
+    char err[1024];
+    snprintf(path, n, "%s/models/%s", d, model);
+    rf_ai_options ao = {.ignore_rig = true};
+    if (!rf_ai_import(path, &ao, r, NULL, NULL, err, sizeof err))
+        fail_msg("%s: %s", path, err);
+}
+
 /* Every model of the shared data: the two flat or empty ones are refused, the rest rigged. */
 static void test_shared_models(void **state)
 {
@@ -169,56 +181,28 @@ static void test_testmodels(void **state)
 
 /* ---- made-up meshes ---- */
 
-/* Boxes: add_box appends one; table_creature is a box body on four box legs with a box head,
- * scaled and turned about +Y. */
-static void add_box_faces(rf_mesh *m, double x0, double y0, double z0, double x1, double y1,
-                          double z1, bool top)
+/* Boxes: add_box and the table creature in boxes.h. */
+
+/* Two joints: the root at t0, its child t1 from it with end site `end` (a box model's body
+ * and limb, for binding). */
+static rf_skeleton *two_joints(rf_vec3 t0, rf_vec3 t1, rf_vec3 end)
 {
-    static const int corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                                     {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
-    static const uint32_t face[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
-                                         {0, 1, 5}, {0, 5, 4}, {3, 6, 2}, {3, 7, 6},
-                                         {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
-    uint32_t base = m->vertex_count;
-    for (int c = 0; c < 8; c++) {
-        float *p = m->positions + (size_t)(base + c) * 3;
-        p[0] = (float)(corner[c][0] ? x1 : x0), p[1] = (float)(corner[c][1] ? y1 : y0);
-        p[2] = (float)(corner[c][2] ? z1 : z0);
-    }
-    uint32_t n = 0;
-    for (int t = 0; t < 12; t++) {
-        if (!top && (t == 6 || t == 7)) /* the y = y1 side */
-            continue;
-        for (int k = 0; k < 3; k++)
-            m->triangles[(size_t)(m->triangle_count + n) * 3 + k] = base + face[t][k];
-        n++;
-    }
-    m->vertex_count += 8, m->triangle_count += n;
+    rf_skeleton *s = rf_skeleton_new(2);
+    assert_non_null(s);
+    s->joints[1].parent = 0;
+    s->joints[0].rest.t = t0, s->joints[1].rest.t = t1;
+    s->joints[1].end_site = end, s->joints[1].flags |= RF_JOINT_HAS_END_SITE;
+    return s;
 }
 
-static void add_box(rf_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1)
+/* in bound to s at its rest pose (rf_rig_bind), stats into st (may be NULL); the test fails
+ * with the rigger's reason when it refuses. */
+static rf_mesh *bind_or_fail(const rf_mesh *in, const rf_skeleton *s, rf_rig_stats *st)
 {
-    add_box_faces(m, x0, y0, z0, x1, y1, z1, true);
-}
-
-static rf_mesh *table_creature(double scale, double turn)
-{
-    rf_mesh *m = rf_mesh_new();
-    m->positions = calloc(6 * 8 * 3, sizeof(float));
-    m->triangles = calloc(6 * 12 * 3, sizeof(uint32_t));
-    add_box(m, -1, 1, -0.4, 1, 1.4, 0.4);         /* body, 2 long, on legs 1 high */
-    add_box(m, 0.95, 1.2, -0.25, 1.5, 1.7, 0.25); /* a head, so the body has a front */
-    add_box(m, -1, 0, -0.4, -0.8, 1.05, -0.2);
-    add_box(m, 0.8, 0, -0.4, 1, 1.05, -0.2);
-    add_box(m, -1, 0, 0.2, -0.8, 1.05, 0.4);
-    add_box(m, 0.8, 0, 0.2, 1, 1.05, 0.4);
-    for (uint32_t v = 0; v < m->vertex_count; v++) {
-        float *p = m->positions + v * 3;
-        double x = p[0], z = p[2];
-        p[0] = (float)(scale * (x * cos(turn) + z * sin(turn)));
-        p[1] = (float)(scale * p[1]);
-        p[2] = (float)(scale * (-x * sin(turn) + z * cos(turn)));
-    }
+    rf_mesh *m = NULL;
+    char err[256];
+    if (!rf_rig_bind(in, s, NULL, NULL, &m, st, err, sizeof err))
+        fail_msg("%s", err);
     return m;
 }
 
@@ -240,9 +224,7 @@ static void world_joints(const rf_skeleton *s, rf_vec3 *out)
 static void test_mirror_twigs(void **state)
 {
     (void)state;
-    rf_mesh *m = rf_mesh_new();
-    m->positions = calloc(8 * 8 * 3, sizeof(float));
-    m->triangles = calloc(8 * 12 * 3, sizeof(uint32_t));
+    rf_mesh *m = box_mesh(8);
     add_box(m, -1, 1, -0.4, 1, 1.4, 0.4);
     add_box(m, -1, 0, -0.4, -0.8, 1.05, -0.2);
     add_box(m, 0.8, 0, -0.4, 1, 1.05, -0.2);
@@ -366,9 +348,7 @@ static void test_fin_sheet(void **state)
  * hang below the body. */
 static rf_mesh *winged_creature(double foot, double wing)
 {
-    rf_mesh *m = rf_mesh_new();
-    m->positions = calloc(7 * 8 * 3, sizeof(float));
-    m->triangles = calloc(7 * 12 * 3, sizeof(uint32_t));
+    rf_mesh *m = box_mesh(7);
     add_box(m, -1, 0.65, -0.4, 1, 1.85, 0.4);        /* body */
     add_box(m, 1, 1, -0.25, 1.7, 1.85, 0.25);        /* head */
     add_box(m, -3, 1.5, -0.12, -1, 1.75, 0.12);      /* tail */
@@ -558,9 +538,7 @@ static void test_bad_input(void **state)
     expect_refusal(m, "names vertex 100");
     rf_mesh_free(m);
     /* nothing but specks: 50 tiny boxes scattered over a large space */
-    m = rf_mesh_new();
-    m->positions = calloc(50 * 8 * 3, sizeof(float));
-    m->triangles = calloc(50 * 12 * 3, sizeof(uint32_t));
+    m = box_mesh(50);
     for (int i = 0; i < 50; i++) {
         double x = (i % 5) * 10, y = ((i / 5) % 5) * 10, z = (i / 25) * 10;
         add_box(m, x, y, z, x + 0.1, y + 0.1, z + 0.1);
@@ -577,9 +555,7 @@ static void test_narrow_gap(void **state)
 {
     (void)state;
     for (int open = 0; open < 2; open++) {
-        rf_mesh *m = rf_mesh_new();
-        m->positions = calloc(3 * 8 * 3, sizeof(float));
-        m->triangles = calloc(3 * 12 * 3, sizeof(uint32_t));
+        rf_mesh *m = box_mesh(3);
         add_box(m, -0.3, 1, -0.15, 0.3, 1.6, 0.15); /* longest edge 1.6: voxels of 1/60 */
         add_box_faces(m, -0.25, 0, -0.1, -0.025, 1.05, 0.1, !open);
         add_box_faces(m, 0.025, 0, -0.1, 0.25, 1.05, 0.1, !open); /* 0.05 apart: three voxels */
@@ -610,9 +586,7 @@ static void test_loose_parts(void **state)
 {
     (void)state;
     rf_mesh *in = table_creature(1, 0);
-    rf_mesh *m2 = rf_mesh_new();
-    m2->positions = calloc(8 * 8 * 3, sizeof(float));
-    m2->triangles = calloc(8 * 12 * 3, sizeof(uint32_t));
+    rf_mesh *m2 = box_mesh(8);
     memcpy(m2->positions, in->positions, (size_t)in->vertex_count * 3 * sizeof(float));
     memcpy(m2->triangles, in->triangles, (size_t)in->triangle_count * 3 * sizeof(uint32_t));
     m2->vertex_count = in->vertex_count, m2->triangle_count = in->triangle_count;
@@ -800,10 +774,7 @@ static void test_bind_leaf_end(void **state)
         s->joints[j].rest = rf_xform_identity();
         s->joints[j].rest.t = rf_v3(0, j ? 0.6 : 0.2, 0);
     }
-    rf_mesh *m = NULL;
-    char err[256];
-    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
-        fail_msg("%s", err);
+    rf_mesh *m = bind_or_fail(in, s, NULL);
     double least = 1;
     for (uint32_t v = 0; v < m->vertex_count; v++)
         if (m->positions[v * 3 + 1] > 1.55)
@@ -842,10 +813,7 @@ static void test_bind_axis_chain(void **state)
         s->joints[j].rest.t = d;
     }
     s->joints[1].flags |= RF_JOINT_UNWEIGHTED;
-    rf_mesh *m = NULL;
-    char err[256];
-    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
-        fail_msg("%s", err);
+    rf_mesh *m = bind_or_fail(in, s, NULL);
     double least = 1, head = 0;
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         double y = m->positions[v * 3 + 1];
@@ -886,10 +854,7 @@ static void test_bind_axis_chain_end(void **state)
     /* the jaw's frame aimed at its child: +y turned to (-0.02, 0.15, 0) */
     s->joints[3].rest.r = rf_quat_from_axis_angle(rf_v3(0, 0, 1), atan2(0.02, 0.15));
     s->joints[4].rest.t = rf_v3(0, sqrt(0.02 * 0.02 + 0.15 * 0.15), 0);
-    rf_mesh *m = NULL;
-    char err[256];
-    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
-        fail_msg("%s", err);
+    rf_mesh *m = bind_or_fail(in, s, NULL);
     double least = 1;
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         const float *p = m->positions + v * 3;
@@ -944,20 +909,11 @@ static void test_bind_speck(void **state)
 static void test_bind_rigid_part(void **state)
 {
     (void)state;
-    rf_mesh *in = rf_mesh_new();
-    in->positions = calloc(16 * 3, sizeof(float));
-    in->triangles = calloc(24 * 3, sizeof(uint32_t));
+    rf_mesh *in = box_mesh(2);
     add_box(in, -0.5, 0, -0.5, 0.5, 2, 0.5);    /* the body */
     add_box(in, 0.3, 1.3, -0.2, 2.0, 1.7, 0.2); /* the arm, into the body at the shoulder */
-    rf_skeleton *s = rf_skeleton_new(2);
-    s->joints[0].parent = -1, s->joints[1].parent = 0;
-    s->joints[0].rest = s->joints[1].rest = rf_xform_identity();
-    s->joints[0].rest.t = rf_v3(0, 1, 0), s->joints[1].rest.t = rf_v3(0.4, 0.5, 0);
-    s->joints[1].end_site = rf_v3(1.4, 0, 0), s->joints[1].flags |= RF_JOINT_HAS_END_SITE;
-    rf_mesh *m = NULL;
-    char err[256];
-    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
-        fail_msg("%s", err);
+    rf_skeleton *s = two_joints(rf_v3(0, 1, 0), rf_v3(0.4, 0.5, 0), rf_v3(1.4, 0, 0));
+    rf_mesh *m = bind_or_fail(in, s, NULL);
     for (uint32_t v = 8; v < 16; v++) {
         printf("# arm box corner %u: arm weight %.3f\n", v, weight_of(m, v, 1));
         assert_true(weight_of(m, v, 1) > 0.999);
@@ -973,20 +929,11 @@ static void test_bind_rigid_part(void **state)
 static void test_bind_reaching_bone(void **state)
 {
     (void)state;
-    rf_mesh *in = rf_mesh_new();
-    in->positions = calloc(16 * 3, sizeof(float));
-    in->triangles = calloc(24 * 3, sizeof(uint32_t));
+    rf_mesh *in = box_mesh(2);
     add_box(in, -2, 1, -0.5, 2, 2, 0.5);      /* the body */
     add_box(in, 1.3, 0, -0.2, 1.7, 1.2, 0.2); /* the leg, into the body at the top */
-    rf_skeleton *s = rf_skeleton_new(2);
-    s->joints[0].parent = -1, s->joints[1].parent = 0;
-    s->joints[0].rest = s->joints[1].rest = rf_xform_identity();
-    s->joints[0].rest.t = rf_v3(-1.5, 1.5, 0), s->joints[1].rest.t = rf_v3(3.0, -0.55, 0);
-    s->joints[1].end_site = rf_v3(0, -0.85, 0), s->joints[1].flags |= RF_JOINT_HAS_END_SITE;
-    rf_mesh *m = NULL;
-    char err[256];
-    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
-        fail_msg("%s", err);
+    rf_skeleton *s = two_joints(rf_v3(-1.5, 1.5, 0), rf_v3(3.0, -0.55, 0), rf_v3(0, -0.85, 0));
+    rf_mesh *m = bind_or_fail(in, s, NULL);
     double least = 1;
     for (uint32_t v = 8; v < 16; v++)
         least = fmin(least, weight_of(m, v, 1));
@@ -1003,9 +950,7 @@ static void test_bind_reaching_bone(void **state)
 static void test_bind_sleeve(void **state)
 {
     (void)state;
-    rf_mesh *in = rf_mesh_new();
-    in->positions = calloc(16 * 3, sizeof(float));
-    in->triangles = calloc(24 * 3, sizeof(uint32_t));
+    rf_mesh *in = box_mesh(2);
     add_box(in, -0.5, 0, -0.5, 0.5, 2, 0.5);    /* the body */
     add_box(in, 0.3, 1.3, -0.2, 2.0, 1.7, 0.2); /* the sleeve, into the body at the shoulder */
     rf_skeleton *s = rf_skeleton_new(3);
@@ -1015,10 +960,7 @@ static void test_bind_sleeve(void **state)
     s->joints[0].rest.t = rf_v3(0, 1, 0), s->joints[1].rest.t = rf_v3(0.3, 0.5, 0);
     s->joints[2].rest.t = rf_v3(0.85, 0, 0);
     s->joints[2].end_site = rf_v3(0.8, 0, 0), s->joints[2].flags |= RF_JOINT_HAS_END_SITE;
-    rf_mesh *m = NULL;
-    char err[256];
-    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
-        fail_msg("%s", err);
+    rf_mesh *m = bind_or_fail(in, s, NULL);
     double most = 0;
     for (uint32_t v = 8; v < 16; v++)
         most = fmax(most, weight_of(m, v, 0));
@@ -1044,15 +986,8 @@ static void test_bind_open_sheet(void **state)
     static const uint32_t quad[6] = {8, 9, 10, 8, 10, 11};
     memcpy(in->triangles + 12 * 3, quad, sizeof quad);
     in->vertex_count = 12, in->triangle_count = 14;
-    rf_skeleton *s = rf_skeleton_new(2);
-    s->joints[0].parent = -1, s->joints[1].parent = 0;
-    s->joints[0].rest = s->joints[1].rest = rf_xform_identity();
-    s->joints[0].rest.t = rf_v3(0, 0.5, 0), s->joints[1].rest.t = rf_v3(0, 1, 0);
-    s->joints[1].end_site = rf_v3(0, 0.4, 0), s->joints[1].flags |= RF_JOINT_HAS_END_SITE;
-    rf_mesh *m = NULL;
-    char err[256];
-    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
-        fail_msg("%s", err);
+    rf_skeleton *s = two_joints(rf_v3(0, 0.5, 0), rf_v3(0, 1, 0), rf_v3(0, 0.4, 0));
+    rf_mesh *m = bind_or_fail(in, s, NULL);
     double top = fmin(weight_of(m, 10, 1), weight_of(m, 11, 1));
     printf("# cape: the upper joint's weight on its top corners at least %.3f\n", top);
     assert_true(top > 0.5);
@@ -1066,20 +1001,11 @@ static void test_bind_open_sheet(void **state)
 static void test_bind_boneless_part(void **state)
 {
     (void)state;
-    rf_mesh *in = rf_mesh_new();
-    in->positions = calloc(16 * 3, sizeof(float));
-    in->triangles = calloc(24 * 3, sizeof(uint32_t));
+    rf_mesh *in = box_mesh(2);
     add_box(in, -0.5, 0, -0.5, 0.5, 2, 0.5);    /* the body */
     add_box(in, 0.8, 1.0, -0.1, 1.2, 1.8, 0.1); /* the horn, beside it */
-    rf_skeleton *s = rf_skeleton_new(2);
-    s->joints[0].parent = -1, s->joints[1].parent = 0;
-    s->joints[0].rest = s->joints[1].rest = rf_xform_identity();
-    s->joints[0].rest.t = rf_v3(0, 0.5, 0), s->joints[1].rest.t = rf_v3(0, 0.5, 0);
-    s->joints[1].end_site = rf_v3(0, 0.4, 0), s->joints[1].flags |= RF_JOINT_HAS_END_SITE;
-    rf_mesh *m = NULL;
-    char err[256];
-    if (!rf_rig_bind(in, s, NULL, NULL, &m, NULL, err, sizeof err))
-        fail_msg("%s", err);
+    rf_skeleton *s = two_joints(rf_v3(0, 0.5, 0), rf_v3(0, 0.5, 0), rf_v3(0, 0.4, 0));
+    rf_mesh *m = bind_or_fail(in, s, NULL);
     double least = 1;
     for (uint32_t v = 8; v < 16; v++)
         least = fmin(least, weight_of(m, v, 1));
@@ -1512,13 +1438,9 @@ static void test_general_legs(void **state)
 static void test_general_chest(void **state)
 {
     (void)state;
-    const char *d = need_data_dir();
     char path[4096], err[1024];
-    snprintf(path, sizeof path, "%s/models/RobotExpressive.glb", d);
-    rf_ai_options ao = {.ignore_rig = true};
     rf_ai_result r;
-    if (!rf_ai_import(path, &ao, &r, NULL, NULL, err, sizeof err))
-        fail_msg("%s: %s", path, err);
+    bare_model(need_data_dir(), "RobotExpressive.glb", path, sizeof path, &r);
     rf_skeleton *s;
     rf_mesh *m;
     if (!rf_rig_general(r.mesh, NULL, &s, &m, NULL, NULL, NULL, err, sizeof err))
@@ -1557,11 +1479,8 @@ static void test_general_chest(void **state)
 static rf_vec3 general_joint(const char *d, const char *model, const char *name)
 {
     char path[4096], err[1024];
-    snprintf(path, sizeof path, "%s/models/%s", d, model);
-    rf_ai_options ao = {.ignore_rig = true};
     rf_ai_result r;
-    if (!rf_ai_import(path, &ao, &r, NULL, NULL, err, sizeof err))
-        fail_msg("%s: %s", path, err);
+    bare_model(d, model, path, sizeof path, &r);
     rf_skeleton *s;
     rf_mesh *m;
     rf_rig_options o = {0}; /* the file's axes, as the pipelines pass them */
@@ -1630,9 +1549,7 @@ static void test_general_root_low(void **state)
     (void)state;
     static const double turns[] = {0, 0.5, 1.2};
     for (int i = 0; i < 3; i++) {
-        rf_mesh *in = rf_mesh_new();
-        in->positions = calloc(4 * 8 * 3, sizeof(float));
-        in->triangles = calloc(4 * 12 * 3, sizeof(uint32_t));
+        rf_mesh *in = box_mesh(4);
         assert_non_null(in->positions), assert_non_null(in->triangles);
         add_box(in, -0.2, 0, -0.2, 0.2, 1.95, 0.2);      /* the stem up to the sign */
         add_box(in, -0.45, 1.8, -0.45, 0.45, 2.6, 0.45); /* a knot where the sign leaves */
@@ -1676,13 +1593,9 @@ static void test_general_root_low(void **state)
 static void test_general_head_box(void **state)
 {
     (void)state;
-    const char *d = need_data_dir();
     char path[4096], err[1024];
-    snprintf(path, sizeof path, "%s/models/RobotExpressive.glb", d);
-    rf_ai_options ao = {.ignore_rig = true};
     rf_ai_result r;
-    if (!rf_ai_import(path, &ao, &r, NULL, NULL, err, sizeof err))
-        fail_msg("%s: %s", path, err);
+    bare_model(need_data_dir(), "RobotExpressive.glb", path, sizeof path, &r);
     size_t nf = (size_t)r.mesh->vertex_count * 3;
     float *orig = malloc(nf * sizeof *orig);
     assert_non_null(orig);
