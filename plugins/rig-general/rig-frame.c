@@ -565,8 +565,9 @@ static bool rf_rig_facing_turned(const rf_rig_prep *p, const rf_rig_options *o, 
     char err[256];
     err[0] = '\0';
     bool ok = true;
-    if (!rf_rig_curve(&t, &ot, &k, err, sizeof err))
-        ok = !rf_rig_no_memory(err); /* no skeleton this way: no vote */
+    rf_rig_status status = rf_rig_curve(&t, &ot, &k, err, sizeof err);
+    if (status != RF_RIG_OK)
+        ok = status != RF_RIG_NO_MEMORY; /* refused this way: no vote */
     else
         ok = rf_rig_general_place(&t, &k, &ot, NULL, NULL) &&
              rf_rig_facing_read(&k, ot.up, rf_quat_conj(q), sum);
