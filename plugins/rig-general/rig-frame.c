@@ -14,7 +14,9 @@
  * its own axes as before. doc/autorig.md, "Any facing, scale and
  * position". A file that declares no up (OBJ, STL, PLY: the importer leaves it zero) gets the
  * body's own, found from its curve skeleton and how it stands (rf_rig_body_up), or +y with a
- * warning when none is found ("An up the file does not declare"). */
+ * warning when none is found ("An up the file does not declare"). A body declaring no forward
+ * is named facing the way its skeletons on the grid turned every quarter way read, pooled
+ * (rf_rig_pooled_facing): one grid's skeleton changes with where the voxel boundaries fall. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -323,6 +325,26 @@ static const char *rf_rig_axis_name(rf_vec3 v)
     return names[rf_rig_axis_index(v)];
 }
 
+/* The prepared body p turned by q into t: its proxy's vertices and box, t's other arrays
+ * borrowed from p (free t->proxy.p alone). False when out of memory. */
+static bool rf_rig_prep_turned(const rf_rig_prep *p, rf_quat q, rf_rig_prep *t)
+{
+    *t = *p;
+    size_t n = (size_t)p->proxy.nv * 3;
+    if (!(t->proxy.p = malloc((n ? n : 1) * sizeof *t->proxy.p)))
+        return false;
+    for (int a = 0; a < 3; a++)
+        t->lo[a] = INFINITY, t->hi[a] = -INFINITY;
+    for (size_t i = 0; i < n; i += 3) {
+        rf_vec3 v = rf_quat_rotate(q, rf_v3(p->proxy.p[i], p->proxy.p[i + 1], p->proxy.p[i + 2]));
+        t->proxy.p[i] = v.x, t->proxy.p[i + 1] = v.y, t->proxy.p[i + 2] = v.z;
+        for (int a = 0; a < 3; a++)
+            t->lo[a] = fmin(t->lo[a], t->proxy.p[i + a]),
+            t->hi[a] = fmax(t->hi[a], t->proxy.p[i + a]);
+    }
+    return true;
+}
+
 /* The curve skeleton of the prepared body p turned by q (its proxy's vertices, box and all),
  * read by the skeleton analysis with no axes: its up turned back to the file's axes and
  * snapped into out, with m's standing margin along it from support[] (rf_rig_axes' order). p
@@ -333,18 +355,9 @@ static bool rf_rig_read_up(rf_rig_prep *p, rf_quat q, const rf_rig_options *o,
     memset(out, 0, sizeof *out);
     out->source = "no curve skeleton";
     out->support = NAN;
-    rf_rig_prep t = *p;
-    size_t n = (size_t)p->proxy.nv * 3;
-    if (!(t.proxy.p = malloc((n ? n : 1) * sizeof *t.proxy.p)))
+    rf_rig_prep t;
+    if (!rf_rig_prep_turned(p, q, &t))
         return false;
-    for (int a = 0; a < 3; a++)
-        t.lo[a] = INFINITY, t.hi[a] = -INFINITY;
-    for (size_t i = 0; i < n; i += 3) {
-        rf_vec3 v = rf_quat_rotate(q, rf_v3(p->proxy.p[i], p->proxy.p[i + 1], p->proxy.p[i + 2]));
-        t.proxy.p[i] = v.x, t.proxy.p[i + 1] = v.y, t.proxy.p[i + 2] = v.z;
-        for (int a = 0; a < 3; a++)
-            t.lo[a] = fmin(t.lo[a], t.proxy.p[i + a]), t.hi[a] = fmax(t.hi[a], t.proxy.p[i + a]);
-    }
     rf_rig_skel k = {0};
     char err[256];
     rf_skeleton *s = NULL;
@@ -509,6 +522,73 @@ static bool rf_rig_frame_up(const rf_mesh *m, rf_rig_options *o, rf_rig_frame *f
             "up not declared by the file and not found from the body (%s%s%.100s): +y assumed; "
             "a body saved lying is rigged lying (stand it up with a transform node)",
             u.source, u.why[0] ? ": " : "", u.why);
+    return true;
+}
+
+/* ---- a facing the grid does not decide ---- */
+
+/* The facing the skeleton analysis reads on skeleton k (up u declared, no forward), made level
+ * to u and weighted by the sum of the cues that voted for it, turned by q and added to *sum;
+ * nothing when no cue spoke or the facing lies mostly along u (an up read otherwise, as the
+ * angelfish's: it says nothing of which way the body faces, as for the rig's own, rf_rig_name).
+ * False when out of memory. */
+static bool rf_rig_facing_read(const rf_rig_skel *k, rf_vec3 u, rf_quat q, rf_vec3 *sum)
+{
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    if (!s)
+        return false;
+    s->up = u; /* as the rig is named (rf_rig_skeleton) */
+    rf_analysis *a = rf_analyze(s, NULL);
+    rf_vec3 f = a ? rf_rig_level(a->forward, rf_v3_normalize(u)) : rf_v3(0, 0, 0);
+    if (rf_v3_len(f) > 0.7) {
+        double w = 0;
+        for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
+            w += a->forward_cues[i]; /* signed along a->forward: their sum is its margin */
+        *sum = rf_v3_add(*sum, rf_v3_scale(rf_quat_rotate(q, rf_v3_normalize(f)), w));
+    }
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    return a != NULL;
+}
+
+/* The general rigger's skeleton of p turned by q (curve skeleton, limbs laid) read for facing
+ * into *sum, turned back (rf_rig_facing_read). False when out of memory. */
+static bool rf_rig_facing_turned(const rf_rig_prep *p, const rf_rig_options *o, rf_quat q,
+                                 rf_vec3 *sum)
+{
+    rf_rig_prep t;
+    if (!rf_rig_prep_turned(p, q, &t))
+        return false;
+    rf_rig_options ot = *o;
+    ot.up = rf_quat_rotate(q, o->up);
+    rf_rig_skel k = {0};
+    char err[256];
+    err[0] = '\0';
+    bool ok = true;
+    rf_rig_status status = rf_rig_curve(&t, &ot, &k, err, sizeof err);
+    if (status != RF_RIG_OK)
+        ok = status != RF_RIG_NO_MEMORY; /* refused this way: no vote */
+    else
+        ok = rf_rig_general_place(&t, &k, &ot, NULL, NULL) &&
+             rf_rig_facing_read(&k, ot.up, rf_quat_conj(q), sum);
+    rf_rig_skel_free(&k);
+    free(t.proxy.p);
+    return ok;
+}
+
+bool rf_rig_pooled_facing(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
+                          rf_vec3 *out)
+{
+    *out = rf_v3(0, 0, 0);
+    rf_vec3 u = rf_v3_len(o->up) > 0 ? rf_v3_normalize(o->up) : rf_v3(0, 1, 0), sum = {0, 0, 0};
+    if (!rf_rig_facing_read(k, o->up, rf_quat_identity(), &sum))
+        return false;
+    for (int t = 1; t < 4; t++)
+        if (!rf_rig_facing_turned(p, o, rf_quat_from_axis_angle(u, t * 90 * RF_RIG_DEG), &sum))
+            return false;
+    sum = rf_rig_level(sum, u);
+    if (rf_v3_len(sum) > 1e-6)
+        *out = rf_v3_normalize(sum);
     return true;
 }
 

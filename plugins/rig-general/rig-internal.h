@@ -126,6 +126,12 @@ void rf_rig_frame_stats(const rf_rig_frame *f, rf_rig_stats *st);
  * skinned's positions (mesh's again) and inverse binds. Either may be NULL. Frees f's copy. */
 void rf_rig_frame_leave(rf_rig_frame *f, const rf_mesh *mesh, rf_skeleton *s, rf_mesh *skinned);
 
+/* The facing of the prepared body p (o: its frame's up, no forward declared) the skeleton
+ * analysis reads on the general rigger's skeletons of it turned by each quarter turn about up,
+ * pooled; zero into *out when none is read. False when out of memory. */
+bool rf_rig_pooled_facing(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
+                          rf_vec3 *out);
+
 /* The curve skeleton; its root at the thickest point, or at the solid voxel nearest `seed` when
  * seed is not NULL. The body's mirror plane into mirror[4] when not NULL: points p with
  * mirror[0..2] . p = mirror[3], the normal zero when the body has none. Into stand[4] when not

@@ -1543,7 +1543,12 @@ static bool rf_rig_general_framed(const rf_mesh *mesh, const rf_rig_options *opt
         ok = rf_rig_fail(err, err_size, "out of memory laying out the limbs");
     if (ok && progress)
         progress(user, 0.4);
-    rf_skeleton *s = ok ? rf_rig_skeleton(&k, &o) : NULL;
+    /* a body whose file declares no forward is named facing the way its skeletons on the grid
+     * turned every quarter way read, pooled (rf_rig_pooled_facing): not the way one grid's reads */
+    rf_rig_options named = o;
+    if (ok && !(rf_v3_len(o.forward) > 0) && !rf_rig_pooled_facing(&p, &k, &o, &named.forward))
+        ok = rf_rig_fail(err, err_size, "out of memory reading the body's facing");
+    rf_skeleton *s = ok ? rf_rig_skeleton(&k, &named) : NULL;
     if (ok && !s)
         ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
     ok = ok && rf_rig_weigh(mesh, &p, &k, &o, s, skinned, st, err, err_size);
