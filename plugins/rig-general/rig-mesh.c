@@ -13,12 +13,21 @@
 
 #include "rig-internal.h"
 
+/* Formats a failed step's message into err (when there is room); the three callers below differ
+ * only in what they return. */
+static void rf_rig_say(char *err, size_t n, const char *fmt, va_list ap) RF_RIG_PRINTF(3, 0);
+
+static void rf_rig_say(char *err, size_t n, const char *fmt, va_list ap)
+{
+    if (err && n)
+        vsnprintf(err, n, fmt, ap);
+}
+
 bool rf_rig_fail(char *err, size_t n, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    if (err && n)
-        vsnprintf(err, n, fmt, ap);
+    rf_rig_say(err, n, fmt, ap);
     va_end(ap);
     return false;
 }
@@ -27,8 +36,7 @@ rf_rig_status rf_rig_refuse(char *err, size_t n, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    if (err && n)
-        vsnprintf(err, n, fmt, ap);
+    rf_rig_say(err, n, fmt, ap);
     va_end(ap);
     return RF_RIG_REFUSED;
 }
@@ -37,8 +45,7 @@ rf_rig_status rf_rig_oom(char *err, size_t n, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    if (err && n)
-        vsnprintf(err, n, fmt, ap);
+    rf_rig_say(err, n, fmt, ap);
     va_end(ap);
     return RF_RIG_NO_MEMORY;
 }
