@@ -1445,6 +1445,36 @@ static void test_write_rotated_rest(void **state)
 }
 
 /* Names BVH cannot hold are made unique and space-free; no animation writes the rest pose. */
+/* A position at the range's limit (1e30) is held as the float nearest it, 1.00000002e+30 when
+ * written: the written file reads back (the BVH fuzzer found it refused as out of range), and a
+ * value past the limit is still refused. */
+static void test_limit_roundtrip(void **state)
+{
+    (void)state;
+    static const char head[] = "HIERARCHY\nROOT Hips\n{\n OFFSET 0 0 0\n CHANNELS 6 Xposition "
+                               "Yposition Zposition Zrotation Xrotation Yrotation\n End Site\n {\n"
+                               "  OFFSET 0 1 0\n }\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n";
+    char text[512];
+    rf_skeleton *s = NULL, *s2 = NULL;
+    rf_animation *a = NULL, *a2 = NULL;
+    snprintf(text, sizeof text, "%s1e30 -1e30 0 0 0 0\n", head);
+    assert_true(parse(text, &s, &a));
+    char *out = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&out, &len);
+    assert_non_null(f);
+    assert_true(rf_bvh_write_stream(f, "limit.bvh", s, a, NULL, err, sizeof err));
+    assert_int_equal(fclose(f), 0);
+    assert_non_null(strstr(out, "1.00000002e+30"));
+    assert_true(rf_bvh_read_memory(out, len, "limit.bvh", NULL, &s2, &a2, err, sizeof err));
+    assert_int_equal(a2->frame_count, 1);
+    free(out);
+    rf_skeleton_free(s), rf_skeleton_free(s2);
+    rf_animation_free(a), rf_animation_free(a2);
+    snprintf(text, sizeof text, "%s1.0000001e30 0 0 0 0 0\n", head);
+    expect_error(text, 14, "out of range");
+}
+
 static void test_write_names_and_rest_only(void **state)
 {
     (void)state;
@@ -1738,6 +1768,7 @@ int main(void)
         cmocka_unit_test(test_boxing_extra_line),
         cmocka_unit_test(test_euler_roundtrip),
         cmocka_unit_test(test_write_rotated_rest),
+        cmocka_unit_test(test_limit_roundtrip),
         cmocka_unit_test(test_write_names_and_rest_only),
         cmocka_unit_test(test_plugin_nodes),
     };

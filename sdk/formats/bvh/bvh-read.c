@@ -152,6 +152,15 @@ enum { CH_XPOS, CH_YPOS, CH_ZPOS, CH_XROT, CH_YROT, CH_ZROT };
 static const char *const channel_names[6] = {"Xposition", "Yposition", "Zposition",
                                              "Xrotation", "Yrotation", "Zrotation"};
 
+/* Whether a position channel's value is in range as the model holds it, a float: the float
+ * nearest the limit lies just past it (1.00000002e+30 as written), and a file written from a
+ * clip at the limit must read back. The first test keeps (float)v defined. */
+static bool channel_in_range(double v)
+{
+    return fabs(v) <= BVH_MAX_COORD ||
+           (fabs(v) < 2 * BVH_MAX_COORD && fabsf((float)v) <= (float)BVH_MAX_COORD);
+}
+
 typedef struct pjoint {
     char *name;
     int32_t parent;
@@ -830,7 +839,7 @@ static bool read_values(parser *ps, char *line, char *end, uint32_t f)
             const char *e = bvh_number_padded(p, v);
             if (!e || !is_separator(*e) || !isfinite(*v))
                 return value_error(ps, line, end, p, f + 1, j, c);
-            if (j->ch[c] <= CH_ZPOS && !(fabs(*v) <= BVH_MAX_COORD))
+            if (j->ch[c] <= CH_ZPOS && !channel_in_range(*v))
                 return range_error(ps, end, p, f + 1, j, c);
             p = (char *)e;
             v++;
