@@ -40,28 +40,18 @@ static void print_why(const rf_ms_explain *e, const rf_map_entry *en,
     const rf_ms_candidate *top = e->top ? &e->top[(size_t)j * 3] : NULL;
     const rf_map_input *in = en && en->input_count ? &en->inputs[0] : NULL;
     fputs("    why: ", out);
-    if (in && e->settled && e->settled[j] == 3) {
-        fputs("a girdle joint whose bone runs past the source's neck pivot takes the source's "
-              "neck (girdle=neck)\n",
-              out);
-        return;
-    }
-    if (in && e->settled && e->settled[j] == 4) {
-        fputs("the girdle joint ending a trunk without a head takes the source's head "
-              "(girdle=neck)\n",
-              out);
-        return;
-    }
-    if (in && e->settled && e->settled[j] == 5) {
-        fputs("a trunk joint lying behind where the source's reverse spine starts takes the "
-              "reverse spine's joint there (girdle=neck)\n",
-              out);
-        return;
-    }
-    if (in && e->settled && e->settled[j] == 6) {
-        fputs("a trunk rooted at the front, against a source's rooted at the rear, takes the "
-              "source spine's joint where it lies (girdle=neck)\n",
-              out);
+    /* The girdle=neck rules that settle a joint outright, by their settled code (3 on). */
+    static const char *const settled_why[] = {
+        "a girdle joint whose bone runs past the source's neck pivot takes the source's neck",
+        "the girdle joint ending a trunk without a head takes the source's head",
+        "a trunk joint lying behind where the source's reverse spine starts takes the reverse "
+        "spine's joint there",
+        "a trunk rooted at the front, against a source's rooted at the rear, takes the source "
+        "spine's joint where it lies",
+    };
+    unsigned code = in && e->settled ? e->settled[j] : 0;
+    if (code >= 3 && code - 3 < sizeof settled_why / sizeof *settled_why) {
+        fprintf(out, "%s (girdle=neck)\n", settled_why[code - 3]);
         return;
     }
     if (n == 0) {
