@@ -477,7 +477,7 @@ static bool rf_rig_normals(const rf_rig_prep *p, double *nrm)
  * carried the hip's skin away in sheets under the CMU walk (BCN_Epileptic's worst part's
  * stretch 511.9 -> 132.2). A given skeleton's bones may lie outside the skin (leaf ends,
  * helpers), and it keeps the test off. -0.3 to -0.5 read alike on BCN_Epileptic (132 to 138)
- * and after the matcher (doc/autorig.md, "Round five"). */
+ * and after the matcher (doc/autorig-log.md, "Skinning, round five"). */
 #define RF_RIG_FRONT (-0.3)
 
 /* Whether point c lies in front of the surface at q (normal n, not normalised): its direction
@@ -1019,8 +1019,9 @@ static void rf_rig_prop_parts(const rf_rig_prep *p, const uint32_t *touch, const
  * with the forearm and its shaft with the hand (worst seam 37.0 -> 13.1 under the CMU walk). A
  * prop made mostly of open parts (a cape with a brooch) keeps its weights and bends. Only the
  * rigger's own rigs: on the artists' skeletons the pieces' own joints were measured better
- * (doc/autorig.md, "Round five"). sum[] and area[] per part, bends[] the open parts and those
- * lying around a bone, owner[] the joint moving each part alone. False when out of memory. */
+ * (doc/autorig-log.md, "Skinning, round five"). sum[] and area[] per part, bends[] the open
+ * parts and those lying around a bone, owner[] the joint moving each part alone. False when out
+ * of memory. */
 static bool rf_rig_props(const rf_rig_prep *p, uint32_t largest, const double *sum,
                          const uint8_t *bends, const double *area, const uint32_t *owner,
                          uint32_t nj, double *w)

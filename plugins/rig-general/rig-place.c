@@ -3,7 +3,7 @@
  * trunk's spine at a given depth between belly and back (rf_rig_skel_across, used by both
  * riggers), a wing's joints towards its leading edge (rf_rig_skel_chord, which also measures a
  * wing modelled as a sheet of no thickness), or the centre of the cross-section square to the
- * bone (rf_rig_skel_centre, a layout option of the template rigger, off: doc/autorig.md says
+ * bone (rf_rig_skel_centre, a layout option of the template rigger, off: doc/autorig-log.md says
  * why). */
 #include <math.h>
 #include <stdlib.h>

@@ -428,8 +428,9 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench wings"; else ok; fi
 # the comments: CD-J2J, skinning P / R after the matcher); the CD-J2J limits fail if the joints
 # go back to where the layouts before their fit to artist rigs put them (0.0296, 0.039, 0.051,
 # 0.078). Testwuson's skinning after the matcher has two readings for joints a few thousandths
-# apart (42% / 60% and 22% / 28% at CD-J2J 0.040, doc/autorig.md): its floor only guards against
-# a rig the matcher cannot read at all, so another machine's rounding cannot fail it. The animalia
+# apart (42% / 60% and 22% / 28% at CD-J2J 0.040: doc/autorig-log.md, "The template's layouts
+# fitted to the artist rigs"): its floor only guards against a rig the matcher cannot read at
+# all, so another machine's rounding cannot fail it. The animalia
 # bird's limits need its head looked for as the highest leaf beyond the wings, not the farthest
 # (its tail, which took the template's neck and head: 0.053, 29% / 29%), and the owl's and the
 # bird's their legs' length from the skin (.75/.77 and .47/.51 with it guessed). RobotExpressive's
