@@ -673,27 +673,28 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
     rf_mesh *m = ok ? rf_rig_mesh_copy(mesh) : NULL;
     if (ok && (!m || !rf_rig_skin(mesh, p, k, w, m, st)))
         ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
+    /* a joint whose bone won no vertex says so, as artists' helper joints do; out of memory is
+     * said, never a rig without those marks (the matcher would drive the joints as body) */
+    uint8_t *used = ok ? calloc(k->n + 1, 1) : NULL, *below = ok ? calloc(k->n + 1, 1) : NULL;
+    if (ok && !(used && below))
+        ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
     if (ok) {
-        /* a joint whose bone won no vertex says so, as artists' helper joints do */
-        uint8_t *used = calloc(k->n + 1, 1);
-        for (size_t i = 0; used && i < (size_t)m->vertex_count * 4; i++)
+        for (size_t i = 0; i < (size_t)m->vertex_count * 4; i++)
             if (m->skin_weights[i] > 0)
                 used[m->skin_joints[i]] = 1;
         /* weighted below: a joint inside a chain whose bone won no vertex still bends it */
-        uint8_t *below = calloc(k->n + 1, 1);
-        for (uint32_t j = k->n; used && below && j-- > 0;)
+        for (uint32_t j = k->n; j-- > 0;)
             if ((used[j] || below[j]) && k->parent[j] >= 0)
                 below[k->parent[j]] = 1;
-        for (uint32_t j = 0; used && j < k->n; j++)
-            if (!used[j] && !(below && below[j]))
+        for (uint32_t j = 0; j < k->n; j++)
+            if (!used[j] && !below[j])
                 s->joints[j].flags |= RF_JOINT_UNWEIGHTED;
-        free(below);
-        free(used);
         st->joints = k->n;
         *skinned = m;
     } else {
         rf_mesh_free(m);
     }
+    free(below), free(used);
     free(w);
     return ok;
 }
