@@ -222,15 +222,18 @@ static bool per_section(rf_ms_skel *s, bool thesis)
 
 /* Placement roots, axis-conversion nodes, IK targets, poles and other unweighted helpers
  * (rf_joint_roles_find) neither drive nor take body motion. Only a rig that marks unweighted
- * joints can have them: without marks the roles are all body and are not looked for. */
-static void leave_out_non_body(rf_ms_skel *s)
+ * joints can have them: without marks the roles are all body and are not looked for. False
+ * when out of memory (the roles not found would leave an IK target or a placement matchable). */
+static bool leave_out_non_body(rf_ms_skel *s)
 {
     bool marked = false;
     for (uint32_t j = 0; j < s->skel->joint_count && !marked; j++)
         marked = (s->skel->joints[j].flags & RF_JOINT_UNWEIGHTED) != 0;
-    rf_joint_roles *r = marked ? rf_joint_roles_find(s->skel, NULL, NULL, 0) : NULL;
+    if (!marked)
+        return true;
+    rf_joint_roles *r = rf_joint_roles_find(s->skel, NULL, NULL, 0);
     if (!r)
-        return;
+        return false;
     const rf_analysis *a = s->a;
     uint32_t n = r->joint_count < a->joint_count ? r->joint_count : a->joint_count;
     double lo = INFINITY, hi = -INFINITY;
@@ -251,6 +254,7 @@ static void leave_out_non_body(rf_ms_skel *s)
             s->matchable[j] = 0;
     }
     rf_joint_roles_free(r);
+    return true;
 }
 
 /* Every joint's pivot in the body's frame (rf_ms_body_place), and that frame. */
@@ -278,8 +282,9 @@ static void body_places(rf_ms_skel *s)
         s->bplace[j] = rf_ms_body_place(s, a->joints[j].pos);
 }
 
-/* Joints a mapping can drive: not helpers, not control joints sitting on their child. */
-static void per_joint(rf_ms_skel *s)
+/* Joints a mapping can drive: not helpers, not control joints sitting on their child. False
+ * when out of memory. */
+static bool per_joint(rf_ms_skel *s)
 {
     const rf_analysis *a = s->a;
     for (uint32_t j = 0; j < a->joint_count; j++) {
@@ -289,7 +294,8 @@ static void per_joint(rf_ms_skel *s)
         s->bdir[j] = rf_v3(rf_v3_dot(ji->dir, a->left), rf_v3_dot(ji->dir, a->up),
                            rf_v3_dot(ji->dir, a->forward));
     }
-    leave_out_non_body(s);
+    if (!leave_out_non_body(s))
+        return false;
     body_places(s);
     for (uint32_t j = 0; j < a->joint_count; j++) {
         int32_t p = a->joints[j].logical_parent;
@@ -297,6 +303,7 @@ static void per_joint(rf_ms_skel *s)
             p = a->joints[p].logical_parent;
         s->anc[j] = p >= 0 && s->matchable[p] ? p : -1;
     }
+    return true;
 }
 
 /* A section whose first joints are left out (a control root above a one-bone torso) is
@@ -349,7 +356,8 @@ bool rf_ms_skel_init(rf_ms_skel *s, const rf_skeleton *skel, const rf_analysis_o
     if (!s->kind || !s->count || !s->digit_frac || !s->matchable || !s->anc || !s->bdir ||
         !s->bplace || !s->ends || !s->step || !s->main_digit)
         return false;
-    per_joint(s);
+    if (!per_joint(s))
+        return false;
     if (!thesis)
         measure_from_body(s);
     main_digits(s);

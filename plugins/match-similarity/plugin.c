@@ -247,22 +247,34 @@ static bool match_and_output(const rf_host *h, rf_node *node, const ms_params *p
     return h->set_output(node, "mapping", m, rf_mapping_free);
 }
 
-/* The skeleton to analyse: `skel` itself, or a view of it in a pose of its connected clip
- * (frame pose_frame, or the pose showing the body best when the rest pose is degenerate). */
-static const rf_skeleton *posed(const rf_host *h, rf_node *node, const ms_params *p,
-                                const rf_skeleton *skel, const rf_animation *anim, const char *what,
-                                rf_skeleton **view)
+/* The skeleton to analyse into *out: `skel` itself, or a view of it in a pose of its connected
+ * clip (frame pose_frame, or the pose showing the body best when the rest pose is degenerate).
+ * False (the node failed) when out of memory: the rest pose in place of the pose asked for would
+ * be another mapping. */
+static bool posed(const rf_host *h, rf_node *node, const ms_params *p, const rf_skeleton *skel,
+                  const rf_animation *anim, const char *what, rf_skeleton **view,
+                  const rf_skeleton **out)
 {
-    *view = NULL;
-    if (!anim || (p->pose_frame < 0 && !rf_pose_degenerate(skel)))
-        return skel;
+    bool degenerate = false;
+    *view = NULL, *out = skel;
+    if (anim && p->pose_frame < 0 && !rf_pose_degenerate_check(skel, &degenerate)) {
+        h->error(node, "out of memory");
+        return false;
+    }
+    if (!anim || (p->pose_frame < 0 && !degenerate))
+        return true;
+    bool fits = anim->joint_count == skel->joint_count && anim->frame_count > 0;
     int32_t frame = (int32_t)p->pose_frame;
     *view =
         frame >= 0 ? rf_posed_view(skel, anim, (uint32_t)frame) : rf_posed_best(skel, anim, &frame);
+    if (!*view && fits) {
+        h->error(node, "out of memory");
+        return false;
+    }
     if (!*view) {
         h->log(node, RF_LOG_WARNING, "%s: its clip does not fit the skeleton; rest pose used",
                what);
-        return skel;
+        return true;
     }
     char pose[64];
     if (frame >= 0)
@@ -272,20 +284,25 @@ static const rf_skeleton *posed(const rf_host *h, rf_node *node, const ms_params
         snprintf(pose, sizeof pose, "the mean pose");
     h->log(node, RF_LOG_INFO, "%s: analysed in %s of its clip%s", what, pose,
            p->pose_frame < 0 ? " (the rest pose is no body: every bone on one line)" : "");
-    return *view;
+    *out = *view;
+    return true;
 }
 
-static void pose_all(const rf_host *h, rf_node *node, const ms_params *p, const rf_skeleton **t,
+/* False when out of memory (said). */
+static bool pose_all(const rf_host *h, rf_node *node, const ms_params *p, const rf_skeleton **t,
                      const rf_skeleton **s, uint32_t n, rf_skeleton **views)
 {
-    *t = posed(h, node, p, *t, h->input(node, "target_animation", 0), "target", &views[n]);
+    if (!posed(h, node, p, *t, h->input(node, "target_animation", 0), "target", &views[n], t))
+        return false;
     uint32_t na = h->input_count(node, "source_animations");
     for (uint32_t k = 0; k < n; k++) {
         char what[32];
         snprintf(what, sizeof what, "source %u", k);
         const rf_animation *a = k < na ? h->input(node, "source_animations", k) : NULL;
-        s[k] = posed(h, node, p, s[k], a, what, &views[k]);
+        if (!posed(h, node, p, s[k], a, what, &views[k], &s[k]))
+            return false;
     }
+    return true;
 }
 
 static bool process(void *self, const rf_host *h, rf_node *node)
@@ -297,8 +314,7 @@ static bool process(void *self, const rf_host *h, rf_node *node)
     ms_params p;
     if (!gather(h, node, &t, s, &n) || !read_params(h, node, n, &p))
         return false;
-    pose_all(h, node, &p, &t, s, n, views);
-    bool ok = match_and_output(h, node, &p, t, s, n);
+    bool ok = pose_all(h, node, &p, &t, s, n, views) && match_and_output(h, node, &p, t, s, n);
     for (uint32_t k = 0; k <= n; k++)
         rf_posed_free(views[k]);
     return ok;

@@ -608,10 +608,16 @@ static bool rf_rep_analyze(rf_rep *r)
     for (uint32_t c = 0; c <= r->source_count; c++) {
         rf_rep_char *ch = &r->chars[c];
         rf_skeleton *view = NULL;
-        if (ch->a && ch->a->frame_count && rf_pose_degenerate(ch->s))
+        bool degenerate = false, clip = ch->a && ch->a->frame_count;
+        /* out of memory is said, never read as a rest pose that is a body (nor as a clip that
+         * does not fit) */
+        bool ok = !clip || rf_pose_degenerate_check(ch->s, &degenerate);
+        if (ok && degenerate) {
             view = rf_posed_best(ch->s, ch->a, &ch->pose_frame);
+            ok = view || ch->a->joint_count != ch->s->joint_count;
+        }
         ch->posed = view != NULL;
-        ch->an = rf_analyze(view ? view : ch->s, NULL);
+        ch->an = ok ? rf_analyze(view ? view : ch->s, NULL) : NULL;
         rf_posed_free(view);
         if (!ch->an) {
             r->host->error(r->node, "out of memory");

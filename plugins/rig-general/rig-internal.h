@@ -202,19 +202,21 @@ bool rf_rig_centre(const rf_rig_surface *s, double p[3], const double dir[3], do
  * halfway direction at a bend), within a quarter of the longest edge for the rays and 4% of it
  * for the move; each from where the curve put it, not from its moved parent. The curve
  * skeleton's nodes are centroids of geodesic bands, which lean where a band cuts a limb at a
- * slant or a limb merges with the body. A joint whose section is not closed stays. */
-void rf_rig_skel_centre(const rf_rig_prep *p, rf_rig_skel *k);
+ * slant or a limb merges with the body. A joint whose section is not closed stays. False when
+ * out of memory (k unchanged). */
+bool rf_rig_skel_centre(const rf_rig_prep *p, rf_rig_skel *k);
 
 /* The joints of k flagged in `which` moved along `axis` to fraction `at` of the way through
  * the mesh from its surface behind them (-axis) to its surface ahead (+axis); a joint without
- * surface both ways within a quarter of the longest edge stays. */
-void rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
+ * surface both ways within a quarter of the longest edge stays. False when out of memory (its
+ * surface not made: k unchanged, which would be another rig). */
+bool rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
                         double at);
 /* rf_rig_skel_across for joints that may lie in a sheet of no thickness (a wing modelled as one
  * surface), whose rays along it meet nothing: there the sheet's own reach each way along `axis`
  * is measured, in the plane of the joint's bone and `axis`. Joints with surface ahead but none
- * behind (outside the mesh) stay. */
-void rf_rig_skel_chord(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
+ * behind (outside the mesh) stay. False when out of memory (k unchanged). */
+bool rf_rig_skel_chord(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
                        double at);
 
 /* Where the template rigger puts each joint along the curve it follows: fractions of the

@@ -177,10 +177,11 @@ static bool rf_place_bone_dir(const rf_rig_skel *k, uint32_t j, double d[3])
     return d[0] != 0 || d[1] != 0 || d[2] != 0;
 }
 
-void rf_rig_skel_centre(const rf_rig_prep *p, rf_rig_skel *k)
+bool rf_rig_skel_centre(const rf_rig_prep *p, rf_rig_skel *k)
 {
     rf_rig_surface *s = rf_rig_surface_make(&p->proxy);
     double *moved = s ? malloc(((size_t)k->n + 1) * 3 * sizeof *moved) : NULL;
+    bool ok = moved != NULL;
     for (uint32_t j = 0; moved && j < k->n; j++) {
         double d[3];
         memcpy(moved + (size_t)j * 3, k->pos + (size_t)j * 3, 3 * sizeof(double));
@@ -191,6 +192,7 @@ void rf_rig_skel_centre(const rf_rig_prep *p, rf_rig_skel *k)
         memcpy(k->pos, moved, (size_t)k->n * 3 * sizeof *moved);
     free(moved);
     rf_rig_surface_free(s);
+    return ok;
 }
 
 /* Joint q moved along unit fw to fraction `at` of the way through the mesh from its surface
@@ -219,16 +221,19 @@ static void rf_place_across(const rf_rig_surface *s, double longest, double q[3]
         q[a] += shift * fw[a];
 }
 
-void rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
+bool rf_rig_skel_across(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
                         double at)
 {
     double n = rf_v3_len(axis);
-    rf_rig_surface *s = n > 0 ? rf_rig_surface_make(&p->proxy) : NULL;
+    if (!(n > 0))
+        return true;
+    rf_rig_surface *s = rf_rig_surface_make(&p->proxy);
     double fw[3] = {axis.x / n, axis.y / n, axis.z / n};
     for (uint32_t j = 0; s && j < k->n; j++)
         if (which[j])
             rf_place_across(s, p->longest, k->pos + (size_t)j * 3, fw, at);
     rf_rig_surface_free(s);
+    return s != NULL;
 }
 
 #define RF_PLACE_SHEET_STEP 0.004 /* of the longest edge: how finely a sheet's reach is walked */
@@ -286,11 +291,13 @@ static bool rf_place_sheet_chord(const rf_rig_surface *s, const rf_rig_skel *k, 
     return isfinite(*ahead) && isfinite(*behind) && *ahead + *behind > 0;
 }
 
-void rf_rig_skel_chord(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
+bool rf_rig_skel_chord(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *which, rf_vec3 axis,
                        double at)
 {
     double n = rf_v3_len(axis);
-    rf_rig_surface *s = n > 0 ? rf_rig_surface_make(&p->proxy) : NULL;
+    if (!(n > 0))
+        return true;
+    rf_rig_surface *s = rf_rig_surface_make(&p->proxy);
     double fw[3] = {axis.x / n, axis.y / n, axis.z / n}, bw[3] = {-fw[0], -fw[1], -fw[2]};
     for (uint32_t j = 0; s && j < k->n; j++) {
         if (!which[j])
@@ -307,4 +314,5 @@ void rf_rig_skel_chord(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *whic
             q[a] += shift * fw[a];
     }
     rf_rig_surface_free(s);
+    return s != NULL;
 }

@@ -1491,15 +1491,22 @@ rf_rig_status rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, cons
     for (uint32_t i = 0; i < ns.n; i++)
         if (ns.v[i].parent < 0 && !ns.v[i].dead && ns.v[i].comp == t.main_comp)
             root = i;
-    /* the seed's component is the main one when there is a seed */
+    /* the seed's component is the main one when there is a seed; a body whose main part kept
+     * no piece is refused for what it is, not read as a lack of memory */
+    if (root == RF_RIG_NONE) {
+        status = rf_rig_refuse(err, n,
+                               "the curve skeleton has no root joint: no piece of the body's "
+                               "main part is left at %u voxels across",
+                               o->resolution);
+        goto done;
+    }
     out->pos = malloc((size_t)ns.n * 3 * sizeof *out->pos);
     out->tip = calloc((size_t)ns.n * 3, sizeof *out->tip);
     out->parent = malloc((size_t)ns.n * sizeof *out->parent);
     out->has_tip = calloc(ns.n, 1);
     rf_rig_build b = {.t = &t, .s = out, .seg = o->segment * p->longest, .cap = ns.n};
     b.path = malloc((size_t)ns.n * sizeof *b.path);
-    ok = out->pos && out->tip && out->parent && out->has_tip && b.path && root != RF_RIG_NONE &&
-         rf_rig_emit(&b, root);
+    ok = out->pos && out->tip && out->parent && out->has_tip && b.path && rf_rig_emit(&b, root);
     free(b.path);
     if (!ok)
         status = rf_rig_oom(err, n, "out of memory building the skeleton");

@@ -1037,8 +1037,11 @@ static bool rf_tpl_embed(const rf_rig_prep *p, const rf_rig_skel *k, const rf_ri
                         .sf = p && human ? rf_rig_surface_make(&p->proxy) : NULL};
         *kind = got;
         memset(t, 0, sizeof *t);
-        ok = got == RF_RIG_TEMPLATE_HUMANOID ? rf_tpl_humanoid(&x, err, n)
-                                             : rf_tpl_quadruped(&x, declared, err, n);
+        if (p && human && !x.sf) /* the shoulders would stay where the curve has them */
+            ok = rf_rig_fail(err, n, "out of memory");
+        else
+            ok = got == RF_RIG_TEMPLATE_HUMANOID ? rf_tpl_humanoid(&x, err, n)
+                                                 : rf_tpl_quadruped(&x, declared, err, n);
         rf_rig_surface_free(x.sf);
         *up = rf_v3_len(o->up) > 0 ? o->up : a->up;
         /* the quadruped's forward, hips to chest, made level */
@@ -1072,12 +1075,12 @@ static bool rf_tpl_name(rf_skeleton *s, char (*names)[24], uint32_t n, rf_vec3 u
  * neck's base to the head's top, inside a head wider than the neck (a robot's head box): bone
  * heat split the box between Neck and Head, and the CMU walk's neck drew its lower rim down to
  * the chest. The Head moves down to where the head's bulk starts (rf_rig_head_base, as the
- * general rigger's first head joint does). */
-static void rf_tpl_head(const rf_rig_prep *p, rf_rig_skel *k, const rf_tpl *t, rf_vec3 up,
+ * general rigger's first head joint does). False when out of memory. */
+static bool rf_tpl_head(const rf_rig_prep *p, rf_rig_skel *k, const rf_tpl *t, rf_vec3 up,
                         rf_vec3 fwd)
 {
-    if (t->head > 0 && (uint32_t)t->head < k->n)
-        rf_rig_head_base(p, k, (uint32_t)t->head, up, fwd);
+    return !(t->head > 0 && (uint32_t)t->head < k->n) ||
+           rf_rig_head_base(p, k, (uint32_t)t->head, up, fwd);
 }
 
 bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
@@ -1097,16 +1100,18 @@ bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_
     if (ok) {
         bool human = *got == RF_RIG_TEMPLATE_HUMANOID;
         const rf_rig_tpl_layout *l = lay[!human];
-        if (l->centre)
-            rf_rig_skel_centre(p, out);
+        if (l->centre && !rf_rig_skel_centre(p, out))
+            ok = rf_rig_fail(err, n, "out of memory");
         /* the spine lies towards the back: a quadruped's up, a biped's back (when known) */
         rf_vec3 back = human ? rf_v3_scale(*forward, -1) : *up;
         uint8_t trunk[RF_TPL_MAXJ] = {0};
         for (uint32_t j = t->trunk; j < t->trunk + t->trunk_count && j < t->n; j++)
             trunk[j] = 1;
-        if (l->dorsal > 0 && rf_v3_len(back) > 0)
-            rf_rig_skel_across(p, out, trunk, back, l->dorsal);
-        rf_tpl_head(p, out, t, *up, *forward);
+        if (ok && l->dorsal > 0 && rf_v3_len(back) > 0 &&
+            !rf_rig_skel_across(p, out, trunk, back, l->dorsal))
+            ok = rf_rig_fail(err, n, "out of memory");
+        if (ok && !rf_tpl_head(p, out, t, *up, *forward))
+            ok = rf_rig_fail(err, n, "out of memory");
         for (uint32_t j = 0; j < t->n; j++)
             memcpy(names[j], t->name[j], 24);
     }

@@ -673,27 +673,28 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
     rf_mesh *m = ok ? rf_rig_mesh_copy(mesh) : NULL;
     if (ok && (!m || !rf_rig_skin(mesh, p, k, w, m, st)))
         ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
+    /* a joint whose bone won no vertex says so, as artists' helper joints do; out of memory is
+     * said, never a rig without those marks (the matcher would drive the joints as body) */
+    uint8_t *used = ok ? calloc(k->n + 1, 1) : NULL, *below = ok ? calloc(k->n + 1, 1) : NULL;
+    if (ok && !(used && below))
+        ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
     if (ok) {
-        /* a joint whose bone won no vertex says so, as artists' helper joints do */
-        uint8_t *used = calloc(k->n + 1, 1);
-        for (size_t i = 0; used && i < (size_t)m->vertex_count * 4; i++)
+        for (size_t i = 0; i < (size_t)m->vertex_count * 4; i++)
             if (m->skin_weights[i] > 0)
                 used[m->skin_joints[i]] = 1;
         /* weighted below: a joint inside a chain whose bone won no vertex still bends it */
-        uint8_t *below = calloc(k->n + 1, 1);
-        for (uint32_t j = k->n; used && below && j-- > 0;)
+        for (uint32_t j = k->n; j-- > 0;)
             if ((used[j] || below[j]) && k->parent[j] >= 0)
                 below[k->parent[j]] = 1;
-        for (uint32_t j = 0; used && j < k->n; j++)
-            if (!used[j] && !(below && below[j]))
+        for (uint32_t j = 0; j < k->n; j++)
+            if (!used[j] && !below[j])
                 s->joints[j].flags |= RF_JOINT_UNWEIGHTED;
-        free(below);
-        free(used);
         st->joints = k->n;
         *skinned = m;
     } else {
         rf_mesh_free(m);
     }
+    free(below), free(used);
     free(w);
     return ok;
 }
@@ -723,7 +724,7 @@ static bool rf_rig_dorsal(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
     if (first >= 0 && first != last) {
         rf_vec3 d = rf_v3_sub(a->joints[last].pos, a->joints[first].pos);
         if (fabs(rf_v3_dot(d, a->up)) < 0.5 * rf_v3_len(d))
-            rf_rig_skel_across(p, k, spine, a->up, RF_RIG_DORSAL);
+            ok = rf_rig_skel_across(p, k, spine, a->up, RF_RIG_DORSAL);
     }
     free(spine);
     rf_analysis_free(a);
@@ -891,12 +892,14 @@ static void rf_rig_drop(rf_rig_skel *k, const uint8_t *drop, int32_t *to)
 /* The joint where the head's bulk starts: of the joints from the head's first joint h down
  * (flagged in sub[]), the first whose girth (rf_rig_girth) is at least RF_RIG_NECK_GIRTH of the
  * largest among them; a neck narrower than the head keeps its joint. NONE when no girth is
- * measured. */
-static uint32_t rf_rig_bulk(const rf_rig_prep *p, const rf_rig_skel *k, const uint8_t *sub,
-                            rf_vec3 up, rf_vec3 fwd)
+ * measured. False when out of memory (no girth measured is not a neck that keeps its joint). */
+static bool rf_rig_bulk(const rf_rig_prep *p, const rf_rig_skel *k, const uint8_t *sub, rf_vec3 up,
+                        rf_vec3 fwd, uint32_t *bulk)
 {
-    rf_rig_surface *sf =
-        rf_v3_len(rf_v3_cross(up, fwd)) > 0.5 ? rf_rig_surface_make(&p->proxy) : NULL;
+    *bulk = RF_RIG_NONE;
+    if (!(rf_v3_len(rf_v3_cross(up, fwd)) > 0.5))
+        return true;
+    rf_rig_surface *sf = rf_rig_surface_make(&p->proxy);
     double *g = sf ? malloc((k->n + 1) * sizeof *g) : NULL, most = 0;
     uint32_t b = RF_RIG_NONE;
     for (uint32_t j = 0; g && j < k->n; j++) {
@@ -906,9 +909,11 @@ static uint32_t rf_rig_bulk(const rf_rig_prep *p, const rf_rig_skel *k, const ui
     for (uint32_t j = 0; g && j < k->n && b == RF_RIG_NONE; j++) /* parents come first */
         if (isfinite(g[j]) && most > 0 && g[j] >= RF_RIG_NECK_GIRTH * most)
             b = j;
+    bool ok = g != NULL;
     free(g);
     rf_rig_surface_free(sf);
-    return b;
+    *bulk = b;
+    return ok;
 }
 
 /* The ends of the bones of the joints flagged in drop[] (pivots and leaf ends), the farthest
@@ -964,7 +969,8 @@ static bool rf_rig_head_whole(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig
     bool ok = sub && drop && to;
     for (uint32_t j = (uint32_t)h; ok && j < k->n; j++) /* parents come first */
         sub[j] = j == (uint32_t)h || (k->parent[j] >= 0 && sub[k->parent[j]]);
-    uint32_t b = ok ? rf_rig_bulk(p, k, sub, up, fwd) : RF_RIG_NONE, below = 0;
+    uint32_t b = RF_RIG_NONE, below = 0;
+    ok = ok && rf_rig_bulk(p, k, sub, up, fwd, &b);
     for (uint32_t j = b + 1; b != RF_RIG_NONE && j < k->n; j++)
         if (k->parent[j] >= 0 && ((uint32_t)k->parent[j] == b || drop[k->parent[j]]))
             drop[j] = 1, below++;
@@ -1037,7 +1043,7 @@ static bool rf_rig_bottom(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
         return true;
     rf_rig_surface *surf = rf_rig_surface_make(&p->proxy);
     if (!surf)
-        return true;
+        return false;
     double down[3] = {-u[0], -u[1], -u[2]};
     double d = rf_rig_surface_hit(surf, k->pos, down); /* from the root, joint 0 */
     rf_rig_surface_free(surf);
@@ -1067,12 +1073,15 @@ static double rf_rig_low_of(const rf_rig_skel *k, uint32_t j, const double u[3])
  * the chain above it rises unbranched by a quarter of the height or more to a junction that is
  * the root: the root stands in the trunk and the trunk's lower stretch hangs from it. NONE when
  * no leaf, or more than one (feet, a quadruped's legs, a tail beside them), stands there, or
- * when the chain leaves the body elsewhere (a fish's tail fin, whose root is at its head). */
-static uint32_t rf_rig_free_end(const rf_rig_skel *k, const double u[3], double lo, double hi)
+ * when the chain leaves the body elsewhere (a fish's tail fin, whose root is at its head). Into
+ * *end; false when out of memory. */
+static bool rf_rig_free_end(const rf_rig_skel *k, const double u[3], double lo, double hi,
+                            uint32_t *found)
 {
     uint32_t *kids = calloc(k->n + 1, sizeof *kids), end = RF_RIG_NONE;
+    *found = RF_RIG_NONE;
     if (!kids)
-        return RF_RIG_NONE;
+        return false;
     for (uint32_t j = 0; j < k->n; j++)
         if (k->parent[j] >= 0)
             kids[k->parent[j]]++;
@@ -1083,7 +1092,7 @@ static uint32_t rf_rig_free_end(const rf_rig_skel *k, const double u[3], double 
             count++, end = j;
     if (count != 1 || k->parent[end] < 0) {
         free(kids);
-        return RF_RIG_NONE;
+        return true;
     }
     int32_t up = k->parent[end]; /* up the chain to its junction */
     while (k->parent[up] >= 0 && kids[up] == 1)
@@ -1092,7 +1101,8 @@ static uint32_t rf_rig_free_end(const rf_rig_skel *k, const double u[3], double 
     bool rises = q[0] * u[0] + q[1] * u[1] + q[2] * u[2] - rf_rig_low_of(k, end, u) >=
                  RF_RIG_STEM * (hi - lo);
     free(kids);
-    return rises && k->parent[up] < 0 ? end : RF_RIG_NONE;
+    *found = rises && k->parent[up] < 0 ? end : RF_RIG_NONE;
+    return true;
 }
 
 /* A body whose trunk ends low in one free end (a stem, a pole, a tail it stands on: no pair of
@@ -1111,7 +1121,9 @@ static bool rf_rig_root_low(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
         double h = q[0] * u[0] + q[1] * u[1] + q[2] * u[2];
         lo = fmin(lo, h), hi = fmax(hi, h);
     }
-    uint32_t end = rf_rig_free_end(k, u, lo, hi);
+    uint32_t end;
+    if (!rf_rig_free_end(k, u, lo, hi, &end))
+        return false;
     if (end == RF_RIG_NONE)
         return true;
     k->has_tip[end] = 0; /* a root's bones are those to its children */
@@ -1382,6 +1394,7 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
     for (uint32_t i = 0; i < nl; i++)
         arms = arms || limbs[i].kind == RF_RIG_LIMB_ARM;
     rf_rig_surface *sf = p && arms ? rf_rig_surface_make(&p->proxy) : NULL;
+    ok = ok && (sf || !(p && arms)); /* without it the shoulders would stay where they are */
     for (uint32_t i = 0; ok && i < nl; i++) {
         laid[i] = 1;
         for (uint32_t m = 0; m < nl; m++)
@@ -1461,8 +1474,8 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
         o.has_tip[parent] = 1;
     }
     rf_vec3 facing = ok && wings ? rf_rig_level_facing(a->up, a) : rf_v3(0, 0, 0);
-    if (p && rf_v3_len(facing) > 0)
-        rf_rig_skel_chord(p, &o, wing, facing, RF_RIG_WING_EDGE);
+    if (ok && p && rf_v3_len(facing) > 0)
+        ok = rf_rig_skel_chord(p, &o, wing, facing, RF_RIG_WING_EDGE);
     free(drop), free(to), free(wing);
     rf_rig_surface_free(sf);
     if (!ok) {

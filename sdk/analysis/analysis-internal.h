@@ -62,7 +62,7 @@ typedef struct rf_awork {
 bool rf_an_prepare(rf_awork *w);
 bool rf_an_geometry(rf_awork *w);
 void rf_an_tips(rf_awork *w);
-void rf_an_helpers(rf_awork *w);
+bool rf_an_helpers(rf_awork *w);
 bool rf_an_build_tree(rf_awork *w);
 rf_vec3 rf_an_axis_dir(const rf_awork *w, uint32_t j, int sign);
 /* The body's reference axes (left, up, forward): the up and forward forced by the caller or
@@ -72,19 +72,21 @@ rf_vec3 rf_an_axis_dir(const rf_awork *w, uint32_t j, int sign);
  * coordinates themselves, so an unturned body reads exactly as before. */
 void rf_an_frame(const rf_awork *w, rf_vec3 ax[3]);
 
-/* symmetry.c */
-void rf_an_subtree_stats(rf_awork *w);
-void rf_an_symmetry(rf_awork *w);
-void rf_an_classify(rf_awork *w);
+/* symmetry.c. Like every stage that allocates, these return false only when out of memory: a
+ * stage never falls back to a default in place of what it could not measure (rf_analyze then
+ * gives NULL, never another analysis). */
+bool rf_an_subtree_stats(rf_awork *w);
+bool rf_an_symmetry(rf_awork *w);
+bool rf_an_classify(rf_awork *w);
 double rf_an_plane_dist(const rf_awork *w, rf_vec3 p);
-void rf_an_mirrors(rf_awork *w);
+bool rf_an_mirrors(rf_awork *w);
 /* Re-centres the plane on its twin pairs, its normal kept. */
-void rf_an_recentre(rf_awork *w);
+bool rf_an_recentre(rf_awork *w);
 /* Drops the spatial hash (when `order` changes); rebuilt on next use. */
 void rf_an_grid_reset(rf_awork *w);
 
 /* axes.c */
-void rf_an_axes(rf_awork *w);
+bool rf_an_axes(rf_awork *w);
 
 /* body.c */
 bool rf_an_body(rf_awork *w);

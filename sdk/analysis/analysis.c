@@ -71,12 +71,9 @@ static bool work_alloc(rf_awork *w)
 
 static bool run_stages(rf_awork *w)
 {
-    if (!rf_an_prepare(w))
+    if (!rf_an_prepare(w) || !rf_an_subtree_stats(w) || !rf_an_symmetry(w) || !rf_an_classify(w) ||
+        !rf_an_axes(w))
         return false;
-    rf_an_subtree_stats(w);
-    rf_an_symmetry(w);
-    rf_an_classify(w);
-    rf_an_axes(w);
     for (uint32_t j = 0; j < w->n; j++)
         w->attach_pt[j] =
             w->parent[j] >= 0 ? rf_an_pos(w, (uint32_t)w->parent[j]) : rf_an_pos(w, j);
@@ -85,10 +82,8 @@ static bool run_stages(rf_awork *w)
     rf_an_grid_reset(w); /* the body has its own order */
     /* Again on the body tree: parts attached by proximity (feet under the ground root, legs of
      * another root) now count with their limbs. */
-    rf_an_axes(w);
-    rf_an_recentre(w);
-    rf_an_classify(w);
-    rf_an_mirrors(w);
+    if (!rf_an_axes(w) || !rf_an_recentre(w) || !rf_an_classify(w) || !rf_an_mirrors(w))
+        return false;
     for (uint32_t j = 0; j < w->n; j++)
         w->a->joints[j].logical_parent = w->helper[j] ? w->file_parent[j] : w->parent[j];
     return rf_an_sections(w);

@@ -87,14 +87,14 @@ static uint32_t limb_common(const rf_awork *w, const uint32_t *depth, uint32_t a
 }
 
 /* Per limb, the joint its far leaves (tips past 0.6 of its reach: digits, toes, a claw) fan
- * from, or UINT32_MAX when it has fewer than two. */
-static void far_fans(const rf_awork *w, const rf_limbs *ls, uint32_t *depth, uint32_t *fan)
+ * from, or UINT32_MAX when it has fewer than two. False when out of memory. */
+static bool far_fans(const rf_awork *w, const rf_limbs *ls, uint32_t *depth, uint32_t *fan)
 {
     uint32_t *count = calloc(ls->n ? ls->n : 1, sizeof *count);
     for (uint32_t i = 0; i < ls->n; i++)
         fan[i] = UINT32_MAX;
     if (!count)
-        return;
+        return false;
     for (uint32_t k = 0; k < w->order_count; k++) {
         uint32_t j = w->order[k];
         if (w->limb_of[j] < 0)
@@ -110,13 +110,15 @@ static void far_fans(const rf_awork *w, const rf_limbs *ls, uint32_t *depth, uin
         if (count[i] < 2)
             fan[i] = UINT32_MAX;
     free(count);
+    return true;
 }
 
 /* A wing votes half for up: a limb whose far leaves (two or more) fan from a joint carrying three
  * or more leaves and reach over 0.35 of the limb's reach from it (membrane fingers; not toes,
  * claws or fingers, a tenth of a leg or arm long). Folded back, a wing three times a leg's reach
- * would otherwise outvote legs that do hang. Linear: one pass for the fans, one for the digits. */
-static void fan_vote(const rf_awork *w, rf_limbs *ls)
+ * would otherwise outvote legs that do hang. Linear: one pass for the fans, one for the digits.
+ * False when out of memory (every limb would vote whole). */
+static bool fan_vote(const rf_awork *w, rf_limbs *ls)
 {
     uint32_t *depth = calloc(w->n ? w->n : 1, sizeof *depth);
     uint32_t *fan = malloc((size_t)(ls->n ? ls->n : 1) * sizeof *fan);
@@ -125,8 +127,8 @@ static void fan_vote(const rf_awork *w, rf_limbs *ls)
     bool *under = calloc(w->n ? w->n : 1, sizeof *under);
     for (uint32_t i = 0; i < ls->n; i++)
         ls->v[i].vote = 1;
-    if (depth && fan && digit && leaves && under) {
-        far_fans(w, ls, depth, fan);
+    bool ok = depth && fan && digit && leaves && under && far_fans(w, ls, depth, fan);
+    if (ok) {
         for (uint32_t k = 0; k < w->order_count; k++) {
             uint32_t j = w->order[k];
             if (w->limb_of[j] < 0)
@@ -143,6 +145,7 @@ static void fan_vote(const rf_awork *w, rf_limbs *ls)
                 ls->v[i].vote = 0.5;
     }
     free(depth), free(fan), free(digit), free(leaves), free(under);
+    return ok;
 }
 
 /* Share of the limb's height change along its path (root to far end) that goes down along u. */
@@ -781,12 +784,12 @@ static double vote_chain_root(const rf_awork *w, rf_vec3 c)
  * the hierarchy runs forward through the spine to the front girdle. The girdle deepest in the
  * hierarchy is the front one. It outweighs the elevation of the ends (0.25 against 0.2: an
  * insect carries its abdomen higher or lower than its head) but not the feet or the head marks,
- * as a rig rooted at the chest reads backwards. */
+ * as a rig rooted at the chest reads backwards. NAN when out of memory. */
 static double vote_hierarchy(const rf_awork *w, rf_vec3 c)
 {
     uint32_t *depth = calloc(w->n ? w->n : 1, sizeof *depth);
     if (!depth)
-        return 0;
+        return NAN;
     int32_t shallow = RF_NONE, deep = RF_NONE;
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
@@ -870,7 +873,8 @@ static double vote_from_root(const rf_awork *w, rf_vec3 c)
     return fabs(along) > 0.01 * w->a->size ? (along > 0 ? 0.05 : -0.05) : 0;
 }
 
-static void detect_forward(rf_awork *w, rf_limbs *ls)
+/* False when out of memory (a cue not counted would decide the facing without it). */
+static bool detect_forward(rf_awork *w, rf_limbs *ls)
 {
     rf_analysis *a = w->a;
     rf_vec3 c = rf_v3_normalize(rf_v3_cross(w->plane_n, a->up));
@@ -880,6 +884,8 @@ static void detect_forward(rf_awork *w, rf_limbs *ls)
     double cue[RF_FORWARD_CUE_COUNT] = {
         fmax(-1, fmin(1, v.feet)), v.knees, vote_head(w, ls, c),    vote_elevation(w, c),
         vote_file(w, c),           0,       vote_girdles(w, ls, c), vote_hierarchy(w, c)};
+    if (isnan(cue[7]))
+        return false;
     bool silent = true;
     for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
         silent = silent && cue[i] == 0;
@@ -903,6 +909,7 @@ static void detect_forward(rf_awork *w, rf_limbs *ls)
     rf_an_frame(w, ax);
     if (strongest < 0 || sum == 0) /* nothing to go by: the frame's forward, +Z (glTF) */
         a->forward = rf_v3_scale(c, rf_v3_dot(c, ax[2]) < 0 ? -1 : 1);
+    return true;
 }
 
 static void measure_heights(rf_awork *w)
@@ -922,22 +929,20 @@ static bool usable(rf_vec3 v)
     return rf_v3_isfinite(v) && rf_v3_len2(v) > 1e-24;
 }
 
-void rf_an_axes(rf_awork *w)
+/* Up, forward and left. False when out of memory: the limbs not collected, or a cue not
+ * counted, would read the axes another way than the skeleton gives them. */
+bool rf_an_axes(rf_awork *w)
 {
     rf_analysis *a = w->a;
     rf_limbs ls = {0};
-    bool ok = collect_limbs(w, &ls);
-    if (ok)
-        fan_vote(w, &ls);
+    bool ok = collect_limbs(w, &ls) && fan_vote(w, &ls);
+    if (!ok)
+        goto out;
     if (usable(w->opt.up)) {
         a->up = rf_v3_normalize(w->opt.up);
         a->up_source = "forced", a->up_confidence = 1;
-    } else if (ok) {
-        detect_up(w, &ls);
     } else {
-        rf_vec3 ax[3];
-        rf_an_frame(w, ax); /* the declared up, else +Y */
-        a->up = perpendicular_to(w->plane_n, ax[1]), a->up_source = "default";
+        detect_up(w, &ls);
     }
     w->plane_n = perpendicular_to(a->up, w->plane_n);
     measure_heights(w);
@@ -945,15 +950,15 @@ void rf_an_axes(rf_awork *w)
     if (usable(ff) && rf_v3_len(rf_v3_cross(a->up, rf_v3_normalize(ff))) > 1e-6) {
         a->forward = perpendicular_to(a->up, ff);
         a->forward_source = "forced", a->forward_confidence = 1;
-    } else if (ok) {
-        detect_forward(w, &ls);
-    } else {
-        a->forward = rf_v3_normalize(rf_v3_cross(w->plane_n, a->up));
-        a->forward_source = "default";
+    } else if (!detect_forward(w, &ls)) {
+        ok = false;
+        goto out;
     }
     a->left = rf_v3_normalize(rf_v3_cross(a->up, a->forward));
     w->plane_n = a->left;
     a->plane_normal = a->left, a->plane_point = w->plane_p;
+out:
     free(ls.v);
     free(ls.slot);
+    return ok;
 }

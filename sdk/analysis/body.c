@@ -31,30 +31,31 @@ static int32_t largest_child(const rf_awork *w, uint32_t j)
     return best;
 }
 
-/* The lowest height of the pivots and tips of j's descendants. */
-static double descendants_low(const rf_awork *w, uint32_t j)
+/* The lowest height of the pivots and tips of j's descendants into *lo. False when out of
+ * memory. */
+static bool descendants_low(const rf_awork *w, uint32_t j, double *lo)
 {
-    double lo = INFINITY;
     uint32_t *stack = malloc((size_t)(w->n ? w->n : 1) * sizeof *stack), top = 0;
+    *lo = INFINITY;
     if (!stack)
-        return -INFINITY; /* out of memory: as low as anything, the rule as before */
+        return false;
     for (uint32_t c = w->child_off[j]; c < w->child_off[j + 1]; c++)
         stack[top++] = w->child_idx[c];
     while (top > 0) {
         uint32_t k = stack[--top];
         const rf_joint_info *ji = &w->a->joints[k];
-        lo = fmin(lo, fmin(rf_an_height(w, ji->pos), rf_an_height(w, ji->tip)));
+        *lo = fmin(*lo, fmin(rf_an_height(w, ji->pos), rf_an_height(w, ji->tip)));
         for (uint32_t c = w->child_off[k]; c < w->child_off[k + 1]; c++)
             stack[top++] = w->child_idx[c];
     }
     free(stack);
-    return lo;
+    return true;
 }
 
 /* A root-chain joint sits low (at the ground) or far from the body, with its body in one child
  * and at most small parts (IK feet) beside it. The chain only counts if it leads to a branching
- * body. */
-static void root_chain(rf_awork *w, uint32_t root)
+ * body. False when out of memory. */
+static bool root_chain(rf_awork *w, uint32_t root)
 {
     rf_analysis *a = w->a;
     uint32_t r = root, steps = 0;
@@ -78,7 +79,10 @@ static void root_chain(rf_awork *w, uint32_t root)
          * stem). Not once the chain has passed a joint the skin says is no body: an artist's
          * unweighted ground roots, whose chain reads as it did (facing included) */
         ground |= w->weights_known && !w->weighted[r];
-        low = low && (ground || descendants_low(w, r) <= a->ground + 0.15 * a->height);
+        double under = -INFINITY;
+        if (low && !ground && !descendants_low(w, r, &under))
+            return false;
+        low = low && under <= a->ground + 0.15 * a->height;
         if (!small || !(low || far))
             break;
         r = (uint32_t)b, steps++;
@@ -88,11 +92,12 @@ static void root_chain(rf_awork *w, uint32_t root)
         below = w->child_idx[w->child_off[below]];
     if (steps == 0 || rf_an_child_count(w, below) < 2) {
         w->top = (int32_t)root;
-        return;
+        return true;
     }
     w->top = (int32_t)r;
     for (uint32_t j = root; j != r; j = (uint32_t)largest_child(w, j))
         w->root_chain[j] = 1;
+    return true;
 }
 
 #define RF_MAX_DETACHED 256
@@ -142,12 +147,13 @@ static bool ik_leaf(rf_awork *w, uint32_t d, const uint8_t *body)
 }
 
 /* Roots other than the main one, and small parts hanging from the root chain, attach to the
- * nearest body bone. */
-static void attach_detached(rf_awork *w, uint32_t root)
+ * nearest body bone. False when out of memory. */
+static bool attach_detached(rf_awork *w, uint32_t root)
 {
     uint8_t *body = calloc(w->n ? w->n : 1, 1);
     uint32_t *parts = malloc((size_t)(w->n ? w->n : 1) * sizeof *parts);
-    if (!body || !parts)
+    bool ok = body && parts;
+    if (!ok)
         goto out;
     uint32_t count = 0;
     for (uint32_t i = 0; i < w->order_count; i++) {
@@ -165,6 +171,7 @@ static void attach_detached(rf_awork *w, uint32_t root)
 out:
     free(body);
     free(parts);
+    return ok;
 }
 
 /* Props: off-center leaves without a mirror image of their own whose parent's mirror has fewer
@@ -197,10 +204,7 @@ static bool settle_tree(rf_awork *w)
         return false;
     rf_an_grid_reset(w); /* a new order */
     rf_an_tips(w);
-    rf_an_subtree_stats(w);
-    rf_an_classify(w);
-    rf_an_mirrors(w);
-    return true;
+    return rf_an_subtree_stats(w) && rf_an_classify(w) && rf_an_mirrors(w);
 }
 
 bool rf_an_body(rf_awork *w)
@@ -212,9 +216,8 @@ bool rf_an_body(rf_awork *w)
     for (uint32_t j = 0; j < w->n; j++)
         w->attach_pt[j] =
             w->parent[j] >= 0 ? rf_an_pos(w, (uint32_t)w->parent[j]) : rf_an_pos(w, j);
-    root_chain(w, (uint32_t)root);
-    attach_detached(w, (uint32_t)root);
-    if (!settle_tree(w) || (unpaired_leaves(w) && !settle_tree(w)))
+    if (!root_chain(w, (uint32_t)root) || !attach_detached(w, (uint32_t)root) || !settle_tree(w) ||
+        (unpaired_leaves(w) && !settle_tree(w)))
         return false;
     w->a->root = w->top;
     if (w->top >= 0)

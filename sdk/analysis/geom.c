@@ -454,22 +454,23 @@ static bool roll_leaf(const rf_awork *w, uint32_t j)
 /* Helpers from skin weights (only when the skeleton says which joints have them): end markers,
  * unweighted leaves (IK targets, poles, sockets) and wholly unweighted subtrees (control rigs).
  * Unweighted joints sitting on their only child are control joints: kept, never driven. Roll
- * leaves are helpers with or without weights. */
-void rf_an_helpers(rf_awork *w)
+ * leaves are helpers with or without weights. False when out of memory (a control rig would be
+ * read as body). */
+bool rf_an_helpers(rf_awork *w)
 {
     for (uint32_t j = 0; j < w->n; j++)
         if (roll_leaf(w, j))
             w->helper[j] = 1;
     if (!w->weights_known)
-        return;
+        return true;
     uint8_t *all_unweighted = calloc(w->n ? w->n : 1, 1);
-    if (all_unweighted) {
-        for (uint32_t i = w->n; i-- > 0;) {
-            bool all = !w->weighted[i];
-            for (uint32_t k = w->child_off[i]; k < w->child_off[i + 1] && all; k++)
-                all = all_unweighted[w->child_idx[k]];
-            all_unweighted[i] = all;
-        }
+    if (!all_unweighted)
+        return false;
+    for (uint32_t i = w->n; i-- > 0;) {
+        bool all = !w->weighted[i];
+        for (uint32_t k = w->child_off[i]; k < w->child_off[i + 1] && all; k++)
+            all = all_unweighted[w->child_idx[k]];
+        all_unweighted[i] = all;
     }
     for (uint32_t j = 0; j < w->n; j++) {
         rf_joint_info *ji = &w->a->joints[j];
@@ -479,7 +480,7 @@ void rf_an_helpers(rf_awork *w)
             if (end_marker(w, j))
                 ji->flags |= RF_JI_END_MARKER;
             w->helper[j] = 1;
-        } else if (all_unweighted && all_unweighted[j]) {
+        } else if (all_unweighted[j]) {
             w->helper[j] = 1;
         }
     }
@@ -495,6 +496,7 @@ void rf_an_helpers(rf_awork *w)
             rf_v3_dist(w->a->joints[only].pos, w->a->joints[j].pos) <= w->eps)
             w->a->joints[j].flags |= RF_JI_CONTROL;
     }
+    return true;
 }
 
 /* Parents first, helpers left out of `order` (they stay in `hlp_order`). */
@@ -545,22 +547,26 @@ static bool under(const rf_awork *w, rf_vec3 p, rf_vec3 lo, rf_vec3 hi)
 
 /* Roots placed away from their body: a root with one branching child, outside the box of the
  * child's subtree (a clip's frame may put the body metres from the origin). Helpers; the size
- * and tolerances are measured without them. */
-static void placements(rf_awork *w)
+ * and tolerances are measured without them. False when out of memory. */
+static bool placements(rf_awork *w)
 {
     rf_vec3 *lo = malloc((size_t)(w->n ? w->n : 1) * sizeof *lo);
     rf_vec3 *hi = malloc((size_t)(w->n ? w->n : 1) * sizeof *hi);
     bool any = false;
-    for (uint32_t i = 0; lo && hi && i < w->n; i++)
+    if (!lo || !hi) {
+        free(lo), free(hi);
+        return false;
+    }
+    for (uint32_t i = 0; i < w->n; i++)
         lo[i] = hi[i] = w->a->joints[i].pos;
-    for (uint32_t i = w->n; lo && hi && i-- > 0;) { /* children after parents */
+    for (uint32_t i = w->n; i-- > 0;) { /* children after parents */
         int32_t p = w->file_parent[i];
         if (p >= 0) {
             lo[p] = rf_v3(fmin(lo[p].x, lo[i].x), fmin(lo[p].y, lo[i].y), fmin(lo[p].z, lo[i].z));
             hi[p] = rf_v3(fmax(hi[p].x, hi[i].x), fmax(hi[p].y, hi[i].y), fmax(hi[p].z, hi[i].z));
         }
     }
-    for (uint32_t r = 0; lo && hi && r < w->n; r++) {
+    for (uint32_t r = 0; r < w->n; r++) {
         if (w->file_parent[r] >= 0 || rf_an_child_count(w, r) != 1 || w->helper[r])
             continue;
         uint32_t c = w->child_idx[w->child_off[r]];
@@ -575,6 +581,7 @@ static void placements(rf_awork *w)
     free(hi);
     if (any)
         bounding_size(w);
+    return true;
 }
 
 bool rf_an_prepare(rf_awork *w)
@@ -583,9 +590,7 @@ bool rf_an_prepare(rf_awork *w)
         return false;
     convention(w);
     end_sites(w);
-    rf_an_helpers(w);
-    placements(w);
-    if (!rf_an_build_tree(w))
+    if (!rf_an_helpers(w) || !placements(w) || !rf_an_build_tree(w))
         return false;
     rf_an_tips(w);
     return true;

@@ -6,11 +6,12 @@
 
 #include "rigflow/analysis.h"
 
+/* The skeleton's leaves; UINT32_MAX when out of memory. */
 static uint32_t leaf_count(const rf_skeleton *s)
 {
     uint8_t *has_child = calloc(s->joint_count ? s->joint_count : 1, 1);
     if (!has_child)
-        return 0;
+        return UINT32_MAX;
     for (uint32_t j = 0; j < s->joint_count; j++) {
         int32_t p = s->joints[j].parent;
         if (p >= 0 && (uint32_t)p < s->joint_count)
@@ -23,12 +24,17 @@ static uint32_t leaf_count(const rf_skeleton *s)
     return leaves;
 }
 
-/* World pivots of the rest pose; parents come before children (bad parents count as roots). */
+/* World pivots of the rest pose; parents come before children (bad parents count as roots).
+ * NULL when out of memory. */
 static rf_vec3 *rest_pivots(const rf_skeleton *s)
 {
     rf_xform *world = malloc((s->joint_count ? s->joint_count : 1) * sizeof *world);
     rf_vec3 *pos = malloc((s->joint_count ? s->joint_count : 1) * sizeof *pos);
-    for (uint32_t j = 0; world && pos && j < s->joint_count; j++) {
+    if (!world || !pos) { /* pivots never computed must not be read as a pose */
+        free(world), free(pos);
+        return NULL;
+    }
+    for (uint32_t j = 0; j < s->joint_count; j++) {
         int32_t p = s->joints[j].parent;
         bool ok = p >= 0 && (uint32_t)p < j;
         world[j] = ok ? rf_xform_mul(world[p], s->joints[j].rest) : s->joints[j].rest;
@@ -46,10 +52,16 @@ static bool in_body(const rf_skeleton *s, uint32_t j)
     return p >= 0 && (uint32_t)p < j;
 }
 
-bool rf_pose_degenerate(const rf_skeleton *s)
+bool rf_pose_degenerate_check(const rf_skeleton *s, bool *degenerate)
 {
-    if (!s || s->joint_count < 4 || leaf_count(s) < 3)
+    *degenerate = false;
+    if (!s || s->joint_count < 4)
+        return true;
+    uint32_t leaves = leaf_count(s);
+    if (leaves == UINT32_MAX)
         return false;
+    if (leaves < 3)
+        return true;
     rf_vec3 *pos = rest_pivots(s);
     if (!pos)
         return false;
@@ -77,7 +89,14 @@ bool rf_pose_degenerate(const rf_skeleton *s)
         lo = fmin(lo, along), hi = fmax(hi, along);
     }
     free(pos);
-    return longest > 0 && isfinite(off2) && sqrt(off2) < 0.03 * (hi - lo);
+    *degenerate = longest > 0 && isfinite(off2) && sqrt(off2) < 0.03 * (hi - lo);
+    return true;
+}
+
+bool rf_pose_degenerate(const rf_skeleton *s)
+{
+    bool degenerate;
+    return rf_pose_degenerate_check(s, &degenerate) && degenerate;
 }
 
 rf_skeleton *rf_posed_view(const rf_skeleton *s, const rf_animation *anim, uint32_t frame)
@@ -116,33 +135,42 @@ void rf_posed_free(rf_skeleton *view)
     free(view);
 }
 
-/* How well a pose shows the body: the joints in limbs that mirror a limb of as many bones. */
-static uint32_t pose_score(const rf_skeleton *view)
+/* How well a pose shows the body: the joints in limbs that mirror a limb of as many bones, into
+ * *pairs. False when out of memory (a pose not analysed would score as no body at all). */
+static bool pose_score(const rf_skeleton *view, uint32_t *pairs)
 {
-    rf_analysis *a = view ? rf_analyze(view, NULL) : NULL;
-    uint32_t pairs = 0;
+    rf_analysis *a = rf_analyze(view, NULL);
+    *pairs = 0;
     for (uint32_t k = 0; a && k < a->section_count; k++) {
         const rf_section *sec = &a->sections[k];
         if (sec->mirror >= 0 && a->sections[sec->mirror].bone_count == sec->bone_count)
-            pairs += sec->bone_count;
+            *pairs += sec->bone_count;
     }
     rf_analysis_free(a);
-    return pairs;
+    return a != NULL;
 }
 
 rf_skeleton *rf_posed_best(const rf_skeleton *s, const rf_animation *anim, int32_t *frame)
 {
     *frame = -1;
     rf_skeleton *best = rf_posed_mean(s, anim);
-    if (!best)
+    uint32_t best_score, score;
+    if (!best || !pose_score(best, &best_score)) {
+        rf_posed_free(best);
         return NULL;
-    uint32_t best_score = pose_score(best);
+    }
     uint32_t samples = anim->frame_count < 16 ? anim->frame_count : 16;
     for (uint32_t i = 0; i < samples; i++) {
         uint32_t f = (uint32_t)((uint64_t)i * anim->frame_count / samples);
+        /* the clip fits (the mean pose was made): a view not made, or not scored, is out of
+         * memory, and the best of the others would be another pose */
         rf_skeleton *v = rf_posed_view(s, anim, f);
-        uint32_t score = pose_score(v);
-        if (v && score > best_score) {
+        if (!v || !pose_score(v, &score)) {
+            rf_posed_free(v), rf_posed_free(best);
+            *frame = -1;
+            return NULL;
+        }
+        if (score > best_score) {
             rf_posed_free(best);
             best = v, best_score = score, *frame = (int32_t)f;
         } else {

@@ -28,7 +28,7 @@ typedef struct roles_work {
     uint32_t n;
     int32_t *parent;      /* sanitised: -1 or a smaller index */
     rf_vec3 *pos;         /* world rest pivots */
-    const rf_analysis *a; /* bone tips (may be NULL) */
+    const rf_analysis *a; /* bone tips */
     uint8_t *carries;     /* weighted, or a descendant is */
     uint8_t *w_above;     /* a proper ancestor is weighted */
     uint8_t *has_body;    /* a child carries body (the joint is inside a limb, not its end) */
@@ -275,7 +275,11 @@ rf_joint_roles *rf_joint_roles_find(const rf_skeleton *s, const rf_mesh *mesh,
         return r;
     roles_work w = {.s = s, .n = n};
     rf_analysis *a = rf_analyze(s, NULL);
-    w.up = a ? a->up : rf_v3(0, 1, 0);
+    if (!a) { /* out of memory: +y in place of the body's up would read other roles */
+        rf_joint_roles_free(r);
+        return NULL;
+    }
+    w.up = a->up;
     w.a = a;
     roles_weights(&w, mesh, r->weighted);
     roles_motion(&w, clips, clip_count, r->turned);

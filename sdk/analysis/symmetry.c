@@ -27,10 +27,13 @@ static int cmp_u64(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* Count, pivot sum, length and topology hash of every subtree, children before parents. */
-void rf_an_subtree_stats(rf_awork *w)
+/* Count, pivot sum, length and topology hash of every subtree, children before parents. False
+ * when out of memory: a hash without the children's would pair subtrees of other shapes. */
+bool rf_an_subtree_stats(rf_awork *w)
 {
     uint64_t *buf = malloc((size_t)(w->n ? w->n : 1) * sizeof *buf);
+    if (!buf)
+        return false;
     for (uint32_t i = w->order_count; i-- > 0;) {
         uint32_t j = w->order[i];
         const rf_joint_info *ji = &w->a->joints[j];
@@ -43,18 +46,16 @@ void rf_an_subtree_stats(rf_awork *w)
             w->sub_count[j] += w->sub_count[c];
             w->sub_sum[j] = rf_v3_add(w->sub_sum[j], w->sub_sum[c]);
             w->sub_len[j] += w->sub_len[c] + rf_v3_dist(w->a->joints[c].pos, ji->pos);
-            if (buf)
-                buf[k - k0] = w->hash[c];
+            buf[k - k0] = w->hash[c];
         }
         uint64_t h = mix64(0x9e3779b97f4a7c15ULL + (k1 - k0));
-        if (buf) {
-            qsort(buf, k1 - k0, sizeof *buf, cmp_u64);
-            for (uint32_t k = 0; k < k1 - k0; k++)
-                h = mix64(h ^ (buf[k] + 0x632be59bd9b4e019ULL));
-        }
+        qsort(buf, k1 - k0, sizeof *buf, cmp_u64);
+        for (uint32_t k = 0; k < k1 - k0; k++)
+            h = mix64(h ^ (buf[k] + 0x632be59bd9b4e019ULL));
         w->hash[j] = h;
     }
     free(buf);
+    return true;
 }
 
 /* ---- a spatial hash of pivots for "is there a joint near this point" ---- */
@@ -470,15 +471,17 @@ static int cmp_cluster(const void *a, const void *b)
     return x > y ? -1 : x < y;
 }
 
-/* Chooses the symmetry plane: forced axes define it; otherwise the best scoring candidate. */
-void rf_an_symmetry(rf_awork *w)
+/* Chooses the symmetry plane: forced axes define it; otherwise the best scoring candidate.
+ * False when out of memory (no plane looked for is no plane found). */
+bool rf_an_symmetry(rf_awork *w)
 {
     rf_vec3 center = all_centroid(w);
     rf_candidates *cs = calloc(1, sizeof *cs);
     rf_hashed *kids = malloc((size_t)(w->n ? w->n : 1) * sizeof *kids);
     const rf_grid *g = work_grid(w);
+    bool ok = cs && kids && g;
     w->plane_n = rf_v3(1, 0, 0), w->plane_p = center;
-    if (!cs || !kids || !g)
+    if (!ok)
         goto out;
     rf_vec3 fu = w->opt.up, ff = w->opt.forward, up = known_up(w);
     /* No plane at all scores as every joint on it, a quarter point each: a proposed plane has
@@ -538,6 +541,7 @@ void rf_an_symmetry(rf_awork *w)
 out:
     free(kids);
     free(cs);
+    return ok;
 }
 
 /* Moves the plane along its normal to the mean midpoint of its twin pairs. Called once up is
@@ -547,10 +551,12 @@ out:
  * nearest image of a left joint need not have that joint as its own nearest (an arm longer than
  * the other, a staff), and looked for from one side only the offset depended on which way the
  * normal pointed, that is on which way the body was read to face (the general rigger's Wizard
- * rig read facing -z put its spine off the centerline, an arm). */
-void rf_an_recentre(rf_awork *w)
+ * rig read facing -z put its spine off the centerline, an arm). False when out of memory. */
+bool rf_an_recentre(rf_awork *w)
 {
     const rf_grid *g = w->have_plane ? work_grid(w) : NULL;
+    if (w->have_plane && !g)
+        return false;
     double sum = 0;
     uint32_t count = 0;
     for (uint32_t i = 0; g && i < w->order_count; i++) {
@@ -567,6 +573,7 @@ void rf_an_recentre(rf_awork *w)
     if (count)
         w->plane_p = rf_v3_add(w->plane_p, rf_v3_scale(w->plane_n, sum / count));
     w->a->plane_point = w->plane_p;
+    return true;
 }
 
 /* ---- centerline and limbs ---- */
@@ -587,18 +594,19 @@ static int32_t twin_of(const rf_awork *w, const rf_grid *g, uint32_t j, double t
 /* Twins are mutual: each the nearest to the other's reflection. Where one side's chain has a
  * joint more than the other's (a curve skeleton's arms of 4 and 5 joints, a hair apart), the
  * joint left over finds a twin that has one already, and would weigh its side in the centring
- * (balanced_offset) alone. */
+ * (balanced_offset) alone. NULL when out of memory. */
 static uint8_t *twins(const rf_awork *w, const rf_grid *g, double tiny)
 {
     uint8_t *twin = calloc(w->n ? w->n : 1, 1);
     int32_t *near = malloc((size_t)(w->n ? w->n : 1) * sizeof *near);
     if (!twin || !near) {
         free(near);
-        return twin;
+        free(twin);
+        return NULL;
     }
     for (uint32_t j = 0; j < w->n; j++)
         near[j] = RF_NONE;
-    for (uint32_t i = 0; g && i < w->order_count; i++)
+    for (uint32_t i = 0; i < w->order_count; i++)
         near[w->order[i]] = twin_of(w, g, w->order[i], tiny);
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
@@ -664,15 +672,18 @@ static double *balanced_offset(const rf_awork *w, const uint8_t *twin, double to
     return sum;
 }
 
-void rf_an_classify(rf_awork *w)
+/* The centerline and the limbs. False when out of memory: a joint measured without its twins
+ * (or without the grid that finds them) may be read on the centerline or off it wrongly. */
+bool rf_an_classify(rf_awork *w)
 {
-    const rf_grid *grid = work_grid(w);
-    double tol_c = 0.5 * w->tol, tiny = 0.05 * w->tol;
     /* without a plane every joint is on the centerline (below): nothing to measure */
-    uint8_t *twinned = w->have_plane && grid ? twins(w, grid, 0.25 * w->tol) : NULL;
+    const rf_grid *grid = w->have_plane ? work_grid(w) : NULL;
+    double tol_c = 0.5 * w->tol, tiny = 0.05 * w->tol;
+    uint8_t *twinned = grid ? twins(w, grid, 0.25 * w->tol) : NULL;
     uint8_t *trunk = twinned ? calloc(w->n ? w->n : 1, 1) : NULL;
     uint8_t *lateral = trunk ? one_sided(w, twinned, 0.25 * w->tol, trunk) : NULL;
     double *offset = twinned ? balanced_offset(w, twinned, tol_c) : NULL;
+    bool ok = !w->have_plane || (lateral && offset);
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
         int32_t p = w->parent[j];
@@ -707,16 +718,18 @@ void rf_an_classify(rf_awork *w)
     free(lateral);
     free(trunk);
     free(twinned);
+    return ok;
 }
 
-/* Each off-center joint's mirror image: the nearest joint to its reflection, other side. */
-void rf_an_mirrors(rf_awork *w)
+/* Each off-center joint's mirror image: the nearest joint to its reflection, other side. False
+ * when out of memory. */
+bool rf_an_mirrors(rf_awork *w)
 {
     for (uint32_t j = 0; j < w->n; j++)
         w->a->joints[j].mirror = RF_NONE;
     const rf_grid *g = w->have_plane ? work_grid(w) : NULL;
     if (!g)
-        return;
+        return !w->have_plane;
     for (uint32_t i = 0; i < w->order_count; i++) {
         uint32_t j = w->order[i];
         if (w->center[j])
@@ -728,4 +741,5 @@ void rf_an_mirrors(rf_awork *w)
         if (m >= 0 && !w->center[m])
             w->a->joints[j].mirror = m;
     }
+    return true;
 }

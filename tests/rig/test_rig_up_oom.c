@@ -3,11 +3,12 @@
  * whose file declares none and the rigger's frame (rf_rig_support and rf_rig_frame_enter: the
  * body's up from its standing margins and its curve skeleton; the footprint's box the frame
  * follows), on the body saved Z-up and on one declaring +y up, turned: each run either says it
- * ran out (false) or gives the up and the frame it gives with memory to spare (a failure inside
- * the skeleton analysis, which falls back to defaults where its own allocations fail, may move
- * its confidence only); a failed allocation is never read as "no footprint" or "no up", which
- * would rig the body lying, or in another frame, without saying why. Then the curve skeleton
- * (rf_rig_curve), the clean-up (rf_rig_prepare) and the rigger as a whole (rf_rig_general). */
+ * ran out (false) or gives the up and the frame it gives with memory to spare, its note word for
+ * word (the skeleton analysis, sdk/analysis, passes its own failed allocations on as well: it
+ * once fell back to defaults there, which moved the confidence it read); a failed allocation is
+ * never read as "no footprint" or "no up", which would rig the body lying, or in another frame,
+ * without saying why. Then the curve skeleton (rf_rig_curve), the clean-up (rf_rig_prepare) and
+ * the rigger as a whole (rf_rig_general). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -87,27 +88,24 @@ static void frame_fails_or_finds(void **state)
     assert_true(strncmp(f.up_note, found, strlen(found)) == 0);
     want.positions = NULL;
     rf_rig_frame_leave(&f, m, NULL, NULL);
-    long k, failed = 0, same = 0;
+    long k, failed = 0;
     for (k = 0;; k++) {
         calls = 0, fail_at = k;
         bool ok = rf_rig_frame_enter(m, &coarse, &f, &in, &o);
         fail_at = -1;
         failed += !ok;
-        /* an allocation failing inside the skeleton analysis (its limbs not collected: it
-         * falls back to defaults) may move its confidence; the up found and the frame stay */
         if (ok &&
-            (strncmp(f.up_note, found, strlen(found)) != 0 || f.turned != want.turned ||
-             f.q.w != want.q.w || f.q.x != want.q.x || f.q.y != want.q.y || f.q.z != want.q.z))
+            (strcmp(f.up_note, want.up_note) != 0 || f.turned != want.turned || f.q.w != want.q.w ||
+             f.q.x != want.q.x || f.q.y != want.q.y || f.q.z != want.q.z))
             fail_msg("allocation %ld failing: '%s'", k, f.up_note);
-        same += ok && strcmp(f.up_note, want.up_note) == 0;
         bool done = ok && calls <= k;
         rf_rig_frame_leave(&f, m, NULL, NULL);
         if (done)
             break;
     }
-    print_message("# %ld allocations, each failing once: out of memory said %ld times, the same "
-                  "up found %ld times (%ld of them with the same confidence)\n",
-                  k, failed, k - failed, same);
+    print_message("# %ld allocations, each failing once: out of memory said %ld times\n", k,
+                  failed);
+    assert_int_equal(failed, k);
     assert_true(k > 20);
 }
 
@@ -152,9 +150,9 @@ static void frame_fails_or_turns(void **state)
  * "out of memory..."): never keeps the other pass in silence, which can root the skeleton at the
  * body's other end (read facing back), nor reads girdles not looked for as none, which grows the
  * second pass from the thickest point instead of the hips. Every allocation fails in turn, until a
- * run needs no more. Those of the skeleton analysis (sdk/analysis) are the exception: it falls back
- * to defaults when its own allocations fail, and the up it then reads may move the girdles; its
- * allocations that fail leave the skeleton as it was on this body. */
+ * run needs no more, those of the skeleton analysis (sdk/analysis) the girdles and the root are
+ * read with included: it passes them on too (it fell back to defaults, which may read another up
+ * and so other girdles). */
 static bool same_skel(const rf_rig_skel *a, const rf_rig_skel *b)
 {
     return a->n == b->n && memcmp(a->pos, b->pos, (size_t)a->n * 3 * sizeof *a->pos) == 0 &&
@@ -186,6 +184,8 @@ static void curve_fails_or_same(void **state)
             if (!ok && (status != RF_RIG_NO_MEMORY || strncmp(err, "out of memory", 13) != 0))
                 fail_msg("turned %d quarters, allocation %ld failing: status %d, '%s'", turn, k,
                          (int)status, err);
+            if (ok && calls > k)
+                print_message("# turned %d quarters, allocation %ld failing: not said\n", turn, k);
             if (ok && !same_skel(&got, &want))
                 print_message("# turned %d quarters, allocation %ld failing: another skeleton, "
                               "not out of memory\n",
@@ -199,6 +199,7 @@ static void curve_fails_or_same(void **state)
                       "of memory said %ld times, another skeleton %ld times\n",
                       turn, want.n, k, failed, other);
         assert_int_equal(other, 0);
+        assert_int_equal(failed, k);
         assert_true(failed > 200); /* both first passes, the girdles, the second pass */
         rf_rig_skel_free(&want);
         rf_rig_prep_free(&p);
@@ -259,7 +260,8 @@ static void prepare_fails_or_cleans(void **state)
     print_message("# flat: %s\n", err);
 }
 
-/* Whether two rigs of one mesh are the same: joints, their rest pose, and every skin weight. */
+/* Whether two rigs of one mesh are the same: joints, their rest pose and flags (which joints
+ * carry no weight), and every skin weight. */
 static bool same_rig(const rf_skeleton *a, const rf_mesh *am, const rf_skeleton *b,
                      const rf_mesh *bm)
 {
@@ -267,6 +269,7 @@ static bool same_rig(const rf_skeleton *a, const rf_mesh *am, const rf_skeleton 
         return false;
     for (uint32_t j = 0; j < a->joint_count; j++)
         if (a->joints[j].parent != b->joints[j].parent ||
+            a->joints[j].flags != b->joints[j].flags ||
             memcmp(&a->joints[j].rest.t, &b->joints[j].rest.t, sizeof a->joints[j].rest.t) != 0)
             return false;
     size_t n = (size_t)am->vertex_count * 4;
@@ -292,12 +295,13 @@ static bool whole_rig(const rf_skeleton *s, const rf_mesh *m)
 
 /* The general rigger as a whole (rf_rig_general: frame, cleaning, curve skeleton, joint
  * placement, bone heat, the skinned copy) on the box creature declaring +y up: each allocation
- * failing in turn gives false with a reason that says out of memory and nothing allocated, or a
- * whole rig (every vertex weighted). Its own steps pass a lack of memory on; the rig is then
- * the one it gives with memory to spare, but where the skeleton analysis (sdk/analysis) falls
- * back to defaults on its own failed allocations, and where rf_rig_skel_across (rig-place.c)
- * leaves the spine unmoved when it cannot make its surface: those rigs differ, counted here.
- * (CHOLMOD's and Embree's own allocations are not wrapped: only code linked in is.) */
+ * failing in turn gives false with a reason that says out of memory and nothing allocated, or
+ * exactly the rig it gives with memory to spare (joints, rest pose, every skin weight). Every
+ * step passes a lack of memory on, the skeleton analysis (sdk/analysis), the surface the spine
+ * is moved across (rf_rig_skel_across) and the marks of joints that won no vertex included: they
+ * once fell back to defaults, and 10 of the runs gave another whole rig without saying so, 2
+ * more one without the marks. (CHOLMOD's and Embree's own allocations are not wrapped: only code
+ * linked in is.) */
 static void general_fails_or_rigs(void **state)
 {
     (void)state;
@@ -320,7 +324,11 @@ static void general_fails_or_rigs(void **state)
             fail_msg("allocation %ld failing: '%s'%s", k, err, got || got_m ? ", a rig given" : "");
         if (ok && !whole_rig(got, got_m))
             fail_msg("allocation %ld failing: a rig with vertices left unweighted", k);
-        other += ok && !same_rig(want, want_m, got, got_m);
+        if (ok && calls > k)
+            print_message("# allocation %ld failing: not said\n", k);
+        if (ok && calls > k && !same_rig(want, want_m, got, got_m))
+            print_message("# allocation %ld failing: another whole rig, not out of memory\n", k),
+                other++;
         rf_skeleton_free(got), rf_mesh_free(got_m);
         if (ok && calls <= k)
             break;
@@ -328,7 +336,8 @@ static void general_fails_or_rigs(void **state)
     print_message("# the general rigger: %u joints; %ld allocations, each failing once: out of "
                   "memory said %ld times, another whole rig %ld times\n",
                   want->joint_count, k, failed, other);
-    assert_true(failed > k / 2);
+    assert_int_equal(other, 0);
+    assert_int_equal(failed, k);
     rf_skeleton_free(want), rf_mesh_free(want_m);
 }
 

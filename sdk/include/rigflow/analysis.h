@@ -200,7 +200,8 @@ void rf_analysis_print(const rf_analysis *a, const rf_skeleton *skeleton, FILE *
 
 /* Whether the rest pose is no body: a branched skeleton (three leaves or more) whose pivots all
  * lie on one line, as Maya joint orients leave them at zero rotation (every bone along its local
- * X). A straight chain (a strip, a fish) may be straight and is not degenerate. */
+ * X). A straight chain (a strip, a fish) may be straight and is not degenerate. False also when
+ * out of memory (rf_pose_degenerate_check tells the two apart). */
 bool rf_pose_degenerate(const rf_skeleton *skeleton);
 
 /* The skeleton posed at frame `frame` of `anim` (clamped to its frames): a copy whose joints
@@ -220,6 +221,10 @@ rf_skeleton *rf_posed_mean(const rf_skeleton *skeleton, const rf_animation *anim
  * limbs that mirror a limb of as many bones (the mean on ties). *frame gets the frame, or -1
  * for the mean pose. Same terms as rf_posed_view. */
 rf_skeleton *rf_posed_best(const rf_skeleton *skeleton, const rf_animation *anim, int32_t *frame);
+
+/* rf_pose_degenerate that tells a lack of memory apart: false only when out of memory (where
+ * rf_pose_degenerate says "not degenerate"), else true with the answer in *degenerate. */
+bool rf_pose_degenerate_check(const rf_skeleton *skeleton, bool *degenerate);
 
 /* ---- joint roles (roles.c) ---- */
 
