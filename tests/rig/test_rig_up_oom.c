@@ -332,11 +332,53 @@ static void general_fails_or_rigs(void **state)
     rf_skeleton_free(want), rf_mesh_free(want_m);
 }
 
+/* The template rigger as a whole (rf_rig_template) on the box creature declaring +y up and no
+ * forward, so its facing is read from the body (rf_rig_pooled_facing): each allocation failing
+ * in turn gives false with a reason that says out of memory and nothing allocated, or a whole
+ * rig. Its Head moved down to the head's bulk needs the mesh's surface (rf_rig_head_base); a
+ * failure there refuses the rig rather than give one with the Head left where it was. */
+static void template_fails_or_rigs(void **state)
+{
+    (void)state;
+    const rf_mesh *m = creature(false, 0.5);
+    rf_rig_options o = {.up = rf_v3(0, 1, 0), .resolution = 32};
+    rf_skeleton *want, *got;
+    rf_mesh *want_m, *got_m;
+    char err[256];
+    assert_true(rf_rig_template(m, &o, RF_RIG_TEMPLATE_AUTO, &want, &want_m, NULL, NULL, NULL, err,
+                                sizeof err));
+    assert_true(whole_rig(want, want_m));
+    long k, failed = 0, other = 0;
+    for (k = 0;; k++) {
+        err[0] = '\0';
+        got = NULL, got_m = NULL;
+        calls = 0, fail_at = k;
+        bool ok = rf_rig_template(m, &o, RF_RIG_TEMPLATE_AUTO, &got, &got_m, NULL, NULL, NULL, err,
+                                  sizeof err);
+        fail_at = -1;
+        failed += !ok;
+        if (!ok && (strncmp(err, "out of memory", 13) != 0 || got || got_m))
+            fail_msg("allocation %ld failing: '%s'%s", k, err, got || got_m ? ", a rig given" : "");
+        if (ok && !whole_rig(got, got_m))
+            fail_msg("allocation %ld failing: a rig with vertices left unweighted", k);
+        other += ok && !same_rig(want, want_m, got, got_m);
+        rf_skeleton_free(got), rf_mesh_free(got_m);
+        if (ok && calls <= k)
+            break;
+    }
+    print_message("# the template rigger: %u joints; %ld allocations, each failing once: out of "
+                  "memory said %ld times, another whole rig %ld times\n",
+                  want->joint_count, k, failed, other);
+    assert_true(failed > k / 2);
+    rf_skeleton_free(want), rf_mesh_free(want_m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(support_fails_or_measures), cmocka_unit_test(frame_fails_or_finds),
         cmocka_unit_test(frame_fails_or_turns),      cmocka_unit_test(curve_fails_or_same),
-        cmocka_unit_test(prepare_fails_or_cleans),   cmocka_unit_test(general_fails_or_rigs)};
+        cmocka_unit_test(prepare_fails_or_cleans),   cmocka_unit_test(general_fails_or_rigs),
+        cmocka_unit_test(template_fails_or_rigs)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
