@@ -290,30 +290,41 @@ static bool whole_rig(const rf_skeleton *s, const rf_mesh *m)
     return s->joint_count > 0;
 }
 
-/* The general rigger as a whole (rf_rig_general: frame, cleaning, curve skeleton, joint
- * placement, bone heat, the skinned copy) on the box creature declaring +y up: each allocation
- * failing in turn gives false with a reason that says out of memory and nothing allocated, or a
- * whole rig (every vertex weighted). Its own steps pass a lack of memory on; the rig is then
- * the one it gives with memory to spare, but where the skeleton analysis (sdk/analysis) falls
- * back to defaults on its own failed allocations, and where rf_rig_skel_across (rig-place.c)
- * leaves the spine unmoved when it cannot make its surface: those rigs differ, counted here.
- * (CHOLMOD's and Embree's own allocations are not wrapped: only code linked in is.) */
-static void general_fails_or_rigs(void **state)
+/* A rigger as a whole, its progress and stats not asked for. */
+typedef bool (*rigger_fn)(const rf_mesh *m, const rf_rig_options *o, rf_skeleton **s,
+                          rf_mesh **skinned, char *err, size_t n);
+
+static bool rig_general(const rf_mesh *m, const rf_rig_options *o, rf_skeleton **s,
+                        rf_mesh **skinned, char *err, size_t n)
 {
-    (void)state;
+    return rf_rig_general(m, o, s, skinned, NULL, NULL, NULL, err, n);
+}
+
+static bool rig_template(const rf_mesh *m, const rf_rig_options *o, rf_skeleton **s,
+                         rf_mesh **skinned, char *err, size_t n)
+{
+    return rf_rig_template(m, o, RF_RIG_TEMPLATE_AUTO, s, skinned, NULL, NULL, NULL, err, n);
+}
+
+/* `rig` on the box creature declaring +y up (and no forward): each allocation failing in turn
+ * gives false with a reason that says out of memory and nothing allocated, or a whole rig
+ * (every vertex weighted); how many of those differ from the rig with memory to spare is
+ * counted. */
+static void rigger_fails_or_rigs(const char *name, rigger_fn rig)
+{
     const rf_mesh *m = creature(false, 0.5);
     rf_rig_options o = {.up = rf_v3(0, 1, 0), .resolution = 32};
     rf_skeleton *want, *got;
     rf_mesh *want_m, *got_m;
     char err[256];
-    assert_true(rf_rig_general(m, &o, &want, &want_m, NULL, NULL, NULL, err, sizeof err));
+    assert_true(rig(m, &o, &want, &want_m, err, sizeof err));
     assert_true(whole_rig(want, want_m));
     long k, failed = 0, other = 0;
     for (k = 0;; k++) {
         err[0] = '\0';
         got = NULL, got_m = NULL;
         calls = 0, fail_at = k;
-        bool ok = rf_rig_general(m, &o, &got, &got_m, NULL, NULL, NULL, err, sizeof err);
+        bool ok = rig(m, &o, &got, &got_m, err, sizeof err);
         fail_at = -1;
         failed += !ok;
         if (!ok && (strncmp(err, "out of memory", 13) != 0 || got || got_m))
@@ -325,52 +336,34 @@ static void general_fails_or_rigs(void **state)
         if (ok && calls <= k)
             break;
     }
-    print_message("# the general rigger: %u joints; %ld allocations, each failing once: out of "
+    print_message("# the %s rigger: %u joints; %ld allocations, each failing once: out of "
                   "memory said %ld times, another whole rig %ld times\n",
-                  want->joint_count, k, failed, other);
+                  name, want->joint_count, k, failed, other);
     assert_true(failed > k / 2);
     rf_skeleton_free(want), rf_mesh_free(want_m);
 }
 
-/* The template rigger as a whole (rf_rig_template) on the box creature declaring +y up and no
- * forward, so its facing is read from the body (rf_rig_pooled_facing): each allocation failing
- * in turn gives false with a reason that says out of memory and nothing allocated, or a whole
- * rig. Its Head moved down to the head's bulk needs the mesh's surface (rf_rig_head_base); a
- * failure there refuses the rig rather than give one with the Head left where it was. */
+/* The general rigger as a whole (rf_rig_general: frame, cleaning, curve skeleton, joint
+ * placement, the facing pooled over the grid's quarter turns, bone heat, the skinned copy)
+ * (rigger_fails_or_rigs). Its own steps pass a lack of memory on; the rig is then the one it
+ * gives with memory to spare, but where the skeleton analysis (sdk/analysis) falls back to
+ * defaults on its own failed allocations, and where rf_rig_skel_across (rig-place.c) leaves the
+ * spine unmoved when it cannot make its surface: those rigs differ, counted. (CHOLMOD's and
+ * Embree's own allocations are not wrapped: only code linked in is.) */
+static void general_fails_or_rigs(void **state)
+{
+    (void)state;
+    rigger_fails_or_rigs("general", rig_general);
+}
+
+/* The template rigger as a whole (rf_rig_template), its facing read from the body as the
+ * general rigger's (rf_rig_pooled_facing), the same way. Its Head moved down to the head's bulk
+ * needs the mesh's surface (rf_rig_head_base): a failure there refuses the rig rather than give
+ * one with the Head left where it was. */
 static void template_fails_or_rigs(void **state)
 {
     (void)state;
-    const rf_mesh *m = creature(false, 0.5);
-    rf_rig_options o = {.up = rf_v3(0, 1, 0), .resolution = 32};
-    rf_skeleton *want, *got;
-    rf_mesh *want_m, *got_m;
-    char err[256];
-    assert_true(rf_rig_template(m, &o, RF_RIG_TEMPLATE_AUTO, &want, &want_m, NULL, NULL, NULL, err,
-                                sizeof err));
-    assert_true(whole_rig(want, want_m));
-    long k, failed = 0, other = 0;
-    for (k = 0;; k++) {
-        err[0] = '\0';
-        got = NULL, got_m = NULL;
-        calls = 0, fail_at = k;
-        bool ok = rf_rig_template(m, &o, RF_RIG_TEMPLATE_AUTO, &got, &got_m, NULL, NULL, NULL, err,
-                                  sizeof err);
-        fail_at = -1;
-        failed += !ok;
-        if (!ok && (strncmp(err, "out of memory", 13) != 0 || got || got_m))
-            fail_msg("allocation %ld failing: '%s'%s", k, err, got || got_m ? ", a rig given" : "");
-        if (ok && !whole_rig(got, got_m))
-            fail_msg("allocation %ld failing: a rig with vertices left unweighted", k);
-        other += ok && !same_rig(want, want_m, got, got_m);
-        rf_skeleton_free(got), rf_mesh_free(got_m);
-        if (ok && calls <= k)
-            break;
-    }
-    print_message("# the template rigger: %u joints; %ld allocations, each failing once: out of "
-                  "memory said %ld times, another whole rig %ld times\n",
-                  want->joint_count, k, failed, other);
-    assert_true(failed > k / 2);
-    rf_skeleton_free(want), rf_mesh_free(want_m);
+    rigger_fails_or_rigs("template", rig_template);
 }
 
 int main(void)
