@@ -128,7 +128,9 @@ void rf_rig_frame_leave(rf_rig_frame *f, const rf_mesh *mesh, rf_skeleton *s, rf
 
 /* The facing of the prepared body p (o: its frame's up, no forward declared) the skeleton
  * analysis reads on the general rigger's skeletons of it turned by each quarter turn about up,
- * pooled; zero into *out when none is read. False when out of memory. */
+ * pooled; zero into *out when none is read. k is the general rigger's skeleton of p unturned
+ * (curve skeleton, limbs laid: rf_rig_general_place), or NULL to have it made here (the template
+ * rigger, which lays no general limbs). False when out of memory. */
 bool rf_rig_pooled_facing(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
                           rf_vec3 *out);
 
@@ -298,12 +300,14 @@ bool rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 
 
 /* The template laid into curve skeleton k of the cleaned mesh p, as a working skeleton into
  * *out (names into names[joint], 24 bytes each, up to 40 joints), with the layouts given
- * (NULL: the built-in ones) and which template into *got. The template rigger's work short of
- * bone heat; the fitting of layouts (tests/rig/rig-fit) calls it many times. */
+ * (NULL: the built-in ones) and which template into *got. `facing`: when o declares no forward,
+ * the body's as rf_rig_pooled_facing reads it (zero: none read). The template rigger's work
+ * short of bone heat; the fitting of layouts (tests/rig/rig-fit) calls it many times. False with
+ * the reason in err, *out then holding nothing. */
 bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
-                           rf_rig_template_kind want, const rf_rig_tpl_layout *humanoid,
-                           const rf_rig_tpl_layout *quadruped, rf_rig_skel *out, char (*names)[24],
-                           rf_rig_template_kind *got, rf_vec3 *up, rf_vec3 *forward, char *err,
-                           size_t n);
+                           rf_vec3 facing, rf_rig_template_kind want,
+                           const rf_rig_tpl_layout *humanoid, const rf_rig_tpl_layout *quadruped,
+                           rf_rig_skel *out, char (*names)[24], rf_rig_template_kind *got,
+                           rf_vec3 *up, rf_vec3 *forward, char *err, size_t n);
 
 #endif

@@ -416,6 +416,8 @@ typedef struct rf_tpl_ctx {
     rf_tpl *t;
     uint8_t *limb;   /* [joint] in a limb section or below one: not the head or the tail */
     int swap;        /* the ends swapped against the analysis's forward: sides swapped too */
+    int facing;      /* -1: no facing declared or read; 1: the analysis's forward faces back
+                      * against the facing read (rf_tpl_facing), its sides swapped; 0: not */
     rf_vec3 forward; /* hips to chest (quadruped), zero when the analysis's forward stands */
     const rf_rig_tpl_layout *lay; /* where the joints go along each curve */
     bool human;                   /* the humanoid template: its head is the highest leaf */
@@ -896,8 +898,9 @@ static bool rf_tpl_humanoid(rf_tpl_ctx *x, char *err, size_t n)
         return rf_rig_fail(err, n,
                            "the humanoid template found no neck and head above the "
                            "shoulders");
-    rf_tpl_lay_pair(x, b->arm[0], 0, chest, spine2, RF_RIG_LIMB_ARM);
-    rf_tpl_lay_pair(x, b->leg[0], 0, hips, hips_j, RF_RIG_LIMB_LEG);
+    int swap = x->facing == 1;
+    rf_tpl_lay_pair(x, b->arm[0], swap, chest, spine2, RF_RIG_LIMB_ARM);
+    rf_tpl_lay_pair(x, b->leg[0], swap, hips, hips_j, RF_RIG_LIMB_LEG);
     return true;
 }
 
@@ -919,13 +922,16 @@ static bool rf_tpl_quadruped(rf_tpl_ctx *x, bool declared, char *err, size_t n)
     uint32_t chest = rf_tpl_meet(x->k, g[0][0], g[0][1]),
              hips = rf_tpl_meet(x->k, g[1][0], g[1][1]);
     /* Without a forward the file declares, which end is the front is the analysis's weakest
-     * guess; the curve skeleton is rooted at the hips (the girdle farther from the body's
-     * middle, rf_rig_curve), so the girdle nearer the root is the hips. Swapping the ends swaps the
-     * sides too. */
-    int front = 0;
-    if (!declared && rf_tpl_from_root(x->k, chest) < rf_tpl_from_root(x->k, hips)) {
+     * guess, so the body's facing read on the grid's quarter turns decides (rf_tpl_facing);
+     * without that either, the curve skeleton is rooted at the hips (the girdle farther from the
+     * body's middle, rf_rig_curve), so the girdle nearer the root is the hips (the Fox without
+     * its axes, rooted at its chest, was read facing back so). Swapping the ends swaps the sides
+     * too. */
+    int front = x->facing == 1 || (!declared && x->facing < 0 &&
+                                   rf_tpl_from_root(x->k, chest) < rf_tpl_from_root(x->k, hips));
+    if (front) {
         uint32_t t = chest;
-        chest = hips, hips = t, front = 1;
+        chest = hips, hips = t;
     }
     x->swap = front;
     if (hips == chest)
@@ -1000,23 +1006,36 @@ static bool rf_tpl_to_skel(const rf_tpl *t, rf_rig_skel *k)
     return true;
 }
 
+/* Whether the analysis a faces back against `facing`, the body's facing read on its skeletons
+ * on the grid turned every quarter way, pooled (rf_rig_pooled_facing), as the general rigger
+ * names its rig: 1 when it does (the template's sides and ends are then swapped), 0 when not, -1
+ * when no facing was read. This one grid's curve skeleton alone reads a facing that flips with
+ * where the voxel boundaries fall (BCN_Epileptic and the animalia bird turned a quarter way, the
+ * Fox without its axes: read facing back), and the sides with it. The analysis keeps its own
+ * mirror plane and limbs: read again with its forward forced either way, it paired no limbs of
+ * the bat or the ninja. */
+static int rf_tpl_facing(const rf_analysis *a, rf_vec3 facing)
+{
+    return !(rf_v3_len(facing) > 0) ? -1 : rf_v3_dot(a->forward, facing) < 0;
+}
+
 /* The template laid into the curve skeleton k, into t. */
 static bool rf_tpl_embed(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
-                         rf_rig_template_kind want, const rf_rig_tpl_layout *lay[2], rf_tpl *t,
-                         rf_rig_template_kind *kind, rf_vec3 *up, rf_vec3 *forward, char *err,
-                         size_t n)
+                         rf_vec3 facing, rf_rig_template_kind want, const rf_rig_tpl_layout *lay[2],
+                         rf_tpl *t, rf_rig_template_kind *kind, rf_vec3 *up, rf_vec3 *forward,
+                         char *err, size_t n)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
     if (!s)
         return rf_rig_fail(err, n, "out of memory");
     s->up = o->up, s->forward = o->forward; /* hints, as a file's axes are */
+    bool declared = rf_v3_len(o->forward) > 0;
     rf_analysis *a = rf_analyze(s, NULL);
     uint8_t *limb = calloc(k->n + 1, 1);
     bool ok = a && limb;
     if (!ok)
         rf_rig_fail(err, n, "out of memory");
     rf_tpl_body b;
-    bool declared = rf_v3_len(o->forward) > 0;
     rf_rig_template_kind got = RF_RIG_TEMPLATE_AUTO;
     if (ok) {
         rf_tpl_limbs(a, &b);
@@ -1034,6 +1053,7 @@ static bool rf_tpl_embed(const rf_rig_prep *p, const rf_rig_skel *k, const rf_ri
                         .human = human,
                         .up = rf_v3_len(o->up) > 0 ? o->up : a->up,
                         .p = p,
+                        .facing = declared ? -1 : rf_tpl_facing(a, facing),
                         .sf = p && human ? rf_rig_surface_make(&p->proxy) : NULL};
         *kind = got;
         memset(t, 0, sizeof *t);
@@ -1049,6 +1069,7 @@ static bool rf_tpl_embed(const rf_rig_prep *p, const rf_rig_skel *k, const rf_ri
         double along = f.x * up->x + f.y * up->y + f.z * up->z;
         f = rf_v3(f.x - along * up->x, f.y - along * up->y, f.z - along * up->z);
         *forward = declared                       ? o->forward
+                   : x.facing >= 0                ? rf_v3_scale(a->forward, x.facing ? -1 : 1)
                    : rf_v3_len(f) > 0             ? rf_v3_scale(f, 1 / rf_v3_len(f))
                    : a->forward_confidence >= 0.3 ? a->forward
                                                   : rf_v3(0, 0, 0);
@@ -1084,17 +1105,17 @@ static bool rf_tpl_head(const rf_rig_prep *p, rf_rig_skel *k, const rf_tpl *t, r
 }
 
 bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
-                           rf_rig_template_kind want, const rf_rig_tpl_layout *humanoid,
-                           const rf_rig_tpl_layout *quadruped, rf_rig_skel *out, char (*names)[24],
-                           rf_rig_template_kind *got, rf_vec3 *up, rf_vec3 *forward, char *err,
-                           size_t n)
+                           rf_vec3 facing, rf_rig_template_kind want,
+                           const rf_rig_tpl_layout *humanoid, const rf_rig_tpl_layout *quadruped,
+                           rf_rig_skel *out, char (*names)[24], rf_rig_template_kind *got,
+                           rf_vec3 *up, rf_vec3 *forward, char *err, size_t n)
 {
     const rf_rig_tpl_layout *lay[2] = {humanoid ? humanoid : &rf_rig_tpl_humanoid,
                                        quadruped ? quadruped : &rf_rig_tpl_quadruped};
     rf_tpl *t = calloc(1, sizeof *t);
     if (!t)
         return rf_rig_fail(err, n, "out of memory");
-    bool ok = rf_tpl_embed(p, k, o, want, lay, t, got, up, forward, err, n);
+    bool ok = rf_tpl_embed(p, k, o, facing, want, lay, t, got, up, forward, err, n);
     if (ok && !rf_tpl_to_skel(t, out))
         ok = rf_rig_fail(err, n, "out of memory");
     if (ok) {
@@ -1110,10 +1131,13 @@ bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_
         if (ok && l->dorsal > 0 && rf_v3_len(back) > 0 &&
             !rf_rig_skel_across(p, out, trunk, back, l->dorsal))
             ok = rf_rig_fail(err, n, "out of memory");
+        /* the head left inside its bulk would be a rig unlike the one with memory to spare */
         if (ok && !rf_tpl_head(p, out, t, *up, *forward))
-            ok = rf_rig_fail(err, n, "out of memory");
-        for (uint32_t j = 0; j < t->n; j++)
+            ok = rf_rig_fail(err, n, "out of memory placing the head");
+        for (uint32_t j = 0; ok && j < t->n; j++)
             memcpy(names[j], t->name[j], 24);
+        if (!ok)
+            rf_rig_skel_free(out);
     }
     free(t);
     return ok;
@@ -1138,9 +1162,14 @@ static bool rf_rig_template_framed(const rf_mesh *mesh, const rf_rig_options *op
         return false;
     if (progress)
         progress(user, 0.1);
-    bool ok = rf_rig_curve(&p, &o, &k, err, err_size) == RF_RIG_OK &&
-              rf_rig_template_place(&p, &k, &o, kind, NULL, NULL, &tk, names, &got, &up, &forward,
-                                    err, err_size);
+    bool ok = rf_rig_curve(&p, &o, &k, err, err_size) == RF_RIG_OK;
+    /* a body whose file declares no forward faces the way the general rigger reads it, its
+     * skeletons on the grid turned every quarter way pooled (rf_rig_pooled_facing) */
+    rf_vec3 facing = rf_v3(0, 0, 0);
+    if (ok && !(rf_v3_len(o.forward) > 0) && !rf_rig_pooled_facing(&p, NULL, &o, &facing))
+        ok = rf_rig_fail(err, err_size, "out of memory reading the body's facing");
+    ok = ok && rf_rig_template_place(&p, &k, &o, facing, kind, NULL, NULL, &tk, names, &got, &up,
+                                     &forward, err, err_size);
     if (ok && progress)
         progress(user, 0.4);
     rf_skeleton *s = ok ? rf_rig_skeleton(&tk, NULL) : NULL;

@@ -37,6 +37,8 @@ typedef struct fit_model {
     rf_rig_prep prep;
     rf_rig_skel curve;
     rf_rig_options opts;
+    rf_vec3
+        facing; /* the body's, read once as the template rigger reads it (rf_rig_pooled_facing) */
     rf_vec3 *artist; /* skinned artist joints, bind pose */
     uint32_t nart;
     double longest;
@@ -131,8 +133,8 @@ static double fit_score(fit_model *m, const rf_rig_tpl_layout *lay)
     char names[40][24], err[512];
     rf_rig_template_kind got;
     rf_vec3 up, fw;
-    if (!rf_rig_template_place(&m->prep, &m->curve, &m->opts, RF_RIG_TEMPLATE_AUTO, lay, lay, &t,
-                               names, &got, &up, &fw, err, sizeof err))
+    if (!rf_rig_template_place(&m->prep, &m->curve, &m->opts, m->facing, RF_RIG_TEMPLATE_AUTO, lay,
+                               lay, &t, names, &got, &up, &fw, err, sizeof err))
         return NAN;
     double cd = fit_cd(m, &t);
     rf_rig_skel_free(&t);
@@ -269,13 +271,16 @@ static bool fit_load(const char *path, fit_model *m)
     rf_rig_stats st;
     ok = rf_rig_prepare(bare.mesh, &m->opts, &m->prep, &st, err, sizeof err) == RF_RIG_OK &&
          rf_rig_curve(&m->prep, &m->opts, &m->curve, err, sizeof err) == RF_RIG_OK;
+    m->facing = rf_v3(0, 0, 0);
+    if (ok && !(rf_v3_len(m->opts.forward) > 0))
+        ok = rf_rig_pooled_facing(&m->prep, NULL, &m->opts, &m->facing);
     if (ok) {
         rf_rig_skel t = {0};
         char names[40][24];
         rf_rig_template_kind got;
         rf_vec3 up, fw;
-        if (rf_rig_template_place(&m->prep, &m->curve, &m->opts, RF_RIG_TEMPLATE_AUTO, NULL, NULL,
-                                  &t, names, &got, &up, &fw, err, sizeof err))
+        if (rf_rig_template_place(&m->prep, &m->curve, &m->opts, m->facing, RF_RIG_TEMPLATE_AUTO,
+                                  NULL, NULL, &t, names, &got, &up, &fw, err, sizeof err))
             m->kind = got == RF_RIG_TEMPLATE_HUMANOID ? 0 : 1;
         rf_rig_skel_free(&t);
     }

@@ -293,31 +293,45 @@ static bool whole_rig(const rf_skeleton *s, const rf_mesh *m)
     return s->joint_count > 0;
 }
 
-/* The general rigger as a whole (rf_rig_general: frame, cleaning, curve skeleton, joint
- * placement, bone heat, the skinned copy) on the box creature declaring +y up: each allocation
- * failing in turn gives false with a reason that says out of memory and nothing allocated, or
- * exactly the rig it gives with memory to spare (joints, rest pose, every skin weight). Every
- * step passes a lack of memory on, the skeleton analysis (sdk/analysis), the surface the spine
- * is moved across (rf_rig_skel_across) and the marks of joints that won no vertex included: they
- * once fell back to defaults, and 10 of the runs gave another whole rig without saying so, 2
+/* A rigger as a whole, its progress and stats not asked for. */
+typedef bool (*rigger_fn)(const rf_mesh *m, const rf_rig_options *o, rf_skeleton **s,
+                          rf_mesh **skinned, char *err, size_t n);
+
+static bool rig_general(const rf_mesh *m, const rf_rig_options *o, rf_skeleton **s,
+                        rf_mesh **skinned, char *err, size_t n)
+{
+    return rf_rig_general(m, o, s, skinned, NULL, NULL, NULL, err, n);
+}
+
+static bool rig_template(const rf_mesh *m, const rf_rig_options *o, rf_skeleton **s,
+                         rf_mesh **skinned, char *err, size_t n)
+{
+    return rf_rig_template(m, o, RF_RIG_TEMPLATE_AUTO, s, skinned, NULL, NULL, NULL, err, n);
+}
+
+/* `rig` on the box creature declaring +y up (and no forward): each allocation failing in turn
+ * gives false with a reason that says out of memory and nothing allocated, or exactly the rig it
+ * gives with memory to spare (joints, rest pose, every skin weight). Every step passes a lack of
+ * memory on, the skeleton analysis (sdk/analysis), the surface the spine is moved across
+ * (rf_rig_skel_across) and the marks of joints that won no vertex included: they once fell back
+ * to defaults, and 10 of the general rigger's runs gave another whole rig without saying so, 2
  * more one without the marks. (CHOLMOD's and Embree's own allocations are not wrapped: only code
  * linked in is.) */
-static void general_fails_or_rigs(void **state)
+static void rigger_fails_or_rigs(const char *name, rigger_fn rig)
 {
-    (void)state;
     const rf_mesh *m = creature(false, 0.5);
     rf_rig_options o = {.up = rf_v3(0, 1, 0), .resolution = 32};
     rf_skeleton *want, *got;
     rf_mesh *want_m, *got_m;
     char err[256];
-    assert_true(rf_rig_general(m, &o, &want, &want_m, NULL, NULL, NULL, err, sizeof err));
+    assert_true(rig(m, &o, &want, &want_m, err, sizeof err));
     assert_true(whole_rig(want, want_m));
     long k, failed = 0, other = 0;
     for (k = 0;; k++) {
         err[0] = '\0';
         got = NULL, got_m = NULL;
         calls = 0, fail_at = k;
-        bool ok = rf_rig_general(m, &o, &got, &got_m, NULL, NULL, NULL, err, sizeof err);
+        bool ok = rig(m, &o, &got, &got_m, err, sizeof err);
         fail_at = -1;
         failed += !ok;
         if (!ok && (strncmp(err, "out of memory", 13) != 0 || got || got_m))
@@ -333,12 +347,30 @@ static void general_fails_or_rigs(void **state)
         if (ok && calls <= k)
             break;
     }
-    print_message("# the general rigger: %u joints; %ld allocations, each failing once: out of "
+    print_message("# the %s rigger: %u joints; %ld allocations, each failing once: out of "
                   "memory said %ld times, another whole rig %ld times\n",
-                  want->joint_count, k, failed, other);
+                  name, want->joint_count, k, failed, other);
     assert_int_equal(other, 0);
     assert_int_equal(failed, k);
     rf_skeleton_free(want), rf_mesh_free(want_m);
+}
+
+/* The general rigger as a whole (rf_rig_general: frame, cleaning, curve skeleton, joint
+ * placement, the facing pooled over the grid's quarter turns, bone heat, the skinned copy). */
+static void general_fails_or_rigs(void **state)
+{
+    (void)state;
+    rigger_fails_or_rigs("general", rig_general);
+}
+
+/* The template rigger as a whole (rf_rig_template), its facing read from the body as the
+ * general rigger's (rf_rig_pooled_facing), the same way. Its Head moved down to the head's bulk
+ * needs the mesh's surface (rf_rig_head_base): a failure there refuses the rig rather than give
+ * one with the Head left where it was. */
+static void template_fails_or_rigs(void **state)
+{
+    (void)state;
+    rigger_fails_or_rigs("template", rig_template);
 }
 
 int main(void)
@@ -346,6 +378,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(support_fails_or_measures), cmocka_unit_test(frame_fails_or_finds),
         cmocka_unit_test(frame_fails_or_turns),      cmocka_unit_test(curve_fails_or_same),
-        cmocka_unit_test(prepare_fails_or_cleans),   cmocka_unit_test(general_fails_or_rigs)};
+        cmocka_unit_test(prepare_fails_or_cleans),   cmocka_unit_test(general_fails_or_rigs),
+        cmocka_unit_test(template_fails_or_rigs)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
