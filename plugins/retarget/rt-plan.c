@@ -676,8 +676,13 @@ static bool rt_alloc_frame(rf_retarget *rt)
  * it through the floor and fan the pieces of its membrane apart. */
 #define RT_HANG 2.5
 
-static void rt_rigid_limbs(rf_retarget *rt)
+static bool rt_rigid_limbs(rf_retarget *rt)
 {
+    rt->t_whole = malloc((rt->n ? rt->n : 1) * sizeof *rt->t_whole);
+    if (!rt->t_whole)
+        return false;
+    for (uint32_t j = 0; j < rt->n; j++)
+        rt->t_whole[j] = RF_RT_NONE;
     /* A rest lying across its up (its own up, the analysis's from its limbs, more than 45
      * degrees off the one it is retargeted along) is measured along its own: lying on its back,
      * a human's shoulders stand no more than the body's thickness over its lowest point, and its
@@ -713,10 +718,12 @@ static void rt_rigid_limbs(rf_retarget *rt)
         }
         if (!(reach > RT_HANG * (rf_rt_height(up, o) - low)))
             continue;
+        rt->t_whole[r] = (int32_t)r;
         for (uint32_t c = r + 1; c < rt->n; c++)
             if (rf_rt_carries(rt->target, (int32_t)r, c))
-                rt->tj[c].kind = RF_RT_REST;
+                rt->tj[c].kind = RF_RT_REST, rt->t_whole[c] = (int32_t)r;
     }
+    return true;
 }
 
 static bool rt_plan(rf_retarget *rt, char *err, size_t err_size)
@@ -733,9 +740,7 @@ static bool rt_plan(rf_retarget *rt, char *err, size_t err_size)
             primary[j] = rt->mapping->entries[j].input_count
                              ? rt_primary_child(rt, j, mp, weight, 1e-6 * rt->size)
                              : RF_RT_NONE;
-        ok = rt_inputs(rt, mp, primary) && rt_chains(rt, primary);
-        if (ok)
-            rt_rigid_limbs(rt);
+        ok = rt_inputs(rt, mp, primary) && rt_chains(rt, primary) && rt_rigid_limbs(rt);
     }
     if (ok) {
         rt_root_motion(rt, mp);
@@ -835,6 +840,7 @@ void rf_retarget_free(rf_retarget *rt)
         free(rt->effector_tip), free(rt->hot), free(rt->rest_tr);
     free(rt->w0), free(rt->t_logical), free(rt->t_role), free(rt->lparent), free(rt->anchor);
     free(rt->anchor_off), free(rt->lorder), free(rt->t_need), free(rt->t_tip_set);
+    free(rt->t_whole);
     rf_mapping_free(rt->own_map);
     rf_joint_roles_free(rt->t_roles);
     free(rt);
