@@ -1249,8 +1249,11 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, const double *clear_at
         rf_vec3 p = rt_limb_low(rt, world, j, clear, &floor_h);
         if (rf_rt_height(rt->up, p) >= floor_h || rt->anchor[j] >= 0)
             continue;
-        if (rt_source_down(rt, sp, c->anim, f, j))
-            continue; /* its source touches its own floor: so may it (a hand on all fours) */
+        /* its source touches its own floor: so may it (a hand on all fours); a limb held whole
+         * is lifted onto the floor all the same, its membrane's far edge no hand: left, the
+         * bat's wings driven by the Fox's forelegs went 70% of its height through the floor */
+        if (rt->t_whole[j] != (int32_t)j && rt_source_down(rt, sp, c->anim, f, j))
+            continue;
         uint32_t turns = rt_part_lift(c, f, local, world, j, p, floor_h, clear);
         lifted = lifted || turns, st->turns += turns;
     }

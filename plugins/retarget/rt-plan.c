@@ -676,6 +676,23 @@ static bool rt_alloc_frame(rf_retarget *rt)
  * it through the floor and fan the pieces of its membrane apart. */
 #define RT_HANG 2.5
 
+/* Whether the limb from joint r stands clear of the floor at rest: its joints and bone tips past
+ * r all over a quarter of r's height over the rest's lowest point `low` (a wing spread at the
+ * shoulder's height), not reaching down to it (a leg the body stands on, which the parts pass
+ * must not lift as a whole: the bat's artist rig under the Fox's Run sank into the floor). */
+static bool rt_limb_clear(const rf_retarget *rt, uint32_t r, rf_vec3 up, double low)
+{
+    double bar = low + 0.25 * (rf_rt_height(up, rt->t_rest_world[r].t) - low);
+    for (uint32_t c = r + 1; c < rt->n; c++) {
+        if (!rf_rt_carries(rt->target, (int32_t)r, c))
+            continue;
+        rf_xform w = rt->t_rest_world[c];
+        if (rf_rt_height(up, w.t) < bar || rf_rt_height(up, rf_xform_point(w, rt->t_tip[c])) < bar)
+            return false;
+    }
+    return true;
+}
+
 static bool rt_rigid_limbs(rf_retarget *rt)
 {
     rt->t_whole = malloc((rt->n ? rt->n : 1) * sizeof *rt->t_whole);
@@ -718,10 +735,13 @@ static bool rt_rigid_limbs(rf_retarget *rt)
         }
         if (!(reach > RT_HANG * (rf_rt_height(up, o) - low)))
             continue;
-        rt->t_whole[r] = (int32_t)r;
+        bool clear = rt_limb_clear(rt, r, up, low);
+        for (uint32_t c = r; c < rt->n; c++)
+            if (rf_rt_carries(rt->target, (int32_t)r, c))
+                rt->t_whole[c] = clear ? (int32_t)r : RF_RT_NONE;
         for (uint32_t c = r + 1; c < rt->n; c++)
             if (rf_rt_carries(rt->target, (int32_t)r, c))
-                rt->tj[c].kind = RF_RT_REST, rt->t_whole[c] = (int32_t)r;
+                rt->tj[c].kind = RF_RT_REST;
     }
     return true;
 }
