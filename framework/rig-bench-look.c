@@ -25,8 +25,9 @@ bool rf_rig_look_begin(rf_rig_look_setup *s, const char *motion, int frames,
     s->move = move;
     if (!motion)
         return true;
-    if (frames < 2) {
-        fprintf(stderr, "rigflow rig-bench: --look-frames: expected 2 frames or more\n");
+    if (frames < 2 && frames != 0) {
+        fprintf(stderr, "rigflow rig-bench: --look-frames: expected 2 frames or more, or 0 for "
+                        "the whole motion\n");
         return false;
     }
     if (!g_file_test(motion, G_FILE_TEST_IS_REGULAR)) {
@@ -78,6 +79,7 @@ void rf_rig_look_end(rf_rig_look_setup *s)
 void rf_rig_look_none(rf_rig_look *l, const char *status)
 {
     l->stretch_p99 = l->part_p99 = l->seam_p99 = l->floor_median = l->floor_p95 = NAN;
+    l->parts_below = NAN;
     l->joint[0] = '\0';
     g_strlcpy(l->status, status, sizeof l->status);
 }
@@ -161,6 +163,7 @@ static void look_read(const char *json, rf_rig_look *out)
         out->seam_p99 = look_pct(mesh, "seam_p99");
         out->floor_median = look_pct(mesh, "floor_median");
         out->floor_p95 = look_pct(mesh, "floor_p95");
+        out->parts_below = look_pct(mesh, "parts_below");
         const char *joint = json_string_value(json_object_get(mesh, "part_joint_name"));
         g_strlcpy(out->joint, joint ? joint : "", sizeof out->joint);
         g_strlcpy(out->status, "ok", sizeof out->status);
@@ -169,17 +172,19 @@ static void look_read(const char *json, rf_rig_look *out)
 }
 
 /* The file's parameters the bench sets, as `rigflow run -p` sets them: the model, the motion
- * (paths from the current folder), the retarget cut at the last frame asked for and the
- * measure's report written. */
+ * (paths from the current folder), the retarget cut at the last frame asked for (the whole
+ * motion: -1), the measure's samples and its report written. */
 static bool look_params(rf_pipeline *p, const rf_rig_look_setup *s, const char *model,
                         const char *json, GPtrArray *diags)
 {
     g_autofree char *mesh = g_strdup_printf("mesh.path=%s", model);
     g_autofree char *motion = g_strdup_printf("motion.path=%s", s->motion);
     g_autofree char *last = g_strdup_printf("retarget.last_frame=%d", s->frames - 1);
+    g_autofree char *samples = g_strdup_printf("measure.mesh_frames=%d", RF_RIG_LOOK_SAMPLES);
     g_autofree char *report = g_strdup_printf("measure.path=%s", json);
     return rf_pipeline_override(p, mesh, diags) && rf_pipeline_override(p, motion, diags) &&
-           rf_pipeline_override(p, last, diags) && rf_pipeline_override(p, report, diags);
+           rf_pipeline_override(p, last, diags) && rf_pipeline_override(p, samples, diags) &&
+           rf_pipeline_override(p, report, diags);
 }
 
 /* Runs the graph; false with a status in out (RF_EXIT_CANCELLED in *code on Ctrl-C). */

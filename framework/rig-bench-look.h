@@ -13,6 +13,8 @@ typedef struct rf_rig_look {
     double seam_p99;     /* torn limbs: p99 drift of seams between parts of different joints */
     double floor_median; /* the lowest vertex over the rest floor, median frame, signed */
     double floor_p95;    /* its p95 either way */
+    double parts_below;  /* the frames whose parts high at rest (wings, tails, a prop held
+                          * high) go over 1% of the height under the floor, in % of the frames */
     char joint[128];     /* the worst part's joint, escaped by retarget.measure */
     char status[400];    /* "ok", or why the look was not measured */
 } rf_rig_look;
@@ -20,7 +22,7 @@ typedef struct rf_rig_look {
 /* What every look of a bench run shares: the motion file and how much of it, and the pipeline. */
 typedef struct rf_rig_look_setup {
     char *motion;            /* NULL: no look asked for */
-    int frames;              /* source frames from the first */
+    int frames;              /* source frames from the first; 0: the whole motion */
     char *dir;               /* a folder of our own for the measure's reports */
     FILE *lines;             /* where the pipeline's nodes print their lines (not the CSV) */
     const rf_rig_move *move; /* how the model is moved before it is rigged (borrowed) */
@@ -29,9 +31,15 @@ typedef struct rf_rig_look_setup {
     bool no_axes;            /* the rigger given no up or forward (rig-bench --no-axes) */
 } rf_rig_look_setup;
 
+/* The frames the look's measure samples, spread over the motion played (retarget.measure's
+ * mesh_frames): one every 0.19 s of the CMU walk's 2752 frames, so the crouches before its
+ * jumps, a third of a second each, are seen; the pipeline's 24 stepped over them. */
+#define RF_RIG_LOOK_SAMPLES 120
+
 /* Checks the motion file, reads the pipeline file and makes the folder; false after saying on
- * stderr what is wrong. The look plays on the model moved as `move` says (borrowed: it must
- * outlive the setup), the mesh that was rigged. */
+ * stderr what is wrong. `frames`: the motion's first frames to play, 0 for all of it. The look
+ * plays on the model moved as `move` says (borrowed: it must outlive the setup), the mesh that was
+ * rigged. */
 bool rf_rig_look_begin(rf_rig_look_setup *s, const char *motion, int frames,
                        const rf_rig_move *move);
 void rf_rig_look_end(rf_rig_look_setup *s);

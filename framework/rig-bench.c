@@ -390,7 +390,8 @@ static void rb_look_cells(void)
     }
     printf(",%.2f,%.2f,", l->stretch_p99, l->part_p99);
     rb_csv_text(l->joint);
-    printf(",%.2f,%.2f,%.2f,", l->seam_p99, rf_text_shown_zero(l->floor_median, 2), l->floor_p95);
+    printf(",%.2f,%.2f,%.2f,%.2f,", l->seam_p99, rf_text_shown_zero(l->floor_median, 2),
+           l->floor_p95, l->parts_below);
     rb_csv_text(l->status);
 }
 
@@ -750,7 +751,7 @@ static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **fi
         "rigger,model,body,artist_joints,joints,cd_j2j,cd_j2b,cd_b2b,precision,recall,l1,"
         "unweighted,given_precision,given_recall,given_l1,j2j_to_artist,j2j_from_artist,up_agree,"
         "forward_agree,seconds,status,look_stretch_p99,look_worst_part,look_worst_joint,"
-        "look_torn_p99,look_floor_median,look_floor_p95,look_status\n");
+        "look_torn_p99,look_floor_median,look_floor_p95,look_parts_below,look_status\n");
     int bad = 0;
     for (int i = 0; i < nfiles; i++)
         for (guint k = 0; k < riggers->len; k++) {
@@ -825,7 +826,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
     gboolean list = FALSE, fixed_axes = FALSE, no_axes = FALSE;
     g_autofree char *joint_map = NULL, *joints = NULL, *look = NULL, *turn = NULL, *axis = NULL,
                     *scale = NULL, *offset = NULL;
-    gint look_frames = -1; /* not given: 120 */
+    gint look_frames = -1; /* not given: the whole motion */
     const GOptionEntry entries[] = {
         {"joint-map", 0, 0, G_OPTION_ARG_STRING, &joint_map,
          "How predicted joints are matched to the artist's for the skinning columns: matcher "
@@ -851,7 +852,9 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
          "as the look_ columns (default: not run, the columns nan)",
          "FILE"},
         {"look-frames", 0, 0, G_OPTION_ARG_INT, &look_frames,
-         "With --look, play the motion's first N frames (default 120)", "N"},
+         "With --look, play the motion's first N frames (default 0: all of it; the look is "
+         "measured on 120 frames spread over them)",
+         "N"},
         {"turn", 0, 0, G_OPTION_ARG_STRING, &turn,
          "Turn each model (the artist's rig and the bare mesh alike) by DEG degrees about --axis "
          "before rigging, its declared up and forward with it",
@@ -887,7 +890,9 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
             "judges it on the mesh, in % of its height: look_stretch_p99 (edge stretch, whole "
             "mesh),look_worst_part,look_worst_joint (the same in the part one joint carries "
             "most),look_torn_p99 (seams between parts of different joints pulled apart),"
-            "look_floor_median,look_floor_p95 (the lowest vertex over the floor),look_status. "
+            "look_floor_median,look_floor_p95 (the lowest vertex over the floor),"
+            "look_parts_below (% of the frames whose parts high at rest, wings, tails, props, go "
+            "under the floor),look_status. "
             "Exit status: 0 when every model was measured (a rigger's refusal or a failed look is "
             "a row), 1 when a model could not be read, 2 on a usage error, 130 on Ctrl-C. With "
             "--turn, --axis, --scale or --offset every model is moved so (the artist's rig with "
@@ -912,7 +917,7 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
         fprintf(stderr, "rigflow rig-bench: --look-frames: only with --look MOTION\n");
         return RF_EXIT_USAGE;
     }
-    if (!rf_rig_look_begin(&rb_look_setup, look, look_frames == -1 ? 120 : look_frames, &rb_moved))
+    if (!rf_rig_look_begin(&rb_look_setup, look, look_frames == -1 ? 0 : look_frames, &rb_moved))
         return RF_EXIT_USAGE;
     rb_look_setup.no_axes = rb_no_axes;
     GArray *riggers = rb_find_riggers(reg, names);

@@ -1022,15 +1022,35 @@ static rf_vec3 rt_part_low(const rf_retarget *rt, const rf_xform *world, uint32_
     return p;
 }
 
+/* rt_part_low of part j, or, for the root of a limb that moves whole (rt->t_whole), the deepest
+ * of its joints' points: the limb is one part, lifted at its root. */
+static rf_vec3 rt_limb_low(const rf_retarget *rt, const rf_xform *world, uint32_t j, double clear,
+                           double *floor_h)
+{
+    rf_vec3 p = rt_part_low(rt, world, j, clear, floor_h);
+    if (rt->t_whole[j] != (int32_t)j)
+        return p;
+    double depth = *floor_h - rf_rt_height(rt->up, p);
+    for (uint32_t c = j + 1; c < rt->n; c++) {
+        double h;
+        rf_vec3 q = rt->t_whole[c] == (int32_t)j ? rt_part_low(rt, world, c, clear, &h) : p;
+        if (rt->t_whole[c] == (int32_t)j && h - rf_rt_height(rt->up, q) > depth)
+            p = q, *floor_h = h, depth = h - rf_rt_height(rt->up, q);
+    }
+    return p;
+}
+
 /* Turns an ancestor of part j so its point p sits on the floor: the nearest driven ancestor over
  * the floor first, then the next ones up its limb when the floor is out of a turn's reach (a
  * wing hanging from an arm is lifted at the shoulder, not folded at the wrist). Never a joint
  * carrying a foot, nor, for a part off the centerline, a centerline joint (the chest would tilt
- * for one wing). The joint turned, or -1. */
+ * for one wing). The root of a limb that moves whole turns itself: its joints past it keep their
+ * rest turns, and it hangs from the centerline. The joint turned, or -1. */
 static int32_t rt_lift_joint(const rf_retarget *rt, rf_xform *local, const rf_xform *world,
                              const uint8_t *holds, uint32_t j, rf_vec3 p, double floor_h)
 {
-    for (int32_t a = rt->lparent[j]; a >= 0; a = rt->lparent[a]) {
+    int32_t from = rt->t_whole[j] == (int32_t)j ? (int32_t)j : rt->lparent[j];
+    for (int32_t a = from; a >= 0; a = rt->lparent[a]) {
         if (holds[a] || rt->tj[a].root_motion || (rt->t_centerline[a] && !rt->t_centerline[j]))
             return -1; /* turning a joint that carries a foot would lift the foot */
         if (rt->tj[a].kind == RF_RT_REST || rf_rt_height(rt->up, world[a].t) < floor_h ||
@@ -1154,8 +1174,11 @@ __attribute__((flatten)) static void rt_parts_pose(const rt_parts *c, uint32_t f
         local[j].s = rt->target->joints[j].rest.s;
         world[j] = p < 0 ? local[j] : rf_xform_mul(world[p], local[j]);
         double h = rf_rt_height(rt->up, world[j].t), hang = c->hang[j];
-        gone[j] =
-            hang == -INFINITY || h - hang > floor + 1e-6 * (fabs(h) + fabs(hang) + fabs(floor) + 1);
+        /* the joints past the root of a limb that moves whole are read with it (rt_limb_low):
+         * its hang holds them */
+        bool limb = rt->t_whole[j] >= 0 && rt->t_whole[j] != (int32_t)j;
+        gone[j] = !limb && (hang == -INFINITY ||
+                            h - hang > floor + 1e-6 * (fabs(h) + fabs(hang) + fabs(floor) + 1));
     }
 }
 
@@ -1180,7 +1203,7 @@ static uint32_t rt_part_lift(const rt_parts *c, uint32_t f, rf_xform *local, rf_
         if (a < 0)
             break;
         rt_fk(rt, local, world, c->all);
-        p = rt_part_low(rt, world, j, clear, &floor_h);
+        p = rt_limb_low(rt, world, j, clear, &floor_h);
         double now = floor_h - rf_rt_height(rt->up, p);
         if (turns > 0 && !(now < depth)) { /* undone: the clip still holds the last turn kept */
             local[a].r = rf_quat_normalize(rf_animation_rotation(c->anim, f, (uint32_t)a));
@@ -1211,7 +1234,7 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, const double *clear_at
     for (uint32_t j = 0; j < n && !low; j++) {
         double floor_h;
         low = c->part[j] && rt->anchor[j] < 0 && !gone[j] && !rt_part_clear(c, world, j, clear) &&
-              !(rf_rt_height(rt->up, rt_part_low(rt, world, j, clear, &floor_h)) >= floor_h);
+              !(rf_rt_height(rt->up, rt_limb_low(rt, world, j, clear, &floor_h)) >= floor_h);
     }
     if (!low)
         return;
@@ -1223,11 +1246,14 @@ static void rt_parts_frame(const rt_parts *c, uint32_t f, const double *clear_at
         if (!c->part[j] || rt_part_clear(c, world, j, clear))
             continue;
         double floor_h;
-        rf_vec3 p = rt_part_low(rt, world, j, clear, &floor_h);
+        rf_vec3 p = rt_limb_low(rt, world, j, clear, &floor_h);
         if (rf_rt_height(rt->up, p) >= floor_h || rt->anchor[j] >= 0)
             continue;
-        if (rt_source_down(rt, sp, c->anim, f, j))
-            continue; /* its source touches its own floor: so may it (a hand on all fours) */
+        /* its source touches its own floor: so may it (a hand on all fours); a limb held whole
+         * is lifted onto the floor all the same, its membrane's far edge no hand: left, the
+         * bat's wings driven by the Fox's forelegs went 70% of its height through the floor */
+        if (rt->t_whole[j] != (int32_t)j && rt_source_down(rt, sp, c->anim, f, j))
+            continue;
         uint32_t turns = rt_part_lift(c, f, local, world, j, p, floor_h, clear);
         lifted = lifted || turns, st->turns += turns;
     }
@@ -1370,6 +1396,33 @@ static double *rt_parts_hang(const rf_retarget *rt, const rf_animation *anim, co
     return hang;
 }
 
+/* A limb that moves whole from its root (rt->t_whole) is one part, its root's: the joints past
+ * the root are posed with it (reach) and its extent is the farthest of their pivots, tips and
+ * hull points from the root's pivot, in the root's frame (a wing's membrane spans many times
+ * the shoulder's height). Held part by part, the wing's joints past the root were no parts at
+ * all (they keep their rest turns) and the root could turn no joint (only the centerline
+ * carries it): the fire dragon's wings went a quarter of its height through the floor in the
+ * CMU walk's crouches. */
+static void rt_whole_limbs(const rf_retarget *rt, const uint8_t *part, uint8_t *reach,
+                           double *extent)
+{
+    for (uint32_t c = 0; c < rt->n; c++) {
+        int32_t r = rt->t_whole[c];
+        if (r < 0 || r == (int32_t)c || !part[r])
+            continue;
+        reach[c] = 1;
+        rf_xform root = rt->t_rest_world[r], at = rt->t_rest_world[c];
+        double s = fmax(fabs(root.s.x), fmax(fabs(root.s.y), fabs(root.s.z)));
+        uint32_t count = rt->t_hull ? RF_RT_HULL : 0;
+        for (uint32_t k = 0; s > 0 && k <= count + 1; k++) {
+            rf_vec3 q = k < count    ? rt->t_hull[(size_t)c * RF_RT_HULL + k]
+                        : k == count ? rt->t_tip[c]
+                                     : rf_v3(0, 0, 0);
+            extent[r] = fmax(extent[r], rf_v3_dist(rf_xform_point(at, q), root.t) / s);
+        }
+    }
+}
+
 bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_stats *st)
 {
     memset(st, 0, sizeof *st);
@@ -1401,6 +1454,7 @@ bool rf_retarget_parts_above(rf_retarget *rt, rf_animation *anim, rf_rt_parts_st
         for (int32_t a = part[j] ? (int32_t)j : -1; a >= 0 && !reach[a];
              a = rt->target->joints[a].parent)
             reach[a] = 1;
+    rt_whole_limbs(rt, part, reach, extent);
     double *hang = rt_parts_hang(rt, anim, part, reach, extent);
     rt_parts c = {
         rt,  anim, part, all, holds, reach, extent, rt_parts_step(anim), 1e-3 * rt->leg_target,

@@ -190,6 +190,9 @@ struct rf_retarget {
                              * directions, in its rest frame (its pivot when it carries none);
                              * NULL without */
     double mesh_floor;      /* with t_hull: the rest mesh's lowest vertex along up */
+    int32_t *t_whole;       /* [n] the root of the limb that moves whole with the joint
+                             * (rt_rigid_limbs: a wing held at its rest turns past its root), the
+                             * root itself included, or -1 */
     double leg_target;      /* hip height in the aligned rest */
     rf_vec3 *t_aligned;     /* [n] world positions in the aligned rest (the target posed like the
                              * sources' rests) */

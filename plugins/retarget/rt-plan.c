@@ -676,8 +676,30 @@ static bool rt_alloc_frame(rf_retarget *rt)
  * it through the floor and fan the pieces of its membrane apart. */
 #define RT_HANG 2.5
 
-static void rt_rigid_limbs(rf_retarget *rt)
+/* Whether the limb from joint r stands clear of the floor at rest: its joints and bone tips past
+ * r all over a quarter of r's height over the rest's lowest point `low` (a wing spread at the
+ * shoulder's height), not reaching down to it (a leg the body stands on, which the parts pass
+ * must not lift as a whole: the bat's artist rig under the Fox's Run sank into the floor). */
+static bool rt_limb_clear(const rf_retarget *rt, uint32_t r, rf_vec3 up, double low)
 {
+    double bar = low + 0.25 * (rf_rt_height(up, rt->t_rest_world[r].t) - low);
+    for (uint32_t c = r + 1; c < rt->n; c++) {
+        if (!rf_rt_carries(rt->target, (int32_t)r, c))
+            continue;
+        rf_xform w = rt->t_rest_world[c];
+        if (rf_rt_height(up, w.t) < bar || rf_rt_height(up, rf_xform_point(w, rt->t_tip[c])) < bar)
+            return false;
+    }
+    return true;
+}
+
+static bool rt_rigid_limbs(rf_retarget *rt)
+{
+    rt->t_whole = malloc((rt->n ? rt->n : 1) * sizeof *rt->t_whole);
+    if (!rt->t_whole)
+        return false;
+    for (uint32_t j = 0; j < rt->n; j++)
+        rt->t_whole[j] = RF_RT_NONE;
     /* A rest lying across its up (its own up, the analysis's from its limbs, more than 45
      * degrees off the one it is retargeted along) is measured along its own: lying on its back,
      * a human's shoulders stand no more than the body's thickness over its lowest point, and its
@@ -713,10 +735,15 @@ static void rt_rigid_limbs(rf_retarget *rt)
         }
         if (!(reach > RT_HANG * (rf_rt_height(up, o) - low)))
             continue;
+        bool clear = rt_limb_clear(rt, r, up, low);
+        for (uint32_t c = r; c < rt->n; c++)
+            if (rf_rt_carries(rt->target, (int32_t)r, c))
+                rt->t_whole[c] = clear ? (int32_t)r : RF_RT_NONE;
         for (uint32_t c = r + 1; c < rt->n; c++)
             if (rf_rt_carries(rt->target, (int32_t)r, c))
                 rt->tj[c].kind = RF_RT_REST;
     }
+    return true;
 }
 
 static bool rt_plan(rf_retarget *rt, char *err, size_t err_size)
@@ -733,9 +760,7 @@ static bool rt_plan(rf_retarget *rt, char *err, size_t err_size)
             primary[j] = rt->mapping->entries[j].input_count
                              ? rt_primary_child(rt, j, mp, weight, 1e-6 * rt->size)
                              : RF_RT_NONE;
-        ok = rt_inputs(rt, mp, primary) && rt_chains(rt, primary);
-        if (ok)
-            rt_rigid_limbs(rt);
+        ok = rt_inputs(rt, mp, primary) && rt_chains(rt, primary) && rt_rigid_limbs(rt);
     }
     if (ok) {
         rt_root_motion(rt, mp);
@@ -835,6 +860,7 @@ void rf_retarget_free(rf_retarget *rt)
         free(rt->effector_tip), free(rt->hot), free(rt->rest_tr);
     free(rt->w0), free(rt->t_logical), free(rt->t_role), free(rt->lparent), free(rt->anchor);
     free(rt->anchor_off), free(rt->lorder), free(rt->t_need), free(rt->t_tip_set);
+    free(rt->t_whole);
     rf_mapping_free(rt->own_map);
     rf_joint_roles_free(rt->t_roles);
     free(rt);
