@@ -406,6 +406,23 @@ static rf_skeleton *build_axes(const sb_joint *js, size_t n)
     return s;
 }
 
+/* What --explain prints for t mapped onto s with options o (malloc'd). */
+static char *explained(const rf_skeleton *t, const rf_skeleton *s, const rf_ms_options *o)
+{
+    rf_ms_explain e = {0};
+    char err[256], *text = NULL;
+    size_t size = 0;
+    const rf_skeleton *src[1] = {s};
+    rf_mapping *m = rf_ms_match(t, src, 1, o, &e, err, sizeof err);
+    assert_non_null(m);
+    FILE *out = open_memstream(&text, &size);
+    rf_ms_explain_print(&e, m, t, src, out);
+    fclose(out);
+    rf_ms_explain_clear(&e);
+    rf_mapping_free(m);
+    return text;
+}
+
 static void test_headless_target(void **state)
 {
     (void)state;
@@ -418,20 +435,10 @@ static void test_headless_target(void **state)
     assert_driver(m, t, s, "r0", "hand_R");
     rf_mapping_free(m);
     /* --explain says why */
-    rf_ms_explain e = {0};
-    char err[256], *text = NULL;
-    size_t size = 0;
-    const rf_skeleton *src[1] = {s};
-    m = rf_ms_match(t, src, 1, &o, &e, err, sizeof err);
-    assert_non_null(m);
-    FILE *out = open_memstream(&text, &size);
-    rf_ms_explain_print(&e, m, t, src, out);
-    fclose(out);
+    char *text = explained(t, s, &o);
     assert_non_null(strstr(text, "chest (center spine) <- 0:body_up"));
     assert_non_null(strstr(text, "ending a trunk without a head takes the source's head"));
     free(text);
-    rf_ms_explain_clear(&e);
-    rf_mapping_free(m);
     o.girdle_neck = false;
     m = match1(t, s, &o);
     assert_driver(m, t, s, "root", "body_low");
@@ -495,19 +502,9 @@ static void test_skinless_links(void **state)
     assert_driver(m, t, s, "l_arm", "l_arm");
     rf_mapping_free(m);
     /* --explain says why */
-    rf_ms_explain e = {0};
-    char err[256], *text = NULL;
-    size_t size = 0;
-    const rf_skeleton *src[1] = {s};
-    m = rf_ms_match(t, src, 1, &o, &e, err, sizeof err);
-    assert_non_null(m);
-    FILE *out = open_memstream(&text, &size);
-    rf_ms_explain_print(&e, m, t, src, out);
-    fclose(out);
+    char *text = explained(t, s, &o);
     assert_non_null(strstr(text, "its match carries no skin"));
     free(text);
-    rf_ms_explain_clear(&e);
-    rf_mapping_free(m);
     rf_skeleton_free(s);
     rf_skeleton_free(t);
 }
@@ -882,22 +879,13 @@ static void test_trunk_from_rear(void **state)
     assert_driver(m, t, s, "spine2", "front");
     rf_mapping_free(m);
     /* --explain says why */
-    rf_ms_explain e = {0};
-    char err[256], *text = NULL;
-    size_t size = 0;
-    const rf_skeleton *src[1] = {s};
-    m = rf_ms_match(t, src, 1, &o, &e, err, sizeof err);
-    assert_non_null(m);
-    FILE *out = open_memstream(&text, &size);
-    rf_ms_explain_print(&e, m, t, src, out);
-    fclose(out);
+    char *text = explained(t, s, &o);
     assert_non_null(strstr(text, "pelvis (center spine) <- 0:hips"));
     assert_non_null(strstr(text, "lying behind where the source's reverse spine starts"));
     free(text);
-    rf_ms_explain_clear(&e);
-    rf_mapping_free(m);
     o.girdle_neck = false;
     m = match1(t, s, &o);
+    const rf_skeleton *src[1] = {s};
     const char *got = driver(m, t, src, "pelvis", NULL);
     assert_true(got == NULL || strcmp(got, "hips") != 0);
     rf_mapping_free(m);
