@@ -48,6 +48,7 @@ static void print_why(const rf_ms_explain *e, const rf_map_entry *en,
         "spine's joint there",
         "a trunk rooted at the front, against a source's rooted at the rear, takes the source "
         "spine's joint where it lies",
+        "its match carries no skin: it takes the source joint that holds the skin there",
     };
     unsigned code = in && e->settled ? e->settled[j] : 0;
     if (code >= 3 && code - 3 < sizeof settled_why / sizeof *settled_why) {

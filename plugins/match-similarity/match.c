@@ -110,7 +110,9 @@ typedef struct rf_ms_pass {
                              * 3: a girdle joint taking a neck, neck_at_girdle; 4: a headless
                              * trunk's girdle joint taking the head, head_at_girdle; 5: a
                              * rear trunk joint taking a reverse spine, trunk_from_rear; 6: a
-                             * trunk rooted at the front taking places, trunk_from_front) */
+                             * trunk rooted at the front taking places, trunk_from_front; 7: a
+                             * joint given the joint holding its unweighted match's skin,
+                             * skin_holders) */
     rf_ms_candidate *top;   /* [target joint * 3] or NULL */
     uint8_t *top_count;
     double *sec;       /* section metrics of the current target section against every
@@ -1381,6 +1383,68 @@ static void trunk_ends(const rf_ms_ctx *c, rf_ms_pass *p)
     trunk_from_front(c, p);
 }
 
+/* Whether source joint j of source k carries no skin in a rig that says which joints do. */
+static bool skinless(const rf_ms_ctx *c, uint32_t k, uint32_t j)
+{
+    return (c->src[k].a->joints[j].flags & RF_JI_UNWEIGHTED) != 0;
+}
+
+/* How far source joint j of source k lies from target joint t in the bodies' frames, the
+ * source's side mirrored onto the target's. */
+static double body_apart(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
+{
+    rf_vec3 b = c->src[k].bplace[j];
+    rf_side st = c->tgt.a->joints[t].side, ss = c->src[k].a->joints[j].side;
+    if (st != RF_SIDE_CENTER && ss != RF_SIDE_CENTER && st != ss)
+        b.x = -b.x;
+    return rf_v3_len(rf_v3_sub(c->tgt.bplace[t], b));
+}
+
+/* The source joint that holds the skin about unweighted source joint j, for target joint t: its
+ * nearest weighted ancestor (whose skin runs on over the links after it) or the next weighted
+ * joint of its section (the bone after a link, as the steps count one), whichever pivot lies
+ * nearer t's; -1 when there is neither. */
+static int32_t skin_holder(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
+{
+    const rf_ms_skel *s = &c->src[k];
+    int32_t up = s->anc[j], down = -1;
+    for (uint32_t guard = 0; up >= 0 && skinless(c, k, (uint32_t)up) && guard < s->a->joint_count;
+         guard++)
+        up = s->anc[up];
+    const rf_joint_info *ji = &s->a->joints[j];
+    if (ji->section >= 0) {
+        const uint32_t *js = rf_section_joints(s->a, (uint32_t)ji->section);
+        for (uint32_t i = ji->index + 1; i < s->a->sections[ji->section].bone_count && down < 0;
+             i++)
+            if (s->matchable[js[i]] && !skinless(c, k, js[i]))
+                down = (int32_t)js[i];
+    }
+    if (up < 0 ||
+        (down >= 0 && body_apart(c, t, k, (uint32_t)down) < body_apart(c, t, k, (uint32_t)up)))
+        return down;
+    return up;
+}
+
+/* Under girdle=neck (the skin's correspondence), a target joint given a source joint that carries
+ * no skin, in a source rig that marks which joints do (an armature's pivot in the trunk, a
+ * mechanism link in a neck or a leg), takes the source joint that holds the skin about it
+ * (skin_holder). Such a match says nothing of the skin: RobotExpressive's trunk took its
+ * unweighted Body and Torso, and its chest's skin was counted as its Head's. Not for motion: an
+ * unweighted pivot may carry the motion its weighted children follow. */
+static void skin_holders(const rf_ms_ctx *c, rf_ms_pass *p)
+{
+    if (!c->o->girdle_neck || c->o->thesis)
+        return;
+    for (uint32_t t = 0; t < c->tgt.a->joint_count; t++) {
+        const rf_ms_candidate *f = &p->final[t];
+        if (f->source == RF_MS_NO_SOURCE || !skinless(c, f->source, f->joint))
+            continue;
+        int32_t h = skin_holder(c, t, f->source, f->joint);
+        if (h >= 0)
+            take_along(p, t, f->source, (uint32_t)h, 7);
+    }
+}
+
 /* Under girdle=neck (the skin's correspondence), a target limb without digits whose last joints
  * the alignment gave the source's lent main digit (a mitten hand against a fist: the general
  * rigger's Wizard) keeps it: the skin around it is the source hand's. Not for motion: a human's
@@ -1435,6 +1499,8 @@ static bool run_pass(const rf_ms_ctx *c, rf_ms_pass *p, int32_t only)
         ok = settle_sections(c, p, &tl, &sl) && neck_at_girdle(c, p, &tl, &sl);
         if (ok)
             head_at_girdle(c, p), trunk_ends(c, p);
+        if (ok)
+            skin_holders(c, p);
         finalize(c, p);
     }
     line_free(&tl);

@@ -406,6 +406,23 @@ static rf_skeleton *build_axes(const sb_joint *js, size_t n)
     return s;
 }
 
+/* What --explain prints for t mapped onto s with options o (malloc'd). */
+static char *explained(const rf_skeleton *t, const rf_skeleton *s, const rf_ms_options *o)
+{
+    rf_ms_explain e = {0};
+    char err[256], *text = NULL;
+    size_t size = 0;
+    const rf_skeleton *src[1] = {s};
+    rf_mapping *m = rf_ms_match(t, src, 1, o, &e, err, sizeof err);
+    assert_non_null(m);
+    FILE *out = open_memstream(&text, &size);
+    rf_ms_explain_print(&e, m, t, src, out);
+    fclose(out);
+    rf_ms_explain_clear(&e);
+    rf_mapping_free(m);
+    return text;
+}
+
 static void test_headless_target(void **state)
 {
     (void)state;
@@ -418,20 +435,10 @@ static void test_headless_target(void **state)
     assert_driver(m, t, s, "r0", "hand_R");
     rf_mapping_free(m);
     /* --explain says why */
-    rf_ms_explain e = {0};
-    char err[256], *text = NULL;
-    size_t size = 0;
-    const rf_skeleton *src[1] = {s};
-    m = rf_ms_match(t, src, 1, &o, &e, err, sizeof err);
-    assert_non_null(m);
-    FILE *out = open_memstream(&text, &size);
-    rf_ms_explain_print(&e, m, t, src, out);
-    fclose(out);
+    char *text = explained(t, s, &o);
     assert_non_null(strstr(text, "chest (center spine) <- 0:body_up"));
     assert_non_null(strstr(text, "ending a trunk without a head takes the source's head"));
     free(text);
-    rf_ms_explain_clear(&e);
-    rf_mapping_free(m);
     o.girdle_neck = false;
     m = match1(t, s, &o);
     assert_driver(m, t, s, "root", "body_low");
@@ -457,6 +464,47 @@ static void test_headless_target(void **state)
     assert_driver(m, t, sc, "chest", "chest");
     rf_mapping_free(m);
     rf_skeleton_free(sc);
+    rf_skeleton_free(s);
+    rf_skeleton_free(t);
+}
+
+/* A source whose trunk links carry no skin (girdle=neck): an artist's biped whose spine, chest
+ * and neck joints are unweighted, the hips' skin running over the whole trunk and the head's
+ * over the neck (RobotExpressive's Abdomen, Torso and Neck). A target joint given one of them
+ * takes the joint holding the skin about it, the nearer of the nearest weighted ancestor and
+ * the next weighted joint of its section: the spine and the chest the hips, the neck the head.
+ * By default (motion) they keep the links, which carry the turn their children follow. */
+static void test_skinless_links(void **state)
+{
+    (void)state;
+    sb_joint links[SB_COUNT(sb_biped)];
+    for (size_t i = 0; i < SB_COUNT(sb_biped); i++) {
+        links[i] = sb_biped[i];
+        if (strcmp(links[i].name, "spine") == 0 || strcmp(links[i].name, "chest") == 0 ||
+            strcmp(links[i].name, "neck") == 0)
+            links[i].flags |= RF_JOINT_UNWEIGHTED;
+    }
+    rf_skeleton *t = build_axes(sb_biped, SB_COUNT(sb_biped));
+    rf_skeleton *s = build_axes(links, SB_COUNT(links));
+    rf_ms_options o = {.forelegs_arms = true};
+    rf_mapping *m = match1(t, s, &o);
+    assert_driver(m, t, s, "spine", "spine");
+    assert_driver(m, t, s, "chest", "chest");
+    assert_driver(m, t, s, "neck", "neck");
+    rf_mapping_free(m);
+    o.girdle_neck = true;
+    m = match1(t, s, &o);
+    assert_driver(m, t, s, "hips", "hips");
+    assert_driver(m, t, s, "spine", "hips");
+    assert_driver(m, t, s, "chest", "hips");
+    assert_driver(m, t, s, "neck", "head");
+    assert_driver(m, t, s, "head", "head");
+    assert_driver(m, t, s, "l_arm", "l_arm");
+    rf_mapping_free(m);
+    /* --explain says why */
+    char *text = explained(t, s, &o);
+    assert_non_null(strstr(text, "its match carries no skin"));
+    free(text);
     rf_skeleton_free(s);
     rf_skeleton_free(t);
 }
@@ -831,22 +879,13 @@ static void test_trunk_from_rear(void **state)
     assert_driver(m, t, s, "spine2", "front");
     rf_mapping_free(m);
     /* --explain says why */
-    rf_ms_explain e = {0};
-    char err[256], *text = NULL;
-    size_t size = 0;
-    const rf_skeleton *src[1] = {s};
-    m = rf_ms_match(t, src, 1, &o, &e, err, sizeof err);
-    assert_non_null(m);
-    FILE *out = open_memstream(&text, &size);
-    rf_ms_explain_print(&e, m, t, src, out);
-    fclose(out);
+    char *text = explained(t, s, &o);
     assert_non_null(strstr(text, "pelvis (center spine) <- 0:hips"));
     assert_non_null(strstr(text, "lying behind where the source's reverse spine starts"));
     free(text);
-    rf_ms_explain_clear(&e);
-    rf_mapping_free(m);
     o.girdle_neck = false;
     m = match1(t, s, &o);
+    const rf_skeleton *src[1] = {s};
     const char *got = driver(m, t, src, "pelvis", NULL);
     assert_true(got == NULL || strcmp(got, "hips") != 0);
     rf_mapping_free(m);
@@ -1218,6 +1257,7 @@ int main(void)
         cmocka_unit_test(test_gait),
         cmocka_unit_test(test_girdle_neck),
         cmocka_unit_test(test_headless_target),
+        cmocka_unit_test(test_skinless_links),
         cmocka_unit_test(test_spine_before_girdle),
         cmocka_unit_test(test_skull_before_snout),
         cmocka_unit_test(test_one_bone_leg),

@@ -267,15 +267,20 @@ else ko "rig-bench --joint-map best: $(cat "$tmp/err")"; fi
 # reverse spine below its pelvis root, and 48.0% / 51.9% with its spine's other joints placed
 # along the artist's forward spine (doc/matching.md, "A twelfth round"): its bar is that, less
 # most of a point.
+# A match to an artist joint that carries no skin gives way to the joint holding the skin there
+# (doc/matching.md, "A thirteenth round"): RobotExpressive's trunk took its unweighted Body and
+# Torso and its chest's skin was counted as the Head's, 62.7% / 66.0% / 0.77 after the matcher
+# (78.5% / 80.5% / 0.44 now); huesitos 68.5% / 63.8% (74.7% / 70.1%).
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
     "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
-    "$data/models/greenman.glb" "$data/models/ogre/ninja.mesh" >"$tmp/sbench.csv" 2>"$tmp/err" ||
+    "$data/models/greenman.glb" "$data/models/ogre/ninja.mesh" \
+    "$data/models/RobotExpressive.glb" >"$tmp/sbench.csv" 2>"$tmp/err" ||
     ko "rig-bench short limbs exit $?"
 cat "$tmp/sbench.csv"
 awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                      else { n++; cd[$c["model"]] = $c["cd_j2j"]; p[$c["model"]] = $c["precision"]
-                            r[$c["model"]] = $c["recall"]
+                            r[$c["model"]] = $c["recall"]; l1[$c["model"]] = $c["l1"]
                             gp[$c["model"]] = $c["given_precision"]
                             gr[$c["model"]] = $c["given_recall"]; gl[$c["model"]] = $c["given_l1"]
                             ua[$c["model"]] = $c["up_agree"]; fa[$c["model"]] = $c["forward_agree"]
@@ -288,7 +293,7 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
     $j["rig"] == "rigger" && $j["model"] == "\"animalia_bull_frog.b3d\"" {
         fn++; fx[fn] = $j["x"]; fy[fn] = $j["y"]; fz[fn] = $j["z"]; fname[fn] = $j["joint"] }
     END {
-        if (n != 6) print "FAIL: short limbs: " n " rows, expected 6"
+        if (n != 7) print "FAIL: short limbs: " n " rows, expected 7"
         dragon = "\"draconis_fire_dragon.b3d\""
         if (!(gp[dragon] >= 0.685 && gl[dragon] <= 0.615))
             print "FAIL: fire dragon on the skeleton of the artist: precision " gp[dragon] ", L1 " gl[dragon]
@@ -306,7 +311,11 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                 gp["\"BCN_Epileptic.X\""] ", recall " gr["\"BCN_Epileptic.X\""] ", L1 " gl["\"BCN_Epileptic.X\""]
         if (!(cd["\"animalia_bull_frog.b3d\""] < 0.14)) print "FAIL: bull frog cd_j2j " cd["\"animalia_bull_frog.b3d\""]
         if (!(cd["\"huesitos.fbx\""] < 0.065)) print "FAIL: huesitos cd_j2j " cd["\"huesitos.fbx\""]
-        if (!(p["\"huesitos.fbx\""] >= 0.62)) print "FAIL: huesitos precision " p["\"huesitos.fbx\""]
+        if (!(p["\"huesitos.fbx\""] >= 0.73 && r["\"huesitos.fbx\""] >= 0.69))
+            print "FAIL: huesitos precision " p["\"huesitos.fbx\""] ", recall " r["\"huesitos.fbx\""]
+        robot = "\"RobotExpressive.glb\""
+        if (!(p[robot] >= 0.77 && r[robot] >= 0.79 && l1[robot] <= 0.46))
+            print "FAIL: RobotExpressive after the matcher: " p[robot] " / " r[robot] " / " l1[robot]
         if (!(p["\"greenman.glb\""] >= 0.5 && r["\"greenman.glb\""] >= 0.45))
             print "FAIL: greenman after the matcher: precision " p["\"greenman.glb\""] ", recall " r["\"greenman.glb\""]
         if (!(hy != "" && hy == ylow["rigger"] && hy - ylow["artist"] < 0.02))
