@@ -423,8 +423,9 @@ static const rf_param_desc params[] = {
       "(correspondence: rig-bench's skinning), with the rest of the spine aligned again below "
       "it, a trunk without a head giving its girdle joint the source's head, a limb without "
       "digits keeping the source's fist, limbs that lack the source's first bones counted from "
-      "where their pivots lie in the bodies' frames, and a girdle bone lying past the source's "
-      "skull pivot given the skull."),
+      "where their pivots lie in the bodies' frames, a girdle bone lying past the source's "
+      "skull pivot given the skull, and a match to a source joint that carries no skin moved "
+      "to the source joint holding the skin there."),
     P("reverse", RF_PARAM_BOOL, 0, 1, NULL, 0, 0, NULL,
       "Flag joints whose chain bends the other way than their source's (knees) as reversed."),
     P("blend", RF_PARAM_BOOL, 0, 0, NULL, 0, 0, NULL,

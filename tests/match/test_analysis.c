@@ -434,7 +434,9 @@ static void test_degenerate(void **state)
     rf_skeleton_free(s);
 }
 
-/* A 100 000-joint chain and a wide random tree: no recursion, no quadratic blow-up. */
+/* A 100 000-joint chain and a wide random tree: no recursion, no quadratic blow-up. The bar is
+ * a blow-up's, about ten times what the two take on a quiet machine (a quadratic step here takes
+ * hours), so a loaded machine cannot trip it; the analysis's speed itself is bench/match's. */
 static void test_large(void **state)
 {
     (void)state;
@@ -458,7 +460,7 @@ static void test_large(void **state)
     rf_analysis_free(a);
     double seconds = (double)(clock() - t0) / CLOCKS_PER_SEC;
     print_message("two 100000-joint analyses: %.2f s\n", seconds);
-    assert_true(seconds < 20);
+    assert_true(seconds < 120);
     rf_skeleton_free(s);
 }
 
