@@ -1031,6 +1031,8 @@ static rf_vec3 rt_limb_low(const rf_retarget *rt, const rf_xform *world, uint32_
     if (rt->t_whole[j] != (int32_t)j)
         return p;
     double depth = *floor_h - rf_rt_height(rt->up, p);
+    /* the limb's joints hang from j in the file's tree, whose parents come before their children
+     * (rf_skeleton) */
     for (uint32_t c = j + 1; c < rt->n; c++) {
         double h;
         rf_vec3 q = rt->t_whole[c] == (int32_t)j ? rt_part_low(rt, world, c, clear, &h) : p;

@@ -16,14 +16,14 @@
                      "file declares them, are kept; an up it does not declare (OBJ, STL, PLY), "   \
                      "or no axes at all, is found from the body (+y when none is: a warning)")
 #define RF_RIG_NODE_PARAMS                                                                         \
-    RF_PARAM_DESC_INT("resolution", 96, 16, 256,                                                   \
+    RF_PARAM_DESC_INT("resolution", RF_RIG_RESOLUTION, 16, 256,                                    \
                       "voxels along the longest bounding-box edge for the skeleton (default 96)"), \
-        RF_PARAM_DESC_INT("proxy_triangles", 20000, 1000, 1000000,                                 \
+        RF_PARAM_DESC_INT("proxy_triangles", RF_RIG_PROXY_TRIANGLES, 1000, 1000000,                \
                           "meshes above this are simplified into a proxy for the weights"),        \
-        RF_PARAM_DESC_FLOAT("speck_size", 0.02, 0.001, 0.5,                                        \
+        RF_PARAM_DESC_FLOAT("speck_size", RF_RIG_SPECK_SIZE, 0.001, 0.5,                           \
                             "loose parts smaller than this fraction of the mesh's diagonal are "   \
                             "specks"),                                                             \
-        RF_PARAM_DESC_FLOAT("segment", 0.12, 0.02, 1,                                              \
+        RF_PARAM_DESC_FLOAT("segment", RF_RIG_SEGMENT, 0.02, 1,                                    \
                             "bone length, as a fraction of the longest bounding-box edge"),        \
         RF_PARAM_DESC_BOOL("visibility", 1,                                                        \
                            "heat a vertex only from bones it can see (ray casting); false: from "  \

@@ -374,10 +374,10 @@ static bool rf_rig_skin(const rf_mesh *in, const rf_rig_prep *p, const rf_rig_sk
 rf_rig_options rf_rig_defaults(const rf_rig_options *opts)
 {
     rf_rig_options o = opts ? *opts : (rf_rig_options){0};
-    o.resolution = o.resolution ? o.resolution : 96;
-    o.proxy_triangles = o.proxy_triangles ? o.proxy_triangles : 20000;
-    o.speck_size = o.speck_size > 0 ? o.speck_size : 0.02;
-    o.segment = o.segment > 0 ? o.segment : 0.12;
+    o.resolution = o.resolution ? o.resolution : RF_RIG_RESOLUTION;
+    o.proxy_triangles = o.proxy_triangles ? o.proxy_triangles : RF_RIG_PROXY_TRIANGLES;
+    o.speck_size = o.speck_size > 0 ? o.speck_size : RF_RIG_SPECK_SIZE;
+    o.segment = o.segment > 0 ? o.segment : RF_RIG_SEGMENT;
     return o;
 }
 

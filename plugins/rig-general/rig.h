@@ -17,6 +17,12 @@
 
 #include <rigflow/model.h>
 
+/* The defaults, one home for the library (rf_rig_defaults) and the node's parameters. */
+#define RF_RIG_RESOLUTION 96
+#define RF_RIG_PROXY_TRIANGLES 20000
+#define RF_RIG_SPECK_SIZE 0.02
+#define RF_RIG_SEGMENT 0.12
+
 /* Zero-initialised is the default everywhere. */
 typedef struct rf_rig_options {
     uint32_t resolution;      /* voxels along the longest bounding-box edge; 0 means 96 */
