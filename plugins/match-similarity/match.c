@@ -1400,60 +1400,10 @@ static double body_apart(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
     return rf_v3_len(rf_v3_sub(c->tgt.bplace[t], b));
 }
 
-/* Where the middle of joint j's bone lies in skeleton s's body frame. */
-static rf_vec3 bone_middle(const rf_ms_skel *s, uint32_t j)
-{
-    const rf_joint_info *ji = &s->a->joints[j];
-    return rf_ms_body_place(s, rf_v3_scale(rf_v3_add(ji->pos, ji->tip), 0.5));
-}
-
-/* How far the middles of target joint t's bone and source joint j's lie apart, the source's side
- * mirrored onto the target's. */
-static double middles_apart(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
-{
-    rf_vec3 b = bone_middle(&c->src[k], j);
-    rf_side st = c->tgt.a->joints[t].side, ss = c->src[k].a->joints[j].side;
-    if (st != RF_SIDE_CENTER && ss != RF_SIDE_CENTER && st != ss)
-        b.x = -b.x;
-    return rf_v3_len(rf_v3_sub(bone_middle(&c->tgt, t), b));
-}
-
-/* A weighted sibling of unweighted source joint j whose pivot lies where j's does (within 2% of
- * the body's extent), or -1: a rig may split the body at one place into two branches, an
- * unweighted pivot carrying the legs and a weighted one the trunk (the bird's Hip and Torso).
- * The skin about that place is the twin's or, where target joint t's bone lies in one of the
- * twin's weighted children's (a head or wing hung from the trunk), that child's: of the twin and
- * its children, the one whose bone's middle lies nearest t's. */
-static int32_t skin_twin(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
-{
-    const rf_ms_skel *s = &c->src[k];
-    int32_t twin = -1;
-    double best = 0.02;
-    for (uint32_t i = 0; i < s->a->joint_count; i++) {
-        if (i == j || !s->matchable[i] || s->anc[i] != s->anc[j] || skinless(c, k, i))
-            continue;
-        double d = rf_v3_len(rf_v3_sub(s->bplace[i], s->bplace[j]));
-        if (d < best)
-            twin = (int32_t)i, best = d;
-    }
-    if (twin < 0)
-        return -1;
-    int32_t pick = twin;
-    best = middles_apart(c, t, k, (uint32_t)twin);
-    for (uint32_t i = 0; i < s->a->joint_count; i++) {
-        if (s->anc[i] != twin || !s->matchable[i] || skinless(c, k, i))
-            continue;
-        double d = middles_apart(c, t, k, i);
-        if (d < best)
-            pick = (int32_t)i, best = d;
-    }
-    return pick;
-}
-
 /* The source joint that holds the skin about unweighted source joint j, for target joint t: its
  * nearest weighted ancestor (whose skin runs on over the links after it) or the next weighted
- * joint of its section (the bone after a link, as the steps count one) or its weighted twin
- * (skin_twin), whichever pivot lies nearer t's; -1 when there is none. */
+ * joint of its section (the bone after a link, as the steps count one), whichever pivot lies
+ * nearer t's; -1 when there is neither. */
 static int32_t skin_holder(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t j)
 {
     const rf_ms_skel *s = &c->src[k];
@@ -1471,11 +1421,7 @@ static int32_t skin_holder(const rf_ms_ctx *c, uint32_t t, uint32_t k, uint32_t 
     }
     if (up < 0 ||
         (down >= 0 && body_apart(c, t, k, (uint32_t)down) < body_apart(c, t, k, (uint32_t)up)))
-        up = down;
-    int32_t twin = skin_twin(c, t, k, j);
-    if (twin >= 0 &&
-        (up < 0 || body_apart(c, t, k, (uint32_t)twin) < body_apart(c, t, k, (uint32_t)up)))
-        return twin;
+        return down;
     return up;
 }
 
