@@ -110,6 +110,30 @@ else
     echo "SKIP: RF_DATA_DIR ($data) lacks BCN_Epileptic.X: its hands on its hips not checked"
 fi
 
+# Four-legged auto-rigs walk on four feet: the retarget finds a foot where a chain's skin stands
+# on the floor at rest, and pins it there; a foot it does not find leaves that leg to the source's
+# arms. A rule in the rigger's weights that moved each low-poly leg box with an upper leg joint
+# alone left the joints below it without skin: the cat and the horse read 2 feet, their forelegs
+# swung forward and crossed as arms, and stretch read better for it (doc/autorig-log.md, "Low-poly
+# boxes ... Reverted"). The contact pass's log line names the count.
+for m in animalia_cat animala_horse animalia_wolf; do
+    f="$data/models/creatures/$m.b3d"
+    if [ ! -f "$f" ]; then
+        echo "SKIP: RF_DATA_DIR ($data) lacks $m.b3d: its feet not checked"
+        continue
+    fi
+    "$rigflow" run "$src/pipelines/scan-to-animation.json" -p "mesh.path=$f" -p "motion.path=$walk" \
+        -p retarget.last_frame=60 -p "export.path=$tmp/$m.glb" >"$tmp/out" 2>&1
+    feet=$(sed -n 's/.*contact pass ([a-z.]*): \([0-9]*\) feet.*/\1/p' "$tmp/out")
+    if [ "$feet" = 4 ]; then
+        echo "PASS: $m, general rig, CMU walk: the contact pass pins 4 feet"
+    else
+        cat "$tmp/out"
+        echo "FAIL: $m: the contact pass found ${feet:-no} feet on a four-legged auto-rig, not 4"
+        fail=1
+    fi
+done
+
 # The worst part's joint name comes from the file: with ESC, BEL and a quote in every joint name
 # (spider.obj rigged and written as glTF, its names edited), the measure line shows it escaped,
 # and the JSON report stays valid JSON holding the escaped text.
