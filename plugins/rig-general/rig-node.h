@@ -17,7 +17,7 @@
                      "or no axes at all, is found from the body (+y when none is: a warning)")
 #define RF_RIG_NODE_PARAMS                                                                         \
     RF_PARAM_DESC_INT("resolution", RF_RIG_RESOLUTION, 16, 256,                                    \
-                      "voxels along the longest bounding-box edge for the skeleton (default 96)"), \
+                      "voxels along the longest bounding-box edge for the skeleton"),              \
         RF_PARAM_DESC_INT("proxy_triangles", RF_RIG_PROXY_TRIANGLES, 1000, 1000000,                \
                           "meshes above this are simplified into a proxy for the weights"),        \
         RF_PARAM_DESC_FLOAT("speck_size", RF_RIG_SPECK_SIZE, 0.001, 0.5,                           \

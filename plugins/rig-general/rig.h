@@ -23,13 +23,13 @@
 #define RF_RIG_SPECK_SIZE 0.02
 #define RF_RIG_SEGMENT 0.12
 
-/* Zero-initialised is the default everywhere. */
+/* Zero-initialised is the default everywhere (the RF_RIG_ values above). */
 typedef struct rf_rig_options {
-    uint32_t resolution;      /* voxels along the longest bounding-box edge; 0 means 96 */
-    uint32_t proxy_triangles; /* simplify a proxy above this many triangles; 0 means 20000 */
+    uint32_t resolution;      /* voxels along the longest bounding-box edge; 0: default */
+    uint32_t proxy_triangles; /* simplify a proxy above this many triangles; 0: default */
     double speck_size;        /* a loose part spanning less than this fraction of the whole
-                               * mesh's bounding-box diagonal is a speck; 0 means 0.02 */
-    double segment;           /* the longest bone as a fraction of the longest edge; 0 means 0.12 */
+                               * mesh's bounding-box diagonal is a speck; 0: default */
+    double segment;           /* the longest bone as a fraction of the longest edge; 0: default */
     bool no_visibility;       /* heat every vertex from its nearest bone, seen or not */
     rf_vec3 up, forward;      /* the axes the file declares (zero: unknown); the skeleton keeps
                                * them and the analysis naming its joints starts from them */
