@@ -293,7 +293,7 @@ legs_check() {
         source=$(cell "$tmp/legs.csv" "$name" look_source_feet)
         broken=$(legs "$feet" "$fid")
         if [ -n "$broken" ]; then
-            ko "general on $name: $broken"
+            ko "general on $name: $(echo "$broken" | tr '\n' ';')"
         else
             echo "PASS: general on $name: $feet feet (following the walk's $source), direction" \
                 "fidelity $fid deg mean"
