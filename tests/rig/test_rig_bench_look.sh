@@ -260,8 +260,9 @@ done
 # feet (fidelity 19.4 -> 18.6: its forelegs follow the arms' directions faithfully, so only the
 # feet see it). The fidelity bar, 50 degrees mean, is over the artists' own rigs under the same
 # walk (pipelines/retarget.json: the cat 42.0, the wolf 34.6, the animalia fox 30.9, the horse
-# 27.7, each rendered walking on four legs), as are the auto-rigs now (41.8, 39.4, 26.0, 19.4,
-# rendered walking on four legs with their legs under the body).
+# 27.7; the cat's rendered walking on four legs), as are the general rigger's auto-rigs now (41.8,
+# 39.4, 26.0, 19.4; the cat's, the horse's and the wolf's rendered walking on four legs with their
+# legs under the body); the template rigger's read 29.8, 21.8, 40.6, 23.0, each on 4 feet.
 legs() { # feet, fidelity mean: the broken bars, one per line
     awk -v n="$1" -v d="$2" 'BEGIN {
         if (n != 4) print n " feet (bar 4)";
@@ -278,12 +279,12 @@ for m in animalia_cat animala_horse animalia_wolf animalia_fox; do
     [ -f "$data/models/creatures/$m.b3d" ] && four="$four $data/models/creatures/$m.b3d"
 done
 # the bench's rows of the four-legged, the rows' feet and fidelity against the bars
-legs_check() {
+legs_check() { # rigger
     # shellcheck disable=SC2086
-    if ! "$rigflow" rig-bench -r general --look "$walk" --look-frames 120 $four \
+    if ! "$rigflow" rig-bench -r "$1" --look "$walk" --look-frames 120 $four \
         >"$tmp/legs.csv" 2>"$tmp/err"; then
         cat "$tmp/err"
-        ko "rig-bench --look on the four-legged exit $?"
+        ko "rig-bench -r $1 --look on the four-legged exit $?"
         return
     fi
     for f in $four; do
@@ -293,9 +294,9 @@ legs_check() {
         source=$(cell "$tmp/legs.csv" "$name" look_source_feet)
         broken=$(legs "$feet" "$fid")
         if [ -n "$broken" ]; then
-            ko "general on $name: $(echo "$broken" | tr '\n' ';')"
+            ko "$1 on $name: $(echo "$broken" | tr '\n' ';')"
         else
-            echo "PASS: general on $name: $feet feet (following the walk's $source), direction" \
+            echo "PASS: $1 on $name: $feet feet (following the walk's $source), direction" \
                 "fidelity $fid deg mean"
         fi
     done
@@ -303,7 +304,8 @@ legs_check() {
 if [ -z "$four" ]; then
     echo "SKIP: RF_DATA_DIR ($data) lacks the animalia creatures: their feet not checked"
 else
-    legs_check
+    legs_check general
+    legs_check template
 fi
 
 # Wings laid as arms stay over the floor. The general rigger lays the fire dragon's and the
