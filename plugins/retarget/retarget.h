@@ -210,6 +210,11 @@ typedef struct rf_rt_report {
     uint32_t foot_joint[RF_RT_REPORT_FEET];
     double foot_skate[RF_RT_REPORT_FEET];
     uint32_t foot_frames[RF_RT_REPORT_FEET];
+    /* How many of the sources' feet those `effectors` follow (distinct source joints): a
+     * quadruped's four feet follow a biped's two. A foot the target lacks (a foreleg whose skin
+     * does not reach the floor at rest, driven by the source's arm) shows as fewer `effectors`
+     * than a body of its kind has, the source's count unchanged. */
+    uint32_t source_feet;
 } rf_rt_report;
 
 /* Measures `anim` (a clip for the plan's target whose frame 0 is at time `start` of the source
