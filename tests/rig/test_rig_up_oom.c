@@ -365,42 +365,35 @@ static void general_fails_or_rigs(void **state)
     rigger_fails_or_rigs("general", rig_general, creature(false, 0.5), &o, 1);
 }
 
-/* A box biped facing +z, up +y, 2.4 high: legs, a trunk, arms held out level, a neck and
- * a head. */
-static rf_mesh *biped(void)
+/* A mesh of `n` boxes (x0, y0, z0, x1, y1, z1 each; at most 7), in storage of its own. */
+static rf_mesh *mesh_of_boxes(const double (*box)[6], int n)
 {
     static float pos[7 * 8 * 3];
     static uint32_t tri[7 * 12 * 3];
     static rf_mesh m;
     memset(&m, 0, sizeof m);
     m.positions = pos, m.triangles = tri;
-    add_box(&m, -0.3, 0, -0.1, -0.1, 1.0, 0.1); /* legs */
-    add_box(&m, 0.1, 0, -0.1, 0.3, 1.0, 0.1);
-    add_box(&m, -0.35, 0.95, -0.15, 0.35, 1.8, 0.15); /* trunk */
-    add_box(&m, 0.3, 1.6, -0.1, 1.2, 1.75, 0.1);      /* arms */
-    add_box(&m, -1.2, 1.6, -0.1, -0.3, 1.75, 0.1);
-    add_box(&m, -0.1, 1.75, -0.1, 0.1, 2.1, 0.1);     /* neck */
-    add_box(&m, -0.15, 2.05, -0.15, 0.15, 2.4, 0.15); /* head */
+    for (int i = 0; i < n && i < 7; i++)
+        add_box(&m, box[i][0], box[i][1], box[i][2], box[i][3], box[i][4], box[i][5]);
     return &m;
 }
 
+/* A box biped facing +z, up +y, 2.4 high: legs, a trunk, arms held out level, a neck and
+ * a head. */
+static const double biped[7][6] = {
+    {-0.3, 0, -0.1, -0.1, 1.0, 0.1},       {0.1, 0, -0.1, 0.3, 1.0, 0.1},      /* legs */
+    {-0.35, 0.95, -0.15, 0.35, 1.8, 0.15},                                     /* trunk */
+    {0.3, 1.6, -0.1, 1.2, 1.75, 0.1},      {-1.2, 1.6, -0.1, -0.3, 1.75, 0.1}, /* arms */
+    {-0.1, 1.75, -0.1, 0.1, 2.1, 0.1},                                         /* neck */
+    {-0.15, 2.05, -0.15, 0.15, 2.4, 0.15}};                                    /* head */
+
 /* The table creature's body and legs (boxes.h) with its head raised on a neck at +x. */
-static rf_mesh *necked_quadruped(void)
-{
-    static float pos[7 * 8 * 3];
-    static uint32_t tri[7 * 12 * 3];
-    static rf_mesh m;
-    memset(&m, 0, sizeof m);
-    m.positions = pos, m.triangles = tri;
-    add_box(&m, -1, 1, -0.4, 1, 1.4, 0.4); /* body */
-    add_box(&m, -1, 0, -0.4, -0.8, 1.05, -0.2);
-    add_box(&m, 0.8, 0, -0.4, 1, 1.05, -0.2);
-    add_box(&m, -1, 0, 0.2, -0.8, 1.05, 0.4);
-    add_box(&m, 0.8, 0, 0.2, 1, 1.05, 0.4);
-    add_box(&m, 0.85, 1.3, -0.1, 1.05, 2.0, 0.1); /* neck */
-    add_box(&m, 0.9, 1.9, -0.2, 1.5, 2.2, 0.2);   /* head */
-    return &m;
-}
+static const double necked_quadruped[7][6] = {
+    {-1, 1, -0.4, 1, 1.4, 0.4}, /* body */
+    {-1, 0, -0.4, -0.8, 1.05, -0.2},   {0.8, 0, -0.4, 1, 1.05, -0.2},
+    {-1, 0, 0.2, -0.8, 1.05, 0.4},     {0.8, 0, 0.2, 1, 1.05, 0.4},
+    {0.85, 1.3, -0.1, 1.05, 2.0, 0.1}, /* neck */
+    {0.9, 1.9, -0.2, 1.5, 2.2, 0.2}};  /* head */
 
 static bool rig_humanoid(const rf_mesh *m, const rf_rig_options *o, rf_skeleton **s,
                          rf_mesh **skinned, char *err, size_t n)
@@ -438,11 +431,11 @@ static void template_fails_or_rigs(void **state)
 {
     (void)state;
     rf_rig_options o = {.up = rf_v3(0, 1, 0), .forward = rf_v3(0, 0, 1), .resolution = 24};
-    rigger_fails_or_rigs("template (humanoid, box biped)", rig_humanoid, biped(), &o,
-                         RF_TPL_OOM_STRIDE);
+    rigger_fails_or_rigs("template (humanoid, box biped)", rig_humanoid, mesh_of_boxes(biped, 7),
+                         &o, RF_TPL_OOM_STRIDE);
     o.forward = rf_v3(1, 0, 0);
-    rigger_fails_or_rigs("template (quadruped, necked box)", rig_quadruped, necked_quadruped(), &o,
-                         RF_TPL_OOM_STRIDE);
+    rigger_fails_or_rigs("template (quadruped, necked box)", rig_quadruped,
+                         mesh_of_boxes(necked_quadruped, 7), &o, RF_TPL_OOM_STRIDE);
 }
 
 int main(void)
