@@ -735,7 +735,11 @@ static bool rt_legs_driven(const rf_retarget *rt)
     return false;
 }
 
-static bool rt_mesh_rest_each(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh)
+/* Each frame's lowest vertex of what stands put where the source's lowest point stands over its
+ * floor (rf_rt_clearance), through the root-motion joints; with `lower_only` only the frames
+ * that stand higher move. *lowered counts the frames lowered, *deepest the largest lowering. */
+static bool rt_mesh_rest_each(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh,
+                              bool lower_only, uint32_t *lowered, double *deepest)
 {
     uint32_t frames = anim->frame_count, step = rt_rest_step(anim);
     uint32_t count = (frames - 1) / step + 2;
@@ -756,11 +760,14 @@ static bool rt_mesh_rest_each(rf_retarget *rt, rf_animation *anim, const rf_mesh
     for (uint32_t i = 0; ok && finite && i < count; i++) {
         clear[i] = floor_h + clear[i] - rt_mesh_low_at(&w, anim, at[i], base);
         finite = isfinite(clear[i]);
+        clear[i] = lower_only ? fmin(0, clear[i]) : clear[i];
     }
     for (uint32_t f = 0; ok && finite && f < frames; f++) {
         uint32_t i = f / step;
         double span = at[i + 1] > at[i] ? at[i + 1] - at[i] : 1, t = (f - at[i]) / span;
         lift[f] = clear[i] + t * (clear[i + 1] - clear[i]);
+        *lowered += lift[f] < 0;
+        *deepest = fmax(*deepest, -lift[f]);
     }
     ok = ok && (!finite || rf_rt_lift_each(rt, anim, lift));
     rt_mw_free(&w);
@@ -775,7 +782,22 @@ bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *
         return false;
     if (rt->effector_count || !anim->frame_count || rt->opt.root_scale > 0 || rt_legs_driven(rt))
         return true;
-    if (!rt_mesh_rest_each(rt, anim, mesh)) {
+    uint32_t lowered = 0;
+    double deepest = 0;
+    if (!rt_mesh_rest_each(rt, anim, mesh, false, &lowered, &deepest)) {
+        rf_rt_fail(err, err_size, "out of memory");
+        return false;
+    }
+    return true;
+}
+
+bool rf_retarget_mesh_hold(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh,
+                           uint32_t *lowered, double *deepest, char *err, size_t err_size)
+{
+    *lowered = 0, *deepest = 0;
+    if (!rt_mesh_check(rt->target, mesh, anim, NULL, err, err_size))
+        return false;
+    if (anim->frame_count && !rt_mesh_rest_each(rt, anim, mesh, true, lowered, deepest)) {
         rf_rt_fail(err, err_size, "out of memory");
         return false;
     }
