@@ -184,39 +184,66 @@ static bool rt_limit_turns(rf_retarget *rt, rf_animation *out, const rf_skeleton
     return true;
 }
 
-/* With the target's skinned mesh connected, the clip stands on the mesh's floor. A mesh that
- * cannot be used is said in one line; the clip keeps the skeleton's floor. */
-static void rt_mesh_floor(rf_retarget *rt, rf_animation *out, const rf_host *host, rf_node *node)
+/* The target's skinned mesh when one is connected and can stand for the body (*mesh, else NULL:
+ * a mesh that cannot is said in one line, and the clip keeps the skeleton's floor). False only
+ * when memory ran out. */
+static bool rt_usable_mesh(const rf_retarget *rt, const rf_animation *out, const rf_host *host,
+                           rf_node *node, const rf_mesh **mesh)
 {
-    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
+    char err[ERR_SIZE];
+    *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
+    if (!*mesh)
+        return true;
+    int usable = rf_retarget_mesh_usable(rt, *mesh, out, NULL, err, sizeof err);
+    if (usable < 0) {
+        host->error(node, "%s", err);
+        return false;
+    }
+    if (!usable) {
+        host->log(node, RF_LOG_INFO, "floor from the skeleton only: %s", err);
+        *mesh = NULL;
+    }
+    return true;
+}
+
+/* With the target's usable mesh, the clip stands on the mesh's floor. The mesh passes fail only
+ * for memory once the mesh was found usable, and then fail the node: a clip left half-placed on
+ * its floor is no result. */
+static bool rt_mesh_floor(rf_retarget *rt, rf_animation *out, const rf_mesh *mesh,
+                          const rf_host *host, rf_node *node)
+{
     char err[ERR_SIZE];
     double shift;
     if (!mesh)
-        return;
-    if (!rf_retarget_mesh_floor(rt, out, mesh, &shift, err, sizeof err))
-        host->log(node, RF_LOG_INFO, "floor from the skeleton only: %s", err);
-    else
-        host->log(node, RF_LOG_INFO, "on the mesh's floor: root moved %.4g along up", shift);
+        return true;
+    if (!rf_retarget_mesh_floor(rt, out, mesh, &shift, err, sizeof err)) {
+        host->error(node, "on the mesh's floor: %s", err);
+        return false;
+    }
+    host->log(node, RF_LOG_INFO, "on the mesh's floor: root moved %.4g along up", shift);
+    return true;
 }
 
 /* Where the mesh stands higher over its floor than the source over its own (its jumps above
  * all), the clip is lowered (rf_retarget_mesh_hold), said in one line. */
-static void rt_mesh_hold(rf_retarget *rt, rf_animation *out, const rf_retarget_options *o,
-                         const rf_host *host, rf_node *node)
+static bool rt_mesh_hold(rf_retarget *rt, rf_animation *out, const rf_mesh *mesh,
+                         const rf_retarget_options *o, const rf_host *host, rf_node *node)
 {
-    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
     char err[ERR_SIZE];
     uint32_t lowered;
     double deepest;
     if (!mesh || !o->hold_floor)
-        return;
-    if (!rf_retarget_mesh_hold(rt, out, mesh, &lowered, &deepest, err, sizeof err))
-        host->log(node, RF_LOG_INFO, "floor not held to the source's height: %s", err);
-    else if (lowered)
+        return true;
+    if (!rf_retarget_mesh_hold(rt, out, mesh, &lowered, &deepest, err, sizeof err)) {
+        host->error(node, "holding the floor: %s", err);
+        return false;
+    }
+    if (lowered)
         host->log(node, RF_LOG_INFO,
                   "standing higher than the source: the clip lowered in %u of %u frames (at "
                   "most %.4g)",
                   lowered, out->frame_count, deepest);
+    return true;
 }
 
 /* Parts that are not feet kept above the floor, and how often that was needed. */
@@ -236,15 +263,22 @@ static bool rt_parts_pass(rf_retarget *rt, rf_animation *out, const rf_host *hos
 
 /* What the parts pass could not lift out of the floor in the median frame raises the whole clip,
  * said in one line. */
-static void rt_mesh_clear(rf_retarget *rt, rf_animation *out, const rf_host *host, rf_node *node)
+static bool rt_mesh_clear(rf_retarget *rt, rf_animation *out, const rf_mesh *mesh,
+                          const rf_host *host, rf_node *node)
 {
-    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
     char err[ERR_SIZE];
     double shift = 0;
-    if (mesh && rf_retarget_mesh_clear(rt, out, mesh, &shift, err, sizeof err) && shift > 0)
+    if (!mesh)
+        return true;
+    if (!rf_retarget_mesh_clear(rt, out, mesh, &shift, err, sizeof err)) {
+        host->error(node, "clearing the floor: %s", err);
+        return false;
+    }
+    if (shift > 0)
         host->log(node, RF_LOG_INFO,
                   "parts still under the floor in the median frame: the clip raised %.4g along up",
                   shift);
+    return true;
 }
 
 /* Whether any of the n floats at v is infinite or NaN: its exponent bits all set, which adding
@@ -347,13 +381,13 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
         rf_retarget_free(rt), rf_animation_free(out);
         return false;
     }
-    rt_mesh_floor(rt, out, host, node);
-    bool ok = rt_contact_pass(rt, out, o, host, node);
-    if (ok)
-        rt_mesh_hold(rt, out, o, host, node);
+    const rf_mesh *mesh;
+    bool ok =
+        rt_usable_mesh(rt, out, host, node, &mesh) && rt_mesh_floor(rt, out, mesh, host, node);
+    ok = ok && rt_contact_pass(rt, out, o, host, node);
+    ok = ok && rt_mesh_hold(rt, out, mesh, o, host, node);
     ok = ok && rt_parts_pass(rt, out, host, node);
-    if (ok)
-        rt_mesh_clear(rt, out, host, node);
+    ok = ok && rt_mesh_clear(rt, out, mesh, host, node);
     ok = ok && rt_finite(out, target, host, node);
     rf_retarget_free(rt);
     if (!ok) {
@@ -525,29 +559,40 @@ static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m,
 }
 
 /* The mesh measures, when a skinned mesh is connected: a mesh that cannot be measured is said
- * in one line and does not fail the node. */
-static void rt_measure_mesh(const rf_host *host, rf_node *node, rf_retarget *rt, double start,
+ * in one line and does not fail the node; memory running out does (a report without the mesh's
+ * figures would read as a mesh that could not be measured). */
+static bool rt_measure_mesh(const rf_host *host, rf_node *node, rf_retarget *rt, double start,
                             const rf_skeleton *target, rt_mesh_figures *m)
 {
     const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
+    const rf_animation *anim = host->input(node, "animation", 0);
     if (!mesh)
-        return;
+        return true;
     const rf_animation *ref =
         host->input_count(node, "reference") ? host->input(node, "reference", 0) : NULL;
     uint32_t frames = (uint32_t)host->param_int(node, "mesh_frames");
     char err[ERR_SIZE];
     const char *label = host->param_string(node, "label");
     label = *label ? label : host->node_id(node);
-    m->have = rf_retarget_mesh_measure(rt, mesh, host->input(node, "animation", 0), start, frames,
-                                       &m->clip, err, sizeof err);
+    bool rigid;
+    int usable = rf_retarget_mesh_usable(rt, mesh, anim, &rigid, err, sizeof err);
+    if (usable <= 0) {
+        if (usable < 0)
+            host->error(node, "%s", err);
+        else
+            host->log(node, RF_LOG_INFO, "no mesh measures: %s", err);
+        return usable == 0;
+    }
+    m->have = rf_retarget_mesh_measure(rt, mesh, anim, start, frames, &m->clip, err, sizeof err);
     if (!m->have) {
-        host->log(node, RF_LOG_INFO, "no mesh measures: %s", err);
-        return;
+        host->error(node, "measuring the mesh: %s", err);
+        return false;
     }
     m->have_ref =
         ref && ref->frame_count > 1 && !m->clip.rigid &&
         rf_rt_mesh_measure(target, mesh, ref, rf_v3(0, 0, 0), frames, &m->ref, err, sizeof err);
     rt_mesh_line(rf_node_out(host, node), label, m, target);
+    return true;
 }
 
 static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
@@ -594,10 +639,10 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
             r.fidelity_bones, r.frames, r.skate_target, r.skate_source, r.contact_frames,
             r.ground_error);
     rt_mesh_figures mf = {0};
-    rt_measure_mesh(host, node, rt, start, target, &mf);
+    bool measured = rt_measure_mesh(host, node, rt, start, target, &mf);
     rf_retarget_free(rt);
     fflush(out);
-    return rt_write_report(host, node, &r, &mf, target);
+    return measured && rt_write_report(host, node, &r, &mf, target);
 }
 
 static const rf_port_desc rt_measure_inputs[] = {

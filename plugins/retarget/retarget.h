@@ -287,6 +287,14 @@ struct json_t *rf_rt_report_json(const rf_rt_report *r, const rf_rt_mesh_report 
 bool rf_rt_report_write(FILE *f, const rf_rt_report *r, const rf_rt_mesh_report *clip,
                         const rf_rt_mesh_report *ref, const rf_skeleton *s);
 
+/* Whether the target's mesh can stand for the body under a clip of this plan: 1 when it can, 0
+ * when it cannot (err says why: not skinned, bound to other joints, skinned to too few joints to
+ * stand for the body, or, when `rigid` is given, taken as a node tree's rigid parts: *rigid), -1
+ * out of memory. The mesh passes below refuse such a mesh the same way; once it is usable, their
+ * false means memory ran out. */
+int rf_retarget_mesh_usable(const rf_retarget *rt, const rf_mesh *mesh, const rf_animation *anim,
+                            bool *rigid, char *err, size_t err_size);
+
 /* Puts a clip of this plan (rf_retarget_clip's output) on the floor of the target's skinned
  * mesh: the lowest vertex of what stands on the floor at rest (the mesh less its parts over 15%
  * of its height at rest: wings, tails, heads, a quadruped's chest), in the median sampled frame

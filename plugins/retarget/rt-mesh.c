@@ -204,36 +204,41 @@ static bool rt_mesh_edges(rt_mesh_work *w, double height)
     return true;
 }
 
-/* Whether the mesh can be measured with the clip. A mesh hung on too few joints to stand for the
- * body is refused, or, when `rigid` is given, taken as a node tree's rigid parts (*rigid). */
-static bool rt_mesh_check(const rf_skeleton *s, const rf_mesh *m, const rf_animation *a,
-                          bool *rigid, char *err, size_t err_size)
+/* Whether the mesh can be measured with the clip: 1 when it can, 0 when it cannot (err says why),
+ * -1 out of memory. A mesh hung on too few joints to stand for the body is refused, or, when
+ * `rigid` is given, taken as a node tree's rigid parts (*rigid). */
+static int rt_mesh_check(const rf_skeleton *s, const rf_mesh *m, const rf_animation *a, bool *rigid,
+                         char *err, size_t err_size)
 {
     if (rigid)
         *rigid = false;
     if (!m || !m->vertex_count || !m->positions || !m->skin_joints || !m->skin_weights) {
         rf_rt_fail(err, err_size, "the mesh is not skinned");
-        return false;
+        return 0;
     }
     if (!a || a->joint_count != s->joint_count || !a->frame_count) {
         rf_rt_fail(err, err_size, "the clip measured on the mesh does not fit its skeleton");
-        return false;
+        return 0;
     }
     if (m->inverse_bind && m->bind_count != s->joint_count) {
         rf_rt_fail(err, err_size, "the mesh is bound to %u joints, the skeleton has %u",
                    m->bind_count, s->joint_count);
-        return false;
+        return 0;
     }
     uint8_t *used = calloc(s->joint_count ? s->joint_count : 1, 1);
+    if (!used) {
+        rf_rt_fail(err, err_size, "out of memory");
+        return -1;
+    }
     uint32_t skinned = 0;
-    for (size_t i = 0; used && i < (size_t)m->vertex_count * RF_MESH_MAX_INFLUENCES; i++) {
+    for (size_t i = 0; i < (size_t)m->vertex_count * RF_MESH_MAX_INFLUENCES; i++) {
         if (!(m->skin_weights[i] > 0))
             continue;
         if (m->skin_joints[i] >= s->joint_count) {
             rf_rt_fail(err, err_size, "vertex %zu is weighted to joint %u of %u", i / 4,
                        m->skin_joints[i], s->joint_count);
             free(used);
-            return false;
+            return 0;
         }
         skinned += !used[m->skin_joints[i]], used[m->skin_joints[i]] = 1;
     }
@@ -241,14 +246,14 @@ static bool rt_mesh_check(const rf_skeleton *s, const rf_mesh *m, const rf_anima
     /* A mesh hung on a node or two (a node tree's rigid parts) does not stand for the body. */
     if (skinned < 2 || skinned * 4 < s->joint_count) {
         if (rigid)
-            return *rigid = true;
+            return *rigid = true, 1;
         rf_rt_fail(err, err_size,
                    "the mesh is skinned to %u of the %u joints, too few to stand for "
                    "the body",
                    skinned, s->joint_count);
-        return false;
+        return 0;
     }
-    return true;
+    return 1;
 }
 
 static bool rt_mesh_prepare(rt_mesh_work *w)
@@ -517,7 +522,7 @@ bool rf_rt_mesh_measure(const rf_skeleton *skeleton, const rf_mesh *mesh, const 
                         size_t err_size)
 {
     memset(report, 0, sizeof *report);
-    if (!rt_mesh_check(skeleton, mesh, anim, NULL, err, err_size))
+    if (rt_mesh_check(skeleton, mesh, anim, NULL, err, err_size) <= 0)
         return false;
     rt_mesh_work w = {.s = skeleton, .m = mesh, .n = skeleton->joint_count};
     w.nv = mesh->vertex_count;
@@ -662,7 +667,7 @@ static bool rt_mesh_place(rf_retarget *rt, rf_animation *anim, const rf_mesh *me
 {
     if (shift)
         *shift = 0;
-    if (!rt_mesh_check(rt->target, mesh, anim, NULL, err, err_size))
+    if (rt_mesh_check(rt->target, mesh, anim, NULL, err, err_size) <= 0)
         return false;
     rf_rt_floors_measured(rt);
     rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n, .nv = mesh->vertex_count};
@@ -807,7 +812,7 @@ bool rf_retarget_mesh_hold(rf_retarget *rt, rf_animation *anim, const rf_mesh *m
                            uint32_t *lowered, double *deepest, char *err, size_t err_size)
 {
     *lowered = 0, *deepest = 0;
-    if (!rt_mesh_check(rt->target, mesh, anim, NULL, err, err_size))
+    if (rt_mesh_check(rt->target, mesh, anim, NULL, err, err_size) <= 0)
         return false;
     if (anim->frame_count && !rt_mesh_rest_each(rt, anim, mesh, true, lowered, deepest)) {
         rf_rt_fail(err, err_size, "out of memory");
@@ -822,13 +827,19 @@ bool rf_retarget_mesh_clear(rf_retarget *rt, rf_animation *anim, const rf_mesh *
     return rt_mesh_place(rt, anim, mesh, true, true, shift, err, err_size);
 }
 
+int rf_retarget_mesh_usable(const rf_retarget *rt, const rf_mesh *mesh, const rf_animation *anim,
+                            bool *rigid, char *err, size_t err_size)
+{
+    return rt_mesh_check(rt->target, mesh, anim, rigid, err, err_size);
+}
+
 bool rf_retarget_mesh_measure(rf_retarget *rt, const rf_mesh *mesh, const rf_animation *anim,
                               double start, uint32_t max_frames, rf_rt_mesh_report *report,
                               char *err, size_t err_size)
 {
     memset(report, 0, sizeof *report);
     rt_mesh_work w = {.s = rt->target, .m = mesh, .n = rt->n};
-    if (!rt_mesh_check(rt->target, mesh, anim, &w.rigid, err, err_size))
+    if (rt_mesh_check(rt->target, mesh, anim, &w.rigid, err, err_size) <= 0)
         return false;
     uint8_t *counts = malloc(rt->n ? rt->n : 1);
     bool known = rf_rt_weights_known(rt->target);

@@ -52,3 +52,13 @@ tests_retarget_gait_feet_SOURCES = tests/retarget/gait-feet.c
 tests_retarget_gait_feet_CPPFLAGS = $(RT_TEST_CPPFLAGS)
 tests_retarget_gait_feet_LDADD = sdk/formats/bvh/librigflow-bvh.la \
 	sdk/formats/assimp/librigflow-assimp.la sdk/analysis/librigflow-analysis.la -lm
+
+# The mesh passes with each allocation failing in turn (malloc and calloc wrapped at link time).
+check_PROGRAMS += tests/retarget/test_retarget_mesh_oom
+TESTS += tests/retarget/test_retarget_mesh_oom
+tests_retarget_test_retarget_mesh_oom_SOURCES = tests/retarget/test_retarget_mesh_oom.c \
+	tests/retarget/rt-fixtures.h tests/alloc-fail.h
+tests_retarget_test_retarget_mesh_oom_CPPFLAGS = $(RT_TEST_CPPFLAGS)
+tests_retarget_test_retarget_mesh_oom_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
+tests_retarget_test_retarget_mesh_oom_LDFLAGS = -Wl,--wrap=malloc,--wrap=calloc
+tests_retarget_test_retarget_mesh_oom_LDADD = $(RT_TEST_LDADD)
