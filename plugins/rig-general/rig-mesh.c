@@ -3,6 +3,7 @@
  * keeps a way back to the proxy (or is marked to take the proxy vertex nearest it), so no vertex is
  * left without weights. */
 #include <inttypes.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -488,6 +489,25 @@ static bool rf_rig_proxy_parts(rf_rig_prep *p)
     return true;
 }
 
+/* A mesh far from its origin for its size (a scan kept in survey coordinates) reaches us in
+ * single precision, whose steps grow with the distance: a body of 1 at 1e7 has lost everything
+ * finer than 1, and would read as flat or as a staircase. Refused with where it lies when the
+ * steps pass a sixty-fourth of the body (a voxel of the coarsest grid), not rigged wrongly. */
+static bool rf_rig_precise(const rf_rig_prep *p, char *err, size_t n)
+{
+    double far = 0;
+    for (int a = 0; a < 3; a++)
+        far = fmax(far, fmax(fabs(p->lo[a]), fabs(p->hi[a])));
+    double step = far * FLT_EPSILON;
+    if (step <= p->longest / 64)
+        return true;
+    return rf_rig_fail(err, n,
+                       "the mesh lies %.3g from its origin, %.3g times its size: its "
+                       "single-precision coordinates there keep steps of %.3g, %.0f%% of its "
+                       "size, too coarse to rig (move it near the origin)",
+                       far, far / p->longest, step, 100 * step / p->longest);
+}
+
 static bool rf_rig_bbox(rf_rig_prep *p, char *err, size_t n)
 {
     for (int a = 0; a < 3; a++)
@@ -505,6 +525,8 @@ static bool rf_rig_bbox(rf_rig_prep *p, char *err, size_t n)
     }
     if (!(p->longest > 0))
         return rf_rig_fail(err, n, "the mesh has no extent: all its vertices coincide");
+    if (!rf_rig_precise(p, err, n))
+        return false;
     if (shortest < 1e-3 * p->longest)
         return rf_rig_fail(err, n,
                            "the mesh is flat (%.3g by %.3g by %.3g): a rig needs a volume, not a "

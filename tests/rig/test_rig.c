@@ -1,8 +1,8 @@
 /* librigauto: every mesh of the shared data and Debian's assimp-testmodels is rigged or refused
  * with a reason, never with a vertex left unweighted; the rig does not depend on the unit or the
- * facing; bad input (empty, a point cloud, a sheet, nothing but specks, broken numbers) is
- * refused with a message and nothing allocated; a big scan goes through the simplified proxy; legs
- * a few voxels apart stay apart; a given skeleton is weighted as its artist would (a leaf joint
+ * facing; bad input (empty, a point cloud, a sheet, nothing but specks, broken numbers, a body
+ * too far from its origin for single precision) is refused with a message and nothing allocated;
+ * a big scan goes through the simplified proxy; legs a few voxels apart stay apart; a given skeleton is weighted as its artist would (a leaf joint
  * without an end site keeps the mesh past it, a box of a box model moves with one joint, a sleeve
  * only with the joints inside it). The template rigger lays its joints where a person would put
  * them on a box creature and on the shared RiggedFigure and Fox, and refuses a body with no legs,
@@ -545,6 +545,25 @@ static void test_bad_input(void **state)
     }
     expect_refusal(m, "nothing but specks");
     rf_mesh_free(m);
+    /* far from its origin: 1000 away (steps of 1e-4 in single precision) the table creature is
+     * rigged; 1e7 away (steps of 1, its legs a tenth wide) it is refused, saying where it lies,
+     * not as flat or with its legs merged */
+    for (int far = 0; far < 2; far++) {
+        m = table_creature(1, 0);
+        for (uint32_t v = 0; v < m->vertex_count; v++)
+            m->positions[v * 3] += far ? 1e7f : 1e3f;
+        if (far) {
+            expect_refusal(m, "lies 1e+07 from its origin");
+        } else {
+            rf_skeleton *s;
+            rf_mesh *out;
+            char err[512];
+            if (!rf_rig_general(m, NULL, &s, &out, NULL, NULL, NULL, err, sizeof err))
+                fail_msg("1000 from the origin: %s", err);
+            rf_skeleton_free(s), rf_mesh_free(out);
+        }
+        rf_mesh_free(m);
+    }
 }
 
 /* Two legs three voxels apart under a body: the hole sealing of the volume would join them into
