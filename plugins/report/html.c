@@ -154,12 +154,20 @@ static void rf_rep_timeline_make(rf_rep *r, double fps_cap, uint32_t max_frames)
     r->tl.shown = (a->frame_count - 1) / r->tl.step + 1;
 }
 
-/* The frame of clip `a` shown at timeline frame k. */
-static uint32_t rf_rep_frame_of(const rf_rep *r, const rf_animation *a, uint32_t k)
+/* The frame of clip `a` shown at timeline frame k, `start` seconds into that clip. */
+static uint32_t rf_rep_frame_of(const rf_rep *r, const rf_animation *a, double start, uint32_t k)
 {
-    double t = (double)k * r->tl.step / r->tl.fps;
-    double f = floor(t * a->fps + 0.5);
+    double t = start + (double)k * r->tl.step / r->tl.fps;
+    double f = fmax(floor(t * a->fps + 0.5), 0);
     return f >= a->frame_count ? a->frame_count - 1 : (uint32_t)f;
+}
+
+/* Where character ch's clip starts on the page: a source plays from where the retargeted clip
+ * was cut from it (its source_start), so both show the same moment of a window of the motion. */
+static double rf_rep_start(rf_rep *r, const rf_rep_char *ch)
+{
+    const rf_animation *t = rf_rep_target(r)->a;
+    return ch != rf_rep_target(r) && t ? t->source_start : 0;
 }
 
 /* ---- characters ---- */
@@ -267,8 +275,9 @@ static bool rf_rep_write_char(rf_rep *r, FILE *f, rf_rep_char *ch)
     rf_html_json_floats(f, pts, (size_t)np * 3);
     fputs(",\"frames\":", f);
     if (ch->a) {
+        double start = rf_rep_start(r, ch);
         for (uint32_t k = 0; k < r->tl.shown; k++) {
-            rf_rep_pose_world(s, ch->a, rf_rep_frame_of(r, ch->a, k), world);
+            rf_rep_pose_world(s, ch->a, rf_rep_frame_of(r, ch->a, start, k), world);
             rf_rep_points(s, world, pts + (size_t)k * np * 3);
         }
         rf_html_json_floats(f, pts, (size_t)np * 3 * r->tl.shown);
@@ -453,7 +462,7 @@ static rf_animation *rf_rep_sampled(const rf_rep *r, const rf_animation *a)
 {
     rf_animation *out = rf_animation_new(a->joint_count, r->tl.shown, r->tl.fps / r->tl.step);
     for (uint32_t k = 0; out && k < r->tl.shown; k++) {
-        uint32_t f = rf_rep_frame_of(r, a, k);
+        uint32_t f = rf_rep_frame_of(r, a, 0, k);
         size_t n = a->joint_count;
         memcpy(out->rotations + k * n * 4, a->rotations + f * n * 4, n * 4 * sizeof(float));
         memcpy(out->translations + k * n * 3, a->translations + f * n * 3, n * 3 * sizeof(float));

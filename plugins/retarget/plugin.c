@@ -595,6 +595,19 @@ static bool rt_measure_mesh(const rf_host *host, rf_node *node, rf_retarget *rt,
     return true;
 }
 
+/* The time in the sources that the measured clip's frame 0 plays: first_frame when given, else
+ * where the clip says it starts. A clip the retarget cut from frame 150 measured against the
+ * sources' start read the dragon's jump over the source standing still as floating (29% of
+ * frames, p95 11.2% of its height; against its own window 4%, 1.6%). */
+static double rt_measure_start(const rf_host *host, rf_node *node, const rf_rt_source *src,
+                               const rf_animation *anim)
+{
+    int64_t first = host->param_int(node, "first_frame");
+    if (first >= 0)
+        return src[0].animation && src[0].animation->fps > 0 ? first / src[0].animation->fps : 0;
+    return anim ? anim->source_start : 0;
+}
+
 static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
 {
     (void)self;
@@ -613,9 +626,7 @@ static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
     rf_rt_report r;
     const rf_animation *anim = host->input(node, "animation", 0);
     rf_measures *series = anim ? rf_measures_new(anim->frame_count, anim->fps) : NULL;
-    double start = src[0].animation && src[0].animation->fps > 0
-                       ? host->param_int(node, "first_frame") / src[0].animation->fps
-                       : 0;
+    double start = rt_measure_start(host, node, src, anim);
     bool ok =
         rt && series && rf_retarget_measure_series(rt, anim, start, &r, series, err, sizeof err);
     if (!ok) {
@@ -664,8 +675,9 @@ static const rf_port_desc rt_measure_outputs[] = {
 
 static const rf_param_desc rt_measure_params[] = {
     RT_PLAN_PARAMS,
-    RF_PARAM_DESC_INT("first_frame", 0, 0, 1e9,
-                      "the source frame the measured clip starts at (retarget's first_frame)"),
+    RF_PARAM_DESC_INT("first_frame", -1, -1, 1e9,
+                      "the source frame the measured clip starts at (default -1: where the clip "
+                      "says it starts, the retarget's first_frame for a clip it made)"),
     RF_PARAM_DESC_INT(
         "mesh_frames", 24, 1, 1e6,
         "frames spread over the clip that the mesh measures skin (they cost a skinning each)"),

@@ -132,6 +132,8 @@ static rf_animation *rt_output_new(const rf_retarget *rt, uint32_t frames)
     out->size = sizeof *out;
     out->joint_count = rt->n, out->frame_count = frames;
     out->fps = rf_retarget_output_fps(rt);
+    /* a measure of the clip compares it with the same window of the sources */
+    out->source_start = rf_retarget_start_time(rt);
     out->rotations = malloc((n ? n : 1) * 4 * sizeof *out->rotations);
     out->translations = malloc((n ? n : 1) * 3 * sizeof *out->translations);
     out->channels = calloc(rt->n ? rt->n : 1, 1);

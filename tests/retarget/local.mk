@@ -39,10 +39,11 @@ tests_retarget_fx_namemap_la_SOURCES = tests/retarget/fx_namemap.c
 tests_retarget_fx_namemap_la_LDFLAGS = $(FIXTURE_LDFLAGS)
 
 TESTS += tests/retarget/test_retarget_pipeline.sh tests/retarget/test_retarget_sweep.sh \
-	tests/retarget/test_gait.sh tests/retarget/test_retarget_turned.sh
+	tests/retarget/test_gait.sh tests/retarget/test_retarget_turned.sh \
+	tests/retarget/test_retarget_window.sh
 dist_noinst_SCRIPTS += tests/retarget/test_retarget_pipeline.sh \
 	tests/retarget/test_retarget_sweep.sh tests/retarget/test_gait.sh \
-	tests/retarget/test_retarget_turned.sh
+	tests/retarget/test_retarget_turned.sh tests/retarget/test_retarget_window.sh
 EXTRA_DIST += tests/retarget/sweep.mjs tests/retarget/turned.mjs
 EXTRA_DIST += tests/retarget/maps
 

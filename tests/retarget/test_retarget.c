@@ -690,6 +690,13 @@ static void frame_range(void **state)
     for (uint32_t f = 0; f < 5; f++)
         for (uint32_t j = 0; j < 8; j++)
             assert_true(rot_diff(local_rot(part.out, f, j), local_rot(all.out, f + 5, j)) < 1e-4);
+    /* where the window starts in the source, for a measure to line the two up */
+    assert_float_equal(all.out->source_start, 0, 1e-12);
+    assert_float_equal(part.out->source_start, 5 / clip->fps, 1e-12);
+    rf_animation *copy = rf_animation_copy(part.out);
+    assert_non_null(copy);
+    assert_float_equal(copy->source_start, part.out->source_start, 0);
+    rf_animation_free(copy);
     run_free(&all), run_free(&part);
     o.first_frame = 20, o.last_frame = -1;
     char err[256];

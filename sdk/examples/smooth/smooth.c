@@ -27,6 +27,7 @@ static rf_animation *copy_shape(const rf_animation *in)
     size_t n = (size_t)in->joint_count * in->frame_count;
     memcpy(out->translations, in->translations, n * 3 * sizeof(float));
     memcpy(out->channels, in->channels, in->joint_count);
+    out->source_start = in->source_start; /* the same timeline */
     return out;
 }
 

@@ -101,6 +101,7 @@ static inline rf_animation *rf_animation_copy(const rf_animation *a)
     memcpy(c->rotations, a->rotations, n * 4 * sizeof *a->rotations);
     memcpy(c->translations, a->translations, n * 3 * sizeof *a->translations);
     memcpy(c->channels, a->channels, a->joint_count);
+    c->source_start = RF_HAS_FIELD(a, rf_animation, source_start) ? a->source_start : 0;
     c->name = rf_strdup(a->name);
     if (a->name && !c->name) {
         rf_animation_free(c);

@@ -158,6 +158,11 @@ typedef struct rf_animation {
     float *rotations;    /* [frame][joint][4]: local rotation quaternion x, y, z, w */
     float *translations; /* [frame][joint][3]: local translation (the rest one where not keyed) */
     uint8_t *channels;   /* [joint]: rf_channel_flags, what the source keyed */
+    /* 1.4: the time (seconds) in the clip this one was made from that its frame 0 plays, so a
+     * node comparing it with that clip (retarget.measure against the retarget's sources) lines
+     * the two up: a retarget from its first_frame sets it; 0 for a clip that starts where its
+     * source does or has none. A node deriving a clip on the same timeline keeps it. */
+    double source_start;
 } rf_animation;
 
 /* An animation with all rotations identity and translations zero, or NULL when out of memory or

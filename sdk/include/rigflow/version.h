@@ -22,9 +22,10 @@ extern "C" {
  *   1.2  the mesh's look (UV sets, colours, tangents, part materials, materials, images) and
  *        morph targets; every clip's motion on a clip list
  *   1.3  node types that may process beside other nodes (rf_node_desc.flags,
- *        RF_NODE_CONCURRENT) and the stream they print on (rf_host.out) */
+ *        RF_NODE_CONCURRENT) and the stream they print on (rf_host.out)
+ *   1.4  where in its source's timeline a clip starts (rf_animation.source_start) */
 #define RF_ABI_VERSION_MAJOR 1
-#define RF_ABI_VERSION_MINOR 3
+#define RF_ABI_VERSION_MINOR 4
 #define RF_ABI_VERSION_PATCH 0
 
 typedef struct rf_version {
