@@ -215,8 +215,16 @@ rf_animation *rf_retarget_clip(rf_retarget *rt, rf_rt_progress_fn progress, void
 {
     double count = rt_output_frames(rt);
     if (!(count >= 1)) {
-        rf_rt_fail(err, err_size, "the frame range %u..%d is empty (the clip has %u frames)",
-                   rt->opt.first_frame, rt->opt.last_frame, rt->src[0].anim->frame_count);
+        uint32_t have = rt->src[0].anim->frame_count;
+        if (!have)
+            rf_rt_fail(err, err_size, "the source clip has no frames: nothing to retarget");
+        else if (rt->opt.first_frame >= have)
+            rf_rt_fail(err, err_size,
+                       "first_frame %u is past the source clip's last frame (%u frames: 0..%u)",
+                       rt->opt.first_frame, have, have - 1);
+        else
+            rf_rt_fail(err, err_size, "the frame range %u..%d is empty (the clip has %u frames)",
+                       rt->opt.first_frame, rt->opt.last_frame, have);
         return NULL;
     }
     if (!(count < UINT32_MAX)) {

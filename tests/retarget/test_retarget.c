@@ -703,7 +703,9 @@ static void frame_range(void **state)
     rf_rt_source s = {src, clip};
     rf_retarget *rt = rf_retarget_new(&s, 1, tgt, m, &o, err, sizeof err);
     assert_null(rf_retarget_clip(rt, NULL, NULL, err, sizeof err));
-    assert_non_null(strstr(err, "empty"));
+    /* the message says which end is wrong, and the frames there are */
+    if (!strstr(err, "first_frame 20 is past the source clip's last frame (12 frames: 0..11)"))
+        fail_msg("unexpected message: %s", err);
     rf_retarget_free(rt);
     rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
