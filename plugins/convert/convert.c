@@ -13,6 +13,7 @@
  */
 #define _GNU_SOURCE /* dladdr: where this plugin's file is */
 #include <dlfcn.h>
+#include <math.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,6 +25,7 @@
 #include "rigflow/aimport-node.h"
 #include "rigflow/bvh.h"
 #include "rigflow/gltf-write.h"
+#include "rigflow/model-copy.h"
 
 #include "bone-mesh.h"
 #include "convert-assimp.h"
@@ -187,6 +189,47 @@ static bool rf_cv_export_create(const rf_host *host, rf_node *node, void **self)
     return false;
 }
 
+/* How far a rest hanging from the origin reaches under it along up: 0 unless the skeleton has
+ * one root resting at the origin and no bind pose (BVH files hang the body from the origin and
+ * their clips place the hips over the origin's plane, the floor they stand on). */
+static double rf_cv_rest_depth(const rf_skeleton *s, rf_vec3 up)
+{
+    uint32_t roots = 0;
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        roots += s->joints[j].parent < 0;
+    bool bind = RF_HAS_FIELD(s, rf_skeleton, bind) && s->bind;
+    rf_xform *w = roots == 1 && !bind ? malloc(s->joint_count * sizeof *w) : NULL;
+    if (!w)
+        return 0;
+    rf_skeleton_world_rest(s, w);
+    double low = 0, high = 0;
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        double h = rf_v3_dot(w[j].t, up);
+        low = fmin(low, h), high = fmax(high, h);
+    }
+    bool at_origin = rf_v3_len(w[0].t) <= 1e-6 * fmax(high - low, 1e-12);
+    free(w);
+    return at_origin ? -low : 0;
+}
+
+/* A copy of `s` whose rest stands on the origin's plane when it hangs under it (see
+ * rf_cv_rest_depth), else NULL: the bone mesh is bound in the rest, and drawn hanging from the
+ * origin it put the rest's floor (a viewer's or a contact sheet's) a leg under where every clip
+ * walks. The clips' root translations are keyed, so they move as before. */
+static rf_skeleton *rf_cv_standing(const rf_skeleton *s, bool *failed)
+{
+    rf_vec3 up = rf_v3_len(s->up) > 0 ? rf_v3_normalize(s->up) : (rf_vec3){0, 1, 0};
+    double depth = rf_cv_rest_depth(s, up);
+    *failed = false;
+    if (!(depth > 0))
+        return NULL;
+    rf_skeleton *c = rf_skeleton_copy(s);
+    *failed = !c;
+    if (c)
+        c->joints[0].rest.t = rf_v3_add(c->joints[0].rest.t, rf_v3_scale(up, depth));
+    return c;
+}
+
 /* glTF, with the bones drawn as a mesh when asked for and no mesh is given. */
 static bool rf_cv_export_gltf(const rf_host *host, rf_node *node, const char *path,
                               const char *target, const rf_skeleton *s, const rf_animation **a,
@@ -194,10 +237,19 @@ static bool rf_cv_export_gltf(const rf_host *host, rf_node *node, const char *pa
 {
     char err[1024];
     rf_mesh *bones = NULL;
+    rf_skeleton *standing = NULL;
     if (host->param_bool(node, "bone_mesh") && !(m && m->vertex_count && m->triangle_count)) {
+        bool failed;
+        standing = rf_cv_standing(s, &failed);
+        if (failed) {
+            host->error(node, "%s: out of memory", target);
+            return false;
+        }
+        s = standing ? standing : s;
         m = bones = rf_cv_bone_mesh(s, err, sizeof err);
         if (!bones) {
             host->error(node, "%s: bone_mesh: %s", target, err);
+            rf_skeleton_free(standing);
             return false;
         }
     } else if (host->param_bool(node, "bone_mesh")) {
@@ -209,6 +261,7 @@ static bool rf_cv_export_gltf(const rf_host *host, rf_node *node, const char *pa
     if (!ok)
         host->error(node, "%s", err);
     rf_mesh_free(bones);
+    rf_skeleton_free(standing);
     return ok;
 }
 

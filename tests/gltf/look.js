@@ -8,6 +8,9 @@
 //                                       defaults applied; images compared by content)
 //   node look.js three FILE.glb...      loads each with three.js's GLTFLoader; exit 1 when one
 //                                       fails or loses a material's texture, 77 without 'three'
+//   node look.js stand FILE.glb         prints "median M p5 P" of the frames' lowest skin joint
+//                                       over the rest's lowest (what a viewer or a contact sheet
+//                                       takes as the floor), in fractions of the rest's height
 // The npm package is looked up as validate.js does ($RF_NPM_DIR, $RF_BUILDDIR/npm/node_modules).
 'use strict';
 const fs = require('fs');
@@ -206,12 +209,75 @@ async function three(files) {
     return failed ? 1 : 0;
 }
 
+// Rotates v by the unit quaternion q (x, y, z, w).
+function qRotate(q, v) {
+    const [x, y, z, w] = q;
+    const tx = 2 * (y * v[2] - z * v[1]), ty = 2 * (z * v[0] - x * v[2]), tz = 2 * (x * v[1] - y * v[0]);
+    return [v[0] + w * tx + (y * tz - z * ty), v[1] + w * ty + (z * tx - x * tz), v[2] + w * tz + (x * ty - y * tx)];
+}
+
+function qMul(a, b) {
+    return [a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1], a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
+            a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3], a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2]];
+}
+
+// Heights (y) of the first skin's joints with each node's translation and rotation given by
+// `local(i)` (scale left out: the exports write none).
+function jointHeights(g, local) {
+    const nodes = g.json.nodes, parent = new Map(), world = new Map();
+    nodes.forEach((n, i) => (n.children || []).forEach((c) => parent.set(c, i)));
+    const at = (i) => {
+        if (world.has(i)) return world.get(i);
+        const [t, r] = local(i);
+        let w = { t: t.slice(), r: r.slice() };
+        if (parent.has(i)) {
+            const p = at(parent.get(i)), d = qRotate(p.r, t);
+            w = { t: [p.t[0] + d[0], p.t[1] + d[1], p.t[2] + d[2]], r: qMul(p.r, r) };
+        }
+        world.set(i, w);
+        return w;
+    };
+    return g.json.skins[0].joints.map((j) => at(j).t[1]);
+}
+
+// How the animated joints stand over the rest's floor: the first clip's every key time.
+function stand(file) {
+    const g = readGlb(file), nodes = g.json.nodes;
+    const rest = (i) => [nodes[i].translation || [0, 0, 0], nodes[i].rotation || [0, 0, 0, 1]];
+    const restY = jointHeights(g, rest), floor = Math.min(...restY);
+    const height = Math.max(...restY) - floor;
+    const keyed = new Map(), a = g.json.animations[0];
+    let frames = 0;
+    for (const c of a.channels) {
+        const v = floats(g, a.samplers[c.sampler].output), n = c.target.path === 'rotation' ? 4 : 3;
+        if (c.target.path === 'scale') continue;
+        keyed.set(`${c.target.node} ${c.target.path}`, { v, n });
+        frames = Math.max(frames, v.length / n);
+    }
+    const key = (i, p, f, dflt) => {
+        const k = keyed.get(`${i} ${p}`);
+        if (!k) return dflt;
+        const at = Math.min(f, k.v.length / k.n - 1) * k.n;
+        return Array.from(k.v.subarray(at, at + k.n));
+    };
+    const lows = [];
+    for (let f = 0; f < frames; f++) {
+        const y = jointHeights(g, (i) => [key(i, 'translation', f, rest(i)[0]), key(i, 'rotation', f, rest(i)[1])]);
+        lows.push((Math.min(...y) - floor) / height);
+    }
+    lows.sort((p, q) => p - q);
+    const q = (x) => lows[Math.floor(x * (lows.length - 1))];
+    console.log(`median ${q(0.5).toFixed(4)} p5 ${q(0.05).toFixed(4)}`);
+    return 0;
+}
+
 async function main() {
     const [cmd, ...args] = process.argv.slice(2);
     if (cmd === 'counts') return args.forEach(counts), 0;
     if (cmd === 'same') return same(args[0], args[1]);
     if (cmd === 'three') return three(args);
-    console.log('usage: look.js counts|same|three FILE...');
+    if (cmd === 'stand') return stand(args[0]);
+    console.log('usage: look.js counts|same|three|stand FILE...');
     return 2;
 }
 

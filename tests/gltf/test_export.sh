@@ -143,7 +143,21 @@ if "$node" "$look" counts "$tmp/dme_rest_cmu.glb" | grep -q "animations=1 skins=
 if run "$convert_p" -p "source.path=$data/bvh/cmu_01_01.bvh" -p export.bone_mesh=true \
     -p "export.path=$tmp/bones.glb" && "$node" "$look" counts "$tmp/bones.glb" |
     grep -q "animations=1 skins=1 meshes=1"; then ok; else ko "bone_mesh: expected a skinned mesh"; fi
-outs="$outs $tmp/wizard3.glb $tmp/sheet.glb $tmp/bones.glb"
+# ... standing on the floor its clips stand on: a BVH hangs its rest from the origin, and drawn
+# there the rest's lowest point (a viewer's or a contact sheet's floor) lay 73% of the body's
+# height under the walking feet (CMU's own clip; the Bandai kick retargeted onto it 75%); now
+# the CMU clip's toes stand 5% over it, the retargeted kick 6.5%
+stands() { # FILE LABEL: the median frame's lowest joint within 15% of the height over the rest's
+    m=$("$node" "$look" stand "$1" | awk '{ print $2 }')
+    if awk -v m="$m" 'BEGIN { exit !(m >= -0.02 && m <= 0.15) }'; then ok; else
+        ko "$2: lowest joint a median ${m:-?} of the height over the rest's floor, expected 0-0.15"; fi
+}
+stands "$tmp/bones.glb" "bone_mesh cmu_01_01"
+if run "$retarget_p" -p "source.path=$data/bvh/bandai_kick.bvh" -p "target.path=$data/bvh/cmu_01_01.bvh" \
+    -p export.bone_mesh=true -p "export.path=$tmp/kick.glb"; then
+    stands "$tmp/kick.glb" "bandai_kick onto cmu_01_01 with bone_mesh"
+else ko "bandai_kick onto cmu_01_01"; fi
+outs="$outs $tmp/wizard3.glb $tmp/sheet.glb $tmp/bones.glb $tmp/kick.glb"
 
 # ---- round trips keep images and materials ----
 for b in Fox Wizard RobotExpressive vrm_sample girl; do
