@@ -191,16 +191,19 @@ static bool rf_cv_export_create(const rf_host *host, rf_node *node, void **self)
 
 /* How far a rest hanging from the origin reaches under it along up: 0 unless the skeleton has
  * one root resting at the origin and no bind pose (BVH files hang the body from the origin and
- * their clips place the hips over the origin's plane, the floor they stand on). */
+ * their clips place the hips over the origin's plane, the floor they stand on); NAN when out of
+ * memory. */
 static double rf_cv_rest_depth(const rf_skeleton *s, rf_vec3 up)
 {
     uint32_t roots = 0;
     for (uint32_t j = 0; j < s->joint_count; j++)
         roots += s->joints[j].parent < 0;
     bool bind = RF_HAS_FIELD(s, rf_skeleton, bind) && s->bind;
-    rf_xform *w = roots == 1 && !bind ? malloc(s->joint_count * sizeof *w) : NULL;
-    if (!w)
+    if (roots != 1 || bind)
         return 0;
+    rf_xform *w = malloc(s->joint_count * sizeof *w);
+    if (!w)
+        return NAN;
     rf_skeleton_world_rest(s, w);
     double low = 0, high = 0;
     for (uint32_t j = 0; j < s->joint_count; j++) {
@@ -220,7 +223,7 @@ static rf_skeleton *rf_cv_standing(const rf_skeleton *s, bool *failed)
 {
     rf_vec3 up = rf_v3_len(s->up) > 0 ? rf_v3_normalize(s->up) : (rf_vec3){0, 1, 0};
     double depth = rf_cv_rest_depth(s, up);
-    *failed = false;
+    *failed = isnan(depth);
     if (!(depth > 0))
         return NULL;
     rf_skeleton *c = rf_skeleton_copy(s);
