@@ -1374,6 +1374,85 @@ void rf_rig_shoulder(const rf_rig_surface *sf, double longest, rf_vec3 up, const
     }
 }
 
+#define RF_RIG_CROTCH_GAP 0.5 /* the width between the legs against the trunk's above them */
+#define RF_RIG_CROTCH_STEPS 40
+
+/* The height where a biped's trunk closes over its legs (the crotch, or the pelvis inside a
+ * skirt or robe), walked up from where its legs branch (mid-way between their first joints
+ * f0, f1) to its arms' height ya along the line through that mid-point: below it, the rays
+ * across the body (between the legs, towards them) meet the legs' inner sides close by; above
+ * it they run through the trunk, more than 1 / RF_RIG_CROTCH_GAP times as wide. The curve
+ * skeleton parts the legs lower, where the cloth or the thighs part from each other: at the
+ * hem of a skirt or robe (the girl, the Wizard, BCN_Epileptic), and a little under the crotch
+ * of a slim figure. NAN when the trunk is met at the branch already, or a ray leaves the mesh
+ * (a bird's legs under its body). */
+static double rf_rig_crotch(const rf_rig_surface *sf, rf_vec3 up, const double f0[3],
+                            const double f1[3], double ya)
+{
+    rf_vec3 side = rf_v3(f1[0] - f0[0], f1[1] - f0[1], f1[2] - f0[2]);
+    side = rf_v3_sub(side, rf_v3_scale(up, rf_v3_dot(side, up)));
+    double yb = 0.5 * (rf_rig_along(f0, up) + rf_rig_along(f1, up)), ahead, low = INFINITY;
+    if (rf_v3_len(side) <= 0 || !(ya > yb))
+        return NAN;
+    side = rf_v3_normalize(side);
+    for (int i = 0; i <= RF_RIG_CROTCH_STEPS; i++) {
+        double y = yb + (ya - yb) * i / RF_RIG_CROTCH_STEPS, q[3];
+        for (int c = 0; c < 3; c++)
+            q[c] = 0.5 * (f0[c] + f1[c]) + (y - yb) * (c == 0 ? up.x : c == 1 ? up.y : up.z);
+        double w = rf_rig_width(sf, q, side, &ahead);
+        if (!isfinite(w))
+            return NAN;
+        if (w * RF_RIG_CROTCH_GAP > low)
+            return i > 0 ? y : NAN;
+        low = fmin(low, w);
+    }
+    return NAN;
+}
+
+/* The height a biped's trunk closes over its legs (rf_rig_crotch), or NAN: only for two laid
+ * legs and arms, on a body without wings (a bird's or a bat's legs hang under a body that
+ * closes at once, and its wings are no arms to measure up to). The legs' indices into leg[]. */
+static double rf_rig_hips_at(const rf_rig_surface *sf, rf_vec3 up, const rf_rig_skel *k,
+                             const rf_rig_limb *limbs, uint32_t nl, const uint8_t *laid,
+                             uint32_t leg[2])
+{
+    uint32_t nlegs = 0, narms = 0;
+    double ya = 0;
+    for (uint32_t i = 0; i < nl; i++) {
+        if (!laid[i])
+            continue;
+        if (limbs[i].kind == RF_RIG_LIMB_ARM)
+            ya += rf_rig_along(k->pos + (size_t)limbs[i].first * 3, up), narms++;
+        else if (nlegs++ < 2)
+            leg[nlegs - 1] = i;
+    }
+    if (!sf || nlegs != 2 || !narms)
+        return NAN;
+    return rf_rig_crotch(sf, up, k->pos + (size_t)limbs[leg[0]].first * 3,
+                         k->pos + (size_t)limbs[leg[1]].first * 3, ya / narms);
+}
+
+/* A biped's legs laid again when their hips (pos[0]) lie under the height yc where its trunk
+ * closes over them: the layout lays the hip a fraction (upleg) down a curve that runs from the
+ * legs' girdle straight down inside a skirt to the hem, 0.10 to 0.22 of the longest edge under
+ * the artist's hips. The curve is started instead above the girdle, as high as puts the hip at
+ * yc on a leg hanging straight to its tip, so hip, knee and ankle spread over the whole leg.
+ * False when out of memory. */
+static bool rf_rig_legs_raise(const rf_rig_skel *k, rf_vec3 up, const rf_rig_limb *lm, double yc,
+                              double cut, double pos[4][3], double tip[3])
+{
+    double hip = rf_rig_along(pos[0], up), foot = rf_rig_along(tip, up);
+    double f = lm->lay->upleg, top = (yc - f * foot) / (1 - f);
+    const double *g = k->pos + (size_t)lm->girdle * 3;
+    if (!(hip < yc) || !(top > rf_rig_along(g, up)))
+        return true;
+    double start[3];
+    for (int c = 0; c < 3; c++)
+        start[c] = g[c] + (top - rf_rig_along(g, up)) * (c == 0 ? up.x : c == 1 ? up.y : up.z);
+    return rf_rig_limb_place_within(k, up, lm->girdle, lm->first, lm->kind, lm->lay, start, cut,
+                                    pos, tip);
+}
+
 /* k with each limb's joints (its first joint and all below it) replaced by the four its layout
  * places along the limb's curve, hanging from its girdle (or from a chest joint put on the
  * trunk where a pair of arms leaves it, rf_rig_chest). Limbs inside another limb, or whose
@@ -1446,36 +1525,54 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
     uint8_t *wing = ok ? calloc(cap, 1) : NULL;
     bool wings = false;
     ok = ok && wing;
+    double(*lp)[4][3] = ok ? malloc(nl * sizeof *lp) : NULL; /* each limb's joints, as laid */
+    double(*tips)[3] = ok ? malloc(nl * sizeof *tips) : NULL;
+    uint8_t is_wing[RF_RIG_MAX_LIMBS] = {0};
+    double cuts[RF_RIG_MAX_LIMBS] = {0};
+    ok = ok && lp && tips;
     for (uint32_t i = 0; ok && i < nl; i++) {
         if (!laid[i])
             continue;
-        double pos[4][3], tip[3], cut = 0;
+        double(*pos)[3] = lp[i], cut = 0;
         bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == chest_g;
         for (uint32_t m = 0; m < nl; m++) /* a limb reaching far past its mirror image's reach */
             if (laid[m] && limbs[m].sec == limbs[i].mirror)
                 cut = rf_rig_limb_prop_cut(reach[i], reach[m]);
         if (!rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
-                                      limbs[i].lay, chested ? at : NULL, cut, pos, tip)) {
+                                      limbs[i].lay, chested ? at : NULL, cut, pos, tips[i])) {
             ok = false;
             break;
         }
         if (limbs[i].kind == RF_RIG_LIMB_ARM && sf) /* sf: p given and its surface made */
             rf_rig_shoulder(sf, p->longest, rf_v3_normalize(a->up),
                             chested ? at : k->pos + (size_t)limbs[i].girdle * 3, limbs[i].lay, pos);
-        int32_t parent = chested ? chest : to[limbs[i].girdle];
         double laid_reach = cut > 0 ? fmin(cut, reach[i]) : reach[i];
-        bool is_wing =
+        cuts[i] = cut;
+        is_wing[i] =
             limbs[i].kind == RF_RIG_LIMB_ARM && legs > 0 && laid_reach > RF_RIG_WING_REACH * legs;
-        wings = wings || is_wing;
+        wings = wings || is_wing[i];
+    }
+    uint32_t leg[2];
+    double yc =
+        ok && !wings ? rf_rig_hips_at(sf, rf_v3_normalize(a->up), k, limbs, nl, laid, leg) : NAN;
+    for (int s = 0; s < 2 && isfinite(yc) && ok; s++)
+        ok = rf_rig_legs_raise(k, rf_v3_normalize(a->up), &limbs[leg[s]], yc, cuts[leg[s]],
+                               lp[leg[s]], tips[leg[s]]);
+    for (uint32_t i = 0; ok && i < nl; i++) {
+        if (!laid[i])
+            continue;
+        bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == chest_g;
+        int32_t parent = chested ? chest : to[limbs[i].girdle];
         for (int m = 0; m < 4; m++) {
             uint32_t j = o.n++;
-            wing[j] = is_wing && m > 0; /* the clavicle stays with the body */
-            memcpy(o.pos + (size_t)j * 3, pos[m], sizeof pos[m]);
+            wing[j] = is_wing[i] && m > 0; /* the clavicle stays with the body */
+            memcpy(o.pos + (size_t)j * 3, lp[i][m], sizeof lp[i][m]);
             o.parent[j] = parent, o.has_tip[j] = 0, parent = (int32_t)j;
         }
-        memcpy(o.tip + (size_t)parent * 3, tip, sizeof tip);
+        memcpy(o.tip + (size_t)parent * 3, tips[i], sizeof tips[i]);
         o.has_tip[parent] = 1;
     }
+    free(lp), free(tips);
     rf_vec3 facing = ok && wings ? rf_rig_level_facing(a->up, a) : rf_v3(0, 0, 0);
     if (ok && p && rf_v3_len(facing) > 0)
         ok = rf_rig_skel_chord(p, &o, wing, facing, RF_RIG_WING_EDGE);
