@@ -1099,6 +1099,45 @@ static bool rf_rig_heat_agrees(const rf_rig_prep *p, uint32_t q, uint32_t nj, co
     return share > 0.5 * n;
 }
 
+/* Whether loose part q is a low-poly box holding the bones of more joints than it can bend at:
+ * not the body, not moved by one joint already, and with fewer than four vertices for each joint
+ * whose bones it holds (a piece modelled to bend has four or more, RF_RIG_PIECE_JOINTS). A box of
+ * four-sided rings bends only at a ring, and fewer rings than joints cannot follow them: an
+ * eight-corner leg box holding a cat's hips' bone and four leg bones, a horse's lower leg of
+ * three rings holding five. Eight corners around the bones of two joints stay blended: the
+ * artists of the animalia bird and owl blend such a box. */
+static bool rf_rig_is_box(const double *held, const double *sum, const uint32_t *owner,
+                          const uint32_t *verts, uint32_t largest, uint32_t nj, uint32_t q)
+{
+    uint32_t joints = 0;
+    for (uint32_t j = 0; j < nj; j++)
+        joints += held[(size_t)q * nj + j] > 0;
+    return q != largest && sum[q] > 0 && owner[q] == RF_RIG_NONE && verts[q] < 4 * joints;
+}
+
+/* The joint a low-poly box moves with alone: the deepest joint whose bones below it, its own
+ * included, hold more than half the bone length inside the box (h, [nj], total its sum), where
+ * the bones inside it are split in half along the chain; the joint holding the most may be the
+ * hips, whose bone runs into the top of a cat's leg box ahead of the leg's four short bones. That
+ * joint must pivot inside the box, its parent's bone held there too: a bone entering a box from
+ * a pivot outside it (the hips' into the animalia fox's tail box) is the body's, and the box
+ * keeps its blend (RF_RIG_NONE; after the matcher .72 / .73 on the fox, .85 / .86 kept). sub is
+ * scratch, [nj]. */
+static uint32_t rf_rig_box_owner(const rf_rig_skel *s, const double *h, double total, double *sub)
+{
+    uint32_t nj = s->n, owner = RF_RIG_NONE;
+    memcpy(sub, h, nj * sizeof *sub);
+    for (uint32_t c = nj; c-- > 0;)
+        if (s->parent[c] >= 0)
+            sub[s->parent[c]] += sub[c];
+    for (uint32_t j = 0; j < nj; j++)
+        if (h[j] > 0 && sub[j] > 0.5 * total && (owner == RF_RIG_NONE || sub[j] < sub[owner]))
+            owner = j;
+    if (owner != RF_RIG_NONE && !(s->parent[owner] >= 0 && h[s->parent[owner]] > 0))
+        owner = RF_RIG_NONE;
+    return owner;
+}
+
 /* A part enclosing the bones of this many joints or more, with at least four vertices for each,
  * is a piece modelled to deform (a head carrying a jaw, lips, eyes and a ponytail; an arm with
  * its hand), not a box: the boxes of the artists' box models hold the bones of one to four
@@ -1137,6 +1176,9 @@ static bool rf_rig_branches(const rf_rig_skel *s, const double *held, uint8_t *s
  * does: each face joint then owns its region as the artists give it (BCN_Epileptic 72% -> 74%
  * precision on its artist's skeleton). Where they run as one chain it takes the plain rows:
  * sharpened, a loose spider leg of five joints' bones was drawn into a spike under the CMU walk.
+ * A low-poly box holding more joints' bones than it has rings to bend at moves with the joint
+ * pivoting inside it where its bones split in half (rf_rig_is_box, rf_rig_box_owner): blended, an
+ * animalia cat's leg boxes and a horse's lower legs sheared into wedges under the CMU walk.
  * The part with the largest surface (the body) moves with one joint only when bone heat
  * agrees, giving that joint more than half of it: a box model's body box holding the torso's
  * bone (the animalia bird's, the owl's), a robot's head piece holding the head's; a bat's body
@@ -1187,6 +1229,12 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, co
     if (ok && owner[largest] != RF_RIG_NONE &&
         !rf_rig_heat_agrees(p, largest, nj, w, owner[largest]))
         owner[largest] = RF_RIG_NONE;
+    double *sub = ok ? malloc((nj + 1) * sizeof *sub) : NULL;
+    ok = ok && sub;
+    for (uint32_t q = 0; ok && q < np; q++)
+        if (rf_rig_is_box(held, sum, owner, verts, largest, nj, q))
+            owner[q] = rf_rig_box_owner(s, held + (size_t)q * nj, sum[q], sub);
+    free(sub);
     ok = ok && rf_rig_boneless_owners(p, bends, sum, largest, nj, w, owner);
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
         if (p->proxy_part[i] != largest && sum[p->proxy_part[i]] > 0 &&

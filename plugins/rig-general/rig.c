@@ -663,15 +663,24 @@ no_memory:
     return rf_rig_oom(err, err_size, "out of memory %s", doing);
 }
 
-bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *k,
-                  const rf_rig_options *o, rf_skeleton *s, rf_mesh **skinned, rf_rig_stats *st,
-                  char *err, size_t err_size)
+/* Marks in below[] the joints with a joint in used[] below them: a joint inside a chain whose
+ * own bone moves no vertex still bends the chain. */
+static void rf_rig_mark_below(const rf_rig_skel *k, const uint8_t *used, uint8_t *below)
 {
-    double *w = NULL;
-    *skinned = NULL;
-    bool ok = rf_rig_heat(p, k, o, &w, st, err, err_size);
-    rf_mesh *m = ok ? rf_rig_mesh_copy(mesh) : NULL;
-    if (ok && (!m || !rf_rig_skin(mesh, p, k, w, m, st)))
+    for (uint32_t j = k->n; j-- > 0;)
+        if ((used[j] || below[j]) && k->parent[j] >= 0)
+            below[k->parent[j]] = 1;
+}
+
+/* The skin from bone heat's rows w, written into a copy of the mesh, and s's joints that move no
+ * vertex marked unweighted. */
+static bool rf_rig_write_skin(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *k,
+                              const double *w, rf_skeleton *s, rf_mesh **skinned, rf_rig_stats *st,
+                              char *err, size_t err_size)
+{
+    bool ok = true;
+    rf_mesh *m = rf_rig_mesh_copy(mesh);
+    if (!m || !rf_rig_skin(mesh, p, k, w, m, st))
         ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
     /* a joint whose bone won no vertex says so, as artists' helper joints do; out of memory is
      * said, never a rig without those marks (the matcher would drive the joints as body) */
@@ -682,10 +691,7 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
         for (size_t i = 0; i < (size_t)m->vertex_count * 4; i++)
             if (m->skin_weights[i] > 0)
                 used[m->skin_joints[i]] = 1;
-        /* weighted below: a joint inside a chain whose bone won no vertex still bends it */
-        for (uint32_t j = k->n; j-- > 0;)
-            if ((used[j] || below[j]) && k->parent[j] >= 0)
-                below[k->parent[j]] = 1;
+        rf_rig_mark_below(k, used, below);
         for (uint32_t j = 0; j < k->n; j++)
             if (!used[j] && !below[j])
                 s->joints[j].flags |= RF_JOINT_UNWEIGHTED;
@@ -695,6 +701,17 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
         rf_mesh_free(m);
     }
     free(below), free(used);
+    return ok;
+}
+
+bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *k,
+                  const rf_rig_options *o, rf_skeleton *s, rf_mesh **skinned, rf_rig_stats *st,
+                  char *err, size_t err_size)
+{
+    double *w = NULL;
+    *skinned = NULL;
+    bool ok = rf_rig_heat(p, k, o, &w, st, err, err_size) &&
+              rf_rig_write_skin(mesh, p, k, w, s, skinned, st, err, err_size);
     free(w);
     return ok;
 }
@@ -887,6 +904,82 @@ static void rf_rig_drop(rf_rig_skel *k, const uint8_t *drop, int32_t *to)
         n++;
     }
     k->n = n;
+}
+
+/* For each joint j of k, in anc[], j itself when drop[j] is clear, else its nearest ancestor
+ * not dropped; in tip[] ([n][3], set[] flagging which), for a joint left a leaf by the drop, the
+ * point of its dropped joints (pivots, tips) farthest from its pivot. */
+static void rf_rig_drop_ends(const rf_rig_skel *k, const uint8_t *drop, int32_t *anc, double *tip,
+                             uint8_t *set, uint8_t *inner)
+{
+    for (uint32_t j = 0; j < k->n; j++) {
+        int32_t p = k->parent[j];
+        anc[j] = !drop[j] || p < 0 ? (int32_t)j : anc[p];
+        if (!drop[j] && p >= 0)
+            inner[p] = 1;
+    }
+    double *far = tip;
+    for (uint32_t j = 0; j < k->n; j++) {
+        uint32_t a = (uint32_t)anc[j];
+        if (!drop[j] || inner[a])
+            continue;
+        const double *o = k->pos + (size_t)a * 3;
+        for (int e = 0; e < 2; e++) {
+            const double *q = e ? k->tip + (size_t)j * 3 : k->pos + (size_t)j * 3;
+            if (e && !k->has_tip[j])
+                continue;
+            double d = rf_rig_apart2(q, o);
+            if (d > 0 && (!set[a] || d > rf_rig_apart2(far + (size_t)a * 3, o)))
+                memcpy(far + (size_t)a * 3, q, 3 * sizeof *q), set[a] = 1;
+        }
+    }
+}
+
+/* Drops the joints at the ends of chains that no vertex follows (none in the four weights any
+ * proxy vertex keeps, rf_rig_top4, nor below them), folding their columns of w ([proxy
+ * vertex][k->n]) into their nearest kept ancestor's. A low-poly leg box moved by its upper joint
+ * alone (rf_rig_part_joints) leaves the joints inside it bending nothing; kept and marked
+ * unweighted they read as helpers to the matcher, the leg ended at its upper joint with its
+ * bone short of the floor, and the retarget found no foot there (the animalia cat's forelegs
+ * took the human's arms). Dropped, the joint left at the chain's end takes the farthest point
+ * of what was dropped as its tip, and its bone reaches the floor as an artist's one-bone leg's
+ * does. False when out of memory. */
+static bool rf_rig_prune(const rf_rig_prep *p, rf_rig_skel *k, double **w)
+{
+    uint32_t n = k->n, nv = p->proxy.nv, dropped = 0;
+    uint8_t *used = calloc(n + 1, 1), *drop = calloc(n + 1, 1), *set = calloc(n + 1, 1),
+            *inner = calloc(n + 1, 1);
+    int32_t *anc = malloc((n + 1) * sizeof *anc), *to = malloc((n + 1) * sizeof *to);
+    double *tip = malloc((n + 1) * 3 * sizeof *tip);
+    bool ok = used && drop && set && inner && anc && to && tip;
+    for (uint32_t v = 0; ok && v < nv; v++) {
+        uint16_t js[4];
+        float ws[4];
+        rf_rig_top4(*w + (size_t)v * n, n, js, ws);
+        for (int e = 0; e < 4; e++)
+            used[js[e]] |= ws[e] > 0;
+    }
+    if (ok)
+        rf_rig_mark_below(k, used, drop); /* drop[] first holds "followed below" */
+    for (uint32_t j = 0; ok && j < n; j++)
+        drop[j] = k->parent[j] >= 0 && !used[j] && !drop[j], dropped += drop[j];
+    double *kept = ok && dropped ? calloc((size_t)nv * (n - dropped) + 1, sizeof *kept) : NULL;
+    ok = ok && (!dropped || kept);
+    if (ok && dropped) {
+        rf_rig_drop_ends(k, drop, anc, tip, set, inner);
+        for (uint32_t j = 0; j < n; j++)
+            if (set[j])
+                memcpy(k->tip + (size_t)j * 3, tip + (size_t)j * 3, 3 * sizeof *tip),
+                    k->has_tip[j] = 1;
+        rf_rig_drop(k, drop, to);
+        for (uint32_t v = 0; v < nv; v++)
+            for (uint32_t j = 0; j < n; j++)
+                kept[(size_t)v * k->n + (uint32_t)to[anc[j]]] += (*w)[(size_t)v * n + j];
+        free(*w);
+        *w = kept;
+    }
+    free(used), free(drop), free(set), free(inner), free(anc), free(to), free(tip);
+    return ok;
 }
 
 /* The joint where the head's bulk starts: of the joints from the head's first joint h down
@@ -1561,10 +1654,15 @@ static bool rf_rig_general_framed(const rf_mesh *mesh, const rf_rig_options *opt
     rf_rig_options named = o;
     if (ok && !(rf_v3_len(o.forward) > 0) && !rf_rig_pooled_facing(&p, &k, &o, &named.forward))
         ok = rf_rig_fail(err, err_size, "out of memory reading the body's facing");
+    double *w = NULL;
+    ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
+    if (ok && !rf_rig_prune(&p, &k, &w))
+        ok = rf_rig_fail(err, err_size, "out of memory dropping joints that move no vertex");
     rf_skeleton *s = ok ? rf_rig_skeleton(&k, &named) : NULL;
     if (ok && !s)
         ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
-    ok = ok && rf_rig_weigh(mesh, &p, &k, &o, s, skinned, st, err, err_size);
+    ok = ok && rf_rig_write_skin(mesh, &p, &k, w, s, skinned, st, err, err_size);
+    free(w);
     if (ok && progress)
         progress(user, 0.9);
     if (ok)
