@@ -132,6 +132,23 @@ for m in animalia_cat animala_horse animalia_wolf; do
         echo "FAIL: $m: the contact pass found ${feet:-no} feet on a four-legged auto-rig, not 4"
         fail=1
     fi
+    # No chain of the rig ends in joints that move no vertex: the rigger drops them and gives
+    # their reach to the joint above as its bone's tip (a leg box moved by its upper joint is a
+    # one-bone leg reaching the floor, as the artist's). inspect lists each joint with its parent
+    # and marks one without skin "unweighted"; a leaf is a joint no other names as its parent.
+    "$rigflow" inspect "$tmp/$m.glb" >"$tmp/inspect" 2>&1
+    rows='/joint \(tree\)/ { on = 1; next } on && $1 !~ /^[0-9]+$/ { on = 0 } on && NF >= 3'
+    bare=$(awk "$rows"' { n++; name[n] = $2; parent[$3] = 1; bare[n] = /unweighted$/ }
+        END { for (i = 1; i <= n; i++) if (!(name[i] in parent) && bare[i]) printf "%s ", name[i] }' \
+        "$tmp/inspect")
+    joints=$(awk "$rows" "$tmp/inspect" | wc -l)
+    if [ "$joints" -gt 0 ] && [ -z "$bare" ]; then
+        echo "PASS: $m: every chain of its $joints joints ends in a joint that moves skin"
+    else
+        cat "$tmp/inspect"
+        echo "FAIL: $m: ${joints} joints read; chain ends that move no vertex: ${bare:-none}"
+        fail=1
+    fi
 done
 
 # The worst part's joint name comes from the file: with ESC, BEL and a quote in every joint name
