@@ -1138,6 +1138,19 @@ static uint32_t rf_rig_box_owner(const rf_rig_skel *s, const double *h, double t
     return owner;
 }
 
+/* Flags in boxed[] the joints below `owner` whose bones the box it moves (h, [nj]) holds: they
+ * bend nothing of it. */
+static void rf_rig_mark_boxed(const rf_rig_skel *s, const double *h, uint32_t owner, uint8_t *boxed)
+{
+    for (uint32_t j = owner + 1; j < s->n; j++) {
+        int32_t a = s->parent[j];
+        while (a > (int32_t)owner) /* parents come first: an ancestor's index is smaller */
+            a = s->parent[a];
+        if (a == (int32_t)owner && h[j] > 0)
+            boxed[j] = 1;
+    }
+}
+
 /* A part enclosing the bones of this many joints or more, with at least four vertices for each,
  * is a piece modelled to deform (a head carrying a jaw, lips, eyes and a ponytail; an arm with
  * its hand), not a box: the boxes of the artists' box models hold the bones of one to four
@@ -1178,7 +1191,9 @@ static bool rf_rig_branches(const rf_rig_skel *s, const double *held, uint8_t *s
  * sharpened, a loose spider leg of five joints' bones was drawn into a spike under the CMU walk.
  * A low-poly box holding more joints' bones than it has rings to bend at moves with the joint
  * pivoting inside it where its bones split in half (rf_rig_is_box, rf_rig_box_owner): blended, an
- * animalia cat's leg boxes and a horse's lower legs sheared into wedges under the CMU walk.
+ * animalia cat's leg boxes and a horse's lower legs sheared into wedges under the CMU walk. Not
+ * in a layout whose joints must all keep skin (o->keep_joints, the template's): the joints below
+ * that one would move nothing, and the general rigger drops them (rf_rig_prune in rig.c).
  * The part with the largest surface (the body) moves with one joint only when bone heat
  * agrees, giving that joint more than half of it: a box model's body box holding the torso's
  * bone (the animalia bird's, the owl's), a robot's head piece holding the head's; a bat's body
@@ -1187,7 +1202,8 @@ static bool rf_rig_branches(const rf_rig_skel *s, const double *held, uint8_t *s
  * (rf_rig_boneless_owners); an open one keeps its weights. */
 static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, const rf_rig_skel *s,
                                const rf_rig_bone *bones, uint32_t nb, const rf_rig_enclosed *e,
-                               double *w, const double *plain, bool given_bones)
+                               double *w, const double *plain, const rf_rig_options *o,
+                               uint8_t *boxed)
 {
     uint32_t nj = s->n;
     uint32_t np = p->proxy_parts;
@@ -1232,8 +1248,11 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, co
     double *sub = ok ? malloc((nj + 1) * sizeof *sub) : NULL;
     ok = ok && sub;
     for (uint32_t q = 0; ok && q < np; q++)
-        if (rf_rig_is_box(held, sum, owner, verts, largest, nj, q))
+        if (!o->keep_joints && rf_rig_is_box(held, sum, owner, verts, largest, nj, q)) {
             owner[q] = rf_rig_box_owner(s, held + (size_t)q * nj, sum[q], sub);
+            if (boxed && owner[q] != RF_RIG_NONE)
+                rf_rig_mark_boxed(s, held + (size_t)q * nj, owner[q], boxed);
+        }
     free(sub);
     ok = ok && rf_rig_boneless_owners(p, bends, sum, largest, nj, w, owner);
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
@@ -1250,14 +1269,14 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, co
         memset(w + (size_t)i * nj, 0, nj * sizeof *w);
         w[(size_t)i * nj + j] = 1;
     }
-    ok = ok && (given_bones || rf_rig_props(p, largest, sum, bends, area, owner, nj, w));
+    ok = ok && (o->given_bones || rf_rig_props(p, largest, sum, bends, area, owner, nj, w));
     free(ahead), free(behind), free(crossed), free(area), free(owner);
     free(bends), free(piece), free(verts), free(seen);
     return ok;
 }
 
 bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_options *o, double **w,
-                 rf_rig_stats *st, char *err, size_t n)
+                 uint8_t *boxed, rf_rig_stats *st, char *err, size_t n)
 {
     uint64_t available = 0;
     bool known = rf_memory_available(&available);
@@ -1297,7 +1316,7 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     if (ok)
         rf_rig_normalise(p, bones, nb, nj, *w, plain, st);
     if (ok && p->proxy_parts > 1 &&
-        !rf_rig_part_joints(p, &rays, s, bones, nb, &enc, *w, plain, o->given_bones))
+        !rf_rig_part_joints(p, &rays, s, bones, nb, &enc, *w, plain, o, boxed))
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     rf_rig_rays_free(&rays);
     rf_rig_enclosed_free(&enc);

@@ -710,7 +710,7 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
 {
     double *w = NULL;
     *skinned = NULL;
-    bool ok = rf_rig_heat(p, k, o, &w, st, err, err_size) &&
+    bool ok = rf_rig_heat(p, k, o, &w, NULL, st, err, err_size) &&
               rf_rig_write_skin(mesh, p, k, w, s, skinned, st, err, err_size);
     free(w);
     return ok;
@@ -936,15 +936,16 @@ static void rf_rig_drop_ends(const rf_rig_skel *k, const uint8_t *drop, int32_t 
 }
 
 /* Drops the joints at the ends of chains that no vertex follows (none in the four weights any
- * proxy vertex keeps, rf_rig_top4, nor below them), folding their columns of w ([proxy
- * vertex][k->n]) into their nearest kept ancestor's. A low-poly leg box moved by its upper joint
- * alone (rf_rig_part_joints) leaves the joints inside it bending nothing; kept and marked
- * unweighted they read as helpers to the matcher, the leg ended at its upper joint with its
+ * proxy vertex keeps, rf_rig_top4, nor below them) where a low-poly box holds them (boxed[],
+ * from rf_rig_heat), folding their columns of w ([proxy vertex][k->n]) into their nearest kept
+ * ancestor's. Elsewhere such a joint stays, flagged unweighted. A low-poly leg box moved by its
+ * upper joint alone (rf_rig_part_joints) leaves the joints inside it bending nothing; kept and
+ * marked unweighted they read as helpers to the matcher, the leg ended at its upper joint with its
  * bone short of the floor, and the retarget found no foot there (the animalia cat's forelegs
  * took the human's arms). Dropped, the joint left at the chain's end takes the farthest point
  * of what was dropped as its tip, and its bone reaches the floor as an artist's one-bone leg's
  * does. False when out of memory. */
-static bool rf_rig_prune(const rf_rig_prep *p, rf_rig_skel *k, double **w)
+static bool rf_rig_prune(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *boxed, double **w)
 {
     uint32_t n = k->n, nv = p->proxy.nv, dropped = 0;
     uint8_t *used = calloc(n + 1, 1), *drop = calloc(n + 1, 1), *set = calloc(n + 1, 1),
@@ -959,6 +960,8 @@ static bool rf_rig_prune(const rf_rig_prep *p, rf_rig_skel *k, double **w)
         for (int e = 0; e < 4; e++)
             used[js[e]] |= ws[e] > 0;
     }
+    for (uint32_t j = 0; ok && j < n; j++)
+        used[j] |= !boxed[j]; /* only what a box leaves bending nothing goes */
     if (ok)
         rf_rig_mark_below(k, used, drop); /* drop[] first holds "followed below" */
     for (uint32_t j = 0; ok && j < n; j++)
@@ -1655,9 +1658,13 @@ static bool rf_rig_general_framed(const rf_mesh *mesh, const rf_rig_options *opt
     if (ok && !(rf_v3_len(o.forward) > 0) && !rf_rig_pooled_facing(&p, &k, &o, &named.forward))
         ok = rf_rig_fail(err, err_size, "out of memory reading the body's facing");
     double *w = NULL;
-    ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
-    if (ok && !rf_rig_prune(&p, &k, &w))
+    uint8_t *boxed = ok ? calloc(k.n + 1, 1) : NULL;
+    if (ok && !boxed)
+        ok = rf_rig_fail(err, err_size, "out of memory weighting the rig");
+    ok = ok && rf_rig_heat(&p, &k, &o, &w, boxed, st, err, err_size);
+    if (ok && !rf_rig_prune(&p, &k, boxed, &w))
         ok = rf_rig_fail(err, err_size, "out of memory dropping joints that move no vertex");
+    free(boxed);
     rf_skeleton *s = ok ? rf_rig_skeleton(&k, &named) : NULL;
     if (ok && !s)
         ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
@@ -1896,7 +1903,7 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
     if (ok && !rf_rig_leaf_tips(&p, &k, axis))
         ok = rf_rig_fail(err, err_size, "out of memory");
     free(axis);
-    ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
+    ok = ok && rf_rig_heat(&p, &k, &o, &w, NULL, st, err, err_size);
     m = ok ? rf_rig_mesh_copy(mesh) : NULL;
     if (ok && (!m || !rf_rig_skin(mesh, &p, &k, w, m, st)))
         ok = rf_rig_fail(err, err_size, "out of memory writing the skin");
