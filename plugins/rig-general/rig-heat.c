@@ -1115,6 +1115,15 @@ static bool rf_rig_is_box(const double *held, const double *sum, const uint32_t 
     return q != largest && sum[q] > 0 && owner[q] == RF_RIG_NONE && verts[q] < 4 * joints;
 }
 
+/* Whether joint p of s has exactly one child. */
+static bool rf_rig_only_child(const rf_rig_skel *s, int32_t p)
+{
+    uint32_t kids = 0;
+    for (uint32_t c = 0; c < s->n && kids < 2; c++)
+        kids += s->parent[c] == p;
+    return kids == 1;
+}
+
 /* The joint a low-poly box moves with alone: the deepest joint whose bones below it, its own
  * included, hold more than half the bone length inside the box (h, [nj], total its sum), where
  * the bones inside it are split in half along the chain; the joint holding the most may be the
@@ -1133,8 +1142,19 @@ static uint32_t rf_rig_box_owner(const rf_rig_skel *s, const double *h, double t
     for (uint32_t j = 0; j < nj; j++)
         if (h[j] > 0 && sub[j] > 0.5 * total && (owner == RF_RIG_NONE || sub[j] < sub[owner]))
             owner = j;
-    if (owner != RF_RIG_NONE && !(s->parent[owner] >= 0 && h[s->parent[owner]] > 0))
-        owner = RF_RIG_NONE;
+    if (owner == RF_RIG_NONE || !(s->parent[owner] >= 0 && h[s->parent[owner]] > 0))
+        return RF_RIG_NONE;
+    /* up through short links wholly inside the box, each under a quarter of the bone length the
+     * box holds below the joint: the curve skeleton leaves such links where a limb leaves the
+     * body (the cat's foreleg, 0.02 and 0.04 over a leg of 0.25); below the box's joint they
+     * would bend nothing, and a file read back flags them as joints without skin, which the
+     * matcher leaves out of the leg */
+    for (int32_t p = s->parent[owner]; p >= 0 && rf_rig_only_child(s, p); p = s->parent[owner]) {
+        double link = rf_rig_dist3(s->pos + (size_t)p * 3, s->pos + (size_t)owner * 3);
+        if (!(h[p] >= 0.999 * link && link < 0.25 * sub[owner]))
+            break;
+        owner = (uint32_t)p;
+    }
     return owner;
 }
 

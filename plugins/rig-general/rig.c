@@ -961,7 +961,7 @@ static bool rf_rig_prune(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *bo
             used[js[e]] |= ws[e] > 0;
     }
     for (uint32_t j = 0; ok && j < n; j++)
-        used[j] |= !boxed[j]; /* only what a box leaves bending nothing goes */
+        used[j] = !boxed[j]; /* only what a box leaves bending nothing goes */
     if (ok)
         rf_rig_mark_below(k, used, drop); /* drop[] first holds "followed below" */
     for (uint32_t j = 0; ok && j < n; j++)
