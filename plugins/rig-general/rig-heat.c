@@ -1144,14 +1144,14 @@ static uint32_t rf_rig_box_owner(const rf_rig_skel *s, const double *h, double t
             owner = j;
     if (owner == RF_RIG_NONE || !(s->parent[owner] >= 0 && h[s->parent[owner]] > 0))
         return RF_RIG_NONE;
-    /* up through short links wholly inside the box, each under a quarter of the bone length the
+    /* up through short links wholly inside the box, each under a fifth of the bone length the
      * box holds below the joint: the curve skeleton leaves such links where a limb leaves the
      * body (the cat's foreleg, 0.02 and 0.04 over a leg of 0.25); below the box's joint they
      * would bend nothing, and a file read back flags them as joints without skin, which the
      * matcher leaves out of the leg */
     for (int32_t p = s->parent[owner]; p >= 0 && rf_rig_only_child(s, p); p = s->parent[owner]) {
         double link = rf_rig_dist3(s->pos + (size_t)p * 3, s->pos + (size_t)owner * 3);
-        if (!(h[p] >= 0.999 * link && link < 0.25 * sub[owner]))
+        if (!(h[p] >= 0.999 * link && link < 0.2 * sub[owner]))
             break;
         owner = (uint32_t)p;
     }
