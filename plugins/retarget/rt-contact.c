@@ -79,15 +79,14 @@ static uint8_t rt_tip_foot(const rf_retarget *rt, const int32_t *mp, uint32_t e,
                            double low)
 {
     int32_t p = rt->lparent[e];
-    if (rf_v3_len2(rt->t_tip[e]) == 0 || p < 0)
+    if (rf_v3_len2(rt->t_tip[e]) == 0 || p < 0 || mp[e] != p)
         return RT_TIP_NONE;
     rf_vec3 tip = rf_xform_point(rt->t_rest_world[e], rt->t_tip[e]);
     rf_vec3 bone = rf_v3_sub(rt->t_rest_world[e].t, tip);
     if (!(rf_rt_height(rt->up, bone) > 0.7 * rf_v3_len(bone)) ||
         rf_rt_height(rt->up, tip) - rest_low > low * rt->leg_target)
         return RT_TIP_NONE;
-    /* a parent left unmapped is no limb joint to bend with e: e alone is aimed */
-    return mp[e] != p || rt->tj[p].root_motion || rt->t_centerline[p] ? RT_TIP_AIM : RT_TIP_CHAIN;
+    return rt->tj[p].root_motion || rt->t_centerline[p] ? RT_TIP_AIM : RT_TIP_CHAIN;
 }
 
 static void rt_effector_add(rf_retarget *rt, uint32_t f, uint32_t src_joint, uint8_t tip)
