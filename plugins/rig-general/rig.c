@@ -906,9 +906,29 @@ static void rf_rig_drop(rf_rig_skel *k, const uint8_t *drop, int32_t *to)
     k->n = n;
 }
 
+/* Moves end along the line from o through it until it lies as far along that line as q does,
+ * when q lies farther. */
+static void rf_rig_reach_along(const double *o, double *end, const double *q)
+{
+    double dir[3], len = sqrt(rf_rig_apart2(end, o)), along = 0;
+    for (int c = 0; c < 3; c++)
+        dir[c] = (end[c] - o[c]) / len, along += (q[c] - o[c]) * dir[c];
+    if (along > len)
+        for (int c = 0; c < 3; c++)
+            end[c] = o[c] + along * dir[c];
+}
+
+/* The point among joint j's pivot (e 0) and tip (e 1, when it has one) of k, or NULL. */
+static const double *rf_rig_point(const rf_rig_skel *k, uint32_t j, int e)
+{
+    return e ? (k->has_tip[j] ? k->tip + (size_t)j * 3 : NULL) : k->pos + (size_t)j * 3;
+}
+
 /* For each joint j of k, in anc[], j itself when drop[j] is clear, else its nearest ancestor
- * not dropped; in tip[] ([n][3], set[] flagging which), for a joint left a leaf by the drop, the
- * point of its dropped joints (pivots, tips) farthest from its pivot. */
+ * not dropped; in tip[] ([n][3], set[] flagging which), for a joint a left a leaf by the drop,
+ * the end of its new bone: along the line to the dropped pivot farthest from a's, as far as any
+ * dropped pivot or tip reaches along it. The farthest point itself may be a leaf's tip aimed
+ * aside (to the gap between two legs), the line of pivots is the leg's. */
 static void rf_rig_drop_ends(const rf_rig_skel *k, const uint8_t *drop, int32_t *anc, double *tip,
                              uint8_t *set, uint8_t *inner)
 {
@@ -918,21 +938,22 @@ static void rf_rig_drop_ends(const rf_rig_skel *k, const uint8_t *drop, int32_t 
         if (!drop[j] && p >= 0)
             inner[p] = 1;
     }
-    double *far = tip;
-    for (uint32_t j = 0; j < k->n; j++) {
-        uint32_t a = (uint32_t)anc[j];
-        if (!drop[j] || inner[a])
-            continue;
-        const double *o = k->pos + (size_t)a * 3;
-        for (int e = 0; e < 2; e++) {
-            const double *q = e ? k->tip + (size_t)j * 3 : k->pos + (size_t)j * 3;
-            if (e && !k->has_tip[j])
+    for (int pass = 0; pass < 2; pass++)
+        for (uint32_t j = 0; j < k->n; j++) {
+            uint32_t a = (uint32_t)anc[j];
+            if (!drop[j] || inner[a])
                 continue;
-            double d = rf_rig_apart2(q, o);
-            if (d > 0 && (!set[a] || d > rf_rig_apart2(far + (size_t)a * 3, o)))
-                memcpy(far + (size_t)a * 3, q, 3 * sizeof *q), set[a] = 1;
+            const double *o = k->pos + (size_t)a * 3;
+            double *end = tip + (size_t)a * 3;
+            for (int e = 0; e < 1 + pass; e++) {
+                const double *q = rf_rig_point(k, j, e);
+                double d = q ? rf_rig_apart2(q, o) : 0;
+                if (!pass && d > 0 && (!set[a] || d > rf_rig_apart2(end, o)))
+                    memcpy(end, q, 3 * sizeof *q), set[a] = 1;
+                else if (pass && d > 0 && set[a])
+                    rf_rig_reach_along(o, end, q);
+            }
         }
-    }
 }
 
 /* Drops the joints at the ends of chains that no vertex follows (none in the four weights any
