@@ -956,37 +956,28 @@ static void rf_rig_drop_ends(const rf_rig_skel *k, const uint8_t *drop, int32_t 
         }
 }
 
-/* Drops the joints at the ends of chains that no vertex follows (none in the four weights any
- * proxy vertex keeps, rf_rig_top4, nor below them) where a low-poly box holds them (boxed[],
- * from rf_rig_heat), folding their columns of w ([proxy vertex][k->n]) into their nearest kept
- * ancestor's. Elsewhere such a joint stays, flagged unweighted. A low-poly leg box moved by its
- * upper joint alone (rf_rig_part_joints) leaves the joints inside it bending nothing; kept and
- * marked unweighted they read as helpers to the matcher, the leg ended at its upper joint with its
- * bone short of the floor, and the retarget found no foot there (the animalia cat's forelegs
- * took the human's arms). Dropped, the joint left at the chain's end takes the farthest point
- * of what was dropped as its tip, and its bone reaches the floor as an artist's one-bone leg's
- * does. False when out of memory. */
+/* Drops the joints a low-poly box holds below the joint it moves with alone (boxed[], from
+ * rf_rig_heat), where every joint below them is boxed too, folding their columns of w ([proxy
+ * vertex][k->n]) into their nearest kept ancestor's (the body's vertices about the box's top may
+ * weight them a little). They bend nothing of the box; kept, they had no skin, read as helpers
+ * to the matcher, and the leg ended at the box's joint with its bone short of the floor: the
+ * retarget found no foot there (the animalia cat's forelegs took the human's arms). Dropped,
+ * the joint left at the chain's end takes their reach as its tip (rf_rig_drop_ends), and its
+ * bone reaches the floor as an artist's one-bone leg's does. False when out of memory. */
 static bool rf_rig_prune(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *boxed, double **w)
 {
     uint32_t n = k->n, nv = p->proxy.nv, dropped = 0;
-    uint8_t *used = calloc(n + 1, 1), *drop = calloc(n + 1, 1), *set = calloc(n + 1, 1),
+    uint8_t *held = calloc(n + 1, 1), *drop = calloc(n + 1, 1), *set = calloc(n + 1, 1),
             *inner = calloc(n + 1, 1);
     int32_t *anc = malloc((n + 1) * sizeof *anc), *to = malloc((n + 1) * sizeof *to);
     double *tip = malloc((n + 1) * 3 * sizeof *tip);
-    bool ok = used && drop && set && inner && anc && to && tip;
-    for (uint32_t v = 0; ok && v < nv; v++) {
-        uint16_t js[4];
-        float ws[4];
-        rf_rig_top4(*w + (size_t)v * n, n, js, ws);
-        for (int e = 0; e < 4; e++)
-            used[js[e]] |= ws[e] > 0;
-    }
+    bool ok = held && drop && set && inner && anc && to && tip;
     for (uint32_t j = 0; ok && j < n; j++)
-        used[j] = !boxed[j]; /* only what a box leaves bending nothing goes */
+        held[j] = !boxed[j];
     if (ok)
-        rf_rig_mark_below(k, used, drop); /* drop[] first holds "followed below" */
+        rf_rig_mark_below(k, held, drop); /* drop[] first holds "something kept below" */
     for (uint32_t j = 0; ok && j < n; j++)
-        drop[j] = k->parent[j] >= 0 && !used[j] && !drop[j], dropped += drop[j];
+        drop[j] = k->parent[j] >= 0 && !held[j] && !drop[j], dropped += drop[j];
     double *kept = ok && dropped ? calloc((size_t)nv * (n - dropped) + 1, sizeof *kept) : NULL;
     ok = ok && (!dropped || kept);
     if (ok && dropped) {
@@ -1002,7 +993,7 @@ static bool rf_rig_prune(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *bo
         free(*w);
         *w = kept;
     }
-    free(used), free(drop), free(set), free(inner), free(anc), free(to), free(tip);
+    free(held), free(drop), free(set), free(inner), free(anc), free(to), free(tip);
     return ok;
 }
 
