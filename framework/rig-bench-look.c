@@ -79,7 +79,7 @@ void rf_rig_look_end(rf_rig_look_setup *s)
 void rf_rig_look_none(rf_rig_look *l, const char *status)
 {
     l->stretch_p99 = l->part_p99 = l->seam_p99 = l->floor_median = l->floor_p95 = NAN;
-    l->parts_below = NAN;
+    l->parts_below = l->fidelity_mean = l->fidelity_p95 = l->feet = l->source_feet = NAN;
     l->joint[0] = '\0';
     g_strlcpy(l->status, status, sizeof l->status);
 }
@@ -140,12 +140,31 @@ static double look_pct(json_t *mesh, const char *key)
     return json_is_number(v) ? 100 * json_number_value(v) : NAN;
 }
 
+/* A number of the report, NaN when absent or null. */
+static double look_num(json_t *report, const char *key)
+{
+    json_t *v = json_object_get(report, key);
+    return json_is_number(v) ? json_number_value(v) : NAN;
+}
+
+/* The measure's figures of the skeleton into out: read whatever the mesh's status, as a rigid
+ * mesh's skeleton still moves. */
+static void look_read_skeleton(json_t *report, rf_rig_look *out)
+{
+    out->fidelity_mean = look_num(report, "fidelity_mean_deg");
+    out->fidelity_p95 = look_num(report, "fidelity_p95_deg");
+    out->feet = look_num(report, "feet_count");
+    out->source_feet = look_num(report, "source_feet");
+}
+
 /* The measure's JSON report into out. */
 static void look_read(const char *json, rf_rig_look *out)
 {
     json_error_t err;
     json_t *report = json_load_file(json, 0, &err);
     json_t *mesh = json_object_get(report, "mesh"), *bones = json_object_get(report, "bones");
+    if (report && !(json_is_integer(bones) && json_integer_value(bones) <= 0))
+        look_read_skeleton(report, out);
     if (!report)
         snprintf(out->status, sizeof out->status, "error: the measure's report: %s", err.text);
     else if (!json_is_object(mesh))

@@ -15,8 +15,15 @@ typedef struct rf_rig_look {
     double floor_p95;    /* its p95 either way */
     double parts_below;  /* the frames whose parts high at rest (wings, tails, a prop held
                           * high) go over 1% of the height under the floor, in % of the frames */
-    char joint[128];     /* the worst part's joint, escaped by retarget.measure */
-    char status[400];    /* "ok", or why the look was not measured */
+    /* How the motion's directions came through, from the skeleton alone: retarget.measure's
+     * direction fidelity (degrees between each mapped bone and its source bone, mean and p95
+     * over bones and frames), and the feet the retarget found on the rig (its contact pass pins
+     * them) and the source's feet they follow. A leg without a foot is driven as an arm: the
+     * mesh may then stretch less while it swings the wrong way, which only these see. */
+    double fidelity_mean, fidelity_p95;
+    double feet, source_feet;
+    char joint[128];  /* the worst part's joint, escaped by retarget.measure */
+    char status[400]; /* "ok", or why the look was not measured */
 } rf_rig_look;
 
 /* What every look of a bench run shares: the motion file and how much of it, and the pipeline. */

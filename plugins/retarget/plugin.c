@@ -93,6 +93,7 @@ static bool rt_create(const rf_host *host, rf_node *node, void **self)
     o->contact_height = host->param_float(node, "contact_height");
     o->contact_speed = host->param_float(node, "contact_speed");
     o->contact_blend = host->param_float(node, "contact_blend");
+    o->hold_floor = host->param_bool(node, "hold_floor");
     if (!rt_ground_parse(host->param_string(node, "ground"), &o->ground)) {
         free(o);
         host->error(node, "ground: expected auto, rest or world");
@@ -196,6 +197,26 @@ static void rt_mesh_floor(rf_retarget *rt, rf_animation *out, const rf_host *hos
         host->log(node, RF_LOG_INFO, "floor from the skeleton only: %s", err);
     else
         host->log(node, RF_LOG_INFO, "on the mesh's floor: root moved %.4g along up", shift);
+}
+
+/* Where the mesh stands higher over its floor than the source over its own (its jumps above
+ * all), the clip is lowered (rf_retarget_mesh_hold), said in one line. */
+static void rt_mesh_hold(rf_retarget *rt, rf_animation *out, const rf_retarget_options *o,
+                         const rf_host *host, rf_node *node)
+{
+    const rf_mesh *mesh = host->input_count(node, "mesh") ? host->input(node, "mesh", 0) : NULL;
+    char err[ERR_SIZE];
+    uint32_t lowered;
+    double deepest;
+    if (!mesh || !o->hold_floor)
+        return;
+    if (!rf_retarget_mesh_hold(rt, out, mesh, &lowered, &deepest, err, sizeof err))
+        host->log(node, RF_LOG_INFO, "floor not held to the source's height: %s", err);
+    else if (lowered)
+        host->log(node, RF_LOG_INFO,
+                  "standing higher than the source: the clip lowered in %u of %u frames (at "
+                  "most %.4g)",
+                  lowered, out->frame_count, deepest);
 }
 
 /* Parts that are not feet kept above the floor, and how often that was needed. */
@@ -327,7 +348,10 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
         return false;
     }
     rt_mesh_floor(rt, out, host, node);
-    bool ok = rt_contact_pass(rt, out, o, host, node) && rt_parts_pass(rt, out, host, node);
+    bool ok = rt_contact_pass(rt, out, o, host, node);
+    if (ok)
+        rt_mesh_hold(rt, out, o, host, node);
+    ok = ok && rt_parts_pass(rt, out, host, node);
     if (ok)
         rt_mesh_clear(rt, out, host, node);
     ok = ok && rt_finite(out, target, host, node);
@@ -383,6 +407,9 @@ static const rf_param_desc rt_params[] = {
                         "... and this slow horizontally, in leg lengths per second"),
     RF_PARAM_DESC_FLOAT("contact_blend", 0.15, 0, 10,
                         "seconds over which a released foot eases back to the retargeted motion"),
+    RF_PARAM_DESC_BOOL("hold_floor", 1,
+                       "with the mesh input: the target stands no higher over its floor than the "
+                       "source over its own, scaled by the legs (its jumps above all)"),
 };
 
 /* A T-pose arm driving an A-pose arm must point the same way. */

@@ -61,10 +61,12 @@ typedef struct rf_retarget_options {
                             * source leg lengths */
     double contact_speed;  /* ... and this slow horizontally, in leg lengths per second */
     double contact_blend;  /* seconds to ease out of a pin */
+    bool hold_floor;       /* with a mesh: no higher over the floor than the source, scaled by
+                            * the legs, in any frame (rf_retarget_mesh_hold) */
 } rf_retarget_options;
 
 /* The defaults: automatic rest, whole clip, source rate, root motion, auto ground, contact pass
- * on with height 0.12, speed 0.6 and 0.15 s of blend. */
+ * on with height 0.12, speed 0.6 and 0.15 s of blend, floor held. */
 void rf_retarget_options_default(rf_retarget_options *o);
 
 /* One source: a skeleton and its clip (the clip must have the skeleton's joint count). */
@@ -210,6 +212,11 @@ typedef struct rf_rt_report {
     uint32_t foot_joint[RF_RT_REPORT_FEET];
     double foot_skate[RF_RT_REPORT_FEET];
     uint32_t foot_frames[RF_RT_REPORT_FEET];
+    /* How many of the sources' feet those `effectors` follow (distinct source joints): a
+     * quadruped's four feet follow a biped's two. A foot the target lacks (a foreleg whose skin
+     * does not reach the floor at rest, driven by the source's arm) shows as fewer `effectors`
+     * than a body of its kind has, the source's count unchanged. */
+    uint32_t source_feet;
 } rf_rt_report;
 
 /* Measures `anim` (a clip for the plan's target whose frame 0 is at time `start` of the source
@@ -292,6 +299,17 @@ bool rf_rt_report_write(FILE *f, const rf_rt_report *r, const rf_rt_mesh_report 
  * the target (the clip is left as it was). */
 bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh, double *shift,
                             char *err, size_t err_size);
+
+/* After the contact pass: in every frame where the lowest vertex of what stands on the floor at
+ * rest (rf_retarget_mesh_floor) stands higher over the rest floor than the source's lowest point
+ * over its own, scaled by the legs (above all in the source's jumps, where legs of another build
+ * posed with the source's turns do not reach down as far as its hips rise), lowers the clip by
+ * the difference through the root-motion joints; never raises a frame (a crouch is the contact
+ * pass's). Read every tenth of a second and interpolated between, so it comes and goes with the
+ * difference itself. *lowered gets how many frames were lowered, *deepest the largest lowering
+ * (target units). False with a message as rf_retarget_mesh_floor. */
+bool rf_retarget_mesh_hold(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh,
+                           uint32_t *lowered, double *deepest, char *err, size_t err_size);
 
 /* After rf_retarget_parts_above: when the whole mesh's lowest vertex in the median sampled frame
  * is still under the rest floor (parts the lift could not reach), raises the clip by as much, as

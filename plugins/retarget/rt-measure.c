@@ -194,6 +194,23 @@ static void rt_skate(const rf_retarget *rt, uint32_t frames, uint32_t step, doub
     r->skate_source = s_count ? s_sum / s_count : 0;
 }
 
+/* How many distinct source joints the target's feet follow (their sources' feet). */
+static uint32_t rt_source_feet(const rf_retarget *rt)
+{
+    uint32_t n = 0;
+    for (uint32_t e = 0; e < rt->effector_count; e++) {
+        uint32_t k, j, seen = 0;
+        rf_rt_effector_source(rt, e, &k, &j);
+        for (uint32_t d = 0; d < e && !seen; d++) {
+            uint32_t kd, jd;
+            rf_rt_effector_source(rt, d, &kd, &jd);
+            seen = kd == k && jd == j;
+        }
+        n += !seen;
+    }
+    return n;
+}
+
 /* The per-frame figures behind the report, as series for the nodes after the measure. */
 static bool rt_series(const rf_retarget *rt, const rt_measure_work *w, uint32_t frames,
                       uint32_t step, rf_measures *out)
@@ -289,6 +306,7 @@ bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, doubl
     }
     rt_fidelity(rt, &w, frames, report); /* reorders the angles: after the series */
     rt_skate(rt, frames, step, fps, &w, report, skate);
+    report->source_feet = rt_source_feet(rt);
     rt_mw_free(&w, rt->source_count);
     return true;
 }

@@ -32,6 +32,7 @@ void rf_retarget_options_default(rf_retarget_options *o)
     o->contact_height = 0.12;
     o->contact_speed = 0.6;
     o->contact_blend = 0.15;
+    o->hold_floor = true;
 }
 
 /* ---- checks ---- */

@@ -101,6 +101,8 @@ json_t *rf_rt_report_json(const rf_rt_report *r, const rf_rt_mesh_report *clip,
               rt_set(o, "ground_error", rt_num(r->ground_error)) &&
               rt_set(o, "frames", json_integer(r->frames)) &&
               rt_set(o, "feet", rt_feet_json(r, s)) &&
+              rt_set(o, "feet_count", json_integer(r->effectors)) &&
+              rt_set(o, "source_feet", json_integer(r->source_feet)) &&
               (!clip || rt_set(o, "mesh", rt_mesh_json(clip, s))) &&
               (!ref || rt_set(o, "mesh_reference", rt_mesh_json(ref, s)));
     if (!ok)

@@ -261,18 +261,22 @@ typedef enum rf_rig_limb_kind {
  * analysis's `up`): pivots into pos, the curve's end into tip (rig-template.c; the template
  * rigger's limbs and the general rigger's, one home for where artists put limb joints). With
  * `start` given (not NULL) the curve starts there instead of at the girdle's pivot: a chest
- * joint on the trunk at the height where the arms leave it. */
-void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+ * joint on the trunk at the height where the arms leave it. False when out of memory (no curve
+ * read: pos and tip then all at the first joint, no place to use). */
+bool rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
                        rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, const double *start,
                        double pos[4][3], double tip[3]);
 /* rf_rig_limb_place with the curve cut at arc length `reach` from its start when that is
- * shorter (0: the whole curve): a limb laid no farther than its mirror image reaches. */
-void rf_rig_limb_place_within(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+ * shorter (0: the whole curve): a limb laid no farther than its mirror image reaches. False
+ * when out of memory. */
+bool rf_rig_limb_place_within(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
                               rf_rig_limb_kind kind, const rf_rig_tpl_layout *l,
                               const double *start, double reach, double pos[4][3], double tip[3]);
-/* The length of the curve rf_rig_limb_place lays a limb's joints along; 0 when out of memory. */
-double rf_rig_limb_reach(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
-                         rf_rig_limb_kind kind, const double *start);
+/* The length of the curve rf_rig_limb_place lays a limb's joints along, into *reach. False when
+ * out of memory (*reach 0): read as a limb reaching nowhere, it would decide a prop cut or a
+ * wing. */
+bool rf_rig_limb_reach(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                       rf_rig_limb_kind kind, const double *start, double *reach);
 
 /* The arc length a limb whose curve reaches `reach` is laid within (rf_rig_limb_place_within)
  * beside its mirror image reaching `twin`: `twin` when the limb reaches more than

@@ -97,23 +97,31 @@ static double rf_tpl_bend(const rf_tpl_curve *c, double lo, double hi, double df
     return at;
 }
 
+/* The common ancestor of joints a and b, -1 when they have none. Parents come before their
+ * children (model.h), so of two different joints the later is no ancestor of the other and
+ * climbs: the walk needs no memory, which marking a's ancestors did (and an allocation failing
+ * there read as no path at all). */
+static int32_t rf_tpl_common(const rf_rig_skel *k, uint32_t a, uint32_t b)
+{
+    int32_t i = (int32_t)a, j = (int32_t)b;
+    while (i >= 0 && j >= 0 && i != j) {
+        if (i > j)
+            i = k->parent[i];
+        else
+            j = k->parent[j];
+    }
+    return i >= 0 && j >= 0 ? i : -1;
+}
+
 /* The tree path from joint a to joint b (up from a to their common ancestor, down to b). */
 static void rf_tpl_path(const rf_rig_skel *k, uint32_t a, uint32_t b, rf_tpl_curve *c)
 {
-    uint32_t up[RF_TPL_MAXPTS], down[RF_TPL_MAXPTS], nu = 0, nd = 0;
-    uint8_t *mark = calloc(k->n + 1, 1);
-    if (!mark)
-        return;
-    for (int32_t j = (int32_t)a; j >= 0; j = k->parent[j])
-        mark[j] = 1;
-    int32_t meet = (int32_t)b;
-    while (meet >= 0 && !mark[meet] && nd < RF_TPL_MAXPTS)
-        down[nd++] = (uint32_t)meet, meet = k->parent[meet];
-    for (int32_t j = (int32_t)a; j >= 0 && j != meet && nu < RF_TPL_MAXPTS; j = k->parent[j])
-        up[nu++] = (uint32_t)j;
-    free(mark);
-    for (uint32_t i = 0; i < nu; i++)
-        rf_tpl_add(c, k->pos + (size_t)up[i] * 3);
+    uint32_t down[RF_TPL_MAXPTS], nd = 0;
+    int32_t meet = rf_tpl_common(k, a, b);
+    for (int32_t j = (int32_t)b; j >= 0 && j != meet && nd < RF_TPL_MAXPTS; j = k->parent[j])
+        down[nd++] = (uint32_t)j;
+    for (int32_t j = (int32_t)a; j >= 0 && j != meet; j = k->parent[j])
+        rf_tpl_add(c, k->pos + (size_t)j * 3);
     if (meet >= 0)
         rf_tpl_add(c, k->pos + (size_t)meet * 3);
     for (uint32_t i = nd; i-- > 0;)
@@ -127,17 +135,18 @@ static const double *rf_tpl_end(const rf_rig_skel *k, uint32_t j)
 }
 
 /* The leaf below joint j (j's subtree, not entering joints flagged in `skip`) farthest along
- * the tree from j, counting its end site; its distance into *reach. j itself when it is a leaf. */
-static uint32_t rf_tpl_far_leaf(const rf_rig_skel *k, uint32_t j, const uint8_t *skip,
-                                double *reach)
+ * the tree from j, counting its end site, into *leaf; its distance into *reach. j itself when it
+ * is a leaf. False when out of memory. */
+static bool rf_tpl_far_leaf(const rf_rig_skel *k, uint32_t j, const uint8_t *skip, uint32_t *leaf,
+                            double *reach)
 {
     double *d = malloc((k->n + 1) * sizeof *d);
     uint8_t *in = calloc(k->n + 1, 1);
     uint32_t best = j;
-    *reach = 0;
+    *reach = 0, *leaf = j;
     if (!d || !in) {
         free(d), free(in);
-        return j;
+        return false;
     }
     in[j] = 1, d[j] = 0;
     for (uint32_t i = j + 1; i < k->n; i++) { /* parents come first */
@@ -159,7 +168,8 @@ static uint32_t rf_tpl_far_leaf(const rf_rig_skel *k, uint32_t j, const uint8_t 
             *reach = r, best = i;
     }
     free(d), free(in);
-    return best;
+    *leaf = best;
+    return true;
 }
 
 static double rf_tpl_dist(const double *a, const double *b)
@@ -180,19 +190,20 @@ static bool rf_tpl_is_leaf(const rf_rig_skel *k, uint32_t j)
  * parents too: a box model's head may hang anywhere), never entering a joint flagged in `block`;
  * its distance, end site included, into *reach. With `up` given, of the leaves reaching at least
  * `least` the one whose end lies highest instead (a biped's head stands above its chest, where a
- * tail reaching farther would win by length). `from` when nothing is reachable. */
-static uint32_t rf_tpl_far_any(const rf_rig_skel *k, uint32_t from, const uint8_t *block,
-                               const rf_vec3 *up, double least, double *reach)
+ * tail reaching farther would win by length). The leaf into *leaf, `from` when nothing is
+ * reachable. False when out of memory. */
+static bool rf_tpl_far_any(const rf_rig_skel *k, uint32_t from, const uint8_t *block,
+                           const rf_vec3 *up, double least, uint32_t *leaf, double *reach)
 {
     double *d = malloc((k->n + 1) * sizeof *d);
     uint32_t *queue = malloc((k->n + 1) * sizeof *queue), best = from, high = from, head = 0,
              tail = 0;
     uint8_t *seen = calloc(k->n + 1, 1);
     double top = -INFINITY, high_reach = 0;
-    *reach = 0;
+    *reach = 0, *leaf = from;
     if (!d || !queue || !seen) {
         free(d), free(queue), free(seen);
-        return from;
+        return false;
     }
     d[from] = 0, seen[from] = 1, queue[tail++] = from;
     while (head < tail) {
@@ -215,7 +226,8 @@ static uint32_t rf_tpl_far_any(const rf_rig_skel *k, uint32_t from, const uint8_
     free(d), free(queue), free(seen);
     if (high != from)
         best = high, *reach = high_reach;
-    return best;
+    *leaf = best;
+    return true;
 }
 
 static double rf_tpl_height(const rf_rig_skel *k, uint32_t j, rf_vec3 up)
@@ -226,13 +238,14 @@ static double rf_tpl_height(const rf_rig_skel *k, uint32_t j, rf_vec3 up)
 
 /* Flags into `above` the joints below `first` (not first itself) that rise above joint
  * `girdle`: a leg hangs down, so a branch of its curve skeleton climbing above the leg's girdle
- * is something else merged into it (a head leaving the body by a foreleg). */
-static void rf_tpl_rising(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+ * is something else merged into it (a head leaving the body by a foreleg). False when out of
+ * memory. */
+static bool rf_tpl_rising(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
                           uint8_t *above)
 {
     uint8_t *in = calloc(k->n + 1, 1);
     if (!in)
-        return;
+        return false;
     in[first] = 1;
     double top = rf_tpl_height(k, girdle, up);
     for (uint32_t j = first + 1; j < k->n; j++) /* parents come first */
@@ -245,18 +258,22 @@ static void rf_tpl_rising(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uin
         if (k->parent[j] >= 0 && above[k->parent[j]])
             above[j] = 1;
     free(in);
+    return true;
 }
 
 /* The curve of a limb: from joint `from` (its girdle) down to the farthest end below the limb's
- * first joint, its end site included. */
-static void rf_tpl_limb(const rf_rig_skel *k, uint32_t from, uint32_t first, const uint8_t *skip,
+ * first joint, its end site included. False when out of memory. */
+static bool rf_tpl_limb(const rf_rig_skel *k, uint32_t from, uint32_t first, const uint8_t *skip,
                         rf_tpl_curve *c)
 {
     double reach;
-    uint32_t leaf = rf_tpl_far_leaf(k, first, skip, &reach);
+    uint32_t leaf;
     c->n = 0;
+    if (!rf_tpl_far_leaf(k, first, skip, &leaf, &reach))
+        return false;
     rf_tpl_path(k, from, leaf, c);
     rf_tpl_add(c, rf_tpl_end(k, leaf));
+    return true;
 }
 
 /* ---- the template being laid out ---- */
@@ -336,13 +353,16 @@ static void rf_tpl_keep(int32_t pairs[2][2], double keys[2], uint32_t *n, int32_
 
 /* The body's mirrored pairs of legs and arms. Arms are ranked by length (a head the analysis
  * took for an arm has no mirror, and a short pair of wings or spikes yields to the arms), legs
- * front first. */
-static void rf_tpl_limbs(const rf_analysis *a, rf_tpl_body *b)
+ * front first. False when out of memory (no pair read, which would refuse the body as fitting
+ * no template). */
+static bool rf_tpl_limbs(const rf_analysis *a, rf_tpl_body *b)
 {
     memset(b, 0, sizeof *b);
     memset(b->leg, -1, sizeof b->leg), memset(b->arm, -1, sizeof b->arm);
     double leg_key[2] = {0}, arm_key[2] = {0};
     uint8_t *used = calloc(a->section_count + 1, 1);
+    if (!used)
+        return false;
     for (uint32_t s = 0; s < a->section_count; s++) {
         const rf_section *sec = &a->sections[s];
         bool leg = sec->type == RF_SECTION_LEG;
@@ -354,7 +374,7 @@ static void rf_tpl_limbs(const rf_analysis *a, rf_tpl_body *b)
     /* mirror images first; then (the analysis pairs limbs by shape, and four like legs may
      * leave a pair unmatched) a left limb left over takes the right one of the same type and
      * rank, when their lengths are alike */
-    for (int pass = 0; used && pass < 2; pass++)
+    for (int pass = 0; pass < 2; pass++)
         for (uint32_t s = 0; s < a->section_count; s++) {
             const rf_section *sec = &a->sections[s];
             bool leg = sec->type == RF_SECTION_LEG;
@@ -382,6 +402,7 @@ static void rf_tpl_limbs(const rf_analysis *a, rf_tpl_body *b)
                             sec->length + a->sections[m].length);
         }
     free(used);
+    return true;
 }
 
 /* The joint a limb section hangs from on the body, and its first joint. */
@@ -392,19 +413,11 @@ static void rf_tpl_ends(const rf_analysis *a, int32_t sec, uint32_t *girdle, uin
     *girdle = s->attach_joint >= 0 ? (uint32_t)s->attach_joint : *first;
 }
 
-/* The common ancestor of two joints. */
+/* The common ancestor of two joints (a when they have none). */
 static uint32_t rf_tpl_meet(const rf_rig_skel *k, uint32_t a, uint32_t b)
 {
-    uint8_t *mark = calloc(k->n + 1, 1);
-    if (!mark)
-        return a;
-    for (int32_t j = (int32_t)a; j >= 0; j = k->parent[j])
-        mark[j] = 1;
-    int32_t j = (int32_t)b;
-    while (j >= 0 && !mark[j])
-        j = k->parent[j];
-    free(mark);
-    return j >= 0 ? (uint32_t)j : a;
+    int32_t m = rf_tpl_common(k, a, b);
+    return m >= 0 ? (uint32_t)m : a;
 }
 
 /* ---- the templates ---- */
@@ -424,6 +437,8 @@ typedef struct rf_tpl_ctx {
     rf_vec3 up;                   /* the body's up (declared, else the analysis's) */
     const rf_rig_prep *p;         /* the cleaned mesh (NULL: no shoulder rule) */
     rf_rig_surface *sf;           /* its surface for rays, made for a humanoid's arms */
+    bool oom; /* an allocation failed laying the template: the template laid is no answer (a limb
+               * with no curve, a head or a tail not looked for), the run fails out of memory */
 } rf_tpl_ctx;
 
 /* The built-in layouts (doc/autorig.md, "The template rigger", says how they were chosen). */
@@ -511,34 +526,37 @@ static void rf_tpl_fractions(const rf_tpl_curve *c, rf_vec3 up, rf_rig_limb_kind
 
 /* The curve of the limb whose first joint is `first`, from its girdle, and where its joints go
  * along it. A leg hangs down, so what climbs above its girdle is left out (a head merged into a
- * foreleg); an arm may rise. */
-static void rf_tpl_limb_laid(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+ * foreleg); an arm may rise. False when out of memory. */
+static bool rf_tpl_limb_laid(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
                              rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, rf_tpl_curve *c,
                              double f[4])
 {
     uint8_t *skip = calloc(k->n + 1, 1);
-    if (skip && kind != RF_RIG_LIMB_ARM)
-        rf_tpl_rising(k, up, girdle, first, skip);
     c->n = 0;
-    rf_tpl_limb(k, girdle, first, skip, c);
+    bool ok = skip && (kind == RF_RIG_LIMB_ARM || rf_tpl_rising(k, up, girdle, first, skip)) &&
+              rf_tpl_limb(k, girdle, first, skip, c);
     free(skip);
-    rf_tpl_fractions(c, up, kind, l, f);
+    if (ok)
+        rf_tpl_fractions(c, up, kind, l, f);
+    return ok;
 }
 
-/* c with its first point (the girdle's pivot) moved to `start`, arc lengths measured again. */
-static void rf_tpl_restart(rf_tpl_curve *c, const double start[3])
+/* c with its first point (the girdle's pivot) moved to `start`, arc lengths measured again.
+ * False when out of memory. */
+static bool rf_tpl_restart(rf_tpl_curve *c, const double start[3])
 {
+    if (!c->n)
+        return true;
     rf_tpl_curve *old = malloc(sizeof *old);
-    if (!old || !c->n) {
-        free(old);
-        return;
-    }
+    if (!old)
+        return false;
     *old = *c;
     c->n = 0;
     rf_tpl_add(c, start);
     for (uint32_t i = 1; i < old->n; i++)
         rf_tpl_add(c, old->p[i]);
     free(old);
+    return true;
 }
 
 /* The curve a limb's joints are laid along into c (from `start` when given) and where its
@@ -548,9 +566,11 @@ static bool rf_tpl_limb_curve(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle,
                               rf_rig_limb_kind kind, const rf_rig_tpl_layout *l,
                               const double *start, double reach, rf_tpl_curve *c, double f[4])
 {
-    rf_tpl_limb_laid(k, up, girdle, first, kind, l, c, f);
+    if (!rf_tpl_limb_laid(k, up, girdle, first, kind, l, c, f))
+        return false;
     if (start) {
-        rf_tpl_restart(c, start);
+        if (!rf_tpl_restart(c, start))
+            return false;
         rf_tpl_fractions(c, up, kind, l, f);
     }
     double len = rf_tpl_len(c);
@@ -566,15 +586,16 @@ static bool rf_tpl_limb_curve(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle,
     return true;
 }
 
-double rf_rig_limb_reach(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
-                         rf_rig_limb_kind kind, const double *start)
+bool rf_rig_limb_reach(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+                       rf_rig_limb_kind kind, const double *start, double *reach)
 {
     rf_tpl_curve *c = malloc(sizeof *c);
-    double f[4], len = 0;
-    if (c && rf_tpl_limb_curve(k, up, girdle, first, kind, &rf_rig_tpl_humanoid, start, 0, c, f))
-        len = rf_tpl_len(c);
+    double f[4];
+    bool ok =
+        c && rf_tpl_limb_curve(k, up, girdle, first, kind, &rf_rig_tpl_humanoid, start, 0, c, f);
+    *reach = ok ? rf_tpl_len(c) : 0;
     free(c);
-    return len;
+    return ok;
 }
 
 /* A laid limb whose curve reaches more than this many times as far as its mirror image's
@@ -590,31 +611,32 @@ double rf_rig_limb_prop_cut(double reach, double twin)
     return twin > 0 && reach > RF_RIG_PROP_REACH * twin ? twin : 0;
 }
 
-void rf_rig_limb_place_within(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+bool rf_rig_limb_place_within(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
                               rf_rig_limb_kind kind, const rf_rig_tpl_layout *l,
                               const double *start, double reach, double pos[4][3], double tip[3])
 {
     rf_tpl_curve *c = malloc(sizeof *c);
     double f[4];
     if (!c || !rf_tpl_limb_curve(k, up, girdle, first, kind, l, start, reach, c, f)) {
-        /* no curve to lay joints along: all at the first joint, as a point */
+        /* no curve to lay joints along: all at the first joint, as a point (defined, not used) */
         for (int i = 0; i < 4; i++)
             memcpy(pos[i], k->pos + (size_t)first * 3, 3 * sizeof(double));
         memcpy(tip, pos[3], 3 * sizeof(double));
         free(c);
-        return;
+        return false;
     }
     for (int i = 0; i < 4; i++)
         rf_tpl_at(c, f[i], pos[i]);
     rf_tpl_at(c, 1, tip);
     free(c);
+    return true;
 }
 
-void rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
+bool rf_rig_limb_place(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
                        rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, const double *start,
                        double pos[4][3], double tip[3])
 {
-    rf_rig_limb_place_within(k, up, girdle, first, kind, l, start, 0, pos, tip);
+    return rf_rig_limb_place_within(k, up, girdle, first, kind, l, start, 0, pos, tip);
 }
 
 static double rf_tpl_up(const double p[3], rf_vec3 up)
@@ -669,7 +691,7 @@ static const double *rf_tpl_limb_start(const rf_tpl_ctx *x, uint32_t girdle, uin
  * general rigger's limb rules: a limb reaching far past its twin is laid only as far as the twin
  * reaches (rf_rig_limb_prop_cut), an arm hanging beside the trunk gets its shoulder where the
  * trunk's width says (rf_rig_shoulder). A foreleg's curve, as a leg's, leaves out what rises
- * above its girdle. */
+ * above its girdle. Out of memory sets x->oom. */
 static void rf_tpl_lay_pair(rf_tpl_ctx *x, const int32_t sec[2], int swap, uint32_t girdle,
                             int32_t parent, rf_rig_limb_kind kind)
 {
@@ -683,12 +705,18 @@ static void rf_tpl_lay_pair(rf_tpl_ctx *x, const int32_t sec[2], int swap, uint3
         uint32_t g;
         rf_tpl_ends(x->a, sec[s], &g, &first[s]);
         start[s] = rf_tpl_limb_start(x, girdle, first[s], kind, at[s]);
-        reach[s] = rf_rig_limb_reach(x->k, x->a->up, girdle, first[s], kind, start[s]);
+        if (!rf_rig_limb_reach(x->k, x->a->up, girdle, first[s], kind, start[s], &reach[s])) {
+            x->oom = true;
+            return;
+        }
     }
     for (int s = 0; s < 2; s++) {
         double pos[4][3], tip[3];
-        rf_rig_limb_place_within(x->k, x->a->up, girdle, first[s], kind, x->lay, start[s],
-                                 rf_rig_limb_prop_cut(reach[s], reach[1 - s]), pos, tip);
+        if (!rf_rig_limb_place_within(x->k, x->a->up, girdle, first[s], kind, x->lay, start[s],
+                                      rf_rig_limb_prop_cut(reach[s], reach[1 - s]), pos, tip)) {
+            x->oom = true;
+            return;
+        }
         if (kind == RF_RIG_LIMB_ARM && x->sf)
             rf_rig_shoulder(x->sf, x->p->longest, rf_v3_normalize(x->a->up),
                             start[s] ? start[s] : x->k->pos + (size_t)girdle * 3, x->lay, pos);
@@ -700,8 +728,9 @@ static void rf_tpl_lay_pair(rf_tpl_ctx *x, const int32_t sec[2], int swap, uint3
     }
 }
 
-/* Flags the joints of the limbs the template uses, and everything below them. */
-static void rf_tpl_mark_limbs(const rf_rig_skel *k, const rf_analysis *a, const rf_tpl_body *b,
+/* Flags the joints of the limbs the template uses, and everything below them. False when out of
+ * memory (a leg's rising branch left marked would hide the way to a head merged into it). */
+static bool rf_tpl_mark_limbs(const rf_rig_skel *k, const rf_analysis *a, const rf_tpl_body *b,
                               rf_rig_template_kind kind, uint8_t *limb)
 {
     int32_t secs[4];
@@ -720,23 +749,25 @@ static void rf_tpl_mark_limbs(const rf_rig_skel *k, const rf_analysis *a, const 
         if (k->parent[j] >= 0 && limb[k->parent[j]])
             limb[j] = 1;
     uint8_t *above = calloc(k->n + 1, 1);
-    for (uint32_t p = 0; above && p < 2; p++) /* legs: what rises above the girdle is no leg */
-        for (int side = 0; side < 2; side++) {
+    bool ok = above != NULL;
+    for (uint32_t p = 0; ok && p < 2; p++) /* legs: what rises above the girdle is no leg */
+        for (int side = 0; ok && side < 2; side++) {
             int32_t sec = b->leg[p][side];
             if (sec < 0)
                 continue;
             uint32_t first = rf_section_joints(a, (uint32_t)sec)[0];
             int32_t g = a->sections[sec].attach_joint;
-            rf_tpl_rising(k, a->up, g >= 0 ? (uint32_t)g : first, first, above);
+            ok = rf_tpl_rising(k, a->up, g >= 0 ? (uint32_t)g : first, first, above);
         }
-    for (uint32_t j = 0; above && j < k->n; j++)
+    for (uint32_t j = 0; ok && j < k->n; j++)
         limb[j] = limb[j] && !above[j];
     /* and the stem the leg shares with it, so the way to the head is open */
-    for (uint32_t j = 0; above && j < k->n; j++)
+    for (uint32_t j = 0; ok && j < k->n; j++)
         if (above[j])
             for (int32_t p = k->parent[j]; p >= 0 && limb[p]; p = k->parent[p])
                 limb[p] = 0;
     free(above);
+    return ok;
 }
 
 /* Flags the joints on the tree path from a to b, b included and a not. */
@@ -772,7 +803,7 @@ static bool rf_tpl_on_path(const rf_rig_skel *k, uint32_t a, uint32_t b, uint32_
  * forelegs leave) that is no limb, not reached through the hips; the spine runs from the hips to
  * where the way to the head leaves the way to the chest (the chest itself, unless the forelegs
  * hang off the neck, as on some box models), then neck and head to that leaf. Returns Spine2,
- * or -1 when there is no head; the neck's base into *neck. */
+ * or -1 when there is no head or memory ran out (x->oom set); the neck's base into *neck. */
 static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_t *hips_j,
                             uint32_t *neck)
 {
@@ -780,8 +811,10 @@ static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_
     const rf_rig_skel *k = x->k;
     rf_tpl_curve sp = {0}, hd = {0};
     uint8_t *skip = malloc(k->n + 1);
-    if (!skip)
+    if (!skip) {
+        x->oom = true;
         return -1;
+    }
     /* beyond the chest, away from the whole way back to the hips, first (a tail leaving the
      * spine near the hips may reach farther than the head); through that way only when nothing
      * of a head's size lies beyond */
@@ -791,15 +824,17 @@ static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_
     rf_tpl_path(k, hips, chest, &sp);
     double reach, least = 0.15 * rf_tpl_len(&sp);
     const rf_vec3 *up = x->human ? &x->up : NULL;
-    uint32_t leaf = rf_tpl_far_any(k, chest, skip, up, least, &reach);
-    if (leaf == chest || reach < least) {
+    uint32_t leaf;
+    bool ok = rf_tpl_far_any(k, chest, skip, up, least, &leaf, &reach);
+    if (ok && (leaf == chest || reach < least)) {
         memcpy(skip, x->limb, k->n);
         skip[hips] = 1;
-        leaf = rf_tpl_far_any(k, chest, skip, up, least, &reach);
+        ok = rf_tpl_far_any(k, chest, skip, up, least, &leaf, &reach);
     }
     sp.n = 0;
     free(skip);
-    if (leaf == chest && !k->has_tip[chest])
+    x->oom = x->oom || !ok;
+    if (!ok || (leaf == chest && !k->has_tip[chest]))
         return -1;
     *neck = chest;
     for (int32_t j = (int32_t)chest; j >= 0; j = k->parent[j]) /* chest up to the meeting */
@@ -844,7 +879,8 @@ static int32_t rf_tpl_trunk(rf_tpl_ctx *x, uint32_t hips, uint32_t chest, int32_
 
 /* A tail: the farthest leaf from the hips that is no limb, leaving the hips or the spine's
  * first third (a box cat's tail leaves above its hips) and not the way on to the neck, when it
- * reaches at least a quarter of the spine's length beyond where it leaves. */
+ * reaches at least a quarter of the spine's length beyond where it leaves. Out of memory sets
+ * x->oom (no tail looked for is no answer). */
 static void rf_tpl_tail(rf_tpl_ctx *x, uint32_t hips, uint32_t neck, int32_t hips_j)
 {
     const rf_rig_skel *k = x->k;
@@ -854,6 +890,7 @@ static void rf_tpl_tail(rf_tpl_ctx *x, uint32_t hips, uint32_t neck, int32_t hip
     double len = rf_tpl_len(&sp);
     if (!skip || !spine) {
         free(skip), free(spine);
+        x->oom = true;
         return;
     }
     memcpy(skip, x->limb, k->n);
@@ -866,7 +903,13 @@ static void rf_tpl_tail(rf_tpl_ctx *x, uint32_t hips, uint32_t neck, int32_t hip
         skip[j] = skip[j] || rf_tpl_len(&to) > len / 3;
     }
     double reach;
-    uint32_t leaf = rf_tpl_far_any(k, hips, skip, NULL, 0, &reach), from = leaf;
+    uint32_t leaf;
+    if (!rf_tpl_far_any(k, hips, skip, NULL, 0, &leaf, &reach)) {
+        free(skip), free(spine);
+        x->oom = true;
+        return;
+    }
+    uint32_t from = leaf;
     while (from != hips && !spine[from] && k->parent[from] >= 0) /* where it leaves the spine */
         from = (uint32_t)k->parent[from];
     if (!spine[from] && from != hips)
@@ -894,14 +937,16 @@ static bool rf_tpl_humanoid(rf_tpl_ctx *x, char *err, size_t n)
     uint32_t hips = rf_tpl_meet(x->k, gl[0], gl[1]), chest = rf_tpl_meet(x->k, ga[0], ga[1]);
     uint32_t neck;
     int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, &neck);
-    if (spine2 < 0)
+    if (spine2 < 0 && !x->oom)
         return rf_rig_fail(err, n,
                            "the humanoid template found no neck and head above the "
                            "shoulders");
     int swap = x->facing == 1;
-    rf_tpl_lay_pair(x, b->arm[0], swap, chest, spine2, RF_RIG_LIMB_ARM);
-    rf_tpl_lay_pair(x, b->leg[0], swap, hips, hips_j, RF_RIG_LIMB_LEG);
-    return true;
+    if (!x->oom)
+        rf_tpl_lay_pair(x, b->arm[0], swap, chest, spine2, RF_RIG_LIMB_ARM);
+    if (!x->oom)
+        rf_tpl_lay_pair(x, b->leg[0], swap, hips, hips_j, RF_RIG_LIMB_LEG);
+    return !x->oom || rf_rig_fail(err, n, "out of memory laying the humanoid template");
 }
 
 /* Length of the tree path from the root (joint 0: parents come first) to joint j. */
@@ -940,13 +985,18 @@ static bool rf_tpl_quadruped(rf_tpl_ctx *x, bool declared, char *err, size_t n)
                            "leaving the body at one place (no spine between them)");
     uint32_t neck;
     int32_t hips_j = -1, spine2 = rf_tpl_trunk(x, hips, chest, &hips_j, &neck);
-    if (spine2 < 0)
+    if (spine2 < 0 && !x->oom)
         return rf_rig_fail(err, n,
                            "the quadruped template found no neck and head beyond the "
                            "forelegs");
-    rf_tpl_tail(x, hips, neck, hips_j);
-    rf_tpl_lay_pair(x, b->leg[front], front, chest, spine2, RF_RIG_LIMB_FORELEG);
-    rf_tpl_lay_pair(x, b->leg[1 - front], front, hips, hips_j, RF_RIG_LIMB_HIND_LEG);
+    if (!x->oom)
+        rf_tpl_tail(x, hips, neck, hips_j);
+    if (!x->oom)
+        rf_tpl_lay_pair(x, b->leg[front], front, chest, spine2, RF_RIG_LIMB_FORELEG);
+    if (!x->oom)
+        rf_tpl_lay_pair(x, b->leg[1 - front], front, hips, hips_j, RF_RIG_LIMB_HIND_LEG);
+    if (x->oom)
+        return rf_rig_fail(err, n, "out of memory laying the quadruped template");
     const double *hp = x->k->pos + (size_t)hips * 3, *cp = x->k->pos + (size_t)chest * 3;
     x->forward = rf_v3(cp[0] - hp[0], cp[1] - hp[1], cp[2] - hp[2]);
     return true;
@@ -1037,12 +1087,12 @@ static bool rf_tpl_embed(const rf_rig_prep *p, const rf_rig_skel *k, const rf_ri
         rf_rig_fail(err, n, "out of memory");
     rf_tpl_body b;
     rf_rig_template_kind got = RF_RIG_TEMPLATE_AUTO;
+    if (ok && !rf_tpl_limbs(a, &b))
+        ok = rf_rig_fail(err, n, "out of memory pairing the limbs");
+    ok = ok && rf_tpl_pick(&b, want, &got, err, n);
+    if (ok && !rf_tpl_mark_limbs(k, a, &b, got, limb))
+        ok = rf_rig_fail(err, n, "out of memory marking the limbs");
     if (ok) {
-        rf_tpl_limbs(a, &b);
-        ok = rf_tpl_pick(&b, want, &got, err, n);
-    }
-    if (ok) {
-        rf_tpl_mark_limbs(k, a, &b, got, limb);
         bool human = got == RF_RIG_TEMPLATE_HUMANOID;
         rf_tpl_ctx x = {.k = k,
                         .a = a,

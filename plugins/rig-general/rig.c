@@ -1544,8 +1544,8 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
     for (uint32_t i = 0; ok && i < nl; i++) {
         bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == chest_g;
         if (laid[i])
-            reach[i] = rf_rig_limb_reach(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
-                                         chested ? at : NULL);
+            ok = rf_rig_limb_reach(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
+                                   chested ? at : NULL, &reach[i]);
     }
     double legs = 0; /* the longest laid leg's reach, against which an arm is a wing */
     for (uint32_t i = 0; ok && i < nl; i++)
@@ -1562,8 +1562,11 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
         for (uint32_t m = 0; m < nl; m++) /* a limb reaching far past its mirror image's reach */
             if (laid[m] && limbs[m].sec == limbs[i].mirror)
                 cut = rf_rig_limb_prop_cut(reach[i], reach[m]);
-        rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
-                                 limbs[i].lay, chested ? at : NULL, cut, pos, tip);
+        if (!rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
+                                      limbs[i].lay, chested ? at : NULL, cut, pos, tip)) {
+            ok = false;
+            break;
+        }
         if (limbs[i].kind == RF_RIG_LIMB_ARM && sf) /* sf: p given and its surface made */
             rf_rig_shoulder(sf, p->longest, rf_v3_normalize(a->up),
                             chested ? at : k->pos + (size_t)limbs[i].girdle * 3, limbs[i].lay, pos);

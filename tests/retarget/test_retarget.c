@@ -1254,7 +1254,8 @@ static void measure_report_json(void **state)
                       .effectors = 1,
                       .foot_joint = {1},
                       .foot_skate = {NAN},
-                      .foot_frames = {4}};
+                      .foot_frames = {4},
+                      .source_feet = 1};
     rf_rt_mesh_report m = {.frames = 10,
                            .height = 2,
                            .seams = 8,
@@ -1290,6 +1291,8 @@ static void measure_report_json(void **state)
     assert_float_equal(json_number_value(json_object_get(mesh, "stretch_p99")), 0.5, 0);
     assert_int_equal(json_integer_value(json_object_get(o, "bones")), 3);
     assert_int_equal(json_integer_value(json_object_get(foot, "contact_frames")), 4);
+    assert_int_equal(json_integer_value(json_object_get(o, "feet_count")), 1);
+    assert_int_equal(json_integer_value(json_object_get(o, "source_feet")), 1);
     assert_string_equal(json_string_value(json_object_get(foot, "name")), "fo\"ot\\x1b[31m");
     assert_string_equal(json_string_value(json_object_get(mesh, "part_joint_name")),
                         "fo\"ot\\x1b[31m");
@@ -1406,6 +1409,8 @@ static void contact_pass_pins_feet(void **state)
     double start = rf_retarget_start_time(r.rt);
     assert_true(rf_retarget_measure(r.rt, r.out, start, &before, err, sizeof err));
     assert_true(before.contact_frames > 50);
+    assert_int_equal(before.effectors, 2);
+    assert_int_equal(before.source_feet, 2); /* each ankle follows its own */
     assert_true(before.skate_source < 1e-4);
     assert_true(before.skate_target > 0.02); /* other bone proportions: the feet slide */
     const rf_ik_solver_api *api = &rf_ik_twobone_api;

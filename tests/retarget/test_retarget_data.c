@@ -327,6 +327,8 @@ static void cmu_onto_fox(void **state)
                   r.rep.fidelity_bones, r.rep.skate_target, r.rep.skate_source,
                   r.rep.contact_frames);
     assert_int_equal(info.effectors, 4);
+    assert_int_equal(r.rep.effectors, 4);
+    assert_int_equal(r.rep.source_feet, 2);            /* four feet follow the human's two */
     assert_true(info.cycle > 0.5 && info.cycle < 2.0); /* a walking stride */
     /* The spine stays level: a body-plan difference is kept, not aligned away. */
     rf_xform *w = malloc(tgt.skel->joint_count * sizeof *w);

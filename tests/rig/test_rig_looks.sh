@@ -117,6 +117,17 @@ fi
 # crossed as arms, and stretch read better for it (doc/autorig-log.md, "Low-poly boxes ...
 # Reverted"); the rigger now drops those joints, the box's joint reaching the floor as a one-bone
 # leg ("Low-poly leg boxes ... dropped"). The contact pass's log line names the count.
+# The run's log in $tmp/out names 4 feet (the contact pass's line), or the test fails showing it.
+four_feet() {
+    feet=$(sed -n 's/.*contact pass ([a-z.]*): \([0-9]*\) feet.*/\1/p' "$tmp/out")
+    if [ "$feet" = 4 ]; then
+        echo "PASS: $1: the contact pass pins 4 feet"
+    else
+        cat "$tmp/out"
+        echo "FAIL: $1: the contact pass found ${feet:-no} feet on a four-legged auto-rig, not 4"
+        fail=1
+    fi
+}
 for m in animalia_cat animala_horse animalia_wolf; do
     f="$data/models/creatures/$m.b3d"
     if [ ! -f "$f" ]; then
@@ -125,14 +136,7 @@ for m in animalia_cat animala_horse animalia_wolf; do
     fi
     "$rigflow" run "$src/pipelines/scan-to-animation.json" -p "mesh.path=$f" -p "motion.path=$walk" \
         -p retarget.last_frame=60 -p "export.path=$tmp/$m.glb" >"$tmp/out" 2>&1
-    feet=$(sed -n 's/.*contact pass ([a-z.]*): \([0-9]*\) feet.*/\1/p' "$tmp/out")
-    if [ "$feet" = 4 ]; then
-        echo "PASS: $m, general rig, CMU walk: the contact pass pins 4 feet"
-    else
-        cat "$tmp/out"
-        echo "FAIL: $m: the contact pass found ${feet:-no} feet on a four-legged auto-rig, not 4"
-        fail=1
-    fi
+    four_feet "$m, general rig, CMU walk"
     # The same rig written to a GLB and read back (autorig.json, then retarget.json): a file
     # keeps no flag for a joint without skin, the importer flags every one it finds, and a rig
     # whose leg joints carry none reads as legs ending higher (dropping the joints a rigid leg box
@@ -140,14 +144,7 @@ for m in animalia_cat animala_horse animalia_wolf; do
     # pipeline, 2 read back from its file).
     "$rigflow" run "$src/pipelines/retarget.json" -p "source.path=$walk" -p "target.path=$tmp/$m.glb" \
         -p retarget.last_frame=60 -p "export.path=$tmp/$m-again.glb" >"$tmp/out" 2>&1
-    feet=$(sed -n 's/.*contact pass ([a-z.]*): \([0-9]*\) feet.*/\1/p' "$tmp/out")
-    if [ "$feet" = 4 ]; then
-        echo "PASS: $m, its general rig read back from its GLB: the contact pass pins 4 feet"
-    else
-        cat "$tmp/out"
-        echo "FAIL: $m: read back from its GLB, the contact pass found ${feet:-no} feet, not 4"
-        fail=1
-    fi
+    four_feet "$m, its general rig read back from its GLB"
 done
 
 # The worst part's joint name comes from the file: with ESC, BEL and a quote in every joint name
