@@ -1115,6 +1115,43 @@ static bool rf_rig_is_box(const double *held, const double *sum, const uint32_t 
     return q != largest && sum[q] > 0 && owner[q] == RF_RIG_NONE && verts[q] < 4 * joints;
 }
 
+/* Height along up of point x. */
+static double rf_rig_up_of(const double *x, rf_vec3 up)
+{
+    return x[0] * up.x + x[1] * up.y + x[2] * up.z;
+}
+
+/* Whether a box standing on the floor lies splayed: the bones it holds (held, [nj]; to a child
+ * and to a leaf's tip) reach within a twentieth of the body's height of its lowest point, and
+ * their rise along up, summed, is under seven tenths of their length. A leg box moved by one
+ * joint swings as a column under its pivot, as the animalia cat's, horse's, wolf's and fox's
+ * do (rise nine tenths of their length and more); a box lying splayed (the bull frog's, about
+ * half) carries its leg's folds and foot sideways along the floor, and moved by one joint the
+ * rig loses the foot the retarget pins and the skeleton analysis reads the facing from (after
+ * the matcher .676 / .759 -> .654 / .692): it keeps its blend. Boxes off the floor (a head's,
+ * a tail's) are not asked. */
+static bool rf_rig_splayed(const rf_rig_prep *p, const rf_rig_skel *s, const double *held,
+                           rf_vec3 up)
+{
+    double lo = INFINITY, hi = -INFINITY, len = 0, rise = 0, low = INFINITY;
+    for (uint32_t i = 0; i < p->proxy.nv; i++) {
+        double h = rf_rig_up_of(p->proxy.p + (size_t)i * 3, up);
+        lo = fmin(lo, h), hi = fmax(hi, h);
+    }
+    for (uint32_t c = 0; c < 2 * s->n; c++) { /* bones to a child, then to a leaf's tip */
+        int32_t j = c < s->n ? s->parent[c] : (int32_t)(c - s->n);
+        if (j < 0 || !(held[j] > 0) || (c >= s->n && !s->has_tip[j]))
+            continue;
+        const double *a = s->pos + (size_t)j * 3;
+        const double *b = c < s->n ? s->pos + (size_t)c * 3 : s->tip + (size_t)j * 3;
+        double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        len += sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        rise += fabs(rf_rig_up_of(d, up));
+        low = fmin(low, fmin(rf_rig_up_of(a, up), rf_rig_up_of(b, up)));
+    }
+    return len > 0 && low - lo <= 0.05 * (hi - lo) && rise < 0.7 * len;
+}
+
 /* Whether joint p of s has exactly one child. */
 static bool rf_rig_only_child(const rf_rig_skel *s, int32_t p)
 {
@@ -1268,7 +1305,8 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, co
     double *sub = ok ? malloc((nj + 1) * sizeof *sub) : NULL;
     ok = ok && sub;
     for (uint32_t q = 0; ok && q < np; q++)
-        if (!o->keep_joints && rf_rig_is_box(held, sum, owner, verts, largest, nj, q)) {
+        if (!o->keep_joints && rf_rig_is_box(held, sum, owner, verts, largest, nj, q) &&
+            !rf_rig_splayed(p, s, held + (size_t)q * nj, rf_v3_normalize(o->up))) {
             owner[q] = rf_rig_box_owner(s, held + (size_t)q * nj, sum[q], sub);
             if (boxed && owner[q] != RF_RIG_NONE)
                 rf_rig_mark_boxed(s, held + (size_t)q * nj, owner[q], boxed);
