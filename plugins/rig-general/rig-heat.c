@@ -1099,6 +1099,115 @@ static bool rf_rig_heat_agrees(const rf_rig_prep *p, uint32_t q, uint32_t nj, co
     return share > 0.5 * n;
 }
 
+/* Whether loose part q is a low-poly box holding the bones of more joints than it can bend at:
+ * not the body, not moved by one joint already, and with fewer than four vertices for each joint
+ * whose bones it holds (a piece modelled to bend has four or more, RF_RIG_PIECE_JOINTS). A box of
+ * four-sided rings bends only at a ring, and fewer rings than joints cannot follow them: an
+ * eight-corner leg box holding a cat's hips' bone and four leg bones, a horse's lower leg of
+ * three rings holding five. Eight corners around the bones of two joints stay blended: the
+ * artists of the animalia bird and owl blend such a box. */
+static bool rf_rig_is_box(const double *held, const double *sum, const uint32_t *owner,
+                          const uint32_t *verts, uint32_t largest, uint32_t nj, uint32_t q)
+{
+    uint32_t joints = 0;
+    for (uint32_t j = 0; j < nj; j++)
+        joints += held[(size_t)q * nj + j] > 0;
+    return q != largest && sum[q] > 0 && owner[q] == RF_RIG_NONE && verts[q] < 4 * joints;
+}
+
+/* Height along up of point x. */
+static double rf_rig_up_of(const double *x, rf_vec3 up)
+{
+    return x[0] * up.x + x[1] * up.y + x[2] * up.z;
+}
+
+/* Whether a box standing on the floor lies splayed: the bones it holds (held, [nj]; to a child
+ * and to a leaf's tip) reach within a twentieth of the body's height of its lowest point, and
+ * their rise along up, summed, is under seven tenths of their length. A leg box moved by one
+ * joint swings as a column under its pivot, as the animalia cat's, horse's, wolf's and fox's
+ * do (rise nine tenths of their length and more); a box lying splayed (the bull frog's, about
+ * half) carries its leg's folds and foot sideways along the floor, and moved by one joint the
+ * rig loses the foot the retarget pins and the skeleton analysis reads the facing from (after
+ * the matcher .676 / .759 -> .654 / .692): it keeps its blend. Boxes off the floor (a head's,
+ * a tail's) are not asked. */
+static bool rf_rig_splayed(const rf_rig_prep *p, const rf_rig_skel *s, const double *held,
+                           rf_vec3 up)
+{
+    double lo = INFINITY, hi = -INFINITY, len = 0, rise = 0, low = INFINITY;
+    for (uint32_t i = 0; i < p->proxy.nv; i++) {
+        double h = rf_rig_up_of(p->proxy.p + (size_t)i * 3, up);
+        lo = fmin(lo, h), hi = fmax(hi, h);
+    }
+    for (uint32_t c = 0; c < 2 * s->n; c++) { /* bones to a child, then to a leaf's tip */
+        int32_t j = c < s->n ? s->parent[c] : (int32_t)(c - s->n);
+        if (j < 0 || !(held[j] > 0) || (c >= s->n && !s->has_tip[j]))
+            continue;
+        const double *a = s->pos + (size_t)j * 3;
+        const double *b = c < s->n ? s->pos + (size_t)c * 3 : s->tip + (size_t)j * 3;
+        double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        len += sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        rise += fabs(rf_rig_up_of(d, up));
+        low = fmin(low, fmin(rf_rig_up_of(a, up), rf_rig_up_of(b, up)));
+    }
+    return len > 0 && low - lo <= 0.05 * (hi - lo) && rise < 0.7 * len;
+}
+
+/* Whether joint p of s has exactly one child. */
+static bool rf_rig_only_child(const rf_rig_skel *s, int32_t p)
+{
+    uint32_t kids = 0;
+    for (uint32_t c = 0; c < s->n && kids < 2; c++)
+        kids += s->parent[c] == p;
+    return kids == 1;
+}
+
+/* The joint a low-poly box moves with alone: the deepest joint whose bones below it, its own
+ * included, hold more than half the bone length inside the box (h, [nj], total its sum), where
+ * the bones inside it are split in half along the chain; the joint holding the most may be the
+ * hips, whose bone runs into the top of a cat's leg box ahead of the leg's four short bones. That
+ * joint must pivot inside the box, its parent's bone held there too: a bone entering a box from
+ * a pivot outside it (the hips' into the animalia fox's tail box) is the body's, and the box
+ * keeps its blend (RF_RIG_NONE; after the matcher .72 / .73 on the fox, .85 / .86 kept). sub is
+ * scratch, [nj]. */
+static uint32_t rf_rig_box_owner(const rf_rig_skel *s, const double *h, double total, double *sub)
+{
+    uint32_t nj = s->n, owner = RF_RIG_NONE;
+    memcpy(sub, h, nj * sizeof *sub);
+    for (uint32_t c = nj; c-- > 0;)
+        if (s->parent[c] >= 0)
+            sub[s->parent[c]] += sub[c];
+    for (uint32_t j = 0; j < nj; j++)
+        if (h[j] > 0 && sub[j] > 0.5 * total && (owner == RF_RIG_NONE || sub[j] < sub[owner]))
+            owner = j;
+    if (owner == RF_RIG_NONE || !(s->parent[owner] >= 0 && h[s->parent[owner]] > 0))
+        return RF_RIG_NONE;
+    /* up through short links wholly inside the box, each under a fifth of the bone length the
+     * box holds below the joint: the curve skeleton leaves such links where a limb leaves the
+     * body (the cat's foreleg, 0.02 and 0.04 over a leg of 0.25); below the box's joint they
+     * would bend nothing, and a file read back flags them as joints without skin, which the
+     * matcher leaves out of the leg */
+    for (int32_t p = s->parent[owner]; p >= 0 && rf_rig_only_child(s, p); p = s->parent[owner]) {
+        double link = rf_rig_dist3(s->pos + (size_t)p * 3, s->pos + (size_t)owner * 3);
+        if (!(h[p] >= 0.999 * link && link < 0.2 * sub[owner]))
+            break;
+        owner = (uint32_t)p;
+    }
+    return owner;
+}
+
+/* Flags in boxed[] the joints below `owner` whose bones the box it moves (h, [nj]) holds: they
+ * bend nothing of it. */
+static void rf_rig_mark_boxed(const rf_rig_skel *s, const double *h, uint32_t owner, uint8_t *boxed)
+{
+    for (uint32_t j = owner + 1; j < s->n; j++) {
+        int32_t a = s->parent[j];
+        while (a > (int32_t)owner) /* parents come first: an ancestor's index is smaller */
+            a = s->parent[a];
+        if (a == (int32_t)owner && h[j] > 0)
+            boxed[j] = 1;
+    }
+}
+
 /* A part enclosing the bones of this many joints or more, with at least four vertices for each,
  * is a piece modelled to deform (a head carrying a jaw, lips, eyes and a ponytail; an arm with
  * its hand), not a box: the boxes of the artists' box models hold the bones of one to four
@@ -1137,6 +1246,11 @@ static bool rf_rig_branches(const rf_rig_skel *s, const double *held, uint8_t *s
  * does: each face joint then owns its region as the artists give it (BCN_Epileptic 72% -> 74%
  * precision on its artist's skeleton). Where they run as one chain it takes the plain rows:
  * sharpened, a loose spider leg of five joints' bones was drawn into a spike under the CMU walk.
+ * A low-poly box holding more joints' bones than it has rings to bend at moves with the joint
+ * pivoting inside it where its bones split in half (rf_rig_is_box, rf_rig_box_owner): blended, an
+ * animalia cat's leg boxes and a horse's lower legs sheared into wedges under the CMU walk. Not
+ * in a layout whose joints must all keep skin (o->keep_joints, the template's): the joints below
+ * that one would move nothing, and the general rigger drops them (rf_rig_prune in rig.c).
  * The part with the largest surface (the body) moves with one joint only when bone heat
  * agrees, giving that joint more than half of it: a box model's body box holding the torso's
  * bone (the animalia bird's, the owl's), a robot's head piece holding the head's; a bat's body
@@ -1145,7 +1259,8 @@ static bool rf_rig_branches(const rf_rig_skel *s, const double *held, uint8_t *s
  * (rf_rig_boneless_owners); an open one keeps its weights. */
 static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, const rf_rig_skel *s,
                                const rf_rig_bone *bones, uint32_t nb, const rf_rig_enclosed *e,
-                               double *w, const double *plain, bool given_bones)
+                               double *w, const double *plain, const rf_rig_options *o,
+                               uint8_t *boxed)
 {
     uint32_t nj = s->n;
     uint32_t np = p->proxy_parts;
@@ -1187,6 +1302,16 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, co
     if (ok && owner[largest] != RF_RIG_NONE &&
         !rf_rig_heat_agrees(p, largest, nj, w, owner[largest]))
         owner[largest] = RF_RIG_NONE;
+    double *sub = ok ? malloc((nj + 1) * sizeof *sub) : NULL;
+    ok = ok && sub;
+    for (uint32_t q = 0; ok && q < np; q++)
+        if (!o->keep_joints && rf_rig_is_box(held, sum, owner, verts, largest, nj, q) &&
+            !rf_rig_splayed(p, s, held + (size_t)q * nj, rf_v3_normalize(o->up))) {
+            owner[q] = rf_rig_box_owner(s, held + (size_t)q * nj, sum[q], sub);
+            if (boxed && owner[q] != RF_RIG_NONE)
+                rf_rig_mark_boxed(s, held + (size_t)q * nj, owner[q], boxed);
+        }
+    free(sub);
     ok = ok && rf_rig_boneless_owners(p, bends, sum, largest, nj, w, owner);
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++)
         if (p->proxy_part[i] != largest && sum[p->proxy_part[i]] > 0 &&
@@ -1202,14 +1327,14 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, co
         memset(w + (size_t)i * nj, 0, nj * sizeof *w);
         w[(size_t)i * nj + j] = 1;
     }
-    ok = ok && (given_bones || rf_rig_props(p, largest, sum, bends, area, owner, nj, w));
+    ok = ok && (o->given_bones || rf_rig_props(p, largest, sum, bends, area, owner, nj, w));
     free(ahead), free(behind), free(crossed), free(area), free(owner);
     free(bends), free(piece), free(verts), free(seen);
     return ok;
 }
 
 bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_options *o, double **w,
-                 rf_rig_stats *st, char *err, size_t n)
+                 uint8_t *boxed, rf_rig_stats *st, char *err, size_t n)
 {
     uint64_t available = 0;
     bool known = rf_memory_available(&available);
@@ -1249,7 +1374,7 @@ bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_option
     if (ok)
         rf_rig_normalise(p, bones, nb, nj, *w, plain, st);
     if (ok && p->proxy_parts > 1 &&
-        !rf_rig_part_joints(p, &rays, s, bones, nb, &enc, *w, plain, o->given_bones))
+        !rf_rig_part_joints(p, &rays, s, bones, nb, &enc, *w, plain, o, boxed))
         ok = rf_rig_fail(err, n, "out of memory weighting %u vertices", p->proxy.nv);
     rf_rig_rays_free(&rays);
     rf_rig_enclosed_free(&enc);

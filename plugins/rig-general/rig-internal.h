@@ -163,9 +163,10 @@ rf_rig_near *rf_rig_near_new(const rf_rig_prep *p); /* NULL when out of memory *
 void rf_rig_near_free(rf_rig_near *gr);
 uint32_t rf_rig_near_vertex(const rf_rig_near *gr, const double q[3]); /* NONE: no vertex */
 
-/* Bone-heat weights on the proxy: w[vertex * joints + joint], rows summing to 1. */
+/* Bone-heat weights on the proxy: w[vertex * joints + joint], rows summing to 1. boxed ([joints],
+ * zeroed, or NULL) gets the joints inside a low-poly box that one joint above them moves alone. */
 bool rf_rig_heat(const rf_rig_prep *p, const rf_rig_skel *s, const rf_rig_options *o, double **w,
-                 rf_rig_stats *st, char *err, size_t n);
+                 uint8_t *boxed, rf_rig_stats *st, char *err, size_t n);
 
 /* The defaults filled in (rig.c). */
 rf_rig_options rf_rig_defaults(const rf_rig_options *opts);

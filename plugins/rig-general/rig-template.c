@@ -1200,6 +1200,7 @@ static bool rf_rig_template_framed(const rf_mesh *mesh, const rf_rig_options *op
                                    size_t err_size)
 {
     rf_rig_options o = rf_rig_defaults(opts);
+    o.keep_joints = true; /* the template's named joints all stay, each with skin */
     rf_rig_stats st_local, *st = stats ? stats : &st_local;
     memset(st, 0, sizeof *st);
     *skeleton = NULL, *skinned = NULL;

@@ -663,15 +663,24 @@ no_memory:
     return rf_rig_oom(err, err_size, "out of memory %s", doing);
 }
 
-bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *k,
-                  const rf_rig_options *o, rf_skeleton *s, rf_mesh **skinned, rf_rig_stats *st,
-                  char *err, size_t err_size)
+/* Marks in below[] the joints with a joint in used[] below them: a joint inside a chain whose
+ * own bone moves no vertex still bends the chain. */
+static void rf_rig_mark_below(const rf_rig_skel *k, const uint8_t *used, uint8_t *below)
 {
-    double *w = NULL;
-    *skinned = NULL;
-    bool ok = rf_rig_heat(p, k, o, &w, st, err, err_size);
-    rf_mesh *m = ok ? rf_rig_mesh_copy(mesh) : NULL;
-    if (ok && (!m || !rf_rig_skin(mesh, p, k, w, m, st)))
+    for (uint32_t j = k->n; j-- > 0;)
+        if ((used[j] || below[j]) && k->parent[j] >= 0)
+            below[k->parent[j]] = 1;
+}
+
+/* The skin from bone heat's rows w, written into a copy of the mesh, and s's joints that move no
+ * vertex marked unweighted. */
+static bool rf_rig_write_skin(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *k,
+                              const double *w, rf_skeleton *s, rf_mesh **skinned, rf_rig_stats *st,
+                              char *err, size_t err_size)
+{
+    bool ok = true;
+    rf_mesh *m = rf_rig_mesh_copy(mesh);
+    if (!m || !rf_rig_skin(mesh, p, k, w, m, st))
         ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
     /* a joint whose bone won no vertex says so, as artists' helper joints do; out of memory is
      * said, never a rig without those marks (the matcher would drive the joints as body) */
@@ -682,10 +691,7 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
         for (size_t i = 0; i < (size_t)m->vertex_count * 4; i++)
             if (m->skin_weights[i] > 0)
                 used[m->skin_joints[i]] = 1;
-        /* weighted below: a joint inside a chain whose bone won no vertex still bends it */
-        for (uint32_t j = k->n; j-- > 0;)
-            if ((used[j] || below[j]) && k->parent[j] >= 0)
-                below[k->parent[j]] = 1;
+        rf_rig_mark_below(k, used, below);
         for (uint32_t j = 0; j < k->n; j++)
             if (!used[j] && !below[j])
                 s->joints[j].flags |= RF_JOINT_UNWEIGHTED;
@@ -695,6 +701,17 @@ bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *
         rf_mesh_free(m);
     }
     free(below), free(used);
+    return ok;
+}
+
+bool rf_rig_weigh(const rf_mesh *mesh, const rf_rig_prep *p, const rf_rig_skel *k,
+                  const rf_rig_options *o, rf_skeleton *s, rf_mesh **skinned, rf_rig_stats *st,
+                  char *err, size_t err_size)
+{
+    double *w = NULL;
+    *skinned = NULL;
+    bool ok = rf_rig_heat(p, k, o, &w, NULL, st, err, err_size) &&
+              rf_rig_write_skin(mesh, p, k, w, s, skinned, st, err, err_size);
     free(w);
     return ok;
 }
@@ -887,6 +904,97 @@ static void rf_rig_drop(rf_rig_skel *k, const uint8_t *drop, int32_t *to)
         n++;
     }
     k->n = n;
+}
+
+/* Moves end along the line from o through it until it lies as far along that line as q does,
+ * when q lies farther. */
+static void rf_rig_reach_along(const double *o, double *end, const double *q)
+{
+    double dir[3], len = sqrt(rf_rig_apart2(end, o)), along = 0;
+    for (int c = 0; c < 3; c++)
+        dir[c] = (end[c] - o[c]) / len, along += (q[c] - o[c]) * dir[c];
+    if (along > len)
+        for (int c = 0; c < 3; c++)
+            end[c] = o[c] + along * dir[c];
+}
+
+/* The point among joint j's pivot (e 0) and tip (e 1, when it has one) of k, or NULL. */
+static const double *rf_rig_point(const rf_rig_skel *k, uint32_t j, int e)
+{
+    return e ? (k->has_tip[j] ? k->tip + (size_t)j * 3 : NULL) : k->pos + (size_t)j * 3;
+}
+
+/* For each joint j of k, in anc[], j itself when drop[j] is clear, else its nearest ancestor
+ * not dropped; in tip[] ([n][3], set[] flagging which), for a joint a left a leaf by the drop,
+ * the end of its new bone: along the line to the dropped pivot farthest from a's, as far as any
+ * dropped pivot or tip reaches along it. The farthest point itself may be a leaf's tip aimed
+ * aside (to the gap between two legs), the line of pivots is the leg's. */
+static void rf_rig_drop_ends(const rf_rig_skel *k, const uint8_t *drop, int32_t *anc, double *tip,
+                             uint8_t *set, uint8_t *inner)
+{
+    for (uint32_t j = 0; j < k->n; j++) {
+        int32_t p = k->parent[j];
+        anc[j] = !drop[j] || p < 0 ? (int32_t)j : anc[p];
+        if (!drop[j] && p >= 0)
+            inner[p] = 1;
+    }
+    for (int pass = 0; pass < 2; pass++)
+        for (uint32_t j = 0; j < k->n; j++) {
+            uint32_t a = (uint32_t)anc[j];
+            if (!drop[j] || inner[a])
+                continue;
+            const double *o = k->pos + (size_t)a * 3;
+            double *end = tip + (size_t)a * 3;
+            for (int e = 0; e < 1 + pass; e++) {
+                const double *q = rf_rig_point(k, j, e);
+                double d = q ? rf_rig_apart2(q, o) : 0;
+                if (!pass && d > 0 && (!set[a] || d > rf_rig_apart2(end, o)))
+                    memcpy(end, q, 3 * sizeof *q), set[a] = 1;
+                else if (pass && d > 0 && set[a])
+                    rf_rig_reach_along(o, end, q);
+            }
+        }
+}
+
+/* Drops the joints a low-poly box holds below the joint it moves with alone (boxed[], from
+ * rf_rig_heat), where every joint below them is boxed too, folding their columns of w ([proxy
+ * vertex][k->n]) into their nearest kept ancestor's (the body's vertices about the box's top may
+ * weight them a little). They bend nothing of the box; kept, they had no skin, read as helpers
+ * to the matcher, and the leg ended at the box's joint with its bone short of the floor: the
+ * retarget found no foot there (the animalia cat's forelegs took the human's arms). Dropped,
+ * the joint left at the chain's end takes their reach as its tip (rf_rig_drop_ends), and its
+ * bone reaches the floor as an artist's one-bone leg's does. False when out of memory. */
+static bool rf_rig_prune(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *boxed, double **w)
+{
+    uint32_t n = k->n, nv = p->proxy.nv, dropped = 0;
+    uint8_t *held = calloc(n + 1, 1), *drop = calloc(n + 1, 1), *set = calloc(n + 1, 1),
+            *inner = calloc(n + 1, 1);
+    int32_t *anc = malloc((n + 1) * sizeof *anc), *to = malloc((n + 1) * sizeof *to);
+    double *tip = malloc((n + 1) * 3 * sizeof *tip);
+    bool ok = held && drop && set && inner && anc && to && tip;
+    for (uint32_t j = 0; ok && j < n; j++)
+        held[j] = !boxed[j];
+    if (ok)
+        rf_rig_mark_below(k, held, drop); /* drop[] first holds "something kept below" */
+    for (uint32_t j = 0; ok && j < n; j++)
+        drop[j] = k->parent[j] >= 0 && !held[j] && !drop[j], dropped += drop[j];
+    double *kept = ok && dropped ? calloc((size_t)nv * (n - dropped) + 1, sizeof *kept) : NULL;
+    ok = ok && (!dropped || kept);
+    if (ok && dropped) {
+        rf_rig_drop_ends(k, drop, anc, tip, set, inner);
+        for (uint32_t j = 0; j < n; j++)
+            if (set[j])
+                memcpy(k->tip + (size_t)j * 3, tip + (size_t)j * 3, 3 * sizeof *tip),
+                    k->has_tip[j] = 1;
+        rf_rig_drop(k, drop, to);
+        for (uint32_t v = 0; v < nv; v++)
+            for (uint32_t j = 0; j < n; j++)
+                kept[(size_t)v * k->n + (uint32_t)to[anc[j]]] += (*w)[(size_t)v * n + j];
+        free(*w);
+        *w = kept;
+    }
+    free(held), free(drop), free(set), free(inner), free(anc), free(to), free(tip);
+    return ok;
 }
 
 /* The joint where the head's bulk starts: of the joints from the head's first joint h down
@@ -1661,10 +1769,19 @@ static bool rf_rig_general_framed(const rf_mesh *mesh, const rf_rig_options *opt
     rf_rig_options named = o;
     if (ok && !(rf_v3_len(o.forward) > 0) && !rf_rig_pooled_facing(&p, &k, &o, &named.forward))
         ok = rf_rig_fail(err, err_size, "out of memory reading the body's facing");
+    double *w = NULL;
+    uint8_t *boxed = ok ? calloc(k.n + 1, 1) : NULL;
+    if (ok && !boxed)
+        ok = rf_rig_fail(err, err_size, "out of memory weighting the rig");
+    ok = ok && rf_rig_heat(&p, &k, &o, &w, boxed, st, err, err_size);
+    if (ok && !rf_rig_prune(&p, &k, boxed, &w))
+        ok = rf_rig_fail(err, err_size, "out of memory dropping joints that move no vertex");
+    free(boxed);
     rf_skeleton *s = ok ? rf_rig_skeleton(&k, &named) : NULL;
     if (ok && !s)
         ok = rf_rig_fail(err, err_size, "out of memory writing the rig");
-    ok = ok && rf_rig_weigh(mesh, &p, &k, &o, s, skinned, st, err, err_size);
+    ok = ok && rf_rig_write_skin(mesh, &p, &k, w, s, skinned, st, err, err_size);
+    free(w);
     if (ok && progress)
         progress(user, 0.9);
     if (ok)
@@ -1898,7 +2015,7 @@ bool rf_rig_bind(const rf_mesh *mesh, const rf_skeleton *skeleton, const rf_mat4
     if (ok && !rf_rig_leaf_tips(&p, &k, axis))
         ok = rf_rig_fail(err, err_size, "out of memory");
     free(axis);
-    ok = ok && rf_rig_heat(&p, &k, &o, &w, st, err, err_size);
+    ok = ok && rf_rig_heat(&p, &k, &o, &w, NULL, st, err, err_size);
     m = ok ? rf_rig_mesh_copy(mesh) : NULL;
     if (ok && (!m || !rf_rig_skin(mesh, &p, &k, w, m, st)))
         ok = rf_rig_fail(err, err_size, "out of memory writing the skin");

@@ -38,6 +38,10 @@ typedef struct rf_rig_options {
     bool given_bones;         /* the skeleton was not grown inside this mesh: its bones may lie
                                * outside the skin, so a bone in front of a vertex's surface is
                                * not passed over (set when binding a given skeleton) */
+    bool keep_joints;         /* every joint keeps skin to move (a template's named layout): a
+                               * low-poly box is never moved by one joint alone where that would
+                               * leave the joints inside it moving nothing (set by the template
+                               * rigger; the general rigger drops such joints instead) */
 } rf_rig_options;
 
 #define RF_RIG_UP_NOTE 320 /* bytes of rf_rig_stats.up_note */

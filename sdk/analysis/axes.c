@@ -531,6 +531,18 @@ static uint32_t chain_past_far(const rf_awork *w, const rf_limb *l, rf_vec3 *pts
     return np;
 }
 
+/* The last bone of a leg's path pts[np] is the leg itself, not a foot: it starts in the leg's
+ * upper third (low and top its lowest and highest) and is most of the path's length. A bone from
+ * about the hip to the floor, set splayed or swung (a frog's or a lizard's one-bone legs, a box
+ * moved by one joint), says how the leg stands, not where the toes point. */
+static bool leg_itself(const rf_awork *w, const rf_vec3 *pts, uint32_t np, double low, double top)
+{
+    double above = 0, last = rf_v3_dist(pts[np - 2], pts[np - 1]);
+    for (uint32_t k = 0; k + 2 < np; k++)
+        above += rf_v3_dist(pts[k], pts[k + 1]);
+    return rf_an_height(w, pts[np - 2]) > low + (2.0 / 3.0) * (top - low) && last > above;
+}
+
 /* Feet: the part of a grounded limb near the ground points forward. Knees of a biped bend
  * forward. Both measured along c (forward up to sign). */
 static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32_t *legs)
@@ -564,15 +576,16 @@ static void vote_limbs(rf_awork *w, rf_limbs *ls, rf_vec3 c, rf_votes *v, uint32
         uint32_t f = np - 1;
         while (f > 0 && rf_an_height(w, pts[f - 1]) <= foot_top)
             f--;
-        if (f == np - 1 && f > 0)
-            f--; /* only the end is low: use the last bone */
+        bool foot_bone = true;
+        if (f == np - 1 && f > 0) /* only the end is low: use the last bone */
+            f--, foot_bone = !leg_itself(w, pts, np, low, top);
         if (guessed_leaf)
-            f = np - 2;
+            f = np - 2, foot_bone = true;
         /* a foot lies along the ground: count it by how flat it is */
         rf_vec3 foot = rf_v3_sub(pts[np - 1], pts[f]);
         double reach = rf_v3_dist(l->far, l->attach), flen = rf_v3_len(foot);
         double flat = flen > 0 ? sqrt(fmax(0, 1 - pow(rf_an_height(w, foot) / flen, 2))) : 0;
-        if (reach > 0 && flen > 0.02 * reach && flat >= 0.7) /* 0.3 per flat foot along c */
+        if (foot_bone && reach > 0 && flen > 0.02 * reach && flat >= 0.7) /* 0.3 per flat foot */
             v->feet += 0.3 * flat * rf_v3_dot(foot, c) / flen;
     }
     if (*legs != 2 || !upright(w))

@@ -215,6 +215,16 @@ static void world_joints(const rf_skeleton *s, rf_vec3 *out)
     free(w);
 }
 
+/* Where each joint's bone ends in the rigger's rest (its joints are unrotated): a leaf's end
+ * site, or the joint itself. A low-poly leg box that cannot bend is a one-bone leg whose end, not
+ * a joint, stands on the floor. */
+static void world_ends(const rf_skeleton *s, const rf_vec3 *w, rf_vec3 *out)
+{
+    for (uint32_t j = 0; j < s->joint_count; j++)
+        out[j] = s->joints[j].flags & RF_JOINT_HAS_END_SITE ? rf_v3_add(w[j], s->joints[j].end_site)
+                                                            : w[j];
+}
+
 /* A body symmetric about z = 0 (the table creature's body and legs, a wider head) with two eyes
  * on the head, mirror images: the two eyes are twigs to prune, and pruned one at a time the
  * second no longer left a junction once the first was gone and stayed as the head chain's end
@@ -373,16 +383,20 @@ static void rig_winged(const char *what, double foot, double wing, const rf_rig_
     rf_vec3 w[256];
     assert_true(s->joint_count <= 256);
     world_joints(s, w);
+    rf_vec3 e[256];
+    world_ends(s, w, e);
     for (int side = -1; side <= 1; side += 2) {
         double best = INFINITY;
         for (uint32_t j = 0; j < s->joint_count; j++) {
-            rf_vec3 d = rf_v3_sub(w[j], rf_v3(-0.6, foot, 0.27 * side));
-            best = fmin(best, rf_v3_len(d));
+            rf_vec3 d = rf_v3_sub(w[j], rf_v3(-0.6, foot, 0.27 * side)),
+                    f = rf_v3_sub(e[j], rf_v3(-0.6, foot, 0.27 * side));
+            best = fmin(best, fmin(rf_v3_len(d), rf_v3_len(f)));
         }
-        printf("# %s: the foot at z %+.2f %.3f from the nearest joint\n", what, 0.27 * side, best);
+        printf("# %s: the foot at z %+.2f %.3f from the nearest joint or bone end\n", what,
+               0.27 * side, best);
         if (!(best < 0.25))
-            fail_msg("%s: the foot at z %g: the nearest joint %g away (%u joints)", what,
-                     0.27 * side, best, s->joint_count);
+            fail_msg("%s: the foot at z %g: the nearest joint or bone end %g away (%u joints)",
+                     what, 0.27 * side, best, s->joint_count);
     }
     rf_skeleton_free(s), rf_mesh_free(m), rf_mesh_free(in);
 }
@@ -434,10 +448,13 @@ static void test_any_scale(void **state)
         if (i == 0) {
             ref_n = s->joint_count;
             memcpy(ref, w, ref_n * sizeof *w);
-            /* four legs: four leaves near the floor, each heavier on the foot's vertices */
+            /* four legs: four bones reaching down near the floor (a leg box that cannot bend
+             * is one bone, its end on the floor) */
+            rf_vec3 e[256];
             uint32_t low = 0;
+            world_ends(s, w, e);
             for (uint32_t j = 0; j < s->joint_count; j++)
-                low += w[j].y < 0.5 * scales[i];
+                low += e[j].y < 0.5 * scales[i];
             assert_true(low >= 4);
         } else {
             assert_int_equal(s->joint_count, ref_n);
@@ -585,17 +602,18 @@ static void test_narrow_gap(void **state)
         if (!rf_rig_general(m, NULL, &s, &out, &st, NULL, NULL, err, sizeof err))
             fail_msg("%s", err);
         check_rig(open ? "narrow gap, open legs" : "narrow gap", m, s, out);
-        rf_vec3 *w = calloc(s->joint_count, sizeof *w);
+        rf_vec3 *w = calloc(s->joint_count, sizeof *w), *e = calloc(s->joint_count, sizeof *e);
         world_joints(s, w);
+        world_ends(s, w, e);
         bool left = false, right = false;
         for (uint32_t j = 0; j < s->joint_count; j++) {
-            left |= w[j].y < 0.5 && w[j].x < -0.08;
-            right |= w[j].y < 0.5 && w[j].x > 0.08;
+            left |= e[j].y < 0.5 && e[j].x < -0.08;
+            right |= e[j].y < 0.5 && e[j].x > 0.08;
         }
         if (!left || !right)
-            fail_msg("%s: the legs merged (joints low on the left %d, right %d)",
+            fail_msg("%s: the legs merged (bones low on the left %d, right %d)",
                      open ? "open legs" : "closed legs", left, right);
-        free(w);
+        free(w), free(e);
         rf_skeleton_free(s), rf_mesh_free(out), rf_mesh_free(m);
     }
 }
@@ -1410,7 +1428,9 @@ static void test_general_legs(void **state)
     rf_skeleton *s;
     rf_mesh *m;
     char err[512];
-    rf_rig_options o = {.up = rf_v3(0, 1, 0), .forward = rf_v3(1, 0, 0)};
+    /* its legs are single eight-corner boxes, which cannot bend: by default each moves with one
+     * joint and is a one-bone leg; kept whole, the legs show how they are laid out */
+    rf_rig_options o = {.up = rf_v3(0, 1, 0), .forward = rf_v3(1, 0, 0), .keep_joints = true};
     if (!rf_rig_general(in, &o, &s, &m, NULL, NULL, NULL, err, sizeof err))
         fail_msg("table creature: %s", err);
     rf_vec3 w[256];

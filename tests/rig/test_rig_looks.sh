@@ -112,10 +112,11 @@ fi
 
 # Four-legged auto-rigs walk on four feet: the retarget finds a foot where a chain's skin stands
 # on the floor at rest, and pins it there; a foot it does not find leaves that leg to the source's
-# arms. A rule in the rigger's weights that moved each low-poly leg box with an upper leg joint
-# alone left the joints below it without skin: the cat and the horse read 2 feet, their forelegs
-# swung forward and crossed as arms, and stretch read better for it (doc/autorig-log.md, "Low-poly
-# boxes ... Reverted"). The contact pass's log line names the count.
+# arms. The rule that moves each low-poly leg box with one leg joint alone first left the joints
+# below it without skin: the cat and the horse read 2 feet, their forelegs swung forward and
+# crossed as arms, and stretch read better for it (doc/autorig-log.md, "Low-poly boxes ...
+# Reverted"); the rigger now drops those joints, the box's joint reaching the floor as a one-bone
+# leg ("Low-poly leg boxes ... dropped"). The contact pass's log line names the count.
 # The run's log in $tmp/out names 4 feet (the contact pass's line), or the test fails showing it.
 four_feet() {
     feet=$(sed -n 's/.*contact pass ([a-z.]*): \([0-9]*\) feet.*/\1/p' "$tmp/out")
@@ -138,8 +139,9 @@ for m in animalia_cat animala_horse animalia_wolf; do
     four_feet "$m, general rig, CMU walk"
     # The same rig written to a GLB and read back (autorig.json, then retarget.json): a file
     # keeps no flag for a joint without skin, the importer flags every one it finds, and a rig
-    # whose leg joints carry none reads as legs ending higher (a rule that dropped the joints a
-    # rigid leg box leaves without skin gave 4 feet in the pipeline, 2 read back from its file).
+    # whose leg joints carry none reads as legs ending higher (dropping the joints a rigid leg box
+    # leaves without skin but keeping the short links above its joint gave the cat 4 feet in the
+    # pipeline, 2 read back from its file).
     "$rigflow" run "$src/pipelines/retarget.json" -p "source.path=$walk" -p "target.path=$tmp/$m.glb" \
         -p retarget.last_frame=60 -p "export.path=$tmp/$m-again.glb" >"$tmp/out" 2>&1
     four_feet "$m, its general rig read back from its GLB"

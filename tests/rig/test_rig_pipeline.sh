@@ -144,7 +144,12 @@ if grep -q "node 'rig'.*flat" "$tmp/err" && [ ! -e "$tmp/flat.glb" ]; then ok; e
 # .568/.566 with the rest as aligned from the root); the Fox's its trunk, rooted at the shoulders with a
 # reverse spine to the hips, placed along the artist's spine, rooted at the hips (.68/.67 with
 # the root given the artist's b_Hip_01 and the reverse spine nothing; doc/matching.md, "A twelfth
-# round")
+# round"). A low-poly box holding more joints' bones than it has rings to bend at moves with one
+# joint, the one pivoting in it where its bones split in half: without, the cat's and the wolf's
+# limits after the matcher fail (.846/.865, .750/.909: the cat's leg boxes, blended between the
+# hips and four leg bones, sheared into wedges). The joints such a box leaves bending nothing
+# are dropped, its joint given their reach as its bone's tip: the cat's and the wolf's CD-J2J
+# limits fail with them kept (0.087, 0.062)
 "$rigflow" rig-bench -r general "$data/models/Fox.glb" "$data/models/RiggedFigure.glb" \
     "$data/models/Testwuson.X" "$data/models/creatures/animalia_wolf.b3d" \
     "$data/models/Wizard.glb" "$data/models/creatures/animalia_owl.b3d" \
@@ -164,12 +169,12 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
         # RiggedFigure's legs laid from where its trunk closes over them: .837/.590 before
         limits("\"RiggedFigure.glb\"", 0.036, 0.86, 0.64, 0.88, 0.78, 0.32) # 0.029 .892/.673 .94/.84/.27
         limits("\"Testwuson.X\"", 0.047, 0.57, 0.57, 0.74, 0.78, 0.53)      # 0.043 .578/.580 .79/.83/.50
-        limits("\"animalia_wolf.b3d\"", 0.065, 0.70, 0.86, 0.88, 0.88, 0.24) # 0.062 .75/.91 .909/.909/.182
+        limits("\"animalia_wolf.b3d\"", 0.061, 0.80, 0.90, 0.88, 0.88, 0.24) # 0.059 .83/.93 .909/.909/.182
         limits("\"Wizard.glb\"", 0.066, 0.60, 0.60, 0.68, 0.72, 0.60)       # 0.060 .67/.66 .72/.78/.56
         limits("\"animalia_owl.b3d\"", 0.095, 0.80, 0.86, 0.825, 0.90, 0.315) # 0.090 .85/.92 .836/.948/.295
         limits("\"animalia_bird.b3d\"", 0.063, 0.80, 0.80, 0.78, 0.80, 0.42) # 0.058 .855/.855 .802/.844/.378
-        limits("\"animalia_fox.b3d\"", 0.085, 0.78, 0.83, 0.65, 0.70, 0.72)  # 0.077 .84/.89 .665/.717/.693
-        limits("\"animalia_cat.b3d\"", 0.095, 0.80, 0.82, 0.88, 0.88, 0.20)  # 0.087 .85/.87 .92/.92/.15
+        limits("\"animalia_fox.b3d\"", 0.085, 0.80, 0.83, 0.65, 0.70, 0.72)  # 0.077 .85/.86 .665/.717/.693
+        limits("\"animalia_cat.b3d\"", 0.086, 0.92, 0.93, 0.88, 0.88, 0.20)  # 0.084 .95/.96 .92/.92/.15
     }
     NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     {
