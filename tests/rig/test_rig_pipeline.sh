@@ -166,7 +166,7 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
                  cdmax[m] = cd; pmin[m] = p; rmin[m] = r; gpmin[m] = gp; grmin[m] = gr; glmax[m] = gl }
     BEGIN {
         limits("\"Fox.glb\"", 0.045, 0.75, 0.76, 0.80, 0.82, 0.50)         # 0.040 .764/.771 .86/.87/.45
-        # RiggedFigure's legs laid from where its trunk closes over them: .837/.590 before
+        # RiggedFigure: legs laid from where the trunk closes over them (.837/.590 before)
         limits("\"RiggedFigure.glb\"", 0.036, 0.86, 0.64, 0.88, 0.78, 0.32) # 0.029 .892/.673 .94/.84/.27
         limits("\"Testwuson.X\"", 0.047, 0.57, 0.57, 0.74, 0.78, 0.53)      # 0.043 .578/.580 .79/.83/.50
         limits("\"animalia_wolf.b3d\"", 0.061, 0.80, 0.90, 0.88, 0.88, 0.24) # 0.059 .83/.93 .909/.909/.182
