@@ -167,7 +167,9 @@ static uint32_t rf_rep_frame_of(const rf_rep *r, const rf_animation *a, double s
 static double rf_rep_start(rf_rep *r, const rf_rep_char *ch)
 {
     const rf_animation *t = rf_rep_target(r)->a;
-    return ch != rf_rep_target(r) && t ? t->source_start : 0;
+    return ch != rf_rep_target(r) && t && RF_HAS_FIELD(t, rf_animation, source_start)
+               ? t->source_start
+               : 0;
 }
 
 /* ---- characters ---- */

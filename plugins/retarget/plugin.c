@@ -605,7 +605,7 @@ static double rt_measure_start(const rf_host *host, rf_node *node, const rf_rt_s
     int64_t first = host->param_int(node, "first_frame");
     if (first >= 0)
         return src[0].animation && src[0].animation->fps > 0 ? first / src[0].animation->fps : 0;
-    return anim ? anim->source_start : 0;
+    return anim && RF_HAS_FIELD(anim, rf_animation, source_start) ? anim->source_start : 0;
 }
 
 static bool rt_measure_process(void *self, const rf_host *host, rf_node *node)
