@@ -956,12 +956,33 @@ static void rf_rig_drop_ends(const rf_rig_skel *k, const uint8_t *drop, int32_t 
         }
 }
 
+/* The least share of a vertex's weight by which a joint visibly moves it: the share the
+ * skinning's evaluation prunes below (doc/autorig.md, rig-bench). */
+#define RF_RIG_MOVES 0.15
+
+/* Flags in moves[] the joints of the n whose rows w ([nv][n]) give some vertex at least
+ * RF_RIG_MOVES of its weight: a joint below that everywhere moves nothing anyone sees. */
+static void rf_rig_moving(const double *w, uint32_t nv, uint32_t n, uint8_t *moves)
+{
+    for (uint32_t v = 0; v < nv; v++) {
+        const double *row = w + (size_t)v * n;
+        double sum = 0;
+        for (uint32_t j = 0; j < n; j++)
+            sum += row[j];
+        for (uint32_t j = 0; sum > 0 && j < n; j++)
+            if (row[j] >= RF_RIG_MOVES * sum)
+                moves[j] = 1;
+    }
+}
+
 /* Drops the joints a low-poly box holds below the joint it moves with alone (boxed[], from
- * rf_rig_heat), where every joint below them is boxed too, folding their columns of w ([proxy
- * vertex][k->n]) into their nearest kept ancestor's (the body's vertices about the box's top may
- * weight them a little). They bend nothing of the box; kept, they had no skin, read as helpers
- * to the matcher, and the leg ended at the box's joint with its bone short of the floor: the
- * retarget found no foot there (the animalia cat's forelegs took the human's arms). Dropped,
+ * rf_rig_heat), and the joints that move no vertex visibly (rf_rig_moving: the twigs past the
+ * angelfish's fins, the cat's back where bone heat gives its box to the body), where every joint
+ * below them is dropped too (a joint inside a chain still bends it), folding their columns of w
+ * ([proxy vertex][k->n]) into their nearest kept ancestor's (the body's vertices about the box's
+ * top may weight them a little). They bend nothing of the box; kept, they had no skin, read as
+ * helpers to the matcher, and the leg ended at the box's joint with its bone short of the floor:
+ * the retarget found no foot there (the animalia cat's forelegs took the human's arms). Dropped,
  * the joint left at the chain's end takes their reach as its tip (rf_rig_drop_ends), and its
  * bone reaches the floor as an artist's one-bone leg's does. False when out of memory. */
 static bool rf_rig_prune(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *boxed, double **w)
@@ -972,8 +993,10 @@ static bool rf_rig_prune(const rf_rig_prep *p, rf_rig_skel *k, const uint8_t *bo
     int32_t *anc = malloc((n + 1) * sizeof *anc), *to = malloc((n + 1) * sizeof *to);
     double *tip = malloc((n + 1) * 3 * sizeof *tip);
     bool ok = held && drop && set && inner && anc && to && tip;
+    if (ok)
+        rf_rig_moving(*w, nv, n, held);
     for (uint32_t j = 0; ok && j < n; j++)
-        held[j] = !boxed[j];
+        held[j] = held[j] && !boxed[j];
     if (ok)
         rf_rig_mark_below(k, held, drop); /* drop[] first holds "something kept below" */
     for (uint32_t j = 0; ok && j < n; j++)

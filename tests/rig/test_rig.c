@@ -2,12 +2,12 @@
  * with a reason, never with a vertex left unweighted; the rig does not depend on the unit or the
  * facing; bad input (empty, a point cloud, a sheet, nothing but specks, broken numbers, a body
  * too far from its origin for single precision) is refused with a message and nothing allocated;
- * a big scan goes through the simplified proxy; legs a few voxels apart stay apart; a given skeleton is weighted as its artist would (a leaf joint
- * without an end site keeps the mesh past it, a box of a box model moves with one joint, a sleeve
- * only with the joints inside it). The template rigger lays its joints where a person would put
- * them on a box creature and on the shared RiggedFigure and Fox, and refuses a body with no legs,
- * saying why; joints are moved to the centre of a known cross-section, and through the body to a
- * given depth. */
+ * a big scan goes through the simplified proxy; legs a few voxels apart stay apart; a given
+ * skeleton is weighted as its artist would (a leaf joint without an end site keeps the mesh past
+ * it, a box of a box model moves with one joint, a sleeve only with the joints inside it). The
+ * template rigger lays its joints where a person would put them on a box creature and on the shared
+ * RiggedFigure and Fox, and refuses a body with no legs, saying why; joints are moved to the centre
+ * of a known cross-section, and through the body to a given depth. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -58,6 +58,28 @@ static void check_rig(const char *what, const rf_mesh *in, const rf_skeleton *s,
         fail_msg("%s: %u vertices without weights summing to 1", what, unweighted);
 }
 
+/* The general rigger leaves no joint that moves nothing: every leaf joint of s gives some vertex
+ * of m at least 0.15 of its weight (the share rig-bench's skinning prunes below), so no chain
+ * hangs past the skin as a helper nobody asked for. */
+static void check_leaves_move(const char *what, const rf_skeleton *s, const rf_mesh *m)
+{
+    uint32_t n = s->joint_count;
+    uint8_t *inner = calloc(n + 1, 1), *moves = calloc(n + 1, 1);
+    assert_non_null(inner);
+    assert_non_null(moves);
+    for (uint32_t j = 0; j < n; j++)
+        if (s->joints[j].parent >= 0)
+            inner[s->joints[j].parent] = 1;
+    for (size_t i = 0; i < (size_t)m->vertex_count * 4; i++)
+        if (m->skin_weights[i] >= 0.15f)
+            moves[m->skin_joints[i]] = 1;
+    for (uint32_t j = 0; j < n; j++)
+        if (!inner[j] && !moves[j])
+            fail_msg("%s: the leaf joint %s moves no vertex by 0.15 or more", what,
+                     s->joints[j].name);
+    free(inner), free(moves);
+}
+
 static bool rig_file(const char *path, bool must_rig)
 {
     rf_ai_options o = {.ignore_rig = true};
@@ -72,6 +94,7 @@ static bool rig_file(const char *path, bool must_rig)
     bool ok = r.mesh && rf_rig_general(r.mesh, NULL, &s, &m, &st, NULL, NULL, err, sizeof err);
     if (ok) {
         check_rig(path, r.mesh, s, m);
+        check_leaves_move(path, s, m);
         printf("# %s: %u joints, %u vertices (%u parts, %u specks), %u specks' and strays' "
                "vertices from the nearest surface\n",
                path, st.joints, st.vertices, st.parts, st.specks, st.fallback_vertices);
