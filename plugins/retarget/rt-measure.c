@@ -74,6 +74,18 @@ static void rt_need_chain(const rf_retarget *rt, uint8_t *need, uint32_t k, uint
         need[x] = 1;
 }
 
+/* The source joint a one-bone limb j points at (rt_chain_reach in rt-plan.c: the end of the
+ * source limb it stands for), or -1: its direction is measured against that line, as it is
+ * driven. */
+static int32_t rt_reach_of(const rf_retarget *rt, uint32_t j)
+{
+    const rf_rt_tjoint *tj = &rt->tj[j];
+    if (tj->kind != RF_RT_MAPPED || tj->input_count != 1)
+        return -1;
+    const rf_rt_input *in = &rt->in[tj->first_input];
+    return (in->flags & RF_RT_IN_CORRECT) ? in->seg_end : -1;
+}
+
 /* The source joints rt_frame_angles reads, by the same choice of source and joints: each
  * measured bone's mapped joint and, for a bone to a mapped child, the child's. Only these and
  * their carriers are posed at each measured frame (rf_rt_source_world_some poses a joint the
@@ -88,6 +100,8 @@ static void rt_mw_need(const rf_retarget *rt, rt_measure_work *w)
         if (c != j)
             rt_need_chain(rt, w->need[ij->source], ij->source,
                           rt->mapping->entries[c].inputs[0].joint);
+        else if (rt_reach_of(rt, j) >= 0)
+            rt_need_chain(rt, w->need[ij->source], ij->source, (uint32_t)rt_reach_of(rt, j));
     }
 }
 
@@ -110,6 +124,9 @@ static void rt_frame_angles(const rf_retarget *rt, rt_measure_work *w, double *a
         rf_vec3 td = rt_bone_dir(w->t_world, j, c, rt->t_tip[j]);
         rf_vec3 sd =
             rt_bone_dir(sw, ij->joint, c == j ? ij->joint : sc, rt->src[ij->source].tip[ij->joint]);
+        int32_t reach = c == j ? rt_reach_of(rt, j) : -1;
+        if (reach >= 0)
+            sd = rf_v3_sub(sw[reach].t, sw[ij->joint].t);
         angles[b] = rf_v3_angle(td, sd) * 180.0 / RF_PI;
     }
 }
