@@ -4,6 +4,8 @@
  *   "crash ..."   the process aborts, as a plugin with a fatal bug would
  *   "kill ..."    the process gets SIGKILL, as from the OOM killer
  *   "sleep S ..." the node takes S seconds (watching for an interrupt), then copies
+ *   "gate PATH"   the node waits (watching for an interrupt) until PATH exists, then copies:
+ *                 a job that is surely still running when a test kills its batch
  * Anything else is copied as is, after the line "copied by test.copy". */
 #include <signal.h>
 #include <stdio.h>
@@ -35,6 +37,18 @@ static bool wait_seconds(const rf_host *host, rf_node *node, double s)
     return true;
 }
 
+static bool wait_for_file(const rf_host *host, rf_node *node, const char *line)
+{
+    char path[4097];
+    snprintf(path, sizeof path, "%.*s", (int)strcspn(line, "\n"), line);
+    while (access(path, F_OK) != 0) {
+        if (host->cancelled(node))
+            return false;
+        usleep(10000);
+    }
+    return true;
+}
+
 static bool copy_process(void *self, const rf_host *host, rf_node *node)
 {
     (void)self;
@@ -58,6 +72,10 @@ static bool copy_process(void *self, const rf_host *host, rf_node *node)
     } else if (strncmp(text, "sleep ", 6) == 0 && !wait_seconds(host, node, atof(text + 6))) {
         host->error(node, "interrupted");
         ok = false;
+    } else if (strncmp(text, "gate ", 5) == 0) {
+        ok = wait_for_file(host, node, text + 5);
+        if (!ok)
+            host->error(node, "interrupted");
     }
     FILE *f = ok ? fopen(host->param_string(node, "output"), "wb") : NULL;
     if (ok && (!f || fprintf(f, "copied by test.copy\n%s", text) < 0 || fclose(f) != 0)) {
