@@ -45,12 +45,38 @@ static void rf_bm_bone(rf_mesh *m, uint32_t b, rf_vec3 p, rf_vec3 c, uint16_t jo
     }
 }
 
-/* Whether joint j ends a bone worth drawing: it has a parent, and is apart from it by more than
- * a millionth of the skeleton's span (coincident helper joints draw nothing). */
-static bool rf_bm_is_bone(const rf_skeleton *s, const rf_xform *w, uint32_t j, double span)
+/* How far a joint may move against its parent in a clip, of its rest distance from it, and
+ * still be drawn as a rigid bone on the parent: mocap that keys every joint's position holds it
+ * still within its noise, a root that carries the hips walks them away. */
+#define RF_BM_SLIDE 0.05
+
+/* Whether joint j keeps its place against its parent through every frame of the clips: its
+ * local translation strays from the first frame's by at most RF_BM_SLIDE of its rest length. */
+static bool rf_bm_held(const rf_skeleton *s, uint32_t j, const rf_animation *const *clips,
+                       uint32_t nclips)
+{
+    double most = RF_BM_SLIDE * rf_v3_len(s->joints[j].rest.t);
+    for (uint32_t c = 0; c < nclips; c++) {
+        const rf_animation *a = clips[c];
+        if (!a || a->joint_count != s->joint_count || !a->frame_count)
+            continue;
+        rf_vec3 first = rf_animation_translation(a, 0, j);
+        for (uint32_t f = 1; f < a->frame_count; f++)
+            if (!(rf_v3_dist(rf_animation_translation(a, f, j), first) <= most))
+                return false;
+    }
+    return true;
+}
+
+/* Whether joint j ends a bone worth drawing: it has a parent, is apart from it by more than a
+ * millionth of the skeleton's span (coincident helper joints draw nothing), and keeps its place
+ * against it in the clips (a bone from a BVH's root at the origin to the hips it walks away
+ * would stand there as a spike). */
+static bool rf_bm_is_bone(const rf_skeleton *s, const rf_xform *w, uint32_t j, double span,
+                          const rf_animation *const *clips, uint32_t nclips)
 {
     int32_t p = s->joints[j].parent;
-    return p >= 0 && rf_v3_dist(w[p].t, w[j].t) > 1e-6 * span;
+    return p >= 0 && rf_v3_dist(w[p].t, w[j].t) > 1e-6 * span && rf_bm_held(s, j, clips, nclips);
 }
 
 static double rf_bm_span(const rf_xform *w, uint32_t n)
@@ -96,7 +122,8 @@ static bool rf_bm_finite(const rf_skeleton *s, const rf_xform *w, char *err, siz
     return true;
 }
 
-rf_mesh *rf_cv_bone_mesh(const rf_skeleton *s, char *err, size_t err_size)
+rf_mesh *rf_cv_bone_mesh(const rf_skeleton *s, const rf_animation *const *clips, uint32_t nclips,
+                         char *err, size_t err_size)
 {
     uint32_t n = s->joint_count, bones = 0;
     if (!rf_bm_ordered(s, err, err_size))
@@ -118,17 +145,18 @@ rf_mesh *rf_cv_bone_mesh(const rf_skeleton *s, char *err, size_t err_size)
     }
     double span = n ? rf_bm_span(w, n) : 0;
     for (uint32_t j = 0; j < n; j++)
-        bones += rf_bm_is_bone(s, w, j, span);
+        bones += rf_bm_is_bone(s, w, j, span, clips, nclips);
     if (!bones || !rf_bm_alloc(m, bones)) {
         snprintf(err, err_size,
                  bones ? "out of memory drawing %u bones"
-                       : "the skeleton has no bone of any length to draw (%u joints)",
+                       : "the skeleton has no bone of any length that keeps its length in the "
+                         "clips to draw (%u joints)",
                  bones ? bones : n);
         free(w), rf_mesh_free(m);
         return NULL;
     }
     for (uint32_t j = 0, b = 0; j < n; j++)
-        if (rf_bm_is_bone(s, w, j, span)) {
+        if (rf_bm_is_bone(s, w, j, span, clips, nclips)) {
             uint32_t p = (uint32_t)s->joints[j].parent;
             rf_bm_bone(m, b++, w[p].t, w[j].t, (uint16_t)p);
         }

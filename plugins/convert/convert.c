@@ -249,7 +249,7 @@ static bool rf_cv_export_gltf(const rf_host *host, rf_node *node, const char *pa
             return false;
         }
         s = standing ? standing : s;
-        m = bones = rf_cv_bone_mesh(s, err, sizeof err);
+        m = bones = rf_cv_bone_mesh(s, a, n, err, sizeof err);
         if (!bones) {
             host->error(node, "%s: bone_mesh: %s", target, err);
             rf_skeleton_free(standing);

@@ -2,7 +2,8 @@
 // the export tests:
 //   node look.js counts FILE.glb        prints "materials=M images=I uvsets=U animations=A
 //                                       skins=S meshes=N", one "animation NAME DURATION" line per
-//                                       clip, one "morph NAME WEIGHT LARGEST-DISPLACEMENT" per target
+//                                       clip, one "morph NAME WEIGHT LARGEST-DISPLACEMENT" per target,
+//                                       one "mesh NAME VERTICES" per mesh
 //   node look.js same A.glb B.glb       exit 1 unless B has A's images (same bytes, same order) and
 //                                       A's materials (every factor, texture slot and flag, glTF
 //                                       defaults applied; images compared by content)
@@ -71,6 +72,8 @@ function counts(file) {
                 `animations=${n('animations')} skins=${n('skins')} meshes=${n('meshes')}`);
     for (const a of j.animations || [])
         console.log(`animation ${a.name} ${animationDuration(g, a).toFixed(3)}`);
+    for (const m of j.meshes || [])
+        console.log(`mesh ${m.name} ${m.primitives.reduce((v, p) => v + j.accessors[p.attributes.POSITION].count, 0)}`);
     // morph targets: name, rest weight, the largest displacement over every primitive
     for (const m of j.meshes || []) {
         const names = (m.extras && m.extras.targetNames) || [];

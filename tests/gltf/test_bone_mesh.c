@@ -51,7 +51,7 @@ static void test_two_bones(void **state)
     (void)state;
     rf_skeleton *s = chain();
     char err[256];
-    rf_mesh *m = rf_cv_bone_mesh(s, err, sizeof err);
+    rf_mesh *m = rf_cv_bone_mesh(s, NULL, 0, err, sizeof err);
     assert_non_null(m);
     assert_int_equal(m->vertex_count, 12); /* root->a and b->c; a->b has no length */
     assert_int_equal(m->triangle_count, 16);
@@ -66,13 +66,62 @@ static void test_two_bones(void **state)
     rf_skeleton_free(s);
 }
 
+/* A clip of n frames on s's joints at rest, joint j's local translation moved by `by` times the
+ * frame number along x. */
+static rf_animation *sliding(const rf_skeleton *s, uint32_t n, uint32_t j, double by)
+{
+    rf_animation *a = rf_animation_new(s->joint_count, n, 30);
+    for (uint32_t f = 0; f < n; f++)
+        for (uint32_t k = 0; k < s->joint_count; k++) {
+            rf_vec3 t = s->joints[k].rest.t;
+            if (k == j)
+                t.x += by * f;
+            rf_animation_set_translation(a, f, k, t);
+        }
+    return a;
+}
+
+/* A bone whose child walks away from its parent in a clip (a BVH root at the origin under the
+ * hips that carry the walk) is not drawn: on the parent it would stand still while the body
+ * leaves it. A child held within 5% of its bone's length (mocap noise) keeps its bone. */
+static void test_sliding_child(void **state)
+{
+    (void)state;
+    rf_skeleton *s = chain();
+    char err[256];
+    /* a's bone is 2 long: 0.09 over 10 frames (4.5%) is noise, 0.2 a step (100%) a walk */
+    const rf_animation *clips[2] = {sliding(s, 10, 1, 0.01), NULL};
+    rf_mesh *m = rf_cv_bone_mesh(s, clips, 1, err, sizeof err);
+    assert_non_null(m);
+    assert_int_equal(m->vertex_count, 12);
+    rf_mesh_free(m);
+    clips[1] = sliding(s, 10, 1, 0.2);
+    m = rf_cv_bone_mesh(s, clips, 2, err, sizeof err);
+    assert_non_null(m);
+    assert_int_equal(m->vertex_count, 6); /* b->c alone */
+    for (uint32_t v = 0; v < 6; v++)
+        assert_int_equal(m->skin_joints[v * 4], 2);
+    rf_mesh_free(m);
+    /* a clip made for another skeleton says nothing of this one's bones */
+    rf_animation *other = rf_animation_new(3, 10, 30);
+    const rf_animation *mismatched[1] = {other};
+    m = rf_cv_bone_mesh(s, mismatched, 1, err, sizeof err);
+    assert_non_null(m);
+    assert_int_equal(m->vertex_count, 12);
+    rf_mesh_free(m);
+    rf_animation_free(other);
+    rf_animation_free((rf_animation *)clips[0]);
+    rf_animation_free((rf_animation *)clips[1]);
+    rf_skeleton_free(s);
+}
+
 static void test_no_bone(void **state)
 {
     (void)state;
     rf_skeleton *s = chain();
     s->joint_count = 1; /* a lone root */
     char err[256];
-    assert_null(rf_cv_bone_mesh(s, err, sizeof err));
+    assert_null(rf_cv_bone_mesh(s, NULL, 0, err, sizeof err));
     assert_non_null(strstr(err, "no bone"));
     s->joint_count = 4;
     rf_skeleton_free(s);
@@ -88,12 +137,12 @@ static void test_parent_order(void **state)
     char err[256] = "";
     s->joints[1].parent = 3;                  /* after its child */
     s->joints[1].name = strdup("arm\x1b[2J"); /* from a file: reaches the message escaped */
-    assert_null(rf_cv_bone_mesh(s, err, sizeof err));
+    assert_null(rf_cv_bone_mesh(s, NULL, 0, err, sizeof err));
     assert_string_equal(err, "joint 1 'arm\\x1b[2J' has parent 3 '#3': expected parents before "
                              "children");
     s->joints[1].parent = 70000; /* past the end */
     err[0] = '\0';
-    assert_null(rf_cv_bone_mesh(s, err, sizeof err));
+    assert_null(rf_cv_bone_mesh(s, NULL, 0, err, sizeof err));
     assert_non_null(strstr(err, "joint 1 'arm\\x1b[2J' has parent 70000 '#70000'"));
     rf_skeleton_free(s);
 }
@@ -105,10 +154,10 @@ static void test_nan_rest(void **state)
     rf_skeleton *s = chain();
     char err[256] = "";
     s->joints[3].rest.t.y = NAN;
-    assert_null(rf_cv_bone_mesh(s, err, sizeof err));
+    assert_null(rf_cv_bone_mesh(s, NULL, 0, err, sizeof err));
     assert_string_equal(err, "joint 3 '#3': its rest position is not finite");
     s->joints[3].name = strdup("tip\x07");
-    assert_null(rf_cv_bone_mesh(s, err, sizeof err));
+    assert_null(rf_cv_bone_mesh(s, NULL, 0, err, sizeof err));
     assert_string_equal(err, "joint 3 'tip\\x07': its rest position is not finite");
     rf_skeleton_free(s);
 }
@@ -128,7 +177,7 @@ static void test_joint_limit(void **state)
         s->joints[j].rest = (rf_xform){{j ? 1 : 0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
     }
     char err[256] = "";
-    rf_mesh *m = rf_cv_bone_mesh(s, err, sizeof err);
+    rf_mesh *m = rf_cv_bone_mesh(s, NULL, 0, err, sizeof err);
     assert_non_null(m);
     assert_int_equal(m->vertex_count, 65535u * 6);
     assert_int_equal(m->triangle_count, 65535u * 8);
@@ -138,7 +187,7 @@ static void test_joint_limit(void **state)
         assert_true(m->triangles[i] < m->vertex_count);
     rf_mesh_free(m);
     s->joint_count = n + 1;
-    assert_null(rf_cv_bone_mesh(s, err, sizeof err));
+    assert_null(rf_cv_bone_mesh(s, NULL, 0, err, sizeof err));
     assert_non_null(strstr(err, "65536"));
     rf_skeleton_free(s);
 }
@@ -146,9 +195,9 @@ static void test_joint_limit(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_two_bones),    cmocka_unit_test(test_no_bone),
-        cmocka_unit_test(test_parent_order), cmocka_unit_test(test_nan_rest),
-        cmocka_unit_test(test_joint_limit),
+        cmocka_unit_test(test_two_bones), cmocka_unit_test(test_sliding_child),
+        cmocka_unit_test(test_no_bone),   cmocka_unit_test(test_parent_order),
+        cmocka_unit_test(test_nan_rest),  cmocka_unit_test(test_joint_limit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
