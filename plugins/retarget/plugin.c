@@ -225,16 +225,17 @@ static bool rt_mesh_floor(rf_retarget *rt, rf_animation *out, const rf_mesh *mes
 }
 
 /* Where the mesh stands higher over its floor than the source over its own (its jumps above
- * all), the clip is lowered (rf_retarget_mesh_hold), said in one line. */
+ * all), the clip is lowered, and on rigid legs raised where it stands lower
+ * (rf_retarget_mesh_hold), each said in one line. */
 static bool rt_mesh_hold(rf_retarget *rt, rf_animation *out, const rf_mesh *mesh,
                          const rf_retarget_options *o, const rf_host *host, rf_node *node)
 {
     char err[ERR_SIZE];
-    uint32_t lowered;
+    uint32_t lowered, raised;
     double deepest;
     if (!mesh || !o->hold_floor)
         return true;
-    if (!rf_retarget_mesh_hold(rt, out, mesh, &lowered, &deepest, err, sizeof err)) {
+    if (!rf_retarget_mesh_hold(rt, out, mesh, &lowered, &deepest, &raised, err, sizeof err)) {
         host->error(node, "holding the floor: %s", err);
         return false;
     }
@@ -243,6 +244,11 @@ static bool rt_mesh_hold(rf_retarget *rt, rf_animation *out, const rf_mesh *mesh
                   "standing higher than the source: the clip lowered in %u of %u frames (at "
                   "most %.4g)",
                   lowered, out->frame_count, deepest);
+    if (raised)
+        host->log(node, RF_LOG_INFO,
+                  "standing lower than the source on legs of one bone each, which the contact "
+                  "pass cannot bend: the clip raised in %u of %u frames",
+                  raised, out->frame_count);
     return true;
 }
 

@@ -426,6 +426,9 @@ uint8_t *rf_rt_detect_contacts(const rf_retarget *rt, uint32_t frames, double fp
 /* Whether effector e is a foot driven half a cycle later (RF_RT_IN_PHASE) that steps: its contacts
  * are its own motion's (rf_rt_phase_contacts), not its source's. */
 bool rf_rt_effector_steps(const rf_retarget *rt, uint32_t e);
+/* Whether the target stands on feet that are all one-bone legs hanging from the body (aimed about
+ * their pivots by the contact pass, never bent): none of them can be lifted out of the floor. */
+bool rf_rt_feet_rigid(const rf_retarget *rt);
 /* The contacts of the feet driven half a cycle later (RF_RT_IN_PHASE) in `contact` replaced by
  * where their own motion is down: sole ([eff][frames], heights along up of the target feet's
  * soles in the clip read) within contact_height leg lengths of the target's floor. */

@@ -750,10 +750,12 @@ static bool rt_legs_driven(const rf_retarget *rt)
  * floor (rf_rt_clearance), through the root-motion joints; with `lower_only` only the frames
  * that stand higher move, and no further than the lowest vertex of the limbs left out of what
  * stands (rt_limbs_aside) goes: lowered onto its hind legs, a horse under a human's walk put its
- * forelegs through the floor (floor p95 2.97 -> 4.73% of its height over the whole walk).
- * *lowered counts the frames lowered, *deepest the largest lowering. */
+ * forelegs through the floor (floor p95 2.97 -> 4.73% of its height over the whole walk); with
+ * `rise` too the frames that stand lower are raised by the whole difference. *lowered counts the
+ * frames lowered, *deepest the largest lowering, *raised the frames raised. */
 static bool rt_mesh_rest_each(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh,
-                              bool lower_only, uint32_t *lowered, double *deepest)
+                              bool lower_only, bool rise, uint32_t *lowered, double *deepest,
+                              uint32_t *raised)
 {
     uint32_t frames = anim->frame_count, step = rt_rest_step(anim);
     uint32_t count = (frames - 1) / step + 2;
@@ -776,14 +778,14 @@ static bool rt_mesh_rest_each(rf_retarget *rt, rf_animation *anim, const rf_mesh
         double need = floor_h + clear[i];
         clear[i] = need - rt_mesh_low_at(&w, anim, at[i], base, reach, &reach_low);
         finite = isfinite(clear[i]);
-        if (lower_only)
+        if (lower_only && !(rise && clear[i] > 0))
             clear[i] = fmin(0, fmax(clear[i], fmin(0, need - reach_low)));
     }
     for (uint32_t f = 0; ok && finite && f < frames; f++) {
         uint32_t i = f / step;
         double span = at[i + 1] > at[i] ? at[i + 1] - at[i] : 1, t = (f - at[i]) / span;
         lift[f] = clear[i] + t * (clear[i + 1] - clear[i]);
-        *lowered += lift[f] < 0;
+        *lowered += lift[f]<0, *raised += lift[f]> 0;
         *deepest = fmax(*deepest, -lift[f]);
     }
     ok = ok && (!finite || rf_rt_lift_each(rt, anim, lift));
@@ -799,9 +801,9 @@ bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *
         return false;
     if (rt->effector_count || !anim->frame_count || rt->opt.root_scale > 0 || rt_legs_driven(rt))
         return true;
-    uint32_t lowered = 0;
+    uint32_t lowered = 0, raised = 0;
     double deepest = 0;
-    if (!rt_mesh_rest_each(rt, anim, mesh, false, &lowered, &deepest)) {
+    if (!rt_mesh_rest_each(rt, anim, mesh, false, false, &lowered, &deepest, &raised)) {
         rf_rt_fail(err, err_size, "out of memory");
         return false;
     }
@@ -809,12 +811,14 @@ bool rf_retarget_mesh_floor(rf_retarget *rt, rf_animation *anim, const rf_mesh *
 }
 
 bool rf_retarget_mesh_hold(rf_retarget *rt, rf_animation *anim, const rf_mesh *mesh,
-                           uint32_t *lowered, double *deepest, char *err, size_t err_size)
+                           uint32_t *lowered, double *deepest, uint32_t *raised, char *err,
+                           size_t err_size)
 {
-    *lowered = 0, *deepest = 0;
+    *lowered = 0, *deepest = 0, *raised = 0;
     if (rt_mesh_check(rt->target, mesh, anim, NULL, err, err_size) <= 0)
         return false;
-    if (anim->frame_count && !rt_mesh_rest_each(rt, anim, mesh, true, lowered, deepest)) {
+    if (anim->frame_count &&
+        !rt_mesh_rest_each(rt, anim, mesh, true, rf_rt_feet_rigid(rt), lowered, deepest, raised)) {
         rf_rt_fail(err, err_size, "out of memory");
         return false;
     }

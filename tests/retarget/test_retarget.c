@@ -1606,6 +1606,73 @@ static void one_bone_leg_follows_the_reach(void **state)
     rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
 }
 
+/* The lowest point over the clip's frames of a mesh whose every vertex one joint of s carries
+ * wholly (a rigid part), posed by a. */
+static double lowest_rigid(const rf_skeleton *s, const rf_animation *a, const rf_mesh *m)
+{
+    rf_xform rest[5], w[5];
+    double low = INFINITY;
+    for (uint32_t j = 0; j < s->joint_count; j++) {
+        int32_t p = s->joints[j].parent;
+        rest[j] = p < 0 ? s->joints[j].rest : rf_xform_mul(rest[p], s->joints[j].rest);
+    }
+    for (uint32_t f = 0; f < a->frame_count; f++) {
+        fx_world(s, a, f, w);
+        for (uint32_t v = 0; v < m->vertex_count; v++) {
+            const float *p = m->positions + (size_t)v * 3;
+            uint16_t j = m->skin_joints[(size_t)v * 4];
+            rf_vec3 local = rf_xform_point(rf_xform_invert(rest[j]), rf_v3(p[0], p[1], p[2]));
+            low = fmin(low, rf_xform_point(w[j], local).y);
+        }
+    }
+    return low;
+}
+
+/* A body on one-bone legs (the animalia cat's) is raised where it would stand lower than its
+ * source: the human crouches over its planted feet, its hips 0.15 lower at the end, and legs
+ * that cannot bend followed the hips 0.16 into the floor, for no pass lifted them (the contact
+ * pass only turns such a leg; the hold only lowered). The mesh: a box on each leg, its foot at
+ * the rest floor y = 0, and one on the hips. */
+static void rigid_legs_kept_out_of_the_floor(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped(1, 0.5, 0.45), *tgt = one_bone_legs(5);
+    rf_animation *clip = fx_rest_clip(src, 30, 30);
+    for (uint32_t f = 0; f < 30; f++) {
+        double y = 0.95 - 0.15 * f / 29.0;
+        rf_animation_set_translation(clip, f, 0, rf_v3(0, y, 0));
+        plant_leg(clip, f, 1, rf_v3(0.1, y, 0), rf_v3(0.1, 0.05, 0), 0.5, 0.45);
+        plant_leg(clip, f, 4, rf_v3(-0.1, y, 0), rf_v3(-0.1, 0.05, 0), 0.5, 0.45);
+    }
+    clip->channels[0] |= RF_CHANNEL_TRANSLATION;
+    rf_mapping *m = fx_mapping(5, 1);
+    uint32_t from[5] = {0, 1, 4, 7, 8};
+    for (uint32_t j = 0; j < 5; j++)
+        fx_map(m, j, 0, from[j], 1, 0, 0);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_mesh *mesh = boxes_mesh(3);
+    add_box_at(mesh, 0, 0.05f, 0, 1, 1);  /* the left leg, x 0.05 .. 1.05 */
+    add_box_at(mesh, 1, -1.05f, 0, 2, 2); /* the right leg */
+    add_box_at(mesh, 2, -0.5f, 1, 0, 0);  /* the hips, over the legs */
+    char err[256] = "";
+    uint32_t lowered, raised;
+    double deepest;
+    assert_true(rf_retarget_mesh_floor(r.rt, r.out, mesh, NULL, err, sizeof err));
+    double before = lowest_rigid(tgt, r.out, mesh);
+    assert_true(
+        rf_retarget_mesh_hold(r.rt, r.out, mesh, &lowered, &deepest, &raised, err, sizeof err));
+    double after = lowest_rigid(tgt, r.out, mesh);
+    print_message("rigid legs: lowest %.4f -> %.4f, raised in %u of 30 frames\n", before, after,
+                  raised);
+    assert_true(before < -0.05); /* sunk without the rise */
+    assert_true(raised > 0);
+    assert_true(after > -0.01);
+    rf_mesh_free(mesh);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
 static void bad_inputs_refused(void **state)
 {
     (void)state;
@@ -1678,6 +1745,7 @@ int main(void)
         cmocka_unit_test(contact_pass_pins_bone_tips),
         cmocka_unit_test(contact_pass_aims_one_bone_legs),
         cmocka_unit_test(one_bone_leg_follows_the_reach),
+        cmocka_unit_test(rigid_legs_kept_out_of_the_floor),
         cmocka_unit_test(top_joint_keeps_level),
         cmocka_unit_test(level_keeps_turn_limits_tilt),
         cmocka_unit_test(bad_inputs_refused),

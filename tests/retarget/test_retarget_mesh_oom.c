@@ -113,10 +113,10 @@ static rf_animation *jump_clip(const rf_skeleton *s)
 static bool mesh_passes(rf_retarget *rt, rf_animation *out, const rf_mesh *mesh, char *err,
                         size_t size)
 {
-    uint32_t lowered;
+    uint32_t lowered, raised;
     double deepest;
     return rf_retarget_mesh_floor(rt, out, mesh, NULL, err, size) &&
-           rf_retarget_mesh_hold(rt, out, mesh, &lowered, &deepest, err, size) &&
+           rf_retarget_mesh_hold(rt, out, mesh, &lowered, &deepest, &raised, err, size) &&
            rf_retarget_mesh_clear(rt, out, mesh, NULL, err, size);
 }
 
