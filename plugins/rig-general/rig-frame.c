@@ -416,12 +416,39 @@ static void rf_rig_stand_order(const double support[6], int stand[5])
 /* The body p stood on each axis direction other than +y it stands on (support[], in
  * rf_rig_axes' order) and read, into out when an up is found (see rf_rig_body_up); false when
  * out of memory. */
+/* Readings each under the confidence bar that name the same axis, one the body stands on, add up
+ * (rf_rig_tally): RobotExpressive laid on its side reads its true up at 0.28 as the file has it
+ * and at 0.28 and 0.23 stood on either side, and no reading names another axis. A reading under
+ * RF_RIG_UP_WEAK is no vote. */
+#define RF_RIG_UP_WEAK 0.15
+
+typedef struct rf_rig_votes {
+    rf_rig_up best; /* the surest reading counted */
+    double sum;     /* their confidences */
+    bool split;     /* two counted readings name different axes */
+} rf_rig_votes;
+
+/* Counts reading u into v when it names an axis the body stands on, from its limbs, at
+ * RF_RIG_UP_WEAK or more. */
+static void rf_rig_tally(rf_rig_votes *v, const rf_rig_up *u)
+{
+    if (!(rf_v3_len(u->axis) > 0) || strcmp(u->source, "limbs") != 0 ||
+        !(u->confidence >= RF_RIG_UP_WEAK) || !(u->support >= RF_RIG_UP_SUPPORT))
+        return;
+    v->split = v->split || (v->sum > 0 && rf_v3_dot(u->axis, v->best.axis) < 0.99);
+    if (!(v->sum > 0) || u->confidence > v->best.confidence)
+        v->best = *u;
+    v->sum += u->confidence;
+}
+
 static bool rf_rig_read_stands(rf_rig_prep *p, const rf_rig_options *o, const double support[6],
                                rf_rig_up *out)
 {
     rf_rig_up other = {.found = false};
+    rf_rig_votes votes = {.sum = 0};
     bool agree = true;
     int stand[5];
+    rf_rig_tally(&votes, out); /* the reading as the file has it */
     rf_rig_stand_order(support, stand);
     for (int i = 0; i < 5; i++) {
         rf_vec3 d = rf_rig_axes[stand[i]];
@@ -441,9 +468,14 @@ static bool rf_rig_read_stands(rf_rig_prep *p, const rf_rig_options *o, const do
             if (!other.found || u.confidence > other.confidence)
                 other = u;
         }
+        rf_rig_tally(&votes, &u);
     }
     if (other.found && agree)
         *out = other;
+    else if (!other.found && !votes.split && votes.sum >= RF_RIG_UP_CONFIDENCE) {
+        *out = votes.best;
+        out->found = true, out->confidence = votes.sum;
+    }
     return true;
 }
 

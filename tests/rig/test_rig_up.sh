@@ -4,8 +4,9 @@
 # upside down (tests/rig/rig-up): the true up is known (the file's own, turned with the body).
 # - Never a wrong axis: a body is rigged along the up found or, when none is, along +y with a
 #   warning; a wrong up found would rig a standing body lying without saying so.
-# - At least 79 of the 135 found (the up read from RobotExpressive stood on its back counts since
-#   it was allowed; 77 before), so a change that finds fewer shows.
+# - At least 80 of the 135 found (the up read from RobotExpressive stood on its back counts since
+#   it was allowed, 79, 77 before; its readings under the bar that agree add up since they were
+#   tallied, 80: laid on its side), so a change that finds fewer shows.
 rigup="${RF_BUILDDIR:-.}/tests/rig/rig-up"
 data="${RF_DATA_DIR:-}"
 testmodels=/usr/share/assimp/models/OBJ
@@ -32,6 +33,6 @@ END {
     bad = 0
     if (runs != 135) { print "FAIL: " runs " runs for 135 (27 models, 5 turns)"; bad = 1 }
     if (wrong != 0) { print "FAIL: " wrong " turned to a wrong axis"; bad = 1 }
-    if (right < 79) { print "FAIL: " right " found right, under 79"; bad = 1 }
+    if (right < 80) { print "FAIL: " right " found right, under 80"; bad = 1 }
     exit bad
 }'
