@@ -240,7 +240,8 @@ bool rf_retarget_measure_series(rf_retarget *rt, const rf_animation *anim, doubl
 typedef struct rf_rt_mesh_report {
     uint32_t frames; /* frames sampled */
     double height;   /* rest height of the mesh, model units */
-    uint32_t seams;  /* pairs of vertices close at rest that follow different joints */
+    uint32_t seams;  /* pairs of vertices close at rest that follow different joints and do not
+                      * face each other (two surfaces touching part as the limbs move) */
     double seam_p99; /* torn limbs: p99 over seams and frames of how far apart each pair
                       * drifted from its rest distance */
     double seam_max;
