@@ -89,7 +89,8 @@ cat >"$tmp/slow.json" <<'JSON'
 JSON
 "$rigflow" --quiet --plugin-path "$fixtures" run "$tmp/slow.json" >"$tmp/out" 2>"$tmp/err" &
 pid=$!
-for _ in $(seq 100); do ls -A "$tmp" | grep -q '^\.slow\.rf-' && break; sleep 0.05; done
+# waits up to 60 s: under valgrind on a loaded machine the host takes seconds to reach the sink
+for _ in $(seq 1200); do ls -A "$tmp" | grep -q '^\.slow\.rf-' && break; sleep 0.05; done
 ls -A "$tmp" | grep -q '^\.slow\.rf-' && ok "a long run writes a temporary file" || bad "temporary file seen"
 kill -INT "$pid"
 wait "$pid"
