@@ -378,17 +378,18 @@ static bool rt_effector_phase(const rf_retarget *rt, uint32_t e)
  * about its pivot, so its tip cannot rise off the floor without swinging along it: it keeps its
  * source's contacts half a cycle later and is dragged along (rt_phase_drag). Stepping, the
  * animalia fox's forefeet slid more (26 and 54% of the height a second -> 37 and 68). */
+bool rf_rt_effector_steps(const rf_retarget *rt, uint32_t e)
+{
+    return rt_effector_phase(rt, e) && rt->effector_tip[e] != RT_TIP_AIM;
+}
+
+/* Every foot aimed about its pivot (RT_TIP_AIM), none pinned through a solver's chain. */
 bool rf_rt_feet_rigid(const rf_retarget *rt)
 {
     for (uint32_t e = 0; e < rt->effector_count; e++)
         if (rt->effector_tip[e] != RT_TIP_AIM)
             return false;
     return rt->effector_count > 0;
-}
-
-bool rf_rt_effector_steps(const rf_retarget *rt, uint32_t e)
-{
-    return rt_effector_phase(rt, e) && rt->effector_tip[e] != RT_TIP_AIM;
 }
 
 /* A foot driven half a cycle later moves with the body now and its leg half a cycle later: its
