@@ -814,7 +814,8 @@ static bool rt_mesh_rest_each(rf_retarget *rt, rf_animation *anim, const rf_mesh
         uint32_t i = f / step;
         double span = at[i + 1] > at[i] ? at[i + 1] - at[i] : 1, t = (f - at[i]) / span;
         lift[f] = clear[i] + t * (clear[i + 1] - clear[i]);
-        *lowered += lift[f]<0, *raised += lift[f]> 0;
+        *lowered += lift[f] < 0;
+        *raised += lift[f] > 0;
         *deepest = fmax(*deepest, -lift[f]);
     }
     ok = ok && (!finite || rf_rt_lift_each(rt, anim, lift));

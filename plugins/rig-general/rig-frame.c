@@ -413,9 +413,6 @@ static void rf_rig_stand_order(const double support[6], int stand[5])
     }
 }
 
-/* The body p stood on each axis direction other than +y it stands on (support[], in
- * rf_rig_axes' order) and read, into out when an up is found (see rf_rig_body_up); false when
- * out of memory. */
 /* Readings each under the confidence bar that name the same axis, one the body stands on, add up
  * (rf_rig_tally): RobotExpressive laid on its side reads its true up at 0.28 as the file has it
  * and at 0.28 and 0.23 stood on either side, and no reading names another axis. A reading under
@@ -441,6 +438,10 @@ static void rf_rig_tally(rf_rig_votes *v, const rf_rig_up *u)
     v->sum += u->confidence;
 }
 
+/* The body p stood on each axis direction other than +y it stands on (support[], in
+ * rf_rig_axes' order) and read, into out when an up is found (see rf_rig_body_up), or when
+ * none is, the axis its weaker readings agree on (rf_rig_tally, out's own reading as the file
+ * has it counted first); false when out of memory. */
 static bool rf_rig_read_stands(rf_rig_prep *p, const rf_rig_options *o, const double support[6],
                                rf_rig_up *out)
 {
