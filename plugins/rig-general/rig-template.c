@@ -569,9 +569,17 @@ static bool rf_tpl_limb_curve(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle,
     if (!rf_tpl_limb_laid(k, up, girdle, first, kind, l, c, f))
         return false;
     if (start) {
+        /* the ankle stays where the foot's height put it on the curve as found: a start
+         * raised above the girdle (rf_rig_legs_raise) is no taller foot */
+        double ankle = f[2], was = rf_tpl_len(c);
         if (!rf_tpl_restart(c, start))
             return false;
         rf_tpl_fractions(c, up, kind, l, f);
+        double now = rf_tpl_len(c);
+        if (kind == RF_RIG_LIMB_LEG && now > 0) {
+            f[2] = fmin(fmax(1 - (1 - ankle) * was / now, f[1]), 1);
+            f[3] = f[2] + l->toe * (1 - f[2]);
+        }
     }
     double len = rf_tpl_len(c);
     if (reach > 0 && reach < len) {

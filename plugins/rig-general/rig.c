@@ -1540,27 +1540,39 @@ static double rf_rig_crotch(const rf_rig_surface *sf, rf_vec3 up, const double f
     return NAN;
 }
 
-/* The height a biped's trunk closes over its legs (rf_rig_crotch), or NAN: only for two laid
- * legs and arms, on a body without wings (a bird's or a bat's legs hang under a body that
- * closes at once, and its wings are no arms to measure up to). The legs' indices into leg[]. */
+#define RF_RIG_HIPS_SHARE 0.58 /* of the shoulders' height over the feet: the lowest hips */
+
+/* The height a biped's hips go no lower than, or NAN: only for two laid legs and arms, on a
+ * body without wings (a bird's or a bat's legs hang under a body that closes at once, and its
+ * wings are no arms to measure up to). The higher of where its trunk closes over its legs
+ * (rf_rig_crotch) and RF_RIG_HIPS_SHARE of the way from its feet to its shoulders, as laid
+ * (lp: each limb's joints after rf_rig_shoulder; the arm's second joint, the upper arm's): a
+ * trunk that closes low (the ninja's hakama joins between its knees and its hips) still puts
+ * the hips where the body's proportions do. The artists' hips of the shared data's wingless
+ * bipeds lie at 0.56 to 0.68 of their arms' girdle height, cartoon robot and human alike
+ * (doc/autorig-log.md). The legs' indices into leg[]. */
 static double rf_rig_hips_at(const rf_rig_surface *sf, rf_vec3 up, const rf_rig_skel *k,
                              const rf_rig_limb *limbs, uint32_t nl, const uint8_t *laid,
-                             uint32_t leg[2])
+                             const double (*lp)[4][3], const double (*tips)[3], uint32_t leg[2])
 {
     uint32_t nlegs = 0, narms = 0;
-    double ya = 0;
+    double ya = 0, ys = 0;
     for (uint32_t i = 0; i < nl; i++) {
         if (!laid[i])
             continue;
-        if (limbs[i].kind == RF_RIG_LIMB_ARM)
+        if (limbs[i].kind == RF_RIG_LIMB_ARM) {
             ya += rf_rig_along(k->pos + (size_t)limbs[i].first * 3, up), narms++;
-        else if (nlegs++ < 2)
+            ys += rf_rig_along(lp[i][1], up);
+        } else if (nlegs++ < 2)
             leg[nlegs - 1] = i;
     }
     if (!sf || nlegs != 2 || !narms)
         return NAN;
-    return rf_rig_crotch(sf, up, k->pos + (size_t)limbs[leg[0]].first * 3,
-                         k->pos + (size_t)limbs[leg[1]].first * 3, ya / narms);
+    double yc = rf_rig_crotch(sf, up, k->pos + (size_t)limbs[leg[0]].first * 3,
+                              k->pos + (size_t)limbs[leg[1]].first * 3, ya / narms);
+    double feet = 0.5 * (rf_rig_along(tips[leg[0]], up) + rf_rig_along(tips[leg[1]], up));
+    double share = feet + RF_RIG_HIPS_SHARE * (ys / narms - feet);
+    return isfinite(yc) ? fmax(yc, share) : share;
 }
 
 /* A biped's legs laid again when their hips (pos[0]) lie under the height yc where its trunk
@@ -1582,6 +1594,26 @@ static bool rf_rig_legs_raise(const rf_rig_skel *k, rf_vec3 up, const rf_rig_lim
         start[c] = g[c] + (top - rf_rig_along(g, up)) * (c == 0 ? up.x : c == 1 ? up.y : up.z);
     return rf_rig_limb_place_within(k, up, lm->girdle, lm->first, lm->kind, lm->lay, start, cut,
                                     pos, tip);
+}
+
+/* The joint two raised legs hang from (g in o) moved up to their hips' height h0, h1 when it
+ * lies below it: the hips laid higher than where the curve skeleton's legs branch (inside a
+ * skirt or hakama) would otherwise hang from a pelvis under them, and the bone up from it
+ * would carry the thighs' tops. Not past any child of g that is no leg: the spine stays. */
+static void rf_rig_pelvis_raise(rf_rig_skel *o, rf_vec3 up, int32_t g, const double h0[3],
+                                const double h1[3])
+{
+    if (g < 0)
+        return;
+    double *q = o->pos + (size_t)g * 3;
+    double rise = 0.5 * (rf_rig_along(h0, up) + rf_rig_along(h1, up)) - rf_rig_along(q, up);
+    for (uint32_t j = (uint32_t)g + 1; j < o->n && rise > 0; j++)
+        if (o->parent[j] == g)
+            rise =
+                fmin(rise, 0.5 * (rf_rig_along(o->pos + (size_t)j * 3, up) - rf_rig_along(q, up)));
+    if (!(rise > 0))
+        return;
+    q[0] += rise * up.x, q[1] += rise * up.y, q[2] += rise * up.z;
 }
 
 /* k with each limb's joints (its first joint and all below it) replaced by the four its layout
@@ -1684,11 +1716,16 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
         wings = wings || is_wing[i];
     }
     uint32_t leg[2];
-    double yc =
-        ok && !wings ? rf_rig_hips_at(sf, rf_v3_normalize(a->up), k, limbs, nl, laid, leg) : NAN;
+    double yc = ok && !wings
+                    ? rf_rig_hips_at(sf, rf_v3_normalize(a->up), k, limbs, nl, laid,
+                                     (const double(*)[4][3])lp, (const double(*)[3])tips, leg)
+                    : NAN;
     for (int s = 0; s < 2 && isfinite(yc) && ok; s++)
         ok = rf_rig_legs_raise(k, rf_v3_normalize(a->up), &limbs[leg[s]], yc, cuts[leg[s]],
                                lp[leg[s]], tips[leg[s]]);
+    if (ok && isfinite(yc) && limbs[leg[0]].girdle == limbs[leg[1]].girdle)
+        rf_rig_pelvis_raise(&o, rf_v3_normalize(a->up), to[limbs[leg[0]].girdle], lp[leg[0]][0],
+                            lp[leg[1]][0]);
     for (uint32_t i = 0; ok && i < nl; i++) {
         if (!laid[i])
             continue;

@@ -166,8 +166,11 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
                  cdmax[m] = cd; pmin[m] = p; rmin[m] = r; gpmin[m] = gp; grmin[m] = gr; glmax[m] = gl }
     BEGIN {
         limits("\"Fox.glb\"", 0.045, 0.75, 0.76, 0.80, 0.82, 0.50)         # 0.040 .764/.771 .86/.87/.45
-        # RiggedFigure: legs laid from where the trunk closes over them (.837/.590 before)
-        limits("\"RiggedFigure.glb\"", 0.036, 0.86, 0.64, 0.88, 0.78, 0.32) # 0.029 .892/.673 .94/.84/.27
+        # RiggedFigure: legs laid from where the trunk closes over them (.837/.590 before); its
+        # ankle no longer moved up with the raised hips, 0.115 -> 0.026 of the longest edge (the
+        # artist ankle 0.059): CD-J2J 0.029 -> 0.027, the CMU walk ground error 0.131 -> 0.022 leg
+        # and stretch p99 50.3 -> 33.8, skinning after the matcher .892/.673 -> .833/.609
+        limits("\"RiggedFigure.glb\"", 0.0285, 0.82, 0.60, 0.88, 0.78, 0.32) # 0.027 .833/.609 .95/.84/.27
         limits("\"Testwuson.X\"", 0.047, 0.57, 0.57, 0.74, 0.78, 0.53)      # 0.043 .578/.580 .79/.83/.50
         limits("\"animalia_wolf.b3d\"", 0.061, 0.80, 0.90, 0.88, 0.88, 0.24) # 0.059 .83/.93 .909/.909/.182
         limits("\"Wizard.glb\"", 0.066, 0.60, 0.60, 0.68, 0.72, 0.60)       # 0.060 .67/.66 .72/.78/.56
@@ -277,6 +280,11 @@ else ko "rig-bench --joint-map best: $(cat "$tmp/err")"; fi
 # (doc/matching.md, "A thirteenth round"): RobotExpressive's trunk took its unweighted Body and
 # Torso and its chest's skin was counted as the Head's, 62.7% / 66.0% / 0.77 after the matcher
 # (78.5% / 80.5% / 0.44 now); huesitos 68.5% / 63.8% (74.7% / 70.1%).
+# A biped's hips go no lower than 0.58 of its shoulders' height over its feet (doc/autorig.md,
+# "What the rigger does"): the ninja's hakama closes 0.35 of its height up, and its hips were laid
+# there, 0.65 of the artist's hip height (Joint18, Joint23); now 0.88, after the matcher 41.8% /
+# 54.3% -> 49.0% / 63.5%; BCN_Epileptic, its ankle no longer moved up with the raised hips,
+# CD-J2J 0.038 -> 0.035, 50.7% / 55.9% -> 52.2% / 57.4%.
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
     "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
@@ -296,6 +304,10 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
     $j["model"] == "\"huesitos.fbx\"" && $j["rig"] == "rigger" && !hroot++ { hy = $j["y"] }
     $j["model"] == "\"huesitos.fbx\"" && (ylow[$j["rig"]] == "" || $j["y"] < ylow[$j["rig"]]) {
         ylow[$j["rig"]] = $j["y"] }
+    $j["model"] == "\"ninja.mesh\"" && $j["rig"] == "rigger" && $j["joint"] ~ /^"leg_[lr]0_0"$/ {
+        nh += $j["y"]; nhn++ }
+    $j["model"] == "\"ninja.mesh\"" && $j["rig"] == "artist" &&
+        ($j["joint"] == "\"Joint18\"" || $j["joint"] == "\"Joint23\"") { ah += $j["y"]; ahn++ }
     $j["rig"] == "rigger" && $j["model"] == "\"animalia_bull_frog.b3d\"" {
         fn++; fx[fn] = $j["x"]; fy[fn] = $j["y"]; fz[fn] = $j["z"]; fname[fn] = $j["joint"] }
     END {
@@ -307,8 +319,8 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
               foot[dragon] != "" && foot[dragon] < 0.03))
             print "FAIL: fire dragon: up " ua[dragon] ", forward " fa[dragon] ", cd_j2j " cd[dragon] \
                 ", precision " p[dragon] ", Foot.L " foot[dragon] " from the nearest joint"
-        if (!(cd["\"BCN_Epileptic.X\""] < 0.0465 && p["\"BCN_Epileptic.X\""] >= 0.472 &&
-              r["\"BCN_Epileptic.X\""] >= 0.51))
+        if (!(cd["\"BCN_Epileptic.X\""] < 0.0365 && p["\"BCN_Epileptic.X\""] >= 0.512 &&
+              r["\"BCN_Epileptic.X\""] >= 0.564))
             print "FAIL: BCN_Epileptic cd_j2j " cd["\"BCN_Epileptic.X\""] ", precision " \
                 p["\"BCN_Epileptic.X\""] ", recall " r["\"BCN_Epileptic.X\""]
         if (!(gp["\"BCN_Epileptic.X\""] >= 0.73 && gr["\"BCN_Epileptic.X\""] >= 0.765 &&
@@ -328,7 +340,9 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             print "FAIL: huesitos: its root at y " hy ", its lowest joint " ylow["rigger"] \
                 ", the artist rig lowest " ylow["artist"]
         if (!(cd["\"greenman.glb\""] < 0.105)) print "FAIL: greenman cd_j2j " cd["\"greenman.glb\""]
-        if (!(p["\"ninja.mesh\""] >= 0.345 && r["\"ninja.mesh\""] >= 0.455))
+        if (!(nhn == 2 && ahn == 2 && nh / 2 >= 0.8 * ah / 2))
+            print "FAIL: ninja: hips at y " nh / 2 " (" nhn " legs), the artist hips at " ah / 2
+        if (!(p["\"ninja.mesh\""] >= 0.47 && r["\"ninja.mesh\""] >= 0.61))
             print "FAIL: ninja after the matcher: precision " p["\"ninja.mesh\""] ", recall " r["\"ninja.mesh\""]
         frog = "\"animalia_bull_frog.b3d\""
         if (!(foot[frog] != "" && foot[frog] < 0.15))
