@@ -1755,6 +1755,52 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
     return true;
 }
 
+/* Whether joint g is a stalk the curve skeleton ran down inside a thick trunk to where the pair
+ * of legs first, twin parts: the two legs its only children, g lower than its parent. Laid from
+ * the stalk's foot, the layout's hip went that much down the leg (a box horse's forelegs hung
+ * from the bottom of its chest, their hips a quarter of the leg under it, and the stalk's bone
+ * carried both thighs' tops). */
+static bool rf_rig_is_stalk(const rf_rig_skel *k, rf_vec3 up, uint32_t g, uint32_t first,
+                            uint32_t twin)
+{
+    int32_t p = k->parent[g];
+    if (p < 0 || g == first || g == twin ||
+        !(rf_rig_height(k, g, up) < rf_rig_height(k, (uint32_t)p, up)))
+        return false;
+    for (uint32_t j = g + 1; j < k->n; j++) /* parents come first */
+        if (k->parent[j] == (int32_t)g && j != first && j != twin)
+            return false;
+    return true;
+}
+
+/* k with every stalk of a mirrored pair of legs (rf_rig_is_stalk) taken out, the legs hung
+ * from the joint above it as the curve skeleton hangs them from a slimmer trunk. *cut counts
+ * them. False when out of memory. */
+static bool rf_rig_stalks_cut(rf_rig_skel *k, const rf_analysis *a, uint32_t *cut)
+{
+    uint8_t *drop = calloc(k->n + 1, 1);
+    int32_t *to = malloc((k->n + 1) * sizeof *to);
+    bool ok = drop && to;
+    *cut = 0;
+    for (uint32_t s = 0; ok && s < a->section_count; s++) {
+        const rf_section *sec = &a->sections[s];
+        if (sec->type != RF_SECTION_LEG || sec->mirror < 0 || !sec->bone_count ||
+            !a->sections[sec->mirror].bone_count)
+            continue;
+        uint32_t first = rf_section_joints(a, s)[0];
+        uint32_t twin = rf_section_joints(a, (uint32_t)sec->mirror)[0];
+        uint32_t g = rf_rig_girdle_of(k, a, s);
+        if (drop[g] || !rf_rig_is_stalk(k, a->up, g, first, twin))
+            continue;
+        k->parent[first] = k->parent[twin] = k->parent[g];
+        drop[g] = 1, (*cut)++;
+    }
+    if (ok && *cut)
+        rf_rig_drop(k, drop, to);
+    free(drop), free(to);
+    return ok;
+}
+
 /* The general rigger's limbs cut where artists put the joints of a limb of that kind (the
  * template's fitted layouts), not into even bones: a knee at the leg's bend, the hip joint a
  * little into the leg, one bone for the hand and its fingers. The rest of the curve skeleton
@@ -1773,8 +1819,17 @@ static bool rf_rig_limbs(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opti
      * analysis reads it from the limbs as before. */
     rf_analysis_options ao = {.up = o->up};
     rf_analysis *a = rf_analyze(s, &ao);
+    uint32_t cut = 0;
+    bool ok = a && rf_rig_stalks_cut(k, a, &cut);
+    if (ok && cut) { /* read again without them */
+        rf_analysis_free(a), rf_skeleton_free(s);
+        s = rf_rig_skeleton(k, NULL);
+        a = NULL;
+        if (s)
+            s->up = o->up, s->forward = o->forward, a = rf_analyze(s, &ao);
+        ok = a != NULL;
+    }
     rf_rig_limb limbs[RF_RIG_MAX_LIMBS];
-    bool ok = a != NULL;
     uint32_t nl = ok ? rf_rig_limbs_found(k, a, rf_v3_len(o->forward) > 0, lay, limbs) : 0;
     if (ok && nl)
         ok = rf_rig_relay(p, k, a, limbs, nl);
