@@ -1202,10 +1202,12 @@ static double rf_rig_low_of(const rf_rig_skel *k, uint32_t j, const double u[3])
 
 /* The one leaf of k that reaches the bottom fifth of the body (heights lo..hi along u), when
  * the chain above it rises unbranched by a quarter of the height or more to a junction that is
- * the root: the root stands in the trunk and the trunk's lower stretch hangs from it. NONE when
- * no leaf, or more than one (feet, a quadruped's legs, a tail beside them), stands there, or
- * when the chain leaves the body elsewhere (a fish's tail fin, whose root is at its head). Into
- * *end; false when out of memory. */
+ * the root, or that the root stands a quarter of the height above: the root stands in the
+ * trunk and the trunk's lower stretch hangs from it (huesitos read with no axes, whose frame
+ * then follows its own axis, is rooted at the top of its stem, above its fork). NONE when no
+ * leaf, or more than one (feet, a quadruped's legs, a tail beside them), stands there, or when
+ * the chain leaves the body elsewhere (a fish's tail fin, whose root is at its head, as high).
+ * Into *end; false when out of memory. */
 static bool rf_rig_free_end(const rf_rig_skel *k, const double u[3], double lo, double hi,
                             uint32_t *found)
 {
@@ -1228,11 +1230,12 @@ static bool rf_rig_free_end(const rf_rig_skel *k, const double u[3], double lo, 
     int32_t up = k->parent[end]; /* up the chain to its junction */
     while (k->parent[up] >= 0 && kids[up] == 1)
         up = k->parent[up];
-    const double *q = k->pos + (size_t)up * 3;
-    bool rises = q[0] * u[0] + q[1] * u[1] + q[2] * u[2] - rf_rig_low_of(k, end, u) >=
-                 RF_RIG_STEM * (hi - lo);
+    const double *q = k->pos + (size_t)up * 3, *r = k->pos;
+    double at = q[0] * u[0] + q[1] * u[1] + q[2] * u[2];
+    bool rises = at - rf_rig_low_of(k, end, u) >= RF_RIG_STEM * (hi - lo);
+    bool above = r[0] * u[0] + r[1] * u[1] + r[2] * u[2] - at >= RF_RIG_STEM * (hi - lo);
     free(kids);
-    *found = rises && k->parent[up] < 0 ? end : RF_RIG_NONE;
+    *found = rises && (k->parent[up] < 0 || above) ? end : RF_RIG_NONE;
     return true;
 }
 
