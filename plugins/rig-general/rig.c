@@ -1602,7 +1602,8 @@ static bool rf_rig_legs_raise(const rf_rig_skel *k, rf_vec3 up, const rf_rig_lim
 /* The joint two raised legs hang from (g in o) moved up to their hips' height h0, h1 when it
  * lies below it: the hips laid higher than where the curve skeleton's legs branch (inside a
  * skirt or hakama) would otherwise hang from a pelvis under them, and the bone up from it
- * would carry the thighs' tops. Not past any child of g that is no leg: the spine stays. */
+ * would carry the thighs' tops. No more than half way up to any child g has already (the
+ * legs are hung from it after): the spine stays above it. */
 static void rf_rig_pelvis_raise(rf_rig_skel *o, rf_vec3 up, int32_t g, const double h0[3],
                                 const double h1[3])
 {
