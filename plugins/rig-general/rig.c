@@ -95,6 +95,11 @@ rf_skeleton *rf_rig_skeleton(const rf_rig_skel *k, const rf_rig_options *named)
 
 /* ---- root ---- */
 
+static double rf_rig_along(const double q[3], rf_vec3 d)
+{
+    return q[0] * d.x + q[1] * d.y + q[2] * d.z;
+}
+
 static double rf_rig_height(const rf_rig_skel *k, uint32_t j, rf_vec3 up)
 {
     const double *p = k->has_tip[j] ? k->tip + (size_t)j * 3 : k->pos + (size_t)j * 3;
@@ -1390,40 +1395,49 @@ static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, b
     return n;
 }
 
-/* Where a pair of laid arms leaving trunk joint g well below their shoulders gets a chest
- * joint: the curve skeleton's bands may meet the arms only where a coarse trunk bone starts (a
- * robot's arms hung from its hips' joint, a sixth of its height below where they leave the
- * torso), and laid along the curve from there the elbow took the turn at the shoulder and the
- * whole arm swung from the hips. The chest goes on the bone from g to its highest child that
- * is no limb, at the mean height of the arms' first joints, when that is between a quarter
- * and 0.85 of the bone's rise (nearer its ends, the joint there serves). True with the bone's
- * child in *split and the point in at[]. */
-static bool rf_rig_chest(const rf_rig_skel *k, rf_vec3 up, const rf_rig_limb *limbs, uint32_t nl,
-                         const uint8_t *laid, const uint8_t *drop, uint32_t g, uint32_t *split,
-                         double at[3])
+/* Where a pair of laid arms leaving trunk joint g well below their shoulders hangs: the curve
+ * skeleton's bands may meet the arms only where a coarse trunk bone starts (a robot's arms hung
+ * from its hips' joint, a sixth of its height below where they leave the torso), and laid along
+ * the curve from there the elbow took the turn at the shoulder and the whole arm swung from the
+ * hips. With y the mean height of the arms' first joints and t its share of the rise of the
+ * bone from g to its highest child that is no limb: under a quarter g serves; up to 0.85 a
+ * chest joint goes on that bone at y (the bone's child in *split, the point in at[]); beyond,
+ * the child serves (in *split). */
+typedef enum rf_rig_hang { RF_RIG_HANG_GIRDLE, RF_RIG_HANG_CHEST, RF_RIG_HANG_TOP } rf_rig_hang;
+
+static rf_rig_hang rf_rig_chest(const rf_rig_skel *k, rf_vec3 up, double y, const uint8_t *drop,
+                                uint32_t g, uint32_t *split, double at[3])
 {
-    double rise = 0;
-    uint32_t arms = 0;
-    for (uint32_t i = 0; i < nl; i++)
-        if (laid[i] && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == g)
-            rise += rf_rig_height(k, limbs[i].first, up), arms++;
-    if (arms < 2)
-        return false;
-    rise = rise / arms - rf_rig_height(k, g, up);
-    double best = 0;
+    double rise = y - rf_rig_height(k, g, up), best = 0;
     uint32_t top = g;
     for (uint32_t j = g + 1; j < k->n; j++) /* parents come first */
         if (k->parent[j] == (int32_t)g && !drop[j] &&
             rf_rig_height(k, j, up) - rf_rig_height(k, g, up) > best)
             best = rf_rig_height(k, j, up) - rf_rig_height(k, g, up), top = j;
     double t = best > 0 ? rise / best : 0;
-    if (t < 0.25 || t > 0.85)
-        return false;
+    if (!(t >= 0.25))
+        return RF_RIG_HANG_GIRDLE;
     *split = top;
+    if (t > 0.85)
+        return RF_RIG_HANG_TOP;
     const double *a = k->pos + (size_t)g * 3, *b = k->pos + (size_t)top * 3;
     for (int c = 0; c < 3; c++)
         at[c] = a[c] + t * (b[c] - a[c]);
-    return true;
+    return RF_RIG_HANG_CHEST;
+}
+
+/* The mean height of the laid arms hung from girdle g: of their first joints on the curve
+ * skeleton (lp NULL), or of their clavicles as laid (lp); NAN for fewer than two arms. */
+static double rf_rig_arms_height(const rf_rig_skel *k, rf_vec3 up, const rf_rig_limb *limbs,
+                                 uint32_t nl, const uint8_t *laid, const double (*lp)[4][3],
+                                 uint32_t g)
+{
+    double y = 0;
+    uint32_t arms = 0;
+    for (uint32_t i = 0; i < nl; i++)
+        if (laid[i] && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == g)
+            y += lp ? rf_rig_along(lp[i][0], up) : rf_rig_height(k, limbs[i].first, up), arms++;
+    return arms < 2 ? NAN : y / arms;
 }
 
 #define RF_RIG_SHOULDER_STEP 0.01 /* of the longest edge, up the trunk */
@@ -1442,11 +1456,6 @@ static double rf_rig_width(const rf_rig_surface *sf, const double q[3], rf_vec3 
     double dp[3] = {d.x, d.y, d.z}, dn[3] = {-d.x, -d.y, -d.z};
     *ahead = rf_rig_surface_hit(sf, q, dp);
     return *ahead + rf_rig_surface_hit(sf, q, dn);
-}
-
-static double rf_rig_along(const double q[3], rf_vec3 d)
-{
-    return q[0] * d.x + q[1] * d.y + q[2] * d.z;
 }
 
 /* An arm laid from girdle point g (pos: clavicle, upper arm, elbow, hand) that hangs beside the
@@ -1620,10 +1629,89 @@ static void rf_rig_pelvis_raise(rf_rig_skel *o, rf_vec3 up, int32_t g, const dou
     q[0] += rise * up.x, q[1] += rise * up.y, q[2] += rise * up.z;
 }
 
+/* Where the arms hang from: the trunk joint chest_g (UINT32_MAX: each its girdle), through a
+ * chest joint at `at` on the bone to `split` (chest true) or from `split` itself. */
+typedef struct rf_rig_arms_hang {
+    uint32_t girdle, split;
+    bool chest;
+    double at[3];
+} rf_rig_arms_hang;
+
+/* The arms' hang read from where their first joints leave the curve skeleton (lp NULL) or, when
+ * that put them on their girdle, from their clavicles as laid: an arm hanging beside the trunk
+ * leaves it below the armpit, and its shoulder, moved up where it is (rf_rig_shoulder), may lie
+ * a good way up the trunk bone above (BCN_Epileptic) or past its top (the ninja). */
+static void rf_rig_arms_hang_find(const rf_rig_skel *k, rf_vec3 up, const rf_rig_limb *limbs,
+                                  uint32_t nl, const uint8_t *laid, const uint8_t *drop,
+                                  const double (*lp)[4][3], rf_rig_arms_hang *h)
+{
+    if (lp && h->girdle != UINT32_MAX)
+        return;
+    for (uint32_t i = 0; i < nl; i++) {
+        if (!laid[i] || limbs[i].kind != RF_RIG_LIMB_ARM)
+            continue;
+        uint32_t g = limbs[i].girdle;
+        double y = rf_rig_arms_height(k, up, limbs, nl, laid, lp, g);
+        rf_rig_hang how = isfinite(y) ? rf_rig_chest(k, up, y, drop, g, &h->split, h->at)
+                                      : RF_RIG_HANG_GIRDLE;
+        if (how == RF_RIG_HANG_CHEST || (lp && how == RF_RIG_HANG_TOP)) {
+            h->girdle = g, h->chest = how == RF_RIG_HANG_CHEST;
+            return;
+        }
+    }
+}
+
+/* o: k's joints not dropped, in k's order, with the chest of h (if any) put before `split`;
+ * to[] maps k's joints to o's, *chest is the chest's index or -1. */
+static void rf_rig_trunk_copy(const rf_rig_skel *k, const uint8_t *drop, const rf_rig_arms_hang *h,
+                              rf_rig_skel *o, int32_t *to, int32_t *chest)
+{
+    *chest = -1;
+    for (uint32_t j = 0; j < k->n; j++) {
+        to[j] = -1;
+        if (drop[j])
+            continue;
+        if (h->chest && j == h->split) { /* the chest, on the trunk bone to j */
+            *chest = (int32_t)o->n++;
+            memcpy(o->pos + (size_t)*chest * 3, h->at, sizeof h->at);
+            o->has_tip[*chest] = 0, o->parent[*chest] = to[h->girdle];
+        }
+        uint32_t i = o->n++;
+        to[j] = (int32_t)i;
+        memcpy(o->pos + (size_t)i * 3, k->pos + (size_t)j * 3, 3 * sizeof *o->pos);
+        memcpy(o->tip + (size_t)i * 3, k->tip + (size_t)j * 3, 3 * sizeof *o->tip);
+        o->has_tip[i] = k->has_tip[j];
+        o->parent[i] = h->chest && j == h->split ? *chest
+                       : k->parent[j] >= 0       ? to[k->parent[j]]
+                                                 : -1;
+    }
+}
+
+/* Which limbs of k get laid: not one inside another limb, nor one whose girdle another limb
+ * replaces; drop[] marks every joint the laid limbs replace. */
+static void rf_rig_laid_find(const rf_rig_skel *k, const rf_rig_limb *limbs, uint32_t nl,
+                             uint8_t *laid, uint8_t *drop)
+{
+    for (uint32_t i = 0; i < nl; i++) {
+        laid[i] = 1;
+        for (uint32_t m = 0; m < nl; m++)
+            if (limbs[m].first != limbs[i].first &&
+                (rf_rig_below(k, limbs[i].girdle, limbs[m].first) ||
+                 rf_rig_below(k, limbs[i].first, limbs[m].first)))
+                laid[i] = 0;
+        if (!laid[i])
+            continue;
+        drop[limbs[i].first] = 1;
+        for (uint32_t j = limbs[i].first + 1; j < k->n; j++) /* parents come first */
+            if (k->parent[j] >= 0 && drop[k->parent[j]])
+                drop[j] = 1;
+    }
+}
+
 /* k with each limb's joints (its first joint and all below it) replaced by the four its layout
  * places along the limb's curve, hanging from its girdle (or from a chest joint put on the
- * trunk where a pair of arms leaves it, rf_rig_chest). Limbs inside another limb, or whose
- * girdle another limb replaces, stay. */
+ * trunk where a pair of arms leaves it, rf_rig_arms_hang_find). Limbs inside another limb, or
+ * whose girdle another limb replaces, stay. */
 static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis *a,
                          const rf_rig_limb *limbs, uint32_t nl)
 {
@@ -1641,49 +1729,18 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
         arms = arms || limbs[i].kind == RF_RIG_LIMB_ARM;
     rf_rig_surface *sf = p && arms ? rf_rig_surface_make(&p->proxy) : NULL;
     ok = ok && (sf || !(p && arms)); /* without it the shoulders would stay where they are */
-    for (uint32_t i = 0; ok && i < nl; i++) {
-        laid[i] = 1;
-        for (uint32_t m = 0; m < nl; m++)
-            if (limbs[m].first != limbs[i].first &&
-                (rf_rig_below(k, limbs[i].girdle, limbs[m].first) ||
-                 rf_rig_below(k, limbs[i].first, limbs[m].first)))
-                laid[i] = 0;
-        if (!laid[i])
-            continue;
-        drop[limbs[i].first] = 1;
-        for (uint32_t j = limbs[i].first + 1; j < n; j++) /* parents come first */
-            if (k->parent[j] >= 0 && drop[k->parent[j]])
-                drop[j] = 1;
-    }
-    uint32_t chest_g = UINT32_MAX, split = UINT32_MAX;
-    int32_t chest = -1;
-    double at[3];
-    for (uint32_t i = 0; ok && i < nl && chest_g == UINT32_MAX; i++)
-        if (laid[i] && limbs[i].kind == RF_RIG_LIMB_ARM &&
-            rf_rig_chest(k, a->up, limbs, nl, laid, drop, limbs[i].girdle, &split, at))
-            chest_g = limbs[i].girdle;
-    for (uint32_t j = 0; ok && j < n; j++) {
-        to[j] = -1;
-        if (drop[j])
-            continue;
-        if (j == split) { /* the chest, on the trunk bone to j */
-            chest = (int32_t)o.n++;
-            memcpy(o.pos + (size_t)chest * 3, at, sizeof at);
-            o.has_tip[chest] = 0, o.parent[chest] = to[chest_g];
-        }
-        uint32_t i = o.n++;
-        to[j] = (int32_t)i;
-        memcpy(o.pos + (size_t)i * 3, k->pos + (size_t)j * 3, 3 * sizeof *o.pos);
-        memcpy(o.tip + (size_t)i * 3, k->tip + (size_t)j * 3, 3 * sizeof *o.tip);
-        o.has_tip[i] = k->has_tip[j];
-        o.parent[i] = j == split ? chest : k->parent[j] >= 0 ? to[k->parent[j]] : -1;
-    }
+    if (ok)
+        rf_rig_laid_find(k, limbs, nl, laid, drop);
+    rf_rig_arms_hang hang = {.girdle = UINT32_MAX, .split = UINT32_MAX};
+    if (ok)
+        rf_rig_arms_hang_find(k, a->up, limbs, nl, laid, drop, NULL, &hang);
+    const double *chest_at = hang.girdle != UINT32_MAX ? hang.at : NULL;
     double reach[RF_RIG_MAX_LIMBS] = {0};
     for (uint32_t i = 0; ok && i < nl; i++) {
-        bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == chest_g;
+        bool chested = chest_at && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == hang.girdle;
         if (laid[i])
             ok = rf_rig_limb_reach(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
-                                   chested ? at : NULL, &reach[i]);
+                                   chested ? chest_at : NULL, &reach[i]);
     }
     double legs = 0; /* the longest laid leg's reach, against which an arm is a wing */
     for (uint32_t i = 0; ok && i < nl; i++)
@@ -1701,18 +1758,20 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
         if (!laid[i])
             continue;
         double(*pos)[3] = lp[i], cut = 0;
-        bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == chest_g;
+        bool chested = chest_at && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == hang.girdle;
         for (uint32_t m = 0; m < nl; m++) /* a limb reaching far past its mirror image's reach */
             if (laid[m] && limbs[m].sec == limbs[i].mirror)
                 cut = rf_rig_limb_prop_cut(reach[i], reach[m]);
         if (!rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
-                                      limbs[i].lay, chested ? at : NULL, cut, pos, tips[i])) {
+                                      limbs[i].lay, chested ? chest_at : NULL, cut, pos,
+                                      tips[i])) {
             ok = false;
             break;
         }
         if (limbs[i].kind == RF_RIG_LIMB_ARM && sf) /* sf: p given and its surface made */
             rf_rig_shoulder(sf, p->longest, rf_v3_normalize(a->up),
-                            chested ? at : k->pos + (size_t)limbs[i].girdle * 3, limbs[i].lay, pos);
+                            chested ? chest_at : k->pos + (size_t)limbs[i].girdle * 3,
+                            limbs[i].lay, pos);
         double laid_reach = cut > 0 ? fmin(cut, reach[i]) : reach[i];
         cuts[i] = cut;
         is_wing[i] =
@@ -1727,14 +1786,19 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
     for (int s = 0; s < 2 && isfinite(yc) && ok; s++)
         ok = rf_rig_legs_raise(k, rf_v3_normalize(a->up), &limbs[leg[s]], yc, cuts[leg[s]],
                                lp[leg[s]], tips[leg[s]]);
+    if (ok)
+        rf_rig_arms_hang_find(k, a->up, limbs, nl, laid, drop, (const double(*)[4][3])lp, &hang);
+    int32_t chest = -1;
+    if (ok)
+        rf_rig_trunk_copy(k, drop, &hang, &o, to, &chest);
     if (ok && isfinite(yc) && limbs[leg[0]].girdle == limbs[leg[1]].girdle)
         rf_rig_pelvis_raise(&o, rf_v3_normalize(a->up), to[limbs[leg[0]].girdle], lp[leg[0]][0],
                             lp[leg[1]][0]);
     for (uint32_t i = 0; ok && i < nl; i++) {
         if (!laid[i])
             continue;
-        bool chested = chest >= 0 && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == chest_g;
-        int32_t parent = chested ? chest : to[limbs[i].girdle];
+        bool hung = limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == hang.girdle;
+        int32_t parent = !hung ? to[limbs[i].girdle] : hang.chest ? chest : to[hang.split];
         for (int m = 0; m < 4; m++) {
             uint32_t j = o.n++;
             wing[j] = is_wing[i] && m > 0; /* the clavicle stays with the body */
