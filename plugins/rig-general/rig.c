@@ -1652,8 +1652,8 @@ static void rf_rig_arms_hang_find(const rf_rig_skel *k, rf_vec3 up, const rf_rig
             continue;
         uint32_t g = limbs[i].girdle;
         double y = rf_rig_arms_height(k, up, limbs, nl, laid, lp, g);
-        rf_rig_hang how = isfinite(y) ? rf_rig_chest(k, up, y, drop, g, &h->split, h->at)
-                                      : RF_RIG_HANG_GIRDLE;
+        rf_rig_hang how =
+            isfinite(y) ? rf_rig_chest(k, up, y, drop, g, &h->split, h->at) : RF_RIG_HANG_GIRDLE;
         if (how == RF_RIG_HANG_CHEST || (lp && how == RF_RIG_HANG_TOP)) {
             h->girdle = g, h->chest = how == RF_RIG_HANG_CHEST;
             return;
@@ -1737,7 +1737,8 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
     const double *chest_at = hang.girdle != UINT32_MAX ? hang.at : NULL;
     double reach[RF_RIG_MAX_LIMBS] = {0};
     for (uint32_t i = 0; ok && i < nl; i++) {
-        bool chested = chest_at && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == hang.girdle;
+        bool chested =
+            chest_at && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == hang.girdle;
         if (laid[i])
             ok = rf_rig_limb_reach(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
                                    chested ? chest_at : NULL, &reach[i]);
@@ -1758,20 +1759,20 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
         if (!laid[i])
             continue;
         double(*pos)[3] = lp[i], cut = 0;
-        bool chested = chest_at && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == hang.girdle;
+        bool chested =
+            chest_at && limbs[i].kind == RF_RIG_LIMB_ARM && limbs[i].girdle == hang.girdle;
         for (uint32_t m = 0; m < nl; m++) /* a limb reaching far past its mirror image's reach */
             if (laid[m] && limbs[m].sec == limbs[i].mirror)
                 cut = rf_rig_limb_prop_cut(reach[i], reach[m]);
         if (!rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
-                                      limbs[i].lay, chested ? chest_at : NULL, cut, pos,
-                                      tips[i])) {
+                                      limbs[i].lay, chested ? chest_at : NULL, cut, pos, tips[i])) {
             ok = false;
             break;
         }
         if (limbs[i].kind == RF_RIG_LIMB_ARM && sf) /* sf: p given and its surface made */
             rf_rig_shoulder(sf, p->longest, rf_v3_normalize(a->up),
-                            chested ? chest_at : k->pos + (size_t)limbs[i].girdle * 3,
-                            limbs[i].lay, pos);
+                            chested ? chest_at : k->pos + (size_t)limbs[i].girdle * 3, limbs[i].lay,
+                            pos);
         double laid_reach = cut > 0 ? fmin(cut, reach[i]) : reach[i];
         cuts[i] = cut;
         is_wing[i] =
