@@ -569,15 +569,20 @@ static bool rf_tpl_limb_curve(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle,
     if (!rf_tpl_limb_laid(k, up, girdle, first, kind, l, c, f))
         return false;
     if (start) {
-        /* the ankle stays where the foot's height put it on the curve as found: a start
-         * raised above the girdle (rf_rig_legs_raise) is no taller foot */
-        double ankle = f[2], was = rf_tpl_len(c);
+        /* the ankle stays where the foot's height put it on the curve as found, measured from
+         * the foot: a start raised above the girdle (rf_rig_legs_raise) is no taller foot; and
+         * so does a knee found at a bend there when the longer curve has no bend in the knee's
+         * range (the Wizard's right knee, its bend near the top of the range, went a sixth of
+         * the leg up to the template's place) */
+        double knee = f[1], ankle = f[2], was = rf_tpl_len(c);
         if (!rf_tpl_restart(c, start))
             return false;
         rf_tpl_fractions(c, up, kind, l, f);
         double now = rf_tpl_len(c);
         if (kind == RF_RIG_LIMB_LEG && now > 0) {
-            f[2] = fmin(fmax(1 - (1 - ankle) * was / now, f[1]), 1);
+            f[2] = fmin(fmax(1 - (1 - ankle) * was / now, f[0]), 1);
+            if (f[1] == l->knee && knee != l->knee) /* rf_tpl_bend found none, then one */
+                f[1] = fmin(fmax(1 - (1 - knee) * was / now, f[0]), f[2]);
             f[3] = f[2] + l->toe * (1 - f[2]);
         }
     }
