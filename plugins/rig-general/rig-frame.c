@@ -614,8 +614,16 @@ bool rf_rig_pooled_facing(const rf_rig_prep *p, const rf_rig_skel *k, const rf_r
 {
     *out = rf_v3(0, 0, 0);
     rf_vec3 u = rf_v3_len(o->up) > 0 ? rf_v3_normalize(o->up) : rf_v3(0, 1, 0), sum = {0, 0, 0};
-    if (k && !rf_rig_facing_read(k, o->up, rf_quat_identity(), &sum))
-        return false;
+    if (k) {
+        rf_rig_skel c;
+        if (!rf_rig_skel_copy(k, &c))
+            return false;
+        bool ok = rf_rig_general_place(p, &c, o, NULL, NULL) &&
+                  rf_rig_facing_read(&c, o->up, rf_quat_identity(), &sum);
+        rf_rig_skel_free(&c);
+        if (!ok)
+            return false;
+    }
     for (int t = k ? 1 : 0; t < 4; t++)
         if (!rf_rig_facing_turned(p, o, rf_quat_from_axis_angle(u, t * 90 * RF_RIG_DEG), &sum))
             return false;

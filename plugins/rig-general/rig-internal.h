@@ -128,9 +128,9 @@ void rf_rig_frame_leave(rf_rig_frame *f, const rf_mesh *mesh, rf_skeleton *s, rf
 
 /* The facing of the prepared body p (o: its frame's up, no forward declared) the skeleton
  * analysis reads on the general rigger's skeletons of it turned by each quarter turn about up,
- * pooled; zero into *out when none is read. k is the general rigger's skeleton of p unturned
- * (curve skeleton, limbs laid: rf_rig_general_place), or NULL to have it made here (the template
- * rigger, which lays no general limbs). False when out of memory. */
+ * pooled; zero into *out when none is read. k is the general rigger's curve skeleton of p
+ * unturned (read with its limbs laid on a copy: rf_rig_general_place), or NULL to have it made
+ * here (the template rigger). False when out of memory. */
 bool rf_rig_pooled_facing(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
                           rf_vec3 *out);
 
@@ -142,6 +142,8 @@ bool rf_rig_pooled_facing(const rf_rig_prep *p, const rf_rig_skel *k, const rf_r
 rf_rig_status rf_rig_extract(const rf_rig_prep *p, const rf_rig_options *o, const double *seed,
                              double *mirror, double *stand, rf_rig_skel *out, char *err, size_t n);
 void rf_rig_skel_free(rf_rig_skel *s);
+/* A copy of k into *out; false (out empty) when out of memory. */
+bool rf_rig_skel_copy(const rf_rig_skel *k, rf_rig_skel *out);
 
 /* The bones of a skeleton (one per parent-child pair and per leaf tip; a lone joint is a point).
  * Returns the count, *out malloc'd, or 0 when out of memory. */

@@ -1518,6 +1518,27 @@ done:
     return status;
 }
 
+bool rf_rig_skel_copy(const rf_rig_skel *k, rf_rig_skel *out)
+{
+    size_t n = (size_t)k->n + 1;
+    memset(out, 0, sizeof *out);
+    out->pos = malloc(n * 3 * sizeof *out->pos), out->tip = malloc(n * 3 * sizeof *out->tip);
+    out->parent = malloc(n * sizeof *out->parent), out->has_tip = malloc(n);
+    out->owns_in = k->owns_in ? malloc(n) : NULL;
+    if (!out->pos || !out->tip || !out->parent || !out->has_tip || (k->owns_in && !out->owns_in)) {
+        rf_rig_skel_free(out);
+        return false;
+    }
+    out->n = k->n;
+    memcpy(out->pos, k->pos, (size_t)k->n * 3 * sizeof *out->pos);
+    memcpy(out->tip, k->tip, (size_t)k->n * 3 * sizeof *out->tip);
+    memcpy(out->parent, k->parent, (size_t)k->n * sizeof *out->parent);
+    memcpy(out->has_tip, k->has_tip, k->n);
+    if (k->owns_in)
+        memcpy(out->owns_in, k->owns_in, k->n);
+    return true;
+}
+
 void rf_rig_skel_free(rf_rig_skel *s)
 {
     free(s->pos), free(s->parent), free(s->tip), free(s->has_tip), free(s->owns_in);

@@ -1337,15 +1337,24 @@ static uint32_t rf_rig_girdle_of(const rf_rig_skel *k, const rf_analysis *a, uin
     return g;
 }
 
+/* How far girdle g lies along `facing`, or with none its distance from the root (which
+ * rf_rig_curve puts at the hips): of four legs' girdles the smaller is the hind one. */
+static double rf_rig_girdle_ahead(const rf_rig_skel *k, uint32_t g, rf_vec3 facing)
+{
+    return rf_v3_len(facing) > 0 ? rf_rig_along(k->pos + (size_t)g * 3, facing)
+                                 : rf_rig_from_root(k, g);
+}
+
 /* The limbs of k the layouts know (rf_rig_tpl_humanoid, rf_rig_tpl_quadruped: fitted to artist
  * rigs), mirrored pairs only (an arm without a mirror image is often the torso and head of a
  * body whose arms merged with it): a biped's longest pair of arms (or wings; a quadruped's
  * "arms" are ears or horns, which keep their own cut), and the legs of a body with two of them
- * or four (a quadruped's forelegs and hind legs; the hind pair's girdle is the one nearer the
- * root, as rf_rig_curve roots the skeleton at the hips, unless the file declares a forward).
+ * or four (a quadruped's forelegs and hind legs; the hind pair's girdle is the one behind along
+ * `facing`, the forward the file declares or the one the rigger read, else the one nearer the
+ * root, as rf_rig_curve roots the skeleton at the hips).
  * Legs of a body with six or more are left as the curve cut them: no layout was fitted to
  * them. Returns the count. */
-static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, bool declared,
+static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, rf_vec3 facing,
                                    const rf_rig_tpl_layout *const lay[2], rf_rig_limb *out)
 {
     uint32_t n = 0, legs = 0;
@@ -1356,13 +1365,13 @@ static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, b
         if (sec->type == RF_SECTION_ARM && sec->mirror >= 0)
             arm_len = fmax(arm_len, sec->length + a->sections[sec->mirror].length);
     }
-    /* the hind girdle of four legs: farther from the root is the front */
-    double hind_from_root = INFINITY, hind_pos = INFINITY;
+    /* the hind girdle of four legs: the one behind along the facing (the root may be at
+     * either girdle, and the analysis's places along the body count from it: the bull frog's
+     * front pair read as hind), else the one nearer the root */
+    double hind_at = INFINITY;
     for (uint32_t s = 0; legs == 4 && s < a->section_count; s++)
-        if (a->sections[s].type == RF_SECTION_LEG && a->sections[s].side != RF_SIDE_CENTER) {
-            hind_from_root = fmin(hind_from_root, rf_rig_from_root(k, rf_rig_girdle_of(k, a, s)));
-            hind_pos = fmin(hind_pos, a->sections[s].body_pos);
-        }
+        if (a->sections[s].type == RF_SECTION_LEG && a->sections[s].side != RF_SIDE_CENTER)
+            hind_at = fmin(hind_at, rf_rig_girdle_ahead(k, rf_rig_girdle_of(k, a, s), facing));
     for (uint32_t s = 0; s < a->section_count && n < RF_RIG_MAX_LIMBS; s++) {
         const rf_section *sec = &a->sections[s];
         bool leg = sec->type == RF_SECTION_LEG;
@@ -1385,8 +1394,7 @@ static uint32_t rf_rig_limbs_found(const rf_rig_skel *k, const rf_analysis *a, b
         } else if (legs == 2) {
             l->kind = RF_RIG_LIMB_LEG, l->lay = lay[0];
         } else {
-            bool hind = declared ? sec->body_pos <= hind_pos + 1e-9
-                                 : rf_rig_from_root(k, l->girdle) <= hind_from_root + 1e-9;
+            bool hind = rf_rig_girdle_ahead(k, l->girdle, facing) <= hind_at + 1e-9;
             l->kind = hind ? RF_RIG_LIMB_HIND_LEG : RF_RIG_LIMB_FORELEG;
             l->lay = lay[1];
         }
@@ -1899,7 +1907,9 @@ static bool rf_rig_limbs(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opti
         ok = a != NULL;
     }
     rf_rig_limb limbs[RF_RIG_MAX_LIMBS];
-    uint32_t nl = ok ? rf_rig_limbs_found(k, a, rf_v3_len(o->forward) > 0, lay, limbs) : 0;
+    uint32_t nl = ok ? rf_rig_limbs_found(k, a, rf_v3_len(o->forward) > 0 ? o->forward : o->facing,
+                                          lay, limbs)
+                     : 0;
     if (ok && nl)
         ok = rf_rig_relay(p, k, a, limbs, nl);
     rf_analysis_free(a);
@@ -1944,15 +1954,18 @@ static bool rf_rig_general_framed(const rf_mesh *mesh, const rf_rig_options *opt
     if (progress)
         progress(user, 0.1);
     bool ok = rf_rig_curve(&p, &o, &k, err, err_size) == RF_RIG_OK;
+    /* a body whose file declares no forward faces the way its skeletons on the grid turned
+     * every quarter way read, pooled (rf_rig_pooled_facing), not the way one grid's reads: its
+     * limbs are laid (which pair of four legs is hind) and the rig named by it */
+    if (ok && !(rf_v3_len(o.forward) > 0) && !rf_rig_pooled_facing(&p, &k, &o, &o.facing))
+        ok = rf_rig_fail(err, err_size, "out of memory reading the body's facing");
     if (ok && !rf_rig_general_place(&p, &k, &o, NULL, NULL))
         ok = rf_rig_fail(err, err_size, "out of memory laying out the limbs");
     if (ok && progress)
         progress(user, 0.4);
-    /* a body whose file declares no forward is named facing the way its skeletons on the grid
-     * turned every quarter way read, pooled (rf_rig_pooled_facing): not the way one grid's reads */
     rf_rig_options named = o;
-    if (ok && !(rf_v3_len(o.forward) > 0) && !rf_rig_pooled_facing(&p, &k, &o, &named.forward))
-        ok = rf_rig_fail(err, err_size, "out of memory reading the body's facing");
+    if (!(rf_v3_len(o.forward) > 0))
+        named.forward = o.facing;
     double *w = NULL;
     uint8_t *boxed = ok ? calloc(k.n + 1, 1) : NULL;
     if (ok && !boxed)

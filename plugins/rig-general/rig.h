@@ -42,6 +42,9 @@ typedef struct rf_rig_options {
                                * low-poly box is never moved by one joint alone where that would
                                * leave the joints inside it moving nothing (set by the template
                                * rigger; the general rigger drops such joints instead) */
+    rf_vec3 facing;           /* the way the body faces as the general rigger read it from its
+                               * own skeletons, for a file that declares no forward (zero: none
+                               * read); set by the rigger itself */
 } rf_rig_options;
 
 #define RF_RIG_UP_NOTE 320 /* bytes of rf_rig_stats.up_note */

@@ -286,7 +286,9 @@ else ko "rig-bench --joint-map best: $(cat "$tmp/err")"; fi
 # 54.3% -> 49.0% / 63.5%; BCN_Epileptic, its ankle no longer moved up with the raised hips,
 # CD-J2J 0.038 -> 0.035, 50.7% / 55.9% -> 52.2% / 57.4%. The bull frog's hind legs hung from
 # a stalk its curve skeleton ran down inside its body; they hang from the spine joint above it
-# now (rf_rig_stalks_cut): after the matcher 67.6% / 75.9% -> 71.6% / 81.6%.
+# now (rf_rig_stalks_cut): after the matcher 67.6% / 75.9% -> 71.6% / 81.6%; and its hind pair
+# is the one behind along its forward (the analysis's places along the body, counted from its
+# root at the front girdle, gave the forelegs the hind layout): 73.6% / 84.6%.
 "$rigflow" rig-bench -r general --joints "$tmp/sjoints.csv" \
     "$data/models/creatures/animalia_bull_frog.b3d" "$data/models/huesitos.fbx" \
     "$data/models/BCN_Epileptic.X" "$data/models/creatures/draconis_fire_dragon.b3d" \
@@ -330,7 +332,7 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             print "FAIL: BCN_Epileptic on the skeleton of the artist: precision " \
                 gp["\"BCN_Epileptic.X\""] ", recall " gr["\"BCN_Epileptic.X\""] ", L1 " gl["\"BCN_Epileptic.X\""]
         if (!(cd["\"animalia_bull_frog.b3d\""] < 0.14)) print "FAIL: bull frog cd_j2j " cd["\"animalia_bull_frog.b3d\""]
-        if (!(p["\"animalia_bull_frog.b3d\""] >= 0.70 && r["\"animalia_bull_frog.b3d\""] >= 0.80))
+        if (!(p["\"animalia_bull_frog.b3d\""] >= 0.725 && r["\"animalia_bull_frog.b3d\""] >= 0.83))
             print "FAIL: bull frog after the matcher: precision " p["\"animalia_bull_frog.b3d\""] \
                 ", recall " r["\"animalia_bull_frog.b3d\""]
         if (!(cd["\"huesitos.fbx\""] < 0.065)) print "FAIL: huesitos cd_j2j " cd["\"huesitos.fbx\""]
@@ -384,6 +386,19 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
             print "FAIL: huesitos, no axes, after the matcher: " p " / " r
     }' "$tmp/hbench.csv" "$tmp/hjoints.csv" >"$tmp/fails"
 if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --no-axes huesitos"; else ok; fi
+# Which pair of a four-legged body's legs is hind is read from where their girdles lie along its
+# facing: the forward the file declares, or for a scan the facing the rigger reads from its
+# skeletons on the grid turned every quarter way (rf_rig_pooled_facing). The Fox with no axes
+# is rooted at its shoulders, and the girdle nearer the root, taken as hind before, gave each
+# pair the other's layout: after the matcher 68.5% / 70.4% with no axes against 76.4% / 77.1%
+# with its file's; now 76.4% / 77.1% both ways.
+"$rigflow" rig-bench -r general --no-axes "$data/models/Fox.glb" >"$tmp/fbench.csv" 2>"$tmp/err" ||
+    ko "rig-bench --no-axes Fox exit $?"
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    { n++; p = $c["precision"]; r = $c["recall"] }
+    END { if (!(n == 1 && p >= 0.74 && r >= 0.74)) print "FAIL: Fox, no axes, after the matcher: " p " / " r }' \
+    "$tmp/fbench.csv" >"$tmp/fails"
+if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "rig-bench --no-axes Fox"; else ok; fi
 # A hand holding a prop: the Wizard's staff and the ninja's sword run on from the right hand's
 # curve, which reached 1.75 and 1.93 times as far as the left's, and laid along the whole curve
 # the right arm's last joint went into the prop and its elbow to the wrist. Laid only as far as
