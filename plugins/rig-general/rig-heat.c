@@ -1099,6 +1099,17 @@ static bool rf_rig_heat_agrees(const rf_rig_prep *p, uint32_t q, uint32_t nj, co
     return share > 0.5 * n;
 }
 
+/* Whether loose part q holds bones (sum [part]) with fewer than four vertices (verts [part]) for
+ * each joint whose bones it holds (held [part][nj]). */
+static bool rf_rig_low_poly(const double *held, const double *sum, const uint32_t *verts,
+                            uint32_t nj, uint32_t q)
+{
+    uint32_t joints = 0;
+    for (uint32_t j = 0; j < nj; j++)
+        joints += held[(size_t)q * nj + j] > 0;
+    return sum[q] > 0 && verts[q] < 4 * joints;
+}
+
 /* Whether loose part q is a low-poly box holding the bones of more joints than it can bend at:
  * not the body, not moved by one joint already, and with fewer than four vertices for each joint
  * whose bones it holds (a piece modelled to bend has four or more, RF_RIG_PIECE_JOINTS). A box of
@@ -1109,10 +1120,40 @@ static bool rf_rig_heat_agrees(const rf_rig_prep *p, uint32_t q, uint32_t nj, co
 static bool rf_rig_is_box(const double *held, const double *sum, const uint32_t *owner,
                           const uint32_t *verts, uint32_t largest, uint32_t nj, uint32_t q)
 {
-    uint32_t joints = 0;
+    return q != largest && owner[q] == RF_RIG_NONE && rf_rig_low_poly(held, sum, verts, nj, q);
+}
+
+/* A low-poly body box moves with the joints holding most of the bone length inside it, not
+ * with the limbs whose first bones reach into it from parts of their own: blended among all of
+ * them, the bull frog's body box (8 corners, 12 joints) was dragged flat by its legs' roots
+ * under a walk. Its rows (w [nv][nj]) drop the joints holding under RF_RIG_BODY_HOLDS of the
+ * most any one holds there that another part holds bones of and moves with (held [part][nj],
+ * owner [part]); a limb modelled with the body (the animalia fox's legs) keeps its weights, as
+ * does one whose part moves with another joint (the animalia bat's), having no other skin. */
+#define RF_RIG_BODY_HOLDS 0.25
+
+static bool rf_rig_body_box_keep(const rf_rig_prep *p, const double *held, const uint32_t *owner,
+                                 uint32_t nj, uint32_t part, double *w)
+{
+    const double *h = held + (size_t)part * nj;
+    double *keep = malloc((nj + 1) * sizeof *keep), most = 0;
+    if (!keep)
+        return false;
     for (uint32_t j = 0; j < nj; j++)
-        joints += held[(size_t)q * nj + j] > 0;
-    return q != largest && sum[q] > 0 && owner[q] == RF_RIG_NONE && verts[q] < 4 * joints;
+        most = fmax(most, h[j]);
+    for (uint32_t j = 0; j < nj; j++) {
+        bool elsewhere = false;
+        for (uint32_t q = 0; q < p->proxy_parts && !elsewhere; q++)
+            elsewhere = q != part && held[(size_t)q * nj + j] > 0 &&
+                        (owner[q] == RF_RIG_NONE || owner[q] == j);
+        /* kept joints count as holding; the one holding most takes a row left empty */
+        keep[j] = h[j] >= RF_RIG_BODY_HOLDS * most || !elsewhere ? 1 + h[j] : 0;
+    }
+    for (uint32_t i = 0; i < p->proxy.nv; i++)
+        if (p->proxy_part[i] == part)
+            rf_rig_keep_enclosed(keep, nj, w + (size_t)i * nj);
+    free(keep);
+    return true;
 }
 
 /* Height along up of point x. */
@@ -1255,8 +1296,9 @@ static bool rf_rig_branches(const rf_rig_skel *s, const double *held, uint8_t *s
  * agrees, giving that joint more than half of it: a box model's body box holding the torso's
  * bone (the animalia bird's, the owl's), a robot's head piece holding the head's; a bat's body
  * box, which holds the torso's bone but carries the roots of the head and the wings, keeps its
- * weights. A closed part enclosing no bone moves with the joint bone heat gives most of it
- * (rf_rig_boneless_owners); an open one keeps its weights. */
+ * weights; a low-poly body box not moved by one joint sheds the limbs reaching into it from
+ * parts of their own (rf_rig_body_box_keep). A closed part enclosing no bone moves with the joint
+ * bone heat gives most of it (rf_rig_boneless_owners); an open one keeps its weights. */
 static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, const rf_rig_skel *s,
                                const rf_rig_bone *bones, uint32_t nb, const rf_rig_enclosed *e,
                                double *w, const double *plain, const rf_rig_options *o,
@@ -1320,6 +1362,8 @@ static bool rf_rig_part_joints(const rf_rig_prep *p, const rf_rig_rays *rays, co
                 memcpy(w + (size_t)i * nj, plain + (size_t)i * nj, nj * sizeof *w);
             rf_rig_keep_enclosed(held + (size_t)p->proxy_part[i] * nj, nj, w + (size_t)i * nj);
         }
+    if (ok && owner[largest] == RF_RIG_NONE && rf_rig_low_poly(held, sum, verts, nj, largest))
+        ok = rf_rig_body_box_keep(p, held, owner, nj, largest, w);
     for (uint32_t i = 0; ok && i < p->proxy.nv; i++) {
         uint32_t j = owner[p->proxy_part[i]];
         if (j == RF_RIG_NONE)
