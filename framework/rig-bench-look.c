@@ -80,6 +80,7 @@ void rf_rig_look_none(rf_rig_look *l, const char *status)
 {
     l->stretch_p99 = l->part_p99 = l->seam_p99 = l->floor_median = l->floor_p95 = NAN;
     l->parts_below = l->fidelity_mean = l->fidelity_p95 = l->feet = l->source_feet = NAN;
+    l->volume_off = NAN;
     l->joint[0] = '\0';
     g_strlcpy(l->status, status, sizeof l->status);
 }
@@ -183,6 +184,7 @@ static void look_read(const char *json, rf_rig_look *out)
         out->floor_median = look_pct(mesh, "floor_median");
         out->floor_p95 = look_pct(mesh, "floor_p95");
         out->parts_below = look_pct(mesh, "parts_below");
+        out->volume_off = look_pct(mesh, "volume_p95"); /* NaN: no solid part measured */
         const char *joint = json_string_value(json_object_get(mesh, "part_joint_name"));
         g_strlcpy(out->joint, joint ? joint : "", sizeof out->joint);
         g_strlcpy(out->status, "ok", sizeof out->status);

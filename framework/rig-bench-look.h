@@ -22,6 +22,8 @@ typedef struct rf_rig_look {
      * mesh may then stretch less while it swings the wrong way, which only these see. */
     double fidelity_mean, fidelity_p95;
     double feet, source_feet;
+    double volume_off; /* % its rest volume the worst closed solid part strays by, p95 over the
+                        * frames (a box crushed or flattened); NaN with no solid part */
     char joint[128];  /* the worst part's joint, escaped by retarget.measure */
     char status[400]; /* "ok", or why the look was not measured */
 } rf_rig_look;

@@ -390,9 +390,9 @@ static void rb_look_cells(void)
     }
     printf(",%.2f,%.2f,", l->stretch_p99, l->part_p99);
     rb_csv_text(l->joint);
-    printf(",%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.0f,%.0f,", l->seam_p99,
+    printf(",%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.0f,%.0f,%.2f,", l->seam_p99,
            rf_text_shown_zero(l->floor_median, 2), l->floor_p95, l->parts_below, l->fidelity_mean,
-           l->fidelity_p95, l->feet, l->source_feet);
+           l->fidelity_p95, l->feet, l->source_feet, l->volume_off);
     rb_csv_text(l->status);
 }
 
@@ -753,7 +753,7 @@ static int rb_run(const rf_registry *reg, GArray *riggers, int nfiles, char **fi
         "unweighted,given_precision,given_recall,given_l1,j2j_to_artist,j2j_from_artist,up_agree,"
         "forward_agree,seconds,status,look_stretch_p99,look_worst_part,look_worst_joint,"
         "look_torn_p99,look_floor_median,look_floor_p95,look_parts_below,look_fidelity_mean,"
-        "look_fidelity_p95,look_feet,look_source_feet,look_status\n");
+        "look_fidelity_p95,look_feet,look_source_feet,look_volume_off,look_status\n");
     int bad = 0;
     for (int i = 0; i < nfiles; i++)
         for (guint k = 0; k < riggers->len; k++) {
@@ -897,7 +897,9 @@ int rf_cmd_rig_bench(rf_registry *reg, int argc, char **argv)
             "under the floor),look_fidelity_mean,look_fidelity_p95 (degrees between each mapped "
             "bone and its source bone: the motion's directions on the rig),look_feet,"
             "look_source_feet (the feet the retarget found and pins, and the motion's feet they "
-            "follow: a leg without a foot swings as an arm),look_status. "
+            "follow: a leg without a foot swings as an arm),look_volume_off (% its volume the "
+            "worst closed solid part strays from its rest volume, p95 over the frames: a box "
+            "crushed or flattened between joints; nan with none),look_status. "
             "Exit status: 0 when every model was measured (a rigger's refusal or a failed look is "
             "a row), 1 when a model could not be read, 2 on a usage error, 130 on Ctrl-C. With "
             "--turn, --axis, --scale or --offset every model is moved so (the artist's rig with "

@@ -13,6 +13,7 @@ plugins_retarget_libretarget_la_SOURCES = \
 	plugins/retarget/rt-measure.c \
 	plugins/retarget/rt-roles.c \
 	plugins/retarget/rt-mesh.c \
+	plugins/retarget/rt-volume.c \
 	plugins/retarget/rt-report.c
 plugins_retarget_libretarget_la_CFLAGS = $(AM_CFLAGS) $(JANSSON_CFLAGS)
 plugins_retarget_libretarget_la_LIBADD = $(JANSSON_LIBS) -lpthread -lm

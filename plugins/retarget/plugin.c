@@ -561,6 +561,14 @@ static void rt_mesh_line(FILE *out, const char *label, const rt_mesh_figures *m,
                 rf_joint_label(s, c->seam_joints[0], a, sizeof a),
                 rf_joint_label(s, c->seam_joints[1], b, sizeof b), c->seam_part_seams, c->seams);
     }
+    if (c->volume_parts) {
+        char name[128];
+        fprintf(out, "; worst solid's volume off %.1f%%", 100 * c->volume_p95);
+        if (r && r->volume_parts)
+            fprintf(out, " [%.1f%%]", 100 * r->volume_p95);
+        fprintf(out, " (joint '%s', of %u solid parts)",
+                rf_joint_label(s, c->volume_joint, name, sizeof name), c->volume_parts);
+    }
     fprintf(out, "\n");
 }
 

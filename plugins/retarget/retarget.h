@@ -273,6 +273,11 @@ typedef struct rf_rt_mesh_report {
     double seam_part_p99;     /* the worst pair's p99 over its seams and frames, as seam_p99 */
     uint32_t seam_joints[2];  /* its two joints (indices into the skeleton, the smaller first) */
     uint32_t seam_part_seams; /* its seams */
+    /* Volume kept by the closed loose parts that are solids (rt-volume.c), so a box crushed or
+     * flattened between joints, which neither tears nor stretches much, is seen. */
+    uint32_t volume_parts; /* parts measured */
+    double volume_p95;     /* the worst part's p95 over frames of |volume / rest volume - 1| */
+    uint32_t volume_joint; /* the joint carrying most of that part */
 } rf_rt_mesh_report;
 
 /* ---- retarget.measure's JSON report (rt-report.c) ---- */

@@ -318,6 +318,29 @@ static inline void rf_rt_chunks_stop(rf_rt_chunks *c)
 
 /* The k-th smallest of `count` values, reordering them (rt-mesh.c). */
 double rf_rt_select(double *v, size_t count, size_t k);
+
+/* The closed loose parts of a skinned mesh that are solids of some size, for the volume each
+ * keeps as a clip poses it (rt-volume.c). Vertices at the same position are welded to tell
+ * closed from open; a part is its triangles first[p] .. first[p + 1] of tris[]. */
+typedef struct rf_rt_volumes {
+    uint32_t parts;
+    uint32_t *first;  /* [parts + 1] */
+    uint32_t *tris;   /* triangles by part */
+    uint32_t *origin; /* [part] a vertex of it, the volumes taken about it */
+    uint32_t *joint;  /* [part] the joint carrying most of its vertices */
+    double *rest;     /* [part] signed volume at rest */
+    uint8_t *keep;    /* [part] measured: a solid (rest volume at least 5% of its box's) whose
+                       * box's diagonal is 2% of the height or more */
+} rf_rt_volumes;
+
+/* The parts of mesh m (rest: its vertices at rest; joints: the skeleton's count; height: the
+ * mesh's) into v; false when out of memory (v empty). A mesh without triangles has none. */
+bool rf_rt_volumes_find(const rf_mesh *m, const rf_vec3 *rest, uint32_t joints, double height,
+                        rf_rt_volumes *v);
+/* Each part's |volume / rest volume - 1| with the vertices at pos into off[part] (0 where not
+ * measured). */
+void rf_rt_volumes_at(const rf_rt_volumes *v, const rf_mesh *m, const rf_vec3 *pos, double *off);
+void rf_rt_volumes_free(rf_rt_volumes *v);
 /* A value with its weight (rf_rt_weighted_quantile). */
 typedef struct rf_rt_weighted {
     double value, weight;

@@ -500,6 +500,26 @@ static void rt_mesh_floor(rf_rt_mesh_report *r, double *low, const double *part_
     r->floor_p95 = rt_quantile(low, frames, 0.95);
 }
 
+/* The worst solid part's volume figure (rf_rt_mesh_report's volume_*): each part's p95 over
+ * the frames of `off` ([frame][part], rf_rt_volumes_at). */
+static bool rt_mesh_volumes(const rf_rt_volumes *v, double *off, uint32_t frames,
+                            rf_rt_mesh_report *r)
+{
+    double *vals = malloc(((size_t)frames + 1) * sizeof *vals);
+    for (uint32_t p = 0; vals && p < v->parts; p++) {
+        if (!v->keep[p])
+            continue;
+        for (uint32_t f = 0; f < frames; f++)
+            vals[f] = off[(size_t)f * v->parts + p];
+        double q = rt_quantile(vals, frames, 0.95);
+        if (!r->volume_parts || q > r->volume_p95)
+            r->volume_p95 = q, r->volume_joint = v->joint[p];
+        r->volume_parts++;
+    }
+    free(vals);
+    return vals != NULL;
+}
+
 static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t frames,
                         rf_rt_mesh_report *r)
 {
@@ -516,7 +536,11 @@ static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t fram
               (w->rigid || (rt_mesh_seams(w, height) && rt_mesh_edges(w, height)));
     double *drift = ok ? malloc(((size_t)w->seams * frames + 1) * sizeof *drift) : NULL;
     double *stretch = ok ? malloc(((size_t)w->edges * frames + 1) * sizeof *stretch) : NULL;
-    ok = ok && drift && stretch;
+    rf_rt_volumes vol = {0};
+    ok = ok && drift && stretch &&
+         (w->rigid || rf_rt_volumes_find(w->m, w->rest, w->n, height, &vol));
+    double *off = ok ? malloc(((size_t)vol.parts * frames + 1) * sizeof *off) : NULL;
+    ok = ok && off;
     for (uint32_t v = 0; ok && v < w->nv; v++)
         high[v] = rf_v3_dot(w->rest[v], w->up) > lo + RT_MESH_HIGH * height;
     for (uint32_t i = 0; ok && i < frames; i++) {
@@ -529,6 +553,7 @@ static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t fram
         rt_mesh_skin(w, w->pos);
         rt_mesh_frame(w, height, lo, high, &low[i], &part_low[i], drift + (size_t)i * w->seams,
                       stretch + (size_t)i * w->edges);
+        rf_rt_volumes_at(&vol, w->m, w->pos, off + (size_t)i * vol.parts);
         if (w->expect)
             low[i] -= w->expect[i] / height;
     }
@@ -541,8 +566,10 @@ static bool rt_mesh_run(rt_mesh_work *w, const rf_animation *anim, uint32_t fram
         r->seam_p99 = rt_quantile(drift, ns, 0.99);
         ok = ok && (w->rigid || rt_mesh_parts(w, stretch, frames, r));
         r->stretch_p99 = rt_quantile(stretch, (size_t)w->edges * frames, 0.99);
+        ok = ok && rt_mesh_volumes(&vol, off, frames, r);
     }
-    free(high), free(low), free(part_low), free(drift), free(stretch);
+    free(high), free(low), free(part_low), free(drift), free(stretch), free(off);
+    rf_rt_volumes_free(&vol);
     return ok;
 }
 

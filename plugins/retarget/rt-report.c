@@ -62,6 +62,11 @@ static json_t *rt_mesh_json(const rf_rt_mesh_report *m, const rf_skeleton *s)
              rt_set(
                  o, "seam_joint_names",
                  json_pack("[o, o]", rt_name(s, m->seam_joints[0]), rt_name(s, m->seam_joints[1])));
+    if (ok && m->volume_parts)
+        ok = rt_set(o, "volume_parts", json_integer(m->volume_parts)) &&
+             rt_set(o, "volume_p95", rt_num(m->volume_p95)) &&
+             rt_set(o, "volume_joint", json_integer(m->volume_joint)) &&
+             rt_set(o, "volume_joint_name", rt_name(s, m->volume_joint));
     if (!ok)
         json_decref(o);
     return ok ? o : NULL;
