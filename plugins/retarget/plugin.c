@@ -677,7 +677,8 @@ static const rf_port_desc rt_measure_inputs[] = {
     RF_PORT_DESC(
         "mesh", RF_TYPE_MESH, RF_PORT_OPTIONAL,
         "the target's skinned mesh: adds the measures on the mesh (torn limbs, floor, stretch "
-        "over the whole mesh and in its worst part: the vertices one joint carries most)"),
+        "over the whole mesh and in its worst part: the vertices one joint carries most; the "
+        "volume its closed solid parts keep)"),
     RF_PORT_DESC("reference", RF_TYPE_ANIMATION, RF_PORT_OPTIONAL,
                  "a clip of the target's own, measured on the mesh the same way as the reference"),
 };
