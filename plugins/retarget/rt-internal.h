@@ -316,6 +316,14 @@ static inline void rf_rt_chunks_stop(rf_rt_chunks *c)
     atomic_store_explicit(&c->next, c->end, memory_order_relaxed);
 }
 
+/* A value keyed for sorting (a grid cell, an edge by its two vertices) and its qsort order by
+ * key (rt-mesh.c). */
+typedef struct rf_rt_cell {
+    uint64_t key;
+    uint32_t v;
+} rf_rt_cell;
+int rf_rt_cmp_cell(const void *a, const void *b);
+
 /* The k-th smallest of `count` values, reordering them (rt-mesh.c). */
 double rf_rt_select(double *v, size_t count, size_t k);
 

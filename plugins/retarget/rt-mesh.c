@@ -123,14 +123,9 @@ static void rt_mesh_skin(rt_mesh_work *w, rf_vec3 *out)
     }
 }
 
-typedef struct rt_cell {
-    uint64_t key;
-    uint32_t v;
-} rt_cell;
-
-static int rt_cmp_cell(const void *a, const void *b)
+int rf_rt_cmp_cell(const void *a, const void *b)
 {
-    uint64_t x = ((const rt_cell *)a)->key, y = ((const rt_cell *)b)->key;
+    uint64_t x = ((const rf_rt_cell *)a)->key, y = ((const rf_rt_cell *)b)->key;
     return (x > y) - (x < y);
 }
 
@@ -171,7 +166,7 @@ static void rt_mesh_normals(const rt_mesh_work *w, rf_vec3 *n)
 static bool rt_mesh_seams(rt_mesh_work *w, double height)
 {
     double eps = 0.01 * height;
-    rt_cell *cells = malloc((w->nv ? w->nv : 1) * sizeof *cells);
+    rf_rt_cell *cells = malloc((w->nv ? w->nv : 1) * sizeof *cells);
     rf_vec3 *normal = malloc((w->nv ? w->nv : 1) * sizeof *normal);
     w->seam = malloc(RT_MESH_MAX_SEAMS * 2 * sizeof *w->seam);
     if (!cells || !normal || !w->seam) {
@@ -185,15 +180,15 @@ static bool rt_mesh_seams(rt_mesh_work *w, double height)
                                    (int64_t)floor(p.z / eps));
         cells[v].v = v;
     }
-    qsort(cells, w->nv, sizeof *cells, rt_cmp_cell);
+    qsort(cells, w->nv, sizeof *cells, rf_rt_cmp_cell);
     for (uint32_t i = 0; i < w->nv && w->seams < RT_MESH_MAX_SEAMS; i++) {
         uint32_t a = cells[i].v, ja = rf_mesh_heaviest_joint(w->m, a);
         rf_vec3 p = w->rest[a];
         int64_t cx = (int64_t)floor(p.x / eps), cy = (int64_t)floor(p.y / eps),
                 cz = (int64_t)floor(p.z / eps);
         for (int d = 0; d < 27 && w->seams < RT_MESH_MAX_SEAMS; d++) {
-            rt_cell probe = {rt_cell_key(cx + d % 3 - 1, cy + d / 3 % 3 - 1, cz + d / 9 - 1), 0};
-            rt_cell *hit = bsearch(&probe, cells, w->nv, sizeof *cells, rt_cmp_cell);
+            rf_rt_cell probe = {rt_cell_key(cx + d % 3 - 1, cy + d / 3 % 3 - 1, cz + d / 9 - 1), 0};
+            rf_rt_cell *hit = bsearch(&probe, cells, w->nv, sizeof *cells, rf_rt_cmp_cell);
             while (hit && hit > cells && hit[-1].key == probe.key)
                 hit--;
             for (; hit && hit < cells + w->nv && hit->key == probe.key; hit++) {
@@ -448,7 +443,7 @@ static bool rt_mesh_parts(const rt_mesh_work *w, const double *stretch, uint32_t
 static bool rt_mesh_seam_parts(const rt_mesh_work *w, const double *drift, uint32_t frames,
                                rf_rt_mesh_report *r)
 {
-    rt_cell *by = malloc(((size_t)w->seams + 1) * sizeof *by);
+    rf_rt_cell *by = malloc(((size_t)w->seams + 1) * sizeof *by);
     double *vals = malloc(((size_t)w->seams * frames + 1) * sizeof *vals);
     bool ok = by && vals;
     for (uint32_t i = 0; ok && i < w->seams; i++) {
@@ -457,7 +452,7 @@ static bool rt_mesh_seam_parts(const rt_mesh_work *w, const double *drift, uint3
         by[i].v = i;
     }
     if (ok)
-        qsort(by, w->seams, sizeof *by, rt_cmp_cell);
+        qsort(by, w->seams, sizeof *by, rf_rt_cmp_cell);
     for (uint32_t i = 0, end = 0; ok && i < w->seams; i = end) {
         for (end = i; end < w->seams && by[end].key == by[i].key; end++)
             ;

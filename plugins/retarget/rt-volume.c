@@ -16,17 +16,6 @@
 #define RT_VOLUME_SOLID 0.05
 #define RT_VOLUME_SIZE 0.02
 
-typedef struct rt_edge_key {
-    uint64_t key;
-    uint32_t tri;
-} rt_edge_key;
-
-static int rt_cmp_edge(const void *a, const void *b)
-{
-    uint64_t x = ((const rt_edge_key *)a)->key, y = ((const rt_edge_key *)b)->key;
-    return (x > y) - (x < y);
-}
-
 static const rf_mesh *rt_weld_mesh; /* qsort has no context argument */
 
 static int rt_cmp_position(const void *a, const void *b)
@@ -74,7 +63,7 @@ static bool rt_tri_ok(const rf_mesh *m, uint32_t t)
  * the part is not shared by exactly two triangles. False when out of memory. */
 static bool rt_parts_closed(const rf_mesh *m, const uint32_t *id, uint32_t *up, uint8_t *open)
 {
-    rt_edge_key *e = malloc(((size_t)m->triangle_count * 3 + 1) * sizeof *e);
+    rf_rt_cell *e = malloc(((size_t)m->triangle_count * 3 + 1) * sizeof *e);
     if (!e)
         return false;
     for (uint32_t v = 0; v < m->vertex_count; v++)
@@ -87,10 +76,10 @@ static bool rt_parts_closed(const rf_mesh *m, const uint32_t *id, uint32_t *up, 
         for (int k = 0; k < 3; k++) {
             uint32_t a = id[v[k]], b = id[v[(k + 1) % 3]];
             up[rt_find(up, a)] = rt_find(up, b);
-            e[n].key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a, e[n++].tri = t;
+            e[n].key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a, e[n++].v = t;
         }
     }
-    qsort(e, n, sizeof *e, rt_cmp_edge);
+    qsort(e, n, sizeof *e, rf_rt_cmp_cell);
     for (size_t i = 0, end; i < n; i = end) {
         for (end = i; end < n && e[end].key == e[i].key; end++)
             ;
