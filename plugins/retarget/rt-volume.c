@@ -16,12 +16,14 @@
 #define RT_VOLUME_SOLID 0.05
 #define RT_VOLUME_SIZE 0.02
 
-static const rf_mesh *rt_weld_mesh; /* qsort has no context argument */
+typedef struct rt_spot {
+    float p[3];
+    uint32_t v;
+} rt_spot;
 
-static int rt_cmp_position(const void *a, const void *b)
+static int rt_cmp_spot(const void *a, const void *b)
 {
-    const float *p = rt_weld_mesh->positions + (size_t) * (const uint32_t *)a * 3;
-    const float *q = rt_weld_mesh->positions + (size_t) * (const uint32_t *)b * 3;
+    const float *p = ((const rt_spot *)a)->p, *q = ((const rt_spot *)b)->p;
     for (int c = 0; c < 3; c++)
         if (p[c] != q[c])
             return (p[c] > q[c]) - (p[c] < q[c]);
@@ -29,20 +31,20 @@ static int rt_cmp_position(const void *a, const void *b)
 }
 
 /* Each vertex's welded id into id[] (vertices at the same position, as a mesh split at its
- * texture or normal seams has them, share one); false when out of memory. */
+ * texture or normal seams has them, share one); false when out of memory. The positions are
+ * sorted with their vertex beside them: no sort context outside the call, so measures may run
+ * on several threads. */
 static bool rt_weld(const rf_mesh *m, uint32_t *id)
 {
-    uint32_t *order = malloc(((size_t)m->vertex_count + 1) * sizeof *order);
-    if (!order)
+    rt_spot *s = malloc(((size_t)m->vertex_count + 1) * sizeof *s);
+    if (!s)
         return false;
     for (uint32_t v = 0; v < m->vertex_count; v++)
-        order[v] = v;
-    rt_weld_mesh = m;
-    qsort(order, m->vertex_count, sizeof *order, rt_cmp_position);
+        memcpy(s[v].p, m->positions + (size_t)v * 3, sizeof s[v].p), s[v].v = v;
+    qsort(s, m->vertex_count, sizeof *s, rt_cmp_spot);
     for (uint32_t i = 0; i < m->vertex_count; i++)
-        id[order[i]] =
-            i && !rt_cmp_position(&order[i - 1], &order[i]) ? id[order[i - 1]] : order[i];
-    free(order);
+        id[s[i].v] = i && !rt_cmp_spot(&s[i - 1], &s[i]) ? id[s[i - 1].v] : s[i].v;
+    free(s);
     return true;
 }
 
