@@ -1456,6 +1456,7 @@ static double rf_rig_arms_height(const rf_rig_skel *k, rf_vec3 up, const rf_rig_
 #define RF_RIG_SHOULDER_OUT 0.8   /* of the way out to the shoulder's surface */
 #define RF_RIG_SHOULDER_RISE 0.03 /* of the longest edge above the upper arm joint: a move */
 #define RF_RIG_SHOULDER_MAX 64    /* steps */
+#define RF_RIG_SHOULDER_HANG 0.6  /* drop over reach: an arm lower than 31 degrees under level */
 
 /* The width of the mesh through q along d both ways (first surface each way), and the way
  * along d into *ahead; INFINITY when a ray leaves without meeting it. */
@@ -1467,7 +1468,9 @@ static double rf_rig_width(const rf_rig_surface *sf, const double q[3], rf_vec3 
 }
 
 /* An arm laid from girdle point g (pos: clavicle, upper arm, elbow, hand) that hangs beside the
- * trunk (its hand lower under its upper arm joint than it lies out from it) leaves the trunk
+ * trunk (its hand lower under its upper arm joint than RF_RIG_SHOULDER_HANG of how far it lies
+ * out from it: the girl's arms, 37 degrees under level, left the trunk 0.1 of her height under
+ * her artist's shoulders, and the elbow laid half way down that short arm) leaves the trunk
  * below the armpit, where the curve skeleton's bands first part arm from chest, and the layout
  * put clavicle and upper arm there, a tenth of the height or more under the shoulder (the
  * ninja, BCN_Epileptic). The trunk's width across the body (from the line up through g towards
@@ -1487,7 +1490,7 @@ void rf_rig_shoulder(const rf_rig_surface *sf, double longest, rf_vec3 up, const
     rf_vec3 span = rf_v3(pos[3][0] - pos[1][0], pos[3][1] - pos[1][1], pos[3][2] - pos[1][2]);
     double drop = -rf_v3_dot(span, up);
     if (!sf || rf_v3_len(out) < 1e-9 * longest ||
-        !(drop > rf_v3_len(rf_v3_sub(span, rf_v3_scale(up, rf_v3_dot(span, up))))))
+        !(drop > RF_RIG_SHOULDER_HANG * rf_v3_len(rf_v3_sub(span, rf_v3_scale(up, rf_v3_dot(span, up))))))
         return; /* no surface, or an arm held out, not hanging */
     rf_vec3 side = rf_v3_normalize(out);
     double hg = rf_rig_along(g, up), from = fmax(hg, rf_rig_along(pos[1], up));
