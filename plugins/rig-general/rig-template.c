@@ -75,26 +75,40 @@ static void rf_tpl_sub(const rf_tpl_curve *c, double f0, double f1, rf_tpl_curve
     rf_tpl_add(out, p);
 }
 
+/* The cosine of the angle curve c turns by at its interior point i. */
+static double rf_tpl_turn_cos(const rf_tpl_curve *c, uint32_t i)
+{
+    double u[3], v[3], nu = 0, nv = 0, dot = 0;
+    for (int a = 0; a < 3; a++) {
+        u[a] = c->p[i][a] - c->p[i - 1][a], v[a] = c->p[i + 1][a] - c->p[i][a];
+        nu += u[a] * u[a], nv += v[a] * v[a], dot += u[a] * v[a];
+    }
+    return dot / sqrt(nu * nv);
+}
+
 /* Where the curve bends most (turning angle over 15 degrees) between fractions lo and hi; `dflt`
  * when it runs straight there (a limb held straight has its elbow or knee at the template's
- * place). */
-static double rf_tpl_bend(const rf_tpl_curve *c, double lo, double hi, double dflt)
+ * place). The index of the point bending there into *at_point when given, 0 for none. */
+static double rf_tpl_bend_at(const rf_tpl_curve *c, double lo, double hi, double dflt,
+                             uint32_t *at_point)
 {
     double len = rf_tpl_len(c), best = cos(15 * M_PI / 180), at = dflt;
+    if (at_point)
+        *at_point = 0;
     for (uint32_t i = 1; len > 0 && i + 1 < c->n; i++) {
-        double f = c->s[i] / len;
-        if (f < lo || f > hi)
-            continue;
-        double u[3], v[3], nu = 0, nv = 0, dot = 0;
-        for (int a = 0; a < 3; a++) {
-            u[a] = c->p[i][a] - c->p[i - 1][a], v[a] = c->p[i + 1][a] - c->p[i][a];
-            nu += u[a] * u[a], nv += v[a] * v[a], dot += u[a] * v[a];
-        }
-        double cosang = dot / sqrt(nu * nv);
-        if (cosang < best)
+        double f = c->s[i] / len, cosang = f < lo || f > hi ? 1 : rf_tpl_turn_cos(c, i);
+        if (cosang < best) {
             best = cosang, at = f;
+            if (at_point)
+                *at_point = i;
+        }
     }
     return at;
+}
+
+static double rf_tpl_bend(const rf_tpl_curve *c, double lo, double hi, double dflt)
+{
+    return rf_tpl_bend_at(c, lo, hi, dflt, NULL);
 }
 
 /* The common ancestor of joints a and b, -1 when they have none. Parents come before their
@@ -492,21 +506,25 @@ static const char *rf_tpl_sided(char buf[24], int side, const char *part)
     return buf;
 }
 
+#define RF_TPL_ANKLE 0.82 /* a biped's ankle along its leg's curve when no height places it */
+
 /* Where a limb's four joints go along its curve c (girdle to tip), as fractions into f[]: a
  * leg's hip, knee at the curve's bend near the middle, ankle where the curve comes down to the
  * foot's height (or at its bend, for a hock) and toe; an arm's (a foreleg's) clavicle, upper
- * arm, elbow at the bend near the middle, and hand. */
+ * arm, elbow at the bend near the middle, and hand. The index of the curve's point whose bend
+ * gave the knee into *knee_at (0: none did, the layout's place). */
 static void rf_tpl_fractions(const rf_tpl_curve *c, rf_vec3 up, rf_rig_limb_kind kind,
-                             const rf_rig_tpl_layout *l, double f[4])
+                             const rf_rig_tpl_layout *l, double f[4], uint32_t *knee_at)
 {
+    *knee_at = 0;
     if (kind == RF_RIG_LIMB_ARM || kind == RF_RIG_LIMB_FORELEG) {
         f[0] = l->shoulder, f[1] = l->arm, f[3] = l->hand;
         f[2] = rf_tpl_bend(c, l->elbow_lo, l->elbow_hi, l->elbow);
         return;
     }
     bool hind = kind == RF_RIG_LIMB_HIND_LEG;
-    double knee = rf_tpl_bend(c, l->knee_lo, l->knee_hi, l->knee);
-    double ankle = hind ? rf_tpl_bend(c, l->hock_lo, l->hock_hi, l->hock) : 0.82;
+    double knee = rf_tpl_bend_at(c, l->knee_lo, l->knee_hi, l->knee, knee_at);
+    double ankle = hind ? rf_tpl_bend(c, l->hock_lo, l->hock_hi, l->hock) : RF_TPL_ANKLE;
     if (!hind) { /* the ankle: first point within ankle_rise of the leg's height of its lowest */
         double lo = INFINITY, top = 0;
         for (uint32_t i = 0; i < c->n; i++) {
@@ -529,7 +547,7 @@ static void rf_tpl_fractions(const rf_tpl_curve *c, rf_vec3 up, rf_rig_limb_kind
  * foreleg); an arm may rise. False when out of memory. */
 static bool rf_tpl_limb_laid(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32_t first,
                              rf_rig_limb_kind kind, const rf_rig_tpl_layout *l, rf_tpl_curve *c,
-                             double f[4])
+                             double f[4], uint32_t *knee_at)
 {
     uint8_t *skip = calloc(k->n + 1, 1);
     c->n = 0;
@@ -537,8 +555,25 @@ static bool rf_tpl_limb_laid(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, 
               rf_tpl_limb(k, girdle, first, skip, c);
     free(skip);
     if (ok)
-        rf_tpl_fractions(c, up, kind, l, f);
+        rf_tpl_fractions(c, up, kind, l, f, knee_at);
     return ok;
+}
+
+#define RF_TPL_KNEE_TURN 20 /* degrees: a bend kept as the knee when the raised curve has none */
+
+/* The knee of a leg laid again from a raised start (f: hip, knee, ankle, toe as fractions of the
+ * longer curve) whose bends gave none: at `kept`, where the curve as found bent by kept_cos (its
+ * cosine; NAN: it bent nowhere in the knee's range), when that bend turns by RF_TPL_KNEE_TURN
+ * degrees or more, else at the layout's share of the way from the hip to the ankle. The raised
+ * start meets the curve at a bend of its own, no knee; and a bend of a few degrees past the 15
+ * that rf_tpl_bend asks may be a hem's (BCN_Epileptic's, where its shorts end, 17 degrees, 0.72
+ * of the way to the ankle): its artist's knees lie at 0.47, within 0.02 of that share. */
+static double rf_tpl_knee_kept(const rf_rig_tpl_layout *l, const double *f, double kept,
+                               double kept_cos)
+{
+    if (kept_cos <= cos(RF_TPL_KNEE_TURN * M_PI / 180))
+        return fmin(fmax(kept, f[0]), f[2]);
+    return f[0] + (l->knee - l->upleg) / (RF_TPL_ANKLE - l->upleg) * (f[2] - f[0]);
 }
 
 /* c with its first point (the girdle's pivot) moved to `start`, arc lengths measured again.
@@ -566,23 +601,26 @@ static bool rf_tpl_limb_curve(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle,
                               rf_rig_limb_kind kind, const rf_rig_tpl_layout *l,
                               const double *start, double reach, rf_tpl_curve *c, double f[4])
 {
-    if (!rf_tpl_limb_laid(k, up, girdle, first, kind, l, c, f))
+    uint32_t was_at, now_at;
+    if (!rf_tpl_limb_laid(k, up, girdle, first, kind, l, c, f, &was_at))
         return false;
     if (start) {
         /* the ankle stays where the foot's height put it on the curve as found, measured from
          * the foot: a start raised above the girdle (rf_rig_legs_raise) is no taller foot; and
          * so does a knee found at a bend there when the longer curve has no bend in the knee's
          * range (the Wizard's right knee, its bend near the top of the range, went a sixth of
-         * the leg up to the template's place) */
+         * the leg up to the template's place) or bends only where the raised start meets the
+         * curve (point 1: BCN_Epileptic's knees went there, a fifth of the way down the leg) */
         double knee = f[1], ankle = f[2], was = rf_tpl_len(c);
+        double kept_cos = was_at ? rf_tpl_turn_cos(c, was_at) : NAN;
         if (!rf_tpl_restart(c, start))
             return false;
-        rf_tpl_fractions(c, up, kind, l, f);
+        rf_tpl_fractions(c, up, kind, l, f, &now_at);
         double now = rf_tpl_len(c);
         if (kind == RF_RIG_LIMB_LEG && now > 0) {
             f[2] = fmin(fmax(1 - (1 - ankle) * was / now, f[0]), 1);
-            if (f[1] == l->knee && knee != l->knee) /* rf_tpl_bend found none, then one */
-                f[1] = fmin(fmax(1 - (1 - knee) * was / now, f[0]), f[2]);
+            if (now_at <= 1)
+                f[1] = rf_tpl_knee_kept(l, f, 1 - (1 - knee) * was / now, kept_cos);
             f[3] = f[2] + l->toe * (1 - f[2]);
         }
     }
@@ -594,7 +632,7 @@ static bool rf_tpl_limb_curve(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle,
         rf_tpl_sub(c, 0, reach / len, cut);
         memcpy(c, cut, sizeof *c);
         free(cut);
-        rf_tpl_fractions(c, up, kind, l, f);
+        rf_tpl_fractions(c, up, kind, l, f, &now_at);
     }
     return true;
 }
