@@ -1282,6 +1282,14 @@ static bool rf_rig_root_low(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
  * read the bird's and the bat's shoulders otherwise and their bodies stretched under a walk. */
 #define RF_RIG_WING_REACH 2.0
 #define RF_RIG_WING_EDGE 0.85
+/* A wing's elbow and wrist along its curve from the girdle: the hand and its fingers make up
+ * the outer half of a wing (a bat's, a bird's, a pterosaur's), so its wrist lies near the middle
+ * of the span, not where an arm's hand does (0.8). The winged artist rigs of the shared data put
+ * their last wing joint 0.36 (the owl) to 0.49 (the jungle wyvern) of the way out, and the
+ * dragons their elbow at 0.21 and 0.24; laid at an arm's fractions, the rigger's hand stood 0.17
+ * to 0.27 of the longest edge from any artist joint, in the outer wing where none has one. */
+#define RF_RIG_WING_ELBOW 0.22
+#define RF_RIG_WING_WRIST 0.43
 
 /* A limb to lay out again: where it leaves the body, its first joint, its kind and layout. */
 typedef struct rf_rig_limb {
@@ -1789,6 +1797,14 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
         is_wing[i] =
             limbs[i].kind == RF_RIG_LIMB_ARM && legs > 0 && laid_reach > RF_RIG_WING_REACH * legs;
         wings = wings || is_wing[i];
+        if (is_wing[i]) { /* laid again as a wing: elbow and wrist where wings have them */
+            rf_rig_tpl_layout wl = *limbs[i].lay;
+            wl.elbow = wl.elbow_lo = wl.elbow_hi = RF_RIG_WING_ELBOW;
+            wl.hand = RF_RIG_WING_WRIST;
+            ok = rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first,
+                                          limbs[i].kind, &wl, chested ? chest_at : NULL, cut, pos,
+                                          tips[i]);
+        }
     }
     uint32_t leg[2];
     double yc = ok && !wings

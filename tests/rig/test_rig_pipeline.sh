@@ -174,8 +174,10 @@ awk -F, 'function limits(m, cd, p, r, gp, gr, gl) {
         limits("\"Testwuson.X\"", 0.047, 0.57, 0.57, 0.74, 0.78, 0.53)      # 0.043 .578/.580 .79/.83/.50
         limits("\"animalia_wolf.b3d\"", 0.061, 0.80, 0.90, 0.88, 0.88, 0.24) # 0.059 .83/.93 .909/.909/.182
         limits("\"Wizard.glb\"", 0.066, 0.60, 0.60, 0.68, 0.72, 0.60)       # 0.060 .67/.66 .72/.78/.56
-        limits("\"animalia_owl.b3d\"", 0.095, 0.80, 0.86, 0.825, 0.90, 0.315) # 0.090 .85/.92 .836/.948/.295
-        limits("\"animalia_bird.b3d\"", 0.063, 0.80, 0.80, 0.78, 0.80, 0.42) # 0.058 .855/.855 .802/.844/.378
+        # the owl and the bird: the elbow and wrist of each wing where wings have them (the hand in
+        # the outer wing before: 0.082 and 0.049, after the matcher .880/.926 and .855/.876)
+        limits("\"animalia_owl.b3d\"", 0.080, 0.80, 0.85, 0.825, 0.90, 0.315) # 0.074 .869/.880 .836/.948/.295
+        limits("\"animalia_bird.b3d\"", 0.048, 0.77, 0.80, 0.78, 0.80, 0.42) # 0.044 .796/.828 .802/.844/.378
         limits("\"animalia_fox.b3d\"", 0.085, 0.80, 0.83, 0.65, 0.70, 0.72)  # 0.077 .85/.86 .665/.717/.693
         limits("\"animalia_cat.b3d\"", 0.086, 0.92, 0.93, 0.88, 0.88, 0.20)  # 0.084 .95/.96 .92/.92/.15
     }
@@ -502,11 +504,14 @@ if [ -s "$tmp/fails" ]; then cat "$tmp/fails"; ko "ninja arms hung"; else ok; fi
 # Wings' bones run along the leading edge, the membrane or feathers trailing behind them; the
 # curve skeleton of a flat wing runs mid-chord. Laid towards the leading edge, the wing joints
 # past the clavicle meet the artists': the owl's Wing.2.L and .R within 0.045 of a rigger joint
-# (0.029 reached, 0.080 before), the animalia bird's LowerWing.L and .R within 0.042 (0.031;
-# 0.055), the fire dragon's LowerArm.L and .R within 0.036 (0.030; 0.042) and Finger.1.L and .R
-# within 0.1 (0.088; 0.112); the dragon's precision after the matcher at least 37% (38.5%
+# (0.040 reached, 0.080 before), the animalia bird's LowerWing.L and .R within 0.07 (0.056;
+# 0.055), the fire dragon's LowerArm.L and .R within 0.036 (0.019; 0.042) and Finger.1.L and .R
+# within 0.07 (0.055; 0.112); the dragon's precision after the matcher at least 37% (38.5%
 # reached, 35.8% before). The bat's wings are sheets of no thickness, whose rays along them meet
-# nothing: their reach is walked in the sheet, its Wing.Lower.L and .R within 0.09 (0.073; 0.121).
+# nothing: their reach is walked in the sheet, its Wing.Lower.L and .R within 0.06 (0.034;
+# 0.121). A wing's elbow and wrist are laid where wings have them (0.22 and 0.43 of the way out),
+# not at an arm's fractions: every rigger joint of the four wings within 0.08 of an artist joint
+# (0.058 at most; 0.17 to 0.27, the hand in the outer wing, with an arm's).
 "$rigflow" rig-bench -r general --joints "$tmp/wjoints.csv" \
     "$data/models/creatures/animalia_owl.b3d" "$data/models/creatures/animalia_bird.b3d" \
     "$data/models/creatures/draconis_fire_dragon.b3d" "$data/models/creatures/animalia_bat.b3d" \
@@ -516,18 +521,21 @@ awk -F, 'NR == FNR { if (FNR == 1) for (i = 1; i <= NF; i++) c[$i] = i
                      else { n++; p[$c["model"]] = $c["precision"] }; next }
     FNR == 1 { for (i = 1; i <= NF; i++) j[$i] = i; next }
     $j["rig"] == "artist" { d[$j["model"] " " $j["joint"]] = $j["distance"] }
+    $j["rig"] == "rigger" && $j["joint"] ~ /^"arm_/ && !($j["distance"] < 0.08) {
+        print "FAIL: wings: " $j["model"] " " $j["joint"] " " $j["distance"] " from any artist joint"
+    }
     END {
         if (n != 4) print "FAIL: wings: " n " rows, expected 4"
         lim["\"animalia_owl.b3d\" \"Wing.2.L\""] = 0.045
         lim["\"animalia_owl.b3d\" \"Wing.2.R\""] = 0.045
-        lim["\"animalia_bird.b3d\" \"LowerWing.L\""] = 0.042
-        lim["\"animalia_bird.b3d\" \"LowerWing.R\""] = 0.042
+        lim["\"animalia_bird.b3d\" \"LowerWing.L\""] = 0.07
+        lim["\"animalia_bird.b3d\" \"LowerWing.R\""] = 0.07
         lim["\"draconis_fire_dragon.b3d\" \"LowerArm.L\""] = 0.036
         lim["\"draconis_fire_dragon.b3d\" \"LowerArm.R\""] = 0.036
-        lim["\"draconis_fire_dragon.b3d\" \"Finger.1.L\""] = 0.1
-        lim["\"draconis_fire_dragon.b3d\" \"Finger.1.R\""] = 0.1
-        lim["\"animalia_bat.b3d\" \"Wing.Lower.L\""] = 0.09
-        lim["\"animalia_bat.b3d\" \"Wing.Lower.R\""] = 0.09
+        lim["\"draconis_fire_dragon.b3d\" \"Finger.1.L\""] = 0.07
+        lim["\"draconis_fire_dragon.b3d\" \"Finger.1.R\""] = 0.07
+        lim["\"animalia_bat.b3d\" \"Wing.Lower.L\""] = 0.06
+        lim["\"animalia_bat.b3d\" \"Wing.Lower.R\""] = 0.06
         for (k in lim)
             if (!(d[k] != "" && d[k] < lim[k])) print "FAIL: wings: " k " " d[k] " from any joint"
         k = "\"draconis_fire_dragon.b3d\""
