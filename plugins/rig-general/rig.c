@@ -1498,7 +1498,8 @@ void rf_rig_shoulder(const rf_rig_surface *sf, double longest, rf_vec3 up, const
     rf_vec3 span = rf_v3(pos[3][0] - pos[1][0], pos[3][1] - pos[1][1], pos[3][2] - pos[1][2]);
     double drop = -rf_v3_dot(span, up);
     if (!sf || rf_v3_len(out) < 1e-9 * longest ||
-        !(drop > RF_RIG_SHOULDER_HANG * rf_v3_len(rf_v3_sub(span, rf_v3_scale(up, rf_v3_dot(span, up))))))
+        !(drop >
+          RF_RIG_SHOULDER_HANG * rf_v3_len(rf_v3_sub(span, rf_v3_scale(up, rf_v3_dot(span, up))))))
         return; /* no surface, or an arm held out, not hanging */
     rf_vec3 side = rf_v3_normalize(out);
     double hg = rf_rig_along(g, up), from = fmax(hg, rf_rig_along(pos[1], up));
@@ -1783,28 +1784,22 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
         for (uint32_t m = 0; m < nl; m++) /* a limb reaching far past its mirror image's reach */
             if (laid[m] && limbs[m].sec == limbs[i].mirror)
                 cut = rf_rig_limb_prop_cut(reach[i], reach[m]);
-        if (!rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind,
-                                      limbs[i].lay, chested ? chest_at : NULL, cut, pos, tips[i])) {
-            ok = false;
-            break;
-        }
-        if (limbs[i].kind == RF_RIG_LIMB_ARM && sf) /* sf: p given and its surface made */
-            rf_rig_shoulder(sf, p->longest, rf_v3_normalize(a->up),
-                            chested ? chest_at : k->pos + (size_t)limbs[i].girdle * 3, limbs[i].lay,
-                            pos);
         double laid_reach = cut > 0 ? fmin(cut, reach[i]) : reach[i];
         cuts[i] = cut;
         is_wing[i] =
             limbs[i].kind == RF_RIG_LIMB_ARM && legs > 0 && laid_reach > RF_RIG_WING_REACH * legs;
         wings = wings || is_wing[i];
-        if (is_wing[i]) { /* laid again as a wing: elbow and wrist where wings have them */
-            rf_rig_tpl_layout wl = *limbs[i].lay;
-            wl.elbow = wl.elbow_lo = wl.elbow_hi = RF_RIG_WING_ELBOW;
-            wl.hand = RF_RIG_WING_WRIST;
-            ok = rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first,
-                                          limbs[i].kind, &wl, chested ? chest_at : NULL, cut, pos,
-                                          tips[i]);
+        rf_rig_tpl_layout wl = *limbs[i].lay; /* a wing: elbow and wrist where wings have them */
+        if (is_wing[i])
+            wl.elbow = wl.elbow_lo = wl.elbow_hi = RF_RIG_WING_ELBOW, wl.hand = RF_RIG_WING_WRIST;
+        if (!rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind, &wl,
+                                      chested ? chest_at : NULL, cut, pos, tips[i])) {
+            ok = false;
+            break;
         }
+        if (limbs[i].kind == RF_RIG_LIMB_ARM && sf) /* sf: p given and its surface made */
+            rf_rig_shoulder(sf, p->longest, rf_v3_normalize(a->up),
+                            chested ? chest_at : k->pos + (size_t)limbs[i].girdle * 3, &wl, pos);
     }
     uint32_t leg[2];
     double yc = ok && !wings
