@@ -285,6 +285,11 @@ bool rf_rig_limb_reach(const rf_rig_skel *k, rf_vec3 up, uint32_t girdle, uint32
  * RF_RIG_PROP_REACH times as far (it carries a prop past its hand), else 0 (the whole curve).
  * Both riggers' rule (rig-template.c). */
 double rf_rig_limb_prop_cut(double reach, double twin);
+/* Whether a limb of `kind` reaching `reach` along its curve is a wing: an arm reaching more
+ * than twice as far as the longest leg (`legs`, 0: none). */
+bool rf_rig_is_wing(rf_rig_limb_kind kind, double reach, double legs);
+/* Layout l into out, a wing's elbow and wrist in it when `wing` (rig.c, RF_RIG_WING_WRIST). */
+void rf_rig_wing_layout(const rf_rig_tpl_layout *l, bool wing, rf_rig_tpl_layout *out);
 
 /* An arm laid from girdle point g (pos: clavicle, upper arm, elbow, hand, by layout l) that hangs
  * beside the trunk gets its clavicle, upper arm and elbow moved to where the trunk's width across

@@ -451,6 +451,7 @@ typedef struct rf_tpl_ctx {
     rf_vec3 up;                   /* the body's up (declared, else the analysis's) */
     const rf_rig_prep *p;         /* the cleaned mesh (NULL: no shoulder rule) */
     rf_rig_surface *sf;           /* its surface for rays, made for a humanoid's arms */
+    double legs;                  /* the longest leg's reach, against which an arm is a wing */
     bool oom; /* an allocation failed laying the template: the template laid is no answer (a limb
                * with no curve, a head or a tail not looked for), the run fails out of memory */
 } rf_tpl_ctx;
@@ -762,15 +763,17 @@ static void rf_tpl_lay_pair(rf_tpl_ctx *x, const int32_t sec[2], int swap, uint3
         }
     }
     for (int s = 0; s < 2; s++) {
-        double pos[4][3], tip[3];
-        if (!rf_rig_limb_place_within(x->k, x->a->up, girdle, first[s], kind, x->lay, start[s],
-                                      rf_rig_limb_prop_cut(reach[s], reach[1 - s]), pos, tip)) {
+        double pos[4][3], tip[3], cut = rf_rig_limb_prop_cut(reach[s], reach[1 - s]);
+        rf_rig_tpl_layout lay; /* a wing: elbow and wrist where wings have them */
+        rf_rig_wing_layout(x->lay, rf_rig_is_wing(kind, cut > 0 ? cut : reach[s], x->legs), &lay);
+        if (!rf_rig_limb_place_within(x->k, x->a->up, girdle, first[s], kind, &lay, start[s], cut,
+                                      pos, tip)) {
             x->oom = true;
             return;
         }
         if (kind == RF_RIG_LIMB_ARM && x->sf)
             rf_rig_shoulder(x->sf, x->p->longest, rf_v3_normalize(x->a->up),
-                            start[s] ? start[s] : x->k->pos + (size_t)girdle * 3, x->lay, pos);
+                            start[s] ? start[s] : x->k->pos + (size_t)girdle * 3, &lay, pos);
         char nb[24];
         int32_t j = parent;
         for (int i = 0; i < 4; i++)
@@ -993,6 +996,13 @@ static bool rf_tpl_humanoid(rf_tpl_ctx *x, char *err, size_t n)
                            "the humanoid template found no neck and head above the "
                            "shoulders");
     int swap = x->facing == 1;
+    for (int s = 0; s < 2 && !x->oom; s++) { /* the legs' reach, which tells a wing */
+        uint32_t g, leg;
+        double r = 0;
+        rf_tpl_ends(x->a, b->leg[0][s], &g, &leg);
+        x->oom = !rf_rig_limb_reach(x->k, x->a->up, hips, leg, RF_RIG_LIMB_LEG, NULL, &r);
+        x->legs = fmax(x->legs, r);
+    }
     if (!x->oom)
         rf_tpl_lay_pair(x, b->arm[0], swap, chest, spine2, RF_RIG_LIMB_ARM);
     if (!x->oom)

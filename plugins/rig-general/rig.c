@@ -1291,6 +1291,19 @@ static bool rf_rig_root_low(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
 #define RF_RIG_WING_ELBOW 0.22
 #define RF_RIG_WING_WRIST 0.43
 
+bool rf_rig_is_wing(rf_rig_limb_kind kind, double reach, double legs)
+{
+    return kind == RF_RIG_LIMB_ARM && legs > 0 && reach > RF_RIG_WING_REACH * legs;
+}
+
+void rf_rig_wing_layout(const rf_rig_tpl_layout *l, bool wing, rf_rig_tpl_layout *out)
+{
+    *out = *l;
+    if (wing)
+        out->elbow = out->elbow_lo = out->elbow_hi = RF_RIG_WING_ELBOW,
+        out->hand = RF_RIG_WING_WRIST;
+}
+
 /* A limb to lay out again: where it leaves the body, its first joint, its kind and layout. */
 typedef struct rf_rig_limb {
     uint32_t girdle, first;
@@ -1786,12 +1799,10 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
                 cut = rf_rig_limb_prop_cut(reach[i], reach[m]);
         double laid_reach = cut > 0 ? fmin(cut, reach[i]) : reach[i];
         cuts[i] = cut;
-        is_wing[i] =
-            limbs[i].kind == RF_RIG_LIMB_ARM && legs > 0 && laid_reach > RF_RIG_WING_REACH * legs;
+        is_wing[i] = rf_rig_is_wing(limbs[i].kind, laid_reach, legs);
         wings = wings || is_wing[i];
-        rf_rig_tpl_layout wl = *limbs[i].lay; /* a wing: elbow and wrist where wings have them */
-        if (is_wing[i])
-            wl.elbow = wl.elbow_lo = wl.elbow_hi = RF_RIG_WING_ELBOW, wl.hand = RF_RIG_WING_WRIST;
+        rf_rig_tpl_layout wl;
+        rf_rig_wing_layout(limbs[i].lay, is_wing[i], &wl);
         if (!rf_rig_limb_place_within(k, a->up, limbs[i].girdle, limbs[i].first, limbs[i].kind, &wl,
                                       chested ? chest_at : NULL, cut, pos, tips[i])) {
             ok = false;
