@@ -599,6 +599,130 @@ static rf_rig_status rf_rig_first_pass(const rf_rig_prep *p, const rf_rig_option
     return RF_RIG_OK;
 }
 
+/* The girdles of analysis a: the joints its limbs hang from nearest to (*shallow) and farthest
+ * from (*deep) the root. False when fewer than two lie at different depths. */
+static bool rf_rig_girdle_ends(const rf_rig_skel *k, const rf_analysis *a, uint32_t *shallow,
+                               uint32_t *deep)
+{
+    uint32_t dmax = 0, dmin = UINT32_MAX;
+    *shallow = *deep = RF_RIG_NONE;
+    for (uint32_t i = 0; i < a->section_count; i++) {
+        const rf_section *sec = &a->sections[i];
+        bool limb = sec->type == RF_SECTION_LEG || sec->type == RF_SECTION_ARM;
+        if (!limb || sec->attach_joint < 0 || (uint32_t)sec->attach_joint >= k->n)
+            continue;
+        uint32_t d = rf_rig_depth(k, (uint32_t)sec->attach_joint);
+        if (*deep == RF_RIG_NONE || d > dmax)
+            dmax = d, *deep = (uint32_t)sec->attach_joint;
+        if (*shallow == RF_RIG_NONE || d < dmin)
+            dmin = d, *shallow = (uint32_t)sec->attach_joint;
+    }
+    return *deep != RF_RIG_NONE && dmax > dmin;
+}
+
+#define RF_RIG_BULK_STEPS 12
+#define RF_RIG_BULK_RATIO 1.5 /* one end this much bulkier than the other is the head */
+
+/* How bulky the outer half of centre section `sec` of a is: the most, over points along its
+ * bones from where it hangs to its last tip, of the narrower of the body's two diameters there
+ * (to the side, along up). A head ends in a skull; a tail tapers to its tip, and a fin or a
+ * fan of feathers is thin one way. Sets *end to the section's far end; NAN when no ray there
+ * meets the surface both ways. */
+static double rf_rig_end_bulk(const rf_rig_surface *sf, const rf_analysis *a, const rf_section *sec,
+                              rf_vec3 *end)
+{
+    rf_vec3 pts[65];
+    uint32_t np = 0;
+    if (sec->attach_joint >= 0)
+        pts[np++] = a->joints[sec->attach_joint].pos;
+    for (uint32_t i = 0; i < sec->bone_count && np < 63; i++)
+        pts[np++] = a->joints[a->section_joints[sec->first + i]].pos;
+    pts[np] = a->joints[a->section_joints[sec->first + sec->bone_count - 1]].tip;
+    np += rf_v3_dist(pts[np], pts[np - 1]) > 0;
+    double total = 0, best = NAN;
+    for (uint32_t i = 1; i < np; i++)
+        total += rf_v3_dist(pts[i - 1], pts[i]);
+    *end = pts[np - 1];
+    for (int step = 0; step < RF_RIG_BULK_STEPS && total > 0; step++) {
+        double at = total * (0.5 + 0.45 * step / (RF_RIG_BULK_STEPS - 1)), q[3];
+        uint32_t i = 1;
+        for (; i + 1 < np && at > rf_v3_dist(pts[i - 1], pts[i]); i++)
+            at -= rf_v3_dist(pts[i - 1], pts[i]);
+        rf_vec3 x = rf_v3_lerp(pts[i - 1], pts[i], fmin(1, at / rf_v3_dist(pts[i - 1], pts[i])));
+        q[0] = x.x, q[1] = x.y, q[2] = x.z;
+        double w[2];
+        for (int d = 0; d < 2; d++) {
+            rf_vec3 v = d ? a->up : a->left;
+            double dp[3] = {v.x, v.y, v.z}, dn[3] = {-v.x, -v.y, -v.z};
+            w[d] = rf_rig_surface_hit(sf, q, dp) + rf_rig_surface_hit(sf, q, dn);
+        }
+        if (isfinite(w[0]) && isfinite(w[1]))
+            best = isnan(best) ? fmin(w[0], w[1]) : fmax(best, fmin(w[0], w[1]));
+    }
+    return best;
+}
+
+/* Which end of a level body is its head, by bulk (rf_rig_end_bulk) of the analysis's one head
+ * and one tail section: the head's far end minus the tail's, or zero when the body has not one
+ * of each or neither is clearly the bulkier. */
+static rf_vec3 rf_rig_head_way(const rf_rig_surface *sf, const rf_analysis *a)
+{
+    int32_t head = -1, tail = -1;
+    for (uint32_t i = 0; i < a->section_count; i++) {
+        rf_section_type t = a->sections[i].type;
+        if (a->sections[i].side != RF_SIDE_CENTER || a->sections[i].bone_count == 0)
+            continue;
+        if (t == RF_SECTION_HEAD)
+            head = head < 0 ? (int32_t)i : -2;
+        else if (t == RF_SECTION_TAIL)
+            tail = tail < 0 ? (int32_t)i : -2;
+    }
+    if (head < 0 || tail < 0)
+        return rf_v3(0, 0, 0);
+    rf_vec3 he, te;
+    double hb = rf_rig_end_bulk(sf, a, &a->sections[head], &he);
+    double tb = rf_rig_end_bulk(sf, a, &a->sections[tail], &te);
+    if (hb > RF_RIG_BULK_RATIO * tb)
+        return rf_v3_sub(he, te);
+    if (tb > RF_RIG_BULK_RATIO * hb)
+        return rf_v3_sub(te, he);
+    return rf_v3(0, 0, 0);
+}
+
+/* The skeleton analysis (so the matcher) reads a level body's facing partly from its hierarchy:
+ * artists root it at its hind girdle and the spine runs forward from there to the shoulders.
+ * Which girdle rf_rig_curve roots the rig at is a guess (the one farthest from the middle of
+ * the surface, as a quadruped's chest, neck and head outweigh its rear), wrong on a body with a
+ * long heavy tail. So when one end of a level body is clearly the head by its bulk
+ * (rf_rig_head_way) and the hierarchy runs the other way (its deepest girdle behind its
+ * shallowest), the rig is rooted at that deepest girdle, its joints unmoved. Up and facing as
+ * the rig is named. False when out of memory. */
+static bool rf_rig_root_hind(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
+{
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    if (!s)
+        return false;
+    s->up = o->up, s->forward = rf_v3_len(o->forward) > 0 ? o->forward : o->facing;
+    rf_analysis *a = rf_analyze(s, NULL);
+    rf_rig_surface *sf = a ? rf_rig_surface_make(&p->proxy) : NULL;
+    bool ok = a && sf;
+    uint32_t shallow, deep;
+    if (ok && rf_rig_girdle_ends(k, a, &shallow, &deep)) {
+        rf_vec3 g = rf_v3_sub(a->joints[deep].pos, a->joints[shallow].pos);
+        rf_vec3 way = rf_rig_head_way(sf, a);
+        bool level = fabs(rf_v3_dot(g, a->up)) < 0.5 * rf_v3_len(g);
+        if (!(level && rf_v3_dot(g, way) < 0))
+            deep = RF_RIG_NONE;
+    } else
+        deep = RF_RIG_NONE;
+    rf_rig_surface_free(sf);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    if (ok && deep != RF_RIG_NONE && k->parent[deep] >= 0)
+        ok = rf_rig_reroot(k, deep);
+    return ok;
+}
+
 rf_rig_status rf_rig_curve(const rf_rig_prep *p, const rf_rig_options *o, rf_rig_skel *k, char *err,
                            size_t err_size)
 {
@@ -1960,7 +2084,7 @@ bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opt
     bool ok = a && rf_rig_bottom(p, k, up) && rf_rig_root_low(p, k, up);
     rf_analysis_free(a);
     rf_skeleton_free(s);
-    return ok;
+    return ok && rf_rig_root_hind(p, k, o);
 }
 
 static bool rf_rig_general_framed(const rf_mesh *mesh, const rf_rig_options *opts,

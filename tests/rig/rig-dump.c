@@ -22,6 +22,10 @@ static void rf_rig_dump_analysis(const rf_skeleton *s)
     fprintf(stderr, "analysis: up %.2f %.2f %.2f (%s, %.2f), forward %.2f %.2f %.2f (%s, %.2f)\n",
             a->up.x, a->up.y, a->up.z, a->up_source, a->up_confidence, a->forward.x, a->forward.y,
             a->forward.z, a->forward_source, a->forward_confidence);
+    fprintf(stderr, "analysis: forward cues");
+    for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
+        fprintf(stderr, " %s %.2f", rf_forward_cue_names[i], a->forward_cues[i]);
+    fprintf(stderr, "\n");
     for (uint32_t i = 0; i < a->section_count; i++) {
         const rf_section *sec = &a->sections[i];
         fprintf(stderr, "analysis: [%u] %s side %d on [%d], length %.3f:", i,
