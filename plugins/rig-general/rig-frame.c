@@ -609,6 +609,28 @@ static bool rf_rig_facing_turned(const rf_rig_prep *p, const rf_rig_options *o, 
     return ok;
 }
 
+bool rf_rig_placed_facing(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
+                          rf_vec3 *out)
+{
+    *out = rf_v3(0, 0, 0);
+    rf_rig_skel c;
+    if (!rf_rig_skel_copy(k, &c))
+        return false;
+    rf_skeleton *s = rf_rig_general_place(p, &c, o, NULL, NULL) ? rf_rig_skeleton(&c, NULL) : NULL;
+    rf_rig_skel_free(&c);
+    if (!s)
+        return false;
+    s->up = o->up, s->forward = o->forward; /* as the general rigger's rig is named */
+    rf_analysis *a = rf_analyze(s, NULL);
+    rf_vec3 u = rf_v3_len(o->up) > 0 ? rf_v3_normalize(o->up) : a ? a->up : rf_v3(0, 1, 0);
+    rf_vec3 f = a ? rf_rig_level(a->forward, u) : rf_v3(0, 0, 0);
+    if (rf_v3_len(f) > 0.7)
+        *out = rf_v3_normalize(f);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    return a != NULL;
+}
+
 bool rf_rig_pooled_facing(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
                           rf_vec3 *out)
 {

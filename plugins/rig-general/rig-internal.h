@@ -126,6 +126,13 @@ void rf_rig_frame_stats(const rf_rig_frame *f, rf_rig_stats *st);
  * skinned's positions (mesh's again) and inverse binds. Either may be NULL. Frees f's copy. */
 void rf_rig_frame_leave(rf_rig_frame *f, const rf_mesh *mesh, rf_skeleton *s, rf_mesh *skinned);
 
+/* The facing the skeleton analysis reads on the general rigger's rig of the prepared body p
+ * (its curve skeleton k laid out on a copy by rf_rig_general_place, read with o's up and
+ * forward as hints, as the general rigger's rig is named), made level; zero into *out when it
+ * lies along up. False when out of memory. */
+bool rf_rig_placed_facing(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
+                          rf_vec3 *out);
+
 /* The facing of the prepared body p (o: its frame's up, no forward declared) the skeleton
  * analysis reads on the general rigger's skeletons of it turned by each quarter turn about up,
  * pooled; zero into *out when none is read. k is the general rigger's curve skeleton of p

@@ -1164,7 +1164,7 @@ static bool rf_tpl_embed(const rf_rig_prep *p, const rf_rig_skel *k, const rf_ri
                         .human = human,
                         .up = rf_v3_len(o->up) > 0 ? o->up : a->up,
                         .p = p,
-                        .facing = declared ? -1 : rf_tpl_facing(a, facing),
+                        .facing = declared && human ? -1 : rf_tpl_facing(a, facing),
                         .sf = p && human ? rf_rig_surface_make(&p->proxy) : NULL};
         *kind = got;
         memset(t, 0, sizeof *t);
@@ -1279,6 +1279,8 @@ static bool rf_rig_template_framed(const rf_mesh *mesh, const rf_rig_options *op
      * skeletons on the grid turned every quarter way pooled (rf_rig_pooled_facing) */
     rf_vec3 facing = rf_v3(0, 0, 0);
     if (ok && !(rf_v3_len(o.forward) > 0) && !rf_rig_pooled_facing(&p, NULL, &o, &facing))
+        ok = rf_rig_fail(err, err_size, "out of memory reading the body's facing");
+    else if (ok && rf_v3_len(o.forward) > 0 && !rf_rig_placed_facing(&p, &k, &o, &facing))
         ok = rf_rig_fail(err, err_size, "out of memory reading the body's facing");
     ok = ok && rf_rig_template_place(&p, &k, &o, facing, kind, NULL, NULL, &tk, names, &got, &up,
                                      &forward, err, err_size);
