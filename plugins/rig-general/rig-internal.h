@@ -320,7 +320,8 @@ bool rf_rig_head_base(const rf_rig_prep *p, rf_rig_skel *k, uint32_t h, rf_vec3 
 /* The template laid into curve skeleton k of the cleaned mesh p, as a working skeleton into
  * *out (names into names[joint], 24 bytes each, up to 40 joints), with the layouts given
  * (NULL: the built-in ones) and which template into *got. `facing`: when o declares no forward,
- * the body's as rf_rig_pooled_facing reads it (zero: none read). The template rigger's work
+ * the body's as rf_rig_pooled_facing reads it, else as rf_rig_placed_facing does (a biped's
+ * then unused; zero: none read). The template rigger's work
  * short of bone heat; the fitting of layouts (tests/rig/rig-fit) calls it many times. False with
  * the reason in err, *out then holding nothing. */
 bool rf_rig_template_place(const rf_rig_prep *p, const rf_rig_skel *k, const rf_rig_options *o,
