@@ -689,14 +689,26 @@ static rf_vec3 rf_rig_head_way(const rf_rig_surface *sf, const rf_analysis *a)
     return rf_v3(0, 0, 0);
 }
 
+/* The vote of the skeleton analysis's facing cue `name` (along its forward). */
+static double rf_rig_cue(const rf_analysis *a, const char *name)
+{
+    for (int i = 0; i < RF_FORWARD_CUE_COUNT; i++)
+        if (strcmp(rf_forward_cue_names[i], name) == 0)
+            return a->forward_cues[i];
+    return 0;
+}
+
 /* The skeleton analysis (so the matcher) reads a level body's facing partly from its hierarchy:
  * artists root it at its hind girdle and the spine runs forward from there to the shoulders.
  * Which girdle rf_rig_curve roots the rig at is a guess (the one farthest from the middle of
  * the surface, as a quadruped's chest, neck and head outweigh its rear), wrong on a body with a
  * long heavy tail. So when one end of a level body is clearly the head by its bulk
- * (rf_rig_head_way) and the hierarchy runs the other way (its deepest girdle behind its
- * shallowest), the rig is rooted at that deepest girdle, its joints unmoved. Up and facing as
- * the rig is named. False when out of memory. */
+ * (rf_rig_head_way), the hierarchy runs the other way (its deepest girdle behind its
+ * shallowest) and the elevation of the ends votes against the hierarchy too, the rig is rooted
+ * at that deepest girdle, its joints unmoved. Neither body cue alone overrules the rigger's
+ * guess: the fire dragon's and the jungle wyvern's tails end bulkier than their heads, and the
+ * bat holds its head lower than its rear. Up and facing as the rig is named. False when out of
+ * memory. */
 static bool rf_rig_root_hind(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
 {
     rf_skeleton *s = rf_rig_skeleton(k, NULL);
@@ -711,7 +723,8 @@ static bool rf_rig_root_hind(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_
         rf_vec3 g = rf_v3_sub(a->joints[deep].pos, a->joints[shallow].pos);
         rf_vec3 way = rf_rig_head_way(sf, a);
         bool level = fabs(rf_v3_dot(g, a->up)) < 0.5 * rf_v3_len(g);
-        if (!(level && rf_v3_dot(g, way) < 0))
+        bool raised = rf_rig_cue(a, "elevation") * rf_rig_cue(a, "hierarchy") < 0;
+        if (!(level && raised && rf_v3_dot(g, way) < 0))
             deep = RF_RIG_NONE;
     } else
         deep = RF_RIG_NONE;
