@@ -1125,9 +1125,9 @@ static bool rf_tpl_to_skel(const rf_tpl *t, rf_rig_skel *k)
  * where the voxel boundaries fall (BCN_Epileptic and the animalia bird turned a quarter way, the
  * Fox without its axes: read facing back), and the sides with it. The analysis keeps its own
  * mirror plane and limbs: read again with its forward forced either way, it paired no limbs of
- * the bat or the ninja. */
-/* A biped's facing declared by its file stands: the general rigger's reading only swaps a
- * quadruped's ends (rf_rig_placed_facing). */
+ * the bat or the ninja. A biped's facing declared by its file stands (rf_tpl_embed): the
+ * general rigger's reading of a declared one (rf_rig_placed_facing) only swaps a quadruped's
+ * ends. */
 static int rf_tpl_facing(const rf_analysis *a, rf_vec3 facing)
 {
     return !(rf_v3_len(facing) > 0) ? -1 : rf_v3_dot(a->forward, facing) < 0;
