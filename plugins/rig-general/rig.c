@@ -716,21 +716,23 @@ static bool rf_rig_root_hind(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_
         return false;
     s->up = o->up, s->forward = rf_v3_len(o->forward) > 0 ? o->forward : o->facing;
     rf_analysis *a = rf_analyze(s, NULL);
-    rf_rig_surface *sf = a ? rf_rig_surface_make(&p->proxy) : NULL;
-    bool ok = a && sf;
-    uint32_t shallow, deep;
+    bool ok = a != NULL, turn = false;
+    uint32_t shallow, deep = RF_RIG_NONE;
+    /* the cheap tests first: the surface is built only for a level body whose elevation votes
+     * against its hierarchy (the pooled facing places the rig five times) */
     if (ok && rf_rig_girdle_ends(k, a, &shallow, &deep)) {
         rf_vec3 g = rf_v3_sub(a->joints[deep].pos, a->joints[shallow].pos);
-        rf_vec3 way = rf_rig_head_way(sf, a);
         bool level = fabs(rf_v3_dot(g, a->up)) < 0.5 * rf_v3_len(g);
         bool raised = rf_rig_cue(a, "elevation") * rf_rig_cue(a, "hierarchy") < 0;
-        if (!(level && raised && rf_v3_dot(g, way) < 0))
-            deep = RF_RIG_NONE;
-    } else
-        deep = RF_RIG_NONE;
-    rf_rig_surface_free(sf);
+        rf_rig_surface *sf = level && raised ? rf_rig_surface_make(&p->proxy) : NULL;
+        ok = sf || !(level && raised);
+        turn = sf && rf_v3_dot(g, rf_rig_head_way(sf, a)) < 0;
+        rf_rig_surface_free(sf);
+    }
     rf_analysis_free(a);
     rf_skeleton_free(s);
+    if (!turn)
+        deep = RF_RIG_NONE;
     if (ok && deep != RF_RIG_NONE && k->parent[deep] >= 0)
         ok = rf_rig_reroot(k, deep);
     return ok;
