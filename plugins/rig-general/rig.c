@@ -292,6 +292,30 @@ static bool rf_rig_reroot(rf_rig_skel *k, uint32_t r)
     return true;
 }
 
+/* A joint appended to k at p hanging from `parent`; false when out of memory (k unchanged). */
+static bool rf_rig_append(rf_rig_skel *k, const double p[3], int32_t parent)
+{
+    size_t n = (size_t)k->n + 1;
+    double *pos = realloc(k->pos, n * 3 * sizeof *pos);
+    if (pos)
+        k->pos = pos;
+    double *tips = pos ? realloc(k->tip, n * 3 * sizeof *tips) : NULL;
+    if (tips)
+        k->tip = tips;
+    int32_t *par = tips ? realloc(k->parent, n * sizeof *par) : NULL;
+    if (par)
+        k->parent = par;
+    uint8_t *has = par ? realloc(k->has_tip, n) : NULL;
+    if (!has)
+        return false;
+    k->has_tip = has;
+    memcpy(k->pos + (n - 1) * 3, p, 3 * sizeof *p);
+    memset(k->tip + (n - 1) * 3, 0, 3 * sizeof *k->tip);
+    k->parent[n - 1] = parent, k->has_tip[n - 1] = 0;
+    k->n = (uint32_t)n;
+    return true;
+}
+
 /* A copy of the input's geometry (positions, normals, triangles, parts) without any skin. */
 static rf_mesh *rf_rig_mesh_copy(const rf_mesh *in)
 {
@@ -662,10 +686,10 @@ static double rf_rig_end_bulk(const rf_rig_surface *sf, const rf_analysis *a, co
     return best;
 }
 
-/* Which end of a level body is its head, by bulk (rf_rig_end_bulk) of the analysis's one head
- * and one tail section: the head's far end minus the tail's, or zero when the body has not one
- * of each or neither is clearly the bulkier. */
-static rf_vec3 rf_rig_head_way(const rf_rig_surface *sf, const rf_analysis *a)
+/* Which end of a level body is its tail, by bulk (rf_rig_end_bulk) of the analysis's one head
+ * and one tail section: the index of the thinner one, with *way from its far end to the
+ * bulkier one's; -1 when the body has not one of each or neither is clearly the bulkier. */
+static int32_t rf_rig_hind_end(const rf_rig_surface *sf, const rf_analysis *a, rf_vec3 *way)
 {
     int32_t head = -1, tail = -1;
     for (uint32_t i = 0; i < a->section_count; i++) {
@@ -678,15 +702,12 @@ static rf_vec3 rf_rig_head_way(const rf_rig_surface *sf, const rf_analysis *a)
             tail = tail < 0 ? (int32_t)i : -2;
     }
     if (head < 0 || tail < 0)
-        return rf_v3(0, 0, 0);
+        return -1;
     rf_vec3 he, te;
     double hb = rf_rig_end_bulk(sf, a, &a->sections[head], &he);
     double tb = rf_rig_end_bulk(sf, a, &a->sections[tail], &te);
-    if (hb > RF_RIG_BULK_RATIO * tb)
-        return rf_v3_sub(he, te);
-    if (tb > RF_RIG_BULK_RATIO * hb)
-        return rf_v3_sub(te, he);
-    return rf_v3(0, 0, 0);
+    *way = hb > RF_RIG_BULK_RATIO * tb ? rf_v3_sub(he, te) : rf_v3_sub(te, he);
+    return hb > RF_RIG_BULK_RATIO * tb ? tail : tb > RF_RIG_BULK_RATIO * hb ? head : -1;
 }
 
 /* The vote of the skeleton analysis's facing cue `name` (along its forward). */
@@ -698,43 +719,103 @@ static double rf_rig_cue(const rf_analysis *a, const char *name)
     return 0;
 }
 
+/* How the skeleton analysis reads k, up and facing as the rig is named; *s is the skeleton it
+ * reads, to be freed after it. NULL when out of memory. */
+static rf_analysis *rf_rig_read(const rf_rig_skel *k, const rf_rig_options *o, rf_skeleton **s)
+{
+    *s = rf_rig_skeleton(k, NULL);
+    if (!*s)
+        return NULL;
+    (*s)->up = o->up, (*s)->forward = rf_v3_len(o->forward) > 0 ? o->forward : o->facing;
+    rf_analysis *a = rf_analyze(*s, NULL);
+    if (!a)
+        rf_skeleton_free(*s), *s = NULL;
+    return a;
+}
+
+/* A rig whose legs all hang from one joint says nothing of its facing by where it is rooted:
+ * the skeleton analysis reads such a girdle as an insect's thorax, its bone running towards the
+ * head and the chain hanging back from it starting at its pivot. A dragon whose wings span
+ * three times its length is cut into bones so long that its hips and chest are one joint, its
+ * neck and tail both a bone away from it, and the file's declared forward outvotes the
+ * elevation of its ends however the body faces. So the chain of hind section `hind` of
+ * analysis a (of k) is made to start at the pivot of the joint it hangs from: a joint there
+ * begins it. Kept only when the analysis then reads the body facing the other way. False when
+ * out of memory (k unchanged). */
+static bool rf_rig_pivot_hind(rf_rig_skel *k, const rf_analysis *a, int32_t hind,
+                              const rf_rig_options *o)
+{
+    uint32_t first = a->section_joints[a->sections[hind].first], root = 0;
+    int32_t g = k->parent[first];
+    if (g < 0 || rf_rig_apart2(k->pos + (size_t)first * 3, k->pos + (size_t)g * 3) == 0)
+        return true;
+    rf_rig_skel was;
+    if (!rf_rig_skel_copy(k, &was))
+        return false;
+    double pivot[3];
+    memcpy(pivot, k->pos + (size_t)g * 3, sizeof pivot);
+    while (k->parent[root] >= 0)
+        root = (uint32_t)k->parent[root];
+    bool ok = rf_rig_append(k, pivot, g);
+    if (ok)
+        k->parent[first] = (int32_t)k->n - 1;
+    ok = ok && rf_rig_reroot(k, root); /* parents before children again */
+    rf_skeleton *s = NULL;
+    rf_analysis *b = ok ? rf_rig_read(k, o, &s) : NULL;
+    ok = b != NULL;
+    bool turned = ok && rf_v3_dot(b->forward, a->forward) < 0;
+    rf_analysis_free(b);
+    rf_skeleton_free(s);
+    if (turned) {
+        rf_rig_skel_free(&was);
+    } else {
+        rf_rig_skel_free(k);
+        *k = was;
+    }
+    return ok;
+}
+
 /* The skeleton analysis (so the matcher) reads a level body's facing partly from its hierarchy:
  * artists root it at its hind girdle and the spine runs forward from there to the shoulders.
  * Which girdle rf_rig_curve roots the rig at is a guess (the one farthest from the middle of
  * the surface, as a quadruped's chest, neck and head outweigh its rear), wrong on a body with a
  * long heavy tail. So when one end of a level body is clearly the head by its bulk
- * (rf_rig_head_way), the hierarchy runs the other way (its deepest girdle behind its
+ * (rf_rig_hind_end), the hierarchy runs the other way (its deepest girdle behind its
  * shallowest) and the elevation of the ends votes against the hierarchy too, the rig is rooted
  * at that deepest girdle, its joints unmoved. Neither body cue alone overrules the rigger's
  * guess: the fire dragon's and the jungle wyvern's tails end bulkier than their heads, and the
- * bat holds its head lower than its rear. Up and facing as the rig is named. False when out of
- * memory. */
+ * bat holds its head lower than its rear. A rig whose hierarchy says nothing, its legs on one
+ * girdle, is given a say the same way when both body cues vote against the facing read
+ * (rf_rig_pivot_hind). Up and facing as the rig is named. False when out of memory. */
 static bool rf_rig_root_hind(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o)
 {
-    rf_skeleton *s = rf_rig_skeleton(k, NULL);
-    if (!s)
+    rf_skeleton *s;
+    rf_analysis *a = rf_rig_read(k, o, &s);
+    if (!a)
         return false;
-    s->up = o->up, s->forward = rf_v3_len(o->forward) > 0 ? o->forward : o->facing;
-    rf_analysis *a = rf_analyze(s, NULL);
-    bool ok = a != NULL, turn = false;
-    uint32_t shallow, deep = RF_RIG_NONE;
+    uint32_t shallow = RF_RIG_NONE, deep = RF_RIG_NONE;
+    double elevation = rf_rig_cue(a, "elevation"), hierarchy = rf_rig_cue(a, "hierarchy");
+    bool girdles = rf_rig_girdle_ends(k, a, &shallow, &deep);
+    rf_vec3 g = girdles ? rf_v3_sub(a->joints[deep].pos, a->joints[shallow].pos) : rf_v3(0, 0, 0);
     /* the cheap tests first: the surface is built only for a level body whose elevation votes
-     * against its hierarchy (the pooled facing places the rig five times) */
-    if (ok && rf_rig_girdle_ends(k, a, &shallow, &deep)) {
-        rf_vec3 g = rf_v3_sub(a->joints[deep].pos, a->joints[shallow].pos);
-        bool level = fabs(rf_v3_dot(g, a->up)) < 0.5 * rf_v3_len(g);
-        bool raised = rf_rig_cue(a, "elevation") * rf_rig_cue(a, "hierarchy") < 0;
-        rf_rig_surface *sf = level && raised ? rf_rig_surface_make(&p->proxy) : NULL;
-        ok = sf || !(level && raised);
-        turn = sf && rf_v3_dot(g, rf_rig_head_way(sf, a)) < 0;
-        rf_rig_surface_free(sf);
-    }
+     * against its hierarchy, or against its facing when the hierarchy is silent (the pooled
+     * facing places the rig five times) */
+    bool turn =
+        girdles && fabs(rf_v3_dot(g, a->up)) < 0.5 * rf_v3_len(g) && elevation * hierarchy < 0;
+    bool lone = hierarchy == 0 && elevation < 0;
+    rf_rig_surface *sf = turn || lone ? rf_rig_surface_make(&p->proxy) : NULL;
+    bool ok = sf || !(turn || lone);
+    rf_vec3 way = rf_v3(0, 0, 0);
+    int32_t hind = sf ? rf_rig_hind_end(sf, a, &way) : -1;
+    rf_rig_surface_free(sf);
+    turn = turn && hind >= 0 && rf_v3_dot(g, way) < 0;
+    lone = lone && hind >= 0 && rf_v3_dot(a->forward, way) < 0;
+    if (ok && turn && k->parent[deep] >= 0)
+        ok = rf_rig_reroot(k, deep);
+    else if (ok && lone)
+        ok = rf_rig_pivot_hind(k, a, hind, o);
     rf_analysis_free(a);
     rf_skeleton_free(s);
-    if (!turn)
-        deep = RF_RIG_NONE;
-    if (ok && deep != RF_RIG_NONE && k->parent[deep] >= 0)
-        ok = rf_rig_reroot(k, deep);
     return ok;
 }
 
@@ -1271,30 +1352,6 @@ static bool rf_rig_head_whole(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig
 }
 
 #define RF_RIG_BOTTOM_GAP 0.25 /* of the body's height between its bottom and the skeleton's */
-
-/* A joint appended to k at p hanging from `parent`; false when out of memory (k unchanged). */
-static bool rf_rig_append(rf_rig_skel *k, const double p[3], int32_t parent)
-{
-    size_t n = (size_t)k->n + 1;
-    double *pos = realloc(k->pos, n * 3 * sizeof *pos);
-    if (pos)
-        k->pos = pos;
-    double *tips = pos ? realloc(k->tip, n * 3 * sizeof *tips) : NULL;
-    if (tips)
-        k->tip = tips;
-    int32_t *par = tips ? realloc(k->parent, n * sizeof *par) : NULL;
-    if (par)
-        k->parent = par;
-    uint8_t *has = par ? realloc(k->has_tip, n) : NULL;
-    if (!has)
-        return false;
-    k->has_tip = has;
-    memcpy(k->pos + (n - 1) * 3, p, 3 * sizeof *p);
-    memset(k->tip + (n - 1) * 3, 0, 3 * sizeof *k->tip);
-    k->parent[n - 1] = parent, k->has_tip[n - 1] = 0;
-    k->n = (uint32_t)n;
-    return true;
-}
 
 /* A body whose skeleton stops well above its bottom (a blob body on stubs too short to keep:
  * its trunk's two ends are cones shorter than the body is thick, pruned as bumps) gets a joint
