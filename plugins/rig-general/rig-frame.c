@@ -413,6 +413,13 @@ static void rf_rig_stand_order(const double support[6], int stand[5])
     }
 }
 
+/* The turn that stands the body on axis direction i of rf_rig_axes (brings it onto +y). */
+static rf_quat rf_rig_stand_turn(int i)
+{
+    return i == 3 ? rf_quat_from_axis_angle(rf_v3(1, 0, 0), 3.14159265358979323846)
+                  : rf_quat_from_two_vectors(rf_rig_axes[i], rf_v3(0, 1, 0));
+}
+
 /* Readings each under the confidence bar that name the same axis, one the body stands on, add up
  * (rf_rig_tally): RobotExpressive laid on its side reads its true up at 0.28 as the file has it
  * and at 0.28 and 0.23 stood on either side, and no reading names another axis. A reading under
@@ -455,10 +462,8 @@ static bool rf_rig_read_stands(rf_rig_prep *p, const rf_rig_options *o, const do
         rf_vec3 d = rf_rig_axes[stand[i]];
         if (!(support[stand[i]] >= RF_RIG_UP_SUPPORT))
             continue;
-        rf_quat q = stand[i] == 3 ? rf_quat_from_axis_angle(rf_v3(1, 0, 0), 3.14159265358979323846)
-                                  : rf_quat_from_two_vectors(d, rf_v3(0, 1, 0));
         rf_rig_up u;
-        if (!rf_rig_read_up(p, q, o, support, &u))
+        if (!rf_rig_read_up(p, rf_rig_stand_turn(stand[i]), o, support, &u))
             return false;
         if (u.found && rf_v3_dot(u.axis, d) > 0.99) { /* stood on it, read standing on it */
             *out = u;
@@ -480,6 +485,23 @@ static bool rf_rig_read_stands(rf_rig_prep *p, const rf_rig_options *o, const do
     return true;
 }
 
+/* A body that stands over its lowest points along one axis direction alone (`only`), by less
+ * than the bar: a dragon's wings spread its footprint, which the margin is a fraction of, and
+ * its true up reads 0.047 to 0.070 (random dragons of bench/creatures.sh), every other axis
+ * under 0 or the one opposite. Stood on that axis, its curve skeleton read standing on it from
+ * its limbs and sure enough (RF_RIG_UP_CONFIDENCE), it is found. False when out of memory. */
+static bool rf_rig_read_only_stand(rf_rig_prep *p, const rf_rig_options *o, const double support[6],
+                                   int only, rf_rig_up *out)
+{
+    rf_rig_up u;
+    if (!rf_rig_read_up(p, rf_rig_stand_turn(only), o, support, &u))
+        return false;
+    *out = u; /* found or not, what was read goes into the node's log */
+    out->found = rf_v3_dot(u.axis, rf_rig_axes[only]) > 0.99 && strcmp(u.source, "limbs") == 0 &&
+                 u.confidence >= RF_RIG_UP_CONFIDENCE;
+    return true;
+}
+
 /* The body read as the file has it first; when that finds no up, the body stood on each other
  * axis direction in turn (the curve skeleton is grown from where the feet meet, its highest
  * girdle, so a body lying down can grow one the analysis reads nothing from). An axis is taken
@@ -490,7 +512,8 @@ static bool rf_rig_read_stands(rf_rig_prep *p, const rf_rig_options *o, const do
  * turned every quarter way, doc/autorig.md). A reading is only taken along an axis the body
  * stands on (rf_rig_support), so the standing margin along each of the six is measured first,
  * and no curve skeleton is grown for the body stood on one it does not stand on, nor at all
- * when it stands on none. */
+ * when it stands on none; but a body that stands by under the bar on one axis alone is stood
+ * and read on that one (rf_rig_read_only_stand). */
 bool rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out)
 {
     memset(out, 0, sizeof *out);
@@ -498,12 +521,15 @@ bool rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out
     out->support = NAN;
     double support[6];
     bool stands = false;
+    int only = -1, over = 0; /* the axis with a margin over 0, when one alone has */
     for (int i = 0; i < 6; i++) {
         if (!rf_rig_support(m, rf_rig_axes[i], &support[i]))
             return false;
         stands |= support[i] >= RF_RIG_UP_SUPPORT;
+        if (support[i] > 0)
+            only = i, over++;
     }
-    if (!stands) {
+    if (!stands && over != 1) {
         out->source = "no axis to stand on";
         snprintf(out->why, sizeof out->why,
                  "it stands over its lowest points along none of the file's axes");
@@ -519,8 +545,9 @@ bool rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out
         snprintf(out->why, sizeof out->why, "%.199s", err);
         return status != RF_RIG_NO_MEMORY;
     }
-    bool ok = rf_rig_read_up(&p, rf_quat_identity(), &o, support, out) &&
-              (out->found || rf_rig_read_stands(&p, &o, support, out));
+    bool ok = stands ? rf_rig_read_up(&p, rf_quat_identity(), &o, support, out) &&
+                           (out->found || rf_rig_read_stands(&p, &o, support, out))
+                     : rf_rig_read_only_stand(&p, &o, support, only, out);
     rf_rig_prep_free(&p);
     return ok;
 }
