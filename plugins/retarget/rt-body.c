@@ -119,10 +119,15 @@ static bool rt_analyse(const rf_skeleton *s, const rf_xform *local, const rf_xfo
         tip[j] = has ? rf_v3_mul(inv.s, rf_quat_rotate(inv.r, d)) : rf_v3(0, 0, 0);
     }
     /* The file's axes when it states them; the analysis's otherwise. Left is rebuilt from the
-     * chosen up and forward so the two always agree. */
+     * chosen up and forward so the two always agree. A stated forward the analysis reads the
+     * body facing against (its feet or its hierarchy outvote the file's one vote) gives way:
+     * the matcher pairs sides as the analysis reads them, and a body turned by the file's
+     * forward had each limb driven by the source's limb of the other side (a random dragon
+     * saved facing -z in a glTF file, which states +z: its wings 140 and 164 degrees off the
+     * walk's arms, turned over). */
     bool file_up = rf_v3_len2(s->up) > 0.5, file_fwd = rf_v3_len2(s->forward) > 0.5;
     axes->up = file_up ? rf_v3_normalize(s->up) : a->up;
-    rf_vec3 fwd = file_fwd ? s->forward : a->forward;
+    rf_vec3 fwd = file_fwd && rf_v3_dot(s->forward, a->forward) >= 0 ? s->forward : a->forward;
     fwd = rf_v3_normalize(rf_v3_sub(fwd, rf_v3_scale(axes->up, rf_v3_dot(fwd, axes->up))));
     if (rf_v3_len2(fwd) == 0)
         fwd = rf_v3_normalize(rf_v3_cross(rf_v3(1, 0, 0), axes->up));
