@@ -561,12 +561,13 @@ static bool rf_rig_frame_up(const rf_mesh *m, rf_rig_options *o, rf_rig_frame *f
         return false;
     o->up = u.found ? u.axis : rf_v3(0, 1, 0);
     f->up_assumed = !u.found;
-    if (u.found)
+    if (u.found) /* a margin under the bar: the one axis it stands on at all */
         snprintf(f->up_note, sizeof f->up_note,
                  "up %s, not declared by the file: found from the body (its limbs read by the "
                  "skeleton analysis, confidence %.2f, and it stands over its lowest points, "
-                 "margin %.2f)",
-                 rf_rig_axis_name(u.axis), u.confidence, u.support);
+                 "margin %.3f%s)",
+                 rf_rig_axis_name(u.axis), u.confidence, u.support,
+                 u.support < RF_RIG_UP_SUPPORT ? ", under the bar but along no other axis" : "");
     else if (rf_v3_len(u.axis) > 0) {
         char margin[32] = "none (no footprint)";
         if (!isnan(u.support))
