@@ -93,6 +93,7 @@ typedef struct rt_axes {
     uint8_t *centerline; /* [n] or NULL: joints the analysis puts on the centerline */
     int32_t *logical;    /* [n] or NULL: parents in the analysed tree (a part hanging from a
                           * placement root or a root of its own, attached where it sits) */
+    int32_t *mirror;     /* [n] or NULL: the joint mirrored across the symmetry plane, or -1 */
 } rt_axes;
 
 static bool rt_analyse(const rf_skeleton *s, const rf_xform *local, const rf_xform *world,
@@ -140,6 +141,8 @@ static bool rt_analyse(const rf_skeleton *s, const rf_xform *local, const rf_xfo
         axes->centerline[j] = a->joints[j].side == RF_SIDE_CENTER;
     for (uint32_t j = 0; axes->logical && j < s->joint_count; j++)
         axes->logical[j] = a->joints[j].logical_parent;
+    for (uint32_t j = 0; axes->mirror && j < s->joint_count; j++)
+        axes->mirror[j] = a->joints[j].mirror;
     rf_analysis_free(a);
     return true;
 }
@@ -289,24 +292,26 @@ static uint32_t rt_body_order(const rf_retarget *rt, int32_t *bparent, uint32_t 
 /* Analyses one body view, results mapped back to the target's joints. */
 static bool rt_body_analyse(rf_retarget *rt, rt_body_view *v, uint32_t count, rt_axes *axes)
 {
-    int32_t *logical = malloc(count * sizeof *logical);
+    int32_t *logical = malloc(count * sizeof *logical), *mirror = malloc(count * sizeof *mirror);
     rf_vec3 *tip = calloc(count, sizeof *tip);
     uint8_t *center = calloc(count, 1);
-    rt_axes ba = {.centerline = center, .logical = logical};
-    bool ok = logical && tip && center && rt_analyse(&v->skel, v->local, v->world, tip, &ba);
+    rt_axes ba = {.centerline = center, .logical = logical, .mirror = mirror};
+    bool ok =
+        logical && mirror && tip && center && rt_analyse(&v->skel, v->local, v->world, tip, &ba);
     for (uint32_t j = 0; ok && j < rt->n; j++) {
         rt->t_tip[j] = rf_v3(0, 0, 0), rt->t_centerline[j] = 0;
-        rt->t_logical[j] = rt->target->joints[j].parent;
+        rt->t_logical[j] = rt->target->joints[j].parent, rt->t_mirror[j] = RF_RT_NONE;
     }
     for (uint32_t k = 0; ok && k < count; k++) {
         uint32_t j = v->from[k];
         rt->t_tip[j] = tip[k], rt->t_centerline[j] = center[k];
         rt->t_logical[j] = logical[k] >= 0 ? (int32_t)v->from[logical[k]] : RF_RT_NONE;
+        rt->t_mirror[j] = mirror[k] >= 0 ? (int32_t)v->from[mirror[k]] : RF_RT_NONE;
     }
     if (ok)
-        *axes = (rt_axes){ba.up,   ba.forward, ba.left,          ba.center,
-                          ba.size, ba.own_up,  axes->centerline, axes->logical};
-    free(logical), free(tip), free(center);
+        *axes = (rt_axes){ba.up,     ba.forward,       ba.left,       ba.center,   ba.size,
+                          ba.own_up, axes->centerline, axes->logical, axes->mirror};
+    free(logical), free(mirror), free(tip), free(center);
     return ok;
 }
 
@@ -384,7 +389,9 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
     rt->t_tip = calloc(n, sizeof *rt->t_tip);
     rt->t_centerline = calloc(n, 1);
     rt->t_logical = malloc(n * sizeof *rt->t_logical);
-    if (!local || !rt->t_rest_world || !rt->t_tip || !rt->t_centerline || !rt->t_logical) {
+    rt->t_mirror = malloc(n * sizeof *rt->t_mirror);
+    if (!local || !rt->t_rest_world || !rt->t_tip || !rt->t_centerline || !rt->t_logical ||
+        !rt->t_mirror) {
         free(local);
         rf_rt_fail(err, err_size, "out of memory");
         return false;
@@ -392,7 +399,10 @@ bool rf_rt_target_prepare(rf_retarget *rt, char *err, size_t err_size)
     for (uint32_t j = 0; j < rt->n; j++)
         local[j] = t->joints[j].rest;
     rt_world(t, local, rt->t_rest_world);
-    rt_axes axes = {.centerline = rt->t_centerline, .logical = rt->t_logical};
+    for (uint32_t j = 0; j < rt->n; j++)
+        rt->t_mirror[j] = RF_RT_NONE;
+    rt_axes axes = {
+        .centerline = rt->t_centerline, .logical = rt->t_logical, .mirror = rt->t_mirror};
     rt->t_roles = rf_joint_roles_find(t, NULL, NULL, 0);
     bool ok = rt->t_roles && rt_target_analyse(rt, local, &axes);
     free(local);

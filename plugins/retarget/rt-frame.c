@@ -196,25 +196,32 @@ static void rt_source_fk(const rf_retarget *rt, rf_rt_work *w, uint32_t s, const
  * floor and lifts its hindquarters. Its turn about up (where it faces) is kept whole. */
 #define RT_LEVEL_TILT (10.0 * RF_PI / 180.0)
 
-/* World delta d split into its turn about up and its tilt; the tilt's angle eased into `limit`
- * (a tanh: continuous, near the source's for small leans; none at 0). */
-rf_quat rf_rt_level(rf_quat d, rf_vec3 up, double limit)
+/* Delta d split into its twist about unit `axis` and the swing that follows it (d = swing *
+ * twist), the swing's angle eased into `limit` (a tanh: continuous, near the delta's for small
+ * swings; none at 0). Returns the eased swing. */
+static rf_quat rt_swing_eased(rf_quat d, rf_vec3 axis, double limit, rf_quat *twist)
 {
-    double along = d.x * up.x + d.y * up.y + d.z * up.z;
-    rf_quat twist = rf_quat_make(up.x * along, up.y * along, up.z * along, d.w);
+    double along = d.x * axis.x + d.y * axis.y + d.z * axis.z;
+    rf_quat t = rf_quat_make(axis.x * along, axis.y * along, axis.z * along, d.w);
     double tl = sqrt(along * along + d.w * d.w);
-    twist = tl > 1e-12 ? rf_quat_make(twist.x / tl, twist.y / tl, twist.z / tl, twist.w / tl)
-                       : rf_quat_identity();
-    rf_quat swing = rf_quat_mul(d, rf_quat_conj(twist));
+    *twist = tl > 1e-12 ? rf_quat_make(t.x / tl, t.y / tl, t.z / tl, t.w / tl) : rf_quat_identity();
+    rf_quat swing = rf_quat_mul(d, rf_quat_conj(*twist));
     if (swing.w < 0)
         swing = rf_quat_neg(swing);
     double s = sqrt(swing.x * swing.x + swing.y * swing.y + swing.z * swing.z);
-    double angle = 2 * atan2(s, swing.w);
     if (!(s > 1e-12))
-        return twist;
+        return rf_quat_identity();
+    double angle = 2 * atan2(s, swing.w);
     double eased = limit > 0 ? limit * tanh(angle / limit) : 0;
-    rf_vec3 axis = rf_v3(swing.x / s, swing.y / s, swing.z / s);
-    return rf_quat_mul(rf_quat_from_axis_angle(axis, eased), twist);
+    return rf_quat_from_axis_angle(rf_v3(swing.x / s, swing.y / s, swing.z / s), eased);
+}
+
+/* World delta d split into its turn about up and its tilt; the tilt's angle eased into `limit`. */
+rf_quat rf_rt_level(rf_quat d, rf_vec3 up, double limit)
+{
+    rf_quat twist;
+    rf_quat swing = rt_swing_eased(d, up, limit, &twist);
+    return rf_quat_mul(swing, twist);
 }
 
 /* The source joint's world delta from its rest, corrected, reversed or mirrored as flagged, times
@@ -326,6 +333,15 @@ static rf_quat rt_mapped(const rf_retarget *rt, rf_rt_work *w, uint32_t j)
 {
     const rf_rt_tjoint *tj = &rt->tj[j];
     rf_quat m = rt_blend(rt, w, tj);
+    const rf_rt_input *in = &rt->in[tj->first_input];
+    if (in->flags & RF_RT_IN_WHOLE) {
+        /* The swing is eased against the body the limb hangs from: the source turning round
+         * as it walks is no swing of its arm. */
+        rf_quat body = rt_motion_of(rt, w, tj->parent), twist;
+        rf_quat own = rf_quat_mul(rf_quat_conj(body), rf_quat_mul(m, rf_quat_conj(tj->align)));
+        rf_quat swing = rt_swing_eased(own, in->whole_axis, in->whole_limit, &twist);
+        return rf_quat_mul(rf_quat_mul(body, rf_quat_mul(swing, tj->align)), tj->rest_world);
+    }
     if (tj->owner < 0)
         return rf_quat_mul(m, tj->rest_world);
     rf_quat base = rt_motion_of(rt, w, tj->parent);

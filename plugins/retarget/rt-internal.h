@@ -25,6 +25,9 @@ enum rf_rt_input_flags {
     RF_RT_IN_PHASE = 1u << 12,  /* a limb driven half a cycle later by the source's limb of its
                                  * own side (a quadruped's foreleg under a biped's leg): another
                                  * pair of legs, whose reach says nothing of the body's height */
+    RF_RT_IN_WHOLE = 1u << 13,  /* on the first input of the root of a limb held whole
+                                 * (rt_rigid_limbs): its motion swings it against its parent's,
+                                 * never twists it, and no farther than whole_limit */
 };
 
 /* One mapping input, resolved against its source's rest. */
@@ -42,6 +45,8 @@ typedef struct rf_rt_input {
     rf_quat parent_rest_inv; /* conj of the source parent's rest world rotation (reverse) */
     double weight;           /* normalised over the joint's inputs */
     uint32_t flags;          /* rf_map_flags | rf_rt_input_flags */
+    rf_vec3 whole_axis;      /* RF_RT_IN_WHOLE: the limb's reach at rest, aligned, unit */
+    double whole_limit;      /* RF_RT_IN_WHOLE: the swing its reach leaves it over the floor */
 } rf_rt_input;
 
 typedef enum rf_rt_kind {
@@ -157,6 +162,8 @@ struct rf_retarget {
     rf_vec3 up;                     /* the target's up (unit) */
     rf_vec3 forward, left, center;  /* the target's body axes and symmetry plane */
     uint8_t *t_centerline;          /* [n] the joint lies on the target's centerline (analysis) */
+    int32_t *t_mirror;              /* [n] the joint mirrored across the target's symmetry plane
+                                     * (analysis), or RF_RT_NONE */
     int32_t *t_logical;             /* [n] parents in the target's analysed tree */
     uint8_t *t_role;                /* [n] rf_joint_role of every target joint */
     struct rf_joint_roles *t_roles; /* the target's roles while the plan is made */

@@ -703,11 +703,16 @@ static bool rt_alloc_frame(rf_retarget *rt)
 
 /* A limb that cannot hang as its source's does: off the centerline, driven by a source joint in
  * the upper half of its source (an arm, not a leg), reaching from its root more than RT_HANG
- * times its root's height over the target's lowest point (a dragon's wing, three times its
- * shoulder's height). Its joints past the root keep their rest turns, so it moves whole from its
- * root; a human's arm bends at the elbow and the wrist, and laid on such a limb those bends fold
- * it through the floor and fan the pieces of its membrane apart. */
+ * times its root's height over the target's lowest point. Its joints past the root keep their
+ * rest turns, so it moves whole from its root; a human's arm bends at the elbow and the wrist,
+ * and laid on such a limb those bends fold it through the floor and fan the pieces of its
+ * membrane apart. Human arms reach 0.4 to 0.8 times their shoulders' height, legs about 1, a
+ * bird's folded wings 2, the wings of the random dragons (bench/creatures.sh) 1.9 to 2.7 and
+ * the shared dragons' 3 to 3.6. A limb clear of the floor at rest (rt_limb_clear: a wing) is
+ * held from RT_HANG_CLEAR; one reaching down to the floor (a bull frog's splayed legs, 1.6 to
+ * 1.7, driven by arms: its feet) only from RT_HANG (the bat's legs, 5). */
 #define RT_HANG 2.5
+#define RT_HANG_CLEAR 1.6
 
 /* Whether the limb from joint r stands clear of the floor at rest: its joints and bone tips past
  * r all over a quarter of r's height over the rest's lowest point `low` (a wing spread at the
@@ -726,57 +731,139 @@ static bool rt_limb_clear(const rf_retarget *rt, uint32_t r, rf_vec3 up, double 
     return true;
 }
 
-static bool rt_rigid_limbs(rf_retarget *rt)
+/* The up a rest is measured along for limbs that cannot hang: its own (the analysis's, from its
+ * limbs) when it lies more than 45 degrees across the one it is retargeted along. Lying on its
+ * back, a human's shoulders stand no more than the body's thickness over its lowest point, and
+ * its arms, reaching many times that, were held whole as wings; standing as its source has it
+ * stand, they hang. A rest that is no body (all its bones on one line) has no up of its own. */
+static rf_vec3 rt_hang_up(const rf_retarget *rt)
 {
-    rt->t_whole = malloc((rt->n ? rt->n : 1) * sizeof *rt->t_whole);
-    if (!rt->t_whole)
-        return false;
-    for (uint32_t j = 0; j < rt->n; j++)
-        rt->t_whole[j] = RF_RT_NONE;
-    /* A rest lying across its up (its own up, the analysis's from its limbs, more than 45
-     * degrees off the one it is retargeted along) is measured along its own: lying on its back,
-     * a human's shoulders stand no more than the body's thickness over its lowest point, and its
-     * arms, reaching many times that, were held whole as wings; standing as its source has it
-     * stand, they hang. A rest that is no body (all its bones on one line) has no up of its
-     * own to read. */
-    rf_vec3 up = rt->up;
     if (!rt->t_degenerate && rf_v3_len2(rt->t_own_up) > 0.5 &&
         rf_v3_dot(rt->t_own_up, rt->up) < sqrt(0.5))
-        up = rf_v3_normalize(rt->t_own_up);
+        return rf_v3_normalize(rt->t_own_up);
+    return rt->up;
+}
+
+/* The farthest joint or bone tip of the limb from joint r, from r's pivot at rest. */
+static rf_vec3 rt_limb_reach(const rf_retarget *rt, uint32_t r)
+{
+    rf_vec3 o = rt->t_rest_world[r].t, far = rf_v3(0, 0, 0);
+    for (uint32_t c = r + 1; c < rt->n; c++) {
+        if (!rf_rt_carries(rt->target, (int32_t)r, c))
+            continue;
+        rf_vec3 p = rf_v3_sub(rt->t_rest_world[c].t, o);
+        far = rf_v3_len2(p) > rf_v3_len2(far) ? p : far;
+        if (rf_v3_len2(rt->t_tip[c]) > 0) {
+            p = rf_v3_sub(rf_xform_point(rt->t_rest_world[c], rt->t_tip[c]), o);
+            far = rf_v3_len2(p) > rf_v3_len2(far) ? p : far;
+        }
+    }
+    return far;
+}
+
+/* How many times its root's height over `low` the limb from joint r reaches, for a limb's root
+ * driven by an arm (off the centerline, hanging from it, its source joint in the upper half of
+ * its source); -1 for any other joint. */
+static double rt_hang_ratio(const rf_retarget *rt, uint32_t r, rf_vec3 up, double low)
+{
+    const rf_rt_tjoint *tr = &rt->tj[r];
+    int32_t lp = rt->lparent[r];
+    if (tr->kind != RF_RT_MAPPED || rt->t_centerline[r] || lp < 0 || !rt->t_centerline[lp])
+        return -1;
+    const rf_rt_input *in = &rt->in[tr->first_input];
+    const rf_rt_src *src = &rt->src[in->source];
+    double slow, shigh;
+    rf_rt_span(src->skel, src->rest_world, src->tip, src->up, NULL, false, &slow, &shigh);
+    if (rf_rt_height(src->up, src->rest_world[in->joint].t) < 0.5 * (slow + shigh))
+        return -1; /* a leg */
+    double h = rf_rt_height(up, rt->t_rest_world[r].t) - low;
+    return h > 0 ? rf_v3_len(rt_limb_reach(rt, r)) / h : -1;
+}
+
+/* Holds the limb from root r whole: its joints past r keep their rest turns, and r's inputs
+ * swing it as far as its reach leaves it clear of the floor (asin of its height over its reach),
+ * without the twist of the source's bone: a human's upper arm turns about itself as the
+ * forearm swings, and a wing taking that turn stood its membrane on edge. */
+static void rt_hold_whole(rf_retarget *rt, uint32_t r, bool clear, double ratio)
+{
+    for (uint32_t c = r; c < rt->n; c++)
+        if (rf_rt_carries(rt->target, (int32_t)r, c)) {
+            rt->t_whole[c] = clear ? (int32_t)r : RF_RT_NONE;
+            if (c != r)
+                rt->tj[c].kind = RF_RT_REST;
+        }
+    rf_rt_input *in = &rt->in[rt->tj[r].first_input];
+    in->flags |= RF_RT_IN_WHOLE;
+    in->whole_axis = rf_quat_rotate(rt->tj[r].align, rf_v3_normalize(rt_limb_reach(rt, r)));
+    in->whole_limit = asin(1 / ratio);
+}
+
+/* Whether joints a and b of source src mirror each other: b within 5% of the source's size of
+ * a's reflection across its symmetry plane (a clip's skeleton is built symmetric). */
+static bool rt_source_mirrors(const rf_rt_src *src, uint32_t a, uint32_t b)
+{
+    rf_vec3 p = src->rest_world[a].t;
+    double side = rf_v3_dot(rf_v3_sub(p, src->center), src->left);
+    rf_vec3 image = rf_v3_sub(p, rf_v3_scale(src->left, 2 * side));
+    return rf_v3_dist(image, src->rest_world[b].t) < 0.05 * src->size;
+}
+
+/* The limb root across the body from limb root r: the analysis's mirror of r, or for a rig built
+ * too lopsided for the analysis to pair, the other limb root (rt_hang_ratio) as clear of the
+ * floor as r (rt_limb_clear) driven by the mirror of r's source joint, the nearest to r's
+ * reflection across the symmetry plane. RF_RT_NONE when none: a template's tail laid along a
+ * dragon's wing, driven by the walk's left leg, pairs with no leg. */
+static int32_t rt_limb_partner(const rf_retarget *rt, uint32_t r, const double *ratio,
+                               const uint8_t *clear)
+{
+    if (rt->t_mirror[r] >= 0)
+        return rt->t_mirror[r];
+    const rf_rt_input *in = &rt->in[rt->tj[r].first_input];
+    rf_vec3 o = rt->t_rest_world[r].t;
+    double side = rf_v3_dot(rf_v3_sub(o, rt->center), rt->left);
+    rf_vec3 image = rf_v3_sub(o, rf_v3_scale(rt->left, 2 * side));
+    int32_t best = RF_RT_NONE;
+    double near = INFINITY;
+    for (uint32_t c = 0; c < rt->n; c++) {
+        if (ratio[c] < 0 || c == r || clear[c] != clear[r])
+            continue;
+        const rf_rt_input *ic = &rt->in[rt->tj[c].first_input];
+        if (ic->source != in->source ||
+            !rt_source_mirrors(&rt->src[in->source], in->joint, ic->joint))
+            continue;
+        double d = rf_v3_dist(rt->t_rest_world[c].t, image);
+        if (d < near)
+            near = d, best = (int32_t)c;
+    }
+    return best;
+}
+
+/* Limbs that cannot hang (RT_HANG, RT_HANG_CLEAR) are held whole, a pair across the body both or
+ * neither: an auto-rig built a little lopsided (greenman's arms, 1.9 and 1.4 times their roots'
+ * heights) had one arm stuck out sideways while the other hung. */
+static bool rt_rigid_limbs(rf_retarget *rt)
+{
+    size_t n = rt->n ? rt->n : 1;
+    rt->t_whole = malloc(n * sizeof *rt->t_whole);
+    double *ratio = malloc(n * sizeof *ratio);
+    uint8_t *clear = malloc(n), *over = malloc(n);
+    bool ok = rt->t_whole && ratio && clear && over;
+    rf_vec3 up = rt_hang_up(rt);
     double low, high;
     rf_rt_span(rt->target, rt->t_rest_world, rt->t_tip, up, NULL, false, &low, &high);
-    for (uint32_t r = 0; r < rt->n; r++) {
-        const rf_rt_tjoint *tr = &rt->tj[r];
-        int32_t lp = rt->lparent[r];
-        if (tr->kind != RF_RT_MAPPED || rt->t_centerline[r] || lp < 0 || !rt->t_centerline[lp])
-            continue;
-        const rf_rt_input *in = &rt->in[tr->first_input];
-        const rf_rt_src *src = &rt->src[in->source];
-        double slow, shigh;
-        rf_rt_span(src->skel, src->rest_world, src->tip, src->up, NULL, false, &slow, &shigh);
-        if (rf_rt_height(src->up, src->rest_world[in->joint].t) < 0.5 * (slow + shigh))
-            continue; /* a leg */
-        rf_vec3 o = rt->t_rest_world[r].t;
-        double reach = 0;
-        for (uint32_t c = r + 1; c < rt->n; c++) {
-            if (!rf_rt_carries(rt->target, (int32_t)r, c))
-                continue;
-            reach = fmax(reach, rf_v3_dist(rt->t_rest_world[c].t, o));
-            if (rf_v3_len2(rt->t_tip[c]) > 0)
-                reach =
-                    fmax(reach, rf_v3_dist(rf_xform_point(rt->t_rest_world[c], rt->t_tip[c]), o));
-        }
-        if (!(reach > RT_HANG * (rf_rt_height(up, o) - low)))
-            continue;
-        bool clear = rt_limb_clear(rt, r, up, low);
-        for (uint32_t c = r; c < rt->n; c++)
-            if (rf_rt_carries(rt->target, (int32_t)r, c))
-                rt->t_whole[c] = clear ? (int32_t)r : RF_RT_NONE;
-        for (uint32_t c = r + 1; c < rt->n; c++)
-            if (rf_rt_carries(rt->target, (int32_t)r, c))
-                rt->tj[c].kind = RF_RT_REST;
+    for (uint32_t j = 0; ok && j < rt->n; j++) {
+        rt->t_whole[j] = RF_RT_NONE;
+        ratio[j] = rt_hang_ratio(rt, j, up, low);
+        clear[j] = ratio[j] > 0 && rt_limb_clear(rt, j, up, low);
+        over[j] = ratio[j] > (clear[j] ? RT_HANG_CLEAR : RT_HANG);
     }
-    return true;
+    for (uint32_t r = 0; ok && r < rt->n; r++) {
+        int32_t m = over[r] ? rt_limb_partner(rt, r, ratio, clear) : RF_RT_NONE;
+        if (over[r] && (m < 0 || ratio[m] < 0 || over[m]))
+            rt_hold_whole(rt, r, clear[r], ratio[r]);
+    }
+    free(ratio), free(clear), free(over);
+    return ok;
 }
 
 static bool rt_plan(rf_retarget *rt, char *err, size_t err_size)
@@ -891,7 +978,8 @@ void rf_retarget_free(rf_retarget *rt)
         free(rt->t_centerline);
     free(rt->t_above), free(rt->bones), free(rt->effectors), free(rt->effector_src),
         free(rt->effector_tip), free(rt->hot), free(rt->rest_tr);
-    free(rt->w0), free(rt->t_logical), free(rt->t_role), free(rt->lparent), free(rt->anchor);
+    free(rt->w0), free(rt->t_logical), free(rt->t_mirror), free(rt->t_role), free(rt->lparent),
+        free(rt->anchor);
     free(rt->anchor_off), free(rt->lorder), free(rt->t_need), free(rt->t_tip_set);
     free(rt->t_whole);
     rf_mapping_free(rt->own_map);
