@@ -372,6 +372,16 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
                   "%u mapping inputs on or from placement, axis-conversion or helper joints "
                   "dropped; %u joints placed from the body joint they belong to",
                   info.dropped, info.anchored);
+    if (info.whole && info.whole_first >= 0) {
+        char a[128], sa[256];
+        rf_text_escape(rf_joint_label(target, (uint32_t)info.whole_first, a, sizeof a), sa,
+                       sizeof sa, 0);
+        host->log(node, RF_LOG_INFO,
+                  "%u limbs held whole from their roots ('%s' and %u more), the joints past "
+                  "each root at their rest turns: they reach further than they could hang "
+                  "(wings), and swing no further than their reach allows",
+                  info.whole, sa, info.whole - 1);
+    }
     if (info.top_from >= 0 && info.top_to >= 0) {
         char a[128], b[128], sa[256], sb[256];
         rf_text_escape(rf_joint_label(target, (uint32_t)info.top_from, a, sizeof a), sa, sizeof sa,

@@ -179,6 +179,8 @@ typedef struct rf_rt_info {
     int32_t top_from;    /* a placement or axis joint whose inputs drive the body's top joint
                           * `top_to` instead (the top had none), or -1 */
     int32_t top_to;
+    uint32_t whole;      /* limbs held whole from their roots (wings: rt_rigid_limbs) */
+    int32_t whole_first; /* the first such root, or -1 */
 } rf_rt_info;
 
 void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info);

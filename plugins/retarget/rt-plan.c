@@ -1009,9 +1009,14 @@ void rf_retarget_info(const rf_retarget *rt, rf_rt_info *info)
     info->ground_shift = rt->ground_shift;
     info->cycle = rt->cycle;
     info->rest_frame = rt->src[0].rest_frame;
+    info->whole_first = RF_RT_NONE;
     for (uint32_t j = 0; j < rt->n; j++) {
         info->mapped += rt->tj[j].kind == RF_RT_MAPPED;
         info->shared += rt->tj[j].kind == RF_RT_SHARED;
+        bool whole = rt->tj[j].kind == RF_RT_MAPPED &&
+                     (rt->in[rt->tj[j].first_input].flags & RF_RT_IN_WHOLE);
+        if (whole && !info->whole++)
+            info->whole_first = (int32_t)j;
     }
     info->effectors = rt->effector_count;
     info->dropped = rt->dropped;
