@@ -376,11 +376,14 @@ static bool rt_process(void *self, const rf_host *host, rf_node *node)
         char a[128], sa[256];
         rf_text_escape(rf_joint_label(target, (uint32_t)info.whole_first, a, sizeof a), sa,
                        sizeof sa, 0);
+        char more[48] = "";
+        if (info.whole > 1)
+            snprintf(more, sizeof more, " and %u more", info.whole - 1);
         host->log(node, RF_LOG_INFO,
-                  "%u limbs held whole from their roots ('%s' and %u more), the joints past "
-                  "each root at their rest turns: they reach further than they could hang "
-                  "(wings), and swing no further than their reach allows",
-                  info.whole, sa, info.whole - 1);
+                  "%u limb%s held whole from the root ('%s'%s): reaching further than it "
+                  "could hang (a wing), each keeps its joints past the root at their rest turns "
+                  "and swings no further than its reach allows",
+                  info.whole, info.whole > 1 ? "s" : "", sa, more);
     }
     if (info.top_from >= 0 && info.top_to >= 0) {
         char a[128], b[128], sa[256], sb[256];
