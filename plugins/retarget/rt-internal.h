@@ -428,6 +428,11 @@ static inline rf_vec3 rf_rt_reflect_v(rf_vec3 v, rf_vec3 n)
 {
     return rf_v3_sub(v, rf_v3_scale(n, 2 * rf_v3_dot(v, n)));
 }
+/* Reflects a point through the plane through `center` whose unit normal is n. */
+static inline rf_vec3 rf_rt_reflect_p(rf_vec3 p, rf_vec3 center, rf_vec3 n)
+{
+    return rf_v3_add(center, rf_rt_reflect_v(rf_v3_sub(p, center), n));
+}
 
 /* ---- rt-clip.c ---- */
 /* The time slot s samples its source at for output time t (its offset; a mirrored slot's time

@@ -802,9 +802,7 @@ static void rt_hold_whole(rf_retarget *rt, uint32_t r, bool clear, double ratio)
  * a's reflection across its symmetry plane (a clip's skeleton is built symmetric). */
 static bool rt_source_mirrors(const rf_rt_src *src, uint32_t a, uint32_t b)
 {
-    rf_vec3 p = src->rest_world[a].t;
-    double side = rf_v3_dot(rf_v3_sub(p, src->center), src->left);
-    rf_vec3 image = rf_v3_sub(p, rf_v3_scale(src->left, 2 * side));
+    rf_vec3 image = rf_rt_reflect_p(src->rest_world[a].t, src->center, src->left);
     return rf_v3_dist(image, src->rest_world[b].t) < 0.05 * src->size;
 }
 
@@ -819,9 +817,7 @@ static int32_t rt_limb_partner(const rf_retarget *rt, uint32_t r, const double *
     if (rt->t_mirror[r] >= 0)
         return rt->t_mirror[r];
     const rf_rt_input *in = &rt->in[rt->tj[r].first_input];
-    rf_vec3 o = rt->t_rest_world[r].t;
-    double side = rf_v3_dot(rf_v3_sub(o, rt->center), rt->left);
-    rf_vec3 image = rf_v3_sub(o, rf_v3_scale(rt->left, 2 * side));
+    rf_vec3 image = rf_rt_reflect_p(rt->t_rest_world[r].t, rt->center, rt->left);
     int32_t best = RF_RT_NONE;
     double near = INFINITY;
     for (uint32_t c = 0; c < rt->n; c++) {
