@@ -1821,20 +1821,47 @@ static double rf_rig_hips_at(const rf_rig_surface *sf, rf_vec3 up, const rf_rig_
  * legs' girdle straight down inside a skirt to the hem, 0.10 to 0.22 of the longest edge under
  * the artist's hips. The curve is started instead above the girdle, as high as puts the hip at
  * yc on a leg hanging straight to its tip, so hip, knee and ankle spread over the whole leg.
- * False when out of memory. */
-static bool rf_rig_legs_raise(const rf_rig_skel *k, rf_vec3 up, const rf_rig_limb *lm, double yc,
-                              double cut, double pos[4][3], double tip[3])
+ * That start into start[]; false when the leg is not raised. */
+static bool rf_rig_legs_start(const rf_rig_skel *k, rf_vec3 up, const rf_rig_limb *lm, double yc,
+                              const double pos[4][3], const double tip[3], double start[3])
 {
     double hip = rf_rig_along(pos[0], up), foot = rf_rig_along(tip, up);
     double f = lm->lay->upleg, top = (yc - f * foot) / (1 - f);
     const double *g = k->pos + (size_t)lm->girdle * 3;
     if (!(hip < yc) || !(top > rf_rig_along(g, up)))
-        return true;
-    double start[3];
+        return false;
     for (int c = 0; c < 3; c++)
         start[c] = g[c] + (top - rf_rig_along(g, up)) * (c == 0 ? up.x : c == 1 ? up.y : up.z);
-    return rf_rig_limb_place_within(k, up, lm->girdle, lm->first, lm->kind, lm->lay, start, cut,
-                                    pos, tip);
+    return true;
+}
+
+/* The pair of legs leg[] laid again from their raised starts (rf_rig_legs_start). Each is cut
+ * where it reaches past its twin (rf_rig_limb_prop_cut) by their reaches from those starts,
+ * not from their girdles: legs pressed together part low in the curve skeleton (random biped
+ * 19's at its knees, where one hung from the spine's first joint above the other's), and by
+ * their curves up to the fork one reached 1.4 times the other, so raised it was cut off at its
+ * knee. False when out of memory. */
+static bool rf_rig_legs_raise(const rf_rig_skel *k, rf_vec3 up, const rf_rig_limb *limbs,
+                              const uint32_t leg[2], double yc, const double *cuts,
+                              double (*lp)[4][3], double (*tips)[3])
+{
+    double start[2][3], reach[2];
+    bool raised[2];
+    for (int s = 0; s < 2; s++) {
+        const rf_rig_limb *lm = &limbs[leg[s]];
+        raised[s] = rf_rig_legs_start(k, up, lm, yc, lp[leg[s]], tips[leg[s]], start[s]);
+        if (!rf_rig_limb_reach(k, up, lm->girdle, lm->first, lm->kind, raised[s] ? start[s] : NULL,
+                               &reach[s]))
+            return false;
+    }
+    for (int s = 0; s < 2; s++) {
+        const rf_rig_limb *lm = &limbs[leg[s]];
+        double cut = cuts[leg[s]] > 0 ? rf_rig_limb_prop_cut(reach[s], reach[1 - s]) : 0;
+        if (raised[s] && !rf_rig_limb_place_within(k, up, lm->girdle, lm->first, lm->kind, lm->lay,
+                                                   start[s], cut, lp[leg[s]], tips[leg[s]]))
+            return false;
+    }
+    return true;
 }
 
 /* The joint two raised legs hang from (g in o) moved up to their hips' height h0, h1 when it
@@ -2013,9 +2040,8 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
                     ? rf_rig_hips_at(sf, rf_v3_normalize(a->up), k, limbs, nl, laid,
                                      (const double(*)[4][3])lp, (const double(*)[3])tips, leg)
                     : NAN;
-    for (int s = 0; s < 2 && isfinite(yc) && ok; s++)
-        ok = rf_rig_legs_raise(k, rf_v3_normalize(a->up), &limbs[leg[s]], yc, cuts[leg[s]],
-                               lp[leg[s]], tips[leg[s]]);
+    if (isfinite(yc) && ok)
+        ok = rf_rig_legs_raise(k, rf_v3_normalize(a->up), limbs, leg, yc, cuts, lp, tips);
     if (ok)
         rf_rig_arms_hang_find(k, a->up, limbs, nl, laid, drop, (const double(*)[4][3])lp, &hang);
     int32_t chest = -1;

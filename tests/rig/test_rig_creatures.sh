@@ -160,6 +160,31 @@ agree=$(awk -F, 'FNR == 1 { for (k = 1; k <= NF; k++) col[$k] = k; next }
     END { print n + 0 }' "$tmp/lone.csv")
 same "$agree" 2 "dragons 7 and 11 (every leg on one girdle joint) read facing forward"
 
+# Legs pressed together (biped seed 19: its thighs touch, so the curve skeleton parts its legs
+# at the knees, one hanging from the spine's first joint above the other). Raised to the crotch,
+# each leg is cut where it reaches past its twin by their reaches from the raised starts (rig.c,
+# rf_rig_legs_raise), not from the fork, where one reached 1.4 times the other: that leg was cut
+# off at its knee, the rig was then rooted at a foot and read upside down as one leg with the
+# arms and the head for toes, and under the walk the figure stood still (direction fidelity 103
+# degrees, stretch p99 0.97). Now a leg on each side, and it walks (fidelity 14.6 on the whole
+# walk, as the other random bipeds read 1 to 21).
+mkdir -p "$tmp/pressed"
+if "$creature" --plan biped --seed 19 --obj "$tmp/pressed/biped.obj" "$tmp/pressed/biped.glb" \
+    >/dev/null; then
+    legs=$("${RF_BUILDDIR:-.}/tests/rig/rig-dump" "$tmp/pressed/biped.obj" 2>&1 >/dev/null |
+        grep -c '^analysis: \[[0-9]*\] leg side [12] ')
+    same "$legs" 2 "biped 19 (legs pressed together) as a scan: a leg on each side"
+    RIGFLOW_QUIET=1 "$rigflow" rig-bench -r rig.general --look "$walk" --look-frames 120 \
+        "$tmp/pressed/biped.glb" >"$tmp/pressed.csv" 2>"$tmp/pressed.err"
+    fid=$(awk -F, 'FNR == 1 { for (k = 1; k <= NF; k++) col[$k] = k; next }
+        { print $col["look_fidelity_mean"] }' "$tmp/pressed.csv")
+    if awk -v f="$fid" 'BEGIN { exit !(f != "" && f != "nan" && f < 30) }'; then
+        ok "biped 19 (legs pressed together) walks: direction fidelity $fid"
+    else bad "biped 19 (legs pressed together) does not follow the walk: fidelity '$fid'"; fi
+else
+    bad "creature biped 19: not made"
+fi
+
 # A dragon saved Z up (seed 12) joins the scans below: its wings spread its footprint, so it
 # stands on its feet by a margin under the bar (0.070 for 0.07) and on no other axis at all; the
 # rigger stands it on that axis alone and reads it (rig-frame.c, rf_rig_read_only_stand).
