@@ -108,6 +108,7 @@ typedef struct rf_rig_up {
     double support;     /* rf_rig_support along axis (NAN without one, or without a footprint) */
     const char *source; /* the analysis's up_source, or why there is none (static) */
     char why[200];      /* when no curve skeleton could be read: the rigger's reason, else "" */
+    bool narrow;        /* found under the standing bar by a sure reading (rf_rig_read_narrow) */
 } rf_rig_up;
 /* False when out of memory (out then holds nothing found). */
 bool rf_rig_body_up(const rf_mesh *m, const rf_rig_options *o, rf_rig_up *out);

@@ -185,6 +185,30 @@ else
     bad "creature biped 19: not made"
 fi
 
+# A biped standing with its feet together, saved Z up (biped seed 5): it stands over its lowest
+# points by 0.057 along its true up, under the bar of 0.07, and lying down by more. Its limbs
+# read +z at confidence 0.81 as the file has it, and a reading that sure (0.8 or more) along an
+# axis the body stands on by any margin over 0 is taken (rig-frame.c, rf_rig_read_narrow).
+# Before, +y was assumed and it was rigged lying (height ratio 0.50, floating 7% of its height).
+mkdir -p "$tmp/narrow"
+if "$creature" --plan biped --seed 5 --obj "$tmp/narrow/biped.obj" "$tmp/narrow/biped.glb" \
+    >"$tmp/narrow/made"; then
+    "$rigflow" run "$src/pipelines/scan-to-animation.json" -p "mesh.path=$tmp/narrow/biped.obj" \
+        -p "motion.path=$walk" -p "export.path=$tmp/narrow/walk.glb" -p retarget.last_frame=59 \
+        -p "measure.path=$tmp/narrow/measure.json" >/dev/null 2>"$tmp/narrow/err"
+    height=$(sed -n 's/.*, height \([0-9.e+-]*\)$/\1/p' "$tmp/narrow/made")
+    rigged=$(sed -n 's/.*"height": \([0-9.e+-]*\).*/\1/p' "$tmp/narrow/measure.json" 2>/dev/null)
+    ratio=$(awk -v a="$rigged" -v b="$height" 'BEGIN { printf "%.3f", a / b }')
+    if grep -q "node 'rig': info: up +z, .*a narrow stance" "$tmp/narrow/err" &&
+        awk -v r="$ratio" 'BEGIN { exit !(r >= 0.95 && r <= 1.05) }'; then
+        ok "biped 5 (feet together, Z up) found standing on +z (height ratio $ratio)"
+    else
+        bad "biped 5 (feet together, Z up): height ratio '$ratio', $(grep -m1 "node 'rig'.*up" "$tmp/narrow/err")"
+    fi
+else
+    bad "creature biped 5: not made"
+fi
+
 # A dragon saved Z up (seed 12) joins the scans below: its wings spread its footprint, so it
 # stands on its feet by a margin under the bar (0.070 for 0.07) and on no other axis at all; the
 # rigger stands it on that axis alone and reads it (rig-frame.c, rf_rig_read_only_stand).
