@@ -445,40 +445,42 @@ static void rf_rig_tally(rf_rig_votes *v, const rf_rig_up *u)
     v->sum += u->confidence;
 }
 
-/* A standing margin under the bar but over 0 is taken along an axis the body's limbs read as its
- * up with a confidence that rises, as the margin falls, from the bar's (RF_RIG_UP_CONFIDENCE at
- * a margin of RF_RIG_UP_SUPPORT) to RF_RIG_UP_SURE (at a margin of 0): a biped standing with its
- * feet together stands on a narrow footprint (random biped 5: margin 0.057, its limbs read at
- * 0.81; biped 46: 0.0699, read at 0.42), which the bar alone leaves out for the sake of bodies
- * that would topple onto a wrong axis by as little. */
+/* A standing margin under the bar, from RF_RIG_UP_NARROW, is taken along an axis the body's limbs
+ * read as its up with a confidence that rises, as the margin falls, from the bar's
+ * (RF_RIG_UP_CONFIDENCE at a margin of RF_RIG_UP_SUPPORT) to RF_RIG_UP_SURE (at a margin of 0):
+ * a biped standing with its feet together stands on a narrow footprint (random biped 5: margin
+ * 0.057, its limbs read at 0.81; biped 46: 0.0699, read at 0.42), which the bar alone leaves out
+ * for the sake of bodies that would topple onto a wrong axis by as little (the fire dragon reads
+ * its length at 0.51 by 0.044; the angelfish at 0.71 by next to none). */
 #define RF_RIG_UP_SURE 0.8
+#define RF_RIG_UP_NARROW 0.03 /* the least margin taken so: a fish lying flat balances at 0 */
 
 /* Whether reading u names an axis the body stands on by under the bar, from its limbs, as
  * surely as that margin asks (above). */
 static bool rf_rig_sure_narrow(const rf_rig_up *u)
 {
-    if (!(rf_v3_len(u->axis) > 0) || !(u->support > 0) || !(u->support < RF_RIG_UP_SUPPORT) ||
-        strcmp(u->source, "limbs") != 0)
+    if (!(rf_v3_len(u->axis) > 0) || !(u->support >= RF_RIG_UP_NARROW) ||
+        !(u->support < RF_RIG_UP_SUPPORT) || strcmp(u->source, "limbs") != 0)
         return false;
     double short_of = 1 - u->support / RF_RIG_UP_SUPPORT; /* 0 at the bar, 1 at no margin */
     return u->confidence >=
            RF_RIG_UP_CONFIDENCE + short_of * (RF_RIG_UP_SURE - RF_RIG_UP_CONFIDENCE);
 }
 
-/* The reading as the file has it (out) taken when it is sure of a narrow stand
+/* The reading as the file has it (out) taken, when as_is, if it is sure of a narrow stand
  * (rf_rig_sure_narrow); else the body stood on each axis direction other than +y it stands on by
  * under the bar, in stand[]'s order, and read: the first read standing on that axis, surely,
  * goes into out. False when out of memory. */
 static bool rf_rig_read_narrow(rf_rig_prep *p, const rf_rig_options *o, const double support[6],
-                               const int stand[5], rf_rig_up *out)
+                               const int stand[5], bool as_is, rf_rig_up *out)
 {
-    if (rf_rig_sure_narrow(out)) {
+    if (as_is && rf_rig_sure_narrow(out)) {
         out->found = out->narrow = true;
         return true;
     }
     for (int i = 0; i < 5; i++) {
         double margin = support[stand[i]];
-        if (!(margin > 0) || margin >= RF_RIG_UP_SUPPORT)
+        if (!(margin >= RF_RIG_UP_NARROW) || margin >= RF_RIG_UP_SUPPORT)
             continue;
         rf_rig_up u;
         if (!rf_rig_read_up(p, rf_rig_stand_turn(stand[i]), o, support, &u))
@@ -490,6 +492,20 @@ static bool rf_rig_read_narrow(rf_rig_prep *p, const rf_rig_options *o, const do
         }
     }
     return true;
+}
+
+/* A body that stands over its lowest points by under the bar along several axis directions and
+ * by the bar along none (a dragon saved Z up whose wings and tail spread its footprint): stood on
+ * each of them and read, an up taken only where the body stood on it reads a narrow stance on it
+ * surely (rf_rig_read_narrow); the reading as the file has it is not enough here (the fire
+ * dragon's, along its length, comes within 0.01 of the bar). False when out of memory. */
+static bool rf_rig_read_unstood(rf_rig_prep *p, const rf_rig_options *o, const double support[6],
+                                rf_rig_up *out)
+{
+    int stand[5];
+    rf_rig_stand_order(support, stand);
+    return rf_rig_read_up(p, rf_quat_identity(), o, support, out) &&
+           rf_rig_read_narrow(p, o, support, stand, false, out);
 }
 
 /* The body p stood on each axis direction other than +y it stands on (support[], in
@@ -529,7 +545,7 @@ static bool rf_rig_read_stands(rf_rig_prep *p, const rf_rig_options *o, const do
         *out = votes.best;
         out->found = true, out->confidence = votes.sum;
     } else if (!other.found && !votes.split) /* the readings that stand do not disagree */
-        return rf_rig_read_narrow(p, o, support, stand, out);
+        return rf_rig_read_narrow(p, o, support, stand, true, out);
     return true;
 }
 
@@ -561,7 +577,8 @@ static bool rf_rig_read_only_stand(rf_rig_prep *p, const rf_rig_options *o, cons
  * stands on (rf_rig_support), so the standing margin along each of the six is measured first,
  * and no curve skeleton is grown for the body stood on one it does not stand on, nor at all
  * when it stands on none; but a body that stands by under the bar on one axis alone is stood
- * and read on that one (rf_rig_read_only_stand). */
+ * and read on that one (rf_rig_read_only_stand), and on several, on each (rf_rig_read_unstood);
+ * when nothing else finds an up, a narrow stance read surely is taken (rf_rig_read_narrow). */
 bool rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out)
 {
     memset(out, 0, sizeof *out);
@@ -577,7 +594,7 @@ bool rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out
         if (support[i] > 0)
             only = i, over++;
     }
-    if (!stands && over != 1) {
+    if (!stands && !over) {
         out->source = "no axis to stand on";
         snprintf(out->why, sizeof out->why,
                  "it stands over its lowest points along none of the file's axes");
@@ -595,7 +612,8 @@ bool rf_rig_body_up(const rf_mesh *m, const rf_rig_options *opts, rf_rig_up *out
     }
     bool ok = stands ? rf_rig_read_up(&p, rf_quat_identity(), &o, support, out) &&
                            (out->found || rf_rig_read_stands(&p, &o, support, out))
-                     : rf_rig_read_only_stand(&p, &o, support, only, out);
+              : over == 1 ? rf_rig_read_only_stand(&p, &o, support, only, out)
+                          : rf_rig_read_unstood(&p, &o, support, out);
     rf_rig_prep_free(&p);
     return ok;
 }

@@ -187,8 +187,9 @@ fi
 
 # A biped standing with its feet together, saved Z up (biped seed 5): it stands over its lowest
 # points by 0.057 along its true up, under the bar of 0.07, and lying down by more. Its limbs
-# read +z at confidence 0.81 as the file has it, and a reading that sure (0.8 or more) along an
-# axis the body stands on by any margin over 0 is taken (rig-frame.c, rf_rig_read_narrow).
+# read +z at confidence 0.81 as the file has it, and a reading from the limbs as sure as its
+# margin asks (0.43 at 0.057: the bar rises from 0.35 at a margin of 0.07 to 0.8 at none), along
+# an axis stood on by 0.03 or more, is taken (rig-frame.c, rf_rig_read_narrow).
 # Before, +y was assumed and it was rigged lying (height ratio 0.50, floating 7% of its height).
 mkdir -p "$tmp/narrow"
 if "$creature" --plan biped --seed 5 --obj "$tmp/narrow/biped.obj" "$tmp/narrow/biped.glb" \
@@ -207,6 +208,21 @@ if "$creature" --plan biped --seed 5 --obj "$tmp/narrow/biped.obj" "$tmp/narrow/
     fi
 else
     bad "creature biped 5: not made"
+fi
+
+# A dragon saved Z up whose wings and tail spread its footprint (seed 26) stands over its lowest
+# points by under the bar along several axes and by the bar along none: stood on each and read,
+# it is taken where, stood on it, its limbs read it surely (rig-frame.c, rf_rig_read_unstood).
+# Before, no curve skeleton was read at all ("no axis to stand on") and it was rigged lying.
+if "$creature" --plan dragon --seed 26 --obj "$tmp/narrow/dragon.obj" "$tmp/narrow/dragon.glb" \
+    >/dev/null; then
+    "$rigflow" run "$src/pipelines/autorig.json" -p "mesh.path=$tmp/narrow/dragon.obj" \
+        -p "export.path=$tmp/narrow/dragon-rig.glb" >/dev/null 2>"$tmp/narrow/dragon.err"
+    if grep -q "node 'rig': info: up +z, .*a narrow stance" "$tmp/narrow/dragon.err"; then
+        ok "dragon 26 (Z up, wings spread) found standing on +z"
+    else bad "dragon 26 (Z up, wings spread): $(grep -m1 "node 'rig'.*up" "$tmp/narrow/dragon.err")"; fi
+else
+    bad "creature dragon 26: not made"
 fi
 
 # A dragon saved Z up (seed 12) joins the scans below: its wings spread its footprint, so it
