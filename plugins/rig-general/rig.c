@@ -467,7 +467,30 @@ static bool rf_rig_chain_paired(const rf_rig_skel *k, const uint32_t *kids, cons
     return false;
 }
 
-#define RF_RIG_MIDDLE_OFF 4.0 /* voxels: how far off the mirror plane a middle chain may lie */
+#define RF_RIG_MIDDLE_OFF 4.0  /* voxels: how far off the mirror plane a middle chain may lie */
+#define RF_RIG_MIDDLE_BOW 0.25 /* of its span: how far a chain between middles may stray */
+
+/* Whether the chain ending at junction j (from the joint after the junction or root above it)
+ * runs from the body's middle to its middle: both junctions within RF_RIG_MIDDLE_OFF voxels of
+ * the mirror plane, and none of its joints further off than RF_RIG_MIDDLE_BOW of the span
+ * between them. Such a chain is the spine or the neck, however its band pieces strayed: random
+ * biped 8's waist, pulled five voxels towards one thigh, left the trunk from the hips sideways
+ * and the skeleton analysis read it as an arm, its arms and head as fingers. Offsets all under
+ * a voxel are the grid's own and stay. */
+static bool rf_rig_between_middles(const rf_rig_skel *k, const uint32_t *kids,
+                                   const double mirror[4], double h, uint32_t j)
+{
+    uint32_t top = rf_rig_chain_top(k, kids, j), from = (uint32_t)k->parent[top];
+    const double *a = k->pos + (size_t)from * 3, *b = k->pos + (size_t)j * 3;
+    if (fabs(rf_rig_plane_off(mirror, a)) > RF_RIG_MIDDLE_OFF * h ||
+        fabs(rf_rig_plane_off(mirror, b)) > RF_RIG_MIDDLE_OFF * h)
+        return false;
+    double span = rf_v3_len(rf_v3_sub(rf_v3(b[0], b[1], b[2]), rf_v3(a[0], a[1], a[2])));
+    double most = fabs(rf_rig_plane_off(mirror, b));
+    for (uint32_t i = (uint32_t)k->parent[j]; i != from; i = (uint32_t)k->parent[i])
+        most = fmax(most, fabs(rf_rig_plane_off(mirror, k->pos + (size_t)i * 3)));
+    return most >= h && most <= RF_RIG_MIDDLE_BOW * span; /* under a voxel: the grid's own */
+}
 
 /* A chain of k (from the joint after a junction, or the root, down to a leaf) without a mirror
  * image, lying within four voxels of the body's mirror plane (h: a voxel's size) and a voxel or
@@ -508,6 +531,13 @@ static bool rf_rig_on_plane(rf_rig_skel *k, const double mirror[4], double h)
                 break;
         }
     }
+    for (uint32_t j = 0; j < k->n; j++)
+        if (kids[j] >= 2 && k->parent[j] >= 0 && rf_rig_between_middles(k, kids, mirror, h, j))
+            for (uint32_t i = j;; i = (uint32_t)k->parent[i]) {
+                move[i] = 1;
+                if (i == rf_rig_chain_top(k, kids, j))
+                    break;
+            }
     for (uint32_t j = 0; j < k->n; j++) {
         if (!move[j])
             continue;
