@@ -707,12 +707,13 @@ static bool rt_alloc_frame(rf_retarget *rt)
  * rest turns, so it moves whole from its root; a human's arm bends at the elbow and the wrist,
  * and laid on such a limb those bends fold it through the floor and fan the pieces of its
  * membrane apart. Human arms reach 0.4 to 0.8 times their shoulders' height, legs about 1, a
- * bird's folded wings 2, the wings of the random dragons (bench/creatures.sh) 1.9 to 2.7 and
+ * bird's folded wings 2, the wings of the random dragons (bench/creatures.sh) 1.54 to 2.9 and
  * the shared dragons' 3 to 3.6. A limb clear of the floor at rest (rt_limb_clear: a wing) is
- * held from RT_HANG_CLEAR; one reaching down to the floor (a bull frog's splayed legs, 1.6 to
- * 1.7, driven by arms: its feet) only from RT_HANG (the bat's legs, 5). */
+ * held from RT_HANG_CLEAR (the owl's wings and greenman's long arm, 1.37, are not); one reaching
+ * down to the floor (a bull frog's splayed legs, 1.6 to 1.7, driven by arms: its feet) only
+ * from RT_HANG (the bat's legs, 5). */
 #define RT_HANG 2.5
-#define RT_HANG_CLEAR 1.6
+#define RT_HANG_CLEAR 1.5
 
 /* Whether the limb from joint r stands clear of the floor at rest: its joints and bone tips past
  * r all over a quarter of r's height over the rest's lowest point `low` (a wing spread at the

@@ -2194,12 +2194,97 @@ static bool rf_rig_limbs(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opti
     return ok;
 }
 
+/* The girdle of a body's front legs: of its pairs of legs' girdles, the one furthest along
+ * `facing` and the one nearest the head's first joint, when both cues name the same one (a
+ * glTF declares +Z forward whichever way the body faces; the analysis may read a tail as the
+ * head); -1 when they differ, or for a body with no head, no facing or under four legs. The
+ * longest leg's length into *leg_len. */
+static int32_t rf_rig_front_girdle(const rf_rig_skel *k, const rf_analysis *a, rf_vec3 facing,
+                                   double *leg_len)
+{
+    uint32_t legs = 0;
+    int32_t ahead = -1, near = -1, head = -1;
+    double best = INFINITY;
+    *leg_len = 0;
+    for (uint32_t s = 0; s < a->section_count && head < 0; s++)
+        if (a->sections[s].type == RF_SECTION_HEAD && a->sections[s].bone_count)
+            head = (int32_t)rf_section_joints(a, s)[0];
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        const rf_section *sec = &a->sections[s];
+        if (sec->type != RF_SECTION_LEG || sec->side == RF_SIDE_CENTER)
+            continue;
+        legs++, *leg_len = fmax(*leg_len, sec->length);
+        uint32_t g = rf_rig_girdle_of(k, a, s);
+        const double *q = k->pos + (size_t)g * 3;
+        if (sec->mirror < 0)
+            continue;
+        if (ahead < 0 || rf_rig_along(q, facing) > rf_rig_along(k->pos + (size_t)ahead * 3, facing))
+            ahead = (int32_t)g;
+        const double *h = head >= 0 ? k->pos + (size_t)head * 3 : q;
+        double d = rf_v3_dist(rf_v3(q[0], q[1], q[2]), rf_v3(h[0], h[1], h[2]));
+        if (head >= 0 && d < best)
+            best = d, near = (int32_t)g;
+    }
+    return legs >= 4 && rf_v3_len(facing) > 0 && ahead == near ? ahead : -1;
+}
+
+/* A pair of wings (arms) on a body of four or more legs, which the limb layouts leave as the
+ * curve skeleton has them, hangs from the girdle of the front legs, the shoulders, as wings do
+ * (rf_rig_front_girdle): the curve skeleton's bands meet a wing where its membrane reaches the
+ * body, which may be the hips' joint (random dragon seed 16's wings hung from its hips), and
+ * the skeleton analysis then read them as limbs of the hind girdle and the matcher drove them
+ * by the walk's legs, their membranes swinging down through the walk. False when out of
+ * memory. */
+static bool rf_rig_wings_hang(rf_rig_skel *k, const rf_analysis *a, rf_vec3 facing)
+{
+    double leg_len;
+    int32_t front = rf_rig_front_girdle(k, a, facing, &leg_len);
+    if (front < 0)
+        return true;
+    for (uint32_t s = 0; s < a->section_count; s++) {
+        const rf_section *sec = &a->sections[s];
+        if (sec->type != RF_SECTION_ARM || sec->mirror <= (int32_t)s || !sec->bone_count ||
+            (sec->flags & RF_SECFL_FAN) || !a->sections[sec->mirror].bone_count ||
+            !rf_rig_is_wing(RF_RIG_LIMB_ARM, sec->length, leg_len))
+            continue; /* ears, horns, spikes: wings reach far past the legs */
+        uint32_t f[2] = {rf_section_joints(a, s)[0],
+                         rf_section_joints(a, (uint32_t)sec->mirror)[0]};
+        int32_t g = k->parent[f[0]];
+        /* already on the front girdle, or holding it (no loop is made) */
+        if (g < 0 || k->parent[f[1]] != g || g == front || rf_rig_below(k, (uint32_t)front, f[0]) ||
+            rf_rig_below(k, (uint32_t)front, f[1]))
+            continue;
+        k->parent[f[0]] = k->parent[f[1]] = front;
+        uint32_t root = 0;
+        while (k->parent[root] >= 0)
+            root = (uint32_t)k->parent[root];
+        return rf_rig_reroot(k, root); /* parents first again; one pair of wings a body */
+    }
+    return true;
+}
+
+/* rf_rig_wings_hang on k as the skeleton analysis reads it, the declared up as fact (as the
+ * limbs are read to be laid). False when out of memory. */
+static bool rf_rig_wings_placed(rf_rig_skel *k, const rf_rig_options *o)
+{
+    rf_skeleton *s = rf_rig_skeleton(k, NULL);
+    if (!s)
+        return false;
+    s->up = o->up, s->forward = o->forward;
+    rf_analysis_options ao = {.up = o->up};
+    rf_analysis *a = rf_analyze(s, &ao);
+    bool ok = a && rf_rig_wings_hang(k, a, rf_v3_len(o->forward) > 0 ? o->forward : o->facing);
+    rf_analysis_free(a);
+    rf_skeleton_free(s);
+    return ok;
+}
+
 bool rf_rig_general_place(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o,
                           const rf_rig_tpl_layout *humanoid, const rf_rig_tpl_layout *quadruped)
 {
     const rf_rig_tpl_layout *const lay[2] = {humanoid ? humanoid : &rf_rig_tpl_humanoid,
                                              quadruped ? quadruped : &rf_rig_tpl_quadruped};
-    if (!rf_rig_limbs(p, k, o, lay))
+    if (!rf_rig_limbs(p, k, o, lay) || !rf_rig_wings_placed(k, o))
         return false;
     if (!rf_rig_dorsal(p, k, o) || !rf_rig_neck(p, k, o) || !rf_rig_head_whole(p, k, o))
         return false;

@@ -487,7 +487,7 @@ static rf_skeleton *winged(double left, double right)
     return s;
 }
 
-/* A limb clear of the floor that reaches more than 1.6 times its shoulder's height (a wing) is
+/* A limb clear of the floor that reaches more than 1.5 times its shoulder's height (a wing) is
  * held whole: its elbow and wrist keep their rest turns, and the source's arm swings it without
  * its twist, no farther than its reach allows. Wings of 1.45 + 1.45 + 0.1 reach 3.0 from
  * shoulders 1.5 over the floor, twice: their swing is eased into asin(1 / 2) = 30 degrees.
@@ -514,6 +514,35 @@ static void wing_swings_whole(void **state)
     print_message("wing: dropped %.4f degrees, turned about itself %.4f\n", drop, across);
     assert_true(fabs(drop - 30 * tanh(80.0 / 30)) < 1e-3);
     assert_true(across < 1e-3);
+    for (uint32_t j = 10; j < 12; j++)
+        assert_true(rot_diff(local_rot(r.out, 1, j), tgt->joints[j].rest.r) < 1e-6);
+    run_free(&r);
+    rf_mapping_free(m), rf_animation_free(clip), rf_skeleton_free(src), rf_skeleton_free(tgt);
+}
+
+/* A wing reaching 1.55 times its shoulder's height is held whole as well (random dragon seed
+ * 16's auto-rigged wings reach 1.54 and 1.55): wings of 1.1125 + 1.1125 + 0.1 reach 2.325 from
+ * shoulders 1.5 over the floor. By hand its swing under the 80-degree arm is eased into
+ * asin(1 / 1.55) = 40.18 degrees: it drops 40.18 tanh(80 / 40.18) = 38.71 degrees, its elbow and
+ * wrist at their rest turns. Under a bar of 1.6 it was driven as an arm and dropped the arm's
+ * 80 degrees with the elbow turning. */
+static void wing_held_from_one_and_a_half(void **state)
+{
+    (void)state;
+    rf_skeleton *src = biped_arms(), *tgt = winged(1.1125, 1.1125);
+    rf_animation *clip = fx_rest_clip(src, 2, 10);
+    rf_animation_set_rotation(clip, 1, 9, fx_rot(Z, -80));
+    rf_mapping *m = fx_mapping(15, 1);
+    fx_map_same(m, 15);
+    rf_retarget_options o = opts();
+    run r = do_run(src, clip, tgt, m, &o);
+    rf_xform w[15];
+    fx_world(tgt, r.out, 1, w);
+    double drop = fx_angle(rf_v3_sub(w[11].t, w[9].t), Y) - 90;
+    double limit = asin(1 / 1.55) * 180 / RF_PI;
+    print_message("a 1.55-times wing: dropped %.4f degrees (by hand %.4f)\n", drop,
+                  limit * tanh(80 / limit));
+    assert_true(fabs(drop - limit * tanh(80 / limit)) < 1e-3);
     for (uint32_t j = 10; j < 12; j++)
         assert_true(rot_diff(local_rot(r.out, 1, j), tgt->joints[j].rest.r) < 1e-6);
     run_free(&r);
@@ -1949,6 +1978,7 @@ int main(void)
         cmocka_unit_test(mesh_floor_without_number),
         cmocka_unit_test(lying_rest_keeps_arms),
         cmocka_unit_test(wing_swings_whole),
+        cmocka_unit_test(wing_held_from_one_and_a_half),
         cmocka_unit_test(trunk_standing_body_eases_lean),
     };
     return cmocka_run_group_tests_name("retarget", tests, NULL, NULL);
