@@ -2197,10 +2197,11 @@ static bool rf_rig_limbs(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_opti
 /* The girdle of a body's front legs: of its pairs of legs' girdles, the one furthest along
  * `facing` and the one nearest the head's first joint, when both cues name the same one (a
  * glTF declares +Z forward whichever way the body faces; the analysis may read a tail as the
- * head); -1 when they differ, or for a body with no head, no facing or under four legs. The
- * longest leg's length into *leg_len. */
+ * head); for a body with no head (random dragon 12's curve skeleton ends at its chest), the
+ * facing's alone when it was read from the body (`read`: no forward declared). -1 when they
+ * differ, or for no facing or under four legs. The longest leg's length into *leg_len. */
 static int32_t rf_rig_front_girdle(const rf_rig_skel *k, const rf_analysis *a, rf_vec3 facing,
-                                   double *leg_len)
+                                   bool read, double *leg_len)
 {
     uint32_t legs = 0;
     int32_t ahead = -1, near = -1, head = -1;
@@ -2225,7 +2226,9 @@ static int32_t rf_rig_front_girdle(const rf_rig_skel *k, const rf_analysis *a, r
         if (head >= 0 && d < best)
             best = d, near = (int32_t)g;
     }
-    return legs >= 4 && rf_v3_len(facing) > 0 && ahead == near ? ahead : -1;
+    if (legs < 4 || !(rf_v3_len(facing) > 0))
+        return -1;
+    return head >= 0 ? (ahead == near ? ahead : -1) : read ? ahead : -1;
 }
 
 /* A pair of wings (arms) on a body of four or more legs, which the limb layouts leave as the
@@ -2235,10 +2238,10 @@ static int32_t rf_rig_front_girdle(const rf_rig_skel *k, const rf_analysis *a, r
  * the skeleton analysis then read them as limbs of the hind girdle and the matcher drove them
  * by the walk's legs, their membranes swinging down through the walk. False when out of
  * memory. */
-static bool rf_rig_wings_hang(rf_rig_skel *k, const rf_analysis *a, rf_vec3 facing)
+static bool rf_rig_wings_hang(rf_rig_skel *k, const rf_analysis *a, rf_vec3 facing, bool read)
 {
     double leg_len;
-    int32_t front = rf_rig_front_girdle(k, a, facing, &leg_len);
+    int32_t front = rf_rig_front_girdle(k, a, facing, read, &leg_len);
     if (front < 0)
         return true;
     for (uint32_t s = 0; s < a->section_count; s++) {
@@ -2273,7 +2276,8 @@ static bool rf_rig_wings_placed(rf_rig_skel *k, const rf_rig_options *o)
     s->up = o->up, s->forward = o->forward;
     rf_analysis_options ao = {.up = o->up};
     rf_analysis *a = rf_analyze(s, &ao);
-    bool ok = a && rf_rig_wings_hang(k, a, rf_v3_len(o->forward) > 0 ? o->forward : o->facing);
+    bool declared = rf_v3_len(o->forward) > 0;
+    bool ok = a && rf_rig_wings_hang(k, a, declared ? o->forward : o->facing, !declared);
     rf_analysis_free(a);
     rf_skeleton_free(s);
     return ok;

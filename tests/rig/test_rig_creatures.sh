@@ -216,8 +216,9 @@ fi
 # analysis read them as limbs of the hind girdle, and the matcher drove them by the walk's legs,
 # their membranes swinging down through the walk (6 of the 20 dragons of seeds 1 to 20). A pair
 # of wings on a body of four legs now hangs from the front legs' girdle, the shoulders, where the
-# facing and the head agree which girdle that is (rig.c, rf_rig_wings_hang): the walk's arms
-# drive the wings of 18 of the 20 (dragon 12 shows no head, dragon 20's tail reads as its head).
+# facing and the head agree which girdle that is, or by the facing read from the body where no
+# head shows (rig.c, rf_rig_wings_hang): the walk's arms drive the wings of 19 of the 20 (dragon
+# 20's tail reads as its head), and of 19 of seeds 21 to 40 (16 before).
 # The mapping the scan's pipeline makes is written out (mapping.write) and read here by the
 # walk's joint names.
 printf '%s\n' '{ "format": "rigflow.pipeline", "version": 1, "nodes": [' \
