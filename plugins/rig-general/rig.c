@@ -531,13 +531,13 @@ static bool rf_rig_on_plane(rf_rig_skel *k, const double mirror[4], double h)
                 break;
         }
     }
-    for (uint32_t j = 0; j < k->n; j++)
-        if (kids[j] >= 2 && k->parent[j] >= 0 && rf_rig_between_middles(k, kids, mirror, h, j))
-            for (uint32_t i = j;; i = (uint32_t)k->parent[i]) {
-                move[i] = 1;
-                if (i == rf_rig_chain_top(k, kids, j))
-                    break;
-            }
+    for (uint32_t j = 0; j < k->n; j++) {
+        if (kids[j] < 2 || k->parent[j] < 0 || !rf_rig_between_middles(k, kids, mirror, h, j))
+            continue;
+        uint32_t top = rf_rig_chain_top(k, kids, j);
+        for (uint32_t i = j; i != (uint32_t)k->parent[top]; i = (uint32_t)k->parent[i])
+            move[i] = 1;
+    }
     for (uint32_t j = 0; j < k->n; j++) {
         if (!move[j])
             continue;
@@ -1880,6 +1880,11 @@ static bool rf_rig_legs_raise(const rf_rig_skel *k, rf_vec3 up, const rf_rig_lim
     for (int s = 0; s < 2; s++) {
         const rf_rig_limb *lm = &limbs[leg[s]];
         raised[s] = rf_rig_legs_start(k, up, lm, yc, lp[leg[s]], tips[leg[s]], start[s]);
+    }
+    if (!raised[0] && !raised[1])
+        return true; /* nothing laid again: no reach to measure */
+    for (int s = 0; s < 2; s++) {
+        const rf_rig_limb *lm = &limbs[leg[s]];
         if (!rf_rig_limb_reach(k, up, lm->girdle, lm->first, lm->kind, raised[s] ? start[s] : NULL,
                                &reach[s]))
             return false;
@@ -2159,34 +2164,42 @@ static bool rf_rig_stalks_cut(rf_rig_skel *k, const rf_analysis *a, uint32_t *cu
  * template's fitted layouts), not into even bones: a knee at the leg's bend, the hip joint a
  * little into the leg, one bone for the hand and its fingers. The rest of the curve skeleton
  * (spine, neck, tail, fins, a spider's legs) keeps its even bones. False when out of memory. */
+/* k as the skeleton analysis reads it for laying limbs, its skeleton into *s (the caller frees
+ * both; NULL when out of memory). The file's axes go as hints, and the declared up as fact, not
+ * as a hint: the mesh stands on it (the rig's frame has it as y). As a hint it is one vote among
+ * the limbs' own, and a pair of wings spread level, sweeping forward a little, outvoted the fire
+ * dragon's short legs: the wings were laid as legs and the legs as nothing. Without a declared
+ * up the analysis reads it from the limbs. */
+static rf_analysis *rf_rig_read_laid(const rf_rig_skel *k, const rf_rig_options *o, rf_skeleton **s)
+{
+    *s = rf_rig_skeleton(k, NULL);
+    if (!*s)
+        return NULL;
+    (*s)->up = o->up, (*s)->forward = o->forward;
+    rf_analysis_options ao = {.up = o->up};
+    return rf_analyze(*s, &ao);
+}
+
+/* The way the body faces: the file's declared forward, else the one the rigger read. */
+static rf_vec3 rf_rig_facing_of(const rf_rig_options *o)
+{
+    return rf_v3_len(o->forward) > 0 ? o->forward : o->facing;
+}
+
 static bool rf_rig_limbs(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o,
                          const rf_rig_tpl_layout *const lay[2])
 {
-    rf_skeleton *s = rf_rig_skeleton(k, NULL);
-    if (!s)
-        return false;
-    s->up = o->up, s->forward = o->forward; /* hints, as a file's axes are */
-    /* Which limbs are legs is read with the declared up as fact, not as a hint: the mesh stands
-     * on it (the rig's frame has it as y). As a hint it is one vote among the limbs' own, and a
-     * pair of wings spread level, sweeping forward a little, outvoted the fire dragon's short
-     * legs: the wings were laid as legs and the legs as nothing. Without a declared up the
-     * analysis reads it from the limbs as before. */
-    rf_analysis_options ao = {.up = o->up};
-    rf_analysis *a = rf_analyze(s, &ao);
+    rf_skeleton *s;
+    rf_analysis *a = rf_rig_read_laid(k, o, &s);
     uint32_t cut = 0;
     bool ok = a && rf_rig_stalks_cut(k, a, &cut);
     if (ok && cut) { /* read again without them */
         rf_analysis_free(a), rf_skeleton_free(s);
-        s = rf_rig_skeleton(k, NULL);
-        a = NULL;
-        if (s)
-            s->up = o->up, s->forward = o->forward, a = rf_analyze(s, &ao);
+        a = rf_rig_read_laid(k, o, &s);
         ok = a != NULL;
     }
     rf_rig_limb limbs[RF_RIG_MAX_LIMBS];
-    uint32_t nl = ok ? rf_rig_limbs_found(k, a, rf_v3_len(o->forward) > 0 ? o->forward : o->facing,
-                                          lay, limbs)
-                     : 0;
+    uint32_t nl = ok ? rf_rig_limbs_found(k, a, rf_rig_facing_of(o), lay, limbs) : 0;
     if (ok && nl)
         ok = rf_rig_relay(p, k, a, limbs, nl);
     rf_analysis_free(a);
@@ -2221,9 +2234,11 @@ static int32_t rf_rig_front_girdle(const rf_rig_skel *k, const rf_analysis *a, r
             continue;
         if (ahead < 0 || rf_rig_along(q, facing) > rf_rig_along(k->pos + (size_t)ahead * 3, facing))
             ahead = (int32_t)g;
-        const double *h = head >= 0 ? k->pos + (size_t)head * 3 : q;
+        if (head < 0)
+            continue;
+        const double *h = k->pos + (size_t)head * 3;
         double d = rf_v3_dist(rf_v3(q[0], q[1], q[2]), rf_v3(h[0], h[1], h[2]));
-        if (head >= 0 && d < best)
+        if (d < best)
             best = d, near = (int32_t)g;
     }
     if (legs < 4 || !(rf_v3_len(facing) > 0))
@@ -2258,10 +2273,7 @@ static bool rf_rig_wings_hang(rf_rig_skel *k, const rf_analysis *a, rf_vec3 faci
             rf_rig_below(k, (uint32_t)front, f[1]))
             continue;
         k->parent[f[0]] = k->parent[f[1]] = front;
-        uint32_t root = 0;
-        while (k->parent[root] >= 0)
-            root = (uint32_t)k->parent[root];
-        return rf_rig_reroot(k, root); /* parents first again; one pair of wings a body */
+        return rf_rig_reroot(k, 0); /* parents first again (the root is joint 0); one pair */
     }
     return true;
 }
@@ -2270,14 +2282,9 @@ static bool rf_rig_wings_hang(rf_rig_skel *k, const rf_analysis *a, rf_vec3 faci
  * limbs are read to be laid). False when out of memory. */
 static bool rf_rig_wings_placed(rf_rig_skel *k, const rf_rig_options *o)
 {
-    rf_skeleton *s = rf_rig_skeleton(k, NULL);
-    if (!s)
-        return false;
-    s->up = o->up, s->forward = o->forward;
-    rf_analysis_options ao = {.up = o->up};
-    rf_analysis *a = rf_analyze(s, &ao);
-    bool declared = rf_v3_len(o->forward) > 0;
-    bool ok = a && rf_rig_wings_hang(k, a, declared ? o->forward : o->facing, !declared);
+    rf_skeleton *s;
+    rf_analysis *a = rf_rig_read_laid(k, o, &s);
+    bool ok = a && rf_rig_wings_hang(k, a, rf_rig_facing_of(o), !(rf_v3_len(o->forward) > 0));
     rf_analysis_free(a);
     rf_skeleton_free(s);
     return ok;
