@@ -13,7 +13,8 @@ plugins_rig_general_librigauto_la_SOURCES = \
 	plugins/rig-general/rig-heat.c \
 	plugins/rig-general/rig-place.c \
 	plugins/rig-general/rig-frame.c \
-	plugins/rig-general/rig-template.c
+	plugins/rig-general/rig-template.c \
+	plugins/rig-general/rig-foot.c
 plugins_rig_general_librigauto_la_LIBADD = $(CHOLMOD_LIBS) $(EMBREE_LIBS) $(MESHOPT_LIBS) -lm
 
 plugins_LTLIBRARIES += plugins/rig-general.la

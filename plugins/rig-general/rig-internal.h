@@ -299,6 +299,25 @@ bool rf_rig_is_wing(rf_rig_limb_kind kind, double reach, double legs);
 /* Layout l into out, a wing's elbow and wrist in it when `wing` (rig.c, RF_RIG_WING_WRIST). */
 void rf_rig_wing_layout(const rf_rig_tpl_layout *l, bool wing, rf_rig_tpl_layout *out);
 
+#define RF_RIG_MAX_LIMBS 16 /* limbs laid out again in one rig */
+
+/* The limbs of a rig as laid (rig.c, rf_rig_relay), for rf_rig_feet_soles: n limbs, each's
+ * four joints (hip, knee, ankle, toe) and the tip of its last bone. */
+typedef struct rf_rig_feet {
+    uint32_t n;
+    double (*pos)[4][3];
+    double (*tip)[3];
+    const uint8_t *leg;    /* [n] limb i is a laid leg of a biped's layout */
+    const int32_t *mirror; /* [n] its mirror image's index, or -1 */
+} rf_rig_feet;
+
+/* Each leg of f whose sole (the surface of proxy g under its ankle, nearer it than any other
+ * leg's ankle) reaches well forward of where the leg stands on it and little behind has its toe
+ * joint moved to the ball of that foot, its tip to the toes and a low ankle (not a hock) onto
+ * the foot over where the leg stands; a pair alike, and not when its toe bones already lie along
+ * their feet (rig-foot.c). Returns how many legs were laid so. */
+uint32_t rf_rig_feet_soles(const rf_rig_geo *g, rf_vec3 up, rf_rig_feet *f);
+
 /* An arm laid from girdle point g (pos: clavicle, upper arm, elbow, hand, by layout l) that hangs
  * beside the trunk gets its clavicle, upper arm and elbow moved to where the trunk's width across
  * the body says the shoulder is (rays on surface sf; longest: the mesh's longest edge); an arm

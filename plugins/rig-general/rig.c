@@ -1497,7 +1497,6 @@ static bool rf_rig_root_low(const rf_rig_prep *p, rf_rig_skel *k, rf_vec3 up)
 
 /* ---- limbs cut as artists cut them ---- */
 
-#define RF_RIG_MAX_LIMBS 16
 /* An arm whose curve reaches more than this many times as far as the longest laid leg's is a
  * wing (the bat's, bird's, owl's and the dragons' 2.3 to 5.6 times; a human's arm, the Wizard's
  * and RobotExpressive's, 1.36 and 1.47). A wing's bones run along its leading edge, the
@@ -1999,6 +1998,25 @@ static void rf_rig_laid_find(const rf_rig_skel *k, const rf_rig_limb *limbs, uin
     }
 }
 
+/* The laid legs' feet read from their soles (rf_rig_feet_soles): every laid limb but the arms
+ * and wings, each paired with its mirror image. */
+static void rf_rig_feet_laid(const rf_rig_prep *p, rf_vec3 up, const rf_rig_limb *limbs,
+                             uint32_t nl, const uint8_t *laid, const uint8_t *is_wing,
+                             double (*lp)[4][3], double (*tips)[3])
+{
+    uint8_t leg[RF_RIG_MAX_LIMBS] = {0};
+    int32_t mirror[RF_RIG_MAX_LIMBS];
+    for (uint32_t i = 0; i < nl; i++) {
+        leg[i] = laid[i] && limbs[i].kind == RF_RIG_LIMB_LEG && !is_wing[i];
+        mirror[i] = -1;
+        for (uint32_t m = 0; m < nl; m++)
+            if (m != i && laid[m] && limbs[m].sec == limbs[i].mirror)
+                mirror[i] = (int32_t)m;
+    }
+    rf_rig_feet f = {.n = nl, .pos = lp, .tip = tips, .leg = leg, .mirror = mirror};
+    rf_rig_feet_soles(&p->proxy, up, &f);
+}
+
 /* k with each limb's joints (its first joint and all below it) replaced by the four its layout
  * places along the limb's curve, hanging from its girdle (or from a chest joint put on the
  * trunk where a pair of arms leaves it, rf_rig_arms_hang_find). Limbs inside another limb, or
@@ -2077,6 +2095,8 @@ static bool rf_rig_relay(const rf_rig_prep *p, rf_rig_skel *k, const rf_analysis
                     : NAN;
     if (isfinite(yc) && ok)
         ok = rf_rig_legs_raise(k, rf_v3_normalize(a->up), limbs, leg, yc, cuts, lp, tips);
+    if (ok && p)
+        rf_rig_feet_laid(p, a->up, limbs, nl, laid, is_wing, lp, tips);
     if (ok)
         rf_rig_arms_hang_find(k, a->up, limbs, nl, laid, drop, (const double(*)[4][3])lp, &hang);
     int32_t chest = -1;
