@@ -770,33 +770,23 @@ static void rf_tpl_lay_pair(rf_tpl_ctx *x, const int32_t sec[2], int swap, uint3
             return;
         }
     }
-    double pos[2][4][3], tip[2][3];
     for (int s = 0; s < 2; s++) {
-        double cut = rf_rig_limb_prop_cut(reach[s], reach[1 - s]);
+        double pos[4][3], tip[3], cut = rf_rig_limb_prop_cut(reach[s], reach[1 - s]);
         rf_rig_tpl_layout lay; /* a wing: elbow and wrist where wings have them */
         rf_rig_wing_layout(x->lay, rf_rig_is_wing(kind, cut > 0 ? cut : reach[s], x->legs), &lay);
         if (!rf_rig_limb_place_within(x->k, x->a->up, girdle, first[s], kind, &lay, start[s], cut,
-                                      pos[s], tip[s])) {
+                                      pos, tip)) {
             x->oom = true;
             return;
         }
         if (kind == RF_RIG_LIMB_ARM && x->sf)
             rf_rig_shoulder(x->sf, x->p->longest, rf_v3_normalize(x->a->up),
-                            start[s] ? start[s] : x->k->pos + (size_t)girdle * 3, &lay, pos[s]);
-    }
-    if (kind == RF_RIG_LIMB_LEG && x->p) { /* the general rigger's feet (rig-foot.c) */
-        static const uint8_t both[2] = {1, 1};
-        static const int32_t twin[2] = {1, 0};
-        rf_rig_feet f = {.n = 2, .pos = pos, .tip = tip, .leg = both, .mirror = twin};
-        rf_rig_feet_soles(&x->p->proxy, x->a->up, &f);
-    }
-    for (int s = 0; s < 2; s++) {
+                            start[s] ? start[s] : x->k->pos + (size_t)girdle * 3, &lay, pos);
         char nb[24];
         int32_t j = parent;
         for (int i = 0; i < 4; i++)
-            j = rf_tpl_joint(x->t, rf_tpl_sided(nb, s ^ swap, is_leg ? leg[i] : arm[i]), j,
-                             pos[s][i]);
-        rf_tpl_tip(x->t, j, tip[s]);
+            j = rf_tpl_joint(x->t, rf_tpl_sided(nb, s ^ swap, is_leg ? leg[i] : arm[i]), j, pos[i]);
+        rf_tpl_tip(x->t, j, tip);
     }
 }
 
