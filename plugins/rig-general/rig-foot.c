@@ -20,7 +20,7 @@ typedef struct rf_rig_sole {
     rf_vec3 column;    /* where the leg stands on the sole, along the floor (up's part 0) */
     rf_vec3 ball, tip; /* where the toe joint and the toe bone's tip go */
     double instep;     /* the foot's top over the ball: a low ankle no higher than this */
-    double hock;       /* an ankle higher than this is a hock, kept where it is */
+    double hock;       /* an ankle higher than this is a hock: its foot is left as laid */
 } rf_rig_sole;
 
 #define RF_RIG_SOLE_BAND 0.1   /* of the leg's height: the sole, over the lowest surface */
@@ -166,22 +166,28 @@ uint32_t rf_rig_feet_soles(const rf_rig_geo *g, rf_vec3 up, rf_rig_feet *f)
         keep[i] =
             found[i] && (m < 0 || !found[m] || rf_v3_dot(sole[i].u, sole[m].u) >= RF_RIG_SOLE_PAIR);
     }
+    /* a hock (a bird's ankle, high over toes spread on the floor) keeps its foot as laid: toes
+     * laid flat under it dipped under the floor when the walk's ankles bent (the animalia bird
+     * sank in 8% of the frames) */
+    for (uint32_t i = 0; i < f->n && i < RF_RIG_MAX_LIMBS; i++)
+        keep[i] = keep[i] && rf_sole_along(f->pos[i][2], up) < sole[i].hock;
     /* a pair is laid alike: one foot on its curve, its twin on its sole, read as no pair */
     bool lay[RF_RIG_MAX_LIMBS] = {0};
     for (uint32_t i = 0; i < f->n && i < RF_RIG_MAX_LIMBS; i++) {
         int32_t m = f->mirror[i];
-        lay[i] = keep[i] && (!rf_sole_laid(f, i, up, sole[i].u) ||
-                             (m >= 0 && keep[m] && !rf_sole_laid(f, (uint32_t)m, up, sole[m].u)));
+        bool twin = m >= 0 && found[m];
+        lay[i] = keep[i] && (!twin || keep[m]) &&
+                 (!rf_sole_laid(f, i, up, sole[i].u) ||
+                  (twin && !rf_sole_laid(f, (uint32_t)m, up, sole[m].u)));
     }
     uint32_t laid = 0;
     for (uint32_t i = 0; i < f->n && i < RF_RIG_MAX_LIMBS; i++) {
         if (!lay[i])
             continue;
-        double *ankle = f->pos[i][2], h = rf_sole_along(ankle, up);
-        if (h < sole[i].hock) { /* an ankle, not a hock: over the column, no higher than the foot */
-            rf_vec3 at = rf_v3_add(sole[i].column, rf_v3_scale(up, fmin(h, sole[i].instep)));
-            ankle[0] = at.x, ankle[1] = at.y, ankle[2] = at.z;
-        }
+        double *ankle = f->pos[i][2]; /* over the column, no higher than the foot */
+        rf_vec3 at = rf_v3_add(sole[i].column,
+                               rf_v3_scale(up, fmin(rf_sole_along(ankle, up), sole[i].instep)));
+        ankle[0] = at.x, ankle[1] = at.y, ankle[2] = at.z;
         f->pos[i][3][0] = sole[i].ball.x, f->pos[i][3][1] = sole[i].ball.y;
         f->pos[i][3][2] = sole[i].ball.z;
         f->tip[i][0] = sole[i].tip.x, f->tip[i][1] = sole[i].tip.y, f->tip[i][2] = sole[i].tip.z;
