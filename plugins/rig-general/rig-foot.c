@@ -171,11 +171,12 @@ uint32_t rf_rig_feet_soles(const rf_rig_geo *g, rf_vec3 up, rf_rig_feet *f)
      * sank in 8% of the frames) */
     for (uint32_t i = 0; i < f->n && i < RF_RIG_MAX_LIMBS; i++)
         keep[i] = keep[i] && rf_sole_along(f->pos[i][2], up) < sole[i].hock;
-    /* a pair is laid alike: one foot on its curve, its twin on its sole, read as no pair */
+    /* a pair is laid alike or not at all: one foot on its curve, its twin on its sole, read as
+     * no pair (the laid toe came out a helper joint) */
     bool lay[RF_RIG_MAX_LIMBS] = {0};
     for (uint32_t i = 0; i < f->n && i < RF_RIG_MAX_LIMBS; i++) {
         int32_t m = f->mirror[i];
-        bool twin = m >= 0 && found[m];
+        bool twin = m >= 0 && f->leg[m];
         lay[i] = keep[i] && (!twin || keep[m]) &&
                  (!rf_sole_laid(f, i, up, sole[i].u) ||
                   (twin && !rf_sole_laid(f, (uint32_t)m, up, sole[m].u)));

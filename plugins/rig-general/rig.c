@@ -1998,8 +1998,9 @@ static void rf_rig_laid_find(const rf_rig_skel *k, const rf_rig_limb *limbs, uin
     }
 }
 
-/* The laid legs' feet read from their soles (rf_rig_feet_soles): every laid limb but the arms
- * and wings, each paired with its mirror image. */
+/* The laid legs' feet read from their soles (rf_rig_feet_soles): the laid legs of a biped's
+ * layout (a quadruped's third leg joint is an elbow or a hock), each paired with its mirror
+ * image. */
 static void rf_rig_feet_laid(const rf_rig_prep *p, rf_vec3 up, const rf_rig_limb *limbs,
                              uint32_t nl, const uint8_t *laid, const uint8_t *is_wing,
                              double (*lp)[4][3], double (*tips)[3])
