@@ -32,11 +32,6 @@ typedef struct rf_rig_sole {
 #define RF_RIG_SOLE_FLAT 0.7   /* a toe bone this level (cosine) already lies along its foot */
 #define RF_RIG_SOLE_PAIR 0.5   /* mirrored feet read pointing apart by more (cosine) are dropped */
 
-static double rf_sole_along(const double q[3], rf_vec3 d)
-{
-    return q[0] * d.x + q[1] * d.y + q[2] * d.z;
-}
-
 /* q's offset from `from` across up (along the floor). */
 static rf_vec3 rf_sole_flat(const double q[3], const double from[3], rf_vec3 up)
 {
@@ -50,7 +45,7 @@ static bool rf_sole_owns(const double v[3], rf_vec3 up, uint32_t i, const rf_rig
                          double top, double around)
 {
     const double *ankle = f->pos[i][2];
-    if (rf_sole_along(v, up) > top)
+    if (rf_rig_along(v, up) > top)
         return false;
     double mine = rf_v3_len(rf_sole_flat(v, ankle, up));
     if (mine > around)
@@ -66,12 +61,12 @@ static bool rf_sole_owns(const double v[3], rf_vec3 up, uint32_t i, const rf_rig
 static double rf_sole_top(const rf_rig_geo *g, rf_vec3 up, uint32_t i, const rf_rig_feet *f,
                           double height)
 {
-    double ankle = rf_sole_along(f->pos[i][2], up), low = INFINITY;
+    double ankle = rf_rig_along(f->pos[i][2], up), low = INFINITY;
     for (uint32_t v = 0; v < g->nv; v++) {
         const double *q = g->p + (size_t)v * 3;
-        if (rf_sole_along(q, up) < low &&
+        if (rf_rig_along(q, up) < low &&
             rf_sole_owns(q, up, i, f, ankle, RF_RIG_SOLE_AROUND * height))
-            low = rf_sole_along(q, up);
+            low = rf_rig_along(q, up);
     }
     return isfinite(low) ? low + RF_RIG_SOLE_BAND * height : NAN;
 }
@@ -87,7 +82,7 @@ static void rf_sole_column(const rf_rig_geo *g, rf_vec3 up, uint32_t i, const rf
     uint32_t n = 0;
     for (uint32_t v = 0; v < g->nv; v++) {
         const double *q = g->p + (size_t)v * 3;
-        if (rf_sole_along(q, up) > top && rf_sole_owns(q, up, i, f, top + band, around))
+        if (rf_rig_along(q, up) > top && rf_sole_owns(q, up, i, f, top + band, around))
             sum[0] += q[0], sum[1] += q[1], sum[2] += q[2], n++;
     }
     for (int c = 0; c < 3; c++)
@@ -99,7 +94,7 @@ static void rf_sole_column(const rf_rig_geo *g, rf_vec3 up, uint32_t i, const rf
 static bool rf_sole_read(const rf_rig_geo *g, rf_vec3 up, uint32_t i, const rf_rig_feet *f,
                          rf_rig_sole *s)
 {
-    double height = rf_sole_along(f->pos[i][0], up) - rf_sole_along(f->tip[i], up);
+    double height = rf_rig_along(f->pos[i][0], up) - rf_rig_along(f->tip[i], up);
     if (!(height > 0))
         return false;
     double top = rf_sole_top(g, up, i, f, height), around = RF_RIG_SOLE_AROUND * height, col[3];
@@ -122,7 +117,7 @@ static bool rf_sole_read(const rf_rig_geo *g, rf_vec3 up, uint32_t i, const rf_r
         const double *q = g->p + (size_t)v * 3;
         if (!rf_sole_owns(q, up, i, f, top, around))
             continue;
-        double t = rf_v3_dot(rf_sole_flat(q, col, up), u), h = rf_sole_along(q, up);
+        double t = rf_v3_dot(rf_sole_flat(q, col, up), u), h = rf_rig_along(q, up);
         back = fmax(back, -t);
         if (t >= 0.8 * reach)
             tip_h += h, at_tip++;
@@ -131,8 +126,7 @@ static bool rf_sole_read(const rf_rig_geo *g, rf_vec3 up, uint32_t i, const rf_r
     }
     if (reach < RF_RIG_SOLE_HEEL * back || !at_tip || !(lo <= hi))
         return false;
-    rf_vec3 base =
-        rf_v3_sub(rf_v3(col[0], col[1], col[2]), rf_v3_scale(up, rf_sole_along(col, up)));
+    rf_vec3 base = rf_v3_sub(rf_v3(col[0], col[1], col[2]), rf_v3_scale(up, rf_rig_along(col, up)));
     s->u = u, s->column = base;
     s->ball = rf_v3_add(rf_v3_add(base, rf_v3_scale(u, RF_RIG_SOLE_BALL * reach)),
                         rf_v3_scale(up, 0.5 * (lo + hi)));
@@ -170,7 +164,7 @@ uint32_t rf_rig_feet_soles(const rf_rig_geo *g, rf_vec3 up, rf_rig_feet *f)
      * laid flat under it dipped under the floor when the walk's ankles bent (the animalia bird
      * sank in 8% of the frames) */
     for (uint32_t i = 0; i < f->n && i < RF_RIG_MAX_LIMBS; i++)
-        keep[i] = keep[i] && rf_sole_along(f->pos[i][2], up) < sole[i].hock;
+        keep[i] = keep[i] && rf_rig_along(f->pos[i][2], up) < sole[i].hock;
     /* a pair is laid alike or not at all: one foot on its curve, its twin on its sole, read as
      * no pair (the laid toe came out a helper joint) */
     bool lay[RF_RIG_MAX_LIMBS] = {0};
@@ -187,7 +181,7 @@ uint32_t rf_rig_feet_soles(const rf_rig_geo *g, rf_vec3 up, rf_rig_feet *f)
             continue;
         double *ankle = f->pos[i][2]; /* over the column, no higher than the foot */
         rf_vec3 at = rf_v3_add(sole[i].column,
-                               rf_v3_scale(up, fmin(rf_sole_along(ankle, up), sole[i].instep)));
+                               rf_v3_scale(up, fmin(rf_rig_along(ankle, up), sole[i].instep)));
         ankle[0] = at.x, ankle[1] = at.y, ankle[2] = at.z;
         f->pos[i][3][0] = sole[i].ball.x, f->pos[i][3][1] = sole[i].ball.y;
         f->pos[i][3][2] = sole[i].ball.z;

@@ -1156,12 +1156,6 @@ static bool rf_rig_body_box_keep(const rf_rig_prep *p, const double *held, const
     return true;
 }
 
-/* Height along up of point x. */
-static double rf_rig_up_of(const double *x, rf_vec3 up)
-{
-    return x[0] * up.x + x[1] * up.y + x[2] * up.z;
-}
-
 /* Whether a box standing on the floor lies splayed: the bones it holds (held, [nj]; to a child
  * and to a leaf's tip) reach within a twentieth of the body's height of its lowest point, and
  * their rise along up, summed, is under seven tenths of their length. A leg box moved by one
@@ -1176,7 +1170,7 @@ static bool rf_rig_splayed(const rf_rig_prep *p, const rf_rig_skel *s, const dou
 {
     double lo = INFINITY, hi = -INFINITY, len = 0, rise = 0, low = INFINITY;
     for (uint32_t i = 0; i < p->proxy.nv; i++) {
-        double h = rf_rig_up_of(p->proxy.p + (size_t)i * 3, up);
+        double h = rf_rig_along(p->proxy.p + (size_t)i * 3, up);
         lo = fmin(lo, h), hi = fmax(hi, h);
     }
     for (uint32_t c = 0; c < 2 * s->n; c++) { /* bones to a child, then to a leaf's tip */
@@ -1187,8 +1181,8 @@ static bool rf_rig_splayed(const rf_rig_prep *p, const rf_rig_skel *s, const dou
         const double *b = c < s->n ? s->pos + (size_t)c * 3 : s->tip + (size_t)j * 3;
         double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
         len += sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        rise += fabs(rf_rig_up_of(d, up));
-        low = fmin(low, fmin(rf_rig_up_of(a, up), rf_rig_up_of(b, up)));
+        rise += fabs(rf_rig_along(d, up));
+        low = fmin(low, fmin(rf_rig_along(a, up), rf_rig_along(b, up)));
     }
     return len > 0 && low - lo <= 0.05 * (hi - lo) && rise < 0.7 * len;
 }

@@ -299,6 +299,12 @@ bool rf_rig_is_wing(rf_rig_limb_kind kind, double reach, double legs);
 /* Layout l into out, a wing's elbow and wrist in it when `wing` (rig.c, RF_RIG_WING_WRIST). */
 void rf_rig_wing_layout(const rf_rig_tpl_layout *l, bool wing, rf_rig_tpl_layout *out);
 
+/* How far point q lies along direction d (a height along up, a place along the facing). */
+static inline double rf_rig_along(const double q[3], rf_vec3 d)
+{
+    return q[0] * d.x + q[1] * d.y + q[2] * d.z;
+}
+
 #define RF_RIG_MAX_LIMBS 16 /* limbs laid out again in one rig */
 
 /* The limbs of a rig as laid (rig.c, rf_rig_relay), for rf_rig_feet_soles: n limbs, each's

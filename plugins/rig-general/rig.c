@@ -95,11 +95,6 @@ rf_skeleton *rf_rig_skeleton(const rf_rig_skel *k, const rf_rig_options *named)
 
 /* ---- root ---- */
 
-static double rf_rig_along(const double q[3], rf_vec3 d)
-{
-    return q[0] * d.x + q[1] * d.y + q[2] * d.z;
-}
-
 static double rf_rig_height(const rf_rig_skel *k, uint32_t j, rf_vec3 up)
 {
     const double *p = k->has_tip[j] ? k->tip + (size_t)j * 3 : k->pos + (size_t)j * 3;
@@ -2181,10 +2176,6 @@ static bool rf_rig_stalks_cut(rf_rig_skel *k, const rf_analysis *a, uint32_t *cu
     return ok;
 }
 
-/* The general rigger's limbs cut where artists put the joints of a limb of that kind (the
- * template's fitted layouts), not into even bones: a knee at the leg's bend, the hip joint a
- * little into the leg, one bone for the hand and its fingers. The rest of the curve skeleton
- * (spine, neck, tail, fins, a spider's legs) keeps its even bones. False when out of memory. */
 /* k as the skeleton analysis reads it for laying limbs, its skeleton into *s (the caller frees
  * both; NULL when out of memory). The file's axes go as hints, and the declared up as fact, not
  * as a hint: the mesh stands on it (the rig's frame has it as y). As a hint it is one vote among
@@ -2207,6 +2198,10 @@ static rf_vec3 rf_rig_facing_of(const rf_rig_options *o)
     return rf_v3_len(o->forward) > 0 ? o->forward : o->facing;
 }
 
+/* The general rigger's limbs cut where artists put the joints of a limb of that kind (the
+ * template's fitted layouts), not into even bones: a knee at the leg's bend, the hip joint a
+ * little into the leg, one bone for the hand and its fingers. The rest of the curve skeleton
+ * (spine, neck, tail, fins, a spider's legs) keeps its even bones. False when out of memory. */
 static bool rf_rig_limbs(const rf_rig_prep *p, rf_rig_skel *k, const rf_rig_options *o,
                          const rf_rig_tpl_layout *const lay[2])
 {
